@@ -1,0 +1,23 @@
+(** Ray queries over all the primitives of a scene.
+
+    This is the one place that decides which primitives a ray is tested against: the
+    nearest hit for camera, reflected and refracted rays, and every hit before a distance
+    for shadow rays (transmittance through transparent surfaces). *)
+
+type t
+
+val build : Primitive.t array -> t
+val primitives : t -> Primitive.t array
+val uses_bvh : t -> bool
+(** Whether a bounding volume hierarchy was built (small scenes skip it). *)
+
+val nearest : t -> Ray.t -> float -> float -> float * int
+(** [nearest a r tmin tmax] is (t, index) of the primitive hit nearest in (tmin, tmax), or
+    (infinity, −1). Ties go to the lower index, so the answer never depends on the
+    traversal order. *)
+
+val fold_hits :
+  t -> Ray.t -> float -> float -> (Primitive.t -> float -> Color.t -> Color.t) -> Color.t -> Color.t
+(** [fold_hits a r tmin tmax f acc] folds [f prim t acc] over every surface crossing of [r]
+    with tmin < t < tmax, stopping early once [acc] is black. Used for shadow
+    transmittance, whose product does not depend on the order. *)

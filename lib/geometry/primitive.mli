@@ -1,0 +1,25 @@
+(** A scene object: a shape placed in the world by a transform, with its material.
+
+    World bounds are precomputed; unbounded shapes (planes) have none and are kept out of
+    the bounding volume hierarchy. *)
+
+type t = private {
+  shape : Shape.t;
+  transform : Transform.t;  (** object space → world space *)
+  material : Material.t;
+  bounds : Bbox.t option;  (** world-space bounds; [None] when unbounded *)
+}
+
+val make : ?transform:Transform.t -> Material.t -> Shape.t -> t
+
+val intersect : t -> Ray.t -> float -> float -> float
+(** [intersect o r tmin tmax] is the nearest t in (tmin, tmax) of world ray [r] on [o], or
+    infinity. A transformed object intersects the object-space ray, whose direction is not
+    renormalised, so t is the same in both spaces. *)
+
+val to_object : t -> Vec3.t -> Vec3.t
+(** World point to object space. *)
+
+val normal : t -> Vec3.t -> Vec3.t
+(** [normal o p_obj] is the unit world-space geometric normal at object-space point
+    [p_obj]. *)

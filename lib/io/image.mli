@@ -1,0 +1,46 @@
+(** Framebuffers, output encoding and image files.
+
+    A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
+    follows SPEC §5 exactly: clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v, else
+    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG (8-bit RGB,
+    through camlimages) or binary PPM by extension, always written atomically: a
+    temporary file in the same directory, then a rename. *)
+
+type t = { width : int; height : int; data : Float.Array.t  (** 3·width·height linear floats *) }
+
+val create : int -> int -> t
+val get : t -> int -> int -> Color.t
+(** [get fb i j] is the colour of column [i], row [j]. *)
+
+val set : t -> int -> int -> Color.t -> unit
+
+val encode_channel : Settings.gamma -> float -> int
+(** One linear channel value to a byte (NaN encodes as 0). *)
+
+val to_bytes : Settings.gamma -> t -> Bytes.t
+(** 3·width·height encoded bytes, row-major RGB. *)
+
+type format = Png | Ppm
+
+val format_of_path : string -> (format, string) result
+(** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
+
+val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
+(** [write_atomic path f] writes [path] through [f] into a temporary file beside it and
+    renames it into place; on any failure the temporary file is removed and [path] is
+    untouched. The message names the path and the reason. *)
+
+val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
+(** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s
+    extension, atomically. *)
+
+val save : ?gamma:Settings.gamma -> string -> t -> (unit, string) result
+(** [save path fb] encodes (default sRGB) and writes [fb]. *)
+
+val read_rgb8 : string -> (int * int * Bytes.t, string) result
+(** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file (any PNG colour type
+    is converted to 8-bit RGB). *)
+
+val read_linear : string -> (t, string) result
+(** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
+    textures). *)

@@ -1,0 +1,38 @@
+(** Affine transforms of space (translate, rotate, scale), with their inverses cached.
+
+    A transform maps object space to world space. Transforms written in a scene apply in
+    the order written: [then_ a b] applies [a] first, then [b]. Rotations are in degrees
+    about the world axes, X then Y then Z, left-handed as in POV-Ray. Normals go through
+    the inverse transpose. *)
+
+type t
+
+val identity : t
+val translate : Vec3.t -> t
+val scale : Vec3.t -> t
+(** [scale s] scales each axis; components must be non-zero (the loader checks). *)
+
+val rotate : Vec3.t -> t
+(** [rotate (ax, ay, az)] rotates by ax degrees about X, then ay about Y, then az about Z. *)
+
+val then_ : t -> t -> t
+(** [then_ a b] is the transform that applies [a], then [b]. *)
+
+val is_identity : t -> bool
+val point : t -> Vec3.t -> Vec3.t
+(** Object-space point to world space. *)
+
+val vector : t -> Vec3.t -> Vec3.t
+(** Object-space direction to world space (no translation). *)
+
+val normal : t -> Vec3.t -> Vec3.t
+(** Object-space normal to world space by the inverse transpose, normalised. *)
+
+val inv_point : t -> Vec3.t -> Vec3.t
+(** World-space point to object space. *)
+
+val inv_vector : t -> Vec3.t -> Vec3.t
+(** World-space direction to object space (not renormalised). *)
+
+val max_scale : t -> float
+(** An upper bound on how much the transform stretches a length. *)

@@ -1,0 +1,59 @@
+(** Three-dimensional vectors of doubles: points, directions and normals.
+
+    A record of three floats, stored flat by the compiler. Coordinates are left-handed
+    world units (x right, y up, z into the screen for the default camera). No function
+    here checks for NaN: callers that divide guard their own denominators. *)
+
+type t = { x : float; y : float; z : float }
+
+val v : float -> float -> float -> t
+(** [v x y z] is the vector (x, y, z). *)
+
+val zero : t
+val one : t
+val x_axis : t
+val y_axis : t
+val z_axis : t
+val add : t -> t -> t
+val sub : t -> t -> t
+val neg : t -> t
+
+val mul : t -> t -> t
+(** [mul a b] is the component-wise product. *)
+
+val div : t -> t -> t
+(** [div a b] is the component-wise quotient. *)
+
+val smul : float -> t -> t
+(** [smul s v] is [s·v]. *)
+
+val madd : t -> float -> t -> t
+(** [madd a s b] is [a + s·b], in one allocation. *)
+
+val dot : t -> t -> float
+val cross : t -> t -> t
+
+val length : t -> float
+(** [length v] is |v|, computed with [Float.hypot]-style scaling only where needed: plain
+    [sqrt (dot v v)] overflows above about 1.3e154. *)
+
+val length2 : t -> float
+(** [length2 v] is [dot v v]. *)
+
+val normalize : t -> t
+(** [normalize v] is [v / |v|]; the zero vector stays zero (never NaN). *)
+
+val max_abs : t -> float
+(** [max_abs v] is max(|x|, |y|, |z|), the scale of a point for ray offsets. *)
+
+val min : t -> t -> t
+(** Component-wise minimum (typed float comparison; NaN-free inputs assumed). *)
+
+val max : t -> t -> t
+val get : t -> int -> float
+(** [get v i] is x, y or z for i = 0, 1, 2. *)
+
+val equal_f : ?eps:float -> t -> t -> bool
+(** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
+
+val pp : Format.formatter -> t -> unit

@@ -1,0 +1,99 @@
+let tile_size = 32
+
+(* One sample at image point (x, y). *)
+let sample (sc : Scene.t) (st : Stats.t) i j x y =
+  st.primary <- st.primary + 1;
+  let s = sc.settings in
+  let ray = Camera.ray sc.camera ~width:s.width ~height:s.height x y in
+  let c = Shade.trace sc st ray 1 in
+  if Color.is_finite c then c
+  else begin
+    st.bad_samples <- st.bad_samples + 1;
+    if st.first_bad = None then st.first_bad <- Some (i, j);
+    s.background
+  end
+
+(* Offset of sample (p, q) of n inside pixel (i, j): the sub-cell centre, or a hashed
+   point inside the sub-cell with jitter. *)
+let sub_offset (sc : Scene.t) n i j p q axis =
+  let nf = Float.of_int n in
+  if not sc.settings.jitter then (Float.of_int p +. 0.5) /. nf
+  else
+    let h = Hash.combine (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) ((p * 4096) + q)) axis in
+    (Float.of_int p +. Hash.to_unit h) /. nf
+
+let grid sc st i j n =
+  let acc = ref Color.black in
+  for q = 0 to n - 1 do
+    for p = 0 to n - 1 do
+      let x = Float.of_int i +. sub_offset sc n i j p q 0 in
+      let y = Float.of_int j +. sub_offset sc n i j q p 1 in
+      acc := Color.add !acc (sample sc st i j x y)
+    done
+  done;
+  Color.scale (1. /. Float.of_int (n * n)) !acc
+
+let pixel (sc : Scene.t) st i j =
+  let s = sc.settings in
+  if s.adaptive > 0. then begin
+    let coarse = Array.make 4 Color.black in
+    for q = 0 to 1 do
+      for p = 0 to 1 do
+        let x = Float.of_int i +. sub_offset sc 2 i j p q 0 in
+        let y = Float.of_int j +. sub_offset sc 2 i j q p 1 in
+        coarse.((2 * q) + p) <- sample sc st i j x y
+      done
+    done;
+    let spread f =
+      let vs = Array.map f coarse in
+      Array.fold_left Float.max Float.neg_infinity vs -. Array.fold_left Float.min Float.infinity vs
+    in
+    let contrast =
+      Float.max (spread (fun (c : Color.t) -> c.r)) (Float.max (spread (fun c -> c.g)) (spread (fun c -> c.b)))
+    in
+    if contrast > s.adaptive then grid sc st i j (max s.samples 4)
+    else Color.scale 0.25 (Array.fold_left Color.add Color.black coarse)
+  end
+  else if s.samples = 1 then sample sc st i j (Float.of_int i +. sub_offset sc 1 i j 0 0 0) (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
+  else grid sc st i j s.samples
+
+let render_tile sc st fb x0 y0 x1 y1 =
+  for j = y0 to y1 - 1 do
+    for i = x0 to x1 - 1 do
+      Image.set fb i j (pixel sc st i j)
+    done
+  done
+
+let tiles (sc : Scene.t) =
+  let w = sc.settings.width and h = sc.settings.height in
+  let nx = (w + tile_size - 1) / tile_size and ny = (h + tile_size - 1) / tile_size in
+  Array.init (nx * ny) (fun k ->
+      let tx = k mod nx and ty = k / nx in
+      let x0 = tx * tile_size and y0 = ty * tile_size in
+      (x0, y0, min w (x0 + tile_size), min h (y0 + tile_size)))
+
+let render ?pool ?(on_tile = fun _ _ -> ()) (sc : Scene.t) =
+  let fb = Image.create sc.settings.width sc.settings.height in
+  let tiles = tiles sc in
+  let n = Array.length tiles in
+  let stats = Array.init n (fun _ -> Stats.create ()) in
+  let done_ = Atomic.make 0 in
+  let work k =
+    let x0, y0, x1, y1 = tiles.(k) in
+    render_tile sc stats.(k) fb x0 y0 x1 y1;
+    on_tile (Atomic.fetch_and_add done_ 1 + 1) n
+  in
+  (match pool with
+  | None -> for k = 0 to n - 1 do work k done
+  | Some pool ->
+      Domainslib.Task.run pool (fun () ->
+          Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(n - 1) ~body:work));
+  let total = Stats.create () in
+  Array.iter (Stats.add_into total) stats;
+  (fb, total)
+
+let with_pool n f =
+  if n <= 1 then f None
+  else
+    let pool = Domainslib.Task.setup_pool ~num_domains:(n - 1) () in
+    Fun.protect ~finally:(fun () -> Domainslib.Task.teardown_pool pool) (fun () -> f (Some pool))

@@ -1,0 +1,30 @@
+(** Turning a scene into a linear framebuffer, in parallel tiles over a Domainslib pool.
+
+    The image is cut into 32×32 tiles handed out dynamically; each task writes only its
+    own pixels and keeps its own counters, so the result is bit-identical whatever the
+    number of domains. Each pixel averages, in linear colour, the n×n points
+    (i + (p+½)/n, j + (q+½)/n) (SPEC §3); [jitter] moves each inside its sub-cell by a hash
+    of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2 grid and
+    refines to max(n, 4)×max(n, 4) only where those four samples differ by more than θ in
+    some channel. Samples that are NaN or infinite are counted and replaced by the
+    background. *)
+
+val tile_size : int
+
+val pixel : Scene.t -> Stats.t -> int -> int -> Color.t
+(** [pixel scene stats i j] is the linear colour of column [i], row [j]. *)
+
+val render_tile : Scene.t -> Stats.t -> Image.t -> int -> int -> int -> int -> unit
+(** [render_tile scene stats fb x0 y0 x1 y1] renders columns [x0, x1) of rows [y0, y1). *)
+
+val tiles : Scene.t -> (int * int * int * int) array
+(** The tiles (x0, y0, x1, y1) of the scene's image, row-major. *)
+
+val render :
+  ?pool:Domainslib.Task.pool -> ?on_tile:(int -> int -> unit) -> Scene.t -> Image.t * Stats.t
+(** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
+    [on_tile done_ total] is called after each tile, from whichever domain rendered it. *)
+
+val with_pool : int -> (Domainslib.Task.pool option -> 'a) -> 'a
+(** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
+    it down afterwards, also on an exception. *)

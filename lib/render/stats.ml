@@ -1,0 +1,20 @@
+type t = {
+  mutable primary : int;
+  mutable shadow : int;
+  mutable reflected : int;
+  mutable refracted : int;
+  mutable bad_samples : int;
+  mutable first_bad : (int * int) option;
+}
+
+let create () = { primary = 0; shadow = 0; reflected = 0; refracted = 0; bad_samples = 0; first_bad = None }
+
+let add_into acc s =
+  acc.primary <- acc.primary + s.primary;
+  acc.shadow <- acc.shadow + s.shadow;
+  acc.reflected <- acc.reflected + s.reflected;
+  acc.refracted <- acc.refracted + s.refracted;
+  acc.bad_samples <- acc.bad_samples + s.bad_samples;
+  if acc.first_bad = None then acc.first_bad <- s.first_bad
+
+let total_rays s = s.primary + s.shadow + s.reflected + s.refracted

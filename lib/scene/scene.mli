@@ -1,0 +1,29 @@
+(** An immutable, fully evaluated scene at one instant: what the renderer sees.
+
+    Built by {!make}, which validates every part, builds the acceleration structure and
+    derives {!Features.t}. The scene language ([dsl/]) produces one per frame time. *)
+
+type t = private {
+  settings : Settings.t;
+  camera : Camera.t;
+  lights : Light.t array;
+  objects : Primitive.t array;
+  accel : Accel.t;
+  features : Features.t;
+  time : float;  (** seconds *)
+  frame : int;
+}
+
+val make :
+  ?settings:Settings.t -> ?camera:Camera.t -> ?time:float -> ?frame:int -> lights:Light.t list ->
+  Primitive.t list -> (t, string) result
+(** [make ~lights objects] validates settings, camera and materials and builds the scene. *)
+
+val make_exn :
+  ?settings:Settings.t -> ?camera:Camera.t -> ?time:float -> ?frame:int -> lights:Light.t list ->
+  Primitive.t list -> t
+(** As {!make}; raises [Invalid_argument] on an invalid scene (for tests and code-built
+    scenes). *)
+
+val with_settings : t -> Settings.t -> (t, string) result
+(** The same scene with other settings (command-line overrides), features re-derived. *)

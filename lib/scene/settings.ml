@@ -1,0 +1,32 @@
+type gamma = Srgb | Power of float
+
+type t = {
+  width : int;
+  height : int;
+  depth : int;
+  samples : int;
+  jitter : bool;
+  adaptive : float;
+  shadows : bool;
+  background : Color.t;
+  ambient : Color.t;
+  gamma : gamma;
+}
+
+let default =
+  { width = 640; height = 480; depth = 5; samples = 1; jitter = false; adaptive = 0.;
+    shadows = true; background = Color.black; ambient = Color.white; gamma = Srgb }
+
+let max_pixels = 16384 * 16384
+
+let validate s =
+  if s.width < 1 || s.height < 1 then Error (Printf.sprintf "image size must be at least 1×1 (got %d×%d)" s.width s.height)
+  else if s.width > max_pixels / s.height then
+    Error (Printf.sprintf "image %d×%d is larger than the limit of %d pixels" s.width s.height max_pixels)
+  else if s.depth < 1 then Error (Printf.sprintf "depth must be at least 1 (got %d)" s.depth)
+  else if s.samples < 1 then Error (Printf.sprintf "samples must be at least 1 (got %d)" s.samples)
+  else if s.samples > 64 then Error (Printf.sprintf "samples must be at most 64 (got %d; that is %d rays a pixel)" s.samples (s.samples * s.samples))
+  else if not (Float.is_finite s.adaptive && s.adaptive >= 0.) then Error "adaptive must be a number >= 0"
+  else match s.gamma with
+    | Power g when not (Float.is_finite g && g > 0.) -> Error "gamma must be \"srgb\" or a number > 0"
+    | _ -> Ok ()

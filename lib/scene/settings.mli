@@ -1,0 +1,24 @@
+(** Render settings (SPEC §2.3), with their defaults. *)
+
+type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
+
+type t = {
+  width : int;  (** pixels, ≥ 1; default 640 *)
+  height : int;  (** pixels, ≥ 1; default 480 *)
+  depth : int;  (** maximum ray depth, ≥ 1 (primary rays have depth 1); default 5 *)
+  samples : int;  (** n: n×n samples per pixel, ≥ 1; default 1 *)
+  jitter : bool;  (** move each sample inside its sub-cell by a hash; default false *)
+  adaptive : float;  (** adaptive supersampling threshold; 0 = off (default) *)
+  shadows : bool;  (** default true *)
+  background : Color.t;  (** linear colour of rays that hit nothing; default black *)
+  ambient : Color.t;  (** scene ambient light, multiplies material ambient; default white *)
+  gamma : gamma;  (** output encoding; default sRGB *)
+}
+
+val default : t
+
+val max_pixels : int
+(** The largest image accepted: width × height ≤ this (268 435 456 = 16384², 6 GiB of
+    linear framebuffer). *)
+
+val validate : t -> (unit, string) result

@@ -1,0 +1,144 @@
+let offset (p : Vec3.t) (o : Vec3.t) = 1e-9 *. Float.max 1e-300 (Float.max (Vec3.max_abs p) (Vec3.max_abs o))
+
+(* Albedo C at world point p on object o with geometric normal n: the texture is evaluated
+   in object space at p − δ·n (SPEC §2.5). *)
+let albedo (o : Primitive.t) p n delta =
+  let m = o.material in
+  match m.texture with
+  | None -> m.color
+  | Some tex ->
+      let q = Primitive.to_object o (Vec3.madd p (-.delta) n) in
+      if Texture.needs_uv tex then
+        let u, v = Shape.uv o.shape (Primitive.to_object o p) in
+        Texture.eval tex q u v
+      else Texture.eval tex q 0. 0.
+
+let black_if_zero = Color.black
+
+let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
+  st.shadow <- st.shadow + 1;
+  let r = Ray.make_raw origin dir in
+  Accel.fold_hits sc.accel r 0. dist
+    (fun o t acc ->
+      let m = o.material in
+      if m.transparency = 0. then black_if_zero
+      else
+        let p = Ray.at r t in
+        let po = Primitive.to_object o p in
+        let n = Primitive.normal o po in
+        let c = albedo o p n (offset p origin) in
+        Color.mul acc (Color.scale m.transparency c))
+    Color.white
+
+(* Stratified points on the disk of radius [radius] facing [p], centred on the light:
+   sample (a, b) of n×n sits at radius R·√((a+½)/n) and angle 2π(b+½)/n. The pattern is
+   the same for every pixel, so soft shadows are deterministic and noise-free in time. *)
+let area_transmittance sc st p origin (position : Vec3.t) radius n =
+  let l = Vec3.sub position p in
+  let w = Vec3.normalize l in
+  let helper = if Float.abs w.x < 0.9 then Vec3.x_axis else Vec3.y_axis in
+  let e1 = Vec3.normalize (Vec3.cross helper w) in
+  let e2 = Vec3.cross w e1 in
+  let acc = ref Color.black in
+  let nf = Float.of_int n in
+  for a = 0 to n - 1 do
+    for b = 0 to n - 1 do
+      let rr = radius *. Float.sqrt ((Float.of_int a +. 0.5) /. nf) in
+      let th = 2. *. Float.pi *. (Float.of_int b +. 0.5) /. nf in
+      let target = Vec3.madd (Vec3.madd position (rr *. Float.cos th) e1) (rr *. Float.sin th) e2 in
+      let d = Vec3.sub target origin in
+      let dist = Vec3.length d in
+      acc := Color.add !acc (transmittance sc st origin (Vec3.smul (1. /. dist) d) dist)
+    done
+  done;
+  Color.scale (1. /. (nf *. nf)) !acc
+
+let rec trace (sc : Scene.t) st ray depth =
+  let t, i = Accel.nearest sc.accel ray 0. Float.infinity in
+  if i < 0 then sc.settings.background else shade sc st ray depth sc.objects.(i) t
+
+and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
+  let s = sc.settings in
+  let m = o.material in
+  let d = Ray.dir ray in
+  let p = Ray.at ray t in
+  let po = Primitive.to_object o p in
+  let n = Primitive.normal o po in
+  let delta = offset p (Ray.origin ray) in
+  let c = albedo o p n delta in
+  let entering = Vec3.dot d n < 0. in
+  let nf = if entering then n else Vec3.neg n in
+  let nf = match m.bump with None -> nf | Some b -> Bump.perturb b po nf in
+  let v = Vec3.neg d in
+  let lit_origin = Vec3.madd p delta nf in
+  let local = ref (Color.scale m.ambient (Color.mul c s.ambient)) in
+  let lights = sc.lights in
+  for li = 0 to Array.length lights - 1 do
+    let ldir, dist, att, color, intensity, area =
+      match lights.(li) with
+      | Light.Point { position; color; intensity; attenuation = a; radius; samples } ->
+          let l = Vec3.sub position p in
+          let dist = Vec3.length l in
+          let att = 1. /. (a.x +. (a.y *. dist) +. (a.z *. dist *. dist)) in
+          (Vec3.smul (1. /. dist) l, dist, att, color, intensity,
+           if radius > 0. && samples > 1 then Some (position, radius, samples) else None)
+      | Light.Directional { direction; color; intensity } ->
+          (Vec3.neg direction, Float.infinity, 1., color, intensity, None)
+    in
+    let ndl = Vec3.dot nf ldir in
+    if ndl > 0. then begin
+      let tr =
+        if not sc.features.shadows then Color.white
+        else
+          match area with
+          | None -> transmittance sc st lit_origin ldir dist
+          | Some (position, radius, n) -> area_transmittance sc st p lit_origin position radius n
+      in
+      if tr.r > 0. || tr.g > 0. || tr.b > 0. then begin
+        let e = Color.mul (Color.scale (intensity *. att) color) tr in
+        let diffuse = Color.scale (m.diffuse *. ndl) (Color.mul c e) in
+        local := Color.add !local diffuse;
+        if m.specular > 0. then begin
+          let r = Vec3.sub (Vec3.smul (2. *. ndl) nf) ldir in
+          let rv = Vec3.dot r v in
+          if rv > 0. then local := Color.madd !local (m.specular *. Float.pow rv m.shininess) e
+        end
+      end
+    end
+  done;
+  let r = m.reflection and tau = m.transparency in
+  if r = 0. && tau = 0. then !local
+  else begin
+    (* Refraction geometry first: total internal reflection and Fresnel both move weight
+       from τ to r. *)
+    let c_in = -.Vec3.dot d nf in
+    let eta = if entering then 1. /. m.ior else m.ior in
+    let k = 1. -. (eta *. eta *. (1. -. (c_in *. c_in))) in
+    let r', tau' =
+      if tau = 0. then (r, 0.)
+      else if k < 0. then (r +. tau, 0.)
+      else if m.fresnel then
+        let f0 = ((m.ior -. 1.) /. (m.ior +. 1.)) ** 2. in
+        let c' = if entering then c_in else Float.sqrt k in
+        let f = f0 +. ((1. -. f0) *. ((1. -. c') ** 5.)) in
+        (r +. (tau *. f), tau *. (1. -. f))
+      else (r, tau)
+    in
+    let out = Color.scale (1. -. r -. tau) !local in
+    if depth >= s.depth then out
+    else
+      let out =
+        if r' > 0. then begin
+          st.reflected <- st.reflected + 1;
+          let rd = Vec3.madd d (-2. *. Vec3.dot d nf) nf in
+          Color.madd out r' (trace sc st (Ray.make lit_origin rd) (depth + 1))
+        end
+        else out
+      in
+      if tau' > 0. then begin
+        st.refracted <- st.refracted + 1;
+        let td = Vec3.madd (Vec3.smul eta d) ((eta *. c_in) -. Float.sqrt k) nf in
+        Color.madd out tau' (trace sc st (Ray.make (Vec3.madd p (-.delta) nf) td) (depth + 1))
+      end
+      else out
+  end

@@ -1,0 +1,20 @@
+(** The Whitted shading model of SPEC §4, exactly: ambient, Lambert with distance
+    attenuation, shadows with transmittance through transparent surfaces, Phong
+    highlights, mirror reflection, Snell–Descartes refraction with total internal
+    reflection, optional Schlick Fresnel, and the depth rule.
+
+    Secondary and shadow rays start off the surface by {!offset}, which is proportional
+    to the magnitude of the coordinates involved, so a scene scaled by any factor renders
+    the same image. *)
+
+val offset : Vec3.t -> Vec3.t -> float
+(** [offset p o] is δ for hit point [p] reached from ray origin [o]:
+    1e−9 · max(|p|∞, |o|∞), never 0. *)
+
+val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
+(** [trace scene stats ray depth] is the linear colour seen along [ray], a ray of depth
+    [depth] (primary rays have depth 1). Counts secondary and shadow rays in [stats]. *)
+
+val transmittance : Scene.t -> Stats.t -> Vec3.t -> Vec3.t -> float -> Color.t
+(** [transmittance scene stats origin dir dist] is the product, over every surface the
+    ray crosses before [dist], of transparency · albedo (0 for an opaque surface). *)
