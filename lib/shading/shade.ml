@@ -53,6 +53,13 @@ let area_transmittance sc st p origin (position : Vec3.t) radius n =
   done;
   Color.scale (1. /. (nf *. nf)) !acc
 
+let reflect d nf = Vec3.madd d (-2. *. Vec3.dot d nf) nf
+
+let refract d nf eta =
+  let c = -.Vec3.dot d nf in
+  let k = 1. -. (eta *. eta *. (1. -. (c *. c))) in
+  if k < 0. then None else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
+
 let rec trace (sc : Scene.t) st ray depth =
   let t, i = Accel.nearest sc.accel ray 0. Float.infinity in
   if i < 0 then sc.settings.background else shade sc st ray depth sc.objects.(i) t
@@ -130,8 +137,7 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
       let out =
         if r' > 0. then begin
           st.reflected <- st.reflected + 1;
-          let rd = Vec3.madd d (-2. *. Vec3.dot d nf) nf in
-          Color.madd out r' (trace sc st (Ray.make lit_origin rd) (depth + 1))
+          Color.madd out r' (trace sc st (Ray.make lit_origin (reflect d nf)) (depth + 1))
         end
         else out
       in

@@ -11,6 +11,13 @@ val offset : Vec3.t -> Vec3.t -> float
 (** [offset p o] is δ for hit point [p] reached from ray origin [o]:
     1e−9 · max(|p|∞, |o|∞), never 0. *)
 
+val reflect : Vec3.t -> Vec3.t -> Vec3.t
+(** [reflect d nf] is d − 2(d·nf)·nf. *)
+
+val refract : Vec3.t -> Vec3.t -> float -> Vec3.t option
+(** [refract d nf eta] is the Snell–Descartes direction η·d + (η·c − √k)·nf with
+    c = −d·nf and k = 1 − η²(1 − c²), or [None] on total internal reflection (k < 0). *)
+
 val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
 (** [trace scene stats ray depth] is the linear colour seen along [ray], a ray of depth
     [depth] (primary rays have depth 1). Counts secondary and shadow rays in [stats]. *)
