@@ -1,0 +1,44 @@
+# lancer — the two commands a newcomer needs are `make demo` and `make test`;
+# each installs what is missing first (see .ci/deps).
+
+DUNE ?= dune
+JOBS ?= 2
+
+.PHONY: all deps build demo test golden-update bench bench-povray fuzz doc clean fmt
+
+all: build
+
+deps:
+	@bash .ci/deps
+
+build: deps
+	$(DUNE) build -j $(JOBS) @install
+
+demo: build
+	@mkdir -p out
+	$(DUNE) exec --no-build -- lancer render scenes/showcase.rts -o out/showcase.png
+	@echo "The showcase is in out/showcase.png"
+
+test: deps
+	$(DUNE) build -j $(JOBS) @install
+	$(DUNE) test -j $(JOBS) --force
+
+# Re-render every golden image from its scene. Only this command changes goldens.
+golden-update: build
+	LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
+
+bench: build
+	$(DUNE) exec --no-build -- test/bench/bench_spheres.exe 1000 10000 100000 1000000
+
+fuzz: build
+	LANCER_FUZZ_COUNT=200000 $(DUNE) test -j $(JOBS) --force test/dsl
+
+doc: deps
+	$(DUNE) build @doc
+
+fmt:
+	$(DUNE) fmt
+
+clean:
+	$(DUNE) clean
+	rm -rf out
