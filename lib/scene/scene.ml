@@ -45,3 +45,7 @@ let make_exn ?settings ?camera ?time ?frame ~lights objects =
 let with_settings t settings =
   let* () = Settings.validate settings in
   Ok { t with settings; features = derive_features settings t.lights t.objects t.accel }
+
+let map_lights t f =
+  let lights = Array.map f t.lights in
+  { t with lights; features = derive_features t.settings lights t.objects t.accel }

@@ -27,3 +27,7 @@ val make_exn :
 
 val with_settings : t -> Settings.t -> (t, string) result
 (** The same scene with other settings (command-line overrides), features re-derived. *)
+
+val map_lights : t -> (Light.t -> Light.t) -> t
+(** The same scene with each light replaced (quality presets change area-light samples),
+    features re-derived. *)
