@@ -1,51 +1,52 @@
 type t = { x : float; y : float; z : float }
 
-let v x y z = { x; y; z }
+let[@inline] v x y z = { x; y; z }
 let zero = { x = 0.; y = 0.; z = 0. }
 let one = { x = 1.; y = 1.; z = 1. }
 let x_axis = { x = 1.; y = 0.; z = 0. }
 let y_axis = { x = 0.; y = 1.; z = 0. }
 let z_axis = { x = 0.; y = 0.; z = 1. }
-let add a b = { x = a.x +. b.x; y = a.y +. b.y; z = a.z +. b.z }
-let sub a b = { x = a.x -. b.x; y = a.y -. b.y; z = a.z -. b.z }
-let neg a = { x = -.a.x; y = -.a.y; z = -.a.z }
-let mul a b = { x = a.x *. b.x; y = a.y *. b.y; z = a.z *. b.z }
-let div a b = { x = a.x /. b.x; y = a.y /. b.y; z = a.z /. b.z }
-let smul s a = { x = s *. a.x; y = s *. a.y; z = s *. a.z }
-let madd a s b = { x = a.x +. (s *. b.x); y = a.y +. (s *. b.y); z = a.z +. (s *. b.z) }
-let dot a b = (a.x *. b.x) +. (a.y *. b.y) +. (a.z *. b.z)
+let[@inline] add a b = { x = a.x +. b.x; y = a.y +. b.y; z = a.z +. b.z }
+let[@inline] sub a b = { x = a.x -. b.x; y = a.y -. b.y; z = a.z -. b.z }
+let[@inline] neg a = { x = -.a.x; y = -.a.y; z = -.a.z }
+let[@inline] mul a b = { x = a.x *. b.x; y = a.y *. b.y; z = a.z *. b.z }
+let[@inline] div a b = { x = a.x /. b.x; y = a.y /. b.y; z = a.z /. b.z }
+let[@inline] smul s a = { x = s *. a.x; y = s *. a.y; z = s *. a.z }
+let[@inline] madd a s b = { x = a.x +. (s *. b.x); y = a.y +. (s *. b.y); z = a.z +. (s *. b.z) }
+let[@inline] dot a b = (a.x *. b.x) +. (a.y *. b.y) +. (a.z *. b.z)
 
-let cross a b =
+let[@inline] cross a b =
   { x = (a.y *. b.z) -. (a.z *. b.y);
     y = (a.z *. b.x) -. (a.x *. b.z);
     z = (a.x *. b.y) -. (a.y *. b.x) }
 
-let length2 a = dot a a
+let[@inline] length2 a = dot a a
 
-let max_abs a = Float.max (Float.abs a.x) (Float.max (Float.abs a.y) (Float.abs a.z))
+let[@inline] max_abs a = Float.max (Float.abs a.x) (Float.max (Float.abs a.y) (Float.abs a.z))
 
 (* Plain sqrt(dot) in the common range; rescale by the largest component only when the
    squares would overflow or underflow, so lengths stay exact to 1 ulp over the whole
    supported coordinate range. *)
-let length a =
-  let l2 = dot a a in
-  if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2
+let length_scaled a =
+  let m = max_abs a in
+  if m = 0. || m = Float.infinity then m
   else
-    let m = max_abs a in
-    if m = 0. || m = Float.infinity then m
-    else
-      let s = 1. /. m in
-      m *. Float.sqrt (dot (smul s a) (smul s a))
+    let s = 1. /. m in
+    m *. Float.sqrt (dot (smul s a) (smul s a))
 
-let normalize a =
+let[@inline] length a =
+  let l2 = dot a a in
+  if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else length_scaled a
+
+let[@inline] normalize a =
   let l = length a in
   if l = 0. then zero else smul (1. /. l) a
 
-let min a b = { x = Float.min a.x b.x; y = Float.min a.y b.y; z = Float.min a.z b.z }
-let max a b = { x = Float.max a.x b.x; y = Float.max a.y b.y; z = Float.max a.z b.z }
-let get a = function 0 -> a.x | 1 -> a.y | _ -> a.z
+let[@inline] min a b = { x = Float.min a.x b.x; y = Float.min a.y b.y; z = Float.min a.z b.z }
+let[@inline] max a b = { x = Float.max a.x b.x; y = Float.max a.y b.y; z = Float.max a.z b.z }
+let[@inline] get a = function 0 -> a.x | 1 -> a.y | _ -> a.z
 
 let equal_f ?(eps = 1e-9) a b =
   Float.abs (a.x -. b.x) <= eps && Float.abs (a.y -. b.y) <= eps && Float.abs (a.z -. b.z) <= eps
 
-let pp ppf a = Format.fprintf ppf "(%g, %g, %g)" a.x a.y a.z
+let[@inline] pp ppf a = Format.fprintf ppf "(%g, %g, %g)" a.x a.y a.z
