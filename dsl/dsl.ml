@@ -1,0 +1,223 @@
+open Lancer
+
+type physics_method = Eval.physics_method = Exact | Verlet | Euler
+type physics = Eval.physics = { gravity : Vec3.t; method_ : physics_method; step : float }
+
+type body = Eval.body = {
+  name : string;
+  center : Vec3.t;
+  radius : float;
+  material : Material.t;
+  velocity : Vec3.t;
+  mass : float;
+  restitution : float;
+  loc : Loc.t;
+}
+
+type t = {
+  file : string;
+  stmts : Ast.stmt list;
+  sources : (string, string) Hashtbl.t;
+  images : Eval.images;
+  first : Eval.output;  (** the evaluation at time 0, frame 0 *)
+}
+
+let default_physics = Eval.default_physics
+let file t = t.file
+let animation t = t.first.animation
+let bodies t = t.first.bodies
+let physics t = t.first.physics
+
+(* The one boundary: nothing raised below reaches the caller. *)
+let guard file f =
+  try f () with
+  | Stack_overflow -> Error [ Error.file_error file "the scene is nested too deeply (the evaluator's stack overflowed)" ]
+  | Out_of_memory -> Error [ Error.file_error file "the scene needs more memory than is available" ]
+  | e -> Error [ Error.file_error file ("internal error: " ^ Printexc.to_string e ^ " (please report it)") ]
+
+let read_file path =
+  try Ok (In_channel.with_open_bin path In_channel.input_all) with Sys_error m -> Error m
+
+let canonical path = try Unix.realpath path with _ -> path
+
+(* Replace every [include] by the parsed statements of the file it names, relative to the
+   including file. [stack] holds the files being included, outermost last. *)
+let resolve sources errors main stmts =
+  let err loc msg = errors := Error.make ?source:(Hashtbl.find_opt sources loc.Loc.file) loc msg :: !errors in
+  let rec stmts_ stack file ss = List.map (stmt stack file) ss
+  and items stack file its =
+    List.map (function Ast.Field _ as f -> f | Ast.Stmt s -> Ast.Stmt (stmt stack file s)) its
+  and stmt stack file (s : Ast.stmt) =
+    let d =
+      match s.s with
+      | Include (p, loc) -> (
+          let dir = Filename.dirname file in
+          let path = if Filename.is_relative p && dir <> "." then Filename.concat dir p else p in
+          let key = canonical path in
+          match List.find_opt (fun (k, _) -> k = key) stack with
+          | Some _ ->
+              let chain = List.rev_map snd stack @ [ path ] in
+              let rec cut = function [] -> [] | x :: rest as l -> if canonical x = key then l else cut rest in
+              err loc
+                (Printf.sprintf "include cycle: %s" (String.concat " includes " (cut chain)));
+              Ast.Included (path, [])
+          | None when List.length stack > 64 -> err loc "includes are nested more than 64 deep"; Ast.Included (path, [])
+          | None -> (
+              match read_file path with
+              | Error m -> err loc (Printf.sprintf "cannot include \"%s\": %s" p m); Ast.Included (path, [])
+              | Ok text -> (
+                  Hashtbl.replace sources path text;
+                  match Syntax.parse ~file:path text with
+                  | Error e -> errors := e :: !errors; Ast.Included (path, [])
+                  | Ok ss -> Ast.Included (path, stmts_ ((key, path) :: stack) path ss))))
+      | Macro (f, ps, b) -> Macro (f, ps, stmts_ stack file b)
+      | For (x, a, b, st, body) -> For (x, a, b, st, stmts_ stack file body)
+      | If_stmt (c, t, e) -> If_stmt (c, stmts_ stack file t, stmts_ stack file e)
+      | Block (k, its) -> Block (k, items stack file its)
+      | Body (n, its) -> Body (n, items stack file its)
+      | (Let _ | Fn _ | Included _ | Call_stmt _) as d -> d
+    in
+    { s with s = d }
+  in
+  stmts_ [ (canonical main, main) ] main stmts
+
+let load_text file text =
+  let sources = Hashtbl.create 4 in
+  Hashtbl.replace sources file text;
+  match Syntax.parse ~file text with
+  | Error e -> Error [ e ]
+  | Ok stmts -> (
+      let errors = ref [] in
+      let stmts = resolve sources errors file stmts in
+      if !errors <> [] then Error (List.rev !errors)
+      else
+        let images = Eval.new_images () in
+        match Eval.run ~sources ~images ~time:0. ~frame:0 stmts with
+        | Error es -> Error es
+        | Ok first -> Ok { file; stmts; sources; images; first })
+
+let load_string ?(filename = "<string>") text = guard filename (fun () -> load_text filename text)
+
+let load_file path =
+  guard path (fun () ->
+      match read_file path with
+      | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
+      | Ok text -> load_text path text)
+
+let eval ?body_state t ~time ~frame =
+  if not (Float.is_finite time) then Error [ Error.file_error t.file "the time must be a finite number" ]
+  else Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
+
+let scene_at ?body_state t ~time ~frame =
+  guard t.file (fun () ->
+      match eval ?body_state t ~time ~frame with
+      | Error es -> Error es
+      | Ok out -> (
+          let prims = List.map (fun (o : Eval.obj) -> o.prim) out.objects in
+          match Scene.make ~settings:out.settings ~camera:out.camera ~time ~frame ~lights:out.lights prims with
+          | Ok s -> Ok s
+          | Error m -> Error [ Error.file_error t.file ("invalid scene: " ^ m) ]))
+
+(* ---------------------------------------------------------------------------------- *)
+(* lancer check *)
+
+let count_by key xs =
+  let tbl = Hashtbl.create 8 and order = ref [] in
+  List.iter
+    (fun x ->
+      let k = key x in
+      match Hashtbl.find_opt tbl k with
+      | Some n -> Hashtbl.replace tbl k (n + 1)
+      | None -> Hashtbl.add tbl k 1; order := k :: !order)
+    xs;
+  List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
+
+let light_kind = function Light.Point p when p.radius > 0. -> "area" | Light.Point _ -> "point" | Light.Directional _ -> "directional"
+
+let distinct_materials (sc : Scene.t) =
+  let tbl = Hashtbl.create 16 in
+  Array.iter
+    (fun (o : Primitive.t) ->
+      let m = o.material in
+      let h = Hashtbl.hash m in
+      let same = Hashtbl.find_all tbl h in
+      if not (List.exists (fun m' -> m' == m || (try m' = m with _ -> false)) same) then Hashtbl.add tbl h m)
+    sc.objects;
+  Hashtbl.length tbl
+
+let plural n w = Printf.sprintf "%d %s%s" n w (if n = 1 then "" else "s")
+
+let summary ?body_state:_ t (sc : Scene.t) =
+  let s = sc.settings in
+  let objs = Array.to_list sc.objects in
+  let kinds = count_by (fun (o : Primitive.t) -> Shape.name o.shape) objs in
+  let lights = count_by light_kind (Array.to_list sc.lights) in
+  let list l = String.concat ", " (List.map (fun (k, n) -> Printf.sprintf "%s %d" k n) l) in
+  let b = Buffer.create 256 in
+  let line fmt = Printf.ksprintf (fun x -> Buffer.add_string b x; Buffer.add_char b '\n') fmt in
+  line "scene: %s" t.file;
+  line "image: %d×%d, %d×%d samples per pixel, depth %d" s.width s.height s.samples s.samples s.depth;
+  (match animation t with
+   | Some (fps, n) -> line "animation: %d frames at %g fps (%g s); this is frame %d, time %g s" n fps (Float.of_int n /. fps) sc.frame sc.time
+   | None -> line "animation: none (a still)");
+  line "objects: %d%s" (List.length objs) (if kinds = [] then "" else " (" ^ list kinds ^ ")");
+  line "lights: %d%s" (Array.length sc.lights) (if lights = [] then "" else " (" ^ list lights ^ ")");
+  line "materials: %d distinct" (distinct_materials sc);
+  (match bodies t with
+   | [] -> ()
+   | bs -> line "bodies: %s (%s)" (plural (List.length bs) "body" |> fun x -> if List.length bs = 1 then x else Printf.sprintf "%d bodies" (List.length bs)) (String.concat ", " (List.map (fun b -> b.name) bs)));
+  let used = List.filter_map (fun (k, v) -> if v then Some k else None) (Features.to_list sc.features) in
+  line "features: %s" (if used = [] then "none" else String.concat ", " used);
+  Buffer.contents b
+
+let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
+let cj (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
+
+let light_json = function
+  | Light.Point p ->
+      `Assoc
+        [ ("kind", `String "point"); ("position", vj p.position); ("color", cj p.color); ("intensity", `Float p.intensity);
+          ("attenuation", vj p.attenuation); ("radius", `Float p.radius); ("samples", `Int p.samples) ]
+  | Light.Directional d ->
+      `Assoc [ ("kind", `String "directional"); ("direction", vj d.direction); ("color", cj d.color); ("intensity", `Float d.intensity) ]
+
+let to_json ?body_state t (sc : Scene.t) =
+  let s = sc.settings and c = sc.camera in
+  let objects =
+    match guard t.file (fun () -> Result.map (fun o -> o) (eval ?body_state t ~time:sc.time ~frame:sc.frame)) with
+    | Ok out ->
+        List.map
+          (fun (o : Eval.obj) ->
+            `Assoc
+              ([ ("kind", `String o.kind) ] @ o.fields
+              @ [ ("transforms", `List o.transforms); ("material", o.material_json) ]
+              @ match o.body with Some n -> [ ("body", `String n) ] | None -> []))
+          out.objects
+    | Error _ -> []
+  in
+  let method_name = function Exact -> "exact" | Verlet -> "verlet" | Euler -> "euler" in
+  `Assoc
+    [ ("file", `String t.file); ("time", `Float sc.time); ("frame", `Int sc.frame);
+      ( "settings",
+        `Assoc
+          [ ("width", `Int s.width); ("height", `Int s.height); ("depth", `Int s.depth); ("samples", `Int s.samples);
+            ("jitter", `Bool s.jitter); ("adaptive", `Float s.adaptive); ("shadows", `Bool s.shadows);
+            ("background", cj s.background); ("ambient", cj s.ambient);
+            ("gamma", match s.gamma with Settings.Srgb -> `String "srgb" | Settings.Power g -> `Float g) ] );
+      ("camera", `Assoc [ ("position", vj c.position); ("look_at", vj c.look_at); ("up", vj c.up); ("fov", `Float c.fov) ]);
+      ("animation", match animation t with Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ] | None -> `Null);
+      ("lights", `List (List.map light_json (Array.to_list sc.lights)));
+      ("objects", `List objects);
+      ( "bodies",
+        `List
+          (List.map
+             (fun b ->
+               `Assoc
+                 [ ("name", `String b.name); ("center", vj b.center); ("radius", `Float b.radius); ("velocity", vj b.velocity);
+                   ("mass", `Float b.mass); ("restitution", `Float b.restitution) ])
+             (bodies t)) );
+      ( "physics",
+        match physics t with
+        | Some p -> `Assoc [ ("gravity", vj p.gravity); ("method", `String (method_name p.method_)); ("step", `Float p.step) ]
+        | None -> `Null );
+      ("features", `Assoc (List.map (fun (k, v) -> (k, `Bool v)) (Features.to_list sc.features))) ]

@@ -1,0 +1,78 @@
+(** The [.rts] scene language, end to end: load a script (and its includes), check it, and
+    evaluate it into a {!Lancer.Scene.t} at any animation time.
+
+    This is the one boundary of the language: whatever the input, these functions return
+    [Ok] or located {!Error.t}s and never raise. A program is evaluated once when it is
+    loaded (at time 0, frame 0), so every error a still scene can have is reported by
+    {!load_file}; errors that depend on [time] appear in {!scene_at}. *)
+
+open Lancer
+
+type t
+(** A parsed, checked program, ready to be evaluated at any time. *)
+
+val load_file : string -> (t, Error.t list) result
+(** [load_file path] reads, parses and checks [path]. Included files are found relative
+    to the file that includes them. Errors name files as the paths were written. *)
+
+val load_string : ?filename:string -> string -> (t, Error.t list) result
+(** [load_string ~filename text] is as {!load_file} for [text], named [filename] (default
+    ["<string>"]; includes are relative to its directory). *)
+
+val scene_at :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> time:float -> frame:int ->
+  (Scene.t, Error.t list) result
+(** [scene_at p ~time ~frame] evaluates [p] with [time] (seconds) and [frame] bound.
+    [body_state name t] gives (position, velocity) of body [name] at time [t] (the physics
+    engine plugs in here); without it, or when it answers [None], a body sits at its
+    initial centre with its initial velocity. A body's sphere is rendered at its
+    position. *)
+
+val animation : t -> (float * int) option
+(** (fps, frames) of the [animation] block; [None] without one. *)
+
+val file : t -> string
+(** The file name the program was loaded as. *)
+
+(** {1 For the physics engine} *)
+
+type physics_method = Eval.physics_method = Exact | Verlet | Euler
+
+type physics = Eval.physics = {
+  gravity : Vec3.t;  (** m/s²; default (0, −9.81, 0) *)
+  method_ : physics_method;  (** default [Exact] *)
+  step : float;  (** seconds, for the fixed-step methods; default 1/240 *)
+}
+
+type body = Eval.body = {
+  name : string;
+  center : Vec3.t;  (** initial world-space centre (transforms applied) *)
+  radius : float;  (** world-space radius *)
+  material : Material.t;
+  velocity : Vec3.t;  (** initial velocity, m/s; default (0, 0, 0) *)
+  mass : float;  (** kg, > 0; default 1 *)
+  restitution : float;  (** in [0, 1]; default 0.9; a pair uses the product *)
+  loc : Loc.t;  (** where the body is defined *)
+}
+
+val bodies : t -> body list
+(** The bodies of the program (evaluated at time 0), in program order. In every scene
+    from {!scene_at}, the body spheres are the last [List.length (bodies p)] objects, in
+    this order; the objects before them are static (obstacles for the simulation). *)
+
+val physics : t -> physics option
+(** The [physics] block; [None] without one (the engine should then use
+    {!default_physics}). *)
+
+val default_physics : physics
+
+(** {1 For [lancer check]} *)
+
+val summary : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> string
+(** A few lines on what the scene holds: image size, frames, objects by kind, lights,
+    distinct materials, bodies, and which {!Features} it uses. *)
+
+val to_json : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> Yojson.Safe.t
+(** The evaluated scene at [scene]'s time: settings, camera, lights, every object with its
+    kind, fields (object space, as written), transforms and material, bodies, physics,
+    animation and features. Settings come from [scene] (so command-line overrides show). *)

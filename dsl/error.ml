@@ -1,0 +1,68 @@
+type t = { file : string; line : int; col : int; end_col : int; message : string; source_line : string option }
+
+let nth_line text n =
+  (* Line [n] (from 1) of [text], without its newline (or carriage return). *)
+  let len = String.length text in
+  let rec start i k = if k = n then Some i else match String.index_from_opt text i '\n' with
+    | Some j when j + 1 <= len -> start (j + 1) (k + 1)
+    | _ -> None
+  in
+  match start 0 1 with
+  | None -> None
+  | Some i ->
+      let j = match String.index_from_opt text i '\n' with Some j -> j | None -> len in
+      let j = if j > i && text.[j - 1] = '\r' then j - 1 else j in
+      Some (String.sub text i (j - i))
+
+let make ?source (loc : Loc.t) message =
+  let source_line = Option.bind source (fun s -> nth_line s loc.line) in
+  let end_col =
+    if loc.end_line = loc.line && loc.end_col > loc.col then loc.end_col
+    else match source_line with
+      | Some l when String.length l + 1 > loc.col -> String.length l + 1
+      | _ -> loc.col + 1
+  in
+  { file = loc.file; line = loc.line; col = loc.col; end_col; message; source_line }
+
+let file_error file message = { file; line = 0; col = 0; end_col = 0; message; source_line = None }
+
+let compare a b =
+  let c = String.compare a.file b.file in
+  if c <> 0 then c else
+  let c = Int.compare a.line b.line in
+  if c <> 0 then c else
+  let c = Int.compare a.col b.col in
+  if c <> 0 then c else String.compare a.message b.message
+
+(* Display width of the first [n] bytes of [s]: UTF-8 continuation bytes take no
+   column, tabs are kept so the caret lines up under them. *)
+let prefix s n =
+  let b = Buffer.create n in
+  String.iteri
+    (fun i c ->
+      if i < n then
+        if c = '\t' then Buffer.add_char b '\t'
+        else if Char.code c land 0xC0 <> 0x80 then Buffer.add_char b ' ')
+    s;
+  Buffer.contents b
+
+let width s a b =
+  let n = ref 0 in
+  for i = a to min b (String.length s) - 1 do
+    if Char.code s.[i] land 0xC0 <> 0x80 then incr n
+  done;
+  max 1 !n
+
+let pp ppf e =
+  if e.line = 0 then Format.fprintf ppf "%s: %s@." e.file e.message
+  else begin
+    Format.fprintf ppf "%s:%d:%d: %s@." e.file e.line e.col e.message;
+    match e.source_line with
+    | None -> ()
+    | Some l ->
+        let c0 = e.col - 1 in
+        let caret = String.make (width l c0 (e.end_col - 1)) '^' in
+        Format.fprintf ppf "%s@.%s%s@." l (prefix l c0) caret
+  end
+
+let to_string e = Format.asprintf "%a" pp e

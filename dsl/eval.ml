@@ -1,0 +1,1033 @@
+open Lancer
+open Ast
+
+let max_objects = 10_000_000
+let max_steps = 100_000_000
+let max_depth = 1000
+
+type physics_method = Exact | Verlet | Euler
+type physics = { gravity : Vec3.t; method_ : physics_method; step : float }
+
+let default_physics = { gravity = Vec3.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
+
+type body = {
+  name : string;
+  center : Vec3.t;
+  radius : float;
+  material : Material.t;
+  velocity : Vec3.t;
+  mass : float;
+  restitution : float;
+  loc : Loc.t;
+}
+
+type obj = {
+  kind : string;
+  fields : (string * Yojson.Safe.t) list;
+  transforms : Yojson.Safe.t list;
+  material_json : Yojson.Safe.t;
+  prim : Primitive.t;
+  body : string option;
+}
+
+type output = {
+  settings : Settings.t;
+  camera : Camera.t;
+  lights : Light.t list;
+  objects : obj list;
+  animation : (float * int) option;
+  physics : physics option;
+  bodies : body list;
+}
+
+type images = (string, (Image.t, string) result) Hashtbl.t
+
+let new_images () : images = Hashtbl.create 4
+
+(* ------------------------------------------------------------------------------------ *)
+(* Did-you-mean *)
+
+let edit_distance a b =
+  let la = String.length a and lb = String.length b in
+  let d = Array.make_matrix (la + 1) (lb + 1) 0 in
+  for i = 0 to la do d.(i).(0) <- i done;
+  for j = 0 to lb do d.(0).(j) <- j done;
+  for i = 1 to la do
+    for j = 1 to lb do
+      let c = if a.[i - 1] = b.[j - 1] then 0 else 1 in
+      d.(i).(j) <- min (min (d.(i - 1).(j) + 1) (d.(i).(j - 1) + 1)) (d.(i - 1).(j - 1) + c);
+      if i > 1 && j > 1 && a.[i - 1] = b.[j - 2] && a.[i - 2] = b.[j - 1] then
+        d.(i).(j) <- min d.(i).(j) (d.(i - 2).(j - 2) + 1)
+    done
+  done;
+  d.(la).(lb)
+
+let suggest x candidates =
+  let limit = max 1 (min 3 (String.length x / 3)) in
+  let best =
+    List.fold_left
+      (fun acc c ->
+        let d = edit_distance (String.lowercase_ascii x) (String.lowercase_ascii c) in
+        match acc with
+        | Some (_, bd) when bd <= d -> acc
+        | _ -> if d <= limit && c <> x then Some (c, d) else acc)
+      None candidates
+  in
+  Option.map fst best
+
+let hint x candidates =
+  match suggest x candidates with Some c -> Printf.sprintf "; did you mean `%s`?" c | None -> ""
+
+(* ------------------------------------------------------------------------------------ *)
+(* Values *)
+
+type value =
+  | VNum of float
+  | VBool of bool
+  | VVec of Vec3.t
+  | VStr of string
+  | VMat of Material.t * (string * Yojson.Safe.t) list  (** texture and bump descriptions *)
+  | VTex of tex
+  | VFun of closure
+  | VMacro of macro
+  | VBuiltin of string
+  | VBody of string
+  | VPoison  (** the value of a name whose definition failed (already reported) *)
+
+and tex = { tname : string; targs : value list; tloc : Loc.t }
+and closure = { fname : string; params : name list; fbody : expr; mutable fenv : env }
+and macro = { mname : string; mparams : name list; mbody : stmt list; mutable menv : env }
+and env = value Map.Make(String).t
+
+module Env = Map.Make (String)
+
+let type_name = function
+  | VNum _ -> "a number"
+  | VBool _ -> "a boolean"
+  | VVec _ -> "a vector"
+  | VStr _ -> "a string"
+  | VMat _ -> "a material"
+  | VTex _ -> "a texture"
+  | VFun _ -> "a function"
+  | VMacro _ -> "a scene macro"
+  | VBuiltin _ -> "a built-in function"
+  | VBody _ -> "a body"
+  | VPoison -> "an erroneous value"
+
+(* An error to report; an error already reported (skip quietly); a limit was hit. *)
+exception Fail of Loc.t * string
+exception Poisoned
+exception Abort
+
+let fail loc fmt = Printf.ksprintf (fun m -> raise (Fail (loc, m))) fmt
+
+(* ------------------------------------------------------------------------------------ *)
+(* Context *)
+
+type pending_obj = {
+  p_kind : string;
+  p_fields : (string * Yojson.Safe.t) list;
+  p_shape : Shape.t;
+  p_transform : Transform.t;
+  p_tjson : Yojson.Safe.t list;
+  p_material : (Material.t * Yojson.Safe.t) option;
+}
+
+type ctx = {
+  time : float;
+  body_state : (string -> float -> (Vec3.t * Vec3.t) option) option;
+  sources : (string, string) Hashtbl.t;
+  images : images;
+  mutable errors : Error.t list;  (** reversed *)
+  seen : (string * int * int * string, unit) Hashtbl.t;
+  mutable objects : int;
+  mutable steps : int;
+  mutable depth : int;
+  mutable settings : (Settings.t * Loc.t) option;
+  mutable camera : (Camera.t * Loc.t) option;
+  mutable animation : ((float * int) * Loc.t) option;
+  mutable physics : (physics * Loc.t) option;
+  mutable lights : Light.t list;
+  mutable bodies : (body * pending_obj) list;  (** reversed *)
+}
+
+let report ctx (loc : Loc.t) msg =
+  let key = (loc.file, loc.line, loc.col, msg) in
+  if not (Hashtbl.mem ctx.seen key) then begin
+    Hashtbl.add ctx.seen key ();
+    ctx.errors <- Error.make ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.errors
+  end
+
+let limit ctx loc msg =
+  report ctx loc msg;
+  raise Abort
+
+let step ctx loc =
+  ctx.steps <- ctx.steps + 1;
+  if ctx.steps > max_steps then
+    limit ctx loc
+      (Printf.sprintf "this scene takes more than %d evaluation steps (loop iterations and calls); that is the limit"
+         max_steps)
+
+(* A scope: where objects go (the program, or a group or body being built). *)
+type scope = { sink : pending_obj list ref; in_group : bool }
+
+(* ------------------------------------------------------------------------------------ *)
+(* Numbers *)
+
+let finite loc x =
+  if Float.is_nan x then fail loc "this expression is not a number (NaN)"
+  else if Float.is_integer x || Float.is_finite x then x
+  else fail loc "this expression overflows to infinity"
+
+let finite_vec loc (v : Vec3.t) =
+  ignore (finite loc v.x);
+  ignore (finite loc v.y);
+  ignore (finite loc v.z);
+  v
+
+let fmt_num x =
+  if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x else Printf.sprintf "%g" x
+
+let vjson (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
+let cjson (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
+
+(* ------------------------------------------------------------------------------------ *)
+(* Built-in functions *)
+
+let builtin_names =
+  [ "sin"; "cos"; "tan"; "asin"; "acos"; "atan"; "atan2"; "radians"; "degrees"; "sqrt"; "abs"; "floor";
+    "ceil"; "round"; "min"; "max"; "pow"; "exp"; "log"; "clamp"; "mix"; "dot"; "cross"; "length";
+    "normalize"; "rgb"; "hsv"; "rand"; "checker"; "stripes"; "noise"; "marble"; "wood"; "image" ]
+
+let hsv h s v =
+  let h = (h -. Float.floor h) *. 6. in
+  let i = int_of_float (Float.floor h) mod 6 in
+  let f = h -. Float.floor h in
+  let p = v *. (1. -. s) and q = v *. (1. -. (s *. f)) and t = v *. (1. -. (s *. (1. -. f))) in
+  match i with
+  | 0 -> Vec3.v v t p
+  | 1 -> Vec3.v q v p
+  | 2 -> Vec3.v p v t
+  | 3 -> Vec3.v p q v
+  | 4 -> Vec3.v t p v
+  | _ -> Vec3.v v p q
+
+let call_builtin name loc (args : (value * Loc.t) list) =
+  let n = List.length args in
+  let arity k =
+    if n <> k then fail loc "`%s` takes %d argument%s, got %d" name k (if k = 1 then "" else "s") n
+  in
+  let num i =
+    let v, l = List.nth args i in
+    match v with VNum x -> x | v -> fail l "argument %d of `%s` must be a number, got %s" (i + 1) name (type_name v)
+  in
+  let vec i =
+    let v, l = List.nth args i in
+    match v with
+    | VVec x -> x
+    | v -> fail l "argument %d of `%s` must be a vector (x, y, z), got %s" (i + 1) name (type_name v)
+  in
+  let f1 f = arity 1; VNum (finite loc (f (num 0))) in
+  let domain ok what f =
+    arity 1;
+    let x = num 0 in
+    if not (ok x) then fail loc "`%s` needs %s, got %s" name what (fmt_num x);
+    VNum (finite loc (f x))
+  in
+  let tex k = arity k; VTex { tname = name; targs = List.map fst args; tloc = loc } in
+  match name with
+  | "sin" -> f1 sin
+  | "cos" -> f1 cos
+  | "tan" -> f1 tan
+  | "asin" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" asin
+  | "acos" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" acos
+  | "atan" -> f1 atan
+  | "atan2" -> arity 2; VNum (finite loc (Float.atan2 (num 0) (num 1)))
+  | "radians" -> f1 (fun d -> d *. Float.pi /. 180.)
+  | "degrees" -> f1 (fun r -> r *. 180. /. Float.pi)
+  | "sqrt" -> domain (fun x -> x >= 0.) "a value ≥ 0" sqrt
+  | "abs" -> f1 Float.abs
+  | "floor" -> f1 Float.floor
+  | "ceil" -> f1 Float.ceil
+  | "round" -> f1 Float.round
+  | "exp" -> f1 exp
+  | "log" -> domain (fun x -> x > 0.) "a value > 0" log
+  | "pow" -> arity 2; VNum (finite loc (Float.pow (num 0) (num 1)))
+  | "min" | "max" ->
+      if n < 2 then fail loc "`%s` takes at least 2 arguments, got %d" name n;
+      let xs = List.mapi (fun i _ -> num i) args in
+      let f = if name = "min" then Float.min else Float.max in
+      VNum (List.fold_left f (List.hd xs) (List.tl xs))
+  | "clamp" ->
+      arity 3;
+      let x = num 0 and lo = num 1 and hi = num 2 in
+      if lo > hi then fail loc "`clamp` needs lo ≤ hi, got %s > %s" (fmt_num lo) (fmt_num hi);
+      VNum (Float.min hi (Float.max lo x))
+  | "mix" -> (
+      arity 3;
+      let t = num 2 in
+      match (fst (List.nth args 0), fst (List.nth args 1)) with
+      | VNum a, VNum b -> VNum (finite loc (a +. (t *. (b -. a))))
+      | VVec a, VVec b -> VVec (finite_vec loc (Vec3.madd a t (Vec3.sub b a)))
+      | a, b -> fail loc "`mix` mixes two numbers or two vectors, got %s and %s" (type_name a) (type_name b))
+  | "dot" -> arity 2; VNum (finite loc (Vec3.dot (vec 0) (vec 1)))
+  | "cross" -> arity 2; VVec (finite_vec loc (Vec3.cross (vec 0) (vec 1)))
+  | "length" -> arity 1; VNum (finite loc (Vec3.length (vec 0)))
+  | "normalize" ->
+      arity 1;
+      let v = vec 0 in
+      if Vec3.max_abs v = 0. then fail loc "`normalize` of the zero vector";
+      VVec (finite_vec loc (Vec3.normalize v))
+  | "rgb" -> arity 3; VVec (Vec3.v (num 0) (num 1) (num 2))
+  | "hsv" -> arity 3; VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
+  | "rand" -> arity 1; VNum (Hash.of_float (num 0))
+  | "checker" | "stripes" | "marble" | "wood" -> tex 3
+  | "noise" ->
+      if n <> 2 && n <> 3 then
+        fail loc "`noise` takes 3 arguments (c1, c2, scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
+      tex n
+  | "image" ->
+      arity 2;
+      (match fst (List.nth args 0) with
+       | VStr _ -> ()
+       | v -> fail (snd (List.nth args 0)) "argument 1 of `image` must be a file name string, got %s" (type_name v));
+      ignore (num 1);
+      tex 2
+  | _ -> fail loc "internal error: unknown built-in `%s`" name
+
+let material_fields =
+  [ "color"; "texture"; "ambient"; "diffuse"; "specular"; "shininess"; "reflection"; "transparency"; "ior";
+    "fresnel"; "bump"; "base" ]
+
+let common_fields = [ "material"; "translate"; "rotate"; "scale" ]
+let repeatable = [ "translate"; "rotate"; "scale" ]
+
+let object_fields =
+  [ ("sphere", [ "center"; "radius" ]); ("plane", [ "normal"; "offset" ]);
+    ("parallelogram", [ "origin"; "edge1"; "edge2" ]); ("triangle", [ "a"; "b"; "c" ]);
+    ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]); ("box", [ "min"; "max" ]);
+    ("cylinder", [ "base"; "top"; "radius"; "caps" ]); ("disk", [ "center"; "normal"; "radius" ]);
+    ("mesh", [ "file"; "smooth" ]) ]
+
+(* A block being evaluated: its fields in order, and the objects its statements built. *)
+type fld = { name : name; value : value; vloc : Loc.t }
+
+type block = {
+  ctx : ctx;
+  kind : string;
+  kloc : Loc.t;
+  mutable fields : fld list;
+  mutable failed : bool;
+  members : pending_obj list ref;
+}
+
+(* ------------------------------------------------------------------------------------ *)
+(* Expressions *)
+
+let rec eval ctx env (e : expr) : value =
+  match e.e with
+  | Num x -> VNum x
+  | Str s -> VStr s
+  | Bool b -> VBool b
+  | Var x -> lookup env x e.loc
+  | Vec (a, b, c) ->
+      let n (e : expr) = match eval ctx env e with VNum x -> x | v -> fail e.loc "a vector component must be a number, got %s" (type_name v) in
+      let x = n a in
+      let y = n b in
+      let z = n c in
+      VVec (Vec3.v x y z)
+  | Unop (Neg, a) -> (
+      match eval ctx env a with
+      | VNum x -> VNum (-.x)
+      | VVec v -> VVec (Vec3.neg v)
+      | v -> fail e.loc "`-` needs a number or a vector, got %s" (type_name v))
+  | Unop (Not, a) -> (
+      match eval ctx env a with VBool b -> VBool (not b) | v -> fail e.loc "`not` needs a boolean, got %s" (type_name v))
+  | Binop (((And | Or) as op), a, b) -> (
+      let bool (x : expr) =
+        match eval ctx env x with
+        | VBool b -> b
+        | v -> fail x.loc "`%s` needs booleans, got %s" (binop_name op) (type_name v)
+      in
+      match op with
+      | And -> VBool (bool a && bool b)
+      | _ -> VBool (bool a || bool b))
+  | Binop (op, a, b) ->
+      let va = eval ctx env a in
+      let vb = eval ctx env b in
+      binop e.loc op va vb b.loc
+  | Dot (a, f) -> (
+      match (eval ctx env a, f.id) with
+      | VVec v, "x" -> VNum v.x
+      | VVec v, "y" -> VNum v.y
+      | VVec v, "z" -> VNum v.z
+      | VVec _, x -> fail f.nloc "a vector has components `x`, `y` and `z`, not `%s`" x
+      | VBody name, ("position" | "velocity") ->
+          let b, _ = List.find (fun ((b : body), _) -> b.name = name) ctx.bodies in
+          let pos, vel =
+            match Option.bind ctx.body_state (fun f -> f name ctx.time) with
+            | Some pv -> pv
+            | None -> (b.center, b.velocity)
+          in
+          VVec (if f.id = "position" then pos else vel)
+      | VBody _, x -> fail f.nloc "a body has `position` and `velocity`, not `%s`%s" x (hint x [ "position"; "velocity" ])
+      | v, x -> fail f.nloc "`.%s` needs a vector or a body, got %s" x (type_name v))
+  | If (c, a, b) -> (
+      match eval ctx env c with
+      | VBool true -> eval ctx env a
+      | VBool false -> eval ctx env b
+      | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
+  | Call (f, args) -> (
+      match lookup env f.id f.nloc with
+      | VBuiltin name ->
+          let args = List.map (fun (a : expr) -> (eval ctx env a, a.loc)) args in
+          List.iter (fun (v, _) -> if v = VPoison then raise Poisoned) args;
+          call_builtin name e.loc args
+      | VFun c ->
+          let env' = bind_params ctx env c.fname c.params c.fenv args e.loc in
+          nested ctx e.loc (fun () -> eval ctx env' c.fbody)
+      | VMacro m -> fail f.nloc "`%s` is a scene macro (fn %s(…) { … }): call it as a statement, not in an expression" m.mname m.mname
+      | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v))
+  | Material items -> eval_material ctx env e.loc items
+
+and lookup env x loc =
+  match Env.find_opt x env with
+  | Some VPoison -> raise Poisoned
+  | Some v -> v
+  | None ->
+      let names = Env.fold (fun k _ acc -> k :: acc) env [] in
+      fail loc "unknown name `%s`%s" x (hint x names)
+
+and bind_params ctx env fname params cenv args loc =
+  let np = List.length params and na = List.length args in
+  if np <> na then fail loc "`%s` takes %d argument%s, got %d" fname np (if np = 1 then "" else "s") na;
+  List.fold_left2 (fun acc (p : name) (a : expr) -> Env.add p.id (eval ctx env a) acc) cenv params args
+
+and nested : 'a. ctx -> Loc.t -> (unit -> 'a) -> 'a =
+ fun ctx loc f ->
+  step ctx loc;
+  if ctx.depth >= max_depth then
+    limit ctx loc (Printf.sprintf "calls are nested more than %d deep (runaway recursion?)" max_depth);
+  ctx.depth <- ctx.depth + 1;
+  Fun.protect ~finally:(fun () -> ctx.depth <- ctx.depth - 1) f
+
+and binop loc op a b bloc =
+  let num x = VNum (finite loc x) and vec v = VVec (finite_vec loc v) in
+  let bad () =
+    fail loc "`%s` cannot combine %s and %s" (binop_name op) (type_name a) (type_name b)
+  in
+  if a = VPoison || b = VPoison then raise Poisoned;
+  match (op, a, b) with
+  | Add, VNum x, VNum y -> num (x +. y)
+  | Add, VVec x, VVec y -> vec (Vec3.add x y)
+  | Sub, VNum x, VNum y -> num (x -. y)
+  | Sub, VVec x, VVec y -> vec (Vec3.sub x y)
+  | Mul, VNum x, VNum y -> num (x *. y)
+  | Mul, VNum s, VVec v | Mul, VVec v, VNum s -> vec (Vec3.smul s v)
+  | Mul, VVec x, VVec y -> vec (Vec3.mul x y)
+  | Div, VNum _, VNum 0. | Div, VVec _, VNum 0. -> fail bloc "division by zero"
+  | Div, VNum x, VNum y -> num (x /. y)
+  | Div, VVec v, VNum s -> vec (Vec3.smul (1. /. s) v)
+  | Mod, VNum _, VNum 0. -> fail bloc "modulo by zero"
+  | Mod, VNum x, VNum y -> num (Float.rem x y)
+  | Pow, VNum x, VNum y ->
+      let r = Float.pow x y in
+      if Float.is_nan r then fail loc "%s ^ %s is not a real number" (fmt_num x) (fmt_num y);
+      num r
+  | (Eq | Ne), _, _ ->
+      let eq =
+        match (a, b) with
+        | VNum x, VNum y -> Float.equal x y
+        | VBool x, VBool y -> x = y
+        | VStr x, VStr y -> String.equal x y
+        | VVec x, VVec y -> Float.equal x.x y.x && Float.equal x.y y.y && Float.equal x.z y.z
+        | _ -> bad ()
+      in
+      VBool (if op = Eq then eq else not eq)
+  | (Lt | Le | Gt | Ge), VNum x, VNum y ->
+      VBool (match op with Lt -> x < y | Le -> x <= y | Gt -> x > y | _ -> x >= y)
+  | _ -> bad ()
+
+(* ------------------------------------------------------------------------------------ *)
+(* Blocks: fields, their types and ranges *)
+
+and eval_material ctx env loc items =
+  let b = collect ctx env { sink = ref []; in_group = false } "material" loc ~holds_objects:false items in
+  check_names b material_fields;
+  let base, base_desc =
+    match field b "base" with
+    | None -> (Material.default, [])
+    | Some f -> (
+        match f.value with
+        | VMat (m, d) -> (m, d)
+        | v -> bad b f.vloc "`base` must be a material, got %s" (type_name v); (Material.default, []))
+  in
+  let d = base in
+  let m : Material.t =
+    { color = color b "color" ~default:d.color;
+      texture = d.texture;
+      ambient = nonneg b "ambient" ~default:d.ambient;
+      diffuse = nonneg b "diffuse" ~default:d.diffuse;
+      specular = nonneg b "specular" ~default:d.specular;
+      shininess = nonneg b "shininess" ~default:d.shininess;
+      reflection = unit_range b "reflection" ~default:d.reflection;
+      transparency = unit_range b "transparency" ~default:d.transparency;
+      ior = positive b "ior" ~default:d.ior;
+      fresnel = boolean b "fresnel" ~default:d.fresnel;
+      bump = d.bump }
+  in
+  let desc = ref base_desc in
+  let set k j = desc := (k, j) :: List.remove_assoc k !desc in
+  let m =
+    match field b "texture" with
+    | None -> m
+    | Some f -> (
+        match f.value with
+        | VTex t -> (
+            match texture ctx t with
+            | Ok (tex, j) -> set "texture" j; { m with texture = Some tex }
+            | Error msg -> bad b f.vloc "%s" msg; m)
+        | VVec v -> set "texture" (`Assoc [ ("kind", `String "solid"); ("color", vjson v) ]);
+            { m with texture = Some (Texture.Solid (Color.of_vec3 v)) }
+        | v -> bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s" (type_name v); m)
+  in
+  let m =
+    match field b "bump" with
+    | None -> m
+    | Some f -> (
+        match f.value with
+        | VTex t -> (
+            match bump ctx t with
+            | Ok (bm, j) -> set "bump" j; { m with bump = Some bm }
+            | Error msg -> bad b f.vloc "%s" msg; m)
+        | v -> bad b f.vloc "`bump` must be noise(scale, amount) or image(\"file.png\", amount), got %s" (type_name v); m)
+  in
+  (match field b "reflection", field b "transparency" with
+   | (Some _, _ | _, Some _) when m.reflection +. m.transparency > 1. && not b.failed ->
+       let f = match field b "transparency" with Some f -> f | None -> Option.get (field b "reflection") in
+       bad b f.vloc "reflection + transparency must be at most 1, got %s + %s = %s" (fmt_num m.reflection)
+         (fmt_num m.transparency) (fmt_num (m.reflection +. m.transparency))
+   | _ -> ());
+  finish b;
+  (match Material.validate m with Ok () -> () | Error msg -> fail loc "invalid material: %s" msg);
+  VMat (m, List.rev !desc)
+
+(* The image file of an [image(…)] texture or bump map, relative to the scene file that
+   names it, read once and cached for every frame. *)
+and load_image ctx t =
+  match t.targs with
+  | VStr p :: _ ->
+      let dir = Filename.dirname t.tloc.file in
+      let path = if Filename.is_relative p && dir <> "." then Filename.concat dir p else p in
+      let r =
+        match Hashtbl.find_opt ctx.images path with
+        | Some r -> r
+        | None ->
+            let r = try Image.read_linear path with e -> Error (Printexc.to_string e) in
+            Hashtbl.replace ctx.images path r;
+            r
+      in
+      Result.map_error (fun m -> Printf.sprintf "cannot read the image \"%s\": %s" p m) r
+  | _ -> Error "image(…) needs a file name"
+
+and texture ctx t =
+  let c i = match List.nth t.targs i with VVec v -> Ok (Color.of_vec3 v) | v -> Error (Printf.sprintf "argument %d of `%s` must be a colour (r, g, b), got %s" (i + 1) t.tname (type_name v)) in
+  let n i = match List.nth t.targs i with VNum x -> Ok x | v -> Error (Printf.sprintf "argument %d of `%s` must be a number, got %s" (i + 1) t.tname (type_name v)) in
+  let ( let* ) = Result.bind in
+  let size i what =
+    let* s = n i in
+    if s >= 1e-150 && s <= 1e150 then Ok s
+    else Error (Printf.sprintf "the %s of `%s` must be in [1e-150, 1e150], got %s" what t.tname (fmt_num s))
+  in
+  let solid mk =
+    let* c1 = c 0 in
+    let* c2 = c 1 in
+    let* s = size 2 (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale") in
+    let j = `Assoc [ ("kind", `String t.tname); ("c1", cjson c1); ("c2", cjson c2); ((if t.tname = "checker" || t.tname = "stripes" then "size" else "scale"), `Float s) ] in
+    Result.map (fun tex -> (tex, j)) (mk c1 c2 s)
+  in
+  match (t.tname, List.length t.targs) with
+  | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
+  | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
+  | ("noise" | "marble" | "wood"), 3 ->
+      solid (fun _ _ _ -> Error (Printf.sprintf "%s textures are not available in this build" t.tname))
+  | "noise", _ -> Error "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise takes (c1, c2, scale)"
+  | "image", _ ->
+      Result.bind (load_image ctx t) (fun _img -> Error "image textures are not available in this build")
+  | _ -> Error (Printf.sprintf "`%s` is not a texture" t.tname)
+
+and bump ctx t =
+  match (t.tname, t.targs) with
+  | "noise", [ VNum scale; VNum amount ] ->
+      if not (scale >= 1e-150 && scale <= 1e150) then Error (Printf.sprintf "the scale of a noise bump must be in [1e-150, 1e150], got %s" (fmt_num scale))
+      else if not (Float.abs amount <= 1e150) then Error "the amount of a noise bump is out of range"
+      else Ok (Bump.Noise { scale; amount }, `Assoc [ ("kind", `String "noise"); ("scale", `Float scale); ("amount", `Float amount) ])
+  | "noise", [ _; _ ] -> Error "a noise bump map takes two numbers: noise(scale, amount)"
+  | "image", _ -> Result.bind (load_image ctx t) (fun _img -> Error "image bump maps are not available in this build")
+  | _ -> Error (Printf.sprintf "`%s(…)` is not a bump map: use noise(scale, amount) or image(\"file.png\", amount)" t.tname)
+
+and collect ctx env scope kind kloc ~holds_objects items =
+  let b = { ctx; kind; kloc; fields = []; failed = false; members = ref [] } in
+  let inner = { sink = b.members; in_group = scope.in_group || holds_objects } in
+  let _env =
+    List.fold_left
+      (fun env item ->
+        match item with
+        | Field (n, e) -> (
+            match List.find_opt (fun f -> f.name.id = n.id) b.fields with
+            | Some prev when not (List.mem n.id repeatable) ->
+                bad b n.nloc "`%s` is given twice in this %s (first at line %d)" n.id kind prev.name.nloc.line;
+                env
+            | _ -> (
+                match eval ctx env e with
+                | v -> b.fields <- b.fields @ [ { name = n; value = v; vloc = e.loc } ]; env
+                | exception Fail (l, m) -> report ctx l m; b.failed <- true; env
+                | exception Poisoned -> b.failed <- true; env))
+        | Stmt s -> (
+            match s.s with
+            | Let _ | Fn _ | Macro _ -> exec ctx env inner s
+            | _ when holds_objects -> exec ctx env inner s
+            | _ ->
+                bad b s.sloc "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind;
+                env))
+      env items
+  in
+  b
+
+and exec_list ctx env scope stmts = List.fold_left (fun env s -> exec ctx env scope s) env stmts
+
+and exec ctx env scope (s : stmt) : env =
+  try exec_ ctx env scope s with
+  | Fail (loc, msg) ->
+      report ctx loc msg;
+      poison env s
+  | Poisoned -> poison env s
+
+and poison env s =
+  match s.s with Let (x, _) | Fn (x, _, _) | Macro (x, _, _) -> Env.add x.id VPoison env | _ -> env
+
+and exec_ ctx env scope (s : stmt) : env =
+  match s.s with
+  | Let (x, e) -> Env.add x.id (eval ctx env e) env
+  | Fn (f, params, body) ->
+      check_params params;
+      let c = { fname = f.id; params; fbody = body; fenv = env } in
+      let env = Env.add f.id (VFun c) env in
+      c.fenv <- env;
+      env
+  | Macro (f, params, body) ->
+      check_params params;
+      let m = { mname = f.id; mparams = params; mbody = body; menv = env } in
+      let env = Env.add f.id (VMacro m) env in
+      m.menv <- env;
+      env
+  | For (x, a, b, st, body) ->
+      let num (e : expr) what =
+        match eval ctx env e with VNum v -> v | v -> fail e.loc "the %s of a `for` loop must be a number, got %s" what (type_name v)
+      in
+      let a' = num a "start" in
+      let b' = num b "end" in
+      let st' = match st with None -> 1. | Some e -> num e "step" in
+      if st' = 0. then fail (Option.get st).loc "the step of a `for` loop must not be 0";
+      let count = Float.floor (((b' -. a') /. st') +. 1e-9) +. 1. in
+      if count > Float.of_int max_steps || count > 1e15 then
+        limit ctx s.sloc
+          (Printf.sprintf "this loop would run %s times; at most %d loop iterations and calls are allowed" (fmt_num count) max_steps);
+      let count = if count < 0. then 0 else int_of_float count in
+      for k = 0 to count - 1 do
+        step ctx s.sloc;
+        let i = a' +. (Float.of_int k *. st') in
+        ignore (exec_list ctx (Env.add x.id (VNum i) env) scope body)
+      done;
+      env
+  | If_stmt (c, t, e) -> (
+      match eval ctx env c with
+      | VBool true -> ignore (exec_list ctx env scope t); env
+      | VBool false -> ignore (exec_list ctx env scope e); env
+      | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
+  | Include (p, loc) -> fail loc "internal error: include \"%s\" was not resolved" p
+  | Included (_, stmts) -> exec_list ctx env scope stmts
+  | Call_stmt (f, args) -> (
+      match lookup env f.id f.nloc with
+      | VMacro m ->
+          let env' = bind_params ctx env m.mname m.mparams m.menv args s.sloc in
+          nested ctx s.sloc (fun () -> ignore (exec_list ctx env' scope m.mbody));
+          env
+      | VFun c -> fail f.nloc "`%s` is an expression function (fn %s(…) = …): use it in an expression, e.g. let x = %s(…)" c.fname c.fname c.fname
+      | VBuiltin n -> fail f.nloc "`%s` is a built-in function: use it in an expression" n
+      | v -> fail f.nloc "`%s` is %s, not a scene macro" f.id (type_name v))
+  | Block (k, items) -> block ctx env scope k items; env
+  | Body (n, items) -> body ctx env scope s.sloc n items; Env.add n.id (VBody n.id) env
+
+and check_params params =
+  let rec go = function
+    | [] -> ()
+    | (p : name) :: rest ->
+        if List.exists (fun (q : name) -> q.id = p.id) rest then fail p.nloc "parameter `%s` is named twice" p.id;
+        go rest
+  in
+  go params
+
+and block ctx env scope (k : name) items =
+  match k.id with
+  | "settings" -> settings ctx env scope k items
+  | "camera" -> camera ctx env scope k items
+  | "animation" -> animation ctx env scope k items
+  | "physics" -> physics ctx env scope k items
+  | "light" -> light ctx env scope k items
+  | "group" -> group ctx env scope k items
+  | kind when List.mem_assoc kind object_fields -> (
+      match object_ ctx env scope k items with Some o -> add_object ctx scope k.nloc o | None -> ())
+  | "material" -> fail k.nloc "a material is a value: write `material: material { … }` inside an object, or `let m = material { … }`"
+  | x ->
+      fail k.nloc "unknown block `%s`%s" x
+        (hint x ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ List.map fst object_fields))
+
+and add_object ctx scope loc o =
+  ctx.objects <- ctx.objects + 1;
+  if ctx.objects > max_objects then
+    limit ctx loc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
+  scope.sink := o :: !(scope.sink)
+
+and once : 'a. ctx -> string -> ('a * Loc.t) option -> name -> unit =
+ fun ctx what slot k ->
+  match slot with
+  | Some (_, l) -> ignore ctx; fail k.nloc "%s is given twice (the first is at %s:%d:%d)" what l.file l.line l.col
+  | None -> ()
+
+and settings ctx env scope k items =
+  once ctx "settings" ctx.settings k;
+  let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
+  check_names b [ "width"; "height"; "depth"; "samples"; "jitter"; "adaptive"; "shadows"; "background"; "ambient"; "gamma" ];
+  let d = Settings.default in
+  let gamma =
+    match field b "gamma" with
+    | None -> d.gamma
+    | Some { value = VStr s; _ } when String.lowercase_ascii s = "srgb" -> Settings.Srgb
+    | Some { value = VNum g; _ } when g > 0. && g <= 1e3 -> Settings.Power g
+    | Some f -> bad b f.vloc "`gamma` must be \"srgb\" or a number in (0, 1000]"; d.gamma
+  in
+  let s : Settings.t =
+    { width = int_range b "width" ~lo:1 ~hi:65536 ~default:d.width;
+      height = int_range b "height" ~lo:1 ~hi:65536 ~default:d.height;
+      depth = int_range b "depth" ~lo:1 ~hi:1000 ~default:d.depth;
+      samples = int_range b "samples" ~lo:1 ~hi:64 ~default:d.samples;
+      jitter = boolean b "jitter" ~default:d.jitter;
+      adaptive = nonneg b "adaptive" ~default:d.adaptive;
+      shadows = boolean b "shadows" ~default:d.shadows;
+      background = color b "background" ~default:d.background;
+      ambient = color b "ambient" ~default:d.ambient;
+      gamma }
+  in
+  finish b;
+  (match Settings.validate s with Ok () -> () | Error m -> fail k.nloc "invalid settings: %s" m);
+  ctx.settings <- Some (s, k.nloc)
+
+and camera ctx env scope k items =
+  once ctx "camera" ctx.camera k;
+  let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
+  check_names b [ "position"; "look_at"; "up"; "fov" ];
+  let d = Camera.default in
+  let position = point b "position" ~default:d.position in
+  let look_at = point b "look_at" ~default:d.look_at in
+  let up = point b "up" ~default:d.up in
+  let fov = number b "fov" ~default:d.fov in
+  (match field b "fov" with
+   | Some f when not (fov > 0. && fov < 180.) -> bad b f.vloc "`fov` must be in (0, 180) degrees, got %s" (fmt_num fov)
+   | _ -> ());
+  finish b;
+  let c = Camera.make ~position ~look_at ~up ~fov () in
+  (match Camera.validate c with Ok () -> () | Error m -> fail k.nloc "invalid camera: %s" m);
+  ctx.camera <- Some (c, k.nloc)
+
+and animation ctx env scope k items =
+  once ctx "animation" ctx.animation k;
+  let b = collect ctx env scope "animation" k.nloc ~holds_objects:false items in
+  check_names b [ "fps"; "frames"; "duration" ];
+  let fps = positive b "fps" ~default:24. in
+  (match field b "fps" with Some f when fps > 1000. -> bad b f.vloc "`fps` must be at most 1000" | _ -> ());
+  let frames =
+    match (field b "frames", field b "duration") with
+    | Some _, Some f -> bad b f.vloc "give `frames` or `duration`, not both"; 1
+    | Some _, None -> int_range b "frames" ~lo:1 ~hi:10_000_000 ~default:1
+    | None, Some f ->
+        let d = positive b "duration" ~default:1. in
+        let n = Float.round (d *. fps) in
+        if n > 1e7 then (bad b f.vloc "this animation would have more than 10 000 000 frames"; 1)
+        else max 1 (int_of_float n)
+    | None, None -> bad b k.nloc "animation needs `frames: N` or `duration: seconds`"; 1
+  in
+  finish b;
+  ctx.animation <- Some ((fps, frames), k.nloc)
+
+and physics ctx env scope k items =
+  once ctx "physics" ctx.physics k;
+  let b = collect ctx env scope "physics" k.nloc ~holds_objects:false items in
+  check_names b [ "gravity"; "method"; "step" ];
+  let d = default_physics in
+  let gravity = point b "gravity" ~default:d.gravity in
+  let method_ =
+    match field b "method" with
+    | None -> d.method_
+    | Some { value = VStr "exact"; _ } -> Exact
+    | Some { value = VStr "verlet"; _ } -> Verlet
+    | Some { value = VStr "euler"; _ } -> Euler
+    | Some { value = VStr s; vloc; _ } -> bad b vloc "unknown physics method \"%s\"%s; use \"exact\", \"verlet\" or \"euler\"" s (hint s [ "exact"; "verlet"; "euler" ]); d.method_
+    | Some f -> bad b f.vloc "`method` must be a string (\"exact\", \"verlet\" or \"euler\"), got %s" (type_name f.value); d.method_
+  in
+  let step = length b "step" ~default:d.step in
+  finish b;
+  ctx.physics <- Some ({ gravity; method_; step }, k.nloc)
+
+and light ctx env scope k items =
+  let b = collect ctx env scope "light" k.nloc ~holds_objects:false items in
+  match (field b "position", field b "direction") with
+  | Some _, Some f -> bad b f.vloc "a light has a `position` (point light) or a `direction` (directional light), not both"; finish b
+  | None, None -> bad b k.nloc "a light needs a `position` (point light) or a `direction` (directional light)"; finish b
+  | Some _, None ->
+      check_names b [ "position"; "color"; "intensity"; "attenuation"; "radius"; "samples" ];
+      let position = point b "position" ~default:Vec3.zero in
+      let color = color b "color" ~default:Color.white in
+      let intensity = nonneg b "intensity" ~default:1. in
+      let attenuation = point b "attenuation" ~default:(Vec3.v 1. 0. 0.) in
+      (match field b "attenuation" with
+       | Some f when attenuation.x < 0. || attenuation.y < 0. || attenuation.z < 0. || Vec3.max_abs attenuation = 0. ->
+           bad b f.vloc "`attenuation` (a0, a1, a2) must be non-negative and not all zero"
+       | _ -> ());
+      let radius = nonneg b "radius" ~default:0. in
+      let samples = int_range b "samples" ~lo:1 ~hi:64 ~default:1 in
+      finish b;
+      ctx.lights <- Light.point ~color ~intensity ~attenuation ~radius ~samples position :: ctx.lights
+  | None, Some f ->
+      check_names b [ "direction"; "color"; "intensity" ];
+      let direction = point b "direction" ~default:Vec3.y_axis in
+      if Vec3.max_abs direction = 0. then bad b f.vloc "the `direction` of a light must not be (0, 0, 0)";
+      let color = color b "color" ~default:Color.white in
+      let intensity = nonneg b "intensity" ~default:1. in
+      finish b;
+      ctx.lights <- Light.directional ~color ~intensity direction :: ctx.lights
+
+and transforms b =
+  (* translate / rotate / scale, in the order written *)
+  List.fold_left
+    (fun (t, js) f ->
+      match (f.name.id, f.value) with
+      | "translate", VVec v -> check_coords b f v; (Transform.then_ t (Transform.translate v), js @ [ `Assoc [ ("translate", vjson v) ] ])
+      | "rotate", VVec v -> check_coords b f v; (Transform.then_ t (Transform.rotate v), js @ [ `Assoc [ ("rotate", vjson v) ] ])
+      | "scale", (VNum _ | VVec _) ->
+          let v = match f.value with VNum s -> Vec3.v s s s | VVec v -> v | _ -> Vec3.one in
+          let ok x = Float.abs x >= 1e-150 && Float.abs x <= 1e150 in
+          if not (ok v.x && ok v.y && ok v.z) then begin
+            bad b f.vloc "`scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+            (t, js)
+          end
+          else (Transform.then_ t (Transform.scale v), js @ [ `Assoc [ ("scale", vjson v) ] ])
+      | ("translate" | "rotate"), v -> bad b f.vloc "`%s` must be a vector (x, y, z), got %s" f.name.id (type_name v); (t, js)
+      | "scale", v -> bad b f.vloc "`scale` must be a number or a vector, got %s" (type_name v); (t, js)
+      | _ -> (t, js))
+    (Transform.identity, []) b.fields
+
+and object_material b =
+  match field b "material" with
+  | None -> None
+  | Some { value = VMat (m, d); _ } -> Some (m, material_json m d)
+  | Some f -> bad b f.vloc "`material` must be a material (material { … }), got %s" (type_name f.value); None
+
+and object_ ctx env scope (k : name) items =
+  let b = collect ctx env scope k.id k.nloc ~holds_objects:false items in
+  let own = List.assoc k.id object_fields in
+  check_names b (own @ common_fields);
+  let t, tj = transforms b in
+  let mat = object_material b in
+  let fields, shape = shape b k in
+  finish b;
+  match shape with
+  | None -> None
+  | Some p_shape -> Some { p_kind = k.id; p_fields = fields; p_shape; p_transform = t; p_tjson = tj; p_material = mat }
+
+and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t option =
+  let unavailable () = fail k.nloc "%s is not available in this build" k.id in
+  match k.id with
+  | "sphere" ->
+      let center = point b "center" ~default:Vec3.zero ~required:true in
+      let radius = length b "radius" ~required:true ~default:1. in
+      ([ ("center", vjson center); ("radius", `Float radius) ], Some (Shape.sphere ~center ~radius))
+  | "plane" ->
+      let normal = direction b "normal" ~required:true in
+      let offset = coord b "offset" ~default:0. in
+      ([ ("normal", vjson normal); ("offset", `Float offset) ], Some (Shape.plane ~normal ~offset))
+  | "parallelogram" | "triangle" | "paraboloid" | "box" | "cylinder" | "disk" | "mesh" -> unavailable ()
+  | _ -> unavailable ()
+
+and group ctx env scope (k : name) items =
+  let b = collect ctx env scope "group" k.nloc ~holds_objects:true items in
+  check_names b common_fields;
+  let t, tj = transforms b in
+  let mat = object_material b in
+  finish b;
+  List.iter
+    (fun o ->
+      let o =
+        { o with
+          p_transform = Transform.then_ o.p_transform t;
+          p_tjson = o.p_tjson @ tj;
+          p_material = (match o.p_material with Some _ -> o.p_material | None -> mat) }
+      in
+      scope.sink := o :: !(scope.sink))
+    (List.rev !(b.members))
+
+and body ctx env scope loc (n : name) items =
+  if scope.in_group then fail n.nloc "a body cannot be inside a group or another body";
+  if List.exists (fun ((b : body), _) -> b.name = n.id) ctx.bodies then fail n.nloc "body `%s` is defined twice" n.id;
+  let b = collect ctx env scope "body" n.nloc ~holds_objects:true items in
+  check_names b [ "velocity"; "mass"; "restitution" ];
+  let velocity = point b "velocity" ~default:Vec3.zero in
+  let mass = positive b "mass" ~default:1. in
+  let restitution = unit_range b "restitution" ~default:0.9 in
+  finish b;
+  ctx.objects <- ctx.objects - List.length !(b.members);
+  match !(b.members) with
+  | [ ({ p_shape = Shape.Sphere { center; radius }; _ } as o) ] ->
+      let c0 = Transform.point o.p_transform center in
+      let r = radius *. Transform.max_scale o.p_transform in
+      let material = match o.p_material with Some (m, _) -> m | None -> Material.default in
+      let bd = { name = n.id; center = c0; radius = r; material; velocity; mass; restitution; loc } in
+      ctx.bodies <- (bd, o) :: ctx.bodies
+  | _ -> fail n.nloc "a body holds exactly one sphere { … }"
+
+(* Field access on a block being evaluated. Each accessor reports a wrong type or an
+   out-of-range value at the value's location, marks the block failed and returns the
+   default, so that every mistake of a block is reported at once. *)
+and field b name = List.find_opt (fun f -> f.name.id = name) b.fields
+
+and bad : 'a. block -> Loc.t -> ('a, unit, string, unit) format4 -> 'a =
+ fun b loc fmt -> Printf.ksprintf (fun m -> report b.ctx loc m; b.failed <- true) fmt
+
+and finish b = if b.failed then raise Poisoned
+
+and check_names b allowed =
+  List.iter
+    (fun f ->
+      if not (List.mem f.name.id allowed) then
+        bad b f.name.nloc "unknown field `%s` in %s%s" f.name.id b.kind (hint f.name.id allowed))
+    b.fields
+
+and get : 'a. block -> string -> default:'a -> required:bool -> string -> (value -> 'a option) -> 'a =
+ fun b name ~default ~required what conv ->
+  match field b name with
+  | None ->
+      if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
+      default
+  | Some f -> (
+      match conv f.value with
+      | Some x -> x
+      | None ->
+          bad b f.vloc "`%s` must be %s, got %s" name what (type_name f.value);
+          default)
+
+and number b ?(required = false) name ~default =
+  get b name ~default ~required "a number" (function VNum x -> Some x | _ -> None)
+
+and boolean b name ~default = get b name ~default ~required:false "true or false" (function VBool x -> Some x | _ -> None)
+
+and vector b ?(required = false) name ~default =
+  get b name ~default ~required "a vector (x, y, z)" (function VVec v -> Some v | _ -> None)
+
+and check_range b name ok msg x =
+  (match field b name with Some f when not (ok x) -> bad b f.vloc "`%s` %s, got %s" name msg (fmt_num x) | _ -> ());
+  x
+
+and nonneg b name ~default = check_range b name (fun x -> x >= 0. && x <= 1e150) "must be in [0, 1e150]" (number b name ~default)
+and positive b name ~default = check_range b name (fun x -> x > 0. && x <= 1e150) "must be greater than 0" (number b name ~default)
+and unit_range b name ~default = check_range b name (fun x -> x >= 0. && x <= 1.) "must be in [0, 1]" (number b name ~default)
+
+and length b ?(required = false) name ~default =
+  check_range b name (fun x -> x >= 1e-150 && x <= 1e150) "must be a length in [1e-150, 1e150]" (number b ~required name ~default)
+
+and coord b name ~default =
+  check_range b name (fun x -> Float.abs x <= 1e150) "must be within ±1e150" (number b name ~default)
+
+and int_range b name ~lo ~hi ~default =
+  let x = number b name ~default:(Float.of_int default) in
+  match field b name with
+  | Some f when not (Float.is_integer x && x >= Float.of_int lo && x <= Float.of_int hi) ->
+      bad b f.vloc "`%s` must be a whole number in [%d, %d], got %s" name lo hi (fmt_num x);
+      default
+  | _ -> int_of_float x
+
+and check_coords b f (v : Vec3.t) =
+  if not (Float.abs v.x <= 1e150 && Float.abs v.y <= 1e150 && Float.abs v.z <= 1e150) then
+    bad b f.vloc "the coordinates of `%s` must be within ±1e150" f.name.id
+
+and point b ?(required = false) name ~default =
+  let v = vector b ~required name ~default in
+  (match field b name with Some f -> check_coords b f v | None -> ());
+  v
+
+and direction b ?(required = false) name =
+  let v = point b ~required name ~default:Vec3.y_axis in
+  (match field b name with
+   | Some f when Vec3.max_abs v < 1e-150 -> bad b f.vloc "`%s` must be a non-zero vector" name
+   | _ -> ());
+  v
+
+and color b name ~default =
+  let v = point b name ~default:(Color.to_vec3 default) in
+  (match field b name with
+   | Some f when v.x < 0. || v.y < 0. || v.z < 0. -> bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name (fmt_num v.x) (fmt_num v.y) (fmt_num v.z)
+   | _ -> ());
+  Color.of_vec3 v
+
+and material_json (m : Material.t) desc =
+  `Assoc
+    ([ ("color", cjson m.color); ("ambient", `Float m.ambient); ("diffuse", `Float m.diffuse);
+       ("specular", `Float m.specular); ("shininess", `Float m.shininess); ("reflection", `Float m.reflection);
+       ("transparency", `Float m.transparency); ("ior", `Float m.ior); ("fresnel", `Bool m.fresnel) ]
+    @ desc)
+
+(* ------------------------------------------------------------------------------------ *)
+(* A whole program *)
+
+let initial_env ~time ~frame =
+  let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
+  env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
+
+let run ?body_state ~sources ~images ~time ~frame stmts =
+  let ctx =
+    { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0;
+      depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [] }
+  in
+  let scope = { sink = ref []; in_group = false } in
+  (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
+  if ctx.errors <> [] then Error (List.rev ctx.errors)
+  else
+    let finish ?transform ?body o =
+      let m, mj =
+        match o.p_material with Some mj -> mj | None -> (Material.default, material_json Material.default [])
+      in
+      let transform = Option.value transform ~default:o.p_transform in
+      { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
+        prim = Primitive.make ~transform m o.p_shape; body }
+    in
+    let statics = List.rev_map (fun o -> finish o) !(scope.sink) in
+    let bodies = List.rev ctx.bodies in
+    let body_objs =
+      List.map
+        (fun ((b : body), o) ->
+          let transform =
+            match Option.bind body_state (fun f -> f b.name time) with
+            | Some (p, _) -> Transform.then_ o.p_transform (Transform.translate (Vec3.sub p b.center))
+            | None -> o.p_transform
+          in
+          finish ~transform ~body:b.name o)
+        bodies
+    in
+    Ok
+      { settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
+        camera = (match ctx.camera with Some (c, _) -> c | None -> Camera.default);
+        lights = List.rev ctx.lights;
+        objects = statics @ body_objs;
+        animation = Option.map fst ctx.animation;
+        physics = Option.map fst ctx.physics;
+        bodies = List.map (fun ((b : body), _) -> b) bodies }

@@ -1,0 +1,76 @@
+(** The evaluator: runs a loaded program (includes already resolved) at one instant and
+    builds everything a {!Lancer.Scene.t} needs, or the located errors of the program.
+
+    Errors are collected, not thrown: a statement that fails is reported and skipped (a
+    [let] that fails binds its name to a poisoned value, so that later uses do not report
+    the same mistake again), and evaluation goes on with the next statement. Only the
+    resource limits stop the whole evaluation. Limits: {!max_objects} objects,
+    {!max_steps} loop iterations and calls in all, call depth {!max_depth}. *)
+
+open Lancer
+
+val max_objects : int
+(** 10 000 000 objects built (members of groups included). *)
+
+val max_steps : int
+(** 100 000 000 loop iterations and function or macro calls. *)
+
+val max_depth : int
+(** 1000 nested function or macro calls. *)
+
+type physics_method = Exact | Verlet | Euler
+
+type physics = {
+  gravity : Vec3.t;  (** m/s²; default (0, −9.81, 0) *)
+  method_ : physics_method;  (** default [Exact] *)
+  step : float;  (** seconds, for the fixed-step methods; default 1/240 *)
+}
+
+val default_physics : physics
+
+type body = {
+  name : string;
+  center : Vec3.t;  (** initial world-space centre *)
+  radius : float;  (** world-space radius (the sphere's radius times the largest scale) *)
+  material : Material.t;
+  velocity : Vec3.t;  (** initial velocity, m/s; default 0 *)
+  mass : float;  (** kg, > 0; default 1 *)
+  restitution : float;  (** in [0, 1]; default 0.9 *)
+  loc : Loc.t;  (** where the body is defined *)
+}
+
+type obj = {
+  kind : string;  (** "sphere", "plane", … *)
+  fields : (string * Yojson.Safe.t) list;  (** the object's fields, in object space *)
+  transforms : Yojson.Safe.t list;  (** the transforms applied, in order (group's last) *)
+  material_json : Yojson.Safe.t;
+  prim : Primitive.t;
+  body : string option;  (** the body this sphere is, if any *)
+}
+
+type output = {
+  settings : Settings.t;
+  camera : Camera.t;
+  lights : Light.t list;
+  objects : obj list;  (** static objects in program order, then one sphere per body *)
+  animation : (float * int) option;  (** fps, frames *)
+  physics : physics option;
+  bodies : body list;  (** in program order *)
+}
+
+type images
+(** A cache of image files read by [image(…)] textures, shared between frames. *)
+
+val new_images : unit -> images
+
+val run :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> sources:(string, string) Hashtbl.t ->
+  images:images -> time:float -> frame:int -> Ast.stmt list -> (output, Error.t list) result
+(** [run ~sources ~images ~time ~frame prog] evaluates [prog] with [time] and [frame]
+    bound. [sources] maps each file name to its text (for error display). [body_state
+    name t] is (position, velocity) of body [name] at time [t]; without it (or when it
+    answers [None]) a body stays at its initial centre with its initial velocity. *)
+
+val suggest : string -> string list -> string option
+(** [suggest x candidates] is the candidate closest to [x] by edit distance, when close
+    enough to be a likely typo. *)

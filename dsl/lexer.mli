@@ -1,0 +1,9 @@
+(** The lexer of [.rts] scripts: comments, numbers, strings, identifiers and keywords,
+    operators. Raises {!Lex_error} on a character or literal it cannot read. *)
+
+exception Lex_error of Loc.t * string
+
+val token : Lexing.lexbuf -> Parser.token
+
+val describe : Parser.token -> string
+(** The token as a user would write it, for syntax error messages ("`{`", "a number"). *)

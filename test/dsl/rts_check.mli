@@ -1,0 +1,1 @@
+(* A test helper executable: no interface. *)
