@@ -456,7 +456,7 @@ and eval_material ctx env loc items =
   let b = collect ctx env { sink = ref []; in_group = false } "material" loc ~holds_objects:false items in
   check_names b material_fields;
   let base, base_desc =
-    match field b "base" with
+    match live b "base" with
     | None -> (Material.default, [])
     | Some f -> (
         match f.value with
@@ -480,7 +480,7 @@ and eval_material ctx env loc items =
   let desc = ref base_desc in
   let set k j = desc := (k, j) :: List.remove_assoc k !desc in
   let m =
-    match field b "texture" with
+    match live b "texture" with
     | None -> m
     | Some f -> (
         match f.value with
@@ -493,7 +493,7 @@ and eval_material ctx env loc items =
         | v -> bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s" (type_name v); m)
   in
   let m =
-    match field b "bump" with
+    match live b "bump" with
     | None -> m
     | Some f -> (
         match f.value with
@@ -582,8 +582,8 @@ and collect ctx env scope kind kloc ~holds_objects items =
             | _ -> (
                 match eval ctx env e with
                 | v -> b.fields <- b.fields @ [ { name = n; value = v; vloc = e.loc } ]; env
-                | exception Fail (l, m) -> report ctx l m; b.failed <- true; env
-                | exception Poisoned -> b.failed <- true; env))
+                | exception Fail (l, m) -> report ctx l m; poisoned_field b n e; env
+                | exception Poisoned -> poisoned_field b n e; env))
         | Stmt s -> (
             match s.s with
             | Let _ | Fn _ | Macro _ -> exec ctx env inner s
@@ -594,6 +594,12 @@ and collect ctx env scope kind kloc ~holds_objects items =
       env items
   in
   b
+
+(* A field whose value failed (already reported) is kept as poisoned, so that it is
+   neither unknown nor missing, and the block is not built. *)
+and poisoned_field b n e =
+  b.failed <- true;
+  b.fields <- b.fields @ [ { name = n; value = VPoison; vloc = e.loc } ]
 
 and exec_list ctx env scope stmts = List.fold_left (fun env s -> exec ctx env scope s) env stmts
 
@@ -633,7 +639,7 @@ and exec_ ctx env scope (s : stmt) : env =
       let count = Float.floor (((b' -. a') /. st') +. 1e-9) +. 1. in
       if count > Float.of_int max_steps || count > 1e15 then
         limit ctx s.sloc
-          (Printf.sprintf "this loop would run %s times; at most %d loop iterations and calls are allowed" (fmt_num count) max_steps);
+          (Printf.sprintf "this loop would run %s times; a scene may take at most %d loop iterations and calls, and build at most %d objects" (fmt_num count) max_steps max_objects);
       let count = if count < 0. then 0 else int_of_float count in
       for k = 0 to count - 1 do
         step ctx s.sloc;
@@ -702,7 +708,7 @@ and settings ctx env scope k items =
   check_names b [ "width"; "height"; "depth"; "samples"; "jitter"; "adaptive"; "shadows"; "background"; "ambient"; "gamma" ];
   let d = Settings.default in
   let gamma =
-    match field b "gamma" with
+    match live b "gamma" with
     | None -> d.gamma
     | Some { value = VStr s; _ } when String.lowercase_ascii s = "srgb" -> Settings.Srgb
     | Some { value = VNum g; _ } when g > 0. && g <= 1e3 -> Settings.Power g
@@ -768,7 +774,7 @@ and physics ctx env scope k items =
   let d = default_physics in
   let gravity = point b "gravity" ~default:d.gravity in
   let method_ =
-    match field b "method" with
+    match live b "method" with
     | None -> d.method_
     | Some { value = VStr "exact"; _ } -> Exact
     | Some { value = VStr "verlet"; _ } -> Verlet
@@ -829,7 +835,7 @@ and transforms b =
     (Transform.identity, []) b.fields
 
 and object_material b =
-  match field b "material" with
+  match live b "material" with
   | None -> None
   | Some { value = VMat (m, d); _ } -> Some (m, material_json m d)
   | Some f -> bad b f.vloc "`material` must be a material (material { … }), got %s" (type_name f.value); None
@@ -901,6 +907,9 @@ and body ctx env scope loc (n : name) items =
    default, so that every mistake of a block is reported at once. *)
 and field b name = List.find_opt (fun f -> f.name.id = name) b.fields
 
+(* A field whose value is usable: [None] also when its value failed (already reported). *)
+and live b name = match field b name with Some { value = VPoison; _ } -> None | f -> f
+
 and bad : 'a. block -> Loc.t -> ('a, unit, string, unit) format4 -> 'a =
  fun b loc fmt -> Printf.ksprintf (fun m -> report b.ctx loc m; b.failed <- true) fmt
 
@@ -917,8 +926,13 @@ and get : 'a. block -> string -> default:'a -> required:bool -> string -> (value
  fun b name ~default ~required what conv ->
   match field b name with
   | None ->
-      if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
+      (* A misspelt field already reported as unknown, with this one as its hint, is not
+         reported missing as well. *)
+      let misspelt = List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields in
+      if required && misspelt then b.failed <- true
+      else if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
       default
+  | Some { value = VPoison; _ } -> default
   | Some f -> (
       match conv f.value with
       | Some x -> x
@@ -989,6 +1003,13 @@ and material_json (m : Material.t) desc =
 (* ------------------------------------------------------------------------------------ *)
 (* A whole program *)
 
+(* Errors in source order: files in the order they first appear, then line and column. *)
+let sort_errors (es : Error.t list) =
+  let files = List.fold_left (fun acc (e : Error.t) -> if List.mem e.file acc then acc else acc @ [ e.file ]) [] es in
+  let rec index x i = function [] -> i | y :: r -> if y = x then i else index x (i + 1) r in
+  let key (e : Error.t) = (index e.file 0 files, e.line, e.col) in
+  List.stable_sort (fun a b -> compare (key a) (key b)) es
+
 let initial_env ~time ~frame =
   let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
@@ -1000,7 +1021,7 @@ let run ?body_state ~sources ~images ~time ~frame stmts =
   in
   let scope = { sink = ref []; in_group = false } in
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
-  if ctx.errors <> [] then Error (List.rev ctx.errors)
+  if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
     let finish ?transform ?body o =
       let m, mj =

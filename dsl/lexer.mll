@@ -45,7 +45,12 @@ rule token = parse
   | number ident
       { error lexbuf (Printf.sprintf "`%s` is not a number: a name cannot start with a digit" (Lexing.lexeme lexbuf)) }
   | ident as x { match List.assoc_opt x keywords with Some k -> k | None -> IDENT x }
-  | '"' { STRING (string (Lexing.lexeme_start_p lexbuf) (Buffer.create 16) lexbuf) }
+  | '"'
+      { let start = Lexing.lexeme_start_p lexbuf in
+        let s = string start (Buffer.create 16) lexbuf in
+        (* the sub-lexer moved the token's start: put it back on the opening quote *)
+        lexbuf.lex_start_p <- start;
+        STRING s }
   | '(' { LPAREN } | ')' { RPAREN } | '{' { LBRACE } | '}' { RBRACE }
   | ',' { COMMA } | ':' { COLON } | '.' { DOT }
   | "==" { EQ } | "!=" { NE } | "<=" { LE } | ">=" { GE } | '<' { LT } | '>' { GT }

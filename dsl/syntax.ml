@@ -7,6 +7,16 @@ let not_text file text =
     Some (Error.file_error file "this is not UTF-8 text; a scene is UTF-8 text")
   else None
 
+(* The offending token as written (shortened), or "end of file". *)
+let what text tok (s : Lexing.position) (e : Lexing.position) =
+  match tok with
+  | Parser.EOF -> "end of file"
+  | _ ->
+      let n = e.pos_cnum - s.pos_cnum in
+      if s.pos_cnum < 0 || n <= 0 || s.pos_cnum + n > String.length text then Lexer.describe tok
+      else if n > 30 then "`" ^ String.sub text s.pos_cnum 27 ^ "...`"
+      else "`" ^ String.sub text s.pos_cnum n ^ "`"
+
 let parse ~file text =
   match not_text file text with
   | Some e -> Error e
@@ -25,7 +35,7 @@ let parse ~file text =
             let state = I.current_state_number env in
             let msg = try String.trim (Parser_messages.message state) with Not_found -> "this is not valid here" in
             let tok, s, e = !last in
-            Error (Error.make ~source:text (Loc.of_positions s e) (Printf.sprintf "unexpected %s: %s" (Lexer.describe tok) msg))
+            Error (Error.make ~source:text (Loc.of_positions s e) (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg))
         | I.Accepted v -> Ok v
         | I.Rejected -> Error (Error.make ~source:text (Loc.whole_file file) "syntax error")
       in
