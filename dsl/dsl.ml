@@ -92,7 +92,7 @@ let load_text file text =
       if !errors <> [] then Error (List.rev !errors)
       else
         let images = Eval.new_images () in
-        match Eval.run ~sources ~images ~time:0. ~frame:0 stmts with
+        match Eval.run ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
         | Error es -> Error es
         | Ok first -> Ok { file; stmts; sources; images; first })
 
@@ -190,7 +190,7 @@ let to_json ?body_state t (sc : Scene.t) =
           (fun (o : Eval.obj) ->
             `Assoc
               ([ ("kind", `String o.kind) ] @ o.fields
-              @ [ ("transforms", `List o.transforms); ("material", o.material_json) ]
+              @ [ ("transforms", `List o.transforms); ("material", Lazy.force o.material_json) ]
               @ match o.body with Some n -> [ ("body", `String n) ] | None -> []))
           out.objects
     | Error _ -> []

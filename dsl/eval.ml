@@ -25,7 +25,7 @@ type obj = {
   kind : string;
   fields : (string * Yojson.Safe.t) list;
   transforms : Yojson.Safe.t list;
-  material_json : Yojson.Safe.t;
+  material_json : Yojson.Safe.t Lazy.t;
   prim : Primitive.t;
   body : string option;
 }
@@ -130,7 +130,7 @@ type pending_obj = {
   p_shape : Shape.t;
   p_transform : Transform.t;
   p_tjson : Yojson.Safe.t list;
-  p_material : (Material.t * Yojson.Safe.t) option;
+  p_material : (Material.t * (string * Yojson.Safe.t) list) option;
 }
 
 type ctx = {
@@ -837,7 +837,7 @@ and transforms b =
 and object_material b =
   match live b "material" with
   | None -> None
-  | Some { value = VMat (m, d); _ } -> Some (m, material_json m d)
+  | Some { value = VMat (m, d); _ } -> Some (m, d)
   | Some f -> bad b f.vloc "`material` must be a material (material { … }), got %s" (type_name f.value); None
 
 and object_ ctx env scope (k : name) items =
@@ -1059,7 +1059,7 @@ let initial_env ~time ~frame =
   let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ~sources ~images ~time ~frame stmts =
+let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
     { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [] }
@@ -1069,14 +1069,13 @@ let run ?body_state ~sources ~images ~time ~frame stmts =
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
     let finish ?transform ?body o =
-      let m, mj =
-        match o.p_material with Some mj -> mj | None -> (Material.default, material_json Material.default [])
-      in
+      let m, d = match o.p_material with Some md -> md | None -> (Material.default, []) in
+      let mj = lazy (material_json m d) in
       let transform = Option.value transform ~default:o.p_transform in
       { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
         prim = Primitive.make ~transform m o.p_shape; body }
     in
-    let statics = List.rev_map (fun o -> finish o) !(scope.sink) in
+    let statics = if objects then List.rev_map (fun o -> finish o) !(scope.sink) else [] in
     let bodies = List.rev ctx.bodies in
     let body_objs =
       List.map
@@ -1087,7 +1086,7 @@ let run ?body_state ~sources ~images ~time ~frame stmts =
             | None -> o.p_transform
           in
           finish ~transform ~body:b.name o)
-        bodies
+        (if objects then bodies else [])
     in
     Ok
       { settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);

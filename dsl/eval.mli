@@ -43,7 +43,7 @@ type obj = {
   kind : string;  (** "sphere", "plane", … *)
   fields : (string * Yojson.Safe.t) list;  (** the object's fields, in object space *)
   transforms : Yojson.Safe.t list;  (** the transforms applied, in order (group's last) *)
-  material_json : Yojson.Safe.t;
+  material_json : Yojson.Safe.t Lazy.t;  (** built only when asked for *)
   prim : Primitive.t;
   body : string option;  (** the body this sphere is, if any *)
 }
@@ -64,12 +64,13 @@ type images
 val new_images : unit -> images
 
 val run :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> sources:(string, string) Hashtbl.t ->
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?objects:bool -> sources:(string, string) Hashtbl.t ->
   images:images -> time:float -> frame:int -> Ast.stmt list -> (output, Error.t list) result
 (** [run ~sources ~images ~time ~frame prog] evaluates [prog] with [time] and [frame]
     bound. [sources] maps each file name to its text (for error display). [body_state
     name t] is (position, velocity) of body [name] at time [t]; without it (or when it
-    answers [None]) a body stays at its initial centre with its initial velocity. *)
+    answers [None]) a body stays at its initial centre with its initial velocity. With
+    [~objects:false] (a check only) [objects] is left empty. *)
 
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close
