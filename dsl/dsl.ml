@@ -145,8 +145,6 @@ let distinct_materials (sc : Scene.t) =
     sc.objects;
   Hashtbl.length tbl
 
-let plural n w = Printf.sprintf "%d %s%s" n w (if n = 1 then "" else "s")
-
 let summary ?body_state:_ t (sc : Scene.t) =
   let s = sc.settings in
   let objs = Array.to_list sc.objects in
@@ -165,7 +163,7 @@ let summary ?body_state:_ t (sc : Scene.t) =
   line "materials: %d distinct" (distinct_materials sc);
   (match bodies t with
    | [] -> ()
-   | bs -> line "bodies: %s (%s)" (plural (List.length bs) "body" |> fun x -> if List.length bs = 1 then x else Printf.sprintf "%d bodies" (List.length bs)) (String.concat ", " (List.map (fun b -> b.name) bs)));
+   | bs -> line "bodies: %d (%s)" (List.length bs) (String.concat ", " (List.map (fun b -> b.name) bs)));
   let used = List.filter_map (fun (k, v) -> if v then Some k else None) (Features.to_list sc.features) in
   line "features: %s" (if used = [] then "none" else String.concat ", " used);
   Buffer.contents b
