@@ -218,11 +218,27 @@ let in_face alpha beta origin p =
 let pos s tau = V.add s.p0 (V.add (V.smul tau s.v0) (V.smul (0.5 *. tau *. tau) s.acc))
 let vel s tau = V.madd s.v0 tau s.acc
 
-type mode = Flying | Resting of { feature : int; n : V.t }
+(* A resting body's constraints: the features it rests on with their outward normals
+   (none: flying; one: sliding on a surface; two: sliding along their crease; three: stuck). *)
+type constraints = (int * V.t) list
+
+(* [project cons x] is the part of x free under the constraints. *)
+let project (cons : constraints) x =
+  match cons with
+  | [] -> x
+  | [ (_, n) ] -> V.madd x (-.V.dot x n) n
+  | [ (_, n1); (_, n2) ] ->
+      let c = V.cross n1 n2 in
+      let l = V.length c in
+      if l < 1e-9 then V.madd x (-.V.dot x n1) n1
+      else
+        let d = V.smul (1. /. l) c in
+        V.smul (V.dot x d) d
+  | _ -> V.zero
 
 type action =
   | Hit of { feature : int; side : float }  (* side: ±1 for faces, unused otherwise *)
-  | Leave_face
+  | Leave_face of int
   | Hit_body of int
 
 type cand = { at : float; tau : float; action : action }
@@ -247,17 +263,16 @@ let min_speed = 1e-9
 
 let perp u x = V.madd x (-.V.dot x u) u
 
-let static_contact feats (b : body) seg mode horizon =
+let static_contact feats (b : body) seg (cons : constraints) horizon =
   let best = ref None in
   let consider tau action =
     match !best with
     | Some (t, _) when t <= tau -> ()
     | _ -> best := Some (tau, action)
   in
-  let resting_on = match mode with Resting { feature; _ } -> feature | Flying -> -1 in
   Array.iteri
     (fun fi f ->
-      if fi <> resting_on then
+      if not (List.mem_assoc fi cons) then
         match f with
         | Face { n; d; finite; origin; alpha; beta; _ } ->
             let s0 = V.dot n seg.p0 -. d and sv = V.dot n seg.v0 and sa = V.dot n seg.acc in
@@ -288,8 +303,8 @@ let static_contact feats (b : body) seg mode horizon =
                  (fun _ -> true)))
     feats;
   (* A body resting on a finite face leaves it when its centre crosses the border. *)
-  (match mode with
-  | Resting { feature; _ } -> (
+  List.iter
+    (fun (feature, _) ->
       match feats.(feature) with
       | Face { finite = true; origin; alpha; beta; _ } ->
           let q0 = V.sub seg.p0 origin in
@@ -300,11 +315,11 @@ let static_contact feats (b : body) seg mode horizon =
               match
                 List.find_opt (fun tau -> tau > 0. && dir *. eval dc tau > 0.) (roots_in c 0. horizon)
               with
-              | Some tau -> consider tau Leave_face
+              | Some tau -> consider tau (Leave_face feature)
               | None -> ())
             [ (alpha, 0., -1.); (alpha, 1., 1.); (beta, 0., -1.); (beta, 1., 1.) ]
       | _ -> ())
-  | Flying -> ());
+    cons;
   Option.map (fun (tau, action) -> { at = seg.t0 +. tau; tau; action }) !best
 
 let pair_contact (bi : body) (bj : body) si sj j horizon_end =
@@ -334,24 +349,26 @@ let validate world bodies =
     bodies
 
 (* Whether a rebound of normal speed [vout] off a surface with outward normal [n] rises
-   less than rest_fraction·r (gravity must point into the surface). *)
-let below_rest g (b : body) n vout =
-  let gn = V.dot g n in
-  gn < 0. && vout *. vout < 2. *. -.gn *. rest_fraction *. b.radius
+   less than rest_fraction·r under the acceleration [a] (which must point into it). *)
+let below_rest a (b : body) n vout =
+  let an = V.dot a n in
+  an < 0. && vout *. vout < 2. *. -.an *. rest_fraction *. b.radius
+
+(* Whether a normal speed is too small to lift off or bounce off a support: the same
+   threshold with the full gravity as the scale. *)
+let slow g (b : body) vn = vn *. vn < 2. *. V.length g *. rest_fraction *. b.radius
 
 let simulate_exact world feats (bodies : body array) ~until =
   let g = world.gravity in
   let nb = Array.length bodies in
   let segs = Array.map (fun (b : body) -> [ { t0 = 0.; p0 = b.center; v0 = b.velocity; acc = g } ]) bodies in
   let cur i = List.hd segs.(i) in
-  let modes = Array.make nb Flying in
+  let cons = Array.make nb ([] : constraints) in
   let static_c = Array.make nb None and static_dirty = Array.make nb true in
   let pair_c = Array.make_matrix nb nb None and pair_dirty = Array.make_matrix nb nb true in
   let evs = ref [] and count = ref 0 in
   let set_state i t p v =
-    let acc =
-      match modes.(i) with Flying -> g | Resting { n; _ } -> V.madd g (-.V.dot g n) n
-    in
+    let acc = project cons.(i) g in
     segs.(i) <- { t0 = t; p0 = p; v0 = v; acc } :: segs.(i);
     static_dirty.(i) <- true;
     for j = 0 to nb - 1 do
@@ -359,25 +376,28 @@ let simulate_exact world feats (bodies : body array) ~until =
       pair_dirty.(j).(i) <- true
     done
   in
-  (* A resting body given a new velocity: lift off, bounce off its surface, or stay. *)
+  (* A resting body given a new velocity: it lifts off, bounces off, or stays on each of
+     its supports, and keeps the velocity its remaining constraints allow. *)
   let settle i v =
-    match modes.(i) with
-    | Flying -> v
-    | Resting { n; _ } ->
-        let b = bodies.(i) in
-        let vn = V.dot v n in
-        if vn > 0. && not (below_rest g b n vn) then (modes.(i) <- Flying; v)
-        else if vn < 0. && not (below_rest g b n (-.b.restitution *. vn)) then (
-          modes.(i) <- Flying;
-          V.madd v (-.(1. +. b.restitution) *. vn) n)
-        else V.madd v (-.vn) n
+    let b = bodies.(i) in
+    let v = ref v and kept = ref [] in
+    List.iter
+      (fun (f, n) ->
+        let vn = V.dot !v n in
+        if vn > 0. && not (slow g b vn) then ()
+        else if vn < 0. && not (slow g b (b.restitution *. vn)) then
+          v := V.madd !v (-.(1. +. b.restitution) *. vn) n
+        else kept := (f, n) :: !kept)
+      cons.(i);
+    cons.(i) <- List.rev !kept;
+    project cons.(i) !v
   in
   let truncated = ref false in
   let rec loop () =
     for i = 0 to nb - 1 do
       if static_dirty.(i) then (
         let s = cur i in
-        static_c.(i) <- static_contact feats bodies.(i) s modes.(i) (Float.max 0. (until -. s.t0));
+        static_c.(i) <- static_contact feats bodies.(i) s cons.(i) (Float.max 0. (until -. s.t0));
         static_dirty.(i) <- false);
       for j = i + 1 to nb - 1 do
         if pair_dirty.(i).(j) then (
@@ -406,10 +426,9 @@ let simulate_exact world feats (bodies : body array) ~until =
           let b = bodies.(i) in
           let s = cur i in
           (match c.action with
-          | Leave_face ->
+          | Leave_face feature ->
               let t = c.at in
-              let feature = match modes.(i) with Resting r -> r.feature | Flying -> 0 in
-              modes.(i) <- Flying;
+              cons.(i) <- List.filter (fun (f, _) -> f <> feature) cons.(i);
               set_state i t (pos s c.tau) (vel s c.tau);
               evs :=
                 { time = t; body = b.name; target = Collider (owner feats.(feature)); kind = Leave; speed = 0. }
@@ -426,11 +445,21 @@ let simulate_exact world feats (bodies : body array) ~until =
               let vn = V.dot v n in
               let vout = -.b.restitution *. vn in
               let is_face = match feats.(feature) with Face _ -> true | _ -> false in
+              (* The resting rule: a flying body rests on a face, a resting one on any
+                 feature its acceleration presses it into (a second support makes a
+                 crease to slide along, a third stops it). *)
               let kind, v' =
-                if is_face && modes.(i) = Flying && below_rest g b n vout then (
-                  modes.(i) <- Resting { feature; n };
-                  (Rest, V.madd v (-.vn) n))
-                else (Bounce, settle i (V.madd v (-.(1. +. b.restitution) *. vn) n))
+                if (is_face || cons.(i) <> []) && below_rest s.acc b n vout then (
+                  cons.(i) <- cons.(i) @ [ (feature, n) ];
+                  (Rest, project cons.(i) v))
+                else
+                  let v' = settle i (V.madd v (-.(1. +. b.restitution) *. vn) n) in
+                  (* A support's constraint can turn the rebound back into this feature
+                     (a slope pressing into a wall): it is then a support too. *)
+                  if cons.(i) <> [] && V.dot v' n < min_speed then (
+                    cons.(i) <- cons.(i) @ [ (feature, n) ];
+                    (Rest, project cons.(i) v'))
+                  else (Bounce, v')
               in
               set_state i t p v';
               evs := { time = t; body = b.name; target = Collider (owner feats.(feature)); kind; speed = -.vn } :: !evs
@@ -443,10 +472,19 @@ let simulate_exact world feats (bodies : body array) ~until =
               let n = V.normalize (V.sub pj pi) in
               let vrel = V.dot (V.sub vj vi) n in
               let e = b.restitution *. bj.restitution in
+              (* A body pressed into its supports by the impulse moves only as they allow
+                 (their reaction is part of the impulse): the direction it is pushed in
+                 is projected on its free motions, which lowers its effective inverse mass
+                 along n; pushed away from a support, it is free (and [settle] lifts it). *)
+              let free k dir =
+                if List.exists (fun (_, ns) -> V.dot dir ns > 0.) cons.(k) then dir else project cons.(k) dir
+              in
+              let di = free i (V.neg n) and dj = free j n in
               let wi = 1. /. b.mass and wj = 1. /. bj.mass in
-              let jimp = -.(1. +. e) *. vrel /. (wi +. wj) in
-              let vi' = settle i (V.madd vi (-.jimp *. wi) n) in
-              let vj' = settle j (V.madd vj (jimp *. wj) n) in
+              let denom = (wj *. V.dot dj n) -. (wi *. V.dot di n) in
+              let jimp = if denom > 0. then -.(1. +. e) *. vrel /. denom else 0. in
+              let vi' = settle i (V.madd vi (jimp *. wi) di) in
+              let vj' = settle j (V.madd vj (jimp *. wj) dj) in
               set_state i t pi vi';
               set_state j t pj vj';
               evs := { time = t; body = b.name; target = Body bj.name; kind = Bounce; speed = -.vrel } :: !evs);

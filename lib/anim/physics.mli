@@ -30,14 +30,22 @@
     {2 Resting rule (Exact)}
 
     A bounce off a face or plane whose rebound would rise less than {!rest_fraction} of
-    the body's radius (v'ₙ² / (2·|g·n̂|) < rest_fraction·r, gravity pointing into the
-    surface) ends the Zeno cascade: the body rests on that surface. Its normal velocity is
-    set to 0 and its acceleration becomes the tangential part of gravity, g − (g·n̂)·n̂,
-    so it stays put on a level surface and slides (frictionless) on an incline. It leaves
-    the surface when an impulse lifts it above the same threshold, or, on a finite face,
-    when its centre passes the face's border (it then flies; it does not roll around the
-    edge). An [Exact] simulation stops handling collisions after {!max_events} events
-    ({!truncated} then holds) rather than loop.
+    the body's radius (v'ₙ² / (2·|a·n̂|) < rest_fraction·r, the acceleration a pointing into
+    the surface) ends the Zeno cascade: the body rests on that surface. Its normal velocity
+    is set to 0 and its acceleration becomes the tangential part of gravity,
+    g − (g·n̂)·n̂, so it stays put on a level surface and slides (frictionless) on an
+    incline. A resting body that slides into a second surface (face, edge or corner) under
+    the same rule, or whose rebound its support would turn back into it, rests on both and
+    slides along their crease; a third support stops it. Approach speeds under 1e-9 m/s
+    are grazing touches, not impacts. A supported body struck by another moves only as its
+    supports allow (they take their share of the impulse). It leaves a support when an
+    impulse lifts it or bounces it off faster than the resting threshold, or, on a finite
+    face, when its centre passes the face's border (it then flies; it does not roll around
+    the edge, which it may graze). An [Exact] simulation stops handling collisions after
+    {!max_events} events ({!truncated} then holds) rather than loop.
+
+    Not modelled: friction and rolling; a sphere resting on another sphere (after its
+    bounces die out, a ball dropped exactly on top of another sinks through it).
 
     {2 Fixed-step collision handling (Verlet, Euler)}
 

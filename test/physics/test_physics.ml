@@ -248,6 +248,31 @@ let placed_at_rest () =
   check_close 1e-12 "sliding without friction" 5. p.x;
   check_close 0. "no vertical speed" 0. v.y
 
+let v_groove () =
+  let planes =
+    [ P.Plane { normal = Vec3.v 1. 1. 0.; offset = 0. }; P.Plane { normal = Vec3.v (-1.) 1. 0.; offset = 0. } ]
+  in
+  let b = P.body ~name:"ball" ~center:(Vec3.v 0.3 2. 0.) ~velocity:(Vec3.v 0. 0. 0.5) ~radius:0.2 ~restitution:0.6 () in
+  let tr = P.simulate P.default_world planes [ b ] ~until:10. in
+  Alcotest.(check bool) "finitely many events" true (List.length (P.events tr) < 100 && not (P.truncated tr));
+  let p, v = state tr 10. in
+  check_close 1e-9 "in the crease" 0. p.x;
+  check_close 1e-9 "touching both planes" (0.2 *. Float.sqrt 2.) p.y;
+  check_close 1e-12 "sliding along it" 0.5 v.z;
+  check_close 1e-12 "and only along it" 0. (Vec3.length (Vec3.v v.x v.y 0.))
+
+let onto_a_resting_ball () =
+  let a = P.body ~name:"a" ~center:(Vec3.v 0. 0.5 0.) ~radius:0.5 ~restitution:0.5 () in
+  let b = P.body ~name:"b" ~center:(Vec3.v 0. 3. 0.) ~radius:0.5 ~restitution:0.5 () in
+  let tr = P.simulate P.default_world [ floor ] [ a; b ] ~until:1. in
+  match List.filter (fun (e : P.event) -> e.target = P.Body "b") (P.events tr) with
+  | [] -> Alcotest.fail "no impact"
+  | hit :: _ ->
+      let va = snd (Option.get (P.sample tr "a" hit.time)) and vb = snd (Option.get (P.sample tr "b" hit.time)) in
+      check_close 1e-12 "impact after a 1.5 m fall" (Float.sqrt (3. /. g)) hit.time;
+      check_close 0. "the supported ball does not move" 0. (Vec3.length va);
+      check_close 1e-9 "the falling one rebounds with e₁·e₂ of its speed" (0.25 *. hit.speed) vb.y
+
 let () =
   let qc = QCheck_alcotest.to_alcotest ~rand in
   Alcotest.run "physics"
@@ -269,6 +294,10 @@ let () =
           Alcotest.test_case "a head-on elastic collision exchanges velocities and conserves momentum" `Quick
             head_on;
           Alcotest.test_case "a ball placed on the floor stays on it" `Quick placed_at_rest;
+          Alcotest.test_case "a ball dropped into a V groove rests in the crease and slides along it" `Quick
+            v_groove;
+          Alcotest.test_case "a ball falling on a supported ball bounces as off a fixed one" `Quick
+            onto_a_resting_ball;
           Alcotest.test_case "a ball resting on a tilted plate slides off its border" `Quick
             resting_on_a_plate_slides_off ] );
       ( "properties",
