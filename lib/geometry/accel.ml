@@ -1,14 +1,270 @@
-(* A linear scan: every primitive is tested. The bounding volume hierarchy replaces the
-   scan for bounded primitives in large scenes. *)
-type t = { prims : Primitive.t array }
+(* Ray queries: a linear scan for small scenes, a flattened bounding volume hierarchy
+   built by the binned surface area heuristic otherwise. Unbounded primitives (planes),
+   and any whose bounds are not finite, stay out of the tree in a short list that every
+   query scans first.
 
-let build prims = { prims }
+   Equality with the linear scan. The scan keeps the hit with the smallest t, ties to the
+   lower index. Shape intersections compute the same roots whatever tmin and tmax are
+   (Shape.mli), so the scan's answer is the lexicographic minimum of (t, index) over the
+   primitives' nearest roots in (tmin, tmax). The traversal computes the same minimum:
+   each primitive is queried up to succ(best t), so an equal t is seen and the index
+   decides; boxes are padded by a relative 1e-9 so that rounding in the slab test never
+   culls a primitive whose hit lies on its own bounds; and a box is culled only when its
+   entry is strictly beyond the best t. *)
+
+type tree = {
+  nodes : Float.Array.t;  (** 6 per node: min x y z, max x y z (padded) *)
+  links : int array;
+      (** 2 per node: a leaf holds (first, count > 0) into [leaf_prims]; an interior node
+          (right child, 0), its left child being the next node *)
+  leaf_prims : Primitive.t array;  (** bounded primitives in leaf order *)
+  leaf_idx : int array;  (** their indices in the scene's array *)
+  depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
+}
+
+type t = { prims : Primitive.t array; outside : int array; tree : tree option }
+
+let min_bvh = 8
+let max_leaf = 8
+let bins = 16
+
 let primitives a = a.prims
-let uses_bvh _ = false
+let uses_bvh a = Option.is_some a.tree
 
-let nearest a r tmin tmax =
+let finite_box (b : Bbox.t) =
+  Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z && Float.is_finite b.max.x
+  && Float.is_finite b.max.y && Float.is_finite b.max.z
+
+(* --- Construction ----------------------------------------------------------------- *)
+
+(* Per-primitive data during the build, struct-of-arrays: padded bounds and centroids. *)
+type work = {
+  bmin : Float.Array.t;
+  bmax : Float.Array.t;
+  cent : Float.Array.t;
+  ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
+  nodes_b : Float.Array.t;
+  links_b : int array;
+  mutable count : int;
+  mutable max_depth : int;
+  (* Bin scratch, reused at every node: counts and bounds per axis and bin. *)
+  bin_n : int array;
+  bin_b : Float.Array.t;
+}
+
+let fget = Float.Array.unsafe_get
+let fset = Float.Array.unsafe_set
+
+let new_node w =
+  let k = w.count in
+  w.count <- k + 1;
+  k
+
+(* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
+let area a off =
+  let dx = fget a (off + 3) -. fget a off and dy = fget a (off + 4) -. fget a (off + 1) and dz = fget a (off + 5) -. fget a (off + 2) in
+  if dx < 0. || dy < 0. || dz < 0. then 0. else 2. *. ((dx *. dy) +. (dy *. dz) +. (dz *. dx))
+
+let box_empty a off =
+  for k = 0 to 2 do
+    fset a (off + k) Float.infinity;
+    fset a (off + 3 + k) Float.neg_infinity
+  done
+
+(* Grow the box at [off] in [a] by primitive [p]'s bounds. *)
+let box_add a off w p =
+  for k = 0 to 2 do
+    fset a (off + k) (Float.min (fget a (off + k)) (fget w.bmin ((3 * p) + k)));
+    fset a (off + 3 + k) (Float.max (fget a (off + 3 + k)) (fget w.bmax ((3 * p) + k)))
+  done
+
+let box_merge a off b boff =
+  for k = 0 to 2 do
+    fset a (off + k) (Float.min (fget a (off + k)) (fget b (boff + k)));
+    fset a (off + 3 + k) (Float.max (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
+  done
+
+let bin_of cmin scale c = min (bins - 1) (max 0 (int_of_float ((c -. cmin) *. scale)))
+
+let rec build_node w lo hi depth =
+  let node = new_node w in
+  if depth > w.max_depth then w.max_depth <- depth;
+  let off = 6 * node in
+  box_empty w.nodes_b off;
+  let cmin = Array.make 3 Float.infinity and cmax = Array.make 3 Float.neg_infinity in
+  for i = lo to hi - 1 do
+    let p = w.ids.(i) in
+    box_add w.nodes_b off w p;
+    for k = 0 to 2 do
+      let c = fget w.cent ((3 * p) + k) in
+      cmin.(k) <- Float.min cmin.(k) c;
+      cmax.(k) <- Float.max cmax.(k) c
+    done
+  done;
+  let n = hi - lo in
+  let leaf () =
+    w.links_b.(2 * node) <- lo;
+    w.links_b.((2 * node) + 1) <- n
+  in
+  let interior mid =
+    let _left = build_node w lo mid (depth + 1) in
+    let right = build_node w mid hi (depth + 1) in
+    w.links_b.(2 * node) <- right;
+    w.links_b.((2 * node) + 1) <- 0
+  in
+  if n <= 2 then leaf ()
+  else begin
+    (* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and
+       keep the cheapest split cost SA(L)·nL + SA(R)·nR. *)
+    let best_cost = ref Float.infinity and best_axis = ref (-1) and best_split = ref 0 in
+    let left_a = Float.Array.make 6 0. and right_area = Array.make bins 0. and right_n = Array.make bins 0 in
+    for axis = 0 to 2 do
+      let ext = cmax.(axis) -. cmin.(axis) in
+      if ext > 0. then begin
+        let scale = Float.of_int bins /. ext in
+        for b = 0 to bins - 1 do
+          w.bin_n.(b) <- 0;
+          box_empty w.bin_b (6 * b)
+        done;
+        for i = lo to hi - 1 do
+          let p = w.ids.(i) in
+          let b = bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) in
+          w.bin_n.(b) <- w.bin_n.(b) + 1;
+          box_add w.bin_b (6 * b) w p
+        done;
+        (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
+        box_empty left_a 0;
+        let acc_n = ref 0 in
+        for b = bins - 1 downto 1 do
+          box_merge left_a 0 w.bin_b (6 * b);
+          acc_n := !acc_n + w.bin_n.(b);
+          right_area.(b) <- area left_a 0;
+          right_n.(b) <- !acc_n
+        done;
+        box_empty left_a 0;
+        let acc_n = ref 0 in
+        for b = 0 to bins - 2 do
+          box_merge left_a 0 w.bin_b (6 * b);
+          acc_n := !acc_n + w.bin_n.(b);
+          let nl = !acc_n and nr = right_n.(b + 1) in
+          if nl > 0 && nr > 0 then begin
+            let cost = (area left_a 0 *. Float.of_int nl) +. (right_area.(b + 1) *. Float.of_int nr) in
+            if cost < !best_cost then begin
+              best_cost := cost;
+              best_axis := axis;
+              best_split := b + 1
+            end
+          end
+        done
+      end
+    done;
+    let node_area = area w.nodes_b off in
+    (* Cost model: one box test per child against one intersection per primitive. *)
+    let leaf_cost = Float.of_int n *. node_area in
+    if !best_axis < 0 then (if n <= max_leaf then leaf () else interior (lo + (n / 2)))
+    else if n <= max_leaf && leaf_cost <= node_area +. !best_cost then leaf ()
+    else begin
+      let axis = !best_axis in
+      let scale = Float.of_int bins /. (cmax.(axis) -. cmin.(axis)) in
+      (* Partition ids[lo, hi) so that bins below the split come first. *)
+      let i = ref lo and j = ref (hi - 1) in
+      while !i <= !j do
+        let p = w.ids.(!i) in
+        if bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) < !best_split then incr i
+        else begin
+          w.ids.(!i) <- w.ids.(!j);
+          w.ids.(!j) <- p;
+          decr j
+        end
+      done;
+      let mid = !i in
+      if mid = lo || mid = hi then interior (lo + (n / 2)) else interior mid
+    end
+  end;
+  node
+
+(* Bounds padded by a relative 1e-9 of their magnitude (see the header). *)
+let pad_into w k (b : Bbox.t) =
+  let m = Float.max (Vec3.max_abs b.min) (Vec3.max_abs b.max) in
+  let e = (1e-9 *. m) +. 1e-300 in
+  let set a (v : Vec3.t) s =
+    fset a (3 * k) (v.x +. s);
+    fset a ((3 * k) + 1) (v.y +. s);
+    fset a ((3 * k) + 2) (v.z +. s)
+  in
+  set w.bmin b.min (-.e);
+  set w.bmax b.max e;
+  let c = Bbox.centroid b in
+  fset w.cent (3 * k) c.x;
+  fset w.cent ((3 * k) + 1) c.y;
+  fset w.cent ((3 * k) + 2) c.z
+
+let build prims =
+  let n = Array.length prims in
+  let is_bounded (p : Primitive.t) = match p.bounds with Some b -> finite_box b | None -> false in
+  let bounded = List.filter (fun i -> is_bounded prims.(i)) (List.init n Fun.id) |> Array.of_list in
+  let m = Array.length bounded in
+  if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None }
+  else begin
+    let outside = List.filter (fun i -> not (is_bounded prims.(i))) (List.init n Fun.id) |> Array.of_list in
+    let w =
+      { bmin = Float.Array.create (3 * m);
+        bmax = Float.Array.create (3 * m);
+        cent = Float.Array.create (3 * m);
+        ids = Array.init m Fun.id;
+        nodes_b = Float.Array.create (6 * 2 * m);
+        links_b = Array.make (2 * 2 * m) 0;
+        count = 0;
+        max_depth = 0;
+        bin_n = Array.make bins 0;
+        bin_b = Float.Array.create (6 * bins) }
+    in
+    Array.iteri (fun k i -> match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ()) bounded;
+    ignore (build_node w 0 m 1);
+    let nodes = Float.Array.sub w.nodes_b 0 (6 * w.count) and links = Array.sub w.links_b 0 (2 * w.count) in
+    let leaf_idx = Array.map (fun k -> bounded.(k)) w.ids in
+    let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
+    { prims; outside; tree = Some { nodes; links; leaf_prims; leaf_idx; depth = w.max_depth } }
+  end
+
+(* --- Traversal -------------------------------------------------------------------- *)
+
+(* Entry t of [r] into node [k]'s box within [tmin, tmax], or infinity for a miss. The
+   slab comparisons are written so that a NaN from 0·inf (origin on a slab plane, ray
+   parallel to it) leaves the interval open. *)
+let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
+  let off = 6 * k in
+  let a = (fget nodes off -. ox) *. ix and c = (fget nodes (off + 3) -. ox) *. ix in
+  let t0 = if a < c then (if a > tmin then a else tmin) else if c > tmin then c else tmin in
+  let t1 = if a < c then (if c < tmax then c else tmax) else if a < tmax then a else tmax in
+  let a = (fget nodes (off + 1) -. oy) *. iy and c = (fget nodes (off + 4) -. oy) *. iy in
+  let t0 = if a < c then (if a > t0 then a else t0) else if c > t0 then c else t0 in
+  let t1 = if a < c then (if c < t1 then c else t1) else if a < t1 then a else t1 in
+  let a = (fget nodes (off + 2) -. oz) *. iz and c = (fget nodes (off + 5) -. oz) *. iz in
+  let t0 = if a < c then (if a > t0 then a else t0) else if c > t0 then c else t0 in
+  let t1 = if a < c then (if c < t1 then c else t1) else if a < t1 then a else t1 in
+  if t0 <= t1 then t0 else Float.infinity
+
+(* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
+   finds them busy (a fold callback that queries again) allocates its own. *)
+type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
+
+let stack_key = Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
+
+let get_stack depth =
+  let s = Domain.DLS.get stack_key in
+  if s.busy then { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
+  else begin
+    if Array.length s.ids <= depth then begin
+      s.ids <- Array.make (depth + 1) 0;
+      s.ts <- Float.Array.create (depth + 1)
+    end;
+    s.busy <- true;
+    s
+  end
+
+let linear_nearest prims r tmin tmax =
   let best_t = ref tmax and best_i = ref (-1) in
-  let prims = a.prims in
   for i = 0 to Array.length prims - 1 do
     let t = Primitive.intersect prims.(i) r tmin !best_t in
     if t < !best_t then begin
@@ -18,22 +274,162 @@ let nearest a r tmin tmax =
   done;
   if !best_i < 0 then (Float.infinity, -1) else (!best_t, !best_i)
 
+let tree_nearest a tr r tmin tmax =
+  let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
+  (* Unbounded primitives first, in index order. *)
+  let outside = a.outside and prims = a.prims in
+  for k = 0 to Array.length outside - 1 do
+    let i = outside.(k) in
+    let t = Primitive.intersect prims.(i) r tmin !query in
+    if t < !best_t || (t = !best_t && i < !best_i) then begin
+      best_t := t;
+      best_i := i;
+      query := Float.succ t
+    end
+  done;
+  let o = Ray.origin r and inv = Ray.inv_dir r in
+  let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
+  let nodes = tr.nodes and links = tr.links in
+  let st = get_stack tr.depth in
+  let sids = st.ids and sts = st.ts in
+  let sp = ref 0 and node = ref 0 and go = ref true in
+  if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
+  while !go do
+    let k = !node in
+    let count = Array.unsafe_get links ((2 * k) + 1) in
+    let next =
+      if count > 0 then begin
+        let first = Array.unsafe_get links (2 * k) in
+        for j = first to first + count - 1 do
+          let t = Primitive.intersect (Array.unsafe_get tr.leaf_prims j) r tmin !query in
+          if t <= !best_t then begin
+            let i = Array.unsafe_get tr.leaf_idx j in
+            if t < !best_t || i < !best_i then begin
+              best_t := t;
+              best_i := i;
+              query := Float.succ t
+            end
+          end
+        done;
+        -1
+      end
+      else begin
+        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
+        let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
+        let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
+        if tl < Float.infinity then
+          if trr < Float.infinity then begin
+            (* Nearest child first; the other waits on the stack with its entry t. *)
+            if trr < tl then begin
+              Array.unsafe_set sids !sp l;
+              fset sts !sp tl;
+              incr sp;
+              rr
+            end
+            else begin
+              Array.unsafe_set sids !sp rr;
+              fset sts !sp trr;
+              incr sp;
+              l
+            end
+          end
+          else l
+        else if trr < Float.infinity then rr
+        else -1
+      end
+    in
+    if next >= 0 then node := next
+    else begin
+      (* Pop the next node whose entry is not beyond the best hit. *)
+      let found = ref false in
+      while (not !found) && !sp > 0 do
+        decr sp;
+        if fget sts !sp <= !best_t then begin
+          found := true;
+          node := Array.unsafe_get sids !sp
+        end
+      done;
+      if not !found then go := false
+    end
+  done;
+  st.busy <- false;
+  if !best_i < 0 then (Float.infinity, -1) else (!best_t, !best_i)
+
+let nearest a r tmin tmax =
+  match a.tree with None -> linear_nearest a.prims r tmin tmax | Some tr -> tree_nearest a tr r tmin tmax
+
 let is_black (c : Color.t) = c.r = 0. && c.g = 0. && c.b = 0.
 
 (* Every crossing of one primitive: advance tmin to the last root found; roots are
    recomputed identically each time, so the strict test t > tmin never returns the same
    root twice. *)
-let fold_hits a r tmin tmax f acc =
+let crossings p r tmin tmax f acc =
   let acc = ref acc in
-  let prims = a.prims in
-  let i = ref 0 in
+  let t = ref (Primitive.intersect p r tmin tmax) in
+  while !t < tmax && not (is_black !acc) do
+    acc := f p !t !acc;
+    t := Primitive.intersect p r !t tmax
+  done;
+  !acc
+
+let linear_fold prims r tmin tmax f acc =
+  let acc = ref acc and i = ref 0 in
   while !i < Array.length prims && not (is_black !acc) do
-    let p = prims.(!i) in
-    let t = ref (Primitive.intersect p r tmin tmax) in
-    while !t < tmax && not (is_black !acc) do
-      acc := f p !t !acc;
-      t := Primitive.intersect p r !t tmax
-    done;
+    acc := crossings prims.(!i) r tmin tmax f !acc;
     incr i
   done;
   !acc
+
+(* Each bounded primitive sits in exactly one leaf, so the depth-first walk over the boxes
+   the ray meets visits each primitive's crossings once. *)
+let tree_fold a tr r tmin tmax f acc =
+  let acc = ref acc in
+  let outside = a.outside in
+  let k = ref 0 in
+  while !k < Array.length outside && not (is_black !acc) do
+    acc := crossings a.prims.(outside.(!k)) r tmin tmax f !acc;
+    incr k
+  done;
+  let o = Ray.origin r and inv = Ray.inv_dir r in
+  let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
+  let nodes = tr.nodes and links = tr.links in
+  let st = get_stack tr.depth in
+  let sids = st.ids in
+  let sp = ref 0 in
+  if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+    sids.(0) <- 0;
+    sp := 1
+  end;
+  (try
+     while !sp > 0 && not (is_black !acc) do
+       decr sp;
+       let node = sids.(!sp) in
+       let count = links.((2 * node) + 1) in
+       if count > 0 then begin
+         let first = links.(2 * node) in
+         let j = ref first in
+         while !j < first + count && not (is_black !acc) do
+           acc := crossings tr.leaf_prims.(!j) r tmin tmax f !acc;
+           incr j
+         done
+       end
+       else begin
+         let l = node + 1 and rr = links.(2 * node) in
+         if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+           sids.(!sp) <- rr;
+           incr sp
+         end;
+         if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+           sids.(!sp) <- l;
+           incr sp
+         end
+       end
+     done
+   with e ->
+     st.busy <- false;
+     raise e);
+  st.busy <- false;
+  !acc
+
+let fold_hits a r tmin tmax f acc =
+  match a.tree with None -> linear_fold a.prims r tmin tmax f acc | Some tr -> tree_fold a tr r tmin tmax f acc

@@ -1,9 +1,62 @@
 type t =
   | Sphere of { center : Vec3.t; radius : float }
   | Plane of { normal : Vec3.t; offset : float }
+  | Parallelogram of { origin : Vec3.t; edge1 : Vec3.t; edge2 : Vec3.t; pn : Vec3.t; w : Vec3.t; pd : float }
+  | Triangle of {
+      a : Vec3.t;
+      b : Vec3.t;
+      c : Vec3.t;
+      tn : Vec3.t;
+      normals : (Vec3.t * Vec3.t * Vec3.t) option;
+      uvs : ((float * float) * (float * float) * (float * float)) option;
+    }
+  | Paraboloid of { vertex : Vec3.t; axis : Vec3.t; radius : float; height : float; k : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Box of { min : Vec3.t; max : Vec3.t }
+  | Cylinder of { base : Vec3.t; axis : Vec3.t; height : float; radius : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
+  | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
+
+(* An orthonormal pair (e1, e2) perpendicular to the unit vector n, with e1 × e2 = n
+   up to orientation: e1 is x (or y when n is near x) made perpendicular to n. *)
+let frame (n : Vec3.t) =
+  let helper = if Float.abs n.x < 0.9 then Vec3.x_axis else Vec3.y_axis in
+  let e1 = Vec3.normalize (Vec3.madd helper (-.Vec3.dot helper n) n) in
+  let e2 = Vec3.cross n e1 in
+  (e1, e2)
 
 let sphere ~center ~radius = Sphere { center; radius }
 let plane ~normal ~offset = Plane { normal = Vec3.normalize normal; offset }
+
+let parallelogram ~origin ~edge1 ~edge2 =
+  let n = Vec3.cross edge1 edge2 in
+  let pn = Vec3.normalize n in
+  Parallelogram { origin; edge1; edge2; pn; w = Vec3.smul (1. /. Vec3.dot n n) n; pd = Vec3.dot pn origin }
+
+let triangle_gen ?normals ?uvs a b c =
+  let tn = Vec3.normalize (Vec3.cross (Vec3.sub b a) (Vec3.sub c a)) in
+  let normals = Option.map (fun (na, nb, nc) -> (Vec3.normalize na, Vec3.normalize nb, Vec3.normalize nc)) normals in
+  Triangle { a; b; c; tn; normals; uvs }
+
+let triangle ~a ~b ~c = triangle_gen a b c
+let mesh_triangle ?normals ?uvs ~a ~b ~c () = triangle_gen ?normals ?uvs a b c
+
+let paraboloid ~vertex ~axis ~radius ~height =
+  let axis = Vec3.normalize axis in
+  let e1, e2 = frame axis in
+  Paraboloid { vertex; axis; radius; height; k = radius *. radius /. height; e1; e2 }
+
+let box ~min ~max = Box { min = Vec3.min min max; max = Vec3.max min max }
+
+let cylinder ~base ~top ~radius ~caps =
+  let d = Vec3.sub top base in
+  let height = Vec3.length d in
+  let axis = Vec3.smul (1. /. height) d in
+  let e1, e2 = frame axis in
+  Cylinder { base; axis; height; radius; caps; e1; e2 }
+
+let disk ~center ~normal ~radius =
+  let normal = Vec3.normalize normal in
+  let e1, e2 = frame normal in
+  Disk { center; normal; radius; e1; e2 }
 
 let[@inline] in_range t tmin tmax = t > tmin && t < tmax
 
@@ -59,17 +112,268 @@ let intersect_plane (n : Vec3.t) offset r tmin tmax =
     let t = (offset -. Vec3.dot (Ray.origin r) n) /. denom in
     if in_range t tmin tmax then t else Float.infinity
 
+(* Parallelograms tile edge to edge without cracks thanks to a tiny parametric tolerance:
+   a, b ∈ [−ε, 1 + ε] with ε = 1e-9. The rounding of a and b is about 1e-16·|P|/|E|, so
+   a ray aimed at a shared edge is accepted by at least one of the two tiles as long as
+   the tiles are not 1e7 times smaller than their distance to the origin. The plane part
+   is the plane test above (parallel rays miss). *)
+let para_eps = 1e-9
+
+let para_coords origin edge1 edge2 w p =
+  let q = Vec3.sub p origin in
+  let a = Vec3.dot w (Vec3.cross q edge2) and b = Vec3.dot w (Vec3.cross edge1 q) in
+  (a, b)
+
+let intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
+  let t = intersect_plane pn pd r tmin tmax in
+  if t = Float.infinity then t
+  else
+    let p = Ray.at r t in
+    let q = Vec3.sub p origin in
+    let a = Vec3.dot w (Vec3.cross q edge2) in
+    if a >= -.para_eps && a <= 1. +. para_eps then
+      let b = Vec3.dot w (Vec3.cross edge1 q) in
+      if b >= -.para_eps && b <= 1. +. para_eps then t else Float.infinity
+    else Float.infinity
+
+(* Watertight ray–triangle test (Woop, Benthin, Wald, JCGT 2013; pbrt-v4 Triangle::Intersect).
+   Translate the vertices to the ray origin, permute axes so that the largest direction
+   component is z, shear so that the ray becomes +z, and evaluate the three 2-D edge
+   functions. A shared edge is evaluated from the same two transformed vertices in both
+   triangles, and x0·y1 − y0·x1 is exactly antisymmetric in floating point, so the two
+   triangles agree on the sign: no ray passes between them. *)
+let intersect_triangle (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  let ax = Float.abs d.x and ay = Float.abs d.y and az = Float.abs d.z in
+  (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
+  let kz = if ax > ay then if ax > az then 0 else 2 else if ay > az then 1 else 2 in
+  let[@inline] pick (v : Vec3.t) k = if k = 0 then v.x else if k = 1 then v.y else v.z in
+  let kx = if kz = 2 then 0 else kz + 1 in
+  let ky = if kx = 2 then 0 else kx + 1 in
+  let dx = pick d kx and dy = pick d ky and dz = pick d kz in
+  if dz = 0. then Float.infinity (* zero direction *)
+  else
+    let sx = -.dx /. dz and sy = -.dy /. dz and sz = 1. /. dz in
+    let ox = pick o kx and oy = pick o ky and oz = pick o kz in
+    let z0 = pick p0 kz -. oz and z1 = pick p1 kz -. oz and z2 = pick p2 kz -. oz in
+    let x0 = pick p0 kx -. ox +. (sx *. z0) and y0 = pick p0 ky -. oy +. (sy *. z0) in
+    let x1 = pick p1 kx -. ox +. (sx *. z1) and y1 = pick p1 ky -. oy +. (sy *. z1) in
+    let x2 = pick p2 kx -. ox +. (sx *. z2) and y2 = pick p2 ky -. oy +. (sy *. z2) in
+    let e0 = (x1 *. y2) -. (y1 *. x2) in
+    let e1 = (x2 *. y0) -. (y2 *. x0) in
+    let e2 = (x0 *. y1) -. (y0 *. x1) in
+    if (e0 < 0. || e1 < 0. || e2 < 0.) && (e0 > 0. || e1 > 0. || e2 > 0.) then Float.infinity
+    else
+      let det = e0 +. e1 +. e2 in
+      if det = 0. || Float.is_nan det then Float.infinity
+      else
+        let t_scaled = (e0 *. (z0 *. sz)) +. (e1 *. (z1 *. sz)) +. (e2 *. (z2 *. sz)) in
+        let t = t_scaled /. det in
+        if in_range t tmin tmax then t else Float.infinity
+
+(* Both roots of a·t² + b·t + c in increasing order, by the stable formula; the linear and
+   the rootless cases give infinities. Used by the quadrics with a height range, where the
+   nearer root may be cut away and the farther one kept. [lo_root] and [hi_root] avoid a
+   tuple: each recomputes the (cheap) discriminant. *)
+let roots a b c =
+  if a = 0. then
+    if b = 0. then (Float.infinity, Float.infinity)
+    else
+      let t = -.c /. b in
+      (t, Float.infinity)
+  else
+    let disc = (b *. b) -. (4. *. a *. c) in
+    if disc < 0. || Float.is_nan disc then (Float.infinity, Float.infinity)
+    else
+      let s = Float.sqrt disc in
+      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
+      if q = 0. then (0., 0.)
+      else
+        let t0 = q /. a and t1 = c /. q in
+        (Float.min t0 t1, Float.max t0 t1)
+
+(* Paraboloid in its frame: y' = (P − V)·axis, x⊥ = (P − V) − y'·axis, surface
+   |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
+   Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
+   parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
+   formula keeps the finite root (9.4999999905 in NUMERICS.md) where the naive one gives 0. *)
+let intersect_paraboloid vertex axis height k r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  let f = Vec3.sub o vertex in
+  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
+  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
+  let a = Vec3.dot dp dp and b = (2. *. Vec3.dot fp dp) -. (k *. dy) and c = Vec3.dot fp fp -. (k *. fy) in
+  let t0, t1 = roots a b c in
+  let ok t =
+    in_range t tmin tmax
+    &&
+    let y = fy +. (t *. dy) in
+    y >= 0. && y <= height
+  in
+  if ok t0 then t0 else if ok t1 then t1 else Float.infinity
+
+(* Slab test for an axis-aligned box: the entry t if it lies in (tmin, tmax), else the
+   exit t (origin inside). Zero direction components give ±inf bounds; 0·inf (origin on
+   a face plane) gives NaN, which the comparisons ignore. *)
+let intersect_box (mn : Vec3.t) (mx : Vec3.t) r tmin tmax =
+  let o = Ray.origin r and inv = Ray.inv_dir r in
+  let t0 = ref Float.neg_infinity and t1 = ref Float.infinity in
+  let slab lo hi o inv =
+    let a = (lo -. o) *. inv and c = (hi -. o) *. inv in
+    let near = if a < c then a else c and far = if a < c then c else a in
+    if near > !t0 then t0 := near;
+    if far < !t1 then t1 := far
+  in
+  slab mn.x mx.x o.x inv.x;
+  slab mn.y mx.y o.y inv.y;
+  slab mn.z mx.z o.z inv.z;
+  let t0 = !t0 and t1 = !t1 in
+  if not (t0 <= t1) then Float.infinity
+  else if in_range t0 tmin tmax then t0
+  else if in_range t1 tmin tmax then t1
+  else Float.infinity
+
+(* A disk of radius r at [center] in the plane of [normal], t from the plane test. *)
+let disk_hit (center : Vec3.t) (normal : Vec3.t) radius r tmin tmax =
+  let denom = Vec3.dot (Ray.dir r) normal in
+  if denom = 0. then Float.infinity
+  else
+    let t = Vec3.dot (Vec3.sub center (Ray.origin r)) normal /. denom in
+    if in_range t tmin tmax then
+      let q = Vec3.sub (Ray.at r t) center in
+      if Vec3.dot q q <= radius *. radius then t else Float.infinity
+    else Float.infinity
+
+(* Cylinder side: the 2-D circle version of the sphere's stable discriminant, in the plane
+   perpendicular to the axis (f⊥ and d⊥); kept for 0 ≤ y' ≤ h. Caps are disks. A ray
+   parallel to the axis has a = 0 and misses the side (the caps catch it). *)
+let intersect_cylinder base axis height radius caps r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  let f = Vec3.sub o base in
+  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
+  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
+  let a = Vec3.dot dp dp in
+  let side =
+    if a = 0. then Float.infinity
+    else
+      let b = Vec3.dot fp dp in
+      let l = Vec3.length (Vec3.madd fp (-.b /. a) dp) in
+      let disc = a *. (radius -. l) *. (radius +. l) in
+      if disc < 0. || Float.is_nan disc then Float.infinity
+      else
+        let fl = Vec3.length fp in
+        let c = (fl -. radius) *. (fl +. radius) in
+        let s = Float.sqrt disc in
+        let q = if b < 0. then s -. b else -.(b +. s) in
+        let t0, t1 = if q = 0. then (-.b /. a, Float.infinity) else (Float.min (q /. a) (c /. q), Float.max (q /. a) (c /. q)) in
+        let ok t =
+          in_range t tmin tmax
+          &&
+          let y = fy +. (t *. dy) in
+          y >= 0. && y <= height
+        in
+        if ok t0 then t0 else if ok t1 then t1 else Float.infinity
+  in
+  if not caps then side
+  else
+    let tmax' = Float.min side tmax in
+    let t_lo = disk_hit base axis radius r tmin tmax' in
+    let tmax' = Float.min t_lo tmax' in
+    let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
+    Float.min side (Float.min t_lo t_hi)
+
 let intersect s r tmin tmax =
   match s with
   | Sphere { center; radius } -> intersect_sphere center radius r tmin tmax
   | Plane { normal; offset } -> intersect_plane normal offset r tmin tmax
+  | Triangle { a; b; c; _ } -> intersect_triangle a b c r tmin tmax
+  | Parallelogram { origin; edge1; edge2; pn; w; pd } -> intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
+  | Box { min; max } -> intersect_box min max r tmin tmax
+  | Paraboloid { vertex; axis; height; k; _ } -> intersect_paraboloid vertex axis height k r tmin tmax
+  | Cylinder { base; axis; height; radius; caps; _ } -> intersect_cylinder base axis height radius caps r tmin tmax
+  | Disk { center; normal; radius; _ } -> disk_hit center normal radius r tmin tmax
+
+(* Barycentric coordinates (u, v, w) of p (projected onto the triangle's plane), with
+   p = u·a + v·b + w·c. *)
+let barycentric (a : Vec3.t) b c p =
+  let v0 = Vec3.sub b a and v1 = Vec3.sub c a and v2 = Vec3.sub p a in
+  let d00 = Vec3.dot v0 v0 and d01 = Vec3.dot v0 v1 and d11 = Vec3.dot v1 v1 in
+  let d20 = Vec3.dot v2 v0 and d21 = Vec3.dot v2 v1 in
+  let den = (d00 *. d11) -. (d01 *. d01) in
+  if den = 0. then (1., 0., 0.)
+  else
+    let v = ((d11 *. d20) -. (d01 *. d21)) /. den and w = ((d00 *. d21) -. (d01 *. d20)) /. den in
+    (1. -. v -. w, v, w)
+
+(* Which part of a capped cylinder p lies on: 0 side, 1 base cap, 2 top cap; the nearest
+   surface wins, which settles points on the rim. *)
+let cylinder_part (base : Vec3.t) axis height radius caps p =
+  let q = Vec3.sub p base in
+  let y = Vec3.dot q axis in
+  if not caps then 0
+  else
+    let rho = Vec3.length (Vec3.madd q (-.y) axis) in
+    let ds = Float.abs (radius -. rho) and d0 = Float.abs y and d1 = Float.abs (height -. y) in
+    if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
+
+(* The face of a box nearest to p, as 0..5 = −x, +x, −y, +y, −z, +z. *)
+let box_face (mn : Vec3.t) (mx : Vec3.t) (p : Vec3.t) =
+  let best = ref 0 and bd = ref (Float.abs (p.x -. mn.x)) in
+  let try_ i d =
+    if d < !bd then begin
+      bd := d;
+      best := i
+    end
+  in
+  try_ 1 (Float.abs (mx.x -. p.x));
+  try_ 2 (Float.abs (p.y -. mn.y));
+  try_ 3 (Float.abs (mx.y -. p.y));
+  try_ 4 (Float.abs (p.z -. mn.z));
+  try_ 5 (Float.abs (mx.z -. p.z));
+  !best
 
 let normal s p =
   match s with
   | Sphere { center; _ } -> Vec3.normalize (Vec3.sub p center)
   | Plane { normal; _ } -> normal
+  | Parallelogram { pn; _ } -> pn
+  | Triangle { tn; normals = None; _ } -> tn
+  | Triangle { a; b; c; tn; normals = Some (na, nb, nc); _ } ->
+      let u, v, w = barycentric a b c p in
+      let n = Vec3.add (Vec3.smul u na) (Vec3.add (Vec3.smul v nb) (Vec3.smul w nc)) in
+      let n = Vec3.normalize n in
+      if Vec3.dot n n = 0. then tn else n
+  | Paraboloid { vertex; axis; k; _ } ->
+      (* ∇(|x⊥|² − k·y') = 2·x⊥ − k·axis: away from the cup's inside. *)
+      let q = Vec3.sub p vertex in
+      let y = Vec3.dot q axis in
+      let xp = Vec3.madd q (-.y) axis in
+      Vec3.normalize (Vec3.madd (Vec3.smul 2. xp) (-.k) axis)
+  | Box { min; max } -> (
+      match box_face min max p with
+      | 0 -> Vec3.v (-1.) 0. 0.
+      | 1 -> Vec3.x_axis
+      | 2 -> Vec3.v 0. (-1.) 0.
+      | 3 -> Vec3.y_axis
+      | 4 -> Vec3.v 0. 0. (-1.)
+      | _ -> Vec3.z_axis)
+  | Cylinder { base; axis; height; radius; caps; _ } -> (
+      match cylinder_part base axis height radius caps p with
+      | 1 -> Vec3.neg axis
+      | 2 -> axis
+      | _ ->
+          let q = Vec3.sub p base in
+          let n = Vec3.normalize (Vec3.madd q (-.Vec3.dot q axis) axis) in
+          if Vec3.dot n n = 0. then axis else n)
+  | Disk { normal; _ } -> normal
 
-let frac x = x -. Float.of_int (int_of_float (Float.floor x))
+let frac x = x -. Float.floor x
+let clamp01 x = if x > 0. then if x < 1. then x else 1. else 0.
+
+(* Angle around [axis] in the frame (e1, e2), as a fraction of a turn in [0, 1). *)
+let turn e1 e2 q =
+  let u = 0.5 +. (Float.atan2 (Vec3.dot q e2) (Vec3.dot q e1) /. (2. *. Float.pi)) in
+  if u >= 1. then 0. else clamp01 u
 
 let uv s (p : Vec3.t) =
   match s with
@@ -85,11 +389,68 @@ let uv s (p : Vec3.t) =
       let t = Vec3.normalize (Vec3.madd axis (-.Vec3.dot axis normal) normal) in
       let b = Vec3.cross t normal in
       (frac (Vec3.dot p t), frac (Vec3.dot p b))
+  | Parallelogram { origin; edge1; edge2; w; _ } ->
+      let a, b = para_coords origin edge1 edge2 w p in
+      (clamp01 a, clamp01 b)
+  | Triangle { a; b; c; uvs; _ } -> (
+      let l0, l1, l2 = barycentric a b c p in
+      match uvs with
+      | None -> (clamp01 l1, clamp01 l2)
+      | Some ((u0, v0), (u1, v1), (u2, v2)) ->
+          ((l0 *. u0) +. (l1 *. u1) +. (l2 *. u2), (l0 *. v0) +. (l1 *. v1) +. (l2 *. v2)))
+  | Paraboloid { vertex; axis; height; e1; e2; _ } ->
+      let q = Vec3.sub p vertex in
+      (turn e1 e2 q, clamp01 (Vec3.dot q axis /. height))
+  | Cylinder { base; axis; height; radius; caps; e1; e2 } -> (
+      let q = Vec3.sub p base in
+      match cylinder_part base axis height radius caps p with
+      | 0 -> (turn e1 e2 q, clamp01 (Vec3.dot q axis /. height))
+      | part ->
+          let q = if part = 2 then Vec3.madd q (-.height) axis else q in
+          let s = 0.5 /. radius in
+          (clamp01 (0.5 +. (s *. Vec3.dot q e1)), clamp01 (0.5 +. (s *. Vec3.dot q e2))))
+  | Disk { center; radius; e1; e2; _ } ->
+      let q = Vec3.sub p center in
+      let s = 0.5 /. radius in
+      (clamp01 (0.5 +. (s *. Vec3.dot q e1)), clamp01 (0.5 +. (s *. Vec3.dot q e2)))
+  | Box { min; max } -> (
+      (* Each face maps its own rectangle onto the unit square. *)
+      let f lo hi x = clamp01 ((x -. lo) /. (hi -. lo)) in
+      match box_face min max p with
+      | 0 | 1 -> (f min.z max.z p.z, f min.y max.y p.y)
+      | 2 | 3 -> (f min.x max.x p.x, f min.z max.z p.z)
+      | _ -> (f min.x max.x p.x, f min.y max.y p.y))
+
+(* Bounds of a disk of radius r around c in the plane of unit normal n: along axis i the
+   disk extends r·√(1 − n_i²). *)
+let disk_bbox (c : Vec3.t) (n : Vec3.t) r =
+  let e x = r *. Float.sqrt (Float.max 0. (1. -. (x *. x))) in
+  let h = Vec3.v (e n.x) (e n.y) (e n.z) in
+  { Bbox.min = Vec3.sub c h; max = Vec3.add c h }
 
 let bbox = function
   | Sphere { center; radius } ->
       let r = Vec3.v radius radius radius in
       Some { Bbox.min = Vec3.sub center r; max = Vec3.add center r }
   | Plane _ -> None
+  | Parallelogram { origin; edge1; edge2; _ } ->
+      Some (Bbox.of_points [ origin; Vec3.add origin edge1; Vec3.add origin edge2; Vec3.add (Vec3.add origin edge1) edge2 ])
+  | Triangle { a; b; c; _ } -> Some (Bbox.of_points [ a; b; c ])
+  | Paraboloid { vertex; axis; radius; height; _ } ->
+      let top = disk_bbox (Vec3.madd vertex height axis) axis radius in
+      Some (Bbox.union top { Bbox.min = vertex; max = vertex })
+  | Box { min; max } -> Some { Bbox.min; max }
+  | Cylinder { base; axis; height; radius; _ } ->
+      Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
+  | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
 
-let name = function Sphere _ -> "sphere" | Plane _ -> "plane"
+let name = function
+  | Sphere _ -> "sphere"
+  | Plane _ -> "plane"
+  | Parallelogram _ -> "parallelogram"
+  | Triangle { normals = None; uvs = None; _ } -> "triangle"
+  | Triangle _ -> "mesh"
+  | Paraboloid _ -> "paraboloid"
+  | Box _ -> "box"
+  | Cylinder _ -> "cylinder"
+  | Disk _ -> "disk"

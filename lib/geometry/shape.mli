@@ -4,34 +4,114 @@
     for an untransformed object). Intersections return the ray parameter t of the nearest
     root strictly inside (tmin, tmax), or [Float.infinity] when there is none; a NaN is
     never returned. Rays may have non-unit directions (object-space rays), and t then
-    means the same point as in world space. *)
+    means the same point as in world space. The roots an intersection computes do not
+    depend on tmin and tmax (only which root is kept does), so a smaller tmax never moves
+    a hit: the bounding volume hierarchy relies on it.
 
-type t =
+    Build shapes with the smart constructors: the variants hold precomputed values
+    (unit normals, reciprocals, frames) that the constructors keep consistent. *)
+
+type t = private
   | Sphere of { center : Vec3.t; radius : float }
   | Plane of { normal : Vec3.t; offset : float }  (** unit normal; n̂·P = offset *)
+  | Parallelogram of {
+      origin : Vec3.t;
+      edge1 : Vec3.t;
+      edge2 : Vec3.t;
+      pn : Vec3.t;  (** unit normal, E1 × E2 normalised *)
+      w : Vec3.t;  (** (E1 × E2) / |E1 × E2|², for the (a, b) coordinates *)
+      pd : float;  (** pn·origin *)
+    }  (** A + a·E1 + b·E2, a, b ∈ [0, 1] *)
+  | Triangle of {
+      a : Vec3.t;
+      b : Vec3.t;
+      c : Vec3.t;
+      tn : Vec3.t;  (** unit geometric normal, (b − a) × (c − a) normalised *)
+      normals : (Vec3.t * Vec3.t * Vec3.t) option;  (** unit vertex normals (smooth meshes) *)
+      uvs : ((float * float) * (float * float) * (float * float)) option;  (** vertex (u, v) *)
+    }
+  | Paraboloid of {
+      vertex : Vec3.t;
+      axis : Vec3.t;  (** unit *)
+      radius : float;
+      height : float;
+      k : float;  (** r²/h: the surface is |x⊥|² = k·y' *)
+      e1 : Vec3.t;
+      e2 : Vec3.t;  (** unit frame perpendicular to the axis, for u *)
+    }  (** open cup, 0 ≤ y' ≤ h, two-sided *)
+  | Box of { min : Vec3.t; max : Vec3.t }  (** axis-aligned, min < max *)
+  | Cylinder of {
+      base : Vec3.t;
+      axis : Vec3.t;  (** unit, base → top *)
+      height : float;  (** |top − base| *)
+      radius : float;
+      caps : bool;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }
+  | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
+      (** unit normal; (e1, e2) a frame in the disk's plane *)
 
 val sphere : center:Vec3.t -> radius:float -> t
 val plane : normal:Vec3.t -> offset:float -> t
 (** [plane ~normal ~offset]: [normal] need not be unit; the plane is n̂·P = offset with
     n̂ = normalize normal. *)
 
+val parallelogram : origin:Vec3.t -> edge1:Vec3.t -> edge2:Vec3.t -> t
+(** A + a·E1 + b·E2 for a, b ∈ [0, 1]; the edges must not be parallel. Hits use a
+    parametric tolerance of 1e-9, so parallelograms tiled edge to edge leave no crack. *)
+
+val triangle : a:Vec3.t -> b:Vec3.t -> c:Vec3.t -> t
+(** A flat triangle (watertight intersection test); (u, v) are the barycentric weights of
+    [b] and [c]. The corners must not be in a line. *)
+
+val mesh_triangle :
+  ?normals:Vec3.t * Vec3.t * Vec3.t ->
+  ?uvs:(float * float) * (float * float) * (float * float) ->
+  a:Vec3.t ->
+  b:Vec3.t ->
+  c:Vec3.t ->
+  unit ->
+  t
+(** A mesh face: [normals] (normalised here) are interpolated for smooth shading, [uvs]
+    for texture coordinates. *)
+
+val paraboloid : vertex:Vec3.t -> axis:Vec3.t -> radius:float -> height:float -> t
+(** The open cup |x⊥|² = (r²/h)·y' for y' ∈ [0, h] along [axis] (need not be unit) from
+    [vertex]; radius and height positive. *)
+
+val box : min:Vec3.t -> max:Vec3.t -> t
+(** The axis-aligned box between the two corners (taken component-wise). *)
+
+val cylinder : base:Vec3.t -> top:Vec3.t -> radius:float -> caps:bool -> t
+(** The cylinder of [radius] around the segment base–top (distinct points), closed by two
+    disks when [caps]. *)
+
+val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
+
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect s r tmin tmax] is the smallest root t of [r] on [s] with tmin < t < tmax,
-    or [infinity]. *)
+    or [infinity]; never NaN. *)
 
 val normal : t -> Vec3.t -> Vec3.t
-(** [normal s p] is the unit geometric normal at the surface point [p] (outward for closed
-    surfaces; for planes, the plane's own normal). *)
+(** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
+    (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the plane's
+    own normal for flat shapes, and the interpolated vertex normal for smooth mesh
+    triangles. *)
 
 val uv : t -> Vec3.t -> float * float
-(** [uv s p] is the texture coordinate of surface point [p], each in [0, 1) for bounded
-    parametrisations (spheres: longitude and latitude; planes: x and z). *)
+(** [uv s p] is the texture coordinate of surface point [p]: spheres longitude and
+    latitude; planes the in-plane coordinates modulo 1; parallelograms (a, b); triangles
+    the barycentric weights of b and c, or the interpolated vertex (u, v) of a mesh;
+    paraboloids and cylinder sides the turn around the axis and y'/h; disks and cylinder
+    caps (x, y)/(2r) + ½ in the disk's frame; boxes each face's own rectangle. In [0, 1]
+    except for mesh (u, v), which are as the file gives them. *)
 
 val bbox : t -> Bbox.t option
 (** Object-space bounds; [None] for unbounded surfaces (planes). *)
 
 val name : t -> string
-(** The kind, as written in a scene ("sphere", "plane", …). *)
+(** The kind, as written in a scene ("sphere", "plane", …; "mesh" for mesh faces). *)
 
 val solve_quadratic : float -> float -> float -> float -> float -> float
 (** [solve_quadratic a b c tmin tmax] is the smallest root of a·t² + b·t + c in

@@ -2,17 +2,34 @@
 
     Solid (3-D) textures are evaluated at an object-space point; the caller passes
     P − δ·N (SPEC §2.5) so that a surface lying exactly on a cell boundary does not
-    flicker. Image textures use the surface's (u, v). All colours are linear RGB. *)
+    flicker. Image textures use the surface's (u, v). All colours are linear RGB. Every
+    texture is a pure function of its arguments (the noise is seeded once, see {!Noise}),
+    and never returns NaN for finite input. *)
 
 type t =
   | Solid of Color.t
   | Checker of { c1 : Color.t; c2 : Color.t; size : float }
       (** k = ⌊x/s⌋ + ⌊y/s⌋ + ⌊z/s⌋; c1 where k is even, c2 where odd. *)
   | Stripes of { c1 : Color.t; c2 : Color.t; size : float }  (** along x: ⌊x/s⌋ parity *)
+  | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
+      (** mix c1 c2 by ½(1 + perlin(P/scale)), clamped to [0, 1] *)
+  | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
+      (** veins along x: mix c1 c2 by ½(1 + sin(π·(x/scale + 4·turbulence(P/scale)))) *)
+  | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
+      (** rings around the y axis: the fraction of r/scale + 2·perlin(P/scale), r = √(x² + z²),
+          mixed smoothly from c1 (ring start) to c2 *)
+  | Image of { img : Image.t; scale : float }
+      (** a linear framebuffer (from {!Image.read_linear}) on (u, v): u left to right, v
+          bottom to top, [scale] copies across the unit square in each direction,
+          bilinear filtering, wrapping at the edges *)
 
 val eval : t -> Vec3.t -> float -> float -> Color.t
 (** [eval tex p u v] is the albedo at object-space point [p] with texture coordinates
     ([u], [v]). *)
+
+val bilinear : Image.t -> float -> float -> Color.t
+(** [bilinear img u v] samples [img] at (u, v) with wrapping (period 1 in both), v = 0 at
+    the bottom row; non-finite coordinates sample (0, 0). *)
 
 val needs_uv : t -> bool
 (** Whether [eval] reads (u, v) (image textures), so shading computes them only then. *)

@@ -1,0 +1,14 @@
+(** Wavefront OBJ meshes: [v], [vt], [vn] and [f] statements into triangles.
+
+    Faces take [a], [a/b], [a/b/c] or [a//c] corners, with 1-based or negative (relative
+    to the last element defined so far) indices; polygons are fan-triangulated from their
+    first corner. Grouping and material statements ([o], [g], [s], [usemtl], [mtllib], …)
+    are accepted and ignored. Triangles of zero area are dropped. A malformed file never
+    raises: every problem is an [Error "file:line: message"]. *)
+
+val parse : ?smooth:bool -> file:string -> string -> (Shape.t list, string) result
+(** [parse ~file text] reads OBJ [text]; [file] names it in messages. With [smooth]
+    (default true) faces whose corners all carry a [vn] interpolate those normals. *)
+
+val load : ?smooth:bool -> string -> (Shape.t list, string) result
+(** [load path] reads and parses the file at [path]. *)
