@@ -14,3 +14,5 @@ let intersect o r tmin tmax =
 
 let to_object o p = Transform.inv_point o.transform p
 let normal o p = Transform.normal o.transform (Shape.normal o.shape p)
+
+let without_bounds o = { o with bounds = None }

@@ -23,3 +23,7 @@ val to_object : t -> Vec3.t -> Vec3.t
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal o p_obj] is the unit world-space geometric normal at object-space point
     [p_obj]. *)
+
+val without_bounds : t -> t
+(** The same primitive with no bounds, so that {!Accel} scans it linearly: tests compare
+    the bounding volume hierarchy with a brute-force scene this way. *)
