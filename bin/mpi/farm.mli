@@ -1,0 +1,49 @@
+(** The seed's client-server scheme over MPI (SPEC §8): rank 0 hands out work units on
+    demand, gathers their pixels and hands each finished frame to its caller; every other
+    rank renders the units it is given with its own Domainslib pool.
+
+    A job is a list of frames, each known by a key (the frame number of an animation, 0
+    for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
+    whole frames when there are at least as many frames as workers, otherwise chunks of
+    a few tiles. Each tile is rendered by {!Lancer.Render.render_tile} from the same
+    scene, and its floats travel bit for bit, so the pixels are identical to a local
+    render whatever the number of ranks and domains. When rank 0 is alone it renders
+    the units itself, a whole frame at a time over its pool.
+
+    Failures: a worker that cannot evaluate the scene or render a unit reports it; rank 0
+    then stops handing out work, lets every worker finish, and raises {!Worker_failed}, so
+    nothing more is written. A rank that dies is MPI's business: the default error handler
+    ends the whole job. Anything else unexpected while workers are active also ends the
+    job (MPI_Abort), since they would otherwise wait for ever. *)
+
+open Lancer
+
+exception Worker_failed of int * string
+(** [Worker_failed (rank, message)]: that rank could not do its unit. *)
+
+val serve :
+  fatal:(exn -> int) ->
+  pool:Domainslib.Task.pool option ->
+  frames:(int * (unit -> Scene.t)) list ->
+  on_tiles:(int -> unit) ->
+  on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
+  unit
+(** [serve ~fatal ~pool ~frames ~on_tiles ~on_frame] runs on rank 0. [frames] lists the
+    keys to render in order, with the scene of each (asked for once, when its first unit
+    is cut). [on_tiles n] is called as tiles finish, with the count so far over all
+    frames, from any domain; [on_frame key scene fb stats] as each frame is complete (in
+    any order). [pool] is used only when rank 0 is alone. Raises what [on_frame] raises,
+    or {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
+    exception and is the status the job is then aborted with. *)
+
+val work :
+  describe:(exn -> string) -> pool:Domainslib.Task.pool option -> domains:int -> scene_of:(int -> Scene.t) -> unit
+(** [work ~describe ~pool ~domains ~scene_of] runs on every other rank until rank 0
+    says stop; [scene_of key] evaluates the scene of a frame. An exception from it or
+    from rendering is sent to rank 0 as [describe e]. *)
+
+val render_unit :
+  ?on_tile:(unit -> unit) -> pool:Domainslib.Task.pool option -> Scene.t -> Image.t -> int array -> Stats.t
+(** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles]
+    into [fb] over [pool] (tile by tile, as {!Lancer.Render.render}) and is their summed
+    counters. [on_tile] is called after each tile, from whichever domain rendered it. *)
