@@ -72,19 +72,26 @@ let box_empty a off =
   done
 
 (* Grow the box at [off] in [a] by primitive [p]'s bounds. *)
+(* Typed comparisons rather than Float.min/max: the bounds are finite (checked at
+   entry), and Float.min's NaN and signed-zero handling costs a C call per use. *)
+let[@inline] fmin (a : float) b = if a < b then a else b
+let[@inline] fmax (a : float) b = if a > b then a else b
+
 let box_add a off w p =
   for k = 0 to 2 do
-    fset a (off + k) (Float.min (fget a (off + k)) (fget w.bmin ((3 * p) + k)));
-    fset a (off + 3 + k) (Float.max (fget a (off + 3 + k)) (fget w.bmax ((3 * p) + k)))
+    fset a (off + k) (fmin (fget a (off + k)) (fget w.bmin ((3 * p) + k)));
+    fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget w.bmax ((3 * p) + k)))
   done
 
 let box_merge a off b boff =
   for k = 0 to 2 do
-    fset a (off + k) (Float.min (fget a (off + k)) (fget b (boff + k)));
-    fset a (off + 3 + k) (Float.max (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
+    fset a (off + k) (fmin (fget a (off + k)) (fget b (boff + k)));
+    fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
   done
 
-let bin_of cmin scale c = min (bins - 1) (max 0 (int_of_float ((c -. cmin) *. scale)))
+let bin_of cmin scale c =
+  let b = int_of_float ((c -. cmin) *. scale) in
+  if b < 0 then 0 else if b >= bins then bins - 1 else b
 
 let rec build_node w lo hi depth =
   let node = new_node w in
@@ -97,8 +104,8 @@ let rec build_node w lo hi depth =
     box_add w.nodes_b off w p;
     for k = 0 to 2 do
       let c = fget w.cent ((3 * p) + k) in
-      cmin.(k) <- Float.min cmin.(k) c;
-      cmax.(k) <- Float.max cmax.(k) c
+      cmin.(k) <- fmin cmin.(k) c;
+      cmax.(k) <- fmax cmax.(k) c
     done
   done;
   let n = hi - lo in
@@ -118,9 +125,15 @@ let rec build_node w lo hi depth =
        keep the cheapest split cost SA(L)·nL + SA(R)·nR. *)
     let best_cost = ref Float.infinity and best_axis = ref (-1) and best_split = ref 0 in
     let left_a = Float.Array.make 6 0. and right_area = Array.make bins 0. and right_n = Array.make bins 0 in
+    (* Large nodes bin only along their widest centroid axis: a third of the build time
+       where it matters, at a negligible cost in tree quality. *)
+    let widest =
+      let e k = cmax.(k) -. cmin.(k) in
+      if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2
+    in
     for axis = 0 to 2 do
       let ext = cmax.(axis) -. cmin.(axis) in
-      if ext > 0. then begin
+      if ext > 0. && (n <= 4096 || axis = widest) then begin
         let scale = Float.of_int bins /. ext in
         for b = 0 to bins - 1 do
           w.bin_n.(b) <- 0;

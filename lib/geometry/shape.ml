@@ -101,7 +101,8 @@ let intersect_sphere (center : Vec3.t) radius r tmin tmax =
       if in_range t tmin tmax then t else Float.infinity
     else
       let t0 = q /. a and t1 = c /. q in
-      let lo = Float.min t0 t1 and hi = Float.max t0 t1 in
+      (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
+      let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
       if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
 
 (* Plane: d·n = 0 is a miss even when the origin lies on the plane (0/0 must not escape). *)
