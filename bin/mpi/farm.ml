@@ -163,22 +163,23 @@ let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
     in
     let wants = Array.make (workers + 1) 1 in
     (* Wait for a request without spinning, so that rank 0 leaves the cores to the
-       workers: MPI's blocking probe polls at full speed. *)
+       workers (MPI's blocking probe polls at full speed), yet answers within a quarter
+       of a millisecond: a worker waits for its next unit meanwhile. *)
     let rec wait pause =
       match Mpi.iprobe ~source:Mpi.any_source ~tag:tag_request with
       | Some (src, _, _) -> src
       | None ->
           Unix.sleepf pause;
-          wait (Float.min 0.002 (pause *. 2.))
+          wait (Float.min 0.00025 (pause *. 2.))
     in
     (* An exception here leaves workers waiting for an answer: end the whole job. *)
     try
     while !active > 0 do
-      let src = wait 0.00005 in
+      let src = wait 0.00002 in
       let (req : request), _, _ = Mpi.recv ~source:src ~tag:tag_request in
       match req with
       | Ready d ->
-          wants.(src) <- max 1 (2 * d);
+          wants.(src) <- max 1 (4 * d);
           reply src ~want:wants.(src)
       | Done (u, st) ->
           let f = Hashtbl.find c.opened u.key in
