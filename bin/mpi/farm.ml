@@ -72,7 +72,7 @@ type cutter = {
   mutable current : (int * open_frame * int ref) option;  (* key, frame, next tile *)
   opened : (int, open_frame) Hashtbl.t;
   whole : bool;
-  chunk : int;
+  mutable chunk : int;
 }
 
 let open_next c =
@@ -103,25 +103,17 @@ let rec next_unit c ~want =
 let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
   let workers = Mpi.size () - 1 in
   let total_tiles = ref 0 in
-  let c =
-    let whole = workers = 0 || List.length frames >= workers in
-    (* Small enough chunks that every worker gets several, for an even finish. *)
-    { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = 1 }
-  in
-  let c =
-    if c.whole then c
-    else
-      match frames with
-      | [] -> c
-      | _ ->
-          (* Cut the first frame now to size the chunks from its tile count. *)
-          let tiles_per_frame =
-            match open_next c with
-            | Some (key, f) -> c.current <- Some (key, f, ref 0); Array.length f.all
-            | None -> 1
-          in
-          { c with chunk = max 1 (tiles_per_frame * List.length frames / (4 * workers)) }
-  in
+  let whole = workers = 0 || List.length frames >= workers in
+  let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int } in
+  (* Otherwise chunks small enough that every worker gets several, for an even finish:
+     sized from the first frame's tile count, cut now. *)
+  if not whole then begin
+    match open_next c with
+    | Some (key, f) ->
+        c.current <- Some (key, f, ref 0);
+        c.chunk <- max 1 (Array.length f.all * List.length frames / (4 * workers))
+    | None -> ()
+  end;
   let failure = ref None in
   let finished key f =
     Hashtbl.remove c.opened key;
