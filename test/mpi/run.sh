@@ -11,8 +11,6 @@ bindings=$(realpath "$1") showcase=$(realpath "$2") orbit=$(realpath "$3")
 
 skip() { echo "MPI tests skipped: $*"; exit 0; }
 command -v mpirun >/dev/null 2>&1 || skip "mpirun is not installed (apt-get install openmpi-bin libopenmpi-dev)"
-command -v lancer >/dev/null 2>&1 || skip "the lancer command is not part of this build yet"
-command -v lancer-mpi >/dev/null 2>&1 || skip "lancer-mpi is not part of this build"
 out=$("$bindings" 2>&1) || true
 case $out in skipped*) skip "lancer was built without Open MPI (mpicc was not on PATH)";; esac
 
@@ -37,6 +35,13 @@ for n in 1 2 4; do
   if run -np "$n" "$bindings" >bindings.log 2>&1; then ok "the bindings pass their checks on $n ranks"
   else fail "the bindings on $n ranks:"; cat bindings.log; fi
 done
+
+# The commands: lancer, and lancer-mpi built with it (not its placeholder).
+if ! command -v lancer >/dev/null 2>&1 || ! lancer-mpi --help=plain >/dev/null 2>&1; then
+  [ "$failures" = 0 ] || { echo "$failures MPI test(s) failed"; exit 1; }
+  echo "MPI tests: the bindings passed; lancer-mpi against lancer skipped: the lancer command is not part of this build yet"
+  exit 0
+fi
 
 # References from lancer itself.
 lancer render "$showcase" --width 96 --height 72 -q -o ref.png >/dev/null || fail "lancer render"
