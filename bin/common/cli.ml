@@ -1,0 +1,165 @@
+open Lancer
+module Dsl = Lancer_dsl.Dsl
+
+exception User_error of string
+
+let user fmt = Printf.ksprintf (fun s -> raise (User_error s)) fmt
+
+type opts = {
+  scene : string option;
+  output : string option;
+  width : int option;
+  height : int option;
+  samples : int option;
+  depth : int option;
+  quality : Quality.t option;
+  domains : int option;
+  time : float option;
+  frame : int option;
+  stats : string option;
+  quiet : bool;
+}
+
+let default_opts () =
+  { scene = None; output = None; width = None; height = None; samples = None; depth = None; quality = None;
+    domains = None; time = None; frame = None; stats = None; quiet = false }
+
+open Cmdliner
+
+let opts_term =
+  let scene =
+    Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to render. Without one, the built-in showcase is rendered.")
+  in
+  let output = Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); for $(b,animate), a directory.") in
+  let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
+  let width = int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)." in
+  let height = int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)." in
+  let samples = int_opt [ "samples" ] "N" "N×N samples per pixel (overrides the scene and the quality preset)." in
+  let depth = int_opt [ "depth" ] "D" "Maximum ray depth (overrides the scene and the quality preset)." in
+  let quality =
+    Arg.(value & opt (some (enum Quality.all)) None
+         & info [ "quality" ] ~docv:"PRESET"
+             ~doc:"$(b,draft), $(b,preview), $(b,final) or $(b,reference): presets of samples, depth, adaptive threshold and soft-shadow samples.")
+  in
+  let domains = int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with; default: the number this machine recommends." in
+  let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Render the scene at this time.") in
+  let frame = int_opt [ "frame" ] "K" "Render frame K of the animation (time = K / fps)." in
+  let stats = Arg.(value & opt (some string) None & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.") in
+  let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"No progress line.") in
+  let make scene output width height samples depth quality domains time frame stats quiet =
+    { scene; output; width; height; samples; depth; quality; domains; time; frame; stats; quiet }
+  in
+  Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet)
+
+let domains o =
+  match o.domains with
+  | Some n when n < 1 -> user "--domains must be at least 1 (got %d)" n
+  | Some n -> n
+  | None -> max 1 (Domain.recommended_domain_count ())
+
+let errors_to_string errs = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
+
+let load = function
+  | None -> (
+      match Dsl.load_string ~filename:"showcase.rts" Showcase.text with
+      | Ok p -> p
+      | Error errs -> user "the built-in showcase does not load:\n%s" (errors_to_string errs))
+  | Some path -> (
+      if not (Sys.file_exists path) then user "%s: no such file" path;
+      if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
+      match Dsl.load_file path with Ok p -> p | Error errs -> raise (User_error (errors_to_string errs)))
+
+let time_of o prog =
+  match (o.time, o.frame) with
+  | Some _, Some _ -> user "give either --time or --frame, not both"
+  | Some t, None ->
+      if not (Float.is_finite t) then user "--time must be a finite number";
+      let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
+      (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
+  | None, Some k ->
+      if k < 0 then user "--frame must be at least 0 (got %d)" k;
+      let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
+      (Float.of_int k /. fps, k)
+  | None, None -> (0., 0)
+
+let scene_at o prog ~time ~frame =
+  let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (User_error (errors_to_string errs)) in
+  let ok = function Ok s -> s | Error m -> user "%s" m in
+  let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
+  let s = sc.settings in
+  let pick v d = Option.value v ~default:d in
+  let settings =
+    { s with width = pick o.width s.width; height = pick o.height s.height; samples = pick o.samples s.samples; depth = pick o.depth s.depth }
+  in
+  if settings = s then sc else ok (Scene.with_settings sc settings)
+
+let write_image path (sc : Scene.t) fb =
+  match Image.save ~gamma:sc.settings.gamma path fb with Ok () -> () | Error m -> raise (User_error m)
+
+let peak_memory_kib () =
+  match In_channel.with_open_text "/proc/self/status" In_channel.input_all with
+  | exception _ -> None
+  | text ->
+      List.find_map
+        (fun line ->
+          match String.split_on_char ':' line with
+          | [ "VmHWM"; v ] -> Scanf.sscanf_opt (String.trim v) "%d kB" Fun.id
+          | _ -> None)
+        (String.split_on_char '\n' text)
+
+let stats_json o (sc : Scene.t) ~wall ~domains ~ranks (st : Stats.t) =
+  let s = sc.settings in
+  let rays = Stats.total_rays st in
+  let opt_int = function Some n -> `Int n | None -> `Null in
+  `Assoc
+    [ ("scene", match o.scene with Some p -> `String p | None -> `String "(showcase)");
+      ("width", `Int s.width); ("height", `Int s.height); ("samples", `Int s.samples); ("depth", `Int s.depth);
+      ("adaptive", `Float s.adaptive); ("time", `Float sc.time); ("frame", `Int sc.frame);
+      ("domains", `Int domains); ("ranks", `Int ranks);
+      ("wall_seconds", `Float wall);
+      ("rays", `Assoc [ ("primary", `Int st.primary); ("shadow", `Int st.shadow); ("reflected", `Int st.reflected);
+                        ("refracted", `Int st.refracted); ("total", `Int rays) ]);
+      ("rays_per_second", `Float (if wall > 0. then Float.of_int rays /. wall else 0.));
+      ("bad_samples", `Int st.bad_samples);
+      ("peak_memory_kib", opt_int (peak_memory_kib ()));
+      ("objects", `Int (Array.length sc.objects)); ("lights", `Int (Array.length sc.lights));
+      ("features", `Assoc (List.map (fun (k, b) -> (k, `Bool b)) (Features.to_list sc.features)));
+      ("options", `Assoc
+         [ ("quality", match o.quality with Some q -> `String (Quality.to_string q) | None -> `Null);
+           ("width", opt_int o.width); ("height", opt_int o.height); ("samples", opt_int o.samples);
+           ("depth", opt_int o.depth); ("domains", opt_int o.domains) ]) ]
+
+let write_json path j =
+  match Image.write_atomic path (fun oc -> Yojson.Safe.pretty_to_channel oc j; output_char oc '\n') with
+  | Ok () -> ()
+  | Error m -> raise (User_error m)
+
+let warn_bad_samples (st : Stats.t) =
+  if st.bad_samples > 0 then
+    match st.first_bad with
+    | Some (i, j) ->
+        Printf.eprintf "lancer: warning: %d samples were NaN or infinite (first at pixel %d,%d); they were replaced by the background\n%!"
+          st.bad_samples i j
+    | None -> ()
+
+let install_interrupt_handler () =
+  let h = Sys.Signal_handle (fun _ -> raise Sys.Break) in
+  Sys.set_signal Sys.sigint h;
+  Sys.set_signal Sys.sigterm h
+
+let run f =
+  match f () with
+  | () -> 0
+  | exception User_error m ->
+      prerr_endline ("lancer: " ^ m);
+      1
+  | exception Sys.Break ->
+      prerr_endline "\nlancer: interrupted; no output was written";
+      130
+  | exception Out_of_memory ->
+      prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";
+      1
+  | exception e ->
+      Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
+        (Printexc.to_string e);
+      2

@@ -1,0 +1,66 @@
+(** What [lancer] and [lancer-mpi] share: the command-line options, loading a scene
+    (or the embedded showcase), applying overrides, writing images and statistics, and
+    the exit-code discipline (0 success, 1 user error, 2 internal error). *)
+
+exception User_error of string
+(** A mistake the user can fix (scene, options, files): one clear message, exit 1. *)
+
+type opts = {
+  scene : string option;  (** None: the embedded showcase *)
+  output : string option;
+  width : int option;
+  height : int option;
+  samples : int option;
+  depth : int option;
+  quality : Quality.t option;
+  domains : int option;
+  time : float option;
+  frame : int option;
+  stats : string option;
+  quiet : bool;
+}
+
+val default_opts : unit -> opts
+(** Every option unset. *)
+
+val errors_to_string : Lancer_dsl.Error.t list -> string
+(** Each error printed with {!Lancer_dsl.Error.pp}, one after the other. *)
+
+val opts_term : opts Cmdliner.Term.t
+(** The options shared by [render] (and, with [-o DIR], [animate]). *)
+
+val domains : opts -> int
+(** [--domains N] if given (at least 1), else the recommended count for this machine. *)
+
+val load : string option -> Lancer_dsl.Dsl.t
+(** Parse and check a scene file, or the showcase; raises [User_error] with every
+    located error printed. *)
+
+val scene_at : opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
+(** Evaluate at a time and apply the command-line overrides. *)
+
+val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
+(** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)
+
+val write_image : string -> Lancer.Scene.t -> Lancer.Image.t -> unit
+(** Encode with the scene's gamma and write atomically; raises [User_error]. *)
+
+val stats_json :
+  opts -> Lancer.Scene.t -> wall:float -> domains:int -> ranks:int -> Lancer.Stats.t -> Yojson.Safe.t
+
+val write_json : string -> Yojson.Safe.t -> unit
+(** Write a JSON file atomically; raises [User_error]. *)
+
+val peak_memory_kib : unit -> int option
+(** The process's peak resident set (VmHWM), where /proc exists. *)
+
+val warn_bad_samples : Lancer.Stats.t -> unit
+(** A warning on stderr when some samples were NaN or infinite. *)
+
+val run : (unit -> unit) -> int
+(** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
+    "lancer: message" for [User_error]; 130 on Ctrl-C; 2 with "internal error … please
+    report" for anything unexpected. No backtrace reaches the user. *)
+
+val install_interrupt_handler : unit -> unit
+(** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)

@@ -1,0 +1,161 @@
+(* The lancer command line: argument parsing and one library call per command. *)
+open Lancer
+open Cmdliner
+module Dsl = Lancer_dsl.Dsl
+
+let default_output (o : Cli.opts) =
+  match o.output with
+  | Some p -> p
+  | None -> (
+      match o.scene with
+      | None -> "showcase.png"
+      | Some s -> Filename.remove_extension (Filename.basename s) ^ ".png")
+
+(* Fail before rendering, not after: the format and the directory of the output. *)
+let check_output path =
+  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (Cli.User_error m));
+  let dir = Filename.dirname path in
+  if not (Sys.file_exists dir && Sys.is_directory dir) then
+    raise (Cli.User_error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir));
+  if Sys.file_exists path && Sys.is_directory path then raise (Cli.User_error (Printf.sprintf "cannot write %s: is a directory" path))
+
+let render_cmd (o : Cli.opts) =
+  Cli.install_interrupt_handler ();
+  let out = default_output o in
+  check_output out;
+  let domains = Cli.domains o in
+  let prog = Cli.load o.scene in
+  let time, frame = Cli.time_of o prog in
+  let sc = Cli.scene_at o prog ~time ~frame in
+  let progress = Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label:"tiles" ~total:(Array.length (Render.tiles sc)) () in
+  let t0 = Unix.gettimeofday () in
+  let fb, st =
+    Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ -> Progress.update progress d) sc)
+  in
+  let wall = Unix.gettimeofday () -. t0 in
+  Progress.finish progress;
+  Cli.write_image out sc fb;
+  Cli.warn_bad_samples st;
+  Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~wall ~domains ~ranks:1 st)) o.stats;
+  let rays = Stats.total_rays st in
+  if not o.quiet then
+    Printf.printf "wrote %s (%d×%d, %.2f s, %d domains, %.1f M rays, %.2f M rays/s)\n%!" out sc.settings.width sc.settings.height wall
+      domains (Float.of_int rays /. 1e6) (Float.of_int rays /. 1e6 /. Float.max wall 1e-9)
+
+let check_cmd scene json time =
+  let o = { (Cli.default_opts ()) with scene = Some scene; time } in
+  let prog = Cli.load o.scene in
+  let time, frame = Cli.time_of o prog in
+  match Dsl.scene_at prog ~time ~frame with
+  | Error errs -> raise (Cli.User_error (Cli.errors_to_string errs))
+  | Ok sc ->
+      if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
+      else print_string (Dsl.summary prog sc)
+
+let diff_cmd a b out tolerance share =
+  let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
+  let ia = read a and ib = read b in
+  match Compare.compare ~threshold:tolerance ia ib with
+  | Error m -> raise (Cli.User_error m)
+  | Ok c ->
+      Format.printf "%a@." Compare.pp c;
+      Option.iter
+        (fun p ->
+          let w, h, _ = ia in
+          match Image.write_rgb8 p w h (Compare.diff_image ~threshold:tolerance ia ib) with
+          | Ok () -> Printf.printf "diff image: %s\n" p
+          | Error m -> raise (Cli.User_error m))
+        out;
+      if not (Compare.within ~max_diff:tolerance ~max_share:share c) then exit 1
+
+let exits =
+  Cmd.Exit.info 0 ~doc:"on success."
+  :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."
+  :: Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it)."
+  :: []
+
+let wrap f = Cli.run f
+
+let render =
+  let doc = "render a scene to a PNG or PPM image" in
+  let man =
+    [ `S Manpage.s_examples;
+      `Pre "  lancer render                                # the built-in showcase, to showcase.png";
+      `Pre "  lancer render scenes/glass.rts -o glass.png --quality final";
+      `Pre "  lancer render scene.rts --width 1920 --height 1080 --domains 8 --stats stats.json";
+      `Pre "  lancer render anim.rts --frame 12 -o frame12.ppm" ]
+  in
+  Cmd.v (Cmd.info "render" ~doc ~man ~exits) Term.(const (fun o -> wrap (fun () -> render_cmd o)) $ Cli.opts_term)
+
+let animate =
+  let doc = "render an animation's frames to DIR/frame_0000.png …" in
+  let frames =
+    let parse s = match Animate.frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
+    let print ppf (a, b) = Format.fprintf ppf "%d..%d" a b in
+    Arg.(value & opt (some (conv (parse, print))) None & info [ "frames" ] ~docv:"A..B" ~doc:"Render only frames A to B (inclusive).")
+  in
+  let resume = Arg.(value & flag & info [ "resume" ] ~doc:"Skip frames already rendered for the same scene and options.") in
+  let video =
+    Arg.(value & opt (some string) None & info [ "video" ] ~docv:"OUT.mp4" ~doc:"Assemble the frames into a video (.mp4 or .gif) with ffmpeg.")
+  in
+  let man =
+    [ `S Manpage.s_examples; `Pre "  lancer animate scenes/bounce.rts -o frames/";
+      `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
+  in
+  Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
+    Term.(const (fun o f r v -> wrap (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ frames $ resume $ video)
+
+let check =
+  let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in
+  let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts") in
+  let json = Arg.(value & flag & info [ "json" ] ~doc:"Print the evaluated scene as JSON.") in
+  let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Evaluate at this time.") in
+  let man = [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5" ] in
+  Cmd.v (Cmd.info "check" ~doc ~man ~exits) Term.(const (fun s j t -> wrap (fun () -> check_cmd s j t)) $ scene $ json $ time)
+
+let diff =
+  let doc = "compare two images; exit status 1 when they differ beyond the tolerance" in
+  let a = Arg.(required & pos 0 (some file) None & info [] ~docv:"A.png") in
+  let b = Arg.(required & pos 1 (some file) None & info [] ~docv:"B.png") in
+  let out = Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"DIFF.png" ~doc:"Write a picture of the differences.") in
+  let tol = Arg.(value & opt int 1 & info [ "tolerance" ] ~docv:"N" ~doc:"Largest per-channel difference (0–255) that still counts as equal.") in
+  let share =
+    Arg.(value & opt float 0. & info [ "max-share" ] ~docv:"F" ~doc:"Share of pixels (0–1) allowed to exceed the tolerance.")
+  in
+  let man = [ `S Manpage.s_examples; `Pre "  lancer diff expected.png actual.png -o diff.png --tolerance 2" ] in
+  Cmd.v (Cmd.info "diff" ~doc ~man ~exits) Term.(const (fun a b o t s -> wrap (fun () -> diff_cmd a b o t s)) $ a $ b $ out $ tol $ share)
+
+let bench =
+  let doc = "measure speed and the speed/accuracy trade" in
+  let json = Arg.(value & flag & info [ "json" ] ~doc:"Print JSON instead of a Markdown table.") in
+  let domains =
+    let counts =
+      Arg.(value & opt (list int) [ 1; 2 ] & info [ "counts" ] ~docv:"N,N,..." ~doc:"Domain counts to time.")
+    in
+    let repeat = Arg.(value & opt int 3 & info [ "repeat" ] ~docv:"R" ~doc:"Runs per count; the median is reported.") in
+    let man =
+      [ `S Manpage.s_examples; `Pre "  lancer bench domains --width 1920 --height 1080 --counts 1,2,4,8,16" ]
+    in
+    Cmd.v
+      (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
+      Term.(const (fun o c r j -> wrap (fun () -> Bench.domains_cmd o c r j)) $ Cli.opts_term $ counts $ repeat $ json)
+  in
+  let quality =
+    let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
+    let man = [ `S Manpage.s_examples; `Pre "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg trade.svg" ] in
+    Cmd.v
+      (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
+      Term.(const (fun o j s -> wrap (fun () -> Bench.quality_cmd o j s)) $ Cli.opts_term $ json $ svg)
+  in
+  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality ]
+
+let main () =
+  let doc = "a functional ray tracer for .rts scene scripts" in
+  let man =
+    [ `S Manpage.s_description;
+      `P "lancer renders .rts scene scripts to PNG images and image sequences. Start with $(b,lancer render), which renders the built-in showcase, then $(b,lancer check SCENE.rts) and $(b,lancer render SCENE.rts).";
+      `S Manpage.s_examples; `Pre "  lancer render"; `Pre "  lancer render scenes/showcase.rts -o out/showcase.png --quality final";
+      `Pre "  lancer check scenes/showcase.rts" ]
+  in
+  let info = Cmd.info "lancer" ~version:"0.1.0" ~doc ~man ~exits in
+  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; bench ]))

@@ -1,0 +1,28 @@
+type t = { enabled : bool; label : string; total : int; start : float; last : float Atomic.t; lock : Mutex.t }
+
+let create ?enabled ~label ~total () =
+  let enabled = match enabled with Some e -> e | None -> Unix.isatty Unix.stderr in
+  let now = Unix.gettimeofday () in
+  { enabled; label; total; start = now; last = Atomic.make 0.; lock = Mutex.create () }
+
+let hms s =
+  let s = int_of_float (Float.max 0. s) in
+  if s >= 3600 then Printf.sprintf "%dh%02dm" (s / 3600) (s / 60 mod 60)
+  else if s >= 60 then Printf.sprintf "%dm%02ds" (s / 60) (s mod 60)
+  else Printf.sprintf "%ds" s
+
+let update p done_ =
+  if p.enabled then begin
+    let now = Unix.gettimeofday () in
+    let last = Atomic.get p.last in
+    if (now -. last >= 0.2 || done_ = p.total) && Atomic.compare_and_set p.last last now then
+      Mutex.protect p.lock (fun () ->
+          let el = now -. p.start in
+          let rate = if el > 0. then Float.of_int done_ /. el else 0. in
+          let left = if rate > 0. then Float.of_int (p.total - done_) /. rate else 0. in
+          Printf.eprintf "\r\027[K%s %d/%d (%3.0f%%)  %.1f/s  elapsed %s  left %s%!" p.label done_ p.total
+            (100. *. Float.of_int done_ /. Float.of_int (max 1 p.total))
+            rate (hms el) (hms left))
+  end
+
+let finish p = if p.enabled then Mutex.protect p.lock (fun () -> prerr_string "\r\027[K"; flush stderr)

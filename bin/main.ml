@@ -1,0 +1,1 @@
+let () = Lancer_cli.Commands.main ()

@@ -1,0 +1,46 @@
+(** Golden-image tests for lancer scenes, as alcotest checks.
+
+    A golden test renders a scene and compares the encoded image with a stored PNG under
+    a per-channel tolerance. On failure it writes [NAME.actual.png] and [NAME.diff.png]
+    next to the golden file (in the source tree when run by dune), prints their paths
+    and the figures, and fails. With the environment variable [LANCER_UPDATE_GOLDEN=1]
+    it writes the golden instead and passes: goldens change only on that explicit
+    request.
+
+    {[
+      let () =
+        Alcotest.run "my scenes"
+          [ ("looks", [ Lancer_alcotest.test_case "the red ball" ~scene:"ball.rts" ~golden:"ball.png" () ]) ]
+    ]} *)
+
+type outcome =
+  | Same of Lancer.Compare.t  (** within tolerance *)
+  | Updated of string  (** golden (re)written at this path *)
+  | Different of { figures : Lancer.Compare.t; actual : string; diff : string }
+      (** beyond tolerance; where the actual and diff images were written *)
+  | Missing of { actual : string }  (** no golden yet; the actual image was written *)
+
+val render_scene : ?width:int -> ?height:int -> ?domains:int -> string -> (int * int * Bytes.t, string) result
+(** [render_scene path] loads, evaluates (at time 0) and renders a scene file, and
+    encodes it with its gamma: (width, height, RGB bytes). *)
+
+val compare_golden :
+  ?tolerance:int -> ?max_share:float -> golden:string -> int * int * Bytes.t -> (outcome, string) result
+(** Compare an encoded image with the golden file, writing images as described above. *)
+
+val check : ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> scene:string -> golden:string -> unit -> unit
+(** Render and compare; an alcotest failure with a useful message unless [Same] or
+    [Updated]. [tolerance] (default 1) is the largest per-channel difference allowed;
+    [max_share] (default 0) the share of pixels allowed to exceed it. *)
+
+val test_case :
+  ?speed:Alcotest.speed_level -> ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> string ->
+  scene:string -> golden:string -> unit -> unit Alcotest.test_case
+(** [test_case name ~scene ~golden ()] is {!check} as a named alcotest case. *)
+
+val updating : unit -> bool
+(** Whether [LANCER_UPDATE_GOLDEN] asks for goldens to be rewritten. *)
+
+val source_path : string -> string
+(** Under dune, a path relative to the test's directory in the source tree (found through
+    [DUNE_SOURCEROOT] and the build directory); elsewhere the path itself. *)

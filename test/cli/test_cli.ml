@@ -1,0 +1,146 @@
+(* The lancer command as a user runs it: exit codes, messages, files left behind,
+   determinism across domain counts, interruption. *)
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+let tmpdir () =
+  let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-cli-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+  Unix.mkdir d 0o755;
+  d
+
+let read_file p = In_channel.with_open_bin p In_channel.input_all
+let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
+
+(* Run lancer with [args] in [dir]; (status, stdout, stderr). *)
+let lancer ?(dir = Sys.getcwd ()) args =
+  let out = Filename.temp_file "lancer" ".out" and err = Filename.temp_file "lancer" ".err" in
+  let cmd =
+    Printf.sprintf "cd %s && %s %s >%s 2>%s" (Filename.quote dir) (Filename.quote exe)
+      (String.concat " " (List.map Filename.quote args)) out err
+  in
+  let status = Sys.command cmd in
+  let o = read_file out and e = read_file err in
+  Sys.remove out;
+  Sys.remove err;
+  (status, o, e)
+
+let contains s sub =
+  let n = String.length s and m = String.length sub in
+  let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in
+  go 0
+
+let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+
+let small_scene =
+  {|// A small scene with jitter and a soft shadow.
+settings { width: 48, height: 36, samples: 2, jitter: true }
+camera { position: (0, 2, -6), look_at: (0, 0.5, 0) }
+light { position: (-3, 5, -4), radius: 0.5, samples: 3 }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((1,1,1), (0.2,0.2,0.2), 1) } }
+sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.2), specular: 0.5 } }
+sphere { center: (1.5, 0.5, -1), radius: 0.5, material: material { transparency: 0.9, ior: 1.5 } }
+|}
+
+let no_backtrace msg e =
+  Alcotest.(check bool) (msg ^ ": no backtrace\n" ^ e) false (contains e "Raised at" || contains e "Fatal error")
+
+let tests =
+  [ Alcotest.test_case "render with no scene writes the built-in showcase" `Slow (fun () ->
+        let d = tmpdir () in
+        check_status "exit" 0 (lancer ~dir:d [ "render"; "--width"; "64"; "--height"; "48" ]);
+        Alcotest.(check bool) "showcase.png" true (Sys.file_exists (Filename.concat d "showcase.png")));
+    Alcotest.test_case "a missing scene file is one line, exit 1, and no output" `Quick (fun () ->
+        let d = tmpdir () in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "nope.rts"; "-o"; "x.png" ] in
+        check_status "exit" 1 r;
+        Alcotest.(check string) "message" "lancer: nope.rts: no such file\n" e;
+        Alcotest.(check (array string)) "nothing written" [||] (Sys.readdir d));
+    Alcotest.test_case "an output in a missing directory fails before rendering" `Quick (fun () ->
+        let d = tmpdir () in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "-o"; "no/such/dir/x.png" ] in
+        check_status "exit" 1 r;
+        no_backtrace "missing dir" e;
+        Alcotest.(check bool) "mentions the directory" true (contains e "does not exist"));
+    Alcotest.test_case "an output path that is a directory is refused" `Quick (fun () ->
+        let d = tmpdir () in
+        Unix.mkdir (Filename.concat d "out.png") 0o755;
+        check_status "exit" 1 (lancer ~dir:d [ "render"; "-o"; "out.png" ]));
+    Alcotest.test_case "an unsupported output format is refused" `Quick (fun () ->
+        let d = tmpdir () in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "-o"; "out.jpg" ] in
+        check_status "exit" 1 r;
+        Alcotest.(check bool) "says which formats" true (contains e ".png or .ppm"));
+    Alcotest.test_case "a bad scene prints file:line:col and exits 1" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "bad.rts") "sphere { center: (0,0,0), radius: -1 }\n";
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "bad.rts" ] in
+        check_status "exit" 1 r;
+        no_backtrace "bad scene" e;
+        Alcotest.(check bool) ("located: " ^ e) true (contains e "bad.rts:1:");
+        Alcotest.(check bool) "no image" false (Sys.file_exists (Filename.concat d "bad.png")));
+    Alcotest.test_case "1, 2, 3 and 4 domains write identical bytes (jitter, soft shadows)" `Slow (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        let files =
+          List.map
+            (fun n ->
+              let o = Printf.sprintf "d%d.png" n in
+              check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; o; "--domains"; string_of_int n; "-q" ]);
+              read_file (Filename.concat d o))
+            [ 1; 2; 3; 4 ]
+        in
+        List.iteri (fun i f -> Alcotest.(check bool) (Printf.sprintf "%d domains" (i + 1)) true (f = List.hd files)) files);
+    Alcotest.test_case "--stats writes JSON with ray counts and features" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "--stats"; "st.json"; "-q" ]);
+        let j = Yojson.Safe.from_file (Filename.concat d "st.json") in
+        let open Yojson.Safe.Util in
+        Alcotest.(check int) "primary rays" (48 * 36 * 4) (j |> member "rays" |> member "primary" |> to_int);
+        Alcotest.(check bool) "soft shadows used" true (j |> member "features" |> member "soft_shadows" |> to_bool);
+        Alcotest.(check bool) "reflection skipped" false (j |> member "features" |> member "reflection" |> to_bool));
+    Alcotest.test_case "options override the scene's settings" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "--width"; "20"; "--height"; "10"; "-q" ]);
+        match Lancer.Image.read_rgb8 (Filename.concat d "s.ppm") with
+        | Ok (w, h, _) -> Alcotest.(check (pair int int)) "size" (20, 10) (w, h)
+        | Error m -> Alcotest.fail m);
+    Alcotest.test_case "Ctrl-C during a render leaves no output file" `Slow (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        let pid =
+          Unix.create_process exe
+            [| exe; "render"; Filename.concat d "s.rts"; "-o"; Filename.concat d "big.png"; "--width"; "4000"; "--height"; "3000"; "--samples"; "3"; "-q" |]
+            Unix.stdin Unix.stdout Unix.stderr
+        in
+        Unix.sleepf 1.0;
+        Unix.kill pid Sys.sigint;
+        let _, st = Unix.waitpid [] pid in
+        Alcotest.(check bool) "interrupted" true (st = Unix.WEXITED 130);
+        Alcotest.(check (list string)) "no file, no temporary" [ "s.rts" ] (Array.to_list (Sys.readdir d)));
+    Alcotest.test_case "check --json lists every object with its fields" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts"; "--json" ] in
+        check_status "exit" 0 r;
+        let j = Yojson.Safe.from_string out in
+        let open Yojson.Safe.Util in
+        Alcotest.(check int) "3 objects" 3 (List.length (j |> member "objects" |> to_list)));
+    Alcotest.test_case "diff exits 0 on identical images and 1 with a diff image otherwise" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        check_status "b" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--samples"; "1" ]);
+        check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png" ]);
+        check_status "different" 1 (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "d.png" ]);
+        Alcotest.(check bool) "diff image" true (Sys.file_exists (Filename.concat d "d.png")));
+    Alcotest.test_case "--version and --help work" `Quick (fun () ->
+        let ((_, out, _) as r) = lancer [ "--version" ] in
+        check_status "version" 0 r;
+        Alcotest.(check bool) "0.1.0" true (contains out "0.1.0");
+        let ((_, out, _) as r) = lancer [ "render"; "--help=plain" ] in
+        check_status "help" 0 r;
+        Alcotest.(check bool) "examples" true (contains out "EXAMPLES")) ]
+
+let () = Alcotest.run "cli" [ ("lancer", tests) ]
