@@ -20,6 +20,9 @@ type t = {
   sources : (string, string) Hashtbl.t;
   images : Eval.images;
   first : Eval.output;  (** the evaluation at time 0, frame 0 *)
+  motion : (float * Physics.trajectory) option ref;
+      (** the simulation of the bodies and the horizon it was computed for, once asked *)
+  motion_lock : Mutex.t;
 }
 
 let default_physics = Eval.default_physics
@@ -94,7 +97,7 @@ let load_text file text =
         let images = Eval.new_images () in
         match Eval.run ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
         | Error es -> Error es
-        | Ok first -> Ok { file; stmts; sources; images; first })
+        | Ok first -> Ok { file; stmts; sources; images; first; motion = ref None; motion_lock = Mutex.create () })
 
 let load_string ?(filename = "<string>") text = guard filename (fun () -> load_text filename text)
 
@@ -104,16 +107,88 @@ let load_file path =
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
       | Ok text -> load_text path text)
 
+(* ---------------------------------------------------------------------------------- *)
+(* Physics: the bodies move through the static objects of the scene at time 0. *)
+
+let is_axis_aligned tr =
+  let count (v : Vec3.t) = Bool.to_int (v.x <> 0.) + Bool.to_int (v.y <> 0.) + Bool.to_int (v.z <> 0.) in
+  List.for_all (fun v -> count (Transform.vector tr v) = 1) [ Vec3.v 1. 0. 0.; Vec3.v 0. 1. 0.; Vec3.v 0. 0. 1. ]
+
+let collider_of (o : Primitive.t) : Physics.collider list =
+  let tr = o.transform in
+  match o.shape with
+  | Shape.Plane { normal; offset } ->
+      let n = Transform.normal tr normal and p = Transform.point tr (Vec3.smul offset normal) in
+      [ Physics.Plane { normal = n; offset = Vec3.dot n p } ]
+  | Shape.Parallelogram { origin; edge1; edge2; _ } ->
+      [ Physics.Parallelogram
+          { origin = Transform.point tr origin; edge1 = Transform.vector tr edge1; edge2 = Transform.vector tr edge2 } ]
+  | Shape.Box { min = a; max = b } when is_axis_aligned tr ->
+      let p = Transform.point tr a and q = Transform.point tr b in
+      [ Physics.Box { min = Vec3.min p q; max = Vec3.max p q } ]
+  | Shape.Box { min = a; max = b } ->
+      (* A rotated box: its six faces. *)
+      let pt x y z = Transform.point tr (Vec3.v x y z) in
+      let face o u v = Physics.Parallelogram { origin = o; edge1 = Vec3.sub u o; edge2 = Vec3.sub v o } in
+      let c000 = pt a.x a.y a.z and c100 = pt b.x a.y a.z and c010 = pt a.x b.y a.z and c001 = pt a.x a.y b.z in
+      let c111 = pt b.x b.y b.z and c011 = pt a.x b.y b.z and c101 = pt b.x a.y b.z and c110 = pt b.x b.y a.z in
+      [ face c000 c100 c010; face c000 c010 c001; face c000 c001 c100; face c111 c011 c101; face c111 c101 c110;
+        face c111 c110 c011 ]
+  | _ -> []
+
+let colliders t =
+  match Eval.run ~sources:t.sources ~images:t.images ~time:0. ~frame:0 t.stmts with
+  | Error _ -> []
+  | Ok out -> List.concat_map (fun (o : Eval.obj) -> if o.body = None then List.concat_map collider_of o.prims else []) out.objects
+
+let world t : Physics.world =
+  let p = Option.value (t.first.physics) ~default:Eval.default_physics in
+  let method_ = match p.method_ with Exact -> Physics.Exact | Verlet -> Physics.Verlet | Euler -> Physics.Euler in
+  { gravity = p.gravity; method_; step = p.step }
+
+(* The horizon for a frame at [time]: the whole animation, or [time] when later. *)
+let horizon t time =
+  let dur = match t.first.animation with Some (fps, n) -> Float.of_int n /. fps | None -> 0. in
+  Float.max dur time
+
+let trajectory t ~time =
+  let until = horizon t time in
+  Mutex.protect t.motion_lock (fun () ->
+      match !(t.motion) with
+      | Some (h, tr) when h >= until -> tr
+      | _ ->
+          let bodies =
+            List.map
+              (fun (b : body) ->
+                Physics.body ~velocity:b.velocity ~mass:b.mass ~restitution:b.restitution ~name:b.name ~center:b.center
+                  ~radius:b.radius ())
+              t.first.bodies
+          in
+          let tr = Physics.simulate (world t) (colliders t) bodies ~until in
+          t.motion := Some (until, tr);
+          tr)
+
+let simulate t ~until = guard t.file (fun () -> Ok (trajectory t ~time:until))
+
+let physics_state t ~time =
+  match t.first.bodies with
+  | [] -> None
+  | _ ->
+      let tr = trajectory t ~time in
+      Some (fun name s -> Physics.sample tr name s)
+
 let eval ?body_state t ~time ~frame =
   if not (Float.is_finite time) then Error [ Error.file_error t.file "the time must be a finite number" ]
-  else Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
+  else
+    let body_state = match body_state with Some f -> Some f | None -> physics_state t ~time in
+    Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
 
 let scene_at ?body_state t ~time ~frame =
   guard t.file (fun () ->
       match eval ?body_state t ~time ~frame with
       | Error es -> Error es
       | Ok out -> (
-          let prims = List.map (fun (o : Eval.obj) -> o.prim) out.objects in
+          let prims = List.concat_map (fun (o : Eval.obj) -> o.prims) out.objects in
           match Scene.make ~settings:out.settings ~camera:out.camera ~time ~frame ~lights:out.lights prims with
           | Ok s -> Ok s
           | Error m -> Error [ Error.file_error t.file ("invalid scene: " ^ m) ]))
@@ -181,6 +256,16 @@ let light_json = function
 
 let to_json ?body_state t (sc : Scene.t) =
   let s = sc.settings and c = sc.camera in
+  let state =
+    match body_state with
+    | Some f -> Some f
+    | None -> ( try physics_state t ~time:sc.time with _ -> None)
+  in
+  let now (b : body) =
+    match Option.bind state (fun f -> f b.name sc.time) with
+    | Some (p, v) -> [ ("position", vj p); ("velocity_now", vj v) ]
+    | None -> [ ("position", vj b.center); ("velocity_now", vj b.velocity) ]
+  in
   let objects =
     match guard t.file (fun () -> Result.map (fun o -> o) (eval ?body_state t ~time:sc.time ~frame:sc.frame)) with
     | Ok out ->
@@ -211,8 +296,9 @@ let to_json ?body_state t (sc : Scene.t) =
           (List.map
              (fun b ->
                `Assoc
-                 [ ("name", `String b.name); ("center", vj b.center); ("radius", `Float b.radius); ("velocity", vj b.velocity);
-                   ("mass", `Float b.mass); ("restitution", `Float b.restitution) ])
+                 ([ ("name", `String b.name); ("center", vj b.center); ("radius", `Float b.radius); ("velocity", vj b.velocity);
+                    ("mass", `Float b.mass); ("restitution", `Float b.restitution) ]
+                 @ now b))
              (bodies t)) );
       ( "physics",
         match physics t with

@@ -23,8 +23,9 @@ val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> time:float -> frame:int ->
   (Scene.t, Error.t list) result
 (** [scene_at p ~time ~frame] evaluates [p] with [time] (seconds) and [frame] bound.
-    [body_state name t] gives (position, velocity) of body [name] at time [t] (the physics
-    engine plugs in here); without it, or when it answers [None], a body sits at its
+    Bodies move as {!simulate} computes them (once per program, then sampled).
+    [body_state name t], when given, replaces the simulation: it gives (position,
+    velocity) of body [name] at time [t]; where it answers [None] a body sits at its
     initial centre with its initial velocity. A body's sphere is rendered at its
     position. *)
 
@@ -65,6 +66,16 @@ val physics : t -> physics option
     {!default_physics}). *)
 
 val default_physics : physics
+
+val colliders : t -> Physics.collider list
+(** The static obstacles of the bodies: every plane, parallelogram and box of the scene at
+    time 0, in world space (a rotated box as its six faces). Other shapes are not
+    obstacles. *)
+
+val simulate : t -> until:float -> (Physics.trajectory, Error.t list) result
+(** The motion of the bodies among {!colliders} under {!physics}, computed for
+    [\[0, max until duration\]] (duration: the animation's, 0 for a still) and kept, so
+    that every frame samples the same simulation. *)
 
 (** {1 For [lancer check]} *)
 

@@ -26,7 +26,7 @@ type obj = {
   fields : (string * Yojson.Safe.t) list;
   transforms : Yojson.Safe.t list;
   material_json : Yojson.Safe.t Lazy.t;
-  prim : Primitive.t;
+  prims : Primitive.t list;  (** one, or a mesh's triangles *)
   body : string option;
 }
 
@@ -40,9 +40,12 @@ type output = {
   bodies : body list;
 }
 
-type images = (string, (Image.t, string) result) Hashtbl.t
+type images = {
+  pictures : (string, (Image.t, string) result) Hashtbl.t;
+  meshes : (string * bool, (Shape.t list, string) result) Hashtbl.t;
+}
 
-let new_images () : images = Hashtbl.create 4
+let new_images () : images = { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4 }
 
 (* ------------------------------------------------------------------------------------ *)
 (* Did-you-mean *)
@@ -127,7 +130,7 @@ let fail loc fmt = Printf.ksprintf (fun m -> raise (Fail (loc, m))) fmt
 type pending_obj = {
   p_kind : string;
   p_fields : (string * Yojson.Safe.t) list;
-  p_shape : Shape.t;
+  p_shapes : Shape.t list;
   p_transform : Transform.t;
   p_tjson : Yojson.Safe.t list;
   p_material : (Material.t * (string * Yojson.Safe.t) list) option;
@@ -521,11 +524,11 @@ and load_image ctx t =
       let dir = Filename.dirname t.tloc.file in
       let path = if Filename.is_relative p && dir <> "." then Filename.concat dir p else p in
       let r =
-        match Hashtbl.find_opt ctx.images path with
+        match Hashtbl.find_opt ctx.images.pictures path with
         | Some r -> r
         | None ->
             let r = try Image.read_linear path with e -> Error (Printexc.to_string e) in
-            Hashtbl.replace ctx.images path r;
+            Hashtbl.replace ctx.images.pictures path r;
             r
       in
       Result.map_error (fun m -> Printf.sprintf "cannot read the image \"%s\": %s" p m) r
@@ -550,11 +553,18 @@ and texture ctx t =
   match (t.tname, List.length t.targs) with
   | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
   | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
-  | ("noise" | "marble" | "wood"), 3 ->
-      solid (fun _ _ _ -> Error (Printf.sprintf "%s textures are not available in this build" t.tname))
+  | "noise", 3 -> solid (fun c1 c2 scale -> Ok (Texture.Noise { c1; c2; scale }))
+  | "marble", _ -> solid (fun c1 c2 scale -> Ok (Texture.Marble { c1; c2; scale }))
+  | "wood", _ -> solid (fun c1 c2 scale -> Ok (Texture.Wood { c1; c2; scale }))
   | "noise", _ -> Error "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise takes (c1, c2, scale)"
-  | "image", _ ->
-      Result.bind (load_image ctx t) (fun _img -> Error "image textures are not available in this build")
+  | "image", _ -> (
+      let* img = load_image ctx t in
+      match t.targs with
+      | [ VStr p; VNum scale ] when scale >= 1e-150 && scale <= 1e150 ->
+          Ok (Texture.Image { img; scale }, `Assoc [ ("kind", `String "image"); ("file", `String p); ("scale", `Float scale) ])
+      | [ VStr _; VNum scale ] -> Error (Printf.sprintf "the scale of `image` must be in [1e-150, 1e150], got %s" (fmt_num scale))
+      | [ VStr _ ] -> Error "image(\"file.png\", scale) needs a scale (1 maps the picture once onto the surface's (u, v))"
+      | _ -> Error "image(\"file.png\", scale) takes a file name and a number")
   | _ -> Error (Printf.sprintf "`%s` is not a texture" t.tname)
 
 and bump ctx t =
@@ -564,7 +574,11 @@ and bump ctx t =
       else if not (Float.abs amount <= 1e150) then Error "the amount of a noise bump is out of range"
       else Ok (Bump.Noise { scale; amount }, `Assoc [ ("kind", `String "noise"); ("scale", `Float scale); ("amount", `Float amount) ])
   | "noise", [ _; _ ] -> Error "a noise bump map takes two numbers: noise(scale, amount)"
-  | "image", _ -> Result.bind (load_image ctx t) (fun _img -> Error "image bump maps are not available in this build")
+  | "image", [ VStr p; VNum amount ] when Float.abs amount <= 1e150 ->
+      Result.map
+        (fun img -> (Bump.Image { img; amount }, `Assoc [ ("kind", `String "image"); ("file", `String p); ("amount", `Float amount) ]))
+        (load_image ctx t)
+  | "image", _ -> Error "an image bump map takes a file name and an amount: image(\"h.png\", amount)"
   | _ -> Error (Printf.sprintf "`%s(…)` is not a bump map: use noise(scale, amount) or image(\"file.png\", amount)" t.tname)
 
 and collect ctx env scope kind kloc ~holds_objects items =
@@ -850,66 +864,90 @@ and object_ ctx env scope (k : name) items =
   finish b;
   match shape with
   | None -> None
-  | Some p_shape -> Some { p_kind = k.id; p_fields = fields; p_shape; p_transform = t; p_tjson = tj; p_material = mat }
+  | Some p_shapes -> Some { p_kind = k.id; p_fields = fields; p_shapes; p_transform = t; p_tjson = tj; p_material = mat }
 
-and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t option =
-  let unavailable () = fail k.nloc "%s is not available in this build" k.id in
+and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t list option =
+  let built fields sh = if b.failed then ([], None) else (fields, Some [ sh () ]) in
   match k.id with
   | "sphere" ->
       let center = point b "center" ~default:Vec3.zero ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      ([ ("center", vjson center); ("radius", `Float radius) ], Some (Shape.sphere ~center ~radius))
+      built [ ("center", vjson center); ("radius", `Float radius) ] (fun () -> Shape.sphere ~center ~radius)
   | "plane" ->
       let normal = direction b "normal" ~required:true in
       let offset = coord b "offset" ~default:0. in
-      ([ ("normal", vjson normal); ("offset", `Float offset) ], Some (Shape.plane ~normal ~offset))
-  (* The fields of the primitives below are checked now; their constructors are being
-     added to Shape (see dsl/README.md): until then they report "not available". *)
+      built [ ("normal", vjson normal); ("offset", `Float offset) ] (fun () -> Shape.plane ~normal ~offset)
   | "parallelogram" ->
       let origin = point b "origin" ~required:true ~default:Vec3.zero in
       let edge1 = direction b "edge1" ~required:true in
       let edge2 = direction b "edge2" ~required:true in
       if not b.failed && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
         bad b b.kloc "the edges of a parallelogram must not be parallel";
-      ignore [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ];
-      if b.failed then ([], None) else unavailable ()
+      built [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ] (fun () ->
+          Shape.parallelogram ~origin ~edge1 ~edge2)
   | "triangle" ->
       let a = point b "a" ~required:true ~default:Vec3.zero in
       let bb = point b "b" ~required:true ~default:Vec3.zero in
       let c = point b "c" ~required:true ~default:Vec3.zero in
       if not b.failed && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300 then
         bad b b.kloc "the corners of a triangle must not be in a line";
-      if b.failed then ([], None) else unavailable ()
+      built [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ] (fun () -> Shape.triangle ~a ~b:bb ~c)
   | "paraboloid" ->
-      let _vertex = point b "vertex" ~required:true ~default:Vec3.zero in
-      let _axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
-      let _radius = length b "radius" ~required:true ~default:1. in
-      let _height = length b "height" ~required:true ~default:1. in
-      if b.failed then ([], None) else unavailable ()
+      let vertex = point b "vertex" ~required:true ~default:Vec3.zero in
+      let axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
+      let radius = length b "radius" ~required:true ~default:1. in
+      let height = length b "height" ~required:true ~default:1. in
+      built
+        [ ("vertex", vjson vertex); ("axis", vjson axis); ("radius", `Float radius); ("height", `Float height) ]
+        (fun () -> Shape.paraboloid ~vertex ~axis ~radius ~height)
   | "box" ->
       let mn = point b "min" ~required:true ~default:Vec3.zero in
       let mx = point b "max" ~required:true ~default:Vec3.one in
       if not b.failed && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
         bad b b.kloc "a box needs min < max on every axis";
-      if b.failed then ([], None) else unavailable ()
+      built [ ("min", vjson mn); ("max", vjson mx) ] (fun () -> Shape.box ~min:mn ~max:mx)
   | "cylinder" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
-      let _radius = length b "radius" ~required:true ~default:1. in
-      let _caps = boolean b "caps" ~default:true in
+      let radius = length b "radius" ~required:true ~default:1. in
+      let caps = boolean b "caps" ~default:true in
       if not b.failed && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cylinder must differ";
-      if b.failed then ([], None) else unavailable ()
+      built
+        [ ("base", vjson base); ("top", vjson top); ("radius", `Float radius); ("caps", `Bool caps) ]
+        (fun () -> Shape.cylinder ~base ~top ~radius ~caps)
   | "disk" ->
-      let _center = point b "center" ~required:true ~default:Vec3.zero in
-      let _normal = direction b "normal" ~required:true in
-      let _radius = length b "radius" ~required:true ~default:1. in
-      if b.failed then ([], None) else unavailable ()
-  | "mesh" ->
-      let _file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
-      let _smooth = boolean b "smooth" ~default:true in
-      if b.failed then ([], None) else unavailable ()
-  | _ -> unavailable ()
+      let center = point b "center" ~required:true ~default:Vec3.zero in
+      let normal = direction b "normal" ~required:true in
+      let radius = length b "radius" ~required:true ~default:1. in
+      built [ ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius) ] (fun () ->
+          Shape.disk ~center ~normal ~radius)
+  | "mesh" -> (
+      let file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
+      let smooth = boolean b "smooth" ~default:true in
+      if b.failed then ([], None)
+      else
+        let dir = Filename.dirname b.kloc.file in
+        let path = if Filename.is_relative file && dir <> "." then Filename.concat dir file else file in
+        let r =
+          match Hashtbl.find_opt b.ctx.images.meshes (path, smooth) with
+          | Some r -> r
+          | None ->
+              let r = try Mesh.load ~smooth path with e -> Error (Printexc.to_string e) in
+              Hashtbl.replace b.ctx.images.meshes (path, smooth) r;
+              r
+        in
+        let f = Option.get (field b "file") in
+        match r with
+        | Error m -> bad b f.vloc "cannot load the mesh \"%s\": %s" file m; ([], None)
+        | Ok [] -> bad b f.vloc "the mesh \"%s\" has no triangles" file; ([], None)
+        | Ok tris ->
+            let n = List.length tris in
+            b.ctx.objects <- b.ctx.objects + n - 1;
+            if b.ctx.objects > max_objects then
+              limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
+            ([ ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n) ], Some tris))
+  | _ -> fail k.nloc "%s is not an object" k.id
 
 and group ctx env scope (k : name) items =
   let b = collect ctx env scope "group" k.nloc ~holds_objects:true items in
@@ -939,7 +977,7 @@ and body ctx env scope loc (n : name) items =
   finish b;
   ctx.objects <- ctx.objects - List.length !(b.members);
   match !(b.members) with
-  | [ ({ p_shape = Shape.Sphere { center; radius }; _ } as o) ] ->
+  | [ ({ p_shapes = [ Shape.Sphere { center; radius } ]; _ } as o) ] ->
       let c0 = Transform.point o.p_transform center in
       let r = radius *. Transform.max_scale o.p_transform in
       let material = match o.p_material with Some (m, _) -> m | None -> Material.default in
@@ -1073,7 +1111,7 @@ let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
       let mj = lazy (material_json m d) in
       let transform = Option.value transform ~default:o.p_transform in
       { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
-        prim = Primitive.make ~transform m o.p_shape; body }
+        prims = List.map (Primitive.make ~transform m) o.p_shapes; body }
     in
     let statics = if objects then List.rev_map (fun o -> finish o) !(scope.sink) else [] in
     let bodies = List.rev ctx.bodies in

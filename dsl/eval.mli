@@ -44,7 +44,7 @@ type obj = {
   fields : (string * Yojson.Safe.t) list;  (** the object's fields, in object space *)
   transforms : Yojson.Safe.t list;  (** the transforms applied, in order (group's last) *)
   material_json : Yojson.Safe.t Lazy.t;  (** built only when asked for *)
-  prim : Primitive.t;
+  prims : Primitive.t list;  (** one, or the triangles of a mesh *)
   body : string option;  (** the body this sphere is, if any *)
 }
 
