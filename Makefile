@@ -42,3 +42,7 @@ fmt:
 clean:
 	$(DUNE) clean
 	rm -rf out
+
+# lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
+bench-povray: build
+	bash test/povray/bench.sh
