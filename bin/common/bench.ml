@@ -148,3 +148,34 @@ let quality_cmd (o : Cli.opts) json svg =
       rows
   end;
   Option.iter (fun path -> Svg.write path (List.map (fun r -> (r.knob, r.value, r.seconds, r.cmp.psnr)) rows)) svg
+
+(* ---- command line ---- *)
+
+open Cmdliner
+
+let exits = Cli.exits
+
+let cmd =
+  let doc = "measure speed and the speed/accuracy trade" in
+  let json = Arg.(value & flag & info [ "json" ] ~doc:"Print JSON instead of a Markdown table.") in
+  let domains =
+    let counts =
+      Arg.(value & opt (list int) [ 1; 2 ] & info [ "counts" ] ~docv:"N,N,..." ~doc:"Domain counts to time.")
+    in
+    let repeat = Arg.(value & opt int 3 & info [ "repeat" ] ~docv:"R" ~doc:"Runs per count; the median is reported.") in
+    let man =
+      [ `S Manpage.s_examples; `Pre "  lancer bench domains --width 1920 --height 1080 --counts 1,2,4,8,16" ]
+    in
+    Cmd.v
+      (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
+      Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.opts_term $ counts $ repeat $ json)
+  in
+  let quality =
+    let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
+    let man = [ `S Manpage.s_examples; `Pre "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg trade.svg" ] in
+    Cmd.v
+      (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
+      Term.(const (fun o j s -> Cli.run (fun () -> quality_cmd o j s)) $ Cli.opts_term $ json $ svg)
+  in
+  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality ]
+

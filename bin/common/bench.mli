@@ -14,3 +14,6 @@ val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
 
 val quality_cmd : Cli.opts -> bool -> string option -> unit
 (** [quality_cmd opts json svg]. *)
+
+val cmd : int Cmdliner.Cmd.t
+(** The [bench] command group. *)

@@ -51,6 +51,13 @@ let opts_term =
   in
   Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet)
 
+let exits =
+  Cmd.Exit.info 0 ~doc:"on success."
+  :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."
+  :: Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it)."
+  :: Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind."
+  :: []
+
 let domains o =
   match o.domains with
   | Some n when n < 1 -> user "--domains must be at least 1 (got %d)" n

@@ -29,6 +29,9 @@ val errors_to_string : Lancer_dsl.Error.t list -> string
 val opts_term : opts Cmdliner.Term.t
 (** The options shared by [render] (and, with [-o DIR], [animate]). *)
 
+val exits : Cmdliner.Cmd.Exit.info list
+(** The exit statuses every command documents: 0, 1, 2 and 130. *)
+
 val domains : opts -> int
 (** [--domains N] if given (at least 1), else the recommended count for this machine. *)
 

@@ -68,11 +68,7 @@ let diff_cmd a b out tolerance share =
         out;
       if not (Compare.within ~max_diff:tolerance ~max_share:share c) then exit 1
 
-let exits =
-  Cmd.Exit.info 0 ~doc:"on success."
-  :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."
-  :: Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it)."
-  :: []
+let exits = Cli.exits
 
 let wrap f = Cli.run f
 
@@ -125,30 +121,6 @@ let diff =
   let man = [ `S Manpage.s_examples; `Pre "  lancer diff expected.png actual.png -o diff.png --tolerance 2" ] in
   Cmd.v (Cmd.info "diff" ~doc ~man ~exits) Term.(const (fun a b o t s -> wrap (fun () -> diff_cmd a b o t s)) $ a $ b $ out $ tol $ share)
 
-let bench =
-  let doc = "measure speed and the speed/accuracy trade" in
-  let json = Arg.(value & flag & info [ "json" ] ~doc:"Print JSON instead of a Markdown table.") in
-  let domains =
-    let counts =
-      Arg.(value & opt (list int) [ 1; 2 ] & info [ "counts" ] ~docv:"N,N,..." ~doc:"Domain counts to time.")
-    in
-    let repeat = Arg.(value & opt int 3 & info [ "repeat" ] ~docv:"R" ~doc:"Runs per count; the median is reported.") in
-    let man =
-      [ `S Manpage.s_examples; `Pre "  lancer bench domains --width 1920 --height 1080 --counts 1,2,4,8,16" ]
-    in
-    Cmd.v
-      (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
-      Term.(const (fun o c r j -> wrap (fun () -> Bench.domains_cmd o c r j)) $ Cli.opts_term $ counts $ repeat $ json)
-  in
-  let quality =
-    let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
-    let man = [ `S Manpage.s_examples; `Pre "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg trade.svg" ] in
-    Cmd.v
-      (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
-      Term.(const (fun o j s -> wrap (fun () -> Bench.quality_cmd o j s)) $ Cli.opts_term $ json $ svg)
-  in
-  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality ]
-
 let main () =
   let doc = "a functional ray tracer for .rts scene scripts" in
   let man =
@@ -158,4 +130,4 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:"0.1.0" ~doc ~man ~exits in
-  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; bench ]))
+  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; Bench.cmd ]))
