@@ -16,19 +16,13 @@ let manifest_name = "lancer-frames.json"
 let frame_name k = Printf.sprintf "frame_%04d.png" k
 
 let read_manifest dir =
-  let p = Filename.concat dir manifest_name in
-  match Yojson.Safe.from_file p with
+  match Yojson.Safe.from_file (Filename.concat dir manifest_name) with
   | `Assoc kvs -> List.filter_map (function k, `String h -> Some (k, h) | _ -> None) kvs
   | _ -> []
   | exception _ -> []
 
 let write_manifest dir entries =
   Cli.write_json (Filename.concat dir manifest_name) (`Assoc (List.map (fun (k, h) -> (k, `String h)) entries))
-
-let scene_text (o : Cli.opts) =
-  match o.scene with
-  | None -> Showcase.text
-  | Some p -> ( try In_channel.with_open_bin p In_channel.input_all with Sys_error m -> raise (Cli.User_error m))
 
 (* What changes the pixels of frame k: the scene text and the overriding options. *)
 let frame_digest (o : Cli.opts) text k =
@@ -39,67 +33,89 @@ let frame_digest (o : Cli.opts) text k =
           [ "lancer-frame-v1"; text; opt string_of_int o.width; opt string_of_int o.height; opt string_of_int o.samples;
             opt string_of_int o.depth; opt Quality.to_string o.quality; string_of_int k ]))
 
-let run (o : Cli.opts) ~frames ~resume ~video =
-  Cli.install_interrupt_handler ();
-  let dir = match o.output with Some d -> d | None -> raise (Cli.User_error "animate needs an output directory: -o DIR") in
-  if Sys.file_exists dir && not (Sys.is_directory dir) then raise (Cli.User_error (Printf.sprintf "%s exists and is not a directory" dir));
-  let prog = Cli.load o.scene in
+type plan = {
+  opts : Cli.opts;
+  source : string * string;
+  prog : Lancer_dsl.Dsl.t;
+  dir : string;
+  fps : float;
+  first : int;
+  last : int;
+  todo : int list;
+  mutable manifest : (string * string) list;
+}
+
+let plan (o : Cli.opts) ~frames ~resume =
+  let dir = match o.output with Some d -> d | None -> Cli.user "animate needs an output directory: -o DIR" in
+  if Sys.file_exists dir && not (Sys.is_directory dir) then Cli.user "%s exists and is not a directory" dir;
+  ignore (Cli.domains o);
+  let ((_, text) as source) = Cli.source o in
+  let prog = Cli.load_source source in
   let fps, count =
     match Lancer_dsl.Dsl.animation prog with
     | Some a -> a
-    | None -> raise (Cli.User_error "the scene has no animation block: add animation { fps: 24, frames: 48 }, or use lancer render")
+    | None -> Cli.user "the scene has no animation block: add animation { fps: 24, frames: 48 }, or use lancer render"
   in
-  let a, b = match frames with Some (a, b) -> (a, b) | None -> (0, count - 1) in
-  if b >= count then
-    raise (Cli.User_error (Printf.sprintf "--frames %d..%d: the animation has frames 0..%d" a b (count - 1)));
-  if not (Sys.file_exists dir) then (try Unix.mkdir dir 0o755 with Unix.Unix_error (e, _, _) ->
-    raise (Cli.User_error (Printf.sprintf "cannot create %s: %s" dir (Unix.error_message e))));
-  let text = scene_text o in
-  let manifest = ref (if resume then read_manifest dir else []) in
+  let first, last = match frames with Some r -> r | None -> (0, count - 1) in
+  if last >= count then Cli.user "--frames %d..%d: the animation has frames 0..%d" first last (count - 1);
+  if not (Sys.file_exists dir) then (
+    try Unix.mkdir dir 0o755 with Unix.Unix_error (e, _, _) -> Cli.user "cannot create %s: %s" dir (Unix.error_message e));
+  let manifest = if resume then read_manifest dir else [] in
   let todo =
     List.filter
       (fun k ->
         let name = frame_name k in
-        not (resume && Sys.file_exists (Filename.concat dir name) && List.assoc_opt name !manifest = Some (frame_digest o text k)))
-      (List.init (b - a + 1) (fun i -> a + i))
+        not (resume && Sys.file_exists (Filename.concat dir name) && List.assoc_opt name manifest = Some (frame_digest o text k)))
+      (List.init (last - first + 1) (fun i -> first + i))
   in
-  let skipped = b - a + 1 - List.length todo in
+  let skipped = last - first + 1 - List.length todo in
   if skipped > 0 && not o.quiet then Printf.printf "resuming: %d frames already rendered, %d to go\n%!" skipped (List.length todo);
+  { opts = o; source; prog; dir; fps; first; last; todo; manifest }
+
+let frame_scene p k = Cli.scene_at p.opts p.prog ~time:(Float.of_int k /. p.fps) ~frame:k
+
+let write_frame p k sc fb st =
+  Cli.warn_bad_samples st;
+  let name = frame_name k in
+  Cli.write_image (Filename.concat p.dir name) sc fb;
+  p.manifest <- (name, frame_digest p.opts (snd p.source) k) :: List.remove_assoc name p.manifest;
+  write_manifest p.dir (List.sort compare p.manifest)
+
+let make_video p out =
+  if Sys.command "command -v ffmpeg >/dev/null 2>&1" <> 0 then
+    Cli.user "ffmpeg is not installed, so %s was not made; the frames are in %s (apt-get install ffmpeg)" out p.dir;
+  let tmp = Filename.concat (Filename.dirname out) ("." ^ Filename.basename out ^ ".tmp" ^ Filename.extension out) in
+  let cmd =
+    Printf.sprintf "ffmpeg -loglevel error -y -framerate %g -start_number %d -i %s %s %s" p.fps p.first
+      (Filename.quote (Filename.concat p.dir "frame_%04d.png"))
+      (if Filename.check_suffix out ".gif" then "" else "-pix_fmt yuv420p")
+      (Filename.quote tmp)
+  in
+  if Sys.command cmd <> 0 then begin
+    (try Sys.remove tmp with Sys_error _ -> ());
+    Cli.user "ffmpeg failed to make %s" out
+  end;
+  Unix.rename tmp out;
+  if not p.opts.quiet then Printf.printf "video: %s\n" out
+
+let progress p = Progress.create ~enabled:((not p.opts.quiet) && Unix.isatty Unix.stderr) ~label:"frames" ~total:(List.length p.todo) ()
+
+let run (o : Cli.opts) ~frames ~resume ~video =
+  Cli.install_interrupt_handler ();
+  let p = plan o ~frames ~resume in
   let domains = Cli.domains o in
-  let progress = Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label:"frames" ~total:(List.length todo) () in
+  let bar = progress p in
   let t0 = Unix.gettimeofday () in
   Render.with_pool domains (fun pool ->
       List.iteri
         (fun i k ->
-          let time = Float.of_int k /. fps in
-          let sc = Cli.scene_at o prog ~time ~frame:k in
+          let sc = frame_scene p k in
           let fb, st = Render.render ?pool sc in
-          Cli.warn_bad_samples st;
-          let name = frame_name k in
-          Cli.write_image (Filename.concat dir name) sc fb;
-          manifest := (name, frame_digest o text k) :: List.remove_assoc name !manifest;
-          write_manifest dir (List.sort compare !manifest);
-          Progress.update progress (i + 1))
-        todo);
-  Progress.finish progress;
+          write_frame p k sc fb st;
+          Progress.update bar (i + 1))
+        p.todo);
+  Progress.finish bar;
   if not o.quiet then
-    Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps)\n%!" (List.length todo) dir (Unix.gettimeofday () -. t0) a b fps;
-  Option.iter
-    (fun out ->
-      let has_ffmpeg = Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 in
-      if not has_ffmpeg then
-        raise (Cli.User_error (Printf.sprintf "ffmpeg is not installed, so %s was not made; the frames are in %s (apt-get install ffmpeg)" out dir));
-      let tmp = Filename.concat (Filename.dirname out) ("." ^ Filename.basename out ^ ".tmp" ^ Filename.extension out) in
-      let cmd =
-        Printf.sprintf "ffmpeg -loglevel error -y -framerate %g -start_number %d -i %s %s %s" fps a
-          (Filename.quote (Filename.concat dir "frame_%04d.png"))
-          (if Filename.check_suffix out ".gif" then "" else "-pix_fmt yuv420p")
-          (Filename.quote tmp)
-      in
-      if Sys.command cmd <> 0 then begin
-        (try Sys.remove tmp with _ -> ());
-        raise (Cli.User_error (Printf.sprintf "ffmpeg failed to make %s" out))
-      end;
-      Unix.rename tmp out;
-      if not o.quiet then Printf.printf "video: %s\n" out)
-    video
+    Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps)\n%!" (List.length p.todo) p.dir
+      (Unix.gettimeofday () -. t0) p.first p.last p.fps;
+  Option.iter (make_video p) video

@@ -4,9 +4,40 @@
     written atomically, and a manifest ([DIR/lancer-frames.json]) records for each frame
     a digest of the scene text, the options that change pixels and the frame number, so
     [--resume] skips frames already written for the same scene and options and re-renders
-    those that are missing or stale. [--video] assembles the frames with ffmpeg. *)
+    those that are missing or stale. [--video] assembles the frames with ffmpeg.
+    [lancer-mpi animate] uses the same plan, names and manifest, so either command
+    resumes the other's frames. *)
 
 val frames_of_string : string -> (int * int, string) result
 (** ["A..B"] (inclusive) or ["K"]. *)
 
+type plan = private {
+  opts : Cli.opts;
+  source : string * string;  (** file name and text of the scene *)
+  prog : Lancer_dsl.Dsl.t;
+  dir : string;
+  fps : float;
+  first : int;
+  last : int;
+  todo : int list;  (** the frames to render: all of [first..last], less those resumed *)
+  mutable manifest : (string * string) list;  (** frame file name → digest *)
+}
+
+val plan : Cli.opts -> frames:(int * int) option -> resume:bool -> plan
+(** Load the scene, check the options and the output directory (made if missing), and
+    work out which frames to render. Raises [Cli.User_error]. *)
+
+val frame_scene : plan -> int -> Lancer.Scene.t
+(** The scene of frame k (time k / fps), with the command-line overrides. *)
+
+val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
+(** Write frame k atomically and record it in the manifest (also written atomically). *)
+
+val make_video : plan -> string -> unit
+(** Assemble the frames into a .mp4 or .gif with ffmpeg; a clear error without it. *)
+
+val progress : plan -> Progress.t
+(** A progress line over the frames to render (only on a terminal, without --quiet). *)
+
 val run : Cli.opts -> frames:(int * int) option -> resume:bool -> video:string option -> unit
+(** [lancer animate]. *)

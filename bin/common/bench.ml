@@ -70,16 +70,28 @@ let scene_text (o : Cli.opts) =
   | None -> Showcase.text
   | Some p -> ( try In_channel.with_open_bin p In_channel.input_all with Sys_error m -> raise (Cli.User_error m))
 
-(* The reference: the reference preset at twice its samples, depth 64. *)
-let reference (o : Cli.opts) prog ~pool =
+(* The version of the lancer command (as [lancer --version] prints it). *)
+let version = "0.1.0"
+
+(* What the cached results depend on besides the scene: the version and the very build
+   of this executable (a rebuilt renderer may shade, and time, differently). Rates also
+   depend on the machine, hence its name. *)
+let build_id =
+  lazy
+    (let exe = try Digest.to_hex (Digest.file Sys.executable_name) with _ -> "unknown" in
+     let host = try Unix.gethostname () with _ -> "unknown" in
+     Printf.sprintf "lancer %s|build %s|host %s|OCaml %s" version exe host Sys.ocaml_version)
+
+let cache_key parts = Digest.to_hex (Digest.string (String.concat "\x00" (Lazy.force build_id :: parts)))
+
+(* The reference: the reference preset at 16×16 samples, depth 64, cached under the scene
+   text, the size and the build. *)
+let reference (o : Cli.opts) prog ~pool ~fresh =
   let base = Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0 in
   let s = base.settings in
-  let key =
-    Digest.to_hex
-      (Digest.string (Printf.sprintf "v1|%s|%d|%d|%s" (scene_text o) s.width s.height (Sys.ocaml_version)))
-  in
+  let key = cache_key [ "reference v2"; scene_text o; string_of_int s.width; string_of_int s.height ] in
   let path = Filename.concat (cache_dir ()) ("reference-" ^ key ^ ".ppm") in
-  match Image.read_rgb8 path with
+  match if fresh then Error "fresh" else Image.read_rgb8 path with
   | Ok img -> (img, true)
   | Error _ ->
       let sc = match Scene.with_settings base { s with samples = 16; depth = 64 } with Ok sc -> sc | Error m -> raise (Cli.User_error m) in
@@ -89,65 +101,443 @@ let reference (o : Cli.opts) prog ~pool =
       ignore (Image.write_rgb8 path fb.width fb.height bytes);
       ((fb.width, fb.height, bytes), false)
 
-type row = { knob : string; value : string; seconds : float; rays : int; cmp : Compare.t }
+type row = { knob : string; value : string; seconds : float; rays : int; rmse : float; psnr : float; over_share : float }
 
-let quality_cmd (o : Cli.opts) json svg =
-  let prog = Cli.load o.scene in
-  let domains = Cli.domains o in
-  Render.with_pool domains @@ fun pool ->
-  let (w, h, _) as ref_img, cached = reference o prog ~pool in
-  if not json then Printf.eprintf "reference render %s\n%!" (if cached then "read from the cache" else "rendered and cached");
+let row_json r =
+  `Assoc
+    [ ("knob", `String r.knob); ("value", `String r.value); ("seconds", `Float r.seconds); ("rays", `Int r.rays);
+      ("rmse", `Float r.rmse); ("psnr", if Float.is_finite r.psnr then `Float r.psnr else `String "inf");
+      ("share_over_1", `Float r.over_share) ]
+
+let row_of_json j =
+  let open Yojson.Safe.Util in
+  { knob = j |> member "knob" |> to_string; value = j |> member "value" |> to_string;
+    seconds = j |> member "seconds" |> to_number; rays = j |> member "rays" |> to_int; rmse = j |> member "rmse" |> to_number;
+    psnr = (match j |> member "psnr" with `String "inf" -> Float.infinity | p -> to_number p);
+    over_share = j |> member "share_over_1" |> to_number }
+
+(* Measured rows cached under the scene text, the options and the build. *)
+let read_rows path =
+  match Yojson.Safe.from_file path with
+  | exception _ -> None
+  | j -> (
+      let open Yojson.Safe.Util in
+      try Some (j |> member "measured_at" |> to_number, List.map row_of_json (j |> member "rows" |> to_list)) with _ -> None)
+
+let write_rows path ~measured_at rows =
+  (try mkdir_p (Filename.dirname path) with _ -> ());
+  let j = `Assoc [ ("build", `String (Lazy.force build_id)); ("measured_at", `Float measured_at); ("rows", `List (List.map row_json rows)) ] in
+  ignore (Image.write_atomic path (fun oc -> output_string oc (Yojson.Safe.pretty_to_string j)))
+
+let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
   let base = Cli.scene_at { o with quality = None; width = Some w; height = Some h } prog ~time:0. ~frame:0 in
   let run knob value sc =
     let t, fb, st = time_render ?pool sc in
     let img = (fb.Image.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
     match Compare.compare ~threshold:1 ref_img img with
-    | Ok cmp -> { knob; value; seconds = t; rays = Stats.total_rays st; cmp }
+    | Ok cmp -> { knob; value; seconds = t; rays = Stats.total_rays st; rmse = cmp.rmse; psnr = cmp.psnr; over_share = cmp.over_share }
     | Error m -> raise (Cli.User_error m)
   in
   let with_s f = match Scene.with_settings base (f base.settings) with Ok sc -> sc | Error m -> raise (Cli.User_error m) in
-  let s0 = base.settings in
-  let rows =
-    List.map (fun n -> run "samples" (Printf.sprintf "%d×%d" n n) (with_s (fun s -> { s with samples = n; adaptive = 0. }))) [ 1; 2; 3; 4; 6 ]
-    @ List.map (fun th -> run "adaptive" (Printf.sprintf "%g" th) (with_s (fun s -> { s with samples = 4; adaptive = th }))) [ 0.2; 0.1; 0.05; 0.02 ]
-    @ List.map (fun d -> run "depth" (string_of_int d) (with_s (fun s -> { s with depth = d }))) [ 1; 2; 3; 5; 8; 16; 64 ]
-    @ (if base.features.soft_shadows then
-         List.map
-           (fun n ->
-             run "light samples" (Printf.sprintf "%d×%d" n n)
-               (Scene.map_lights (with_s (fun s -> s)) (function
-                 | Light.Point p when p.radius > 0. -> Light.Point { p with samples = n }
-                 | l -> l)))
-           [ 1; 2; 4; 8 ]
-       else [])
-    @ List.map
-        (fun (name, q) ->
-          run "preset" name (match Quality.apply q base with Ok sc -> sc | Error m -> raise (Cli.User_error m)))
-        Quality.all
+  List.map (fun n -> run "samples" (Printf.sprintf "%d×%d" n n) (with_s (fun s -> { s with samples = n; adaptive = 0. }))) [ 1; 2; 3; 4; 6 ]
+  @ List.map (fun th -> run "adaptive" (Printf.sprintf "%g" th) (with_s (fun s -> { s with samples = 4; adaptive = th }))) [ 0.2; 0.1; 0.05; 0.02 ]
+  @ List.map (fun d -> run "depth" (string_of_int d) (with_s (fun s -> { s with depth = d }))) [ 1; 2; 3; 5; 8; 16; 64 ]
+  @ (if base.features.soft_shadows then
+       List.map
+         (fun n ->
+           run "light samples" (Printf.sprintf "%d×%d" n n)
+             (Scene.map_lights (with_s (fun s -> s)) (function
+               | Light.Point p when p.radius > 0. -> Light.Point { p with samples = n }
+               | l -> l)))
+         [ 1; 2; 4; 8 ]
+     else [])
+  @ List.map
+      (fun (name, q) -> run "preset" name (match Quality.apply q base with Ok sc -> sc | Error m -> raise (Cli.User_error m)))
+      Quality.all
+
+let quality_cmd (o : Cli.opts) json svg fresh =
+  let prog = Cli.load o.scene in
+  let domains = Cli.domains o in
+  let s = (Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0).settings in
+  let w = s.width and h = s.height in
+  let opt = function Some n -> string_of_int n | None -> "-" in
+  let rows_path =
+    Filename.concat (cache_dir ())
+      ("quality-"
+      ^ cache_key
+          [ "quality rows v1"; scene_text o; string_of_int w; string_of_int h; opt o.samples; opt o.depth; string_of_int domains ]
+      ^ ".json")
   in
-  ignore s0;
+  let cached_rows = if fresh then None else read_rows rows_path in
+  let rows, measured_at, cached, ref_cached =
+    match cached_rows with
+    | Some (at, rows) -> (rows, at, true, None)
+    | None ->
+        Render.with_pool domains @@ fun pool ->
+        let ref_img, ref_cached = reference o prog ~pool ~fresh in
+        if not json then Printf.eprintf "reference render %s\n%!" (if ref_cached then "read from the cache" else "rendered and cached");
+        let rows = measure_rows o prog ~pool ~ref_img in
+        let at = Unix.time () in
+        write_rows rows_path ~measured_at:at rows;
+        (rows, at, false, Some ref_cached)
+  in
+  let date =
+    let t = Unix.localtime measured_at in
+    Printf.sprintf "%04d-%02d-%02d %02d:%02d" (t.tm_year + 1900) (t.tm_mon + 1) t.tm_mday t.tm_hour t.tm_min
+  in
   if json then
     print_endline
       (Yojson.Safe.pretty_to_string
          (`Assoc
            [ ("scene", `String (Option.value o.scene ~default:"(showcase)")); ("width", `Int w); ("height", `Int h);
-             ("domains", `Int domains);
-             ("rows", `List (List.map (fun r ->
-                   `Assoc [ ("knob", `String r.knob); ("value", `String r.value); ("seconds", `Float r.seconds);
-                            ("rays", `Int r.rays); ("rmse", `Float r.cmp.rmse);
-                            ("psnr", if Float.is_finite r.cmp.psnr then `Float r.cmp.psnr else `String "inf");
-                            ("share_over_1", `Float r.cmp.over_share) ]) rows)) ]))
+             ("domains", `Int domains); ("cached", `Bool cached);
+             ("reference_cached", match ref_cached with Some b -> `Bool b | None -> `Null);
+             ("measured_at", `Float measured_at); ("cache_file", `String rows_path);
+             ("rows", `List (List.map row_json rows)) ]))
   else begin
-    Printf.printf "scene %s at %d×%d on %d domains; error against a 16×16-sample, depth-64 reference\n\n"
-      (Option.value o.scene ~default:"(showcase)") w h domains;
-    Printf.printf "| knob | value | seconds | M rays | RMSE (0–255) | PSNR dB | pixels off > 1/255 |\n|---|---|---:|---:|---:|---:|---:|\n";
+    Printf.printf "scene %s at %d×%d on %d domains; error against a 16×16-sample, depth-64 reference; %s\n\n"
+      (Option.value o.scene ~default:"(showcase)") w h domains
+      (if cached then Printf.sprintf "rows measured %s, read from the cache (--fresh to measure again)" date
+       else Printf.sprintf "rows measured now (%s) and cached" date);
+    Printf.printf
+      "| knob | value | wall time (s) | M rays | RMSE (0–255) | PSNR dB | pixels off > 1/255 |\n|---|---|---:|---:|---:|---:|---:|\n";
     List.iter
       (fun r ->
-        Printf.printf "| %s | %s | %.3f | %.2f | %.3f | %s | %.2f%% |\n" r.knob r.value r.seconds (Float.of_int r.rays /. 1e6) r.cmp.rmse
-          (if Float.is_finite r.cmp.psnr then Printf.sprintf "%.2f" r.cmp.psnr else "∞") (100. *. r.cmp.over_share))
+        Printf.printf "| %s | %s | %.3f | %.2f | %.3f | %s | %.2f%% |\n" r.knob r.value r.seconds (Float.of_int r.rays /. 1e6) r.rmse
+          (if Float.is_finite r.psnr then Printf.sprintf "%.2f" r.psnr else "∞") (100. *. r.over_share))
       rows
   end;
-  Option.iter (fun path -> Svg.write path (List.map (fun r -> (r.knob, r.value, r.seconds, r.cmp.psnr)) rows)) svg
+  Option.iter (fun path -> Svg.write path (List.map (fun r -> (r.knob, r.value, r.seconds, r.psnr)) rows)) svg
+
+(* ---- physics ---- *)
+
+(* The NUMERICS.md drop: a ball whose lowest point starts [drop_height] above the floor
+   y = 0, from rest, under g = 9.81 m/s². Written here in closed form, independently of
+   the engine it checks. *)
+let drop_height = 1.0
+let drop_radius = 0.1
+let drop_g = 9.81
+
+(* First impact time and speed. *)
+let drop_t1 = Float.sqrt (2. *. drop_height /. drop_g)
+let drop_v1 = drop_g *. drop_t1
+
+(* Time of the k-th impact (k ≥ 1), from the first one and a closed sum, never by
+   accumulating flight times. *)
+let impact_time e k =
+  let p = 2. *. drop_v1 /. drop_g in
+  if e = 1. then drop_t1 +. (Float.of_int (k - 1) *. p)
+  else if e = 0. then drop_t1
+  else drop_t1 +. (p *. e *. (1. -. (e ** Float.of_int (k - 1))) /. (1. -. e))
+
+(* The instant the infinitely many bounces of e < 1 end (Zeno). *)
+let zeno_time e = if e >= 1. then Float.infinity else drop_t1 *. (1. +. e) /. (1. -. e)
+
+(* Height of the apex after the k-th impact, and the gap under the ball at time t. *)
+let apex_height e k = drop_height *. (e ** (2. *. Float.of_int k))
+
+let drop_gap e t =
+  if t <= drop_t1 then drop_height -. (0.5 *. drop_g *. t *. t)
+  else if t >= zeno_time e then 0.
+  else
+    let k =
+      if e = 1. then
+        let k = 1 + int_of_float (Float.floor ((t -. drop_t1) /. (2. *. drop_v1 /. drop_g))) in
+        (* guard the floor against rounding at the impact instants *)
+        if impact_time e k > t then k - 1 else if impact_time e (k + 1) <= t then k + 1 else k
+      else
+        let rec go k = if k < 2000 && impact_time e (k + 1) <= t then go (k + 1) else k in
+        go 1
+    in
+    let v = (e ** Float.of_int k) *. drop_v1 in
+    let u = t -. impact_time e k in
+    Float.max 0. ((v *. u) -. (0.5 *. drop_g *. u *. u))
+
+let method_name = function Physics.Exact -> "exact" | Physics.Verlet -> "verlet" | Physics.Euler -> "euler"
+
+(* Seconds per call of [f]: batches grown until one lasts [min_batch] s, median of 5. *)
+let per_call ?(min_batch = 0.02) f =
+  let batch n =
+    let t0 = Unix.gettimeofday () in
+    for _ = 1 to n do ignore (Sys.opaque_identity (f ())) done;
+    Unix.gettimeofday () -. t0
+  in
+  let rec calibrate n = let t = batch n in if t >= min_batch || n >= 1 lsl 20 then n else calibrate (2 * n) in
+  let n = calibrate 1 in
+  median (List.init 5 (fun _ -> batch n /. Float.of_int n))
+
+type phys_row = {
+  e : float;
+  meth : Physics.method_;
+  step : float option;
+  steps : int option;
+  events : int;
+  sim_seconds : float;
+  max_pos_err : float;
+  compared : int;  (* impacts compared with the closed form *)
+  max_impact_err : float option;
+  max_apex_err : float option;
+  first_apex : float option;
+}
+
+let physics_row ~until ~sample_rate ~e meth step =
+  let world = { Physics.gravity = Vec3.v 0. (-.drop_g) 0.; method_ = meth; step = Option.value step ~default:(1. /. 240.) } in
+  let floor = [ Physics.Plane { normal = Vec3.y_axis; offset = 0. } ] in
+  let ball = Physics.body ~restitution:e ~name:"ball" ~center:(Vec3.v 0. (drop_radius +. drop_height) 0.) ~radius:drop_radius () in
+  let sim () = Physics.simulate world floor [ ball ] ~until in
+  let seconds = per_call sim in
+  let tr = sim () in
+  let pos t = match Physics.sample tr "ball" t with Some (p, _) -> p | None -> assert false in
+  let expected t = Vec3.v 0. (drop_radius +. drop_gap e t) 0. in
+  let nframes = int_of_float (Float.round (until *. sample_rate)) in
+  let max_pos_err = ref 0. in
+  for i = 0 to nframes do
+    let t = Float.of_int i /. sample_rate in
+    max_pos_err := Float.max !max_pos_err (Vec3.length (Vec3.sub (pos t) (expected t)))
+  done;
+  let bounces = List.filter (fun (ev : Physics.event) -> ev.kind = Physics.Bounce) (Physics.events tr) in
+  let btimes = Array.of_list (List.map (fun (ev : Physics.event) -> ev.time) bounces) in
+  (* Impacts worth comparing: all those within the horizon for e = 1; for e < 1 the first
+     five (apex ≥ 0.168 m: later ones sink under a fixed step's g·dt² jitter). *)
+  let wanted =
+    let rec count k = if k < 10_000 && impact_time e (k + 1) <= until then count (k + 1) else k in
+    let n = count 0 in
+    if e < 1. then min n 5 else n
+  in
+  let compared = min wanted (Array.length btimes) in
+  (* The apex of the sampled trajectory between two of the engine's impacts. *)
+  let apex a b =
+    let y t = (pos t).Vec3.y in
+    let rec go a b i =
+      if i = 0 then y (0.5 *. (a +. b))
+      else
+        let m1 = a +. ((b -. a) /. 3.) and m2 = b -. ((b -. a) /. 3.) in
+        if y m1 < y m2 then go m1 b (i - 1) else go a m2 (i - 1)
+    in
+    go a b 200 -. drop_radius
+  in
+  let apexes = List.init (max 0 (compared - 1)) (fun i -> (i + 1, apex btimes.(i) btimes.(i + 1))) in
+  let maxf = List.fold_left Float.max 0. in
+  {
+    e; meth; step;
+    steps = Option.map (fun dt -> int_of_float (Float.ceil ((until /. dt) -. 1e-9))) step;
+    events = List.length (Physics.events tr);
+    sim_seconds = seconds;
+    max_pos_err = !max_pos_err;
+    compared;
+    max_impact_err =
+      (if compared = 0 then None
+       else Some (maxf (List.init compared (fun i -> Float.abs (btimes.(i) -. impact_time e (i + 1))))));
+    max_apex_err = (if apexes = [] then None else Some (maxf (List.map (fun (k, a) -> Float.abs (a -. apex_height e k)) apexes)));
+    first_apex = (match apexes with (_, a) :: _ -> Some a | [] -> None);
+  }
+
+let physics_cmd rates until sample_rate json =
+  if List.exists (fun r -> not (r > 0.)) rates then raise (Cli.User_error "step rates must be positive");
+  if not (until > 0.) then raise (Cli.User_error "--until must be positive");
+  if not (sample_rate > 0.) then raise (Cli.User_error "--sample-rate must be positive");
+  let configs = (Physics.Exact, None) :: List.concat_map (fun m -> List.map (fun r -> (m, Some (1. /. r))) rates) [ Physics.Verlet; Physics.Euler ] in
+  let rows = List.concat_map (fun e -> List.map (fun (m, st) -> physics_row ~until ~sample_rate ~e m st) configs) [ 1.; 0.8 ] in
+  let opt_f = function Some x -> `Float x | None -> `Null and opt_i = function Some x -> `Int x | None -> `Null in
+  if json then
+    print_endline
+      (Yojson.Safe.pretty_to_string
+         (`Assoc
+           [ ("drop_height", `Float drop_height); ("radius", `Float drop_radius); ("gravity", `Float drop_g);
+             ("until", `Float until); ("sample_rate", `Float sample_rate);
+             ("rest_fraction", `Float Physics.rest_fraction);
+             ("rows", `List (List.map (fun r ->
+                   `Assoc [ ("restitution", `Float r.e); ("method", `String (method_name r.meth)); ("step", opt_f r.step);
+                            ("steps", opt_i r.steps); ("events", `Int r.events); ("seconds", `Float r.sim_seconds);
+                            ("max_position_error", `Float r.max_pos_err); ("impacts_compared", `Int r.compared);
+                            ("max_impact_time_error", opt_f r.max_impact_err); ("max_apex_error", opt_f r.max_apex_err);
+                            ("first_apex", opt_f r.first_apex) ]) rows)) ]))
+  else begin
+    Printf.printf
+      "Ball (r = %g m) dropped from %g m onto a floor, g = %g m/s², %g s; error against the closed form, \
+       positions sampled at %g Hz; impacts and apexes: all within the horizon for e = 1, the first 5 for e < 1\n\n"
+      drop_radius drop_height drop_g until sample_rate;
+    print_endline "| e | method | step (s) | steps | events | wall time (ms) | max position error (m) | impacts compared | max impact time error (s) | max apex error (m) | first apex (m) |";
+    print_endline "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|";
+    let o f = function Some x -> f x | None -> "—" in
+    List.iter
+      (fun r ->
+        Printf.printf "| %g | %s | %s | %s | %d | %.3f | %.3g | %d | %s | %s | %s |\n" r.e (method_name r.meth)
+          (o (fun s -> Printf.sprintf "1/%g" (Float.round (1. /. s))) r.step)
+          (o string_of_int r.steps) r.events (r.sim_seconds *. 1e3) r.max_pos_err r.compared
+          (o (Printf.sprintf "%.3g") r.max_impact_err) (o (Printf.sprintf "%.3g") r.max_apex_err)
+          (o (Printf.sprintf "%.6f") r.first_apex))
+      rows
+  end
+
+(* ---- scaling ---- *)
+
+(* [n] random spheres from a fixed seed, uniformly in a cube of side n^(1/3) (so the
+   density, and the number of spheres along a ray, stays about the same), radii in
+   [0.1, 0.4], one point light with shadows, seen from outside the cube. *)
+let sphere_field n =
+  let st = Random.State.make [| 12345; n |] in
+  let l = 0.5 *. Float.cbrt (Float.of_int n) in
+  let m = Material.default in
+  let prims =
+    List.init n (fun _ ->
+        let c = Vec3.v (Random.State.float st (2. *. l) -. l) (Random.State.float st (2. *. l) -. l) (Random.State.float st (2. *. l) -. l) in
+        let color = Color.v (Random.State.float st 1.) (Random.State.float st 1.) (Random.State.float st 1.) in
+        Primitive.make { m with color } (Shape.sphere ~center:c ~radius:(0.1 +. Random.State.float st 0.3)))
+  in
+  let camera = Camera.make ~position:(Vec3.v 0.3 (0.4 *. l) (-3.2 *. l)) ~look_at:Vec3.zero ~fov:45. () in
+  let lights = [ Light.point (Vec3.v (2. *. l) (3. *. l) (-4. *. l)) ] in
+  (prims, camera, lights)
+
+type scale_row = {
+  count : int;
+  width : int;
+  height : int;
+  doms : int;
+  build_s : float;  (* the scene: primitives validated, BVH built *)
+  bvh_s : float;  (* the BVH alone *)
+  render_s : float;
+  rays : int;
+  words_per_ray : float;
+  peak_kib : int option;
+}
+
+let timed f =
+  let t0 = Unix.gettimeofday () in
+  let r = f () in
+  (r, Unix.gettimeofday () -. t0)
+
+(* One configuration measured in this process. *)
+let scale_measure ~count ~width ~height ~domains =
+  let prims, camera, lights = sphere_field count in
+  let settings = { Settings.default with width; height; depth = 1 } in
+  let _, bvh_s = timed (fun () -> Accel.build (Array.of_list prims)) in
+  let sc, build_s = timed (fun () -> Scene.make_exn ~settings ~camera ~lights prims) in
+  Gc.compact ();
+  let w0 = Gc.minor_words () in
+  let (_, st), render_s = timed (fun () -> Render.with_pool domains (fun pool -> Render.render ?pool sc)) in
+  let words = Gc.minor_words () -. w0 in
+  let rays = Stats.total_rays st in
+  ignore (Sys.opaque_identity sc);
+  { count; width; height; doms = domains; build_s; bvh_s; render_s; rays;
+    words_per_ray = words /. Float.of_int (max 1 rays); peak_kib = Cli.peak_memory_kib () }
+
+let scale_row_json r =
+  `Assoc
+    [ ("spheres", `Int r.count); ("width", `Int r.width); ("height", `Int r.height); ("domains", `Int r.doms);
+      ("scene_build_seconds", `Float r.build_s); ("bvh_build_seconds", `Float r.bvh_s);
+      ("render_seconds", `Float r.render_s); ("rays", `Int r.rays);
+      ("rays_per_second", `Float (Float.of_int r.rays /. r.render_s)); ("minor_words_per_ray", `Float r.words_per_ray);
+      ("peak_memory_kib", match r.peak_kib with Some k -> `Int k | None -> `Null) ]
+
+let scale_row_of_json j =
+  let open Yojson.Safe.Util in
+  { count = j |> member "spheres" |> to_int; width = j |> member "width" |> to_int; height = j |> member "height" |> to_int;
+    doms = j |> member "domains" |> to_int; build_s = j |> member "scene_build_seconds" |> to_number;
+    bvh_s = j |> member "bvh_build_seconds" |> to_number; render_s = j |> member "render_seconds" |> to_number;
+    rays = j |> member "rays" |> to_int; words_per_ray = j |> member "minor_words_per_ray" |> to_number;
+    peak_kib = j |> member "peak_memory_kib" |> to_int_option }
+
+(* One configuration measured in a child process of this executable, so that its peak
+   resident memory (VmHWM, which only grows) is its own. *)
+let scale_child ~count ~width ~height ~domains =
+  let exe = Sys.executable_name in
+  let args =
+    [| exe; "bench"; "scaling"; "--row"; Printf.sprintf "%d,%dx%d,%d" count width height domains |]
+  in
+  let ic = Unix.open_process_args_in exe args in
+  let out = In_channel.input_all ic in
+  match Unix.close_process_in ic with
+  | Unix.WEXITED 0 -> (
+      try scale_row_of_json (Yojson.Safe.from_string out)
+      with _ -> raise (Cli.User_error ("bench scaling: unreadable row from the child process: " ^ String.trim out)))
+  | Unix.WEXITED c | Unix.WSIGNALED c | Unix.WSTOPPED c ->
+      raise
+        (Cli.User_error
+           (Printf.sprintf "bench scaling: the child measuring %d spheres at %d×%d on %d domains failed (status %d)" count
+              width height domains c))
+
+let parse_size s =
+  match String.split_on_char 'x' (String.lowercase_ascii s) with
+  | [ w; h ] -> ( match (int_of_string_opt w, int_of_string_opt h) with Some w, Some h when w > 0 && h > 0 -> Some (w, h) | _ -> None)
+  | _ -> None
+
+let parse_row s =
+  match String.split_on_char ',' s with
+  | [ c; size; d ] -> (
+      match (int_of_string_opt c, parse_size size, int_of_string_opt d) with
+      | Some c, Some (w, h), Some d when c > 0 && d > 0 -> Some (c, w, h, d)
+      | _ -> None)
+  | _ -> None
+
+let default_domain_counts () =
+  let cores = Domain.recommended_domain_count () in
+  let rec pow k = if k >= cores then [] else k :: pow (2 * k) in
+  pow 1 @ [ cores ]
+
+let scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~json =
+  match row with
+  | Some s -> (
+      match parse_row s with
+      | Some (count, width, height, domains) -> print_endline (Yojson.Safe.to_string (scale_row_json (scale_measure ~count ~width ~height ~domains)))
+      | None -> raise (Cli.User_error ("--row expects COUNT,WxH,DOMAINS, not " ^ s)))
+  | None ->
+      if List.exists (fun n -> n < 1) counts || base_count < 1 then raise (Cli.User_error "sphere counts must be at least 1");
+      if width < 1 || height < 1 then raise (Cli.User_error "--width and --height must be at least 1");
+      if domains < 1 || List.exists (fun n -> n < 1) domain_counts then raise (Cli.User_error "domain counts must be at least 1");
+      let sizes =
+        List.map (fun s -> match parse_size s with Some wh -> wh | None -> raise (Cli.User_error ("not a size WxH: " ^ s))) sizes
+      in
+      List.iter
+        (fun s -> if not (List.mem s [ "counts"; "domains"; "sizes" ]) then raise (Cli.User_error ("unknown sweep " ^ s ^ " (counts, domains or sizes)")))
+        sweeps;
+      let domain_counts = if domain_counts = [] then default_domain_counts () else domain_counts in
+      let measure = if in_process then scale_measure else scale_child in
+      let memory_scope = if in_process then "process (running maximum over the rows so far)" else "configuration (one child process each)" in
+      if not json then
+        Printf.printf "Random spheres (1 sample, shadows, depth 1), OCaml %s, %d cores recommended; peak memory per %s\n%!"
+          Sys.ocaml_version (Domain.recommended_domain_count ()) memory_scope;
+      (* Each sweep's rows, printed as they are measured in Markdown. *)
+      let sweep name title configs =
+        if not (List.mem name sweeps) then []
+        else begin
+          if not json then begin
+            Printf.printf "\n### %s\n\n" title;
+            print_endline
+              "| spheres | size | domains | scene build (s) | BVH build (s) | render (s) | rays | M rays/s | minor words/ray | peak RSS (MiB) |";
+            Printf.printf "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n%!"
+          end;
+          let rows =
+            List.map
+              (fun (count, (width, height), domains) ->
+                let r = measure ~count ~width ~height ~domains in
+                if not json then
+                  Printf.printf "| %d | %d×%d | %d | %.3f | %.3f | %.3f | %d | %.3f | %.0f | %s |\n%!" r.count r.width r.height
+                    r.doms r.build_s r.bvh_s r.render_s r.rays
+                    (Float.of_int r.rays /. r.render_s /. 1e6)
+                    r.words_per_ray
+                    (match r.peak_kib with Some k -> Printf.sprintf "%.0f" (Float.of_int k /. 1024.) | None -> "—");
+                r)
+              configs
+          in
+          [ (name, rows) ]
+        end
+      in
+      let results =
+        sweep "counts"
+          (Printf.sprintf "Object count (%d×%d, %d domain%s)" width height domains (if domains = 1 then "" else "s"))
+          (List.map (fun n -> (n, (width, height), domains)) counts)
+        @ sweep "domains" (Printf.sprintf "Domains (%d spheres, %d×%d)" base_count width height)
+            (List.map (fun d -> (base_count, (width, height), d)) domain_counts)
+        @ sweep "sizes" (Printf.sprintf "Image size (%d spheres, 1 domain)" base_count) (List.map (fun wh -> (base_count, wh, 1)) sizes)
+      in
+      if json then
+        print_endline
+          (Yojson.Safe.pretty_to_string
+             (`Assoc
+               ([ ("scene", `String "random spheres, 1 sample, shadows, depth 1"); ("cores", `Int (Domain.recommended_domain_count ()));
+                  ("peak_memory_per", `String (if in_process then "process" else "configuration")) ]
+               @ List.map (fun (name, rows) -> (name, `List (List.map scale_row_json rows))) results)))
 
 (* ---- command line ---- *)
 
@@ -172,10 +562,94 @@ let cmd =
   in
   let quality =
     let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
-    let man = [ `S Manpage.s_examples; `Pre "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg trade.svg" ] in
+    let fresh =
+      Arg.(value & flag & info [ "fresh" ] ~doc:"Ignore the cache: render the reference and measure every row again (and cache them anew).")
+    in
+    let man =
+      [ `S Manpage.s_description;
+        `P "Renders the scene once per value of each quality knob and compares every image with a reference render \
+            (the reference preset at 16×16 samples and depth 64). The reference image and the measured rows are cached \
+            under \\$XDG_CACHE_HOME/lancer (or ~/.cache/lancer), keyed by the scene text, the size and options, the lancer \
+            build and the host, so a second run prints at once; $(b,--fresh) measures again.";
+        `S Manpage.s_examples; `Pre "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg trade.svg" ]
+    in
     Cmd.v
       (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
-      Term.(const (fun o j s -> Cli.run (fun () -> quality_cmd o j s)) $ Cli.opts_term $ json $ svg)
+      Term.(const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f)) $ Cli.opts_term $ json $ svg $ fresh)
   in
-  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality ]
-
+  let physics =
+    let rates =
+      Arg.(value & opt (list float) [ 30.; 240.; 1000. ]
+           & info [ "rates" ] ~docv:"HZ,HZ,..." ~doc:"Steps per second of the fixed-step methods (the step is 1/HZ s).")
+    in
+    let until = Arg.(value & opt float 10. & info [ "until" ] ~docv:"S" ~doc:"Simulated time, in seconds.") in
+    let sample_rate =
+      Arg.(value & opt float 240. & info [ "sample-rate" ] ~docv:"HZ" ~doc:"Rate at which positions are compared with the closed form.")
+    in
+    let man =
+      [ `S Manpage.s_description;
+        `P "Drops a ball (radius 0.1 m) from 1 m onto a floor under g = 9.81 m/s², with restitution 1 and 0.8, and \
+            simulates it with the exact (event-driven) method and with velocity Verlet and explicit Euler at each step. \
+            Each row gives the cost (wall time of the simulation, median of repeated runs; fixed steps taken; events) \
+            and the error against the closed-form motion: the largest position error over frames, the largest error of \
+            the impact times and of the apex heights (all impacts for e = 1, the first five for e = 0.8), and the first \
+            apex, which is 1 m (e = 1) or 0.64 m (e = 0.8) exactly.";
+        `P "For e = 0.8 the ideal ball bounces infinitely often before 4.0637 s; the exact method rests the ball once a \
+            rebound would rise less than 1e-4 of its radius, so its position error there is at most 1e-5 m.";
+        `S Manpage.s_examples; `Pre "  lancer bench physics --rates 30,240,1000 --json" ]
+    in
+    Cmd.v
+      (Cmd.info "physics" ~doc:"error and cost of the physics methods on a bouncing ball with a closed-form answer" ~man ~exits)
+      Term.(const (fun r u s j -> Cli.run (fun () -> physics_cmd r u s j)) $ rates $ until $ sample_rate $ json)
+  in
+  let scaling =
+    let counts =
+      Arg.(value & opt (list int) [ 1000; 10_000; 100_000 ]
+           & info [ "counts" ] ~docv:"N,N,..." ~doc:"Sphere counts of the object-count sweep (1000000 takes a few GiB and minutes).")
+    in
+    let width = Arg.(value & opt int 320 & info [ "width" ] ~docv:"W" ~doc:"Image width of the count and domain sweeps.") in
+    let height = Arg.(value & opt int 240 & info [ "height" ] ~docv:"H" ~doc:"Image height of the count and domain sweeps.") in
+    let domains = Arg.(value & opt int 1 & info [ "domains" ] ~docv:"D" ~doc:"Domains of the count sweep.") in
+    let domain_counts =
+      Arg.(value & opt (list int) [] & info [ "domain-counts" ] ~docv:"N,N,..."
+             ~doc:"Domain counts of the domain sweep (default 1, 2, 4, … up to the recommended count for this machine).")
+    in
+    let sizes =
+      Arg.(value & opt (list string) [ "160x120"; "320x240"; "640x480"; "1280x960" ]
+           & info [ "sizes" ] ~docv:"WxH,..." ~doc:"Image sizes of the size sweep (one domain).")
+    in
+    let base_count =
+      Arg.(value & opt int 10_000 & info [ "base-count" ] ~docv:"N" ~doc:"Sphere count of the domain and size sweeps.")
+    in
+    let sweeps =
+      Arg.(value & opt (list string) [ "counts"; "domains"; "sizes" ]
+           & info [ "sweeps" ] ~docv:"NAME,..." ~doc:"Which sweeps to run: counts, domains, sizes.")
+    in
+    let in_process =
+      Arg.(value & flag & info [ "in-process" ]
+             ~doc:"Measure every configuration in this process instead of one child process each (peak memory is then \
+                   the running maximum, not the configuration's own).")
+    in
+    let row =
+      Arg.(value & opt (some string) None & info [ "row" ] ~docv:"COUNT,WxH,DOMAINS"
+             ~doc:"Measure this one configuration in this process and print it as one line of JSON (what the sweeps run \
+                   in their child processes).")
+    in
+    let man =
+      [ `S Manpage.s_description;
+        `P "Renders N random spheres (fixed seed, uniform in a cube of side N^(1/3), one point light with shadows, one \
+            sample, depth 1) and reports the scene build and BVH build times, the render time, rays per second, minor \
+            words allocated per ray and peak resident memory (VmHWM). Three sweeps: the sphere count, the domain count \
+            and the image size. Each configuration runs in a child process of this executable, so its peak memory is \
+            its own.";
+        `S Manpage.s_examples;
+        `Pre "  lancer bench scaling --counts 1000,10000,100000,1000000\n  lancer bench scaling --sweeps counts --counts 100,1000 --json" ]
+    in
+    Cmd.v
+      (Cmd.info "scaling" ~doc:"build time, render time, rays/s and memory against object count, domains and image size" ~man ~exits)
+      Term.(const (fun counts width height domains domain_counts sizes base_count sweeps in_process row json ->
+                Cli.run (fun () ->
+                    scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~json))
+            $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps $ in_process $ row $ json)
+  in
+  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality; physics; scaling ]

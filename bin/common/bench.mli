@@ -6,14 +6,38 @@
     - [quality]: the scene rendered across each knob (samples, adaptive threshold,
       depth, soft-shadow samples, quality presets), each with its wall time, rays and
       error against a reference render (RMSE, PSNR, share of pixels off by more than
-      1/255). The reference render is cached under [$XDG_CACHE_HOME/lancer] (or
-      [~/.cache/lancer]), keyed by the scene text and size. *)
+      1/255). The reference render and the measured rows are cached under
+      [$XDG_CACHE_HOME/lancer] (or [~/.cache/lancer]), keyed by the scene text, the size
+      and options, the build of the executable and the host; [--fresh] ignores the cache.
+    - [physics]: a ball dropped from 1 m with restitution 1 and 0.8, simulated by each
+      method and step, against its closed-form motion: position, impact-time and apex
+      errors, and the cost (wall time, steps, events).
+    - [scaling]: random spheres against the sphere count, the domain count and the image
+      size: build and render times, rays per second, peak memory, each configuration in
+      a child process so that its peak memory is its own. *)
 
 val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
 (** [domains_cmd opts counts repeat json]. *)
 
-val quality_cmd : Cli.opts -> bool -> string option -> unit
-(** [quality_cmd opts json svg]. *)
+val quality_cmd : Cli.opts -> bool -> string option -> bool -> unit
+(** [quality_cmd opts json svg fresh]. *)
+
+val physics_cmd : float list -> float -> float -> bool -> unit
+(** [physics_cmd rates until sample_rate json]: fixed steps of 1/rate s. *)
+
+(** {2 The bouncing-ball closed form} (a 0.1 m ball whose lowest point starts 1 m above
+    the floor y = 0, at rest, g = 9.81 m/s²) *)
+
+val impact_time : float -> int -> float
+(** [impact_time e k]: time of the k-th impact (k ≥ 1), s. *)
+
+val drop_gap : float -> float -> float
+(** [drop_gap e t]: height of the ball's lowest point above the floor at time [t] s. *)
+
+val sphere_field : int -> Lancer.Primitive.t list * Lancer.Camera.t * Lancer.Light.t list
+(** [sphere_field n]: the scene of [scaling]: [n] random spheres from a fixed seed,
+    uniform in a cube of side n^(1/3), radii in [0.1, 0.4], the camera outside the cube
+    and one point light. *)
 
 val cmd : int Cmdliner.Cmd.t
 (** The [bench] command group. *)

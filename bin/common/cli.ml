@@ -66,15 +66,35 @@ let domains o =
 
 let errors_to_string errs = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
 
-let load = function
-  | None -> (
-      match Dsl.load_string ~filename:"showcase.rts" Showcase.text with
-      | Ok p -> p
-      | Error errs -> user "the built-in showcase does not load:\n%s" (errors_to_string errs))
-  | Some path -> (
+let source o =
+  match o.scene with
+  | None -> ("showcase.rts", Showcase.text)
+  | Some path ->
       if not (Sys.file_exists path) then user "%s: no such file" path;
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
-      match Dsl.load_file path with Ok p -> p | Error errs -> raise (User_error (errors_to_string errs)))
+      let text = try In_channel.with_open_bin path In_channel.input_all with Sys_error m -> user "%s" m in
+      (path, text)
+
+let load_source (filename, text) =
+  match Dsl.load_string ~filename text with
+  | Ok p -> p
+  | Error errs when filename = "showcase.rts" && text == Showcase.text ->
+      user "the built-in showcase does not load:\n%s" (errors_to_string errs)
+  | Error errs -> raise (User_error (errors_to_string errs))
+
+let load scene = load_source (source { (default_opts ()) with scene })
+
+let default_output o =
+  match (o.output, o.scene) with
+  | Some p, _ -> p
+  | None, None -> "showcase.png"
+  | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
+
+let check_output path =
+  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
+  let dir = Filename.dirname path in
+  if not (Sys.file_exists dir && Sys.is_directory dir) then user "cannot write %s: directory %s does not exist" path dir;
+  if Sys.file_exists path && Sys.is_directory path then user "cannot write %s: is a directory" path
 
 let time_of o prog =
   match (o.time, o.frame) with
@@ -150,7 +170,12 @@ let warn_bad_samples (st : Stats.t) =
     | None -> ()
 
 let install_interrupt_handler () =
-  let h = Sys.Signal_handle (fun _ -> raise Sys.Break) in
+  let h =
+    Sys.Signal_handle
+      (fun _ ->
+        Render.interrupt ();
+        raise Sys.Break)
+  in
   Sys.set_signal Sys.sigint h;
   Sys.set_signal Sys.sigterm h
 

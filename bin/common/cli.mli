@@ -5,6 +5,9 @@
 exception User_error of string
 (** A mistake the user can fix (scene, options, files): one clear message, exit 1. *)
 
+val user : ('a, unit, string, 'b) format4 -> 'a
+(** [user fmt …] raises [User_error] with the formatted message. *)
+
 type opts = {
   scene : string option;  (** None: the embedded showcase *)
   output : string option;
@@ -35,9 +38,24 @@ val exits : Cmdliner.Cmd.Exit.info list
 val domains : opts -> int
 (** [--domains N] if given (at least 1), else the recommended count for this machine. *)
 
+val source : opts -> string * string
+(** The scene's (file name, text): the file given, or the embedded showcase. Raises
+    [User_error] for a missing or unreadable file. *)
+
+val load_source : string * string -> Lancer_dsl.Dsl.t
+(** Parse and check a scene's text; raises [User_error] with every located error printed.
+    Includes are found relative to the file name. *)
+
 val load : string option -> Lancer_dsl.Dsl.t
-(** Parse and check a scene file, or the showcase; raises [User_error] with every
-    located error printed. *)
+(** [load_source (source …)] for a scene file, or the showcase with [None]. *)
+
+val default_output : opts -> string
+(** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
+    scene). *)
+
+val check_output : string -> unit
+(** Refuse, before any rendering, an output with an unknown extension, in a missing
+    directory, or that is a directory; raises [User_error]. *)
 
 val scene_at : opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
 (** Evaluate at a time and apply the command-line overrides. *)

@@ -3,26 +3,10 @@ open Lancer
 open Cmdliner
 module Dsl = Lancer_dsl.Dsl
 
-let default_output (o : Cli.opts) =
-  match o.output with
-  | Some p -> p
-  | None -> (
-      match o.scene with
-      | None -> "showcase.png"
-      | Some s -> Filename.remove_extension (Filename.basename s) ^ ".png")
-
-(* Fail before rendering, not after: the format and the directory of the output. *)
-let check_output path =
-  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (Cli.User_error m));
-  let dir = Filename.dirname path in
-  if not (Sys.file_exists dir && Sys.is_directory dir) then
-    raise (Cli.User_error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir));
-  if Sys.file_exists path && Sys.is_directory path then raise (Cli.User_error (Printf.sprintf "cannot write %s: is a directory" path))
-
 let render_cmd (o : Cli.opts) =
   Cli.install_interrupt_handler ();
-  let out = default_output o in
-  check_output out;
+  let out = Cli.default_output o in
+  Cli.check_output out;
   let domains = Cli.domains o in
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in

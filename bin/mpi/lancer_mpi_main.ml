@@ -9,6 +9,7 @@ open Lancer
 open Cmdliner
 module Cli = Lancer_cli.Cli
 module Progress = Lancer_cli.Progress
+module Animate = Lancer_cli.Animate
 module Dsl = Lancer_dsl.Dsl
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
@@ -16,33 +17,7 @@ module Farm = Lancer_mpi.Farm
 (* What rank 0 broadcasts once its checks are done. *)
 type setup = Go of { filename : string; text : string } | Quit
 
-let user fmt = Printf.ksprintf (fun s -> raise (Cli.User_error s)) fmt
-
-(* As Cli.load, but keeping the text to broadcast. *)
-let scene_source (o : Cli.opts) =
-  match o.scene with
-  | None -> ("showcase.rts", Lancer_cli.Showcase.text)
-  | Some path ->
-      if not (Sys.file_exists path) then user "%s: no such file" path;
-      if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
-      let text = try In_channel.with_open_bin path In_channel.input_all with Sys_error m -> user "%s" m in
-      (path, text)
-
-let load (filename, text) =
-  match Dsl.load_string ~filename text with Ok p -> p | Error errs -> raise (Cli.User_error (Cli.errors_to_string errs))
-
-(* The same defaults and early checks as lancer render (bin/common/commands.ml). *)
-let default_output (o : Cli.opts) =
-  match (o.output, o.scene) with
-  | Some p, _ -> p
-  | None, None -> "showcase.png"
-  | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
-
-let check_output path =
-  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (Cli.User_error m));
-  let dir = Filename.dirname path in
-  if not (Sys.file_exists dir && Sys.is_directory dir) then user "cannot write %s: directory %s does not exist" path dir;
-  if Sys.file_exists path && Sys.is_directory path then user "cannot write %s: is a directory" path
+let user = Cli.user
 
 let progress_bar (o : Cli.opts) ~label ~total =
   Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label ~total ()
@@ -80,7 +55,7 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         (* Rank 0 has loaded the same text, so errors here are unexpected (an included
            file missing on this node): they reach rank 0 through Farm and are reported
            there. *)
-        let prog = lazy (load (filename, text)) in
+        let prog = lazy (Cli.load_source (filename, text)) in
         let domains = match o.domains with Some n when n >= 1 -> n | _ -> max 1 (Domain.recommended_domain_count ()) in
         Render.with_pool domains (fun pool ->
             Farm.work ~describe ~pool ~domains ~scene_of:(fun key -> scene_of (Lazy.force prog) key));
@@ -95,11 +70,11 @@ let render_cmd (o : Cli.opts) =
   in
   let prepare () =
     Cli.install_interrupt_handler ();
-    let out = default_output o in
-    check_output out;
+    let out = Cli.default_output o in
+    Cli.check_output out;
     ignore (Cli.domains o);
-    let source = scene_source o in
-    let sc = still (load source) in
+    let source = Cli.source o in
+    let sc = still (Cli.load_source source) in
     (source, (out, sc))
   in
   let lead (out, sc) ~pool ~domains =
@@ -123,99 +98,37 @@ let render_cmd (o : Cli.opts) =
 
 (* ---- animate ---- *)
 
-(* The frame names, the manifest and its digests are lancer animate's
-   (bin/common/animate.ml), so that either command can --resume the other's frames. *)
-let manifest_name = "lancer-frames.json"
-let frame_name k = Printf.sprintf "frame_%04d.png" k
-
-let read_manifest dir =
-  match Yojson.Safe.from_file (Filename.concat dir manifest_name) with
-  | `Assoc kvs -> List.filter_map (function k, `String h -> Some (k, h) | _ -> None) kvs
-  | _ -> []
-  | exception _ -> []
-
-let write_manifest dir entries =
-  Cli.write_json (Filename.concat dir manifest_name) (`Assoc (List.map (fun (k, h) -> (k, `String h)) entries))
-
-let frame_digest (o : Cli.opts) text k =
-  let opt f = function Some v -> f v | None -> "-" in
-  Digest.to_hex
-    (Digest.string
-       (String.concat "|"
-          [ "lancer-frame-v1"; text; opt string_of_int o.width; opt string_of_int o.height; opt string_of_int o.samples;
-            opt string_of_int o.depth; opt Lancer_cli.Quality.to_string o.quality; string_of_int k ]))
-
-let make_video ~fps ~first ~dir ~quiet out =
-  if Sys.command "command -v ffmpeg >/dev/null 2>&1" <> 0 then
-    user "ffmpeg is not installed, so %s was not made; the frames are in %s (apt-get install ffmpeg)" out dir;
-  let tmp = Filename.concat (Filename.dirname out) ("." ^ Filename.basename out ^ ".tmp" ^ Filename.extension out) in
-  let cmd =
-    Printf.sprintf "ffmpeg -loglevel error -y -framerate %g -start_number %d -i %s %s %s" fps first
-      (Filename.quote (Filename.concat dir "frame_%04d.png"))
-      (if Filename.check_suffix out ".gif" then "" else "-pix_fmt yuv420p")
-      (Filename.quote tmp)
-  in
-  if Sys.command cmd <> 0 then begin
-    (try Sys.remove tmp with Sys_error _ -> ());
-    user "ffmpeg failed to make %s" out
-  end;
-  Unix.rename tmp out;
-  if not quiet then Printf.printf "video: %s\n" out
-
-let animation prog =
-  match Dsl.animation prog with
-  | Some a -> a
-  | None -> user "the scene has no animation block: add animation { fps: 24, frames: 48 }, or use lancer render"
-
+(* The plan, frame names, manifest and digests are lancer animate's, so that either
+   command can --resume the other's frames. *)
 let animate_cmd (o : Cli.opts) ~frames ~resume ~video =
-  let frame_scene prog k = Cli.scene_at o prog ~time:(Float.of_int k /. fst (animation prog)) ~frame:k in
   let prepare () =
     Cli.install_interrupt_handler ();
-    let dir = match o.output with Some d -> d | None -> user "animate needs an output directory: -o DIR" in
-    if Sys.file_exists dir && not (Sys.is_directory dir) then user "%s exists and is not a directory" dir;
-    ignore (Cli.domains o);
-    let ((_, text) as source) = scene_source o in
-    let prog = load source in
-    let fps, count = animation prog in
-    let a, b = match frames with Some r -> r | None -> (0, count - 1) in
-    if b >= count then user "--frames %d..%d: the animation has frames 0..%d" a b (count - 1);
-    if not (Sys.file_exists dir) then (
-      try Unix.mkdir dir 0o755 with Unix.Unix_error (e, _, _) -> user "cannot create %s: %s" dir (Unix.error_message e));
-    let manifest = if resume then read_manifest dir else [] in
-    let todo =
-      List.filter
-        (fun k ->
-          let name = frame_name k in
-          not (resume && Sys.file_exists (Filename.concat dir name) && List.assoc_opt name manifest = Some (frame_digest o text k)))
-        (List.init (b - a + 1) (fun i -> a + i))
-    in
-    let skipped = b - a + 1 - List.length todo in
-    if skipped > 0 && not o.quiet then Printf.printf "resuming: %d frames already rendered, %d to go\n%!" skipped (List.length todo);
-    (source, (dir, text, prog, fps, a, b, manifest, todo))
+    let p = Animate.plan o ~frames ~resume in
+    (p.source, p)
   in
-  let lead (dir, text, prog, fps, a, b, manifest, todo) ~pool ~domains =
-    let progress = progress_bar o ~label:"frames" ~total:(List.length todo) in
+  let lead (p : Animate.plan) ~pool ~domains =
+    let progress = Animate.progress p in
     let t0 = Unix.gettimeofday () in
-    let manifest = ref manifest and written = ref 0 in
+    let written = ref 0 in
     (* Each frame is written atomically as soon as all its tiles are in, whatever order
        they finish in; the manifest follows each one. *)
     let on_frame k sc fb st =
-      Cli.warn_bad_samples st;
-      let name = frame_name k in
-      Cli.write_image (Filename.concat dir name) sc fb;
-      manifest := (name, frame_digest o text k) :: List.remove_assoc name !manifest;
-      write_manifest dir (List.sort compare !manifest);
+      Animate.write_frame p k sc fb st;
       incr written;
       Progress.update progress !written
     in
-    Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> frame_scene prog k)) todo) ~on_tiles:ignore ~on_frame;
+    Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo) ~on_tiles:ignore ~on_frame;
     Progress.finish progress;
     if not o.quiet then
-      Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps; %s)\n%!" (List.length todo) dir
-        (Unix.gettimeofday () -. t0) a b fps (ranks_text domains);
-    Option.iter (make_video ~fps ~first:a ~dir ~quiet:o.quiet) video
+      Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps; %s)\n%!" (List.length p.todo) p.dir
+        (Unix.gettimeofday () -. t0) p.first p.last p.fps (ranks_text domains);
+    Option.iter (Animate.make_video p) video
   in
-  distributed o ~prepare ~lead ~scene_of:frame_scene
+  let animation prog =
+    match Dsl.animation prog with Some (fps, _) -> fps | None -> user "the scene has no animation block"
+  in
+  distributed o ~prepare ~lead ~scene_of:(fun prog k ->
+      Cli.scene_at o prog ~time:(Float.of_int k /. animation prog) ~frame:k)
 
 (* ---- command line ---- *)
 
@@ -238,7 +151,7 @@ let render =
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png … over MPI ranks" in
   let frames =
-    let parse s = match Lancer_cli.Animate.frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
+    let parse s = match Animate.frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
     let print ppf (a, b) = Format.fprintf ppf "%d..%d" a b in
     Arg.(value & opt (some (conv (parse, print))) None & info [ "frames" ] ~docv:"A..B" ~doc:"Render only frames A to B (inclusive).")
   in

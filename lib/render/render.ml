@@ -72,6 +72,9 @@ let tiles (sc : Scene.t) =
       let x0 = tx * tile_size and y0 = ty * tile_size in
       (x0, y0, min w (x0 + tile_size), min h (y0 + tile_size)))
 
+let interrupted = Atomic.make false
+let interrupt () = Atomic.set interrupted true
+
 let render ?pool ?(on_tile = fun _ _ -> ()) (sc : Scene.t) =
   let fb = Image.create sc.settings.width sc.settings.height in
   let tiles = tiles sc in
@@ -79,6 +82,7 @@ let render ?pool ?(on_tile = fun _ _ -> ()) (sc : Scene.t) =
   let stats = Array.init n (fun _ -> Stats.create ()) in
   let done_ = Atomic.make 0 in
   let work k =
+    if Atomic.get interrupted then raise Sys.Break;
     let x0, y0, x1, y1 = tiles.(k) in
     render_tile sc stats.(k) fb x0 y0 x1 y1;
     on_tile (Atomic.fetch_and_add done_ 1 + 1) n

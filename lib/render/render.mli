@@ -25,6 +25,11 @@ val render :
 (** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
     [on_tile done_ total] is called after each tile, from whichever domain rendered it. *)
 
+val interrupt : unit -> unit
+(** Ask every render in progress to stop: from then on each tile that starts raises
+    [Sys.Break] instead, so an interrupted render ends within one tile per domain.
+    Meant for a SIGINT/SIGTERM handler; there is no way back. *)
+
 val with_pool : int -> (Domainslib.Task.pool option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
     it down afterwards, also on an exception. *)

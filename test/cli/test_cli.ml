@@ -116,7 +116,14 @@ let tests =
         in
         Unix.sleepf 1.0;
         Unix.kill pid Sys.sigint;
-        let _, st = Unix.waitpid [] pid in
+        (* The render stops within a tile per domain, not after the whole image. *)
+        let rec wait n =
+          match Unix.waitpid [ Unix.WNOHANG ] pid with
+          | 0, _ when n > 0 -> Unix.sleepf 0.1; wait (n - 1)
+          | 0, _ -> Unix.kill pid Sys.sigkill; ignore (Unix.waitpid [] pid); Alcotest.fail "still rendering 20 s after Ctrl-C"
+          | _, st -> st
+        in
+        let st = wait 200 in
         Alcotest.(check bool) "interrupted" true (st = Unix.WEXITED 130);
         Alcotest.(check (list string)) "no file, no temporary" [ "s.rts" ] (Array.to_list (Sys.readdir d)));
     Alcotest.test_case "check --json lists every object with its fields" `Quick (fun () ->
