@@ -44,6 +44,66 @@ sphere { center: (1.5, 0.5, -1), radius: 0.5, material: material { transparency:
 let no_backtrace msg e =
   Alcotest.(check bool) (msg ^ ": no backtrace\n" ^ e) false (contains e "Raised at" || contains e "Fatal error")
 
+let anim_scene =
+  {|settings { width: 24, height: 18 }
+animation { fps: 10, frames: 4 }
+camera { position: (0, 1, -5), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+body ball { sphere { center: (0, 2, 0), radius: 0.4 } restitution: 0.8 }
+|}
+
+let mtime p = (Unix.stat p).Unix.st_mtime
+
+let animate_tests =
+  [ Alcotest.test_case "animate writes every frame and a manifest; --resume renders only what is missing or stale" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts") anim_scene;
+        let frames = List.init 4 (Printf.sprintf "frame_%04d.png") in
+        check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q" ]);
+        let path f = Filename.concat (Filename.concat d "out") f in
+        List.iter (fun f -> Alcotest.(check bool) f true (Sys.file_exists (path f))) ("lancer-frames.json" :: frames);
+        (* The ball falls: frames differ. *)
+        Alcotest.(check bool) "the ball moves" false (read_file (path "frame_0000.png") = read_file (path "frame_0003.png"));
+        let before = read_file (path "frame_0001.png") in
+        Sys.remove (path "frame_0002.png");
+        Unix.sleepf 0.05;
+        let t3 = mtime (path "frame_0003.png") in
+        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ] in
+        check_status "resume" 0 r;
+        Alcotest.(check bool) ("says what it skips: " ^ out) true (contains out "3 frames already rendered, 1 to go");
+        Alcotest.(check bool) "frame 2 is back" true (Sys.file_exists (path "frame_0002.png"));
+        Alcotest.(check (float 0.)) "frame 3 untouched" t3 (mtime (path "frame_0003.png"));
+        Alcotest.(check bool) "same bytes" true (before = read_file (path "frame_0001.png"));
+        (* Another size makes every frame stale. *)
+        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume"; "--width"; "20" ] in
+        check_status "stale" 0 r;
+        Alcotest.(check bool) ("re-renders all: " ^ out) true (contains out "wrote 4 frames"));
+    Alcotest.test_case "animate --frames renders a range; bad ranges and stills are refused" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts") anim_scene;
+        write_file (Filename.concat d "s.rts") small_scene;
+        check_status "range" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..2"; "-q" ]);
+        Alcotest.(check (list string)) "frames 1 and 2" [ "frame_0001.png"; "frame_0002.png"; "lancer-frames.json" ]
+          (List.sort compare (Array.to_list (Sys.readdir (Filename.concat d "out"))));
+        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "2..9" ] in
+        check_status "past the end" 1 r;
+        Alcotest.(check bool) e true (contains e "the animation has frames 0..3");
+        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "s.rts"; "-o"; "out2" ] in
+        check_status "a still" 1 r;
+        Alcotest.(check bool) e true (contains e "no animation block"));
+    Alcotest.test_case "animate --video without ffmpeg says so and keeps the frames" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts") anim_scene;
+        if Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 then ()
+        else begin
+          let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ] in
+          check_status "no ffmpeg" 1 r;
+          Alcotest.(check bool) e true (contains e "ffmpeg is not installed");
+          Alcotest.(check bool) "frames kept" true (Sys.file_exists (Filename.concat d "out/frame_0003.png"));
+          Alcotest.(check bool) "no video" false (Sys.file_exists (Filename.concat d "a.gif"))
+        end) ]
+
 let tests =
   [ Alcotest.test_case "render with no scene writes the built-in showcase" `Slow (fun () ->
         let d = tmpdir () in
@@ -150,4 +210,4 @@ let tests =
         check_status "help" 0 r;
         Alcotest.(check bool) "examples" true (contains out "EXAMPLES")) ]
 
-let () = Alcotest.run "cli" [ ("lancer", tests) ]
+let () = Alcotest.run "cli" [ ("lancer", tests); ("animate", animate_tests) ]

@@ -12,6 +12,11 @@ let load text =
   | Ok p -> p
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
 
+let scene_of ?(frame = 0) p ~time =
+  match Dsl.scene_at p ~time ~frame with
+  | Ok s -> s
+  | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
+
 let scene ?(time = 0.) ?(frame = 0) text =
   match Dsl.scene_at (load text) ~time ~frame with
   | Ok s -> s
@@ -204,6 +209,47 @@ let test_bodies () =
         (Transform.point o.transform (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero))
   | Error es -> Alcotest.fail (errors_text es)
 
+(* Without a hook, bodies move by the engine among the scene's static planes,
+   parallelograms and boxes: a drop in closed form until the impact, then a bounce, and at
+   last rest on the floor. *)
+let test_physics_wired () =
+  let text =
+    "animation { fps: 10, duration: 3 }\n\
+     physics { gravity: (0, -10, 0), method: \"exact\" }\n\
+     plane { normal: (0, 1, 0), offset: 0 }\n\
+     body ball { sphere { center: (0, 2.5, 0), radius: 0.5 } restitution: 0.5 }\n\
+     camera { position: (0, 1, -5), look_at: ball.position }"
+  in
+  let p = load text in
+  let centre s =
+    let o = (s : Scene.t).objects.(Array.length s.objects - 1) in
+    Transform.point o.transform (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero)
+  in
+  let at t = scene_of p ~time:t in
+  (* Impact when the centre has fallen 2 m: t = sqrt(2·2/10). *)
+  let t_hit = sqrt 0.4 in
+  feq "free fall" (2.5 -. (5. *. 0.3 *. 0.3)) (centre (at 0.3)).y;
+  feq "the camera looks at the moving ball" (centre (at 0.3)).y (at 0.3).camera.look_at.y;
+  let v_up = 0.5 *. 10. *. t_hit in
+  let dt = 0.1 in
+  feq "after the bounce, the rebound in closed form" (0.5 +. (v_up *. dt) -. (5. *. dt *. dt)) (centre (at (t_hit +. dt))).y;
+  feq "at rest on the floor at the end" 0.5 (centre (at 3.)).y;
+  (match Dsl.colliders p with [ Physics.Plane _ ] -> () | _ -> Alcotest.fail "one plane collider");
+  (* An axis-aligned box is one collider; a rotated one is its six faces; spheres are none. *)
+  let q =
+    load
+      "box { min: (0, 0, 0), max: (1, 1, 1), translate: (1, 0, 0) }\n\
+       box { min: (0, 0, 0), max: (1, 1, 1), rotate: (0, 30, 0) }\n\
+       sphere { center: (0, 5, 0), radius: 1 }\n\
+       body b { sphere { center: (0, 3, 0), radius: 0.2 } }"
+  in
+  match Dsl.colliders q with
+  | Physics.Box { min; max } :: faces ->
+      veq "translated box min" (Vec3.v 1. 0. 0.) min;
+      veq "translated box max" (Vec3.v 2. 1. 1.) max;
+      Alcotest.(check int) "six faces" 6 (List.length faces)
+  | _ -> Alcotest.fail "a box, then faces"
+
 let test_includes () =
   let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "rts_inc_%d" (Unix.getpid ())) in
   (try Unix.mkdir dir 0o755 with _ -> ());
@@ -369,6 +415,7 @@ let () =
           Alcotest.test_case "settings, camera and lights take their fields and defaults" `Quick test_settings_camera_lights;
           Alcotest.test_case "time and frame are bound and animation reports fps and frames" `Quick test_animation_time;
           Alcotest.test_case "bodies and physics are evaluated and positions come from the hook" `Quick test_bodies;
+          Alcotest.test_case "bodies fall, bounce and rest among the scene's static objects" `Quick test_physics_wired;
           Alcotest.test_case "includes are relative to the including file and cycles fail" `Quick test_includes ] );
       ( "errors",
         [ Alcotest.test_case "each kind of mistake gets its located message" `Quick test_errors;
