@@ -17,7 +17,9 @@ build: deps
 demo: build
 	@mkdir -p out
 	$(DUNE) exec --no-build -- lancer render scenes/showcase.rts -o out/showcase.png
-	@echo "The showcase is in out/showcase.png"
+	$(DUNE) exec --no-build -- lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180
+	@echo "The showcase is in out/showcase.png; the frames of a bouncing ball are in out/bounce/"
+	@command -v ffmpeg >/dev/null 2>&1 && $(DUNE) exec --no-build -- lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
 
 test: deps
 	$(DUNE) build -j $(JOBS) @install
