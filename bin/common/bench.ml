@@ -207,7 +207,8 @@ let quality_cmd (o : Cli.opts) json svg fresh =
           (if Float.is_finite r.psnr then Printf.sprintf "%.2f" r.psnr else "∞") (100. *. r.over_share))
       rows
   end;
-  Option.iter (fun path -> Svg.write path (List.map (fun r -> (r.knob, r.value, r.seconds, r.psnr)) rows)) svg
+  let title = Printf.sprintf "%s at %d×%d, %d domains" (Option.value o.scene ~default:"showcase") w h domains in
+  Option.iter (fun path -> Svg.write ~title path (List.map (fun r -> (r.knob, r.value, r.seconds, r.psnr)) rows)) svg
 
 (* ---- physics ---- *)
 
@@ -275,6 +276,7 @@ type phys_row = {
   sim_seconds : float;
   max_pos_err : float;
   compared : int;  (* impacts compared with the closed form *)
+  through : bool;  (* the centre went below the floor: an impact was missed *)
   max_impact_err : float option;
   max_apex_err : float option;
   first_apex : float option;
@@ -316,7 +318,20 @@ let physics_row ~until ~sample_rate ~e meth step =
     in
     go a b 200 -. drop_radius
   in
-  let apexes = List.init (max 0 (compared - 1)) (fun i -> (i + 1, apex btimes.(i) btimes.(i + 1))) in
+  (* The apex after each compared impact whose ideal apex falls within the horizon; the
+     last flight is searched up to the horizon (after a missed impact it never ends). *)
+  let apexes =
+    List.filter_map
+      (fun i ->
+        let k = i + 1 in
+        if impact_time e k +. ((e ** Float.of_int k) *. drop_v1 /. drop_g) > until then None
+        else Some (k, apex btimes.(i) (if i + 1 < Array.length btimes then btimes.(i + 1) else until)))
+      (List.init compared Fun.id)
+  in
+  let through = ref false in
+  for i = 0 to nframes do
+    if (pos (Float.of_int i /. sample_rate)).Vec3.y < 0. then through := true
+  done;
   let maxf = List.fold_left Float.max 0. in
   {
     e; meth; step;
@@ -325,6 +340,7 @@ let physics_row ~until ~sample_rate ~e meth step =
     sim_seconds = seconds;
     max_pos_err = !max_pos_err;
     compared;
+    through = !through;
     max_impact_err =
       (if compared = 0 then None
        else Some (maxf (List.init compared (fun i -> Float.abs (btimes.(i) -. impact_time e (i + 1))))));
@@ -350,6 +366,7 @@ let physics_cmd rates until sample_rate json =
                    `Assoc [ ("restitution", `Float r.e); ("method", `String (method_name r.meth)); ("step", opt_f r.step);
                             ("steps", opt_i r.steps); ("events", `Int r.events); ("seconds", `Float r.sim_seconds);
                             ("max_position_error", `Float r.max_pos_err); ("impacts_compared", `Int r.compared);
+                            ("fell_through_floor", `Bool r.through);
                             ("max_impact_time_error", opt_f r.max_impact_err); ("max_apex_error", opt_f r.max_apex_err);
                             ("first_apex", opt_f r.first_apex) ]) rows)) ]))
   else begin
@@ -357,14 +374,14 @@ let physics_cmd rates until sample_rate json =
       "Ball (r = %g m) dropped from %g m onto a floor, g = %g m/s², %g s; error against the closed form, \
        positions sampled at %g Hz; impacts and apexes: all within the horizon for e = 1, the first 5 for e < 1\n\n"
       drop_radius drop_height drop_g until sample_rate;
-    print_endline "| e | method | step (s) | steps | events | wall time (ms) | max position error (m) | impacts compared | max impact time error (s) | max apex error (m) | first apex (m) |";
-    print_endline "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|";
+    print_endline "| e | method | step (s) | steps | events | wall time (µs) | max position error (m) | fell through | impacts compared | max impact time error (s) | max apex error (m) | first apex (m) |";
+    print_endline "|---:|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|";
     let o f = function Some x -> f x | None -> "—" in
     List.iter
       (fun r ->
-        Printf.printf "| %g | %s | %s | %s | %d | %.3f | %.3g | %d | %s | %s | %s |\n" r.e (method_name r.meth)
+        Printf.printf "| %g | %s | %s | %s | %d | %.1f | %.3g | %s | %d | %s | %s | %s |\n" r.e (method_name r.meth)
           (o (fun s -> Printf.sprintf "1/%g" (Float.round (1. /. s))) r.step)
-          (o string_of_int r.steps) r.events (r.sim_seconds *. 1e3) r.max_pos_err r.compared
+          (o string_of_int r.steps) r.events (r.sim_seconds *. 1e6) r.max_pos_err (if r.through then "yes" else "no") r.compared
           (o (Printf.sprintf "%.3g") r.max_impact_err) (o (Printf.sprintf "%.3g") r.max_apex_err)
           (o (Printf.sprintf "%.6f") r.first_apex))
       rows
@@ -420,14 +437,15 @@ let scale_measure ~count ~width ~height ~domains =
   let rays = Stats.total_rays st in
   ignore (Sys.opaque_identity sc);
   { count; width; height; doms = domains; build_s; bvh_s; render_s; rays;
-    words_per_ray = words /. Float.of_int (max 1 rays); peak_kib = Cli.peak_memory_kib () }
+    (* Gc.minor_words counts this domain's allocations only *)
+    words_per_ray = (if domains = 1 then words /. Float.of_int (max 1 rays) else Float.nan); peak_kib = Cli.peak_memory_kib () }
 
 let scale_row_json r =
   `Assoc
     [ ("spheres", `Int r.count); ("width", `Int r.width); ("height", `Int r.height); ("domains", `Int r.doms);
       ("scene_build_seconds", `Float r.build_s); ("bvh_build_seconds", `Float r.bvh_s);
       ("render_seconds", `Float r.render_s); ("rays", `Int r.rays);
-      ("rays_per_second", `Float (Float.of_int r.rays /. r.render_s)); ("minor_words_per_ray", `Float r.words_per_ray);
+      ("rays_per_second", `Float (Float.of_int r.rays /. r.render_s)); ("minor_words_per_ray", if Float.is_nan r.words_per_ray then `Null else `Float r.words_per_ray);
       ("peak_memory_kib", match r.peak_kib with Some k -> `Int k | None -> `Null) ]
 
 let scale_row_of_json j =
@@ -435,7 +453,7 @@ let scale_row_of_json j =
   { count = j |> member "spheres" |> to_int; width = j |> member "width" |> to_int; height = j |> member "height" |> to_int;
     doms = j |> member "domains" |> to_int; build_s = j |> member "scene_build_seconds" |> to_number;
     bvh_s = j |> member "bvh_build_seconds" |> to_number; render_s = j |> member "render_seconds" |> to_number;
-    rays = j |> member "rays" |> to_int; words_per_ray = j |> member "minor_words_per_ray" |> to_number;
+    rays = j |> member "rays" |> to_int; words_per_ray = Option.value (j |> member "minor_words_per_ray" |> to_number_option) ~default:Float.nan;
     peak_kib = j |> member "peak_memory_kib" |> to_int_option }
 
 (* One configuration measured in a child process of this executable, so that its peak
@@ -512,10 +530,10 @@ let scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_coun
               (fun (count, (width, height), domains) ->
                 let r = measure ~count ~width ~height ~domains in
                 if not json then
-                  Printf.printf "| %d | %d×%d | %d | %.3f | %.3f | %.3f | %d | %.3f | %.0f | %s |\n%!" r.count r.width r.height
+                  Printf.printf "| %d | %d×%d | %d | %.3f | %.3f | %.3f | %d | %.3f | %s | %s |\n%!" r.count r.width r.height
                     r.doms r.build_s r.bvh_s r.render_s r.rays
                     (Float.of_int r.rays /. r.render_s /. 1e6)
-                    r.words_per_ray
+                    (if Float.is_nan r.words_per_ray then "—" else Printf.sprintf "%.0f" r.words_per_ray)
                     (match r.peak_kib with Some k -> Printf.sprintf "%.0f" (Float.of_int k /. 1024.) | None -> "—");
                 r)
               configs
@@ -523,14 +541,20 @@ let scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_coun
           [ (name, rows) ]
         end
       in
-      let results =
+      (* in this order: the sweeps print as they go *)
+      let by_count =
         sweep "counts"
           (Printf.sprintf "Object count (%d×%d, %d domain%s)" width height domains (if domains = 1 then "" else "s"))
           (List.map (fun n -> (n, (width, height), domains)) counts)
-        @ sweep "domains" (Printf.sprintf "Domains (%d spheres, %d×%d)" base_count width height)
-            (List.map (fun d -> (base_count, (width, height), d)) domain_counts)
-        @ sweep "sizes" (Printf.sprintf "Image size (%d spheres, 1 domain)" base_count) (List.map (fun wh -> (base_count, wh, 1)) sizes)
       in
+      let by_domains =
+        sweep "domains" (Printf.sprintf "Domains (%d spheres, %d×%d)" base_count width height)
+          (List.map (fun d -> (base_count, (width, height), d)) domain_counts)
+      in
+      let by_size =
+        sweep "sizes" (Printf.sprintf "Image size (%d spheres, 1 domain)" base_count) (List.map (fun wh -> (base_count, wh, 1)) sizes)
+      in
+      let results = by_count @ by_domains @ by_size in
       if json then
         print_endline
           (Yojson.Safe.pretty_to_string
