@@ -30,7 +30,9 @@ golden-update: build
 	LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
 
 bench: build
-	$(DUNE) exec --no-build -- test/bench/bench_spheres.exe 1000 10000 100000 1000000
+	$(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
+	$(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
+	$(DUNE) exec --no-build -- lancer bench physics
 
 fuzz: build
 	LANCER_FUZZ_COUNT=200000 $(DUNE) test -j $(JOBS) --force test/dsl

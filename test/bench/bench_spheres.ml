@@ -7,7 +7,10 @@
    in [0.1, 0.4], one point light with shadows, seen from outside the cube. Reported per
    count, as a Markdown table: building the scene (primitives and BVH) and the BVH alone,
    the render time, rays per second (primary + shadow), minor words allocated per ray, and
-   peak resident memory (VmHWM, which only grows, so read it for the largest count). *)
+   peak resident memory (VmHWM, which only grows, so read it for the largest count).
+   The scene is the one of `lancer bench scaling`, which runs each count in a process of
+   its own and also sweeps domains and image sizes; this single-process form stays for
+   profiling one count under perf. *)
 open Lancer
 
 let vm_hwm_mib () =
@@ -22,15 +25,6 @@ let vm_hwm_mib () =
         in
         go ())
   with _ -> Float.nan
-
-let spheres n =
-  let st = Random.State.make [| 12345; n |] in
-  let l = 0.5 *. Float.cbrt (Float.of_int n) in
-  let m = Material.default in
-  List.init n (fun _ ->
-      let c = Vec3.v (Random.State.float st (2. *. l) -. l) (Random.State.float st (2. *. l) -. l) (Random.State.float st (2. *. l) -. l) in
-      let color = Color.v (Random.State.float st 1.) (Random.State.float st 1.) (Random.State.float st 1.) in
-      Primitive.make { m with color } (Shape.sphere ~center:c ~radius:(0.1 +. Random.State.float st 0.3)))
 
 let time f =
   let t0 = Unix.gettimeofday () in
@@ -51,11 +45,8 @@ let () =
   print_endline "|---:|---:|---:|---:|---:|---:|---:|---:|";
   List.iter
     (fun n ->
-      let prims = spheres n in
-      let l = 0.5 *. Float.cbrt (Float.of_int n) in
-      let camera = Camera.make ~position:(Vec3.v 0.3 (0.4 *. l) (-3.2 *. l)) ~look_at:Vec3.zero ~fov:45. () in
+      let prims, camera, lights = Lancer_cli.Bench.sphere_field n in
       let settings = { Settings.default with width = !width; height = !height; depth = 1 } in
-      let lights = [ Light.point (Vec3.v (2. *. l) (3. *. l) (-4. *. l)) ] in
       let arr = Array.of_list prims in
       let _, bvh_s = time (fun () -> Accel.build arr) in
       let sc, build_s = time (fun () -> Scene.make_exn ~settings ~camera ~lights prims) in
