@@ -446,3 +446,63 @@ let tree_fold a tr r tmin tmax f acc =
 
 let fold_hits a r tmin tmax f acc =
   match a.tree with None -> linear_fold a.prims r tmin tmax f acc | Some tr -> tree_fold a tr r tmin tmax f acc
+
+(* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
+   first surface met makes the shadow black. Exits on the first hit; no ordering, no
+   closure, no allocation. *)
+let linear_any prims r tmin tmax =
+  let hit = ref false and i = ref 0 in
+  while (not !hit) && !i < Array.length prims do
+    if Primitive.intersect (Array.unsafe_get prims !i) r tmin tmax < tmax then hit := true;
+    incr i
+  done;
+  !hit
+
+let tree_any a tr r tmin tmax =
+  let prims = a.prims and outside = a.outside in
+  let hit = ref false and k = ref 0 in
+  while (not !hit) && !k < Array.length outside do
+    if Primitive.intersect prims.(Array.unsafe_get outside !k) r tmin tmax < tmax then hit := true;
+    incr k
+  done;
+  if !hit then true
+  else begin
+    let o = Ray.origin r and inv = Ray.inv_dir r in
+    let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
+    let nodes = tr.nodes and links = tr.links in
+    let st = get_stack tr.depth in
+    let sids = st.ids in
+    let sp = ref 0 in
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+      Array.unsafe_set sids 0 0;
+      sp := 1
+    end;
+    while (not !hit) && !sp > 0 do
+      decr sp;
+      let node = Array.unsafe_get sids !sp in
+      let count = Array.unsafe_get links ((2 * node) + 1) in
+      if count > 0 then begin
+        let first = Array.unsafe_get links (2 * node) in
+        let j = ref first in
+        while (not !hit) && !j < first + count do
+          if Primitive.intersect (Array.unsafe_get tr.leaf_prims !j) r tmin tmax < tmax then hit := true;
+          incr j
+        done
+      end
+      else begin
+        let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+          Array.unsafe_set sids !sp rr;
+          incr sp
+        end;
+        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+          Array.unsafe_set sids !sp l;
+          incr sp
+        end
+      end
+    done;
+    st.busy <- false;
+    !hit
+  end
+
+let any_hit a r tmin tmax = match a.tree with None -> linear_any a.prims r tmin tmax | Some tr -> tree_any a tr r tmin tmax

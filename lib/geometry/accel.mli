@@ -21,3 +21,8 @@ val fold_hits :
 (** [fold_hits a r tmin tmax f acc] folds [f prim t acc] over every surface crossing of [r]
     with tmin < t < tmax, stopping early once [acc] is black. Used for shadow
     transmittance, whose product does not depend on the order. *)
+
+val any_hit : t -> Ray.t -> float -> float -> bool
+(** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
+    stops at the first one found and allocates nothing: the shadow query when no surface
+    is transparent. *)

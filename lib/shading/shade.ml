@@ -18,6 +18,10 @@ let black_if_zero = Color.black
 let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
   st.shadow <- st.shadow + 1;
   let r = Ray.make_raw origin dir in
+  if not sc.features.refraction then
+    (* Every surface is opaque: the first one met makes the shadow. *)
+    if Accel.any_hit sc.accel r 0. dist then Color.black else Color.white
+  else
   Accel.fold_hits sc.accel r 0. dist
     (fun o t acc ->
       let m = o.material in
