@@ -425,16 +425,20 @@ let timed f =
   (r, Unix.gettimeofday () -. t0)
 
 (* One configuration measured in this process. *)
-let scale_measure ~count ~width ~height ~domains =
+let scale_measure ~repeat ~count ~width ~height ~domains =
   let prims, camera, lights = sphere_field count in
   let settings = { Settings.default with width; height; depth = 1 } in
   let _, bvh_s = timed (fun () -> Accel.build (Array.of_list prims)) in
   let sc, build_s = timed (fun () -> Scene.make_exn ~settings ~camera ~lights prims) in
   Gc.compact ();
   let w0 = Gc.minor_words () in
-  let (_, st), render_s = timed (fun () -> Render.with_pool domains (fun pool -> Render.render ?pool sc)) in
-  let words = Gc.minor_words () -. w0 in
-  let rays = Stats.total_rays st in
+  (* the median of [repeat] renders on one pool *)
+  let runs =
+    Render.with_pool domains (fun pool -> List.init (max 1 repeat) (fun _ -> timed (fun () -> Render.render ?pool sc)))
+  in
+  let words = (Gc.minor_words () -. w0) /. Float.of_int (List.length runs) in
+  let render_s = median (List.map snd runs) in
+  let rays = Stats.total_rays (snd (fst (List.hd runs))) in
   ignore (Sys.opaque_identity sc);
   { count; width; height; doms = domains; build_s; bvh_s; render_s; rays;
     (* Gc.minor_words counts this domain's allocations only *)
@@ -458,10 +462,10 @@ let scale_row_of_json j =
 
 (* One configuration measured in a child process of this executable, so that its peak
    resident memory (VmHWM, which only grows) is its own. *)
-let scale_child ~count ~width ~height ~domains =
+let scale_child ~repeat ~count ~width ~height ~domains =
   let exe = Sys.executable_name in
   let args =
-    [| exe; "bench"; "scaling"; "--row"; Printf.sprintf "%d,%dx%d,%d" count width height domains |]
+    [| exe; "bench"; "scaling"; "--repeat"; string_of_int repeat; "--row"; Printf.sprintf "%d,%dx%d,%d" count width height domains |]
   in
   let ic = Unix.open_process_args_in exe args in
   let out = In_channel.input_all ic in
@@ -493,11 +497,11 @@ let default_domain_counts () =
   let rec pow k = if k >= cores then [] else k :: pow (2 * k) in
   pow 1 @ [ cores ]
 
-let scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~json =
+let scaling_cmd ~repeat ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~json =
   match row with
   | Some s -> (
       match parse_row s with
-      | Some (count, width, height, domains) -> print_endline (Yojson.Safe.to_string (scale_row_json (scale_measure ~count ~width ~height ~domains)))
+      | Some (count, width, height, domains) -> print_endline (Yojson.Safe.to_string (scale_row_json (scale_measure ~repeat ~count ~width ~height ~domains)))
       | None -> raise (Cli.User_error ("--row expects COUNT,WxH,DOMAINS, not " ^ s)))
   | None ->
       if List.exists (fun n -> n < 1) counts || base_count < 1 then raise (Cli.User_error "sphere counts must be at least 1");
@@ -510,7 +514,8 @@ let scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_coun
         (fun s -> if not (List.mem s [ "counts"; "domains"; "sizes" ]) then raise (Cli.User_error ("unknown sweep " ^ s ^ " (counts, domains or sizes)")))
         sweeps;
       let domain_counts = if domain_counts = [] then default_domain_counts () else domain_counts in
-      let measure = if in_process then scale_measure else scale_child in
+      if repeat < 1 then raise (Cli.User_error "--repeat must be at least 1");
+      let measure = if in_process then scale_measure ~repeat else scale_child ~repeat in
       let memory_scope = if in_process then "process (running maximum over the rows so far)" else "configuration (one child process each)" in
       if not json then
         Printf.printf "Random spheres (1 sample, shadows, depth 1), OCaml %s, %d cores recommended; peak memory per %s\n%!"
@@ -659,10 +664,13 @@ let cmd =
              ~doc:"Measure this one configuration in this process and print it as one line of JSON (what the sweeps run \
                    in their child processes).")
     in
+    let repeat =
+      Arg.(value & opt int 3 & info [ "repeat" ] ~docv:"R" ~doc:"Renders per configuration; the median time is reported.")
+    in
     let man =
       [ `S Manpage.s_description;
         `P "Renders N random spheres (fixed seed, uniform in a cube of side N^(1/3), one point light with shadows, one \
-            sample, depth 1) and reports the scene build and BVH build times, the render time, rays per second, minor \
+            sample, depth 1) and reports the scene build and BVH build times, the render time (median of R renders), rays per second, minor \
             words allocated per ray and peak resident memory (VmHWM). Three sweeps: the sphere count, the domain count \
             and the image size. Each configuration runs in a child process of this executable, so its peak memory is \
             its own.";
@@ -671,9 +679,9 @@ let cmd =
     in
     Cmd.v
       (Cmd.info "scaling" ~doc:"build time, render time, rays/s and memory against object count, domains and image size" ~man ~exits)
-      Term.(const (fun counts width height domains domain_counts sizes base_count sweeps in_process row json ->
+      Term.(const (fun counts width height domains domain_counts sizes base_count sweeps in_process row repeat json ->
                 Cli.run (fun () ->
-                    scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~json))
-            $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps $ in_process $ row $ json)
+                    scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes ~base_count ~sweeps ~in_process ~row ~repeat ~json))
+            $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps $ in_process $ row $ repeat $ json)
   in
   Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality; physics; scaling ]
