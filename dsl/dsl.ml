@@ -272,7 +272,7 @@ let to_json ?body_state t (sc : Scene.t) =
         List.map
           (fun (o : Eval.obj) ->
             `Assoc
-              ([ ("kind", `String o.kind) ] @ o.fields
+              ([ ("kind", `String o.kind) ] @ Lazy.force o.fields
               @ [ ("transforms", `List o.transforms); ("material", Lazy.force o.material_json) ]
               @ match o.body with Some n -> [ ("body", `String n) ] | None -> []))
           out.objects

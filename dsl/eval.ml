@@ -23,7 +23,7 @@ type body = {
 
 type obj = {
   kind : string;
-  fields : (string * Yojson.Safe.t) list;
+  fields : (string * Yojson.Safe.t) list Lazy.t;
   transforms : Yojson.Safe.t list;
   material_json : Yojson.Safe.t Lazy.t;
   prims : Primitive.t list;  (** one, or a mesh's triangles *)
@@ -129,7 +129,7 @@ let fail loc fmt = Printf.ksprintf (fun m -> raise (Fail (loc, m))) fmt
 
 type pending_obj = {
   p_kind : string;
-  p_fields : (string * Yojson.Safe.t) list;
+  p_fields : (string * Yojson.Safe.t) list Lazy.t;
   p_shapes : Shape.t list;
   p_transform : Transform.t;
   p_tjson : Yojson.Safe.t list;
@@ -866,24 +866,24 @@ and object_ ctx env scope (k : name) items =
   | None -> None
   | Some p_shapes -> Some { p_kind = k.id; p_fields = fields; p_shapes; p_transform = t; p_tjson = tj; p_material = mat }
 
-and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t list option =
-  let built fields sh = if b.failed then ([], None) else (fields, Some [ sh () ]) in
+and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list option =
+  let built fields sh = if b.failed then (lazy [], None) else (fields, Some [ sh () ]) in
   match k.id with
   | "sphere" ->
       let center = point b "center" ~default:Vec3.zero ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built [ ("center", vjson center); ("radius", `Float radius) ] (fun () -> Shape.sphere ~center ~radius)
+      built (lazy [ ("center", vjson center); ("radius", `Float radius) ]) (fun () -> Shape.sphere ~center ~radius)
   | "plane" ->
       let normal = direction b "normal" ~required:true in
       let offset = coord b "offset" ~default:0. in
-      built [ ("normal", vjson normal); ("offset", `Float offset) ] (fun () -> Shape.plane ~normal ~offset)
+      built (lazy [ ("normal", vjson normal); ("offset", `Float offset) ]) (fun () -> Shape.plane ~normal ~offset)
   | "parallelogram" ->
       let origin = point b "origin" ~required:true ~default:Vec3.zero in
       let edge1 = direction b "edge1" ~required:true in
       let edge2 = direction b "edge2" ~required:true in
       if not b.failed && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
         bad b b.kloc "the edges of a parallelogram must not be parallel";
-      built [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ] (fun () ->
+      built (lazy [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ]) (fun () ->
           Shape.parallelogram ~origin ~edge1 ~edge2)
   | "triangle" ->
       let a = point b "a" ~required:true ~default:Vec3.zero in
@@ -891,21 +891,21 @@ and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t list option =
       let c = point b "c" ~required:true ~default:Vec3.zero in
       if not b.failed && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300 then
         bad b b.kloc "the corners of a triangle must not be in a line";
-      built [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ] (fun () -> Shape.triangle ~a ~b:bb ~c)
+      built (lazy [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ]) (fun () -> Shape.triangle ~a ~b:bb ~c)
   | "paraboloid" ->
       let vertex = point b "vertex" ~required:true ~default:Vec3.zero in
       let axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
       let radius = length b "radius" ~required:true ~default:1. in
       let height = length b "height" ~required:true ~default:1. in
       built
-        [ ("vertex", vjson vertex); ("axis", vjson axis); ("radius", `Float radius); ("height", `Float height) ]
+        (lazy [ ("vertex", vjson vertex); ("axis", vjson axis); ("radius", `Float radius); ("height", `Float height) ])
         (fun () -> Shape.paraboloid ~vertex ~axis ~radius ~height)
   | "box" ->
       let mn = point b "min" ~required:true ~default:Vec3.zero in
       let mx = point b "max" ~required:true ~default:Vec3.one in
       if not b.failed && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
         bad b b.kloc "a box needs min < max on every axis";
-      built [ ("min", vjson mn); ("max", vjson mx) ] (fun () -> Shape.box ~min:mn ~max:mx)
+      built (lazy [ ("min", vjson mn); ("max", vjson mx) ]) (fun () -> Shape.box ~min:mn ~max:mx)
   | "cylinder" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
@@ -914,18 +914,18 @@ and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t list option =
       if not b.failed && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cylinder must differ";
       built
-        [ ("base", vjson base); ("top", vjson top); ("radius", `Float radius); ("caps", `Bool caps) ]
+        (lazy [ ("base", vjson base); ("top", vjson top); ("radius", `Float radius); ("caps", `Bool caps) ])
         (fun () -> Shape.cylinder ~base ~top ~radius ~caps)
   | "disk" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let normal = direction b "normal" ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built [ ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius) ] (fun () ->
+      built (lazy [ ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius) ]) (fun () ->
           Shape.disk ~center ~normal ~radius)
   | "mesh" -> (
       let file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
       let smooth = boolean b "smooth" ~default:true in
-      if b.failed then ([], None)
+      if b.failed then (lazy [], None)
       else
         let dir = Filename.dirname b.kloc.file in
         let path = if Filename.is_relative file && dir <> "." then Filename.concat dir file else file in
@@ -939,14 +939,14 @@ and shape b (k : name) : (string * Yojson.Safe.t) list * Shape.t list option =
         in
         let f = Option.get (field b "file") in
         match r with
-        | Error m -> bad b f.vloc "cannot load the mesh \"%s\": %s" file m; ([], None)
-        | Ok [] -> bad b f.vloc "the mesh \"%s\" has no triangles" file; ([], None)
+        | Error m -> bad b f.vloc "cannot load the mesh \"%s\": %s" file m; (lazy [], None)
+        | Ok [] -> bad b f.vloc "the mesh \"%s\" has no triangles" file; (lazy [], None)
         | Ok tris ->
             let n = List.length tris in
             b.ctx.objects <- b.ctx.objects + n - 1;
             if b.ctx.objects > max_objects then
               limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
-            ([ ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n) ], Some tris))
+            (lazy [ ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n) ], Some tris))
   | _ -> fail k.nloc "%s is not an object" k.id
 
 and group ctx env scope (k : name) items =
@@ -1011,7 +1011,7 @@ and get : 'a. block -> string -> default:'a -> required:bool -> string -> (value
   | None ->
       (* A misspelt field already reported as unknown, with this one as its hint, is not
          reported missing as well. *)
-      let misspelt = List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields in
+      let misspelt = required && List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields in
       if required && misspelt then b.failed <- true
       else if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
       default

@@ -41,7 +41,7 @@ type body = {
 
 type obj = {
   kind : string;  (** "sphere", "plane", … *)
-  fields : (string * Yojson.Safe.t) list;  (** the object's fields, in object space *)
+  fields : (string * Yojson.Safe.t) list Lazy.t;  (** the object's fields, in object space; built when asked for *)
   transforms : Yojson.Safe.t list;  (** the transforms applied, in order (group's last) *)
   material_json : Yojson.Safe.t Lazy.t;  (** built only when asked for *)
   prims : Primitive.t list;  (** one, or the triangles of a mesh *)

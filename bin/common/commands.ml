@@ -11,6 +11,9 @@ let render_cmd (o : Cli.opts) =
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
+  (* Evaluating a large scene leaves garbage (the evaluator's values): give it back before
+     the framebuffer is allocated, so that peak memory is the scene plus the image. *)
+  Gc.compact ();
   let progress = Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label:"tiles" ~total:(Array.length (Render.tiles sc)) () in
   let t0 = Unix.gettimeofday () in
   let fb, st =
