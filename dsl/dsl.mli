@@ -66,6 +66,8 @@ val physics : t -> physics option
     {!default_physics}). *)
 
 val default_physics : physics
+(** The physics when the scene has no [physics] block: gravity (0, −9.81, 0), the exact
+    method, step 1/240. *)
 
 val colliders : t -> Physics.collider list
 (** The static obstacles of the bodies: every plane, parallelogram and box of the scene at
@@ -73,7 +75,7 @@ val colliders : t -> Physics.collider list
     obstacles. *)
 
 val simulate : t -> until:float -> (Physics.trajectory, Error.t list) result
-(** The motion of the bodies among {!colliders} under {!physics}, computed for
+(** The motion of the bodies among {!colliders} under {!val-physics}, computed for
     [\[0, max until duration\]] (duration: the animation's, 0 for a still) and kept, so
     that every frame samples the same simulation. *)
 
@@ -81,7 +83,7 @@ val simulate : t -> until:float -> (Physics.trajectory, Error.t list) result
 
 val summary : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> string
 (** A few lines on what the scene holds: image size, frames, objects by kind, lights,
-    distinct materials, bodies, and which {!Features} it uses. *)
+    distinct materials, bodies, and which {!Lancer.Features} it uses. *)
 
 val to_json : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> Yojson.Safe.t
 (** The evaluated scene at [scene]'s time: settings, camera, lights, every object with its

@@ -30,3 +30,4 @@ val pp : Format.formatter -> t -> unit
     followed by a newline. *)
 
 val to_string : t -> string
+(** The text {!pp} prints. *)

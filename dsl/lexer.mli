@@ -4,6 +4,7 @@
 exception Lex_error of Loc.t * string
 
 val token : Lexing.lexbuf -> Parser.token
+(** The next token of the buffer, skipping white space and comments; [EOF] at the end. *)
 
 val describe : Parser.token -> string
-(** The token as a user would write it, for syntax error messages ("`{`", "a number"). *)
+(** The token as a user would write it, for syntax error messages ("`\{`", "a number"). *)

@@ -7,7 +7,13 @@
 type t
 
 val build : Primitive.t array -> t
+(** [build prims] indexes [prims] for ray queries: a binned-SAH bounding volume hierarchy
+    over the bounded ones when there are enough of them, a linear scan otherwise. *)
+
 val primitives : t -> Primitive.t array
+(** The primitives as given to {!build}; the index returned by {!nearest} is into this
+    array. *)
+
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
 

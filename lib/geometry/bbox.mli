@@ -6,8 +6,14 @@ val empty : t
 (** The box that contains nothing (min = +inf, max = −inf); [union empty b = b]. *)
 
 val of_points : Vec3.t list -> t
+(** The smallest box containing the points; {!empty} for no point. *)
+
 val union : t -> t -> t
+(** The smallest box containing both boxes. *)
+
 val centroid : t -> Vec3.t
+(** The centre of the box, halfway between [min] and [max]. *)
+
 val surface_area : t -> float
 (** Surface area; 0 for an empty or flat box. *)
 

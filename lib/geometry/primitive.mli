@@ -11,6 +11,8 @@ type t = private {
 }
 
 val make : ?transform:Transform.t -> Material.t -> Shape.t -> t
+(** [make ~transform material shape] places [shape] in the world by [transform] (default the
+    identity) and computes its world bounds. *)
 
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect o r tmin tmax] is the nearest t in (tmin, tmax) of world ray [r] on [o], or

@@ -53,6 +53,8 @@ type t = private
       (** unit normal; (e1, e2) a frame in the disk's plane *)
 
 val sphere : center:Vec3.t -> radius:float -> t
+(** The sphere |P − center| = radius; the radius must be positive. *)
+
 val plane : normal:Vec3.t -> offset:float -> t
 (** [plane ~normal ~offset]: [normal] need not be unit; the plane is n̂·P = offset with
     n̂ = normalize normal. *)
@@ -88,6 +90,7 @@ val cylinder : base:Vec3.t -> top:Vec3.t -> radius:float -> caps:bool -> t
     disks when [caps]. *)
 
 val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
+(** The flat disk of [radius] around [center] in the plane of [normal] (need not be unit). *)
 
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect s r tmin tmax] is the smallest root t of [r] on [s] with tmin < t < tmax,

@@ -9,10 +9,13 @@
 type t = { width : int; height : int; data : Float.Array.t  (** 3·width·height linear floats *) }
 
 val create : int -> int -> t
+(** [create w h] is a black framebuffer of [w] columns and [h] rows. *)
+
 val get : t -> int -> int -> Color.t
 (** [get fb i j] is the colour of column [i], row [j]. *)
 
 val set : t -> int -> int -> Color.t -> unit
+(** [set fb i j c] stores colour [c] at column [i], row [j]. *)
 
 val encode_channel : Settings.gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)

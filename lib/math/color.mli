@@ -7,21 +7,40 @@
 type t = { r : float; g : float; b : float }
 
 val v : float -> float -> float -> t
+(** [v r g b] is the colour (r, g, b). *)
+
 val black : t
+(** (0, 0, 0). *)
+
 val white : t
+(** (1, 1, 1). *)
+
 val add : t -> t -> t
+(** Component-wise sum. *)
+
 val mul : t -> t -> t
 (** [mul a b] is the component-wise (filter) product a ⊙ b. *)
 
 val scale : float -> t -> t
+(** [scale s c] is [s·c]. *)
+
 val madd : t -> float -> t -> t
 (** [madd a s b] is [a + s·b]. *)
 
 val of_vec3 : Vec3.t -> t
+(** The vector (x, y, z) read as the colour (r, g, b). *)
+
 val to_vec3 : t -> Vec3.t
+(** The colour (r, g, b) as the vector (x, y, z). *)
+
 val is_finite : t -> bool
 (** [is_finite c] is false when any component is NaN or infinite. *)
 
 val max_component : t -> float
+(** The largest of r, g and b. *)
+
 val equal_f : ?eps:float -> t -> t -> bool
+(** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
+
 val pp : Format.formatter -> t -> unit
+(** Prints [rgb(r, g, b)]. *)

@@ -15,7 +15,11 @@ val make_raw : Vec3.t -> Vec3.t -> t
 (** [make_raw origin dir] keeps [dir] as given (possibly not unit length). *)
 
 val origin : t -> Vec3.t
+(** The ray's origin. *)
+
 val dir : t -> Vec3.t
+(** The ray's direction: unit length unless built by {!make_raw}. *)
+
 val inv_dir : t -> Vec3.t
 (** Component-wise 1/dir; ±infinity for a zero component. *)
 

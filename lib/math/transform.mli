@@ -8,7 +8,11 @@
 type t
 
 val identity : t
+(** The transform that moves nothing. *)
+
 val translate : Vec3.t -> t
+(** [translate d] moves every point by [d]. *)
+
 val scale : Vec3.t -> t
 (** [scale s] scales each axis; components must be non-zero (the loader checks). *)
 
@@ -19,6 +23,8 @@ val then_ : t -> t -> t
 (** [then_ a b] is the transform that applies [a], then [b]. *)
 
 val is_identity : t -> bool
+(** Whether the transform is the identity (so callers can skip it). *)
+
 val point : t -> Vec3.t -> Vec3.t
 (** Object-space point to world space. *)
 

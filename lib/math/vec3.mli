@@ -10,13 +10,28 @@ val v : float -> float -> float -> t
 (** [v x y z] is the vector (x, y, z). *)
 
 val zero : t
+(** (0, 0, 0). *)
+
 val one : t
+(** (1, 1, 1). *)
+
 val x_axis : t
+(** (1, 0, 0). *)
+
 val y_axis : t
+(** (0, 1, 0). *)
+
 val z_axis : t
+(** (0, 0, 1). *)
+
 val add : t -> t -> t
+(** [add a b] is [a + b]. *)
+
 val sub : t -> t -> t
+(** [sub a b] is [a − b]. *)
+
 val neg : t -> t
+(** [neg a] is [−a]. *)
 
 val mul : t -> t -> t
 (** [mul a b] is the component-wise product. *)
@@ -31,7 +46,10 @@ val madd : t -> float -> t -> t
 (** [madd a s b] is [a + s·b], in one allocation. *)
 
 val dot : t -> t -> float
+(** [dot a b] is the scalar product a·b. *)
+
 val cross : t -> t -> t
+(** [cross a b] is the vector product a × b. *)
 
 val length : t -> float
 (** [length v] is |v|, computed with [Float.hypot]-style scaling only where needed: plain
@@ -50,6 +68,8 @@ val min : t -> t -> t
 (** Component-wise minimum (typed float comparison; NaN-free inputs assumed). *)
 
 val max : t -> t -> t
+(** Component-wise maximum (typed float comparison; NaN-free inputs assumed). *)
+
 val get : t -> int -> float
 (** [get v i] is x, y or z for i = 0, 1, 2. *)
 
@@ -57,3 +77,4 @@ val equal_f : ?eps:float -> t -> t -> bool
 (** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
 
 val pp : Format.formatter -> t -> unit
+(** Prints [(x, y, z)]. *)

@@ -10,12 +10,14 @@
     background. *)
 
 val tile_size : int
+(** The side of a square tile in pixels (32); the last row and column of tiles may be
+    smaller. *)
 
 val pixel : Scene.t -> Stats.t -> int -> int -> Color.t
 (** [pixel scene stats i j] is the linear colour of column [i], row [j]. *)
 
 val render_tile : Scene.t -> Stats.t -> Image.t -> int -> int -> int -> int -> unit
-(** [render_tile scene stats fb x0 y0 x1 y1] renders columns [x0, x1) of rows [y0, y1). *)
+(** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1). *)
 
 val tiles : Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major. *)

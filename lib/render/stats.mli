@@ -11,7 +11,10 @@ type t = {
 }
 
 val create : unit -> t
+(** Counters at zero. *)
+
 val add_into : t -> t -> unit
 (** [add_into acc s] adds [s]'s counts to [acc]. *)
 
 val total_rays : t -> int
+(** Primary, shadow, reflected and refracted rays together. *)

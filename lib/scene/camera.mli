@@ -19,6 +19,7 @@ val make : ?position:Vec3.t -> ?look_at:Vec3.t -> ?up:Vec3.t -> ?fov:float -> un
 (** Defaults: position (0,0,−5), look_at origin, up (0,1,0), fov 60. *)
 
 val default : t
+(** The camera of {!make} with every default: at (0, 0, −5) looking at the origin. *)
 
 val validate : t -> (unit, string) result
 (** [Error] when look_at = position, up is parallel to the view direction, or fov is

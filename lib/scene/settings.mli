@@ -16,9 +16,13 @@ type t = {
 }
 
 val default : t
+(** The settings of SPEC §2.3 with every default, as listed with the fields above. *)
 
 val max_pixels : int
 (** The largest image accepted: width × height ≤ this (268 435 456 = 16384², 6 GiB of
     linear framebuffer). *)
 
 val validate : t -> (unit, string) result
+(** [Error] naming the field when a setting is out of range: size below 1×1 or above
+    {!max_pixels}, depth below 1, samples outside 1–64, adaptive negative or not finite, or
+    a gamma that is not a positive number. *)

@@ -21,3 +21,5 @@ val directional : ?color:Color.t -> ?intensity:float -> Vec3.t -> t
 (** [directional d] travels along [normalize d]. *)
 
 val is_area : t -> bool
+(** Whether the light is a point light with a radius and more than one sample: an area light
+    casting soft shadows. *)

@@ -18,6 +18,8 @@ type t = {
 }
 
 val default : t
+(** The material with every default above: white, ambient 0.1, diffuse 0.9, no texture or
+    bump. *)
 
 val validate : t -> (unit, string) result
 (** [validate m] is [Error msg] when an invariant above does not hold. *)

@@ -3,7 +3,7 @@
     Solid (3-D) textures are evaluated at an object-space point; the caller passes
     P − δ·N (SPEC §2.5) so that a surface lying exactly on a cell boundary does not
     flicker. Image textures use the surface's (u, v). All colours are linear RGB. Every
-    texture is a pure function of its arguments (the noise is seeded once, see {!Noise}),
+    texture is a pure function of its arguments (the noise is seeded once, see {!module-Noise}),
     and never returns NaN for finite input. *)
 
 type t =
@@ -35,3 +35,5 @@ val needs_uv : t -> bool
 (** Whether [eval] reads (u, v) (image textures), so shading computes them only then. *)
 
 val name : t -> string
+(** The kind, as written in a scene ("checker", "marble", "image", …; "solid" for a plain
+    colour). *)
