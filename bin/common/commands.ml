@@ -55,6 +55,40 @@ let diff_cmd a b out tolerance share =
         out;
       if not (Compare.within ~max_diff:tolerance ~max_share:share c) then exit 1
 
+(* Render a scene and hold it against a golden PNG, as lancer.alcotest does in a test. *)
+let golden_cmd (o : Cli.opts) golden tolerance share update =
+  Cli.install_interrupt_handler ();
+  let prog = Cli.load o.scene in
+  let time, frame = Cli.time_of o prog in
+  let sc = Cli.scene_at o prog ~time ~frame in
+  let fb, _ = Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool sc) in
+  let w, h = (fb.width, fb.height) in
+  let actual = (w, h, Image.to_bytes sc.settings.gamma fb) in
+  let write p bytes = match Image.write_rgb8 p w h bytes with Ok () -> () | Error m -> raise (Cli.User_error m) in
+  let sibling suffix = Filename.remove_extension golden ^ suffix in
+  if update then begin
+    write golden (let _, _, b = actual in b);
+    Printf.printf "golden written: %s\n" golden
+  end
+  else if not (Sys.file_exists golden) then begin
+    write (sibling ".actual.png") (let _, _, b = actual in b);
+    Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden
+      (sibling ".actual.png")
+  end
+  else
+    let expected = match Image.read_rgb8 golden with Ok i -> i | Error m -> raise (Cli.User_error m) in
+    match Compare.compare ~threshold:tolerance expected actual with
+    | Error m -> Cli.user "%s: %s" golden m
+    | Ok c ->
+        if Compare.within ~max_diff:tolerance ~max_share:share c then Format.printf "same as %s: %a@." golden Compare.pp c
+        else begin
+          write (sibling ".actual.png") (let _, _, b = actual in b);
+          write (sibling ".diff.png") (Compare.diff_image ~threshold:tolerance expected actual);
+          Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp c (sibling ".actual.png")
+            (sibling ".diff.png");
+          exit 1
+        end
+
 let exits = Cli.exits
 
 let wrap f = Cli.run f
@@ -108,6 +142,27 @@ let diff =
   let man = [ `S Manpage.s_examples; `Pre "  lancer diff expected.png actual.png -o diff.png --tolerance 2" ] in
   Cmd.v (Cmd.info "diff" ~doc ~man ~exits) Term.(const (fun a b o t s -> wrap (fun () -> diff_cmd a b o t s)) $ a $ b $ out $ tol $ share)
 
+let golden =
+  let doc = "render a scene and compare it with a golden image; exit status 1 when they differ" in
+  let golden = Arg.(required & pos 1 (some string) None & info [] ~docv:"GOLDEN.png") in
+  let tol = Arg.(value & opt int 1 & info [ "tolerance" ] ~docv:"N" ~doc:"Largest per-channel difference (0–255) that still counts as equal.") in
+  let share =
+    Arg.(value & opt float 0. & info [ "max-share" ] ~docv:"F" ~doc:"Share of pixels (0–1) allowed to exceed the tolerance.")
+  in
+  let update = Arg.(value & flag & info [ "update" ] ~doc:"Write the render as the golden instead of comparing.") in
+  let man =
+    [ `S Manpage.s_description;
+      `P "Renders SCENE.rts with the given options and compares the image with GOLDEN.png. When they differ beyond the tolerance, GOLDEN.actual.png and GOLDEN.diff.png (differences in red) are written next to the golden, and the exit status is 1.";
+      `S Manpage.s_examples; `Pre "  lancer golden scene.rts tests/scene.png --width 160 --height 120";
+      `Pre "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --update   # (re)make the golden" ]
+  in
+  let term =
+    Term.(const (fun (o : Cli.opts) g t sh u ->
+              wrap (fun () -> if o.scene = None then Cli.user "golden needs a scene: lancer golden SCENE.rts GOLDEN.png" else golden_cmd o g t sh u))
+          $ Cli.opts_term $ golden $ tol $ share $ update)
+  in
+  Cmd.v (Cmd.info "golden" ~doc ~man ~exits) term
+
 let main () =
   let doc = "a functional ray tracer for .rts scene scripts" in
   let man =
@@ -117,4 +172,4 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:"0.1.0" ~doc ~man ~exits in
-  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; Bench.cmd ]))
+  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ]))

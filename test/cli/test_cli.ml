@@ -202,6 +202,21 @@ let tests =
         check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png" ]);
         check_status "different" 1 (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "d.png" ]);
         Alcotest.(check bool) "diff image" true (Sys.file_exists (Filename.concat d "d.png")));
+    Alcotest.test_case "golden: missing, --update, same, and different with actual and diff images" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        write_file (Filename.concat d "t.rts") (small_scene ^ "sphere { center: (-1.5, 0.5, -1), radius: 0.5 }\n");
+        let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png" ] in
+        check_status "no golden yet" 1 r;
+        Alcotest.(check bool) e true (contains e "--update");
+        check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update" ]);
+        Sys.remove (Filename.concat d "g.actual.png");
+        check_status "same" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png" ]);
+        let ((_, out, _) as r) = lancer ~dir:d [ "golden"; "t.rts"; "g.png" ] in
+        check_status "different" 1 r;
+        Alcotest.(check bool) out true (contains out "differs from g.png" && contains out "g.diff.png");
+        Alcotest.(check bool) "actual and diff written" true
+          (Sys.file_exists (Filename.concat d "g.actual.png") && Sys.file_exists (Filename.concat d "g.diff.png")));
     Alcotest.test_case "--version and --help work" `Quick (fun () ->
         let ((_, out, _) as r) = lancer [ "--version" ] in
         check_status "version" 0 r;
