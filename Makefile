@@ -4,7 +4,7 @@
 DUNE ?= dune
 JOBS ?= 2
 
-.PHONY: all deps build demo test golden-update bench bench-povray fuzz doc clean fmt
+.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi fuzz doc clean fmt
 
 all: build
 
@@ -33,6 +33,10 @@ bench: build
 	$(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
 	$(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
 	$(DUNE) exec --no-build -- lancer bench physics
+
+# lancer-mpi against lancer on this machine: a still and a 48-frame animation.
+bench-mpi: build
+	bash test/mpi/bench.sh
 
 fuzz: build
 	LANCER_FUZZ_COUNT=200000 $(DUNE) test -j $(JOBS) --force test/dsl

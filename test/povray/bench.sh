@@ -16,7 +16,7 @@ if ! command -v povray >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends povray >&2
 fi
 dune build @install 2>&1 | tail -n 5
-lancer="$root/_build/default/bin/main.exe"
+lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 
 W=${W:-1920}; H=${H:-1080}; REPEAT=${REPEAT:-3}
 SCENES=${SCENES:-"three_spheres field_1000 field_10000 field_100000 mirrors_5 mirrors_10 mirrors_50 glass"}
