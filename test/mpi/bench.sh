@@ -44,7 +44,8 @@ bench() { # KIND: still or animation
     run "lancer, $cores domains" "$cores" "$lancer" "${args[@]}" --domains "$cores"
     run "lancer-mpi -np 1, 1 domain" 1 "${mpirun[@]}" -np 1 "$lmpi" "${args[@]}" --domains 1
     for n in $(seq 1 "$cores"); do
-      run "lancer-mpi -np $((n + 1)): $n workers × 1 domain" "$n" "${mpirun[@]}" -np $((n + 1)) "$lmpi" "${args[@]}" --domains 1
+      w=workers; [ "$n" = 1 ] && w=worker
+      run "lancer-mpi -np $((n + 1)): $n $w × 1 domain" "$n" "${mpirun[@]}" -np $((n + 1)) "$lmpi" "${args[@]}" --domains 1
     done
     run "lancer-mpi -np 2: 1 worker × $cores domains" "$cores" "${mpirun[@]}" -np 2 "$lmpi" "${args[@]}" --domains "$cores"
   } >"$tmp/rows"
