@@ -83,27 +83,37 @@ let solve_quadratic a b c tmin tmax =
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
 let intersect_sphere (center : Vec3.t) radius r tmin tmax =
+  (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
+     of perp and f), in scalars so that nothing is allocated, and with an early miss
+     when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
+     test would say the same. *)
   let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o center in
-  let a = Vec3.dot d d in
-  let b = Vec3.dot f d in
-  let perp = Vec3.madd f (-.b /. a) d in
-  let l = Vec3.length perp in
-  let disc = a *. (radius -. l) *. (radius +. l) in
-  if disc < 0. then Float.infinity
+  let fx = o.x -. center.x and fy = o.y -. center.y and fz = o.z -. center.z in
+  let dx = d.x and dy = d.y and dz = d.z in
+  let a = (dx *. dx) +. (dy *. dy) +. (dz *. dz) in
+  let b = (fx *. dx) +. (fy *. dy) +. (fz *. dz) in
+  let k = -.b /. a in
+  let px = fx +. (k *. dx) and py = fy +. (k *. dy) and pz = fz +. (k *. dz) in
+  let l2 = (px *. px) +. (py *. py) +. (pz *. pz) in
+  if l2 > radius *. radius *. (1. +. 1e-9) && l2 < 1e280 then Float.infinity
   else
-    let fl = Vec3.length f in
-    let c = (fl -. radius) *. (fl +. radius) in
-    let s = Float.sqrt disc in
-    let q = if b < 0. then s -. b else -.(b +. s) in
-    if q = 0. then
-      let t = -.b /. a in
-      if in_range t tmin tmax then t else Float.infinity
+    let l = if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v px py pz) in
+    let disc = a *. (radius -. l) *. (radius +. l) in
+    if disc < 0. then Float.infinity
     else
-      let t0 = q /. a and t1 = c /. q in
-      (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
-      let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
-      if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
+      let fl2 = (fx *. fx) +. (fy *. fy) +. (fz *. fz) in
+      let fl = if fl2 > 1e-280 && fl2 < 1e280 then Float.sqrt fl2 else Vec3.length (Vec3.v fx fy fz) in
+      let c = (fl -. radius) *. (fl +. radius) in
+      let s = Float.sqrt disc in
+      let q = if b < 0. then s -. b else -.(b +. s) in
+      if q = 0. then
+        let t = -.b /. a in
+        if in_range t tmin tmax then t else Float.infinity
+      else
+        let t0 = q /. a and t1 = c /. q in
+        (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
+        let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
+        if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
 
 (* Plane: d·n = 0 is a miss even when the origin lies on the plane (0/0 must not escape). *)
 let intersect_plane (n : Vec3.t) offset r tmin tmax =
