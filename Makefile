@@ -41,8 +41,10 @@ bench-mpi: build
 fuzz: build
 	LANCER_FUZZ_COUNT=200000 $(DUNE) test -j $(JOBS) --force test/dsl
 
-doc: deps
+doc:
+	@bash .ci/deps --doc
 	$(DUNE) build @doc
+	@echo "The API documentation is in _build/default/_doc/_html/index.html"
 
 fmt:
 	$(DUNE) fmt
