@@ -27,6 +27,7 @@ type physics = {
 }
 
 val default_physics : physics
+(** Gravity (0, −9.81, 0), the exact method, step 1/240 s. *)
 
 type body = {
   name : string;
@@ -59,9 +60,11 @@ type output = {
 }
 
 type images
-(** A cache of image files read by [image(…)] textures, shared between frames. *)
+(** A cache of the image files read by [image(…)] textures and bump maps and of the OBJ
+    files read by [mesh], shared between frames. *)
 
 val new_images : unit -> images
+(** An empty cache. *)
 
 val run :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?objects:bool -> sources:(string, string) Hashtbl.t ->
