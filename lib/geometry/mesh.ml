@@ -26,6 +26,12 @@ let number line what s =
   | Some f when Float.is_finite f -> f
   | _ -> bad line "%s: expected a number, got %S" what s
 
+(* The coordinate range of the whole renderer (NUMERICS.md): beyond it squared lengths
+   overflow, and a triangle's area or normal would be infinite or NaN. *)
+let coordinate line s =
+  let f = number line "vertex" s in
+  if Float.abs f > 1e150 then bad line "vertex coordinate %s is outside ±1e150" s else f
+
 (* A 1-based or negative index into [n] elements, as a 0-based index. *)
 let index line what n s =
   match int_of_string_opt s with
@@ -37,7 +43,7 @@ let index line what n s =
 
 let parse ?(smooth = true) ~file text =
   let vs = store () and vts = store () and vns = store () in
-  let tris = ref [] in
+  let tris = ref [] and faces = ref 0 in
   let corner line s =
     match String.split_on_char '/' s with
     | [ v ] -> (index line "vertex" vs.len v, -1, -1)
@@ -63,7 +69,7 @@ let parse ?(smooth = true) ~file text =
     | [] -> ()
     | "v" :: x :: y :: z :: rest ->
         if List.length rest > 1 then bad line "a vertex has 3 coordinates (and an optional weight)";
-        push vs (Vec3.v (number line "vertex" x) (number line "vertex" y) (number line "vertex" z))
+        push vs (Vec3.v (coordinate line x) (coordinate line y) (coordinate line z))
     | "v" :: _ -> bad line "a vertex needs 3 coordinates"
     | "vt" :: u :: rest ->
         let v = match rest with [] -> 0. | v :: _ -> number line "texture coordinate" v in
@@ -75,6 +81,7 @@ let parse ?(smooth = true) ~file text =
     | "f" :: corners ->
         let cs = Array.of_list (List.map (corner line) corners) in
         if Array.length cs < 3 then bad line "a face needs at least 3 corners, got %d" (Array.length cs);
+        incr faces;
         for i = 1 to Array.length cs - 2 do
           face line cs.(0) cs.(i) cs.(i + 1)
         done
@@ -95,7 +102,9 @@ let parse ?(smooth = true) ~file text =
         in
         statement (i + 1) words)
       lines;
-    if !tris = [] then Error (Printf.sprintf "%s:%d: the file has no faces" file (List.length lines))
+    if !tris = [] && !faces > 0 then
+      Error (Printf.sprintf "%s:%d: all %d faces of the file have zero area" file (List.length lines) !faces)
+    else if !tris = [] then Error (Printf.sprintf "%s:%d: the file has no faces" file (List.length lines))
     else Ok (List.rev !tris)
   with Bad (line, m) -> Error (Printf.sprintf "%s:%d: %s" file line m)
 
