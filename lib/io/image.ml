@@ -39,47 +39,89 @@ let temp_path path =
   let dir = Filename.dirname path and base = Filename.basename path in
   Filename.concat dir (Printf.sprintf ".%s.tmp-%d-%d" base (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
 
-let describe_exn = function
-  | Sys_error m -> m
+(* The reason of a failure, without the name of the temporary file: the user only knows
+   the path they asked for. *)
+let describe_exn ?tmp = function
+  | Sys_error m -> (
+      match tmp with
+      | Some t when String.length m > String.length t + 2 && String.sub m 0 (String.length t + 2) = t ^ ": " ->
+          String.sub m (String.length t + 2) (String.length m - String.length t - 2)
+      | _ -> m)
   | Unix.Unix_error (e, f, a) -> Printf.sprintf "%s%s: %s" f (if a = "" then "" else " " ^ a) (Unix.error_message e)
   | Failure m -> m
   | e -> Printexc.to_string e
 
 let remove_quietly p = try Sys.remove p with _ -> ()
 
-let write_atomic path f =
+(* libpng prints its own diagnostics on stderr before camlimages turns them into an
+   exception, which is then reported once, in one line: silence the library's copy while
+   it runs. Images are read and written outside the parallel render, so nothing else is
+   writing to stderr meanwhile. *)
+let quietly f =
+  match Unix.openfile "/dev/null" [ Unix.O_WRONLY; Unix.O_CLOEXEC ] 0 with
+  | exception Unix.Unix_error _ -> f ()
+  | null ->
+      flush stderr;
+      let saved = Unix.dup ~cloexec:true Unix.stderr in
+      Unix.dup2 null Unix.stderr;
+      Unix.close null;
+      Fun.protect ~finally:(fun () -> Unix.dup2 saved Unix.stderr; Unix.close saved) f
+
+(* What can be refused before a temporary file exists. *)
+let check_target path =
+  let dir = Filename.dirname path in
   if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "%s: is a directory" path)
-  else
-    let tmp = temp_path path in
-    match
+  else if not (Sys.file_exists dir) then Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
+  else if not (Sys.is_directory dir) then Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
+  else Ok ()
+
+(* A device or a pipe (/dev/stdout, /dev/null, a FIFO) cannot be replaced by a rename,
+   and must not be: running as root, that would swap the device node for a file. *)
+let is_special path =
+  match (Unix.stat path).st_kind with
+  | Unix.S_CHR | Unix.S_BLK | Unix.S_FIFO | Unix.S_SOCK -> true
+  | _ -> false
+  | exception Unix.Unix_error _ -> false
+
+(* Write through [f tmp] into a temporary file beside [path], then rename it into place;
+   on any failure (a full disk included) the temporary file is removed. A device or pipe
+   is written in place. *)
+let atomically path f =
+  match check_target path with
+  | Error e -> Error e
+  | Ok () when is_special path -> (
+      match f path with
+      | () -> Ok ()
+      | exception Sys.Break -> raise Sys.Break
+      | exception e -> Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp:path e)))
+  | Ok () -> (
+      let tmp = temp_path path in
+      match f tmp; Unix.rename tmp path with
+      | () -> Ok ()
+      | exception e ->
+          remove_quietly tmp;
+          (match e with Sys.Break -> raise e | _ -> ());
+          Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp e)))
+
+let write_atomic path f =
+  atomically path (fun tmp ->
       let oc = open_out_bin tmp in
-      Fun.protect ~finally:(fun () -> close_out_noerr oc) (fun () -> f oc; close_out oc);
-      Unix.rename tmp path
-    with
-    | () -> Ok ()
-    | exception e ->
-        remove_quietly tmp;
-        Error (Printf.sprintf "cannot write %s: %s" path (describe_exn e))
+      Fun.protect ~finally:(fun () -> close_out_noerr oc) (fun () -> f oc; close_out oc))
 
 let write_ppm oc w h bytes =
   Printf.fprintf oc "P6\n%d %d\n255\n" w h;
   output_bytes oc bytes
 
 (* camlimages writes PNG to a path, not a channel: it writes the temporary file itself
-   and the rename makes it appear atomically. *)
+   and the rename makes it appear atomically. The file is created first so that a refusal
+   by the system comes with its reason rather than libpng's "png file open failed". *)
 let write_png_atomic path w h bytes =
-  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "%s: is a directory" path)
-  else
-    let tmp = temp_path path in
-    match
+  atomically path (fun tmp ->
+      close_out (open_out_bin tmp);
       let img = Rgb24.create_with w h [] bytes in
-      Png.save tmp [] (Images.Rgb24 img);
-      Unix.rename tmp path
-    with
-    | () -> Ok ()
-    | exception e ->
-        remove_quietly tmp;
-        Error (Printf.sprintf "cannot write %s: %s" path (describe_exn e))
+      match quietly (fun () -> Png.save tmp [] (Images.Rgb24 img)) with
+      | () -> ()
+      | exception Failure _ -> failwith "the PNG encoder could not write the file (is the disk full?)")
 
 let write_rgb8 path w h bytes =
   match format_of_path path with
@@ -118,9 +160,31 @@ let read_ppm path =
   really_input ic bytes 0 (3 * w * h);
   (w, h, bytes)
 
+let png_signature = "\137PNG\r\n\026\n"
+
+(* What the decoder would find out only after allocating: the signature, and the size in
+   the IHDR chunk, which the PNG specification puts first. *)
+let check_png_header path =
+  let head = In_channel.with_open_bin path (fun ic -> In_channel.really_input_string ic 24) in
+  match head with
+  | Some h when String.sub h 0 8 = png_signature && String.sub h 12 4 = "IHDR" ->
+      let be32 o = (Char.code h.[o] lsl 24) lor (Char.code h.[o + 1] lsl 16) lor (Char.code h.[o + 2] lsl 8) lor Char.code h.[o + 3] in
+      let w = be32 16 and h = be32 20 in
+      if w < 1 || h < 1 then failwith (Printf.sprintf "a PNG image of %d×%d pixels is empty" w h)
+      else if w > Settings.max_pixels / h then
+        failwith (Printf.sprintf "image %d×%d is larger than the limit of %d pixels" w h Settings.max_pixels)
+  | Some h when String.sub h 0 8 = png_signature -> failwith "not a PNG file (its first chunk is not IHDR)"
+  | _ -> failwith "not a PNG file"
+
 let read_png path =
+  check_png_header path;
+  let load () =
+    try quietly (fun () -> Png.load path [])
+    with Failure m when m <> "" && m.[0] <> '#' -> failwith (Printf.sprintf "corrupt or truncated PNG data (%s)" m)
+       | Failure _ -> failwith "corrupt PNG data"
+  in
   let rgb =
-    match Png.load path [] with
+    match load () with
     | Images.Rgb24 i -> i
     | Images.Rgba32 i -> Rgb24.of_rgba32 i
     | Images.Index8 i -> Index8.to_rgb24 i
@@ -139,6 +203,7 @@ let read_rgb8 path =
   | Error e -> Error e
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
+      else if Sys.is_directory path then Error (Printf.sprintf "%s: is a directory, not an image" path)
       else
         match (match fmt with Png -> read_png path | Ppm -> read_ppm path) with
         | r -> Ok r

@@ -30,8 +30,10 @@ val format_of_path : string -> (format, string) result
 
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
 (** [write_atomic path f] writes [path] through [f] into a temporary file beside it and
-    renames it into place; on any failure the temporary file is removed and [path] is
-    untouched. The message names the path and the reason. *)
+    renames it into place; on any failure (a full disk included) the temporary file is
+    removed and [path] is untouched. A missing directory is refused before anything is
+    written. A device or a pipe ([/dev/stdout], a FIFO) is written in place, never replaced.
+    The message names the path and the reason, never the temporary file. *)
 
 val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
 (** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s
@@ -42,7 +44,9 @@ val save : ?gamma:Settings.gamma -> string -> t -> (unit, string) result
 
 val read_rgb8 : string -> (int * int * Bytes.t, string) result
 (** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file (any PNG colour type
-    is converted to 8-bit RGB). *)
+    is converted to 8-bit RGB). A PNG's signature and size are checked before it is
+    decoded: larger than {!Settings.max_pixels} is an error, not an allocation. Never
+    raises, and prints nothing (libpng's own messages are silenced). *)
 
 val read_linear : string -> (t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
