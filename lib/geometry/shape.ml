@@ -58,7 +58,7 @@ let disk ~center ~normal ~radius =
   let e1, e2 = frame normal in
   Disk { center; normal; radius; e1; e2 }
 
-let[@inline] in_range t tmin tmax = t > tmin && t < tmax
+let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
 
 let solve_quadratic a b c tmin tmax =
   if a = 0. then
