@@ -113,6 +113,9 @@ let scene_at o prog ~time ~frame =
   let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (User_error (errors_to_string errs)) in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
+  (* The scene's own `depth` field stops at the same bound: each bounce is a nested call,
+     and far beyond it the stack overflows (an internal error after minutes of work). *)
+  Option.iter (fun d -> if d > 1000 then user "--depth must be at most 1000 (got %d)" d) o.depth;
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in
   let settings =
@@ -177,7 +180,11 @@ let install_interrupt_handler () =
         raise Sys.Break)
   in
   Sys.set_signal Sys.sigint h;
-  Sys.set_signal Sys.sigterm h
+  Sys.set_signal Sys.sigterm h;
+  (* Past a file-size limit (ulimit -f) the default action of SIGXFSZ kills the process
+     and leaves the temporary file behind; ignored, the write fails with EFBIG and the
+     atomic write cleans up and reports it. *)
+  Sys.set_signal Sys.sigxfsz Sys.Signal_ignore
 
 let run f =
   match f () with
