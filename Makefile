@@ -38,8 +38,15 @@ bench: build
 bench-mpi: build
 	bash test/mpi/bench.sh
 
+# Random and mutated scenes (parser and evaluator), OBJ files and images for FUZZ_SECONDS
+# (default 60); reports the cases tried and the failures, keeps failing inputs in
+# fuzz-failures/ and exits 1 if there are any. FUZZ_SEED=K FUZZ_SECONDS=0 replays case K.
+# (`LANCER_FUZZ_COUNT=N dune test test/dsl` runs the language's own properties N times.)
+FUZZ_SECONDS ?= 60
+FUZZ_SEED ?= 1
 fuzz: build
-	LANCER_FUZZ_COUNT=200000 $(DUNE) test -j $(JOBS) --force test/dsl
+	$(DUNE) build -j $(JOBS) ./test/robust/fuzz.exe
+	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) ./_build/default/test/robust/fuzz.exe
 
 doc:
 	@bash .ci/deps --doc
