@@ -75,20 +75,29 @@ let grazing_tests =
 
 let sphere_tests =
   let planet r =
-    (* A camera 0.5·r above the top of a sphere of radius r, looking straight down, a light
-       straight above: the centre pixel is ambient + diffuse = 1 unless the shadow ray
-       re-hits the sphere it leaves. *)
+    (* A camera 0.5·r above the top of a sphere of radius r, looking down at it, a light
+       from behind the camera: every visible point is lit, and no shadow ray may find
+       the sphere it leaves. Rendering with shadows on and off must then give the same
+       framebuffer; hit points rounded inside the sphere and started off it by too small
+       an offset would come out shadowed. *)
     case (Printf.sprintf "a sphere of radius %g seen from 0.5·r above is lit, not self-shadowed" r) (fun () ->
-        let settings = { Settings.default with width = 3; height = 3 } in
-        let sc =
-          Scene.make_exn ~settings
-            ~camera:(Camera.make ~position:(v 0. (1.5 *. r) 0.) ~look_at:Vec3.zero ~up:Vec3.z_axis ~fov:10. ())
-            ~lights:[ Light.directional (v 0. (-1.) 0.) ]
+        let settings = { Settings.default with width = 15; height = 15 } in
+        let make shadows =
+          Scene.make_exn ~settings:{ settings with shadows }
+            ~camera:(Camera.make ~position:(v 0. (1.5 *. r) 0.) ~look_at:Vec3.zero ~up:Vec3.z_axis ~fov:60. ())
+            ~lights:[ Light.directional (v 0.1 (-1.) 0.2) ]
             [ prim (mat ()) (Shape.sphere ~center:Vec3.zero ~radius:r) ]
         in
-        let fb, st = Render.render sc in
-        check_color ~eps:1e-9 "centre pixel" Color.white (Image.get fb 1 1);
-        Alcotest.(check int) "no bad samples" 0 st.bad_samples)
+        let lit, st = Render.render (make true) and unshadowed, _ = Render.render (make false) in
+        Alcotest.(check int) "no bad samples" 0 st.bad_samples;
+        for j = 0 to 14 do
+          for i = 0 to 14 do
+            check_color ~eps:0. (Printf.sprintf "pixel %d,%d" i j) (Image.get unshadowed i j) (Image.get lit i j)
+          done
+        done;
+        (* The centre pixel sees the top, N = (0, 1, 0): ambient + diffuse·N·L. *)
+        let k = 0.1 +. (0.9 /. Float.sqrt 1.05) in
+        check_color ~eps:1e-9 "centre pixel" (Color.v k k k) (Image.get lit 7 7))
   in
   [ case "a sphere of radius 1e6 is hit at 2e6 and 4e6 from 3e6 away, and at 1e6 from its centre" (fun () ->
         let s = Shape.sphere ~center:(v 0. 0. 3e6) ~radius:1e6 in
@@ -100,7 +109,7 @@ let sphere_tests =
         let s = Shape.sphere ~center:(v 0. 0. 1e6) ~radius:1e-6 in
         let r = Ray.make Vec3.zero Vec3.z_axis in
         Alcotest.(check (float 1e-9)) "near" (1e6 -. 1e-6) (Shape.intersect s r 0. inf));
-    planet 1e-6; planet 1.; planet 1e6 ]
+    planet 1e-6; planet 1.; planet 1e6; planet 1e12 ]
 
 (* ---- depth: the hall of mirrors in closed form ---- *)
 
