@@ -8,8 +8,8 @@
    FUZZ_ROOT     project root, where scenes/ is found (default .)
    FUZZ_TARGETS  comma-separated subset of scene,obj,image (default all)
 
-   Failing inputs are written to fuzz-failures/ in the current directory. Exit status 1
-   when anything failed. *)
+   The first failing inputs of each target are written to fuzz-failures/ in the current
+   directory. Exit status 1 when anything failed. *)
 module G = Fuzz_gen
 
 let env name default = match Sys.getenv_opt name with Some s when String.trim s <> "" -> s | _ -> default
@@ -25,6 +25,9 @@ type target = { name : string; share : float; case : Random.State.t -> string * 
                 mutable tried : int; mutable failed : int }
 
 let failure_dir = "fuzz-failures"
+
+(* Failures printed and kept per target; the rest are only counted. *)
+let max_reported = 20
 
 let save_failure t seed (ext, input) message =
   (try Unix.mkdir failure_dir 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
@@ -74,8 +77,10 @@ let () =
            | Ok () -> ()
            | Error m ->
                t.failed <- t.failed + 1;
-               let file = save_failure t s input m in
-               Printf.printf "FAIL %s case %d: %s (input in %s)\n%!" t.name s m file);
+               if t.failed <= max_reported then begin
+                 let file = save_failure t s input m in
+                 Printf.printf "FAIL %s case %d: %s (input in %s)\n%!" t.name s m file
+               end);
           continue := Unix.gettimeofday () < until
         done)
       targets
