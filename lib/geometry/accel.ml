@@ -276,24 +276,33 @@ let get_stack depth =
     s
   end
 
-let linear_nearest prims r tmin tmax =
+(* One primitive over (h.tmin, tmax): the root, unboxed. *)
+let[@inline] test p r tmax (h : Shape.hit) =
+  h.tmax <- tmax;
+  Primitive.intersect_into p r h;
+  h.t
+
+let linear_nearest prims r tmin tmax (h : Shape.hit) =
   let best_t = ref tmax and best_i = ref (-1) in
+  h.tmin <- tmin;
   for i = 0 to Array.length prims - 1 do
-    let t = Primitive.intersect prims.(i) r tmin !best_t in
+    let t = test prims.(i) r !best_t h in
     if t < !best_t then begin
       best_t := t;
       best_i := i
     end
   done;
-  if !best_i < 0 then (Float.infinity, -1) else (!best_t, !best_i)
+  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
+  !best_i
 
-let tree_nearest a tr r tmin tmax =
+let tree_nearest a tr r tmin tmax (h : Shape.hit) =
   let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
+  h.tmin <- tmin;
   (* Unbounded primitives first, in index order. *)
   let outside = a.outside and prims = a.prims in
   for k = 0 to Array.length outside - 1 do
     let i = outside.(k) in
-    let t = Primitive.intersect prims.(i) r tmin !query in
+    let t = test prims.(i) r !query h in
     if t < !best_t || (t = !best_t && i < !best_i) then begin
       best_t := t;
       best_i := i;
@@ -314,7 +323,7 @@ let tree_nearest a tr r tmin tmax =
       if count > 0 then begin
         let first = Array.unsafe_get links (2 * k) in
         for j = first to first + count - 1 do
-          let t = Primitive.intersect (Array.unsafe_get tr.leaf_prims j) r tmin !query in
+          let t = test (Array.unsafe_get tr.leaf_prims j) r !query h in
           if t <= !best_t then begin
             let i = Array.unsafe_get tr.leaf_idx j in
             if t < !best_t || i < !best_i then begin
@@ -366,29 +375,38 @@ let tree_nearest a tr r tmin tmax =
     end
   done;
   st.busy <- false;
-  if !best_i < 0 then (Float.infinity, -1) else (!best_t, !best_i)
+  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
+  !best_i
+
+let nearest_into a r tmin tmax h =
+  match a.tree with None -> linear_nearest a.prims r tmin tmax h | Some tr -> tree_nearest a tr r tmin tmax h
 
 let nearest a r tmin tmax =
-  match a.tree with None -> linear_nearest a.prims r tmin tmax | Some tr -> tree_nearest a tr r tmin tmax
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
+  let i = nearest_into a r tmin tmax h in
+  (h.t, i)
 
 let is_black (c : Color.t) = c.r = 0. && c.g = 0. && c.b = 0.
 
 (* Every crossing of one primitive: advance tmin to the last root found; roots are
    recomputed identically each time, so the strict test t > tmin never returns the same
    root twice. *)
-let crossings p r tmin tmax f acc =
+let crossings p r tmin tmax (h : Shape.hit) f acc =
   let acc = ref acc in
-  let t = ref (Primitive.intersect p r tmin tmax) in
+  h.tmin <- tmin;
+  let t = ref (test p r tmax h) in
   while !t < tmax && not (is_black !acc) do
     acc := f p !t !acc;
-    t := Primitive.intersect p r !t tmax
+    h.tmin <- !t;
+    t := test p r tmax h
   done;
   !acc
 
 let linear_fold prims r tmin tmax f acc =
   let acc = ref acc and i = ref 0 in
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
   while !i < Array.length prims && not (is_black !acc) do
-    acc := crossings prims.(!i) r tmin tmax f !acc;
+    acc := crossings prims.(!i) r tmin tmax h f !acc;
     incr i
   done;
   !acc
@@ -397,10 +415,11 @@ let linear_fold prims r tmin tmax f acc =
    the ray meets visits each primitive's crossings once. *)
 let tree_fold a tr r tmin tmax f acc =
   let acc = ref acc in
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
   let outside = a.outside in
   let k = ref 0 in
   while !k < Array.length outside && not (is_black !acc) do
-    acc := crossings a.prims.(outside.(!k)) r tmin tmax f !acc;
+    acc := crossings a.prims.(outside.(!k)) r tmin tmax h f !acc;
     incr k
   done;
   let o = Ray.origin r and inv = Ray.inv_dir r in
@@ -422,7 +441,7 @@ let tree_fold a tr r tmin tmax f acc =
          let first = links.(2 * node) in
          let j = ref first in
          while !j < first + count && not (is_black !acc) do
-           acc := crossings tr.leaf_prims.(!j) r tmin tmax f !acc;
+           acc := crossings tr.leaf_prims.(!j) r tmin tmax h f !acc;
            incr j
          done
        end
@@ -452,8 +471,9 @@ let fold_hits a r tmin tmax f acc =
    closure, no allocation. *)
 let linear_any prims r tmin tmax =
   let hit = ref false and i = ref 0 in
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
   while (not !hit) && !i < Array.length prims do
-    if Primitive.intersect (Array.unsafe_get prims !i) r tmin tmax < tmax then hit := true;
+    if test (Array.unsafe_get prims !i) r tmax h < tmax then hit := true;
     incr i
   done;
   !hit
@@ -461,8 +481,9 @@ let linear_any prims r tmin tmax =
 let tree_any a tr r tmin tmax =
   let prims = a.prims and outside = a.outside in
   let hit = ref false and k = ref 0 in
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
   while (not !hit) && !k < Array.length outside do
-    if Primitive.intersect prims.(Array.unsafe_get outside !k) r tmin tmax < tmax then hit := true;
+    if test prims.(Array.unsafe_get outside !k) r tmax h < tmax then hit := true;
     incr k
   done;
   if !hit then true
@@ -485,7 +506,7 @@ let tree_any a tr r tmin tmax =
         let first = Array.unsafe_get links (2 * node) in
         let j = ref first in
         while (not !hit) && !j < first + count do
-          if Primitive.intersect (Array.unsafe_get tr.leaf_prims !j) r tmin tmax < tmax then hit := true;
+          if test (Array.unsafe_get tr.leaf_prims !j) r tmax h < tmax then hit := true;
           incr j
         done
       end

@@ -22,6 +22,9 @@ val nearest : t -> Ray.t -> float -> float -> float * int
     (infinity, −1). Ties go to the lower index, so the answer never depends on the
     traversal order. *)
 
+val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int
+(** {!nearest} without allocating: the index is returned and t stored in the record. *)
+
 val fold_hits :
   t -> Ray.t -> float -> float -> (Primitive.t -> float -> Color.t -> Color.t) -> Color.t -> Color.t
 (** [fold_hits a r tmin tmax f acc] folds [f prim t acc] over every surface crossing of [r]

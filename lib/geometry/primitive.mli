@@ -19,6 +19,9 @@ val intersect : t -> Ray.t -> float -> float -> float
     infinity. A transformed object intersects the object-space ray, whose direction is not
     renormalised, so t is the same in both spaces. *)
 
+val intersect_into : t -> Ray.t -> Shape.hit -> unit
+(** {!intersect} over [h.tmin, h.tmax], the answer stored in [h.t] (no boxed float). *)
+
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)
 

@@ -82,7 +82,7 @@ let solve_quadratic a b c tmin tmax =
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let intersect_sphere (center : Vec3.t) radius r tmin tmax =
+let[@inline] intersect_sphere (center : Vec3.t) radius r tmin tmax =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
@@ -116,7 +116,7 @@ let intersect_sphere (center : Vec3.t) radius r tmin tmax =
         if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
 
 (* Plane: d·n = 0 is a miss even when the origin lies on the plane (0/0 must not escape). *)
-let intersect_plane (n : Vec3.t) offset r tmin tmax =
+let[@inline] intersect_plane (n : Vec3.t) offset r tmin tmax =
   let denom = Vec3.dot (Ray.dir r) n in
   if denom = 0. then Float.infinity
   else
@@ -135,7 +135,7 @@ let para_coords origin edge1 edge2 w p =
   let a = Vec3.dot w (Vec3.cross q edge2) and b = Vec3.dot w (Vec3.cross edge1 q) in
   (a, b)
 
-let intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
+let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
   let t = intersect_plane pn pd r tmin tmax in
   if t = Float.infinity then t
   else
@@ -153,7 +153,7 @@ let intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
    functions. A shared edge is evaluated from the same two transformed vertices in both
    triangles, and x0·y1 − y0·x1 is exactly antisymmetric in floating point, so the two
    triangles agree on the sign: no ray passes between them. *)
-let intersect_triangle (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) r tmin tmax =
+let[@inline] intersect_triangle (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   let ax = Float.abs d.x and ay = Float.abs d.y and az = Float.abs d.z in
   (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
@@ -293,16 +293,26 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
     let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
     Float.min side (Float.min t_lo t_hi)
 
-let intersect s r tmin tmax =
+type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
+
+(* The common shapes' tests are inlined here, reading the interval from and storing the
+   root into the caller's record (a float record is flat): no float is boxed. *)
+let intersect_into s r (h : hit) =
+  let tmin = h.tmin and tmax = h.tmax in
   match s with
-  | Sphere { center; radius } -> intersect_sphere center radius r tmin tmax
-  | Plane { normal; offset } -> intersect_plane normal offset r tmin tmax
-  | Triangle { a; b; c; _ } -> intersect_triangle a b c r tmin tmax
-  | Parallelogram { origin; edge1; edge2; pn; w; pd } -> intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
-  | Box { min; max } -> intersect_box min max r tmin tmax
-  | Paraboloid { vertex; axis; height; k; _ } -> intersect_paraboloid vertex axis height k r tmin tmax
-  | Cylinder { base; axis; height; radius; caps; _ } -> intersect_cylinder base axis height radius caps r tmin tmax
-  | Disk { center; normal; radius; _ } -> disk_hit center normal radius r tmin tmax
+  | Sphere { center; radius } -> h.t <- intersect_sphere center radius r tmin tmax
+  | Plane { normal; offset } -> h.t <- intersect_plane normal offset r tmin tmax
+  | Triangle { a; b; c; _ } -> h.t <- intersect_triangle a b c r tmin tmax
+  | Parallelogram { origin; edge1; edge2; pn; w; pd } -> h.t <- intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
+  | Box { min; max } -> h.t <- intersect_box min max r tmin tmax
+  | Paraboloid { vertex; axis; height; k; _ } -> h.t <- intersect_paraboloid vertex axis height k r tmin tmax
+  | Cylinder { base; axis; height; radius; caps; _ } -> h.t <- intersect_cylinder base axis height radius caps r tmin tmax
+  | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
+
+let intersect s r tmin tmax =
+  let h = { tmin; tmax; t = Float.infinity } in
+  intersect_into s r h;
+  h.t
 
 (* Barycentric coordinates (u, v, w) of p (projected onto the triangle's plane), with
    p = u·a + v·b + w·c. *)

@@ -96,6 +96,14 @@ val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect s r tmin tmax] is the smallest root t of [r] on [s] with tmin < t < tmax,
     or [infinity]; never NaN. *)
 
+type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
+(** A ray query's interval and answer. A record of floats is stored flat, so reading and
+    writing it boxes nothing. *)
+
+val intersect_into : t -> Ray.t -> hit -> unit
+(** [intersect_into s r h] is [h.t <- intersect s r h.tmin h.tmax], without boxing a
+    float: the form the ray queries use. *)
+
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the plane's

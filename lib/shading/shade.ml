@@ -65,8 +65,9 @@ let refract d nf eta =
   if k < 0. then None else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
 
 let rec trace (sc : Scene.t) st ray depth =
-  let t, i = Accel.nearest sc.accel ray 0. Float.infinity in
-  if i < 0 then sc.settings.background else shade sc st ray depth sc.objects.(i) t
+  let h = { Shape.tmin = 0.; tmax = Float.infinity; t = Float.infinity } in
+  let i = Accel.nearest_into sc.accel ray 0. Float.infinity h in
+  if i < 0 then sc.settings.background else shade sc st ray depth sc.objects.(i) h.t
 
 and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let s = sc.settings in
