@@ -34,4 +34,9 @@ val interrupt : unit -> unit
 
 val with_pool : int -> (Domainslib.Task.pool option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
-    it down afterwards, also on an exception. *)
+    it down afterwards, also on an exception. With more than one domain it first raises
+    the minor heap to {!parallel_minor_heap_words} words per domain (never lowers it):
+    fewer minor collections, each of which stops every domain. *)
+
+val parallel_minor_heap_words : int
+(** 2M words (16 MB) per domain. *)
