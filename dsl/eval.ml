@@ -2,7 +2,7 @@ open Lancer
 open Ast
 
 let max_objects = 10_000_000
-let max_steps = 100_000_000
+let max_steps = 20_000_000
 let max_depth = 1000
 
 type physics_method = Exact | Verlet | Euler
@@ -145,6 +145,7 @@ type ctx = {
   seen : (string * int * int * string, unit) Hashtbl.t;
   mutable objects : int;
   mutable steps : int;
+  mutable loops : float;  (** iterations the enclosing loops have left, multiplied *)
   mutable depth : int;
   mutable settings : (Settings.t * Loc.t) option;
   mutable camera : (Camera.t * Loc.t) option;
@@ -651,15 +652,24 @@ and exec_ ctx env scope (s : stmt) : env =
       let st' = match st with None -> 1. | Some e -> num e "step" in
       if st' = 0. then fail (Option.get st).loc "the step of a `for` loop must not be 0";
       let count = Float.floor (((b' -. a') /. st') +. 1e-9) +. 1. in
-      if count > Float.of_int max_steps || count > 1e15 then
+      (* Refused before it starts when this loop, run inside the loops around it, would
+         go past the step limit: nested loops fail at once instead of after minutes. *)
+      let total = Float.max 0. count *. ctx.loops in
+      if count > 1e15 || total +. Float.of_int ctx.steps > Float.of_int max_steps then
         limit ctx s.sloc
-          (Printf.sprintf "this loop would run %s times; a scene may take at most %d loop iterations and calls, and build at most %d objects" (fmt_num count) max_steps max_objects);
+          (Printf.sprintf "this loop would run %s times%s; a scene may take at most %d loop iterations and calls, and build at most %d objects"
+             (fmt_num count)
+             (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left (%s in all)" (fmt_num ctx.loops) (fmt_num total) else "")
+             max_steps max_objects);
       let count = if count < 0. then 0 else int_of_float count in
-      for k = 0 to count - 1 do
-        step ctx s.sloc;
-        let i = a' +. (Float.of_int k *. st') in
-        ignore (exec_list ctx (Env.add x.id (VNum i) env) scope body)
-      done;
+      let outer = ctx.loops in
+      Fun.protect ~finally:(fun () -> ctx.loops <- outer) (fun () ->
+          for k = 0 to count - 1 do
+            step ctx s.sloc;
+            ctx.loops <- outer *. Float.of_int (count - k);
+            let i = a' +. (Float.of_int k *. st') in
+            ignore (exec_list ctx (Env.add x.id (VNum i) env) scope body)
+          done);
       env
   | If_stmt (c, t, e) -> (
       match eval ctx env c with
@@ -1099,7 +1109,7 @@ let initial_env ~time ~frame =
 
 let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
-    { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0;
+    { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [] }
   in
   let scope = { sink = ref []; in_group = false } in
