@@ -59,10 +59,21 @@ let pp ppf e =
     Format.fprintf ppf "%s:%d:%d: %s@." e.file e.line e.col e.message;
     match e.source_line with
     | None -> ()
-    | Some l ->
+    | Some l when String.length l <= 160 ->
         let c0 = e.col - 1 in
         let caret = String.make (width l c0 (e.end_col - 1)) '^' in
         Format.fprintf ppf "%s@.%s%s@." l (prefix l c0) caret
+    | Some l ->
+        (* A very long line: about 60 bytes either side of the column, cut at UTF-8
+           character boundaries and marked with "…". *)
+        let n = String.length l in
+        let rec back i = if i > 0 && i < n && Char.code l.[i] land 0xC0 = 0x80 then back (i - 1) else i in
+        let c0 = max 0 (min (e.col - 1) n) in
+        let a = back (max 0 (c0 - 60)) and b = back (min n (c0 + 60)) in
+        let window = String.sub l a (b - a) in
+        let lead = if a > 0 then "…" else "" and tail = if b < n then "…" else "" in
+        let caret = String.make (width window (c0 - a) (min (e.end_col - 1) b - a)) '^' in
+        Format.fprintf ppf "%s%s%s@.%s%s%s@." lead window tail (if a > 0 then " " else "") (prefix window (c0 - a)) caret
   end
 
 let to_string e = Format.asprintf "%a" pp e

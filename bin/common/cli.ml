@@ -75,9 +75,21 @@ let source o =
       let text = try In_channel.with_open_bin path In_channel.input_all with Sys_error m -> user "%s" m in
       (path, text)
 
+(* An exact simulation that gave up after Physics.max_events is worth a warning: the
+   bodies move on without colliding after that. *)
+let warn_truncated prog =
+  if Dsl.bodies prog <> [] then
+    match Dsl.simulate prog ~until:0. with
+    | Ok tr when Physics.truncated tr ->
+        Printf.eprintf
+          "lancer: warning: the physics simulation stopped handling collisions after %d events (at %.6g s); bodies fly freely from there\n%!"
+          Physics.max_events
+          (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
+    | _ -> ()
+
 let load_source (filename, text) =
   match Dsl.load_string ~filename text with
-  | Ok p -> p
+  | Ok p -> warn_truncated p; p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
       user "the built-in showcase does not load:\n%s" (errors_to_string errs)
   | Error errs -> raise (User_error (errors_to_string errs))
@@ -90,11 +102,14 @@ let default_output o =
   | None, None -> "showcase.png"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
-let check_output path =
-  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
+let check_writable path =
   let dir = Filename.dirname path in
   if not (Sys.file_exists dir && Sys.is_directory dir) then user "cannot write %s: directory %s does not exist" path dir;
   if Sys.file_exists path && Sys.is_directory path then user "cannot write %s: is a directory" path
+
+let check_output path =
+  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
+  check_writable path
 
 let time_of o prog =
   match (o.time, o.frame) with
@@ -202,3 +217,6 @@ let run f =
       Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
         (Printexc.to_string e);
       2
+
+let status_of_eval code =
+  if code = Cmd.Exit.cli_error then 1 else if code = Cmd.Exit.internal_error then 2 else code

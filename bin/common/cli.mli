@@ -53,6 +53,10 @@ val default_output : opts -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
     scene). *)
 
+val check_writable : string -> unit
+(** Refuse, before any work, a file path in a missing directory or that is a directory
+    (for [--stats]); raises [User_error]. *)
+
 val check_output : string -> unit
 (** Refuse, before any rendering, an output with an unknown extension, in a missing
     directory, or that is a directory; raises [User_error]. *)
@@ -85,3 +89,7 @@ val run : (unit -> unit) -> int
 
 val install_interrupt_handler : unit -> unit
 (** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)
+
+val status_of_eval : int -> int
+(** Map cmdliner's own statuses onto lancer's: a command-line mistake (124) is a user
+    error, 1; cmdliner's internal error (125) is 2. *)

@@ -7,6 +7,7 @@ let render_cmd (o : Cli.opts) =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
   Cli.check_output out;
+  Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
@@ -172,4 +173,4 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:"0.1.0" ~doc ~man ~exits in
-  exit (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ]))
+  exit (Cli.status_of_eval (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ])))

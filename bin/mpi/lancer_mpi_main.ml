@@ -72,6 +72,7 @@ let render_cmd (o : Cli.opts) =
     Cli.install_interrupt_handler ();
     let out = Cli.default_output o in
     Cli.check_output out;
+    Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
     let sc = still (Cli.load_source source) in
@@ -186,4 +187,4 @@ let () =
       let null = Format.make_formatter (fun _ _ _ -> ()) ignore in
       Cmd.eval' ~help:null ~err:null cmd
   in
-  exit code
+  exit (Cli.status_of_eval code)

@@ -217,6 +217,27 @@ let tests =
         Alcotest.(check bool) out true (contains out "differs from g.png" && contains out "g.diff.png");
         Alcotest.(check bool) "actual and diff written" true
           (Sys.file_exists (Filename.concat d "g.actual.png") && Sys.file_exists (Filename.concat d "g.diff.png")));
+    Alcotest.test_case "a physics simulation that gives up is a warning, not silence" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "z.rts")
+          "animation { fps: 1, frames: 200 }\nphysics { gravity: (0, 0, 0) }\nplane { normal: (0, 1, 0), offset: 0 }\n\
+           plane { normal: (0, 1, 0), offset: 1.01 }\n\
+           body b { sphere { center: (0, 0.505, 0), radius: 0.5 } velocity: (0, 10, 0), restitution: 1 }\n";
+        let ((_, _, e) as r) = lancer ~dir:d [ "check"; "z.rts" ] in
+        check_status "check" 0 r;
+        Alcotest.(check bool) e true (contains e "warning: the physics simulation stopped handling collisions after 100000 events"));
+    Alcotest.test_case "--stats in a missing directory is refused before rendering" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "no/s.json" ] in
+        check_status "refused" 1 r;
+        Alcotest.(check bool) e true (contains e "directory no does not exist");
+        Alcotest.(check (list string)) "no image" [ "s.rts" ] (Array.to_list (Sys.readdir d)));
+    Alcotest.test_case "a mistyped option is a user error: exit 1" `Quick (fun () ->
+        let ((st, _, e) as r) = lancer [ "render"; "--width"; "abc" ] in
+        ignore st;
+        check_status "exit" 1 r;
+        Alcotest.(check bool) e true (contains e "expected an integer"));
     Alcotest.test_case "--version and --help work" `Quick (fun () ->
         let ((_, out, _) as r) = lancer [ "--version" ] in
         check_status "version" 0 r;
