@@ -304,6 +304,22 @@ let test_error_display () =
         "x.rts:3:3: unknown field `radiu` in sphere; did you mean `radius`?\n  radiu: 2\n  ^^^^^\n" (Error.to_string e)
   | Error es -> Alcotest.failf "one error expected, got:\n%s" (errors_text es)
 
+(* A 200 000-character line is shown as a window around the column, caret under it. *)
+let test_long_line () =
+  let text = "let x = " ^ String.concat "" (List.init 50_000 (fun _ -> "1 + ")) ^ "y" in
+  match Dsl.load_string ~filename:"x.rts" text with
+  | Ok _ -> Alcotest.fail "expected an error"
+  | Error [ e ] ->
+      let lines = String.split_on_char '\n' (Error.to_string e) in
+      (match lines with
+       | [ head; src; caret; "" ] ->
+           Alcotest.(check bool) head true (contains head "unknown name `y`");
+           Alcotest.(check bool) "short" true (String.length src < 200);
+           Alcotest.(check bool) "marked as cut" true (String.sub src 0 3 = "\xe2\x80\xa6");
+           Alcotest.(check int) "caret under the y" (String.index src 'y' - 2) (String.index caret '^')
+       | _ -> Alcotest.failf "unexpected display:\n%s" (Error.to_string e))
+  | Error es -> Alcotest.failf "one error expected, got:\n%s" (errors_text es)
+
 (* Every scene of scenes/ (not bad/) loads and evaluates, except primitives this build
    does not have yet, which must fail with the located "not available" error. *)
 let scenes_dir = "../../scenes"
@@ -419,7 +435,8 @@ let () =
           Alcotest.test_case "includes are relative to the including file and cycles fail" `Quick test_includes ] );
       ( "errors",
         [ Alcotest.test_case "each kind of mistake gets its located message" `Quick test_errors;
-          Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick test_error_display ] );
+          Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick test_error_display;
+          Alcotest.test_case "a very long line is shown as a window around the error" `Quick test_long_line ] );
       ( "scenes",
         [ Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick test_scenes;
           Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick test_json ] );
