@@ -239,8 +239,11 @@ let summary ?body_state:_ t (sc : Scene.t) =
   (match bodies t with
    | [] -> ()
    | bs -> line "bodies: %d (%s)" (List.length bs) (String.concat ", " (List.map (fun b -> b.name) bs)));
-  let used = List.filter_map (fun (k, v) -> if v then Some k else None) (Features.to_list sc.features) in
-  line "features: %s" (if used = [] then "none" else String.concat ", " used);
+  let feats = Features.to_list sc.features @ [ ("bodies", bodies t <> []) ] in
+  let pick b = List.filter_map (fun (k, v) -> if v = b then Some (String.map (fun c -> if c = '_' then ' ' else c) k) else None) feats in
+  let used = pick true and skipped = pick false in
+  line "renderer uses: %s" (if used = [] then "nothing beyond direct light" else String.concat ", " used);
+  line "renderer skips: %s" (if skipped = [] then "nothing" else String.concat ", " skipped);
   Buffer.contents b
 
 let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
