@@ -119,3 +119,16 @@ let run (o : Cli.opts) ~frames ~resume ~video =
     Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps)\n%!" (List.length p.todo) p.dir
       (Unix.gettimeofday () -. t0) p.first p.last p.fps;
   Option.iter (make_video p) video
+
+let options_term =
+  let open Cmdliner in
+  let frames =
+    let parse s = match frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
+    let print ppf (a, b) = Format.fprintf ppf "%d..%d" a b in
+    Arg.(value & opt (some (conv (parse, print))) None & info [ "frames" ] ~docv:"A..B" ~doc:"Render only frames A to B (inclusive).")
+  in
+  let resume = Arg.(value & flag & info [ "resume" ] ~doc:"Skip frames already rendered for the same scene and options.") in
+  let video =
+    Arg.(value & opt (some string) None & info [ "video" ] ~docv:"OUT.mp4" ~doc:"Assemble the frames into a video (.mp4 or .gif) with ffmpeg.")
+  in
+  Term.(const (fun f r v -> (f, r, v)) $ frames $ resume $ video)

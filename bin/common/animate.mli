@@ -41,3 +41,6 @@ val progress : plan -> Progress.t
 
 val run : Cli.opts -> frames:(int * int) option -> resume:bool -> video:string option -> unit
 (** [lancer animate]. *)
+
+val options_term : ((int * int) option * bool * string option) Cmdliner.Term.t
+(** [--frames A..B], [--resume] and [--video OUT], as [lancer] and [lancer-mpi] take them. *)

@@ -107,21 +107,12 @@ let render =
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in
-  let frames =
-    let parse s = match Animate.frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
-    let print ppf (a, b) = Format.fprintf ppf "%d..%d" a b in
-    Arg.(value & opt (some (conv (parse, print))) None & info [ "frames" ] ~docv:"A..B" ~doc:"Render only frames A to B (inclusive).")
-  in
-  let resume = Arg.(value & flag & info [ "resume" ] ~doc:"Skip frames already rendered for the same scene and options.") in
-  let video =
-    Arg.(value & opt (some string) None & info [ "video" ] ~docv:"OUT.mp4" ~doc:"Assemble the frames into a video (.mp4 or .gif) with ffmpeg.")
-  in
   let man =
     [ `S Manpage.s_examples; `Pre "  lancer animate scenes/bounce.rts -o frames/";
       `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o f r v -> wrap (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ frames $ resume $ video)
+    Term.(const (fun o (f, r, v) -> wrap (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ Animate.options_term)
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in

@@ -151,22 +151,13 @@ let render =
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png … over MPI ranks" in
-  let frames =
-    let parse s = match Animate.frames_of_string s with Ok r -> Ok r | Error m -> Error (`Msg m) in
-    let print ppf (a, b) = Format.fprintf ppf "%d..%d" a b in
-    Arg.(value & opt (some (conv (parse, print))) None & info [ "frames" ] ~docv:"A..B" ~doc:"Render only frames A to B (inclusive).")
-  in
-  let resume = Arg.(value & flag & info [ "resume" ] ~doc:"Skip frames already rendered for the same scene and options.") in
-  let video =
-    Arg.(value & opt (some string) None & info [ "video" ] ~docv:"OUT.mp4" ~doc:"Assemble the frames into a video (.mp4 or .gif) with ffmpeg.")
-  in
   let man =
     [ `S Manpage.s_description;
       `P "The same options and the same frames as $(b,lancer animate). Rank 0 hands out whole frames (tiles when there are fewer frames than ranks) and writes each frame once it is complete.";
       `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o frames resume video -> animate_cmd o ~frames ~resume ~video) $ Cli.opts_term $ frames $ resume $ video)
+    Term.(const (fun o (frames, resume, video) -> animate_cmd o ~frames ~resume ~video) $ Cli.opts_term $ Animate.options_term)
 
 let () =
   if not Mpi.available then begin
