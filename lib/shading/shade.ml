@@ -70,7 +70,7 @@ let refract d nf eta =
    n×n over [radius] around [position]. *)
 type acc = { mutable ar : float; mutable ag : float; mutable ab : float }
 
-let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : Vec3.t) (v : Vec3.t) p lit_origin acc ldx ldy
+let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : Vec3.t) (d : Vec3.t) p lit_origin acc ldx ldy
     ldz dist att (color : Color.t) intensity position radius area_n =
   let ndl = (nf.x *. ldx) +. (nf.y *. ldy) +. (nf.z *. ldz) in
   if ndl > 0. then begin
@@ -89,7 +89,8 @@ let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : V
       if m.specular > 0. then begin
         let k2 = 2. *. ndl in
         let rx = (k2 *. nf.x) -. ldx and ry = (k2 *. nf.y) -. ldy and rz = (k2 *. nf.z) -. ldz in
-        let rv = (rx *. v.x) +. (ry *. v.y) +. (rz *. v.z) in
+        (* R·V with V = −D *)
+        let rv = (rx *. -.d.x) +. (ry *. -.d.y) +. (rz *. -.d.z) in
         if rv > 0. then begin
           let ks = m.specular *. Float.pow rv m.shininess in
           acc.ar <- acc.ar +. (ks *. er);
@@ -117,7 +118,6 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let entering = Vec3.dot d n < 0. in
   let nf = if entering then n else Vec3.neg n in
   let nf = match m.bump with None -> nf | Some b -> Bump.perturb b ~uv:(fun d -> Shape.uv o.shape (Primitive.to_object o (Vec3.add p d))) po nf in
-  let v = Vec3.neg d in
   let lit_origin = Vec3.madd p delta nf in
   let acc = { ar = m.ambient *. (c.r *. s.ambient.r); ag = m.ambient *. (c.g *. s.ambient.g); ab = m.ambient *. (c.b *. s.ambient.b) } in
   let lights = sc.lights in
@@ -129,10 +129,10 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
         let dist = if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v lx ly lz) in
         let att = 1. /. (a.x +. (a.y *. dist) +. (a.z *. dist *. dist)) in
         let k = 1. /. dist in
-        light_term sc st m c nf v p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius
+        light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius
           (if radius > 0. && samples > 1 then samples else 0)
     | Light.Directional { direction; color; intensity } ->
-        light_term sc st m c nf v p lit_origin acc (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
+        light_term sc st m c nf d p lit_origin acc (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
           intensity direction 0. 0
   done;
   let local = Color.v acc.ar acc.ag acc.ab in
