@@ -112,7 +112,7 @@ let run (o : Cli.opts) ~frames ~resume ~video =
           let sc = frame_scene p k in
           let fb, st = Render.render ?pool sc in
           write_frame p k sc fb st;
-          Progress.update bar (i + 1))
+          Progress.update ~rays:(Stats.total_rays st) bar (i + 1))
         p.todo);
   Progress.finish bar;
   if not o.quiet then

@@ -18,7 +18,7 @@ let render_cmd (o : Cli.opts) =
   let progress = Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label:"tiles" ~total:(Array.length (Render.tiles sc)) () in
   let t0 = Unix.gettimeofday () in
   let fb, st =
-    Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ -> Progress.update progress d) sc)
+    Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;

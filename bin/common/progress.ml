@@ -1,9 +1,17 @@
-type t = { enabled : bool; label : string; total : int; start : float; last : float Atomic.t; lock : Mutex.t }
+type t = {
+  enabled : bool;
+  label : string;
+  total : int;
+  start : float;
+  last : float Atomic.t;
+  rays : int Atomic.t;
+  lock : Mutex.t;
+}
 
 let create ?enabled ~label ~total () =
   let enabled = match enabled with Some e -> e | None -> Unix.isatty Unix.stderr in
   let now = Unix.gettimeofday () in
-  { enabled; label; total; start = now; last = Atomic.make 0.; lock = Mutex.create () }
+  { enabled; label; total; start = now; last = Atomic.make 0.; rays = Atomic.make 0; lock = Mutex.create () }
 
 let hms s =
   let s = int_of_float (Float.max 0. s) in
@@ -11,8 +19,9 @@ let hms s =
   else if s >= 60 then Printf.sprintf "%dm%02ds" (s / 60) (s mod 60)
   else Printf.sprintf "%ds" s
 
-let update p done_ =
+let update ?(rays = 0) p done_ =
   if p.enabled then begin
+    let all_rays = Atomic.fetch_and_add p.rays rays + rays in
     let now = Unix.gettimeofday () in
     let last = Atomic.get p.last in
     if (now -. last >= 0.2 || done_ = p.total) && Atomic.compare_and_set p.last last now then
@@ -20,9 +29,13 @@ let update p done_ =
           let el = now -. p.start in
           let rate = if el > 0. then Float.of_int done_ /. el else 0. in
           let left = if rate > 0. then Float.of_int (p.total - done_) /. rate else 0. in
-          Printf.eprintf "\r\027[K%s %d/%d (%3.0f%%)  %.1f/s  elapsed %s  left %s%!" p.label done_ p.total
+          let speed =
+            if all_rays > 0 && el > 0. then Printf.sprintf "%.2f M rays/s" (Float.of_int all_rays /. el /. 1e6)
+            else Printf.sprintf "%.1f %s/s" rate p.label
+          in
+          Printf.eprintf "\r\027[K%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s%!" p.label done_ p.total
             (100. *. Float.of_int done_ /. Float.of_int (max 1 p.total))
-            rate (hms el) (hms left))
+            speed (hms el) (hms left))
   end
 
 let finish p = if p.enabled then Mutex.protect p.lock (fun () -> prerr_string "\r\027[K"; flush stderr)

@@ -75,7 +75,7 @@ let tiles (sc : Scene.t) =
 let interrupted = Atomic.make false
 let interrupt () = Atomic.set interrupted true
 
-let render ?pool ?(on_tile = fun _ _ -> ()) (sc : Scene.t) =
+let render ?pool ?(on_tile = fun _ _ _ -> ()) (sc : Scene.t) =
   let fb = Image.create sc.settings.width sc.settings.height in
   let tiles = tiles sc in
   let n = Array.length tiles in
@@ -85,7 +85,7 @@ let render ?pool ?(on_tile = fun _ _ -> ()) (sc : Scene.t) =
     if Atomic.get interrupted then raise Sys.Break;
     let x0, y0, x1, y1 = tiles.(k) in
     render_tile sc stats.(k) fb x0 y0 x1 y1;
-    on_tile (Atomic.fetch_and_add done_ 1 + 1) n
+    on_tile (Atomic.fetch_and_add done_ 1 + 1) n (Stats.total_rays stats.(k))
   in
   (match pool with
   | None -> for k = 0 to n - 1 do work k done

@@ -23,9 +23,10 @@ val tiles : Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major. *)
 
 val render :
-  ?pool:Domainslib.Task.pool -> ?on_tile:(int -> int -> unit) -> Scene.t -> Image.t * Stats.t
+  ?pool:Domainslib.Task.pool -> ?on_tile:(int -> int -> int -> unit) -> Scene.t -> Image.t * Stats.t
 (** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
-    [on_tile done_ total] is called after each tile, from whichever domain rendered it. *)
+    [on_tile done_ total rays] is called after each tile, from whichever domain rendered
+    it: [done_] tiles of [total] are finished, and that tile cast [rays] rays. *)
 
 val interrupt : unit -> unit
 (** Ask every render in progress to stop: from then on each tile that starts raises

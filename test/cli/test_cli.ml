@@ -238,6 +238,23 @@ let tests =
         ignore st;
         check_status "exit" 1 r;
         Alcotest.(check bool) e true (contains e "expected an integer"));
+    Alcotest.test_case "progress: a line with rays per second on a terminal, nothing otherwise" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small_scene;
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ] in
+        check_status "render" 0 r;
+        Alcotest.(check string) "stderr is not a terminal: silent" "" e;
+        if Sys.command "command -v script >/dev/null 2>&1" = 0 then begin
+          let out = Filename.concat d "tty.out" in
+          let cmd =
+            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1" (Filename.quote d)
+              (Filename.quote (Printf.sprintf "%s render s.rts -o b.png --width 200 --height 150" (Filename.quote exe)))
+              (Filename.quote out)
+          in
+          Alcotest.(check int) "render on a terminal" 0 (Sys.command cmd);
+          let text = read_file out in
+          Alcotest.(check bool) text true (contains text "tiles " && contains text "M rays/s" && contains text "left ")
+        end);
     Alcotest.test_case "--version and --help work" `Quick (fun () ->
         let ((_, out, _) as r) = lancer [ "--version" ] in
         check_status "version" 0 r;
