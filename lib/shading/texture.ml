@@ -60,7 +60,9 @@ let eval t (p : Vec3.t) u v =
       mix c1 c2 (0.5 *. (1. +. s))
   | Wood { c1; c2; scale } ->
       let q = Vec3.smul (1. /. scale) p in
-      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (2. *. Noise.perlin q.x q.y q.z) in
+      (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
+         the axis (grain) and across it (irregular rings). *)
+      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
       let f = if Float.is_finite r then r -. Float.floor r else 0. in
       (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
       mix c1 c2 (f *. f *. (3. -. (2. *. f)))

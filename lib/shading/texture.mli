@@ -16,8 +16,9 @@ type t =
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
       (** veins along x: mix c1 c2 by ½(1 + sin(π·(x/scale + 4·turbulence(P/scale)))) *)
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
-      (** rings around the y axis: the fraction of r/scale + 2·perlin(P/scale), r = √(x² + z²),
-          mixed smoothly from c1 (ring start) to c2 *)
+      (** rings around the y axis, [scale] apart: the fraction of
+          r/scale + 0.35·perlin(x/2s, y/10s, z/2s) (s = scale, r = √(x² + z²)), mixed
+          smoothly from c1 (ring start) to c2 *)
   | Image of { img : Image.t; scale : float }
       (** a linear framebuffer (from {!Image.read_linear}) on (u, v): u left to right, v
           bottom to top, [scale] copies across the unit square in each direction,
