@@ -92,10 +92,16 @@ let animate_tests =
         let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "s.rts"; "-o"; "out2" ] in
         check_status "a still" 1 r;
         Alcotest.(check bool) e true (contains e "no animation block"));
-    Alcotest.test_case "animate --video without ffmpeg says so and keeps the frames" `Quick (fun () ->
+    Alcotest.test_case "animate --video: a GIF with ffmpeg; without it a clear message and the frames kept" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
-        if Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 then ()
+        if Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 then begin
+          check_status "video" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ]);
+          let gif = read_file (Filename.concat d "a.gif") in
+          Alcotest.(check string) "a GIF file" "GIF8" (String.sub gif 0 4);
+          Alcotest.(check bool) "no temporary left" false
+            (Array.exists (fun f -> contains f ".tmp") (Sys.readdir d))
+        end
         else begin
           let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ] in
           check_status "no ffmpeg" 1 r;
