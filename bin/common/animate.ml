@@ -91,7 +91,9 @@ let make_video p out =
       (if Filename.check_suffix out ".gif" then
          (* One palette made from the frames themselves: sharper and smaller than the default. *)
          "-vf " ^ Filename.quote "split[a][b];[a]palettegen[p];[b][p]paletteuse"
-       else "-pix_fmt yuv420p")
+       else
+         (* H.264 in yuv420p needs even sizes: pad an odd width or height by one pixel. *)
+         "-pix_fmt yuv420p -vf " ^ Filename.quote "pad=ceil(iw/2)*2:ceil(ih/2)*2")
       (Filename.quote tmp)
   in
   if Sys.command cmd <> 0 then begin

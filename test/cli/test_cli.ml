@@ -99,6 +99,9 @@ let animate_tests =
           check_status "video" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ]);
           let gif = read_file (Filename.concat d "a.gif") in
           Alcotest.(check string) "a GIF file" "GIF8" (String.sub gif 0 4);
+          (* An odd height (18 + 1) still makes an MP4. *)
+          check_status "mp4" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out2"; "-q"; "--height"; "19"; "--video"; "a.mp4" ]);
+          Alcotest.(check bool) "an MP4 file" true (contains (read_file (Filename.concat d "a.mp4")) "ftyp");
           Alcotest.(check bool) "no temporary left" false
             (Array.exists (fun f -> contains f ".tmp") (Sys.readdir d))
         end
