@@ -103,7 +103,7 @@ let make_video p out =
   Unix.rename tmp out;
   if not p.opts.quiet then Printf.printf "video: %s\n" out
 
-let progress p = Progress.create ~enabled:((not p.opts.quiet) && Unix.isatty Unix.stderr) ~label:"frames" ~total:(List.length p.todo) ()
+let progress p = Cli.progress p.opts ~label:"frames" ~total:(List.length p.todo)
 
 let run (o : Cli.opts) ~frames ~resume ~video =
   Cli.install_interrupt_handler ();

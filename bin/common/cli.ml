@@ -18,11 +18,12 @@ type opts = {
   frame : int option;
   stats : string option;
   quiet : bool;
+  progress : bool;
 }
 
 let default_opts () =
   { scene = None; output = None; width = None; height = None; samples = None; depth = None; quality = None;
-    domains = None; time = None; frame = None; stats = None; quiet = false }
+    domains = None; time = None; frame = None; stats = None; quiet = false; progress = false }
 
 open Cmdliner
 
@@ -46,10 +47,21 @@ let opts_term =
   let frame = int_opt [ "frame" ] "K" "Render frame K of the animation (time = K / fps)." in
   let stats = Arg.(value & opt (some string) None & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.") in
   let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"No progress line.") in
-  let make scene output width height samples depth quality domains time frame stats quiet =
-    { scene; output; width; height; samples; depth; quality; domains; time; frame; stats; quiet }
+  let progress =
+    Arg.(value & flag
+         & info [ "progress" ]
+             ~doc:"Report progress even when stderr is not a terminal: a line every 2 seconds (for logs, and under mpirun).")
   in
-  Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet)
+  let make scene output width height samples depth quality domains time frame stats quiet progress =
+    { scene; output; width; height; samples; depth; quality; domains; time; frame; stats; quiet; progress }
+  in
+  Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet $ progress)
+
+let progress o ~label ~total =
+  let mode : Progress.mode =
+    if o.quiet then Off else if Unix.isatty Unix.stderr then Terminal else if o.progress then Lines else Off
+  in
+  Progress.create ~mode ~label ~total ()
 
 let exits =
   Cmd.Exit.info 0 ~doc:"on success."

@@ -21,6 +21,7 @@ type opts = {
   frame : int option;
   stats : string option;
   quiet : bool;
+  progress : bool;  (** report progress as lines when stderr is not a terminal *)
 }
 
 val default_opts : unit -> opts
@@ -31,6 +32,10 @@ val errors_to_string : Lancer_dsl.Error.t list -> string
 
 val opts_term : opts Cmdliner.Term.t
 (** The options shared by [render] (and, with [-o DIR], [animate]). *)
+
+val progress : opts -> label:string -> total:int -> Progress.t
+(** The progress report the options ask for: redrawn in place on a terminal, lines with
+    [--progress] otherwise, nothing with [--quiet]. *)
 
 val exits : Cmdliner.Cmd.Exit.info list
 (** The exit statuses every command documents: 0, 1, 2 and 130. *)

@@ -15,7 +15,7 @@ let render_cmd (o : Cli.opts) =
   (* Evaluating a large scene leaves garbage (the evaluator's values): give it back before
      the framebuffer is allocated, so that peak memory is the scene plus the image. *)
   Gc.compact ();
-  let progress = Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label:"tiles" ~total:(Array.length (Render.tiles sc)) () in
+  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let t0 = Unix.gettimeofday () in
   let fb, st =
     Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)

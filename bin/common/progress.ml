@@ -1,4 +1,7 @@
+type mode = Off | Terminal | Lines
+
 type t = {
+  mode : mode;
   enabled : bool;
   label : string;
   total : int;
@@ -8,10 +11,10 @@ type t = {
   lock : Mutex.t;
 }
 
-let create ?enabled ~label ~total () =
-  let enabled = match enabled with Some e -> e | None -> Unix.isatty Unix.stderr in
+let create ?mode ~label ~total () =
+  let mode = match mode with Some m -> m | None -> if Unix.isatty Unix.stderr then Terminal else Off in
   let now = Unix.gettimeofday () in
-  { enabled; label; total; start = now; last = Atomic.make 0.; rays = Atomic.make 0; lock = Mutex.create () }
+  { mode; enabled = mode <> Off; label; total; start = now; last = Atomic.make 0.; rays = Atomic.make 0; lock = Mutex.create () }
 
 let hms s =
   let s = int_of_float (Float.max 0. s) in
@@ -24,7 +27,8 @@ let update ?(rays = 0) p done_ =
     let all_rays = Atomic.fetch_and_add p.rays rays + rays in
     let now = Unix.gettimeofday () in
     let last = Atomic.get p.last in
-    if (now -. last >= 0.2 || done_ = p.total) && Atomic.compare_and_set p.last last now then
+    let every = if p.mode = Lines then 2. else 0.2 in
+    if (now -. last >= every || done_ = p.total) && Atomic.compare_and_set p.last last now then
       Mutex.protect p.lock (fun () ->
           let el = now -. p.start in
           let rate = if el > 0. then Float.of_int done_ /. el else 0. in
@@ -33,9 +37,12 @@ let update ?(rays = 0) p done_ =
             if all_rays > 0 && el > 0. then Printf.sprintf "%.2f M rays/s" (Float.of_int all_rays /. el /. 1e6)
             else Printf.sprintf "%.1f %s/s" rate p.label
           in
-          Printf.eprintf "\r\027[K%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s%!" p.label done_ p.total
+          Printf.eprintf "%s%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s%s%!"
+            (if p.mode = Terminal then "\r\027[K" else "")
+            p.label done_ p.total
             (100. *. Float.of_int done_ /. Float.of_int (max 1 p.total))
-            speed (hms el) (hms left))
+            speed (hms el) (hms left)
+            (if p.mode = Lines then "\n" else ""))
   end
 
-let finish p = if p.enabled then Mutex.protect p.lock (fun () -> prerr_string "\r\027[K"; flush stderr)
+let finish p = if p.mode = Terminal then Mutex.protect p.lock (fun () -> prerr_string "\r\027[K"; flush stderr)

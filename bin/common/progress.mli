@@ -4,8 +4,13 @@
 
 type t
 
-val create : ?enabled:bool -> label:string -> total:int -> unit -> t
-(** [create ~label ~total ()] is enabled by default only when stderr is a terminal. *)
+type mode =
+  | Off
+  | Terminal  (** one line, redrawn in place a few times a second *)
+  | Lines  (** a full line every 2 s, for logs and for mpirun, which forwards lines *)
+
+val create : ?mode:mode -> label:string -> total:int -> unit -> t
+(** [create ~label ~total ()] is [Terminal] when stderr is a terminal, else [Off]. *)
 
 val update : ?rays:int -> t -> int -> unit
 (** [update p done_] records that [done_] of the total units are finished, and [rays] more

@@ -19,8 +19,6 @@ type setup = Go of { filename : string; text : string } | Quit
 
 let user = Cli.user
 
-let progress_bar (o : Cli.opts) ~label ~total =
-  Progress.create ~enabled:((not o.quiet) && Unix.isatty Unix.stderr) ~label ~total ()
 
 let ranks_text domains =
   match Mpi.size () with
@@ -79,7 +77,7 @@ let render_cmd (o : Cli.opts) =
     (source, (out, sc))
   in
   let lead (out, sc) ~pool ~domains =
-    let progress = progress_bar o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+    let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
     Farm.serve ~fatal ~pool ~frames:[ (0, fun () -> sc) ] ~on_tiles:(Progress.update progress)

@@ -253,6 +253,10 @@ let tests =
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ] in
         check_status "render" 0 r;
         Alcotest.(check string) "stderr is not a terminal: silent" "" e;
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150"; "--progress" ] in
+        check_status "render --progress" 0 r;
+        Alcotest.(check bool) ("--progress: lines for a log\n" ^ e) true
+          (contains e "tiles 35/35 (100%)" && contains e "M rays/s" && not (contains e "\r"));
         if Sys.command "command -v script >/dev/null 2>&1" = 0 then begin
           let out = Filename.concat d "tty.out" in
           let cmd =
