@@ -2,6 +2,7 @@ open Lancer
 module Dsl = Lancer_dsl.Dsl
 
 exception User_error of string
+exception Scene_error of string
 
 let user fmt = Printf.ksprintf (fun s -> raise (User_error s)) fmt
 
@@ -104,7 +105,7 @@ let load_source (filename, text) =
   | Ok p -> warn_truncated p; p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
       user "the built-in showcase does not load:\n%s" (errors_to_string errs)
-  | Error errs -> raise (User_error (errors_to_string errs))
+  | Error errs -> raise (Scene_error (errors_to_string errs))
 
 let load scene = load_source (source { (default_opts ()) with scene })
 
@@ -137,7 +138,7 @@ let time_of o prog =
   | None, None -> (0., 0)
 
 let scene_at o prog ~time ~frame =
-  let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (User_error (errors_to_string errs)) in
+  let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
   (* The scene's own `depth` field stops at the same bound: each bounce is a nested call,
@@ -218,6 +219,10 @@ let run f =
   | () -> 0
   | exception User_error m ->
       prerr_endline ("lancer: " ^ m);
+      1
+  | exception Scene_error m ->
+      prerr_string m;
+      flush stderr;
       1
   | exception Sys.Break ->
       prerr_endline "\nlancer: interrupted; no output was written";

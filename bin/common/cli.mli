@@ -3,7 +3,11 @@
     the exit-code discipline (0 success, 1 user error, 2 internal error). *)
 
 exception User_error of string
-(** A mistake the user can fix (scene, options, files): one clear message, exit 1. *)
+(** A mistake the user can fix (options, files): one clear message, exit 1. *)
+
+exception Scene_error of string
+(** The located errors of a scene, already formatted ([file:line:col: message], the line,
+    a caret): printed as they are, exit 1. *)
 
 val user : ('a, unit, string, 'b) format4 -> 'a
 (** [user fmt …] raises [User_error] with the formatted message. *)

@@ -35,7 +35,7 @@ let check_cmd scene json time =
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
   match Dsl.scene_at prog ~time ~frame with
-  | Error errs -> raise (Cli.User_error (Cli.errors_to_string errs))
+  | Error errs -> raise (Cli.Scene_error (Cli.errors_to_string errs))
   | Ok sc ->
       if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
       else print_string (Dsl.summary prog sc)

@@ -28,7 +28,7 @@ let ranks_text domains =
 (* How rank 0 reports an exception that ends the job, and the status it ends with. *)
 let fatal e = Cli.run (fun () -> raise e)
 
-let describe = function Cli.User_error m -> m | e -> "internal error: " ^ Printexc.to_string e
+let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "internal error: " ^ Printexc.to_string e
 
 (* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
    state); [lead] runs on rank 0 with a pool when it is alone; [scene_of prog key] is
