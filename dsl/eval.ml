@@ -786,7 +786,7 @@ and animation ctx env scope k items =
         let n = Float.round (d *. fps) in
         if n > 1e7 then (bad b f.vloc "this animation would have more than 10 000 000 frames"; 1)
         else max 1 (int_of_float n)
-    | None, None -> bad b k.nloc "animation needs `frames: N` or `duration: seconds`"; 1
+    | None, None -> 48
   in
   finish b;
   ctx.animation <- Some ((fps, frames), k.nloc)

@@ -91,8 +91,9 @@ let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : V
         let rx = (k2 *. nf.x) -. ldx and ry = (k2 *. nf.y) -. ldy and rz = (k2 *. nf.z) -. ldz in
         (* R·V with V = −D *)
         let rv = (rx *. -.d.x) +. (ry *. -.d.y) +. (rz *. -.d.z) in
-        if rv > 0. then begin
-          let ks = m.specular *. Float.pow rv m.shininess in
+        (* max(0, R·V)^shininess: nothing when R·V ≤ 0, except that x⁰ = 1. *)
+        if rv > 0. || m.shininess = 0. then begin
+          let ks = m.specular *. Float.pow (if rv > 0. then rv else 0.) m.shininess in
           acc.ar <- acc.ar +. (ks *. er);
           acc.ag <- acc.ag +. (ks *. eg);
           acc.ab <- acc.ab +. (ks *. eb)

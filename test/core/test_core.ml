@@ -133,6 +133,17 @@ let lambert_tests =
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
         check_color ~eps:1e-12 "white highlight" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) (Color.scale 0.5 Color.white));
+    Alcotest.test_case "shininess 0: max(0, R·V)^0 = 1, so specular · E even where R·V < 0" `Quick (fun () ->
+        (* A floor seen at 45° (V = (0, 1, −1)/√2), lit from in front of the camera
+           (L = (0, 1, −3)/√10): R = (0, 1, 3)/√10 and R·V = −2/√20 < 0. *)
+        let m = mat ~ambient:0. ~diffuse:0. ~specular:0.5 ~shininess:0. () in
+        let camera = Camera.make ~position:(v 0. 1. (-1.)) ~look_at:Vec3.zero () in
+        let sc =
+          Scene.make_exn ~settings:small ~camera ~lights:[ Light.directional (v 0. (-1.) 3.) ]
+            [ prim m (Shape.plane ~normal:(v 0. 1. 0.) ~offset:0.) ]
+        in
+        let ray = Camera.ray camera ~width:11 ~height:11 5.5 5.5 in
+        check_color ~eps:1e-12 "specular · E" (Shade.trace sc (Stats.create ()) ray 1) (Color.scale 0.5 Color.white));
     Alcotest.test_case "an opaque object between surface and light casts a full shadow" `Quick (fun () ->
         let m = mat ~ambient:0.1 () in
         let sc =

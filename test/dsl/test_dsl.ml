@@ -181,6 +181,8 @@ let test_animation_time () =
    | Error es -> Alcotest.fail (errors_text es));
   let p = load "animation { fps: 24, duration: 2 }" in
   Alcotest.(check (option (pair (float 0.) int))) "duration" (Some (24., 48)) (Dsl.animation p);
+  Alcotest.(check (option (pair (float 0.) int))) "defaults: 24 fps, 48 frames" (Some (24., 48)) (Dsl.animation (load "animation { }"));
+  Alcotest.(check (option (pair (float 0.) int))) "frames default to 48" (Some (12., 48)) (Dsl.animation (load "animation { fps: 12 }"));
   Alcotest.(check (option (pair (float 0.) int))) "none" None (Dsl.animation (load ""))
 
 let test_bodies () =
