@@ -989,7 +989,16 @@ and body ctx env scope loc (n : name) items =
   match !(b.members) with
   | [ ({ p_shapes = [ Shape.Sphere { center; radius } ]; _ } as o) ] ->
       let c0 = Transform.point o.p_transform center in
-      let r = radius *. Transform.max_scale o.p_transform in
+      (* The simulated sphere is the rendered one: its radius is scaled by the length of
+         the transformed axes, which must agree (a rotation keeps them; a non-uniform
+         scale would draw an ellipsoid that the physics cannot follow). *)
+      let axis a = Vec3.length (Transform.vector o.p_transform a) in
+      let sx = axis Vec3.x_axis and sy = axis Vec3.y_axis and sz = axis Vec3.z_axis in
+      let lo = Float.min sx (Float.min sy sz) and hi = Float.max sx (Float.max sy sz) in
+      if hi > lo *. (1. +. 1e-9) then
+        fail n.nloc "the sphere of body `%s` is scaled differently along its axes (%s, %s, %s): a body must stay a sphere"
+          n.id (fmt_num sx) (fmt_num sy) (fmt_num sz);
+      let r = radius *. hi in
       let material = match o.p_material with Some (m, _) -> m | None -> Material.default in
       let bd = { name = n.id; center = c0; radius = r; material; velocity; mass; restitution; loc } in
       ctx.bodies <- (bd, o) :: ctx.bodies

@@ -237,6 +237,11 @@ let test_physics_wired () =
   feq "after the bounce, the rebound in closed form" (0.5 +. (v_up *. dt) -. (5. *. dt *. dt)) (centre (at (t_hit +. dt))).y;
   feq "at rest on the floor at the end" 0.5 (centre (at 3.)).y;
   (match Dsl.colliders p with [ Physics.Plane _ ] -> () | _ -> Alcotest.fail "one plane collider");
+  (* A rotated body keeps its radius; a body scaled unevenly is refused. *)
+  (match Dsl.bodies (load "body b { sphere { center: (0, 2, 0), radius: 1, rotate: (0, 45, 0), scale: 2 } }") with
+   | [ b ] -> feq "radius under rotation and uniform scale" 2. b.radius
+   | _ -> Alcotest.fail "one body");
+  check_err "body b { sphere { center: (0, 2, 0), radius: 1, scale: (1, 2, 1) } }" "a body must stay a sphere";
   (* An axis-aligned box is one collider; a rotated one is its six faces; spheres are none. *)
   let q =
     load
