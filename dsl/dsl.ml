@@ -207,7 +207,11 @@ let count_by key xs =
     xs;
   List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
 
-let light_kind = function Light.Point p when p.radius > 0. -> "area" | Light.Point _ -> "point" | Light.Directional _ -> "directional"
+let light_kind = function
+  | Light.Point _ as l when Light.is_area l -> "area"
+  | Light.Point p when p.radius > 0. -> "point (radius without samples: hard shadows)"
+  | Light.Point _ -> "point"
+  | Light.Directional _ -> "directional"
 
 let distinct_materials (sc : Scene.t) =
   let tbl = Hashtbl.create 16 in

@@ -701,6 +701,9 @@ and check_params params =
 
 and block ctx env scope (k : name) items =
   match k.id with
+  | ("settings" | "camera" | "animation" | "physics" | "light") when scope.in_group ->
+      fail k.nloc "`%s` cannot be inside a group: a group's transforms and material apply to objects only; write it at top level"
+        k.id
   | "settings" -> settings ctx env scope k items
   | "camera" -> camera ctx env scope k items
   | "animation" -> animation ctx env scope k items

@@ -242,6 +242,7 @@ let test_physics_wired () =
    | [ b ] -> feq "radius under rotation and uniform scale" 2. b.radius
    | _ -> Alcotest.fail "one body");
   check_err "body b { sphere { center: (0, 2, 0), radius: 1, scale: (1, 2, 1) } }" "a body must stay a sphere";
+  check_err "group { translate: (0, 10, 0) light { position: (0, 0, 0) } }" "`light` cannot be inside a group";
   (* An axis-aligned box is one collider; a rotated one is its six faces; spheres are none. *)
   let q =
     load
