@@ -31,9 +31,12 @@ let animation t = t.first.animation
 let bodies t = t.first.bodies
 let physics t = t.first.physics
 
+exception Refused of string
+
 (* The one boundary: nothing raised below reaches the caller. *)
 let guard file f =
   try f () with
+  | Refused m -> Error [ Error.file_error file m ]
   | Stack_overflow -> Error [ Error.file_error file "the scene is nested too deeply (the evaluator's stack overflowed)" ]
   | Out_of_memory -> Error [ Error.file_error file "the scene needs more memory than is available" ]
   | e -> Error [ Error.file_error file ("internal error: " ^ Printexc.to_string e ^ " (please report it)") ]
@@ -164,7 +167,16 @@ let trajectory t ~time =
                   ~radius:b.radius ())
               t.first.bodies
           in
-          let tr = Physics.simulate (world t) (colliders t) bodies ~until in
+          let w = world t in
+          (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
+          let max_steps = 10_000_000. in
+          if w.method_ <> Physics.Exact && until /. w.step > max_steps then
+            raise
+              (Refused
+                 (Printf.sprintf
+                    "the physics step %g s over %g s would take %.3g steps per body; the limit is %.0f (use a larger step or the exact method)"
+                    w.step until (until /. w.step) max_steps));
+          let tr = Physics.simulate w (colliders t) bodies ~until in
           t.motion := Some (until, tr);
           tr)
 

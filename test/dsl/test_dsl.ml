@@ -243,6 +243,14 @@ let test_physics_wired () =
    | _ -> Alcotest.fail "one body");
   check_err "body b { sphere { center: (0, 2, 0), radius: 1, scale: (1, 2, 1) } }" "a body must stay a sphere";
   check_err "group { translate: (0, 10, 0) light { position: (0, 0, 0) } }" "`light` cannot be inside a group";
+  (* A fixed step that would not fit in memory is refused, not attempted. *)
+  (match
+     Dsl.scene_at
+       (load "animation { fps: 24, duration: 2 }\nphysics { method: \"verlet\", step: 1e-9 }\nbody b { sphere { center: (0, 2, 0), radius: 0.5 } }")
+       ~time:1. ~frame:24
+   with
+   | Ok _ -> Alcotest.fail "a 2e9-step simulation was attempted"
+   | Error es -> Alcotest.(check bool) (errors_text es) true (contains (errors_text es) "steps per body; the limit is 10000000"));
   (* An axis-aligned box is one collider; a rotated one is its six faces; spheres are none. *)
   let q =
     load
