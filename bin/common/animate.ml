@@ -100,13 +100,26 @@ let make_video p out =
     (try Sys.remove tmp with Sys_error _ -> ());
     Cli.user "ffmpeg failed to make %s" out
   end;
-  Unix.rename tmp out;
+  (try Unix.rename tmp out
+   with Unix.Unix_error (e, _, _) ->
+     (try Sys.remove tmp with Sys_error _ -> ());
+     Cli.user "cannot write %s: %s" out (Unix.error_message e));
   if not p.opts.quiet then Printf.printf "video: %s\n" out
 
 let progress p = Cli.progress p.opts ~label:"frames" ~total:(List.length p.todo)
 
+let interrupted = "the frames written so far are kept; run again with --resume to finish"
+
+(* The video's name and place are checked before the frames are rendered, not after. *)
+let check_video =
+  Option.iter (fun v ->
+      if not (Filename.check_suffix v ".mp4" || Filename.check_suffix v ".gif") then
+        Cli.user "--video %s: the video must be a .mp4 or a .gif" v;
+      Cli.check_writable v)
+
 let run (o : Cli.opts) ~frames ~resume ~video =
   Cli.install_interrupt_handler ();
+  check_video video;
   let p = plan o ~frames ~resume in
   let domains = Cli.domains o in
   let bar = progress p in

@@ -33,11 +33,17 @@ val frame_scene : plan -> int -> Lancer.Scene.t
 val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
 (** Write frame k atomically and record it in the manifest (also written atomically). *)
 
+val check_video : string option -> unit
+(** Refuse, before rendering, a [--video] that is not .mp4 or .gif or cannot be written. *)
+
 val make_video : plan -> string -> unit
 (** Assemble the frames into a .mp4 or .gif with ffmpeg; a clear error without it. *)
 
 val progress : plan -> Progress.t
 (** A progress line over the frames to render (only on a terminal, without --quiet). *)
+
+val interrupted : string
+(** What [lancer animate] says when interrupted: the frames already written are kept. *)
 
 val run : Cli.opts -> frames:(int * int) option -> resume:bool -> video:string option -> unit
 (** [lancer animate]. *)

@@ -214,7 +214,7 @@ let install_interrupt_handler () =
      atomic write cleans up and reports it. *)
   Sys.set_signal Sys.sigxfsz Sys.Signal_ignore
 
-let run f =
+let run ?(interrupted = "no output was written") f =
   match f () with
   | () -> 0
   | exception User_error m ->
@@ -225,7 +225,7 @@ let run f =
       flush stderr;
       1
   | exception Sys.Break ->
-      prerr_endline "\nlancer: interrupted; no output was written";
+      prerr_endline ("\nlancer: interrupted; " ^ interrupted);
       130
   | exception Out_of_memory ->
       prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";

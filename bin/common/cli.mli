@@ -91,10 +91,11 @@ val peak_memory_kib : unit -> int option
 val warn_bad_samples : Lancer.Stats.t -> unit
 (** A warning on stderr when some samples were NaN or infinite. *)
 
-val run : (unit -> unit) -> int
+val run : ?interrupted:string -> (unit -> unit) -> int
 (** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
-    "lancer: message" for [User_error]; 130 on Ctrl-C; 2 with "internal error … please
-    report" for anything unexpected. No backtrace reaches the user. *)
+    "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
+    Ctrl-C, saying [interrupted] (default "no output was written"); 2 with "internal
+    error … please report" for anything unexpected. No backtrace reaches the user. *)
 
 val install_interrupt_handler : unit -> unit
 (** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)

@@ -112,7 +112,7 @@ let animate =
       `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (f, r, v) -> wrap (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ Animate.options_term)
+    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ Animate.options_term)
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in

@@ -102,6 +102,7 @@ let render_cmd (o : Cli.opts) =
 let animate_cmd (o : Cli.opts) ~frames ~resume ~video =
   let prepare () =
     Cli.install_interrupt_handler ();
+    Animate.check_video video;
     let p = Animate.plan o ~frames ~resume in
     (p.source, p)
   in

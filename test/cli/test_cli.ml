@@ -92,6 +92,41 @@ let animate_tests =
         let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "s.rts"; "-o"; "out2" ] in
         check_status "a still" 1 r;
         Alcotest.(check bool) e true (contains e "no animation block"));
+    Alcotest.test_case "animate --video is checked before any frame is rendered" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts") anim_scene;
+        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "no/a.gif" ] in
+        check_status "missing directory" 1 r;
+        Alcotest.(check bool) e true (contains e "directory no does not exist");
+        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "a.avi" ] in
+        check_status "unknown format" 1 r;
+        Alcotest.(check bool) e true (contains e ".mp4 or a .gif");
+        Alcotest.(check bool) "nothing rendered" false (Sys.file_exists (Filename.concat d "out")));
+    Alcotest.test_case "an interrupted animate keeps its finished frames and says how to resume" `Slow (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts")
+          "settings { width: 400, height: 300, samples: 4 }\nanimation { fps: 10, frames: 400 }\n\
+           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4) }\n\
+           sphere { center: (0, 1, 0), radius: 1, material: material { reflection: 0.5 } }\n";
+        let err = Filename.concat d "err" in
+        let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT ] 0o644 in
+        let pid =
+          Unix.create_process exe [| exe; "animate"; Filename.concat d "a.rts"; "-o"; Filename.concat d "out"; "-q" |] Unix.stdin
+            Unix.stdout fd
+        in
+        let rec wait_frame n =
+          if n > 0 && not (Sys.file_exists (Filename.concat d "out/frame_0001.png")) then (Unix.sleepf 0.05; wait_frame (n - 1))
+        in
+        wait_frame 400;
+        Unix.kill pid Sys.sigint;
+        let _, st = Unix.waitpid [] pid in
+        Unix.close fd;
+        Alcotest.(check bool) "exit 130" true (st = Unix.WEXITED 130);
+        let e = read_file err in
+        Alcotest.(check bool) e true (contains e "frames written so far are kept" && contains e "--resume");
+        Alcotest.(check bool) "frames kept" true (Sys.file_exists (Filename.concat d "out/frame_0000.png"));
+        Alcotest.(check bool) "no temporary file" false
+          (Array.exists (fun f -> contains f ".tmp") (Sys.readdir (Filename.concat d "out"))));
     Alcotest.test_case "animate --video: a GIF with ffmpeg; without it a clear message and the frames kept" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
