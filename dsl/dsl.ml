@@ -26,6 +26,15 @@ type t = {
 }
 
 let default_physics = Eval.default_physics
+
+let inputs_digest t =
+  let texts = List.sort compare (Hashtbl.fold (fun file text acc -> (file, Digest.string text) :: acc) t.sources []) in
+  let file_digest p = try Digest.to_hex (Digest.file p) with Sys_error _ -> "-" in
+  let files = Eval.image_files t.images in
+  Digest.to_hex
+    (Digest.string
+       (String.concat "\n"
+          (List.map (fun (f, d) -> f ^ " " ^ Digest.to_hex d) texts @ List.map (fun f -> f ^ " " ^ file_digest f) files)))
 let file t = t.file
 let animation t = t.first.animation
 let bodies t = t.first.bodies

@@ -35,6 +35,11 @@ val animation : t -> (float * int) option
 val file : t -> string
 (** The file name the program was loaded as. *)
 
+val inputs_digest : t -> string
+(** A digest of everything the program read: its text and its included files', and the
+    contents of the images and meshes it loaded. Two programs with the same digest make
+    the same scenes ([lancer animate --resume] relies on it). *)
+
 (** {1 For the physics engine} *)
 
 type physics_method = Eval.physics_method = Exact | Verlet | Euler

@@ -47,6 +47,10 @@ type images = {
 
 let new_images () : images = { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4 }
 
+let image_files (c : images) =
+  List.sort_uniq compare
+    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures [] @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes [])
+
 (* ------------------------------------------------------------------------------------ *)
 (* Did-you-mean *)
 

@@ -66,6 +66,9 @@ type images
 val new_images : unit -> images
 (** An empty cache. *)
 
+val image_files : images -> string list
+(** The paths of the images and meshes read so far, sorted. *)
+
 val run :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?objects:bool -> sources:(string, string) Hashtbl.t ->
   images:images -> time:float -> frame:int -> Ast.stmt list -> (output, Error.t list) result

@@ -25,18 +25,19 @@ let write_manifest dir entries =
   Cli.write_json (Filename.concat dir manifest_name) (`Assoc (List.map (fun (k, h) -> (k, `String h)) entries))
 
 (* What changes the pixels of frame k: the scene text and the overriding options. *)
-let frame_digest (o : Cli.opts) text k =
+let frame_digest (o : Cli.opts) inputs k =
   let opt f = function Some v -> f v | None -> "-" in
   Digest.to_hex
     (Digest.string
        (String.concat "|"
-          [ "lancer-frame-v1"; text; opt string_of_int o.width; opt string_of_int o.height; opt string_of_int o.samples;
+          [ "lancer-frame-v2"; inputs; opt string_of_int o.width; opt string_of_int o.height; opt string_of_int o.samples;
             opt string_of_int o.depth; opt Quality.to_string o.quality; string_of_int k ]))
 
 type plan = {
   opts : Cli.opts;
   source : string * string;
   prog : Lancer_dsl.Dsl.t;
+  inputs : string;
   dir : string;
   fps : float;
   first : int;
@@ -49,8 +50,9 @@ let plan (o : Cli.opts) ~frames ~resume =
   let dir = match o.output with Some d -> d | None -> Cli.user "animate needs an output directory: -o DIR" in
   if Sys.file_exists dir && not (Sys.is_directory dir) then Cli.user "%s exists and is not a directory" dir;
   ignore (Cli.domains o);
-  let ((_, text) as source) = Cli.source o in
+  let source = Cli.source o in
   let prog = Cli.load_source source in
+  let inputs = Lancer_dsl.Dsl.inputs_digest prog in
   let fps, count =
     match Lancer_dsl.Dsl.animation prog with
     | Some a -> a
@@ -65,12 +67,12 @@ let plan (o : Cli.opts) ~frames ~resume =
     List.filter
       (fun k ->
         let name = frame_name k in
-        not (resume && Sys.file_exists (Filename.concat dir name) && List.assoc_opt name manifest = Some (frame_digest o text k)))
+        not (resume && Sys.file_exists (Filename.concat dir name) && List.assoc_opt name manifest = Some (frame_digest o inputs k)))
       (List.init (last - first + 1) (fun i -> first + i))
   in
   let skipped = last - first + 1 - List.length todo in
   if skipped > 0 && not o.quiet then Printf.printf "resuming: %d frames already rendered, %d to go\n%!" skipped (List.length todo);
-  { opts = o; source; prog; dir; fps; first; last; todo; manifest }
+  { opts = o; source; prog; inputs; dir; fps; first; last; todo; manifest }
 
 let frame_scene p k = Cli.scene_at p.opts p.prog ~time:(Float.of_int k /. p.fps) ~frame:k
 
@@ -78,7 +80,7 @@ let write_frame p k sc fb st =
   Cli.warn_bad_samples st;
   let name = frame_name k in
   Cli.write_image (Filename.concat p.dir name) sc fb;
-  p.manifest <- (name, frame_digest p.opts (snd p.source) k) :: List.remove_assoc name p.manifest;
+  p.manifest <- (name, frame_digest p.opts p.inputs k) :: List.remove_assoc name p.manifest;
   write_manifest p.dir (List.sort compare p.manifest)
 
 let make_video p out =

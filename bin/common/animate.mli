@@ -2,7 +2,8 @@
 
     Frames render one after the other, each over all domains in tiles. Each frame is
     written atomically, and a manifest ([DIR/lancer-frames.json]) records for each frame
-    a digest of the scene text, the options that change pixels and the frame number, so
+    a digest of the scene (with its includes, images and meshes), the options that change
+    pixels and the frame number, so
     [--resume] skips frames already written for the same scene and options and re-renders
     those that are missing or stale. [--video] assembles the frames with ffmpeg.
     [lancer-mpi animate] uses the same plan, names and manifest, so either command
@@ -15,6 +16,7 @@ type plan = private {
   opts : Cli.opts;
   source : string * string;  (** file name and text of the scene *)
   prog : Lancer_dsl.Dsl.t;
+  inputs : string;  (** {!Lancer_dsl.Dsl.inputs_digest}: the scene, its includes, images and meshes *)
   dir : string;
   fps : float;
   first : int;

@@ -75,6 +75,14 @@ let animate_tests =
         Alcotest.(check bool) "frame 2 is back" true (Sys.file_exists (path "frame_0002.png"));
         Alcotest.(check (float 0.)) "frame 3 untouched" t3 (mtime (path "frame_0003.png"));
         Alcotest.(check bool) "same bytes" true (before = read_file (path "frame_0001.png"));
+        (* A change in an included file makes every frame stale too. *)
+        write_file (Filename.concat d "col.rts") "let c = (0.9, 0.1, 0.1)\n";
+        write_file (Filename.concat d "b.rts") ("include \"col.rts\"\n" ^ anim_scene ^ "sphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n");
+        check_status "with include" 0 (lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "-q" ]);
+        write_file (Filename.concat d "col.rts") "let c = (0.1, 0.9, 0.1)\n";
+        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "--resume" ] in
+        check_status "include changed" 0 r;
+        Alcotest.(check bool) ("stale after the include changed: " ^ out) true (contains out "wrote 4 frames");
         (* Another size makes every frame stale. *)
         let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume"; "--width"; "20" ] in
         check_status "stale" 0 r;
