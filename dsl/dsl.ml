@@ -295,7 +295,7 @@ let to_json ?body_state t (sc : Scene.t) =
     | None -> [ ("position", vj b.center); ("velocity_now", vj b.velocity) ]
   in
   let objects =
-    match guard t.file (fun () -> Result.map (fun o -> o) (eval ?body_state t ~time:sc.time ~frame:sc.frame)) with
+    match guard t.file (fun () -> eval ?body_state t ~time:sc.time ~frame:sc.frame) with
     | Ok out ->
         List.map
           (fun (o : Eval.obj) ->

@@ -7,13 +7,13 @@ let albedo (o : Primitive.t) p n delta =
   match m.texture with
   | None -> m.color
   | Some tex ->
+      (* N is the geometric normal: a smooth mesh's interpolated normal is not. *)
+      let n = match o.shape with Shape.Triangle { normals = Some _; tn; _ } -> Transform.normal o.transform tn | _ -> n in
       let q = Primitive.to_object o (Vec3.madd p (-.delta) n) in
       if Texture.needs_uv tex then
         let u, v = Shape.uv o.shape (Primitive.to_object o p) in
         Texture.eval tex q u v
       else Texture.eval tex q 0. 0.
-
-let black_if_zero = Color.black
 
 let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
   st.shadow <- st.shadow + 1;
@@ -25,7 +25,7 @@ let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
   Accel.fold_hits sc.accel r 0. dist
     (fun o t acc ->
       let m = o.material in
-      if m.transparency = 0. then black_if_zero
+      if m.transparency = 0. then Color.black
       else
         let p = Ray.at r t in
         let po = Primitive.to_object o p in
