@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # lancer-mpi against lancer on this machine (make bench-mpi): a still of the showcase at
-# W×H (default 1920×1080) and the 48-frame bounce animation (scenes/bounce.rts, frames
+# W×H (default 1920×1080, preview quality) and the 48-frame bounce animation (scenes/bounce.rts, frames
 # 0..47 at AW×AH, default 480×270), median of REPEAT runs (default 3). Rows: lancer with
 # 1 domain and with every core; lancer-mpi with 1 rank (it renders alone), and with
 # 1 + N worker ranks of one domain each for N = 1 … cores (rank 0 only serves), and
@@ -35,7 +35,7 @@ run() { # LABEL CORES CMD...: median seconds over REPEAT runs
 bench() { # KIND: still or animation
   local kind=$1 args
   if [ "$kind" = still ]; then
-    args=(render scenes/showcase.rts -o "$tmp/out.png" --width "$W" --height "$H" -q)
+    args=(render scenes/showcase.rts -o "$tmp/out.png" --width "$W" --height "$H" --quality preview -q)
   else
     args=(animate scenes/bounce.rts -o "$tmp/out" --frames 0..47 --width "$AW" --height "$AH" -q)
   fi
@@ -51,7 +51,7 @@ bench() { # KIND: still or animation
   } >"$tmp/rows"
   local base; base=$(head -n 1 "$tmp/rows" | cut -d'|' -f3)
   echo
-  if [ "$kind" = still ]; then echo "### A still: scenes/showcase.rts at ${W}×${H}"; else echo "### An animation: scenes/bounce.rts, 48 frames at ${AW}×${AH}"; fi
+  if [ "$kind" = still ]; then echo "### A still: scenes/showcase.rts at ${W}×${H}, --quality preview"; else echo "### An animation: scenes/bounce.rts, 48 frames at ${AW}×${AH}"; fi
   echo
   echo "| run | rendering cores | seconds | speed-up | MPI overhead |"
   echo "|---|---:|---:|---:|---:|"
