@@ -76,12 +76,16 @@ let plan (o : Cli.opts) ~frames ~resume =
 
 let frame_scene p k = Cli.scene_at p.opts p.prog ~time:(Float.of_int k /. p.fps) ~frame:k
 
+(* Frames may be written from several domains at once: the manifest is theirs in turn. *)
+let manifest_lock = Mutex.create ()
+
 let write_frame p k sc fb st =
   Cli.warn_bad_samples st;
   let name = frame_name k in
   Cli.write_image (Filename.concat p.dir name) sc fb;
-  p.manifest <- (name, frame_digest p.opts p.inputs k) :: List.remove_assoc name p.manifest;
-  write_manifest p.dir (List.sort compare p.manifest)
+  Mutex.protect manifest_lock (fun () ->
+      p.manifest <- (name, frame_digest p.opts p.inputs k) :: List.remove_assoc name p.manifest;
+      write_manifest p.dir (List.sort compare p.manifest))
 
 let make_video p out =
   if Sys.command "command -v ffmpeg >/dev/null 2>&1" <> 0 then
@@ -127,13 +131,37 @@ let run (o : Cli.opts) ~frames ~resume ~video =
   let bar = progress p in
   let t0 = Unix.gettimeofday () in
   Render.with_pool domains (fun pool ->
-      List.iteri
-        (fun i k ->
-          let sc = frame_scene p k in
-          let fb, st = Render.render ?pool sc in
-          write_frame p k sc fb st;
-          Progress.update ~rays:(Stats.total_rays st) bar (i + 1))
-        p.todo);
+      match pool with
+      | Some pool when List.length p.todo >= 2 * domains ->
+          (* Whole frames in parallel, one domain each: small frames keep every core busy,
+             and their encoding and writing run in parallel too. Scenes are evaluated in
+             order on this domain, a batch at a time; a frame's bytes are the same either
+             way. *)
+          let todo = Array.of_list p.todo in
+          let n = Array.length todo and batch = 4 * domains in
+          let finished = Atomic.make 0 in
+          let rec go start =
+            if start < n then begin
+              let ks = Array.sub todo start (min batch (n - start)) in
+              let scenes = Array.map (frame_scene p) ks in
+              Domainslib.Task.run pool (fun () ->
+                  Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(Array.length ks - 1) ~body:(fun i ->
+                      let fb, st = Render.render scenes.(i) in
+                      write_frame p ks.(i) scenes.(i) fb st;
+                      Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1)));
+              go (start + batch)
+            end
+          in
+          go 0
+      | _ ->
+          (* Few frames: one after the other, each over every domain in tiles. *)
+          List.iteri
+            (fun i k ->
+              let sc = frame_scene p k in
+              let fb, st = Render.render ?pool sc in
+              write_frame p k sc fb st;
+              Progress.update ~rays:(Stats.total_rays st) bar (i + 1))
+            p.todo);
   Progress.finish bar;
   if not o.quiet then
     Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps)\n%!" (List.length p.todo) p.dir

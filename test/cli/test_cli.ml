@@ -87,6 +87,16 @@ let animate_tests =
         let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume"; "--width"; "20" ] in
         check_status "stale" 0 r;
         Alcotest.(check bool) ("re-renders all: " ^ out) true (contains out "wrote 4 frames"));
+    Alcotest.test_case "animate writes the same frames on 1 domain (in tiles) and on 2 (whole frames in parallel)" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts") anim_scene;
+        check_status "1 domain" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "one"; "-q"; "--domains"; "1" ]);
+        check_status "2 domains" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "two"; "-q"; "--domains"; "2" ]);
+        List.iter
+          (fun f ->
+            Alcotest.(check bool) f true
+              (read_file (Filename.concat d ("one/" ^ f)) = read_file (Filename.concat d ("two/" ^ f))))
+          [ "frame_0000.png"; "frame_0001.png"; "frame_0002.png"; "frame_0003.png"; "lancer-frames.json" ]);
     Alcotest.test_case "animate --frames renders a range; bad ranges and stills are refused" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
@@ -132,7 +142,10 @@ let animate_tests =
         Alcotest.(check bool) "exit 130" true (st = Unix.WEXITED 130);
         let e = read_file err in
         Alcotest.(check bool) e true (contains e "frames written so far are kept" && contains e "--resume");
-        Alcotest.(check bool) "frames kept" true (Sys.file_exists (Filename.concat d "out/frame_0000.png"));
+        let kept = List.filter (fun f -> Filename.check_suffix f ".png") (Array.to_list (Sys.readdir (Filename.concat d "out"))) in
+        Alcotest.(check bool) "frames kept" true (kept <> []);
+        let manifest = read_file (Filename.concat d "out/lancer-frames.json") in
+        List.iter (fun f -> Alcotest.(check bool) (f ^ " in the manifest") true (contains manifest f)) kept;
         Alcotest.(check bool) "no temporary file" false
           (Array.exists (fun f -> contains f ".tmp") (Sys.readdir (Filename.concat d "out"))));
     Alcotest.test_case "animate --video: a GIF with ffmpeg; without it a clear message and the frames kept" `Quick (fun () ->
