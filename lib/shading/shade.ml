@@ -59,10 +59,14 @@ let area_transmittance sc st p origin (position : Vec3.t) radius n =
 
 let reflect d nf = Vec3.madd d (-2. *. Vec3.dot d nf) nf
 
+(* Snell–Descartes: with c = −D·Nf and k = 1 − η²(1 − c²) ≥ 0, T = η·D + (η·c − √k)·Nf.
+   [shade] computes c and k itself (Fresnel needs them) and shares this. *)
+let[@inline] refracted d nf eta c k = Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf
+
 let refract d nf eta =
   let c = -.Vec3.dot d nf in
   let k = 1. -. (eta *. eta *. (1. -. (c *. c))) in
-  if k < 0. then None else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
+  if k < 0. then None else Some (refracted d nf eta c k)
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
    it, added into [acc] (SPEC §4). Inlined into [shade]: its floats stay unboxed and
@@ -167,7 +171,7 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
       in
       if tau' > 0. then begin
         st.refracted <- st.refracted + 1;
-        let td = Vec3.madd (Vec3.smul eta d) ((eta *. c_in) -. Float.sqrt k) nf in
+        let td = refracted d nf eta c_in k in
         Color.madd out tau' (trace sc st (Ray.make (Vec3.madd p (-.delta) nf) td) (depth + 1))
       end
       else out
