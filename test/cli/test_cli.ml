@@ -3,31 +3,12 @@
 
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 
-let tmpdir () =
-  let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-cli-%d-%d" (Unix.getpid ()) (Random.bits ())) in
-  Unix.mkdir d 0o755;
-  d
+open Run_lancer
 
-let read_file p = In_channel.with_open_bin p In_channel.input_all
-let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
+let tmpdir () = tmpdir "lancer-cli"
 
 (* Run lancer with [args] in [dir]; (status, stdout, stderr). *)
-let lancer ?(dir = Sys.getcwd ()) args =
-  let out = Filename.temp_file "lancer" ".out" and err = Filename.temp_file "lancer" ".err" in
-  let cmd =
-    Printf.sprintf "cd %s && %s %s >%s 2>%s" (Filename.quote dir) (Filename.quote exe)
-      (String.concat " " (List.map Filename.quote args)) out err
-  in
-  let status = Sys.command cmd in
-  let o = read_file out and e = read_file err in
-  Sys.remove out;
-  Sys.remove err;
-  (status, o, e)
-
-let contains s sub =
-  let n = String.length s and m = String.length sub in
-  let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in
-  go 0
+let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
 
 let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
 

@@ -7,27 +7,13 @@ module G = Fuzz_gen
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 let scenes = Filename.concat (Sys.getcwd ()) "../../scenes"
 
-let tmpdir () =
-  let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-robust-%d-%d" (Unix.getpid ()) (Random.bits ())) in
-  Unix.mkdir d 0o755;
-  d
+open Run_lancer
 
-let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
-let read_file p = In_channel.with_open_bin p In_channel.input_all
+let tmpdir () = tmpdir "lancer-robust"
 let files d = Sys.readdir d |> Array.to_list |> List.sort compare
 
-(* Run [sh_prefix; lancer args] in [dir] through the shell; (status, stdout, stderr). *)
-let lancer ?(prefix = "") ~dir args =
-  let out = Filename.temp_file "lancer" ".out" and err = Filename.temp_file "lancer" ".err" in
-  let cmd =
-    Printf.sprintf "cd %s && %s %s %s >%s 2>%s </dev/null" (Filename.quote dir) prefix (Filename.quote exe)
-      (String.concat " " (List.map Filename.quote args)) out err
-  in
-  let status = Sys.command cmd in
-  let o = read_file out and e = read_file err in
-  Sys.remove out;
-  Sys.remove err;
-  (status, o, e)
+(* Run [prefix; lancer args] in [dir] through the shell; (status, stdout, stderr). *)
+let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
 
 let fail_with ?(msg = "") (st, _, e) =
   Alcotest.failf "%sexit %d, stderr:\n%s" (if msg = "" then "" else msg ^ ": ") st e

@@ -1,0 +1,26 @@
+let tmpdir prefix =
+  let d =
+    Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "%s-%d-%d" prefix (Unix.getpid ()) (Random.bits ()))
+  in
+  Unix.mkdir d 0o755;
+  d
+
+let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
+let read_file p = In_channel.with_open_bin p In_channel.input_all
+
+let contains s sub =
+  let n = String.length s and m = String.length sub in
+  let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in
+  go 0
+
+let run ?(prefix = "") ~exe ~dir args =
+  let out = Filename.temp_file "lancer" ".out" and err = Filename.temp_file "lancer" ".err" in
+  let cmd =
+    Printf.sprintf "cd %s && %s %s %s >%s 2>%s </dev/null" (Filename.quote dir) prefix (Filename.quote exe)
+      (String.concat " " (List.map Filename.quote args)) out err
+  in
+  let status = Sys.command cmd in
+  let o = read_file out and e = read_file err in
+  Sys.remove out;
+  Sys.remove err;
+  (status, o, e)
