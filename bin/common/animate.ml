@@ -131,14 +131,27 @@ let run (o : Cli.opts) ~frames ~resume ~video =
   let bar = progress p in
   let t0 = Unix.gettimeofday () in
   Render.with_pool domains (fun pool ->
+      (* Whole frames in parallel hold a batch of scenes and one framebuffer per domain at
+         once: only when that stays small (about 1 KB an object, 27 bytes a pixel). *)
+      let small () =
+        match p.todo with
+        | [] -> false
+        | k :: _ ->
+            let sc = frame_scene p k in
+            let bytes =
+              (1024. *. Float.of_int (Array.length sc.objects))
+              +. (27. *. Float.of_int sc.settings.width *. Float.of_int sc.settings.height)
+            in
+            Float.of_int (2 * domains) *. bytes < 2e9
+      in
       match pool with
-      | Some pool when List.length p.todo >= 2 * domains ->
+      | Some pool when List.length p.todo >= 2 * domains && small () ->
           (* Whole frames in parallel, one domain each: small frames keep every core busy,
              and their encoding and writing run in parallel too. Scenes are evaluated in
              order on this domain, a batch at a time; a frame's bytes are the same either
              way. *)
           let todo = Array.of_list p.todo in
-          let n = Array.length todo and batch = 4 * domains in
+          let n = Array.length todo and batch = 2 * domains in
           let finished = Atomic.make 0 in
           let rec go start =
             if start < n then begin

@@ -1,7 +1,8 @@
 (** [lancer animate]: render an animation's frames to [DIR/frame_0000.png …].
 
-    With at least twice as many frames as domains, whole frames render in parallel, one
-    domain each; otherwise one after the other, each over all domains in tiles. Either
+    With at least twice as many frames as domains, and scenes small enough that a batch
+    of them fits in about 2 GB, whole frames render in parallel, one domain each;
+    otherwise one after the other, each over all domains in tiles. Either
     way a frame's bytes are the same. Each frame is
     written atomically, and a manifest ([DIR/lancer-frames.json]) records for each frame
     a digest of the scene (with its includes, images and meshes), the options that change
