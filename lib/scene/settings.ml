@@ -22,7 +22,11 @@ let max_pixels = 16384 * 16384
 let validate s =
   if s.width < 1 || s.height < 1 then Error (Printf.sprintf "image size must be at least 1×1 (got %d×%d)" s.width s.height)
   else if s.width > max_pixels / s.height then
-    Error (Printf.sprintf "image %d×%d is larger than the limit of %d pixels" s.width s.height max_pixels)
+    (* About 27 bytes a pixel: the linear float framebuffer (24) and the encoded bytes. *)
+    Error
+      (Printf.sprintf "image %d×%d is larger than the limit of %d pixels (16384×16384); it would need about %.0f GB of memory"
+         s.width s.height max_pixels
+         (27. *. Float.of_int s.width *. Float.of_int s.height /. 1e9))
   else if s.depth < 1 then Error (Printf.sprintf "depth must be at least 1 (got %d)" s.depth)
   else if s.samples < 1 then Error (Printf.sprintf "samples must be at least 1 (got %d)" s.samples)
   else if s.samples > 64 then Error (Printf.sprintf "samples must be at most 64 (got %d; that is %d rays a pixel)" s.samples (s.samples * s.samples))
