@@ -413,54 +413,69 @@ let linear_fold prims r tmin tmax f acc =
 
 (* Each bounded primitive sits in exactly one leaf, so the depth-first walk over the boxes
    the ray meets visits each primitive's crossings once. *)
+(* Every primitive that the ray may cross in [tmin, tmax], unordered: the unbounded ones
+   first, then depth-first over the boxes it meets, until [visit] answers true (stop).
+   Each bounded primitive sits in exactly one leaf, so each is visited once. Whether a
+   visit stopped the walk. *)
+let tree_visit a tr r tmin tmax visit =
+  let stop = ref false in
+  let outside = a.outside in
+  let k = ref 0 in
+  while (not !stop) && !k < Array.length outside do
+    stop := visit a.prims.(outside.(!k));
+    incr k
+  done;
+  if not !stop then begin
+    let o = Ray.origin r and inv = Ray.inv_dir r in
+    let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
+    let nodes = tr.nodes and links = tr.links in
+    let st = get_stack tr.depth in
+    let sids = st.ids in
+    let sp = ref 0 in
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+      Array.unsafe_set sids 0 0;
+      sp := 1
+    end;
+    (try
+       while (not !stop) && !sp > 0 do
+         decr sp;
+         let node = Array.unsafe_get sids !sp in
+         let count = Array.unsafe_get links ((2 * node) + 1) in
+         if count > 0 then begin
+           let first = Array.unsafe_get links (2 * node) in
+           let j = ref first in
+           while (not !stop) && !j < first + count do
+             stop := visit (Array.unsafe_get tr.leaf_prims !j);
+             incr j
+           done
+         end
+         else begin
+           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+             Array.unsafe_set sids !sp rr;
+             incr sp
+           end;
+           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+             Array.unsafe_set sids !sp l;
+             incr sp
+           end
+         end
+       done
+     with e ->
+       st.busy <- false;
+       raise e);
+    st.busy <- false
+  end;
+  !stop
+
 let tree_fold a tr r tmin tmax f acc =
   let acc = ref acc in
   let h = { Shape.tmin; tmax; t = Float.infinity } in
-  let outside = a.outside in
-  let k = ref 0 in
-  while !k < Array.length outside && not (is_black !acc) do
-    acc := crossings a.prims.(outside.(!k)) r tmin tmax h f !acc;
-    incr k
-  done;
-  let o = Ray.origin r and inv = Ray.inv_dir r in
-  let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-  let nodes = tr.nodes and links = tr.links in
-  let st = get_stack tr.depth in
-  let sids = st.ids in
-  let sp = ref 0 in
-  if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-    sids.(0) <- 0;
-    sp := 1
-  end;
-  (try
-     while !sp > 0 && not (is_black !acc) do
-       decr sp;
-       let node = sids.(!sp) in
-       let count = links.((2 * node) + 1) in
-       if count > 0 then begin
-         let first = links.(2 * node) in
-         let j = ref first in
-         while !j < first + count && not (is_black !acc) do
-           acc := crossings tr.leaf_prims.(!j) r tmin tmax h f !acc;
-           incr j
-         done
-       end
-       else begin
-         let l = node + 1 and rr = links.(2 * node) in
-         if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-           sids.(!sp) <- rr;
-           incr sp
-         end;
-         if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-           sids.(!sp) <- l;
-           incr sp
-         end
-       end
-     done
-   with e ->
-     st.busy <- false;
-     raise e);
-  st.busy <- false;
+  if not (is_black !acc) then
+    ignore
+      (tree_visit a tr r tmin tmax (fun p ->
+           acc := crossings p r tmin tmax h f !acc;
+           is_black !acc));
   !acc
 
 let fold_hits a r tmin tmax f acc =
@@ -479,51 +494,7 @@ let linear_any prims r tmin tmax =
   !hit
 
 let tree_any a tr r tmin tmax =
-  let prims = a.prims and outside = a.outside in
-  let hit = ref false and k = ref 0 in
   let h = { Shape.tmin; tmax; t = Float.infinity } in
-  while (not !hit) && !k < Array.length outside do
-    if test prims.(Array.unsafe_get outside !k) r tmax h < tmax then hit := true;
-    incr k
-  done;
-  if !hit then true
-  else begin
-    let o = Ray.origin r and inv = Ray.inv_dir r in
-    let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-    let nodes = tr.nodes and links = tr.links in
-    let st = get_stack tr.depth in
-    let sids = st.ids in
-    let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-      Array.unsafe_set sids 0 0;
-      sp := 1
-    end;
-    while (not !hit) && !sp > 0 do
-      decr sp;
-      let node = Array.unsafe_get sids !sp in
-      let count = Array.unsafe_get links ((2 * node) + 1) in
-      if count > 0 then begin
-        let first = Array.unsafe_get links (2 * node) in
-        let j = ref first in
-        while (not !hit) && !j < first + count do
-          if test (Array.unsafe_get tr.leaf_prims !j) r tmax h < tmax then hit := true;
-          incr j
-        done
-      end
-      else begin
-        let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
-        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-          Array.unsafe_set sids !sp rr;
-          incr sp
-        end;
-        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
-          Array.unsafe_set sids !sp l;
-          incr sp
-        end
-      end
-    done;
-    st.busy <- false;
-    !hit
-  end
+  tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
 
 let any_hit a r tmin tmax = match a.tree with None -> linear_any a.prims r tmin tmax | Some tr -> tree_any a tr r tmin tmax
