@@ -115,10 +115,7 @@ let default_output o =
   | None, None -> "showcase.png"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
-let check_writable path =
-  let dir = Filename.dirname path in
-  if not (Sys.file_exists dir && Sys.is_directory dir) then user "cannot write %s: directory %s does not exist" path dir;
-  if Sys.file_exists path && Sys.is_directory path then user "cannot write %s: is a directory" path
+let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)
 
 let check_output path =
   (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));

@@ -68,9 +68,9 @@ let quietly f =
       Fun.protect ~finally:(fun () -> Unix.dup2 saved Unix.stderr; Unix.close saved) f
 
 (* What can be refused before a temporary file exists. *)
-let check_target path =
+let check_writable path =
   let dir = Filename.dirname path in
-  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "%s: is a directory" path)
+  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "cannot write %s: is a directory" path)
   else if not (Sys.file_exists dir) then Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
   else if not (Sys.is_directory dir) then Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
   else Ok ()
@@ -87,7 +87,7 @@ let is_special path =
    on any failure (a full disk included) the temporary file is removed. A device or pipe
    is written in place. *)
 let atomically path f =
-  match check_target path with
+  match check_writable path with
   | Error e -> Error e
   | Ok () when is_special path -> (
       match f path with

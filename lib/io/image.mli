@@ -28,6 +28,10 @@ type format = Png | Ppm
 val format_of_path : string -> (format, string) result
 (** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
 
+val check_writable : string -> (unit, string) result
+(** Whether a file could be written at this path: not a directory, in a directory that
+    exists. What {!write_atomic} checks first; callers use it to refuse before working. *)
+
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
 (** [write_atomic path f] writes [path] through [f] into a temporary file beside it and
     renames it into place; on any failure (a full disk included) the temporary file is
