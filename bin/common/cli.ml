@@ -138,9 +138,6 @@ let scene_at o prog ~time ~frame =
   let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
-  (* The scene's own `depth` field stops at the same bound: each bounce is a nested call,
-     and far beyond it the stack overflows (an internal error after minutes of work). *)
-  Option.iter (fun d -> if d > 1000 then user "--depth must be at most 1000 (got %d)" d) o.depth;
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in
   let settings =

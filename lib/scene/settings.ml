@@ -19,6 +19,9 @@ let default =
 
 let max_pixels = 16384 * 16384
 
+(* Each bounce is a nested call: far beyond this the stack would overflow. *)
+let max_depth = 1000
+
 let validate s =
   if s.width < 1 || s.height < 1 then Error (Printf.sprintf "image size must be at least 1×1 (got %d×%d)" s.width s.height)
   else if s.width > max_pixels / s.height then
@@ -28,6 +31,7 @@ let validate s =
          s.width s.height max_pixels
          (27. *. Float.of_int s.width *. Float.of_int s.height /. 1e9))
   else if s.depth < 1 then Error (Printf.sprintf "depth must be at least 1 (got %d)" s.depth)
+  else if s.depth > max_depth then Error (Printf.sprintf "depth must be at most %d (got %d)" max_depth s.depth)
   else if s.samples < 1 then Error (Printf.sprintf "samples must be at least 1 (got %d)" s.samples)
   else if s.samples > 64 then Error (Printf.sprintf "samples must be at most 64 (got %d; that is %d rays a pixel)" s.samples (s.samples * s.samples))
   else if not (Float.is_finite s.adaptive && s.adaptive >= 0.) then Error "adaptive must be a number >= 0"

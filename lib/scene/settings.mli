@@ -22,6 +22,9 @@ val max_pixels : int
 (** The largest image accepted: width × height ≤ this (268 435 456 = 16384², 6 GiB of
     linear framebuffer). *)
 
+val max_depth : int
+(** 1000: the largest ray depth (each bounce is a nested call). *)
+
 val validate : t -> (unit, string) result
 (** [Error] naming the field when a setting is out of range: size below 1×1 or above
     {!max_pixels}, depth below 1, samples outside 1–64, adaptive negative or not finite, or
