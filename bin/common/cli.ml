@@ -138,6 +138,8 @@ let scene_at o prog ~time ~frame =
   let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
+  (* Named by the option the user typed; Settings.validate holds the same bound. *)
+  Option.iter (fun d -> if d > Settings.max_depth then user "--depth must be at most %d (got %d)" Settings.max_depth d) o.depth;
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in
   let settings =
