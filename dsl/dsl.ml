@@ -66,8 +66,7 @@ let resolve sources errors main stmts =
     let d =
       match s.s with
       | Include (p, loc) -> (
-          let dir = Filename.dirname file in
-          let path = if Filename.is_relative p && dir <> "." then Filename.concat dir p else p in
+          let path = Loc.relative_to file p in
           let key = canonical path in
           match List.find_opt (fun (k, _) -> k = key) stack with
           | Some _ ->

@@ -526,8 +526,7 @@ and eval_material ctx env loc items =
 and load_image ctx t =
   match t.targs with
   | VStr p :: _ ->
-      let dir = Filename.dirname t.tloc.file in
-      let path = if Filename.is_relative p && dir <> "." then Filename.concat dir p else p in
+      let path = Loc.relative_to t.tloc.file p in
       let r =
         match Hashtbl.find_opt ctx.images.pictures path with
         | Some r -> r
@@ -944,8 +943,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       let smooth = boolean b "smooth" ~default:true in
       if b.failed then (lazy [], None)
       else
-        let dir = Filename.dirname b.kloc.file in
-        let path = if Filename.is_relative file && dir <> "." then Filename.concat dir file else file in
+        let path = Loc.relative_to b.kloc.file file in
         let r =
           match Hashtbl.find_opt b.ctx.images.meshes (path, smooth) with
           | Some r -> r

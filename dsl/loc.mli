@@ -13,3 +13,7 @@ val whole_file : string -> t
 
 val pp : Format.formatter -> t -> unit
 (** [file:line:col]. *)
+
+val relative_to : string -> string -> string
+(** [relative_to file p] is path [p] as written in [file]: relative paths are found in
+    [file]'s directory (includes, images, meshes). *)
