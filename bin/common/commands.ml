@@ -63,32 +63,16 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
   let fb, _ = Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool sc) in
-  let w, h = (fb.width, fb.height) in
-  let actual = (w, h, Image.to_bytes sc.settings.gamma fb) in
-  let write p bytes = match Image.write_rgb8 p w h bytes with Ok () -> () | Error m -> raise (Cli.User_error m) in
-  let sibling suffix = Filename.remove_extension golden ^ suffix in
-  if update then begin
-    write golden (let _, _, b = actual in b);
-    Printf.printf "golden written: %s\n" golden
-  end
-  else if not (Sys.file_exists golden) then begin
-    write (sibling ".actual.png") (let _, _, b = actual in b);
-    Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden
-      (sibling ".actual.png")
-  end
-  else
-    let expected = match Image.read_rgb8 golden with Ok i -> i | Error m -> raise (Cli.User_error m) in
-    match Compare.compare ~threshold:tolerance expected actual with
-    | Error m -> Cli.user "%s: %s" golden m
-    | Ok c ->
-        if Compare.within ~max_diff:tolerance ~max_share:share c then Format.printf "same as %s: %a@." golden Compare.pp c
-        else begin
-          write (sibling ".actual.png") (let _, _, b = actual in b);
-          write (sibling ".diff.png") (Compare.diff_image ~threshold:tolerance expected actual);
-          Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp c (sibling ".actual.png")
-            (sibling ".diff.png");
-          exit 1
-        end
+  let actual = (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb) in
+  match Compare.golden ~tolerance ~max_share:share ~update ~golden actual with
+  | Error m -> Cli.user "%s" m
+  | Ok (Compare.Updated g) -> Printf.printf "golden written: %s\n" g
+  | Ok (Compare.Missing { actual }) ->
+      Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden actual
+  | Ok (Compare.Same c) -> Format.printf "same as %s: %a@." golden Compare.pp c
+  | Ok (Compare.Different { figures; actual; diff }) ->
+      Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp figures actual diff;
+      exit 1
 
 let exits = Cli.exits
 

@@ -48,3 +48,30 @@ let pp ppf c =
   Format.fprintf ppf "max difference %d/255, RMSE %.3f, PSNR %s, %d pixels (%.3f%%) over the threshold" c.max_diff c.rmse
     (if Float.is_finite c.psnr then Printf.sprintf "%.2f dB" c.psnr else "inf dB")
     c.over (100. *. c.over_share)
+
+type outcome =
+  | Same of t
+  | Updated of string
+  | Different of { figures : t; actual : string; diff : string }
+  | Missing of { actual : string }
+
+let sibling golden suffix = Filename.remove_extension golden ^ suffix
+
+let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as actual) =
+  let ( let* ) = Result.bind in
+  if update then
+    let* () = Image.write_rgb8 golden w h bytes in
+    Ok (Updated golden)
+  else if not (Sys.file_exists golden) then
+    let a = sibling golden ".actual.png" in
+    let* () = Image.write_rgb8 a w h bytes in
+    Ok (Missing { actual = a })
+  else
+    let* expected = Image.read_rgb8 golden in
+    let* figures = compare ~threshold:tolerance expected actual in
+    if within ~max_diff:tolerance ~max_share figures then Ok (Same figures)
+    else
+      let a = sibling golden ".actual.png" and d = sibling golden ".diff.png" in
+      let* () = Image.write_rgb8 a w h bytes in
+      let* () = Image.write_rgb8 d w h (diff_image ~threshold:tolerance expected actual) in
+      Ok (Different { figures; actual = a; diff = d })

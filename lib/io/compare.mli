@@ -28,3 +28,20 @@ val within : ?max_diff:int -> ?max_share:float -> t -> bool
 
 val pp : Format.formatter -> t -> unit
 (** One line: max difference, RMSE, PSNR, pixels over the threshold. *)
+
+(** {1 Golden images} *)
+
+type outcome =
+  | Same of t  (** within tolerance *)
+  | Updated of string  (** golden (re)written at this path *)
+  | Different of { figures : t; actual : string; diff : string }
+      (** beyond tolerance; where the actual and diff images were written *)
+  | Missing of { actual : string }  (** no golden yet; the actual image was written *)
+
+val golden :
+  ?tolerance:int -> ?max_share:float -> update:bool -> golden:string -> int * int * Bytes.t -> (outcome, string) result
+(** [golden ~update ~golden img] holds an encoded image against the PNG at [golden]: with
+    [update], writes it there instead. On a difference (or with no golden) the image is
+    written beside the golden as [NAME.actual.png], with [NAME.diff.png] for a difference.
+    [tolerance] (default 1) and [max_share] (default 0) are as in {!within}. What
+    [lancer golden] and [lancer.alcotest] both do. *)

@@ -1,7 +1,7 @@
 open Lancer
 module Dsl = Lancer_dsl.Dsl
 
-type outcome =
+type outcome = Compare.outcome =
   | Same of Compare.t
   | Updated of string
   | Different of { figures : Compare.t; actual : string; diff : string }
@@ -41,27 +41,8 @@ let render_scene ?width ?height ?(domains = 1) path =
               let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
               Ok (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb)))
 
-let sibling golden suffix = Filename.remove_extension golden ^ suffix
-
-let compare_golden ?(tolerance = 1) ?(max_share = 0.) ~golden ((w, h, bytes) as actual) =
-  let golden = source_path golden in
-  let ( let* ) = Result.bind in
-  if updating () then
-    let* () = Image.write_rgb8 golden w h bytes in
-    Ok (Updated golden)
-  else if not (Sys.file_exists golden) then
-    let a = sibling golden ".actual.png" in
-    let* () = Image.write_rgb8 a w h bytes in
-    Ok (Missing { actual = a })
-  else
-    let* expected = Image.read_rgb8 golden in
-    let* figures = Compare.compare ~threshold:tolerance expected actual in
-    if Compare.within ~max_diff:tolerance ~max_share figures then Ok (Same figures)
-    else
-      let a = sibling golden ".actual.png" and d = sibling golden ".diff.png" in
-      let* () = Image.write_rgb8 a w h bytes in
-      let* () = Image.write_rgb8 d w h (Compare.diff_image ~threshold:tolerance expected actual) in
-      Ok (Different { figures; actual = a; diff = d })
+let compare_golden ?tolerance ?max_share ~golden actual =
+  Compare.golden ?tolerance ?max_share ~update:(updating ()) ~golden:(source_path golden) actual
 
 let check ?tolerance ?max_share ?width ?height ~scene ~golden () =
   match render_scene ?width ?height (source_path scene) with

@@ -13,7 +13,7 @@
           [ ("looks", [ Lancer_alcotest.test_case "the red ball" ~scene:"ball.rts" ~golden:"ball.png" () ]) ]
     ]} *)
 
-type outcome =
+type outcome = Lancer.Compare.outcome =
   | Same of Lancer.Compare.t  (** within tolerance *)
   | Updated of string  (** golden (re)written at this path *)
   | Different of { figures : Lancer.Compare.t; actual : string; diff : string }
