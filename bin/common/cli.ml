@@ -201,7 +201,8 @@ let install_interrupt_handler () =
     Sys.Signal_handle
       (fun _ ->
         Render.interrupt ();
-        raise Sys.Break)
+        (* Inside a pool the next tile raises it, in lancer's own code. *)
+        if not (Render.in_pool ()) then raise Sys.Break)
   in
   Sys.set_signal Sys.sigint h;
   Sys.set_signal Sys.sigterm h;

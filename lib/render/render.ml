@@ -75,6 +75,11 @@ let tiles (sc : Scene.t) =
 let interrupted = Atomic.make false
 let interrupt () = Atomic.set interrupted true
 
+(* Pools alive: while one is, an interrupt must not be raised asynchronously into
+   Domainslib's own code, only at the start of a tile. *)
+let pools = Atomic.make 0
+let in_pool () = Atomic.get pools > 0
+
 let render ?pool ?(on_tile = fun _ _ _ -> ()) (sc : Scene.t) =
   let fb = Image.create sc.settings.width sc.settings.height in
   let tiles = tiles sc in
@@ -110,4 +115,14 @@ let with_pool n f =
     let g = Gc.get () in
     if g.minor_heap_size < parallel_minor_heap_words then Gc.set { g with minor_heap_size = parallel_minor_heap_words };
     let pool = Domainslib.Task.setup_pool ~num_domains:(n - 1) () in
-    Fun.protect ~finally:(fun () -> Domainslib.Task.teardown_pool pool) (fun () -> f (Some pool))
+    Atomic.incr pools;
+    let r =
+      Fun.protect
+        ~finally:(fun () ->
+          Atomic.decr pools;
+          Domainslib.Task.teardown_pool pool)
+        (fun () -> f (Some pool))
+    in
+    (* An interrupt that came when no tile was left to start. *)
+    if Atomic.get interrupted then raise Sys.Break;
+    r

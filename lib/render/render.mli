@@ -33,6 +33,12 @@ val interrupt : unit -> unit
     [Sys.Break] instead, so an interrupted render ends within one tile per domain.
     Meant for a SIGINT/SIGTERM handler; there is no way back. *)
 
+val in_pool : unit -> bool
+(** Whether a pool of {!with_pool} is running. A signal handler must then only call
+    {!interrupt} (the next tile raises [Sys.Break]); raising itself could land inside the
+    pool's own synchronisation. {!with_pool} raises [Sys.Break] on its way out if an
+    interrupt came after the last tile started. *)
+
 val with_pool : int -> (Domainslib.Task.pool option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
     it down afterwards, also on an exception. With more than one domain it first raises
