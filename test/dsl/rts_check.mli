@@ -1,1 +1,1 @@
-(* A test helper executable: no interface. *)
+(** A test helper executable: it runs one bad scene and prints its errors, for the diff rules of scenes/bad. *)

@@ -1,0 +1,45 @@
+(** Inputs for the robustness tests and for [make fuzz]: random and mutated OBJ text, image
+    bytes and scene text, with the oracles that judge what the loaders do with them. Every
+    generator is a function of a [Random.State.t], so a seed replays a case. *)
+
+val contains : string -> string -> bool
+(** [contains s sub]: whether [sub] occurs in [s]. *)
+
+val random_obj : Random.State.t -> string
+(** OBJ text made of random statements, indices and numbers. *)
+
+val mutated_obj : Random.State.t -> string
+(** A valid OBJ file with random insertions, deletions and replacements. *)
+
+val check_obj : string -> (unit, string) result
+(** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Mesh.parse} raises,
+    answers a message without the file name or on several lines, or returns no triangle
+    or one with non-finite bounds. *)
+
+val with_temp_file : string -> string -> (string -> 'a) -> 'a
+(** [with_temp_file ext contents f] is [f path] for a temporary file holding [contents],
+    removed afterwards. *)
+
+val image_case : Random.State.t -> string * string
+(** (extension, bytes): a random or mutated PNG or PPM file. *)
+
+val check_image : string * string -> (unit, string) result
+(** The decoder's contract: [Error] (the case fails) when reading raises, fails with a
+    message of several lines, or returns a framebuffer of the wrong size or with values
+    outside [\[0, 1\]]. *)
+
+val png_claiming : int -> int -> string
+(** A PNG file with valid checksums whose header claims [w × h] pixels. *)
+
+val png_one_pixel : unit -> string
+(** A valid 1×1 PNG file. *)
+
+val scene_seeds : string -> (string * string) array
+(** (name, text) of every scene under [root/scenes], the seeds of the scene mutations. *)
+
+val scene_case : (string * string) array -> Random.State.t -> string * string
+(** (name, text): random tokens of the language, or a mutated seed scene. *)
+
+val check_scene : string * string -> (unit, string) result
+(** The language's contract: [Error] (the case fails) when loading, evaluating, printing
+    an error or {!Lancer_dsl.Dsl.to_json} raises, or when loading fails with no error. *)
