@@ -131,13 +131,22 @@ let run (o : Cli.opts) ~frames ~resume ~video =
   let bar = progress p in
   let t0 = Unix.gettimeofday () in
   Render.with_pool domains (fun pool ->
+      (* The first frame's scene tells how large the scenes are; it is evaluated once and
+         handed to the render that needs it. *)
+      let first = ref (match p.todo with k :: _ -> Some (k, frame_scene p k) | [] -> None) in
+      let scene k =
+        match !first with
+        | Some (k', sc) when k' = k ->
+            first := None;
+            sc
+        | _ -> frame_scene p k
+      in
       (* Whole frames in parallel hold a batch of scenes and one framebuffer per domain at
          once: only when that stays small (about 1 KB an object, 27 bytes a pixel). *)
-      let small () =
-        match p.todo with
-        | [] -> false
-        | k :: _ ->
-            let sc = frame_scene p k in
+      let small =
+        match !first with
+        | None -> false
+        | Some (_, sc) ->
             let bytes =
               (1024. *. Float.of_int (Array.length sc.objects))
               +. (27. *. Float.of_int sc.settings.width *. Float.of_int sc.settings.height)
@@ -145,7 +154,7 @@ let run (o : Cli.opts) ~frames ~resume ~video =
             Float.of_int (2 * domains) *. bytes < 2e9
       in
       match pool with
-      | Some pool when List.length p.todo >= 2 * domains && small () ->
+      | Some pool when List.length p.todo >= 2 * domains && small ->
           (* Whole frames in parallel, one domain each: small frames keep every core busy,
              and their encoding and writing run in parallel too. Scenes are evaluated in
              order on this domain, a batch at a time; a frame's bytes are the same either
@@ -156,7 +165,7 @@ let run (o : Cli.opts) ~frames ~resume ~video =
           let rec go start =
             if start < n then begin
               let ks = Array.sub todo start (min batch (n - start)) in
-              let scenes = Array.map (frame_scene p) ks in
+              let scenes = Array.map scene ks in
               Domainslib.Task.run pool (fun () ->
                   Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(Array.length ks - 1) ~body:(fun i ->
                       let fb, st = Render.render scenes.(i) in
@@ -170,7 +179,7 @@ let run (o : Cli.opts) ~frames ~resume ~video =
           (* Few frames: one after the other, each over every domain in tiles. *)
           List.iteri
             (fun i k ->
-              let sc = frame_scene p k in
+              let sc = scene k in
               let fb, st = Render.render ?pool sc in
               write_frame p k sc fb st;
               Progress.update ~rays:(Stats.total_rays st) bar (i + 1))
