@@ -40,12 +40,12 @@ let animation t = t.first.animation
 let bodies t = t.first.bodies
 let physics t = t.first.physics
 
-exception Refused of string
+exception Refused of Error.t
 
 (* The one boundary: nothing raised below reaches the caller. *)
 let guard file f =
   try f () with
-  | Refused m -> Error [ Error.file_error file m ]
+  | Refused e -> Error [ e ]
   | Stack_overflow -> Error [ Error.file_error file "the scene is nested too deeply (the evaluator's stack overflowed)" ]
   | Out_of_memory -> Error [ Error.file_error file "the scene needs more memory than is available" ]
   | e -> Error [ Error.file_error file ("internal error: " ^ Printexc.to_string e ^ " (please report it)") ]
@@ -179,11 +179,16 @@ let trajectory t ~time =
           (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
           let max_steps = 10_000_000. in
           if w.method_ <> Physics.Exact && until /. w.step > max_steps then
-            raise
-              (Refused
-                 (Printf.sprintf
-                    "the physics step %g s over %g s would take %.3g steps per body; the limit is %.0f (use a larger step or the exact method)"
-                    w.step until (until /. w.step) max_steps));
+            (let msg =
+               Printf.sprintf
+                 "the physics step %g s over %g s would take %.3g steps per body; the limit is %.0f (use a larger step or the exact method)"
+                 w.step until (until /. w.step) max_steps
+             in
+             raise
+               (Refused
+                  (match t.first.physics_loc with
+                   | Some loc -> Error.make ?source:(Hashtbl.find_opt t.sources loc.Loc.file) loc msg
+                   | None -> Error.file_error t.file msg)));
           let tr = Physics.simulate w (colliders t) bodies ~until in
           t.motion := Some (until, tr);
           tr)

@@ -37,6 +37,7 @@ type output = {
   objects : obj list;
   animation : (float * int) option;
   physics : physics option;
+  physics_loc : Loc.t option;  (** where the [physics] block is *)
   bodies : body list;
 }
 
@@ -1157,4 +1158,5 @@ let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
         objects = statics @ body_objs;
         animation = Option.map fst ctx.animation;
         physics = Option.map fst ctx.physics;
+        physics_loc = Option.map snd ctx.physics;
         bodies = List.map (fun ((b : body), _) -> b) bodies }

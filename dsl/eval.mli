@@ -56,6 +56,7 @@ type output = {
   objects : obj list;  (** static objects in program order, then one sphere per body *)
   animation : (float * int) option;  (** fps, frames *)
   physics : physics option;
+  physics_loc : Loc.t option;  (** where the [physics] block is *)
   bodies : body list;  (** in program order *)
 }
 
