@@ -1,42 +1,66 @@
 # lancer — the two commands a newcomer needs are `make demo` and `make test`;
-# each installs what is missing first (see .ci/deps).
+# each installs what is missing first (`make deps`, see .ci/toolchain and the README).
+# Every dune command runs through .ci/toolchain: natively where OCaml 5 is installed,
+# otherwise inside the project-local Debian 13 root in _toolchain/.
 
 DUNE ?= dune
 JOBS ?= 2
+RUN := bash .ci/toolchain run
+PREFIX ?= $(HOME)/.local
 
-.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi fuzz doc clean fmt
+.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi fuzz doc clean \
+	clean-toolchain fmt install static
 
 all: build
 
 deps:
-	@bash .ci/deps
+	@bash .ci/toolchain setup
 
 build: deps
-	$(DUNE) build -j $(JOBS) @install
+	$(RUN) $(DUNE) build -j $(JOBS) @install
 
-demo: build
-	@mkdir -p out
-	$(DUNE) exec --no-build -- lancer render scenes/showcase.rts -o out/showcase.png
-	$(DUNE) exec --no-build -- lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180
+# A lancer that runs on this machine itself: the dynamically linked one where the
+# toolchain is native, the statically linked one when it was built in the toolchain root
+# (whose C library is newer than the host's).
+static: deps
+	$(RUN) env LANCER_STATIC=1 $(DUNE) build -j $(JOBS) bin/static/lancer_static.exe
+
+out/bin/lancer: build
+	@mkdir -p out/bin
+	@if [ "$$(bash .ci/toolchain mode)" = root ]; then \
+	  $(MAKE) --no-print-directory static && \
+	  install -m 0755 _build/default/bin/static/lancer_static.exe out/bin/lancer; \
+	else install -m 0755 _build/default/bin/main.exe out/bin/lancer; fi
+
+demo: out/bin/lancer
+	out/bin/lancer render scenes/showcase.rts -o out/showcase.png
+	out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180
 	@echo "The showcase is in out/showcase.png; the frames of a bouncing ball are in out/bounce/"
-	@command -v ffmpeg >/dev/null 2>&1 && $(DUNE) exec --no-build -- lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
+	@command -v ffmpeg >/dev/null 2>&1 && out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
+	@echo "lancer itself is out/bin/lancer: run 'make install' to put it in $(PREFIX)/bin"
+
+# lancer, lancer's man pages and shell completion, under PREFIX (default ~/.local).
+install: out/bin/lancer
+	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1
+	install -m 0755 out/bin/lancer $(PREFIX)/bin/lancer
+	@echo "installed $(PREFIX)/bin/lancer"
 
 test: deps
-	$(DUNE) build -j $(JOBS) @install
-	$(DUNE) test -j $(JOBS) --force
+	$(RUN) $(DUNE) build -j $(JOBS) @install
+	$(RUN) $(DUNE) test -j $(JOBS) --force
 
 # Re-render every golden image from its scene. Only this command changes goldens.
 golden-update: build
-	LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
+	$(RUN) env LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
 
 bench: build
-	$(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
-	$(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
-	$(DUNE) exec --no-build -- lancer bench physics
+	$(RUN) $(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
+	$(RUN) $(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
+	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
 
 # lancer-mpi against lancer on this machine: a still and a 48-frame animation.
 bench-mpi: build
-	bash test/mpi/bench.sh
+	$(RUN) bash test/mpi/bench.sh
 
 # Random and mutated scenes (parser and evaluator), OBJ files and images for FUZZ_SECONDS
 # (default 60); reports the cases tried and the failures, keeps failing inputs in
@@ -45,21 +69,26 @@ bench-mpi: build
 FUZZ_SECONDS ?= 60
 FUZZ_SEED ?= 1
 fuzz: build
-	$(DUNE) build -j $(JOBS) ./test/robust/fuzz.exe
-	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) ./_build/default/test/robust/fuzz.exe
+	$(RUN) $(DUNE) build -j $(JOBS) ./test/robust/fuzz.exe
+	$(RUN) env FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) ./_build/default/test/robust/fuzz.exe
 
 doc:
-	@bash .ci/deps --doc
-	$(DUNE) build @doc
+	@bash .ci/toolchain setup --doc
+	$(RUN) $(DUNE) build @doc
 	@echo "The API documentation is in _build/default/_doc/_html/index.html"
 
 fmt:
-	$(DUNE) fmt
+	$(RUN) $(DUNE) fmt
 
 clean:
-	$(DUNE) clean
+	$(RUN) $(DUNE) clean
 	rm -rf out
+
+# Removes the project-local toolchain root (Debian 12 hosts), about 1.2 GB.
+clean-toolchain:
+	bash .ci/toolchain clean
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
 bench-povray: build
-	bash test/povray/bench.sh
+	bash .ci/toolchain install povray
+	$(RUN) bash test/povray/bench.sh

@@ -166,11 +166,10 @@ let run (o : Cli.opts) ~frames ~resume ~video =
             if start < n then begin
               let ks = Array.sub todo start (min batch (n - start)) in
               let scenes = Array.map scene ks in
-              Domainslib.Task.run pool (fun () ->
-                  Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(Array.length ks - 1) ~body:(fun i ->
-                      let fb, st = Render.render scenes.(i) in
-                      write_frame p ks.(i) scenes.(i) fb st;
-                      Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1)));
+              Pool.parallel_for pool (Array.length ks) (fun i ->
+                  let fb, st = Render.render scenes.(i) in
+                  write_frame p ks.(i) scenes.(i) fb st;
+                  Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
               go (start + batch)
             end
           in

@@ -32,7 +32,7 @@ let render_unit ?(on_tile = fun () -> ()) ~pool sc fb idxs =
   (match pool with
   | None -> for i = 0 to n - 1 do body i done
   | Some pool ->
-      Domainslib.Task.run pool (fun () -> Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(n - 1) ~body));
+      Pool.parallel_for pool n body);
   let total = Stats.create () in
   Array.iter (Stats.add_into total) stats;
   total

@@ -1,6 +1,6 @@
 (** The seed's client-server scheme over MPI (SPEC §8): rank 0 hands out work units on
     demand, gathers their pixels and hands each finished frame to its caller; every other
-    rank renders the units it is given with its own Domainslib pool.
+    rank renders the units it is given with its own pool of domains.
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
     for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
@@ -23,7 +23,7 @@ exception Worker_failed of int * string
 
 val serve :
   fatal:(exn -> int) ->
-  pool:Domainslib.Task.pool option ->
+  pool:Pool.t option ->
   frames:(int * (unit -> Scene.t)) list ->
   on_tiles:(int -> unit) ->
   on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
@@ -37,13 +37,13 @@ val serve :
     exception and is the status the job is then aborted with. *)
 
 val work :
-  describe:(exn -> string) -> pool:Domainslib.Task.pool option -> domains:int -> scene_of:(int -> Scene.t) -> unit
+  describe:(exn -> string) -> pool:Pool.t option -> domains:int -> scene_of:(int -> Scene.t) -> unit
 (** [work ~describe ~pool ~domains ~scene_of] runs on every other rank until rank 0
     says stop; [scene_of key] evaluates the scene of a frame. An exception from it or
     from rendering is sent to rank 0 as [describe e]. *)
 
 val render_unit :
-  ?on_tile:(unit -> unit) -> pool:Domainslib.Task.pool option -> Scene.t -> Image.t -> int array -> Stats.t
+  ?on_tile:(unit -> unit) -> pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 (** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles]
     into [fb] over [pool] (tile by tile, as {!Lancer.Render.render}) and is their summed
     counters. [on_tile] is called after each tile, from whichever domain rendered it. *)

@@ -76,7 +76,7 @@ let interrupted = Atomic.make false
 let interrupt () = Atomic.set interrupted true
 
 (* Pools alive: while one is, an interrupt must not be raised asynchronously into
-   Domainslib's own code, only at the start of a tile. *)
+   the pool's own synchronisation, only at the start of a tile. *)
 let pools = Atomic.make 0
 let in_pool () = Atomic.get pools > 0
 
@@ -95,8 +95,7 @@ let render ?pool ?(on_tile = fun _ _ _ -> ()) (sc : Scene.t) =
   (match pool with
   | None -> for k = 0 to n - 1 do work k done
   | Some pool ->
-      Domainslib.Task.run pool (fun () ->
-          Domainslib.Task.parallel_for pool ~chunk_size:1 ~start:0 ~finish:(n - 1) ~body:work));
+      Pool.parallel_for pool n work);
   let total = Stats.create () in
   Array.iter (Stats.add_into total) stats;
   (fb, total)
@@ -114,13 +113,13 @@ let with_pool n f =
   else
     let g = Gc.get () in
     if g.minor_heap_size < parallel_minor_heap_words then Gc.set { g with minor_heap_size = parallel_minor_heap_words };
-    let pool = Domainslib.Task.setup_pool ~num_domains:(n - 1) () in
+    let pool = Pool.create n in
     Atomic.incr pools;
     let r =
       Fun.protect
         ~finally:(fun () ->
           Atomic.decr pools;
-          Domainslib.Task.teardown_pool pool)
+          Pool.teardown pool)
         (fun () -> f (Some pool))
     in
     (* An interrupt that came when no tile was left to start. *)

@@ -1,4 +1,4 @@
-(** Turning a scene into a linear framebuffer, in parallel tiles over a Domainslib pool.
+(** Turning a scene into a linear framebuffer, in parallel tiles over a pool of domains ({!Pool}).
 
     The image is cut into 32×32 tiles handed out dynamically; each task writes only its
     own pixels and keeps its own counters, so the result is bit-identical whatever the
@@ -23,7 +23,7 @@ val tiles : Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major. *)
 
 val render :
-  ?pool:Domainslib.Task.pool -> ?on_tile:(int -> int -> int -> unit) -> Scene.t -> Image.t * Stats.t
+  ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> Scene.t -> Image.t * Stats.t
 (** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
     [on_tile done_ total rays] is called after each tile, from whichever domain rendered
     it: [done_] tiles of [total] are finished, and that tile cast [rays] rays. *)
@@ -39,7 +39,7 @@ val in_pool : unit -> bool
     pool's own synchronisation. {!with_pool} raises [Sys.Break] on its way out if an
     interrupt came after the last tile started. *)
 
-val with_pool : int -> (Domainslib.Task.pool option -> 'a) -> 'a
+val with_pool : int -> (Pool.t option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
     it down afterwards, also on an exception. With more than one domain it first raises
     the minor heap to {!parallel_minor_heap_words} words per domain (never lowers it):

@@ -10,11 +10,8 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
 
-if ! command -v povray >/dev/null 2>&1; then
-  echo "bench-povray: installing povray from Debian" >&2
-  SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends povray >&2
-fi
+command -v povray >/dev/null 2>&1 ||
+  { echo "bench-povray: povray is not installed (make bench-povray installs it)" >&2; exit 1; }
 dune build @install 2>&1 | tail -n 5
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 
