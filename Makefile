@@ -9,7 +9,7 @@ RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
 .PHONY: all deps build demo test golden-update bench bench-povray bench-mpi fuzz doc clean \
-	clean-toolchain fmt install static
+	clean-toolchain fmt install uninstall static
 
 all: build
 
@@ -41,9 +41,16 @@ demo: out/bin/lancer
 
 # lancer, lancer's man pages and shell completion, under PREFIX (default ~/.local).
 install: out/bin/lancer
-	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1
+	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1 $(PREFIX)/share/bash-completion/completions
 	install -m 0755 out/bin/lancer $(PREFIX)/bin/lancer
-	@echo "installed $(PREFIX)/bin/lancer"
+	install -m 0644 _build/default/bin/share/*.1 $(PREFIX)/share/man/man1/
+	install -m 0644 _build/default/bin/share/lancer.bash $(PREFIX)/share/bash-completion/completions/lancer
+	@echo "installed $(PREFIX)/bin/lancer, its man pages and bash completion"
+	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
+
+uninstall:
+	rm -f $(PREFIX)/bin/lancer $(PREFIX)/share/man/man1/lancer.1 $(PREFIX)/share/man/man1/lancer-*.1 \
+	  $(PREFIX)/share/bash-completion/completions/lancer
 
 test: deps
 	$(RUN) $(DUNE) build -j $(JOBS) @install

@@ -71,7 +71,7 @@ let scene_text (o : Cli.opts) =
   | Some p -> ( try In_channel.with_open_bin p In_channel.input_all with Sys_error m -> raise (Cli.User_error m))
 
 (* The version of the lancer command (as [lancer --version] prints it). *)
-let version = "0.1.0"
+let version = Lancer.Version.v
 
 (* What the cached results depend on besides the scene: the version and the very build
    of this executable (a rebuilt renderer may shade, and time, differently). Rates also

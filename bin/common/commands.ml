@@ -56,7 +56,7 @@ let diff_cmd a b out tolerance share =
         out;
       if not (Compare.within ~max_diff:tolerance ~max_share:share c) then exit 1
 
-(* Render a scene and hold it against a golden PNG, as lancer.alcotest does in a test. *)
+(* Render a scene and hold it against a golden PNG, as lancer-alcotest does in a test. *)
 let golden_cmd (o : Cli.opts) golden tolerance share update =
   Cli.install_interrupt_handler ();
   let prog = Cli.load o.scene in
@@ -147,5 +147,5 @@ let main () =
       `S Manpage.s_examples; `Pre "  lancer render"; `Pre "  lancer render scenes/showcase.rts -o out/showcase.png --quality final";
       `Pre "  lancer check scenes/showcase.rts" ]
   in
-  let info = Cmd.info "lancer" ~version:"0.1.0" ~doc ~man ~exits in
+  let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
   exit (Cli.status_of_eval (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ])))

@@ -166,7 +166,7 @@ let () =
   Mpi.init ();
   at_exit Mpi.finalize;
   let info =
-    Cmd.info "lancer-mpi" ~version:"0.1.0" ~exits
+    Cmd.info "lancer-mpi" ~version:Lancer.Version.v ~exits
       ~doc:"lancer's render and animate over Open MPI: run it under mpirun -np N"
   in
   let cmd = Cmd.group info [ render; animate ] in

@@ -44,4 +44,4 @@ val golden :
     [update], writes it there instead. On a difference (or with no golden) the image is
     written beside the golden as [NAME.actual.png], with [NAME.diff.png] for a difference.
     [tolerance] (default 1) and [max_share] (default 0) are as in {!within}. What
-    [lancer golden] and [lancer.alcotest] both do. *)
+    [lancer golden] and [lancer-alcotest] both do. *)
