@@ -35,6 +35,7 @@ C
 inroot() {
   unshare --mount --propagation private --fork /bin/bash -c '
     r=$1; shift
+    mount --bind "$r" "$r"   # as on a real machine, the root is a mount point
     mount -t proc proc "$r/proc"; mount --rbind /dev "$r/dev"; mount --rbind /sys "$r/sys"
     exec chroot "$r" /usr/bin/env -i PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
       HOME=/root TERM=dumb LANG=C.UTF-8 /bin/bash -c "$*"' bash "$r" "$@"
