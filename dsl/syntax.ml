@@ -17,6 +17,18 @@ let what text tok (s : Lexing.position) (e : Lexing.position) =
       else if n > 30 then "`" ^ String.sub text s.pos_cnum 27 ^ "...`"
       else "`" ^ String.sub text s.pos_cnum n ^ "`"
 
+(* What a `{` opens, named from the tokens before it: `sphere {`, `body b {`,
+   `material {`, `else {`, or the `for`, `if` or `fn` whose statement it belongs to. *)
+let opener ~prev ~prev2 ~keyword =
+  match (prev2, prev) with
+  | Parser.BODY, Parser.IDENT x -> Printf.sprintf "body %s {" x
+  | _, Parser.IDENT x -> x ^ " {"
+  | _, Parser.MATERIAL -> "material {"
+  | _, Parser.ELSE -> "else {"
+  | _ -> ( match keyword with Some k -> k ^ " … {" | None -> "{")
+
+type bracket = { label : string; at : Lexing.position; stop : Lexing.position }
+
 let parse ~file text =
   match not_text file text with
   | Some e -> Error e
@@ -24,18 +36,50 @@ let parse ~file text =
       let lexbuf = Lexing.from_string text in
       Lexing.set_filename lexbuf file;
       let last = ref (Parser.EOF, lexbuf.lex_start_p, lexbuf.lex_curr_p) in
+      (* The brackets open so far, innermost first, so that a missing `}` or `)` is
+         reported where its block was opened rather than at the end of the file. *)
+      let open_ = ref [] and prev = ref Parser.EOF and prev2 = ref Parser.EOF and keyword = ref [ None ] in
+      let track tok s e =
+        (match tok with
+         | Parser.LBRACE ->
+             let label = opener ~prev:!prev ~prev2:!prev2 ~keyword:(List.hd !keyword) in
+             open_ := { label; at = s; stop = e } :: !open_;
+             keyword := None :: !keyword
+         | Parser.LPAREN -> open_ := { label = "("; at = s; stop = e } :: !open_
+         | Parser.RBRACE | Parser.RPAREN -> (
+             (match (tok, !keyword) with Parser.RBRACE, _ :: (_ :: _ as rest) -> keyword := rest | _ -> ());
+             match !open_ with _ :: rest -> open_ := rest | [] -> ())
+         | Parser.FOR -> keyword := Some "for" :: List.tl !keyword
+         | Parser.IF -> keyword := Some "if" :: List.tl !keyword
+         | Parser.FN -> keyword := Some "fn" :: List.tl !keyword
+         | _ -> ());
+        prev2 := !prev;
+        prev := tok
+      in
       let rec loop checkpoint =
         match checkpoint with
         | I.InputNeeded _ ->
             let tok = Lexer.token lexbuf in
             last := (tok, lexbuf.lex_start_p, lexbuf.lex_curr_p);
+            track tok lexbuf.lex_start_p lexbuf.lex_curr_p;
             loop (I.offer checkpoint !last)
         | I.Shifting _ | I.AboutToReduce _ -> loop (I.resume checkpoint)
-        | I.HandlingError env ->
+        | I.HandlingError env -> (
             let state = I.current_state_number env in
             let msg = try String.trim (Parser_messages.message state) with Not_found -> "this is not valid here" in
             let tok, s, e = !last in
-            Error (Error.make ~source:text (Loc.of_positions s e) (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg))
+            match (tok, !open_) with
+            | Parser.EOF, b :: _ ->
+                let closer = if b.label = "(" then ")" else "}" in
+                let where = Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1) in
+                Error
+                  (Error.make ~source:text (Loc.of_positions b.at b.stop)
+                     (Printf.sprintf "the %s opened at %s is not closed: a `%s` is missing before the end of the file"
+                        b.label where closer))
+            | _ ->
+                Error
+                  (Error.make ~source:text (Loc.of_positions s e)
+                     (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg)))
         | I.Accepted v -> Ok v
         | I.Rejected -> Error (Error.make ~source:text (Loc.whole_file file) "syntax error")
       in
