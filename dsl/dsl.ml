@@ -18,6 +18,7 @@ type t = {
   file : string;
   stmts : Ast.stmt list;
   sources : (string, string) Hashtbl.t;
+  includes : (string, Loc.t list) Hashtbl.t;  (** for each included file, where it was included *)
   images : Eval.images;
   first : Eval.output;  (** the evaluation at time 0, frame 0 *)
   motion : (float * Physics.trajectory) option ref;
@@ -57,8 +58,9 @@ let canonical path = try Unix.realpath path with _ -> path
 
 (* Replace every [include] by the parsed statements of the file it names, relative to the
    including file. [stack] holds the files being included, outermost last. *)
-let resolve sources errors main stmts =
+let resolve sources includes errors main stmts =
   let err loc msg = errors := Error.make ?source:(Hashtbl.find_opt sources loc.Loc.file) loc msg :: !errors in
+  let chain file = Option.value (Hashtbl.find_opt includes file) ~default:[] in
   let rec stmts_ stack file ss = List.map (stmt stack file) ss
   and items stack file its =
     List.map (function Ast.Field _ as f -> f | Ast.Stmt s -> Ast.Stmt (stmt stack file s)) its
@@ -77,10 +79,21 @@ let resolve sources errors main stmts =
               Ast.Included (path, [])
           | None when List.length stack > 64 -> err loc "includes are nested more than 64 deep"; Ast.Included (path, [])
           | None -> (
+              let unreadable m =
+                let msg =
+                  match Error.cannot_read ~what:"included file" ~written:p path with
+                  | Some msg -> msg
+                  | None -> Printf.sprintf "cannot read the included file \"%s\": %s" p m
+                in
+                err s.sloc msg;
+                Ast.Included (path, [])
+              in
               match read_file path with
-              | Error m -> err loc (Printf.sprintf "cannot include \"%s\": %s" p m); Ast.Included (path, [])
+              | Error m -> unreadable m
               | Ok text -> (
                   Hashtbl.replace sources path text;
+                  (* The first include of a file gives the chain its errors show. *)
+                  if key <> canonical main && not (Hashtbl.mem includes path) then Hashtbl.replace includes path (s.sloc :: chain file);
                   match Syntax.parse ~file:path text with
                   | Error e -> errors := e :: !errors; Ast.Included (path, [])
                   | Ok ss -> Ast.Included (path, stmts_ ((key, path) :: stack) path ss))))
@@ -95,20 +108,29 @@ let resolve sources errors main stmts =
   in
   stmts_ [ (canonical main, main) ] main stmts
 
+(* Every error of a file that was included gets the chain of includes that led to it. *)
+let chained includes r =
+  Result.map_error
+    (List.map (Error.with_includes (fun file -> Option.value (Hashtbl.find_opt includes file) ~default:[])))
+    r
+
 let load_text file text =
-  let sources = Hashtbl.create 4 in
+  let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
   Hashtbl.replace sources file text;
+  chained includes
+  @@
   match Syntax.parse ~file text with
   | Error e -> Error [ e ]
   | Ok stmts -> (
       let errors = ref [] in
-      let stmts = resolve sources errors file stmts in
+      let stmts = resolve sources includes errors file stmts in
       if !errors <> [] then Error (List.rev !errors)
       else
         let images = Eval.new_images () in
         match Eval.run ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
         | Error es -> Error es
-        | Ok first -> Ok { file; stmts; sources; images; first; motion = ref None; motion_lock = Mutex.create () })
+        | Ok first ->
+            Ok { file; stmts; sources; includes; images; first; motion = ref None; motion_lock = Mutex.create () })
 
 let load_string ?(filename = "<string>") text = guard filename (fun () -> load_text filename text)
 
@@ -193,7 +215,7 @@ let trajectory t ~time =
           t.motion := Some (until, tr);
           tr)
 
-let simulate t ~until = guard t.file (fun () -> Ok (trajectory t ~time:until))
+let simulate t ~until = chained t.includes (guard t.file (fun () -> Ok (trajectory t ~time:until)))
 
 let physics_state t ~time =
   match t.first.bodies with
@@ -209,7 +231,8 @@ let eval ?body_state t ~time ~frame =
     Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
 
 let scene_at ?body_state t ~time ~frame =
-  guard t.file (fun () ->
+  chained t.includes
+  @@ guard t.file (fun () ->
       match eval ?body_state t ~time ~frame with
       | Error es -> Error es
       | Ok out -> (

@@ -1,4 +1,15 @@
-type t = { file : string; line : int; col : int; end_col : int; message : string; source_line : string option }
+type kind = Error | Warning
+
+type t = {
+  kind : kind;
+  file : string;
+  line : int;
+  col : int;
+  end_col : int;
+  message : string;
+  source_line : string option;
+  included_from : Loc.t list;
+}
 
 let nth_line text n =
   (* Line [n] (from 1) of [text], without its newline (or carriage return). *)
@@ -14,7 +25,7 @@ let nth_line text n =
       let j = if j > i && text.[j - 1] = '\r' then j - 1 else j in
       Some (String.sub text i (j - i))
 
-let make ?source (loc : Loc.t) message =
+let make ?(kind = Error) ?source (loc : Loc.t) message =
   let source_line = Option.bind source (fun s -> nth_line s loc.line) in
   let end_col =
     if loc.end_line = loc.line && loc.end_col > loc.col then loc.end_col
@@ -22,17 +33,29 @@ let make ?source (loc : Loc.t) message =
       | Some l when String.length l + 1 > loc.col -> String.length l + 1
       | _ -> loc.col + 1
   in
-  { file = loc.file; line = loc.line; col = loc.col; end_col; message; source_line }
+  { kind; file = loc.file; line = loc.line; col = loc.col; end_col; message; source_line; included_from = [] }
 
-let file_error file message = { file; line = 0; col = 0; end_col = 0; message; source_line = None }
+let warning ?source loc message = make ~kind:Warning ?source loc message
 
-let compare a b =
-  let c = String.compare a.file b.file in
-  if c <> 0 then c else
-  let c = Int.compare a.line b.line in
-  if c <> 0 then c else
-  let c = Int.compare a.col b.col in
-  if c <> 0 then c else String.compare a.message b.message
+let file_error ?(kind = Error) file message =
+  { kind; file; line = 0; col = 0; end_col = 0; message; source_line = None; included_from = [] }
+
+let with_includes chain e = if e.included_from <> [] then e else { e with included_from = chain e.file }
+
+let cannot_read ~what ~written path =
+  let reason =
+    if not (Sys.file_exists path) then Some "no such file"
+    else if Sys.is_directory path then Some "it is a directory"
+    else
+      match open_in_bin path with
+      | ic -> close_in_noerr ic; None
+      | exception Sys_error _ -> Some "it cannot be opened (permissions?)"
+  in
+  Option.map
+    (fun r ->
+      if String.equal written path then Printf.sprintf "cannot read the %s \"%s\": %s" what written r
+      else Printf.sprintf "cannot read the %s \"%s\": %s (looked for %s)" what written r path)
+    reason
 
 (* Display width of the first [n] bytes of [s]: UTF-8 continuation bytes take no
    column, tabs are kept so the caret lines up under them. *)
@@ -53,7 +76,16 @@ let width s a b =
   done;
   max 1 !n
 
-let pp ppf e =
+let pp_chain ppf e =
+  List.iter (fun (l : Loc.t) -> Format.fprintf ppf "  included from %s:%d:%d@." l.file l.line l.col) e.included_from
+
+let rec pp ppf e =
+  pp_diagnostic ppf e;
+  pp_chain ppf e
+
+and pp_diagnostic ppf e =
+  let message = match e.kind with Error -> e.message | Warning -> "warning: " ^ e.message in
+  let e = { e with message } in
   if e.line = 0 then Format.fprintf ppf "%s: %s@." e.file e.message
   else begin
     Format.fprintf ppf "%s:%d:%d: %s@." e.file e.line e.col e.message;

@@ -532,11 +532,17 @@ and load_image ctx t =
         match Hashtbl.find_opt ctx.images.pictures path with
         | Some r -> r
         | None ->
-            let r = try Image.read_linear path with e -> Error (Printexc.to_string e) in
+            let r =
+              match Error.cannot_read ~what:"image" ~written:p path with
+              | Some msg -> Error msg
+              | None -> (
+                  try Result.map_error (Printf.sprintf "cannot read the image \"%s\": %s" p) (Image.read_linear path)
+                  with e -> Error (Printf.sprintf "cannot read the image \"%s\": %s" p (Printexc.to_string e)))
+            in
             Hashtbl.replace ctx.images.pictures path r;
             r
       in
-      Result.map_error (fun m -> Printf.sprintf "cannot read the image \"%s\": %s" p m) r
+      r
   | _ -> Error "image(…) needs a file name"
 
 and texture ctx t =
@@ -949,13 +955,19 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
           match Hashtbl.find_opt b.ctx.images.meshes (path, smooth) with
           | Some r -> r
           | None ->
-              let r = try Mesh.load ~smooth path with e -> Error (Printexc.to_string e) in
+              let r =
+                match Error.cannot_read ~what:"mesh" ~written:file path with
+                | Some msg -> Error msg
+                | None -> (
+                    try Result.map_error (Printf.sprintf "cannot load the mesh \"%s\": %s" file) (Mesh.load ~smooth path)
+                    with e -> Error (Printf.sprintf "cannot load the mesh \"%s\": %s" file (Printexc.to_string e)))
+              in
               Hashtbl.replace b.ctx.images.meshes (path, smooth) r;
               r
         in
         let f = Option.get (field b "file") in
         match r with
-        | Error m -> bad b f.vloc "cannot load the mesh \"%s\": %s" file m; (lazy [], None)
+        | Error m -> bad b f.vloc "%s" m; (lazy [], None)
         | Ok [] -> bad b f.vloc "the mesh \"%s\" has no triangles" file; (lazy [], None)
         | Ok tris ->
             let n = List.length tris in
