@@ -230,8 +230,18 @@ let eval ?body_state t ~time ~frame =
     let body_state = match body_state with Some f -> Some f | None -> physics_state t ~time in
     Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
 
+(* An error that only some frames have names the frame: frame 0 was checked when the
+   program was loaded, so an error at another instant is one of those. *)
+let at_frame ~time ~frame r =
+  if Float.equal time 0. && frame = 0 then r
+  else
+    Result.map_error
+      (List.map (fun (e : Error.t) ->
+           { e with message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time }))
+      r
+
 let scene_at ?body_state t ~time ~frame =
-  chained t.includes
+  at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
       match eval ?body_state t ~time ~frame with
       | Error es -> Error es

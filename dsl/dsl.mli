@@ -27,7 +27,8 @@ val scene_at :
     [body_state name t], when given, replaces the simulation: it gives (position,
     velocity) of body [name] at time [t]; where it answers [None] a body sits at its
     initial centre with its initial velocity. A body's sphere is rendered at its
-    position. *)
+    position. Errors at any instant but time 0, frame 0 end with
+    [(at frame K, time T s)]. *)
 
 val animation : t -> (float * int) option
 (** (fps, frames) of the [animation] block; [None] without one. *)

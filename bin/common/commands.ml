@@ -30,15 +30,66 @@ let render_cmd (o : Cli.opts) =
     Printf.printf "wrote %s (%d×%d, %.2f s, %d domains, %.1f M rays, %.2f M rays/s)\n%!" out sc.settings.width sc.settings.height wall
       domains (Float.of_int rays /. 1e6) (Float.of_int rays /. 1e6 /. Float.max wall 1e-9)
 
-let check_cmd scene json time =
+(* "12..20, 30": frame numbers (ascending) as runs. *)
+let runs ks =
+  let rec go acc = function
+    | [] -> List.rev acc
+    | k :: rest -> (
+        match acc with
+        | (a, b) :: acc' when k = b + 1 -> go ((a, k) :: acc') rest
+        | _ -> go ((k, k) :: acc) rest)
+  in
+  String.concat ", " (List.map (fun (a, b) -> if a = b then string_of_int a else Printf.sprintf "%d..%d" a b) (go [] ks))
+
+(* The frames [--frames] names: "all", A..B or K, within the animation (a still has
+   frame 0 only). *)
+let check_frames prog spec =
+  let fps, count = match Dsl.animation prog with Some (fps, n) -> (fps, n) | None -> (24., 1) in
+  let first, last =
+    if String.equal spec "all" then (0, count - 1)
+    else match Animate.frames_of_string spec with Ok r -> r | Error _ -> Cli.user "--frames expects all, A..B or K (got %S)" spec
+  in
+  if first < 0 || first > last then Cli.user "--frames %s: the first frame must be at least 0 and at most the last" spec;
+  if last >= count then
+    if Dsl.animation prog = None then Cli.user "--frames %s: the scene is a still (frame 0 only)" spec
+    else Cli.user "--frames %s: the animation has frames 0..%d" spec (count - 1);
+  (fps, first, last)
+
+let check_cmd scene json time frames =
   let o = { (Cli.default_opts ()) with scene = Some scene; time } in
   let prog = Cli.load o.scene in
-  let time, frame = Cli.time_of o prog in
-  match Dsl.scene_at prog ~time ~frame with
-  | Error errs -> raise (Cli.Scene_error (Cli.errors_to_string errs))
-  | Ok sc ->
-      if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
-      else print_string (Dsl.summary prog sc)
+  match frames with
+  | None -> (
+      let time, frame = Cli.time_of o prog in
+      match Dsl.scene_at prog ~time ~frame with
+      | Error errs -> raise (Cli.Scene_error (Cli.errors_to_string errs))
+      | Ok sc ->
+          if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
+          else print_string (Dsl.summary prog sc))
+  | Some _ when time <> None -> Cli.user "give either --time or --frames, not both"
+  | Some _ when json -> Cli.user "--json prints one frame: choose it with --time, not --frames"
+  | Some spec ->
+      let fps, first, last = check_frames prog spec in
+      (* Every frame is evaluated; the errors of the first that fails are shown, and the
+         others that fail are listed. *)
+      let first_scene = ref None and failed = ref [] and first_errors = ref [] in
+      for k = first to last do
+        match Dsl.scene_at prog ~time:(Float.of_int k /. fps) ~frame:k with
+        | Ok sc -> if !first_scene = None then first_scene := Some sc
+        | Error errs ->
+            if !failed = [] then first_errors := errs;
+            failed := k :: !failed
+      done;
+      let n = last - first + 1 in
+      (match List.rev !failed with
+       | [] -> ()
+       | ks ->
+           raise
+             (Cli.Scene_error
+                (Cli.errors_to_string !first_errors
+                ^ Printf.sprintf "lancer: %d of the %d frames checked (%d..%d) fail: %s\n" (List.length ks) n first last (runs ks))));
+      (match !first_scene with Some sc -> print_string (Dsl.summary prog sc) | None -> ());
+      Printf.printf "frames checked: %d..%d (%d frame%s), every one evaluates\n" first last n (if n = 1 then "" else "s")
 
 let diff_cmd a b out tolerance share =
   let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
@@ -103,8 +154,17 @@ let check =
   let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts") in
   let json = Arg.(value & flag & info [ "json" ] ~doc:"Print the evaluated scene as JSON.") in
   let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Evaluate at this time.") in
-  let man = [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5" ] in
-  Cmd.v (Cmd.info "check" ~doc ~man ~exits) Term.(const (fun s j t -> wrap (fun () -> check_cmd s j t)) $ scene $ json $ time)
+  let frames =
+    Arg.(value & opt (some string) None
+         & info [ "frames" ] ~docv:"A..B"
+             ~doc:"Evaluate every frame from A to B (inclusive), or $(b,all) of them, instead of one: an error that only some frames have is found, with the frames that have it.")
+  in
+  let man =
+    [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5";
+      `Pre "  lancer check scenes/bounce.rts --frames all" ]
+  in
+  Cmd.v (Cmd.info "check" ~doc ~man ~exits)
+    Term.(const (fun s j t f -> wrap (fun () -> check_cmd s j t f)) $ scene $ json $ time $ frames)
 
 let diff =
   let doc = "compare two images; exit status 1 when they differ beyond the tolerance" in

@@ -1,0 +1,64 @@
+(* What lancer check (and a render's own report) tells the user: every frame of a range
+   checked, with the frames an error happens at; warnings; the cost estimate; build and
+   render times apart. *)
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+open Run_lancer
+
+let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
+let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+let has msg text sub = Alcotest.(check bool) (Printf.sprintf "%s: %S in\n%s" msg sub text) true (contains text sub)
+let lacks msg text sub = Alcotest.(check bool) (Printf.sprintf "%s: no %S in\n%s" msg sub text) false (contains text sub)
+
+let scene_dir text =
+  let d = tmpdir "lancer-check" in
+  write_file (Filename.concat d "s.rts") text;
+  d
+
+(* Frame 12 divides by zero; frames 21 and later have a negative radius. *)
+let flaky_anim =
+  {|settings { width: 16, height: 12 }
+animation { fps: 10, frames: 30 }
+light { position: (0, 5, -5) }
+let r = 1 / (frame - 12)
+sphere { center: (0, 0, 0), radius: if frame > 20 then -1 else 1 }
+|}
+
+let frame_tests =
+  [ Alcotest.test_case "an error at one frame only names the frame and time" `Quick (fun () ->
+        let d = scene_dir flaky_anim in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "--frame"; "12"; "-o"; "x.png" ] in
+        check_status "render --frame 12" 1 r;
+        has "located" e "s.rts:4:13: division by zero (at frame 12, time 1.2 s)";
+        Alcotest.(check bool) "no output" false (Sys.file_exists (Filename.concat d "x.png")));
+    Alcotest.test_case "check --frames all evaluates every frame and lists those that fail" `Quick (fun () ->
+        let d = scene_dir flaky_anim in
+        let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "all" ] in
+        check_status "check --frames all" 1 r;
+        has "first failing frame shown" e "division by zero (at frame 12, time 1.2 s)";
+        has "every failing frame listed" e "10 of the 30 frames checked (0..29) fail: 12, 21..29";
+        (* Frame 0 alone is fine: plain check passes. *)
+        check_status "check (frame 0)" 0 (lancer ~dir:d [ "check"; "s.rts" ]));
+    Alcotest.test_case "check --frames A..B checks only that range" `Quick (fun () ->
+        let d = scene_dir flaky_anim in
+        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "0..11" ] in
+        check_status "frames before the error" 0 r;
+        has "says what it checked" out "frames checked: 0..11 (12 frames), every one evaluates";
+        let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "20..25" ] in
+        check_status "a range with failing frames" 1 r;
+        has "the radius error, at frame 21" e "(at frame 21, time 2.1 s)";
+        has "listed" e "5 of the 6 frames checked (20..25) fail: 21..25");
+    Alcotest.test_case "check --frames outside the animation, or a bad range, is refused" `Quick (fun () ->
+        let d = scene_dir flaky_anim in
+        let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "0..40" ] in
+        check_status "beyond the end" 1 r;
+        has "says the range" e "the animation has frames 0..29";
+        check_status "not a range" 1 (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "some" ]);
+        check_status "with --time" 1 (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "all"; "--time"; "1" ]);
+        write_file (Filename.concat d "still.rts") "sphere { center: (0, 0, 0), radius: 1 }\n";
+        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "still.rts"; "--frames"; "all" ] in
+        check_status "a still has frame 0" 0 r;
+        has "one frame" out "frames checked: 0..0 (1 frame)") ]
+
+let () = Alcotest.run "check" [ ("frames", frame_tests) ]
