@@ -158,6 +158,9 @@ type ctx = {
   mutable physics : (physics * Loc.t) option;
   mutable lights : Light.t list;
   mutable bodies : (body * pending_obj) list;  (** reversed *)
+  definitions : (string * Loc.t) list Lazy.t;
+      (** every name the program defines ([let], [fn], [body]), anywhere, where it is
+          defined; built only for an unknown name's message *)
 }
 
 let report ctx (loc : Loc.t) msg =
@@ -339,7 +342,7 @@ let rec eval ctx env (e : expr) : value =
   | Num x -> VNum x
   | Str s -> VStr s
   | Bool b -> VBool b
-  | Var x -> lookup env x e.loc
+  | Var x -> lookup ctx env x e.loc
   | Vec (a, b, c) ->
       let n (e : expr) = match eval ctx env e with VNum x -> x | v -> fail e.loc "a vector component must be a number, got %s" (type_name v) in
       let x = n a in
@@ -388,7 +391,7 @@ let rec eval ctx env (e : expr) : value =
       | VBool false -> eval ctx env b
       | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
   | Call (f, args) -> (
-      match lookup env f.id f.nloc with
+      match lookup ctx env f.id f.nloc with
       | VBuiltin name ->
           let args = List.map (fun (a : expr) -> (eval ctx env a, a.loc)) args in
           List.iter (fun (v, _) -> if v = VPoison then raise Poisoned) args;
@@ -400,13 +403,18 @@ let rec eval ctx env (e : expr) : value =
       | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v))
   | Material items -> eval_material ctx env e.loc items
 
-and lookup env x loc =
+and lookup ctx env x (loc : Loc.t) =
   match Env.find_opt x env with
   | Some VPoison -> raise Poisoned
   | Some v -> v
-  | None ->
-      let names = Env.fold (fun k _ acc -> k :: acc) env [] in
-      fail loc "unknown name `%s`%s" x (hint x names)
+  | None -> (
+      (* A name defined further down the same file was most likely meant. *)
+      let later (d : Loc.t) = d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col)) in
+      match List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force ctx.definitions) with
+      | Some (_, d) -> fail loc "unknown name `%s`: %s" x (Hints.defined_later x d)
+      | None ->
+          let names = Env.fold (fun k _ acc -> k :: acc) env [] in
+          fail loc "unknown name `%s`%s" x (hint x names))
 
 and bind_params ctx env fname params cenv args loc =
   let np = List.length params and na = List.length args in
@@ -689,7 +697,7 @@ and exec_ ctx env scope (s : stmt) : env =
   | Include (p, loc) -> fail loc "internal error: include \"%s\" was not resolved" p
   | Included (_, stmts) -> exec_list ctx env scope stmts
   | Call_stmt (f, args) -> (
-      match lookup env f.id f.nloc with
+      match lookup ctx env f.id f.nloc with
       | VMacro m ->
           let env' = bind_params ctx env m.mname m.mparams m.menv args s.sloc in
           nested ctx s.sloc (fun () -> ignore (exec_list ctx env' scope m.mbody));
@@ -723,6 +731,7 @@ and block ctx env scope (k : name) items =
   | kind when List.mem_assoc kind object_fields -> (
       match object_ ctx env scope k items with Some o -> add_object ctx scope k.nloc o | None -> ())
   | "material" -> fail k.nloc "a material is a value: write `material: material { … }` inside an object, or `let m = material { … }`"
+  | x when Hints.csg_block x <> None -> fail k.nloc "%s" (Option.get (Hints.csg_block x))
   | x ->
       fail k.nloc "unknown block `%s`%s" x
         (hint x ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ List.map fst object_fields))
@@ -780,6 +789,12 @@ and camera ctx env scope k items =
    | Some f when not (fov > 0. && fov < 180.) -> bad b f.vloc "`fov` must be in (0, 180) degrees, got %s" (fmt_num fov)
    | _ -> ());
   finish b;
+  let view = Vec3.sub look_at position in
+  (if Vec3.max_abs view > 0. && Vec3.max_abs up > 0. then
+     let cos = Vec3.dot view up /. (Vec3.length view *. Vec3.length up) in
+     if Float.abs cos > 1. -. 1e-12 then
+       let at = match (field b "up", field b "look_at") with Some f, _ | None, Some f -> f.vloc | None, None -> k.nloc in
+       fail at "%s" (Hints.camera_up view up));
   let c = Camera.make ~position ~look_at ~up ~fov () in
   (match Camera.validate c with Ok () -> () | Error m -> fail k.nloc "invalid camera: %s" m);
   ctx.camera <- Some (c, k.nloc)
@@ -1130,6 +1145,23 @@ let sort_errors (es : Error.t list) =
   let key (e : Error.t) = (index e.file 0 files, e.line, e.col) in
   List.stable_sort (fun a b -> compare (key a) (key b)) es
 
+(* Every name a program defines and where, in program order (for "defined later"). *)
+let definitions stmts =
+  let acc = ref [] in
+  let rec stmt (s : stmt) =
+    match s.s with
+    | Let (x, _) | Fn (x, _, _) -> acc := (x.id, x.nloc) :: !acc
+    | Macro (x, _, b) -> acc := (x.id, x.nloc) :: !acc; List.iter stmt b
+    | Body (x, its) -> acc := (x.id, x.nloc) :: !acc; items its
+    | For (_, _, _, _, b) -> List.iter stmt b
+    | If_stmt (_, t, e) -> List.iter stmt t; List.iter stmt e
+    | Included (_, b) -> List.iter stmt b
+    | Block (_, its) -> items its
+    | Include _ | Call_stmt _ -> ()
+  and items its = List.iter (function Stmt s -> stmt s | Field _ -> ()) its in
+  List.iter stmt stmts;
+  List.rev !acc
+
 let initial_env ~time ~frame =
   let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
@@ -1137,7 +1169,8 @@ let initial_env ~time ~frame =
 let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
     { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
-      depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [] }
+      depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
+      definitions = lazy (definitions stmts) }
   in
   let scope = { sink = ref []; in_group = false } in
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());

@@ -8,3 +8,6 @@ val token : Lexing.lexbuf -> Parser.token
 
 val describe : Parser.token -> string
 (** The token as a user would write it, for syntax error messages ("`\{`", "a number"). *)
+
+val keyword_name : Parser.token -> string option
+(** The keyword a token is, as written ("step"); [None] for other tokens. *)

@@ -14,6 +14,8 @@ let keywords =
     ("include", INCLUDE); ("body", BODY); ("material", MATERIAL); ("and", AND); ("or", OR);
     ("not", NOT) ]
 
+let keyword_name tok = List.find_map (fun (k, t) -> if t = tok then Some k else None) keywords
+
 let describe = function
   | NUMBER n -> Printf.sprintf "the number %g" n
   | STRING s -> Printf.sprintf "the string %S" s
@@ -59,6 +61,7 @@ rule token = parse
   | "&&" { error lexbuf "`&&` is not an operator; write `and`" }
   | "||" { error lexbuf "`||` is not an operator; write `or`" }
   | '!' { error lexbuf "`!` is not an operator; write `not`" }
+  | '#' (ident as d) { error lexbuf (Hints.directive d) }
   | ';' { error lexbuf "`;` is not used in .rts scripts: separate fields with commas or new lines" }
   | eof { EOF }
   | ['\x80'-'\xff']+ { error lexbuf "non-ASCII characters are allowed only in comments and strings" }

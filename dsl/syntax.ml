@@ -77,9 +77,16 @@ let parse ~file text =
                      (Printf.sprintf "the %s opened at %s is not closed: a `%s` is missing before the end of the file"
                         b.label where closer))
             | _ ->
+                (* A habit from another language, or a keyword where a name was meant. *)
+                let msg =
+                  match (tok, Lexer.keyword_name tok, !prev2) with
+                  | _, Some k, (Parser.LET | Parser.FN | Parser.FOR | Parser.BODY) -> Hints.keyword_as_name k
+                  | Parser.LT, _, _ -> msg ^ " " ^ Hints.angle_vector
+                  | Parser.STEP, Some k, _ -> msg ^ " " ^ Hints.keyword_as_name k
+                  | _ -> msg
+                in
                 Error
-                  (Error.make ~source:text (Loc.of_positions s e)
-                     (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg)))
+                  (Error.make ~source:text (Loc.of_positions s e) (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg)))
         | I.Accepted v -> Ok v
         | I.Rejected -> Error (Error.make ~source:text (Loc.whole_file file) "syntax error")
       in
