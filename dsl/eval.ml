@@ -679,6 +679,16 @@ and exec_ ctx env scope (s : stmt) : env =
              (fmt_num count)
              (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left (%s in all)" (fmt_num ctx.loops) (fmt_num total) else "")
              max_steps max_objects);
+      (* The same for the object limit: each iteration builds at least the objects
+         written in the loop's body. *)
+      let per_iteration = Float.of_int (objects_written body) in
+      if per_iteration > 0. && (total *. per_iteration) +. Float.of_int ctx.objects > Float.of_int max_objects then
+        limit ctx s.sloc
+          (Printf.sprintf "this loop would build %s objects (%s an iteration, %s iterations%s)%s; a scene may build at most %d objects"
+             (fmt_num (total *. per_iteration)) (fmt_num per_iteration) (fmt_num count)
+             (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left" (fmt_num ctx.loops) else "")
+             (if ctx.objects > 0 then Printf.sprintf ", after the %d already built" ctx.objects else "")
+             max_objects);
       let count = if count < 0. then 0 else int_of_float count in
       let outer = ctx.loops in
       Fun.protect ~finally:(fun () -> ctx.loops <- outer) (fun () ->
@@ -707,6 +717,23 @@ and exec_ ctx env scope (s : stmt) : env =
       | v -> fail f.nloc "`%s` is %s, not a scene macro" f.id (type_name v))
   | Block (k, items) -> block ctx env scope k items; env
   | Body (n, items) -> body ctx env scope s.sloc n items; Env.add n.id (VBody n.id) env
+
+(* The objects a list of statements surely builds each time it runs: object blocks, and
+   those of groups; not those behind a condition (the smaller branch), a macro call or an
+   inner loop (which checks its own). *)
+and objects_written stmts =
+  List.fold_left
+    (fun n (s : stmt) ->
+      n
+      +
+      match s.s with
+      | Block (k, _) when List.mem_assoc k.id object_fields -> 1
+      | Block ({ id = "group"; _ }, its) ->
+          objects_written (List.filter_map (function Stmt s -> Some s | Field _ -> None) its)
+      | If_stmt (_, t, e) -> min (objects_written t) (objects_written e)
+      | Included (_, b) -> objects_written b
+      | _ -> 0)
+    0 stmts
 
 and check_params params =
   let rec go = function
