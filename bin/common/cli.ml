@@ -64,6 +64,27 @@ let progress o ~label ~total =
   in
   Progress.create ~mode ~label ~total ()
 
+(* What the build is doing, on the progress channel: one line redrawn in place on a
+   terminal, lines with --progress, nothing otherwise. *)
+let building o what =
+  match (o.quiet, Unix.isatty Unix.stderr, o.progress) with
+  | true, _, _ -> ()
+  | false, true, _ -> Printf.eprintf "\r\027[Kbuilding: %s…%!" what
+  | false, false, true -> Printf.eprintf "building: %s\n%!" what
+  | false, false, false -> ()
+
+let built o = if (not o.quiet) && Unix.isatty Unix.stderr then Printf.eprintf "\r\027[K%!"
+
+let build o f =
+  let t0 = Unix.gettimeofday () in
+  let r = Fun.protect ~finally:(fun () -> built o) (fun () -> f (building o)) in
+  (r, Unix.gettimeofday () -. t0)
+
+let summary ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
+  let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+  Printf.sprintf "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M rays/s)" out
+    sc.settings.width sc.settings.height (build +. render) build render workers rays (rays /. Float.max render 1e-9)
+
 let exits =
   Cmd.Exit.info 0 ~doc:"on success."
   :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."
@@ -161,7 +182,7 @@ let peak_memory_kib () =
           | _ -> None)
         (String.split_on_char '\n' text)
 
-let stats_json o (sc : Scene.t) ~wall ~domains ~ranks (st : Stats.t) =
+let stats_json o (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t) =
   let s = sc.settings in
   let rays = Stats.total_rays st in
   let opt_int = function Some n -> `Int n | None -> `Null in
@@ -170,7 +191,7 @@ let stats_json o (sc : Scene.t) ~wall ~domains ~ranks (st : Stats.t) =
       ("width", `Int s.width); ("height", `Int s.height); ("samples", `Int s.samples); ("depth", `Int s.depth);
       ("adaptive", `Float s.adaptive); ("time", `Float sc.time); ("frame", `Int sc.frame);
       ("domains", `Int domains); ("ranks", `Int ranks);
-      ("wall_seconds", `Float wall);
+      ("wall_seconds", `Float (build +. wall)); ("build_seconds", `Float build); ("render_seconds", `Float wall);
       ("rays", `Assoc [ ("primary", `Int st.primary); ("shadow", `Int st.shadow); ("reflected", `Int st.reflected);
                         ("refracted", `Int st.refracted); ("total", `Int rays) ]);
       ("rays_per_second", `Float (if wall > 0. then Float.of_int rays /. wall else 0.));

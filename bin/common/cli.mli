@@ -79,8 +79,22 @@ val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
 val write_image : string -> Lancer.Scene.t -> Lancer.Image.t -> unit
 (** Encode with the scene's gamma and write atomically; raises [User_error]. *)
 
+val build : opts -> ((string -> unit) -> 'a) -> 'a * float
+(** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration
+    structure), and times it: [say what] shows what it is doing ("building: what…",
+    redrawn in place on a terminal, a line with [--progress], nothing otherwise), and the
+    line is cleared when [f] returns or raises. The result and the seconds it took. *)
+
+val summary :
+  out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
+(** The line a render prints when done: the file, size, total, build and render seconds,
+    [workers] ("2 domains"), rays and rays per second of the render. *)
+
 val stats_json :
-  opts -> Lancer.Scene.t -> wall:float -> domains:int -> ranks:int -> Lancer.Stats.t -> Yojson.Safe.t
+  opts -> Lancer.Scene.t -> build:float -> wall:float -> domains:int -> ranks:int -> Lancer.Stats.t -> Yojson.Safe.t
+(** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:
+    loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
+    counts, rays per second of the render, peak memory, features and options. *)
 
 val write_json : string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically; raises [User_error]. *)

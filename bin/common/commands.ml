@@ -9,12 +9,19 @@ let render_cmd (o : Cli.opts) =
   Cli.check_output out;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
-  let prog = Cli.load o.scene in
-  let time, frame = Cli.time_of o prog in
-  let sc = Cli.scene_at o prog ~time ~frame in
-  (* Evaluating a large scene leaves garbage (the evaluator's values): give it back before
-     the framebuffer is allocated, so that peak memory is the scene plus the image. *)
-  Gc.compact ();
+  let sc, build =
+    Cli.build o (fun say ->
+        say (Printf.sprintf "reading and checking %s" (Option.value o.scene ~default:"the showcase"));
+        let prog = Cli.load o.scene in
+        let time, frame = Cli.time_of o prog in
+        say "evaluating the scene and building its acceleration structure";
+        let sc = Cli.scene_at o prog ~time ~frame in
+        (* Evaluating a large scene leaves garbage (the evaluator's values): give it back
+           before the framebuffer is allocated, so that peak memory is the scene plus the
+           image. *)
+        Gc.compact ();
+        sc)
+  in
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let t0 = Unix.gettimeofday () in
   let fb, st =
@@ -24,11 +31,9 @@ let render_cmd (o : Cli.opts) =
   Progress.finish progress;
   Cli.write_image out sc fb;
   Cli.warn_bad_samples st;
-  Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~wall ~domains ~ranks:1 st)) o.stats;
-  let rays = Stats.total_rays st in
+  Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
-    Printf.printf "wrote %s (%d×%d, %.2f s, %d domains, %.1f M rays, %.2f M rays/s)\n%!" out sc.settings.width sc.settings.height wall
-      domains (Float.of_int rays /. 1e6) (Float.of_int rays /. 1e6 /. Float.max wall 1e-9)
+    print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(Printf.sprintf "%d domains" domains) st)
 
 (* "12..20, 30": frame numbers (ascending) as runs. *)
 let runs ks =

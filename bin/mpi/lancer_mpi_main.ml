@@ -73,10 +73,10 @@ let render_cmd (o : Cli.opts) =
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
-    let sc = still (Cli.load_source source) in
-    (source, (out, sc))
+    let sc, build = Cli.build o (fun say -> say "loading and evaluating the scene"; still (Cli.load_source source)) in
+    (source, (out, sc, build))
   in
-  let lead (out, sc) ~pool ~domains =
+  let lead (out, sc, build) ~pool ~domains =
     let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
@@ -87,11 +87,8 @@ let render_cmd (o : Cli.opts) =
     let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
     Cli.write_image out sc fb;
     Cli.warn_bad_samples st;
-    Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~wall ~domains ~ranks:(Mpi.size ()) st)) o.stats;
-    let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
-    if not o.quiet then
-      Printf.printf "wrote %s (%d×%d, %.2f s, %s, %.1f M rays, %.2f M rays/s)\n%!" out sc.settings.width sc.settings.height wall
-        (ranks_text domains) rays (rays /. Float.max wall 1e-9)
+    Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:(Mpi.size ()) st)) o.stats;
+    if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(ranks_text domains) st)
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog _ -> still prog)
 

@@ -61,4 +61,44 @@ let frame_tests =
         check_status "a still has frame 0" 0 r;
         has "one frame" out "frames checked: 0..0 (1 frame)") ]
 
-let () = Alcotest.run "check" [ ("frames", frame_tests) ]
+let build_scene =
+  {|settings { width: 32, height: 24 }
+light { position: (0, 5, -5) }
+for i in 0 to 499 { sphere { center: (i, 0, 0), radius: 0.5 } }
+|}
+
+let time_tests =
+  [ Alcotest.test_case "the summary and --stats give build and render time apart" `Quick (fun () ->
+        let d = scene_dir build_scene in
+        let ((_, out, _) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "st.json" ] in
+        check_status "render" 0 r;
+        has "summary" out "s: build ";
+        has "summary" out " s, render ";
+        let j = Yojson.Safe.from_file (Filename.concat d "st.json") in
+        let open Yojson.Safe.Util in
+        let f k = j |> member k |> to_number in
+        let build = f "build_seconds" and render = f "render_seconds" and wall = f "wall_seconds" in
+        Alcotest.(check bool) "build time is counted" true (build > 0.);
+        Alcotest.(check bool) "render time is counted" true (render > 0.);
+        Alcotest.(check (float 1e-9)) "wall is build + render" (build +. render) wall);
+    Alcotest.test_case "the build says what it is doing with --progress, and nothing without" `Quick (fun () ->
+        let d = scene_dir build_scene in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ] in
+        check_status "render --progress" 0 r;
+        has "loading" e "building: reading and checking s.rts";
+        has "evaluating" e "building: evaluating the scene and building its acceleration structure";
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "render" 0 r;
+        Alcotest.(check string) "not a terminal: silent" "" e;
+        if Sys.command "command -v script >/dev/null 2>&1" = 0 then begin
+          let out = Filename.concat d "tty.out" in
+          let cmd =
+            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1" (Filename.quote d)
+              (Filename.quote (Printf.sprintf "%s render s.rts -o b.png" (Filename.quote exe)))
+              (Filename.quote out)
+          in
+          Alcotest.(check int) "render on a terminal" 0 (Sys.command cmd);
+          has "on a terminal, redrawn in place" (read_file out) "\r\027[Kbuilding: evaluating the scene"
+        end) ]
+
+let () = Alcotest.run "check" [ ("frames", frame_tests); ("times", time_tests) ]
