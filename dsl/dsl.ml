@@ -114,6 +114,8 @@ let chained includes r =
     (List.map (Error.with_includes (fun file -> Option.value (Hashtbl.find_opt includes file) ~default:[])))
     r
 
+let chained_list includes es = match chained includes (Error es) with Error es -> es | Ok () -> []
+
 let load_text file text =
   let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
   Hashtbl.replace sources file text;
@@ -282,6 +284,19 @@ let distinct_materials (sc : Scene.t) =
     sc.objects;
   Hashtbl.length tbl
 
+let warnings t (sc : Scene.t) =
+  let file msg = Error.file_error ~kind:Error.Warning t.file msg in
+  let scene =
+    if t.stmts = [] then [ file "the scene is empty (no statements): it renders the background only" ]
+    else
+      (if Array.length sc.objects = 0 then [ file "the scene has no objects: the image is the background only" ] else [])
+      @
+      if Array.length sc.lights = 0 && Array.length sc.objects > 0 then
+        [ file "the scene has no lights: objects show only their ambient colour (add light { position: (x, y, z) })" ]
+      else []
+  in
+  chained_list t.includes t.first.warnings @ scene
+
 let summary ?body_state:_ t (sc : Scene.t) =
   let s = sc.settings in
   let objs = Array.to_list sc.objects in
@@ -291,7 +306,13 @@ let summary ?body_state:_ t (sc : Scene.t) =
   let b = Buffer.create 256 in
   let line fmt = Printf.ksprintf (fun x -> Buffer.add_string b x; Buffer.add_char b '\n') fmt in
   line "scene: %s" t.file;
-  line "image: %d×%d, %d×%d samples per pixel, depth %d" s.width s.height s.samples s.samples s.depth;
+  let adaptive =
+    if s.adaptive > 0. then
+      Printf.sprintf "adaptive %g: 2×2 samples, %d×%d where they differ by more" s.adaptive (max s.samples 4) (max s.samples 4)
+    else "adaptive off"
+  in
+  line "image: %d×%d, %d×%d samples per pixel (jitter %s, %s), depth %d" s.width s.height s.samples s.samples
+    (if s.jitter then "on" else "off") adaptive s.depth;
   (match animation t with
    | Some (fps, n) -> line "animation: %d frames at %g fps (%g s); this is frame %d, time %g s" n fps (Float.of_int n /. fps) sc.frame sc.time
    | None -> line "animation: none (a still)");
@@ -306,6 +327,7 @@ let summary ?body_state:_ t (sc : Scene.t) =
   let used = pick true and skipped = pick false in
   line "renderer uses: %s" (if used = [] then "nothing beyond direct light" else String.concat ", " used);
   line "renderer skips: %s" (if skipped = [] then "nothing" else String.concat ", " skipped);
+  List.iter (fun w -> Buffer.add_string b (Error.to_string w)) (warnings t sc);
   Buffer.contents b
 
 let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]

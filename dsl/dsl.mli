@@ -87,9 +87,14 @@ val simulate : t -> until:float -> (Physics.trajectory, Error.t list) result
 
 (** {1 For [lancer check]} *)
 
+val warnings : t -> Scene.t -> Error.t list
+(** What is legal but likely a mistake: an empty file, a scene without objects or
+    without lights, a loop that runs zero times (at time 0). *)
+
 val summary : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> string
-(** A few lines on what the scene holds: image size, frames, objects by kind, lights,
-    distinct materials, bodies, and which {!Lancer.Features} it uses. *)
+(** A few lines on what the scene holds: image size, sampling (jitter, adaptive), frames,
+    objects by kind, lights, distinct materials, bodies, and which {!Lancer.Features} it
+    uses; then its {!warnings}. *)
 
 val to_json : ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> Scene.t -> Yojson.Safe.t
 (** The evaluated scene at [scene]'s time: settings, camera, lights, every object with its

@@ -38,6 +38,7 @@ type output = {
   animation : (float * int) option;
   physics : physics option;
   physics_loc : Loc.t option;  (** where the [physics] block is *)
+  warnings : Error.t list;
   bodies : body list;
 }
 
@@ -158,6 +159,7 @@ type ctx = {
   mutable physics : (physics * Loc.t) option;
   mutable lights : Light.t list;
   mutable bodies : (body * pending_obj) list;  (** reversed *)
+  mutable warnings : Error.t list;  (** reversed *)
   definitions : (string * Loc.t) list Lazy.t;
       (** every name the program defines ([let], [fn], [body]), anywhere, where it is
           defined; built only for an unknown name's message *)
@@ -168,6 +170,13 @@ let report ctx (loc : Loc.t) msg =
   if not (Hashtbl.mem ctx.seen key) then begin
     Hashtbl.add ctx.seen key ();
     ctx.errors <- Error.make ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.errors
+  end
+
+let warn ctx (loc : Loc.t) msg =
+  let key = (loc.file, loc.line, loc.col, "warning: " ^ msg) in
+  if not (Hashtbl.mem ctx.seen key) then begin
+    Hashtbl.add ctx.seen key ();
+    ctx.warnings <- Error.warning ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.warnings
   end
 
 let limit ctx loc msg =
@@ -689,6 +698,11 @@ and exec_ ctx env scope (s : stmt) : env =
              (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left" (fmt_num ctx.loops) else "")
              (if ctx.objects > 0 then Printf.sprintf ", after the %d already built" ctx.objects else "")
              max_objects);
+      if count <= 0. then
+        warn ctx s.sloc
+          (Printf.sprintf "this loop runs zero times: it counts from %s to %s in steps of %s%s" (fmt_num a') (fmt_num b')
+             (fmt_num st')
+             (if st' > 0. then " (to count down, give a negative step: `step -1`)" else " (to count up, give a positive step)"));
       let count = if count < 0. then 0 else int_of_float count in
       let outer = ctx.loops in
       Fun.protect ~finally:(fun () -> ctx.loops <- outer) (fun () ->
@@ -1197,7 +1211,7 @@ let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
     { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
-      definitions = lazy (definitions stmts) }
+      warnings = []; definitions = lazy (definitions stmts) }
   in
   let scope = { sink = ref []; in_group = false } in
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
@@ -1231,4 +1245,5 @@ let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
         animation = Option.map fst ctx.animation;
         physics = Option.map fst ctx.physics;
         physics_loc = Option.map snd ctx.physics;
+        warnings = sort_errors (List.rev ctx.warnings);
         bodies = List.map (fun ((b : body), _) -> b) bodies }

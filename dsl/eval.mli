@@ -57,6 +57,7 @@ type output = {
   animation : (float * int) option;  (** fps, frames *)
   physics : physics option;
   physics_loc : Loc.t option;  (** where the [physics] block is *)
+  warnings : Error.t list;  (** what is legal but likely a mistake (a loop that runs zero times), in source order *)
   bodies : body list;  (** in program order *)
 }
 

@@ -101,4 +101,36 @@ let time_tests =
           has "on a terminal, redrawn in place" (read_file out) "\r\027[Kbuilding: evaluating the scene"
         end) ]
 
-let () = Alcotest.run "check" [ ("frames", frame_tests); ("times", time_tests) ]
+let check_out text =
+  let d = scene_dir text in
+  let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts" ] in
+  check_status "check" 0 r;
+  out
+
+let warning_tests =
+  [ Alcotest.test_case "the summary shows jitter and adaptive sampling" `Quick (fun () ->
+        let out = check_out "settings { samples: 2, jitter: true, adaptive: 0.05 }\nlight { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\n" in
+        has "jitter" out "jitter on";
+        has "adaptive" out "adaptive 0.05: 2×2 samples, 4×4 where they differ by more";
+        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\n" in
+        has "defaults" out "1×1 samples per pixel (jitter off, adaptive off)";
+        lacks "a fine scene" out "warning");
+    Alcotest.test_case "check warns about an empty file, no objects, no lights" `Quick (fun () ->
+        let out = check_out "// only a comment\n" in
+        has "empty" out "s.rts: warning: the scene is empty (no statements)";
+        lacks "empty says it once" out "no objects";
+        let out = check_out "light { position: (0, 5, 0) }\n" in
+        has "no objects" out "s.rts: warning: the scene has no objects";
+        lacks "has a light" out "no lights";
+        let out = check_out "sphere { center: (0, 0, 0), radius: 1 }\n" in
+        has "no lights" out "s.rts: warning: the scene has no lights";
+        lacks "has an object" out "no objects");
+    Alcotest.test_case "check warns, at the loop, about a loop that runs zero times" `Quick (fun () ->
+        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\nfor i in 10 to 0 { sphere { center: (i, 0, 0), radius: 1 } }\n" in
+        has "located" out "s.rts:3:1: warning: this loop runs zero times: it counts from 10 to 0 in steps of 1";
+        has "how to count down" out "give a negative step";
+        has "the line" out "\nfor i in 10 to 0 {";
+        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\nfor i in 10 to 0 step -1 { }\n" in
+        lacks "a loop that runs" out "warning") ]
+
+let () = Alcotest.run "check" [ ("frames", frame_tests); ("times", time_tests); ("warnings", warning_tests) ]
