@@ -85,6 +85,48 @@ let summary ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
   Printf.sprintf "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M rays/s)" out
     sc.settings.width sc.settings.height (build +. render) build render workers rays (rays /. Float.max render 1e-9)
 
+(* A count of rays the way a person reads it: 307 200, 18.4 M, 1.28 G. *)
+let rays_text r =
+  if not (r < 1e15) then "over 10^15"
+  else if r >= 1e12 then Printf.sprintf "%.3g T" (r /. 1e12)
+  else if r >= 1e9 then Printf.sprintf "%.3g G" (r /. 1e9)
+  else if r >= 1e6 then Printf.sprintf "%.3g M" (r /. 1e6)
+  else if r >= 1e3 then Printf.sprintf "%.3g k" (r /. 1e3)
+  else Printf.sprintf "%.0f" r
+
+(* [s] padded with spaces to [n] characters (UTF-8 characters, not bytes). *)
+let pad n s =
+  let w = ref 0 in
+  String.iter (fun c -> if Char.code c land 0xC0 <> 0x80 then incr w) s;
+  if !w >= n then s else s ^ String.make (n - !w) ' '
+
+let cost_report (sc : Scene.t) =
+  let range lo hi = if lo < hi then rays_text lo ^ "–" ^ rays_text hi else rays_text hi in
+  let base = (Cost.estimate sc).direct in
+  let line name (sc : Scene.t) =
+    let c = Cost.estimate sc in
+    Printf.sprintf "  %s %s %s %s %s\n" (pad 10 name) (pad 16 (range c.primary_low c.primary)) (pad 18 (range c.direct_low c.direct))
+      (pad 22 (Printf.sprintf "%s (depth %d)" (rays_text c.bound) sc.settings.depth))
+      (if base > 0. then Printf.sprintf "%.3g" (c.direct /. base) else "-")
+  in
+  let presets =
+    List.filter_map (fun (name, q) -> match Quality.apply q sc with Ok s -> Some (line name s) | Error _ -> None) Quality.all
+  in
+  "rays, estimated before rendering (each primary ray counted as a hit lit by every light; a range where adaptive\n\
+   sampling refines none to all of the pixels):\n"
+  ^ Printf.sprintf "  %s %s %s %s %s\n" (pad 10 "quality") (pad 16 "primary") (pad 18 "with shadow rays") (pad 22 "at most, every bounce") "× as set"
+  ^ line "as set" sc ^ String.concat "" presets
+
+(* Renders estimated above this many rays (minutes on a small machine) say so first. *)
+let long_render_rays = 1e9
+
+let warn_long_render o (sc : Scene.t) =
+  let c = Cost.estimate sc in
+  if (not o.quiet) && c.direct > long_render_rays then
+    Printf.eprintf
+      "lancer: note: this render is estimated at up to %s rays (%s primary; at most %s with every bounce): it may take long; `lancer check` compares the quality presets\n%!"
+      (rays_text c.direct) (rays_text c.primary) (rays_text c.bound)
+
 let exits =
   Cmd.Exit.info 0 ~doc:"on success."
   :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."

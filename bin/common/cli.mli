@@ -90,6 +90,19 @@ val summary :
 (** The line a render prints when done: the file, size, total, build and render seconds,
     [workers] ("2 domains"), rays and rays per second of the render. *)
 
+val rays_text : float -> string
+(** A ray count as a person reads it: [307 200] as "307 k", "18.4 M", "1.28 G". *)
+
+val cost_report : Lancer.Scene.t -> string
+(** The estimated rays ({!Lancer.Cost}) of the scene as set and under each quality preset,
+    with how many times the scene's own cost each is; the header says it is an estimate. *)
+
+val long_render_rays : float
+(** 10⁹: a render estimated above this says so before it starts. *)
+
+val warn_long_render : opts -> Lancer.Scene.t -> unit
+(** A note on stderr (unless [--quiet]) when the estimated rays pass {!long_render_rays}. *)
+
 val stats_json :
   opts -> Lancer.Scene.t -> build:float -> wall:float -> domains:int -> ranks:int -> Lancer.Stats.t -> Yojson.Safe.t
 (** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:

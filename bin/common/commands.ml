@@ -22,6 +22,7 @@ let render_cmd (o : Cli.opts) =
         Gc.compact ();
         sc)
   in
+  Cli.warn_long_render o sc;
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let t0 = Unix.gettimeofday () in
   let fb, st =
@@ -70,7 +71,9 @@ let check_cmd scene json time frames =
       | Error errs -> raise (Cli.Scene_error (Cli.errors_to_string errs))
       | Ok sc ->
           if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
-          else print_string (Dsl.summary prog sc))
+          else (
+            print_string (Dsl.summary prog sc);
+            print_string (Cli.cost_report sc)))
   | Some _ when time <> None -> Cli.user "give either --time or --frames, not both"
   | Some _ when json -> Cli.user "--json prints one frame: choose it with --time, not --frames"
   | Some spec ->

@@ -133,4 +133,46 @@ let warning_tests =
         let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\nfor i in 10 to 0 step -1 { }\n" in
         lacks "a loop that runs" out "warning") ]
 
-let () = Alcotest.run "check" [ ("frames", frame_tests); ("times", time_tests); ("warnings", warning_tests) ]
+(* The row of [name] in check's estimate table, as words. *)
+let row out name =
+  match List.find_opt (fun l -> match String.split_on_char ' ' (String.trim l) with w :: _ -> w = name | [] -> false) (String.split_on_char '\n' out) with
+  | Some l -> List.filter (( <> ) "") (String.split_on_char ' ' (String.trim l))
+  | None -> Alcotest.failf "no row %S in\n%s" name out
+
+let cost_tests =
+  [ Alcotest.test_case "check estimates the rays of the scene and of each preset, and says it is an estimate" `Quick (fun () ->
+        (* 100×50 pixels, one point light and one area light of 3×3 samples: 5000 primary
+           rays, each with 1 + 9 shadow rays; a mirror to depth 4 bounds it at 4×. *)
+        let out =
+          check_out
+            {|settings { width: 100, height: 50, depth: 4 }
+light { position: (0, 5, 0) }
+light { position: (2, 5, 0), radius: 0.5, samples: 3 }
+sphere { center: (0, 0, 0), radius: 1, material: material { reflection: 0.5 } }
+|}
+        in
+        has "an estimate" out "rays, estimated before rendering";
+        Alcotest.(check (list string)) "as set" [ "as"; "set"; "5"; "k"; "55"; "k"; "220"; "k"; "(depth"; "4)"; "1" ] (row out "as");
+        (* draft: 1 sample, hard shadows (1 + 1 shadow rays), depth 3 *)
+        Alcotest.(check (list string)) "draft" [ "draft"; "5"; "k"; "15"; "k"; "45"; "k"; "(depth"; "3)"; "0.273" ] (row out "draft");
+        (* reference: 8×8 samples, area light at 8×8: 320 k primary, × (1 + 1 + 64) *)
+        Alcotest.(check (list string)) "reference" [ "reference"; "320"; "k"; "21.1"; "M"; "338"; "M"; "(depth"; "16)"; "384" ]
+          (row out "reference");
+        (* final refines adaptively: a range *)
+        has "final is a range" (String.concat " " (row out "final")) "20 k–100 k");
+    Alcotest.test_case "a render estimated above a billion rays says so before it starts; a small one does not" `Quick (fun () ->
+        let d = scene_dir "settings { width: 64, height: 64 }\nfor i in 0 to 63 { light { position: (i, 10, 0), radius: 1, samples: 64 } }\n" in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "render" 0 r;
+        has "the note" e "lancer: note: this render is estimated at up to 1.07 G rays";
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "-q" ] in
+        check_status "render -q" 0 r;
+        Alcotest.(check string) "quiet" "" e;
+        let d = scene_dir build_scene in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "small render" 0 r;
+        Alcotest.(check string) "no note" "" e) ]
+
+let () =
+  Alcotest.run "check"
+    [ ("frames", frame_tests); ("times", time_tests); ("warnings", warning_tests); ("cost", cost_tests) ]
