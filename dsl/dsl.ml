@@ -287,7 +287,7 @@ let distinct_materials (sc : Scene.t) =
 let warnings t (sc : Scene.t) =
   let file msg = Error.file_error ~kind:Error.Warning t.file msg in
   let scene =
-    if t.stmts = [] then [ file "the scene is empty (no statements): it renders the background only" ]
+    if List.is_empty t.stmts then [ file "the scene is empty (no statements): it renders the background only" ]
     else
       (if Array.length sc.objects = 0 then [ file "the scene has no objects: the image is the background only" ] else [])
       @

@@ -83,7 +83,7 @@ let check_cmd scene json time frames =
       let first_scene = ref None and failed = ref [] and first_errors = ref [] in
       for k = first to last do
         match Dsl.scene_at prog ~time:(Float.of_int k /. fps) ~frame:k with
-        | Ok sc -> if !first_scene = None then first_scene := Some sc
+        | Ok sc -> if Option.is_none !first_scene then first_scene := Some sc
         | Error errs ->
             if !failed = [] then first_errors := errs;
             failed := k :: !failed
