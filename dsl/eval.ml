@@ -513,7 +513,7 @@ and eval_material ctx env loc items =
         | VTex t -> (
             match texture ctx t with
             | Ok (tex, j) -> set "texture" j; { m with texture = Some tex }
-            | Error msg -> bad b f.vloc "%s" msg; m)
+            | Error msg -> bad b (image_loc t f.vloc) "%s" msg; m)
         | VVec v -> set "texture" (`Assoc [ ("kind", `String "solid"); ("color", vjson v) ]);
             { m with texture = Some (Texture.Solid (Color.of_vec3 v)) }
         | v -> bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s" (type_name v); m)
@@ -526,7 +526,7 @@ and eval_material ctx env loc items =
         | VTex t -> (
             match bump ctx t with
             | Ok (bm, j) -> set "bump" j; { m with bump = Some bm }
-            | Error msg -> bad b f.vloc "%s" msg; m)
+            | Error msg -> bad b (image_loc t f.vloc) "%s" msg; m)
         | v -> bad b f.vloc "`bump` must be noise(scale, amount) or image(\"file.png\", amount), got %s" (type_name v); m)
   in
   (match field b "reflection", field b "transparency" with
@@ -538,6 +538,10 @@ and eval_material ctx env loc items =
   finish b;
   (match Material.validate m with Ok () -> () | Error msg -> fail loc "invalid material: %s" msg);
   VMat (m, List.rev !desc)
+
+(* Where an [image(…)] texture's problem is shown: at the call that names the file (which
+   may be a `let` away from the field that uses it); other textures at the field. *)
+and image_loc t field_loc = if t.tname = "image" then t.tloc else field_loc
 
 (* The image file of an [image(…)] texture or bump map, relative to the scene file that
    names it, read once and cached for every frame. *)
