@@ -116,7 +116,7 @@ let chained includes r =
 
 let chained_list includes es = match chained includes (Error es) with Error es -> es | Ok () -> []
 
-let load_text file text =
+let load_text ?progress file text =
   let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
   Hashtbl.replace sources file text;
   chained includes
@@ -129,12 +129,13 @@ let load_text file text =
       if !errors <> [] then Error (List.rev !errors)
       else
         let images = Eval.new_images () in
-        match Eval.run ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
+        let on_objects n = Option.iter (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n)) progress in
+        match Eval.run ~on_objects ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
         | Error es -> Error es
         | Ok first ->
             Ok { file; stmts; sources; includes; images; first; motion = ref None; motion_lock = Mutex.create () })
 
-let load_string ?(filename = "<string>") text = guard filename (fun () -> load_text filename text)
+let load_string ?progress ?(filename = "<string>") text = guard filename (fun () -> load_text ?progress filename text)
 
 let load_file path =
   guard path (fun () ->
@@ -226,11 +227,11 @@ let physics_state t ~time =
       let tr = trajectory t ~time in
       Some (fun name s -> Physics.sample tr name s)
 
-let eval ?body_state t ~time ~frame =
+let eval ?body_state ?on_objects t ~time ~frame =
   if not (Float.is_finite time) then Error [ Error.file_error t.file "the time must be a finite number" ]
   else
     let body_state = match body_state with Some f -> Some f | None -> physics_state t ~time in
-    Eval.run ?body_state ~sources:t.sources ~images:t.images ~time ~frame t.stmts
+    Eval.run ?body_state ?on_objects ~sources:t.sources ~images:t.images ~time ~frame t.stmts
 
 (* An error that only some frames have names the frame: frame 0 was checked when the
    program was loaded, so an error at another instant is one of those. *)
@@ -242,13 +243,17 @@ let at_frame ~time ~frame r =
            { e with message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time }))
       r
 
-let scene_at ?body_state t ~time ~frame =
+let scene_at ?body_state ?progress t ~time ~frame =
+  let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
-      match eval ?body_state t ~time ~frame with
+      let on_objects n = say "evaluating the scene: %d objects so far" n in
+      match eval ?body_state ~on_objects t ~time ~frame with
       | Error es -> Error es
       | Ok out -> (
           let prims = List.concat_map (fun (o : Eval.obj) -> o.prims) out.objects in
+          if List.compare_length_with prims 10_000 > 0 then
+            say "building the acceleration structure over %d objects" (List.length prims);
           match Scene.make ~settings:out.settings ~camera:out.camera ~time ~frame ~lights:out.lights prims with
           | Ok s -> Ok s
           | Error m -> Error [ Error.file_error t.file ("invalid scene: " ^ m) ]))

@@ -15,20 +15,23 @@ val load_file : string -> (t, Error.t list) result
 (** [load_file path] reads, parses and checks [path]. Included files are found relative
     to the file that includes them. Errors name files as the paths were written. *)
 
-val load_string : ?filename:string -> string -> (t, Error.t list) result
+val load_string : ?progress:(string -> unit) -> ?filename:string -> string -> (t, Error.t list) result
 (** [load_string ~filename text] is as {!load_file} for [text], named [filename] (default
-    ["<string>"]; includes are relative to its directory). *)
+    ["<string>"]; includes are relative to its directory). [progress] is told how many
+    objects a long check has built so far. *)
 
 val scene_at :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> t -> time:float -> frame:int ->
-  (Scene.t, Error.t list) result
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> t -> time:float ->
+  frame:int -> (Scene.t, Error.t list) result
 (** [scene_at p ~time ~frame] evaluates [p] with [time] (seconds) and [frame] bound.
     Bodies move as {!simulate} computes them (once per program, then sampled).
     [body_state name t], when given, replaces the simulation: it gives (position,
     velocity) of body [name] at time [t]; where it answers [None] a body sits at its
     initial centre with its initial velocity. A body's sphere is rendered at its
     position. Errors at any instant but time 0, frame 0 end with
-    [(at frame K, time T s)]. *)
+    [(at frame K, time T s)]. [progress], when given, is told what a long build is doing
+    ("evaluating the scene: 131072 objects so far", "building the acceleration
+    structure over 1000000 objects"). *)
 
 val animation : t -> (float * int) option
 (** (fps, frames) of the [animation] block; [None] without one. *)

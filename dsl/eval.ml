@@ -160,6 +160,7 @@ type ctx = {
   mutable lights : Light.t list;
   mutable bodies : (body * pending_obj) list;  (** reversed *)
   mutable warnings : Error.t list;  (** reversed *)
+  on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
   definitions : (string * Loc.t) list Lazy.t;
       (** every name the program defines ([let], [fn], [body]), anywhere, where it is
           defined; built only for an unknown name's message *)
@@ -783,6 +784,7 @@ and block ctx env scope (k : name) items =
 
 and add_object ctx scope loc o =
   ctx.objects <- ctx.objects + 1;
+  if ctx.objects land 0xFFFF = 0 then Option.iter (fun f -> f ctx.objects) ctx.on_objects;
   if ctx.objects > max_objects then
     limit ctx loc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
   scope.sink := o :: !(scope.sink)
@@ -1211,9 +1213,9 @@ let initial_env ~time ~frame =
   let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ?(objects = true) ~sources ~images ~time ~frame stmts =
+let run ?body_state ?on_objects ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
-    { time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
+    { on_objects; time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
       warnings = []; definitions = lazy (definitions stmts) }
   in

@@ -163,14 +163,14 @@ let warn_truncated prog =
           (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> ()
 
-let load_source (filename, text) =
-  match Dsl.load_string ~filename text with
+let load_source ?progress (filename, text) =
+  match Dsl.load_string ?progress ~filename text with
   | Ok p -> warn_truncated p; p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
       user "the built-in showcase does not load:\n%s" (errors_to_string errs)
   | Error errs -> raise (Scene_error (errors_to_string errs))
 
-let load scene = load_source (source { (default_opts ()) with scene })
+let load ?progress scene = load_source ?progress (source { (default_opts ()) with scene })
 
 let default_output o =
   match (o.output, o.scene) with
@@ -197,8 +197,8 @@ let time_of o prog =
       (Float.of_int k /. fps, k)
   | None, None -> (0., 0)
 
-let scene_at o prog ~time ~frame =
-  let sc = match Dsl.scene_at prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
+let scene_at ?progress o prog ~time ~frame =
+  let sc = match Dsl.scene_at ?progress prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
   (* Named by the option the user typed; Settings.validate holds the same bound. *)

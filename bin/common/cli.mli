@@ -51,11 +51,11 @@ val source : opts -> string * string
 (** The scene's (file name, text): the file given, or the embedded showcase. Raises
     [User_error] for a missing or unreadable file. *)
 
-val load_source : string * string -> Lancer_dsl.Dsl.t
+val load_source : ?progress:(string -> unit) -> string * string -> Lancer_dsl.Dsl.t
 (** Parse and check a scene's text; raises [User_error] with every located error printed.
     Includes are found relative to the file name. *)
 
-val load : string option -> Lancer_dsl.Dsl.t
+val load : ?progress:(string -> unit) -> string option -> Lancer_dsl.Dsl.t
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)
 
 val default_output : opts -> string
@@ -70,8 +70,9 @@ val check_output : string -> unit
 (** Refuse, before any rendering, an output with an unknown extension, in a missing
     directory, or that is a directory; raises [User_error]. *)
 
-val scene_at : opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
-(** Evaluate at a time and apply the command-line overrides. *)
+val scene_at : ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
+(** Evaluate at a time and apply the command-line overrides; [progress] as for
+    {!Lancer_dsl.Dsl.scene_at}. *)
 
 val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)

@@ -12,10 +12,10 @@ let render_cmd (o : Cli.opts) =
   let sc, build =
     Cli.build o (fun say ->
         say (Printf.sprintf "reading and checking %s" (Option.value o.scene ~default:"the showcase"));
-        let prog = Cli.load o.scene in
+        let prog = Cli.load ~progress:say o.scene in
         let time, frame = Cli.time_of o prog in
         say "evaluating the scene and building its acceleration structure";
-        let sc = Cli.scene_at o prog ~time ~frame in
+        let sc = Cli.scene_at ~progress:say o prog ~time ~frame in
         (* Evaluating a large scene leaves garbage (the evaluator's values): give it back
            before the framebuffer is allocated, so that peak memory is the scene plus the
            image. *)

@@ -73,7 +73,13 @@ let render_cmd (o : Cli.opts) =
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
-    let sc, build = Cli.build o (fun say -> say "loading and evaluating the scene"; still (Cli.load_source source)) in
+    let sc, build =
+      Cli.build o (fun say ->
+          say "loading and evaluating the scene";
+          let prog = Cli.load_source ~progress:say source in
+          let time, frame = Cli.time_of o prog in
+          Cli.scene_at ~progress:say o prog ~time ~frame)
+    in
     (source, (out, sc, build))
   in
   let lead (out, sc, build) ~pool ~domains =

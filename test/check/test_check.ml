@@ -99,7 +99,16 @@ let time_tests =
           in
           Alcotest.(check int) "render on a terminal" 0 (Sys.command cmd);
           has "on a terminal, redrawn in place" (read_file out) "\r\027[Kbuilding: evaluating the scene"
-        end) ]
+        end);
+    Alcotest.test_case "a long build counts the objects built so far, then names the acceleration structure" `Quick (fun () ->
+        let d =
+          scene_dir "settings { width: 8, height: 8 }\nlight { position: (0, 5, 0) }\nfor i in 0 to 65535 { sphere { center: (i, 0, 0), radius: 0.4 } }\n"
+        in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ] in
+        check_status "render --progress" 0 r;
+        has "checking" e "building: checking the scene: 65536 objects so far";
+        has "evaluating" e "building: evaluating the scene: 65536 objects so far";
+        has "acceleration structure" e "building: building the acceleration structure over 65536 objects") ]
 
 let check_out text =
   let d = scene_dir text in
