@@ -587,7 +587,7 @@ let cmd =
     in
     Cmd.v
       (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
-      Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.opts_term $ counts $ repeat $ json)
+      Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.(term Bench_domains) $ counts $ repeat $ json)
   in
   let quality =
     let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
@@ -604,7 +604,7 @@ let cmd =
     in
     Cmd.v
       (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
-      Term.(const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f)) $ Cli.opts_term $ json $ svg $ fresh)
+      Term.(const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f)) $ Cli.(term Bench_quality) $ json $ svg $ fresh)
   in
   let physics =
     let rates =

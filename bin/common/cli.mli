@@ -34,8 +34,18 @@ val default_opts : unit -> opts
 val errors_to_string : Lancer_dsl.Error.t list -> string
 (** Each error printed with {!Lancer_dsl.Error.pp}, one after the other. *)
 
+type command = Render | Animate | Golden | Bench_domains | Bench_quality
+(** The commands that take a scene and the rendering options. *)
+
+val term : command -> opts Cmdliner.Term.t
+(** The options a command acts on, and only those (the others stay unset): [render] takes
+    all of them; [animate] needs a scene and takes [-o DIR] but no [--time], [--frame] or
+    [--stats]; [golden] needs a scene and writes no [-o] nor [--stats]; [bench domains]
+    times the domain counts of its own [--counts], and [bench quality] sets the preset and
+    the time itself. *)
+
 val opts_term : opts Cmdliner.Term.t
-(** The options shared by [render] (and, with [-o DIR], [animate]). *)
+(** [term Render]. *)
 
 val progress : opts -> label:string -> total:int -> Progress.t
 (** The progress report the options ask for: redrawn in place on a terminal, lines with
@@ -99,6 +109,10 @@ val run : ?interrupted:string -> (unit -> unit) -> int
 
 val install_interrupt_handler : unit -> unit
 (** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)
+
+val negative_value_hint : string array -> string option
+(** For a command line such as [--time -5], which the parser refuses ([-5] reads as an
+    option): the hint to write [--time=-5]. *)
 
 val status_of_eval : int -> int
 (** Map cmdliner's own statuses onto lancer's: a command-line mistake (124) is a user

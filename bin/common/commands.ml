@@ -62,14 +62,18 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
-  let fb, _ = Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool sc) in
+  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+  let fb, _ =
+    Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+  in
+  Progress.finish progress;
   let actual = (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb) in
   match Compare.golden ~tolerance ~max_share:share ~update ~golden actual with
   | Error m -> Cli.user "%s" m
-  | Ok (Compare.Updated g) -> Printf.printf "golden written: %s\n" g
+  | Ok (Compare.Updated g) -> if not o.quiet then Printf.printf "golden written: %s\n" g
   | Ok (Compare.Missing { actual }) ->
       Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden actual
-  | Ok (Compare.Same c) -> Format.printf "same as %s: %a@." golden Compare.pp c
+  | Ok (Compare.Same c) -> if not o.quiet then Format.printf "same as %s: %a@." golden Compare.pp c
   | Ok (Compare.Different { figures; actual; diff }) ->
       Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp figures actual diff;
       exit 1
@@ -96,7 +100,7 @@ let animate =
       `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ Animate.options_term)
+    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.(term Animate) $ Animate.options_term)
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in
@@ -134,8 +138,8 @@ let golden =
   in
   let term =
     Term.(const (fun (o : Cli.opts) g t sh u ->
-              wrap (fun () -> if o.scene = None then Cli.user "golden needs a scene: lancer golden SCENE.rts GOLDEN.png" else golden_cmd o g t sh u))
-          $ Cli.opts_term $ golden $ tol $ share $ update)
+              wrap (fun () -> golden_cmd o g t sh u))
+          $ Cli.(term Golden) $ golden $ tol $ share $ update)
   in
   Cmd.v (Cmd.info "golden" ~doc ~man ~exits) term
 
@@ -148,4 +152,6 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
-  exit (Cli.status_of_eval (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ])))
+  let code = Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ]) in
+  if code = Cmd.Exit.cli_error then Option.iter (fun h -> prerr_endline ("lancer: " ^ h)) (Cli.negative_value_hint Sys.argv);
+  exit (Cli.status_of_eval code)
