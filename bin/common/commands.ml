@@ -40,13 +40,24 @@ let check_cmd scene json time =
       if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
       else print_string (Dsl.summary prog sc)
 
+(* The bounds of --tolerance and --max-share, shared by diff and golden. *)
+let check_tolerance tolerance share =
+  if tolerance < 0 || tolerance > 255 then Cli.user "--tolerance must be between 0 and 255 (got %d)" tolerance;
+  if not (share >= 0. && share <= 1.) then Cli.user "--max-share must be between 0 and 1 (got %g)" share
+
+(* One word for the outcome, before the figures. *)
+let verdict ~tolerance ~share (c : Compare.t) =
+  if c.max_diff = 0 then "same" else if Compare.within ~max_diff:tolerance ~max_share:share c then "within tolerance" else "differ"
+
 let diff_cmd a b out tolerance share =
+  check_tolerance tolerance share;
   let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
-  let ia = read a and ib = read b in
+  let ((wa, ha, _) as ia) = read a and ((wb, hb, _) as ib) = read b in
+  if (wa, ha) <> (wb, hb) then Cli.user "%s is %d×%d but %s is %d×%d: only images of the same size can be compared" a wa ha b wb hb;
   match Compare.compare ~threshold:tolerance ia ib with
   | Error m -> raise (Cli.User_error m)
   | Ok c ->
-      Format.printf "%a@." Compare.pp c;
+      Format.printf "%s: %a@." (verdict ~tolerance ~share c) Compare.pp c;
       Option.iter
         (fun p ->
           let w, h, _ = ia in
@@ -59,9 +70,17 @@ let diff_cmd a b out tolerance share =
 (* Render a scene and hold it against a golden PNG, as lancer-alcotest does in a test. *)
 let golden_cmd (o : Cli.opts) golden tolerance share update =
   Cli.install_interrupt_handler ();
+  check_tolerance tolerance share;
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
+  (* A golden of another size can never match: say so before rendering, and how to fix it. *)
+  (if (not update) && Sys.file_exists golden then
+     match Image.read_rgb8 golden with
+     | Ok (gw, gh, _) when (gw, gh) <> (sc.settings.width, sc.settings.height) ->
+         Cli.user "the golden %s is %d×%d but the render would be %d×%d: render at the golden's size with --width %d --height %d, or remake the golden with --update"
+           golden gw gh sc.settings.width sc.settings.height gw gh
+     | _ -> ());
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let fb, _ =
     Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
@@ -73,7 +92,9 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
   | Ok (Compare.Updated g) -> if not o.quiet then Printf.printf "golden written: %s\n" g
   | Ok (Compare.Missing { actual }) ->
       Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden actual
-  | Ok (Compare.Same c) -> if not o.quiet then Format.printf "same as %s: %a@." golden Compare.pp c
+  | Ok (Compare.Same c) ->
+      if not o.quiet then
+        Format.printf "%s %s: %a@." (if c.max_diff = 0 then "same as" else "within tolerance of") golden Compare.pp c
   | Ok (Compare.Different { figures; actual; diff }) ->
       Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp figures actual diff;
       exit 1

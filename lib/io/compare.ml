@@ -67,7 +67,14 @@ let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as 
     let* () = Image.write_rgb8 a w h bytes in
     Ok (Missing { actual = a })
   else
-    let* expected = Image.read_rgb8 golden in
+    let* ((gw, gh, _) as expected) = Image.read_rgb8 golden in
+    let* () =
+      if (gw, gh) = (w, h) then Ok ()
+      else
+        Error
+          (Printf.sprintf "the golden %s is %d×%d but the image is %d×%d: render at the golden's size, or remake the golden" golden
+             gw gh w h)
+    in
     let* figures = compare ~threshold:tolerance expected actual in
     if within ~max_diff:tolerance ~max_share figures then Ok (Same figures)
     else

@@ -154,4 +154,72 @@ let refusal_tests =
         check_status "different" 1 r;
         has "different, quiet" out "differs from g.png") ]
 
-let () = Alcotest.run "options" [ ("help", help_tests); ("refusals", refusal_tests) ]
+let diff_tests =
+  [ Alcotest.test_case "diff refuses a tolerance outside 0..255 and a share outside 0..1" `Quick (fun () ->
+        let d = scenes () in
+        check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        List.iter
+          (fun (args, msg) ->
+            let ((_, out, e) as r) = lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args) in
+            check_status (String.concat " " args) 1 r;
+            has (String.concat " " args) e msg;
+            Alcotest.(check string) "no figures" "" out)
+          [ ([ "--tolerance"; "300" ], "--tolerance must be between 0 and 255 (got 300)");
+            ([ "--tolerance=-1" ], "--tolerance must be between 0 and 255 (got -1)");
+            ([ "--max-share"; "2" ], "--max-share must be between 0 and 1 (got 2)");
+            ([ "--max-share"; "nan" ], "--max-share must be between 0 and 1");
+            ([ "--max-share=-0.5" ], "--max-share must be between 0 and 1 (got -0.5)") ];
+        let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--tolerance"; "256" ] in
+        check_status "golden" 1 r;
+        has "golden" e "--tolerance must be between 0 and 255";
+        Alcotest.(check bool) "no golden written" false (Sys.file_exists (Filename.concat d "g.png")));
+    Alcotest.test_case "diff says same, within tolerance or differ before its figures" `Quick (fun () ->
+        let d = scenes () in
+        check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        check_status "b" 0 (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "a.png" ] in
+        check_status "same" 0 r;
+        has "same" out "same: max difference 0/255";
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
+        check_status "differ" 1 r;
+        has "differ" out "differ: max difference";
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--tolerance"; "255" ] in
+        check_status "within" 0 r;
+        has "within" out "within tolerance: max difference";
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--max-share"; "1" ] in
+        check_status "within a share" 0 r;
+        has "within a share" out "within tolerance: ");
+    Alcotest.test_case "a golden of another size: which is the golden, and --width/--height" `Quick (fun () ->
+        let d = scenes () in
+        check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--width"; "16"; "--height"; "12" ]);
+        let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png" ] in
+        check_status "size" 1 r;
+        has "size" e "the golden g.png is 16×12 but the render would be 24×18";
+        has "size" e "--width 16 --height 12";
+        Alcotest.(check bool) "no actual image" false (Sys.file_exists (Filename.concat d "g.actual.png"));
+        check_status "at the golden's size" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--width"; "16"; "--height"; "12" ]);
+        (* The library says which image is the golden too (lancer.alcotest's message). *)
+        match Lancer.Compare.golden ~update:false ~golden:(Filename.concat d "g.png") (24, 18, Bytes.make (24 * 18 * 3) '\000') with
+        | Error m -> has "library" m "g.png is 16×12 but the image is 24×18"
+        | Ok _ -> Alcotest.fail "a golden of another size passed");
+    Alcotest.test_case "diff names the images of different sizes" `Quick (fun () ->
+        let d = scenes () in
+        check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        check_status "b" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--width"; "16" ]);
+        let ((_, _, e) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
+        check_status "sizes" 1 r;
+        has "sizes" e "a.png is 24×18 but b.png is 16×18");
+    Alcotest.test_case "a negative value after an option gets a hint to write --time=-5" `Quick (fun () ->
+        let d = scenes () in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "a.rts"; "--time"; "-5"; "-o"; "n.png" ] in
+        check_status "--time -5" 1 r;
+        has "--time -5" e "--time=-5";
+        let ((_, _, e) as r) = lancer ~dir:d [ "check"; "a.rts"; "-t"; "-0.5" ] in
+        check_status "-t -0.5" 1 r;
+        has "-t -0.5" e "-t-0.5";
+        check_status "--time=-5" 0 (lancer ~dir:d [ "render"; "a.rts"; "--time=-5"; "-o"; "n.png"; "-q" ]);
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "a.rts"; "--widht"; "5" ] in
+        check_status "no negative value" 1 r;
+        lacks "no negative value" e "negative") ]
+
+let () = Alcotest.run "options" [ ("help", help_tests); ("refusals", refusal_tests); ("diff", diff_tests) ]
