@@ -65,10 +65,7 @@ let rec mkdir_p d =
     try Unix.mkdir d 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ()
   end
 
-let scene_text (o : Cli.opts) =
-  match o.scene with
-  | None -> Showcase.text
-  | Some p -> ( try In_channel.with_open_bin p In_channel.input_all with Sys_error m -> raise (Cli.User_error m))
+let scene_text (o : Cli.opts) = snd (Cli.source o)
 
 (* The version of the lancer command (as [lancer --version] prints it). *)
 let version = Lancer.Version.v

@@ -116,9 +116,22 @@ let domains o =
 
 let errors_to_string errs = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
 
+(* A scene named "-" is read from standard input, once however often it is asked for; its
+   errors are located in "<stdin>" and its includes are found from the current
+   directory. *)
+let stdin_name = "<stdin>"
+
+let stdin_text =
+  lazy
+    (if Unix.isatty Unix.stdin then
+       prerr_endline "lancer: reading the scene from standard input (end it with Ctrl-D)";
+     set_binary_mode_in stdin true;
+     try In_channel.input_all stdin with Sys_error m -> user "cannot read the scene from standard input: %s" m)
+
 let source o =
   match o.scene with
   | None -> ("showcase.rts", Showcase.text)
+  | Some "-" -> (stdin_name, Lazy.force stdin_text)
   | Some path ->
       if not (Sys.file_exists path) then user "%s: no such file" path;
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
@@ -150,6 +163,7 @@ let default_output o =
   match (o.output, o.scene) with
   | Some p, _ -> p
   | None, None -> "showcase.png"
+  | None, Some "-" -> user "a scene read from standard input has no name to make the image's from: give one with -o FILE"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
 let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)

@@ -58,8 +58,9 @@ val domains : opts -> int
 (** [--domains N] if given (at least 1), else the recommended count for this machine. *)
 
 val source : opts -> string * string
-(** The scene's (file name, text): the file given, or the embedded showcase. Raises
-    [User_error] for a missing or unreadable file. *)
+(** The scene's (file name, text): the file given, standard input for ["-"] (named
+    ["<stdin>"], read once, its includes found from the current directory), or the
+    embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
 val load_source : string * string -> Lancer_dsl.Dsl.t
 (** Parse and check a scene's text; raises [User_error] with every located error printed.
@@ -70,7 +71,7 @@ val load : string option -> Lancer_dsl.Dsl.t
 
 val default_output : opts -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
-    scene). *)
+    scene); a scene read from standard input needs [-o] (raises [User_error]). *)
 
 val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory or that is a directory

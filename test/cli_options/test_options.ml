@@ -222,4 +222,63 @@ let diff_tests =
         check_status "no negative value" 1 r;
         lacks "no negative value" e "negative") ]
 
-let () = Alcotest.run "options" [ ("help", help_tests); ("refusals", refusal_tests); ("diff", diff_tests) ]
+(* lancer with [input] on its standard input; (status, stdout, stderr). *)
+let lancer_stdin ~dir ~input args =
+  let inp = Filename.concat dir ".stdin" and out = Filename.concat dir ".out" and err = Filename.concat dir ".err" in
+  write_file inp input;
+  let cmd =
+    Printf.sprintf "cd %s && %s %s <%s >%s 2>%s" (Filename.quote dir) (Filename.quote exe)
+      (String.concat " " (List.map Filename.quote args)) (Filename.quote inp) (Filename.quote out) (Filename.quote err)
+  in
+  let st = Sys.command cmd in
+  let r = (st, read_file out, read_file err) in
+  List.iter Sys.remove [ inp; out; err ];
+  r
+
+let stdin_tests =
+  [ Alcotest.test_case "render - and check - read the scene from standard input" `Quick (fun () ->
+        let d = scenes () in
+        let ((_, out, _) as r) = lancer_stdin ~dir:d ~input:still [ "check"; "-" ] in
+        check_status "check -" 0 r;
+        has "check -" out "scene: <stdin>";
+        has "check -" out "objects: 2";
+        check_status "render -" 0 (lancer_stdin ~dir:d ~input:still [ "render"; "-"; "-o"; "in.png"; "-q" ]);
+        check_status "render the file" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "file.png"; "-q" ]);
+        Alcotest.(check bool) "the same image" true
+          (read_file (Filename.concat d "in.png") = read_file (Filename.concat d "file.png"));
+        check_status "animate -" 0 (lancer_stdin ~dir:d ~input:anim [ "animate"; "-"; "-o"; "frames"; "-q"; "--frames"; "3" ]);
+        check_status "render --frame 3" 0 (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f3.png"; "-q" ]);
+        Alcotest.(check bool) "frame 3 the same" true
+          (read_file (Filename.concat d "frames/frame_0003.png") = read_file (Filename.concat d "f3.png")));
+    Alcotest.test_case "a scene from standard input needs -o" `Quick (fun () ->
+        let d = scenes () in
+        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:still [ "render"; "-" ] in
+        check_status "no -o" 1 r;
+        has "no -o" e "-o FILE";
+        Alcotest.(check bool) "no -.png" false (Sys.file_exists (Filename.concat d "-.png")));
+    Alcotest.test_case "errors of a scene on standard input are located in <stdin>, with the line and a caret" `Quick (fun () ->
+        let d = scenes () in
+        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:"sphere { center: (0, 0, 0), radius: -1 }\n" [ "check"; "-" ] in
+        check_status "bad" 1 r;
+        has "bad" e "<stdin>:1:";
+        has "bad" e "sphere { center: (0, 0, 0), radius: -1 }";
+        has "bad" e "^");
+    Alcotest.test_case "includes of a scene on standard input are found from the current directory" `Quick (fun () ->
+        let d = scenes () in
+        Unix.mkdir (Filename.concat d "inc") 0o755;
+        write_file (Filename.concat d "inc/col.rts") "let c = (0.1, 0.9, 0.1)\n";
+        write_file (Filename.concat d "inc/bad.rts") "let c = (0.1, 0.9\n";
+        let scene inc = Printf.sprintf "include \"%s\"\n%ssphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n" inc still in
+        check_status "include" 0 (lancer_stdin ~dir:d ~input:(scene "inc/col.rts") [ "render"; "-"; "-o"; "i.png"; "-q" ]);
+        write_file (Filename.concat d "i.rts") (scene "inc/col.rts");
+        check_status "from a file" 0 (lancer ~dir:d [ "render"; "i.rts"; "-o"; "j.png"; "-q" ]);
+        Alcotest.(check bool) "the same image" true (read_file (Filename.concat d "i.png") = read_file (Filename.concat d "j.png"));
+        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:(scene "inc/bad.rts") [ "check"; "-" ] in
+        check_status "bad include" 1 r;
+        has "bad include" e "inc/bad.rts:";
+        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:(scene "nope.rts") [ "check"; "-" ] in
+        check_status "missing include" 1 r;
+        has "missing include" e "<stdin>:1:";
+        has "missing include" e "nope.rts") ]
+
+let () = Alcotest.run "options" [ ("help", help_tests); ("refusals", refusal_tests); ("diff", diff_tests); ("stdin", stdin_tests) ]
