@@ -19,7 +19,7 @@ type opts = {
   height : int option;
   samples : int option;
   depth : int option;
-  quality : Quality.t option;
+  quality : Lancer.Quality.t option;
   domains : int option;
   time : float option;
   frame : int option;
