@@ -209,7 +209,7 @@ let quality_cmd (o : Cli.opts) json svg fresh =
 
 (* ---- physics ---- *)
 
-(* The NUMERICS.md drop: a ball whose lowest point starts [drop_height] above the floor
+(* The drop of doc/numerics.md: a ball whose lowest point starts [drop_height] above the floor
    y = 0, from rest, under g = 9.81 m/s². Written here in closed form, independently of
    the engine it checks. *)
 let drop_height = 1.0

@@ -1,5 +1,5 @@
-(* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks (SPEC §7,
-   §8), with the same options and the same bytes. Every rank parses the same command
+(* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks
+   (README.md here), with the same options and the same bytes. Every rank parses the same command
    line; rank 0 alone reads the scene file, checks everything, reports errors and
    writes files. It broadcasts the scene's text (or that the job is over, when there is
    an error) before any work starts, so that the other ranks need no file and every rank

@@ -78,7 +78,7 @@ let solve_quadratic a b c tmin tmax =
       let lo = Float.min t0 t1 and hi = Float.max t0 t1 in
       if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
 
-(* Sphere, after NUMERICS.md: with f = O − C and half-b' = f·d, the discriminant
+(* Sphere (doc/numerics.md): with f = O − C and half-b' = f·d, the discriminant
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
@@ -207,7 +207,7 @@ let roots a b c =
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
-   formula keeps the finite root (9.4999999905 in NUMERICS.md) where the naive one gives 0. *)
+   formula keeps the finite root (9.4999999905 in doc/numerics.md) where the naive one gives 0. *)
 let intersect_paraboloid vertex axis height k r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   let f = Vec3.sub o vertex in

@@ -1,4 +1,4 @@
-(** Bump maps: perturbations of the shading normal (SPEC §2.5, [bump:]). *)
+(** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
 type t =
   | Noise of { scale : float; amount : float }

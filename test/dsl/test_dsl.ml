@@ -1,4 +1,4 @@
-(* The scene language: every construct evaluates as SPEC §2 says, every scene of scenes/
+(* The scene language: every construct evaluates as dsl/README.md says, every scene of scenes/
    loads, and no input makes the language raise (qcheck, fixed seeds). *)
 
 open Lancer
@@ -436,7 +436,7 @@ let props =
 let () =
   Alcotest.run "dsl"
     [ ( "expressions",
-        [ Alcotest.test_case "operators follow the precedence of SPEC 2.1" `Quick test_precedence;
+        [ Alcotest.test_case "operators follow the precedence of dsl/README.md" `Quick test_precedence;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick test_vectors;
           Alcotest.test_case "every built-in computes what its name says" `Quick test_builtins;
           Alcotest.test_case "let and fn are lexically scoped, and fn may recurse" `Quick test_let_fn_scoping ] );
