@@ -33,5 +33,5 @@ val fold_hits :
 
 val any_hit : t -> Ray.t -> float -> float -> bool
 (** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
-    stops at the first one found and allocates nothing: the shadow query when no surface
-    is transparent. *)
+    stops at the first one found: the shadow query when no surface is transparent. It
+    allocates a small hit record per query (and, with a tree, the visiting closure). *)
