@@ -26,14 +26,6 @@ let make ?source (loc : Loc.t) message =
 
 let file_error file message = { file; line = 0; col = 0; end_col = 0; message; source_line = None }
 
-let compare a b =
-  let c = String.compare a.file b.file in
-  if c <> 0 then c else
-  let c = Int.compare a.line b.line in
-  if c <> 0 then c else
-  let c = Int.compare a.col b.col in
-  if c <> 0 then c else String.compare a.message b.message
-
 (* Display width of the first [n] bytes of [s]: UTF-8 continuation bytes take no
    column, tabs are kept so the caret lines up under them. *)
 let prefix s n =

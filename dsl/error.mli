@@ -22,9 +22,6 @@ val file_error : string -> string -> t
 (** [file_error file msg] is an error about [file] as a whole (unreadable, not text):
     printed as [file: msg]. *)
 
-val compare : t -> t -> int
-(** By file, line, column, then message. *)
-
 val pp : Format.formatter -> t -> unit
 (** [file:line:col: message], then (when known) the source line and a caret line, each
     followed by a newline. *)

@@ -28,7 +28,6 @@ let min_bvh = 8
 let max_leaf = 8
 let bins = 16
 
-let primitives a = a.prims
 let uses_bvh a = Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =

@@ -10,16 +10,12 @@ val build : Primitive.t array -> t
 (** [build prims] indexes [prims] for ray queries: a binned-SAH bounding volume hierarchy
     over the bounded ones when there are enough of them, a linear scan otherwise. *)
 
-val primitives : t -> Primitive.t array
-(** The primitives as given to {!build}; the index returned by {!nearest} is into this
-    array. *)
-
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
 
 val nearest : t -> Ray.t -> float -> float -> float * int
 (** [nearest a r tmin tmax] is (t, index) of the primitive hit nearest in (tmin, tmax), or
-    (infinity, −1). Ties go to the lower index, so the answer never depends on the
+    (infinity, −1); the index is into the array given to {!build}. Ties go to the lower index, so the answer never depends on the
     traversal order. *)
 
 val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int

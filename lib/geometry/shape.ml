@@ -60,24 +60,6 @@ let disk ~center ~normal ~radius =
 
 let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
 
-let solve_quadratic a b c tmin tmax =
-  if a = 0. then
-    if b = 0. then Float.infinity
-    else
-      let t = -.c /. b in
-      if in_range t tmin tmax then t else Float.infinity
-  else
-    let disc = (b *. b) -. (4. *. a *. c) in
-    if disc < 0. then Float.infinity
-    else
-      (* q = −½(b + sign(b)√Δ): no cancellation between b and √Δ. *)
-      let s = Float.sqrt disc in
-      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
-      let t0 = q /. a in
-      let t1 = if q = 0. then t0 else c /. q in
-      let lo = Float.min t0 t1 and hi = Float.max t0 t1 in
-      if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
-
 (* Sphere (doc/numerics.md): with f = O − C and half-b' = f·d, the discriminant
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;

@@ -8,9 +8,6 @@ type t =
           with wrapping; the normal tilts by amount × (height change per texel) along the
           surface directions in which u and v grow *)
 
-val needs_uv : t -> bool
-(** Whether {!perturb} calls its [uv] argument. *)
-
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t
 (** [perturb b ~uv p n] is the unit shading normal at object-space point [p] with unit
     normal [n] (world space, facing the viewer). [uv d] is the surface's (u, v) at the
