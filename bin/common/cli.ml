@@ -37,9 +37,9 @@ let term command =
     let pos_scene ~doc = Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc) in
     let required ~doc = Term.(const Option.some $ Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc)) in
     match command with
-    | Render -> pos_scene ~doc:"The scene to render. Without one, the built-in showcase is rendered."
-    | Animate -> required ~doc:"The scene to render; it needs an animation block."
-    | Golden -> required ~doc:"The scene to render and compare with $(i,GOLDEN.png)."
+    | Render -> pos_scene ~doc:"The scene to render ($(b,-): read it from standard input). Without one, the built-in showcase is rendered."
+    | Animate -> required ~doc:"The scene to render ($(b,-): read it from standard input); it needs an animation block."
+    | Golden -> required ~doc:"The scene to render and compare with $(i,GOLDEN.png) ($(b,-): read it from standard input)."
     | Bench_domains | Bench_quality -> pos_scene ~doc:"The scene to measure. Without one, the built-in showcase is measured."
   in
   let none = Term.const None in

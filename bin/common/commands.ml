@@ -125,10 +125,15 @@ let animate =
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in
-  let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts") in
+  let scene =
+    Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to check ($(b,-): read it from standard input).")
+  in
   let json = Arg.(value & flag & info [ "json" ] ~doc:"Print the evaluated scene as JSON.") in
   let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Evaluate at this time.") in
-  let man = [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5" ] in
+  let man =
+    [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5";
+      `Pre "  generate-scene | lancer check -" ]
+  in
   Cmd.v (Cmd.info "check" ~doc ~man ~exits) Term.(const (fun s j t -> wrap (fun () -> check_cmd s j t)) $ scene $ json $ time)
 
 let diff =

@@ -89,6 +89,8 @@ let help_tests =
         has "golden" g "The scene to render and compare with GOLDEN.png";
         lacks "golden" g "showcase";
         lacks "golden" g "Output image";
+        has "render" r "-: read it from standard input";
+        has "check" (help [ "check" ]) "-: read it from standard input";
         let b = help [ "bench"; "domains" ] in
         has "bench" b "The scene to measure";
         lacks "bench" b "Output image") ]
