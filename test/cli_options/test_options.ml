@@ -200,7 +200,7 @@ let diff_tests =
         has "size" e "--width 16 --height 12";
         Alcotest.(check bool) "no actual image" false (Sys.file_exists (Filename.concat d "g.actual.png"));
         check_status "at the golden's size" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--width"; "16"; "--height"; "12" ]);
-        (* The library says which image is the golden too (lancer.alcotest's message). *)
+        (* The library says which image is the golden too (lancer-alcotest's message). *)
         match Lancer.Compare.golden ~update:false ~golden:(Filename.concat d "g.png") (24, 18, Bytes.make (24 * 18 * 3) '\000') with
         | Error m -> has "library" m "g.png is 16×12 but the image is 24×18"
         | Ok _ -> Alcotest.fail "a golden of another size passed");
