@@ -36,6 +36,9 @@ let inputs_digest t =
     (Digest.string
        (String.concat "\n"
           (List.map (fun (f, d) -> f ^ " " ^ Digest.to_hex d) texts @ List.map (fun f -> f ^ " " ^ file_digest f) files)))
+let inputs t =
+  List.sort_uniq compare (Hashtbl.fold (fun file _ acc -> file :: acc) t.sources [] @ Eval.image_files t.images)
+
 let file t = t.file
 let animation t = t.first.animation
 let bodies t = t.first.bodies

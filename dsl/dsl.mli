@@ -39,6 +39,11 @@ val animation : t -> (float * int) option
 val file : t -> string
 (** The file name the program was loaded as. *)
 
+val inputs : t -> string list
+(** The files the program has read so far, sorted: its own, its includes, and the images
+    and meshes it loaded (those used only at some times once a scene at such a time was
+    made). Paths are as they were resolved: relative to the scene as it was named. *)
+
 val inputs_digest : t -> string
 (** A digest of everything the program read: its text and its included files', and the
     contents of the images and meshes it loaded. Two programs with the same digest make

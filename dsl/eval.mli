@@ -13,7 +13,7 @@ val max_objects : int
 (** 10 000 000 objects built (members of groups included). *)
 
 val max_steps : int
-(** 100 000 000 loop iterations and function or macro calls. *)
+(** 20 000 000 loop iterations and function or macro calls. *)
 
 val max_depth : int
 (** 1000 nested function or macro calls. *)

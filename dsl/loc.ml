@@ -5,7 +5,6 @@ let of_positions (s : Lexing.position) (e : Lexing.position) =
     end_col = e.pos_cnum - e.pos_bol + 1 }
 
 let whole_file file = { file; line = 1; col = 1; end_line = 1; end_col = 1 }
-let pp ppf l = Format.fprintf ppf "%s:%d:%d" l.file l.line l.col
 
 let relative_to file p =
   let dir = Filename.dirname file in

@@ -11,9 +11,6 @@ val of_positions : Lexing.position -> Lexing.position -> t
 val whole_file : string -> t
 (** The location 1:1 of a file, for errors about the file as a whole. *)
 
-val pp : Format.formatter -> t -> unit
-(** [file:line:col]. *)
-
 val relative_to : string -> string -> string
 (** [relative_to file p] is path [p] as written in [file]: relative paths are found in
     [file]'s directory (includes, images, meshes). *)

@@ -1,4 +1,4 @@
-/* The grammar of .rts scene scripts (SPEC §2). Operator precedence is encoded in the
+/* The grammar of .rts scene scripts (dsl/README.md). Operator precedence is encoded in the
    levels of [expr], loosest first: if-then-else, or, and, not, comparisons (not
    associative), + -, * / %, unary -, ^ (right-associative), field access and calls. */
 

@@ -65,10 +65,7 @@ let rec mkdir_p d =
     try Unix.mkdir d 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ()
   end
 
-let scene_text (o : Cli.opts) =
-  match o.scene with
-  | None -> Showcase.text
-  | Some p -> ( try In_channel.with_open_bin p In_channel.input_all with Sys_error m -> raise (Cli.User_error m))
+let scene_text (o : Cli.opts) = snd (Cli.source o)
 
 (* The version of the lancer command (as [lancer --version] prints it). *)
 let version = Lancer.Version.v
@@ -212,7 +209,7 @@ let quality_cmd (o : Cli.opts) json svg fresh =
 
 (* ---- physics ---- *)
 
-(* The NUMERICS.md drop: a ball whose lowest point starts [drop_height] above the floor
+(* The drop of doc/numerics.md: a ball whose lowest point starts [drop_height] above the floor
    y = 0, from rest, under g = 9.81 m/s². Written here in closed form, independently of
    the engine it checks. *)
 let drop_height = 1.0
@@ -587,7 +584,7 @@ let cmd =
     in
     Cmd.v
       (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
-      Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.opts_term $ counts $ repeat $ json)
+      Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.(term Bench_domains) $ counts $ repeat $ json)
   in
   let quality =
     let svg = Arg.(value & opt (some string) None & info [ "svg" ] ~docv:"FILE" ~doc:"Also draw time against PSNR as an SVG chart.") in
@@ -604,7 +601,7 @@ let cmd =
     in
     Cmd.v
       (Cmd.info "quality" ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
-      Term.(const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f)) $ Cli.opts_term $ json $ svg $ fresh)
+      Term.(const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f)) $ Cli.(term Bench_quality) $ json $ svg $ fresh)
   in
   let physics =
     let rates =

@@ -28,35 +28,72 @@ let default_opts () =
 
 open Cmdliner
 
-let opts_term =
+type command = Render | Animate | Golden | Bench_domains | Bench_quality
+
+(* Each command lists only the options it acts on; the help text of the scene and of -o
+   says what they are for in that command. *)
+let term command =
   let scene =
-    Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to render. Without one, the built-in showcase is rendered.")
+    let pos_scene ~doc = Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc) in
+    let required ~doc = Term.(const Option.some $ Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc)) in
+    match command with
+    | Render -> pos_scene ~doc:"The scene to render ($(b,-): read it from standard input). Without one, the built-in showcase is rendered."
+    | Animate -> required ~doc:"The scene to render ($(b,-): read it from standard input); it needs an animation block."
+    | Golden -> required ~doc:"The scene to render and compare with $(i,GOLDEN.png) ($(b,-): read it from standard input)."
+    | Bench_domains | Bench_quality -> pos_scene ~doc:"The scene to measure. Without one, the built-in showcase is measured."
   in
-  let output = Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); for $(b,animate), a directory.") in
+  let none = Term.const None in
+  let output =
+    match command with
+    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); default: the scene's name with .png.")
+    | Animate -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"DIR" ~doc:"Directory for the frames (created if missing).")
+    | Golden | Bench_domains | Bench_quality -> none
+  in
   let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
   let width = int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)." in
   let height = int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)." in
   let samples = int_opt [ "samples" ] "N" "N×N samples per pixel (overrides the scene and the quality preset)." in
   let depth = int_opt [ "depth" ] "D" "Maximum ray depth (overrides the scene and the quality preset)." in
   let quality =
-    Arg.(value & opt (some (enum Quality.all)) None
-         & info [ "quality" ] ~docv:"PRESET"
-             ~doc:"$(b,draft), $(b,preview), $(b,final) or $(b,reference): presets of samples, depth, adaptive threshold and soft-shadow samples.")
+    match command with
+    | Bench_quality -> none
+    | _ ->
+        Arg.(value & opt (some (enum Quality.all)) None
+             & info [ "quality" ] ~docv:"PRESET"
+                 ~doc:"$(b,draft), $(b,preview), $(b,final) or $(b,reference): presets of samples, depth, adaptive threshold and soft-shadow samples.")
   in
-  let domains = int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with; default: the number this machine recommends." in
-  let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Render the scene at this time.") in
-  let frame = int_opt [ "frame" ] "K" "Render frame K of the animation (time = K / fps)." in
-  let stats = Arg.(value & opt (some string) None & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.") in
-  let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"No progress line.") in
-  let progress =
-    Arg.(value & flag
-         & info [ "progress" ]
-             ~doc:"Report progress even when stderr is not a terminal: a line every 2 seconds (for logs, and under mpirun).")
+  let domains =
+    match command with
+    | Bench_domains -> none
+    | _ -> int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with; default: the number this machine recommends."
+  in
+  let time, frame =
+    match command with
+    | Render | Golden | Bench_domains ->
+        ( Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Render the scene at this time (a negative one is written $(b,--time=-1)).")
+        , int_opt [ "frame" ] "K" "Render frame K of the animation (time = K / fps); the scene needs an animation block with more than K frames." )
+    | Animate | Bench_quality -> (none, none)
+  in
+  let stats =
+    match command with
+    | Render -> Arg.(value & opt (some string) None & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.")
+    | _ -> none
+  in
+  let quiet, progress =
+    match command with
+    | Render | Animate | Golden ->
+        ( Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"No progress line, and no summary when all went well.")
+        , Arg.(value & flag
+               & info [ "progress" ]
+                   ~doc:"Report progress even when stderr is not a terminal: a line every 2 seconds (for logs, and under mpirun).") )
+    | Bench_domains | Bench_quality -> (Term.const false, Term.const false)
   in
   let make scene output width height samples depth quality domains time frame stats quiet progress =
     { scene; output; width; height; samples; depth; quality; domains; time; frame; stats; quiet; progress }
   in
   Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet $ progress)
+
+let opts_term = term Render
 
 let progress o ~label ~total =
   let mode : Progress.mode =
@@ -142,9 +179,22 @@ let domains o =
 
 let errors_to_string errs = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
 
+(* A scene named "-" is read from standard input, once however often it is asked for; its
+   errors are located in "<stdin>" and its includes are found from the current
+   directory. *)
+let stdin_name = "<stdin>"
+
+let stdin_text =
+  lazy
+    (if Unix.isatty Unix.stdin then
+       prerr_endline "lancer: reading the scene from standard input (end it with Ctrl-D)";
+     set_binary_mode_in stdin true;
+     try In_channel.input_all stdin with Sys_error m -> user "cannot read the scene from standard input: %s" m)
+
 let source o =
   match o.scene with
   | None -> ("showcase.rts", Showcase.text)
+  | Some "-" -> (stdin_name, Lazy.force stdin_text)
   | Some path ->
       if not (Sys.file_exists path) then user "%s: no such file" path;
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
@@ -176,6 +226,7 @@ let default_output o =
   match (o.output, o.scene) with
   | Some p, _ -> p
   | None, None -> "showcase.png"
+  | None, Some "-" -> user "a scene read from standard input has no name to make the image's from: give one with -o FILE"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
 let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)
@@ -191,10 +242,12 @@ let time_of o prog =
       if not (Float.is_finite t) then user "--time must be a finite number";
       let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
       (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
-  | None, Some k ->
+  | None, Some k -> (
       if k < 0 then user "--frame must be at least 0 (got %d)" k;
-      let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
-      (Float.of_int k /. fps, k)
+      match Dsl.animation prog with
+      | None -> user "--frame %d: the scene has no animation block, so it has no frames (use --time to set the time)" k
+      | Some (_, count) when k >= count -> user "--frame %d: the animation has frames 0..%d" k (count - 1)
+      | Some (fps, _) -> (Float.of_int k /. fps, k))
   | None, None -> (0., 0)
 
 let scene_at ?progress o prog ~time ~frame =
@@ -294,6 +347,24 @@ let run ?(interrupted = "no output was written") f =
       Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
         (Printexc.to_string e);
       2
+
+(* Cmdliner reads "-5" as an option, so "--time -5" fails: find such a value and say how
+   to write it. *)
+let negative_value_hint argv =
+  let is_negative a =
+    String.length a >= 2 && a.[0] = '-' && (match a.[1] with '0' .. '9' | '.' -> true | _ -> false) && Float.of_string_opt a <> None
+  in
+  let args = Array.to_list argv in
+  let rec find = function
+    | "--" :: _ | [] | [ _ ] -> None
+    | opt :: v :: _ when is_negative v && String.length opt > 1 && opt.[0] = '-' && not (String.contains opt '=') ->
+        let long = String.length opt > 2 && opt.[1] = '-' in
+        Some
+          (if long then Printf.sprintf "a negative value is written with '=': %s=%s" opt v
+           else Printf.sprintf "a negative value is written next to its option: %s%s" opt v)
+    | _ :: rest -> find rest
+  in
+  match args with _ :: rest -> find rest | [] -> None
 
 let status_of_eval code =
   if code = Cmd.Exit.cli_error then 1 else if code = Cmd.Exit.internal_error then 2 else code

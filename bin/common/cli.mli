@@ -19,7 +19,7 @@ type opts = {
   height : int option;
   samples : int option;
   depth : int option;
-  quality : Quality.t option;
+  quality : Lancer.Quality.t option;
   domains : int option;
   time : float option;
   frame : int option;
@@ -34,8 +34,18 @@ val default_opts : unit -> opts
 val errors_to_string : Lancer_dsl.Error.t list -> string
 (** Each error printed with {!Lancer_dsl.Error.pp}, one after the other. *)
 
+type command = Render | Animate | Golden | Bench_domains | Bench_quality
+(** The commands that take a scene and the rendering options. *)
+
+val term : command -> opts Cmdliner.Term.t
+(** The options a command acts on, and only those (the others stay unset): [render] takes
+    all of them; [animate] needs a scene and takes [-o DIR] but no [--time], [--frame] or
+    [--stats]; [golden] needs a scene and writes no [-o] nor [--stats]; [bench domains]
+    times the domain counts of its own [--counts], and [bench quality] sets the preset and
+    the time itself. *)
+
 val opts_term : opts Cmdliner.Term.t
-(** The options shared by [render] (and, with [-o DIR], [animate]). *)
+(** [term Render]. *)
 
 val progress : opts -> label:string -> total:int -> Progress.t
 (** The progress report the options ask for: redrawn in place on a terminal, lines with
@@ -48,8 +58,9 @@ val domains : opts -> int
 (** [--domains N] if given (at least 1), else the recommended count for this machine. *)
 
 val source : opts -> string * string
-(** The scene's (file name, text): the file given, or the embedded showcase. Raises
-    [User_error] for a missing or unreadable file. *)
+(** The scene's (file name, text): the file given, standard input for ["-"] (named
+    ["<stdin>"], read once, its includes found from the current directory), or the
+    embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
 val load_source : ?progress:(string -> unit) -> string * string -> Lancer_dsl.Dsl.t
 (** Parse and check a scene's text; raises [User_error] with every located error printed.
@@ -60,7 +71,7 @@ val load : ?progress:(string -> unit) -> string option -> Lancer_dsl.Dsl.t
 
 val default_output : opts -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
-    scene). *)
+    scene); a scene read from standard input needs [-o] (raises [User_error]). *)
 
 val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory or that is a directory
@@ -127,6 +138,10 @@ val run : ?interrupted:string -> (unit -> unit) -> int
 
 val install_interrupt_handler : unit -> unit
 (** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)
+
+val negative_value_hint : string array -> string option
+(** For a command line such as [--time -5], which the parser refuses ([-5] reads as an
+    option): the hint to write [--time=-5]. *)
 
 val status_of_eval : int -> int
 (** Map cmdliner's own statuses onto lancer's: a command-line mistake (124) is a user

@@ -99,13 +99,24 @@ let check_cmd scene json time frames =
       (match !first_scene with Some sc -> print_string (Dsl.summary prog sc) | None -> ());
       Printf.printf "frames checked: %d..%d (%d frame%s), every one evaluates\n" first last n (if n = 1 then "" else "s")
 
+(* The bounds of --tolerance and --max-share, shared by diff and golden. *)
+let check_tolerance tolerance share =
+  if tolerance < 0 || tolerance > 255 then Cli.user "--tolerance must be between 0 and 255 (got %d)" tolerance;
+  if not (share >= 0. && share <= 1.) then Cli.user "--max-share must be between 0 and 1 (got %g)" share
+
+(* One word for the outcome, before the figures. *)
+let verdict ~tolerance ~share (c : Compare.t) =
+  if c.max_diff = 0 then "same" else if Compare.within ~max_diff:tolerance ~max_share:share c then "within tolerance" else "differ"
+
 let diff_cmd a b out tolerance share =
+  check_tolerance tolerance share;
   let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
-  let ia = read a and ib = read b in
+  let ((wa, ha, _) as ia) = read a and ((wb, hb, _) as ib) = read b in
+  if (wa, ha) <> (wb, hb) then Cli.user "%s is %d×%d but %s is %d×%d: only images of the same size can be compared" a wa ha b wb hb;
   match Compare.compare ~threshold:tolerance ia ib with
   | Error m -> raise (Cli.User_error m)
   | Ok c ->
-      Format.printf "%a@." Compare.pp c;
+      Format.printf "%s: %a@." (verdict ~tolerance ~share c) Compare.pp c;
       Option.iter
         (fun p ->
           let w, h, _ = ia in
@@ -118,17 +129,31 @@ let diff_cmd a b out tolerance share =
 (* Render a scene and hold it against a golden PNG, as lancer-alcotest does in a test. *)
 let golden_cmd (o : Cli.opts) golden tolerance share update =
   Cli.install_interrupt_handler ();
+  check_tolerance tolerance share;
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
-  let fb, _ = Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool sc) in
+  (* A golden of another size can never match: say so before rendering, and how to fix it. *)
+  (if (not update) && Sys.file_exists golden then
+     match Image.read_rgb8 golden with
+     | Ok (gw, gh, _) when (gw, gh) <> (sc.settings.width, sc.settings.height) ->
+         Cli.user "the golden %s is %d×%d but the render would be %d×%d: render at the golden's size with --width %d --height %d, or remake the golden with --update"
+           golden gw gh sc.settings.width sc.settings.height gw gh
+     | _ -> ());
+  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+  let fb, _ =
+    Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+  in
+  Progress.finish progress;
   let actual = (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb) in
   match Compare.golden ~tolerance ~max_share:share ~update ~golden actual with
   | Error m -> Cli.user "%s" m
-  | Ok (Compare.Updated g) -> Printf.printf "golden written: %s\n" g
+  | Ok (Compare.Updated g) -> if not o.quiet then Printf.printf "golden written: %s\n" g
   | Ok (Compare.Missing { actual }) ->
       Cli.user "%s does not exist; the render is in %s (run again with --update to make it the golden)" golden actual
-  | Ok (Compare.Same c) -> Format.printf "same as %s: %a@." golden Compare.pp c
+  | Ok (Compare.Same c) ->
+      if not o.quiet then
+        Format.printf "%s %s: %a@." (if c.max_diff = 0 then "same as" else "within tolerance of") golden Compare.pp c
   | Ok (Compare.Different { figures; actual; diff }) ->
       Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp figures actual diff;
       exit 1
@@ -155,11 +180,13 @@ let animate =
       `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.opts_term $ Animate.options_term)
+    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.(term Animate) $ Animate.options_term)
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in
-  let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts") in
+  let scene =
+    Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to check ($(b,-): read it from standard input).")
+  in
   let json = Arg.(value & flag & info [ "json" ] ~doc:"Print the evaluated scene as JSON.") in
   let time = Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Evaluate at this time.") in
   let frames =
@@ -169,7 +196,7 @@ let check =
   in
   let man =
     [ `S Manpage.s_examples; `Pre "  lancer check scenes/showcase.rts"; `Pre "  lancer check anim.rts --json --time 1.5";
-      `Pre "  lancer check scenes/bounce.rts --frames all" ]
+      `Pre "  lancer check scenes/bounce.rts --frames all"; `Pre "  generate-scene | lancer check -" ]
   in
   Cmd.v (Cmd.info "check" ~doc ~man ~exits)
     Term.(const (fun s j t f -> wrap (fun () -> check_cmd s j t f)) $ scene $ json $ time $ frames)
@@ -202,8 +229,8 @@ let golden =
   in
   let term =
     Term.(const (fun (o : Cli.opts) g t sh u ->
-              wrap (fun () -> if o.scene = None then Cli.user "golden needs a scene: lancer golden SCENE.rts GOLDEN.png" else golden_cmd o g t sh u))
-          $ Cli.opts_term $ golden $ tol $ share $ update)
+              wrap (fun () -> golden_cmd o g t sh u))
+          $ Cli.(term Golden) $ golden $ tol $ share $ update)
   in
   Cmd.v (Cmd.info "golden" ~doc ~man ~exits) term
 
@@ -216,4 +243,6 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
-  exit (Cli.status_of_eval (Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ])))
+  let code = Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ]) in
+  if code = Cmd.Exit.cli_error then Option.iter (fun h -> prerr_endline ("lancer: " ^ h)) (Cli.negative_value_hint Sys.argv);
+  exit (Cli.status_of_eval code)

@@ -1,4 +1,4 @@
-(** The seed's client-server scheme over MPI (SPEC §8): rank 0 hands out work units on
+(** The client-server scheme over MPI: rank 0 hands out work units on
     demand, gathers their pixels and hands each finished frame to its caller; every other
     rank renders the units it is given with its own pool of domains.
 

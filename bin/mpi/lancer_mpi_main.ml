@@ -1,5 +1,5 @@
-(* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks (SPEC §7,
-   §8), with the same options and the same bytes. Every rank parses the same command
+(* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks
+   (README.md here), with the same options and the same bytes. Every rank parses the same command
    line; rank 0 alone reads the scene file, checks everything, reports errors and
    writes files. It broadcasts the scene's text (or that the job is over, when there is
    an error) before any work starts, so that the other ranks need no file and every rank
@@ -159,7 +159,7 @@ let animate =
       `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (frames, resume, video) -> animate_cmd o ~frames ~resume ~video) $ Cli.opts_term $ Animate.options_term)
+    Term.(const (fun o (frames, resume, video) -> animate_cmd o ~frames ~resume ~video) $ Cli.(term Animate) $ Animate.options_term)
 
 let () =
   if not Mpi.available then begin
@@ -180,4 +180,6 @@ let () =
       let null = Format.make_formatter (fun _ _ _ -> ()) ignore in
       Cmd.eval' ~help:null ~err:null cmd
   in
+  if code = Cmd.Exit.cli_error && Mpi.rank () = 0 then
+    Option.iter (fun h -> prerr_endline ("lancer-mpi: " ^ h)) (Cli.negative_value_hint Sys.argv);
   exit (Cli.status_of_eval code)

@@ -52,13 +52,6 @@ let events tr = tr.events
 let until tr = tr.until
 let truncated tr = tr.truncated
 
-let pp_event ppf e =
-  let kind = match e.kind with Bounce -> "bounce" | Rest -> "rest" | Leave -> "leave" in
-  let target =
-    match e.target with Collider i -> Printf.sprintf "collider %d" i | Body n -> "body " ^ n
-  in
-  Format.fprintf ppf "%.12g s %s %s %s (%.6g m/s)" e.time e.body kind target e.speed
-
 (* ---------- Polynomials: c.(k) is the coefficient of τ^k ---------- *)
 
 let eval c x =

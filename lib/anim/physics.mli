@@ -141,6 +141,3 @@ val rest_fraction : float
 
 val max_events : int
 (** 100_000: the most events an [Exact] simulation processes. *)
-
-val pp_event : Format.formatter -> event -> unit
-(** [pp_event] prints e.g. ["0.451523640986 s ball bounce collider 0 (4.43 m/s)"]. *)

@@ -28,7 +28,6 @@ let min_bvh = 8
 let max_leaf = 8
 let bins = 16
 
-let primitives a = a.prims
 let uses_bvh a = Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =
@@ -482,8 +481,8 @@ let fold_hits a r tmin tmax f acc =
   match a.tree with None -> linear_fold a.prims r tmin tmax f acc | Some tr -> tree_fold a tr r tmin tmax f acc
 
 (* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
-   first surface met makes the shadow black. Exits on the first hit; no ordering, no
-   closure, no allocation. *)
+   first surface met makes the shadow black. Exits on the first hit, in no particular
+   order. Each query allocates its hit record, and with a tree the visiting closure. *)
 let linear_any prims r tmin tmax =
   let hit = ref false and i = ref 0 in
   let h = { Shape.tmin; tmax; t = Float.infinity } in

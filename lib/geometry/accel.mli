@@ -10,16 +10,12 @@ val build : Primitive.t array -> t
 (** [build prims] indexes [prims] for ray queries: a binned-SAH bounding volume hierarchy
     over the bounded ones when there are enough of them, a linear scan otherwise. *)
 
-val primitives : t -> Primitive.t array
-(** The primitives as given to {!build}; the index returned by {!nearest} is into this
-    array. *)
-
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
 
 val nearest : t -> Ray.t -> float -> float -> float * int
 (** [nearest a r tmin tmax] is (t, index) of the primitive hit nearest in (tmin, tmax), or
-    (infinity, −1). Ties go to the lower index, so the answer never depends on the
+    (infinity, −1); the index is into the array given to {!build}. Ties go to the lower index, so the answer never depends on the
     traversal order. *)
 
 val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int
@@ -33,5 +29,5 @@ val fold_hits :
 
 val any_hit : t -> Ray.t -> float -> float -> bool
 (** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
-    stops at the first one found and allocates nothing: the shadow query when no surface
-    is transparent. *)
+    stops at the first one found: the shadow query when no surface is transparent. It
+    allocates a small hit record per query (and, with a tree, the visiting closure). *)

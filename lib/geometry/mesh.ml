@@ -26,7 +26,7 @@ let number line what s =
   | Some f when Float.is_finite f -> f
   | _ -> bad line "%s: expected a number, got %S" what s
 
-(* The coordinate range of the whole renderer (NUMERICS.md): beyond it squared lengths
+(* The coordinate range of the whole renderer (doc/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let coordinate line s =
   let f = number line "vertex" s in

@@ -60,25 +60,7 @@ let disk ~center ~normal ~radius =
 
 let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
 
-let solve_quadratic a b c tmin tmax =
-  if a = 0. then
-    if b = 0. then Float.infinity
-    else
-      let t = -.c /. b in
-      if in_range t tmin tmax then t else Float.infinity
-  else
-    let disc = (b *. b) -. (4. *. a *. c) in
-    if disc < 0. then Float.infinity
-    else
-      (* q = −½(b + sign(b)√Δ): no cancellation between b and √Δ. *)
-      let s = Float.sqrt disc in
-      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
-      let t0 = q /. a in
-      let t1 = if q = 0. then t0 else c /. q in
-      let lo = Float.min t0 t1 and hi = Float.max t0 t1 in
-      if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
-
-(* Sphere, after NUMERICS.md: with f = O − C and half-b' = f·d, the discriminant
+(* Sphere (doc/numerics.md): with f = O − C and half-b' = f·d, the discriminant
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
@@ -207,7 +189,7 @@ let roots a b c =
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
-   formula keeps the finite root (9.4999999905 in NUMERICS.md) where the naive one gives 0. *)
+   formula keeps the finite root (9.4999999905 in doc/numerics.md) where the naive one gives 0. *)
 let intersect_paraboloid vertex axis height k r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   let f = Vec3.sub o vertex in

@@ -123,8 +123,3 @@ val bbox : t -> Bbox.t option
 
 val name : t -> string
 (** The kind, as written in a scene ("sphere", "plane", …; "mesh" for mesh faces). *)
-
-val solve_quadratic : float -> float -> float -> float -> float -> float
-(** [solve_quadratic a b c tmin tmax] is the smallest root of a·t² + b·t + c in
-    (tmin, tmax), or infinity: roots by q = −½(b + sign(b)·√Δ), t₀ = q/a, t₁ = c/q;
-    the linear case a = 0 is solved as such (and a = b = 0 has no root). *)

@@ -57,19 +57,50 @@ type outcome =
 
 let sibling golden suffix = Filename.remove_extension golden ^ suffix
 
+(* The golden's directory, made when missing (the first update of a new project). *)
+let rec make_dir d =
+  if Sys.file_exists d then if Sys.is_directory d then Ok () else Error (Printf.sprintf "%s is not a directory" d)
+  else
+    let parent = Filename.dirname d in
+    let ( let* ) = Result.bind in
+    let* () = if parent = d then Ok () else make_dir parent in
+    match Unix.mkdir d 0o755 with
+    | () | (exception Unix.Unix_error (Unix.EEXIST, _, _)) -> Ok ()
+    | exception Unix.Unix_error (e, _, _) -> Error (Printf.sprintf "cannot create the directory %s: %s" d (Unix.error_message e))
+
+(* After a pass or an update, the images of an earlier failure are out of date. *)
+let remove_stale golden =
+  List.iter
+    (fun suffix ->
+      let p = sibling golden suffix in
+      if Sys.file_exists p then try Sys.remove p with Sys_error _ -> ())
+    [ ".actual.png"; ".diff.png" ]
+
 let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as actual) =
   let ( let* ) = Result.bind in
   if update then
+    let* () = make_dir (Filename.dirname golden) in
     let* () = Image.write_rgb8 golden w h bytes in
+    remove_stale golden;
     Ok (Updated golden)
   else if not (Sys.file_exists golden) then
     let a = sibling golden ".actual.png" in
+    let* () = make_dir (Filename.dirname golden) in
     let* () = Image.write_rgb8 a w h bytes in
     Ok (Missing { actual = a })
   else
-    let* expected = Image.read_rgb8 golden in
+    let* ((gw, gh, _) as expected) = Image.read_rgb8 golden in
+    let* () =
+      if (gw, gh) = (w, h) then Ok ()
+      else
+        Error
+          (Printf.sprintf "the golden %s is %d×%d but the image is %d×%d: render at the golden's size, or remake the golden" golden
+             gw gh w h)
+    in
     let* figures = compare ~threshold:tolerance expected actual in
-    if within ~max_diff:tolerance ~max_share figures then Ok (Same figures)
+    if within ~max_diff:tolerance ~max_share figures then (
+      remove_stale golden;
+      Ok (Same figures))
     else
       let a = sibling golden ".actual.png" and d = sibling golden ".diff.png" in
       let* () = Image.write_rgb8 a w h bytes in

@@ -42,6 +42,7 @@ val golden :
   ?tolerance:int -> ?max_share:float -> update:bool -> golden:string -> int * int * Bytes.t -> (outcome, string) result
 (** [golden ~update ~golden img] holds an encoded image against the PNG at [golden]: with
     [update], writes it there instead. On a difference (or with no golden) the image is
-    written beside the golden as [NAME.actual.png], with [NAME.diff.png] for a difference.
-    [tolerance] (default 1) and [max_share] (default 0) are as in {!within}. What
-    [lancer golden] and [lancer-alcotest] both do. *)
+    written beside the golden as [NAME.actual.png], with [NAME.diff.png] for a difference;
+    after a pass or an update, those of an earlier failure are removed. The golden's
+    directory is created when it is missing. [tolerance] (default 1) and [max_share]
+    (default 0) are as in {!within}. What [lancer golden] and [lancer-alcotest] both do. *)

@@ -10,9 +10,3 @@ let[@inline] madd a s c = { r = a.r +. (s *. c.r); g = a.g +. (s *. c.g); b = a.
 let of_vec3 (p : Vec3.t) = { r = p.x; g = p.y; b = p.z }
 let[@inline] to_vec3 c = Vec3.v c.r c.g c.b
 let[@inline] is_finite c = Float.is_finite c.r && Float.is_finite c.g && Float.is_finite c.b
-let[@inline] max_component c = Float.max c.r (Float.max c.g c.b)
-
-let equal_f ?(eps = 1e-9) a c =
-  Float.abs (a.r -. c.r) <= eps && Float.abs (a.g -. c.g) <= eps && Float.abs (a.b -. c.b) <= eps
-
-let[@inline] pp ppf c = Format.fprintf ppf "rgb(%g, %g, %g)" c.r c.g c.b

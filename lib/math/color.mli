@@ -35,12 +35,3 @@ val to_vec3 : t -> Vec3.t
 
 val is_finite : t -> bool
 (** [is_finite c] is false when any component is NaN or infinite. *)
-
-val max_component : t -> float
-(** The largest of r, g and b. *)
-
-val equal_f : ?eps:float -> t -> t -> bool
-(** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
-
-val pp : Format.formatter -> t -> unit
-(** Prints [rgb(r, g, b)]. *)

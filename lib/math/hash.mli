@@ -1,5 +1,5 @@
 (** Deterministic integer hashing into \[0, 1): the only source of "randomness" in lancer
-    (jitter, area-light sample rotation, [rand(seed)] in scenes). Pure functions of their
+    (sample jitter and [rand(seed)] in scenes; area lights use a fixed stratified pattern). Pure functions of their
     arguments, so results never depend on domains, ranks or run order. *)
 
 val mix : int -> int

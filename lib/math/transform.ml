@@ -103,10 +103,3 @@ let normal t (n : Vec3.t) =
       { x = (i.a00 *. n.x) +. (i.a10 *. n.y) +. (i.a20 *. n.z);
         y = (i.a01 *. n.x) +. (i.a11 *. n.y) +. (i.a21 *. n.z);
         z = (i.a02 *. n.x) +. (i.a12 *. n.y) +. (i.a22 *. n.z) }
-
-let max_scale t =
-  if t.id then 1.
-  else
-    let m = t.m in
-    let row a b c = Float.abs a +. Float.abs b +. Float.abs c in
-    Float.max (row m.a00 m.a01 m.a02) (Float.max (row m.a10 m.a11 m.a12) (row m.a20 m.a21 m.a22))

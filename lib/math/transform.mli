@@ -39,6 +39,3 @@ val inv_point : t -> Vec3.t -> Vec3.t
 
 val inv_vector : t -> Vec3.t -> Vec3.t
 (** World-space direction to object space (not renormalised). *)
-
-val max_scale : t -> float
-(** An upper bound on how much the transform stretches a length. *)

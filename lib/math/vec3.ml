@@ -10,7 +10,6 @@ let[@inline] add a b = { x = a.x +. b.x; y = a.y +. b.y; z = a.z +. b.z }
 let[@inline] sub a b = { x = a.x -. b.x; y = a.y -. b.y; z = a.z -. b.z }
 let[@inline] neg a = { x = -.a.x; y = -.a.y; z = -.a.z }
 let[@inline] mul a b = { x = a.x *. b.x; y = a.y *. b.y; z = a.z *. b.z }
-let[@inline] div a b = { x = a.x /. b.x; y = a.y /. b.y; z = a.z /. b.z }
 let[@inline] smul s a = { x = s *. a.x; y = s *. a.y; z = s *. a.z }
 let[@inline] madd a s b = { x = a.x +. (s *. b.x); y = a.y +. (s *. b.y); z = a.z +. (s *. b.z) }
 let[@inline] dot a b = (a.x *. b.x) +. (a.y *. b.y) +. (a.z *. b.z)
@@ -44,9 +43,7 @@ let[@inline] normalize a =
 
 let[@inline] min a b = { x = Float.min a.x b.x; y = Float.min a.y b.y; z = Float.min a.z b.z }
 let[@inline] max a b = { x = Float.max a.x b.x; y = Float.max a.y b.y; z = Float.max a.z b.z }
-let[@inline] get a = function 0 -> a.x | 1 -> a.y | _ -> a.z
 
 let equal_f ?(eps = 1e-9) a b =
   Float.abs (a.x -. b.x) <= eps && Float.abs (a.y -. b.y) <= eps && Float.abs (a.z -. b.z) <= eps
 
-let[@inline] pp ppf a = Format.fprintf ppf "(%g, %g, %g)" a.x a.y a.z

@@ -36,9 +36,6 @@ val neg : t -> t
 val mul : t -> t -> t
 (** [mul a b] is the component-wise product. *)
 
-val div : t -> t -> t
-(** [div a b] is the component-wise quotient. *)
-
 val smul : float -> t -> t
 (** [smul s v] is [s·v]. *)
 
@@ -70,11 +67,5 @@ val min : t -> t -> t
 val max : t -> t -> t
 (** Component-wise maximum (typed float comparison; NaN-free inputs assumed). *)
 
-val get : t -> int -> float
-(** [get v i] is x, y or z for i = 0, 1, 2. *)
-
 val equal_f : ?eps:float -> t -> t -> bool
 (** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
-
-val pp : Format.formatter -> t -> unit
-(** Prints [(x, y, z)]. *)

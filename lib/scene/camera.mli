@@ -1,4 +1,4 @@
-(** The pinhole camera of SPEC §3: left-handed, vertical field of view, pixel centres.
+(** The pinhole camera (doc/shading.md, section 1): left-handed, vertical field of view, pixel centres.
 
     With f = normalize(look_at − position), r = normalize(up × f), u = f × r,
     h = tan(fov/2) and a = W/H, the ray through image point (x, y), in pixel units from

@@ -1,5 +1,5 @@
 (** What a scene requires of the renderer, derived once from the scene so that the
-    renderer does only that work (SPEC §1: model only what a scene requires). *)
+    renderer does only that work: it models only what a scene requires. *)
 
 type t = {
   shadows : bool;  (** shadow rays are cast (settings.shadows and at least one light) *)

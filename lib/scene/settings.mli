@@ -1,4 +1,4 @@
-(** Render settings (SPEC §2.3), with their defaults. *)
+(** Render settings (the [settings] block of a scene), with their defaults. *)
 
 type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
 
@@ -16,7 +16,7 @@ type t = {
 }
 
 val default : t
-(** The settings of SPEC §2.3 with every default, as listed with the fields above. *)
+(** The settings with every default, as listed with the fields above. *)
 
 val max_pixels : int
 (** The largest image accepted: width × height ≤ this (268 435 456 = 16384², 6 GiB of

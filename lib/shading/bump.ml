@@ -1,6 +1,5 @@
 type t = Noise of { scale : float; amount : float } | Image of { img : Image.t; amount : float }
 
-let needs_uv = function Image _ -> true | Noise _ -> false
 
 (* Remove the gradient's component along n so the bump tilts the normal without
    changing which side it faces, then renormalise. *)

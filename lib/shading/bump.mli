@@ -1,4 +1,4 @@
-(** Bump maps: perturbations of the shading normal (SPEC §2.5, [bump:]). *)
+(** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
 type t =
   | Noise of { scale : float; amount : float }
@@ -7,9 +7,6 @@ type t =
       (** a height map on (u, v): the luminance of the linear image, sampled bilinearly
           with wrapping; the normal tilts by amount × (height change per texel) along the
           surface directions in which u and v grow *)
-
-val needs_uv : t -> bool
-(** Whether {!perturb} calls its [uv] argument. *)
 
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t
 (** [perturb b ~uv p n] is the unit shading normal at object-space point [p] with unit

@@ -1,4 +1,4 @@
-(** Light sources (SPEC §2.6). *)
+(** Light sources: point, spherical area and directional lights. *)
 
 type t =
   | Point of {

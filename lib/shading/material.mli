@@ -1,4 +1,4 @@
-(** Surface materials (SPEC §2.5), with every field and its default.
+(** Surface materials, with every field and its default.
 
     Invariants, checked by {!validate}: coefficients are finite and non-negative,
     reflection + transparency ≤ 1, ior > 0. *)

@@ -1,7 +1,7 @@
 let offset (p : Vec3.t) (o : Vec3.t) = 1e-9 *. Float.max 1e-300 (Float.max (Vec3.max_abs p) (Vec3.max_abs o))
 
 (* Albedo C at world point p on object o with geometric normal n: the texture is evaluated
-   in object space at p − δ·n (SPEC §2.5). *)
+   in object space at p − δ·n (doc/shading.md, section 6). *)
 let albedo (o : Primitive.t) p n delta =
   let m = o.material in
   match m.texture with
@@ -69,7 +69,7 @@ let refract d nf eta =
   if k < 0. then None else Some (refracted d nf eta c k)
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
-   it, added into [acc] (SPEC §4). Inlined into [shade]: its floats stay unboxed and
+   it, added into [acc] (doc/shading.md, section 4). Inlined into [shade]: its floats stay unboxed and
    nothing is allocated but the shadow ray. [area_n] > 0 makes it an area light sampled
    n×n over [radius] around [position]. *)
 type acc = { mutable ar : float; mutable ag : float; mutable ab : float }

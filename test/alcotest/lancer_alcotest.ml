@@ -9,53 +9,123 @@ type outcome = Compare.outcome =
 
 let updating () = match Sys.getenv_opt "LANCER_UPDATE_GOLDEN" with Some ("1" | "true" | "yes") -> true | _ -> false
 
-(* dune runs tests in _build/default/<dir>; goldens live in <source root>/<dir>. *)
+(* dune runs tests in <root>/_build/default/<dir>; goldens live in <root>/<dir>. The
+   source root and the build directory's root, when running so. *)
+let dune_roots () =
+  match Sys.getenv_opt "DUNE_SOURCEROOT" with
+  | None | Some "" -> None
+  | Some root -> (
+      let cwd = Sys.getcwd () in
+      let marker = Filename.concat "_build" "default" in
+      match Str_find.find cwd marker with
+      | None -> None
+      | Some i ->
+          let build = String.sub cwd 0 (i + String.length marker) in
+          let rel = String.sub cwd (String.length build) (String.length cwd - String.length build) in
+          let rel = if String.length rel > 0 && rel.[0] = '/' then String.sub rel 1 (String.length rel - 1) else rel in
+          Some (root, build, rel))
+
 let source_path p =
   if not (Filename.is_relative p) then p
-  else
-    match Sys.getenv_opt "DUNE_SOURCEROOT" with
-    | None -> p
-    | Some root -> (
-        let cwd = Sys.getcwd () in
-        let marker = Filename.concat "_build" "default" in
-        match Str_find.find cwd marker with
-        | None -> p
-        | Some i ->
-            let rel = String.sub cwd (i + String.length marker) (String.length cwd - i - String.length marker) in
-            let rel = if String.length rel > 0 && rel.[0] = '/' then String.sub rel 1 (String.length rel - 1) else rel in
-            Filename.concat (Filename.concat root rel) p)
+  else match dune_roots () with None -> p | Some (root, _, rel) -> Filename.concat (Filename.concat root rel) p
 
-let render_scene ?width ?height ?(domains = 1) path =
-  let errs e = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) e) in
-  match Dsl.load_file path with
-  | Error e -> Error (errs e)
-  | Ok prog -> (
-      match Dsl.scene_at prog ~time:0. ~frame:0 with
-      | Error e -> Error (errs e)
-      | Ok sc -> (
-          let s = sc.settings in
-          let s' = { s with width = Option.value width ~default:s.width; height = Option.value height ~default:s.height } in
-          match if s' = s then Ok sc else Scene.with_settings sc s' with
-          | Error m -> Error m
-          | Ok sc ->
-              let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
-              Ok (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb)))
+let errs e = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) e)
+
+(* The time and frame asked for, as [lancer render --time/--frame] takes them. *)
+let time_and_frame ?time ?frame prog =
+  let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
+  match (time, frame) with
+  | Some _, Some _ -> Error "give either ~time or ~frame, not both"
+  | Some t, None when not (Float.is_finite t) -> Error "~time must be a finite number"
+  | Some t, None -> Ok (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
+  | None, Some k -> (
+      match Dsl.animation prog with
+      | _ when k < 0 -> Error (Printf.sprintf "~frame must be at least 0 (got %d)" k)
+      | None -> Error (Printf.sprintf "~frame:%d: the scene has no animation block, so it has no frames" k)
+      | Some (_, count) when k >= count -> Error (Printf.sprintf "~frame:%d: the animation has frames 0..%d" k (count - 1))
+      | Some (fps, _) -> Ok (Float.of_int k /. fps, k))
+  | None, None -> Ok (0., 0)
+
+(* The program and its render: the quality preset first, then the explicit settings. *)
+let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) path =
+  let ( let* ) = Result.bind in
+  let* prog = Result.map_error errs (Dsl.load_file path) in
+  let* time, frame = time_and_frame ?time ?frame prog in
+  let* sc = Result.map_error errs (Dsl.scene_at prog ~time ~frame) in
+  let* sc = match quality with None -> Ok sc | Some q -> Quality.apply q sc in
+  let s = sc.settings in
+  let pick v d = Option.value v ~default:d in
+  let s' = { s with width = pick width s.width; height = pick height s.height; samples = pick samples s.samples } in
+  let* sc = if s' = s then Ok sc else Scene.with_settings sc s' in
+  let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
+  Ok (prog, (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb))
+
+let render_scene ?width ?height ?samples ?quality ?time ?frame ?domains path =
+  Result.map snd (render_program ?width ?height ?samples ?quality ?time ?frame ?domains path)
+
+(* Under dune a test sees only its dependencies, copied into the build directory, and is
+   run again only when one of them changes. The scene is read from the source tree, so a
+   file it reads that is not a dependency would leave the test passing on stale inputs:
+   each such file is named, with what to add. *)
+let undeclared_inputs files =
+  match dune_roots () with
+  | None -> []
+  | Some (root, build, rel) ->
+      let root_slash = Filename.concat root "" in
+      let under p pre = String.length p >= String.length pre && String.sub p 0 (String.length pre) = pre in
+      List.filter_map
+        (fun p ->
+          if under p root_slash && not (under p (Filename.concat root "_build")) then
+            let in_root = String.sub p (String.length root_slash) (String.length p - String.length root_slash) in
+            let copy = Filename.concat build in_root in
+            let same a b = try Digest.file a = Digest.file b with Sys_error _ -> false in
+            (* A copy left by another rule is stale as soon as the file changes. *)
+            if Sys.file_exists copy && same copy p then None
+            else
+              (* The path as the test's own directory sees it. *)
+              let dir = if rel = "" then [] else String.split_on_char '/' rel in
+              let rec strip d f = match (d, f) with x :: d', y :: f' when x = y -> strip d' f' | _ -> (d, f) in
+              let up, down = strip dir (String.split_on_char '/' in_root) in
+              Some (String.concat "/" (List.map (fun _ -> "..") up @ down))
+          else None)
+        files
 
 let compare_golden ?tolerance ?max_share ~golden actual =
   Compare.golden ?tolerance ?max_share ~update:(updating ()) ~golden:(source_path golden) actual
 
-let check ?tolerance ?max_share ?width ?height ~scene ~golden () =
-  match render_scene ?width ?height (source_path scene) with
+let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene ~golden () =
+  match render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene) with
   | Error m -> Alcotest.failf "%s: %s" scene m
-  | Ok img -> (
+  | Ok (prog, img) -> (
+      let golden_file = source_path golden in
+      let read = Dsl.inputs prog @ if updating () || not (Sys.file_exists golden_file) then [] else [ golden_file ] in
+      (match undeclared_inputs read with
+      | [] -> ()
+      | missing ->
+          Alcotest.failf
+            "%s: the test reads %s, which %s not among its dependencies, so dune would not run it again when %s \
+             changes: add %s to the (deps …) of its test stanza, for example %s"
+            scene (String.concat ", " missing)
+            (if List.length missing = 1 then "is" else "are")
+            (if List.length missing = 1 then "it" else "one of them")
+            (if List.length missing = 1 then "it" else "them")
+            (String.concat " "
+               (List.sort_uniq compare
+                  (List.map
+                     (fun p ->
+                       match Filename.dirname p with
+                       | "." -> Printf.sprintf "(glob_files *%s)" (Filename.extension p)
+                       | d -> Printf.sprintf "(source_tree %s)" d)
+                     missing))));
       match compare_golden ?tolerance ?max_share ~golden img with
       | Error m -> Alcotest.failf "%s: %s" golden m
       | Ok (Same _) | Ok (Updated _) -> ()
       | Ok (Missing { actual }) ->
-          Alcotest.failf "no golden image %s yet; the render is in %s (accept it with LANCER_UPDATE_GOLDEN=1)" (source_path golden) actual
+          Alcotest.failf "no golden image %s yet; the render is in %s (accept it with LANCER_UPDATE_GOLDEN=1)" golden_file actual
       | Ok (Different { figures; actual; diff }) ->
           Alcotest.failf "%s differs from its golden %s: %a\n  actual image: %s\n  diff image:   %s\n  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
-            scene (source_path golden) Compare.pp figures actual diff)
+            scene golden_file Compare.pp figures actual diff)
 
-let test_case ?(speed = `Quick) ?tolerance ?max_share ?width ?height name ~scene ~golden () =
-  Alcotest.test_case name speed (fun () -> check ?tolerance ?max_share ?width ?height ~scene ~golden ())
+let test_case ?(speed = `Quick) ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame name ~scene ~golden () =
+  Alcotest.test_case name speed (fun () ->
+      check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene ~golden ())

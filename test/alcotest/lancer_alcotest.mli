@@ -4,8 +4,8 @@
     a per-channel tolerance. On failure it writes [NAME.actual.png] and [NAME.diff.png]
     next to the golden file (in the source tree when run by dune), prints their paths
     and the figures, and fails. With the environment variable [LANCER_UPDATE_GOLDEN=1]
-    it writes the golden instead and passes: goldens change only on that explicit
-    request.
+    it writes the golden instead (making its directory if needed) and passes: goldens
+    change only on that explicit request.
 
     {[
       let () =
@@ -20,22 +20,36 @@ type outcome = Lancer.Compare.outcome =
       (** beyond tolerance; where the actual and diff images were written *)
   | Missing of { actual : string }  (** no golden yet; the actual image was written *)
 
-val render_scene : ?width:int -> ?height:int -> ?domains:int -> string -> (int * int * Bytes.t, string) result
-(** [render_scene path] loads, evaluates (at time 0) and renders a scene file, and
-    encodes it with its gamma: (width, height, RGB bytes). *)
+val render_scene :
+  ?width:int -> ?height:int -> ?samples:int -> ?quality:Lancer.Quality.t -> ?time:float -> ?frame:int -> ?domains:int ->
+  string -> (int * int * Bytes.t, string) result
+(** [render_scene path] loads, evaluates and renders a scene file, and encodes it with its
+    gamma: (width, height, RGB bytes). The scene is evaluated at [time] (seconds), or at
+    frame [frame] of its animation (time = frame / fps; the scene needs an animation block
+    with more than [frame] frames), at time 0 by default. [quality] applies a preset, then
+    [width], [height] and [samples] (N×N per pixel) override the scene's settings: the
+    image [lancer render --quality --samples --width --height --time/--frame] writes. *)
 
 val compare_golden :
   ?tolerance:int -> ?max_share:float -> golden:string -> int * int * Bytes.t -> (outcome, string) result
 (** Compare an encoded image with the golden file, writing images as described above. *)
 
-val check : ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> scene:string -> golden:string -> unit -> unit
-(** Render and compare; an alcotest failure with a useful message unless [Same] or
-    [Updated]. [tolerance] (default 1) is the largest per-channel difference allowed;
-    [max_share] (default 0) the share of pixels allowed to exceed it. *)
+val check :
+  ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> ?samples:int -> ?quality:Lancer.Quality.t ->
+  ?time:float -> ?frame:int -> scene:string -> golden:string -> unit -> unit
+(** Render as {!render_scene} does and compare; an alcotest failure with a useful message
+    unless [Same] or [Updated]. [tolerance] (default 1) is the largest per-channel
+    difference allowed; [max_share] (default 0) the share of pixels allowed to exceed it.
+    Under dune it also fails when a file the scene reads (an include, an image, a mesh) or
+    the golden is not among the test's dependencies, naming the file and what to add to
+    the stanza's [deps]: without it dune would not run the test again when that file
+    changes. After a pass the [.actual.png] and [.diff.png] of an earlier failure are
+    removed. *)
 
 val test_case :
-  ?speed:Alcotest.speed_level -> ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> string ->
-  scene:string -> golden:string -> unit -> unit Alcotest.test_case
+  ?speed:Alcotest.speed_level -> ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> ?samples:int ->
+  ?quality:Lancer.Quality.t -> ?time:float -> ?frame:int -> string -> scene:string -> golden:string -> unit ->
+  unit Alcotest.test_case
 (** [test_case name ~scene ~golden ()] is {!check} as a named alcotest case. *)
 
 val updating : unit -> bool

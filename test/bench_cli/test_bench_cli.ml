@@ -41,7 +41,7 @@ let contains s sub =
 (* ---- physics ---- *)
 
 let closed_form () =
-  (* NUMERICS.md: e = 1 and e = 0.8 impact times, to the 12 digits given there. *)
+  (* doc/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given there. *)
   let close msg a b = Alcotest.(check (float 5e-12)) msg a b in
   close "e = 1, first impact" 0.451523640986 (Lancer_cli.Bench.impact_time 1. 1);
   close "e = 1, impact 4" (0.451523640986 +. (3. *. 0.903047281971)) (Lancer_cli.Bench.impact_time 1. 4);
@@ -75,7 +75,7 @@ let physics_json () =
   Alcotest.(check bool) (Printf.sprintf "exact, e = 0.8: position error %g ≤ 1e-5" (err exact08)) true (err exact08 <= 1e-5);
   Alcotest.(check bool) "exact, e = 0.8: apexes to 1e-9 m" true (exact08 |> member "max_apex_error" |> to_number < 1e-9);
   let v30 = find 1. "verlet" (Some (1. /. 30.)) in
-  Alcotest.(check (float 1e-3)) "Verlet at 1/30 s: first apex 1.068 m (NUMERICS.md)" 1.068 (v30 |> member "first_apex" |> to_number);
+  Alcotest.(check (float 1e-3)) "Verlet at 1/30 s: first apex 1.068 m (doc/numerics.md)" 1.068 (v30 |> member "first_apex" |> to_number);
   Alcotest.(check int) "Verlet at 1/30 s: 300 steps" 300 (v30 |> member "steps" |> to_int);
   let v1000 = find 1. "verlet" (Some 0.001) and v240 = find 1. "verlet" (Some (1. /. 240.)) in
   Alcotest.(check bool) "a smaller step is more accurate" true (err v1000 < err v240);
@@ -175,7 +175,7 @@ let scaling_errors () =
 
 let () =
   Alcotest.run "bench_cli"
-    [ ("physics", [ Alcotest.test_case "closed form matches NUMERICS.md" `Quick closed_form;
+    [ ("physics", [ Alcotest.test_case "closed form matches doc/numerics.md" `Quick closed_form;
                     Alcotest.test_case "physics --json" `Quick physics_json ]);
       ("quality", [ Alcotest.test_case "the second run reads the cache" `Quick quality_cache ]);
       ("scaling", [ Alcotest.test_case "scaling --json rows" `Quick scaling_json;

@@ -256,13 +256,16 @@ let tests =
         check_status "no golden yet" 1 r;
         Alcotest.(check bool) e true (contains e "--update");
         check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update" ]);
-        Sys.remove (Filename.concat d "g.actual.png");
+        Alcotest.(check bool) "the update removed the earlier render" false (Sys.file_exists (Filename.concat d "g.actual.png"));
         check_status "same" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png" ]);
         let ((_, out, _) as r) = lancer ~dir:d [ "golden"; "t.rts"; "g.png" ] in
         check_status "different" 1 r;
         Alcotest.(check bool) out true (contains out "differs from g.png" && contains out "g.diff.png");
         Alcotest.(check bool) "actual and diff written" true
-          (Sys.file_exists (Filename.concat d "g.actual.png") && Sys.file_exists (Filename.concat d "g.diff.png")));
+          (Sys.file_exists (Filename.concat d "g.actual.png") && Sys.file_exists (Filename.concat d "g.diff.png"));
+        check_status "same again" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png" ]);
+        Alcotest.(check bool) "a pass removes them" false
+          (Sys.file_exists (Filename.concat d "g.actual.png") || Sys.file_exists (Filename.concat d "g.diff.png")));
     Alcotest.test_case "a physics simulation that gives up is a warning, not silence" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "z.rts")

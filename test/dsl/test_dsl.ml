@@ -1,4 +1,4 @@
-(* The scene language: every construct evaluates as SPEC §2 says, every scene of scenes/
+(* The scene language: every construct evaluates as dsl/README.md says, every scene of scenes/
    loads, and no input makes the language raise (qcheck, fixed seeds). *)
 
 open Lancer
@@ -95,13 +95,13 @@ let test_builtins () =
 let test_let_fn_scoping () =
   feq "let" 3. (num "3\nlet z = 1");
   let s = scene "let r = 2\nfn twice(x) = 2 * x\nsphere { center: (0,0,0), radius: twice(r) }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "fn" 4. radius | _ -> ());
+  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "fn" 4. radius | _ -> Alcotest.fail "expected a sphere");
   let s = scene "let r = 1\nfor i in 1 to 1 { let r = 5 }\nsphere { center: (0,0,0), radius: r }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "a let in a loop is local" 1. radius | _ -> ());
+  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "a let in a loop is local" 1. radius | _ -> Alcotest.fail "expected a sphere");
   let s = scene "let k = 3\nfn f(x) = x * k\nlet k = 100\nsphere { center: (0,0,0), radius: f(1) }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "functions are lexically scoped" 3. radius | _ -> ());
+  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "functions are lexically scoped" 3. radius | _ -> Alcotest.fail "expected a sphere");
   let s = scene "fn fact(n) = if n <= 1 then 1 else n * fact(n - 1)\nsphere { center: (0,0,0), radius: fact(5) }" in
-  match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "recursion" 120. radius | _ -> ()
+  match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "recursion" 120. radius | _ -> Alcotest.fail "expected a sphere"
 
 let count text = Array.length (scene text).objects
 
@@ -177,7 +177,7 @@ let test_animation_time () =
    | Ok s -> (
        match s.objects.(0).shape with
        | Shape.Sphere { center; _ } -> veq "time and frame are bound" (Vec3.v 1.5 15. 0.) center
-       | _ -> ())
+       | _ -> Alcotest.fail "expected a sphere")
    | Error es -> Alcotest.fail (errors_text es));
   let p = load "animation { fps: 24, duration: 2 }" in
   Alcotest.(check (option (pair (float 0.) int))) "duration" (Some (24., 48)) (Dsl.animation p);
@@ -336,8 +336,7 @@ let test_long_line () =
        | _ -> Alcotest.failf "unexpected display:\n%s" (Error.to_string e))
   | Error es -> Alcotest.failf "one error expected, got:\n%s" (errors_text es)
 
-(* Every scene of scenes/ (not bad/) loads and evaluates, except primitives this build
-   does not have yet, which must fail with the located "not available" error. *)
+(* Every scene of scenes/ (not bad/) loads and evaluates. *)
 let scenes_dir = "../../scenes"
 
 let test_scenes () =
@@ -353,9 +352,7 @@ let test_scenes () =
               ignore (Dsl.summary p s);
               ignore (Yojson.Safe.to_string (Dsl.to_json p s))
           | Error es -> Alcotest.failf "%s:\n%s" f (errors_text es))
-      | Error es ->
-          if not (List.for_all (fun (e : Error.t) -> contains e.message "not available in this build") es) then
-            Alcotest.failf "%s:\n%s" f (errors_text es))
+      | Error es -> Alcotest.failf "%s:\n%s" f (errors_text es))
     files
 
 let test_json () =
@@ -375,13 +372,19 @@ let test_json () =
 
 let count = match Sys.getenv_opt "LANCER_FUZZ_COUNT" with Some n -> int_of_string n | None -> 2000
 
+(* The boundary turns any exception into an "internal error": that is a crash too. *)
+let no_crash text es =
+  match List.find_opt (fun (e : Error.t) -> contains e.message "internal error") es with
+  | Some e -> QCheck.Test.fail_reportf "crashed (%s) on:\n%s" e.message text
+  | None -> true
+
 let no_exception text =
   match Dsl.load_string ~filename:"fuzz.rts" text with
   | Ok p -> (
       match Dsl.scene_at p ~time:0.5 ~frame:1 with
       | Ok s -> ignore (Dsl.to_json p s); true
-      | Error _ -> true)
-  | Error es -> List.iter (fun e -> ignore (Error.to_string e)) es; true
+      | Error es -> no_crash text es)
+  | Error es -> List.iter (fun e -> ignore (Error.to_string e)) es; no_crash text es
   | exception e -> QCheck.Test.fail_reportf "raised %s on:\n%s" (Printexc.to_string e) text
 
 let tokens =
@@ -430,13 +433,13 @@ let props =
   let rand = Random.State.make [| 2024 |] in
   List.map
     (QCheck_alcotest.to_alcotest ~rand)
-    [ QCheck.Test.make ~name:"random token sequences give Ok or Error, never an exception" ~count token_seq no_exception;
-      QCheck.Test.make ~name:"mutated valid scenes give Ok or Error, never an exception" ~count mutated no_exception ]
+    [ QCheck.Test.make ~name:"random token sequences give Ok or Error, never an exception nor an internal error" ~count token_seq no_exception;
+      QCheck.Test.make ~name:"mutated valid scenes give Ok or Error, never an exception nor an internal error" ~count mutated no_exception ]
 
 let () =
   Alcotest.run "dsl"
     [ ( "expressions",
-        [ Alcotest.test_case "operators follow the precedence of SPEC 2.1" `Quick test_precedence;
+        [ Alcotest.test_case "operators follow the precedence of dsl/README.md" `Quick test_precedence;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick test_vectors;
           Alcotest.test_case "every built-in computes what its name says" `Quick test_builtins;
           Alcotest.test_case "let and fn are lexically scoped, and fn may recurse" `Quick test_let_fn_scoping ] );

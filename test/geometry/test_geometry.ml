@@ -1,5 +1,5 @@
 (* Geometry: hand-computed intersections for every primitive (grazing, parallel,
-   inside-origin and tangent rays, the NUMERICS.md values), texture coordinates, the OBJ
+   inside-origin and tangent rays, the doc/numerics.md values), texture coordinates, the OBJ
    loader, watertightness of meshes and tiled parallelograms, the bounding volume hierarchy
    against brute force, and texture determinism. Random tests use fixed seeds. *)
 open Lancer
@@ -23,16 +23,6 @@ let raw o d = Ray.make_raw o d
 let hit s r = Shape.intersect s r 0. inf
 let case name f = Alcotest.test_case name `Quick f
 let seeded ?(seed = 20240611) t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
-
-(* ---- quadratic ---- *)
-
-let quadratic_tests =
-  [ case "the stable quadratic finds the small root of x² − 1e8·x + 1" (fun () ->
-        rel "small root" ~tol:1e-15 1e-8 (Shape.solve_quadratic 1. (-1e8) 1. 0. inf));
-    case "a linear equation (a = 0) is solved as such" (fun () ->
-        close "t" 2. (Shape.solve_quadratic 0. 2. (-4.) 0. inf));
-    case "a = b = 0 has no root rather than a division by zero" (fun () ->
-        miss "t" (Shape.solve_quadratic 0. 0. 1. 0. inf)) ]
 
 (* ---- sphere and plane ---- *)
 
@@ -569,7 +559,7 @@ let texture_tests =
 
 let () =
   Alcotest.run "geometry"
-    [ ("quadratic", quadratic_tests);
+    [
       ("sphere and plane", sphere_tests);
       ("flat shapes", flat_tests);
       ("quadrics and box", quadric_tests);

@@ -1,4 +1,4 @@
-(* Physics tests: the closed-form bouncing ball of NUMERICS.md, the fixed-step errors,
+(* Physics tests: the closed-form bouncing ball of doc/numerics.md, the fixed-step errors,
    tunnelling, sphere–sphere impulses, and properties of the exact integrator. *)
 
 open Lancer

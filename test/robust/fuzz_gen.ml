@@ -155,13 +155,25 @@ let image_case st =
       let ext, s = pick st (Array.of_list (Lazy.force seed_images)) in
       (ext, mutate st image_alphabet s)
 
-(* The decoder's contract: Error, or a framebuffer of the stated size with finite values in
-   [0, 1]; never an exception. *)
+(* What an unexpected exception looks like once the reader has turned it into a message:
+   the decoder crashed, however the crash was reported. *)
+let crash_names =
+  [ "internal error"; "Invalid_argument"; "Not_found"; "Assert_failure"; "Match_failure"; "Division_by_zero";
+    "Stack_overflow"; "Out_of_memory"; "Stdlib." ]
+
+(* The decoder's contract: Error with a one-line reason, or a framebuffer of the stated
+   size with finite values in [0, 1]; never an exception, nor a crash reported as an
+   Error. *)
+let judge_image_error m =
+  if List.exists (contains m) crash_names then Error ("crashed: " ^ m)
+  else if String.contains m '\n' then Error ("message on several lines: " ^ m)
+  else Ok ()
+
 let check_image (ext, contents) =
   with_temp_file ext contents (fun path ->
       match Image.read_linear path with
       | exception e -> Error ("raised " ^ Printexc.to_string e)
-      | Error m -> if String.contains m '\n' then Error ("message on several lines: " ^ m) else Ok ()
+      | Error m -> judge_image_error m
       | Ok fb ->
           if fb.width < 1 || fb.height < 1 || Float.Array.length fb.data <> 3 * fb.width * fb.height then Error "inconsistent size"
           else if Float.Array.exists (fun v -> not (v >= 0. && v <= 1.)) fb.data then Error "a value outside [0, 1]"
@@ -226,17 +238,24 @@ let scene_case seeds st =
     let file, text = pick st seeds in
     (file, mutate st dsl_tokens text)
 
-(* The language's contract (dsl.mli): Ok or located errors, never an exception, at load
-   and at evaluation. *)
+(* An error that reports a crash: the boundary turns an unexpected exception into an
+   "internal error" message, which is a bug however well it is worded. *)
+let crash (es : Lancer_dsl.Error.t list) = List.find_opt (fun (e : Lancer_dsl.Error.t) -> contains e.message "internal error") es
+
+let judge_scene_errors es =
+  match crash es with Some e -> Error ("crashed: " ^ e.message) | None -> if es = [] then Error "Error with no message" else Ok ()
+
+(* The language's contract (dsl.mli): Ok or located errors, never an exception nor an
+   internal error, at load and at evaluation. *)
 let check_scene (file, text) =
   match Dsl.load_string ~filename:file text with
   | exception e -> Error ("load raised " ^ Printexc.to_string e)
   | Error es -> (
       match List.iter (fun e -> ignore (Lancer_dsl.Error.to_string e)) es with
       | exception e -> Error ("printing an error raised " ^ Printexc.to_string e)
-      | () -> if es = [] then Error "Error with no message" else Ok ())
+      | () -> Result.map_error (fun m -> "load " ^ m) (judge_scene_errors es))
   | Ok p -> (
       match Dsl.scene_at p ~time:0.5 ~frame:12 with
       | exception e -> Error ("evaluation raised " ^ Printexc.to_string e)
-      | Error _ -> Ok ()
+      | Error es -> Result.map_error (fun m -> "evaluation " ^ m) (judge_scene_errors es)
       | Ok sc -> ( match Dsl.to_json p sc with exception e -> Error ("to_json raised " ^ Printexc.to_string e) | _ -> Ok ()))

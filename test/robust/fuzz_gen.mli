@@ -25,8 +25,13 @@ val image_case : Random.State.t -> string * string
 
 val check_image : string * string -> (unit, string) result
 (** The decoder's contract: [Error] (the case fails) when reading raises, fails with a
-    message of several lines, or returns a framebuffer of the wrong size or with values
-    outside [\[0, 1\]]. *)
+    message of several lines or one that reports a crash (an internal error, or the name
+    of an OCaml exception such as [Invalid_argument]), or returns a framebuffer of the
+    wrong size or with values outside [\[0, 1\]]. *)
+
+val judge_image_error : string -> (unit, string) result
+(** How {!check_image} judges a reader's [Error] message: [Ok] for a one-line reason, an
+    [Error] for a crash or a message of several lines. *)
 
 val png_claiming : int -> int -> string
 (** A PNG file with valid checksums whose header claims [w × h] pixels. *)
@@ -42,4 +47,10 @@ val scene_case : (string * string) array -> Random.State.t -> string * string
 
 val check_scene : string * string -> (unit, string) result
 (** The language's contract: [Error] (the case fails) when loading, evaluating, printing
-    an error or {!Lancer_dsl.Dsl.to_json} raises, or when loading fails with no error. *)
+    an error or {!Lancer_dsl.Dsl.to_json} raises, when loading fails with no error, or
+    when loading or evaluating reports an internal error (an exception the language's
+    boundary caught: a crash). *)
+
+val judge_scene_errors : Lancer_dsl.Error.t list -> (unit, string) result
+(** How {!check_scene} judges the errors of a load or an evaluation: [Ok] for located
+    errors, an [Error] for none at all or for an internal error. *)

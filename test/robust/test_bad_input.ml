@@ -18,7 +18,7 @@ let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
 let fail_with ?(msg = "") (st, _, e) =
   Alcotest.failf "%sexit %d, stderr:\n%s" (if msg = "" then "" else msg ^ ": ") st e
 
-(* Scene errors start a line with file:line:col (SPEC §7); other errors are one line
+(* Scene errors start a line with file:line:col; other errors are one line
    "lancer: …". *)
 let names e where =
   G.contains e ("lancer: " ^ where)

@@ -96,7 +96,28 @@ let image_cases =
             | Error m -> Alcotest.(check bool) ("says so: " ^ m) true (G.contains m "directory")
             | exception e -> Alcotest.failf "raised %s" (Printexc.to_string e))) ]
 
+(* ---- the oracles themselves ---- *)
+
+(* A crash that the boundary turned into a message must fail a case, not pass it. *)
+let oracle_cases =
+  let module E = Lancer_dsl.Error in
+  let fails what = function Ok () -> Alcotest.failf "%s passed" what | Error _ -> () in
+  let passes what = function Ok () -> () | Error m -> Alcotest.failf "%s failed: %s" what m in
+  [ Alcotest.test_case "the scene oracle rejects an internal error and accepts a located one" `Quick (fun () ->
+        fails "an internal error"
+          (G.judge_scene_errors [ E.file_error "fuzz.rts" "internal error: Not_found (please report it)" ]);
+        fails "no error at all" (G.judge_scene_errors []);
+        match Lancer_dsl.Dsl.load_string ~filename:"fuzz.rts" "sphere { radius: -1 }" with
+        | Ok _ -> Alcotest.fail "a negative radius loaded"
+        | Error es -> passes "a located error" (G.judge_scene_errors es));
+    Alcotest.test_case "the image oracle rejects a crash reported as an error" `Quick (fun () ->
+        fails "Invalid_argument" (G.judge_image_error "x.png: cannot read image: Invalid_argument(\"index out of bounds\")");
+        fails "Not_found" (G.judge_image_error "x.png: cannot read image: Not_found");
+        fails "two lines" (G.judge_image_error "x.png: one\ntwo");
+        passes "a reason" (G.judge_image_error "x.png: not a PNG file")) ]
+
 let () =
   Alcotest.run "fuzz"
     [ ("obj", List.map (seeded 20240611) obj_props @ obj_cases);
-      ("image", List.map (seeded 20240612) image_props @ image_cases) ]
+      ("image", List.map (seeded 20240612) image_props @ image_cases);
+      ("oracles", oracle_cases) ]

@@ -12,5 +12,10 @@
 type t = Draft | Preview | Final | Reference
 
 val all : (string * t) list
+(** Each preset with its name, from the fastest to the most accurate. *)
+
 val to_string : t -> string
-val apply : t -> Lancer.Scene.t -> (Lancer.Scene.t, string) result
+(** The preset's name, as [--quality] takes it. *)
+
+val apply : t -> Scene.t -> (Scene.t, string) result
+(** The scene with the preset's settings and area-light samples. *)

@@ -1,5 +1,3 @@
-open Lancer
-
 type t = Draft | Preview | Final | Reference
 
 let all = [ ("draft", Draft); ("preview", Preview); ("final", Final); ("reference", Reference) ]
