@@ -17,6 +17,8 @@ uri=$(grep -h '^URIs:' /etc/apt/sources.list.d/*.sources 2>/dev/null | awk '{pri
 [ -n "$uri" ] || uri=$(grep -E '^deb ' /etc/apt/sources.list | grep -v -- -security | awk '{print $2}' | head -n 1)
 work=$(mktemp -d "${TMPDIR:-/tmp}/lancer-fresh-$dist.XXXXXX")
 r="$work/root"
+logs=${LOGS:-${TMPDIR:-/tmp}/lancer-fresh-$dist-logs}   # kept after the root is removed
+rm -rf "$logs"; mkdir -p "$logs"
 cleanup() { [ "${KEEP:-0}" = 1 ] && { echo "kept $r"; return; }; rm -rf --one-file-system "$work"; }
 trap cleanup EXIT
 t0=$(date +%s)
@@ -45,10 +47,10 @@ inroot 'find /etc/apt -type f -print0 | sort -z | xargs -0 md5sum' >"$work/apt-b
 step() {
   local name=$1; shift
   local s; s=$(date +%s)
-  if inroot "cd /home/user/lancer && $*" >"$work/$name.log" 2>&1; then
+  if inroot "cd /home/user/lancer && $*" >"$logs/$name.log" 2>&1; then
     echo "fresh-root: $name passed in $(( $(date +%s) - s )) s"
   else
-    echo "fresh-root: $name FAILED after $(( $(date +%s) - s )) s; its log ends:"; tail -n 40 "$work/$name.log"; exit 1
+    echo "fresh-root: $name FAILED after $(( $(date +%s) - s )) s; its log ends:"; grep -B2 -A12 -E 'FAIL|Error' "$logs/$name.log" | head -n 60; echo "(whole log: $logs/$name.log)"; exit 1
   fi
 }
 step make-test 'make test'
