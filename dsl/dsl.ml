@@ -24,20 +24,36 @@ type t = {
   motion : (float * Physics.trajectory) option ref;
       (** the simulation of the bodies and the horizon it was computed for, once asked *)
   motion_lock : Mutex.t;
+  digests : (string, string) Hashtbl.t;  (** image and mesh file (as the scene names it) → MD5, once read *)
+  digest_lock : Mutex.t;
 }
 
 let default_physics = Eval.default_physics
 
-let inputs_digest t =
-  let texts = List.sort compare (Hashtbl.fold (fun file text acc -> (file, Digest.string text) :: acc) t.sources []) in
-  let file_digest p = try Digest.to_hex (Digest.file p) with Sys_error _ -> "-" in
-  let files = Eval.image_files t.images in
-  Digest.to_hex
-    (Digest.string
-       (String.concat "\n"
-          (List.map (fun (f, d) -> f ^ " " ^ Digest.to_hex d) texts @ List.map (fun f -> f ^ " " ^ file_digest f) files)))
 let inputs t =
   List.sort_uniq compare (Hashtbl.fold (fun file _ acc -> file :: acc) t.sources [] @ Eval.image_files t.images)
+
+(* A path the evaluator resolved (relative to the including file), as seen from the main
+   file's directory: how the scene itself names it, whatever path the scene was typed as. *)
+let scene_relative t p =
+  let d = Filename.dirname t.file in
+  let prefix = Filename.concat d "" in
+  if d <> "." && String.starts_with ~prefix p then String.sub p (String.length prefix) (String.length p - String.length prefix)
+  else p
+
+let text_digest t =
+  let entry f text = (if f = t.file then "" else scene_relative t f) ^ " " ^ Digest.to_hex (Digest.string text) in
+  let lines = List.sort String.compare (Hashtbl.fold (fun f text acc -> entry f text :: acc) t.sources []) in
+  Digest.to_hex (Digest.string (String.concat "\n" lines))
+
+let input_digest t rel =
+  Mutex.protect t.digest_lock (fun () ->
+      match Hashtbl.find_opt t.digests rel with
+      | Some d -> d
+      | None ->
+          let d = try Digest.to_hex (Digest.file (Loc.relative_to t.file rel)) with Sys_error _ -> "-" in
+          Hashtbl.replace t.digests rel d;
+          d)
 
 let file t = t.file
 let animation t = t.first.animation
@@ -136,7 +152,8 @@ let load_text ?progress file text =
         match Eval.run ~on_objects ~objects:false ~sources ~images ~time:0. ~frame:0 stmts with
         | Error es -> Error es
         | Ok first ->
-            Ok { file; stmts; sources; includes; images; first; motion = ref None; motion_lock = Mutex.create () })
+            Ok { file; stmts; sources; includes; images; first; motion = ref None; motion_lock = Mutex.create ();
+                 digests = Hashtbl.create 4; digest_lock = Mutex.create () })
 
 let load_string ?progress ?(filename = "<string>") text = guard filename (fun () -> load_text ?progress filename text)
 
@@ -246,7 +263,7 @@ let at_frame ~time ~frame r =
            { e with message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time }))
       r
 
-let scene_at ?body_state ?progress t ~time ~frame =
+let scene_with_files ?body_state ?progress t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
@@ -258,8 +275,12 @@ let scene_at ?body_state ?progress t ~time ~frame =
           if List.compare_length_with prims 10_000 > 0 then
             say "building the acceleration structure over %d objects" (List.length prims);
           match Scene.make ~settings:out.settings ~camera:out.camera ~time ~frame ~lights:out.lights prims with
-          | Ok s -> Ok s
+          | Ok s ->
+              let files = List.sort_uniq compare (List.map (scene_relative t) out.files) in
+              Ok (s, List.map (fun f -> (f, input_digest t f)) files)
           | Error m -> Error [ Error.file_error t.file ("invalid scene: " ^ m) ]))
+
+let scene_at ?body_state ?progress t ~time ~frame = Result.map fst (scene_with_files ?body_state ?progress t ~time ~frame)
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)

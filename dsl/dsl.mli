@@ -44,10 +44,23 @@ val inputs : t -> string list
     and meshes it loaded (those used only at some times once a scene at such a time was
     made). Paths are as they were resolved: relative to the scene as it was named. *)
 
-val inputs_digest : t -> string
-(** A digest of everything the program read: its text and its included files', and the
-    contents of the images and meshes it loaded. Two programs with the same digest make
-    the same scenes ([lancer animate --resume] relies on it). *)
+val text_digest : t -> string
+(** A digest of the program's text and its included files' (each include known by its path
+    from the main file's directory), but not of the path the program was loaded as:
+    [./a.rts] and [a.rts] have the same digest. *)
+
+val scene_with_files :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> t -> time:float ->
+  frame:int -> (Scene.t * (string * string) list, Error.t list) result
+(** {!scene_at}, and the image and mesh files that evaluation used, sorted: each as (its
+    path from the main file's directory, {!input_digest} of it). Two evaluations at the
+    same time and frame of programs with the same {!text_digest} use the same files, so
+    these digests are what else a frame depends on ([lancer animate --resume] relies on
+    it). *)
+
+val input_digest : t -> string -> string
+(** [input_digest p f]: the MD5 (hex) of file [f], named as {!scene_with_files} names it;
+    ["-"] when it cannot be read. Computed once per program and file. *)
 
 (** {1 For the physics engine} *)
 

@@ -40,6 +40,7 @@ type output = {
   physics_loc : Loc.t option;  (** where the [physics] block is *)
   warnings : Error.t list;
   bodies : body list;
+  files : string list;
 }
 
 type images = {
@@ -147,6 +148,7 @@ type ctx = {
   body_state : (string -> float -> (Vec3.t * Vec3.t) option) option;
   sources : (string, string) Hashtbl.t;
   images : images;
+  used : (string, unit) Hashtbl.t;  (** the image and mesh files this evaluation read *)
   mutable errors : Error.t list;  (** reversed *)
   seen : (string * int * int * string, unit) Hashtbl.t;
   mutable objects : int;
@@ -550,6 +552,7 @@ and load_image ctx t =
   match t.targs with
   | VStr p :: _ ->
       let path = Loc.relative_to t.tloc.file p in
+      Hashtbl.replace ctx.used path ();
       let r =
         match Hashtbl.find_opt ctx.images.pictures path with
         | Some r -> r
@@ -1013,6 +1016,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       if b.failed then (lazy [], None)
       else
         let path = Loc.relative_to b.kloc.file file in
+        Hashtbl.replace b.ctx.used path ();
         let r =
           match Hashtbl.find_opt b.ctx.images.meshes (path, smooth) with
           | Some r -> r
@@ -1215,7 +1219,7 @@ let initial_env ~time ~frame =
 
 let run ?body_state ?on_objects ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
-    { on_objects; time; body_state; sources; images; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
+    { on_objects; time; body_state; sources; images; used = Hashtbl.create 4; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
       warnings = []; definitions = lazy (definitions stmts) }
   in
@@ -1252,4 +1256,5 @@ let run ?body_state ?on_objects ?(objects = true) ~sources ~images ~time ~frame 
         physics = Option.map fst ctx.physics;
         physics_loc = Option.map snd ctx.physics;
         warnings = sort_errors (List.rev ctx.warnings);
-        bodies = List.map (fun ((b : body), _) -> b) bodies }
+        bodies = List.map (fun ((b : body), _) -> b) bodies;
+        files = List.sort_uniq String.compare (Hashtbl.fold (fun p () acc -> p :: acc) ctx.used []) }

@@ -59,6 +59,7 @@ type output = {
   physics_loc : Loc.t option;  (** where the [physics] block is *)
   warnings : Error.t list;  (** what is legal but likely a mistake (a loop that runs zero times), in source order *)
   bodies : body list;  (** in program order *)
+  files : string list;  (** the image and mesh files this evaluation used, sorted (cached ones too) *)
 }
 
 type images

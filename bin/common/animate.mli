@@ -4,42 +4,75 @@
     of them fits in about 2 GB, whole frames render in parallel, one domain each;
     otherwise one after the other, each over all domains in tiles. Either
     way a frame's bytes are the same. Each frame is
-    written atomically, and a manifest ([DIR/lancer-frames.json]) records for each frame
-    a digest of the scene (with its includes, images and meshes), the options that change
-    pixels and the frame number, so
-    [--resume] skips frames already written for the same scene and options and re-renders
-    those that are missing or stale. [--video] assembles the frames with ffmpeg.
+    written atomically and recorded ({!Frameset}) with a digest of the scene's text and
+    includes and of the options that change pixels, the frame's size and MD5, and the
+    MD5 of the images and meshes it read, so [--resume] skips frames already written for
+    the same scene, inputs and options and re-renders those that are missing, stale or
+    damaged. [--shard K/N] renders a share of the frames; shards may run at once into one
+    directory. [--video] assembles the frames with ffmpeg.
     [lancer-mpi animate] uses the same plan, names and manifest, so either command
     resumes the other's frames. *)
 
 val frames_of_string : string -> (int * int, string) result
 (** ["A..B"] (inclusive) or ["K"]. *)
 
+type shard = Shard of int * int  (** [--shard K/N] *) | Slurm  (** [--shard slurm] *)
+
+val shard_of_string : string -> (shard, string) result
+(** ["K/N"] with 0 <= K < N, or ["slurm"]. *)
+
+val slurm_shard : (string -> string option) -> int * int
+(** (K, N) from a Slurm job array's environment, read through the given [getenv]:
+    N = [SLURM_ARRAY_TASK_COUNT], K = ([SLURM_ARRAY_TASK_ID] − [SLURM_ARRAY_TASK_MIN]) /
+    [SLURM_ARRAY_TASK_STEP] (MIN 0 and STEP 1 when unset). Raises [Cli.User_error]. *)
+
+type options = {
+  frames : (int * int) option;  (** [--frames A..B] *)
+  resume : bool;
+  video : string option;
+  shard : shard option;
+}
+
+val default_options : options
+
 type plan = private {
   opts : Cli.opts;
   source : string * string;  (** file name and text of the scene *)
   prog : Lancer_dsl.Dsl.t;
-  inputs : string;  (** {!Lancer_dsl.Dsl.inputs_digest}: the scene, its includes, images and meshes *)
   dir : string;
   fps : float;
   first : int;
   last : int;
-  todo : int list;  (** the frames to render: all of [first..last], less those resumed *)
-  mutable manifest : (string * string) list;  (** frame file name → digest *)
+  shard : (int * int) option;
+  todo : int list;  (** the frames to render: this shard's of [first..last], less those resumed *)
+  set : Frameset.t;
+  inputs : (int, (string * string) list) Hashtbl.t;  (** frames evaluated and not yet written: the files they read *)
+  inputs_lock : Mutex.t;
 }
 
-val plan : Cli.opts -> frames:(int * int) option -> resume:bool -> plan
-(** Load the scene, check the options and the output directory (made if missing), and
-    work out which frames to render. Raises [Cli.User_error]. *)
+val plan : ?getenv:(string -> string option) -> Cli.opts -> options -> plan
+(** Load the scene, check the options and the output directory (made if missing), claim
+    it for this scene ({!Frameset.open_}), and work out which frames to render: this
+    shard's frames of the range ([index mod N = K]), less, with [resume], those already
+    done for the same job. Raises [Cli.User_error]. *)
 
 val frame_scene : plan -> int -> Lancer.Scene.t
-(** The scene of frame k (time k / fps), with the command-line overrides. *)
+(** The scene of frame k (time k / fps), with the command-line overrides; the image and
+    mesh files it read are kept for {!write_frame}. *)
 
 val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
-(** Write frame k atomically and record it in the manifest (also written atomically). *)
+(** Write frame k atomically and record it in this run's journal. Safe from several
+    domains at once. *)
 
-val check_video : string option -> unit
-(** Refuse, before rendering, a [--video] that is not .mp4 or .gif or cannot be written. *)
+val finish : plan -> unit
+(** Close the journal; write the merged [lancer-frames.json] when every frame is done. *)
+
+val describe_range : plan -> string
+(** ["0..119 at 24 fps"], with the shard when there is one. *)
+
+val check_video : options -> unit
+(** Refuse, before rendering, a [--video] that is not .mp4 or .gif, cannot be written, or
+    comes with [--shard]. *)
 
 val make_video : plan -> string -> unit
 (** Assemble the frames into a .mp4 or .gif with ffmpeg; a clear error without it. *)
@@ -50,8 +83,9 @@ val progress : plan -> Progress.t
 val interrupted : string
 (** What [lancer animate] says when interrupted: the frames already written are kept. *)
 
-val run : Cli.opts -> frames:(int * int) option -> resume:bool -> video:string option -> unit
+val run : Cli.opts -> options -> unit
 (** [lancer animate]. *)
 
-val options_term : ((int * int) option * bool * string option) Cmdliner.Term.t
-(** [--frames A..B], [--resume] and [--video OUT], as [lancer] and [lancer-mpi] take them. *)
+val options_term : options Cmdliner.Term.t
+(** [--frames A..B], [--resume], [--video OUT] and [--shard K/N|slurm], as [lancer] and
+    [lancer-mpi] take them. *)

@@ -250,8 +250,10 @@ let time_of o prog =
       | Some (fps, _) -> (Float.of_int k /. fps, k))
   | None, None -> (0., 0)
 
-let scene_at ?progress o prog ~time ~frame =
-  let sc = match Dsl.scene_at ?progress prog ~time ~frame with Ok s -> s | Error errs -> raise (Scene_error (errors_to_string errs)) in
+let scene_with_files ?progress o prog ~time ~frame =
+  let sc, files =
+    match Dsl.scene_with_files ?progress prog ~time ~frame with Ok r -> r | Error errs -> raise (Scene_error (errors_to_string errs))
+  in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
   (* Named by the option the user typed; Settings.validate holds the same bound. *)
@@ -261,7 +263,9 @@ let scene_at ?progress o prog ~time ~frame =
   let settings =
     { s with width = pick o.width s.width; height = pick o.height s.height; samples = pick o.samples s.samples; depth = pick o.depth s.depth }
   in
-  if settings = s then sc else ok (Scene.with_settings sc settings)
+  ((if settings = s then sc else ok (Scene.with_settings sc settings)), files)
+
+let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
 
 let write_image path (sc : Scene.t) fb =
   match Image.save ~gamma:sc.settings.gamma path fb with Ok () -> () | Error m -> raise (User_error m)

@@ -85,6 +85,11 @@ val scene_at : ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:fl
 (** Evaluate at a time and apply the command-line overrides; [progress] as for
     {!Lancer_dsl.Dsl.scene_at}. *)
 
+val scene_with_files :
+  ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t * (string * string) list
+(** [scene_at], and the image and mesh files it read with their digests
+    ({!Lancer_dsl.Dsl.scene_with_files}). *)
+
 val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)
 

@@ -177,10 +177,12 @@ let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in
   let man =
     [ `S Manpage.s_examples; `Pre "  lancer animate scenes/bounce.rts -o frames/";
-      `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4" ]
+      `Pre "  lancer animate scenes/bounce.rts -o frames/ --frames 0..23 --resume --video bounce.mp4";
+      `Pre "  lancer animate scene.rts -o frames/ --shard 2/4 --resume     # frames 2, 6, 10, …";
+      `Pre "  lancer animate scene.rts -o frames/ --shard slurm --resume   # a task of sbatch --array=0-15" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (f, r, v) -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o ~frames:f ~resume:r ~video:v)) $ Cli.(term Animate) $ Animate.options_term)
+    Term.(const (fun o a -> Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o a)) $ Cli.(term Animate) $ Animate.options_term)
 
 let check =
   let doc = "parse and evaluate a scene; say what it holds and which renderer features it uses" in

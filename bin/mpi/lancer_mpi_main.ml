@@ -102,11 +102,11 @@ let render_cmd (o : Cli.opts) =
 
 (* The plan, frame names, manifest and digests are lancer animate's, so that either
    command can --resume the other's frames. *)
-let animate_cmd (o : Cli.opts) ~frames ~resume ~video =
+let animate_cmd (o : Cli.opts) (a : Animate.options) =
   let prepare () =
     Cli.install_interrupt_handler ();
-    Animate.check_video video;
-    let p = Animate.plan o ~frames ~resume in
+    Animate.check_video a;
+    let p = Animate.plan o a in
     (p.source, p)
   in
   let lead (p : Animate.plan) ~pool ~domains =
@@ -122,10 +122,11 @@ let animate_cmd (o : Cli.opts) ~frames ~resume ~video =
     in
     Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo) ~on_tiles:ignore ~on_frame;
     Progress.finish progress;
+    Animate.finish p;
     if not o.quiet then
-      Printf.printf "wrote %d frames to %s in %.2f s (%d..%d at %g fps; %s)\n%!" (List.length p.todo) p.dir
-        (Unix.gettimeofday () -. t0) p.first p.last p.fps (ranks_text domains);
-    Option.iter (Animate.make_video p) video
+      Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo) p.dir
+        (Unix.gettimeofday () -. t0) (Animate.describe_range p) (ranks_text domains);
+    Option.iter (Animate.make_video p) a.video
   in
   let animation prog =
     match Dsl.animation prog with Some (fps, _) -> fps | None -> user "the scene has no animation block"
@@ -159,7 +160,7 @@ let animate =
       `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume" ]
   in
   Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const (fun o (frames, resume, video) -> animate_cmd o ~frames ~resume ~video) $ Cli.(term Animate) $ Animate.options_term)
+    Term.(const animate_cmd $ Cli.(term Animate) $ Animate.options_term)
 
 let () =
   if not Mpi.available then begin

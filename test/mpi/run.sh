@@ -45,8 +45,8 @@ fi
 lancer render "$showcase" --width 96 --height 72 -q -o ref.png >/dev/null || fail "lancer render"
 lancer animate "$orbit" -o ref_frames -q >/dev/null || fail "lancer animate"
 
-same_frames() { # DIR: every frame and the manifest equal the reference's
-  for f in ref_frames/*; do cmp -s "$f" "$1/$(basename "$f")" || return 1; done
+same_frames() { # DIR: every frame and the merged manifest equal the reference's
+  for f in ref_frames/*.png ref_frames/lancer-frames.json; do cmp -s "$f" "$1/$(basename "$f")" || return 1; done
 }
 
 for n in 1 2 4; do
