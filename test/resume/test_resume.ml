@@ -1,0 +1,178 @@
+(* lancer animate --resume and --shard, and lancer render --resume, as a user runs them:
+   what is redone after damage or a change, what survives a kill, what runs at once. *)
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+open Run_lancer
+
+let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
+let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+let says msg (_, out, err) sub = Alcotest.(check bool) (Printf.sprintf "%s: %S in\n%s%s" msg sub out err) true (contains (out ^ err) sub)
+let path d f = Filename.concat d f
+let frame k = Printf.sprintf "frame_%04d.png" k
+let mtime p = (Unix.stat p).Unix.st_mtime
+
+(* Six frames; from frame 3 on a sphere wears an image texture. *)
+let scene ?(color = "(0.9, 0.2, 0.2)") ?(frames = 6) () =
+  Printf.sprintf
+    {|settings { width: 24, height: 18 }
+animation { fps: 10, frames: %d }
+camera { position: (0, 1, -5), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+body ball { sphere { center: (0, 2, 0), radius: 0.4, material: material { color: %s } } restitution: 0.8 }
+if frame >= 3 { sphere { center: (1, 1, 0), radius: 0.5, material: material { texture: image("tex.ppm", 1) } } }
+|}
+    frames color
+
+let write_ppm p (r, g, b) =
+  write_file p ("P6\n2 2\n255\n" ^ String.concat "" (List.init 4 (fun _ -> String.init 3 (fun i -> Char.chr [| r; g; b |].(i)))))
+
+let setup ?color ?frames () =
+  let d = tmpdir "lancer-resume" in
+  write_file (path d "a.rts") (scene ?color ?frames ());
+  write_ppm (path d "tex.ppm") (200, 30, 30);
+  d
+
+let frames_of d n = List.init n (fun k -> read_file (path d (frame k)))
+
+(* Start lancer in [dir] in the background; its pid. *)
+
+let spawn ~dir args =
+  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+  let cwd = Sys.getcwd () in
+  Sys.chdir dir;
+  let pid = Unix.create_process exe (Array.of_list (exe :: args)) null null null in
+  Sys.chdir cwd;
+  Unix.close null;
+  pid
+
+let wait_status pid = match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
+
+let rec wait_for ?(tries = 600) p = if tries > 0 && not (p ()) then (Unix.sleepf 0.02; wait_for ~tries:(tries - 1) p)
+
+let animate_tests =
+  [ Alcotest.test_case "--resume redoes exactly the damaged frames and those whose late texture changed" `Quick (fun () ->
+        let d = setup () in
+        check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q" ]);
+        let out = path d "out" in
+        let good = frames_of out 6 in
+        (* Truncated, empty, one byte changed (same size): none of them is done. *)
+        let f0 = read_file (path out (frame 0)) in
+        write_file (path out (frame 0)) (String.sub f0 0 (String.length f0 / 2));
+        write_file (path out (frame 1)) "";
+        let f2 = Bytes.of_string (read_file (path out (frame 2))) in
+        Bytes.set f2 40 (Char.chr ((Char.code (Bytes.get f2 40) + 1) land 255));
+        write_file (path out (frame 2)) (Bytes.to_string f2);
+        Unix.sleepf 0.02;
+        let untouched = List.map (fun k -> mtime (path out (frame k))) [ 3; 4; 5 ] in
+        (* ./a.rts is the scene a.rts. *)
+        let r = lancer ~dir:d [ "animate"; "./a.rts"; "-o"; "out"; "--resume" ] in
+        check_status "resume" 0 r;
+        says "three damaged frames" r "3 frames already rendered, 3 to go";
+        Alcotest.(check (list (float 0.))) "frames 3..5 untouched" untouched (List.map (fun k -> mtime (path out (frame k))) [ 3; 4; 5 ]);
+        Alcotest.(check bool) "the same bytes again" true (good = frames_of out 6);
+        (* The texture first used at frame 3 changes: frames 3..5 are stale, 0..2 are not. *)
+        write_ppm (path d "tex.ppm") (30, 30, 200);
+        let early = List.map (fun k -> mtime (path out (frame k))) [ 0; 1; 2 ] in
+        let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ] in
+        check_status "texture changed" 0 r;
+        says "the frames that read it" r "3 frames already rendered, 3 to go";
+        Alcotest.(check (list (float 0.))) "frames 0..2 untouched" early (List.map (fun k -> mtime (path out (frame k))) [ 0; 1; 2 ]);
+        List.iter (fun k -> Alcotest.(check bool) (frame k ^ " re-rendered") false (List.nth good k = read_file (path out (frame k)))) [ 3; 4; 5 ];
+        let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ] in
+        says "then nothing to do" r "6 frames already rendered, 0 to go";
+        (* A directory in a frame's place is not a frame. *)
+        Sys.remove (path out (frame 4));
+        Unix.mkdir (path out (frame 4)) 0o755;
+        let ((_, out_, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ] in
+        Alcotest.(check bool) ("not kept: " ^ out_) false (contains out_ "6 frames already rendered");
+        check_status "cannot replace a directory" 1 r;
+        says "names it" r (frame 4));
+    Alcotest.test_case "--frames without --resume keeps the other frames' records" `Quick (fun () ->
+        let d = setup () in
+        check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q" ]);
+        let view = read_file (path d "out/lancer-frames.json") in
+        check_status "a range again" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..2"; "-q" ]);
+        says "all six still done" (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ]) "6 frames already rendered, 0 to go";
+        Alcotest.(check string) "the merged view is the same" view (read_file (path d "out/lancer-frames.json")));
+    Alcotest.test_case "four shards at once into one directory make the same frames and manifest as one animate" `Quick (fun () ->
+        let d = setup ~frames:10 () in
+        check_status "one animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "ref"; "-q" ]);
+        let pids = List.init 4 (fun k -> spawn ~dir:d [ "animate"; "a.rts"; "-o"; "shards"; "-q"; "--domains"; "1"; "--shard"; Printf.sprintf "%d/4" k ]) in
+        List.iteri (fun k pid -> Alcotest.(check int) (Printf.sprintf "shard %d" k) 0 (wait_status pid)) pids;
+        List.iter
+          (fun f -> Alcotest.(check bool) f true (read_file (path d ("ref/" ^ f)) = read_file (path d ("shards/" ^ f))))
+          ("lancer-frames.json" :: List.init 10 frame);
+        says "resume across shards" (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "shards"; "--resume" ]) "10 frames already rendered, 0 to go";
+        (* Two whole runs of the same scene at once lose nothing either. *)
+        let pids = List.init 2 (fun _ -> spawn ~dir:d [ "animate"; "a.rts"; "-o"; "twice"; "-q"; "--domains"; "1" ]) in
+        List.iter (fun pid -> Alcotest.(check int) "a whole run" 0 (wait_status pid)) pids;
+        Alcotest.(check bool) "same manifest" true (read_file (path d "ref/lancer-frames.json") = read_file (path d "twice/lancer-frames.json")));
+    Alcotest.test_case "--shard slurm reads the job array's variables; bad shards are refused" `Quick (fun () ->
+        let d = setup () in
+        let env = "SLURM_ARRAY_TASK_ID=5 SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=2" in
+        let r = lancer ~prefix:env ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "slurm" ] in
+        check_status "task 5 of 4..5" 0 r;
+        says "shard 1 of 2" r "shard 1/2";
+        Alcotest.(check (list string)) "frames 1, 3, 5" [ frame 1; frame 3; frame 5; "lancer-frames.d" ]
+          (List.sort compare (Array.to_list (Sys.readdir (path d "out"))));
+        let r = lancer ~prefix:(env ^ " SLURM_ARRAY_TASK_ID=4") ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "slurm" ] in
+        check_status "task 4" 0 r;
+        Alcotest.(check bool) "complete: the merged view" true (Sys.file_exists (path d "out/lancer-frames.json"));
+        let r = lancer ~prefix:"env -u SLURM_ARRAY_TASK_ID" ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "slurm" ] in
+        check_status "outside a job array" 1 r;
+        says "says why" r "SLURM_ARRAY_TASK_ID";
+        let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "4/4" ] in
+        check_status "4/4" 1 r;
+        says "the range" r "between 0 and 3");
+    Alcotest.test_case "a shard killed with SIGKILL and resumed loses nothing" `Quick (fun () ->
+        let d = tmpdir "lancer-resume" in
+        write_file (path d "a.rts")
+          "settings { width: 96, height: 72, samples: 2 }\nanimation { fps: 10, frames: 16 }\n\
+           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4), radius: 0.5, samples: 4 }\n\
+           plane { normal: (0, 1, 0), offset: 0 }\nsphere { center: (sin(time), 1, 0), radius: 1, material: material { reflection: 0.5 } }\n";
+        let pid = spawn ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--domains"; "1"; "--shard"; "0/2" ] in
+        wait_for (fun () -> Sys.file_exists (path d ("out/" ^ frame 4)));
+        Unix.kill pid Sys.sigkill;
+        ignore (Unix.waitpid [] pid);
+        let kept = List.filter (fun k -> Sys.file_exists (path d ("out/" ^ frame k))) (List.init 16 Fun.id) in
+        let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "0/2"; "--resume"; "--domains"; "1" ] in
+        check_status "resumed" 0 r;
+        says "keeps what the killed run wrote" r (Printf.sprintf "%d frames already rendered" (List.length kept));
+        check_status "the other shard" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--shard"; "1/2" ]);
+        check_status "one animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "ref"; "-q" ]);
+        List.iter
+          (fun f -> Alcotest.(check bool) f true (read_file (path d ("ref/" ^ f)) = read_file (path d ("out/" ^ f))))
+          ("lancer-frames.json" :: List.init 16 frame));
+    Alcotest.test_case "two animates of different scenes into one directory: one is refused, nothing is mixed" `Quick (fun () ->
+        let d = setup ~frames:8 () in
+        write_file (path d "b.rts") (scene ~color:"(0.2, 0.2, 0.9)" ~frames:8 ());
+        check_status "red alone" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "red"; "-q" ]);
+        check_status "blue alone" 0 (lancer ~dir:d [ "animate"; "b.rts"; "-o"; "blue"; "-q" ]);
+        let err = path d "err" in
+        let both =
+          List.map
+            (fun s ->
+              let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_APPEND ] 0o644 in
+              let cwd = Sys.getcwd () in
+              Sys.chdir d;
+              let pid = Unix.create_process exe [| exe; "animate"; s; "-o"; "mixed"; "-q"; "--domains"; "1" |] Unix.stdin Unix.stdout fd in
+              Sys.chdir cwd;
+              Unix.close fd;
+              (s, pid))
+            [ "a.rts"; "b.rts" ]
+        in
+        let statuses = List.map (fun (s, pid) -> (s, wait_status pid)) both in
+        let winners = List.filter (fun (_, st) -> st = 0) statuses in
+        Alcotest.(check int) ("one runs, one is refused\n" ^ read_file err) 1 (List.length winners);
+        Alcotest.(check bool) "the refusal says why" true (contains (read_file err) "holds the frames of another scene");
+        let ref_dir = if fst (List.hd winners) = "a.rts" then "red" else "blue" in
+        List.iter
+          (fun f -> Alcotest.(check bool) f true (read_file (path d (ref_dir ^ "/" ^ f)) = read_file (path d ("mixed/" ^ f))))
+          ("lancer-frames.json" :: List.init 8 frame);
+        let loser = if ref_dir = "red" then "b.rts" else "a.rts" in
+        let r = lancer ~dir:d [ "animate"; loser; "-o"; "mixed"; "--resume" ] in
+        check_status "still refused afterwards" 1 r) ]
+
+let () = Alcotest.run "resume" [ ("animate", animate_tests) ]
