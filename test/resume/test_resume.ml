@@ -129,7 +129,7 @@ let animate_tests =
     Alcotest.test_case "a shard killed with SIGKILL and resumed loses nothing" `Quick (fun () ->
         let d = tmpdir "lancer-resume" in
         write_file (path d "a.rts")
-          "settings { width: 96, height: 72, samples: 2 }\nanimation { fps: 10, frames: 16 }\n\
+          "settings { width: 128, height: 96, samples: 3 }\nanimation { fps: 10, frames: 16 }\n\
            camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4), radius: 0.5, samples: 4 }\n\
            plane { normal: (0, 1, 0), offset: 0 }\nsphere { center: (sin(time), 1, 0), radius: 1, material: material { reflection: 0.5 } }\n";
         let pid = spawn ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--domains"; "1"; "--shard"; "0/2" ] in
@@ -137,6 +137,7 @@ let animate_tests =
         Unix.kill pid Sys.sigkill;
         ignore (Unix.waitpid [] pid);
         let kept = List.filter (fun k -> Sys.file_exists (path d ("out/" ^ frame k))) (List.init 16 Fun.id) in
+        Alcotest.(check bool) "killed before the end" true (List.length kept < 8);
         let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "0/2"; "--resume"; "--domains"; "1" ] in
         check_status "resumed" 0 r;
         says "keeps what the killed run wrote" r (Printf.sprintf "%d frames already rendered" (List.length kept));
