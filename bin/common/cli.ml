@@ -95,6 +95,11 @@ let term command =
 
 let opts_term = term Render
 
+let resume_still =
+  Arg.(value & flag
+       & info [ "resume" ]
+           ~doc:"Keep finished tiles in a checkpoint next to the output (OUT.checkpoint) and continue from it after an interruption; it is removed once the image is written.")
+
 let progress o ~label ~total =
   let mode : Progress.mode =
     if o.quiet then Off else if Unix.isatty Unix.stderr then Terminal else if o.progress then Lines else Off

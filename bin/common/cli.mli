@@ -47,6 +47,9 @@ val term : command -> opts Cmdliner.Term.t
 val opts_term : opts Cmdliner.Term.t
 (** [term Render]. *)
 
+val resume_still : bool Cmdliner.Term.t
+(** [--resume] of [render]: keep and reuse a checkpoint of finished tiles. *)
+
 val progress : opts -> label:string -> total:int -> Progress.t
 (** The progress report the options ask for: redrawn in place on a terminal, lines with
     [--progress] otherwise, nothing with [--quiet]. *)

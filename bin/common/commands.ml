@@ -3,34 +3,52 @@ open Lancer
 open Cmdliner
 module Dsl = Lancer_dsl.Dsl
 
-let render_cmd (o : Cli.opts) =
+let resumed_interrupt = "the finished tiles are kept in the checkpoint; run again with --resume to continue"
+
+let render_cmd (o : Cli.opts) ~resume =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
   Cli.check_output out;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
-  let sc, build =
+  let (sc, files, prog, time, frame), build =
     Cli.build o (fun say ->
         say (Printf.sprintf "reading and checking %s" (Option.value o.scene ~default:"the showcase"));
         let prog = Cli.load ~progress:say o.scene in
         let time, frame = Cli.time_of o prog in
         say "evaluating the scene and building its acceleration structure";
-        let sc = Cli.scene_at ~progress:say o prog ~time ~frame in
+        let sc, files = Cli.scene_with_files ~progress:say o prog ~time ~frame in
         (* Evaluating a large scene leaves garbage (the evaluator's values): give it back
            before the framebuffer is allocated, so that peak memory is the scene plus the
            image. *)
         Gc.compact ();
-        sc)
+        (sc, files, prog, time, frame))
   in
   Cli.warn_long_render o sc;
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let t0 = Unix.gettimeofday () in
-  let fb, st =
-    Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+  let fb, st, finish =
+    if resume then begin
+      (* Finished tiles go to a checkpoint beside the output, and come back from it. *)
+      let ck = Checkpoint.start ~out ~key:(Checkpoint.key o prog ~time ~frame ~files) ~quiet:o.quiet sc in
+      (try
+         Render.with_pool domains (fun pool ->
+             Checkpoint.render ?pool ~on_tile:(fun d rays -> Progress.update ~rays progress d) ck sc)
+       with Sys.Break ->
+         (try Checkpoint.save ck with Cli.User_error m -> prerr_endline ("\nlancer: " ^ m));
+         raise Sys.Break);
+      (Checkpoint.framebuffer ck, Checkpoint.stats ck, fun () -> Checkpoint.remove ck)
+    end
+    else
+      let fb, st =
+        Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+      in
+      (fb, st, ignore)
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
   Cli.write_image out sc fb;
+  finish ();
   Cli.warn_bad_samples st;
   Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
@@ -169,9 +187,13 @@ let render =
       `Pre "  lancer render                                # the built-in showcase, to showcase.png";
       `Pre "  lancer render scenes/glass.rts -o glass.png --quality final";
       `Pre "  lancer render scene.rts --width 1920 --height 1080 --domains 8 --stats stats.json";
-      `Pre "  lancer render anim.rts --frame 12 -o frame12.ppm" ]
+      `Pre "  lancer render anim.rts --frame 12 -o frame12.ppm";
+      `Pre "  lancer render big.rts -o big.png --resume    # again after an interruption: continues" ]
   in
-  Cmd.v (Cmd.info "render" ~doc ~man ~exits) Term.(const (fun o -> wrap (fun () -> render_cmd o)) $ Cli.opts_term)
+  Cmd.v (Cmd.info "render" ~doc ~man ~exits)
+    Term.(const (fun o resume ->
+              Cli.run ?interrupted:(if resume then Some resumed_interrupt else None) (fun () -> render_cmd o ~resume))
+          $ Cli.opts_term $ Cli.resume_still)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in

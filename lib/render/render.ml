@@ -74,6 +74,7 @@ let tiles (sc : Scene.t) =
 
 let interrupted = Atomic.make false
 let interrupt () = Atomic.set interrupted true
+let interrupt_requested () = Atomic.get interrupted
 
 (* Pools alive: while one is, an interrupt must not be raised asynchronously into
    the pool's own synchronisation, only at the start of a tile. *)

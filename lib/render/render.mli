@@ -33,6 +33,10 @@ val interrupt : unit -> unit
     [Sys.Break] instead, so an interrupted render ends within one tile per domain.
     Meant for a SIGINT/SIGTERM handler; there is no way back. *)
 
+val interrupt_requested : unit -> bool
+(** Whether {!interrupt} was called: for loops over tiles of their own, which should then
+    raise [Sys.Break] before starting the next one. *)
+
 val in_pool : unit -> bool
 (** Whether a pool of {!with_pool} is running. A signal handler must then only call
     {!interrupt} (the next tile raises [Sys.Break]); raising itself could land inside the

@@ -1,0 +1,137 @@
+(* See checkpoint.mli. *)
+open Lancer
+module Dsl = Lancer_dsl.Dsl
+
+let magic = "lancer-checkpoint-1\n"
+
+(* What the file holds after the magic and the MD5 of the rest. *)
+type payload = {
+  key : string;
+  width : int;
+  height : int;
+  finished : bool array;  (* by tile *)
+  pixels : Float.Array.t;  (* the framebuffer; only finished tiles' pixels count *)
+  counters : Stats.t option array;  (* by tile; a unit's counters on its first tile *)
+}
+
+type t = {
+  path : string;
+  p : payload;
+  fb : Image.t;
+  todo : int array;
+  lock : Mutex.t;
+  writing : bool Atomic.t;
+  mutable count : int;
+  mutable last : float;  (* when it was last written *)
+  mutable interval : float;
+}
+
+let path_for out = out ^ ".checkpoint"
+
+let key (o : Cli.opts) prog ~time ~frame ~files =
+  let opt f = function Some v -> f v | None -> "-" in
+  Digest.to_hex
+    (Digest.string
+       (String.concat "|"
+          [ "lancer-still-v1"; Dsl.text_digest prog; String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
+            Printf.sprintf "%h" time; string_of_int frame; opt string_of_int o.width; opt string_of_int o.height;
+            opt string_of_int o.samples; opt string_of_int o.depth; opt Quality.to_string o.quality ]))
+
+let load path ~key ~width ~height ~tiles =
+  match In_channel.with_open_bin path In_channel.input_all with
+  | exception Sys_error _ -> None
+  | s -> (
+      let m = String.length magic in
+      if String.length s < m + 16 || String.sub s 0 m <> magic then None
+      else
+        let body = String.sub s (m + 16) (String.length s - m - 16) in
+        if not (String.equal (Digest.string body) (String.sub s m 16)) then None
+        else
+          match (Marshal.from_string body 0 : payload) with
+          | p
+            when String.equal p.key key && p.width = width && p.height = height && Array.length p.finished = tiles
+                 && Array.length p.counters = tiles
+                 && Float.Array.length p.pixels = 3 * width * height ->
+              Some p
+          | _ -> None
+          | exception _ -> None)
+
+let start ~out ~key ~quiet (sc : Scene.t) =
+  let path = path_for out in
+  Cli.check_writable path;
+  let width = sc.settings.width and height = sc.settings.height in
+  let tiles = Array.length (Render.tiles sc) in
+  let p =
+    match load path ~key ~width ~height ~tiles with
+    | Some p -> p
+    | None ->
+        { key; width; height; finished = Array.make tiles false; pixels = (Image.create width height).data;
+          counters = Array.make tiles None }
+  in
+  let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 p.finished in
+  if count > 0 && not quiet then Printf.printf "resuming: %d of %d tiles already rendered\n%!" count tiles;
+  let todo = Array.of_list (List.filter (fun k -> not p.finished.(k)) (List.init tiles Fun.id)) in
+  { path; p; fb = { width; height; data = p.pixels }; todo; lock = Mutex.create (); writing = Atomic.make false; count;
+    last = 0.; interval = 1. }
+
+let framebuffer t = t.fb
+let todo t = t.todo
+let finished t = Mutex.protect t.lock (fun () -> t.count)
+
+let write t =
+  let finished, counters = Mutex.protect t.lock (fun () -> (Array.copy t.p.finished, Array.copy t.p.counters)) in
+  (* The finished tiles' pixels were written before they were marked, under the lock
+     taken above; other domains write only into unfinished tiles meanwhile. *)
+  let body = Marshal.to_string { t.p with finished; counters } [ Marshal.No_sharing ] in
+  match
+    Image.write_atomic t.path (fun oc ->
+        output_string oc magic;
+        output_string oc (Digest.string body);
+        output_string oc body)
+  with
+  | Ok () -> ()
+  | Error m -> Cli.user "the checkpoint: %s" m
+
+let save t = write t
+
+let due t =
+  let now = Unix.gettimeofday () in
+  if now -. t.last >= t.interval && Atomic.compare_and_set t.writing false true then
+    Fun.protect
+      ~finally:(fun () -> Atomic.set t.writing false)
+      (fun () ->
+        write t;
+        let after = Unix.gettimeofday () in
+        t.last <- after;
+        t.interval <- Float.max 1. (10. *. (after -. now)))
+
+let tiles_done t tiles st =
+  Mutex.protect t.lock (fun () ->
+      Array.iteri
+        (fun i k ->
+          if not t.p.finished.(k) then t.count <- t.count + 1;
+          t.p.finished.(k) <- true;
+          t.p.counters.(k) <- Some (if i = 0 then st else Stats.create ()))
+        tiles);
+  due t
+
+let stats t =
+  let total = Stats.create () in
+  Mutex.protect t.lock (fun () -> Array.iter (Option.iter (Stats.add_into total)) t.p.counters);
+  total
+
+let remove t = try Unix.unlink t.path with Unix.Unix_error _ -> ()
+
+let render ?pool ?(on_tile = fun _ _ -> ()) t sc =
+  let all = Render.tiles sc in
+  let body i =
+    if Render.interrupt_requested () then raise Sys.Break;
+    let k = t.todo.(i) in
+    let x0, y0, x1, y1 = all.(k) in
+    let st = Stats.create () in
+    Render.render_tile sc st t.fb x0 y0 x1 y1;
+    tiles_done t [| k |] st;
+    on_tile (finished t) (Stats.total_rays st)
+  in
+  let n = Array.length t.todo in
+  match pool with None -> for i = 0 to n - 1 do body i done | Some pool -> Pool.parallel_for pool n body
