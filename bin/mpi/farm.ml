@@ -63,7 +63,14 @@ exception Worker_failed of int * string
 (* ---- Rank 0 ---- *)
 
 (* A frame whose units are out: its framebuffer, and how many tiles are still to come. *)
-type open_frame = { sc : Scene.t; all : (int * int * int * int) array; fb : Image.t; mutable left : int; st : Stats.t }
+type open_frame = {
+  sc : Scene.t;
+  all : (int * int * int * int) array;
+  todo : int array;  (* the tiles to render: all of them, or those a checkpoint lacks *)
+  fb : Image.t;
+  mutable left : int;
+  st : Stats.t;
+}
 
 (* Units are cut from [frames] in order. With [whole] a unit is a frame; otherwise at
    most [chunk] tiles, or what the worker asked for if less. *)
@@ -73,6 +80,7 @@ type cutter = {
   opened : (int, open_frame) Hashtbl.t;
   whole : bool;
   mutable chunk : int;
+  start : int -> (Image.t * int array) option;
 }
 
 let open_next c =
@@ -82,15 +90,20 @@ let open_next c =
       c.pending <- rest;
       let sc = scene () in
       let all = Render.tiles sc in
-      let f = { sc; all; fb = Image.create sc.settings.width sc.settings.height; left = Array.length all; st = Stats.create () } in
+      let fb, todo =
+        match c.start key with
+        | Some (fb, todo) -> (fb, todo)
+        | None -> (Image.create sc.settings.width sc.settings.height, Array.init (Array.length all) Fun.id)
+      in
+      let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in
       Hashtbl.replace c.opened key f;
       Some (key, f)
 
 let rec next_unit c ~want =
   match c.current with
-  | Some (key, f, next) when !next < Array.length f.all ->
-      let n = min (Array.length f.all - !next) (if c.whole then max_int else min want c.chunk) in
-      let u = { key; tiles = Array.init n (fun i -> !next + i) } in
+  | Some (key, f, next) when !next < Array.length f.todo ->
+      let n = min (Array.length f.todo - !next) (if c.whole then max_int else min want c.chunk) in
+      let u = { key; tiles = Array.sub f.todo !next n } in
       next := !next + n;
       Some u
   | _ -> (
@@ -100,18 +113,20 @@ let rec next_unit c ~want =
           c.current <- Some (key, f, ref 0);
           next_unit c ~want)
 
-let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ~fatal ~pool ~frames ~on_tiles ~on_frame () =
   let workers = Mpi.size () - 1 in
   let total_tiles = ref 0 in
-  let whole = workers = 0 || List.length frames >= workers in
-  let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int } in
+  (* One frame alone (a still) is always cut, so that units come back, and can be kept,
+     as the render goes. *)
+  let whole = workers = 0 || (List.length frames >= workers && List.length frames > 1) in
+  let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int; start } in
   (* Otherwise chunks small enough that every worker gets several, for an even finish:
      sized from the first frame's tile count, cut now. *)
   if not whole then begin
     match open_next c with
     | Some (key, f) ->
         c.current <- Some (key, f, ref 0);
-        c.chunk <- max 1 (Array.length f.all * List.length frames / (4 * workers))
+        c.chunk <- max 1 (Array.length f.todo * List.length frames / (4 * workers))
     | None -> ()
   end;
   let failure = ref None in
@@ -121,10 +136,12 @@ let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
     | Some _ -> ()
     | None -> ( try on_frame key f.sc f.fb f.st with e -> failure := Some e)
   in
-  let deposit key n st =
+  let deposit key tiles st =
+    let n = Array.length tiles in
     let f = Hashtbl.find c.opened key in
     f.left <- f.left - n;
     Stats.add_into f.st st;
+    on_unit key tiles st;
     total_tiles := !total_tiles + n;
     if f.left = 0 then finished key f
   in
@@ -137,7 +154,7 @@ let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
           let f = Hashtbl.find c.opened u.key in
           let base = !total_tiles and done_ = Atomic.make 0 in
           let on_tile () = on_tiles (base + Atomic.fetch_and_add done_ 1 + 1) in
-          deposit u.key (Array.length u.tiles) (render_unit ~on_tile ~pool f.sc f.fb u.tiles);
+          deposit u.key u.tiles (render_unit ~on_tile ~pool f.sc f.fb u.tiles);
           loop ()
     in
     loop ()
@@ -180,7 +197,7 @@ let serve ~fatal ~pool ~frames ~on_tiles ~on_frame =
           let count, _, _ = Mpi.recv_floats !buf ~source:src ~tag:tag_pixels in
           if count <> n then failwith (Printf.sprintf "rank %d sent %d floats for a unit of %d" src count n);
           transfer ~to_buf:false f.fb f.all u.tiles !buf;
-          deposit u.key (Array.length u.tiles) st;
+          deposit u.key u.tiles st;
           on_tiles !total_tiles;
           reply src ~want:wants.(src)
       | Failed m ->

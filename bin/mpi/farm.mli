@@ -4,8 +4,8 @@
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
     for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
-    whole frames when there are at least as many frames as workers, otherwise chunks of
-    a few tiles. Each tile is rendered by {!Lancer.Render.render_tile} from the same
+    whole frames when there are at least as many frames as workers (and more than one),
+    otherwise chunks of a few tiles. Each tile is rendered by {!Lancer.Render.render_tile} from the same
     scene, and its floats travel bit for bit, so the pixels are identical to a local
     render whatever the number of ranks and domains. When rank 0 is alone it renders
     the units itself, a whole frame at a time over its pool.
@@ -22,13 +22,19 @@ exception Worker_failed of int * string
 (** [Worker_failed (rank, message)]: that rank could not do its unit. *)
 
 val serve :
+  ?start:(int -> (Image.t * int array) option) ->
+  ?on_unit:(int -> int array -> Stats.t -> unit) ->
   fatal:(exn -> int) ->
   pool:Pool.t option ->
   frames:(int * (unit -> Scene.t)) list ->
   on_tiles:(int -> unit) ->
   on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
+  unit ->
   unit
-(** [serve ~fatal ~pool ~frames ~on_tiles ~on_frame] runs on rank 0. [frames] lists the
+(** [serve ~fatal ~pool ~frames ~on_tiles ~on_frame ()] runs on rank 0. [start key], when
+    it answers, gives a frame's framebuffer with some tiles already in it and the tiles
+    still to render (a resumed still); [on_unit key tiles stats] is called as each unit's
+    pixels are in the framebuffer (to keep a checkpoint). [frames] lists the
     keys to render in order, with the scene of each (asked for once, when its first unit
     is cut). [on_tiles n] is called as tiles finish, with the count so far over all
     frames, from any domain; [on_frame key scene fb stats] as each frame is complete (in

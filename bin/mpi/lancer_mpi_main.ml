@@ -61,10 +61,10 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
 
 (* ---- render ---- *)
 
-let render_cmd (o : Cli.opts) =
-  let still prog =
+let render_cmd (o : Cli.opts) ~resume =
+  let still ?progress prog =
     let time, frame = Cli.time_of o prog in
-    Cli.scene_at o prog ~time ~frame
+    Cli.scene_with_files ?progress o prog ~time ~frame
   in
   let prepare () =
     Cli.install_interrupt_handler ();
@@ -73,30 +73,45 @@ let render_cmd (o : Cli.opts) =
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
-    let sc, build =
+    let (sc, files, prog), build =
       Cli.build o (fun say ->
           say "loading and evaluating the scene";
           let prog = Cli.load_source ~progress:say source in
-          let time, frame = Cli.time_of o prog in
-          Cli.scene_at ~progress:say o prog ~time ~frame)
+          let sc, files = still ~progress:say prog in
+          (sc, files, prog))
     in
-    (source, (out, sc, build))
+    (* With --resume rank 0 keeps the finished tiles in a checkpoint beside the output. *)
+    let ck =
+      if not resume then None
+      else
+        let time, frame = Cli.time_of o prog in
+        Some (Lancer_cli.Checkpoint.start ~out ~key:(Lancer_cli.Checkpoint.key o prog ~time ~frame ~files) ~quiet:o.quiet sc)
+    in
+    (source, (out, sc, build, ck))
   in
-  let lead (out, sc, build) ~pool ~domains =
-    let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+  let lead (out, sc, build, ck) ~pool ~domains =
+    let module Ck = Lancer_cli.Checkpoint in
+    let total = match ck with Some ck -> Array.length (Ck.todo ck) | None -> Array.length (Render.tiles sc) in
+    let progress = Cli.progress o ~label:"tiles" ~total in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
-    Farm.serve ~fatal ~pool ~frames:[ (0, fun () -> sc) ] ~on_tiles:(Progress.update progress)
-      ~on_frame:(fun _ _ fb st -> result := Some (fb, st));
+    Farm.serve
+      ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
+      ~on_unit:(fun _ tiles st -> Option.iter (fun ck -> Ck.tiles_done ck tiles st) ck)
+      ~fatal ~pool ~frames:[ (0, fun () -> sc) ] ~on_tiles:(Progress.update progress)
+      ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
+      ();
     let wall = Unix.gettimeofday () -. t0 in
     Progress.finish progress;
     let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
+    let st = match ck with Some ck -> Ck.stats ck | None -> st in
     Cli.write_image out sc fb;
+    Option.iter Ck.remove ck;
     Cli.warn_bad_samples st;
     Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:(Mpi.size ()) st)) o.stats;
     if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(ranks_text domains) st)
   in
-  distributed o ~prepare ~lead ~scene_of:(fun prog _ -> still prog)
+  distributed o ~prepare ~lead ~scene_of:(fun prog _ -> fst (still prog))
 
 (* ---- animate ---- *)
 
@@ -120,7 +135,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
       incr written;
       Progress.update progress !written
     in
-    Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo) ~on_tiles:ignore ~on_frame;
+    Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo) ~on_tiles:ignore ~on_frame ();
     Progress.finish progress;
     Animate.finish p;
     if not o.quiet then
@@ -148,9 +163,9 @@ let render =
     [ `S Manpage.s_description;
       `P "The same options and the same image bytes as $(b,lancer render). Rank 0 reads the scene and hands out tiles; every other rank renders them with $(b,--domains) domains.";
       `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi render scenes/showcase.rts -o showcase.png --domains 2";
-      `Pre "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 --height 2160 --quality final" ]
+      `Pre "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 --height 2160 --quality final --resume" ]
   in
-  Cmd.v (Cmd.info "render" ~doc ~man ~exits) Term.(const render_cmd $ Cli.opts_term)
+  Cmd.v (Cmd.info "render" ~doc ~man ~exits) Term.(const (fun o resume -> render_cmd o ~resume) $ Cli.opts_term $ Cli.resume_still)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png … over MPI ranks" in

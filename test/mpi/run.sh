@@ -69,6 +69,20 @@ if run -np 2 lancer-mpi animate "$orbit" -o ref_frames --resume >resume.log 2>&1
   ok "lancer-mpi --resume recognises the frames lancer animate wrote"
 else fail "resume"; cat resume.log; fi
 
+# A still stopped midway (the job killed) and resumed: rank 0 keeps the checkpoint, and the
+# image is the same bytes as an uninterrupted one.
+lancer render "$showcase" --width 240 --height 180 -q -o ref240.png >/dev/null || fail "lancer render 240"
+still=(lancer-mpi render "$showcase" --width 240 --height 180 --domains 1 --resume -o resumed.png)
+"${mpirun[@]}" -np 3 "${still[@]}" -q >/dev/null 2>killed.log &
+pid=$!
+for _ in $(seq 600); do [ -e resumed.png.checkpoint ] && break; sleep 0.02; done
+kill -TERM "$pid"; wait "$pid" 2>/dev/null
+if [ -e resumed.png.checkpoint ] && [ ! -e resumed.png ] \
+   && run -np 3 "${still[@]}" >resumed.log 2>&1 && grep -q "tiles already rendered" resumed.log \
+   && cmp -s ref240.png resumed.png && [ ! -e resumed.png.checkpoint ]; then
+  ok "a still killed midway on 3 ranks and resumed is byte-identical, and its checkpoint is removed"
+else fail "the resumed still on 3 ranks"; cat killed.log resumed.log; fi
+
 # A scene error: one message, from rank 0, and status 1.
 printf 'sphere { center: (0, 1, 0) }\n' >bad.rts
 run -np 3 lancer-mpi render bad.rts -o bad.png >bad.out 2>bad.err

@@ -176,4 +176,49 @@ let animate_tests =
         let r = lancer ~dir:d [ "animate"; loser; "-o"; "mixed"; "--resume" ] in
         check_status "still refused afterwards" 1 r) ]
 
-let () = Alcotest.run "resume" [ ("animate", animate_tests) ]
+(* The built-in showcase at 200×150 on one domain: long enough to be stopped midway. *)
+let still = [ "render"; "--width"; "200"; "--height"; "150"; "--domains"; "1"; "-q"; "--resume"; "-o" ]
+
+let stopped_midway d out signal =
+  let pid = spawn ~dir:d (still @ [ out ]) in
+  wait_for (fun () -> Sys.file_exists (path d (out ^ ".checkpoint")));
+  Unix.kill pid signal;
+  let st = wait_status pid in
+  Alcotest.(check bool) "stopped before the image was written" false (Sys.file_exists (path d out));
+  Alcotest.(check bool) "the checkpoint is kept" true (Sys.file_exists (path d (out ^ ".checkpoint")));
+  st
+
+let still_tests =
+  [ Alcotest.test_case "a still killed or interrupted mid-render and resumed is the same bytes as one uninterrupted" `Quick (fun () ->
+        let d = tmpdir "lancer-resume" in
+        check_status "uninterrupted" 0 (lancer ~dir:d [ "render"; "--width"; "200"; "--height"; "150"; "-q"; "-o"; "ref.png" ]);
+        let reference = read_file (path d "ref.png") in
+        (* SIGKILL: what the last checkpoint held is kept. *)
+        Alcotest.(check int) "killed" (-1) (stopped_midway d "a.png" Sys.sigkill);
+        let r = lancer ~dir:d (List.filter (( <> ) "-q") still @ [ "a.png" ]) in
+        check_status "resumed" 0 r;
+        says "continues" r "tiles already rendered";
+        Alcotest.(check bool) "same bytes" true (reference = read_file (path d "a.png"));
+        Alcotest.(check bool) "the checkpoint is gone" false (Sys.file_exists (path d "a.png.checkpoint"));
+        (* Ctrl-C: exit 130, and the checkpoint written on the way out. *)
+        Alcotest.(check int) "interrupted" 130 (stopped_midway d "b.png" Sys.sigint);
+        let r = lancer ~dir:d (List.filter (( <> ) "-q") still @ [ "b.png" ]) in
+        check_status "resumed" 0 r;
+        says "continues" r "tiles already rendered";
+        Alcotest.(check bool) "same bytes" true (reference = read_file (path d "b.png"));
+        (* A damaged checkpoint, or one of other options, is not used. *)
+        ignore (stopped_midway d "c.png" Sys.sigkill);
+        let ck = Bytes.of_string (read_file (path d "c.png.checkpoint")) in
+        let i = Bytes.length ck / 2 in
+        Bytes.set ck i (Char.chr ((Char.code (Bytes.get ck i) + 1) land 255));
+        write_file (path d "c.png.checkpoint") (Bytes.to_string ck);
+        let ((_, out, _) as r) = lancer ~dir:d (List.filter (( <> ) "-q") still @ [ "c.png" ]) in
+        check_status "damaged checkpoint" 0 r;
+        Alcotest.(check bool) ("starts over: " ^ out) false (contains out "already rendered");
+        Alcotest.(check bool) "same bytes" true (reference = read_file (path d "c.png"));
+        ignore (stopped_midway d "e.png" Sys.sigkill);
+        let ((_, out, _) as r) = lancer ~dir:d [ "render"; "--width"; "200"; "--height"; "150"; "--samples"; "2"; "--resume"; "-o"; "e.png" ] in
+        check_status "other options" 0 r;
+        Alcotest.(check bool) ("starts over: " ^ out) false (contains out "already rendered")) ]
+
+let () = Alcotest.run "resume" [ ("animate", animate_tests); ("render", still_tests) ]
