@@ -75,7 +75,7 @@ lancer render "$showcase" --width 240 --height 180 -q -o ref240.png >/dev/null |
 still=(lancer-mpi render "$showcase" --width 240 --height 180 --domains 1 --resume -o resumed.png)
 "${mpirun[@]}" -np 3 "${still[@]}" -q >/dev/null 2>killed.log &
 pid=$!
-for _ in $(seq 600); do [ -e resumed.png.checkpoint ] && break; sleep 0.02; done
+for _ in $(seq 3000); do [ -e resumed.png.checkpoint ] && break; sleep 0.02; done
 kill -TERM "$pid"; wait "$pid" 2>/dev/null
 if [ -e resumed.png.checkpoint ] && [ ! -e resumed.png ] \
    && run -np 3 "${still[@]}" >resumed.log 2>&1 && grep -q "tiles already rendered" resumed.log \

@@ -49,7 +49,7 @@ let spawn ~dir args =
 
 let wait_status pid = match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
 
-let rec wait_for ?(tries = 600) p = if tries > 0 && not (p ()) then (Unix.sleepf 0.02; wait_for ~tries:(tries - 1) p)
+let rec wait_for ?(tries = 3000) p = if tries > 0 && not (p ()) then (Unix.sleepf 0.02; wait_for ~tries:(tries - 1) p)
 
 let animate_tests =
   [ Alcotest.test_case "--resume redoes exactly the damaged frames and those whose late texture changed" `Quick (fun () ->
