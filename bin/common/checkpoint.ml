@@ -109,9 +109,10 @@ let tiles_done t tiles st =
   Mutex.protect t.lock (fun () ->
       Array.iteri
         (fun i k ->
+          (* Counters first: an interrupt between the two leaves the tile to do again. *)
+          t.p.counters.(k) <- Some (if i = 0 then st else Stats.create ());
           if not t.p.finished.(k) then t.count <- t.count + 1;
-          t.p.finished.(k) <- true;
-          t.p.counters.(k) <- Some (if i = 0 then st else Stats.create ()))
+          t.p.finished.(k) <- true)
         tiles);
   due t
 
