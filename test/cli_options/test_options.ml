@@ -53,8 +53,8 @@ let listed args =
   |> List.sort_uniq compare
 
 let render_options =
-  [ "--depth"; "--domains"; "--frame"; "--height"; "--output"; "--progress"; "--quality"; "--quiet"; "--samples"; "--stats";
-    "--time"; "--width" ]
+  [ "--depth"; "--domains"; "--frame"; "--height"; "--output"; "--progress"; "--quality"; "--quiet"; "--resume"; "--samples";
+    "--stats"; "--time"; "--width" ]
 
 let help_tests =
   [ Alcotest.test_case "each command lists the options it acts on, and only those" `Quick (fun () ->
@@ -62,7 +62,7 @@ let help_tests =
         check [ "render" ] render_options;
         check [ "animate" ]
           [ "--depth"; "--domains"; "--frames"; "--height"; "--output"; "--progress"; "--quality"; "--quiet"; "--resume";
-            "--samples"; "--video"; "--width" ];
+            "--samples"; "--shard"; "--video"; "--width" ];
         check [ "golden" ]
           [ "--depth"; "--domains"; "--frame"; "--height"; "--max-share"; "--progress"; "--quality"; "--quiet"; "--samples";
             "--time"; "--tolerance"; "--update"; "--width" ];
