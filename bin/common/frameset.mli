@@ -4,7 +4,7 @@
     [DIR/lancer-frames.d/] holds one journal per run ([HOST-PID-RAND.jsonl]): a line per
     frame written, with the job's digest (scene text, includes and pixel options), the
     frame's size and MD5, and the MD5 of each image and mesh that frame read. A journal has
-    one writer and is only appended to (each line flushed and synced), so runs never
+    one writer and is only appended to (each line written whole; synced at most once a second and when closed), so runs never
     overwrite each other's entries, on a local disk or on NFS, and recording a frame costs
     the same whatever the number of frames. Readers merge every journal (and the view
     below). A frame counts as done when some entry has the current job, the file on disk is
