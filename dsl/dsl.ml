@@ -71,7 +71,7 @@ let resolve sources includes errors main stmts =
     let d =
       match s.s with
       | Include (p, loc) -> (
-          let path = Loc.relative_to file p in
+          let path = Library.locate ~including:file p in
           let key = canonical path in
           match List.find_opt (fun (k, _) -> k = key) stack with
           | Some _ ->
@@ -91,7 +91,7 @@ let resolve sources includes errors main stmts =
                 err s.sloc msg;
                 Ast.Included (path, [])
               in
-              match read_file path with
+              match Library.read path with
               | Error m -> unreadable m
               | Ok text -> (
                   Hashtbl.replace sources path text;

@@ -1,5 +1,5 @@
-(* The golden registry: every scene in scenes/*.rts, scenes/gallery/*.rts and
-   scenes/gallery/maps/*.rts, rendered at 96×72 and compared with test/golden/ID.png.
+(* The golden registry: every scene in scenes/*.rts, scenes/gallery/*.rts,
+   scenes/gallery/maps/*.rts and scenes/materials/*.rts, rendered at 96×72 and compared with test/golden/ID.png.
 
    A failure writes ID.actual.png and ID.diff.png beside the golden and says where. After
    an intended change to the renderer or a scene, look at those images, then accept the new
@@ -51,9 +51,23 @@ let registry =
     ("gallery_wood", "scenes/gallery/wood.rts", "long grain on a log, a plank and a post (the pattern stretched along y)");
     ("maps_bricks", "scenes/gallery/maps/bricks.rts", "white bricks in dark mortar (the height map), stretched to 4:3");
     ("maps_smiley", "scenes/gallery/maps/smiley.rts", "the smiley image map, green mark top left, stretched to 4:3");
+    ("materials_chrome", "scenes/materials/chrome.rts", "a grey mirror-like sphere reflecting floor and sky");
+    ("materials_colors", "scenes/materials/colors.rts", "33 flat discs in the named colours, black to steel_blue, in rows of 11");
+    ("materials_copper", "scenes/materials/copper.rts", "a pale copper-coloured sphere with a dim reflection");
+    ("materials_diamond", "scenes/materials/diamond.rts", "a clear sphere, strongly reflective at the rim, the floor refracted inside");
+    ("materials_glass", "scenes/materials/glass.rts", "a clear sphere showing the floor upside down, bright rim");
+    ("materials_gold", "scenes/materials/gold.rts", "a pale gold sphere with a dim reflection");
+    ("materials_ice", "scenes/materials/ice.rts", "a slightly cloudy clear sphere");
+    ("materials_mirror", "scenes/materials/mirror.rts", "a near-perfect mirror sphere");
+    ("materials_oak", "scenes/materials/oak.rts", "a wood-ringed sphere with a faint sheen");
+    ("materials_plastic", "scenes/materials/plastic.rts", "a white glossy sphere with a highlight");
+    ("materials_rubber", "scenes/materials/rubber.rts", "a black sphere with a broad dim highlight");
+    ("materials_silver", "scenes/materials/silver.rts", "a bright mirror sphere, slightly warm");
+    ("materials_water", "scenes/materials/water.rts", "a clear sphere like glass but refracting less");
+    ("materials_white_marble", "scenes/materials/white_marble.rts", "a white sphere with grey veins");
   ]
 
-let scene_dirs = [ "scenes"; "scenes/gallery"; "scenes/gallery/maps" ]
+let scene_dirs = [ "scenes"; "scenes/gallery"; "scenes/gallery/maps"; "scenes/materials" ]
 let in_root p = Filename.concat root p
 
 (* Directory listings come from the source tree, so that a scene added there and not yet
