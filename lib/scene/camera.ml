@@ -27,6 +27,8 @@ let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3
 
 let default = make ()
 
+let with_lens_samples c n = { c with lens_samples = n }
+
 let kind_name = function Perspective -> "perspective" | Orthographic _ -> "orthographic" | Fisheye -> "fisheye"
 let depth_of_field c = c.aperture > 0.
 let[@inline] pinhole_perspective c = c.pinhole

@@ -55,6 +55,9 @@ val validate : t -> (unit, string) result
     finite number, the aperture is negative or not finite, the focal distance is not
     positive, or lens_samples is outside 1–64. *)
 
+val with_lens_samples : t -> int -> t
+(** The same camera with another number of lens samples (a quality knob). *)
+
 val kind_name : kind -> string
 (** "perspective", "orthographic" or "fisheye", as written in a scene. *)
 

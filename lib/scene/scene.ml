@@ -53,6 +53,10 @@ let with_settings t settings =
   let* () = Settings.validate settings in
   Ok { t with settings; features = derive_features settings t.camera t.lights t.objects t.accel }
 
+let with_camera t camera =
+  let* () = Camera.validate camera in
+  Ok { t with camera; features = derive_features t.settings camera t.lights t.objects t.accel }
+
 let map_lights t f =
   let lights = Array.map f t.lights in
   { t with lights; features = derive_features t.settings t.camera lights t.objects t.accel }
