@@ -1,5 +1,7 @@
-(* lancer bench quality measures depth of field: a "lens samples" row per n×n, whose error
-   against the reference falls as n grows; a scene without depth of field has no such row. *)
+(* Depth of field from the command line: lancer bench quality measures it (a "lens samples"
+   row per n×n, whose error against the reference falls as n grows; a scene without depth
+   of field has no such row), and lancer render writes the same bytes on any number of
+   domains. *)
 
 open Run_lancer
 
@@ -41,4 +43,18 @@ let tests =
     Alcotest.test_case "a pinhole camera has no lens-sample rows" `Quick (fun () ->
         Alcotest.(check int) "rows" 0 (List.length (rows 0.))) ]
 
-let () = Alcotest.run "bench lens" [ ("quality", tests) ]
+let render_tests =
+  [ Alcotest.test_case "depth of field writes the same bytes with --domains 1, 2 and 3" `Quick (fun () ->
+        let d = tmpdir "lancer-dof-domains" in
+        write_file (Filename.concat d "dof.rts") (scene 0.3);
+        let render n =
+          let out = Printf.sprintf "d%d.png" n in
+          let st, _, err = run ~exe ~dir:d [ "render"; "dof.rts"; "-o"; out; "-q"; "--samples"; "2"; "--domains"; string_of_int n ] in
+          if st <> 0 then Alcotest.failf "render failed (%d): %s" st err;
+          read_file (Filename.concat d out)
+        in
+        let one = render 1 in
+        Alcotest.(check bool) "2 domains" true (one = render 2);
+        Alcotest.(check bool) "3 domains" true (one = render 3)) ]
+
+let () = Alcotest.run "depth of field" [ ("quality", tests); ("render", render_tests) ]
