@@ -888,11 +888,11 @@ and settings ctx env scope k items =
 
 (* A gradient background and fog, from the settings block's `background` and `fog`. *)
 and environment b (s : Settings.t) =
-  let colour_arg what (v : value) = match v with VVec c when c.x >= 0. && c.y >= 0. && c.z >= 0. -> Some (Color.of_vec3 c) | _ -> ignore what; None in
+  let colour_arg (v : value) = match v with VVec c when c.x >= 0. && c.y >= 0. && c.z >= 0. -> Some (Color.of_vec3 c) | _ -> None in
   let s =
     match live b "background" with
     | Some ({ value = VTex { tname = "gradient"; targs = [ h; z ]; _ }; _ } as f) -> (
-        match (colour_arg "horizon" h, colour_arg "zenith" z) with
+        match (colour_arg h, colour_arg z) with
         | Some horizon, Some zenith -> { s with background = horizon; sky = Some { horizon; zenith } }
         | _ -> bad b f.vloc "a background gradient(HORIZON, ZENITH) takes two colours (r, g, b) with no negative component"; s)
     | Some ({ value = VTex _; _ } as f) ->
@@ -1028,7 +1028,13 @@ and light ctx env scope k items =
               match Light.spot ~position ~point_at ~inner ~outer with
               | Ok sp -> Some sp
               | Error m ->
-                  let loc = if Vec3.max_abs (Vec3.sub point_at position) = 0. then pf.vloc else match field b "outer" with Some f -> f.vloc | None -> (match field b "inner" with Some f -> f.vloc | None -> pf.vloc) in
+                  (* At point_at when it is the position, else at the angle written last. *)
+                  let at_angle = List.filter_map (field b) [ "outer"; "inner" ] in
+                  let loc =
+                    match at_angle with
+                    | f :: _ when Vec3.max_abs (Vec3.sub point_at position) > 0. -> f.vloc
+                    | _ -> pf.vloc
+                  in
                   bad b loc "%s" m;
                   None)
       in
