@@ -125,6 +125,11 @@ let dof_tests =
     Alcotest.test_case "each sample casts lens_samples² primary rays" `Quick (fun () ->
         let _, st = Render.render (dof_scene ~lens_samples:3 ~samples:2 ()) in
         Alcotest.(check int) "primary" (48 * 36 * 4 * 9) st.primary);
+    Alcotest.test_case "the ray estimate counts lens_samples² camera rays per sample" `Quick (fun () ->
+        let c = Cost.estimate (dof_scene ~lens_samples:3 ~samples:2 ()) in
+        Alcotest.(check (float 0.)) "primary" (Float.of_int (48 * 36 * 4 * 9)) c.primary;
+        let pinhole = Cost.estimate (dof_scene ~aperture:0. ~lens_samples:3 ~samples:2 ()) in
+        Alcotest.(check (float 0.)) "no aperture: no lens rays" (Float.of_int (48 * 36 * 4)) pinhole.primary);
     Alcotest.test_case "the error against a many-sample render falls as lens samples grow" `Quick (fun () ->
         let bytes n = let fb, _ = Render.render (dof_scene ~lens_samples:n ()) in Image.to_bytes Settings.Srgb fb in
         let reference = bytes 16 in

@@ -127,7 +127,7 @@ let test_color_maps () =
   check_err ~at:"color_map" "sphere { center: (0, 0, 0), radius: 1, material: material { texture: color_map((0, (1, 1, 1))) } }"
     "write gradient(AXIS, color_map(…))";
   check_err "sphere { center: (1, 2), radius: 1 }" "`center` must be a vector (x, y, z), got a pair (t, colour)";
-  check_err "let v = (1, " "after `(x,`, expected the second component of the vector (or of the colour-map entry (t, colour))";
+  check_err "let v = (1, }" "after `(x,`, expected the second component of the vector (or of the colour-map entry (t, colour))";
   check_err "let v = (1, 2 }" "or `)` to close a colour-map entry (t, colour)"
 
 let test_json_and_summary () =
