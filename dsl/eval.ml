@@ -912,13 +912,18 @@ and camera ctx env scope k items =
   check_names b [ "kind"; "position"; "look_at"; "up"; "fov"; "width"; "aperture"; "focal_distance"; "lens_samples" ];
   let d = Camera.default in
   let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
+  (* An unknown kind is reported once; the fields that depend on the kind are then not
+     checked against a guess. *)
   let kind_name =
     match live b "kind" with
     | None -> "perspective"
     | Some { value = VStr s; _ } when List.mem s kinds -> s
     | Some { value = VStr s; vloc; _ } ->
-        bad b vloc "unknown camera kind \"%s\"%s; use \"perspective\", \"orthographic\" or \"fisheye\"" s (hint s kinds); "perspective"
-    | Some f -> bad b f.vloc "`kind` must be a string (\"perspective\", \"orthographic\" or \"fisheye\"), got %s" (type_name f.value); "perspective"
+        (match suggest s kinds with
+         | Some k -> bad b vloc "unknown camera kind \"%s\"; did you mean \"%s\"?" s k
+         | None -> bad b vloc "unknown camera kind \"%s\"; use \"perspective\", \"orthographic\" or \"fisheye\"" s);
+        "unknown"
+    | Some f -> bad b f.vloc "`kind` must be a string (\"perspective\", \"orthographic\" or \"fisheye\"), got %s" (type_name f.value); "unknown"
   in
   let position = point b "position" ~default:d.position in
   let look_at = point b "look_at" ~default:d.look_at in
@@ -934,7 +939,7 @@ and camera ctx env scope k items =
    | _ -> ());
   let width =
     match field b "width" with
-    | Some f when kind_name <> "orthographic" -> bad b f.vloc "`width` is for an orthographic camera (kind: \"orthographic\")"; 1.
+    | Some f when kind_name <> "orthographic" && kind_name <> "unknown" -> bad b f.vloc "`width` is for an orthographic camera (kind: \"orthographic\")"; 1.
     | None when kind_name = "orthographic" -> bad b k.nloc "an orthographic camera needs a `width` (world units across the image)"; 1.
     | _ -> length b "width" ~default:1.
   in

@@ -20,7 +20,7 @@ let spot ~position ~point_at ~inner ~outer =
   let d = Vec3.sub point_at position in
   if Vec3.max_abs d = 0. then Error "a spot light's point_at must differ from its position"
   else if not (inner >= 0. && inner <= outer && outer <= 180.) then
-    Error (Printf.sprintf "a spot light needs 0 <= inner <= outer <= 180 degrees (got inner %g, outer %g)" inner outer)
+    Error (Printf.sprintf "a spot light needs 0 ≤ inner ≤ outer ≤ 180 degrees (got inner %g, outer %g)" inner outer)
   else
     let rad a = a *. Float.pi /. 180. in
     Ok { point_at; axis = Vec3.normalize d; inner; outer; cos_inner = Float.cos (rad inner); cos_outer = Float.cos (rad outer) }

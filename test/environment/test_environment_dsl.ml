@@ -60,7 +60,7 @@ let test_cameras () =
   Alcotest.(check bool) "a plain camera is the pinhole" true (Camera.pinhole_perspective sc.camera)
 
 let test_camera_errors () =
-  check_err ~at:{|"orthgraphic"|} {|camera { kind: "orthgraphic", width: 2 }|} {|unknown camera kind "orthgraphic"; did you mean `orthographic`?|};
+  check_err ~at:{|"orthgraphic"|} {|camera { kind: "orthgraphic", width: 2 }|} {|unknown camera kind "orthgraphic"; did you mean "orthographic"?|};
   check_err ~at:"camera" {|camera { kind: "orthographic" }|} "an orthographic camera needs a `width`";
   check_err ~at:"30" {|camera { kind: "orthographic", width: 2, fov: 30 }|} "an orthographic camera has no `fov`";
   check_err ~at:"2" {|camera { width: 2 }|} "`width` is for an orthographic camera";
@@ -84,7 +84,7 @@ let test_spots () =
    | Light.Point { spot = Some sp; _ } -> close "default inner" 30. sp.inner; close "default outer" 45. sp.outer
    | _ -> Alcotest.fail "not a spot");
   Alcotest.(check bool) "feature" true sc.features.spot_lights;
-  check_err ~at:"20 }" "light { position: (0, 5, 0), point_at: (0, 0, 0), inner: 30, outer: 20 }" "0 <= inner <= outer <= 180";
+  check_err ~at:"20 }" "light { position: (0, 5, 0), point_at: (0, 0, 0), inner: 30, outer: 20 }" "0 ≤ inner ≤ outer ≤ 180";
   check_err ~at:"(0, 5, 0) }" "light { position: (0, 5, 0), point_at: (0, 5, 0) }" "point_at must differ from its position";
   check_err ~at:"inner" "light { position: (0, 5, 0), inner: 10 }" "`inner` is for a spot light: give it a `point_at`";
   check_err "light { direction: (0, -1, 0), point_at: (0, 0, 0) }" "unknown field `point_at` in light"
