@@ -309,10 +309,13 @@ let call_builtin name loc (args : (value * Loc.t) list) =
   | "rgb" -> arity 3; VVec (Vec3.v (num 0) (num 1) (num 2))
   | "hsv" -> arity 3; VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
   | "rand" -> arity 1; VNum (Hash.of_float (num 0))
-  | "checker" | "stripes" | "marble" | "wood" -> tex 3
+  | "checker" | "stripes" -> tex 3
+  | "marble" | "wood" ->
+      if n <> 2 && n <> 3 then fail loc "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d" name n;
+      tex n
   | "noise" ->
       if n <> 2 && n <> 3 then
-        fail loc "`noise` takes 3 arguments (c1, c2, scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
+        fail loc "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
       tex n
   | "gradient" -> (
       (* gradient(AXIS, MAP) is a texture; gradient(HORIZON, ZENITH) a background. *)
@@ -629,6 +632,18 @@ and texture ctx t =
   match (t.tname, List.length t.targs) with
   | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
   | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
+  | ("noise" | "marble" | "wood"), 2 when (match t.targs with VTex { tname = "color_map"; _ } :: _ -> true | _ -> false) -> (
+      match t.targs with
+      | [ VTex cm; _ ] ->
+          let* scale = size 1 "scale" in
+          let* map, mj = color_map cm in
+          let pattern =
+            match t.tname with "noise" -> Texture.Noise_pattern scale | "marble" -> Texture.Marble_pattern scale | _ -> Texture.Wood_pattern scale
+          in
+          Ok (Texture.Mapped { pattern; map }, `Assoc [ ("kind", `String t.tname); ("map", mj); ("scale", `Float scale) ])
+      | _ -> Error (Printf.sprintf "%s(color_map(…), scale) takes a colour map and a number" t.tname))
+  | "marble", 2 | "wood", 2 ->
+      Error (Printf.sprintf "%s takes (c1, c2, scale) or (color_map(…), scale)" t.tname)
   | "noise", 3 -> solid (fun c1 c2 scale -> Ok (Texture.Noise { c1; c2; scale }))
   | "marble", _ -> solid (fun c1 c2 scale -> Ok (Texture.Marble { c1; c2; scale }))
   | "wood", _ -> solid (fun c1 c2 scale -> Ok (Texture.Wood { c1; c2; scale }))

@@ -16,7 +16,7 @@ type t = {
   spot_lights : bool;  (** some light is a spot light *)
   sky : bool;  (** the background is a gradient *)
   fog : bool;  (** rays are fogged *)
-  color_maps : bool;  (** some material has a gradient (colour map) texture *)
+  color_maps : bool;  (** some material's texture is coloured by a colour map *)
 }
 
 val to_list : t -> (string * bool) list

@@ -26,7 +26,7 @@ let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
     spot_lights = Array.exists Light.is_spot lights;
     sky = Option.is_some s.sky;
     fog = Option.is_some s.fog;
-    color_maps = any (fun m -> match m.Material.texture with Some (Texture.Gradient _) -> true | _ -> false) }
+    color_maps = any (fun m -> match m.Material.texture with Some (Texture.Gradient _ | Texture.Mapped _) -> true | _ -> false) }
 
 let ( let* ) = Result.bind
 

@@ -38,7 +38,10 @@ type t =
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
   | Gradient of { axis : Vec3.t; map : color_map }
+  | Mapped of { pattern : pattern; map : color_map }
   | Image of { img : Image.t; scale : float }
+
+and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float
 
 (* ⌊x⌋ as an int, clamped so that huge or non-finite coordinates cannot reach the
    unspecified cases of int_of_float; only the parity is used. *)
@@ -77,6 +80,26 @@ let bilinear (img : Image.t) u v =
     in
     Color.v (lerp 0) (lerp 1) (lerp 2)
 
+(* The value in [0, 1] (before clamping) that mixes the two colours of a noise, marble or
+   wood texture, or indexes a colour map. *)
+let[@inline] pattern_value pat (p : Vec3.t) =
+  match pat with
+  | Noise_pattern scale ->
+      let s = 1. /. scale in
+      0.5 *. (1. +. Noise.perlin (p.x *. s) (p.y *. s) (p.z *. s))
+  | Marble_pattern scale ->
+      let q = Vec3.smul (1. /. scale) p in
+      let s = Float.sin (Float.pi *. (q.x +. (4. *. Noise.turbulence q))) in
+      0.5 *. (1. +. s)
+  | Wood_pattern scale ->
+      let q = Vec3.smul (1. /. scale) p in
+      (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
+         the axis (grain) and across it (irregular rings). *)
+      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
+      let f = if Float.is_finite r then r -. Float.floor r else 0. in
+      (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
+      f *. f *. (3. -. (2. *. f))
+
 let eval t (p : Vec3.t) u v =
   match t with
   | Solid c -> c
@@ -84,21 +107,12 @@ let eval t (p : Vec3.t) u v =
       let k = ifloor (p.x /. size) + ifloor (p.y /. size) + ifloor (p.z /. size) in
       if k land 1 = 0 then c1 else c2
   | Stripes { c1; c2; size } -> if ifloor (p.x /. size) land 1 = 0 then c1 else c2
-  | Noise { c1; c2; scale } ->
-      let s = 1. /. scale in
-      mix c1 c2 (0.5 *. (1. +. Noise.perlin (p.x *. s) (p.y *. s) (p.z *. s)))
-  | Marble { c1; c2; scale } ->
-      let q = Vec3.smul (1. /. scale) p in
-      let s = Float.sin (Float.pi *. (q.x +. (4. *. Noise.turbulence q))) in
-      mix c1 c2 (0.5 *. (1. +. s))
-  | Wood { c1; c2; scale } ->
-      let q = Vec3.smul (1. /. scale) p in
-      (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
-         the axis (grain) and across it (irregular rings). *)
-      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
-      let f = if Float.is_finite r then r -. Float.floor r else 0. in
-      (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
-      mix c1 c2 (f *. f *. (3. -. (2. *. f)))
+  | Noise { c1; c2; scale } -> mix c1 c2 (pattern_value (Noise_pattern scale) p)
+  | Marble { c1; c2; scale } -> mix c1 c2 (pattern_value (Marble_pattern scale) p)
+  | Wood { c1; c2; scale } -> mix c1 c2 (pattern_value (Wood_pattern scale) p)
+  | Mapped { pattern; map } ->
+      let s = pattern_value pattern p in
+      lookup map (if s > 0. then if s < 1. then s else 1. else 0.)
   | Gradient { axis; map } ->
       let x = Vec3.dot p axis in
       (* fract; a non-finite coordinate takes the map's start rather than NaN. *)
@@ -106,7 +120,7 @@ let eval t (p : Vec3.t) u v =
       lookup map f
   | Image { img; scale } -> bilinear img (u *. scale) (v *. scale)
 
-let needs_uv = function Image _ -> true | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ -> false
+let needs_uv = function Image _ -> true | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ | Mapped _ -> false
 
 let name = function
   | Solid _ -> "solid"
@@ -116,4 +130,7 @@ let name = function
   | Marble _ -> "marble"
   | Wood _ -> "wood"
   | Gradient _ -> "gradient"
+  | Mapped { pattern = Noise_pattern _; _ } -> "noise"
+  | Mapped { pattern = Marble_pattern _; _ } -> "marble"
+  | Mapped { pattern = Wood_pattern _; _ } -> "wood"
   | Image _ -> "image"

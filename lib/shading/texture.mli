@@ -33,10 +33,15 @@ type t =
           smoothly from c1 (ring start) to c2 *)
   | Gradient of { axis : Vec3.t; map : color_map }
       (** value fract(P·axis) = P·axis − ⌊P·axis⌋ (object space), coloured by the map *)
+  | Mapped of { pattern : pattern; map : color_map }
+      (** a noise, marble or wood pattern coloured by a map: the value that would mix
+          c1 and c2, clamped to [0, 1], looked up in the map *)
   | Image of { img : Image.t; scale : float }
       (** a linear framebuffer (from {!Image.read_linear}) on (u, v): u left to right, v
           bottom to top, [scale] copies across the unit square in each direction,
           bilinear filtering, wrapping at the edges *)
+
+and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float  (** each with its scale *)
 
 val eval : t -> Vec3.t -> float -> float -> Color.t
 (** [eval tex p u v] is the albedo at object-space point [p] with texture coordinates

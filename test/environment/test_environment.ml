@@ -255,6 +255,21 @@ let map_tests =
         check_color "P·axis = 0.6" (Texture.eval tex (v 5. 0.3 0.) 0. 0.) (Color.v 0. 1. 0.);
         check_color "P·axis = 2.3" (Texture.eval tex (v 0. 1.15 0.) 0. 0.) (Color.v 0.75 0. 0.25);
         check_color "P·axis = −0.7 → 0.3" (Texture.eval tex (v 0. (-0.35) 0.) 0. 0.) (Color.v 0.75 0. 0.25));
+    Alcotest.test_case "a colour map on marble, wood or noise replaces the mix of its two colours" `Quick (fun () ->
+        (* With the map black → white, the mapped texture is the two-colour one with
+           c1 = black and c2 = white, at every point. *)
+        let bw = ok (Texture.color_map [ (0., Color.black); (1., Color.white) ]) in
+        List.iter
+          (fun (name, pattern, two) ->
+            for k = 0 to 20 do
+              let p = v (0.37 *. Float.of_int k) (0.11 *. Float.of_int k) (-0.23 *. Float.of_int k) in
+              check_color (Printf.sprintf "%s at point %d" name k)
+                (Texture.eval (Texture.Mapped { pattern; map = bw }) p 0. 0.)
+                (Texture.eval two p 0. 0.)
+            done)
+          [ ("marble", Texture.Marble_pattern 0.7, Texture.Marble { c1 = Color.black; c2 = Color.white; scale = 0.7 });
+            ("wood", Texture.Wood_pattern 0.3, Texture.Wood { c1 = Color.black; c2 = Color.white; scale = 0.3 });
+            ("noise", Texture.Noise_pattern 0.5, Texture.Noise { c1 = Color.black; c2 = Color.white; scale = 0.5 }) ]);
     Alcotest.test_case "entries out of order or outside [0, 1] are refused" `Quick (fun () ->
         Alcotest.(check bool) "decreasing" true (Result.is_error (Texture.color_map [ (0.5, Color.white); (0.4, Color.black) ]));
         Alcotest.(check bool) "t > 1" true (Result.is_error (Texture.color_map [ (1.5, Color.white) ]));

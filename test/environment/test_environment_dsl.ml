@@ -120,6 +120,20 @@ let test_color_maps () =
   Alcotest.(check bool) "feature" true sc.features.color_maps;
   let sc = scene "let m = color_map((0, (1, 1, 1)), (1, (0, 0, 0)))\nlet t = gradient((1, 0, 0), m)\nplane { normal: (0, 1, 0), material: material { texture: t } }" in
   Alcotest.(check bool) "through let" true (match sc.objects.(0).material.texture with Some (Texture.Gradient _) -> true | _ -> false);
+  let sc =
+    scene
+      "let m = color_map((0, (1, 1, 1)), (0.5, (0.2, 0.4, 0.1)), (1, (0, 0, 0)))\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: marble(m, 0.5) } }\nsphere { center: (3, 0, 0), radius: 1, material: material { texture: wood(m, 0.2) } }\nsphere { center: (6, 0, 0), radius: 1, material: material { texture: noise(m, 1) } }"
+  in
+  List.iteri
+    (fun i want ->
+      match sc.objects.(i).material.texture with
+      | Some (Texture.Mapped { pattern; _ }) -> Alcotest.(check bool) ("pattern " ^ string_of_int i) true (pattern = want)
+      | _ -> Alcotest.fail "not a mapped texture")
+    [ Texture.Marble_pattern 0.5; Texture.Wood_pattern 0.2; Texture.Noise_pattern 1. ];
+  Alcotest.(check bool) "mapped textures count as colour maps" true sc.features.color_maps;
+  check_err "let m = color_map((0, (1, 1, 1)))\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: marble(m) } }"
+    "`marble` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got 1";
+  check_err "sphere { center: (0, 0, 0), radius: 1, material: material { texture: wood((1, 1, 1), 2) } }" "wood takes (c1, c2, scale) or (color_map(…), scale)";
   check_err ~at:"(0.2" "let m = color_map((0.5, (1, 1, 1)), (0.2, (0, 0, 0)))" "entry 2 of `color_map` has t = 0.2, below the 0.5 before it";
   check_err ~at:"(2," "let m = color_map((2, (1, 1, 1)))" "entry 1 of `color_map` has t = 2; t must be in [0, 1]";
   check_err ~at:"((1" "let m = color_map(((1, 1, 1), 0))" "must be (t, colour) with t a number";

@@ -33,7 +33,7 @@ let registry =
     ("gallery_disk", "scenes/gallery/disk.rts", "disks flat on the floor, facing the camera and tilted, with their shadows");
     ("gallery_fisheye", "scenes/gallery/fisheye.rts", "looking up inside a ring of columns: sky, spokes and a sun in a circle; zenith colour outside it");
     ("gallery_fog", "scenes/gallery/fog.rts", "two rows of columns fading into grey haze with distance; a fogged reflection");
-    ("gallery_gradient", "scenes/gallery/gradient.rts", "a rainbow along y, bands along a tilted axis, hard-stepped bands on a box, floor stripes");
+    ("gallery_gradient", "scenes/gallery/gradient.rts", "a rainbow along y, bands along a tilted axis, hard-stepped bands on a box, floor stripes, a blue-gold marble in front");
     ("gallery_group", "scenes/gallery/group.rts", "three macro-built trees: crowns take the group material, trunks stay brown");
     ("gallery_image", "scenes/gallery/image.rts", "the smiley upright on a panel, wrapped on a sphere, twice per box face");
     ("gallery_marble", "scenes/gallery/marble.rts", "veined marble sphere, green marble block, grey marble floor");
