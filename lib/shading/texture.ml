@@ -82,7 +82,7 @@ let bilinear (img : Image.t) u v =
 
 (* The value in [0, 1] (before clamping) that mixes the two colours of a noise, marble or
    wood texture, or indexes a colour map. *)
-let[@inline] pattern_value pat (p : Vec3.t) =
+let pattern_value pat (p : Vec3.t) =
   match pat with
   | Noise_pattern scale ->
       let s = 1. /. scale in
@@ -107,9 +107,20 @@ let eval t (p : Vec3.t) u v =
       let k = ifloor (p.x /. size) + ifloor (p.y /. size) + ifloor (p.z /. size) in
       if k land 1 = 0 then c1 else c2
   | Stripes { c1; c2; size } -> if ifloor (p.x /. size) land 1 = 0 then c1 else c2
-  | Noise { c1; c2; scale } -> mix c1 c2 (pattern_value (Noise_pattern scale) p)
-  | Marble { c1; c2; scale } -> mix c1 c2 (pattern_value (Marble_pattern scale) p)
-  | Wood { c1; c2; scale } -> mix c1 c2 (pattern_value (Wood_pattern scale) p)
+  (* The two-colour forms compute their value in line (no boxed float on the way); the
+     same formulas as pattern_value, which a test holds them to. *)
+  | Noise { c1; c2; scale } ->
+      let s = 1. /. scale in
+      mix c1 c2 (0.5 *. (1. +. Noise.perlin (p.x *. s) (p.y *. s) (p.z *. s)))
+  | Marble { c1; c2; scale } ->
+      let q = Vec3.smul (1. /. scale) p in
+      let s = Float.sin (Float.pi *. (q.x +. (4. *. Noise.turbulence q))) in
+      mix c1 c2 (0.5 *. (1. +. s))
+  | Wood { c1; c2; scale } ->
+      let q = Vec3.smul (1. /. scale) p in
+      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
+      let f = if Float.is_finite r then r -. Float.floor r else 0. in
+      mix c1 c2 (f *. f *. (3. -. (2. *. f)))
   | Mapped { pattern; map } ->
       let s = pattern_value pattern p in
       lookup map (if s > 0. then if s < 1. then s else 1. else 0.)
