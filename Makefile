@@ -39,18 +39,23 @@ demo: out/bin/lancer
 	@command -v ffmpeg >/dev/null 2>&1 && out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
 	@echo "lancer itself is out/bin/lancer: run 'make install' to put it in $(PREFIX)/bin"
 
-# lancer, lancer's man pages and shell completion, under PREFIX (default ~/.local).
+# lancer, lancer's man pages and shell completion, and its scene library (share/lancer/),
+# under PREFIX (default ~/.local).
 install: out/bin/lancer
 	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1 $(PREFIX)/share/bash-completion/completions
 	install -m 0755 out/bin/lancer $(PREFIX)/bin/lancer
 	install -m 0644 _build/default/bin/share/*.1 $(PREFIX)/share/man/man1/
 	install -m 0644 _build/default/bin/share/lancer.bash $(PREFIX)/share/bash-completion/completions/lancer
-	@echo "installed $(PREFIX)/bin/lancer, its man pages and bash completion"
+	install -d $(PREFIX)/share/lancer
+	install -m 0644 share/lancer/materials.rts share/lancer/colors.rts $(PREFIX)/share/lancer/
+	@echo "installed $(PREFIX)/bin/lancer, its man pages, bash completion and scene library ($(PREFIX)/share/lancer/)"
 	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
 
 uninstall:
 	rm -f $(PREFIX)/bin/lancer $(PREFIX)/share/man/man1/lancer.1 $(PREFIX)/share/man/man1/lancer-*.1 \
-	  $(PREFIX)/share/bash-completion/completions/lancer
+	  $(PREFIX)/share/bash-completion/completions/lancer \
+	  $(PREFIX)/share/lancer/materials.rts $(PREFIX)/share/lancer/colors.rts
+	-rmdir $(PREFIX)/share/lancer 2>/dev/null
 
 test: deps
 	$(RUN) $(DUNE) build -j $(JOBS) @install

@@ -10,6 +10,7 @@ and expr_desc =
   | Bool of bool
   | Var of string
   | Vec of expr * expr * expr
+  | Pair of expr * expr
   | Binop of binop * expr * expr
   | Unop of unop * expr
   | Dot of expr * name

@@ -17,6 +17,7 @@ and expr_desc =
   | Bool of bool
   | Var of string
   | Vec of expr * expr * expr
+  | Pair of expr * expr  (** [(t, c)]: an entry of a colour map *)
   | Binop of binop * expr * expr
   | Unop of unop * expr
   | Dot of expr * name  (** [e.x], [ball.position] *)

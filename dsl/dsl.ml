@@ -87,7 +87,7 @@ let resolve sources includes errors main stmts =
     let d =
       match s.s with
       | Include (p, loc) -> (
-          let path = Loc.relative_to file p in
+          let path = Library.locate ~including:file p in
           let key = canonical path in
           match List.find_opt (fun (k, _) -> k = key) stack with
           | Some _ ->
@@ -107,7 +107,7 @@ let resolve sources includes errors main stmts =
                 err s.sloc msg;
                 Ast.Included (path, [])
               in
-              match read_file path with
+              match Library.read path with
               | Error m -> unreadable m
               | Ok text -> (
                   Hashtbl.replace sources path text;
@@ -297,6 +297,8 @@ let count_by key xs =
   List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
 
 let light_kind = function
+  | Light.Point { spot = Some _; _ } as l when Light.is_area l -> "soft spot"
+  | Light.Point { spot = Some _; _ } -> "spot"
   | Light.Point _ as l when Light.is_area l -> "area"
   | Light.Point p when p.radius > 0. -> "point (radius without samples: hard shadows)"
   | Light.Point _ -> "point"
@@ -342,6 +344,12 @@ let summary ?body_state:_ t (sc : Scene.t) =
   in
   line "image: %d×%d, %d×%d samples per pixel (jitter %s, %s), depth %d" s.width s.height s.samples s.samples
     (if s.jitter then "on" else "off") adaptive s.depth;
+  (let c = sc.camera in
+   line "camera: %s%s%s" (Camera.kind_name c.kind)
+     (match c.kind with Camera.Orthographic { width } -> Printf.sprintf ", %g wide" width | Perspective | Fisheye -> Printf.sprintf ", fov %g°" c.fov)
+     (if Camera.depth_of_field c then
+        Printf.sprintf ", depth of field (aperture %g, focused at %g, %d×%d lens samples)" c.aperture c.focal_distance c.lens_samples c.lens_samples
+      else ""));
   (match animation t with
    | Some (fps, n) -> line "animation: %d frames at %g fps (%g s); this is frame %d, time %g s" n fps (Float.of_int n /. fps) sc.frame sc.time
    | None -> line "animation: none (a still)");
@@ -365,8 +373,11 @@ let cj (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
 let light_json = function
   | Light.Point p ->
       `Assoc
-        [ ("kind", `String "point"); ("position", vj p.position); ("color", cj p.color); ("intensity", `Float p.intensity);
+        ([ ("kind", `String (if Option.is_some p.spot then "spot" else "point")); ("position", vj p.position); ("color", cj p.color); ("intensity", `Float p.intensity);
           ("attenuation", vj p.attenuation); ("radius", `Float p.radius); ("samples", `Int p.samples) ]
+        @ (match p.spot with
+           | None -> []
+           | Some sp -> [ ("point_at", vj sp.point_at); ("inner", `Float sp.inner); ("outer", `Float sp.outer) ]))
   | Light.Directional d ->
       `Assoc [ ("kind", `String "directional"); ("direction", vj d.direction); ("color", cj d.color); ("intensity", `Float d.intensity) ]
 
@@ -401,9 +412,18 @@ let to_json ?body_state t (sc : Scene.t) =
         `Assoc
           [ ("width", `Int s.width); ("height", `Int s.height); ("depth", `Int s.depth); ("samples", `Int s.samples);
             ("jitter", `Bool s.jitter); ("adaptive", `Float s.adaptive); ("shadows", `Bool s.shadows);
-            ("background", cj s.background); ("ambient", cj s.ambient);
+            ( "background",
+              match s.sky with
+              | None -> cj s.background
+              | Some sk -> `Assoc [ ("kind", `String "gradient"); ("horizon", cj sk.horizon); ("zenith", cj sk.zenith) ] );
+            ("fog", match s.fog with None -> `Null | Some f -> `Assoc [ ("color", cj f.color); ("distance", `Float f.distance) ]);
+            ("ambient", cj s.ambient);
             ("gamma", match s.gamma with Settings.Srgb -> `String "srgb" | Settings.Power g -> `Float g) ] );
-      ("camera", `Assoc [ ("position", vj c.position); ("look_at", vj c.look_at); ("up", vj c.up); ("fov", `Float c.fov) ]);
+      ( "camera",
+        `Assoc
+          ([ ("kind", `String (Camera.kind_name c.kind)); ("position", vj c.position); ("look_at", vj c.look_at); ("up", vj c.up) ]
+          @ (match c.kind with Camera.Orthographic { width } -> [ ("width", `Float width) ] | Perspective | Fisheye -> [ ("fov", `Float c.fov) ])
+          @ [ ("aperture", `Float c.aperture); ("focal_distance", `Float c.focal_distance); ("lens_samples", `Int c.lens_samples) ]) );
       ("animation", match animation t with Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ] | None -> `Null);
       ("lights", `List (List.map light_json (Array.to_list sc.lights)));
       ("objects", `List objects);

@@ -98,6 +98,7 @@ type value =
   | VStr of string
   | VMat of Material.t * (string * Yojson.Safe.t) list  (** texture and bump descriptions *)
   | VTex of tex
+  | VPair of value * value  (** [(t, c)], an entry of a colour map *)
   | VFun of closure
   | VMacro of macro
   | VBuiltin of string
@@ -117,7 +118,10 @@ let type_name = function
   | VVec _ -> "a vector"
   | VStr _ -> "a string"
   | VMat _ -> "a material"
+  | VTex { tname = "fog"; _ } -> "a fog (fog(colour, distance))"
+  | VTex { tname = "color_map"; _ } -> "a colour map"
   | VTex _ -> "a texture"
+  | VPair _ -> "a pair (t, colour)"
   | VFun _ -> "a function"
   | VMacro _ -> "a scene macro"
   | VBuiltin _ -> "a built-in function"
@@ -222,7 +226,8 @@ let cjson (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
 let builtin_names =
   [ "sin"; "cos"; "tan"; "asin"; "acos"; "atan"; "atan2"; "radians"; "degrees"; "sqrt"; "abs"; "floor";
     "ceil"; "round"; "min"; "max"; "pow"; "exp"; "log"; "clamp"; "mix"; "dot"; "cross"; "length";
-    "normalize"; "rgb"; "hsv"; "rand"; "checker"; "stripes"; "noise"; "marble"; "wood"; "image" ]
+    "normalize"; "rgb"; "hsv"; "rand"; "checker"; "stripes"; "noise"; "marble"; "wood"; "image"; "gradient";
+    "color_map"; "fog" ]
 
 let hsv h s v =
   let h = (h -. Float.floor h) *. 6. in
@@ -306,11 +311,48 @@ let call_builtin name loc (args : (value * Loc.t) list) =
   | "rgb" -> arity 3; VVec (Vec3.v (num 0) (num 1) (num 2))
   | "hsv" -> arity 3; VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
   | "rand" -> arity 1; VNum (Hash.of_float (num 0))
-  | "checker" | "stripes" | "marble" | "wood" -> tex 3
+  | "checker" | "stripes" -> tex 3
+  | "marble" | "wood" ->
+      if n <> 2 && n <> 3 then fail loc "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d" name n;
+      tex n
   | "noise" ->
       if n <> 2 && n <> 3 then
-        fail loc "`noise` takes 3 arguments (c1, c2, scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
+        fail loc "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
       tex n
+  | "gradient" -> (
+      (* gradient(AXIS, MAP) is a texture; gradient(HORIZON, ZENITH) a background. *)
+      arity 2;
+      ignore (vec 0);
+      match List.nth args 1 with
+      | VTex { tname = "color_map"; _ }, _ | VVec _, _ -> tex 2
+      | v, l -> fail l "argument 2 of `gradient` must be a color_map(…) (a texture along an axis) or a colour (a background from horizon to zenith), got %s" (type_name v))
+  | "color_map" ->
+      if n = 0 then fail loc "`color_map` needs at least one entry (t, colour)";
+      ignore
+        (List.fold_left
+           (fun (i, prev) (v, l) ->
+             (match v with
+              | VPair (VNum t, VVec c) ->
+                  if not (t >= 0. && t <= 1.) then fail l "entry %d of `color_map` has t = %s; t must be in [0, 1]" i (fmt_num t);
+                  if t < prev then fail l "entry %d of `color_map` has t = %s, below the %s before it: entries go in increasing t" i (fmt_num t) (fmt_num prev);
+                  if c.x < 0. || c.y < 0. || c.z < 0. then fail l "entry %d of `color_map` has a colour with a negative component" i
+              | _ -> ());
+             (i + 1, match v with VPair (VNum t, _) -> t | _ -> prev))
+           (1, 0.) args);
+      List.iteri
+        (fun i (v, l) ->
+          match v with
+          | VPair (VNum _, VVec _) -> ()
+          | VPair (a, b) -> fail l "entry %d of `color_map` must be (t, colour) with t a number and colour (r, g, b), got (%s, %s)" (i + 1) (type_name a) (type_name b)
+          | v -> fail l "entry %d of `color_map` must be a pair (t, colour), e.g. (0.5, (1, 0, 0)), got %s" (i + 1) (type_name v))
+        args;
+      tex n
+  | "fog" ->
+      arity 2;
+      ignore (vec 0);
+      let d = num 1 in
+      if not (d > 0. && d <= 1e150) then fail (snd (List.nth args 1)) "the distance of `fog` must be in (0, 1e150], got %s" (fmt_num d);
+      tex 2
   | "image" ->
       arity 2;
       (match fst (List.nth args 0) with
@@ -361,6 +403,10 @@ let rec eval ctx env (e : expr) : value =
       let y = n b in
       let z = n c in
       VVec (Vec3.v x y z)
+  | Pair (a, b) ->
+      let x = eval ctx env a in
+      let y = eval ctx env b in
+      VPair (x, y)
   | Unop (Neg, a) -> (
       match eval ctx env a with
       | VNum x -> VNum (-.x)
@@ -589,10 +635,33 @@ and texture ctx t =
   match (t.tname, List.length t.targs) with
   | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
   | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
+  | ("noise" | "marble" | "wood"), 2 when (match t.targs with VTex { tname = "color_map"; _ } :: _ -> true | _ -> false) -> (
+      match t.targs with
+      | [ VTex cm; _ ] ->
+          let* scale = size 1 "scale" in
+          let* map, mj = color_map cm in
+          let pattern =
+            match t.tname with "noise" -> Texture.Noise_pattern scale | "marble" -> Texture.Marble_pattern scale | _ -> Texture.Wood_pattern scale
+          in
+          Ok (Texture.Mapped { pattern; map }, `Assoc [ ("kind", `String t.tname); ("map", mj); ("scale", `Float scale) ])
+      | _ -> Error (Printf.sprintf "%s(color_map(…), scale) takes a colour map and a number" t.tname))
+  | "marble", 2 | "wood", 2 ->
+      Error (Printf.sprintf "%s takes (c1, c2, scale) or (color_map(…), scale)" t.tname)
   | "noise", 3 -> solid (fun c1 c2 scale -> Ok (Texture.Noise { c1; c2; scale }))
   | "marble", _ -> solid (fun c1 c2 scale -> Ok (Texture.Marble { c1; c2; scale }))
   | "wood", _ -> solid (fun c1 c2 scale -> Ok (Texture.Wood { c1; c2; scale }))
   | "noise", _ -> Error "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise takes (c1, c2, scale)"
+  | "gradient", _ -> (
+      match t.targs with
+      | [ VVec axis; VTex ({ tname = "color_map"; _ } as cm) ] ->
+          if not (Vec3.max_abs axis > 0. && Vec3.max_abs axis <= 1e150) then
+            Error "the axis of `gradient` must be a non-zero vector within ±1e150"
+          else
+            let* map, mj = color_map cm in
+            Ok (Texture.Gradient { axis; map }, `Assoc [ ("kind", `String "gradient"); ("axis", vjson axis); ("map", mj) ])
+      | _ ->
+          Error "gradient(HORIZON, ZENITH) with two colours is a background (settings { background: … }); as a texture, write gradient(AXIS, color_map(…))")
+  | "color_map", _ -> Error "a color_map is the colours of a texture, not a texture itself: write gradient(AXIS, color_map(…))"
   | "image", _ -> (
       let* img = load_image ctx t in
       match t.targs with
@@ -602,6 +671,12 @@ and texture ctx t =
       | [ VStr _ ] -> Error "image(\"file.png\", scale) needs a scale (1 maps the picture once onto the surface's (u, v))"
       | _ -> Error "image(\"file.png\", scale) takes a file name and a number")
   | _ -> Error (Printf.sprintf "`%s` is not a texture" t.tname)
+
+and color_map t =
+  let entries = List.filter_map (function VPair (VNum x, VVec c) -> Some (x, Color.of_vec3 c) | _ -> None) t.targs in
+  Result.map
+    (fun m -> (m, `List (List.map (fun (x, c) -> `List [ `Float x; cjson c ]) entries)))
+    (Texture.color_map entries)
 
 and bump ctx t =
   match (t.tname, t.targs) with
@@ -801,7 +876,7 @@ and once : 'a. ctx -> string -> ('a * Loc.t) option -> name -> unit =
 and settings ctx env scope k items =
   once ctx "settings" ctx.settings k;
   let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
-  check_names b [ "width"; "height"; "depth"; "samples"; "jitter"; "adaptive"; "shadows"; "background"; "ambient"; "gamma" ];
+  check_names b [ "width"; "height"; "depth"; "samples"; "jitter"; "adaptive"; "shadows"; "background"; "ambient"; "gamma"; "fog" ];
   let d = Settings.default in
   let gamma =
     match live b "gamma" with
@@ -818,25 +893,79 @@ and settings ctx env scope k items =
       jitter = boolean b "jitter" ~default:d.jitter;
       adaptive = nonneg b "adaptive" ~default:d.adaptive;
       shadows = boolean b "shadows" ~default:d.shadows;
-      background = color b "background" ~default:d.background;
+      background = (match live b "background" with Some { value = VTex _; _ } -> d.background | _ -> color b "background" ~default:d.background);
+      sky = None;
+      fog = None;
       ambient = color b "ambient" ~default:d.ambient;
       gamma }
   in
+  let s = environment b s in
   finish b;
   (match Settings.validate s with Ok () -> () | Error m -> fail k.nloc "invalid settings: %s" m);
   ctx.settings <- Some (s, k.nloc)
 
+(* A gradient background and fog, from the settings block's `background` and `fog`. *)
+and environment b (s : Settings.t) =
+  let colour_arg (v : value) = match v with VVec c when c.x >= 0. && c.y >= 0. && c.z >= 0. -> Some (Color.of_vec3 c) | _ -> None in
+  let s =
+    match live b "background" with
+    | Some ({ value = VTex { tname = "gradient"; targs = [ h; z ]; _ }; _ } as f) -> (
+        match (colour_arg h, colour_arg z) with
+        | Some horizon, Some zenith -> { s with background = horizon; sky = Some { horizon; zenith } }
+        | _ -> bad b f.vloc "a background gradient(HORIZON, ZENITH) takes two colours (r, g, b) with no negative component"; s)
+    | Some ({ value = VTex _; _ } as f) ->
+        bad b f.vloc "`background` must be a colour (r, g, b) or gradient(HORIZON, ZENITH), got %s" (type_name f.value); s
+    | _ -> s
+  in
+  match live b "fog" with
+  | None -> s
+  | Some { value = VTex { tname = "fog"; targs = [ VVec c; VNum distance ]; _ }; vloc; _ } ->
+      if c.x < 0. || c.y < 0. || c.z < 0. then (bad b vloc "the colour of `fog` has no negative component"; s)
+      else { s with fog = Some { color = Color.of_vec3 c; distance } }
+  | Some f -> bad b f.vloc "`fog` must be fog(COLOR, DISTANCE), got %s" (type_name f.value); s
+
 and camera ctx env scope k items =
   once ctx "camera" ctx.camera k;
   let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
-  check_names b [ "position"; "look_at"; "up"; "fov" ];
+  check_names b [ "kind"; "position"; "look_at"; "up"; "fov"; "width"; "aperture"; "focal_distance"; "lens_samples" ];
   let d = Camera.default in
+  let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
+  (* An unknown kind is reported once; the fields that depend on the kind are then not
+     checked against a guess. *)
+  let kind_name =
+    match live b "kind" with
+    | None -> "perspective"
+    | Some { value = VStr s; _ } when List.mem s kinds -> s
+    | Some { value = VStr s; vloc; _ } ->
+        (match suggest s kinds with
+         | Some k -> bad b vloc "unknown camera kind \"%s\"; did you mean \"%s\"?" s k
+         | None -> bad b vloc "unknown camera kind \"%s\"; use \"perspective\", \"orthographic\" or \"fisheye\"" s);
+        "unknown"
+    | Some f -> bad b f.vloc "`kind` must be a string (\"perspective\", \"orthographic\" or \"fisheye\"), got %s" (type_name f.value); "unknown"
+  in
   let position = point b "position" ~default:d.position in
   let look_at = point b "look_at" ~default:d.look_at in
   let up = point b "up" ~default:d.up in
   let fov = number b "fov" ~default:d.fov in
   (match field b "fov" with
-   | Some f when not (fov > 0. && fov < 180.) -> bad b f.vloc "`fov` must be in (0, 180) degrees, got %s" (fmt_num fov)
+   | Some f when kind_name = "fisheye" && not (fov > 0. && fov <= 360.) ->
+       bad b f.vloc "a fisheye's `fov` must be in (0, 360] degrees, got %s" (fmt_num fov)
+   | Some f when kind_name = "orthographic" -> bad b f.vloc "an orthographic camera has no `fov`: its `width` sets how much it sees"
+   | Some f when kind_name = "perspective" && not (fov > 0. && fov < 180.) ->
+       bad b f.vloc "`fov` must be in (0, 180) degrees, got %s%s" (fmt_num fov)
+         (if fov >= 180. && fov <= 360. then " (a wider view needs kind: \"fisheye\")" else "")
+   | _ -> ());
+  let width =
+    match field b "width" with
+    | Some f when kind_name <> "orthographic" && kind_name <> "unknown" -> bad b f.vloc "`width` is for an orthographic camera (kind: \"orthographic\")"; 1.
+    | None when kind_name = "orthographic" -> bad b k.nloc "an orthographic camera needs a `width` (world units across the image)"; 1.
+    | _ -> length b "width" ~default:1.
+  in
+  let aperture = nonneg b "aperture" ~default:d.aperture in
+  let focal_distance = length b "focal_distance" ~default:d.focal_distance in
+  let lens_samples = int_range b "lens_samples" ~lo:1 ~hi:64 ~default:d.lens_samples in
+  (match (field b "aperture", field b "focal_distance") with
+   | Some _, None when aperture > 0. -> bad b k.nloc "a camera with an `aperture` needs a `focal_distance` (the distance that is in focus)"
    | _ -> ());
   finish b;
   let view = Vec3.sub look_at position in
@@ -845,7 +974,8 @@ and camera ctx env scope k items =
      if Float.abs cos > 1. -. 1e-12 then
        let at = match (field b "up", field b "look_at") with Some f, _ | None, Some f -> f.vloc | None, None -> k.nloc in
        fail at "%s" (Hints.camera_up view up));
-  let c = Camera.make ~position ~look_at ~up ~fov () in
+  let kind = match kind_name with "orthographic" -> Camera.Orthographic { width } | "fisheye" -> Camera.Fisheye | _ -> Camera.Perspective in
+  let c = Camera.make ~kind ~position ~look_at ~up ~fov ~aperture ~focal_distance ~lens_samples () in
   (match Camera.validate c with Ok () -> () | Error m -> fail k.nloc "invalid camera: %s" m);
   ctx.camera <- Some (c, k.nloc)
 
@@ -894,7 +1024,7 @@ and light ctx env scope k items =
   | Some _, Some f -> bad b f.vloc "a light has a `position` (point light) or a `direction` (directional light), not both"; finish b
   | None, None -> bad b k.nloc "a light needs a `position` (point light) or a `direction` (directional light)"; finish b
   | Some _, None ->
-      check_names b [ "position"; "color"; "intensity"; "attenuation"; "radius"; "samples" ];
+      check_names b [ "position"; "color"; "intensity"; "attenuation"; "radius"; "samples"; "point_at"; "inner"; "outer" ];
       let position = point b "position" ~default:Vec3.zero in
       let color = color b "color" ~default:Color.white in
       let intensity = nonneg b "intensity" ~default:1. in
@@ -905,8 +1035,34 @@ and light ctx env scope k items =
        | _ -> ());
       let radius = nonneg b "radius" ~default:0. in
       let samples = int_range b "samples" ~lo:1 ~hi:64 ~default:1 in
+      let spot =
+        match field b "point_at" with
+        | None ->
+            List.iter
+              (fun n -> match field b n with Some f -> bad b f.name.nloc "`%s` is for a spot light: give it a `point_at`" n | None -> ())
+              [ "inner"; "outer" ];
+            None
+        | Some pf -> (
+            let point_at = point b "point_at" ~default:Vec3.zero in
+            let angle n ~default = check_range b n (fun x -> x >= 0. && x <= 180.) "must be an angle in [0, 180] degrees" (number b n ~default) in
+            let inner = angle "inner" ~default:30. and outer = angle "outer" ~default:45. in
+            if b.failed then None
+            else
+              match Light.spot ~position ~point_at ~inner ~outer with
+              | Ok sp -> Some sp
+              | Error m ->
+                  (* At point_at when it is the position, else at the angle written last. *)
+                  let at_angle = List.filter_map (field b) [ "outer"; "inner" ] in
+                  let loc =
+                    match at_angle with
+                    | f :: _ when Vec3.max_abs (Vec3.sub point_at position) > 0. -> f.vloc
+                    | _ -> pf.vloc
+                  in
+                  bad b loc "%s" m;
+                  None)
+      in
       finish b;
-      ctx.lights <- Light.point ~color ~intensity ~attenuation ~radius ~samples position :: ctx.lights
+      ctx.lights <- Light.point ~color ~intensity ~attenuation ~radius ~samples ?spot position :: ctx.lights
   | None, Some f ->
       check_names b [ "direction"; "color"; "intensity" ];
       let direction = point b "direction" ~default:Vec3.y_axis in

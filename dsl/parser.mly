@@ -127,5 +127,6 @@ atom:
   | x = IDENT { mk (Var x) $loc }
   | f = name a = args { mk (Call (f, a)) $loc }
   | LPAREN e = expr RPAREN { { e with loc = loc $loc } }
+  | LPAREN a = expr COMMA b = expr RPAREN { mk (Pair (a, b)) $loc }
   | LPAREN a = expr COMMA b = expr COMMA c = expr RPAREN { mk (Vec (a, b, c)) $loc }
   | MATERIAL LBRACE its = items RBRACE { mk (Material its) $loc }

@@ -148,6 +148,15 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
                | l -> l)))
          [ 1; 2; 4; 8 ]
      else [])
+  @ (if base.features.depth_of_field then
+       List.map
+         (fun n ->
+           run "lens samples" (Printf.sprintf "%d×%d" n n)
+             (match Scene.with_camera (with_s (fun s -> s)) (Camera.with_lens_samples base.camera n) with
+              | Ok sc -> sc
+              | Error m -> raise (Cli.User_error m)))
+         [ 1; 2; 4; 8 ]
+     else [])
   @ List.map
       (fun (name, q) -> run "preset" name (match Quality.apply q base with Ok sc -> sc | Error m -> raise (Cli.User_error m)))
       Quality.all

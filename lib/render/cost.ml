@@ -16,8 +16,10 @@ type t = { primary : float; primary_low : float; direct : float; direct_low : fl
 let estimate (sc : Scene.t) =
   let s = sc.settings in
   let pixels = Float.of_int s.width *. Float.of_int s.height in
-  let primary = pixels *. Float.of_int (samples_per_pixel s) in
-  let primary_low = if s.adaptive > 0. then pixels *. 4. else primary in
+  (* Depth of field traces each sample n×n times through the lens. *)
+  let lens = if Camera.depth_of_field sc.camera then Float.of_int (sc.camera.lens_samples * sc.camera.lens_samples) else 1. in
+  let primary = pixels *. Float.of_int (samples_per_pixel s) *. lens in
+  let primary_low = if s.adaptive > 0. then pixels *. 4. *. lens else primary in
   let per_hit = 1. +. Float.of_int (shadow_rays_per_hit sc) in
   (* A ray that hits may spawn a reflected and a refracted ray, down to the depth: the
      rays of one primary path number at most 1 + b + b² + … + b^(depth−1). *)

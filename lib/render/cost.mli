@@ -7,7 +7,9 @@
     count is lower where rays miss, lights face away or pixels are smooth. *)
 
 type t = {
-  primary : float;  (** camera rays: width × height × the most samples a pixel takes *)
+  primary : float;
+      (** camera rays: width × height × the most samples a pixel takes (× lens_samples²
+          with depth of field) *)
   primary_low : float;
       (** the same with adaptive sampling refining no pixel (2×2 samples each); equal to
           [primary] without adaptive sampling *)

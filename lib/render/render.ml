@@ -1,11 +1,47 @@
 let tile_size = 32
 
+(* The bits of a sample's image coordinate, to hash: a sample is named by its place. *)
+let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
+
+(* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
+   (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
+   and with depth of field the average of its n×n lens rays. Lens point (a, b) lies in
+   its stratum by a hash of frame, pixel, sample and (a, b), so the image does not depend
+   on which domain renders which tile. *)
+let camera_sample (sc : Scene.t) (st : Stats.t) i j x y =
+  let s = sc.settings and c = sc.camera in
+  if not (Camera.in_view c ~width:s.width ~height:s.height x y) then Shade.miss sc c.f
+  else
+    let ray = Camera.ray c ~width:s.width ~height:s.height x y in
+    if not (Camera.depth_of_field c) then begin
+      st.primary <- st.primary + 1;
+      Shade.trace sc st ray 1
+    end
+    else begin
+      let n = c.lens_samples in
+      let h0 = Hash.combine (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) (bits x)) (bits y) in
+      let acc = ref Color.black in
+      for a = 0 to n - 1 do
+        for b = 0 to n - 1 do
+          let hk = Hash.combine h0 ((a * 4096) + b) in
+          let lx, ly = Camera.lens_point c a b (Hash.to_unit (Hash.combine hk 2)) (Hash.to_unit (Hash.combine hk 3)) in
+          st.primary <- st.primary + 1;
+          acc := Color.add !acc (Shade.trace sc st (Camera.lens_ray c ray lx ly) 1)
+        done
+      done;
+      Color.scale (1. /. Float.of_int (n * n)) !acc
+    end
+
 (* One sample at image point (x, y). *)
 let sample (sc : Scene.t) (st : Stats.t) i j x y =
-  st.primary <- st.primary + 1;
   let s = sc.settings in
-  let ray = Camera.ray sc.camera ~width:s.width ~height:s.height x y in
-  let c = Shade.trace sc st ray 1 in
+  let c =
+    if Camera.pinhole_perspective sc.camera then begin
+      st.primary <- st.primary + 1;
+      Shade.trace sc st (Camera.ray sc.camera ~width:s.width ~height:s.height x y) 1
+    end
+    else camera_sample sc st i j x y
+  in
   if Color.is_finite c then c
   else begin
     st.bad_samples <- st.bad_samples + 1;

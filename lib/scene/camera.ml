@@ -1,34 +1,106 @@
+type kind = Perspective | Orthographic of { width : float } | Fisheye
+
 type t = {
+  kind : kind;
   position : Vec3.t;
   look_at : Vec3.t;
   up : Vec3.t;
   fov : float;
+  aperture : float;
+  focal_distance : float;
+  lens_samples : int;
   f : Vec3.t;
   r : Vec3.t;
   u : Vec3.t;
   h : float;
+  pinhole : bool;
 }
 
-let make ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero) ?(up = Vec3.y_axis) ?(fov = 60.) () =
+let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero) ?(up = Vec3.y_axis) ?(fov = 60.)
+    ?(aperture = 0.) ?(focal_distance = 1.) ?(lens_samples = 1) () =
   let f = Vec3.normalize (Vec3.sub look_at position) in
   let r = Vec3.normalize (Vec3.cross up f) in
   let u = Vec3.cross f r in
   let h = Float.tan (fov *. Float.pi /. 360.) in
-  { position; look_at; up; fov; f; r; u; h }
+  let pinhole = match kind with Perspective -> aperture = 0. | Orthographic _ | Fisheye -> false in
+  { kind; position; look_at; up; fov; aperture; focal_distance; lens_samples; f; r; u; h; pinhole }
 
 let default = make ()
+
+let with_lens_samples c n = { c with lens_samples = n }
+
+let kind_name = function Perspective -> "perspective" | Orthographic _ -> "orthographic" | Fisheye -> "fisheye"
+let depth_of_field c = c.aperture > 0.
+let[@inline] pinhole_perspective c = c.pinhole
 
 let validate c =
   if Vec3.length2 (Vec3.sub c.look_at c.position) = 0. then Error "camera look_at must differ from position"
   else if Vec3.length2 c.r = 0. then Error "camera up must not be parallel to the view direction"
-  else if not (c.fov > 0. && c.fov < 180.) then Error (Printf.sprintf "camera fov must be in (0, 180) degrees (got %g)" c.fov)
-  else Ok ()
+  else
+    match c.kind with
+    | Perspective when not (c.fov > 0. && c.fov < 180.) ->
+        Error (Printf.sprintf "camera fov must be in (0, 180) degrees (got %g)" c.fov)
+    | Fisheye when not (c.fov > 0. && c.fov <= 360.) ->
+        Error (Printf.sprintf "a fisheye camera's fov must be in (0, 360] degrees (got %g)" c.fov)
+    | Orthographic { width } when not (Float.is_finite width && width > 0.) ->
+        Error (Printf.sprintf "an orthographic camera's width must be a number > 0 (got %g)" width)
+    | _ ->
+        if not (Float.is_finite c.aperture && c.aperture >= 0.) then
+          Error (Printf.sprintf "camera aperture must be a number >= 0 (got %g)" c.aperture)
+        else if not (Float.is_finite c.focal_distance && c.focal_distance > 0.) then
+          Error (Printf.sprintf "camera focal_distance must be a number > 0 (got %g)" c.focal_distance)
+        else if c.lens_samples < 1 || c.lens_samples > 64 then
+          Error (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
+        else Ok ()
+
+(* f + (sx·r + sy·u), component by component (one allocation instead of four). *)
+let[@inline] along c sx sy =
+  let f = c.f and r = c.r and u = c.u in
+  Vec3.v (f.x +. ((sx *. r.x) +. (sy *. u.x))) (f.y +. ((sx *. r.y) +. (sy *. u.y))) (f.z +. ((sx *. r.z) +. (sy *. u.z)))
+
+(* The fisheye's normalised image coordinates (n_x, n_y): the inscribed circle is ρ ≤ 1. *)
+let[@inline] fisheye_n ~width ~height x y =
+  let s = Float.of_int (Stdlib.min width height) in
+  (((2. *. x) -. Float.of_int width) /. s, (Float.of_int height -. (2. *. y)) /. s)
 
 let ray c ~width ~height x y =
-  let a = Float.of_int width /. Float.of_int height in
-  let sx = ((2. *. x /. Float.of_int width) -. 1.) *. c.h *. a in
-  let sy = (1. -. (2. *. y /. Float.of_int height)) *. c.h in
-  (* f + (sx·r + sy·u), component by component (one allocation instead of four). *)
-  let f = c.f and r = c.r and u = c.u in
-  let d = Vec3.v (f.x +. ((sx *. r.x) +. (sy *. u.x))) (f.y +. ((sx *. r.y) +. (sy *. u.y))) (f.z +. ((sx *. r.z) +. (sy *. u.z))) in
-  Ray.make c.position d
+  match c.kind with
+  | Perspective ->
+      let a = Float.of_int width /. Float.of_int height in
+      let sx = ((2. *. x /. Float.of_int width) -. 1.) *. c.h *. a in
+      let sy = (1. -. (2. *. y /. Float.of_int height)) *. c.h in
+      Ray.make c.position (along c sx sy)
+  | Orthographic { width = ow } ->
+      let a = Float.of_int width /. Float.of_int height in
+      let sx = ((2. *. x /. Float.of_int width) -. 1.) *. ow /. 2. in
+      let sy = (1. -. (2. *. y /. Float.of_int height)) *. ow /. (2. *. a) in
+      Ray.make (Vec3.madd (Vec3.madd c.position sx c.r) sy c.u) c.f
+  | Fisheye ->
+      let nx, ny = fisheye_n ~width ~height x y in
+      let rho = Float.sqrt ((nx *. nx) +. (ny *. ny)) in
+      if rho > 1. then Ray.make c.position c.f
+      else
+        let theta = rho *. (c.fov *. Float.pi /. 180.) /. 2. in
+        let phi = Float.atan2 ny nx in
+        let st = Float.sin theta in
+        let side = Vec3.madd (Vec3.smul (Float.cos phi) c.r) (Float.sin phi) c.u in
+        Ray.make c.position (Vec3.madd (Vec3.smul (Float.cos theta) c.f) st side)
+
+let in_view c ~width ~height x y =
+  match c.kind with
+  | Perspective | Orthographic _ -> true
+  | Fisheye ->
+      let nx, ny = fisheye_n ~width ~height x y in
+      Float.sqrt ((nx *. nx) +. (ny *. ny)) <= 1.
+
+let lens_point c a b u1 u2 =
+  let n = Float.of_int c.lens_samples in
+  let rr = c.aperture *. Float.sqrt ((Float.of_int a +. u1) /. n) in
+  let th = 2. *. Float.pi *. (Float.of_int b +. u2) /. n in
+  (rr *. Float.cos th, rr *. Float.sin th)
+
+let lens_ray c pinhole lx ly =
+  let o = Ray.origin pinhole in
+  let focus = Vec3.madd o c.focal_distance (Ray.dir pinhole) in
+  let o' = Vec3.madd (Vec3.madd o lx c.r) ly c.u in
+  Ray.make o' (Vec3.sub focus o')

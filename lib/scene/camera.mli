@@ -1,29 +1,85 @@
-(** The pinhole camera (doc/shading.md, section 1): left-handed, vertical field of view, pixel centres.
+(** The camera: how a point of the image becomes a primary ray (doc/shading.md, section 1).
+    Left-handed, pixel units from the top-left corner of the image.
 
-    With f = normalize(look_at − position), r = normalize(up × f), u = f × r,
-    h = tan(fov/2) and a = W/H, the ray through image point (x, y), in pixel units from
-    the top-left corner, has direction normalize(f + ((2x/W − 1)·h·a)·r + ((1 − 2y/H)·h)·u). *)
+    With f = normalize(look_at − position), r = normalize(up × f), u = f × r, a = W/H:
+    - perspective (pinhole, the default): h = tan(fov/2), the ray through (x, y) leaves
+      [position] with direction normalize(f + ((2x/W − 1)·h·a)·r + ((1 − 2y/H)·h)·u);
+      [fov] is vertical, in (0, 180) degrees;
+    - orthographic: every ray has direction f and starts at
+      position + ((2x/W − 1)·width/2)·r + ((1 − 2y/H)·width/(2a))·u ([width] in world
+      units across the image; [fov] is not used);
+    - fisheye (equidistant): with S = min(W, H), n_x = (2x − W)/S, n_y = (H − 2y)/S and
+      ρ = √(n_x² + n_y²), a point with ρ ≤ 1 looks at θ = ρ·fov/2 from f (fov in
+      (0, 360] degrees, the angle across the inscribed circle) towards φ = atan2(n_y, n_x):
+      direction cos θ·f + sin θ·(cos φ·r + sin φ·u). Points with ρ > 1 see the background
+      as a ray along f that hits nothing would ({!in_view}).
+
+    Depth of field ([aperture] A > 0): each primary ray is replaced by
+    [lens_samples]² rays from points of the disk of radius A around its origin, in the
+    (r, u) plane, all aimed at the point at distance [focal_distance] along it
+    ({!lens_ray}); the renderer averages them. *)
+
+type kind =
+  | Perspective
+  | Orthographic of { width : float  (** world units across the image, > 0 *) }
+  | Fisheye
 
 type t = private {
+  kind : kind;
   position : Vec3.t;
   look_at : Vec3.t;
   up : Vec3.t;
-  fov : float;  (** vertical field of view, degrees, in (0, 180) *)
+  fov : float;  (** degrees: vertical for perspective, across the circle for fisheye *)
+  aperture : float;  (** radius of the lens disk, world units, ≥ 0; 0 = a pinhole (default) *)
+  focal_distance : float;  (** distance to the points in focus along each ray, > 0; default 1 *)
+  lens_samples : int;  (** n: n×n lens points per sample, in 1–64; default 1 *)
   f : Vec3.t;
   r : Vec3.t;
   u : Vec3.t;
   h : float;
+  pinhole : bool;  (** perspective without depth of field: {!pinhole_perspective} *)
 }
 
-val make : ?position:Vec3.t -> ?look_at:Vec3.t -> ?up:Vec3.t -> ?fov:float -> unit -> t
-(** Defaults: position (0,0,−5), look_at origin, up (0,1,0), fov 60. *)
+val make :
+  ?kind:kind -> ?position:Vec3.t -> ?look_at:Vec3.t -> ?up:Vec3.t -> ?fov:float -> ?aperture:float ->
+  ?focal_distance:float -> ?lens_samples:int -> unit -> t
+(** Defaults: perspective, position (0,0,−5), look_at origin, up (0,1,0), fov 60, no depth
+    of field (aperture 0, focal distance 1, 1 lens sample). *)
 
 val default : t
 (** The camera of {!make} with every default: at (0, 0, −5) looking at the origin. *)
 
 val validate : t -> (unit, string) result
-(** [Error] when look_at = position, up is parallel to the view direction, or fov is
-    outside (0, 180). *)
+(** [Error] when look_at = position, up is parallel to the view direction, fov is outside
+    (0, 180) (perspective) or (0, 360] (fisheye), an orthographic width is not a positive
+    finite number, the aperture is negative or not finite, the focal distance is not
+    positive, or lens_samples is outside 1–64. *)
+
+val with_lens_samples : t -> int -> t
+(** The same camera with another number of lens samples (a quality knob). *)
+
+val kind_name : kind -> string
+(** "perspective", "orthographic" or "fisheye", as written in a scene. *)
+
+val pinhole_perspective : t -> bool
+(** Whether the camera is the plain perspective pinhole (no depth of field): the renderer
+    then takes its shortest path. *)
+
+val depth_of_field : t -> bool
+(** Whether [aperture > 0]. *)
 
 val ray : t -> width:int -> height:int -> float -> float -> Ray.t
-(** [ray c ~width ~height x y] is the primary ray through image point (x, y). *)
+(** [ray c ~width ~height x y] is the pinhole ray through image point (x, y) for the
+    camera's kind (a fisheye point outside its circle gives the ray along f). *)
+
+val in_view : t -> width:int -> height:int -> float -> float -> bool
+(** False only for a fisheye point with ρ > 1 (outside the image circle). *)
+
+val lens_ray : t -> Ray.t -> float -> float -> Ray.t
+(** [lens_ray c pinhole lx ly] is the ray from the origin of [pinhole] moved by
+    lx·r + ly·u (a point of the lens disk) towards origin + focal_distance·dir. *)
+
+val lens_point : t -> int -> int -> float -> float -> float * float
+(** [lens_point c a b u1 u2] is lens point (a, b) of the n×n stratified pattern, with
+    [u1], [u2] in \[0, 1) its place inside its stratum: radius A·√((a + u1)/n) and angle
+    2π(b + u2)/n, as (lx, ly). *)

@@ -10,6 +10,13 @@ type t = {
   bump : bool;  (** some material has a bump map *)
   supersampling : bool;  (** samples > 1 or adaptive *)
   bvh : bool;  (** a bounding volume hierarchy is used *)
+  orthographic : bool;  (** the camera is orthographic *)
+  fisheye : bool;  (** the camera is a fisheye *)
+  depth_of_field : bool;  (** the camera has an aperture: several lens rays per sample *)
+  spot_lights : bool;  (** some light is a spot light *)
+  sky : bool;  (** the background is a gradient *)
+  fog : bool;  (** rays are fogged *)
+  color_maps : bool;  (** some material's texture is coloured by a colour map *)
 }
 
 val to_list : t -> (string * bool) list

@@ -28,6 +28,9 @@ val make_exn :
 val with_settings : t -> Settings.t -> (t, string) result
 (** The same scene with other settings (command-line overrides), features re-derived. *)
 
+val with_camera : t -> Camera.t -> (t, string) result
+(** The same scene seen through another camera (quality knobs), features re-derived. *)
+
 val map_lights : t -> (Light.t -> Light.t) -> t
 (** The same scene with each light replaced (quality presets change area-light samples),
     features re-derived. *)

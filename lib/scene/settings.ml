@@ -1,5 +1,8 @@
 type gamma = Srgb | Power of float
 
+type sky = { horizon : Color.t; zenith : Color.t }
+type fog = { color : Color.t; distance : float }
+
 type t = {
   width : int;
   height : int;
@@ -9,13 +12,15 @@ type t = {
   adaptive : float;
   shadows : bool;
   background : Color.t;
+  sky : sky option;
+  fog : fog option;
   ambient : Color.t;
   gamma : gamma;
 }
 
 let default =
   { width = 640; height = 480; depth = 5; samples = 1; jitter = false; adaptive = 0.;
-    shadows = true; background = Color.black; ambient = Color.white; gamma = Srgb }
+    shadows = true; background = Color.black; sky = None; fog = None; ambient = Color.white; gamma = Srgb }
 
 let max_pixels = 16384 * 16384
 
@@ -37,4 +42,21 @@ let validate s =
   else if not (Float.is_finite s.adaptive && s.adaptive >= 0.) then Error "adaptive must be a number >= 0"
   else match s.gamma with
     | Power g when not (Float.is_finite g && g > 0.) -> Error "gamma must be \"srgb\" or a number > 0"
-    | _ -> Ok ()
+    | _ -> (
+        match s.fog with
+        | Some f when not (Float.is_finite f.distance && f.distance > 0.) ->
+            Error (Printf.sprintf "the fog distance must be a number > 0 (got %g)" f.distance)
+        | _ -> Ok ())
+
+let background_along s (d : Vec3.t) =
+  match s.sky with
+  | None -> s.background
+  | Some { horizon = h; zenith = z } ->
+      let t = if d.y > 0. then d.y else 0. in
+      Color.v (h.r +. (t *. (z.r -. h.r))) (h.g +. (t *. (z.g -. h.g))) (h.b +. (t *. (z.b -. h.b)))
+
+let fog_segment f t (c : Color.t) =
+  let e = Float.exp (-.t /. f.distance) in
+  let k = 1. -. e in
+  let fc = f.color in
+  Color.v ((c.r *. e) +. (fc.r *. k)) ((c.g *. e) +. (fc.g *. k)) ((c.b *. e) +. (fc.b *. k))

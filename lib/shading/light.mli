@@ -1,4 +1,18 @@
-(** Light sources: point, spherical area and directional lights. *)
+(** Light sources: point lights (spherical area lights with a radius), spot lights and
+    directional lights. *)
+
+type spot = {
+  point_at : Vec3.t;  (** the point the spot is aimed at *)
+  axis : Vec3.t;  (** unit vector from the light's position towards [point_at] *)
+  inner : float;  (** degrees: full light within this angle of the axis *)
+  outer : float;  (** degrees: no light beyond this angle; inner ≤ outer ≤ 180 *)
+  cos_inner : float;
+  cos_outer : float;
+}
+(** A spot light's cone. With θ the angle between the axis and the direction from the
+    light to a lit point, the light's E is multiplied by 1 where θ ≤ inner, 0 where
+    θ ≥ outer, and in between by s(t) = t²(3 − 2t), t = (cos θ − cos outer)/(cos inner −
+    cos outer). *)
 
 type t =
   | Point of {
@@ -8,14 +22,25 @@ type t =
       attenuation : Vec3.t;  (** (a0, a1, a2): att = 1/(a0 + a1·d + a2·d²) *)
       radius : float;  (** > 0 makes a spherical area light (soft shadows) *)
       samples : int;  (** samples × samples shadow rays when [radius > 0] *)
+      spot : spot option;  (** [Some] makes it a spot light; default none *)
     }
   | Directional of { direction : Vec3.t; color : Color.t; intensity : float }
       (** [direction] is unit, the way the light travels; Ldir = −direction *)
 
 val point :
-  ?color:Color.t -> ?intensity:float -> ?attenuation:Vec3.t -> ?radius:float -> ?samples:int ->
+  ?color:Color.t -> ?intensity:float -> ?attenuation:Vec3.t -> ?radius:float -> ?samples:int -> ?spot:spot ->
   Vec3.t -> t
-(** Defaults: white, intensity 1, attenuation (1, 0, 0), radius 0, 1 sample. *)
+(** Defaults: white, intensity 1, attenuation (1, 0, 0), radius 0, 1 sample, no spot. *)
+
+val spot : position:Vec3.t -> point_at:Vec3.t -> inner:float -> outer:float -> (spot, string) result
+(** The cone of a spot light at [position] aimed at [point_at], angles in degrees;
+    [Error] when [point_at] is the position, or unless 0 ≤ inner ≤ outer ≤ 180. *)
+
+val spot_factor : spot -> float -> float
+(** [spot_factor s cos_theta] is the factor of E at angle θ from the axis (see {!spot}). *)
+
+val is_spot : t -> bool
+(** Whether the light is a spot light. *)
 
 val directional : ?color:Color.t -> ?intensity:float -> Vec3.t -> t
 (** [directional d] travels along [normalize d]. *)

@@ -106,10 +106,24 @@ let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : V
     end
   end
 
+let miss (sc : Scene.t) d =
+  let s = sc.settings in
+  match s.fog with
+  | None -> Settings.background_along s d
+  | Some f -> Settings.fog_segment f Float.infinity (Settings.background_along s d)
+
 let rec trace (sc : Scene.t) st ray depth =
   let h = { Shape.tmin = 0.; tmax = Float.infinity; t = Float.infinity } in
   let i = Accel.nearest_into sc.accel ray 0. Float.infinity h in
-  if i < 0 then sc.settings.background else shade sc st ray depth sc.objects.(i) h.t
+  match sc.settings.fog with
+  | None ->
+      if i >= 0 then shade sc st ray depth sc.objects.(i) h.t
+      else if Option.is_none sc.settings.sky then sc.settings.background
+      else Settings.background_along sc.settings (Ray.dir ray)
+  | Some f ->
+      (* The segment to the hit, or an infinite one for a miss. *)
+      if i >= 0 then Settings.fog_segment f h.t (shade sc st ray depth sc.objects.(i) h.t)
+      else Settings.fog_segment f Float.infinity (Settings.background_along sc.settings (Ray.dir ray))
 
 and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let s = sc.settings in
@@ -128,14 +142,23 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let lights = sc.lights in
   for li = 0 to Array.length lights - 1 do
     match lights.(li) with
-    | Light.Point { position; color; intensity; attenuation = a; radius; samples } ->
+    | Light.Point { position; color; intensity; attenuation = a; radius; samples; spot } ->
         let lx = position.x -. p.x and ly = position.y -. p.y and lz = position.z -. p.z in
         let l2 = (lx *. lx) +. (ly *. ly) +. (lz *. lz) in
         let dist = if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v lx ly lz) in
         let att = 1. /. (a.x +. (a.y *. dist) +. (a.z *. dist *. dist)) in
         let k = 1. /. dist in
-        light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius
-          (if radius > 0. && samples > 1 then samples else 0)
+        let area_n = if radius > 0. && samples > 1 then samples else 0 in
+        (match spot with
+         | None -> light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius area_n
+         | Some sp ->
+             (* The cone scales E; outside it the light is not even tested for shadow. cos θ
+                is axis · (P − position)/d = −axis · Ldir. *)
+             let ax = sp.axis in
+             let f = Light.spot_factor sp (-.((ax.x *. k *. lx) +. (ax.y *. k *. ly) +. (ax.z *. k *. lz))) in
+             if f > 0. then
+               light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist (att *. f) color intensity position
+                 radius area_n)
     | Light.Directional { direction; color; intensity } ->
         light_term sc st m c nf d p lit_origin acc (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
           intensity direction 0. 0

@@ -20,7 +20,13 @@ val refract : Vec3.t -> Vec3.t -> float -> Vec3.t option
 
 val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
 (** [trace scene stats ray depth] is the linear colour seen along [ray], a ray of depth
-    [depth] (primary rays have depth 1). Counts secondary and shadow rays in [stats]. *)
+    [depth] (primary rays have depth 1), fogged over its segment when the scene has fog.
+    Counts secondary and shadow rays in [stats]. *)
+
+val miss : Scene.t -> Vec3.t -> Color.t
+(** [miss scene d] is the colour of a ray with unit direction [d] that hits nothing: the
+    background (flat or gradient), through the fog of an infinite segment when there is
+    fog. *)
 
 val transmittance : Scene.t -> Stats.t -> Vec3.t -> Vec3.t -> float -> Color.t
 (** [transmittance scene stats origin dir dist] is the product, over every surface the

@@ -1,3 +1,35 @@
+type color_map = { ts : float array; cs : Color.t array }
+
+let color_map entries =
+  let n = List.length entries in
+  let ok_color (c : Color.t) = Color.is_finite c && c.r >= 0. && c.g >= 0. && c.b >= 0. in
+  if n = 0 then Error "a color_map needs at least one entry (t, colour)"
+  else
+    let rec check prev k = function
+      | [] -> Ok { ts = Array.of_list (List.map fst entries); cs = Array.of_list (List.map snd entries) }
+      | (t, c) :: rest ->
+          if not (t >= 0. && t <= 1.) then Error (Printf.sprintf "entry %d of the color_map has t = %g; t must be in [0, 1]" k t)
+          else if t < prev then
+            Error (Printf.sprintf "entry %d of the color_map has t = %g, below the t = %g before it: entries go in increasing t" k t prev)
+          else if not (ok_color c) then Error (Printf.sprintf "entry %d of the color_map has a colour with a negative or non-finite component" k)
+          else check t (k + 1) rest
+    in
+    check 0. 1 entries
+
+(* The last k with t_k ≤ v (−1 when v < t_0); a binary search would pay only for long maps. *)
+let lookup m v =
+  let ts = m.ts and cs = m.cs in
+  let n = Array.length ts in
+  let k = ref (-1) in
+  while !k + 1 < n && ts.(!k + 1) <= v do incr k done;
+  if !k < 0 then cs.(0)
+  else if !k = n - 1 then cs.(n - 1)
+  else
+    let t0 = ts.(!k) and t1 = ts.(!k + 1) in
+    let c0 = cs.(!k) and c1 = cs.(!k + 1) in
+    let s = (v -. t0) /. (t1 -. t0) in
+    Color.v (c0.r +. (s *. (c1.r -. c0.r))) (c0.g +. (s *. (c1.g -. c0.g))) (c0.b +. (s *. (c1.b -. c0.b)))
+
 type t =
   | Solid of Color.t
   | Checker of { c1 : Color.t; c2 : Color.t; size : float }
@@ -5,7 +37,11 @@ type t =
   | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
+  | Gradient of { axis : Vec3.t; map : color_map }
+  | Mapped of { pattern : pattern; map : color_map }
   | Image of { img : Image.t; scale : float }
+
+and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float
 
 (* ⌊x⌋ as an int, clamped so that huge or non-finite coordinates cannot reach the
    unspecified cases of int_of_float; only the parity is used. *)
@@ -44,6 +80,26 @@ let bilinear (img : Image.t) u v =
     in
     Color.v (lerp 0) (lerp 1) (lerp 2)
 
+(* The value in [0, 1] (before clamping) that mixes the two colours of a noise, marble or
+   wood texture, or indexes a colour map. *)
+let pattern_value pat (p : Vec3.t) =
+  match pat with
+  | Noise_pattern scale ->
+      let s = 1. /. scale in
+      0.5 *. (1. +. Noise.perlin (p.x *. s) (p.y *. s) (p.z *. s))
+  | Marble_pattern scale ->
+      let q = Vec3.smul (1. /. scale) p in
+      let s = Float.sin (Float.pi *. (q.x +. (4. *. Noise.turbulence q))) in
+      0.5 *. (1. +. s)
+  | Wood_pattern scale ->
+      let q = Vec3.smul (1. /. scale) p in
+      (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
+         the axis (grain) and across it (irregular rings). *)
+      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
+      let f = if Float.is_finite r then r -. Float.floor r else 0. in
+      (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
+      f *. f *. (3. -. (2. *. f))
+
 let eval t (p : Vec3.t) u v =
   match t with
   | Solid c -> c
@@ -51,6 +107,8 @@ let eval t (p : Vec3.t) u v =
       let k = ifloor (p.x /. size) + ifloor (p.y /. size) + ifloor (p.z /. size) in
       if k land 1 = 0 then c1 else c2
   | Stripes { c1; c2; size } -> if ifloor (p.x /. size) land 1 = 0 then c1 else c2
+  (* The two-colour forms compute their value in line (no boxed float on the way); the
+     same formulas as pattern_value, which a test holds them to. *)
   | Noise { c1; c2; scale } ->
       let s = 1. /. scale in
       mix c1 c2 (0.5 *. (1. +. Noise.perlin (p.x *. s) (p.y *. s) (p.z *. s)))
@@ -60,15 +118,20 @@ let eval t (p : Vec3.t) u v =
       mix c1 c2 (0.5 *. (1. +. s))
   | Wood { c1; c2; scale } ->
       let q = Vec3.smul (1. /. scale) p in
-      (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
-         the axis (grain) and across it (irregular rings). *)
       let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
       let f = if Float.is_finite r then r -. Float.floor r else 0. in
-      (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
       mix c1 c2 (f *. f *. (3. -. (2. *. f)))
+  | Mapped { pattern; map } ->
+      let s = pattern_value pattern p in
+      lookup map (if s > 0. then if s < 1. then s else 1. else 0.)
+  | Gradient { axis; map } ->
+      let x = Vec3.dot p axis in
+      (* fract; a non-finite coordinate takes the map's start rather than NaN. *)
+      let f = if Float.is_finite x then x -. Float.floor x else 0. in
+      lookup map f
   | Image { img; scale } -> bilinear img (u *. scale) (v *. scale)
 
-let needs_uv = function Image _ -> true | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ -> false
+let needs_uv = function Image _ -> true | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ | Mapped _ -> false
 
 let name = function
   | Solid _ -> "solid"
@@ -77,4 +140,8 @@ let name = function
   | Noise _ -> "noise"
   | Marble _ -> "marble"
   | Wood _ -> "wood"
+  | Gradient _ -> "gradient"
+  | Mapped { pattern = Noise_pattern _; _ } -> "noise"
+  | Mapped { pattern = Marble_pattern _; _ } -> "marble"
+  | Mapped { pattern = Wood_pattern _; _ } -> "wood"
   | Image _ -> "image"

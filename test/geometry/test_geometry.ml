@@ -496,7 +496,7 @@ let bvh_tests =
                  Primitive.make m s)
         in
         let settings = { Settings.default with width = 96; height = 72; depth = 3 } in
-        let lights = [ Light.Point { position = v 5. 8. (-6.); color = Color.white; intensity = 1.; attenuation = v 1. 0. 0.; radius = 0.; samples = 1 } ] in
+        let lights = [ Light.Point { position = v 5. 8. (-6.); color = Color.white; intensity = 1.; attenuation = v 1. 0. 0.; radius = 0.; samples = 1; spot = None } ] in
         let a = Scene.make_exn ~settings ~lights objs in
         let b = Scene.make_exn ~settings ~lights (List.map Primitive.without_bounds objs) in
         Alcotest.(check bool) "a uses the BVH" true (Accel.uses_bvh a.accel);

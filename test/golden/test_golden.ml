@@ -1,5 +1,5 @@
-(* The golden registry: every scene in scenes/*.rts, scenes/gallery/*.rts and
-   scenes/gallery/maps/*.rts, rendered at 96×72 and compared with test/golden/ID.png.
+(* The golden registry: every scene in scenes/*.rts, scenes/gallery/*.rts,
+   scenes/gallery/maps/*.rts and scenes/materials/*.rts, rendered at 96×72 and compared with test/golden/ID.png.
 
    A failure writes ID.actual.png and ID.diff.png beside the golden and says where. After
    an intended change to the renderer or a scene, look at those images, then accept the new
@@ -29,24 +29,45 @@ let registry =
     ("gallery_bump_noise", "scenes/gallery/bump_noise.rts", "smooth, gently bumped and strongly bumped spheres; round silhouettes");
     ("gallery_checker", "scenes/gallery/checker.rts", "whole cells on the floor; sphere and rotated box cut through the 3-D pattern");
     ("gallery_cylinder", "scenes/gallery/cylinder.rts", "a capped cylinder, an open tube on its side, a slanted open tube");
+    ("gallery_depth_of_field", "scenes/gallery/depth_of_field.rts", "the middle sphere sharp, the near red one and the far blue one blurred");
     ("gallery_disk", "scenes/gallery/disk.rts", "disks flat on the floor, facing the camera and tilted, with their shadows");
+    ("gallery_fisheye", "scenes/gallery/fisheye.rts", "looking up inside a ring of columns: sky, spokes and a sun in a circle; zenith colour outside it");
+    ("gallery_fog", "scenes/gallery/fog.rts", "two rows of columns fading into grey haze with distance; a fogged reflection");
+    ("gallery_gradient", "scenes/gallery/gradient.rts", "a rainbow along y, bands along a tilted axis, hard-stepped bands on a box, floor stripes, a blue-gold marble in front");
     ("gallery_group", "scenes/gallery/group.rts", "three macro-built trees: crowns take the group material, trunks stay brown");
     ("gallery_image", "scenes/gallery/image.rts", "the smiley upright on a panel, wrapped on a sphere, twice per box face");
     ("gallery_marble", "scenes/gallery/marble.rts", "veined marble sphere, green marble block, grey marble floor");
     ("gallery_mesh", "scenes/gallery/mesh.rts", "the torus OBJ, smooth-shaded on the left and faceted on the right");
     ("gallery_noise", "scenes/gallery/noise.rts", "noise at three scales, fine to coarse, left to right");
+    ("gallery_orthographic", "scenes/gallery/orthographic.rts", "four equal cubes in a row going away, all drawn the same size");
     ("gallery_paraboloid", "scenes/gallery/paraboloid.rts", "an upright open cup and a tilted one seen into");
     ("gallery_parallelogram", "scenes/gallery/parallelogram.rts", "a tile on the floor, a standing rhombus, a rotated rectangle");
     ("gallery_plane", "scenes/gallery/plane.rts", "floor, back wall and a leaning plane meeting the floor in a line");
     ("gallery_sphere", "scenes/gallery/sphere.rts", "a sphere, a squashed ellipsoid and a tall tilted one, with shadows");
+    ("gallery_sky", "scenes/gallery/sky.rts", "warm horizon to blue zenith behind; the mirror sphere reflects the sky");
+    ("gallery_spot", "scenes/gallery/spot.rts", "three pools of light: hard-edged, soft-edged, and with a soft shadow");
     ("gallery_stripes", "scenes/gallery/stripes.rts", "stripes along x; on the rotated sphere they turn with it");
     ("gallery_triangle", "scenes/gallery/triangle.rts", "a tetrahedron of four triangles and a lone triangle");
     ("gallery_wood", "scenes/gallery/wood.rts", "long grain on a log, a plank and a post (the pattern stretched along y)");
     ("maps_bricks", "scenes/gallery/maps/bricks.rts", "white bricks in dark mortar (the height map), stretched to 4:3");
     ("maps_smiley", "scenes/gallery/maps/smiley.rts", "the smiley image map, green mark top left, stretched to 4:3");
+    ("materials_chrome", "scenes/materials/chrome.rts", "a grey mirror-like sphere reflecting floor and sky");
+    ("materials_colors", "scenes/materials/colors.rts", "33 flat discs in the named colours, black to steel_blue, in rows of 11");
+    ("materials_copper", "scenes/materials/copper.rts", "a pale copper-coloured sphere with a dim reflection");
+    ("materials_diamond", "scenes/materials/diamond.rts", "a clear sphere, strongly reflective at the rim, the floor refracted inside");
+    ("materials_glass", "scenes/materials/glass.rts", "a clear sphere showing the floor upside down, bright rim");
+    ("materials_gold", "scenes/materials/gold.rts", "a pale gold sphere with a dim reflection");
+    ("materials_ice", "scenes/materials/ice.rts", "a slightly cloudy clear sphere");
+    ("materials_mirror", "scenes/materials/mirror.rts", "a near-perfect mirror sphere");
+    ("materials_oak", "scenes/materials/oak.rts", "a wood-ringed sphere with a faint sheen");
+    ("materials_plastic", "scenes/materials/plastic.rts", "a white glossy sphere with a highlight");
+    ("materials_rubber", "scenes/materials/rubber.rts", "a black sphere with a broad dim highlight");
+    ("materials_silver", "scenes/materials/silver.rts", "a bright mirror sphere, slightly warm");
+    ("materials_water", "scenes/materials/water.rts", "a clear sphere like glass but refracting less");
+    ("materials_white_marble", "scenes/materials/white_marble.rts", "a white sphere with grey veins");
   ]
 
-let scene_dirs = [ "scenes"; "scenes/gallery"; "scenes/gallery/maps" ]
+let scene_dirs = [ "scenes"; "scenes/gallery"; "scenes/gallery/maps"; "scenes/materials" ]
 let in_root p = Filename.concat root p
 
 (* Directory listings come from the source tree, so that a scene added there and not yet

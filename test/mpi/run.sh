@@ -5,9 +5,9 @@
 # stop without writing the image. Skipped, with the reason, where Open MPI or the
 # lancer commands are missing.
 #
-# usage: run.sh TEST_BINDINGS.exe SHOWCASE.rts ORBIT.rts   (lancer, lancer-mpi on PATH)
+# usage: run.sh TEST_BINDINGS.exe SHOWCASE.rts ORBIT.rts [DEPTH_OF_FIELD.rts]   (lancer, lancer-mpi on PATH)
 set -u
-bindings=$(realpath "$1") showcase=$(realpath "$2") orbit=$(realpath "$3")
+bindings=$(realpath "$1") showcase=$(realpath "$2") orbit=$(realpath "$3") dof=${4:+$(realpath "$4")}
 
 skip() { echo "MPI tests skipped: $*"; exit 0; }
 command -v mpirun >/dev/null 2>&1 || skip "mpirun is not installed (apt-get install openmpi-bin libopenmpi-dev)"
@@ -57,6 +57,17 @@ for n in 1 2 4; do
     ok "an animation on $n ranks is byte-identical to lancer animate's, manifest included"
   else fail "the animation on $n ranks differs or failed"; cat anim.log; fi
 done
+
+# Depth of field: its lens points are a hash of frame, pixel and sample, whatever rank
+# renders the tile.
+if [ -n "$dof" ]; then
+  lancer render "$dof" --width 48 --height 36 --samples 2 -q -o dof_ref.png >/dev/null || fail "lancer render (depth of field)"
+  for n in 2 4; do
+    if run -np "$n" lancer-mpi render "$dof" --width 48 --height 36 --samples 2 -q -o "dof$n.png" >/dev/null 2>dof.log \
+       && cmp -s dof_ref.png "dof$n.png"; then ok "a depth-of-field still on $n ranks is byte-identical to lancer render's"
+    else fail "the depth-of-field still on $n ranks differs or failed"; cat dof.log; fi
+  done
+fi
 
 # Fewer frames than ranks: frames are cut into tiles; one domain per rank.
 if run -np 4 lancer-mpi animate "$orbit" -o frames_tiles --frames 2..3 --domains 1 -q >/dev/null 2>anim.log \
