@@ -267,6 +267,6 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts" ]
   in
   let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
-  let code = Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Bench.cmd ]) in
+  let code = Cmd.eval' (Cmd.group info [ render; animate; check; diff; golden; Watch.cmd; Bench.cmd ]) in
   if code = Cmd.Exit.cli_error then Option.iter (fun h -> prerr_endline ("lancer: " ^ h)) (Cli.negative_value_hint Sys.argv);
   exit (Cli.status_of_eval code)

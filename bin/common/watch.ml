@@ -1,0 +1,496 @@
+(* lancer watch: a local web server showing the scene, re-rendered progressively on every
+   save. Two sides share one record: the server (Lwt, on the main domain) and the renderer
+   (its own domain, with the render pool). The server asks for a new version by raising
+   [wanted]; the renderer checks it between rows and tiles and drops what it was doing.
+   The renderer publishes server-sent events into [outbox] and wakes the server through
+   a pipe. *)
+
+open Lancer
+module Dsl = Lancer_dsl.Dsl
+
+exception Cancelled
+
+type params = { quality : Quality.t option; frame : int; play : bool }
+
+type shared = {
+  lock : Mutex.t;
+  cond : Condition.t;
+  wanted : int Atomic.t;  (** the newest version asked for *)
+  mutable started : int;  (** the version the renderer last took *)
+  mutable reload : bool;  (** read the files again *)
+  mutable params : params;
+  mutable outbox : (string * string) list;  (** (event, JSON data), newest first *)
+  mutable images : (int * string) list;  (** (sequence number, PNG bytes), newest first, a few *)
+  mutable inputs : string list;  (** the files to watch *)
+  wake_w : Unix.file_descr;
+}
+
+let kept_images = 8
+
+let with_lock sh f =
+  Mutex.lock sh.lock;
+  Fun.protect ~finally:(fun () -> Mutex.unlock sh.lock) f
+
+(* Ask for a new version; [reload] when the files changed. *)
+let request sh ?(reload = false) f =
+  with_lock sh (fun () ->
+      sh.params <- f sh.params;
+      if reload then sh.reload <- true;
+      Atomic.incr sh.wanted;
+      Condition.signal sh.cond)
+
+let wake sh = try ignore (Unix.write_substring sh.wake_w "x" 0 1) with Unix.Unix_error _ -> ()
+
+let publish sh ev data =
+  with_lock sh (fun () -> sh.outbox <- (ev, Yojson.Safe.to_string data) :: sh.outbox);
+  wake sh
+
+(* ---------------------------------------------------------------------------------- *)
+(* The renderer *)
+
+(* The PNG bytes of an image, through camlimages and a file in a private directory. *)
+let png_bytes tmp (sc : Scene.t) (fb : Image.t) =
+  let path = Filename.concat tmp "view.png" in
+  match Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb) with
+  | Error m -> failwith m
+  | Ok () -> In_channel.with_open_bin path In_channel.input_all
+
+(* One sample per k×k block, at the block's middle pixel: a complete picture of
+   ⌈w/k⌉×⌈h/k⌉ pixels with exactly the camera of the full image. Rows go over the pool;
+   a newer version stops it at the next row. *)
+let coarse_pass pool cancelled (sc : Scene.t) k =
+  let w = sc.settings.width and h = sc.settings.height in
+  let cw = (w + k - 1) / k and ch = (h + k - 1) / k in
+  let fb = Image.create cw ch in
+  let stats = Array.init ch (fun _ -> Stats.create ()) in
+  let row j =
+    if cancelled () then raise Cancelled;
+    let py = min (h - 1) ((j * k) + (k / 2)) in
+    for i = 0 to cw - 1 do
+      Image.set fb i j (Render.pixel sc stats.(j) (min (w - 1) ((i * k) + (k / 2))) py)
+    done
+  in
+  (match pool with None -> for j = 0 to ch - 1 do row j done | Some p -> Pool.parallel_for p ch row);
+  let total = Stats.create () in
+  Array.iter (Stats.add_into total) stats;
+  (fb, total)
+
+let full_pass pool cancelled sc =
+  Render.render ?pool ~on_tile:(fun _ _ _ -> if cancelled () then raise Cancelled) sc
+
+let knobs (o : Cli.opts) (sc : Scene.t) =
+  let s = sc.settings in
+  `Assoc
+    [ ("quality", `String (match o.quality with Some q -> Quality.to_string q | None -> "the scene's own"));
+      ("size", `String (Printf.sprintf "%d×%d" s.width s.height));
+      ("samples", `String (Printf.sprintf "%d×%d" s.samples s.samples));
+      ("adaptive", `String (if s.adaptive > 0. then Printf.sprintf "%g" s.adaptive else "off"));
+      ("depth", `Int s.depth) ]
+
+let quality_name = function Some q -> Quality.to_string q | None -> "scene"
+
+(* Load the scene: the program, or the text lancer prints for its errors and the files
+   they name (to be watched too). *)
+let load path =
+  match Cli.source { (Cli.default_opts ()) with scene = Some path } with
+  | exception Cli.User_error m -> Error ("lancer: " ^ m ^ "\n", [])
+  | filename, text -> (
+      match Dsl.load_string ~filename text with
+      | Ok p -> Ok p
+      | Error errs ->
+          Error (Cli.errors_to_string errs, List.map (fun (e : Lancer_dsl.Error.t) -> e.file) errs))
+
+type version = { gen : int; t0 : float; reload : bool; params : params }
+
+let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
+
+let render_version sh (o : Cli.opts) pool tmp prog seq v =
+  let cancelled () = Atomic.get sh.wanted <> v.gen in
+  let path = Option.get o.scene in
+  let failed text files =
+    with_lock sh (fun () -> sh.inputs <- List.sort_uniq compare ((path :: files) @ sh.inputs));
+    publish sh "failure" (`Assoc [ ("text", `String text) ]);
+    wake sh;
+    if not o.quiet then prerr_string text
+  in
+  let t_build = Unix.gettimeofday () in
+  let loaded =
+    match !prog with
+    | Some p when not v.reload -> Ok p
+    | _ -> (
+        match load path with
+        | Ok p ->
+            prog := Some p;
+            with_lock sh (fun () -> sh.inputs <- Dsl.inputs p);
+            wake sh;
+            Ok p
+        | Error (text, files) -> Error (text, files))
+  in
+  match loaded with
+  | Error (text, files) -> failed text files
+  | Ok p -> (
+      let fps, frames = match Dsl.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1) in
+      let frame = max 0 (min (frames - 1) v.params.frame) in
+      let time = Float.of_int frame /. fps in
+      let o = { o with quality = v.params.quality } in
+      let coarse_q = match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview in
+      let evaluated =
+        try
+          let sc = Cli.scene_at o p ~time ~frame in
+          let coarse = Cli.scene_at { o with quality = Some coarse_q; samples = None } p ~time ~frame in
+          Ok (sc, coarse)
+        with
+        | Cli.Scene_error m -> Error m
+        | Cli.User_error m -> Error ("lancer: " ^ m ^ "\n")
+      in
+      match evaluated with
+      | Error text -> failed text []
+      | Ok (sc, coarse) ->
+          let build = Unix.gettimeofday () -. t_build in
+          publish sh "ok" (`Assoc []);
+          publish sh "scene"
+            (`Assoc
+               [ ("file", `String path); ("quality", `String (quality_name o.quality)); ("frame", `Int frame);
+                 ("animation",
+                   match Dsl.animation p with
+                   | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]
+                   | None -> `Null) ]);
+          let summary = try Dsl.summary p sc with _ -> "" in
+          let base = Filename.remove_extension (Filename.basename path) in
+          let name = if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png" in
+          let final_differs = match o.quality with Some (Quality.Draft | Quality.Preview) -> false | _ -> true in
+          let passes =
+            [ (`Coarse 8, "1 sample per 8×8 pixels"); (`Coarse 4, "1 sample per 4×4 pixels");
+              (`Coarse 2, "1 sample per 2×2 pixels");
+              (`Full coarse, if final_differs then Quality.to_string coarse_q ^ " quality" else "done") ]
+            @ if final_differs && not v.params.play then [ (`Full sc, "done") ] else []
+          in
+          let n = List.length passes in
+          let first = ref None in
+          let done_passes = ref [] in
+          List.iteri
+            (fun idx (pass, label) ->
+              let t = Unix.gettimeofday () in
+              let shown, fb, st =
+                match pass with
+                | `Coarse k ->
+                    let fb, st = coarse_pass pool cancelled coarse k in
+                    (coarse, fb, st)
+                | `Full s ->
+                    let fb, st = full_pass pool cancelled s in
+                    (s, fb, st)
+              in
+              let secs = Unix.gettimeofday () -. t in
+              if cancelled () then raise Cancelled;
+              let bytes = png_bytes tmp shown fb in
+              incr seq;
+              let s = !seq in
+              with_lock sh (fun () ->
+                  sh.images <- (s, bytes) :: List.filteri (fun i _ -> i < kept_images - 1) sh.images);
+              let last = idx = n - 1 in
+              if !first = None then first := Some (Unix.gettimeofday () -. v.t0);
+              let pname = match pass with `Coarse k -> Printf.sprintf "%d×%d blocks" k k | `Full _ -> label in
+              done_passes := `Assoc [ ("name", `String pname); ("seconds", `Float secs); ("rays", `Int (Stats.total_rays st)) ] :: !done_passes;
+              publish sh "image"
+                (`Assoc
+                   [ ("seq", `Int s); ("label", `String (if last then Printf.sprintf "%s (%d×%d)" label sc.settings.width sc.settings.height else label));
+                     ("last", `Bool last); ("frame", `Int frame); ("width", `Int sc.settings.width);
+                     ("height", `Int sc.settings.height); ("name", `String name) ]);
+              if last then begin
+                let rays = Stats.total_rays st in
+                publish sh "stats"
+                  (`Assoc
+                     [ ("build_seconds", `Float build); ("passes", `List (List.rev !done_passes));
+                       ("rays_per_second", `Float (if secs > 0. then Float.of_int rays /. secs else 0.));
+                       ("knobs", knobs o shown); ("summary", `String summary) ]);
+                log o.quiet "%s: frame %d, %d×%d: first image %.3f s after the change, full image %.3f s" path frame
+                  sc.settings.width sc.settings.height (Option.value !first ~default:0.)
+                  (Unix.gettimeofday () -. v.t0)
+              end)
+            passes)
+
+let renderer sh (o : Cli.opts) domains tmp () =
+  Render.with_pool domains (fun pool ->
+      let prog = ref None and seq = ref 0 in
+      let rec loop () =
+        let v =
+          with_lock sh (fun () ->
+              while Atomic.get sh.wanted = sh.started do
+                Condition.wait sh.cond sh.lock
+              done;
+              let gen = Atomic.get sh.wanted in
+              sh.started <- gen;
+              let r = sh.reload in
+              sh.reload <- false;
+              { gen; t0 = Unix.gettimeofday (); reload = r; params = sh.params })
+        in
+        (try render_version sh o pool tmp prog seq v with
+        | Cancelled -> ()
+        | Out_of_memory ->
+            publish sh "failure" (`Assoc [ ("text", `String "lancer: out of memory (try a smaller image or fewer objects)\n") ])
+        | e ->
+            publish sh "failure"
+              (`Assoc [ ("text", `String (Printf.sprintf "lancer: internal error: %s (please report it)\n" (Printexc.to_string e))) ]));
+        loop ()
+      in
+      loop ())
+
+(* ---------------------------------------------------------------------------------- *)
+(* Watching the files *)
+
+open Lwt.Infix
+
+let split p = (Filename.dirname p, Filename.basename p)
+
+(* Call [changed] (at most every few tens of milliseconds) when a file of [inputs ()]
+   is written, replaced or removed: inotify on their directories (an editor that saves
+   by renaming replaces the file itself), polling their status twice a second where
+   inotify is not available or [poll] asks for it. *)
+let watch_files ~poll inputs changed =
+  let debounce = ref None in
+  let fire () =
+    match !debounce with
+    | Some _ -> ()
+    | None ->
+        debounce :=
+          Some
+            (Lwt_unix.sleep 0.03 >|= fun () ->
+             debounce := None;
+             changed ())
+  in
+  let polling () =
+    let stamp p = match Unix.stat p with s -> Some (s.st_mtime, s.st_size, s.st_ino) | exception Unix.Unix_error _ -> None in
+    let snapshot () = List.map (fun p -> (p, stamp p)) (inputs ()) in
+    let rec go last =
+      Lwt_unix.sleep 0.5 >>= fun () ->
+      let now = snapshot () in
+      (* A new input set (after a reload) is a new baseline, except for the files it shares. *)
+      let differs =
+        List.exists (fun (p, s) -> match List.assoc_opt p last with Some s' -> s <> s' | None -> false) now
+      in
+      if differs then fire ();
+      go now
+    in
+    go (snapshot ())
+  in
+  let inotify fd =
+    let watched = Hashtbl.create 4 in
+    let update () =
+      List.iter
+        (fun p ->
+          let d, _ = split p in
+          if not (Hashtbl.mem watched d) then
+            match Lwt_inotify.add_watch' fd d Inotify.[ S_Close_write; S_Moved_to; S_Create; S_Delete; S_Modify ] with
+            | w -> Hashtbl.replace watched d (Inotify.int_of_watch w)
+            | exception Unix.Unix_error _ -> ())
+        (inputs ())
+    in
+    let dir_of w = Hashtbl.fold (fun d w' acc -> if w' = Inotify.int_of_watch w then Some d else acc) watched None in
+    let rec refresh () = update (); Lwt_unix.sleep 0.25 >>= refresh in
+    let rec go () =
+      Lwt_inotify.read fd >>= fun (w, kinds, _, name) ->
+      let relevant =
+        List.mem Inotify.Q_overflow kinds
+        ||
+        match (dir_of w, name) with
+        | Some d, Some n -> List.exists (fun p -> split p = (d, n)) (inputs ())
+        | _ -> false
+      in
+      if relevant then fire ();
+      go ()
+    in
+    Lwt.pick [ refresh (); go () ]
+  in
+  if poll then polling ()
+  else match Lwt_inotify.create' () with fd -> inotify fd | exception _ -> polling ()
+
+(* ---------------------------------------------------------------------------------- *)
+(* The server *)
+
+module Server = Cohttp_lwt_unix.Server
+
+let max_streams = 16
+
+let run (o : Cli.opts) ~host ~port ~poll =
+  Cli.install_interrupt_handler ();
+  (* A browser that goes away mid-write must not end the server. *)
+  Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
+  let path = match o.scene with Some p -> p | None -> Cli.user "watch needs a scene file: lancer watch SCENE.rts" in
+  ignore (Cli.source o);
+  let domains = Cli.domains o in
+  Option.iter (fun d -> if d < 1 then Cli.user "--width must be at least 1") o.width;
+  Option.iter (fun d -> if d < 1 then Cli.user "--height must be at least 1") o.height;
+  let addr =
+    match Unix.inet_addr_of_string host with
+    | a -> a
+    | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
+  in
+  let sock = Lwt_unix.socket (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0))) Unix.SOCK_STREAM 0 in
+  Lwt_unix.setsockopt sock Unix.SO_REUSEADDR true;
+  (try Unix.bind (Lwt_unix.unix_file_descr sock) (Unix.ADDR_INET (addr, port))
+   with Unix.Unix_error (e, _, _) -> Cli.user "cannot listen on %s:%d: %s" host port (Unix.error_message e));
+  Lwt_unix.listen sock 64;
+  let port = match Unix.getsockname (Lwt_unix.unix_file_descr sock) with Unix.ADDR_INET (_, p) -> p | _ -> port in
+  let authority =
+    match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
+    | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" host port
+    | _ -> Printf.sprintf "%s:%d" host port
+  in
+  let tmp = Filename.temp_dir "lancer-watch" "" in
+  let wake_r, wake_w = Unix.pipe ~cloexec:true () in
+  Unix.set_nonblock wake_w;
+  let sh =
+    { lock = Mutex.create (); cond = Condition.create (); wanted = Atomic.make 1; started = 0; reload = true;
+      params = { quality = o.quality; frame = 0; play = false };
+      outbox = []; images = []; inputs = [ path ]; wake_w }
+  in
+  let worker = Domain.spawn (renderer sh o domains tmp) in
+  ignore worker;
+  (* What a newly connected page is sent first: the last event of each kind. *)
+  let current = Hashtbl.create 8 in
+  let streams : (string, string option -> unit) Hashtbl.t = Hashtbl.create 8 in
+  let sse ev data = Printf.sprintf "event: %s\ndata: %s\n\n" ev data in
+  let deliver (ev, data) =
+    (match ev with "ok" -> Hashtbl.remove current "failure" | _ -> ());
+    Hashtbl.replace current ev data;
+    let msg = Some (sse ev data) in
+    Hashtbl.iter (fun _ push -> try push msg with Lwt_stream.Closed -> ()) streams
+  in
+  let pump () =
+    let buf = Bytes.create 256 in
+    let fd = Lwt_unix.of_unix_file_descr ~blocking:false wake_r in
+    let rec go () =
+      Lwt_unix.read fd buf 0 256 >>= fun _ ->
+      let evs = with_lock sh (fun () -> let e = List.rev sh.outbox in sh.outbox <- []; e) in
+      List.iter deliver evs;
+      go ()
+    in
+    go ()
+  in
+  let rec keepalive () =
+    Lwt_unix.sleep 15. >>= fun () ->
+    Hashtbl.iter (fun _ push -> try push (Some ": keep-alive\n\n") with Lwt_stream.Closed -> ()) streams;
+    keepalive ()
+  in
+  let text status s = Server.respond_string ~headers:(Cohttp.Header.of_list [ ("content-type", "text/plain; charset=utf-8") ]) ~status ~body:s () in
+  let callback (_, conn) (req : Cohttp.Request.t) body =
+    Cohttp_lwt.Body.drain_body body >>= fun () ->
+    let headers = Cohttp.Request.headers req in
+    let meth = Cohttp.Request.meth req in
+    let target = Uri.path (Cohttp.Request.uri req) in
+    if Cohttp.Header.get headers "host" <> Some authority then text `Forbidden "this server answers only to its own address\n"
+    else if meth = `POST && (match Cohttp.Header.get headers "origin" with Some org -> org <> "http://" ^ authority | None -> false)
+    then text `Forbidden "foreign origin\n"
+    else
+      match (meth, target) with
+      | `GET, "/" ->
+          Server.respond_string
+            ~headers:(Cohttp.Header.of_list [ ("content-type", "text/html; charset=utf-8"); ("cache-control", "no-store") ])
+            ~status:`OK ~body:Watch_page.html ()
+      | `GET, "/events" ->
+          if Hashtbl.length streams >= max_streams then text `Service_unavailable "too many open pages\n"
+          else begin
+            let stream, push = Lwt_stream.create () in
+            let key = Cohttp.Connection.to_string conn in
+            Hashtbl.replace streams key push;
+            List.iter
+              (fun ev -> Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
+              [ "scene"; "image"; "stats"; "failure" ];
+            Server.respond ~flush:true
+              ~headers:
+                (Cohttp.Header.of_list [ ("content-type", "text/event-stream"); ("cache-control", "no-store") ])
+              ~status:`OK ~body:(Cohttp_lwt.Body.of_stream stream) ()
+          end
+      | `GET, p when String.length p > 11 && String.sub p 0 7 = "/image/" && Filename.check_suffix p ".png" -> (
+          let n = String.sub p 7 (String.length p - 11) in
+          match int_of_string_opt n with
+          | Some k when String.for_all (fun c -> c >= '0' && c <= '9') n -> (
+              match with_lock sh (fun () -> List.assoc_opt k sh.images) with
+              | Some bytes ->
+                  Server.respond_string
+                    ~headers:(Cohttp.Header.of_list [ ("content-type", "image/png"); ("cache-control", "no-store") ])
+                    ~status:`OK ~body:bytes ()
+              | None -> text `Not_found "no such image (a newer one replaced it)\n")
+          | _ -> text `Not_found "not found\n")
+      | `POST, "/control" -> (
+          let uri = Cohttp.Request.uri req in
+          let quality =
+            match Uri.get_query_param uri "quality" with
+            | None -> Ok None
+            | Some "scene" -> Ok (Some None)
+            | Some q -> ( match List.assoc_opt q Quality.all with Some q -> Ok (Some (Some q)) | None -> Error q)
+          in
+          let frame = Option.map int_of_string_opt (Uri.get_query_param uri "frame") in
+          match (quality, frame) with
+          | Error q, _ -> text `Bad_request (Printf.sprintf "unknown quality %S\n" q)
+          | _, Some None -> text `Bad_request "frame must be a whole number\n"
+          | Ok q, f ->
+              let play = Uri.get_query_param uri "play" = Some "1" in
+              request sh (fun p ->
+                  { quality = Option.value q ~default:p.quality; frame = (match f with Some (Some k) -> max 0 k | _ -> p.frame); play });
+              text `No_content "")
+      | (`GET | `POST), _ -> text `Not_found "not found\n"
+      | _ -> text `Method_not_allowed "method not allowed\n"
+  in
+  let conn_closed (_, conn) =
+    let key = Cohttp.Connection.to_string conn in
+    match Hashtbl.find_opt streams key with
+    | Some push -> Hashtbl.remove streams key; (try push None with Lwt_stream.Closed -> ())
+    | None -> ()
+  in
+  let stop, stopper = Lwt.wait () in
+  let on_signal _ = if Lwt.is_sleeping stop then Lwt.wakeup_later stopper () in
+  let sigs = List.map (fun s -> Lwt_unix.on_signal s on_signal) [ Sys.sigint; Sys.sigterm ] in
+  let changed () = request sh ~reload:true Fun.id in
+  let inputs () = with_lock sh (fun () -> sh.inputs) in
+  Printf.printf "lancer watch: http://%s/ shows %s (Ctrl-C to stop)\n%!" authority path;
+  let server =
+    Server.create ~on_exn:(fun _ -> ()) ~stop ~mode:(`TCP (`Socket sock)) (Server.make ~conn_closed ~callback ())
+  in
+  Fun.protect
+    ~finally:(fun () ->
+      List.iter Lwt_unix.disable_signal_handler sigs;
+      (try Array.iter (fun f -> Sys.remove (Filename.concat tmp f)) (Sys.readdir tmp); Sys.rmdir tmp with Sys_error _ -> ()))
+    (fun () ->
+      Lwt_main.run (Lwt.pick [ server; stop; pump (); keepalive (); watch_files ~poll inputs changed ]);
+      raise Sys.Break)
+
+open Cmdliner
+
+let cmd =
+  let doc = "show a scene in the browser, re-rendered progressively on every save" in
+  let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to show.") in
+  let port =
+    Arg.(value & opt int 8123 & info [ "port"; "p" ] ~docv:"N" ~doc:"The port to listen on; 0 picks a free one.")
+  in
+  let host =
+    Arg.(value & opt string "127.0.0.1"
+         & info [ "host" ] ~docv:"ADDR"
+             ~doc:"The address to listen on. The server answers only requests addressed to it (their Host header), so a foreign web page cannot reach it by a renamed domain.")
+  in
+  let poll =
+    Arg.(value & flag & info [ "poll" ] ~doc:"Look for changes by polling the files' status twice a second instead of inotify (network file systems).")
+  in
+  let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
+  let width = int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)." in
+  let height = int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)." in
+  let samples = int_opt [ "samples" ] "N" "N×N samples per pixel for the full image." in
+  let depth = int_opt [ "depth" ] "D" "Maximum ray depth." in
+  let domains = int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with." in
+  let quality =
+    Arg.(value & opt (some (enum Quality.all)) None
+         & info [ "quality" ] ~docv:"PRESET" ~doc:"The preset of the full image: $(b,draft), $(b,preview), $(b,final) or $(b,reference) (the page can switch it).")
+  in
+  let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"Print only the address.") in
+  let man =
+    [ `S Manpage.s_description;
+      `P "Starts a web server on this machine and prints its address. The page shows the scene, first coarse (one sample every 8, 4, then 2 pixels), then at preview quality, then at the chosen quality, each image replacing the last. Saving the scene, or any file it includes or loads, renders it again and cancels the render in progress; a scene error is shown over the last good image until the file is fixed. An animation gets a time slider and play/pause. The page shows what the render cost and can switch the quality preset. Nothing is written to disk: the page has a button that saves the current view as a PNG.";
+      `S Manpage.s_examples; `Pre "  lancer watch scenes/showcase.rts"; `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480" ]
+  in
+  let term =
+    Term.(const (fun scene port host poll width height samples depth domains quality quiet ->
+              let o = { (Cli.default_opts ()) with scene = Some scene; width; height; samples; depth; domains; quality; quiet } in
+              Cli.run ~interrupted:"the preview server stopped" (fun () -> run o ~host ~port ~poll))
+          $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality $ quiet)
+  in
+  Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term
