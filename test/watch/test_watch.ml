@@ -1,0 +1,219 @@
+(* lancer watch over HTTP, as a page uses it: the page, the images and the event stream;
+   re-rendering on a save of the scene or of an included file (inotify and polling);
+   errors shown and cleared; a render in progress cancelled by a newer version; and
+   requests that must not read files, crash the server or stall the renders. *)
+
+open Watch_client
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+let tmpdir () = Run_lancer.tmpdir "lancer-watch"
+
+let scene ?(size = "64, height: 48") colour =
+  Printf.sprintf
+    {|// A sphere on a floor.
+settings { width: %s }
+camera { position: (0, 2, -6), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+sphere { center: (0, 1, 0), radius: 1.2, material: material { color: %s } }
+|}
+    size colour
+
+let with_server ?(args = []) dir f =
+  let s = start ~exe ~dir (args @ [ "s.rts" ]) in
+  let result = try Ok (f s) with e -> Error (e, Printexc.get_raw_backtrace ()) in
+  let st = stop s in
+  match result with
+  | Error (e, bt) -> Printf.eprintf "server stderr:\n%s\n" (stderr_text s); Printexc.raise_with_backtrace e bt
+  | Ok () ->
+      Alcotest.(check bool)
+        ("exits with 130 on Ctrl-C\n" ^ stderr_text s)
+        true
+        (st = Unix.WEXITED 130)
+
+let is_image ev _ = ev = "image"
+let is_last ev j = ev = "image" && to_bool (member "last" j)
+
+(* The pixels of image [seq], decoded. *)
+let pixels s seq =
+  let st, body = request s (Printf.sprintf "/image/%d.png" seq) in
+  Alcotest.(check int) "the image is served" 200 st;
+  Alcotest.(check string) "as a PNG" "\137PNG" (String.sub body 0 4);
+  let p = Filename.concat s.dir (Printf.sprintf "got%d.png" seq) in
+  Run_lancer.write_file p body;
+  match Lancer.Image.read_rgb8 p with Ok (w, h, b) -> (w, h, b, body) | Error m -> Alcotest.fail m
+
+let count_diff a b =
+  let n = ref 0 in
+  Bytes.iteri (fun i c -> if abs (Char.code c - Char.code (Bytes.get b i)) > 8 then incr n) a;
+  !n
+
+let basic () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server d (fun s ->
+      let st, page = request s "/" in
+      Alcotest.(check int) "the page" 200 st;
+      Alcotest.(check bool) "it listens to the event stream" true (Run_lancer.contains page "new EventSource(\"/events\")");
+      let e = events s in
+      (* The first version: coarse images, then the full one. *)
+      let coarse = ref 0 in
+      let _, j = wait_for e "first full image" (fun ev j -> if is_image ev j && not (to_bool (member "last" j)) then incr coarse; is_last ev j) in
+      let w, h, red, red_png = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check (pair int int)) "full size" (64, 48) (w, h);
+      (* The full image is what lancer render writes. *)
+      let _, _, err = Run_lancer.run ~exe ~dir:d [ "render"; "s.rts"; "-o"; "r.png"; "-q" ] in
+      Alcotest.(check bool) ("the same bytes as lancer render\n" ^ err) true (red_png = Run_lancer.read_file (Filename.concat d "r.png"));
+      (* An edit: a coarse image first, then a full one with other pixels. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)");
+      let _, j = wait_for e "a coarse image after the edit" is_image in
+      Alcotest.(check bool) "the first image after an edit is coarse" false (to_bool (member "last" j));
+      Alcotest.(check bool) "one sample per 8×8 pixels" true (Run_lancer.contains (to_string (member "label" j)) "8×8");
+      let cw, ch, _, _ = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check (pair int int)) "a complete picture at an eighth of the size" (8, 6) (cw, ch);
+      let _, j = wait_for e "the full image after the edit" is_last in
+      let blue_seq = to_int (member "seq" j) in
+      let _, _, blue, _ = pixels s blue_seq in
+      Alcotest.(check bool) "the picture changed" true (count_diff red blue > 100);
+      (* A statistics event says what it cost. *)
+      let _, stats = wait_for e "statistics" (fun ev _ -> ev = "stats") in
+      Alcotest.(check bool) "rays per second" true (member "rays_per_second" stats <> `Null);
+      Alcotest.(check bool) "the check summary" true (Run_lancer.contains (to_string (member "summary" stats)) "objects: 2");
+      (* A broken scene: the located error, as lancer prints it. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
+      let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
+      let text = to_string (member "text" j) in
+      Alcotest.(check bool) ("file:line:col in " ^ text) true (Run_lancer.contains text "s.rts:7:");
+      Alcotest.(check bool) ("the message in " ^ text) true (Run_lancer.contains text "did you mean `radius`?");
+      Alcotest.(check bool) ("the source line and a caret in " ^ text) true
+        (Run_lancer.contains text "sphere { center: (0, 1, 0), radiu: 1 }\n" && Run_lancer.contains text "^^^^^");
+      (* A page opened now sees the error and the last good image. *)
+      let e2 = events s in
+      let _, j2 = wait_for e2 "the last good image, for a new page" is_image in
+      Alcotest.(check int) "the last good image stays" blue_seq (to_int (member "seq" j2));
+      ignore (wait_for e2 "the error, for a new page" (fun ev _ -> ev = "failure"));
+      close_events e2;
+      (* Fixed: the error clears and a new image comes. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "the error cleared" (fun ev _ -> ev = "ok"));
+      let _, j = wait_for e "the image after the fix" is_last in
+      let _, _, green, _ = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check bool) "green differs from blue" true (count_diff green blue > 100);
+      (* The quality preset switched from the page. *)
+      let st, _ = request ~meth:"POST" s "/control?quality=draft" in
+      Alcotest.(check int) "quality switched" 204 st;
+      let _, sc = wait_for e "the new preset" (fun ev _ -> ev = "scene") in
+      Alcotest.(check string) "draft" "draft" (to_string (member "quality" sc));
+      let st, _ = request ~meth:"POST" s "/control?quality=ultra" in
+      Alcotest.(check int) "an unknown preset is refused" 400 st;
+      close_events e)
+
+let includes ~poll () =
+  let d = tmpdir () in
+  Unix.mkdir (Filename.concat d "lib") 0o755;
+  let col c = Printf.sprintf "let c = %s\n" c in
+  Run_lancer.write_file (Filename.concat d "lib/col.rts") (col "(0.9, 0.1, 0.1)");
+  Run_lancer.write_file (Filename.concat d "s.rts") ("include \"lib/col.rts\"\n" ^ scene "c");
+  with_server ~args:(if poll then [ "--poll" ] else []) d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "first full image" is_last in
+      let _, _, a, _ = pixels s (to_int (member "seq" j)) in
+      (* Written in place, not renamed: the other way editors save. *)
+      Unix.sleepf 1.1;
+      Run_lancer.write_file (Filename.concat d "lib/col.rts") (col "(0.1, 0.9, 0.1)");
+      let _, j = wait_for e "an image after the included file changed" is_last in
+      let _, _, b, _ = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check bool) "the picture changed" true (count_diff a b > 100);
+      close_events e)
+
+(* A slow version is dropped when a newer one arrives: its full image never comes. *)
+let cancel () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server ~args:[ "--domains"; "2" ] d (fun s ->
+      let e = events s in
+      ignore (wait_for e "first full image" is_last);
+      (* 1600×1200 at 8×8 samples: minutes of work on one core, seconds to its first
+         coarse image. *)
+      atomic_write (Filename.concat d "s.rts") (scene ~size:"1600, height: 1200, samples: 8" "(0.1, 0.2, 0.9)");
+      ignore (wait_for e ~timeout:120. "a coarse image of the slow version" is_image);
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      let slow_finished = ref false in
+      ignore
+        (wait_for e ~timeout:120. "the newer version's full image"
+           ~seen:(fun ev data ->
+             let j = Yojson.Safe.from_string data in
+             if is_last ev j && to_int (member "width" j) = 1600 then slow_finished := true)
+           (fun ev j -> is_last ev j && to_int (member "width" j) = 64));
+      Alcotest.(check bool) "the slow version never finished: it was cancelled" false !slow_finished;
+      let st, _ = request s "/" in
+      Alcotest.(check int) "still serving" 200 st;
+      close_events e)
+
+let hostile () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  Run_lancer.write_file (Filename.concat d "secret.txt") "a secret in the scene's directory\n";
+  with_server d (fun s ->
+      let e = events s in
+      ignore (wait_for e "first full image" is_last);
+      let no_secret what (_, body) =
+        Alcotest.(check bool) (what ^ ": no file content") false
+          (Run_lancer.contains body "root:" || Run_lancer.contains body "a secret" || Run_lancer.contains body "sphere {")
+      in
+      List.iter
+        (fun p ->
+          let ((st, _) as r) = raw s.port (Printf.sprintf "GET %s HTTP/1.0\r\nHost: 127.0.0.1:%d\r\n\r\n" p s.port) in
+          Alcotest.(check int) (p ^ " is not found") 404 st;
+          no_secret p r)
+        [ "/../../etc/passwd"; "/..%2f..%2fetc%2fpasswd"; "/etc/passwd"; "/secret.txt"; "/s.rts"; "/image/../s.rts";
+          "/image/..%2f..%2fetc%2fpasswd.png"; "/image/-1.png"; "/image/99999999999999999999999.png"; "//etc/passwd" ];
+      (* A foreign Host (a renamed domain pointing at 127.0.0.1), or none. *)
+      List.iter
+        (fun (what, req) ->
+          let ((st, _) as r) = raw s.port req in
+          Alcotest.(check int) (what ^ " is refused") 403 st;
+          no_secret what r)
+        [ ("a foreign Host", "GET / HTTP/1.1\r\nHost: evil.example:80\r\nConnection: close\r\n\r\n");
+          ("a foreign Host for the events", "GET /events HTTP/1.1\r\nHost: evil.example\r\nConnection: close\r\n\r\n");
+          ("the right port on another name", Printf.sprintf "GET / HTTP/1.1\r\nHost: localhost.evil.example:%d\r\nConnection: close\r\n\r\n" s.port);
+          ("no Host", "GET / HTTP/1.0\r\n\r\n");
+          ("a control from a foreign page",
+            Printf.sprintf "POST /control?quality=draft HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nOrigin: http://evil.example\r\nContent-Length: 0\r\nConnection: close\r\n\r\n" s.port) ];
+      (* Garbage and a flood: many connections at once, some never finishing their
+         request, some sending nonsense. *)
+      let idle = List.init 40 (fun _ -> let fd = Unix.socket PF_INET SOCK_STREAM 0 in Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port)); fd) in
+      List.iteri (fun i fd -> if i mod 2 = 0 then ignore (Unix.write_substring fd "GET / HTTP/1.1\r\nHo" 0 18)) idle;
+      ignore (raw s.port "\000\001\002 garbage \r\n\r\n");
+      ignore (raw s.port (String.make 70000 'A' ^ "\r\n\r\n"));
+      for _ = 1 to 10 do
+        let batch =
+          List.init 30 (fun i ->
+              let fd = Unix.socket PF_INET SOCK_STREAM 0 in
+              Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port));
+              let path = if i mod 3 = 0 then "/../../etc/passwd" else if i mod 3 = 1 then "/" else "/image/1.png" in
+              let host = if i mod 5 = 0 then "evil.example" else Printf.sprintf "127.0.0.1:%d" s.port in
+              ignore (Unix.write_substring fd (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host) 0
+                        (String.length (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host)));
+              fd)
+        in
+        List.iter (fun fd -> Unix.close fd) batch
+      done;
+      (* Renders go on: an edit still gives a new full image, and the page still loads. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image after the flood" is_last);
+      let st, _ = request s "/" in
+      Alcotest.(check int) "the page still loads" 200 st;
+      List.iter Unix.close idle;
+      close_events e)
+
+let () =
+  Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
+  Alcotest.run "watch"
+    [ ( "watch",
+        [ Alcotest.test_case "page, images, a new image on an edit, the located error and its fix, quality" `Quick basic;
+          Alcotest.test_case "a change in an included file (inotify)" `Quick (includes ~poll:false);
+          Alcotest.test_case "a change in an included file (polling)" `Quick (includes ~poll:true);
+          Alcotest.test_case "a newer version cancels the render in progress" `Quick cancel;
+          Alcotest.test_case "paths, foreign hosts and a flood read nothing and stall nothing" `Quick hostile ] ) ]
