@@ -189,7 +189,12 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                   sh.images <- (s, bytes) :: List.filteri (fun i _ -> i < kept_images - 1) sh.images);
               let last = idx = n - 1 in
               if !first = None then first := Some (Unix.gettimeofday () -. v.t0);
-              let pname = match pass with `Coarse k -> Printf.sprintf "%d×%d blocks" k k | `Full _ -> label in
+              let pname =
+                match pass with
+                | `Coarse k -> Printf.sprintf "%d×%d blocks" k k
+                | `Full _ when last -> "full image"
+                | `Full _ -> label
+              in
               done_passes := `Assoc [ ("name", `String pname); ("seconds", `Float secs); ("rays", `Int (Stats.total_rays st)) ] :: !done_passes;
               publish sh "image"
                 (`Assoc

@@ -208,6 +208,40 @@ let hostile () =
       List.iter Unix.close idle;
       close_events e)
 
+(* An animation: the page learns its frames, and a chosen frame is rendered. *)
+let animation () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts")
+    {|settings { width: 48, height: 36 }
+animation { fps: 10, frames: 8 }
+camera { position: (0, 2, -6), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+sphere { center: (-2 + 0.6 * frame, 1, 0), radius: 0.8, material: material { color: (0.9, 0.1, 0.1) } }
+|};
+  with_server d (fun s ->
+      let e = events s in
+      let _, sc = wait_for e "the scene" (fun ev _ -> ev = "scene") in
+      Alcotest.(check int) "its frames" 8 (to_int (member "frames" (member "animation" sc)));
+      let _, j = wait_for e "frame 0" is_last in
+      Alcotest.(check string) "named for saving" "s_0000.png" (to_string (member "name" j));
+      let _, _, f0, _ = pixels s (to_int (member "seq" j)) in
+      let st, _ = request ~meth:"POST" s "/control?frame=6" in
+      Alcotest.(check int) "frame chosen" 204 st;
+      let _, j = wait_for e "frame 6" (fun ev j -> is_last ev j && to_int (member "frame" j) = 6) in
+      Alcotest.(check string) "named for saving" "s_0006.png" (to_string (member "name" j));
+      let _, _, f6, _ = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check bool) "the sphere moved" true (count_diff f0 f6 > 50);
+      (* While playing, only the preview passes: the last image is the preview. *)
+      let st, _ = request ~meth:"POST" s "/control?frame=7&play=1" in
+      Alcotest.(check int) "playing" 204 st;
+      let _, j = wait_for e "frame 7" (fun ev j -> is_last ev j && to_int (member "frame" j) = 7) in
+      Alcotest.(check bool) ("at preview quality: " ^ to_string (member "label" j)) true
+        (Run_lancer.contains (to_string (member "label" j)) "preview");
+      let st, _ = request ~meth:"POST" s "/control?frame=x" in
+      Alcotest.(check int) "a frame must be a number" 400 st;
+      close_events e)
+
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
@@ -215,5 +249,6 @@ let () =
         [ Alcotest.test_case "page, images, a new image on an edit, the located error and its fix, quality" `Quick basic;
           Alcotest.test_case "a change in an included file (inotify)" `Quick (includes ~poll:false);
           Alcotest.test_case "a change in an included file (polling)" `Quick (includes ~poll:true);
+          Alcotest.test_case "an animation: its frames, a chosen frame, playing at preview quality" `Quick animation;
           Alcotest.test_case "a newer version cancels the render in progress" `Quick cancel;
           Alcotest.test_case "paths, foreign hosts and a flood read nothing and stall nothing" `Quick hostile ] ) ]
