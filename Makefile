@@ -8,7 +8,7 @@ JOBS ?= 2
 RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
-.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi fuzz doc clean \
+.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi bench-watch fuzz doc clean \
 	clean-toolchain fmt install uninstall static
 
 all: build
@@ -69,6 +69,11 @@ bench: build
 	$(RUN) $(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
 	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
+
+# lancer watch: from a save of the showcase (640×480) to the first and to the full image.
+bench-watch: build
+	$(RUN) $(DUNE) build -j $(JOBS) ./test/watch/latency.exe
+	$(RUN) ./_build/default/test/watch/latency.exe _build/default/bin/main.exe
 
 # lancer-mpi against lancer on this machine: a still and a 48-frame animation.
 bench-mpi: build

@@ -15,7 +15,7 @@ let scene colour =
 settings { width: 160, height: 120 }
 camera { position: (0, 1.2, -3.2), look_at: (0, 1, 0) }
 light { position: (-3, 5, -4) }
-plane { normal: (0, 1, 0), offset: 0, material: material { color: (0.8, 0.8, 0.8) } }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((0.9, 0.9, 0.9), (0.3, 0.3, 0.35), 0.5) } }
 sphere { center: (0, 1, 0), radius: 1.6, material: material { color: %s } }
 |}
     colour
@@ -157,7 +157,7 @@ let test () =
       in
       ignore
         (call ~session c "Emulation.setDeviceMetricsOverride"
-           [ ("width", `Int 800); ("height", `Int 420); ("deviceScaleFactor", `Int 1); ("mobile", `Bool false) ]);
+           [ ("width", `Int 960); ("height", `Int 400); ("deviceScaleFactor", `Int 1); ("mobile", `Bool false) ]);
       ignore (call ~session c "Page.navigate" [ ("url", `String (Printf.sprintf "http://127.0.0.1:%d/" s.port)) ]);
       let finished = "document.getElementById('state').textContent.startsWith('done')" in
       until c session "the full image" finished;
