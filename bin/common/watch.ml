@@ -264,7 +264,13 @@ let watch_files ~poll inputs changed =
              changed ())
   in
   let polling () =
-    let stamp p = match Unix.stat p with s -> Some (s.st_mtime, s.st_size, s.st_ino) | exception Unix.Unix_error _ -> None in
+    (* Modification time (to the nanosecond, as an integer), size and inode: a file
+       rewritten in place or replaced by a rename. *)
+    let stamp p =
+      match Unix.stat p with
+      | s -> Some (Int64.of_float (s.st_mtime *. 1e9), s.st_size, s.st_ino)
+      | exception Unix.Unix_error _ -> None
+    in
     let snapshot () = List.map (fun p -> (p, stamp p)) (inputs ()) in
     let rec go last =
       Lwt_unix.sleep 0.5 >>= fun () ->
@@ -314,7 +320,9 @@ let watch_files ~poll inputs changed =
 
 module Server = Cohttp_lwt_unix.Server
 
-let max_streams = 16
+(* Open event streams are bounded: past this many, the oldest is closed (a page that is
+   still there reconnects by itself; a closed browser tab may be noticed only later). *)
+let max_streams = 32
 
 let run (o : Cli.opts) ~host ~port ~poll =
   Cli.install_interrupt_handler ();
@@ -353,13 +361,14 @@ let run (o : Cli.opts) ~host ~port ~poll =
   ignore worker;
   (* What a newly connected page is sent first: the last event of each kind. *)
   let current = Hashtbl.create 8 in
-  let streams : (string, string option -> unit) Hashtbl.t = Hashtbl.create 8 in
+  let streams : (string, int * (string option -> unit)) Hashtbl.t = Hashtbl.create 8 in
+  let opened = ref 0 in
   let sse ev data = Printf.sprintf "event: %s\ndata: %s\n\n" ev data in
   let deliver (ev, data) =
     (match ev with "ok" -> Hashtbl.remove current "failure" | _ -> ());
     Hashtbl.replace current ev data;
     let msg = Some (sse ev data) in
-    Hashtbl.iter (fun _ push -> try push msg with Lwt_stream.Closed -> ()) streams
+    Hashtbl.iter (fun _ (_, push) -> try push msg with Lwt_stream.Closed -> ()) streams
   in
   let pump () =
     let buf = Bytes.create 256 in
@@ -374,7 +383,7 @@ let run (o : Cli.opts) ~host ~port ~poll =
   in
   let rec keepalive () =
     Lwt_unix.sleep 15. >>= fun () ->
-    Hashtbl.iter (fun _ push -> try push (Some ": keep-alive\n\n") with Lwt_stream.Closed -> ()) streams;
+    Hashtbl.iter (fun _ (_, push) -> try push (Some ": keep-alive\n\n") with Lwt_stream.Closed -> ()) streams;
     keepalive ()
   in
   let text status s = Server.respond_string ~headers:(Cohttp.Header.of_list [ ("content-type", "text/plain; charset=utf-8") ]) ~status ~body:s () in
@@ -393,11 +402,21 @@ let run (o : Cli.opts) ~host ~port ~poll =
             ~headers:(Cohttp.Header.of_list [ ("content-type", "text/html; charset=utf-8"); ("cache-control", "no-store") ])
             ~status:`OK ~body:Watch_page.html ()
       | `GET, "/events" ->
-          if Hashtbl.length streams >= max_streams then text `Service_unavailable "too many open pages\n"
-          else begin
+          begin
+            if Hashtbl.length streams >= max_streams then begin
+              let oldest =
+                Hashtbl.fold (fun k (n, _) acc -> match acc with Some (_, m) when m <= n -> acc | _ -> Some (k, n)) streams None
+              in
+              Option.iter
+                (fun (k, _) ->
+                  (try (snd (Hashtbl.find streams k)) None with Lwt_stream.Closed -> ());
+                  Hashtbl.remove streams k)
+                oldest
+            end;
             let stream, push = Lwt_stream.create () in
             let key = Cohttp.Connection.to_string conn in
-            Hashtbl.replace streams key push;
+            incr opened;
+            Hashtbl.replace streams key (!opened, push);
             List.iter
               (fun ev -> Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
               [ "scene"; "image"; "stats"; "failure" ];
@@ -440,7 +459,7 @@ let run (o : Cli.opts) ~host ~port ~poll =
   let conn_closed (_, conn) =
     let key = Cohttp.Connection.to_string conn in
     match Hashtbl.find_opt streams key with
-    | Some push -> Hashtbl.remove streams key; (try push None with Lwt_stream.Closed -> ())
+    | Some (_, push) -> Hashtbl.remove streams key; (try push None with Lwt_stream.Closed -> ())
     | None -> ()
   in
   let stop, stopper = Lwt.wait () in

@@ -206,7 +206,17 @@ let hostile () =
       let st, _ = request s "/" in
       Alcotest.(check int) "the page still loads" 200 st;
       List.iter Unix.close idle;
-      close_events e)
+      close_events e;
+      (* Pages opened and closed again and again, and many left open (the oldest are then
+         closed): a new page still gets its events, and the next edit. *)
+      let left_open = List.init 40 (fun _ -> events s) in
+      for _ = 1 to 60 do close_events (events s) done;
+      let fresh = events s in
+      ignore (wait_for fresh "the current image, for a page opened after many" is_image);
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.1, 0.9)");
+      ignore (wait_for fresh "a full image after many pages" is_last);
+      close_events fresh;
+      List.iter (fun e -> try close_events e with Unix.Unix_error _ -> ()) left_open)
 
 (* An animation: the page learns its frames, and a chosen frame is rendered. *)
 let animation () =
