@@ -252,6 +252,27 @@ sphere { center: (-2 + 0.6 * frame, 1, 0), radius: 0.8, material: material { col
       Alcotest.(check int) "a frame must be a number" 400 st;
       close_events e)
 
+(* Mistakes on the command line: one line, exit 1, no server left behind. *)
+let mistakes () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  let one what args expect =
+    (* Bounded: a server that started by mistake would otherwise run on. *)
+    let st, _, e = Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d ("watch" :: args) in
+    Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
+    Alcotest.(check bool) (what ^ ": " ^ e) true (Run_lancer.contains e expect);
+    Alcotest.(check bool) (what ^ ": no backtrace") false (Run_lancer.contains e "Raised at")
+  in
+  one "a missing scene" [ "nope.rts"; "--port"; "0" ] "lancer: nope.rts: no such file";
+  one "a host name" [ "s.rts"; "--host"; "localhost"; "--port"; "0" ] "--host must be an IP address";
+  (* A port already taken. *)
+  let sock = Unix.socket PF_INET SOCK_STREAM 0 in
+  Unix.bind sock (ADDR_INET (Unix.inet_addr_loopback, 0));
+  Unix.listen sock 1;
+  let port = match Unix.getsockname sock with ADDR_INET (_, p) -> p | _ -> assert false in
+  one "a port in use" [ "s.rts"; "--port"; string_of_int port ] (Printf.sprintf "cannot listen on 127.0.0.1:%d" port);
+  Unix.close sock
+
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
@@ -261,4 +282,5 @@ let () =
           Alcotest.test_case "a change in an included file (polling)" `Quick (includes ~poll:true);
           Alcotest.test_case "an animation: its frames, a chosen frame, playing at preview quality" `Quick animation;
           Alcotest.test_case "a newer version cancels the render in progress" `Quick cancel;
+          Alcotest.test_case "a missing scene, a host name, a port in use: one line, exit 1" `Quick mistakes;
           Alcotest.test_case "paths, foreign hosts and a flood read nothing and stall nothing" `Quick hostile ] ) ]
