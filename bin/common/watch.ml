@@ -124,7 +124,10 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
             with_lock sh (fun () -> sh.inputs <- Dsl.inputs p);
             wake sh;
             Ok p
-        | Error (text, files) -> Error (text, files))
+        | Error (text, files) ->
+            (* The next version, whatever it changes, reads the files again. *)
+            prog := None;
+            Error (text, files))
   in
   match loaded with
   | Error (text, files) -> failed text files
@@ -338,6 +341,8 @@ let run (o : Cli.opts) ~host ~port ~poll =
     | a -> a
     | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
   in
+  if addr = Unix.inet_addr_any || addr = Unix.inet6_addr_any then
+    Cli.user "--host must be one address of this machine, not %s: the server answers only requests addressed to it" host;
   let sock = Lwt_unix.socket (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0))) Unix.SOCK_STREAM 0 in
   Lwt_unix.setsockopt sock Unix.SO_REUSEADDR true;
   (try Unix.bind (Lwt_unix.unix_file_descr sock) (Unix.ADDR_INET (addr, port))

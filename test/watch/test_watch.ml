@@ -88,6 +88,14 @@ let basic () =
       Alcotest.(check bool) ("the message in " ^ text) true (Run_lancer.contains text "did you mean `radius`?");
       Alcotest.(check bool) ("the source line and a caret in " ^ text) true
         (Run_lancer.contains text "sphere { center: (0, 1, 0), radiu: 1 }\n" && Run_lancer.contains text "^^^^^");
+      (* Another preset while the file is broken: still the error, not the old scene. *)
+      let st, _ = request ~meth:"POST" s "/control?quality=preview" in
+      Alcotest.(check int) "quality switched" 204 st;
+      let ev, _ = wait_for e "the error again" (fun ev _ -> ev = "failure" || ev = "ok" || ev = "image") in
+      Alcotest.(check string) "the error stays" "failure" ev;
+      let st, _ = request ~meth:"POST" s "/control?quality=scene" in
+      Alcotest.(check int) "back to the scene's own" 204 st;
+      ignore (wait_for e "the error again" (fun ev _ -> ev = "failure"));
       (* A page opened now sees the error and the last good image. *)
       let e2 = events s in
       let _, j2 = wait_for e2 "the last good image, for a new page" is_image in
@@ -265,6 +273,7 @@ let mistakes () =
   in
   one "a missing scene" [ "nope.rts"; "--port"; "0" ] "lancer: nope.rts: no such file";
   one "a host name" [ "s.rts"; "--host"; "localhost"; "--port"; "0" ] "--host must be an IP address";
+  one "every address" [ "s.rts"; "--host"; "0.0.0.0"; "--port"; "0" ] "--host must be one address of this machine";
   (* A port already taken. *)
   let sock = Unix.socket PF_INET SOCK_STREAM 0 in
   Unix.bind sock (ADDR_INET (Unix.inet_addr_loopback, 0));
