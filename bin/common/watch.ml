@@ -513,7 +513,7 @@ let cmd =
   let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"Print only the address.") in
   let man =
     [ `S Manpage.s_description;
-      `P "Starts a web server on this machine and prints its address. The page shows the scene, first coarse (one sample every 8, 4, then 2 pixels), then at preview quality, then at the chosen quality, each image replacing the last. Saving the scene, or any file it includes or loads, renders it again and cancels the render in progress; a scene error is shown over the last good image until the file is fixed. An animation gets a time slider and play/pause. The page shows what the render cost and can switch the quality preset. Nothing is written to disk: the page has a button that saves the current view as a PNG.";
+      `P "Starts a web server on this machine and prints its address. The page shows the scene, first coarse (one sample every 8, 4, then 2 pixels), then at preview quality, then at the chosen quality, each image replacing the last. Saving the scene, or any file it includes or loads, renders it again and cancels the render in progress; a scene error is shown over the last good image until the file is fixed. An animation gets a time slider and play/pause. The page shows what the render cost and can switch the quality preset. It writes no output file (frames are the job of $(b,animate)); the page has a button that saves the current view as a PNG.";
       `S Manpage.s_examples; `Pre "  lancer watch scenes/showcase.rts"; `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480" ]
   in
   let term =
