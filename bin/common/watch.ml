@@ -331,7 +331,12 @@ let run (o : Cli.opts) ~host ~port ~poll =
   Cli.install_interrupt_handler ();
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
-  let path = match o.scene with Some p -> p | None -> Cli.user "watch needs a scene file: lancer watch SCENE.rts" in
+  let path =
+    match o.scene with
+    | Some "-" -> Cli.user "watch needs a scene file to watch, not standard input: lancer watch SCENE.rts"
+    | Some p -> p
+    | None -> Cli.user "watch needs a scene file: lancer watch SCENE.rts"
+  in
   ignore (Cli.source o);
   let domains = Cli.domains o in
   Option.iter (fun d -> if d < 1 then Cli.user "--width must be at least 1") o.width;

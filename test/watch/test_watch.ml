@@ -272,6 +272,7 @@ let mistakes () =
     Alcotest.(check bool) (what ^ ": no backtrace") false (Run_lancer.contains e "Raised at")
   in
   one "a missing scene" [ "nope.rts"; "--port"; "0" ] "lancer: nope.rts: no such file";
+  one "standard input" [ "-"; "--port"; "0" ] "watch needs a scene file to watch, not standard input";
   one "a host name" [ "s.rts"; "--host"; "localhost"; "--port"; "0" ] "--host must be an IP address";
   one "every address" [ "s.rts"; "--host"; "0.0.0.0"; "--port"; "0" ] "--host must be one address of this machine";
   (* A port already taken. *)
