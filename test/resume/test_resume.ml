@@ -140,7 +140,11 @@ let animate_tests =
         Alcotest.(check bool) "killed before the end" true (List.length kept < 8);
         let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--shard"; "0/2"; "--resume"; "--domains"; "1" ] in
         check_status "resumed" 0 r;
-        says "keeps what the killed run wrote" r (Printf.sprintf "%d frames already rendered" (List.length kept));
+        (* A kill between a frame's rename and its journal line leaves that one frame
+           unrecorded: it is rendered again (same bytes). Every other frame is kept. *)
+        let n = List.length kept in
+        Alcotest.(check bool) "keeps what the killed run wrote" true
+          (List.exists (fun k -> let _, out, err = r in contains (out ^ err) (Printf.sprintf "resuming: %d frames already rendered" k)) [ n; n - 1 ]);
         check_status "the other shard" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--shard"; "1/2" ]);
         check_status "one animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "ref"; "-q" ]);
         List.iter
