@@ -3,17 +3,18 @@
      worker                         rank 0
      Ready domains          ───▶
                             ◀───    Work { key; tiles } | Stop
-     Done (unit, stats)     ───▶
+     Done (unit, stats, wait) ───▶  (wait: seconds between its last request and the answer)
      pixels (doubles)       ───▶    (same source, next message on its tag)
                             ◀───    Work … | Stop
      Failed message         ───▶    (instead of Done; rank 0 answers Stop from then on)
 
-   Each worker has at most one request outstanding, so rank 0 answers them in any order. *)
+   Each worker has at most one request outstanding, so rank 0 answers them in any order.
+   Rank 0 renders units as well, on a domain of its own (see [local] below). *)
 
 open Lancer
 
 type work_unit = { key : int; tiles : int array }
-type request = Ready of int | Done of work_unit * Stats.t | Failed of string
+type request = Ready of int | Done of work_unit * Stats.t * float | Failed of string
 type reply = Work of work_unit | Stop
 
 let tag_request = 1
@@ -113,22 +114,71 @@ let rec next_unit c ~want =
           c.current <- Some (key, f, ref 0);
           next_unit c ~want)
 
-let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ~fatal ~pool ~frames ~on_tiles ~on_frame () =
-  let workers = Mpi.size () - 1 in
+(* What rank 0 learns about the scheme while serving: per rank, the units and tiles it
+   rendered and how long it waited each time between handing in a unit and being given
+   the next (seconds). *)
+type report = { units : int array; tiles : int array; waits : float list array }
+
+let percentile p = function
+  | [] -> Float.nan
+  | l ->
+      let a = Array.of_list l in
+      Array.sort Float.compare a;
+      a.(max 0 (min (Array.length a - 1) (int_of_float (Float.ceil (p *. Float.of_int (Array.length a))) - 1)))
+
+(* Rank 0's own worker: a domain that renders, over rank 0's pool, the units the serving
+   loop hands it, so that the serving loop (the only domain allowed to call MPI) stays
+   free to answer the other ranks. One unit at a time is handed over under [lock]; the
+   result comes back through [result] (with the time it was posted), which the serving
+   loop polls between probes. *)
+type local = {
+  lock : Mutex.t;
+  given : Condition.t;
+  mutable task : (work_unit * open_frame) option;
+  mutable quit : bool;
+  result : (work_unit * (Stats.t, exn) result * float) option Atomic.t;
+  crashed : exn option Atomic.t;
+}
+
+let local_worker ~render l () =
+  let rec loop () =
+    Mutex.lock l.lock;
+    while Option.is_none l.task && not l.quit do
+      Condition.wait l.given l.lock
+    done;
+    let task = l.task in
+    l.task <- None;
+    Mutex.unlock l.lock;
+    match task with
+    | None -> ()
+    | Some (u, f) ->
+        let r = try Ok (render f.sc f.fb u.tiles) with e -> Error e in
+        Atomic.set l.result (Some (u, r, Unix.gettimeofday ()));
+        loop ()
+  in
+  (* An interrupt raised on this domain outside a unit is handed on like one inside. *)
+  try loop () with e -> Atomic.set l.crashed (Some e)
+
+type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ~fatal ~pool ~domains
+    ~on_tiles ~on_frame frames =
+  let ranks = Mpi.size () in
   let total_tiles = ref 0 in
-  (* One frame alone (a still) is always cut, so that units come back, and can be kept,
-     as the render goes. *)
-  let whole = workers = 0 || (List.length frames >= workers && List.length frames > 1) in
+  (* Every rank renders, rank 0 included. One frame alone (a still) is always cut, so
+     that units come back, and can be kept, as the render goes. *)
+  let whole = ranks = 1 || (List.length frames >= ranks && List.length frames > 1) in
   let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int; start } in
-  (* Otherwise chunks small enough that every worker gets several, for an even finish:
+  (* Otherwise chunks small enough that every rank gets several, for an even finish:
      sized from the first frame's tile count, cut now. *)
   if not whole then begin
     match open_next c with
     | Some (key, f) ->
         c.current <- Some (key, f, ref 0);
-        c.chunk <- max 1 (Array.length f.todo * List.length frames / (4 * workers))
+        c.chunk <- max 1 (Array.length f.todo * List.length frames / (4 * ranks))
     | None -> ()
   end;
+  let report = { units = Array.make ranks 0; tiles = Array.make ranks 0; waits = Array.make ranks [] } in
   let failure = ref None in
   let finished key f =
     Hashtbl.remove c.opened key;
@@ -136,16 +186,19 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ~fatal ~pool ~fr
     | Some _ -> ()
     | None -> ( try on_frame key f.sc f.fb f.st with e -> failure := Some e)
   in
-  let deposit key tiles st =
+  let deposit rank key tiles st =
     let n = Array.length tiles in
     let f = Hashtbl.find c.opened key in
     f.left <- f.left - n;
     Stats.add_into f.st st;
     on_unit key tiles st;
     total_tiles := !total_tiles + n;
+    report.units.(rank) <- report.units.(rank) + 1;
+    report.tiles.(rank) <- report.tiles.(rank) + n;
     if f.left = 0 then finished key f
   in
-  if workers = 0 then begin
+  let want_local = max 1 (4 * domains) in
+  if ranks = 1 then begin
     (* One rank works alone: whole frames over its own pool, progress tile by tile. *)
     let rec loop () =
       match (!failure, next_unit c ~want:max_int) with
@@ -154,14 +207,20 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ~fatal ~pool ~fr
           let f = Hashtbl.find c.opened u.key in
           let base = !total_tiles and done_ = Atomic.make 0 in
           let on_tile () = on_tiles (base + Atomic.fetch_and_add done_ 1 + 1) in
-          deposit u.key u.tiles (render_unit ~on_tile ~pool f.sc f.fb u.tiles);
+          let st =
+            match render with
+            | Some r -> r ~pool f.sc f.fb u.tiles
+            | None -> render_unit ~on_tile ~pool f.sc f.fb u.tiles
+          in
+          deposit 0 u.key u.tiles st;
           loop ()
     in
     loop ()
   end
   else begin
+    let render = match render with Some r -> r ~pool | None -> fun sc fb tiles -> render_unit ~pool sc fb tiles in
     let buf = ref (floats 0) in
-    let active = ref workers in
+    let active = ref (ranks - 1) in
     let reply dest ~want =
       let r = match !failure with Some _ -> None | None -> next_unit c ~want in
       match r with
@@ -170,47 +229,96 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ~fatal ~pool ~fr
           Mpi.send Stop ~dest ~tag:tag_reply;
           decr active
     in
-    let wants = Array.make (workers + 1) 1 in
-    (* Wait for a request without spinning, so that rank 0 leaves the cores to the
-       workers (MPI's blocking probe polls at full speed), yet answers within a quarter
-       of a millisecond: a worker waits for its next unit meanwhile. *)
-    let rec wait pause =
-      match Mpi.iprobe ~source:Mpi.any_source ~tag:tag_request with
-      | Some (src, _, _) -> src
-      | None ->
-          Unix.sleepf pause;
-          wait (Float.min 0.00025 (pause *. 2.))
+    let wants = Array.make ranks 1 in
+    let l = { lock = Mutex.create (); given = Condition.create (); task = None; quit = false; result = Atomic.make None; crashed = Atomic.make None } in
+    let local = Domain.spawn (local_worker ~render l) in
+    let stop_local () =
+      Mutex.lock l.lock;
+      l.quit <- true;
+      Condition.signal l.given;
+      Mutex.unlock l.lock;
+      Domain.join local
     in
-    (* An exception here leaves workers waiting for an answer: end the whole job. *)
-    try
-    while !active > 0 do
-      let src = wait 0.00002 in
+    (* Whether rank 0's worker has a unit, and whether the units have run out for it. *)
+    let local_busy = ref false and local_done = ref false in
+    let feed_local ~posted =
+      match (match !failure with Some _ -> None | None -> next_unit c ~want:want_local) with
+      | None -> local_done := true
+      | Some u ->
+          Option.iter (fun t -> report.waits.(0) <- (Unix.gettimeofday () -. t) :: report.waits.(0)) posted;
+          Mutex.lock l.lock;
+          l.task <- Some (u, Hashtbl.find c.opened u.key);
+          Condition.signal l.given;
+          Mutex.unlock l.lock;
+          local_busy := true
+    in
+    (* Rank 0's own unit, if it is done: deposited, and the next one handed over. *)
+    let collect_local () =
+      Option.iter raise (Atomic.get l.crashed);
+      if Render.interrupt_requested () then raise Sys.Break;
+      match Atomic.get l.result with
+      | None -> false
+      | Some (u, r, posted) ->
+          Atomic.set l.result None;
+          local_busy := false;
+          (match r with
+          | Ok st ->
+              deposit 0 u.key u.tiles st;
+              on_tiles !total_tiles
+          | Error Sys.Break -> raise Sys.Break
+          | Error e -> if !failure = None then failure := Some e);
+          feed_local ~posted:(Some posted);
+          true
+    in
+    let handle src =
       let (req : request), _, _ = Mpi.recv ~source:src ~tag:tag_request in
       match req with
       | Ready d ->
           wants.(src) <- max 1 (4 * d);
           reply src ~want:wants.(src)
-      | Done (u, st) ->
+      | Done (u, st, waited) ->
           let f = Hashtbl.find c.opened u.key in
           let n = pixel_count f.all u.tiles in
           if Bigarray.Array1.dim !buf < n then buf := floats n;
           let count, _, _ = Mpi.recv_floats !buf ~source:src ~tag:tag_pixels in
           if count <> n then failwith (Printf.sprintf "rank %d sent %d floats for a unit of %d" src count n);
           transfer ~to_buf:false f.fb f.all u.tiles !buf;
-          deposit u.key u.tiles st;
+          report.waits.(src) <- waited :: report.waits.(src);
+          deposit src u.key u.tiles st;
           on_tiles !total_tiles;
           reply src ~want:wants.(src)
       | Failed m ->
           if !failure = None then failure := Some (Worker_failed (src, m));
           reply src ~want:0
-    done
-    with e -> Mpi.abort (fatal e)
+    in
+    (* Serve without spinning, so that rank 0 leaves the cores to the rendering domains
+       (MPI's blocking probe polls at full speed), yet answers within a quarter of a
+       millisecond: a worker waits for its next unit meanwhile. *)
+    let pause = ref 0.00002 in
+    (* An exception here leaves workers waiting for an answer: end the whole job. *)
+    (try
+       feed_local ~posted:None;
+       while !active > 0 || !local_busy do
+         let mine = collect_local () in
+         let theirs =
+           match Mpi.iprobe ~source:Mpi.any_source ~tag:tag_request with
+           | Some (src, _, _) -> handle src; true
+           | None -> false
+         in
+         if mine || theirs then pause := 0.00002
+         else begin
+           Unix.sleepf !pause;
+           pause := Float.min 0.00025 (!pause *. 2.)
+         end
+       done
+     with e -> Mpi.abort (fatal e));
+    stop_local ()
   end;
-  match !failure with Some e -> raise e | None -> ()
+  match !failure with Some e -> raise e | None -> report
 
 (* ---- Other ranks ---- *)
 
-let work ~describe ~pool ~domains ~scene_of =
+let work ?(render : renderer = fun ~pool sc fb tiles -> render_unit ~pool sc fb tiles) ~describe ~pool ~domains scene_of =
   let cache = ref None in
   let scene key =
     match !cache with
@@ -227,28 +335,36 @@ let work ~describe ~pool ~domains ~scene_of =
         (sc, all, fb)
   in
   let buf = ref (floats 0) in
-  let rec loop () =
+  (* [asked]: when this rank last handed in a request; the wait until the answer goes
+     back to rank 0 with the unit it brought. *)
+  let rec loop asked =
     match (Mpi.recv ~source:0 ~tag:tag_reply : reply * int * int) with
     | Stop, _, _ -> ()
     | Work u, _, _ ->
+        let waited = Unix.gettimeofday () -. asked in
         (match
            let sc, all, fb = scene u.key in
-           let st = render_unit ~pool sc fb u.tiles in
+           let st = render ~pool sc fb u.tiles in
            let n = pixel_count all u.tiles in
            if Bigarray.Array1.dim !buf < n then buf := floats n;
            transfer ~to_buf:true fb all u.tiles !buf;
            (st, n)
          with
         | st, n ->
-            Mpi.send (Done (u, st)) ~dest:0 ~tag:tag_request;
-            Mpi.send_floats !buf ~len:n ~dest:0 ~tag:tag_pixels
+            let asked = Unix.gettimeofday () in
+            Mpi.send (Done (u, st, waited)) ~dest:0 ~tag:tag_request;
+            Mpi.send_floats !buf ~len:n ~dest:0 ~tag:tag_pixels;
+            loop asked
         | exception (Sys.Break as e) -> raise e
-        | exception e -> Mpi.send (Failed (describe e)) ~dest:0 ~tag:tag_request);
-        loop ()
+        | exception e ->
+            let asked = Unix.gettimeofday () in
+            Mpi.send (Failed (describe e)) ~dest:0 ~tag:tag_request;
+            loop asked)
   in
   (* Anything unexpected here (an interrupt, a broken message) leaves rank 0 waiting:
      end the whole job. Rank 0 tells the user. *)
   try
+    let asked = Unix.gettimeofday () in
     Mpi.send (Ready domains) ~dest:0 ~tag:tag_request;
-    loop ()
+    loop asked
   with e -> Mpi.abort (match e with Sys.Break -> 130 | _ -> 2)

@@ -4,8 +4,10 @@
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
     for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
-    whole frames when there are at least as many frames as workers (and more than one),
-    otherwise chunks of a few tiles. Each tile is rendered by {!Lancer.Render.render_tile} from the same
+    whole frames when there are at least as many frames as ranks (and more than one),
+    otherwise chunks of a few tiles. Every rank renders units, rank 0 included: its main
+    domain serves (only it may call MPI) while another domain renders rank 0's units over
+    its pool. Each tile is rendered by {!Lancer.Render.render_tile} from the same
     scene, and its floats travel bit for bit, so the pixels are identical to a local
     render whatever the number of ranks and domains. When rank 0 is alone it renders
     the units itself, a whole frame at a time over its pool.
@@ -21,30 +23,53 @@ open Lancer
 exception Worker_failed of int * string
 (** [Worker_failed (rank, message)]: that rank could not do its unit. *)
 
+type report = {
+  units : int array;  (** per rank: the units it rendered *)
+  tiles : int array;  (** per rank: the tiles of those units *)
+  waits : float list array;
+      (** per rank: each time it handed in a unit (or, first, said it was ready) and then
+          waited for its next one, the seconds it waited, most recent first. For rank 0
+          that is its own serving loop's reaction; for the others it includes sending
+          the unit's floats. *)
+}
+(** What rank 0 saw of the scheme itself during {!serve}. *)
+
+val percentile : float -> float list -> float
+(** [percentile p l] is the smallest element of [l] with at least a share [p] (in
+    \[0, 1\]) of [l] at or below it; NaN for an empty [l]. *)
+
+type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+(** How a unit is rendered: {!render_unit} without progress, unless a measurement of the
+    scheme's own cost replaces it (e.g. by one that renders nothing). *)
+
 val serve :
   ?start:(int -> (Image.t * int array) option) ->
   ?on_unit:(int -> int array -> Stats.t -> unit) ->
+  ?render:renderer ->
   fatal:(exn -> int) ->
   pool:Pool.t option ->
-  frames:(int * (unit -> Scene.t)) list ->
+  domains:int ->
   on_tiles:(int -> unit) ->
   on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
-  unit ->
-  unit
-(** [serve ~fatal ~pool ~frames ~on_tiles ~on_frame ()] runs on rank 0. [start key], when
-    it answers, gives a frame's framebuffer with some tiles already in it and the tiles
-    still to render (a resumed still); [on_unit key tiles stats] is called as each unit's
-    pixels are in the framebuffer (to keep a checkpoint). [frames] lists the
-    keys to render in order, with the scene of each (asked for once, when its first unit
-    is cut). [on_tiles n] is called as tiles finish, with the count so far over all
-    frames, from any domain; [on_frame key scene fb stats] as each frame is complete (in
-    any order). [pool] is used only when rank 0 is alone. Raises what [on_frame] raises,
-    or {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
+  (int * (unit -> Scene.t)) list ->
+  report
+(** [serve ~fatal ~pool ~domains ~on_tiles ~on_frame frames] runs on rank 0 and is what
+    it saw. [start key], when it answers, gives a frame's framebuffer with some tiles
+    already in it and the tiles still to render (a resumed still); [on_unit key tiles
+    stats] is called as each unit's pixels are in the framebuffer (to keep a checkpoint).
+    [frames] lists the keys to render in order, with the scene of each (asked for once,
+    when its first unit is cut). [on_tiles n] is called as tiles finish, with the count
+    so far over all frames, from any domain; [on_frame key scene fb stats] as each frame
+    is complete (in any order), from the calling domain. Rank 0's own units are rendered
+    over [pool] ([domains] domains) by a domain it starts, one unit at a time (cut as for
+    any other rank), while the calling domain serves. Raises what [on_frame] raises, or
+    {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
     exception and is the status the job is then aborted with. *)
 
 val work :
-  describe:(exn -> string) -> pool:Pool.t option -> domains:int -> scene_of:(int -> Scene.t) -> unit
-(** [work ~describe ~pool ~domains ~scene_of] runs on every other rank until rank 0
+  ?render:renderer ->
+  describe:(exn -> string) -> pool:Pool.t option -> domains:int -> (int -> Scene.t) -> unit
+(** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0
     says stop; [scene_of key] evaluates the scene of a frame. An exception from it or
     from rendering is sent to rank 0 as [describe e]. *)
 

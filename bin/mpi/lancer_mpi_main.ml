@@ -23,7 +23,7 @@ let user = Cli.user
 let ranks_text domains =
   match Mpi.size () with
   | 1 -> Printf.sprintf "1 rank, %d domain%s" domains (if domains = 1 then "" else "s")
-  | n -> Printf.sprintf "%d ranks: rank 0 serving, %d × %d domains" n (n - 1) domains
+  | n -> Printf.sprintf "%d ranks × %d domain%s, rank 0 also serving" n domains (if domains = 1 then "" else "s")
 
 (* How rank 0 reports an exception that ends the job, and the status it ends with. *)
 let fatal e = Cli.run (fun () -> raise e)
@@ -31,8 +31,8 @@ let fatal e = Cli.run (fun () -> raise e)
 let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "internal error: " ^ Printexc.to_string e
 
 (* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
-   state); [lead] runs on rank 0 with a pool when it is alone; [scene_of prog key] is
-   the scene of a frame on the other ranks. *)
+   state); [lead] runs on rank 0 with the pool its own units are rendered over;
+   [scene_of prog key] is the scene of a frame on the other ranks. *)
 let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
     Cli.run (fun () ->
@@ -44,7 +44,7 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         in
         ignore (Mpi.bcast (Go { filename = fst source; text = snd source }) ~root:0);
         let domains = Cli.domains o in
-        try Render.with_pool (if Mpi.size () = 1 then domains else 1) (fun pool -> lead state ~pool ~domains)
+        try Render.with_pool domains (fun pool -> lead state ~pool ~domains)
         with Farm.Worker_failed (rank, m) -> user "rank %d: %s" rank m)
   else
     match Mpi.bcast Quit ~root:0 with
@@ -56,8 +56,24 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         let prog = lazy (Cli.load_source (filename, text)) in
         let domains = match o.domains with Some n when n >= 1 -> n | _ -> max 1 (Domain.recommended_domain_count ()) in
         Render.with_pool domains (fun pool ->
-            Farm.work ~describe ~pool ~domains ~scene_of:(fun key -> scene_of (Lazy.force prog) key));
+            Farm.work ~describe ~pool ~domains (fun key -> scene_of (Lazy.force prog) key));
         0
+
+(* What --stats adds under lancer-mpi: per rank, the units and tiles it rendered and how
+   long it waited for each next unit (milliseconds: median, 90th percentile, largest). *)
+let report_json (r : Farm.report) =
+  let ms x = if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3) in
+  let waits l =
+    `Assoc [ ("count", `Int (List.length l)); ("median", ms (Farm.percentile 0.5 l)); ("p90", ms (Farm.percentile 0.9 l));
+             ("max", ms (List.fold_left Float.max Float.neg_infinity l)) ]
+  in
+  `Assoc
+    [ ("units", `Int (Array.fold_left ( + ) 0 r.units));
+      ("reply_wait_ms", waits (List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1)))));
+      ( "ranks",
+        `List
+          (List.init (Array.length r.units) (fun k ->
+               `Assoc [ ("rank", `Int k); ("units", `Int r.units.(k)); ("tiles", `Int r.tiles.(k)); ("wait_ms", waits r.waits.(k)) ])) ) ]
 
 (* ---- render ---- *)
 
@@ -95,12 +111,14 @@ let render_cmd (o : Cli.opts) ~resume =
     let progress = Cli.progress o ~label:"tiles" ~total in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
-    Farm.serve
-      ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
-      ~on_unit:(fun _ tiles st -> Option.iter (fun ck -> Ck.tiles_done ck tiles st) ck)
-      ~fatal ~pool ~frames:[ (0, fun () -> sc) ] ~on_tiles:(Progress.update progress)
-      ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
-      ();
+    let report =
+      Farm.serve
+        ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
+        ~on_unit:(fun _ tiles st -> Option.iter (fun ck -> Ck.tiles_done ck tiles st) ck)
+        ~fatal ~pool ~domains ~on_tiles:(Progress.update progress)
+        ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
+        [ (0, fun () -> sc) ]
+    in
     let wall = Unix.gettimeofday () -. t0 in
     Progress.finish progress;
     let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
@@ -108,7 +126,15 @@ let render_cmd (o : Cli.opts) ~resume =
     Cli.write_image out sc fb;
     Option.iter Ck.remove ck;
     Cli.warn_bad_samples st;
-    Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:(Mpi.size ()) st)) o.stats;
+    Option.iter
+      (fun p ->
+        let j =
+          match Cli.stats_json o sc ~build ~wall ~domains ~ranks:(Mpi.size ()) st with
+          | `Assoc l -> `Assoc (l @ [ ("mpi", report_json report) ])
+          | j -> j
+        in
+        Cli.write_json p j)
+      o.stats;
     if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(ranks_text domains) st)
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog _ -> fst (still prog))
@@ -135,7 +161,9 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
       incr written;
       Progress.update progress !written
     in
-    Farm.serve ~fatal ~pool ~frames:(List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo) ~on_tiles:ignore ~on_frame ();
+    ignore
+      (Farm.serve ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
+         (List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo));
     Progress.finish progress;
     Animate.finish p;
     if not o.quiet then

@@ -69,6 +69,45 @@ if [ -n "$dof" ]; then
   done
 fi
 
+# Rank 0 renders units too while it serves: --stats says who rendered what, and every
+# tile of the 96×72 still (3×3 tiles of 32×32) is accounted for exactly once.
+for n in 2 4; do
+  if run -np "$n" lancer-mpi render "$showcase" --width 96 --height 72 --domains 1 -q -o r0.png --stats r0.json \
+       >/dev/null 2>r0.log; then
+    flat=$(tr -s ' \n' ' ' <r0.json)
+    units0=$(grep -o '"rank": 0, "units": [0-9]*' <<<"$flat" | grep -o '[0-9]*$')
+    tiles=$(grep -o '"tiles": [0-9]*' <<<"$flat" | awk '{s += $2} END {print s}')
+    ranks=$(grep -o '"rank": [0-9]*' <<<"$flat" | wc -l)
+    if [ "${units0:-0}" -ge 1 ] && [ "$tiles" = 9 ] && [ "$ranks" = "$n" ] && grep -q '"reply_wait_ms"' r0.json; then
+      ok "on $n ranks rank 0 renders units too ($units0 of them) and all 9 tiles are counted once"
+    else fail "rank 0's units on $n ranks: units0=${units0:-none} tiles=$tiles ranks=$ranks"; cat r0.json; fi
+  else fail "the still with --stats on $n ranks"; cat r0.log; fi
+done
+
+# Ctrl-C reaching rank 0 while its own domains render and it serves: the job ends with
+# status 130 and no image (the render would take far longer than the test waits).
+for d in 1 2; do
+  rm -f int.png
+  run -np 2 lancer-mpi render "$showcase" --width 1920 --height 1080 --samples 4 --domains "$d" -q -o int.png \
+    >/dev/null 2>int.log &
+  job=$!
+  rank0=
+  for _ in $(seq 100); do
+    for p in $(pgrep -x lancer-mpi); do
+      tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=0' && rank0=$p
+    done
+    [ -n "$rank0" ] && break
+    sleep 0.1
+  done
+  sleep 1
+  [ -n "$rank0" ] && kill -INT "$rank0"
+  wait "$job"
+  status=$?
+  if [ -n "$rank0" ] && [ "$status" = 130 ] && [ ! -e int.png ] && grep -q "interrupted" int.log; then
+    ok "an interrupt on rank 0 with $d domain(s) ends the job with status 130 and no image"
+  else fail "interrupt with $d domain(s): rank 0 pid ${rank0:-not found}, status $status"; cat int.log; fi
+done
+
 # Fewer frames than ranks: frames are cut into tiles; one domain per rank.
 if run -np 4 lancer-mpi animate "$orbit" -o frames_tiles --frames 2..3 --domains 1 -q >/dev/null 2>anim.log \
    && cmp -s ref_frames/frame_0002.png frames_tiles/frame_0002.png && cmp -s ref_frames/frame_0003.png frames_tiles/frame_0003.png; then
