@@ -73,8 +73,8 @@ type open_frame = {
   st : Stats.t;
 }
 
-(* Units are cut from [frames] in order. With [whole] a unit is a frame; otherwise at
-   most [chunk] tiles, or what the worker asked for if less. *)
+(* Units are cut from [frames] in order. With [whole] a unit is a frame; otherwise
+   [unit_tiles] of [chunk] and the domains of the rank that asks. *)
 type cutter = {
   mutable pending : (int * (unit -> Scene.t)) list;
   mutable current : (int * open_frame * int ref) option;  (* key, frame, next tile *)
@@ -100,10 +100,41 @@ let open_next c =
       Hashtbl.replace c.opened key f;
       Some (key, f)
 
-let rec next_unit c ~want =
+(* The sizes of units: the rules {!plan} and the cutter share. Whole frames when every
+   rank can have one; one frame alone (a still) is always cut, so that units come back,
+   and can be kept, as the render goes. *)
+let whole_frames ~ranks ~frames = ranks = 1 || (frames >= ranks && frames > 1)
+
+(* A still, or fewer frames than ranks: chunks small enough that every rank gets several,
+   for an even finish. *)
+let chunk ~ranks ~frames ~tiles =
+  if whole_frames ~ranks ~frames then None else Some (max 1 (tiles * frames / (4 * ranks)))
+
+(* What a rank of [domains] domains is given: about four tiles per domain at most, and
+   never fewer tiles than it has domains (while the frame has them), even when that
+   leaves fewer units than ranks: a unit of fewer tiles leaves domains idle and costs
+   rank 0 as much to serve, so many ranks of one-tile units finish later. *)
+let unit_tiles ~chunk ~domains = min (max 1 (4 * domains)) (max domains chunk)
+
+let plan ~ranks ~domains tiles =
+  let frames = List.length tiles in
+  let cap =
+    match tiles with
+    | [] -> max_int
+    | first :: _ -> (
+        match chunk ~ranks ~frames ~tiles:first with None -> max_int | Some chunk -> unit_tiles ~chunk ~domains)
+  in
+  List.concat
+    (List.mapi
+       (fun k n ->
+         let rec cut from = if from >= n then [] else (k, min cap (n - from)) :: cut (from + min cap (n - from)) in
+         cut 0)
+       tiles)
+
+let rec next_unit c ~domains =
   match c.current with
   | Some (key, f, next) when !next < Array.length f.todo ->
-      let n = min (Array.length f.todo - !next) (if c.whole then max_int else min want c.chunk) in
+      let n = min (Array.length f.todo - !next) (if c.whole then max_int else unit_tiles ~chunk:c.chunk ~domains) in
       let u = { key; tiles = Array.sub f.todo !next n } in
       next := !next + n;
       Some u
@@ -112,7 +143,7 @@ let rec next_unit c ~want =
       | None -> None
       | Some (key, f) ->
           c.current <- Some (key, f, ref 0);
-          next_unit c ~want)
+          next_unit c ~domains)
 
 (* What rank 0 learns about the scheme while serving: per rank, the units and tiles it
    rendered and how long it waited each time between handing in a unit and being given
@@ -161,21 +192,19 @@ let local_worker ~render l () =
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 
-let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ~fatal ~pool ~domains
-    ~on_tiles ~on_frame frames =
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ?(local = true) ~fatal
+    ~pool ~domains ~on_tiles ~on_frame frames =
   let ranks = Mpi.size () in
   let total_tiles = ref 0 in
-  (* Every rank renders, rank 0 included. One frame alone (a still) is always cut, so
-     that units come back, and can be kept, as the render goes. *)
-  let whole = ranks = 1 || (List.length frames >= ranks && List.length frames > 1) in
+  (* Every rank renders, rank 0 included. *)
+  let whole = whole_frames ~ranks ~frames:(List.length frames) in
   let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int; start } in
-  (* Otherwise chunks small enough that every rank gets several, for an even finish:
-     sized from the first frame's tile count, cut now. *)
+  (* Otherwise chunks sized from the first frame's tile count, cut now. *)
   if not whole then begin
     match open_next c with
     | Some (key, f) ->
         c.current <- Some (key, f, ref 0);
-        c.chunk <- max 1 (Array.length f.todo * List.length frames / (4 * ranks))
+        c.chunk <- Option.value ~default:max_int (chunk ~ranks ~frames:(List.length frames) ~tiles:(Array.length f.todo))
     | None -> ()
   end;
   let report = { units = Array.make ranks 0; tiles = Array.make ranks 0; waits = Array.make ranks [] } in
@@ -197,11 +226,10 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     report.tiles.(rank) <- report.tiles.(rank) + n;
     if f.left = 0 then finished key f
   in
-  let want_local = max 1 (4 * domains) in
   if ranks = 1 then begin
     (* One rank works alone: whole frames over its own pool, progress tile by tile. *)
     let rec loop () =
-      match (!failure, next_unit c ~want:max_int) with
+      match (!failure, next_unit c ~domains) with
       | Some _, _ | None, None -> ()
       | None, Some u ->
           let f = Hashtbl.find c.opened u.key in
@@ -221,29 +249,29 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     let render = match render with Some r -> r ~pool | None -> fun sc fb tiles -> render_unit ~pool sc fb tiles in
     let buf = ref (floats 0) in
     let active = ref (ranks - 1) in
-    let reply dest ~want =
-      let r = match !failure with Some _ -> None | None -> next_unit c ~want in
+    let rank_domains = Array.make ranks 1 in
+    let reply dest =
+      let r = match !failure with Some _ -> None | None -> next_unit c ~domains:rank_domains.(dest) in
       match r with
       | Some u -> Mpi.send (Work u) ~dest ~tag:tag_reply
       | None ->
           Mpi.send Stop ~dest ~tag:tag_reply;
           decr active
     in
-    let wants = Array.make ranks 1 in
     let l = { lock = Mutex.create (); given = Condition.create (); task = None; quit = false; result = Atomic.make None; crashed = Atomic.make None } in
-    let local = Domain.spawn (local_worker ~render l) in
+    let helper = Domain.spawn (local_worker ~render l) in
     let stop_local () =
       Mutex.lock l.lock;
       l.quit <- true;
       Condition.signal l.given;
       Mutex.unlock l.lock;
-      Domain.join local
+      Domain.join helper
     in
-    (* Whether rank 0's worker has a unit, and whether the units have run out for it. *)
-    let local_busy = ref false and local_done = ref false in
+    (* Whether rank 0's worker has a unit. *)
+    let local_busy = ref false in
     let feed_local ~posted =
-      match (match !failure with Some _ -> None | None -> next_unit c ~want:want_local) with
-      | None -> local_done := true
+      match (match !failure with Some _ -> None | None -> next_unit c ~domains) with
+      | None -> ()
       | Some u ->
           Option.iter (fun t -> report.waits.(0) <- (Unix.gettimeofday () -. t) :: report.waits.(0)) posted;
           Mutex.lock l.lock;
@@ -274,8 +302,8 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
       let (req : request), _, _ = Mpi.recv ~source:src ~tag:tag_request in
       match req with
       | Ready d ->
-          wants.(src) <- max 1 (4 * d);
-          reply src ~want:wants.(src)
+          rank_domains.(src) <- max 1 d;
+          reply src
       | Done (u, st, waited) ->
           let f = Hashtbl.find c.opened u.key in
           let n = pixel_count f.all u.tiles in
@@ -286,10 +314,10 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
           report.waits.(src) <- waited :: report.waits.(src);
           deposit src u.key u.tiles st;
           on_tiles !total_tiles;
-          reply src ~want:wants.(src)
+          reply src
       | Failed m ->
           if !failure = None then failure := Some (Worker_failed (src, m));
-          reply src ~want:0
+          reply src
     in
     (* Serve without spinning, so that rank 0 leaves the cores to the rendering domains
        (MPI's blocking probe polls at full speed), yet answers within a quarter of a
@@ -297,7 +325,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     let pause = ref 0.00002 in
     (* An exception here leaves workers waiting for an answer: end the whole job. *)
     (try
-       feed_local ~posted:None;
+       if local then feed_local ~posted:None;
        while !active > 0 || !local_busy do
          let mine = collect_local () in
          let theirs =

@@ -42,10 +42,17 @@ type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 (** How a unit is rendered: {!render_unit} without progress, unless a measurement of the
     scheme's own cost replaces it (e.g. by one that renders nothing). *)
 
+val plan : ranks:int -> domains:int -> int list -> (int * int) list
+(** [plan ~ranks ~domains tiles] is the units {!serve} cuts, in the order it hands them
+    out, when every rank has [domains] domains and frame k (counted from 0) of the job has
+    the k-th element of [tiles] tiles: a list of (frame index, tiles in the unit). For
+    predicting the scheme's speed without running it. *)
+
 val serve :
   ?start:(int -> (Image.t * int array) option) ->
   ?on_unit:(int -> int array -> Stats.t -> unit) ->
   ?render:renderer ->
+  ?local:bool ->
   fatal:(exn -> int) ->
   pool:Pool.t option ->
   domains:int ->
@@ -62,7 +69,8 @@ val serve :
     so far over all frames, from any domain; [on_frame key scene fb stats] as each frame
     is complete (in any order), from the calling domain. Rank 0's own units are rendered
     over [pool] ([domains] domains) by a domain it starts, one unit at a time (cut as for
-    any other rank), while the calling domain serves. Raises what [on_frame] raises, or
+    any other rank), while the calling domain serves; with [~local:false] (for measuring
+    the serving alone) rank 0 only serves. Raises what [on_frame] raises, or
     {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
     exception and is the status the job is then aborted with. *)
 
