@@ -9,7 +9,7 @@ RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
 .PHONY: all deps build demo test golden-update bench bench-povray bench-mpi bench-watch fuzz doc clean \
-	clean-toolchain fmt install uninstall static
+	clean-toolchain fmt install uninstall static cluster-bundle
 
 all: build
 
@@ -75,9 +75,22 @@ bench-watch: build
 	$(RUN) $(DUNE) build -j $(JOBS) ./test/watch/latency.exe
 	$(RUN) ./_build/default/test/watch/latency.exe _build/default/bin/main.exe
 
-# lancer-mpi against lancer on this machine: a still and a 48-frame animation.
+# lancer-mpi's scaling model: measured here, checked against runs here, predicted for
+# 16 to 1024 ranks (a still and a 48-frame animation; test/mpi/bench.sh).
 bench-mpi: build
 	$(RUN) bash test/mpi/bench.sh
+
+# What the 16-core run needs on a machine without OCaml, in out/cluster/ and
+# out/cluster.tar.gz: the static lancer, lancer-mpi (it needs Open MPI 5's libraries:
+# Debian 13's openmpi-bin), run16.sh and bounce.rts. There: ./run16.sh
+cluster-bundle: static
+	rm -rf out/cluster && mkdir -p out/cluster
+	install -m 0755 _build/default/bin/static/lancer_static.exe out/cluster/lancer
+	install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe out/cluster/lancer-mpi
+	install -m 0755 test/mpi/run16.sh out/cluster/run16.sh
+	install -m 0644 scenes/bounce.rts out/cluster/bounce.rts
+	tar -C out -czf out/cluster.tar.gz cluster
+	@echo "out/cluster.tar.gz: unpack it on the 16-core machine and run cluster/run16.sh"
 
 # Random and mutated scenes (parser and evaluator), OBJ files and images for FUZZ_SECONDS
 # (default 60); reports the cases tried and the failures, keeps failing inputs in

@@ -151,5 +151,13 @@ run -np 2 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd elsewhere; exec lancer-
 status=$?
 if [ "$status" = 1 ] && grep -q "rank 1: " inc.err && [ ! -e inc.png ]; then ok "a worker's failure stops the job with a message and no image"
 else fail "worker failure: status $status"; cat inc.err; fi
+# The 16-core run's script, at a tiny size on 1 and 2 ranks: it finds the commands, prints
+# the table and checks every output against lancer's.
+if LANCER=$(command -v lancer) LANCER_MPI=$(command -v lancer-mpi) SCENE_DIR=$(dirname "$orbit") CURVE="1 2" MAX=2 \
+     KINDS=still W=48 H=32 REPEAT=1 MPIRUN_ARGS=--oversubscribe timeout 120 bash "$(dirname "$bindings")/run16.sh" >run16.out 2>&1 \
+   && grep -q '^| lancer-mpi, 2 ranks × 1 domain | 2 | [0-9.]* | [0-9.]*× | [0-9.]* | yes |$' run16.out \
+   && grep -q '^| lancer, 2 domains | 2 |' run16.out; then
+  ok "run16.sh prints the domain and rank curves, every output the same bytes"
+else fail "run16.sh"; cat run16.out; fi
 [ "$failures" = 0 ] || { echo "$failures MPI test(s) failed"; exit 1; }
 echo "MPI tests passed"
