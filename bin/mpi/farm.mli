@@ -1,6 +1,6 @@
 (** The client-server scheme over MPI: rank 0 hands out work units on
-    demand, gathers their pixels and hands each finished frame to its caller; every other
-    rank renders the units it is given with its own pool of domains.
+    demand, gathers their pixels and hands each finished frame to its caller; every rank,
+    rank 0 too, renders the units it is given with its own pool of domains.
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
     for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:

@@ -20,7 +20,8 @@
      unit, byte                rank 0's serving time per unit and per byte handed in
      link_gbps                 rank 0's link in Gbit/s (0: none, the ranks share memory)
      fixed                     the fixed cost at this N
-   Prints: seconds S render_seconds R server_busy B units U bound WHAT *)
+   Prints: seconds S render_seconds R server_busy B units U bound WHAT, where WHAT is the
+   largest part of the time (the words joined by _). *)
 module Farm = Lancer_mpi.Farm
 
 let () =
@@ -71,6 +72,8 @@ let () =
   let free = Array.make ranks 0. in
   let holding = Array.make ranks None and last_frame = Array.make ranks (-1) in
   let server = ref 0. and busy = ref 0. and render = ref 0. in
+  (* Rank 0's serving domain's time, by what it was spent on. *)
+  let on_units = ref 0. and on_bytes = ref 0. and on_writes = ref 0. and on_evals = ref 0. in
   let serve t cost =
     server := Float.max t !server +. cost;
     busy := !busy +. cost
@@ -78,13 +81,19 @@ let () =
   (* Rank [i] hands in what it holds at [t]: rank 0's own unit costs its server nothing
      but the write of a frame it completes. *)
   let hand_in i t =
-    let cost =
+    let units, bytes, writes =
       match holding.(i) with
-      | None -> if i = 0 then 0. else per_unit
+      | None -> ((if i = 0 then 0. else per_unit), 0., 0.)
       | Some (f, px) ->
           left.(f) <- left.(f) - 1;
-          (if i = 0 then 0. else per_unit +. (Float.of_int (24 * px) *. per_byte)) +. if left.(f) = 0 then write else 0.
+          ( (if i = 0 then 0. else per_unit),
+            (if i = 0 then 0. else Float.of_int (24 * px) *. per_byte),
+            if left.(f) = 0 then write else 0. )
     in
+    on_units := !on_units +. units;
+    on_bytes := !on_bytes +. bytes;
+    on_writes := !on_writes +. writes;
+    let cost = units +. bytes +. writes in
     holding.(i) <- None;
     serve t cost
   in
@@ -94,7 +103,10 @@ let () =
       Array.iteri (fun r t -> if Float.compare t free.(!i) < 0 then i := r) free;
       let i = !i in
       hand_in i free.(i);
-      if next_tile.(f) = 0 then serve !server eval;
+      if next_tile.(f) = 0 then begin
+        serve !server eval;
+        on_evals := !on_evals +. eval
+      end;
       let first = next_tile.(f) in
       next_tile.(f) <- first + k;
       let d = duration first k +. if last_frame.(i) <> f then eval else 0. in
@@ -109,11 +121,16 @@ let () =
   let order = List.sort (fun a b -> Float.compare free.(a) free.(b)) (List.init ranks Fun.id) in
   List.iter (fun i -> if holding.(i) <> None || i > 0 then hand_in i free.(i)) order;
   let total = fixed +. !server in
-  let bound =
-    if Float.compare (!busy /. !server) 0.8 > 0 then "rank 0's serving"
-    else if Float.compare fixed (!server) > 0 then "fixed cost"
-    else if List.length units < 2 * ranks then "too few units"
-    else "rendering"
+  (* What bounds the job: the largest of the fixed cost, the rendering itself spread
+     evenly over every domain, the time ranks spend idle (uneven units) or waiting for a
+     busy rank 0, and each kind of rank 0's serial work. *)
+  let pixels = Float.of_int (Array.fold_left ( + ) 0 tiles * frames) in
+  let even = pixels *. pixel *. slow /. Float.of_int (ranks * domains) in
+  let parts =
+    [ ("fixed cost", fixed); ("rendering", even); ("ranks idle or waiting for rank 0", !render -. even);
+      ("rank 0 writing frames", !on_writes); ("rank 0 evaluating frames", !on_evals);
+      ("rank 0 receiving bytes", !on_bytes); ("rank 0 answering requests", !on_units) ]
   in
+  let bound, _ = List.fold_left (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v)) ("rendering", Float.neg_infinity) parts in
   Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d bound %s\n" total !render !busy (List.length units)
     (String.concat "_" (String.split_on_char ' ' bound))

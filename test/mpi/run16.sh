@@ -102,7 +102,7 @@ for kind in $KINDS; do
     row "lancer-mpi, $k rank$([ "$k" = 1 ] || echo s) × 1 domain" "$k" "$tmp/r$k$ext" \
       "${mpirun[@]}" -np "$k" "$lmpi" "${args[@]}" -o "$tmp/r$k$ext" --domains 1
   done
-  row "lancer-mpi, 2 ranks × $half domains" $((2 * half)) "$tmp/s$ext" \
+  [ "$half" -gt 1 ] && row "lancer-mpi, 2 ranks × $half domains" $((2 * half)) "$tmp/s$ext" \
     "${mpirun[@]}" -np 2 "$lmpi" "${args[@]}" -o "$tmp/s$ext" --domains "$half"
 done
 [ "$failures" = 0 ] || { echo "run16: $failures run(s) failed or differed"; exit 1; }
