@@ -258,7 +258,10 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
           Mpi.send Stop ~dest ~tag:tag_reply;
           decr active
     in
-    let l = { lock = Mutex.create (); given = Condition.create (); task = None; quit = false; result = Atomic.make None; crashed = Atomic.make None } in
+    let l =
+      { lock = Mutex.create (); given = Condition.create (); task = None; quit = false;
+        result = Atomic.make None; crashed = Atomic.make None }
+    in
     let helper = Domain.spawn (local_worker ~render l) in
     let stop_local () =
       Mutex.lock l.lock;

@@ -64,16 +64,17 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
 let report_json (r : Farm.report) =
   let ms x = if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3) in
   let waits l =
-    `Assoc [ ("count", `Int (List.length l)); ("median", ms (Farm.percentile 0.5 l)); ("p90", ms (Farm.percentile 0.9 l));
-             ("max", ms (List.fold_left Float.max Float.neg_infinity l)) ]
+    `Assoc
+      [ ("count", `Int (List.length l)); ("median", ms (Farm.percentile 0.5 l));
+        ("p90", ms (Farm.percentile 0.9 l)); ("max", ms (List.fold_left Float.max Float.neg_infinity l)) ]
+  in
+  let others = List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1))) in
+  let rank k =
+    `Assoc [ ("rank", `Int k); ("units", `Int r.units.(k)); ("tiles", `Int r.tiles.(k)); ("wait_ms", waits r.waits.(k)) ]
   in
   `Assoc
-    [ ("units", `Int (Array.fold_left ( + ) 0 r.units));
-      ("reply_wait_ms", waits (List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1)))));
-      ( "ranks",
-        `List
-          (List.init (Array.length r.units) (fun k ->
-               `Assoc [ ("rank", `Int k); ("units", `Int r.units.(k)); ("tiles", `Int r.tiles.(k)); ("wait_ms", waits r.waits.(k)) ])) ) ]
+    [ ("units", `Int (Array.fold_left ( + ) 0 r.units)); ("reply_wait_ms", waits others);
+      ("ranks", `List (List.init (Array.length r.units) rank)) ]
 
 (* ---- render ---- *)
 

@@ -131,6 +131,11 @@ let () =
       ("rank 0 writing frames", !on_writes); ("rank 0 evaluating frames", !on_evals);
       ("rank 0 receiving bytes", !on_bytes); ("rank 0 answering requests", !on_units) ]
   in
-  let bound, _ = List.fold_left (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v)) ("rendering", Float.neg_infinity) parts in
-  Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d bound %s\n" total !render !busy (List.length units)
+  let bound, _ =
+    List.fold_left
+      (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v))
+      ("rendering", Float.neg_infinity) parts
+  in
+  Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d bound %s\n" total !render !busy
+    (List.length units)
     (String.concat "_" (String.split_on_char ' ' bound))
