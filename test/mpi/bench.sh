@@ -202,3 +202,26 @@ for kind in still anim; do
     done
   done
 done
+
+# Where it stops scaling: for each job and domains per rank, the most ranks (doubling
+# from 1) predicted at 0.9 of the ideal speed-up over one rank of as many domains, fixed
+# cost included, and what costs most besides the rendering at the next doubling.
+echo
+echo "### Where the scheme stops scaling (predicted: 0.9 of the ideal speed-up over one rank)"
+echo
+for kind in still anim; do
+  if [ "$kind" = still ]; then base=$x_still name="still ${W}×${H}"; else base=$x_anim name="48 frames ${AW}×${AH}"; fi
+  for d in 1 16; do
+    last=1 why=""
+    one=$(predict "$kind" 1 "$d" "$d" "$LINK_GBPS" "${fixed[1]}" | word seconds)
+    for n in 2 4 8 16 32 64 128 256 512 1024; do
+      fx=$(calc "${fixed[1]} + $doubling * log($n) / log(2)")
+      line=$(predict "$kind" "$n" "$d" $((n * d)) "$LINK_GBPS" "$fx")
+      ok=$(calc "$one / $(word seconds <<<"$line") / $n >= 0.9 ? 1 : 0")
+      if [ "$ok" = 1 ]; then last=$n; else why=$(word limit <<<"$line" | tr _ ' '); break; fi
+    done
+    per="$d domain$([ "$d" = 1 ] || echo s) per rank"
+    if [ -n "$why" ]; then echo "* $name, $per: up to $last rank$([ "$last" = 1 ] || echo s); at $((last * 2)) what costs most besides rendering is $why."
+    else echo "* $name, $per: up to 1024 ranks and beyond."; fi
+  done
+done

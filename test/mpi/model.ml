@@ -20,8 +20,9 @@
      unit, byte                rank 0's serving time per unit and per byte handed in
      link_gbps                 rank 0's link in Gbit/s (0: none, the ranks share memory)
      fixed                     the fixed cost at this N
-   Prints: seconds S render_seconds R server_busy B units U bound WHAT, where WHAT is the
-   largest part of the time (the words joined by _). *)
+   Prints: seconds S render_seconds R server_busy B units U limit L bound WHAT, where
+   WHAT is the largest part of the time and L the largest but the rendering itself (the
+   words joined by _). *)
 module Farm = Lancer_mpi.Farm
 
 let () =
@@ -131,11 +132,15 @@ let () =
       ("rank 0 writing frames", !on_writes); ("rank 0 evaluating frames", !on_evals);
       ("rank 0 receiving bytes", !on_bytes); ("rank 0 answering requests", !on_units) ]
   in
-  let bound, _ =
-    List.fold_left
-      (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v))
-      ("rendering", Float.neg_infinity) parts
+  let largest parts =
+    fst
+      (List.fold_left
+         (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v))
+         ("rendering", Float.neg_infinity) parts)
   in
-  Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d bound %s\n" total !render !busy
+  let word s = String.concat "_" (String.split_on_char ' ' s) in
+  (* [limit]: the largest part that is not rendering, what keeps the job from scaling. *)
+  Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d limit %s bound %s\n" total !render !busy
     (List.length units)
-    (String.concat "_" (String.split_on_char ' ' bound))
+    (word (largest (List.filter (fun (n, _) -> n <> "rendering") parts)))
+    (word (largest parts))
