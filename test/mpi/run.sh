@@ -86,14 +86,19 @@ done
 
 # Ctrl-C reaching rank 0 while its own domains render and it serves: the job ends with
 # status 130 and no image (the render would take far longer than the test waits).
+here=$(pwd -P)
 for d in 1 2; do
   rm -f int.png
   run -np 2 lancer-mpi render "$showcase" --width 1920 --height 1080 --samples 4 --domains "$d" -q -o int.png \
     >/dev/null 2>int.log &
   job=$!
   rank0=
+  # This job's rank 0 only: the one in this test's own directory (other jobs, and the
+  # previous one still exiting, may have a rank 0 too).
   for _ in $(seq 100); do
     for p in $(pgrep -x lancer-mpi); do
+      [ "$(readlink "/proc/$p/cwd" 2>/dev/null)" = "$here" ] || continue
+      [ "$(cat "/proc/$p/stat" 2>/dev/null | awk '{print $3}')" = Z ] && continue
       tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=0' && rank0=$p
     done
     [ -n "$rank0" ] && break
