@@ -53,20 +53,6 @@ let describe_exn ?tmp = function
 
 let remove_quietly p = try Sys.remove p with _ -> ()
 
-(* libpng prints its own diagnostics on stderr before camlimages turns them into an
-   exception, which is then reported once, in one line: silence the library's copy while
-   it runs. Images are read and written outside the parallel render, so nothing else is
-   writing to stderr meanwhile. *)
-let quietly f =
-  match Unix.openfile "/dev/null" [ Unix.O_WRONLY; Unix.O_CLOEXEC ] 0 with
-  | exception Unix.Unix_error _ -> f ()
-  | null ->
-      flush stderr;
-      let saved = Unix.dup ~cloexec:true Unix.stderr in
-      Unix.dup2 null Unix.stderr;
-      Unix.close null;
-      Fun.protect ~finally:(fun () -> Unix.dup2 saved Unix.stderr; Unix.close saved) f
-
 (* What can be refused before a temporary file exists. *)
 let check_writable path =
   let dir = Filename.dirname path in
@@ -119,7 +105,7 @@ let write_png_atomic path w h bytes =
   atomically path (fun tmp ->
       close_out (open_out_bin tmp);
       let img = Rgb24.create_with w h [] bytes in
-      match quietly (fun () -> Png.save tmp [] (Images.Rgb24 img)) with
+      match Png.save tmp [] (Images.Rgb24 img) with
       | () -> ()
       | exception Failure _ -> failwith "the PNG encoder could not write the file (is the disk full?)")
 
@@ -179,7 +165,7 @@ let check_png_header path =
 let read_png path =
   check_png_header path;
   let load () =
-    try quietly (fun () -> Png.load path [])
+    try Png.load path []
     with Failure m when m <> "" && m.[0] <> '#' -> failwith (Printf.sprintf "corrupt or truncated PNG data (%s)" m)
        | Failure _ -> failwith "corrupt PNG data"
   in

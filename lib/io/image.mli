@@ -50,7 +50,7 @@ val read_rgb8 : string -> (int * int * Bytes.t, string) result
 (** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file (any PNG colour type
     is converted to 8-bit RGB). A PNG's signature and size are checked before it is
     decoded: larger than {!Settings.max_pixels} is an error, not an allocation. Never
-    raises, and prints nothing (libpng's own messages are silenced). *)
+    raises. *)
 
 val read_linear : string -> (t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
