@@ -98,22 +98,13 @@ let write_ppm oc w h bytes =
   Printf.fprintf oc "P6\n%d %d\n255\n" w h;
   output_bytes oc bytes
 
-(* camlimages writes PNG to a path, not a channel: it writes the temporary file itself
-   and the rename makes it appear atomically. The file is created first so that a refusal
-   by the system comes with its reason rather than libpng's "png file open failed". *)
-let write_png_atomic path w h bytes =
-  atomically path (fun tmp ->
-      close_out (open_out_bin tmp);
-      let img = Rgb24.create_with w h [] bytes in
-      match Png.save tmp [] (Images.Rgb24 img) with
-      | () -> ()
-      | exception Failure _ -> failwith "the PNG encoder could not write the file (is the disk full?)")
+let write_png oc raster = Png.encode raster (output_string oc)
 
 let write_rgb8 path w h bytes =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm oc w h bytes)
-  | Ok Png -> write_png_atomic path w h bytes
+  | Ok Png -> write_atomic path (fun oc -> write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
 
 let save ?(gamma = Settings.Srgb) path fb = write_rgb8 path fb.width fb.height (to_bytes gamma fb)
 
@@ -141,50 +132,22 @@ let read_ppm path =
   let w = int_token () in
   let h = int_token () in
   let maxv = int_token () in
-  if w < 1 || h < 1 || maxv <> 255 || w > Settings.max_pixels / h then failwith "unsupported PPM header";
-  let bytes = Bytes.create (3 * w * h) in
-  really_input ic bytes 0 (3 * w * h);
-  (w, h, bytes)
-
-let png_signature = "\137PNG\r\n\026\n"
-
-(* What the decoder would find out only after allocating: the signature, and the size in
-   the IHDR chunk, which the PNG specification puts first. *)
-let check_png_header path =
-  let head = In_channel.with_open_bin path (fun ic -> In_channel.really_input_string ic 24) in
-  match head with
-  | Some h when String.sub h 0 8 = png_signature && String.sub h 12 4 = "IHDR" ->
-      let be32 o = (Char.code h.[o] lsl 24) lor (Char.code h.[o + 1] lsl 16) lor (Char.code h.[o + 2] lsl 8) lor Char.code h.[o + 3] in
-      let w = be32 16 and h = be32 20 in
-      if w < 1 || h < 1 then failwith (Printf.sprintf "a PNG image of %d×%d pixels is empty" w h)
-      else if w > Settings.max_pixels / h then
-        failwith (Printf.sprintf "image %d×%d is larger than the limit of %d pixels" w h Settings.max_pixels)
-  | Some h when String.sub h 0 8 = png_signature -> failwith "not a PNG file (its first chunk is not IHDR)"
-  | _ -> failwith "not a PNG file"
+  if w < 1 || h < 1 || w > Settings.max_pixels / h then failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
+  if maxv <> 255 && maxv <> 65535 then failwith (Printf.sprintf "unsupported PPM maximum value %d (lancer reads 255 and 65535)" maxv);
+  let depth = if maxv = 255 then 8 else 16 in
+  let bytes = Bytes.create (3 * w * h * (depth / 8)) in
+  really_input ic bytes 0 (Bytes.length bytes);
+  Raster.make ~width:w ~height:h ~channels:3 ~depth bytes
 
 let read_png path =
-  check_png_header path;
-  let load () =
-    try Png.load path []
-    with Failure m when m <> "" && m.[0] <> '#' -> failwith (Printf.sprintf "corrupt or truncated PNG data (%s)" m)
-       | Failure _ -> failwith "corrupt PNG data"
-  in
-  let rgb =
-    match load () with
-    | Images.Rgb24 i -> i
-    | Images.Rgba32 i -> Rgb24.of_rgba32 i
-    | Images.Index8 i -> Index8.to_rgb24 i
-    | Images.Index16 i -> Index16.to_rgb24 i
-    | Images.Cmyk32 _ -> failwith "CMYK PNG images are not supported"
-  in
-  let w = rgb.Rgb24.width and h = rgb.Rgb24.height in
-  let bytes = Bytes.create (3 * w * h) in
-  for j = 0 to h - 1 do
-    Bytes.blit (Rgb24.get_scanline rgb j) 0 bytes (3 * w * j) (3 * w)
-  done;
-  (w, h, bytes)
+  let size = (Unix.stat path).st_size in
+  (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
+  if size > 4 * 8 * Settings.max_pixels then failwith (Printf.sprintf "the file is too large for an image (%d bytes)" size);
+  match Png.decode (In_channel.with_open_bin path In_channel.input_all) with
+  | Ok r -> r
+  | Error m -> failwith m
 
-let read_rgb8 path =
+let read_raster path =
   match format_of_path path with
   | Error e -> Error e
   | Ok fmt -> (
@@ -196,13 +159,24 @@ let read_rgb8 path =
         | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
         | exception e -> Error (Printf.sprintf "%s: cannot read image: %s" path (describe_exn e)))
 
-let srgb_to_linear b =
-  let v = Float.of_int b /. 255. in
-  if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
+let read_rgb8 path =
+  Result.map (fun (r : Raster.t) -> (r.width, r.height, Raster.to_rgb8 r)) (read_raster path)
+let srgb_to_linear v = if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
 
-let read_linear path =
-  match read_rgb8 path with
-  | Error e -> Error e
-  | Ok (w, h, bytes) ->
-      let lut = Float.Array.init 256 srgb_to_linear in
-      Ok { width = w; height = h; data = Float.Array.init (3 * w * h) (fun k -> Float.Array.get lut (Char.code (Bytes.get bytes k))) }
+(* Every possible sample value decoded once: 256 or 65536 entries. *)
+let linear_lut maxv = Float.Array.init (maxv + 1) (fun k -> srgb_to_linear (Float.of_int k /. Float.of_int maxv))
+
+let of_raster (r : Raster.t) =
+  let lut = linear_lut (Raster.max_value r) in
+  let n = r.width * r.height in
+  let data = Float.Array.create (3 * n) in
+  let gray = r.channels < 3 in
+  for p = 0 to n - 1 do
+    let i = p mod r.width and j = p / r.width in
+    for c = 0 to 2 do
+      Float.Array.set data ((3 * p) + c) (Float.Array.get lut (Raster.get r i j (if gray then 0 else c)))
+    done
+  done;
+  { width = r.width; height = r.height; data }
+
+let read_linear path = Result.map of_raster (read_raster path)

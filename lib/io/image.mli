@@ -2,8 +2,8 @@
 
     A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
     (doc/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v, else
-    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG (8-bit RGB,
-    through camlimages) or binary PPM by extension, always written atomically: a
+    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!Png},
+    plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
     temporary file in the same directory, then a rename. *)
 
 type t = { width : int; height : int; data : Float.Array.t  (** 3·width·height linear floats *) }
@@ -46,12 +46,20 @@ val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
 val save : ?gamma:Settings.gamma -> string -> t -> (unit, string) result
 (** [save path fb] encodes (default sRGB) and writes [fb]. *)
 
+val read_raster : string -> (Raster.t, string) result
+(** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
+    or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
+    before its pixels are allocated: larger than {!Settings.max_pixels} is an error.
+    Never raises; the message starts with [path]. *)
+
 val read_rgb8 : string -> (int * int * Bytes.t, string) result
-(** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file (any PNG colour type
-    is converted to 8-bit RGB). A PNG's signature and size are checked before it is
-    decoded: larger than {!Settings.max_pixels} is an error, not an allocation. Never
-    raises. *)
+(** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file converted to 8-bit RGB
+    as {!Raster.to_rgb8} does. Never raises. *)
+
+val of_raster : Raster.t -> t
+(** The linear framebuffer of sRGB-encoded samples, at their full precision (8 or 16
+    bits); gray is repeated into the three channels, alpha is dropped. *)
 
 val read_linear : string -> (t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
-    textures). *)
+    textures and bump maps). *)

@@ -1,0 +1,119 @@
+(* The files the lancer command writes, as other programs read them. *)
+open Run_lancer
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
+let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+let tmpdir () = tmpdir "lancer-output"
+let ( // ) = Filename.concat
+
+(* The body of a binary PPM lancer wrote (its header is "P6\nW H\nMAX\n"). *)
+let ppm_body s =
+  let rec nth_newline i k = if k = 0 then i else nth_newline (String.index_from s i '\n' + 1) (k - 1) in
+  let start = nth_newline 0 3 in
+  String.sub s start (String.length s - start)
+
+(* What the independent decoder makes of a PNG: (header line, samples). *)
+let independent png =
+  let out = Filename.temp_file "png" ".raw" in
+  let st = Sys.command (Printf.sprintf "perl png_check.pl %s > %s 2>&1" (Filename.quote png) (Filename.quote out)) in
+  let s = read_file out in
+  Sys.remove out;
+  if st <> 0 then Alcotest.failf "the independent decoder refused %s: %s" png s;
+  let nl = String.index s '\n' in
+  (String.sub s 0 nl, String.sub s (nl + 1) (String.length s - nl - 1))
+
+let scene =
+  {|settings { width: 40, height: 30, samples: 2 }
+camera { position: (0, 2, -6), look_at: (0, 0.5, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((1,1,1), (0.2,0.2,0.2), 1) } }
+sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.2), specular: 0.5 } }
+|}
+
+(* A gray PNG of w×h samples [v i j] at 8 or 16 bits, through lancer's own writer. *)
+let gray_png path depth w h v =
+  let b = Bytes.create (w * h * (depth / 8)) in
+  for j = 0 to h - 1 do
+    for i = 0 to w - 1 do
+      let k = (j * w) + i in
+      if depth = 8 then Bytes.set_uint8 b k (v i j) else Bytes.set_uint16_be b (2 * k) (v i j)
+    done
+  done;
+  Out_channel.with_open_bin path (fun oc -> Lancer.Png.encode (Lancer.Raster.make ~width:w ~height:h ~channels:1 ~depth b) (output_string oc))
+
+let png_tests =
+  [ Alcotest.test_case "a rendered PNG is plain, and an independent decoder reads the same pixels as the PPM" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        check_status "png" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "-q" ]);
+        check_status "ppm" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "-q" ]);
+        let s = read_file (d // "s.png") in
+        Alcotest.(check int) "interlace method 0 (plain)" 0 (Char.code s.[28]);
+        let head, samples = independent (d // "s.png") in
+        Alcotest.(check string) "40×30 RGB, 8 bits" "40 30 3 8" head;
+        Alcotest.(check bool) "the same pixels as the PPM" true (samples = ppm_body (read_file (d // "s.ppm"))));
+    Alcotest.test_case "the showcase written plainly is smaller than the interlaced file of the former writer" `Quick (fun () ->
+        let old = "../../scenes/gallery/showcase.png" in
+        match Lancer.Image.read_rgb8 old with
+        | Error m -> Alcotest.fail m
+        | Ok (w, h, b) ->
+            let d = tmpdir () in
+            (match Lancer.Image.write_rgb8 (d // "new.png") w h b with Ok () -> () | Error m -> Alcotest.fail m);
+            let before = (Unix.stat old).st_size and after = (Unix.stat (d // "new.png")).st_size in
+            Alcotest.(check bool) (Printf.sprintf "%d bytes, was %d: at least 20%% smaller" after before) true
+              (after * 10 < before * 8);
+            match Lancer.Image.read_rgb8 (d // "new.png") with
+            | Ok (_, _, b') -> Alcotest.(check bool) "same pixels" true (Bytes.equal b b')
+            | Error m -> Alcotest.fail m);
+    Alcotest.test_case "8- and 16-bit gray height maps work as textures and as bump maps" `Quick (fun () ->
+        let d = tmpdir () in
+        gray_png (d // "flat8.png") 8 4 4 (fun _ _ -> 128);
+        gray_png (d // "flat16.png") 16 4 4 (fun _ _ -> 40000);
+        gray_png (d // "bumps8.png") 8 16 16 (fun i j -> if (i / 4) + (j / 4) land 1 = 0 then 255 else 0);
+        gray_png (d // "bumps16.png") 16 16 16 (fun i j -> (i * 4000) + (j * 97));
+        (* Only the ambient term, at full strength: the pixel is the texture's colour. *)
+        let textured file =
+          Printf.sprintf
+            "settings { width: 8, height: 8, ambient: (1, 1, 1) }\ncamera { position: (0, 0, -3), look_at: (0, 0, 0) }\n\
+             parallelogram { origin: (-3, -3, 0), edge1: (6, 0, 0), edge2: (0, 6, 0),\n\
+             material: material { ambient: 1, diffuse: 0, texture: image(\"%s\", 1) } }\n"
+            file
+        in
+        List.iter
+          (fun (file, expect) ->
+            write_file (d // "t.rts") (textured file);
+            check_status file 0 (lancer ~dir:d [ "render"; "t.rts"; "-o"; "t.ppm"; "-q" ]);
+            let px = ppm_body (read_file (d // "t.ppm")) in
+            let v = Char.code px.[(3 * ((4 * 8) + 4))] in
+            Alcotest.(check bool) (Printf.sprintf "%s: centre pixel %d, expected %d" file v expect) true (abs (v - expect) <= 1);
+            Alcotest.(check bool) "gray" true (px.[3 * 36] = px.[(3 * 36) + 1] && px.[(3 * 36) + 1] = px.[(3 * 36) + 2]))
+          [ ("flat8.png", 128); ("flat16.png", 40000 * 255 / 65535) ];
+        let bumped b =
+          Printf.sprintf
+            "settings { width: 24, height: 24 }\ncamera { position: (0, 0, -3), look_at: (0, 0, 0) }\nlight { position: (-2, 3, -4) }\n\
+             parallelogram { origin: (-2, -2, 0), edge1: (4, 0, 0), edge2: (0, 4, 0), material: material { specular: 0.5%s } }\n"
+            b
+        in
+        write_file (d // "flat.rts") (bumped "");
+        check_status "flat" 0 (lancer ~dir:d [ "render"; "flat.rts"; "-o"; "flat.ppm"; "-q" ]);
+        List.iter
+          (fun file ->
+            write_file (d // "b.rts") (bumped (Printf.sprintf ", bump: image(\"%s\", 2)" file));
+            check_status file 0 (lancer ~dir:d [ "render"; "b.rts"; "-o"; "b.ppm"; "-q" ]);
+            Alcotest.(check bool) (file ^ " changes the shading") false (read_file (d // "b.ppm") = read_file (d // "flat.ppm")))
+          [ "bumps8.png"; "bumps16.png" ]);
+    Alcotest.test_case "a corrupt texture is refused at the image(…) that names it" `Quick (fun () ->
+        let d = tmpdir () in
+        gray_png (d // "g.png") 8 4 4 (fun i _ -> i * 60);
+        let s = read_file (d // "g.png") in
+        write_file (d // "cut.png") (String.sub s 0 (String.length s - 30));
+        write_file (d // "t.rts")
+          "settings { width: 8, height: 8 }\n\
+           sphere { center: (0, 0, 0), radius: 1, material: material { texture: image(\"cut.png\", 1) } }\n";
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "t.rts"; "-o"; "t.png" ] in
+        check_status "refused" 1 r;
+        Alcotest.(check bool) e true (contains e "t.rts:2:" && contains e "cut.png" && contains e "truncated");
+        Alcotest.(check bool) "no backtrace" false (contains e "Raised at" || contains e "internal error")) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests) ]
