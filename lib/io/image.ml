@@ -35,64 +35,13 @@ let format_of_path path =
   | "" -> Error (Printf.sprintf "%s: no file extension; use .png or .ppm" path)
   | e -> Error (Printf.sprintf "%s: unsupported image format %s; use .png or .ppm" path e)
 
-let temp_path path =
-  let dir = Filename.dirname path and base = Filename.basename path in
-  Filename.concat dir (Printf.sprintf ".%s.tmp-%d-%d" base (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
-
-(* The reason of a failure, without the name of the temporary file: the user only knows
-   the path they asked for. *)
-let describe_exn ?tmp = function
-  | Sys_error m -> (
-      match tmp with
-      | Some t when String.length m > String.length t + 2 && String.sub m 0 (String.length t + 2) = t ^ ": " ->
-          String.sub m (String.length t + 2) (String.length m - String.length t - 2)
-      | _ -> m)
-  | Unix.Unix_error (e, f, a) -> Printf.sprintf "%s%s: %s" f (if a = "" then "" else " " ^ a) (Unix.error_message e)
-  | Failure m -> m
+let describe_exn = function
+  | Sys_error m | Failure m -> m
+  | Unix.Unix_error (e, _, _) -> Unix.error_message e
   | e -> Printexc.to_string e
 
-let remove_quietly p = try Sys.remove p with _ -> ()
-
-(* What can be refused before a temporary file exists. *)
-let check_writable path =
-  let dir = Filename.dirname path in
-  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "cannot write %s: is a directory" path)
-  else if not (Sys.file_exists dir) then Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
-  else if not (Sys.is_directory dir) then Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
-  else Ok ()
-
-(* A device or a pipe (/dev/stdout, /dev/null, a FIFO) cannot be replaced by a rename,
-   and must not be: running as root, that would swap the device node for a file. *)
-let is_special path =
-  match (Unix.stat path).st_kind with
-  | Unix.S_CHR | Unix.S_BLK | Unix.S_FIFO | Unix.S_SOCK -> true
-  | _ -> false
-  | exception Unix.Unix_error _ -> false
-
-(* Write through [f tmp] into a temporary file beside [path], then rename it into place;
-   on any failure (a full disk included) the temporary file is removed. A device or pipe
-   is written in place. *)
-let atomically path f =
-  match check_writable path with
-  | Error e -> Error e
-  | Ok () when is_special path -> (
-      match f path with
-      | () -> Ok ()
-      | exception Sys.Break -> raise Sys.Break
-      | exception e -> Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp:path e)))
-  | Ok () -> (
-      let tmp = temp_path path in
-      match f tmp; Unix.rename tmp path with
-      | () -> Ok ()
-      | exception e ->
-          remove_quietly tmp;
-          (match e with Sys.Break -> raise e | _ -> ());
-          Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp e)))
-
-let write_atomic path f =
-  atomically path (fun tmp ->
-      let oc = open_out_bin tmp in
-      Fun.protect ~finally:(fun () -> close_out_noerr oc) (fun () -> f oc; close_out oc))
+let check_writable = Safe_file.check_writable
+let write_atomic = Safe_file.write
 
 let write_ppm oc w h bytes =
   Printf.fprintf oc "P6\n%d %d\n255\n" w h;

@@ -29,15 +29,12 @@ val format_of_path : string -> (format, string) result
 (** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
 
 val check_writable : string -> (unit, string) result
-(** Whether a file could be written at this path: not a directory, in a directory that
-    exists. What {!write_atomic} checks first; callers use it to refuse before working. *)
+(** {!Safe_file.check_writable}: callers use it to refuse before working. *)
 
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
-(** [write_atomic path f] writes [path] through [f] into a temporary file beside it and
-    renames it into place; on any failure (a full disk included) the temporary file is
-    removed and [path] is untouched. A missing directory is refused before anything is
-    written. A device or a pipe ([/dev/stdout], a FIFO) is written in place, never replaced.
-    The message names the path and the reason, never the temporary file. *)
+(** {!Safe_file.write}: [write_atomic path f] writes [path] through [f] into a temporary
+    file beside it and renames it into place once every write, the flush, the [fsync] and
+    the close succeeded; on any failure [path] is untouched and no temporary file stays. *)
 
 val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
 (** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s

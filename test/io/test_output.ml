@@ -116,4 +116,79 @@ let png_tests =
         Alcotest.(check bool) e true (contains e "t.rts:2:" && contains e "cut.png" && contains e "truncated");
         Alcotest.(check bool) "no backtrace" false (contains e "Raised at" || contains e "internal error")) ]
 
-let () = Alcotest.run "output" [ ("png", png_tests) ]
+
+
+(* ---- writes under a file-size limit ---- *)
+
+(* lancer in [dir] under bash's ulimit -f of [kib] 1024-byte units: (status, stdout,
+   stderr). Its output goes to pipes, which the limit does not apply to. *)
+let limited ~dir kib args =
+  let script = Printf.sprintf "cd %s && ulimit -f %d && exec \"$0\" \"$@\"" (Filename.quote dir) kib in
+  let ic, oc, ec = Unix.open_process_args_full "/bin/bash" (Array.of_list ("bash" :: "-c" :: script :: exe :: args)) (Unix.environment ()) in
+  close_out oc;
+  let out = In_channel.input_all ic and err = In_channel.input_all ec in
+  match Unix.close_process_full (ic, oc, ec) with
+  | Unix.WEXITED n -> (n, out, err)
+  | _ -> (-1, out, err)
+
+let size p = (Unix.stat p).Unix.st_size
+
+let limit_tests =
+  [ Alcotest.test_case "under a file-size limit at every 4096-byte page of the file, the write fails whole and the previous file stays" `Quick
+      (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        let args o = [ "render"; "s.rts"; "-o"; o; "--width"; "200"; "--height"; "150"; "-q"; "--stats"; "st.json"; "--domains"; "1" ] in
+        check_status "unlimited" 0 (lancer ~dir:d (args "full.png"));
+        check_status "unlimited ppm" 0 (lancer ~dir:d (args "full.ppm"));
+        List.iter
+          (fun out ->
+            let len = size (d // ("full" ^ Filename.extension out)) in
+            Alcotest.(check bool) "more than one page" true (len > 4096);
+            let pages = (len + 4095) / 4096 in
+            for k = 0 to pages - 1 do
+              write_file (d // out) "the previous image";
+              let ((_, _, e) as r) = limited ~dir:d (4 * k) (args out) in
+              check_status (Printf.sprintf "%s, limit %d bytes (file %d)" out (4096 * k) len) 1 r;
+              Alcotest.(check bool) ("says why: " ^ e) true (contains e ("cannot write " ^ out) && contains e "File too large");
+              Alcotest.(check string) "previous file untouched" "the previous image" (read_file (d // out));
+              Alcotest.(check bool) "no temporary file" false
+                (Array.exists (fun f -> contains f ".tmp-") (Sys.readdir d))
+            done;
+            (* At the first page count that holds the whole file, it is written. *)
+            check_status "limit large enough" 0 (limited ~dir:d (4 * pages) (args out));
+            Alcotest.(check bool) "the image" true (read_file (d // out) = read_file (d // ("full" ^ Filename.extension out))))
+          [ "out.png"; "out.ppm" ]);
+    Alcotest.test_case "stats JSON and the frames manifest under a file-size limit fail whole" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        (* The stats of a scene with a long path are larger than 1 KiB, its 8×8 image is not:
+           under a 1 KiB limit the image is written and the stats fail. *)
+        let long = String.make 200 'd' in
+        let sub = Filename.concat long (Filename.concat long long) in
+        ignore (Sys.command (Printf.sprintf "mkdir -p %s" (Filename.quote (d // sub))));
+        write_file (d // sub // "s.rts") scene;
+        write_file (d // "st.json") "previous stats";
+        let ((_, _, e) as r) =
+          limited ~dir:d 1 [ "render"; sub // "s.rts"; "-o"; "o.ppm"; "--width"; "8"; "--height"; "8"; "-q"; "--stats"; "st.json" ]
+        in
+        check_status "refused" 1 r;
+        Alcotest.(check bool) e true (contains e "cannot write st.json: File too large");
+        Alcotest.(check bool) "the image was written" true (Sys.file_exists (d // "o.ppm"));
+        Alcotest.(check string) "stats untouched" "previous stats" (read_file (d // "st.json"));
+        (* Thirty 1×1 frames of about 70 bytes each; the manifest, rewritten after each
+           frame, outgrows 1 KiB before the last one. *)
+        write_file (d // "a.rts")
+          "settings { width: 1, height: 1 }\nanimation { fps: 10, frames: 30 }\ncamera { position: (0, 1, -5), look_at: (0, 1, 0) }\n\
+           light { position: (-3, 5, -4) }\nsphere { center: (0, 1, 0), radius: 1 }\n";
+        let ((_, _, e) as r) = limited ~dir:d 1 [ "animate"; "a.rts"; "-o"; "fr"; "-q"; "--domains"; "1" ] in
+        check_status "animate refused" 1 r;
+        Alcotest.(check bool) e true (contains e "lancer-frames.json: File too large");
+        let manifest = read_file (d // "fr" // "lancer-frames.json") in
+        (match Yojson.Safe.from_string manifest with
+         | `Assoc entries -> Alcotest.(check bool) "the last whole manifest stays, with its frames" true (List.length entries > 5)
+         | _ -> Alcotest.fail "not an object"
+         | exception _ -> Alcotest.failf "the manifest is not whole JSON: %S" manifest);
+        Alcotest.(check bool) "no temporary file" false (Array.exists (fun f -> contains f ".tmp-") (Sys.readdir (d // "fr")))) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests) ]
