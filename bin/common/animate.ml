@@ -104,6 +104,9 @@ let plan ?(getenv = Sys.getenv_opt) (o : Cli.opts) (a : options) =
   let input_digest = Lancer_dsl.Dsl.input_digest prog in
   let todo = if a.resume then List.filter (fun k -> not (Frameset.is_done set k ~input_digest)) mine else mine in
   let skipped = List.length mine - List.length todo in
+  Cli.guard_writes ~distinct:false ~reads:(Cli.reads o prog)
+    ((Filename.concat dir Frameset.view_name, "the frames record")
+     :: List.map (fun k -> (Filename.concat dir (Frameset.frame_name k), "a frame")) todo);
   if skipped > 0 && not o.quiet then Printf.printf "resuming: %d frames already rendered, %d to go\n%!" skipped (List.length todo);
   if todo <> [] then Frameset.drop_view set;
   { opts = o; source; prog; dir; fps; first; last; shard; todo; set; inputs = Hashtbl.create 16; inputs_lock = Mutex.create () }

@@ -240,6 +240,78 @@ let check_output path =
   (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
   check_writable path
 
+(* ---- What a run reads and what it writes ---- *)
+
+(* Where a path leads, for comparing two names of one file: the file itself resolved when
+   it exists, else its directory, so that ./a.png, a.png and a path through a symbolic
+   link agree. *)
+let where p =
+  match Unix.realpath p with
+  | r -> r
+  | exception Unix.Unix_error _ -> (
+      match Unix.realpath (Filename.dirname p) with
+      | d -> Filename.concat d (Filename.basename p)
+      | exception Unix.Unix_error _ -> p)
+
+type identity = { path : string; resolved : string; inode : (int * int) option }
+
+let identity path =
+  { path; resolved = where path;
+    inode = (match Unix.stat path with st -> Some (st.st_dev, st.st_ino) | exception Unix.Unix_error _ -> None) }
+
+(* Also two hard links to one file. *)
+let same a b = a.resolved = b.resolved || (match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false)
+
+let reads (o : opts) prog =
+  let main = Dsl.file prog in
+  List.filter_map
+    (fun p ->
+      if String.equal p main then if o.scene = None then None else Some (p, "the scene")
+      else
+        match String.lowercase_ascii (Filename.extension p) with
+        | ".rts" -> Some (p, "a file the scene includes")
+        | ".obj" -> Some (p, "a mesh the scene uses")
+        | _ -> Some (p, "an image the scene uses"))
+    (Dsl.inputs prog)
+
+let guard_writes ?(distinct = true) ~reads writes =
+  let reads = List.map (fun (p, what) -> (identity p, what)) reads in
+  let writes = List.map (fun (p, what) -> (identity p, what)) writes in
+  List.iter
+    (fun (w, what) ->
+      check_writable w.path;
+      List.iter
+        (fun (r, rwhat) ->
+          if same w r then
+            if r.path = w.path then user "refusing to write %s to %s: that file is %s, read by this run; choose another name" what w.path rwhat
+            else user "refusing to write %s to %s: that file is %s (%s), read by this run; choose another name" what w.path r.path rwhat)
+        reads)
+    writes;
+  if distinct then
+    let rec pairs = function
+      | [] -> ()
+      | (a, wa) :: rest ->
+          List.iter (fun (b, wb) -> if same a b then user "%s and %s would be the same file, %s: give each its own name" wa wb a.path) rest;
+          pairs rest
+    in
+    pairs writes
+
+(* --stats takes a value: [lancer render --stats scene.rts] means the scene was taken as
+   its value. A statistics file is JSON; lancer's own kinds of files are refused. *)
+let check_stats_name = function
+  | None -> ()
+  | Some p -> (
+      match String.lowercase_ascii (Filename.extension p) with
+      | (".rts" | ".png" | ".ppm" | ".obj" | ".gif" | ".mp4") as e ->
+          let kind = match e with ".rts" -> "a scene" | ".obj" -> "a mesh" | ".gif" | ".mp4" -> "a video" | _ -> "an image" in
+          user "--stats %s: statistics are written as JSON, and that name is %s's; did --stats take the scene as its value? Write --stats FILE.json"
+            p kind
+      | _ -> ())
+
+let guard_render (o : opts) prog ~out =
+  guard_writes ~reads:(reads o prog)
+    ((out, "the image") :: (match o.stats with Some p -> [ (p, "the statistics") ] | None -> []))
+
 let time_of o prog =
   match (o.time, o.frame) with
   | Some _, Some _ -> user "give either --time or --frame, not both"

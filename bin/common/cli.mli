@@ -77,12 +77,30 @@ val default_output : opts -> string
     scene); a scene read from standard input needs [-o] (raises [User_error]). *)
 
 val check_writable : string -> unit
-(** Refuse, before any work, a file path in a missing directory or that is a directory
-    (for [--stats]); raises [User_error]. *)
+(** Refuse, before any work, a file path in a missing directory, that is a directory, or
+    that is a read-only file; raises [User_error]. *)
 
 val check_output : string -> unit
 (** Refuse, before any rendering, an output with an unknown extension, in a missing
     directory, or that is a directory; raises [User_error]. *)
+
+val reads : opts -> Lancer_dsl.Dsl.t -> (string * string) list
+(** The files a run of this program reads, as (path, what it is): the scene file (not
+    for the built-in showcase), its includes, images and meshes loaded so far. *)
+
+val guard_writes : ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
+(** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
+    that {!check_writable} refuses, that is one of the files read (by any name: a
+    symbolic link, a hard link, ./a.png for a.png), or, with [distinct] (default), that
+    is the same file as another write. Raises [User_error] naming both. *)
+
+val check_stats_name : string option -> unit
+(** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png],
+    …): the sign that the option took the scene as its value. *)
+
+val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
+(** {!guard_writes} for a still: the image and the statistics against the scene's
+    files. *)
 
 val scene_at : ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
 (** Evaluate at a time and apply the command-line overrides; [progress] as for

@@ -9,6 +9,7 @@ let render_cmd (o : Cli.opts) ~resume =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
   Cli.check_output out;
+  Cli.check_stats_name o.stats;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
   let (sc, files, prog, time, frame), build =
@@ -24,6 +25,7 @@ let render_cmd (o : Cli.opts) ~resume =
         Gc.compact ();
         (sc, files, prog, time, frame))
   in
+  Cli.guard_render o prog ~out;
   Cli.warn_long_render o sc;
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let t0 = Unix.gettimeofday () in
@@ -128,6 +130,7 @@ let verdict ~tolerance ~share (c : Compare.t) =
 
 let diff_cmd a b out tolerance share =
   check_tolerance tolerance share;
+  Option.iter (fun p -> Cli.guard_writes ~reads:[ (a, "an image this diff compares"); (b, "an image this diff compares") ] [ (p, "the diff image") ]) out;
   let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
   let ((wa, ha, _) as ia) = read a and ((wb, hb, _) as ib) = read b in
   if (wa, ha) <> (wb, hb) then Cli.user "%s is %d×%d but %s is %d×%d: only images of the same size can be compared" a wa ha b wb hb;
@@ -158,6 +161,11 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
          Cli.user "the golden %s is %d×%d but the render would be %d×%d: render at the golden's size with --width %d --height %d, or remake the golden with --update"
            golden gw gh sc.settings.width sc.settings.height gw gh
      | _ -> ());
+  let sibling suffix = Filename.remove_extension golden ^ suffix in
+  Cli.guard_writes
+    ~reads:(if update then Cli.reads o prog else (golden, "the golden image") :: Cli.reads o prog)
+    (if update then [ (golden, "the golden image") ]
+     else [ (sibling ".actual.png", "the actual image"); (sibling ".diff.png", "the diff image") ]);
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let fb, _ =
     Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)

@@ -191,4 +191,79 @@ let limit_tests =
          | exception _ -> Alcotest.failf "the manifest is not whole JSON: %S" manifest);
         Alcotest.(check bool) "no temporary file" false (Array.exists (fun f -> contains f ".tmp-") (Sys.readdir (d // "fr")))) ]
 
-let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests) ]
+(* ---- files a run must not write over ---- *)
+
+let brick = "settings { width: 8, height: 8 }\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: image(\"brick.png\", 1) } }\n"
+
+let refused ?(status = 1) msg r expect =
+  let _, _, e = r in
+  check_status msg status r;
+  Alcotest.(check bool) (Printf.sprintf "%s: the message %S says %S" msg e expect) true (contains e expect);
+  Alcotest.(check bool) "one line, no backtrace" true (List.length (String.split_on_char '\n' (String.trim e)) = 1)
+
+let listing d = List.sort compare (Array.to_list (Sys.readdir d))
+
+let refusal_tests =
+  [ Alcotest.test_case "render --stats scene.rts (the value forgotten) is refused; the scene stays" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "scene.rts") scene;
+        refused "--stats scene.rts" (lancer ~dir:d [ "render"; "--stats"; "scene.rts" ]) "did --stats take the scene as its value?";
+        Alcotest.(check string) "scene untouched" scene (read_file (d // "scene.rts"));
+        Alcotest.(check (list string)) "nothing written" [ "scene.rts" ] (listing d));
+    Alcotest.test_case "a scene whose default output is its own texture is refused; the texture stays" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "brick.rts") brick;
+        gray_png (d // "brick.png") 8 4 4 (fun i j -> (i * 50) + j);
+        let before = read_file (d // "brick.png") in
+        refused "brick.rts" (lancer ~dir:d [ "render"; "brick.rts" ]) "refusing to write the image to brick.png: that file is an image the scene uses";
+        Alcotest.(check bool) "texture untouched" true (before = read_file (d // "brick.png"));
+        (* By another name: ./brick.png, and a symbolic link to it. *)
+        Unix.symlink "brick.png" (d // "link.png");
+        refused "./brick.png" (lancer ~dir:d [ "render"; "brick.rts"; "-o"; "./brick.png" ]) "refusing to write the image";
+        refused "a link to it" (lancer ~dir:d [ "render"; "brick.rts"; "-o"; "link.png" ]) "that file is brick.png (an image the scene uses)";
+        Alcotest.(check bool) "texture untouched" true (before = read_file (d // "brick.png"));
+        Alcotest.(check (list string)) "nothing written" [ "brick.png"; "brick.rts"; "link.png" ] (listing d);
+        (* A frame of an animation that would replace the texture it reads. *)
+        Unix.mkdir (d // "fr") 0o755;
+        gray_png (d // "fr" // "frame_0001.png") 8 4 4 (fun i _ -> i * 60);
+        write_file (d // "a.rts")
+          "settings { width: 8, height: 8 }\nanimation { fps: 10, frames: 3 }\n\
+           sphere { center: (0, 0, 0), radius: 1, material: material { texture: image(\"fr/frame_0001.png\", 1) } }\n";
+        refused "animate" (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr" ]) "refusing to write a frame to fr/frame_0001.png";
+        Alcotest.(check (list string)) "no frame written" [ "frame_0001.png" ] (listing (d // "fr")));
+    Alcotest.test_case "diff a.png b.png -o a.png is refused; its input stays" `Quick (fun () ->
+        let d = tmpdir () in
+        gray_png (d // "a.png") 8 4 4 (fun i _ -> i);
+        gray_png (d // "b.png") 8 4 4 (fun _ j -> j);
+        let before = read_file (d // "a.png") in
+        refused "diff" (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "a.png" ]) "refusing to write the diff image to a.png: that file is an image this diff compares";
+        Alcotest.(check bool) "input untouched" true (before = read_file (d // "a.png"));
+        refused "diff, b" (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "b.png" ]) "refusing to write the diff image to b.png");
+    Alcotest.test_case "--stats and -o naming one file are refused" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        refused "same name" (lancer ~dir:d [ "render"; "s.rts"; "-o"; "o.png"; "--stats"; "o.png" ]) "did --stats take the scene as its value?";
+        refused "another name of it" (lancer ~dir:d [ "render"; "s.rts"; "-o"; "o.ppm"; "--stats"; "./o.ppm" ]) "did --stats take";
+        Alcotest.(check (list string)) "nothing written" [ "s.rts" ] (listing d);
+        write_file (d // "o.png") "an image";
+        Unix.symlink "o.png" (d // "o.json");
+        refused "through a link" (lancer ~dir:d [ "render"; "s.rts"; "-o"; "o.png"; "--stats"; "o.json" ])
+          "the image and the statistics would be the same file, o.png";
+        Alcotest.(check string) "untouched" "an image" (read_file (d // "o.png")));
+    Alcotest.test_case "a read-only (0444) output is refused, by the command and by the library's rename" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        write_file (d // "ro.png") "keep me";
+        Unix.chmod (d // "ro.png") 0o444;
+        refused "render" (lancer ~dir:d [ "render"; "s.rts"; "-o"; "ro.png" ]) "cannot write ro.png: the file is read-only";
+        write_file (d // "ro.json") "{}";
+        Unix.chmod (d // "ro.json") 0o444;
+        refused "stats" (lancer ~dir:d [ "render"; "s.rts"; "-o"; "ok.png"; "--stats"; "ro.json" ]) "cannot write ro.json: the file is read-only";
+        Alcotest.(check bool) "refused before rendering" false (Sys.file_exists (d // "ok.png"));
+        (match Lancer.Safe_file.write (d // "ro.png") (fun oc -> output_string oc "new") with
+         | Ok () -> Alcotest.fail "the rename replaced a read-only file"
+         | Error m -> Alcotest.(check bool) m true (contains m "read-only"));
+        Alcotest.(check string) "untouched" "keep me" (read_file (d // "ro.png"));
+        Alcotest.(check int) "still 0444" 0o444 ((Unix.stat (d // "ro.png")).st_perm land 0o777)) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests) ]
