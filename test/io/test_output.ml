@@ -266,4 +266,45 @@ let refusal_tests =
         Alcotest.(check string) "untouched" "keep me" (read_file (d // "ro.png"));
         Alcotest.(check int) "still 0444" 0o444 ((Unix.stat (d // "ro.png")).st_perm land 0o777)) ]
 
-let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests) ]
+(* ---- temporary files left by a killed run ---- *)
+
+(* The id of a process that has exited (and been reaped). *)
+let dead_pid () =
+  let pid = Unix.create_process "true" [| "true" |] Unix.stdin Unix.stdout Unix.stderr in
+  ignore (Unix.waitpid [] pid);
+  pid
+
+let stale_tests =
+  [ Alcotest.test_case "temporary files of dead processes are removed by the next run in that directory, which says so" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        let dead = dead_pid () in
+        let stale = Printf.sprintf ".out.png.tmp-%d-123456" dead and stale2 = Printf.sprintf ".other.ppm.tmp-%d-42" dead in
+        (* One of a live process (this test), and files that only look alike. *)
+        let live = Printf.sprintf ".out.png.tmp-%d-99" (Unix.getpid ()) in
+        let others = [ "notes.tmp-1-2"; ".x.tmp-abc-1"; ".y.tmp-1"; "out.png.tmp-1-1" ] in
+        List.iter (fun f -> write_file (d // f) "partial") (stale :: stale2 :: live :: others);
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "out.png"; "-q" ] in
+        check_status "render" 0 r;
+        List.iter
+          (fun f ->
+            Alcotest.(check bool) (f ^ " removed") false (Sys.file_exists (d // f));
+            Alcotest.(check bool) (Printf.sprintf "%S names %s and its process" e f) true
+              (contains e ("removed ./" ^ f) && contains e (Printf.sprintf "left by process %d, which is no longer running" dead)))
+          [ stale; stale2 ];
+        List.iter (fun f -> Alcotest.(check bool) (f ^ " kept") true (Sys.file_exists (d // f))) (live :: others);
+        Alcotest.(check bool) "the image" true (Sys.file_exists (d // "out.png"));
+        (* Frames directories too: the first frame written sweeps it. *)
+        Unix.mkdir (d // "fr") 0o755;
+        let stale3 = Printf.sprintf ".frame_0000.png.tmp-%d-7" dead in
+        write_file (d // "fr" // stale3) "partial";
+        write_file (d // "a.rts")
+          "settings { width: 8, height: 6 }\nanimation { fps: 10, frames: 2 }\ncamera { position: (0, 1, -5), look_at: (0, 1, 0) }\n\
+           light { position: (-3, 5, -4) }\nsphere { center: (0, 1, 0), radius: 1 }\n";
+        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr"; "-q" ] in
+        check_status "animate" 0 r;
+        Alcotest.(check bool) e true (contains e stale3);
+        Alcotest.(check (list string)) "only frames and the manifest" [ "frame_0000.png"; "frame_0001.png"; "lancer-frames.json" ]
+          (listing (d // "fr"))) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests); ("stale", stale_tests) ]
