@@ -100,6 +100,48 @@ let resume_still =
        & info [ "resume" ]
            ~doc:"Keep finished tiles in a checkpoint next to the output (OUT.checkpoint) and continue from it after an interruption; it is removed once the image is written.")
 
+(* ---- How the image of a still is written ---- *)
+
+type encoding = { bits : int; alpha : bool; region : Image.region option; crop : bool }
+
+let default_encoding = { bits = 8; alpha = false; region = None; crop = false }
+
+let encoding_term =
+  let bits =
+    Arg.(value & opt (enum [ ("8", 8); ("16", 16) ]) 8
+         & info [ "bits" ] ~docv:"8|16" ~doc:"Bits per channel of the image: 8 (default) or 16, with the same encoding curve.")
+  in
+  let alpha =
+    Arg.(value & flag
+         & info [ "alpha" ]
+             ~doc:"Add an alpha channel (PNG only): the share of each pixel's samples whose primary ray hits a surface; 0 where only the background is seen.")
+  in
+  let region =
+    let parse s =
+      match List.map int_of_string_opt (String.split_on_char ',' s) with
+      | [ Some x0; Some y0; Some x1; Some y1 ] -> Ok { Image.x0; y0; x1; y1 }
+      | _ -> Error (`Msg (Printf.sprintf "--region expects x0,y0,x1,y1 (four integers), got %S" s))
+    in
+    let print ppf (r : Image.region) = Format.fprintf ppf "%d,%d,%d,%d" r.x0 r.y0 r.x1 r.y1 in
+    Arg.(value & opt (some (conv (parse, print))) None
+         & info [ "region" ] ~docv:"X0,Y0,X1,Y1"
+             ~doc:"Render only columns X0 to X1-1 of rows Y0 to Y1-1 (pixels, from the top-left corner); the rest of the image is the background.")
+  in
+  let crop = Arg.(value & flag & info [ "crop" ] ~doc:"With $(b,--region): write only the region, not the whole image.") in
+  Term.(const (fun bits alpha region crop -> { bits; alpha; region; crop }) $ bits $ alpha $ region $ crop)
+
+(* What can be refused once the scene's size is known. *)
+let check_encoding e ~out (sc : Scene.t) =
+  if e.crop && e.region = None then user "--crop needs --region x0,y0,x1,y1";
+  (match e.region with
+   | Some r ->
+       let w = sc.settings.width and h = sc.settings.height in
+       if not (0 <= r.x0 && r.x0 < r.x1 && r.x1 <= w && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= h) then
+         user "--region %d,%d,%d,%d is not inside the %d×%d image: it needs 0 <= x0 < x1 <= %d and 0 <= y0 < y1 <= %d" r.x0 r.y0
+           r.x1 r.y1 w h w h
+   | None -> ());
+  if e.alpha && Image.format_of_path out = Ok Image.Ppm then user "--alpha needs a PNG output: a PPM file has no alpha channel"
+
 let progress o ~label ~total =
   let mode : Progress.mode =
     if o.quiet then Off else if Unix.isatty Unix.stderr then Terminal else if o.progress then Lines else Off
@@ -122,10 +164,11 @@ let build o f =
   let r = Fun.protect ~finally:(fun () -> built o) (fun () -> f (building o)) in
   (r, Unix.gettimeofday () -. t0)
 
-let summary ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
+let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
   let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+  let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M rays/s)" out
-    sc.settings.width sc.settings.height (build +. render) build render workers rays (rays /. Float.max render 1e-9)
+    w h (build +. render) build render workers rays (rays /. Float.max render 1e-9)
 
 (* A count of rays the way a person reads it: 307 200, 18.4 M, 1.28 G. *)
 let rays_text r =
@@ -344,8 +387,11 @@ let scene_with_files ?progress o prog ~time ~frame =
 
 let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
 
-let write_image path (sc : Scene.t) fb =
-  match Image.save ~gamma:sc.settings.gamma path fb with Ok () -> () | Error m -> raise (User_error m)
+let write_image ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
+  let crop = if encoding.crop then encoding.region else None in
+  match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
+  | Ok () -> ()
+  | Error m -> raise (User_error m)
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with

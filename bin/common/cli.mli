@@ -114,8 +114,28 @@ val scene_with_files :
 val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)
 
-val write_image : string -> Lancer.Scene.t -> Lancer.Image.t -> unit
-(** Encode with the scene's gamma and write atomically; raises [User_error]. *)
+type encoding = {
+  bits : int;  (** 8 or 16 bits per channel *)
+  alpha : bool;  (** an alpha channel of coverage *)
+  region : Lancer.Image.region option;  (** render only these pixels *)
+  crop : bool;  (** write only the region *)
+}
+(** How the image of a still is rendered and written ([--bits], [--alpha], [--region],
+    [--crop]). *)
+
+val default_encoding : encoding
+(** 8 bits, no alpha, the whole image. *)
+
+val encoding_term : encoding Cmdliner.Term.t
+(** The options [--bits 8|16], [--alpha], [--region x0,y0,x1,y1] and [--crop]. *)
+
+val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
+(** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
+    with a PPM output; raises [User_error]. *)
+
+val write_image : ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
+(** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
+    coverage [alpha] as a fourth channel) and write atomically; raises [User_error]. *)
 
 val build : opts -> ((string -> unit) -> 'a) -> 'a * float
 (** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration
@@ -124,9 +144,10 @@ val build : opts -> ((string -> unit) -> 'a) -> 'a * float
     line is cleared when [f] returns or raises. The result and the seconds it took. *)
 
 val summary :
-  out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
+  ?size:int * int -> out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
 (** The line a render prints when done: the file, size, total, build and render seconds,
-    [workers] ("2 domains"), rays and rays per second of the render. *)
+    [workers] ("2 domains"), rays and rays per second of the render; [size] is the size
+    written when it is not the scene's (a crop). *)
 
 val rays_text : float -> string
 (** A ray count as a person reads it: [307 200] as "307 k", "18.4 M", "1.28 G". *)

@@ -5,7 +5,7 @@ module Dsl = Lancer_dsl.Dsl
 
 let resumed_interrupt = "the finished tiles are kept in the checkpoint; run again with --resume to continue"
 
-let render_cmd (o : Cli.opts) ~resume =
+let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
   Cli.check_output out;
@@ -27,7 +27,12 @@ let render_cmd (o : Cli.opts) ~resume =
   in
   Cli.guard_render o prog ~out;
   Cli.warn_long_render o sc;
-  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+  Cli.check_encoding enc ~out sc;
+  if resume && (enc.alpha || enc.region <> None) then
+    Cli.user "--resume keeps a checkpoint of the whole image: it cannot be combined with --alpha or --region";
+  let region = enc.region in
+  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles ?region sc)) in
+  let alpha = if enc.alpha then Some (Float.Array.make (sc.settings.width * sc.settings.height) 0.) else None in
   let t0 = Unix.gettimeofday () in
   let fb, st, finish =
     if resume then begin
@@ -43,18 +48,20 @@ let render_cmd (o : Cli.opts) ~resume =
     end
     else
       let fb, st =
-        Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+        Render.with_pool domains (fun pool ->
+            Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) ?region ?alpha sc)
       in
       (fb, st, ignore)
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  Cli.write_image out sc fb;
+  Cli.write_image ~encoding:enc ?alpha out sc fb;
   finish ();
   Cli.warn_bad_samples st;
   Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
-    print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(Printf.sprintf "%d domains" domains) st)
+    let size = match enc.region with Some r when enc.crop -> Some (r.x1 - r.x0, r.y1 - r.y0) | _ -> None in
+    print_endline (Cli.summary ?size ~out sc ~build ~render:wall ~workers:(Printf.sprintf "%d domains" domains) st)
 
 (* "12..20, 30": frame numbers (ascending) as runs. *)
 let runs ks =
@@ -199,9 +206,9 @@ let render =
       `Pre "  lancer render big.rts -o big.png --resume    # again after an interruption: continues" ]
   in
   Cmd.v (Cmd.info "render" ~doc ~man ~exits)
-    Term.(const (fun o resume ->
-              Cli.run ?interrupted:(if resume then Some resumed_interrupt else None) (fun () -> render_cmd o ~resume))
-          $ Cli.opts_term $ Cli.resume_still)
+    Term.(const (fun o resume e ->
+              Cli.run ?interrupted:(if resume then Some resumed_interrupt else None) (fun () -> render_cmd o ~resume e))
+          $ Cli.opts_term $ Cli.resume_still $ Cli.encoding_term)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in

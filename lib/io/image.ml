@@ -12,15 +12,21 @@ let set fb i j (c : Color.t) =
   Float.Array.set fb.data (k + 1) c.g;
   Float.Array.set fb.data (k + 2) c.b
 
-let encode_channel gamma v =
+(* The encoding curve on a clamped value. *)
+let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
   let v = if v > 0. then (if v < 1. then v else 1.) else 0. in
-  let v =
-    match gamma with
-    | Settings.Srgb -> if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
-    | Settings.Power g -> Float.pow v (1. /. g)
-  in
-  int_of_float (Float.floor ((255. *. v) +. 0.5))
+  match gamma with
+  | Settings.Srgb -> if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
+  | Settings.Power g -> Float.pow v (1. /. g)
+
+let encode_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
+let encode_channel16 gamma v = int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
+
+(* Alpha is a linear share, never gamma-encoded. *)
+let quantise maxv a =
+  let a = if a > 0. then (if a < 1. then a else 1.) else 0. in
+  int_of_float (Float.floor ((Float.of_int maxv *. a) +. 0.5))
 
 let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
@@ -55,7 +61,46 @@ let write_rgb8 path w h bytes =
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm oc w h bytes)
   | Ok Png -> write_atomic path (fun oc -> write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
 
-let save ?(gamma = Settings.Srgb) path fb = write_rgb8 path fb.width fb.height (to_bytes gamma fb)
+type region = { x0 : int; y0 : int; x1 : int; y1 : int }
+
+let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
+  if bits <> 8 && bits <> 16 then invalid_arg "Image.encode: bits must be 8 or 16";
+  (match alpha with
+   | Some a when Float.Array.length a <> fb.width * fb.height -> invalid_arg "Image.encode: alpha has the wrong size"
+   | _ -> ());
+  let r = match crop with Some r -> r | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height } in
+  if r.x0 < 0 || r.y0 < 0 || r.x1 > fb.width || r.y1 > fb.height || r.x0 >= r.x1 || r.y0 >= r.y1 then
+    invalid_arg "Image.encode: the crop region is not inside the image";
+  let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
+  let channels = if alpha = None then 3 else 4 in
+  let b = Bytes.create (w * h * channels * (bits / 8)) in
+  let put k v = if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v in
+  let enc = if bits = 8 then encode_channel gamma else encode_channel16 gamma in
+  let maxv = if bits = 8 then 255 else 65535 in
+  for j = 0 to h - 1 do
+    for i = 0 to w - 1 do
+      let src = ((r.y0 + j) * fb.width) + r.x0 + i and dst = ((j * w) + i) * channels in
+      for c = 0 to 2 do
+        put (dst + c) (enc (Float.Array.get fb.data ((3 * src) + c)))
+      done;
+      match alpha with Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src)) | None -> ()
+    done
+  done;
+  Raster.make ~width:w ~height:h ~channels ~depth:bits b
+
+let write_ppm_raster oc (r : Raster.t) =
+  Printf.fprintf oc "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r);
+  output_bytes oc r.samples
+
+let write_raster path (r : Raster.t) =
+  match format_of_path path with
+  | Error e -> Error e
+  | Ok Ppm when r.channels <> 3 ->
+      Error (Printf.sprintf "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png" path)
+  | Ok Ppm -> write_atomic path (fun oc -> write_ppm_raster oc r)
+  | Ok Png -> write_atomic path (fun oc -> write_png oc r)
+
+let save ?gamma ?bits ?alpha ?crop path fb = write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
 
 let read_ppm path =
   let ic = open_in_bin path in

@@ -20,6 +20,9 @@ val set : t -> int -> int -> Color.t -> unit
 val encode_channel : Settings.gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 
+val encode_channel16 : Settings.gamma -> float -> int
+(** The same curve quantised to 16 bits: ⌊65535·v + 0.5⌋ (NaN encodes as 0). *)
+
 val to_bytes : Settings.gamma -> t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
@@ -40,8 +43,23 @@ val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
 (** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s
     extension, atomically. *)
 
-val save : ?gamma:Settings.gamma -> string -> t -> (unit, string) result
-(** [save path fb] encodes (default sRGB) and writes [fb]. *)
+type region = { x0 : int; y0 : int; x1 : int; y1 : int }
+(** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
+
+val encode : ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> t -> Raster.t
+(** [encode fb] is [fb]'s RGB samples at [bits] (8, the default, or 16) through
+    {!encode_channel} or {!encode_channel16}; with [alpha] (one linear value per pixel,
+    row-major) a fourth channel ⌊max·a + 0.5⌋, not gamma-encoded; with [crop] only that
+    region. Raises [Invalid_argument] on a bad size, bit count or region. *)
+
+val write_raster : string -> Raster.t -> (unit, string) result
+(** Write samples as PNG (any channels, 8 or 16 bits) or PPM (RGB only, maximum value 255
+    or 65535) by [path]'s extension, atomically. *)
+
+val save :
+  ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> string -> t -> (unit, string) result
+(** [save path fb] is {!write_raster} of {!encode} (default sRGB, 8-bit RGB, the whole
+    image). *)
 
 val read_raster : string -> (Raster.t, string) result
 (** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced

@@ -260,6 +260,57 @@ let texture_tests =
                   Alcotest.(check bool) "16 bits kept" true ((Image.get fb 1 0).r < (Image.get fb 2 0).r))
           [ 8; 16 ]) ]
 
+let sixteen_tests =
+  [ Alcotest.test_case "16-bit encoding: the same curve, quantised to 65535" `Quick (fun () ->
+        let e = Image.encode_channel16 Settings.Srgb in
+        List.iter
+          (fun (v, expect) -> Alcotest.(check int) (Printf.sprintf "sRGB %g" v) expect (e v))
+          [ (0., 0); (1., 65535); (0.5, 48192); (0.25, 35199); (0.001, 847); (0.2, 31754); (-1., 0); (2., 65535); (Float.nan, 0) ];
+        Alcotest.(check int) "gamma 2.2 at 0.5" 47824 (Image.encode_channel16 (Settings.Power 2.2) 0.5));
+    Alcotest.test_case "a 16-bit RGBA image written and read back is what was encoded" `Quick (fun () ->
+        let d = tmpdir () in
+        let fb = Image.create 9 7 in
+        let alpha = Float.Array.init (9 * 7) (fun k -> Float.of_int k /. 62.) in
+        for j = 0 to 6 do
+          for i = 0 to 8 do
+            Image.set fb i j (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) (Float.of_int (i * j) /. 48.))
+          done
+        done;
+        List.iter
+          (fun (bits, alpha, ext) ->
+            let p = Filename.concat d ("x" ^ ext) in
+            let expect = Image.encode ~bits ?alpha fb in
+            (match Image.save ~bits ?alpha p fb with Ok () -> () | Error m -> Alcotest.fail m);
+            match Image.read_raster p with
+            | Error m -> Alcotest.fail m
+            | Ok r ->
+                check_raster (Printf.sprintf "%d bits%s %s" bits (if alpha = None then "" else " + alpha") ext) expect r;
+                Alcotest.(check int) "top-left red" 0 (Raster.get r 0 0 0);
+                Alcotest.(check int) "right red" (Raster.max_value r) (Raster.get r 8 0 0);
+                if alpha <> None then Alcotest.(check int) "last alpha" (Raster.max_value r) (Raster.get r 8 6 3))
+          [ (16, None, ".png"); (16, Some alpha, ".png"); (16, None, ".ppm"); (8, Some alpha, ".png") ];
+        let r = Image.encode ~bits:16 fb in
+        Alcotest.(check int) "a 16-bit sample is big-endian, as PNG and PPM store it"
+          (Image.encode_channel16 Settings.Srgb 0.5)
+          (Bytes.get_uint16_be r.samples (2 * (((0 * 9) + 4) * 3))));
+    Alcotest.test_case "a crop takes exactly the region's pixels" `Quick (fun () ->
+        let fb = Image.create 9 7 in
+        for j = 0 to 6 do
+          for i = 0 to 8 do
+            Image.set fb i j (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) 0.)
+          done
+        done;
+        let whole = Image.encode fb and part = Image.encode ~crop:{ x0 = 2; y0 = 3; x1 = 7; y1 = 5 } fb in
+        Alcotest.(check (pair int int)) "5×2" (5, 2) (part.width, part.height);
+        for j = 0 to 1 do
+          for i = 0 to 4 do
+            for c = 0 to 2 do
+              Alcotest.(check int) "same sample" (Raster.get whole (i + 2) (j + 3) c) (Raster.get part i j c)
+            done
+          done
+        done) ]
+
 let () =
   Alcotest.run "io"
-    [ ("reader", reader_tests); ("writer", writer_tests); ("corrupt", corrupt_tests); ("textures", texture_tests) ]
+    [ ("reader", reader_tests); ("writer", writer_tests); ("corrupt", corrupt_tests); ("textures", texture_tests);
+      ("16 bits, alpha, crop", sixteen_tests) ]

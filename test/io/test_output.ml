@@ -307,4 +307,106 @@ let stale_tests =
         Alcotest.(check (list string)) "only frames and the manifest" [ "frame_0000.png"; "frame_0001.png"; "lancer-frames.json" ]
           (listing (d // "fr"))) ]
 
-let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests); ("stale", stale_tests) ]
+(* ---- 16 bits, alpha and regions ---- *)
+
+let sphere_on_background =
+  {|settings { width: 32, height: 24, samples: 4, background: (0.1, 0.2, 0.3) }
+camera { position: (0, 0, -5), look_at: (0, 0, 0), fov: 40 }
+light { position: (-3, 5, -4) }
+sphere { center: (0, 0, 0), radius: 1, material: material { color: (0.9, 0.3, 0.2), specular: 0.4 } }
+|}
+
+let be16 s k = (Char.code s.[2 * k] lsl 8) lor Char.code s.[(2 * k) + 1]
+
+let output_tests =
+  [ Alcotest.test_case "--bits 16: a 16-bit PNG an independent decoder reads as the 16-bit PPM, on the 8-bit curve" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        check_status "png" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s16.png"; "--bits"; "16"; "-q" ]);
+        check_status "ppm" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s16.ppm"; "--bits"; "16"; "-q" ]);
+        check_status "8 bits" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s8.ppm"; "-q" ]);
+        let ppm = read_file (d // "s16.ppm") in
+        Alcotest.(check bool) "PPM maximum value 65535" true (contains ppm "\n65535\n");
+        let head, samples = independent (d // "s16.png") in
+        Alcotest.(check string) "40×30 RGB, 16 bits" "40 30 3 16" head;
+        Alcotest.(check bool) "the same samples as the PPM" true (samples = ppm_body ppm);
+        (* The same curve: each 16-bit value within half an 8-bit step of 257 × the 8-bit byte. *)
+        let p8 = ppm_body (read_file (d // "s8.ppm")) in
+        String.iteri
+          (fun k c ->
+            let v16 = be16 samples k and v8 = Char.code c in
+            if abs (v16 - (257 * v8)) > 129 then Alcotest.failf "sample %d: 16-bit %d against 8-bit %d" k v16 v8)
+          p8;
+        (* Read back by lancer: the samples of the PNG. *)
+        match Lancer.Image.read_raster (d // "s16.png") with
+        | Ok r -> Alcotest.(check bool) "round trip" true (r.depth = 16 && Bytes.to_string r.samples = samples)
+        | Error m -> Alcotest.fail m);
+    Alcotest.test_case "--alpha: 0 on the background, 1 on the sphere, the covered share at its edge; colours unchanged" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") sphere_on_background;
+        check_status "alpha" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--alpha"; "-q" ]);
+        check_status "alpha, 1 domain" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a1.png"; "--alpha"; "-q"; "--domains"; "1" ]);
+        check_status "alpha, 3 domains" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a3.png"; "--alpha"; "-q"; "--domains"; "3" ]);
+        check_status "plain" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "p.ppm"; "-q" ]);
+        Alcotest.(check bool) "bytes independent of the domains" true
+          (read_file (d // "a1.png") = read_file (d // "a.png") && read_file (d // "a3.png") = read_file (d // "a.png"));
+        let head, samples = independent (d // "a.png") in
+        Alcotest.(check string) "RGBA, 8 bits" "32 24 4 8" head;
+        let rgb = ppm_body (read_file (d // "p.ppm")) in
+        let alpha i j = Char.code samples.[(4 * ((j * 32) + i)) + 3] in
+        Alcotest.(check int) "corner: background" 0 (alpha 0 0);
+        Alcotest.(check int) "centre: the sphere" 255 (alpha 16 12);
+        let partial = ref 0 in
+        for j = 0 to 23 do
+          for i = 0 to 31 do
+            let a = alpha i j in
+            (* 4×4 samples: a share k/16. *)
+            if not (List.exists (fun k -> a = ((255 * k) + 8) / 16) (List.init 17 Fun.id)) then Alcotest.failf "alpha %d at %d,%d is no k/16" a i j;
+            if a > 0 && a < 255 then incr partial;
+            for c = 0 to 2 do
+              if samples.[(4 * ((j * 32) + i)) + c] <> rgb.[(3 * ((j * 32) + i)) + c] then Alcotest.failf "colour differs at %d,%d" i j
+            done
+          done
+        done;
+        Alcotest.(check bool) (Printf.sprintf "%d edge pixels partly covered" !partial) true (!partial > 10);
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.ppm"; "--alpha" ] in
+        check_status "PPM refused" 1 r;
+        Alcotest.(check bool) e true (contains e "--alpha needs a PNG output"));
+    Alcotest.test_case "--region renders the same pixels as a whole render, the background elsewhere; --crop writes just them" `Quick (fun () ->
+        let d = tmpdir () in
+        let rest = String.sub scene 11 (String.length scene - 11) in
+        assert (String.sub scene 0 11 = "settings { ");
+        write_file (d // "s.rts") ("settings { background: (0.2, 0.4, 0.6), jitter: true, " ^ rest);
+        check_status "whole" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "w.ppm"; "-q" ]);
+        List.iter
+          (fun domains ->
+            check_status "region" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "r.ppm"; "--region"; "7,5,33,21"; "-q"; "--domains"; domains ]);
+            check_status "crop" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "c.ppm"; "--region"; "7,5,33,21"; "--crop"; "-q"; "--domains"; domains ]);
+            let w = ppm_body (read_file (d // "w.ppm")) and r = ppm_body (read_file (d // "r.ppm")) and c = read_file (d // "c.ppm") in
+            Alcotest.(check bool) "the crop is 26×16" true (contains c "P6\n26 16\n255\n");
+            let c = ppm_body c in
+            for j = 0 to 29 do
+              for i = 0 to 39 do
+                let px s k = String.sub s (3 * k) 3 in
+                let inside = i >= 7 && i < 33 && j >= 5 && j < 21 in
+                if inside then begin
+                  if px r ((j * 40) + i) <> px w ((j * 40) + i) then Alcotest.failf "region pixel %d,%d differs (%s domains)" i j domains;
+                  if px c (((j - 5) * 26) + (i - 7)) <> px w ((j * 40) + i) then Alcotest.failf "crop pixel %d,%d differs" i j
+                end
+                (* The background (0.2, 0.4, 0.6) encoded: 124, 170, 203. *)
+                else if px r ((j * 40) + i) <> "\124\170\203" then
+                  Alcotest.failf "pixel %d,%d outside the region is not the background (%S)" i j (px r ((j * 40) + i))
+              done
+            done)
+          [ "1"; "2" ];
+        List.iter
+          (fun (args, expect) ->
+            let ((_, _, e) as r) = lancer ~dir:d ([ "render"; "s.rts"; "-o"; "x.ppm" ] @ args) in
+            check_status (String.concat " " args) 1 r;
+            Alcotest.(check bool) e true (contains e expect))
+          [ ([ "--region"; "0,0,41,10" ], "is not inside the 40×30 image");
+            ([ "--region"; "5,5,5,10" ], "0 <= x0 < x1 <= 40");
+            ([ "--region"; "1,2,3" ], "four integers");
+            ([ "--crop" ], "--crop needs --region") ]) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests); ("stale", stale_tests); ("bits, alpha, region", output_tests) ]
