@@ -102,9 +102,22 @@ let resume_still =
 
 (* ---- How the image of a still is written ---- *)
 
-type encoding = { bits : int; alpha : bool; region : Image.region option; crop : bool }
+type encoding = { bits : int; alpha : bool; region : Image.region option; crop : bool; format : Image.format option }
 
-let default_encoding = { bits = 8; alpha = false; region = None; crop = false }
+let default_encoding = { bits = 8; alpha = false; region = None; crop = false; format = None }
+
+let is_stdout p = p = "-"
+
+(* The format of an output: its extension, or --format for standard output. *)
+let format_of ?format path =
+  if is_stdout path then Option.value format ~default:Image.Png
+  else
+    match (Image.format_of_path path, format) with
+    | Error m, _ -> raise (User_error m)
+    | Ok f, Some g when f <> g ->
+        user "--format %s, but -o %s has the extension of the other format; --format is for -o - (standard output)"
+          (if g = Image.Png then "png" else "ppm") path
+    | Ok f, _ -> f
 
 let encoding_term =
   let bits =
@@ -128,7 +141,12 @@ let encoding_term =
              ~doc:"Render only columns X0 to X1-1 of rows Y0 to Y1-1 (pixels, from the top-left corner); the rest of the image is the background.")
   in
   let crop = Arg.(value & flag & info [ "crop" ] ~doc:"With $(b,--region): write only the region, not the whole image.") in
-  Term.(const (fun bits alpha region crop -> { bits; alpha; region; crop }) $ bits $ alpha $ region $ crop)
+  let format =
+    Arg.(value & opt (some (enum [ ("png", Image.Png); ("ppm", Image.Ppm) ])) None
+         & info [ "format" ] ~docv:"png|ppm"
+             ~doc:"The format of the image written to standard output with $(b,-o -) (default png); with a file name, its extension decides.")
+  in
+  Term.(const (fun bits alpha region crop format -> { bits; alpha; region; crop; format }) $ bits $ alpha $ region $ crop $ format)
 
 (* What can be refused once the scene's size is known. *)
 let check_encoding e ~out (sc : Scene.t) =
@@ -140,7 +158,7 @@ let check_encoding e ~out (sc : Scene.t) =
          user "--region %d,%d,%d,%d is not inside the %d×%d image: it needs 0 <= x0 < x1 <= %d and 0 <= y0 < y1 <= %d" r.x0 r.y0
            r.x1 r.y1 w h w h
    | None -> ());
-  if e.alpha && Image.format_of_path out = Ok Image.Ppm then user "--alpha needs a PNG output: a PPM file has no alpha channel"
+  if e.alpha && format_of ?format:e.format out = Image.Ppm then user "--alpha needs a PNG output: a PPM file has no alpha channel"
 
 let progress o ~label ~total =
   let mode : Progress.mode =
@@ -279,9 +297,13 @@ let default_output o =
 
 let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)
 
-let check_output path =
-  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
-  check_writable path
+let check_output ?format path =
+  ignore (format_of ?format path);
+  if is_stdout path then begin
+    if Unix.isatty Unix.stdout then
+      user "-o - writes the image to standard output, which is a terminal here; redirect it (-o - > image.png) or pipe it"
+  end
+  else check_writable path
 
 (* ---- What a run reads and what it writes ---- *)
 
@@ -352,8 +374,9 @@ let check_stats_name = function
       | _ -> ())
 
 let guard_render (o : opts) prog ~out =
+  if is_stdout out && o.stats = Some "-" then user "--stats - and -o - would both write to standard output: give --stats a file";
   guard_writes ~reads:(reads o prog)
-    ((out, "the image") :: (match o.stats with Some p -> [ (p, "the statistics") ] | None -> []))
+    ((if is_stdout out then [] else [ (out, "the image") ]) @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
 let time_of o prog =
   match (o.time, o.frame) with
@@ -387,11 +410,26 @@ let scene_with_files ?progress o prog ~time ~frame =
 
 let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
 
+(* Standard output carries the image's bytes and nothing else; a reader that goes away
+   (a closed pipe) is an error to report, not a signal that kills. *)
+let write_stdout fmt raster =
+  Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
+  set_binary_mode_out stdout true;
+  match
+    Image.output_raster fmt stdout raster;
+    flush stdout
+  with
+  | () -> ()
+  | exception Sys_error m -> user "cannot write the image to standard output: %s" m
+
 let write_image ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
   let crop = if encoding.crop then encoding.region else None in
-  match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
-  | Ok () -> ()
-  | Error m -> raise (User_error m)
+  if is_stdout path then
+    write_stdout (format_of ?format:encoding.format path) (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb)
+  else
+    match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
+    | Ok () -> ()
+    | Error m -> raise (User_error m)
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with

@@ -80,9 +80,10 @@ val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory, that is a directory, or
     that is a read-only file; raises [User_error]. *)
 
-val check_output : string -> unit
-(** Refuse, before any rendering, an output with an unknown extension, in a missing
-    directory, or that is a directory; raises [User_error]. *)
+val check_output : ?format:Lancer.Image.format -> string -> unit
+(** Refuse, before any rendering, an output with an unknown extension (or one that
+    [format] contradicts), in a missing directory, that is a directory or read-only, and
+    [-] when standard output is a terminal; raises [User_error]. *)
 
 val reads : opts -> Lancer_dsl.Dsl.t -> (string * string) list
 (** The files a run of this program reads, as (path, what it is): the scene file (not
@@ -119,6 +120,7 @@ type encoding = {
   alpha : bool;  (** an alpha channel of coverage *)
   region : Lancer.Image.region option;  (** render only these pixels *)
   crop : bool;  (** write only the region *)
+  format : Lancer.Image.format option;  (** [--format], for [-o -] *)
 }
 (** How the image of a still is rendered and written ([--bits], [--alpha], [--region],
     [--crop]). *)
@@ -127,7 +129,11 @@ val default_encoding : encoding
 (** 8 bits, no alpha, the whole image. *)
 
 val encoding_term : encoding Cmdliner.Term.t
-(** The options [--bits 8|16], [--alpha], [--region x0,y0,x1,y1] and [--crop]. *)
+(** The options [--bits 8|16], [--alpha], [--region x0,y0,x1,y1], [--crop] and
+    [--format png|ppm]. *)
+
+val is_stdout : string -> bool
+(** Whether an output path is [-], standard output. *)
 
 val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
 (** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
@@ -135,7 +141,9 @@ val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
 
 val write_image : ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
-    coverage [alpha] as a fourth channel) and write atomically; raises [User_error]. *)
+    coverage [alpha] as a fourth channel) and write atomically, or to standard output for
+    [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
+    [User_error]. *)
 
 val build : opts -> ((string -> unit) -> 'a) -> 'a * float
 (** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration

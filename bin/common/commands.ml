@@ -8,7 +8,7 @@ let resumed_interrupt = "the finished tiles are kept in the checkpoint; run agai
 let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
-  Cli.check_output out;
+  Cli.check_output ?format:enc.format out;
   Cli.check_stats_name o.stats;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
@@ -61,7 +61,12 @@ let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
   Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
     let size = match enc.region with Some r when enc.crop -> Some (r.x1 - r.x0, r.y1 - r.y0) | _ -> None in
-    print_endline (Cli.summary ?size ~out sc ~build ~render:wall ~workers:(Printf.sprintf "%d domains" domains) st)
+    let line =
+      Cli.summary ?size ~out:(if Cli.is_stdout out then "the image to standard output" else out) sc ~build ~render:wall
+        ~workers:(Printf.sprintf "%d domains" domains) st
+    in
+    (* With -o -, standard output is the image's alone. *)
+    if Cli.is_stdout out then prerr_endline line else print_endline line
 
 (* "12..20, 30": frame numbers (ascending) as runs. *)
 let runs ks =

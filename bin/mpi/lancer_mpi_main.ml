@@ -69,6 +69,7 @@ let render_cmd (o : Cli.opts) ~resume =
   let prepare () =
     Cli.install_interrupt_handler ();
     let out = Cli.default_output o in
+    if Cli.is_stdout out then user "lancer-mpi writes its image to a file; -o - (standard output) is for lancer render";
     Cli.check_output out;
     Cli.check_stats_name o.stats;
     Option.iter Cli.check_writable o.stats;

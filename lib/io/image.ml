@@ -92,6 +92,12 @@ let write_ppm_raster oc (r : Raster.t) =
   Printf.fprintf oc "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r);
   output_bytes oc r.samples
 
+let output_raster fmt oc (r : Raster.t) =
+  match fmt with
+  | Ppm when r.channels <> 3 -> invalid_arg "Image.output_raster: a PPM file holds RGB only"
+  | Ppm -> write_ppm_raster oc r
+  | Png -> write_png oc r
+
 let write_raster path (r : Raster.t) =
   match format_of_path path with
   | Error e -> Error e

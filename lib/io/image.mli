@@ -56,6 +56,11 @@ val write_raster : string -> Raster.t -> (unit, string) result
 (** Write samples as PNG (any channels, 8 or 16 bits) or PPM (RGB only, maximum value 255
     or 65535) by [path]'s extension, atomically. *)
 
+val output_raster : format -> out_channel -> Raster.t -> unit
+(** [output_raster fmt oc r] writes the file's bytes to [oc] (standard output, a pipe);
+    errors raise [Sys_error] as the channel's do. A PPM of other than 3 channels raises
+    [Invalid_argument]. *)
+
 val save :
   ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> string -> t -> (unit, string) result
 (** [save path fb] is {!write_raster} of {!encode} (default sRGB, 8-bit RGB, the whole

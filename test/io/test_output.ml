@@ -409,4 +409,53 @@ let output_tests =
             ([ "--region"; "1,2,3" ], "four integers");
             ([ "--crop" ], "--crop needs --region") ]) ]
 
-let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests); ("stale", stale_tests); ("bits, alpha, region", output_tests) ]
+(* ---- standard output ---- *)
+
+let stdout_tests =
+  [ Alcotest.test_case "-o - writes the PNG (or with --format ppm the PPM) to stdout and nothing else there" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        check_status "file png" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "f.png"; "-q" ]);
+        check_status "file ppm" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "f.ppm"; "-q" ]);
+        let ((_, out, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "-"; "--stats"; "st.json" ] in
+        check_status "stdout png" 0 r;
+        Alcotest.(check bool) "stdout holds the PNG file's bytes, and only them" true (out = read_file (d // "f.png"));
+        Alcotest.(check bool) ("the summary went to stderr: " ^ e) true (contains e "wrote the image to standard output (40×30");
+        Alcotest.(check bool) "stats written" true (Sys.file_exists (d // "st.json"));
+        let ((_, out, _) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "-"; "--format"; "ppm"; "-q" ] in
+        check_status "stdout ppm" 0 r;
+        Alcotest.(check bool) "the PPM file's bytes" true (out = read_file (d // "f.ppm"));
+        let ((_, out, _) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "-"; "--bits"; "16"; "--alpha"; "-q" ] in
+        check_status "stdout 16-bit RGBA" 0 r;
+        write_file (d // "o16.png") out;
+        let head, _ = independent (d // "o16.png") in
+        Alcotest.(check string) "16-bit RGBA" "40 30 4 16" head;
+        Alcotest.(check (list string)) "no file named -" [ "f.png"; "f.ppm"; "o16.png"; "s.rts"; "st.json" ] (listing d));
+    Alcotest.test_case "-o - into a closed pipe is an error with a message, not a silent death" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        let script =
+          Printf.sprintf "cd %s && %s render s.rts -o - --format ppm --width 600 --height 400 -q 2>err | head -c 10 >/dev/null; echo ${PIPESTATUS[0]}"
+            (Filename.quote d) (Filename.quote exe)
+        in
+        let ic = Unix.open_process_args_in "/bin/bash" [| "bash"; "-c"; script |] in
+        let status = String.trim (In_channel.input_all ic) in
+        ignore (Unix.close_process_in ic);
+        let e = read_file (d // "err") in
+        Alcotest.(check string) ("exit 1: " ^ e) "1" status;
+        Alcotest.(check bool) e true (contains e "cannot write the image to standard output: Broken pipe"));
+    Alcotest.test_case "--format that contradicts the file's extension, and --stats - with -o -, are refused" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        List.iter
+          (fun (args, expect) ->
+            let ((_, out, e) as r) = lancer ~dir:d ([ "render"; "s.rts" ] @ args) in
+            check_status (String.concat " " args) 1 r;
+            Alcotest.(check string) "nothing on stdout" "" out;
+            Alcotest.(check bool) e true (contains e expect))
+          [ ([ "-o"; "x.png"; "--format"; "ppm" ], "--format is for -o -");
+            ([ "-o"; "-"; "--format"; "ppm"; "--alpha" ], "--alpha needs a PNG output");
+            ([ "-o"; "-"; "--stats"; "-" ], "would both write to standard output") ];
+        Alcotest.(check (list string)) "nothing written" [ "s.rts" ] (listing d)) ]
+
+let () = Alcotest.run "output" [ ("png", png_tests); ("limits", limit_tests); ("refusals", refusal_tests); ("stale", stale_tests); ("bits, alpha, region", output_tests); ("stdout", stdout_tests) ]
