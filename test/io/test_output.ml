@@ -231,6 +231,20 @@ let refusal_tests =
            sphere { center: (0, 0, 0), radius: 1, material: material { texture: image(\"fr/frame_0001.png\", 1) } }\n";
         refused "animate" (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr" ]) "refusing to write a frame to fr/frame_0001.png";
         Alcotest.(check (list string)) "no frame written" [ "frame_0001.png" ] (listing (d // "fr")));
+    Alcotest.test_case "golden --update over the scene's own texture, and a diff image over the golden, are refused" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "brick.rts") brick;
+        gray_png (d // "brick.png") 8 4 4 (fun i j -> (i * 50) + j);
+        let before = read_file (d // "brick.png") in
+        refused "golden --update" (lancer ~dir:d [ "golden"; "brick.rts"; "brick.png"; "--update" ])
+          "refusing to write the golden image to brick.png: that file is an image the scene uses";
+        Alcotest.(check bool) "texture untouched" true (before = read_file (d // "brick.png"));
+        (* The golden g.png is read; a texture named g.actual.png would be replaced. *)
+        gray_png (d // "g.actual.png") 8 4 4 (fun i _ -> i);
+        write_file (d // "g.rts")
+          "settings { width: 8, height: 8 }\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: image(\"g.actual.png\", 1) } }\n";
+        gray_png (d // "g.png") 8 8 8 (fun _ _ -> 0);
+        refused "golden" (lancer ~dir:d [ "golden"; "g.rts"; "g.png" ]) "refusing to write the actual image to g.actual.png");
     Alcotest.test_case "diff a.png b.png -o a.png is refused; its input stays" `Quick (fun () ->
         let d = tmpdir () in
         gray_png (d // "a.png") 8 4 4 (fun i _ -> i);
