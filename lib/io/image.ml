@@ -110,7 +110,7 @@ let save ?gamma ?bits ?alpha ?crop path fb = write_raster path (encode ?gamma ?b
 
 let read_ppm path =
   let ic = open_in_bin path in
-  Fun.protect ~finally:(fun () -> close_in_noerr ic) @@ fun () ->
+  Png.finally (fun () -> close_in_noerr ic) @@ fun () ->
   let rec token () =
     let b = Buffer.create 8 in
     let rec skip () =
@@ -153,6 +153,9 @@ let read_raster path =
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
       else if Sys.is_directory path then Error (Printf.sprintf "%s: is a directory, not an image" path)
+      else if (try (Unix.stat path).st_kind <> Unix.S_REG with Unix.Unix_error _ -> true) then
+        (* A device or a pipe could be endless (/dev/zero) or block forever (a FIFO). *)
+        Error (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image" path)
       else
         match (match fmt with Png -> read_png path | Ppm -> read_ppm path) with
         | r -> Ok r

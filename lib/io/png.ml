@@ -1,5 +1,14 @@
 exception Bad of string
 
+(* [body ()], then [release ()] also when [body] raises. Unlike Fun.protect, an exception
+   from [release] (an interrupt arriving just then) never hides [body]'s own. *)
+let finally release body =
+  match body () with
+  | r -> release (); r
+  | exception e ->
+      (try release () with _ -> ());
+      raise e
+
 let bad fmt = Printf.ksprintf (fun s -> raise (Bad s)) fmt
 let signature = "\137PNG\r\n\026\n"
 
@@ -75,7 +84,7 @@ let encode ?(level = 6) (r : Raster.t) write =
   (* Rows are filtered one at a time and streamed through deflate; each time its output
      buffer is full it becomes one IDAT chunk. *)
   let z = Zlib.deflate_init level true in
-  Fun.protect ~finally:(fun () -> Zlib.deflate_end z) @@ fun () ->
+  finally (fun () -> Zlib.deflate_end z) @@ fun () ->
   let out = Bytes.create 65536 in
   let emit n = if n > 0 then chunk write "IDAT" (Bytes.sub_string out 0 n) n in
   let filled = ref 0 in
@@ -169,7 +178,7 @@ let row_bytes hd pw = ((pw * channels_of_type hd.ctype * hd.depth) + 7) / 8
 let inflate data expected =
   let out = Bytes.create expected in
   let z = Zlib.inflate_init true in
-  Fun.protect ~finally:(fun () -> Zlib.inflate_end z) @@ fun () ->
+  finally (fun () -> Zlib.inflate_end z) @@ fun () ->
   let spare = Bytes.create 1 in
   let rec go pos opos =
     let len = String.length data - pos in

@@ -12,6 +12,11 @@ val encode : ?level:int -> Raster.t -> (string -> unit) -> unit
     at a time (so that a file is written as it is compressed). [level] is zlib's, 0–9
     (default 6). Exceptions raised by [write] (a full disk) propagate. *)
 
+val finally : (unit -> unit) -> (unit -> 'a) -> 'a
+(** [finally release body] is [body ()], with [release ()] run after it also when [body]
+    raises; an exception from [release] never replaces [body]'s own (as
+    [Fun.Finally_raised] would). *)
+
 val decode : ?max_pixels:int -> string -> (Raster.t, string) result
 (** [decode contents] is the image of a PNG file's contents. [Error] says plainly what is
     wrong or unsupported (not a PNG, a bad CRC in chunk IDAT, truncated data, an

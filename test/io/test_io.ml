@@ -236,7 +236,19 @@ let corrupt_tests =
       "without a PLTE chunk" ]
 
 let texture_tests =
-  [ Alcotest.test_case "an 8- and a 16-bit gray PNG read as linear textures with their full precision" `Quick (fun () ->
+  [ Alcotest.test_case "a pipe or a device named like an image is refused at once, not read" `Quick (fun () ->
+        let d = tmpdir () in
+        Unix.mkfifo (Filename.concat d "fifo.png") 0o644;
+        List.iter
+          (fun p ->
+            match Image.read_raster p with
+            | Ok _ -> Alcotest.fail "read"
+            | Error m ->
+                Alcotest.(check bool) m true
+                  (String.length m > 0 && String.sub m 0 (String.length p) = p
+                  && String.ends_with ~suffix:"not a regular file (a device or a pipe), not an image" m))
+          [ Filename.concat d "fifo.png" ]);
+ Alcotest.test_case "an 8- and a 16-bit gray PNG read as linear textures with their full precision" `Quick (fun () ->
         let d = tmpdir () in
         let srgb v = if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4 in
         List.iter
