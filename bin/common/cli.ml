@@ -45,7 +45,7 @@ let term command =
   let none = Term.const None in
   let output =
     match command with
-    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm; $(b,-): standard output, see $(b,--format)); default: the scene's name with .png.")
+    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); $(b,-) writes it to standard output; default: the scene's name with .png.")
     | Animate -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"DIR" ~doc:"Directory for the frames (created if missing).")
     | Golden | Bench_domains | Bench_quality -> none
   in
