@@ -97,10 +97,14 @@ let plan ?(getenv = Sys.getenv_opt) (o : Cli.opts) (a : options) =
     try Unix.mkdir dir 0o755 with
     | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory dir -> () (* another shard made it *)
     | Unix.Unix_error (e, _, _) -> Cli.user "cannot create %s: %s" dir (Unix.error_message e));
+  let mine = List.filter (fun k -> match shard with None -> true | Some (i, n) -> (k - first) mod n = i) (List.init (last - first + 1) (fun i -> first + i)) in
+  (* Before anything is written into the directory. *)
+  Cli.guard_writes ~distinct:false ~reads:(Cli.reads o prog)
+    ((Filename.concat dir Frameset.view_name, "the frames record")
+     :: List.map (fun k -> (Filename.concat dir (Frameset.frame_name k), "a frame")) mine);
   let set =
     Frameset.open_ ~dir ~scene:(Filename.basename (fst source)) ~job:(job_digest o prog) ~count
   in
-  let mine = List.filter (fun k -> match shard with None -> true | Some (i, n) -> (k - first) mod n = i) (List.init (last - first + 1) (fun i -> first + i)) in
   let input_digest = Lancer_dsl.Dsl.input_digest prog in
   let todo = if a.resume then List.filter (fun k -> not (Frameset.is_done set k ~input_digest)) mine else mine in
   let skipped = List.length mine - List.length todo in

@@ -45,7 +45,7 @@ let term command =
   let none = Term.const None in
   let output =
     match command with
-    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); default: the scene's name with .png.")
+    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); $(b,-) writes it to standard output; default: the scene's name with .png.")
     | Animate -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"DIR" ~doc:"Directory for the frames (created if missing).")
     | Golden | Bench_domains | Bench_quality -> none
   in
@@ -100,6 +100,66 @@ let resume_still =
        & info [ "resume" ]
            ~doc:"Keep finished tiles in a checkpoint next to the output (OUT.checkpoint) and continue from it after an interruption; it is removed once the image is written.")
 
+(* ---- How the image of a still is written ---- *)
+
+type encoding = { bits : int; alpha : bool; region : Image.region option; crop : bool; format : Image.format option }
+
+let default_encoding = { bits = 8; alpha = false; region = None; crop = false; format = None }
+
+let is_stdout p = p = "-"
+
+(* The format of an output: its extension, or --format for standard output. *)
+let format_of ?format path =
+  if is_stdout path then Option.value format ~default:Image.Png
+  else
+    match (Image.format_of_path path, format) with
+    | Error m, _ -> raise (User_error m)
+    | Ok f, Some g when f <> g ->
+        user "--format %s, but -o %s has the extension of the other format; --format is for -o - (standard output)"
+          (if g = Image.Png then "png" else "ppm") path
+    | Ok f, _ -> f
+
+let encoding_term =
+  let bits =
+    Arg.(value & opt (enum [ ("8", 8); ("16", 16) ]) 8
+         & info [ "bits" ] ~docv:"8|16" ~doc:"Bits per channel of the image: 8 (default) or 16, with the same encoding curve.")
+  in
+  let alpha =
+    Arg.(value & flag
+         & info [ "alpha" ]
+             ~doc:"Add an alpha channel (PNG only): the share of each pixel's samples whose primary ray hits a surface; 0 where only the background is seen.")
+  in
+  let region =
+    let parse s =
+      match List.map int_of_string_opt (String.split_on_char ',' s) with
+      | [ Some x0; Some y0; Some x1; Some y1 ] -> Ok { Image.x0; y0; x1; y1 }
+      | _ -> Error (`Msg (Printf.sprintf "--region expects x0,y0,x1,y1 (four integers), got %S" s))
+    in
+    let print ppf (r : Image.region) = Format.fprintf ppf "%d,%d,%d,%d" r.x0 r.y0 r.x1 r.y1 in
+    Arg.(value & opt (some (conv (parse, print))) None
+         & info [ "region" ] ~docv:"X0,Y0,X1,Y1"
+             ~doc:"Render only columns X0 to X1-1 of rows Y0 to Y1-1 (pixels, from the top-left corner); the rest of the image is the background.")
+  in
+  let crop = Arg.(value & flag & info [ "crop" ] ~doc:"With $(b,--region): write only the region, not the whole image.") in
+  let format =
+    Arg.(value & opt (some (enum [ ("png", Image.Png); ("ppm", Image.Ppm) ])) None
+         & info [ "format" ] ~docv:"png|ppm"
+             ~doc:"The format of the image written to standard output with $(b,-o -) (default png); with a file name, its extension decides.")
+  in
+  Term.(const (fun bits alpha region crop format -> { bits; alpha; region; crop; format }) $ bits $ alpha $ region $ crop $ format)
+
+(* What can be refused once the scene's size is known. *)
+let check_encoding e ~out (sc : Scene.t) =
+  if e.crop && e.region = None then user "--crop needs --region x0,y0,x1,y1";
+  (match e.region with
+   | Some r ->
+       let w = sc.settings.width and h = sc.settings.height in
+       if not (0 <= r.x0 && r.x0 < r.x1 && r.x1 <= w && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= h) then
+         user "--region %d,%d,%d,%d is not inside the %d×%d image: it needs 0 <= x0 < x1 <= %d and 0 <= y0 < y1 <= %d" r.x0 r.y0
+           r.x1 r.y1 w h w h
+   | None -> ());
+  if e.alpha && format_of ?format:e.format out = Image.Ppm then user "--alpha needs a PNG output: a PPM file has no alpha channel"
+
 let progress o ~label ~total =
   let mode : Progress.mode =
     if o.quiet then Off else if Unix.isatty Unix.stderr then Terminal else if o.progress then Lines else Off
@@ -122,10 +182,11 @@ let build o f =
   let r = Fun.protect ~finally:(fun () -> built o) (fun () -> f (building o)) in
   (r, Unix.gettimeofday () -. t0)
 
-let summary ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
+let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
   let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+  let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M rays/s)" out
-    sc.settings.width sc.settings.height (build +. render) build render workers rays (rays /. Float.max render 1e-9)
+    w h (build +. render) build render workers rays (rays /. Float.max render 1e-9)
 
 (* A count of rays the way a person reads it: 307 200, 18.4 M, 1.28 G. *)
 let rays_text r =
@@ -236,9 +297,86 @@ let default_output o =
 
 let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)
 
-let check_output path =
-  (match Image.format_of_path path with Ok _ -> () | Error m -> raise (User_error m));
-  check_writable path
+let check_output ?format path =
+  ignore (format_of ?format path);
+  if is_stdout path then begin
+    if Unix.isatty Unix.stdout then
+      user "-o - writes the image to standard output, which is a terminal here; redirect it (-o - > image.png) or pipe it"
+  end
+  else check_writable path
+
+(* ---- What a run reads and what it writes ---- *)
+
+(* Where a path leads, for comparing two names of one file: the file itself resolved when
+   it exists, else its directory, so that ./a.png, a.png and a path through a symbolic
+   link agree. *)
+let where p =
+  match Unix.realpath p with
+  | r -> r
+  | exception Unix.Unix_error _ -> (
+      match Unix.realpath (Filename.dirname p) with
+      | d -> Filename.concat d (Filename.basename p)
+      | exception Unix.Unix_error _ -> p)
+
+type identity = { path : string; resolved : string; inode : (int * int) option }
+
+let identity path =
+  { path; resolved = where path;
+    inode = (match Unix.stat path with st -> Some (st.st_dev, st.st_ino) | exception Unix.Unix_error _ -> None) }
+
+(* Also two hard links to one file. *)
+let same a b = a.resolved = b.resolved || (match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false)
+
+let reads (o : opts) prog =
+  let main = Dsl.file prog in
+  List.filter_map
+    (fun p ->
+      if String.equal p main then if o.scene = None then None else Some (p, "the scene")
+      else
+        match String.lowercase_ascii (Filename.extension p) with
+        | ".rts" -> Some (p, "a file the scene includes")
+        | ".obj" -> Some (p, "a mesh the scene uses")
+        | _ -> Some (p, "an image the scene uses"))
+    (Dsl.inputs prog)
+
+let guard_writes ?(distinct = true) ~reads writes =
+  let reads = List.map (fun (p, what) -> (identity p, what)) reads in
+  let writes = List.map (fun (p, what) -> (identity p, what)) writes in
+  List.iter
+    (fun (w, what) ->
+      check_writable w.path;
+      List.iter
+        (fun (r, rwhat) ->
+          if same w r then
+            if r.path = w.path then user "refusing to write %s to %s: that file is %s, read by this run; choose another name" what w.path rwhat
+            else user "refusing to write %s to %s: that file is %s (%s), read by this run; choose another name" what w.path r.path rwhat)
+        reads)
+    writes;
+  if distinct then
+    let rec pairs = function
+      | [] -> ()
+      | (a, wa) :: rest ->
+          List.iter (fun (b, wb) -> if same a b then user "%s and %s would be the same file, %s: give each its own name" wa wb a.path) rest;
+          pairs rest
+    in
+    pairs writes
+
+(* --stats takes a value: [lancer render --stats scene.rts] means the scene was taken as
+   its value. A statistics file is JSON; lancer's own kinds of files are refused. *)
+let check_stats_name = function
+  | None -> ()
+  | Some p -> (
+      match String.lowercase_ascii (Filename.extension p) with
+      | (".rts" | ".png" | ".ppm" | ".obj" | ".gif" | ".mp4") as e ->
+          let kind = match e with ".rts" -> "a scene" | ".obj" -> "a mesh" | ".gif" | ".mp4" -> "a video" | _ -> "an image" in
+          user "--stats %s: statistics are written as JSON, and that name is %s's; did --stats take the scene as its value? Write --stats FILE.json"
+            p kind
+      | _ -> ())
+
+let guard_render (o : opts) prog ~out =
+  if is_stdout out && o.stats = Some "-" then user "--stats - and -o - would both write to standard output: give --stats a file";
+  guard_writes ~reads:(reads o prog)
+    ((if is_stdout out then [] else [ (out, "the image") ]) @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
 let time_of o prog =
   match (o.time, o.frame) with
@@ -272,8 +410,26 @@ let scene_with_files ?progress o prog ~time ~frame =
 
 let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
 
-let write_image path (sc : Scene.t) fb =
-  match Image.save ~gamma:sc.settings.gamma path fb with Ok () -> () | Error m -> raise (User_error m)
+(* Standard output carries the image's bytes and nothing else; a reader that goes away
+   (a closed pipe) is an error to report, not a signal that kills. *)
+let write_stdout fmt raster =
+  Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
+  set_binary_mode_out stdout true;
+  match
+    Image.output_raster fmt stdout raster;
+    flush stdout
+  with
+  | () -> ()
+  | exception Sys_error m -> user "cannot write the image to standard output: %s" m
+
+let write_image ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
+  let crop = if encoding.crop then encoding.region else None in
+  if is_stdout path then
+    write_stdout (format_of ?format:encoding.format path) (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb)
+  else
+    match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
+    | Ok () -> ()
+    | Error m -> raise (User_error m)
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with

@@ -77,12 +77,31 @@ val default_output : opts -> string
     scene); a scene read from standard input needs [-o] (raises [User_error]). *)
 
 val check_writable : string -> unit
-(** Refuse, before any work, a file path in a missing directory or that is a directory
-    (for [--stats]); raises [User_error]. *)
+(** Refuse, before any work, a file path in a missing directory, that is a directory, or
+    that is a read-only file; raises [User_error]. *)
 
-val check_output : string -> unit
-(** Refuse, before any rendering, an output with an unknown extension, in a missing
-    directory, or that is a directory; raises [User_error]. *)
+val check_output : ?format:Lancer.Image.format -> string -> unit
+(** Refuse, before any rendering, an output with an unknown extension (or one that
+    [format] contradicts), in a missing directory, that is a directory or read-only, and
+    [-] when standard output is a terminal; raises [User_error]. *)
+
+val reads : opts -> Lancer_dsl.Dsl.t -> (string * string) list
+(** The files a run of this program reads, as (path, what it is): the scene file (not
+    for the built-in showcase), its includes, images and meshes loaded so far. *)
+
+val guard_writes : ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
+(** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
+    that {!check_writable} refuses, that is one of the files read (by any name: a
+    symbolic link, a hard link, ./a.png for a.png), or, with [distinct] (default), that
+    is the same file as another write. Raises [User_error] naming both. *)
+
+val check_stats_name : string option -> unit
+(** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png],
+    …): the sign that the option took the scene as its value. *)
+
+val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
+(** {!guard_writes} for a still: the image and the statistics against the scene's
+    files. *)
 
 val scene_at : ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
 (** Evaluate at a time and apply the command-line overrides; [progress] as for
@@ -96,8 +115,35 @@ val scene_with_files :
 val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)
 
-val write_image : string -> Lancer.Scene.t -> Lancer.Image.t -> unit
-(** Encode with the scene's gamma and write atomically; raises [User_error]. *)
+type encoding = {
+  bits : int;  (** 8 or 16 bits per channel *)
+  alpha : bool;  (** an alpha channel of coverage *)
+  region : Lancer.Image.region option;  (** render only these pixels *)
+  crop : bool;  (** write only the region *)
+  format : Lancer.Image.format option;  (** [--format], for [-o -] *)
+}
+(** How the image of a still is rendered and written ([--bits], [--alpha], [--region],
+    [--crop]). *)
+
+val default_encoding : encoding
+(** 8 bits, no alpha, the whole image. *)
+
+val encoding_term : encoding Cmdliner.Term.t
+(** The options [--bits 8|16], [--alpha], [--region x0,y0,x1,y1], [--crop] and
+    [--format png|ppm]. *)
+
+val is_stdout : string -> bool
+(** Whether an output path is [-], standard output. *)
+
+val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
+(** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
+    with a PPM output; raises [User_error]. *)
+
+val write_image : ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
+(** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
+    coverage [alpha] as a fourth channel) and write atomically, or to standard output for
+    [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
+    [User_error]. *)
 
 val build : opts -> ((string -> unit) -> 'a) -> 'a * float
 (** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration
@@ -106,9 +152,10 @@ val build : opts -> ((string -> unit) -> 'a) -> 'a * float
     line is cleared when [f] returns or raises. The result and the seconds it took. *)
 
 val summary :
-  out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
+  ?size:int * int -> out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
 (** The line a render prints when done: the file, size, total, build and render seconds,
-    [workers] ("2 domains"), rays and rays per second of the render. *)
+    [workers] ("2 domains"), rays and rays per second of the render; [size] is the size
+    written when it is not the scene's (a crop). *)
 
 val rays_text : float -> string
 (** A ray count as a person reads it: [307 200] as "307 k", "18.4 M", "1.28 G". *)

@@ -5,10 +5,11 @@ module Dsl = Lancer_dsl.Dsl
 
 let resumed_interrupt = "the finished tiles are kept in the checkpoint; run again with --resume to continue"
 
-let render_cmd (o : Cli.opts) ~resume =
+let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
   Cli.install_interrupt_handler ();
   let out = Cli.default_output o in
-  Cli.check_output out;
+  Cli.check_output ?format:enc.format out;
+  Cli.check_stats_name o.stats;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
   let (sc, files, prog, time, frame), build =
@@ -24,8 +25,14 @@ let render_cmd (o : Cli.opts) ~resume =
         Gc.compact ();
         (sc, files, prog, time, frame))
   in
+  Cli.guard_render o prog ~out;
   Cli.warn_long_render o sc;
-  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
+  Cli.check_encoding enc ~out sc;
+  if resume && (enc.alpha || enc.region <> None) then
+    Cli.user "--resume keeps a checkpoint of the whole image: it cannot be combined with --alpha or --region";
+  let region = enc.region in
+  let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles ?region sc)) in
+  let alpha = if enc.alpha then Some (Float.Array.make (sc.settings.width * sc.settings.height) 0.) else None in
   let t0 = Unix.gettimeofday () in
   let fb, st, finish =
     if resume then begin
@@ -41,18 +48,25 @@ let render_cmd (o : Cli.opts) ~resume =
     end
     else
       let fb, st =
-        Render.with_pool domains (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+        Render.with_pool domains (fun pool ->
+            Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) ?region ?alpha sc)
       in
       (fb, st, ignore)
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  Cli.write_image out sc fb;
+  Cli.write_image ~encoding:enc ?alpha out sc fb;
   finish ();
   Cli.warn_bad_samples st;
   Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
-    print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(Printf.sprintf "%d domains" domains) st)
+    let size = match enc.region with Some r when enc.crop -> Some (r.x1 - r.x0, r.y1 - r.y0) | _ -> None in
+    let line =
+      Cli.summary ?size ~out:(if Cli.is_stdout out then "the image to standard output" else out) sc ~build ~render:wall
+        ~workers:(Printf.sprintf "%d domains" domains) st
+    in
+    (* With -o -, standard output is the image's alone. *)
+    if Cli.is_stdout out then prerr_endline line else print_endline line
 
 (* "12..20, 30": frame numbers (ascending) as runs. *)
 let runs ks =
@@ -128,6 +142,7 @@ let verdict ~tolerance ~share (c : Compare.t) =
 
 let diff_cmd a b out tolerance share =
   check_tolerance tolerance share;
+  Option.iter (fun p -> Cli.guard_writes ~reads:[ (a, "an image this diff compares"); (b, "an image this diff compares") ] [ (p, "the diff image") ]) out;
   let read p = match Image.read_rgb8 p with Ok i -> i | Error m -> raise (Cli.User_error m) in
   let ((wa, ha, _) as ia) = read a and ((wb, hb, _) as ib) = read b in
   if (wa, ha) <> (wb, hb) then Cli.user "%s is %d×%d but %s is %d×%d: only images of the same size can be compared" a wa ha b wb hb;
@@ -158,6 +173,11 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
          Cli.user "the golden %s is %d×%d but the render would be %d×%d: render at the golden's size with --width %d --height %d, or remake the golden with --update"
            golden gw gh sc.settings.width sc.settings.height gw gh
      | _ -> ());
+  let sibling suffix = Filename.remove_extension golden ^ suffix in
+  Cli.guard_writes
+    ~reads:(if update then Cli.reads o prog else (golden, "the golden image") :: Cli.reads o prog)
+    (if update then [ (golden, "the golden image") ]
+     else [ (sibling ".actual.png", "the actual image"); (sibling ".diff.png", "the diff image") ]);
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let fb, _ =
     Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
@@ -191,9 +211,9 @@ let render =
       `Pre "  lancer render big.rts -o big.png --resume    # again after an interruption: continues" ]
   in
   Cmd.v (Cmd.info "render" ~doc ~man ~exits)
-    Term.(const (fun o resume ->
-              Cli.run ?interrupted:(if resume then Some resumed_interrupt else None) (fun () -> render_cmd o ~resume))
-          $ Cli.opts_term $ Cli.resume_still)
+    Term.(const (fun o resume e ->
+              Cli.run ?interrupted:(if resume then Some resumed_interrupt else None) (fun () -> render_cmd o ~resume e))
+          $ Cli.opts_term $ Cli.resume_still $ Cli.encoding_term)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in

@@ -86,7 +86,9 @@ let render_cmd (o : Cli.opts) ~resume =
   let prepare () =
     Cli.install_interrupt_handler ();
     let out = Cli.default_output o in
+    if Cli.is_stdout out then user "lancer-mpi writes its image to a file; -o - (standard output) is for lancer render";
     Cli.check_output out;
+    Cli.check_stats_name o.stats;
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
@@ -97,6 +99,7 @@ let render_cmd (o : Cli.opts) ~resume =
           let sc, files = still ~progress:say prog in
           (sc, files, prog))
     in
+    Cli.guard_render o prog ~out;
     (* With --resume rank 0 keeps the finished tiles in a checkpoint beside the output. *)
     let ck =
       if not resume then None

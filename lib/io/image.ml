@@ -12,15 +12,21 @@ let set fb i j (c : Color.t) =
   Float.Array.set fb.data (k + 1) c.g;
   Float.Array.set fb.data (k + 2) c.b
 
-let encode_channel gamma v =
+(* The encoding curve on a clamped value. *)
+let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
   let v = if v > 0. then (if v < 1. then v else 1.) else 0. in
-  let v =
-    match gamma with
-    | Settings.Srgb -> if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
-    | Settings.Power g -> Float.pow v (1. /. g)
-  in
-  int_of_float (Float.floor ((255. *. v) +. 0.5))
+  match gamma with
+  | Settings.Srgb -> if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
+  | Settings.Power g -> Float.pow v (1. /. g)
+
+let encode_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
+let encode_channel16 gamma v = int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
+
+(* Alpha is a linear share, never gamma-encoded. *)
+let quantise maxv a =
+  let a = if a > 0. then (if a < 1. then a else 1.) else 0. in
+  int_of_float (Float.floor ((Float.of_int maxv *. a) +. 0.5))
 
 let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
@@ -35,105 +41,76 @@ let format_of_path path =
   | "" -> Error (Printf.sprintf "%s: no file extension; use .png or .ppm" path)
   | e -> Error (Printf.sprintf "%s: unsupported image format %s; use .png or .ppm" path e)
 
-let temp_path path =
-  let dir = Filename.dirname path and base = Filename.basename path in
-  Filename.concat dir (Printf.sprintf ".%s.tmp-%d-%d" base (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
-
-(* The reason of a failure, without the name of the temporary file: the user only knows
-   the path they asked for. *)
-let describe_exn ?tmp = function
-  | Sys_error m -> (
-      match tmp with
-      | Some t when String.length m > String.length t + 2 && String.sub m 0 (String.length t + 2) = t ^ ": " ->
-          String.sub m (String.length t + 2) (String.length m - String.length t - 2)
-      | _ -> m)
-  | Unix.Unix_error (e, f, a) -> Printf.sprintf "%s%s: %s" f (if a = "" then "" else " " ^ a) (Unix.error_message e)
-  | Failure m -> m
+let describe_exn = function
+  | Sys_error m | Failure m -> m
+  | Unix.Unix_error (e, _, _) -> Unix.error_message e
   | e -> Printexc.to_string e
 
-let remove_quietly p = try Sys.remove p with _ -> ()
-
-(* libpng prints its own diagnostics on stderr before camlimages turns them into an
-   exception, which is then reported once, in one line: silence the library's copy while
-   it runs. Images are read and written outside the parallel render, so nothing else is
-   writing to stderr meanwhile. *)
-let quietly f =
-  match Unix.openfile "/dev/null" [ Unix.O_WRONLY; Unix.O_CLOEXEC ] 0 with
-  | exception Unix.Unix_error _ -> f ()
-  | null ->
-      flush stderr;
-      let saved = Unix.dup ~cloexec:true Unix.stderr in
-      Unix.dup2 null Unix.stderr;
-      Unix.close null;
-      Fun.protect ~finally:(fun () -> Unix.dup2 saved Unix.stderr; Unix.close saved) f
-
-(* What can be refused before a temporary file exists. *)
-let check_writable path =
-  let dir = Filename.dirname path in
-  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "cannot write %s: is a directory" path)
-  else if not (Sys.file_exists dir) then Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
-  else if not (Sys.is_directory dir) then Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
-  else Ok ()
-
-(* A device or a pipe (/dev/stdout, /dev/null, a FIFO) cannot be replaced by a rename,
-   and must not be: running as root, that would swap the device node for a file. *)
-let is_special path =
-  match (Unix.stat path).st_kind with
-  | Unix.S_CHR | Unix.S_BLK | Unix.S_FIFO | Unix.S_SOCK -> true
-  | _ -> false
-  | exception Unix.Unix_error _ -> false
-
-(* Write through [f tmp] into a temporary file beside [path], then rename it into place;
-   on any failure (a full disk included) the temporary file is removed. A device or pipe
-   is written in place. *)
-let atomically path f =
-  match check_writable path with
-  | Error e -> Error e
-  | Ok () when is_special path -> (
-      match f path with
-      | () -> Ok ()
-      | exception Sys.Break -> raise Sys.Break
-      | exception e -> Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp:path e)))
-  | Ok () -> (
-      let tmp = temp_path path in
-      match f tmp; Unix.rename tmp path with
-      | () -> Ok ()
-      | exception e ->
-          remove_quietly tmp;
-          (match e with Sys.Break -> raise e | _ -> ());
-          Error (Printf.sprintf "cannot write %s: %s" path (describe_exn ~tmp e)))
-
-let write_atomic path f =
-  atomically path (fun tmp ->
-      let oc = open_out_bin tmp in
-      Fun.protect ~finally:(fun () -> close_out_noerr oc) (fun () -> f oc; close_out oc))
+let check_writable = Safe_file.check_writable
+let write_atomic = Safe_file.write
 
 let write_ppm oc w h bytes =
   Printf.fprintf oc "P6\n%d %d\n255\n" w h;
   output_bytes oc bytes
 
-(* camlimages writes PNG to a path, not a channel: it writes the temporary file itself
-   and the rename makes it appear atomically. The file is created first so that a refusal
-   by the system comes with its reason rather than libpng's "png file open failed". *)
-let write_png_atomic path w h bytes =
-  atomically path (fun tmp ->
-      close_out (open_out_bin tmp);
-      let img = Rgb24.create_with w h [] bytes in
-      match quietly (fun () -> Png.save tmp [] (Images.Rgb24 img)) with
-      | () -> ()
-      | exception Failure _ -> failwith "the PNG encoder could not write the file (is the disk full?)")
+let write_png oc raster = Png.encode raster (output_string oc)
 
 let write_rgb8 path w h bytes =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm oc w h bytes)
-  | Ok Png -> write_png_atomic path w h bytes
+  | Ok Png -> write_atomic path (fun oc -> write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
 
-let save ?(gamma = Settings.Srgb) path fb = write_rgb8 path fb.width fb.height (to_bytes gamma fb)
+type region = { x0 : int; y0 : int; x1 : int; y1 : int }
+
+let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
+  if bits <> 8 && bits <> 16 then invalid_arg "Image.encode: bits must be 8 or 16";
+  (match alpha with
+   | Some a when Float.Array.length a <> fb.width * fb.height -> invalid_arg "Image.encode: alpha has the wrong size"
+   | _ -> ());
+  let r = match crop with Some r -> r | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height } in
+  if r.x0 < 0 || r.y0 < 0 || r.x1 > fb.width || r.y1 > fb.height || r.x0 >= r.x1 || r.y0 >= r.y1 then
+    invalid_arg "Image.encode: the crop region is not inside the image";
+  let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
+  let channels = if alpha = None then 3 else 4 in
+  let b = Bytes.create (w * h * channels * (bits / 8)) in
+  let put k v = if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v in
+  let enc = if bits = 8 then encode_channel gamma else encode_channel16 gamma in
+  let maxv = if bits = 8 then 255 else 65535 in
+  for j = 0 to h - 1 do
+    for i = 0 to w - 1 do
+      let src = ((r.y0 + j) * fb.width) + r.x0 + i and dst = ((j * w) + i) * channels in
+      for c = 0 to 2 do
+        put (dst + c) (enc (Float.Array.get fb.data ((3 * src) + c)))
+      done;
+      match alpha with Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src)) | None -> ()
+    done
+  done;
+  Raster.make ~width:w ~height:h ~channels ~depth:bits b
+
+let write_ppm_raster oc (r : Raster.t) =
+  Printf.fprintf oc "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r);
+  output_bytes oc r.samples
+
+let output_raster fmt oc (r : Raster.t) =
+  match fmt with
+  | Ppm when r.channels <> 3 -> invalid_arg "Image.output_raster: a PPM file holds RGB only"
+  | Ppm -> write_ppm_raster oc r
+  | Png -> write_png oc r
+
+let write_raster path (r : Raster.t) =
+  match format_of_path path with
+  | Error e -> Error e
+  | Ok Ppm when r.channels <> 3 ->
+      Error (Printf.sprintf "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png" path)
+  | Ok Ppm -> write_atomic path (fun oc -> write_ppm_raster oc r)
+  | Ok Png -> write_atomic path (fun oc -> write_png oc r)
+
+let save ?gamma ?bits ?alpha ?crop path fb = write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
 
 let read_ppm path =
   let ic = open_in_bin path in
-  Fun.protect ~finally:(fun () -> close_in_noerr ic) @@ fun () ->
+  Png.finally (fun () -> close_in_noerr ic) @@ fun () ->
   let rec token () =
     let b = Buffer.create 8 in
     let rec skip () =
@@ -155,68 +132,54 @@ let read_ppm path =
   let w = int_token () in
   let h = int_token () in
   let maxv = int_token () in
-  if w < 1 || h < 1 || maxv <> 255 || w > Settings.max_pixels / h then failwith "unsupported PPM header";
-  let bytes = Bytes.create (3 * w * h) in
-  really_input ic bytes 0 (3 * w * h);
-  (w, h, bytes)
-
-let png_signature = "\137PNG\r\n\026\n"
-
-(* What the decoder would find out only after allocating: the signature, and the size in
-   the IHDR chunk, which the PNG specification puts first. *)
-let check_png_header path =
-  let head = In_channel.with_open_bin path (fun ic -> In_channel.really_input_string ic 24) in
-  match head with
-  | Some h when String.sub h 0 8 = png_signature && String.sub h 12 4 = "IHDR" ->
-      let be32 o = (Char.code h.[o] lsl 24) lor (Char.code h.[o + 1] lsl 16) lor (Char.code h.[o + 2] lsl 8) lor Char.code h.[o + 3] in
-      let w = be32 16 and h = be32 20 in
-      if w < 1 || h < 1 then failwith (Printf.sprintf "a PNG image of %d×%d pixels is empty" w h)
-      else if w > Settings.max_pixels / h then
-        failwith (Printf.sprintf "image %d×%d is larger than the limit of %d pixels" w h Settings.max_pixels)
-  | Some h when String.sub h 0 8 = png_signature -> failwith "not a PNG file (its first chunk is not IHDR)"
-  | _ -> failwith "not a PNG file"
+  if w < 1 || h < 1 || w > Settings.max_pixels / h then failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
+  if maxv <> 255 && maxv <> 65535 then failwith (Printf.sprintf "unsupported PPM maximum value %d (lancer reads 255 and 65535)" maxv);
+  let depth = if maxv = 255 then 8 else 16 in
+  let bytes = Bytes.create (3 * w * h * (depth / 8)) in
+  really_input ic bytes 0 (Bytes.length bytes);
+  Raster.make ~width:w ~height:h ~channels:3 ~depth bytes
 
 let read_png path =
-  check_png_header path;
-  let load () =
-    try quietly (fun () -> Png.load path [])
-    with Failure m when m <> "" && m.[0] <> '#' -> failwith (Printf.sprintf "corrupt or truncated PNG data (%s)" m)
-       | Failure _ -> failwith "corrupt PNG data"
-  in
-  let rgb =
-    match load () with
-    | Images.Rgb24 i -> i
-    | Images.Rgba32 i -> Rgb24.of_rgba32 i
-    | Images.Index8 i -> Index8.to_rgb24 i
-    | Images.Index16 i -> Index16.to_rgb24 i
-    | Images.Cmyk32 _ -> failwith "CMYK PNG images are not supported"
-  in
-  let w = rgb.Rgb24.width and h = rgb.Rgb24.height in
-  let bytes = Bytes.create (3 * w * h) in
-  for j = 0 to h - 1 do
-    Bytes.blit (Rgb24.get_scanline rgb j) 0 bytes (3 * w * j) (3 * w)
-  done;
-  (w, h, bytes)
+  let size = (Unix.stat path).st_size in
+  (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
+  if size > 4 * 8 * Settings.max_pixels then failwith (Printf.sprintf "the file is too large for an image (%d bytes)" size);
+  match Png.decode (In_channel.with_open_bin path In_channel.input_all) with
+  | Ok r -> r
+  | Error m -> failwith m
 
-let read_rgb8 path =
+let read_raster path =
   match format_of_path path with
   | Error e -> Error e
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
       else if Sys.is_directory path then Error (Printf.sprintf "%s: is a directory, not an image" path)
+      else if (try (Unix.stat path).st_kind <> Unix.S_REG with Unix.Unix_error _ -> true) then
+        (* A device or a pipe could be endless (/dev/zero) or block forever (a FIFO). *)
+        Error (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image" path)
       else
         match (match fmt with Png -> read_png path | Ppm -> read_ppm path) with
         | r -> Ok r
         | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
         | exception e -> Error (Printf.sprintf "%s: cannot read image: %s" path (describe_exn e)))
 
-let srgb_to_linear b =
-  let v = Float.of_int b /. 255. in
-  if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
+let read_rgb8 path =
+  Result.map (fun (r : Raster.t) -> (r.width, r.height, Raster.to_rgb8 r)) (read_raster path)
+let srgb_to_linear v = if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
 
-let read_linear path =
-  match read_rgb8 path with
-  | Error e -> Error e
-  | Ok (w, h, bytes) ->
-      let lut = Float.Array.init 256 srgb_to_linear in
-      Ok { width = w; height = h; data = Float.Array.init (3 * w * h) (fun k -> Float.Array.get lut (Char.code (Bytes.get bytes k))) }
+(* Every possible sample value decoded once: 256 or 65536 entries. *)
+let linear_lut maxv = Float.Array.init (maxv + 1) (fun k -> srgb_to_linear (Float.of_int k /. Float.of_int maxv))
+
+let of_raster (r : Raster.t) =
+  let lut = linear_lut (Raster.max_value r) in
+  let n = r.width * r.height in
+  let data = Float.Array.create (3 * n) in
+  let gray = r.channels < 3 in
+  for p = 0 to n - 1 do
+    let i = p mod r.width and j = p / r.width in
+    for c = 0 to 2 do
+      Float.Array.set data ((3 * p) + c) (Float.Array.get lut (Raster.get r i j (if gray then 0 else c)))
+    done
+  done;
+  { width = r.width; height = r.height; data }
+
+let read_linear path = Result.map of_raster (read_raster path)

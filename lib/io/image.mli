@@ -2,8 +2,8 @@
 
     A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
     (doc/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v, else
-    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG (8-bit RGB,
-    through camlimages) or binary PPM by extension, always written atomically: a
+    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!Png},
+    plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
     temporary file in the same directory, then a rename. *)
 
 type t = { width : int; height : int; data : Float.Array.t  (** 3·width·height linear floats *) }
@@ -20,6 +20,9 @@ val set : t -> int -> int -> Color.t -> unit
 val encode_channel : Settings.gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 
+val encode_channel16 : Settings.gamma -> float -> int
+(** The same curve quantised to 16 bits: ⌊65535·v + 0.5⌋ (NaN encodes as 0). *)
+
 val to_bytes : Settings.gamma -> t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
@@ -29,29 +32,54 @@ val format_of_path : string -> (format, string) result
 (** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
 
 val check_writable : string -> (unit, string) result
-(** Whether a file could be written at this path: not a directory, in a directory that
-    exists. What {!write_atomic} checks first; callers use it to refuse before working. *)
+(** {!Safe_file.check_writable}: callers use it to refuse before working. *)
 
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
-(** [write_atomic path f] writes [path] through [f] into a temporary file beside it and
-    renames it into place; on any failure (a full disk included) the temporary file is
-    removed and [path] is untouched. A missing directory is refused before anything is
-    written. A device or a pipe ([/dev/stdout], a FIFO) is written in place, never replaced.
-    The message names the path and the reason, never the temporary file. *)
+(** {!Safe_file.write}: [write_atomic path f] writes [path] through [f] into a temporary
+    file beside it and renames it into place once every write, the flush, the [fsync] and
+    the close succeeded; on any failure [path] is untouched and no temporary file stays. *)
 
 val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
 (** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s
     extension, atomically. *)
 
-val save : ?gamma:Settings.gamma -> string -> t -> (unit, string) result
-(** [save path fb] encodes (default sRGB) and writes [fb]. *)
+type region = { x0 : int; y0 : int; x1 : int; y1 : int }
+(** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
+
+val encode : ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> t -> Raster.t
+(** [encode fb] is [fb]'s RGB samples at [bits] (8, the default, or 16) through
+    {!encode_channel} or {!encode_channel16}; with [alpha] (one linear value per pixel,
+    row-major) a fourth channel ⌊max·a + 0.5⌋, not gamma-encoded; with [crop] only that
+    region. Raises [Invalid_argument] on a bad size, bit count or region. *)
+
+val write_raster : string -> Raster.t -> (unit, string) result
+(** Write samples as PNG (any channels, 8 or 16 bits) or PPM (RGB only, maximum value 255
+    or 65535) by [path]'s extension, atomically. *)
+
+val output_raster : format -> out_channel -> Raster.t -> unit
+(** [output_raster fmt oc r] writes the file's bytes to [oc] (standard output, a pipe);
+    errors raise [Sys_error] as the channel's do. A PPM of other than 3 channels raises
+    [Invalid_argument]. *)
+
+val save :
+  ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> string -> t -> (unit, string) result
+(** [save path fb] is {!write_raster} of {!encode} (default sRGB, 8-bit RGB, the whole
+    image). *)
+
+val read_raster : string -> (Raster.t, string) result
+(** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
+    or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
+    before its pixels are allocated: larger than {!Settings.max_pixels} is an error.
+    Never raises; the message starts with [path]. *)
 
 val read_rgb8 : string -> (int * int * Bytes.t, string) result
-(** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file (any PNG colour type
-    is converted to 8-bit RGB). A PNG's signature and size are checked before it is
-    decoded: larger than {!Settings.max_pixels} is an error, not an allocation. Never
-    raises, and prints nothing (libpng's own messages are silenced). *)
+(** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file converted to 8-bit RGB
+    as {!Raster.to_rgb8} does. Never raises. *)
+
+val of_raster : Raster.t -> t
+(** The linear framebuffer of sRGB-encoded samples, at their full precision (8 or 16
+    bits); gray is repeated into the three channels, alpha is dropped. *)
 
 val read_linear : string -> (t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
-    textures). *)
+    textures and bump maps). *)

@@ -93,20 +93,49 @@ let pixel (sc : Scene.t) st i j =
   else if s.samples = 1 then sample sc st i j (Float.of_int i +. sub_offset sc 1 i j 0 0 0) (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
   else grid sc st i j s.samples
 
-let render_tile sc st fb x0 y0 x1 y1 =
+(* The share of pixel (i, j)'s sample points whose primary ray hits a surface: its
+   alpha. The points are those of the n×n grid (jittered as the colour's are); with
+   adaptive sampling, those of the refined max(n, 4)² grid in every pixel. *)
+let coverage (sc : Scene.t) i j =
+  let s = sc.settings in
+  let n = if s.adaptive > 0. then max s.samples 4 else s.samples in
+  let hits = ref 0 in
+  for q = 0 to n - 1 do
+    for p = 0 to n - 1 do
+      let x = Float.of_int i +. sub_offset sc n i j p q 0 in
+      let y = Float.of_int j +. sub_offset sc n i j q p 1 in
+      if Accel.any_hit sc.accel (Camera.ray sc.camera ~width:s.width ~height:s.height x y) 0. Float.infinity then incr hits
+    done
+  done;
+  Float.of_int !hits /. Float.of_int (n * n)
+
+let render_tile ?alpha sc st fb x0 y0 x1 y1 =
   for j = y0 to y1 - 1 do
     for i = x0 to x1 - 1 do
-      Image.set fb i j (pixel sc st i j)
+      Image.set fb i j (pixel sc st i j);
+      match alpha with Some a -> Float.Array.set a ((j * fb.Image.width) + i) (coverage sc i j) | None -> ()
     done
   done
 
-let tiles (sc : Scene.t) =
+let tiles ?region (sc : Scene.t) =
   let w = sc.settings.width and h = sc.settings.height in
   let nx = (w + tile_size - 1) / tile_size and ny = (h + tile_size - 1) / tile_size in
-  Array.init (nx * ny) (fun k ->
-      let tx = k mod nx and ty = k / nx in
-      let x0 = tx * tile_size and y0 = ty * tile_size in
-      (x0, y0, min w (x0 + tile_size), min h (y0 + tile_size)))
+  let all =
+    Array.init (nx * ny) (fun k ->
+        let tx = k mod nx and ty = k / nx in
+        let x0 = tx * tile_size and y0 = ty * tile_size in
+        (x0, y0, min w (x0 + tile_size), min h (y0 + tile_size)))
+  in
+  match (region : Image.region option) with
+  | None -> all
+  | Some r ->
+      (* The same grid of tiles, clipped: a pixel is computed the same either way. *)
+      Array.of_list
+        (List.filter_map
+           (fun (x0, y0, x1, y1) ->
+             let x0 = max x0 r.x0 and y0 = max y0 r.y0 and x1 = min x1 r.x1 and y1 = min y1 r.y1 in
+             if x0 < x1 && y0 < y1 then Some (x0, y0, x1, y1) else None)
+           (Array.to_list all))
 
 let interrupted = Atomic.make false
 let interrupt () = Atomic.set interrupted true
@@ -117,16 +146,24 @@ let interrupt_requested () = Atomic.get interrupted
 let pools = Atomic.make 0
 let in_pool () = Atomic.get pools > 0
 
-let render ?pool ?(on_tile = fun _ _ _ -> ()) (sc : Scene.t) =
+let render ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
   let fb = Image.create sc.settings.width sc.settings.height in
-  let tiles = tiles sc in
+  (* Outside a region: the background, and alpha 0. *)
+  if region <> None then
+    for j = 0 to fb.height - 1 do
+      for i = 0 to fb.width - 1 do
+        Image.set fb i j sc.settings.background
+      done
+    done;
+  Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
+  let tiles = tiles ?region sc in
   let n = Array.length tiles in
   let stats = Array.init n (fun _ -> Stats.create ()) in
   let done_ = Atomic.make 0 in
   let work k =
     if Atomic.get interrupted then raise Sys.Break;
     let x0, y0, x1, y1 = tiles.(k) in
-    render_tile sc stats.(k) fb x0 y0 x1 y1;
+    render_tile ?alpha sc stats.(k) fb x0 y0 x1 y1;
     on_tile (Atomic.fetch_and_add done_ 1 + 1) n (Stats.total_rays stats.(k))
   in
   (match pool with

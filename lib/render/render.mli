@@ -16,17 +16,28 @@ val tile_size : int
 val pixel : Scene.t -> Stats.t -> int -> int -> Color.t
 (** [pixel scene stats i j] is the linear colour of column [i], row [j]. *)
 
-val render_tile : Scene.t -> Stats.t -> Image.t -> int -> int -> int -> int -> unit
-(** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1). *)
+val coverage : Scene.t -> int -> int -> float
+(** [coverage scene i j] is the share, in [0, 1], of pixel (i, j)'s sample points whose
+    primary ray hits a surface: the n×n points of [samples] (jittered like the colour's);
+    with adaptive sampling the refined max(n, 4)×max(n, 4) points, in every pixel. *)
 
-val tiles : Scene.t -> (int * int * int * int) array
-(** The tiles (x0, y0, x1, y1) of the scene's image, row-major. *)
+val render_tile : ?alpha:Float.Array.t -> Scene.t -> Stats.t -> Image.t -> int -> int -> int -> int -> unit
+(** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
+    with [alpha] it also stores each pixel's {!coverage} there (row-major). *)
+
+val tiles : ?region:Image.region -> Scene.t -> (int * int * int * int) array
+(** The tiles (x0, y0, x1, y1) of the scene's image, row-major; with [region] only those
+    that meet it, clipped to it. *)
 
 val render :
-  ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> Scene.t -> Image.t * Stats.t
+  ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> ?region:Image.region -> ?alpha:Float.Array.t -> Scene.t ->
+  Image.t * Stats.t
 (** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
     [on_tile done_ total rays] is called after each tile, from whichever domain rendered
-    it: [done_] tiles of [total] are finished, and that tile cast [rays] rays. *)
+    it: [done_] tiles of [total] are finished, and that tile cast [rays] rays. With
+    [region] only its pixels are rendered, each exactly as in a whole render; the others
+    are the background. With [alpha] (width·height values) each rendered pixel's
+    {!coverage} is stored there, 0 elsewhere. *)
 
 val interrupt : unit -> unit
 (** Ask every render in progress to stop: from then on each tile that starts raises

@@ -152,7 +152,24 @@ let animate_tests =
           Alcotest.(check bool) e true (contains e "ffmpeg is not installed");
           Alcotest.(check bool) "frames kept" true (Sys.file_exists (Filename.concat d "out/frame_0003.png"));
           Alcotest.(check bool) "no video" false (Sys.file_exists (Filename.concat d "a.gif"))
-        end) ]
+        end);
+    Alcotest.test_case "frames written from two domains never lose the error message that follows them" `Quick (fun () ->
+        (* Frames in parallel (2 domains, 8 frames) write PNGs at the same time; stderr must
+           still carry the message about the missing ffmpeg, every time. ffmpeg is hidden by
+           an empty PATH. *)
+        let d = tmpdir () in
+        write_file (Filename.concat d "a.rts")
+          "settings { width: 16, height: 12 }\nanimation { fps: 10, frames: 8 }\n\
+           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4) }\n\
+           sphere { center: (0, 1, 0), radius: 1 }\n";
+        for i = 1 to 6 do
+          let ((_, _, e) as r) =
+            run ~prefix:"PATH=/nonexistent" ~exe ~dir:d
+              [ "animate"; "a.rts"; "-o"; Printf.sprintf "fr%d" i; "--domains"; "2"; "-q"; "--video"; "x.gif" ]
+          in
+          check_status (Printf.sprintf "run %d" i) 1 r;
+          Alcotest.(check bool) (Printf.sprintf "run %d says why: %S" i e) true (contains e "ffmpeg is not installed")
+        done) ]
 
 let tests =
   [ Alcotest.test_case "render with no scene writes the built-in showcase" `Slow (fun () ->

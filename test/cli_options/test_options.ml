@@ -53,8 +53,8 @@ let listed args =
   |> List.sort_uniq compare
 
 let render_options =
-  [ "--depth"; "--domains"; "--frame"; "--height"; "--output"; "--progress"; "--quality"; "--quiet"; "--resume"; "--samples";
-    "--stats"; "--time"; "--width" ]
+  [ "--alpha"; "--bits"; "--crop"; "--depth"; "--domains"; "--format"; "--frame"; "--height"; "--output"; "--progress";
+    "--quality"; "--quiet"; "--region"; "--resume"; "--samples"; "--stats"; "--time"; "--width" ]
 
 let help_tests =
   [ Alcotest.test_case "each command lists the options it acts on, and only those" `Quick (fun () ->
