@@ -62,9 +62,11 @@ let physics t = t.first.physics
 
 exception Refused of Error.t
 
-(* The one boundary: nothing raised below reaches the caller. *)
+(* The one boundary: nothing raised below reaches the caller but an interrupt (Ctrl-C
+   while a scene is evaluated), which is the command's to answer. *)
 let guard file f =
   try f () with
+  | Sys.Break -> raise Sys.Break
   | Refused e -> Error [ e ]
   | Stack_overflow -> Error [ Error.file_error file "the scene is nested too deeply (the evaluator's stack overflowed)" ]
   | Out_of_memory -> Error [ Error.file_error file "the scene needs more memory than is available" ]
@@ -386,7 +388,7 @@ let to_json ?body_state t (sc : Scene.t) =
   let state =
     match body_state with
     | Some f -> Some f
-    | None -> ( try physics_state t ~time:sc.time with _ -> None)
+    | None -> ( try physics_state t ~time:sc.time with Sys.Break -> raise Sys.Break | _ -> None)
   in
   let now (b : body) =
     match Option.bind state (fun f -> f b.name sc.time) with

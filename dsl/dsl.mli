@@ -2,7 +2,8 @@
     evaluate it into a {!Lancer.Scene.t} at any animation time.
 
     This is the one boundary of the language: whatever the input, these functions return
-    [Ok] or located {!Error.t}s and never raise. A program is evaluated once when it is
+    [Ok] or located {!Error.t}s and never raise, but for [Sys.Break] (an interrupt that came
+    during loading or evaluation, which the caller answers). A program is evaluated once when it is
     loaded (at time 0, frame 0), so every error a still scene can have is reported by
     {!load_file}; errors that depend on [time] appear in {!scene_at}. *)
 

@@ -608,7 +608,7 @@ and load_image ctx t =
               | Some msg -> Error msg
               | None -> (
                   try Result.map_error (Printf.sprintf "cannot read the image \"%s\": %s" p) (Image.read_linear path)
-                  with e -> Error (Printf.sprintf "cannot read the image \"%s\": %s" p (Printexc.to_string e)))
+                  with Sys.Break -> raise Sys.Break | e -> Error (Printf.sprintf "cannot read the image \"%s\": %s" p (Printexc.to_string e)))
             in
             Hashtbl.replace ctx.images.pictures path r;
             r
@@ -1182,7 +1182,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
                 | Some msg -> Error msg
                 | None -> (
                     try Result.map_error (Printf.sprintf "cannot load the mesh \"%s\": %s" file) (Mesh.load ~smooth path)
-                    with e -> Error (Printf.sprintf "cannot load the mesh \"%s\": %s" file (Printexc.to_string e)))
+                    with Sys.Break -> raise Sys.Break | e -> Error (Printf.sprintf "cannot load the mesh \"%s\": %s" file (Printexc.to_string e)))
               in
               Hashtbl.replace b.ctx.images.meshes (path, smooth) r;
               r
