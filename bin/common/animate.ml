@@ -174,13 +174,13 @@ let check_video (a : options) =
     a.video
 
 let run (o : Cli.opts) (a : options) =
-  Cli.install_interrupt_handler ();
+  let cancel = Cli.install_interrupt_handler () in
   check_video a;
   let p = plan o a in
   let domains = Cli.domains o in
   let bar = progress p in
   let t0 = Unix.gettimeofday () in
-  Render.with_pool domains (fun pool ->
+  Render.with_pool ~cancel domains (fun pool ->
       (* The first frame's scene tells how large the scenes are; it is evaluated once and
          handed to the render that needs it. *)
       let first = ref (match p.todo with k :: _ -> Some (k, frame_scene p k) | [] -> None) in
@@ -217,7 +217,7 @@ let run (o : Cli.opts) (a : options) =
               let ks = Array.sub todo start (min batch (n - start)) in
               let scenes = Array.map scene ks in
               Pool.parallel_for pool (Array.length ks) (fun i ->
-                  let fb, st = Render.render scenes.(i) in
+                  let fb, st = Render.render ~cancel scenes.(i) in
                   write_frame p ks.(i) scenes.(i) fb st;
                   Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
               go (start + batch)
@@ -229,7 +229,7 @@ let run (o : Cli.opts) (a : options) =
           List.iteri
             (fun i k ->
               let sc = scene k in
-              let fb, st = Render.render ?pool sc in
+              let fb, st = Render.render ~cancel ?pool sc in
               write_frame p k sc fb st;
               Progress.update ~rays:(Stats.total_rays st) bar (i + 1))
             p.todo);

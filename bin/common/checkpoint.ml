@@ -2,7 +2,9 @@
 open Lancer
 module Dsl = Lancer_dsl.Dsl
 
-let magic = "lancer-checkpoint-1\n"
+(* The payload is marshalled: the number changes with its types (2: counters carry their
+   cancellation token), so that a file of another layout is ignored, never misread. *)
+let magic = "lancer-checkpoint-2\n"
 
 (* What the file holds after the magic and the MD5 of the rest. *)
 type payload = {
@@ -123,16 +125,11 @@ let stats t =
 
 let remove t = try Unix.unlink t.path with Unix.Unix_error _ -> ()
 
-let render ?pool ?(on_tile = fun _ _ -> ()) t sc =
-  let all = Render.tiles sc in
-  let body i =
-    if Render.interrupt_requested () then raise Sys.Break;
-    let k = t.todo.(i) in
-    let x0, y0, x1, y1 = all.(k) in
-    let st = Stats.create () in
-    Render.render_tile sc st t.fb x0 y0 x1 y1;
-    tiles_done t [| k |] st;
-    on_tile (finished t) (Stats.total_rays st)
-  in
-  let n = Array.length t.todo in
-  match pool with None -> for i = 0 to n - 1 do body i done | Some pool -> Pool.parallel_for pool n body
+let render ?cancel ?pool ?(on_tile = fun _ _ -> ()) t sc =
+  (* The one tile loop, over the tiles still to do; each is recorded as it finishes. *)
+  ignore
+    (Render.render_tiles ?cancel ?pool
+       ~on_tile:(fun _ k st ->
+         tiles_done t [| k |] st;
+         on_tile (finished t) (Stats.total_rays st))
+       sc t.fb t.todo)

@@ -47,7 +47,9 @@ val stats : t -> Lancer.Stats.t
 val remove : t -> unit
 (** Delete the checkpoint: the image is written. *)
 
-val render : ?pool:Lancer.Pool.t -> ?on_tile:(int -> int -> unit) -> t -> Lancer.Scene.t -> unit
-(** Render the tiles still to do into the framebuffer over [pool], recording each one;
-    [on_tile finished rays] after each. Raises [Sys.Break] at the next tile after an
-    interrupt. *)
+val render :
+  ?cancel:Lancer.Cancel.t -> ?pool:Lancer.Pool.t -> ?on_tile:(int -> int -> unit) -> t -> Lancer.Scene.t -> unit
+(** Render the tiles still to do into the framebuffer over [pool] with
+    {!Lancer.Render.render_tiles}, recording each one; [on_tile finished rays] after each.
+    Raises [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles
+    finished by then are recorded. *)

@@ -3,6 +3,7 @@ module Dsl = Lancer_dsl.Dsl
 
 exception User_error of string
 exception Scene_error of string
+exception Interrupted of string
 
 let user fmt = Printf.ksprintf (fun s -> raise (User_error s)) fmt
 
@@ -237,9 +238,15 @@ let exits =
   :: Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind."
   :: []
 
+(* The OCaml runtime refuses to start more than 128 domains. *)
+let max_domains = 128
+
 let domains o =
   match o.domains with
   | Some n when n < 1 -> user "--domains must be at least 1 (got %d)" n
+  | Some n when n > max_domains ->
+      user "--domains must be at most %d, the most the OCaml runtime can run (got %d; this machine recommends %d)"
+        max_domains n (Domain.recommended_domain_count ())
   | Some n -> n
   | None -> max 1 (Domain.recommended_domain_count ())
 
@@ -410,6 +417,17 @@ let scene_with_files ?progress o prog ~time ~frame =
 
 let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
 
+(* A write is not cut short by an interrupt: an exception raised half-way through the
+   encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt
+   is answered once the file is whole. *)
+let guarded_write ?cancel path write =
+  match cancel with
+  | None -> write ()
+  | Some c ->
+      Cancel.check c;
+      Cancel.deferring c write;
+      if Cancel.cancelled c then raise (Interrupted (path ^ " was written in full first"))
+
 (* Standard output carries the image's bytes and nothing else; a reader that goes away
    (a closed pipe) is an error to report, not a signal that kills. *)
 let write_stdout fmt raster =
@@ -422,14 +440,16 @@ let write_stdout fmt raster =
   | () -> ()
   | exception Sys_error m -> user "cannot write the image to standard output: %s" m
 
-let write_image ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
+let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
   let crop = if encoding.crop then encoding.region else None in
   if is_stdout path then
-    write_stdout (format_of ?format:encoding.format path) (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb)
+    guarded_write ?cancel "the image on standard output" (fun () ->
+        write_stdout (format_of ?format:encoding.format path) (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
   else
-    match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
-    | Ok () -> ()
-    | Error m -> raise (User_error m)
+    guarded_write ?cancel path (fun () ->
+        match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
+        | Ok () -> ()
+        | Error m -> raise (User_error m))
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with
@@ -464,10 +484,11 @@ let stats_json o (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t) =
            ("width", opt_int o.width); ("height", opt_int o.height); ("samples", opt_int o.samples);
            ("depth", opt_int o.depth); ("domains", opt_int o.domains) ]) ]
 
-let write_json path j =
-  match Image.write_atomic path (fun oc -> Yojson.Safe.pretty_to_channel oc j; output_char oc '\n') with
-  | Ok () -> ()
-  | Error m -> raise (User_error m)
+let write_json ?cancel path j =
+  guarded_write ?cancel path (fun () ->
+      match Image.write_atomic path (fun oc -> Yojson.Safe.pretty_to_channel oc j; output_char oc '\n') with
+      | Ok () -> ()
+      | Error m -> raise (User_error m))
 
 let warn_bad_samples (st : Stats.t) =
   if st.bad_samples > 0 then
@@ -478,19 +499,17 @@ let warn_bad_samples (st : Stats.t) =
     | None -> ()
 
 let install_interrupt_handler () =
-  let h =
-    Sys.Signal_handle
-      (fun _ ->
-        Render.interrupt ();
-        (* Inside a pool the next tile raises it, in lancer's own code. *)
-        if not (Render.in_pool ()) then raise Sys.Break)
-  in
+  let token = Cancel.create () in
+  (* Inside a pool or a write the work stops at its next poll of the token, in lancer's
+     own code; elsewhere (loading, evaluating) at once. *)
+  let h = Sys.Signal_handle (fun _ -> Cancel.signal token) in
   Sys.set_signal Sys.sigint h;
   Sys.set_signal Sys.sigterm h;
   (* Past a file-size limit (ulimit -f) the default action of SIGXFSZ kills the process
      and leaves the temporary file behind; ignored, the write fails with EFBIG and the
      atomic write cleans up and reports it. *)
-  Sys.set_signal Sys.sigxfsz Sys.Signal_ignore
+  Sys.set_signal Sys.sigxfsz Sys.Signal_ignore;
+  token
 
 let run ?(interrupted = "no output was written") f =
   match f () with
@@ -502,8 +521,11 @@ let run ?(interrupted = "no output was written") f =
       prerr_string m;
       flush stderr;
       1
-  | exception Sys.Break ->
+  | exception (Sys.Break | Fun.Finally_raised Sys.Break) ->
       prerr_endline ("\nlancer: interrupted; " ^ interrupted);
+      130
+  | exception Interrupted what ->
+      prerr_endline ("\nlancer: interrupted; " ^ what);
       130
   | exception Out_of_memory ->
       prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";

@@ -57,8 +57,12 @@ val progress : opts -> label:string -> total:int -> Progress.t
 val exits : Cmdliner.Cmd.Exit.info list
 (** The exit statuses every command documents: 0, 1, 2 and 130. *)
 
+val max_domains : int
+(** 128: the most domains [--domains] may ask for (the OCaml runtime's own limit). *)
+
 val domains : opts -> int
-(** [--domains N] if given (at least 1), else the recommended count for this machine. *)
+(** [--domains N] if given (1 to {!max_domains}; raises [User_error] otherwise), else the
+    recommended count for this machine. *)
 
 val source : opts -> string * string
 (** The scene's (file name, text): the file given, standard input for ["-"] (named
@@ -139,11 +143,14 @@ val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
 (** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
     with a PPM output; raises [User_error]. *)
 
-val write_image : ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
+val write_image :
+  ?cancel:Lancer.Cancel.t -> ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for
     [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    [User_error]. *)
+    [User_error]. With [cancel] an interrupt during the write does not cut it short: the
+    file is finished, then [Interrupted] is raised; a token already cancelled raises
+    [Sys.Break] and writes nothing. *)
 
 val build : opts -> ((string -> unit) -> 'a) -> 'a * float
 (** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration
@@ -176,8 +183,8 @@ val stats_json :
     loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
     counts, rays per second of the render, peak memory, features and options. *)
 
-val write_json : string -> Yojson.Safe.t -> unit
-(** Write a JSON file atomically; raises [User_error]. *)
+val write_json : ?cancel:Lancer.Cancel.t -> string -> Yojson.Safe.t -> unit
+(** Write a JSON file atomically; raises [User_error]; [cancel] as for {!write_image}. *)
 
 val peak_memory_kib : unit -> int option
 (** The process's peak resident set (VmHWM), where /proc exists. *)
@@ -185,14 +192,21 @@ val peak_memory_kib : unit -> int option
 val warn_bad_samples : Lancer.Stats.t -> unit
 (** A warning on stderr when some samples were NaN or infinite. *)
 
+exception Interrupted of string
+(** An interrupt that came once the output was complete: [Interrupted what] exits 130
+    saying [what] was done. *)
+
 val run : ?interrupted:string -> (unit -> unit) -> int
 (** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
     "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
     Ctrl-C, saying [interrupted] (default "no output was written"); 2 with "internal
     error … please report" for anything unexpected. No backtrace reaches the user. *)
 
-val install_interrupt_handler : unit -> unit
-(** Make SIGINT and SIGTERM raise [Sys.Break] so that atomic writes clean up. *)
+val install_interrupt_handler : unit -> Lancer.Cancel.t
+(** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work
+    that polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is
+    raised at once, so that loading and evaluation stop too. Pass the token to the
+    render, the pool and the writes. *)
 
 val negative_value_hint : string array -> string option
 (** For a command line such as [--time -5], which the parser refuses ([-5] reads as an

@@ -6,7 +6,7 @@ module Dsl = Lancer_dsl.Dsl
 let resumed_interrupt = "the finished tiles are kept in the checkpoint; run again with --resume to continue"
 
 let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
-  Cli.install_interrupt_handler ();
+  let cancel = Cli.install_interrupt_handler () in
   let out = Cli.default_output o in
   Cli.check_output ?format:enc.format out;
   Cli.check_stats_name o.stats;
@@ -39,8 +39,8 @@ let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
       (* Finished tiles go to a checkpoint beside the output, and come back from it. *)
       let ck = Checkpoint.start ~out ~key:(Checkpoint.key o prog ~time ~frame ~files) ~quiet:o.quiet sc in
       (try
-         Render.with_pool domains (fun pool ->
-             Checkpoint.render ?pool ~on_tile:(fun d rays -> Progress.update ~rays progress d) ck sc)
+         Render.with_pool ~cancel domains (fun pool ->
+             Checkpoint.render ~cancel ?pool ~on_tile:(fun d rays -> Progress.update ~rays progress d) ck sc)
        with Sys.Break ->
          (try Checkpoint.save ck with Cli.User_error m -> prerr_endline ("\nlancer: " ^ m));
          raise Sys.Break);
@@ -48,17 +48,17 @@ let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
     end
     else
       let fb, st =
-        Render.with_pool domains (fun pool ->
-            Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) ?region ?alpha sc)
+        Render.with_pool ~cancel domains (fun pool ->
+            Render.render ~cancel ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) ?region ?alpha sc)
       in
       (fb, st, ignore)
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  Cli.write_image ~encoding:enc ?alpha out sc fb;
+  Cli.write_image ~cancel ~encoding:enc ?alpha out sc fb;
   finish ();
   Cli.warn_bad_samples st;
-  Option.iter (fun p -> Cli.write_json p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
+  Option.iter (fun p -> Cli.write_json ~cancel p (Cli.stats_json o sc ~build ~wall ~domains ~ranks:1 st)) o.stats;
   if not o.quiet then
     let size = match enc.region with Some r when enc.crop -> Some (r.x1 - r.x0, r.y1 - r.y0) | _ -> None in
     let line =
@@ -94,6 +94,7 @@ let check_frames prog spec =
   (fps, first, last)
 
 let check_cmd scene json time frames =
+  ignore (Cli.install_interrupt_handler ());
   let o = { (Cli.default_opts ()) with scene = Some scene; time } in
   let prog = Cli.load o.scene in
   match frames with
@@ -161,7 +162,7 @@ let diff_cmd a b out tolerance share =
 
 (* Render a scene and hold it against a golden PNG, as lancer-alcotest does in a test. *)
 let golden_cmd (o : Cli.opts) golden tolerance share update =
-  Cli.install_interrupt_handler ();
+  let cancel = Cli.install_interrupt_handler () in
   check_tolerance tolerance share;
   let prog = Cli.load o.scene in
   let time, frame = Cli.time_of o prog in
@@ -180,7 +181,8 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
      else [ (sibling ".actual.png", "the actual image"); (sibling ".diff.png", "the diff image") ]);
   let progress = Cli.progress o ~label:"tiles" ~total:(Array.length (Render.tiles sc)) in
   let fb, _ =
-    Render.with_pool (Cli.domains o) (fun pool -> Render.render ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
+    Render.with_pool ~cancel (Cli.domains o) (fun pool ->
+        Render.render ~cancel ?pool ~on_tile:(fun d _ rays -> Progress.update ~rays progress d) sc)
   in
   Progress.finish progress;
   let actual = (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb) in

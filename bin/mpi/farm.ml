@@ -21,22 +21,8 @@ let tag_request = 1
 let tag_pixels = 2
 let tag_reply = 3
 
-let render_unit ?(on_tile = fun () -> ()) ~pool sc fb idxs =
-  let all = Render.tiles sc in
-  let n = Array.length idxs in
-  let stats = Array.init n (fun _ -> Stats.create ()) in
-  let body i =
-    let x0, y0, x1, y1 = all.(idxs.(i)) in
-    Render.render_tile sc stats.(i) fb x0 y0 x1 y1;
-    on_tile ()
-  in
-  (match pool with
-  | None -> for i = 0 to n - 1 do body i done
-  | Some pool ->
-      Pool.parallel_for pool n body);
-  let total = Stats.create () in
-  Array.iter (Stats.add_into total) stats;
-  total
+let render_unit ?cancel ?(on_tile = fun () -> ()) ~pool sc fb idxs =
+  Render.render_tiles ?cancel ?pool ~on_tile:(fun _ _ _ -> on_tile ()) sc fb idxs
 
 (* The floats of a unit travel as the rows of each tile in turn, 3 per pixel. Copying
    between [fb] and [buf] in one direction or the other. *)
@@ -192,7 +178,7 @@ let local_worker ~render l () =
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 
-let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ?(local = true) ~fatal
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ?(local = true) ?cancel ~fatal
     ~pool ~domains ~on_tiles ~on_frame frames =
   let ranks = Mpi.size () in
   let total_tiles = ref 0 in
@@ -238,7 +224,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
           let st =
             match render with
             | Some r -> r ~pool f.sc f.fb u.tiles
-            | None -> render_unit ~on_tile ~pool f.sc f.fb u.tiles
+            | None -> render_unit ?cancel ~on_tile ~pool f.sc f.fb u.tiles
           in
           deposit 0 u.key u.tiles st;
           loop ()
@@ -246,7 +232,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     loop ()
   end
   else begin
-    let render = match render with Some r -> r ~pool | None -> fun sc fb tiles -> render_unit ~pool sc fb tiles in
+    let render = match render with Some r -> r ~pool | None -> fun sc fb tiles -> render_unit ?cancel ~pool sc fb tiles in
     let buf = ref (floats 0) in
     let active = ref (ranks - 1) in
     let rank_domains = Array.make ranks 1 in
@@ -286,7 +272,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     (* Rank 0's own unit, if it is done: deposited, and the next one handed over. *)
     let collect_local () =
       Option.iter raise (Atomic.get l.crashed);
-      if Render.interrupt_requested () then raise Sys.Break;
+      Option.iter Cancel.check cancel;
       match Atomic.get l.result with
       | None -> false
       | Some (u, r, posted) ->
@@ -349,7 +335,8 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
 
 (* ---- Other ranks ---- *)
 
-let work ?(render : renderer = fun ~pool sc fb tiles -> render_unit ~pool sc fb tiles) ~describe ~pool ~domains scene_of =
+let work ?cancel ?render ~describe ~pool ~domains scene_of =
+  let render : renderer = match render with Some r -> r | None -> fun ~pool sc fb tiles -> render_unit ?cancel ~pool sc fb tiles in
   let cache = ref None in
   let scene key =
     match !cache with

@@ -53,6 +53,7 @@ val serve :
   ?on_unit:(int -> int array -> Stats.t -> unit) ->
   ?render:renderer ->
   ?local:bool ->
+  ?cancel:Cancel.t ->
   fatal:(exn -> int) ->
   pool:Pool.t option ->
   domains:int ->
@@ -72,17 +73,22 @@ val serve :
     any other rank), while the calling domain serves; with [~local:false] (for measuring
     the serving alone) rank 0 only serves. Raises what [on_frame] raises, or
     {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
-    exception and is the status the job is then aborted with. *)
+    exception and is the status the job is then aborted with. [cancel] stops rank 0's
+    own rendering as {!Lancer.Render.render_tiles} does, and the serving loop at its next
+    round (the job is then aborted with [fatal Sys.Break]). *)
 
 val work :
+  ?cancel:Cancel.t ->
   ?render:renderer ->
   describe:(exn -> string) -> pool:Pool.t option -> domains:int -> (int -> Scene.t) -> unit
 (** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0
     says stop; [scene_of key] evaluates the scene of a frame. An exception from it or
-    from rendering is sent to rank 0 as [describe e]. *)
+    from rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
+    [Sys.Break], which ends the job. *)
 
 val render_unit :
-  ?on_tile:(unit -> unit) -> pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+  ?cancel:Cancel.t -> ?on_tile:(unit -> unit) -> pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 (** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles]
-    into [fb] over [pool] (tile by tile, as {!Lancer.Render.render}) and is their summed
-    counters. [on_tile] is called after each tile, from whichever domain rendered it. *)
+    into [fb] over [pool] through {!Lancer.Render.render_tiles}, the tile loop of every
+    render, and is their summed counters. [on_tile] is called after each tile, from
+    whichever domain rendered it. *)

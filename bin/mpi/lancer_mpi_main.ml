@@ -36,6 +36,7 @@ let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "intern
 let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
     Cli.run (fun () ->
+        let cancel = Cli.install_interrupt_handler () in
         let source, state =
           try prepare ()
           with e ->
@@ -44,7 +45,7 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         in
         ignore (Mpi.bcast (Go { filename = fst source; text = snd source }) ~root:0);
         let domains = Cli.domains o in
-        try Render.with_pool domains (fun pool -> lead state ~pool ~domains)
+        try Render.with_pool ~cancel domains (fun pool -> lead state ~cancel ~pool ~domains)
         with Farm.Worker_failed (rank, m) -> user "rank %d: %s" rank m)
   else
     match Mpi.bcast Quit ~root:0 with
@@ -84,7 +85,6 @@ let render_cmd (o : Cli.opts) ~resume =
     Cli.scene_with_files ?progress o prog ~time ~frame
   in
   let prepare () =
-    Cli.install_interrupt_handler ();
     let out = Cli.default_output o in
     if Cli.is_stdout out then user "lancer-mpi writes its image to a file; -o - (standard output) is for lancer render";
     Cli.check_output out;
@@ -109,7 +109,7 @@ let render_cmd (o : Cli.opts) ~resume =
     in
     (source, (out, sc, build, ck))
   in
-  let lead (out, sc, build, ck) ~pool ~domains =
+  let lead (out, sc, build, ck) ~cancel ~pool ~domains =
     let module Ck = Lancer_cli.Checkpoint in
     let total = match ck with Some ck -> Array.length (Ck.todo ck) | None -> Array.length (Render.tiles sc) in
     let progress = Cli.progress o ~label:"tiles" ~total in
@@ -119,7 +119,7 @@ let render_cmd (o : Cli.opts) ~resume =
       Farm.serve
         ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
         ~on_unit:(fun _ tiles st -> Option.iter (fun ck -> Ck.tiles_done ck tiles st) ck)
-        ~fatal ~pool ~domains ~on_tiles:(Progress.update progress)
+        ~cancel ~fatal ~pool ~domains ~on_tiles:(Progress.update progress)
         ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
         [ (0, fun () -> sc) ]
     in
@@ -127,7 +127,7 @@ let render_cmd (o : Cli.opts) ~resume =
     Progress.finish progress;
     let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
     let st = match ck with Some ck -> Ck.stats ck | None -> st in
-    Cli.write_image out sc fb;
+    Cli.write_image ~cancel out sc fb;
     Option.iter Ck.remove ck;
     Cli.warn_bad_samples st;
     Option.iter
@@ -137,7 +137,7 @@ let render_cmd (o : Cli.opts) ~resume =
           | `Assoc l -> `Assoc (l @ [ ("mpi", report_json report) ])
           | j -> j
         in
-        Cli.write_json p j)
+        Cli.write_json ~cancel p j)
       o.stats;
     if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(ranks_text domains) st)
   in
@@ -149,12 +149,11 @@ let render_cmd (o : Cli.opts) ~resume =
    command can --resume the other's frames. *)
 let animate_cmd (o : Cli.opts) (a : Animate.options) =
   let prepare () =
-    Cli.install_interrupt_handler ();
     Animate.check_video a;
     let p = Animate.plan o a in
     (p.source, p)
   in
-  let lead (p : Animate.plan) ~pool ~domains =
+  let lead (p : Animate.plan) ~cancel ~pool ~domains =
     let progress = Animate.progress p in
     let t0 = Unix.gettimeofday () in
     let written = ref 0 in
@@ -166,7 +165,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
       Progress.update progress !written
     in
     ignore
-      (Farm.serve ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
+      (Farm.serve ~cancel ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
          (List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo));
     Progress.finish progress;
     Animate.finish p;

@@ -137,16 +137,30 @@ let tiles ?region (sc : Scene.t) =
              if x0 < x1 && y0 < y1 then Some (x0, y0, x1, y1) else None)
            (Array.to_list all))
 
-let interrupted = Atomic.make false
-let interrupt () = Atomic.set interrupted true
-let interrupt_requested () = Atomic.get interrupted
+(* The one tile loop: tiles [idxs] of the scene (of the region's tiles with [region]),
+   each written only by the task that renders it, with its own counters; the token is
+   polled before each tile and inside it. *)
+let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) fb idxs =
+  let all = tiles ?region sc in
+  let n = Array.length idxs in
+  let stats = Array.init n (fun _ -> Stats.create ~cancel ()) in
+  let done_ = Atomic.make 0 in
+  let work k =
+    Cancel.check cancel;
+    let x0, y0, x1, y1 = all.(idxs.(k)) in
+    render_tile ?alpha sc stats.(k) fb x0 y0 x1 y1;
+    on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) stats.(k)
+  in
+  (match pool with
+  | None -> for k = 0 to n - 1 do work k done
+  | Some pool -> Pool.parallel_for pool n work);
+  (* A cancellation after the last tile started: the result is not to be used. *)
+  Cancel.check cancel;
+  let total = Stats.create () in
+  Array.iter (Stats.add_into total) stats;
+  total
 
-(* Pools alive: while one is, an interrupt must not be raised asynchronously into
-   the pool's own synchronisation, only at the start of a tile. *)
-let pools = Atomic.make 0
-let in_pool () = Atomic.get pools > 0
-
-let render ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
+let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
   let fb = Image.create sc.settings.width sc.settings.height in
   (* Outside a region: the background, and alpha 0. *)
   if region <> None then
@@ -156,23 +170,12 @@ let render ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
       done
     done;
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
-  let tiles = tiles ?region sc in
-  let n = Array.length tiles in
-  let stats = Array.init n (fun _ -> Stats.create ()) in
-  let done_ = Atomic.make 0 in
-  let work k =
-    if Atomic.get interrupted then raise Sys.Break;
-    let x0, y0, x1, y1 = tiles.(k) in
-    render_tile ?alpha sc stats.(k) fb x0 y0 x1 y1;
-    on_tile (Atomic.fetch_and_add done_ 1 + 1) n (Stats.total_rays stats.(k))
+  let n = Array.length (tiles ?region sc) in
+  let st =
+    render_tiles ?cancel ?pool ?region ?alpha ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st)) sc fb
+      (Array.init n Fun.id)
   in
-  (match pool with
-  | None -> for k = 0 to n - 1 do work k done
-  | Some pool ->
-      Pool.parallel_for pool n work);
-  let total = Stats.create () in
-  Array.iter (Stats.add_into total) stats;
-  (fb, total)
+  (fb, st)
 
 (* Every minor collection stops all domains together, so one domain that the system
    pauses (another program wants the core) holds up the others at each one. A larger
@@ -182,20 +185,19 @@ let render ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
    domain: 1.2 s); unloaded, the two are equal. *)
 let parallel_minor_heap_words = 2 * 1024 * 1024
 
-let with_pool n f =
+let with_pool ?(cancel = Cancel.create ()) n f =
   if n <= 1 then f None
   else
     let g = Gc.get () in
     if g.minor_heap_size < parallel_minor_heap_words then Gc.set { g with minor_heap_size = parallel_minor_heap_words };
-    let pool = Pool.create n in
-    Atomic.incr pools;
+    (* An exception raised by a signal handler inside the pool's synchronisation could
+       leave a lock held: while the pool lives, an interrupt only cancels the token, and
+       the work stops at its next poll. *)
     let r =
-      Fun.protect
-        ~finally:(fun () ->
-          Atomic.decr pools;
-          Pool.teardown pool)
-        (fun () -> f (Some pool))
+      Cancel.deferring cancel (fun () ->
+          let pool = Pool.create n in
+          Fun.protect ~finally:(fun () -> Pool.teardown pool) (fun () -> f (Some pool)))
     in
-    (* An interrupt that came when no tile was left to start. *)
-    if Atomic.get interrupted then raise Sys.Break;
+    (* An interrupt that came when no poll was left to see it. *)
+    Cancel.check cancel;
     r

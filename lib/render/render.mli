@@ -29,36 +29,44 @@ val tiles : ?region:Image.region -> Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major; with [region] only those
     that meet it, clipped to it. *)
 
+val render_tiles :
+  ?cancel:Cancel.t ->
+  ?pool:Pool.t ->
+  ?on_tile:(int -> int -> Stats.t -> unit) ->
+  ?region:Image.region ->
+  ?alpha:Float.Array.t ->
+  Scene.t ->
+  Image.t ->
+  int array ->
+  Stats.t
+(** [render_tiles scene fb idxs] renders the tiles of {!tiles}[ ?region scene] numbered [idxs] into
+    [fb] (the one tile loop: {!render}, [lancer-mpi], the animation and a resumed still
+    all use it) and is their summed counters. Without [pool] it runs on the calling
+    domain. [on_tile done_ k stats] is called after each tile, from whichever domain
+    rendered it: [done_] of the tiles are finished, the last being tile [k] with its own
+    counters [stats]. [cancel] is polled before each
+    tile, every {!Cancel.check_every} rays inside one, and once all are done: when it is
+    cancelled the call raises [Sys.Break] within a few thousand rays per domain, and [fb]
+    is not to be used. [alpha] as for {!render_tile}. *)
+
 val render :
-  ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> ?region:Image.region -> ?alpha:Float.Array.t -> Scene.t ->
-  Image.t * Stats.t
-(** [render scene] renders the whole image. Without [pool] it runs on the calling domain.
-    [on_tile done_ total rays] is called after each tile, from whichever domain rendered
-    it: [done_] tiles of [total] are finished, and that tile cast [rays] rays. With
+  ?cancel:Cancel.t -> ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> ?region:Image.region -> ?alpha:Float.Array.t ->
+  Scene.t -> Image.t * Stats.t
+(** [render scene] renders the whole image through {!render_tiles}. [on_tile done_ total
+    rays]: [done_] tiles of [total] are finished, and that tile cast [rays] rays. With
     [region] only its pixels are rendered, each exactly as in a whole render; the others
     are the background. With [alpha] (width·height values) each rendered pixel's
     {!coverage} is stored there, 0 elsewhere. *)
 
-val interrupt : unit -> unit
-(** Ask every render in progress to stop: from then on each tile that starts raises
-    [Sys.Break] instead, so an interrupted render ends within one tile per domain.
-    Meant for a SIGINT/SIGTERM handler; there is no way back. *)
-
-val interrupt_requested : unit -> bool
-(** Whether {!interrupt} was called: for loops over tiles of their own, which should then
-    raise [Sys.Break] before starting the next one. *)
-
-val in_pool : unit -> bool
-(** Whether a pool of {!with_pool} is running. A signal handler must then only call
-    {!interrupt} (the next tile raises [Sys.Break]); raising itself could land inside the
-    pool's own synchronisation. {!with_pool} raises [Sys.Break] on its way out if an
-    interrupt came after the last tile started. *)
-
-val with_pool : int -> (Pool.t option -> 'a) -> 'a
+val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
-    it down afterwards, also on an exception. With more than one domain it first raises
-    the minor heap to {!parallel_minor_heap_words} words per domain (never lowers it):
-    fewer minor collections, each of which stops every domain. *)
+    it down afterwards, also on an exception. While the pool lives, {!Cancel.signal} on
+    [cancel] does not raise (it could land inside the pool's own synchronisation): pass
+    the token the signal handler cancels, and the same to the work done in [f]; if it was
+    cancelled, [with_pool] raises [Sys.Break] on its way out. With more
+    than one domain it first raises the minor heap to {!parallel_minor_heap_words} words
+    per domain (never lowers it): fewer minor collections, each of which stops every
+    domain. *)
 
 val parallel_minor_heap_words : int
 (** 2M words (16 MB) per domain. *)

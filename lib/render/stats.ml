@@ -5,9 +5,21 @@ type t = {
   mutable refracted : int;
   mutable bad_samples : int;
   mutable first_bad : (int * int) option;
+  cancel : Cancel.t;
+  mutable until_poll : int;
+  mutable budget : int;
 }
 
-let create () = { primary = 0; shadow = 0; reflected = 0; refracted = 0; bad_samples = 0; first_bad = None }
+let create ?(cancel = Cancel.create ()) () =
+  { primary = 0; shadow = 0; reflected = 0; refracted = 0; bad_samples = 0; first_bad = None; cancel;
+    until_poll = Cancel.check_every; budget = 0 }
+
+let[@inline] tick s =
+  s.until_poll <- s.until_poll - 1;
+  if s.until_poll <= 0 then begin
+    s.until_poll <- Cancel.check_every;
+    Cancel.check s.cancel
+  end
 
 let add_into acc s =
   acc.primary <- acc.primary + s.primary;

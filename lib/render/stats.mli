@@ -1,5 +1,6 @@
-(** Ray and sample counters. Each render task owns one and they are summed at the end, so
-    the counts are exact and deterministic whatever the number of domains. *)
+(** Ray and sample counters, and the cancellation token of the work they count. Each
+    render task owns one and they are summed at the end, so the counts are exact and
+    deterministic whatever the number of domains. *)
 
 type t = {
   mutable primary : int;
@@ -8,10 +9,17 @@ type t = {
   mutable refracted : int;
   mutable bad_samples : int;  (** samples that came out NaN or infinite *)
   mutable first_bad : (int * int) option;  (** a pixel (column, row) with a bad sample *)
+  cancel : Cancel.t;  (** polled by {!tick} *)
+  mutable until_poll : int;  (** rays left before {!tick} polls [cancel] again *)
+  mutable budget : int;  (** secondary rays the current camera sample may still cast *)
 }
 
-val create : unit -> t
-(** Counters at zero. *)
+val create : ?cancel:Cancel.t -> unit -> t
+(** Counters at zero, polling [cancel] (default: a token nobody cancels). *)
+
+val tick : t -> unit
+(** Called once per ray traced: every {!Cancel.check_every} calls it polls the token and
+    raises [Sys.Break] if it is cancelled. Allocates nothing. *)
 
 val add_into : t -> t -> unit
 (** [add_into acc s] adds [s]'s counts to [acc]. *)

@@ -17,6 +17,7 @@ let albedo (o : Primitive.t) p n delta =
 
 let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
   st.shadow <- st.shadow + 1;
+  Stats.tick st;
   let r = Ray.make_raw origin dir in
   if not sc.features.refraction then
     (* Every surface is opaque: the first one met makes the shadow. *)
@@ -112,7 +113,16 @@ let miss (sc : Scene.t) d =
   | None -> Settings.background_along s d
   | Some f -> Settings.fog_segment f Float.infinity (Settings.background_along s d)
 
-let rec trace (sc : Scene.t) st ray depth =
+(* A bound on the secondary rays one camera sample may cast. A surface that both reflects
+   and refracts doubles the rays at every bounce, so that three half-mirror, half-glass
+   planes at depth 1000 would never finish; past the bound a secondary ray contributes
+   black, as one past the depth does. A full binary tree of depth 16 (2^16 − 2 secondary
+   rays) stays under it, so it changes nothing in a scene that does not branch that much.
+   Pruning rays by their weight instead would move bytes of ordinary glass scenes. *)
+let max_secondary = 65536
+
+let rec trace_b (sc : Scene.t) st ray depth =
+  Stats.tick st;
   let h = { Shape.tmin = 0.; tmax = Float.infinity; t = Float.infinity } in
   let i = Accel.nearest_into sc.accel ray 0. Float.infinity h in
   match sc.settings.fog with
@@ -186,16 +196,22 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
     if depth >= s.depth then out
     else
       let out =
-        if r' > 0. then begin
+        if r' > 0. && st.budget > 0 then begin
           st.reflected <- st.reflected + 1;
-          Color.madd out r' (trace sc st (Ray.make lit_origin (reflect d nf)) (depth + 1))
+          st.budget <- st.budget - 1;
+          Color.madd out r' (trace_b sc st (Ray.make lit_origin (reflect d nf)) (depth + 1))
         end
         else out
       in
-      if tau' > 0. then begin
+      if tau' > 0. && st.budget > 0 then begin
         st.refracted <- st.refracted + 1;
+        st.budget <- st.budget - 1;
         let td = refracted d nf eta c_in k in
-        Color.madd out tau' (trace sc st (Ray.make (Vec3.madd p (-.delta) nf) td) (depth + 1))
+        Color.madd out tau' (trace_b sc st (Ray.make (Vec3.madd p (-.delta) nf) td) (depth + 1))
       end
       else out
   end
+
+let trace sc (st : Stats.t) ray depth =
+  st.budget <- max_secondary;
+  trace_b sc st ray depth

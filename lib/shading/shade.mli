@@ -20,8 +20,14 @@ val refract : Vec3.t -> Vec3.t -> float -> Vec3.t option
 
 val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
 (** [trace scene stats ray depth] is the linear colour seen along [ray], a ray of depth
-    [depth] (primary rays have depth 1), fogged over its segment when the scene has fog.
-    Counts secondary and shadow rays in [stats]. *)
+    [depth] (primary rays have depth 1): one camera sample, fogged over its segment when
+    the scene has fog. Counts secondary and shadow rays in [stats], and polls its token
+    ({!Stats.tick}) once per ray, raising [Sys.Break] when it is cancelled. At most
+    {!max_secondary} secondary rays are cast for the sample, depth first; those past it
+    contribute black, as rays past the depth do. *)
+
+val max_secondary : int
+(** 65536: the most secondary (reflected and refracted) rays one call of {!trace} casts. *)
 
 val miss : Scene.t -> Vec3.t -> Color.t
 (** [miss scene d] is the colour of a ray with unit direction [d] that hits nothing: the

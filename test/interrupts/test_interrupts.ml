@@ -1,0 +1,115 @@
+(* Stopping lancer as a user does, with Ctrl-C (SIGINT) or a batch system's SIGTERM: the
+   status is 130, the message says it was interrupted, no output or temporary file is left,
+   and the stop comes within a couple of seconds whatever the scene. *)
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+open Run_lancer
+
+let tmpdir () = tmpdir "lancer-intr"
+let files d = List.sort compare (Array.to_list (Sys.readdir d))
+
+(* Three parallel half-mirror, half-glass planes at depth 1000: every ray that meets the
+   middle one splits into two that stay trapped, so a sample's rays double at every
+   bounce. *)
+let branching =
+  {|settings { width: 64, height: 48, depth: 1000 }
+camera { position: (0, 0, -0.5), look_at: (1, 0.3, 0) }
+light { position: (0, 5, -0.5) }
+let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }
+plane { normal: (0, 0, 1), offset: -1, material: m }
+plane { normal: (0, 0, 1), offset: 0, material: m }
+plane { normal: (0, 0, 1), offset: 1, material: m }
+|}
+
+(* lancer in [d] with its stderr in a file; the pid and that file. *)
+let spawn d args =
+  let err = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "intr-%d-%d.err" (Unix.getpid ()) (Random.bits ())) in
+  let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_TRUNC ] 0o644 in
+  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+  let cwd = Sys.getcwd () in
+  Sys.chdir d;
+  let pid = Unix.create_process exe (Array.of_list (exe :: args)) null null fd in
+  Sys.chdir cwd;
+  Unix.close fd;
+  Unix.close null;
+  (pid, err)
+
+(* The threads of a process: a pool of domains adds some once the scene is loaded. *)
+let threads pid = try Array.length (Sys.readdir (Printf.sprintf "/proc/%d/task" pid)) with Sys_error _ -> 0
+
+let rec wait_until ?(timeout = 60.) cond =
+  if cond () then true
+  else if timeout <= 0. then false
+  else (Unix.sleepf 0.01; wait_until ~timeout:(timeout -. 0.01) cond)
+
+(* Wait for [pid] at most [limit] seconds: its status, or None (then it is killed). *)
+let wait_for pid limit =
+  let t0 = Unix.gettimeofday () in
+  let rec go () =
+    match Unix.waitpid [ Unix.WNOHANG ] pid with
+    | 0, _ when Unix.gettimeofday () -. t0 < limit -> Unix.sleepf 0.02; go ()
+    | 0, _ -> Unix.kill pid Sys.sigkill; ignore (Unix.waitpid [] pid); None
+    | _, st -> Some (st, Unix.gettimeofday () -. t0)
+  in
+  go ()
+
+let interrupted ?(limit = 2.) ~what pid err signal =
+  Unix.kill pid signal;
+  let r = wait_for pid limit in
+  let e = read_file err in
+  Sys.remove err;
+  match r with
+  | None -> Alcotest.failf "%s: still running %.0f s after the signal\n%s" what limit e
+  | Some (st, took) ->
+      Alcotest.(check bool) (Printf.sprintf "%s: exit 130 (stopped in %.2f s)\n%s" what took e) true (st = Unix.WEXITED 130);
+      Alcotest.(check bool) ("says it was interrupted: " ^ e) true (contains e "lancer: interrupted");
+      Alcotest.(check bool) ("no internal error: " ^ e) false (contains e "internal error" || contains e "Raised at");
+      e
+
+let branching_case (name, signal, domains) =
+  Alcotest.test_case
+    (Printf.sprintf "%s stops rays that double at every bounce within 2 s (%s domain%s)" name domains
+       (if domains = "1" then "" else "s"))
+    `Slow (fun () ->
+      let d = tmpdir () in
+      write_file (Filename.concat d "b.rts") branching;
+      let pid, err = spawn d [ "render"; "b.rts"; "-o"; "b.png"; "--domains"; domains ] in
+      (* Into the render: the pool's domains have started (or, with one domain, the scene
+         has had time to load). *)
+      if domains = "1" then Unix.sleepf 1.0 else ignore (wait_until (fun () -> threads pid > 1));
+      Unix.sleepf 0.3;
+      ignore (interrupted ~what:name pid err signal);
+      Alcotest.(check (list string)) "no output, no temporary file" [ "b.rts" ] (files d))
+
+let tests =
+  List.map branching_case [ ("SIGINT", Sys.sigint, "2"); ("SIGTERM", Sys.sigterm, "2"); ("SIGINT", Sys.sigint, "1") ]
+  @ [ Alcotest.test_case "Ctrl-C while a scene is evaluated exits 130, not with an internal error" `Slow (fun () ->
+          let d = tmpdir () in
+          write_file (Filename.concat d "loop.rts") "for i in 0 to 15000000 { let x = i * 2 }\nsphere { center: (0, 0, 0), radius: 1 }\n";
+          List.iter
+            (fun args ->
+              let cmd = List.hd args in
+              let pid, err = spawn d args in
+              Unix.sleepf 0.5;
+              ignore (interrupted ~what:cmd pid err Sys.sigint))
+            [ [ "render"; "loop.rts"; "-o"; "loop.png" ]; [ "check"; "loop.rts" ] ];
+          Alcotest.(check (list string)) "no output" [ "loop.rts" ] (files d));
+      Alcotest.test_case "Ctrl-C stops a render with 200 000 lights within 2 s" `Slow (fun () ->
+          let d = tmpdir () in
+          write_file (Filename.concat d "l.rts")
+            "settings { width: 64, height: 48 }\ncamera { position: (0, 2, -6), look_at: (0, 0, 0) }\n\
+             for i in 1 to 200000 { light { position: (i * 0.001, 5, -5), intensity: 0.000001 } }\n\
+             plane { normal: (0, 1, 0), offset: 0 }\n";
+          let pid, err = spawn d [ "render"; "l.rts"; "-o"; "l.png"; "--domains"; "2" ] in
+          Alcotest.(check bool) "the render starts" true (wait_until (fun () -> threads pid > 1));
+          Unix.sleepf 0.3;
+          ignore (interrupted ~what:"SIGINT" pid err Sys.sigint);
+          Alcotest.(check (list string)) "no output" [ "l.rts" ] (files d));
+      Alcotest.test_case "--domains beyond 128 is refused at once, with the bound" `Quick (fun () ->
+          let ((st, _, e) as _r) = run ~exe ~dir:(Sys.getcwd ()) [ "render"; "--domains"; "100000"; "-o"; "x.png" ] in
+          Alcotest.(check int) ("exit 1\n" ^ e) 1 st;
+          Alcotest.(check bool) e true (contains e "--domains must be at most 128");
+          Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png")) ]
+
+let () = Alcotest.run "interrupts" [ ("stopping", tests) ]
