@@ -511,29 +511,52 @@ let install_interrupt_handler () =
   Sys.set_signal Sys.sigxfsz Sys.Signal_ignore;
   token
 
+(* Standard output that cannot take what was printed (a full disk, /dev/full): said once,
+   and fd 1 is pointed at /dev/null so that the flush at exit does not fail again. *)
+let stdout_failed m =
+  prerr_endline ("lancer: cannot write to standard output: " ^ m);
+  (try
+     let null = Unix.openfile "/dev/null" [ Unix.O_WRONLY ] 0 in
+     Unix.dup2 null Unix.stdout;
+     Unix.close null
+   with Unix.Unix_error _ -> ());
+  1
+
 let run ?(interrupted = "no output was written") f =
-  match f () with
-  | () -> 0
-  | exception User_error m ->
-      prerr_endline ("lancer: " ^ m);
-      1
-  | exception Scene_error m ->
-      prerr_string m;
-      flush stderr;
-      1
-  | exception (Sys.Break | Fun.Finally_raised Sys.Break) ->
-      prerr_endline ("\nlancer: interrupted; " ^ interrupted);
-      130
-  | exception Interrupted what ->
-      prerr_endline ("\nlancer: interrupted; " ^ what);
-      130
-  | exception Out_of_memory ->
-      prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";
-      1
-  | exception e ->
-      Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
-        (Printexc.to_string e);
-      2
+  let outcome =
+    match f () with
+    | () -> 0
+    | exception User_error m ->
+        prerr_endline ("lancer: " ^ m);
+        1
+    | exception Scene_error m ->
+        prerr_string m;
+        flush stderr;
+        1
+    | exception (Sys.Break | Fun.Finally_raised Sys.Break) ->
+        prerr_endline ("\nlancer: interrupted; " ^ interrupted);
+        130
+    | exception Interrupted what ->
+        prerr_endline ("\nlancer: interrupted; " ^ what);
+        130
+    | exception Out_of_memory ->
+        prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";
+        1
+    | exception Sys_error m -> (
+        (* What the system refused: a file, or standard output. *)
+        match flush stdout with
+        | () ->
+            prerr_endline ("lancer: " ^ m);
+            1
+        | exception Sys_error m -> stdout_failed m)
+    | exception e ->
+        Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
+          (Printexc.to_string e);
+        2
+  in
+  match flush stdout with
+  | () -> outcome
+  | exception Sys_error m -> if outcome = 0 then stdout_failed m else outcome
 
 (* Cmdliner reads "-5" as an option, so "--time -5" fails: find such a value and say how
    to write it. *)

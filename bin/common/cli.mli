@@ -200,7 +200,9 @@ val run : ?interrupted:string -> (unit -> unit) -> int
 (** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
     "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
     Ctrl-C, saying [interrupted] (default "no output was written"); 2 with "internal
-    error … please report" for anything unexpected. No backtrace reaches the user. *)
+    error … please report" for anything unexpected. A file or standard output that the
+    system refuses ([Sys_error]: a full disk, [>/dev/full]) is a user error, 1, with the
+    system's reason. No backtrace reaches the user. *)
 
 val install_interrupt_handler : unit -> Lancer.Cancel.t
 (** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work

@@ -112,4 +112,37 @@ let tests =
           Alcotest.(check bool) e true (contains e "--domains must be at most 128");
           Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png")) ]
 
-let () = Alcotest.run "interrupts" [ ("stopping", tests) ]
+let is_temp f = String.length f > 0 && f.[0] = '.' && contains f ".tmp"
+
+let write_tests =
+  [ Alcotest.test_case "Ctrl-C while the PNG is written: exit 130, a whole image, no temporary file" `Slow (fun () ->
+        let d = tmpdir () in
+        (* Nothing to hit: the render is quick and the encoder has 9 M pixels to write. *)
+        write_file (Filename.concat d "e.rts") "settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n";
+        let pid, err = spawn d [ "render"; "e.rts"; "-o"; "e.png"; "--domains"; "1" ] in
+        let writing () = List.exists is_temp (files d) in
+        Alcotest.(check bool) "the write starts" true (wait_until ~timeout:60. writing);
+        let e = interrupted ~limit:20. ~what:"SIGINT" pid err Sys.sigint in
+        Alcotest.(check bool) ("no Finally_raised: " ^ e) false (contains e "Finally_raised");
+        Alcotest.(check (list string)) "the image, no temporary file" [ "e.png"; "e.rts" ] (files d);
+        match Lancer.Image.read_rgb8 (Filename.concat d "e.png") with
+        | Ok (w, h, _) -> Alcotest.(check (pair int int)) "whole" (3000, 3000) (w, h)
+        | Error m -> Alcotest.fail m) ]
+
+let stdout_tests =
+  [ Alcotest.test_case "standard output on a full device is a user error, exit 1, with the reason" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") "sphere { center: (0, 0, 0), radius: 1 }\n";
+        List.iter
+          (fun args ->
+            let cmd =
+              Printf.sprintf "cd %s && %s %s >/dev/full 2>err.txt" (Filename.quote d) (Filename.quote exe) (String.concat " " args)
+            in
+            let st = Sys.command cmd in
+            let e = read_file (Filename.concat d "err.txt") in
+            Alcotest.(check int) (String.concat " " args ^ ": exit 1\n" ^ e) 1 st;
+            Alcotest.(check bool) e true (contains e "lancer: cannot write to standard output: No space left on device");
+            Alcotest.(check bool) e false (contains e "internal error" || contains e "Fatal error"))
+          [ [ "check"; "s.rts" ]; [ "check"; "s.rts"; "--json" ]; [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "8"; "--height"; "6" ] ]) ]
+
+let () = Alcotest.run "interrupts" [ ("stopping", tests); ("writing", write_tests); ("stdout", stdout_tests) ]
