@@ -185,11 +185,37 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene
    domain: 1.2 s); unloaded, the two are equal. *)
 let parallel_minor_heap_words = 2 * 1024 * 1024
 
+(* The soft limit on the process's address space (ulimit -v), in bytes, from
+   /proc/self/limits ("Max address space  1536000000  1536000000  bytes"); None when
+   unlimited or unknown. The Unix library has no getrlimit. *)
+let address_space_limit () =
+  match In_channel.with_open_text "/proc/self/limits" In_channel.input_all with
+  | exception Sys_error _ -> None
+  | text ->
+      List.find_map
+        (fun line ->
+          if String.starts_with ~prefix:"Max address space" line then
+            match List.filter (( <> ) "") (String.split_on_char ' ' line) with
+            | _ :: _ :: _ :: soft :: _ -> int_of_string_opt soft
+            | _ -> None
+          else None)
+        (String.split_on_char '\n' text)
+
+(* The runtime reserves address space for the minor heaps of every domain it could run
+   (128) as soon as their size is set: 2M words would reserve 2 GiB, and under a smaller
+   ulimit -v the runtime aborts ("Not enough heap memory to reserve minor heaps"). Under
+   a limit, the reservation is kept to an eighth of it. *)
+let minor_heap_words_for limit =
+  match limit with
+  | None -> parallel_minor_heap_words
+  | Some bytes -> min parallel_minor_heap_words (bytes / 8 / (Sys.word_size / 8) / 128)
+
 let with_pool ?(cancel = Cancel.create ()) n f =
   if n <= 1 then f None
   else
     let g = Gc.get () in
-    if g.minor_heap_size < parallel_minor_heap_words then Gc.set { g with minor_heap_size = parallel_minor_heap_words };
+    let words = minor_heap_words_for (address_space_limit ()) in
+    if g.minor_heap_size < words then Gc.set { g with minor_heap_size = words };
     (* An exception raised by a signal handler inside the pool's synchronisation could
        leave a lock held: while the pool lives, an interrupt only cancels the token, and
        the work stops at its next poll. *)

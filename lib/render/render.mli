@@ -66,7 +66,19 @@ val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
     cancelled, [with_pool] raises [Sys.Break] on its way out. With more
     than one domain it first raises the minor heap to {!parallel_minor_heap_words} words
     per domain (never lowers it): fewer minor collections, each of which stops every
-    domain. *)
+    domain. Under a limit on the address space (ulimit -v) it raises it only as far as
+    {!minor_heap_words_for} allows, since the runtime reserves the minor heaps of all the
+    domains it could run at once. *)
 
 val parallel_minor_heap_words : int
 (** 2M words (16 MB) per domain. *)
+
+val address_space_limit : unit -> int option
+(** The soft limit on this process's address space in bytes (ulimit -v), read from
+    /proc/self/limits; [None] when there is none or it cannot be read. *)
+
+val minor_heap_words_for : int option -> int
+(** [minor_heap_words_for limit] is the minor heap, in words per domain, that a pool may
+    ask for under an address-space limit of [limit] bytes: {!parallel_minor_heap_words}
+    without a limit, otherwise at most the size whose reservation for the runtime's 128
+    domains takes an eighth of it (187 500 words under 1.5 GB). *)
