@@ -72,8 +72,29 @@ let guard file f =
   | Out_of_memory -> Error [ Error.file_error file "the scene needs more memory than is available" ]
   | e -> Error [ Error.file_error file ("internal error: " ^ Printexc.to_string e ^ " (please report it)") ]
 
+let max_source_bytes = 64 * 1024 * 1024
+
+(* Only a regular file of a sensible size is read: a device (/dev/zero) or a huge file
+   would be read in full before being refused, and a FIFO would block. Checked from the
+   file's status, before it is opened. *)
+let source_problem path =
+  match Unix.stat path with
+  | exception Unix.Unix_error (e, _, _) -> Some (Unix.error_message e)
+  | st -> (
+      match st.st_kind with
+      | Unix.S_REG when st.st_size > max_source_bytes ->
+          Some (Printf.sprintf "it is %d MB; a scene file may be at most %d MB" (st.st_size / 1_000_000) (max_source_bytes / 1024 / 1024))
+      | Unix.S_REG -> None
+      | Unix.S_DIR -> Some "it is a directory"
+      | Unix.S_FIFO -> Some "it is a pipe (FIFO), not a regular file"
+      | Unix.S_CHR | Unix.S_BLK -> Some "it is a device, not a regular file"
+      | Unix.S_SOCK -> Some "it is a socket, not a regular file"
+      | Unix.S_LNK -> None)
+
 let read_file path =
-  try Ok (In_channel.with_open_bin path In_channel.input_all) with Sys_error m -> Error m
+  match source_problem path with
+  | Some m -> Error m
+  | None -> ( try Ok (In_channel.with_open_bin path In_channel.input_all) with Sys_error m -> Error m)
 
 let canonical path = try Unix.realpath path with _ -> path
 
@@ -109,6 +130,13 @@ let resolve sources includes errors main stmts =
                 err s.sloc msg;
                 Ast.Included (path, [])
               in
+              (* A file's status is checked before it is opened: a device or a FIFO would be
+                 read for ever or block, a huge file read in full. *)
+              match Option.bind (if Sys.file_exists path then Some path else None) source_problem with
+              | Some m ->
+                  err s.sloc (Printf.sprintf "cannot read the included file \"%s\": %s" p m);
+                  Ast.Included (path, [])
+              | None ->
               match Library.read path with
               | Error m -> unreadable m
               | Ok text -> (

@@ -14,7 +14,17 @@ type t
 
 val load_file : string -> (t, Error.t list) result
 (** [load_file path] reads, parses and checks [path]. Included files are found relative
-    to the file that includes them. Errors name files as the paths were written. *)
+    to the file that includes them. Errors name files as the paths were written. The
+    scene and every include must be a regular file of at most {!max_source_bytes}: a
+    device, a FIFO or a larger file is refused from its status, before it is opened. *)
+
+val max_source_bytes : int
+(** 64 MiB: the largest scene or included file. *)
+
+val source_problem : string -> string option
+(** [source_problem path] is why [path] cannot be read as a scene file (missing, not a
+    regular file, larger than {!max_source_bytes}), from its status alone; [None] if it
+    can. *)
 
 val load_string : ?progress:(string -> unit) -> ?filename:string -> string -> (t, Error.t list) result
 (** [load_string ~filename text] is as {!load_file} for [text], named [filename] (default

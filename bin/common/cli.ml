@@ -29,6 +29,9 @@ let default_opts () =
 
 open Cmdliner
 
+let max_side = 65536
+let max_time = 1e9
+
 type command = Render | Animate | Golden | Bench_domains | Bench_quality
 
 (* Each command lists only the options it acts on; the help text of the scene and of -o
@@ -51,8 +54,19 @@ let term command =
     | Golden | Bench_domains | Bench_quality -> none
   in
   let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
-  let width = int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)." in
-  let height = int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)." in
+  (* The language's bound on a side, checked as the option is read. *)
+  let side =
+    let parse s =
+      match int_of_string_opt s with
+      | None -> Error (`Msg (Printf.sprintf "invalid value '%s', expected an integer" s))
+      | Some n when n < 1 || n > max_side -> Error (`Msg (Printf.sprintf "must be 1 to %d pixels (got %d)" max_side n))
+      | Some n -> Ok n
+    in
+    Arg.conv (parse, Format.pp_print_int)
+  in
+  let side_opt names docv doc = Arg.(value & opt (some side) None & info names ~docv ~doc) in
+  let width = side_opt [ "width"; "W" ] "W" "Image width in pixels, 1 to 65536 (overrides the scene)." in
+  let height = side_opt [ "height"; "H" ] "H" "Image height in pixels, 1 to 65536 (overrides the scene)." in
   let samples = int_opt [ "samples" ] "N" "N×N samples per pixel (overrides the scene and the quality preset)." in
   let depth = int_opt [ "depth" ] "D" "Maximum ray depth (overrides the scene and the quality preset)." in
   let quality =
@@ -271,6 +285,7 @@ let source o =
   | Some path ->
       if not (Sys.file_exists path) then user "%s: no such file" path;
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
+      Option.iter (fun m -> user "%s: cannot read the scene: %s" path m) (Dsl.source_problem path);
       let text = try In_channel.with_open_bin path In_channel.input_all with Sys_error m -> user "%s" m in
       (path, text)
 
@@ -302,7 +317,24 @@ let default_output o =
   | None, Some "-" -> user "a scene read from standard input has no name to make the image's from: give one with -o FILE"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
-let check_writable path = match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m)
+(* A directory the system will not let this process create files in (permissions, a
+   read-only file system, /proc): found by creating and removing an empty file there, as
+   the temporary file of the write will be, before any rendering. *)
+let probe_directory path =
+  let dir = Filename.dirname path in
+  let special = match (Unix.stat path).st_kind with Unix.S_REG | Unix.S_DIR -> false | _ -> true | exception Unix.Unix_error _ -> false in
+  if not special then begin
+    let probe = Filename.concat dir (Printf.sprintf ".lancer-probe-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+    match Unix.openfile probe [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ] 0o600 with
+    | fd ->
+        Unix.close fd;
+        (try Unix.unlink probe with Unix.Unix_error _ -> ())
+    | exception Unix.Unix_error (e, _, _) -> user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
+  end
+
+let check_writable path =
+  (match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m));
+  probe_directory path
 
 let check_output ?format path =
   ignore (format_of ?format path);
@@ -390,6 +422,8 @@ let time_of o prog =
   | Some _, Some _ -> user "give either --time or --frame, not both"
   | Some t, None ->
       if not (Float.is_finite t) then user "--time must be a finite number";
+      (* Beyond this the frame number (time × fps, fps ≤ 1000) would not fit an integer. *)
+      if Float.abs t > max_time then user "--time must be within ±1e9 seconds (got %g)" t;
       let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
       (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
   | None, Some k -> (

@@ -57,6 +57,13 @@ val progress : opts -> label:string -> total:int -> Progress.t
 val exits : Cmdliner.Cmd.Exit.info list
 (** The exit statuses every command documents: 0, 1, 2 and 130. *)
 
+val max_side : int
+(** 65536: the largest [--width] or [--height], as in the language; refused as the option
+    is read. *)
+
+val max_time : float
+(** 1e9 s: the largest [--time] in magnitude (the frame number must fit an integer). *)
+
 val max_domains : int
 (** 128: the most domains [--domains] may ask for (the OCaml runtime's own limit). *)
 
@@ -82,7 +89,8 @@ val default_output : opts -> string
 
 val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory, that is a directory, or
-    that is a read-only file; raises [User_error]. *)
+    that is a read-only file, or in a directory where this process cannot create a file
+    (tried with an empty file, removed at once); raises [User_error]. *)
 
 val check_output : ?format:Lancer.Image.format -> string -> unit
 (** Refuse, before any rendering, an output with an unknown extension (or one that

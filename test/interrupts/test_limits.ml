@@ -40,4 +40,49 @@ let memory_tests =
         ignore (refused ~prefix:"ulimit -v 1000000;" ~what:"a macro in a loop" d [ "render"; "macro.rts"; "-o"; "m.png" ] "macro.rts:1:14: ");
         Alcotest.(check (list string)) "no output" [ "macro.rts"; "many.rts" ] (files d)) ]
 
-let () = Alcotest.run "limits" [ ("memory", memory_tests) ]
+let options_tests =
+  [ Alcotest.test_case "--width and --height above 65536 are refused as the options are read" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") small;
+        ignore (refused ~what:"--width" d [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "70000"; "--height"; "1" ] "must be 1 to 65536 pixels (got 70000)");
+        ignore (refused ~what:"--height" d [ "render"; "s.rts"; "-o"; "s.png"; "--height"; "65537" ] "--height");
+        Alcotest.(check (list string)) "no output" [ "s.rts" ] (files d));
+    Alcotest.test_case "--time 2.3e18 is refused, not turned into a negative frame" `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (Filename.concat d "s.rts") ("animation { fps: 24, frames: 10 }\n" ^ small);
+        ignore (refused ~what:"render" d [ "render"; "s.rts"; "-o"; "s.png"; "--time"; "2.3e18" ] "--time must be within");
+        ignore (refused ~what:"check" d [ "check"; "s.rts"; "--time"; "2.3e18" ] "--time must be within");
+        Alcotest.(check (list string)) "no output" [ "s.rts" ] (files d)) ]
+
+let input_tests =
+  [ Alcotest.test_case "an include of a device, a FIFO or a huge file is refused from its status, located" `Quick (fun () ->
+        let d = tmpdir () in
+        let p = Filename.concat d in
+        Unix.mkfifo (p "fifo.rts") 0o644;
+        (* Sparse: 100 MB that take no room, and that nobody reads. *)
+        Unix.close (Unix.openfile (p "big.rts") [ Unix.O_WRONLY; Unix.O_CREAT ] 0o644);
+        Unix.truncate (p "big.rts") 100_000_000;
+        List.iter
+          (fun (name, target, expect) ->
+            write_file (p name) (Printf.sprintf "sphere { center: (0, 0, 0), radius: 1 }\ninclude \"%s\"\n" target);
+            ignore (refused ~what:name d [ "check"; name ] (Printf.sprintf "%s:2:1: cannot read the included file \"%s\": %s" name target expect)))
+          [ ("zero.rts", "/dev/zero", "it is a device");
+            ("fifo_inc.rts", "fifo.rts", "it is a pipe (FIFO)");
+            ("big_inc.rts", "big.rts", "it is 100 MB; a scene file may be at most 64 MB") ];
+        ignore (refused ~what:"a FIFO as the scene" d [ "check"; "fifo.rts" ] "fifo.rts: cannot read the scene: it is a pipe");
+        ignore (refused ~what:"a device as the scene" d [ "render"; "/dev/zero"; "-o"; "z.png" ] "/dev/zero: cannot read the scene: it is a device"));
+    Alcotest.test_case "an output directory that cannot be written is refused before rendering" `Quick (fun () ->
+        let d = tmpdir () in
+        (* Long to render: the refusal must come first. *)
+        write_file (Filename.concat d "s.rts") small;
+        let t0 = Unix.gettimeofday () in
+        (* No process may create files in /proc, not even root. *)
+        ignore (refused ~what:"-o" d [ "render"; "s.rts"; "-o"; "/proc/lancer-out.png"; "--width"; "4000"; "--height"; "4000"; "--samples"; "4" ]
+                  "cannot write /proc/lancer-out.png");
+        ignore (refused ~what:"--stats" d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "/proc/lancer-stats.json"; "--width"; "4000"; "--height"; "4000" ]
+                  "cannot write /proc/lancer-stats.json");
+        Alcotest.(check bool) "refused at once" true (Unix.gettimeofday () -. t0 < 10.);
+        Alcotest.(check (list string)) "no output, no probe left" [ "s.rts" ] (files d)) ]
+
+let () =
+  Alcotest.run "limits" [ ("memory", memory_tests); ("options", options_tests); ("inputs and outputs", input_tests) ]
