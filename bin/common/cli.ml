@@ -532,11 +532,19 @@ let warn_bad_samples (st : Stats.t) =
           st.bad_samples i j
     | None -> ()
 
+(* The signal that stopped the run, so that the message can say where it came from. *)
+let stop_signal = Atomic.make 0
+
 let install_interrupt_handler () =
   let token = Cancel.create () in
   (* Inside a pool or a write the work stops at its next poll of the token, in lancer's
      own code; elsewhere (loading, evaluating) at once. *)
-  let h = Sys.Signal_handle (fun _ -> Cancel.signal token) in
+  let h =
+    Sys.Signal_handle
+      (fun signal ->
+        Atomic.set stop_signal signal;
+        Cancel.signal token)
+  in
   Sys.set_signal Sys.sigint h;
   Sys.set_signal Sys.sigterm h;
   (* Past a file-size limit (ulimit -f) the default action of SIGXFSZ kills the process
@@ -556,7 +564,12 @@ let stdout_failed m =
    with Unix.Unix_error _ -> ());
   1
 
-let run ?(interrupted = "no output was written") f =
+let run ?(interrupted = "no output was written") ?terminated f =
+  let interrupted () =
+    match terminated with
+    | Some m when Atomic.get stop_signal = Sys.sigterm -> m
+    | _ -> "interrupted; " ^ interrupted
+  in
   let outcome =
     match f () with
     | () -> 0
@@ -568,7 +581,7 @@ let run ?(interrupted = "no output was written") f =
         flush stderr;
         1
     | exception (Sys.Break | Fun.Finally_raised Sys.Break) ->
-        prerr_endline ("\nlancer: interrupted; " ^ interrupted);
+        prerr_endline ("\nlancer: " ^ interrupted ());
         130
     | exception Interrupted what ->
         prerr_endline ("\nlancer: interrupted; " ^ what);

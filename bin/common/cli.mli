@@ -204,10 +204,11 @@ exception Interrupted of string
 (** An interrupt that came once the output was complete: [Interrupted what] exits 130
     saying [what] was done. *)
 
-val run : ?interrupted:string -> (unit -> unit) -> int
+val run : ?interrupted:string -> ?terminated:string -> (unit -> unit) -> int
 (** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
     "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
-    Ctrl-C, saying [interrupted] (default "no output was written"); 2 with "internal
+    Ctrl-C, saying [interrupted] (default "no output was written"), or [terminated] instead
+    when the stop came from SIGTERM and it is given; 2 with "internal
     error … please report" for anything unexpected. A file or standard output that the
     system refuses ([Sys_error]: a full disk, [>/dev/full]) is a user error, 1, with the
     system's reason. No backtrace reaches the user. *)

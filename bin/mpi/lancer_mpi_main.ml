@@ -25,8 +25,13 @@ let ranks_text domains =
   | 1 -> Printf.sprintf "1 rank, %d domain%s" domains (if domains = 1 then "" else "s")
   | n -> Printf.sprintf "%d ranks × %d domain%s, rank 0 also serving" n domains (if domains = 1 then "" else "s")
 
+(* mpirun stops every rank with SIGTERM, on Ctrl-C and when a rank has died: rank 0 cannot
+   tell which, and says both. *)
+let terminated =
+  "stopped by SIGTERM, which mpirun sends on Ctrl-C and when another rank has died (mpirun says which rank and why); no output was written"
+
 (* How rank 0 reports an exception that ends the job, and the status it ends with. *)
-let fatal e = Cli.run (fun () -> raise e)
+let fatal e = Cli.run ~terminated (fun () -> raise e)
 
 let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "internal error: " ^ Printexc.to_string e
 
@@ -35,7 +40,7 @@ let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "intern
    [scene_of prog key] is the scene of a frame on the other ranks. *)
 let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
-    Cli.run (fun () ->
+    Cli.run ~terminated (fun () ->
         let cancel = Cli.install_interrupt_handler () in
         let source, state =
           try prepare ()

@@ -164,5 +164,60 @@ if LANCER=$(command -v lancer) LANCER_MPI=$(command -v lancer-mpi) SCENE_DIR=$(d
    && grep -q '^| lancer, 2 domains | 2 |' run16.out; then
   ok "run16.sh prints the domain and rank curves, every output the same bytes"
 else fail "run16.sh"; cat run16.out; fi
+
+# Stopping a job. The scene never finishes on its own in reasonable time: three
+# half-mirror, half-glass planes double a sample's rays at every bounce.
+cat >branching.rts <<'EOS'
+settings { width: 64, height: 48, depth: 1000 }
+camera { position: (0, 0, -0.5), look_at: (1, 0.3, 0) }
+light { position: (0, 5, -0.5) }
+let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }
+plane { normal: (0, 0, 1), offset: -1, material: m }
+plane { normal: (0, 0, 1), offset: 0, material: m }
+plane { normal: (0, 0, 1), offset: 1, material: m }
+EOS
+rank_pid() { # OUTPUT RANK: the pid of that rank of the job writing OUTPUT, once it runs
+  local i p
+  for i in $(seq 1 200); do
+    for p in $(pgrep -f -- "-o $1"); do
+      [ "$(cat /proc/"$p"/comm 2>/dev/null)" = lancer-mpi ] || continue
+      tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2" && { echo "$p"; return; }
+    done
+    sleep 0.05
+  done
+}
+
+# Ctrl-C reaches the ranks (the terminal signals its whole foreground group): one rank
+# rendering on two domains stops at once, exit 130, no image.
+mkdir -p stop1
+"${mpirun[@]}" -np 1 lancer-mpi render branching.rts -o stop1/b.png --domains 2 >stop1.out 2>stop1.err &
+job=$!
+r=$(rank_pid stop1/b.png 0)
+sleep 1
+[ -n "$r" ] && kill -INT "$r"
+for i in $(seq 1 100); do kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
+if kill -0 "$job" 2>/dev/null; then
+  fail "Ctrl-C on one rank with two domains: still running 5 s later"; kill -9 "$job"; pkill -9 -P "$job"
+fi
+wait "$job"; status=$?
+if [ "$status" = 130 ] && grep -q "interrupted; no output was written" stop1.err && [ -z "$(ls -A stop1)" ]; then
+  ok "Ctrl-C stops one rank rendering on two domains within 5 s: exit 130, no image"
+else fail "Ctrl-C on one rank: status $status, files: $(ls -A stop1)"; cat stop1.err; fi
+
+# A worker killed with kill -9: mpirun stops rank 0 with SIGTERM, and rank 0 does not
+# call that an interruption by the user.
+mkdir -p stop2
+"${mpirun[@]}" -np 2 lancer-mpi render branching.rts -o stop2/b.png --domains 1 >stop2.out 2>stop2.err &
+job=$!
+w=$(rank_pid stop2/b.png 1)
+sleep 1
+[ -n "$w" ] && kill -9 "$w"
+for i in $(seq 1 200); do kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
+kill -0 "$job" 2>/dev/null && { kill -9 "$job"; pkill -9 -P "$job"; }
+wait "$job"; status=$?
+if [ "$status" != 0 ] && grep -q "another rank has died" stop2.err && ! grep -q "interrupted" stop2.err && [ -z "$(ls -A stop2)" ]; then
+  ok "a worker killed with kill -9 ends the job, reported as such, with no image (status $status)"
+else fail "a killed worker: status $status, files: $(ls -A stop2)"; cat stop2.err; fi
+
 [ "$failures" = 0 ] || { echo "$failures MPI test(s) failed"; exit 1; }
 echo "MPI tests passed"
