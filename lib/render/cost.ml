@@ -30,4 +30,6 @@ let estimate (sc : Scene.t) =
     | 1 -> Float.of_int s.depth
     | b -> (Float.pow (Float.of_int b) (Float.of_int s.depth) -. 1.) /. Float.of_int (b - 1)
   in
+  (* A camera sample casts at most Shade.max_secondary secondary rays. *)
+  let path = Float.min path (Float.of_int (1 + Shade.max_secondary)) in
   { primary; primary_low; direct = primary *. per_hit; direct_low = primary_low *. per_hit; bound = primary *. path *. per_hit }

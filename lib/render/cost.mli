@@ -17,8 +17,9 @@ type t = {
   direct_low : float;  (** the same from [primary_low] *)
   bound : float;
       (** an upper bound with every reflection and refraction followed to the maximum
-          depth (each ray that hits casts its shadow rays); equal to [direct] for a scene
-          that neither reflects nor refracts *)
+          depth (each ray that hits casts its shadow rays), but never more than the
+          {!Shade.max_secondary} secondary rays a camera sample may cast; equal to
+          [direct] for a scene that neither reflects nor refracts *)
 }
 
 val samples_per_pixel : Settings.t -> int

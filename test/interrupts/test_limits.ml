@@ -84,5 +84,23 @@ let input_tests =
         Alcotest.(check bool) "refused at once" true (Unix.gettimeofday () -. t0 < 10.);
         Alcotest.(check (list string)) "no output, no probe left" [ "s.rts" ] (files d)) ]
 
+let rays_tests =
+  [ Alcotest.test_case "the ray estimate of a branching scene stops at the bound on rays per sample" `Quick (fun () ->
+        let text =
+          "settings { width: 8, height: 6, depth: 1000 }\nlight { position: (0, 5, -0.5) }\n\
+           let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }\n\
+           plane { normal: (0, 0, 1), offset: 0, material: m }\n"
+        in
+        match Lancer_dsl.Dsl.load_string text with
+        | Error _ -> Alcotest.fail "the scene does not load"
+        | Ok prog -> (
+            match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+            | Error _ -> Alcotest.fail "the scene does not evaluate"
+            | Ok sc ->
+                let c = Lancer.Cost.estimate sc in
+                (* 48 camera rays, each with 65 536 secondary rays at most, every ray
+                   casting its one shadow ray. *)
+                Alcotest.(check (float 1.)) "bound" (48. *. Float.of_int (1 + Lancer.Shade.max_secondary) *. 2.) c.bound)) ]
+
 let () =
-  Alcotest.run "limits" [ ("memory", memory_tests); ("options", options_tests); ("inputs and outputs", input_tests) ]
+  Alcotest.run "limits" [ ("rays", rays_tests); ("memory", memory_tests); ("options", options_tests); ("inputs and outputs", input_tests) ]
