@@ -277,11 +277,11 @@ let physics_state t ~time =
       let tr = trajectory t ~time in
       Some (fun name s -> Physics.sample tr name s)
 
-let eval ?body_state ?on_objects t ~time ~frame =
+let eval ?body_state ?on_objects ?cancel t ~time ~frame =
   if not (Float.is_finite time) then Error [ Error.file_error t.file "the time must be a finite number" ]
   else
     let body_state = match body_state with Some f -> Some f | None -> physics_state t ~time in
-    Eval.run ?body_state ?on_objects ~sources:t.sources ~images:t.images ~time ~frame t.stmts
+    Eval.run ?body_state ?on_objects ?cancel ~sources:t.sources ~images:t.images ~time ~frame t.stmts
 
 (* An error that only some frames have names the frame: frame 0 was checked when the
    program was loaded, so an error at another instant is one of those. *)
@@ -293,12 +293,12 @@ let at_frame ~time ~frame r =
            { e with message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time }))
       r
 
-let scene_with_files ?body_state ?progress t ~time ~frame =
+let scene_with_files ?body_state ?progress ?cancel t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
       let on_objects n = say "evaluating the scene: %d objects so far" n in
-      match eval ?body_state ~on_objects t ~time ~frame with
+      match eval ?body_state ~on_objects ?cancel t ~time ~frame with
       | Error es -> Error es
       | Ok out -> (
           let prims = List.concat_map (fun (o : Eval.obj) -> o.prims) out.objects in
@@ -310,7 +310,8 @@ let scene_with_files ?body_state ?progress t ~time ~frame =
               Ok (s, List.map (fun f -> (f, input_digest t f)) files)
           | Error m -> Error [ Error.file_error t.file ("invalid scene: " ^ m) ]))
 
-let scene_at ?body_state ?progress t ~time ~frame = Result.map fst (scene_with_files ?body_state ?progress t ~time ~frame)
+let scene_at ?body_state ?progress ?cancel t ~time ~frame =
+  Result.map fst (scene_with_files ?body_state ?progress ?cancel t ~time ~frame)
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)

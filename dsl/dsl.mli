@@ -32,8 +32,8 @@ val load_string : ?progress:(string -> unit) -> ?filename:string -> string -> (t
     objects a long check has built so far. *)
 
 val scene_at :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> t -> time:float ->
-  frame:int -> (Scene.t, Error.t list) result
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> ?cancel:Cancel.t -> t ->
+  time:float -> frame:int -> (Scene.t, Error.t list) result
 (** [scene_at p ~time ~frame] evaluates [p] with [time] (seconds) and [frame] bound.
     Bodies move as {!simulate} computes them (once per program, then sampled).
     [body_state name t], when given, replaces the simulation: it gives (position,
@@ -42,7 +42,8 @@ val scene_at :
     position. Errors at any instant but time 0, frame 0 end with
     [(at frame K, time T s)]. [progress], when given, is told what a long build is doing
     ("evaluating the scene: 131072 objects so far", "building the acceleration
-    structure over 1000000 objects"). *)
+    structure over 1000000 objects"). [cancel] is polled as the program runs: once it is
+    cancelled, evaluation stops with [Sys.Break]. *)
 
 val animation : t -> (float * int) option
 (** (fps, frames) of the [animation] block; [None] without one. *)
@@ -61,8 +62,8 @@ val text_digest : t -> string
     [./a.rts] and [a.rts] have the same digest. *)
 
 val scene_with_files :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> t -> time:float ->
-  frame:int -> (Scene.t * (string * string) list, Error.t list) result
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?progress:(string -> unit) -> ?cancel:Cancel.t -> t ->
+  time:float -> frame:int -> (Scene.t * (string * string) list, Error.t list) result
 (** {!scene_at}, and the image and mesh files that evaluation used, sorted: each as (its
     path from the main file's directory, {!input_digest} of it). Two evaluations at the
     same time and frame of programs with the same {!text_digest} use the same files, so

@@ -191,6 +191,7 @@ type ctx = {
   mutable bodies : (body * pending_obj) list;  (** reversed *)
   mutable warnings : Error.t list;  (** reversed *)
   on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
+  cancel : Cancel.t option;  (** polled every 4096 steps *)
   definitions : (string * Loc.t) list Lazy.t;
       (** every name the program defines ([let], [fn], [body]), anywhere, where it is
           defined; built only for an unknown name's message *)
@@ -216,6 +217,9 @@ let limit ctx loc msg =
 
 let step ctx loc =
   ctx.steps <- ctx.steps + 1;
+  (* An interrupt is felt here too: evaluation may run where a signal does not raise at
+     once (inside a pool of domains). *)
+  if ctx.steps land 4095 = 0 then Option.iter Cancel.check ctx.cancel;
   if ctx.steps > max_steps then
     limit ctx loc
       (Printf.sprintf "this scene takes more than %d evaluation steps (loop iterations and calls); that is the limit"
@@ -1402,9 +1406,9 @@ let initial_env ~time ~frame =
   let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ?on_objects ?(objects = true) ~sources ~images ~time ~frame stmts =
+let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time ~frame stmts =
   let ctx =
-    { on_objects; time; body_state; sources; images; used = Hashtbl.create 4; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
+    { on_objects; cancel; time; body_state; sources; images; used = Hashtbl.create 4; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
       warnings = []; definitions = lazy (definitions stmts) }
   in

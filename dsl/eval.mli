@@ -81,7 +81,7 @@ val image_files : images -> string list
 (** The paths of the images and meshes read so far, sorted. *)
 
 val run :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?on_objects:(int -> unit) -> ?objects:bool ->
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?on_objects:(int -> unit) -> ?cancel:Cancel.t -> ?objects:bool ->
   sources:(string, string) Hashtbl.t ->
   images:images -> time:float -> frame:int -> Ast.stmt list -> (output, Error.t list) result
 (** [run ~sources ~images ~time ~frame prog] evaluates [prog] with [time] and [frame]
@@ -89,7 +89,9 @@ val run :
     name t] is (position, velocity) of body [name] at time [t]; without it (or when it
     answers [None]) a body stays at its initial centre with its initial velocity. With
     [~objects:false] (a check only) [objects] is left empty. [on_objects n] is called
-    every 65 536 objects built, with their count (for progress during a long build). *)
+    every 65 536 objects built, with their count (for progress during a long build).
+    [cancel] is polled every 4096 loop iterations and calls: once it is cancelled, [run]
+    raises [Sys.Break]. *)
 
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close

@@ -112,8 +112,8 @@ let plan ?(getenv = Sys.getenv_opt) (o : Cli.opts) (a : options) =
   if todo <> [] then Frameset.drop_view set;
   { opts = o; source; prog; dir; fps; first; last; shard; todo; set; inputs = Hashtbl.create 16; inputs_lock = Mutex.create () }
 
-let frame_scene p k =
-  let sc, files = Cli.scene_with_files p.opts p.prog ~time:(Float.of_int k /. p.fps) ~frame:k in
+let frame_scene ?cancel p k =
+  let sc, files = Cli.scene_with_files ?cancel p.opts p.prog ~time:(Float.of_int k /. p.fps) ~frame:k in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);
   sc
 
@@ -183,13 +183,13 @@ let run (o : Cli.opts) (a : options) =
   Render.with_pool ~cancel domains (fun pool ->
       (* The first frame's scene tells how large the scenes are; it is evaluated once and
          handed to the render that needs it. *)
-      let first = ref (match p.todo with k :: _ -> Some (k, frame_scene p k) | [] -> None) in
+      let first = ref (match p.todo with k :: _ -> Some (k, frame_scene ~cancel p k) | [] -> None) in
       let scene k =
         match !first with
         | Some (k', sc) when k' = k ->
             first := None;
             sc
-        | _ -> frame_scene p k
+        | _ -> frame_scene ~cancel p k
       in
       (* Whole frames in parallel hold a batch of scenes and one framebuffer per domain at
          once: only when that stays small (about 1 KB an object, 27 bytes a pixel). *)

@@ -56,9 +56,10 @@ val plan : ?getenv:(string -> string option) -> Cli.opts -> options -> plan
     shard's frames of the range ([index mod N = K]), less, with [resume], those already
     done for the same job. Raises [Cli.User_error]. *)
 
-val frame_scene : plan -> int -> Lancer.Scene.t
+val frame_scene : ?cancel:Lancer.Cancel.t -> plan -> int -> Lancer.Scene.t
 (** The scene of frame k (time k / fps), with the command-line overrides; the image and
-    mesh files it read are kept for {!write_frame}. *)
+    mesh files it read are kept for {!write_frame}. [cancel] stops the evaluation with
+    [Sys.Break]. *)
 
 val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several

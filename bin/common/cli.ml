@@ -434,9 +434,9 @@ let time_of o prog =
       | Some (fps, _) -> (Float.of_int k /. fps, k))
   | None, None -> (0., 0)
 
-let scene_with_files ?progress o prog ~time ~frame =
+let scene_with_files ?progress ?cancel o prog ~time ~frame =
   let sc, files =
-    match Dsl.scene_with_files ?progress prog ~time ~frame with Ok r -> r | Error errs -> raise (Scene_error (errors_to_string errs))
+    match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with Ok r -> r | Error errs -> raise (Scene_error (errors_to_string errs))
   in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
@@ -449,7 +449,7 @@ let scene_with_files ?progress o prog ~time ~frame =
   in
   ((if settings = s then sc else ok (Scene.with_settings sc settings)), files)
 
-let scene_at ?progress o prog ~time ~frame = fst (scene_with_files ?progress o prog ~time ~frame)
+let scene_at ?progress ?cancel o prog ~time ~frame = fst (scene_with_files ?progress ?cancel o prog ~time ~frame)
 
 (* A write is not cut short by an interrupt: an exception raised half-way through the
    encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt

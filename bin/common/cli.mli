@@ -115,12 +115,19 @@ val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
 (** {!guard_writes} for a still: the image and the statistics against the scene's
     files. *)
 
-val scene_at : ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
-(** Evaluate at a time and apply the command-line overrides; [progress] as for
-    {!Lancer_dsl.Dsl.scene_at}. *)
+val scene_at :
+  ?progress:(string -> unit) -> ?cancel:Lancer.Cancel.t -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
+(** Evaluate at a time and apply the command-line overrides; [progress] and [cancel] as
+    for {!Lancer_dsl.Dsl.scene_at}. *)
 
 val scene_with_files :
-  ?progress:(string -> unit) -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t * (string * string) list
+  ?progress:(string -> unit) ->
+  ?cancel:Lancer.Cancel.t ->
+  opts ->
+  Lancer_dsl.Dsl.t ->
+  time:float ->
+  frame:int ->
+  Lancer.Scene.t * (string * string) list
 (** [scene_at], and the image and mesh files it read with their digests
     ({!Lancer_dsl.Dsl.scene_with_files}). *)
 

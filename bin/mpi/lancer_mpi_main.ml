@@ -171,7 +171,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
     in
     ignore
       (Farm.serve ~cancel ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
-         (List.map (fun k -> (k, fun () -> Animate.frame_scene p k)) p.todo));
+         (List.map (fun k -> (k, fun () -> Animate.frame_scene ~cancel p k)) p.todo));
     Progress.finish progress;
     Animate.finish p;
     if not o.quiet then

@@ -95,6 +95,18 @@ let tests =
               ignore (interrupted ~what:cmd pid err Sys.sigint))
             [ [ "render"; "loop.rts"; "-o"; "loop.png" ]; [ "check"; "loop.rts" ] ];
           Alcotest.(check (list string)) "no output" [ "loop.rts" ] (files d));
+      Alcotest.test_case "Ctrl-C while animate evaluates a frame's scene stops it within 2 s" `Slow (fun () ->
+          let d = tmpdir () in
+          (* Frame 0 (what loading checks) is instant; frame 1 takes 4 M loop iterations,
+             evaluated once the pool of domains is running. *)
+          write_file (Filename.concat d "a.rts")
+            "animation { fps: 10, frames: 3 }\nsettings { width: 8, height: 6 }\n\
+             for i in 1 to frame * 4000000 { let x = i * 2 }\nsphere { center: (0, 0, 0), radius: 1 }\n";
+          let pid, err = spawn d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..1"; "--domains"; "2" ] in
+          Alcotest.(check bool) "the pool starts" true (wait_until (fun () -> threads pid > 1));
+          Unix.sleepf 0.3;
+          ignore (interrupted ~what:"SIGINT" pid err Sys.sigint);
+          Alcotest.(check bool) "no frame" false (Sys.file_exists (Filename.concat d "out/frame_0001.png")));
       Alcotest.test_case "Ctrl-C stops a render with 200 000 lights within 2 s" `Slow (fun () ->
           let d = tmpdir () in
           write_file (Filename.concat d "l.rts")
