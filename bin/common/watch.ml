@@ -328,7 +328,7 @@ module Server = Cohttp_lwt_unix.Server
 let max_streams = 32
 
 let run (o : Cli.opts) ~host ~port ~poll =
-  Cli.install_interrupt_handler ();
+  ignore (Cli.install_interrupt_handler ());
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let path =
