@@ -132,19 +132,24 @@ let render_cmd (o : Cli.opts) ~resume =
     Progress.finish progress;
     let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
     let st = match ck with Some ck -> Ck.stats ck | None -> st in
+    (* Every pixel is here and every worker has been told to stop: the job ends now, so
+       that the workers leave before the image is written. A worker killed while rank 0
+       was still writing made mpirun kill rank 0 too, and the image was lost. *)
+    let ranks = Mpi.size () and workers = ranks_text domains in
+    Mpi.finalize ();
     Cli.write_image ~cancel out sc fb;
     Option.iter Ck.remove ck;
     Cli.warn_bad_samples st;
     Option.iter
       (fun p ->
         let j =
-          match Cli.stats_json o sc ~build ~wall ~domains ~ranks:(Mpi.size ()) st with
+          match Cli.stats_json o sc ~build ~wall ~domains ~ranks st with
           | `Assoc l -> `Assoc (l @ [ ("mpi", report_json report) ])
           | j -> j
         in
         Cli.write_json ~cancel p j)
       o.stats;
-    if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers:(ranks_text domains) st)
+    if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog _ -> fst (still prog))
 

@@ -219,5 +219,19 @@ if [ "$status" != 0 ] && grep -q "another rank has died" stop2.err && ! grep -q 
   ok "a worker killed with kill -9 ends the job, reported as such, with no image (status $status)"
 else fail "a killed worker: status $status, files: $(ls -A stop2)"; cat stop2.err; fi
 
+# A worker killed while rank 0 writes the finished image: the image is kept. (The scene
+# renders at once and its 9 M pixels take a while to encode.)
+printf 'settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n' >plain.rts
+mkdir -p stop3
+"${mpirun[@]}" -np 2 lancer-mpi render plain.rts -o stop3/p.png --domains 1 -q >stop3.out 2>stop3.err &
+job=$!
+w=$(rank_pid stop3/p.png 1)
+for i in $(seq 1 1200); do ls -A stop3 | grep -q '\.tmp' && break; kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
+[ -n "$w" ] && kill -9 "$w" 2>/dev/null
+wait "$job"; status=$?
+if [ "$status" = 0 ] && [ "$(ls -A stop3)" = p.png ] && lancer diff stop3/p.png stop3/p.png >/dev/null 2>&1; then
+  ok "a worker killed while rank 0 writes the image does not lose it"
+else fail "a worker killed during the write: status $status, files: $(ls -A stop3)"; cat stop3.err; fi
+
 [ "$failures" = 0 ] || { echo "$failures MPI test(s) failed"; exit 1; }
 echo "MPI tests passed"
