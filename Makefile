@@ -68,6 +68,7 @@ golden-update: build
 bench: build
 	$(RUN) $(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
+	$(RUN) $(DUNE) exec --no-build -- lancer bench domains scenes/bench/three_spheres.rts --counts 1 --repeat 1
 	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.

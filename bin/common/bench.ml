@@ -22,12 +22,20 @@ let domains_cmd (o : Cli.opts) counts repeat json =
         if n < 1 then raise (Cli.User_error "domain counts must be at least 1");
         Render.with_pool n (fun pool ->
             ignore (time_render ?pool sc) (* warm-up: pool start, caches *);
+            let w0 = Gc.minor_words () in
             let runs = List.init (max 1 repeat) (fun _ -> let t, _, st = time_render ?pool sc in (t, st)) in
+            let words = Gc.minor_words () -. w0 in
             let st = snd (List.hd runs) in
-            (n, median (List.map fst runs), Stats.total_rays st)))
+            let rays = Stats.total_rays st in
+            (* Gc.minor_words counts this domain's allocations only: meaningful on one domain,
+               where the render runs on this one. *)
+            let wpr = if n = 1 then words /. Float.of_int (max 1 (rays * List.length runs)) else Float.nan in
+            (n, median (List.map fst runs), rays, wpr)))
       counts
   in
-  let base = match rows with (1, t, _) :: _ -> t | _ -> (match List.find_opt (fun (n, _, _) -> n = 1) rows with Some (_, t, _) -> t | None -> Float.nan) in
+  let base =
+    match List.find_opt (fun (n, _, _, _) -> n = 1) rows with Some (_, t, _, _) -> t | None -> Float.nan
+  in
   let s = sc.settings in
   if json then
     print_endline
@@ -35,17 +43,19 @@ let domains_cmd (o : Cli.opts) counts repeat json =
          (`Assoc
            [ ("scene", `String (Option.value o.scene ~default:"(showcase)")); ("width", `Int s.width); ("height", `Int s.height);
              ("cores", `Int cores); ("repeat", `Int repeat);
-             ("runs", `List (List.map (fun (n, t, rays) ->
+             ("runs", `List (List.map (fun (n, t, rays, wpr) ->
                    `Assoc [ ("domains", `Int n); ("seconds", `Float t); ("rays", `Int rays);
-                            ("rays_per_second", `Float (Float.of_int rays /. t)); ("speedup", `Float (base /. t)) ]) rows)) ]))
+                            ("rays_per_second", `Float (Float.of_int rays /. t)); ("speedup", `Float (base /. t));
+                            ("minor_words_per_ray", if Float.is_nan wpr then `Null else `Float wpr) ]) rows)) ]))
   else begin
     Printf.printf "scene %s, %d×%d, %d samples, depth %d; %d cores recommended; median of %d runs\n\n"
       (Option.value o.scene ~default:"(showcase)") s.width s.height s.samples s.depth cores repeat;
-    Printf.printf "| domains | seconds | M rays/s | speed-up | efficiency |\n|---:|---:|---:|---:|---:|\n";
+    Printf.printf "| domains | seconds | M rays/s | speed-up | efficiency | minor words/ray |\n|---:|---:|---:|---:|---:|---:|\n";
     List.iter
-      (fun (n, t, rays) ->
-        Printf.printf "| %d | %.3f | %.2f | %.2f× | %.0f%% |\n" n t (Float.of_int rays /. t /. 1e6) (base /. t)
-          (100. *. base /. t /. Float.of_int n))
+      (fun (n, t, rays, wpr) ->
+        Printf.printf "| %d | %.3f | %.2f | %.2f× | %.0f%% | %s |\n" n t (Float.of_int rays /. t /. 1e6) (base /. t)
+          (100. *. base /. t /. Float.of_int n)
+          (if Float.is_nan wpr then "—" else Printf.sprintf "%.1f" wpr))
       rows
   end
 
@@ -592,7 +602,9 @@ let cmd =
       [ `S Manpage.s_examples; `Pre "  lancer bench domains --width 1920 --height 1080 --counts 1,2,4,8,16" ]
     in
     Cmd.v
-      (Cmd.info "domains" ~doc:"wall time and speed-up of one render over several domain counts" ~man ~exits)
+      (Cmd.info "domains"
+         ~doc:"wall time and speed-up of one render over several domain counts, and on one domain the minor words allocated per ray"
+         ~man ~exits)
       Term.(const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j)) $ Cli.(term Bench_domains) $ counts $ repeat $ json)
   in
   let quality =

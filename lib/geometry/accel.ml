@@ -401,11 +401,16 @@ let crossings p r tmin tmax (h : Shape.hit) f acc =
   done;
   !acc
 
-let linear_fold prims r tmin tmax f acc =
+(* With [only_transparent], opaque primitives are skipped: the caller knows that none
+   crosses the segment, so they would leave [acc] as it is. *)
+let[@inline] skipped only_transparent (p : Primitive.t) = only_transparent && p.material.transparency = 0.
+
+let linear_fold ~only_transparent prims r tmin tmax f acc =
   let acc = ref acc and i = ref 0 in
   let h = { Shape.tmin; tmax; t = Float.infinity } in
   while !i < Array.length prims && not (is_black !acc) do
-    acc := crossings prims.(!i) r tmin tmax h f !acc;
+    let p = prims.(!i) in
+    if not (skipped only_transparent p) then acc := crossings p r tmin tmax h f !acc;
     incr i
   done;
   !acc
@@ -467,18 +472,23 @@ let tree_visit a tr r tmin tmax visit =
   end;
   !stop
 
-let tree_fold a tr r tmin tmax f acc =
+let tree_fold ~only_transparent a tr r tmin tmax f acc =
   let acc = ref acc in
   let h = { Shape.tmin; tmax; t = Float.infinity } in
   if not (is_black !acc) then
     ignore
       (tree_visit a tr r tmin tmax (fun p ->
-           acc := crossings p r tmin tmax h f !acc;
+           if not (skipped only_transparent p) then acc := crossings p r tmin tmax h f !acc;
            is_black !acc));
   !acc
 
-let fold_hits a r tmin tmax f acc =
-  match a.tree with None -> linear_fold a.prims r tmin tmax f acc | Some tr -> tree_fold a tr r tmin tmax f acc
+let fold ~only_transparent a r tmin tmax f acc =
+  match a.tree with
+  | None -> linear_fold ~only_transparent a.prims r tmin tmax f acc
+  | Some tr -> tree_fold ~only_transparent a tr r tmin tmax f acc
+
+let fold_hits a r tmin tmax f acc = fold ~only_transparent:false a r tmin tmax f acc
+let fold_transparent_hits a r tmin tmax f acc = fold ~only_transparent:true a r tmin tmax f acc
 
 (* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
    first surface met makes the shadow black. Exits on the first hit, in no particular
@@ -497,3 +507,99 @@ let tree_any a tr r tmin tmax =
   tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
 
 let any_hit a r tmin tmax = match a.tree with None -> linear_any a.prims r tmin tmax | Some tr -> tree_any a tr r tmin tmax
+
+(* --- Occlusion ---------------------------------------------------------------------- *)
+
+(* The shadow query proper: no ray, no hit record, no closure. Per domain, a probe that
+   the caller fills, a scratch probe for transformed objects, and for each light slot the
+   scene index of the primitive that last blocked it (-1: none), tested before the walk.
+   Shadow rays of neighbouring pixels tend to be blocked by the same object; since the
+   answer is a boolean (is there any opaque crossing?), trying one first changes only how
+   soon it is found, never what is found. *)
+type scratch = { q : Shape.probe; obj : Shape.probe; mutable last : int array }
+
+let scratch_key = Domain.DLS.new_key (fun () -> { q = Shape.probe (); obj = Shape.probe (); last = [||] })
+let shadow_probe () = (Domain.DLS.get scratch_key).q
+
+let[@inline] blocks (p : Primitive.t) (q : Shape.probe) obj =
+  if p.material.transparency <> 0. then false
+  else begin
+    Primitive.probe_into p q obj;
+    q.p_t < q.p_tmax
+  end
+
+let linear_occluder prims q obj =
+  let found = ref (-1) and i = ref 0 in
+  while !found < 0 && !i < Array.length prims do
+    if blocks (Array.unsafe_get prims !i) q obj then found := !i;
+    incr i
+  done;
+  !found
+
+let tree_occluder a tr (q : Shape.probe) obj =
+  let found = ref (-1) in
+  let outside = a.outside and prims = a.prims in
+  let k = ref 0 in
+  while !found < 0 && !k < Array.length outside do
+    let i = Array.unsafe_get outside !k in
+    if blocks (Array.unsafe_get prims i) q obj then found := i;
+    incr k
+  done;
+  if !found < 0 then begin
+    let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+    let tmin = q.p_tmin and tmax = q.p_tmax in
+    let nodes = tr.nodes and links = tr.links in
+    let st = get_stack tr.depth in
+    let sids = st.ids in
+    let sp = ref 0 in
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+      Array.unsafe_set sids 0 0;
+      sp := 1
+    end;
+    while !found < 0 && !sp > 0 do
+      decr sp;
+      let node = Array.unsafe_get sids !sp in
+      let count = Array.unsafe_get links ((2 * node) + 1) in
+      if count > 0 then begin
+        let first = Array.unsafe_get links (2 * node) in
+        let j = ref first in
+        while !found < 0 && !j < first + count do
+          if blocks (Array.unsafe_get tr.leaf_prims !j) q obj then found := Array.unsafe_get tr.leaf_idx !j;
+          incr j
+        done
+      end
+      else begin
+        let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+          Array.unsafe_set sids !sp rr;
+          incr sp
+        end;
+        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+          Array.unsafe_set sids !sp l;
+          incr sp
+        end
+      end
+    done;
+    st.busy <- false
+  end;
+  !found
+
+let occluded a (q : Shape.probe) ~slot =
+  let sc = Domain.DLS.get scratch_key in
+  let obj = sc.obj in
+  q.ix <- 1. /. q.dx;
+  q.iy <- 1. /. q.dy;
+  q.iz <- 1. /. q.dz;
+  if slot >= Array.length sc.last then begin
+    let last = Array.make (slot + 1) (-1) in
+    Array.blit sc.last 0 last 0 (Array.length sc.last);
+    sc.last <- last
+  end;
+  let prims = a.prims in
+  let c = Array.unsafe_get sc.last slot in
+  if c >= 0 && c < Array.length prims && blocks (Array.unsafe_get prims c) q obj then true
+  else begin
+    let found = match a.tree with None -> linear_occluder prims q obj | Some tr -> tree_occluder a tr q obj in
+    if found >= 0 then Array.unsafe_set sc.last slot found;
+    found >= 0
+  end

@@ -27,7 +27,24 @@ val fold_hits :
     with tmin < t < tmax, stopping early once [acc] is black. Used for shadow
     transmittance, whose product does not depend on the order. *)
 
+val fold_transparent_hits :
+  t -> Ray.t -> float -> float -> (Primitive.t -> float -> Color.t -> Color.t) -> Color.t -> Color.t
+(** {!fold_hits} over the transparent primitives only (transparency ≠ 0): the same answer
+    where {!occluded} has said that no opaque surface crosses the segment. *)
+
 val any_hit : t -> Ray.t -> float -> float -> bool
 (** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
     stops at the first one found: the shadow query when no surface is transparent. It
     allocates a small hit record per query (and, with a tree, the visiting closure). *)
+
+val shadow_probe : unit -> Shape.probe
+(** This domain's shadow probe: fill its origin, direction and interval, then ask
+    {!occluded}. *)
+
+val occluded : t -> Shape.probe -> slot:int -> bool
+(** [occluded a q ~slot] is whether an opaque surface (transparency 0) crosses the ray
+    that [q] holds with [q.p_tmin] < t < [q.p_tmax]; it sets the probe's reciprocal
+    direction itself. It stops at the first one found, trying first the one that answered
+    the last query of the same [slot] (a light's index) in this domain: the answer does not
+    depend on it. Allocates nothing (with the shapes that {!Shape.probe_into} tests in
+    scalars). *)

@@ -12,6 +12,30 @@ let intersect_into o r h =
     in
     Shape.intersect_into o.shape r' h
 
+(* The world probe [q] in object space, written into [obj]: the object-space ray of
+   [intersect_into], coordinate by coordinate, its reciprocal direction recomputed. *)
+let probe_into o (q : Shape.probe) (obj : Shape.probe) =
+  let tr = o.transform in
+  if Transform.is_identity tr then Shape.probe_into o.shape q
+  else begin
+    let x = q.ox and y = q.oy and z = q.oz in
+    obj.ox <- Transform.inv_px tr x y z;
+    obj.oy <- Transform.inv_py tr x y z;
+    obj.oz <- Transform.inv_pz tr x y z;
+    let x = q.dx and y = q.dy and z = q.dz in
+    let dx = Transform.inv_vx tr x y z and dy = Transform.inv_vy tr x y z and dz = Transform.inv_vz tr x y z in
+    obj.dx <- dx;
+    obj.dy <- dy;
+    obj.dz <- dz;
+    obj.ix <- 1. /. dx;
+    obj.iy <- 1. /. dy;
+    obj.iz <- 1. /. dz;
+    obj.p_tmin <- q.p_tmin;
+    obj.p_tmax <- q.p_tmax;
+    Shape.probe_into o.shape obj;
+    q.p_t <- obj.p_t
+  end
+
 let intersect o r tmin tmax =
   if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax
   else

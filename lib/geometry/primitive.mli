@@ -22,6 +22,11 @@ val intersect : t -> Ray.t -> float -> float -> float
 val intersect_into : t -> Ray.t -> Shape.hit -> unit
 (** {!intersect} over [h.tmin, h.tmax], the answer stored in [h.t] (no boxed float). *)
 
+val probe_into : t -> Shape.probe -> Shape.probe -> unit
+(** [probe_into o q obj] is {!intersect_into} for the ray that the probe [q] holds, answer in
+    [q.p_t]; a transformed object writes its object-space ray into the scratch probe [obj].
+    Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
+
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)
 

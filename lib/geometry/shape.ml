@@ -64,14 +64,12 @@ let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let[@inline] intersect_sphere (center : Vec3.t) radius r tmin tmax =
+let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
      test would say the same. *)
-  let o = Ray.origin r and d = Ray.dir r in
-  let fx = o.x -. center.x and fy = o.y -. center.y and fz = o.z -. center.z in
-  let dx = d.x and dy = d.y and dz = d.z in
+  let fx = ox -. center.x and fy = oy -. center.y and fz = oz -. center.z in
   let a = (dx *. dx) +. (dy *. dy) +. (dz *. dz) in
   let b = (fx *. dx) +. (fy *. dy) +. (fz *. dz) in
   let k = -.b /. a in
@@ -97,13 +95,21 @@ let[@inline] intersect_sphere (center : Vec3.t) radius r tmin tmax =
         let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
         if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
 
+let[@inline] intersect_sphere center radius r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  sphere_s center radius o.x o.y o.z d.x d.y d.z tmin tmax
+
 (* Plane: d·n = 0 is a miss even when the origin lies on the plane (0/0 must not escape). *)
-let[@inline] intersect_plane (n : Vec3.t) offset r tmin tmax =
-  let denom = Vec3.dot (Ray.dir r) n in
+let[@inline] plane_s (n : Vec3.t) offset ox oy oz dx dy dz tmin tmax =
+  let denom = (dx *. n.x) +. (dy *. n.y) +. (dz *. n.z) in
   if denom = 0. then Float.infinity
   else
-    let t = (offset -. Vec3.dot (Ray.origin r) n) /. denom in
+    let t = (offset -. ((ox *. n.x) +. (oy *. n.y) +. (oz *. n.z))) /. denom in
     if in_range t tmin tmax then t else Float.infinity
+
+let[@inline] intersect_plane n offset r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  plane_s n offset o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Parallelograms tile edge to edge without cracks thanks to a tiny parametric tolerance:
    a, b ∈ [−ε, 1 + ε] with ε = 1e-9. The rounding of a and b is about 1e-16·|P|/|E|, so
@@ -117,17 +123,26 @@ let para_coords origin edge1 edge2 w p =
   let a = Vec3.dot w (Vec3.cross q edge2) and b = Vec3.dot w (Vec3.cross edge1 q) in
   (a, b)
 
-let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
-  let t = intersect_plane pn pd r tmin tmax in
+(* The vector form (q = O + t·d − origin, a = w·(q × e2), b = w·(e1 × q)) in scalars. *)
+let[@inline] parallelogram_s (origin : Vec3.t) (edge1 : Vec3.t) (edge2 : Vec3.t) pn (w : Vec3.t) pd ox oy oz dx dy dz tmin
+    tmax =
+  let t = plane_s pn pd ox oy oz dx dy dz tmin tmax in
   if t = Float.infinity then t
   else
-    let p = Ray.at r t in
-    let q = Vec3.sub p origin in
-    let a = Vec3.dot w (Vec3.cross q edge2) in
+    let qx = ox +. (t *. dx) -. origin.x and qy = oy +. (t *. dy) -. origin.y and qz = oz +. (t *. dz) -. origin.z in
+    let cx = (qy *. edge2.z) -. (qz *. edge2.y) and cy = (qz *. edge2.x) -. (qx *. edge2.z)
+    and cz = (qx *. edge2.y) -. (qy *. edge2.x) in
+    let a = (w.x *. cx) +. (w.y *. cy) +. (w.z *. cz) in
     if a >= -.para_eps && a <= 1. +. para_eps then
-      let b = Vec3.dot w (Vec3.cross edge1 q) in
+      let cx = (edge1.y *. qz) -. (edge1.z *. qy) and cy = (edge1.z *. qx) -. (edge1.x *. qz)
+      and cz = (edge1.x *. qy) -. (edge1.y *. qx) in
+      let b = (w.x *. cx) +. (w.y *. cy) +. (w.z *. cz) in
       if b >= -.para_eps && b <= 1. +. para_eps then t else Float.infinity
     else Float.infinity
+
+let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  parallelogram_s origin edge1 edge2 pn w pd o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Watertight ray–triangle test (Woop, Benthin, Wald, JCGT 2013; pbrt-v4 Triangle::Intersect).
    Translate the vertices to the ray origin, permute axes so that the largest direction
@@ -135,19 +150,21 @@ let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
    functions. A shared edge is evaluated from the same two transformed vertices in both
    triangles, and x0·y1 − y0·x1 is exactly antisymmetric in floating point, so the two
    triangles agree on the sign: no ray passes between them. *)
-let[@inline] intersect_triangle (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) r tmin tmax =
-  let o = Ray.origin r and d = Ray.dir r in
-  let ax = Float.abs d.x and ay = Float.abs d.y and az = Float.abs d.z in
+(* Coordinate k of a vector, of three scalars: toplevel, so that the test inlines. *)
+let[@inline] pick (v : Vec3.t) k = if k = 0 then v.x else if k = 1 then v.y else v.z
+let[@inline] pick3 (x : float) y z k = if k = 0 then x else if k = 1 then y else z
+
+let[@inline] triangle_s (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) rox roy roz rdx rdy rdz tmin tmax =
+  let ax = Float.abs rdx and ay = Float.abs rdy and az = Float.abs rdz in
   (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
   let kz = if ax > ay then if ax > az then 0 else 2 else if ay > az then 1 else 2 in
-  let[@inline] pick (v : Vec3.t) k = if k = 0 then v.x else if k = 1 then v.y else v.z in
   let kx = if kz = 2 then 0 else kz + 1 in
   let ky = if kx = 2 then 0 else kx + 1 in
-  let dx = pick d kx and dy = pick d ky and dz = pick d kz in
+  let dx = pick3 rdx rdy rdz kx and dy = pick3 rdx rdy rdz ky and dz = pick3 rdx rdy rdz kz in
   if dz = 0. then Float.infinity (* zero direction *)
   else
     let sx = -.dx /. dz and sy = -.dy /. dz and sz = 1. /. dz in
-    let ox = pick o kx and oy = pick o ky and oz = pick o kz in
+    let ox = pick3 rox roy roz kx and oy = pick3 rox roy roz ky and oz = pick3 rox roy roz kz in
     let z0 = pick p0 kz -. oz and z1 = pick p1 kz -. oz and z2 = pick p2 kz -. oz in
     let x0 = pick p0 kx -. ox +. (sx *. z0) and y0 = pick p0 ky -. oy +. (sy *. z0) in
     let x1 = pick p1 kx -. ox +. (sx *. z1) and y1 = pick p1 ky -. oy +. (sy *. z1) in
@@ -163,6 +180,10 @@ let[@inline] intersect_triangle (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) r tmin
         let t_scaled = (e0 *. (z0 *. sz)) +. (e1 *. (z1 *. sz)) +. (e2 *. (z2 *. sz)) in
         let t = t_scaled /. det in
         if in_range t tmin tmax then t else Float.infinity
+
+let[@inline] intersect_triangle p0 p1 p2 r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  triangle_s p0 p1 p2 o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Both roots of a·t² + b·t + c in increasing order, by the stable formula; the linear and
    the rootless cases give infinities. Used by the quadrics with a height range, where the
@@ -208,34 +229,42 @@ let intersect_paraboloid vertex axis height k r tmin tmax =
 (* Slab test for an axis-aligned box: the entry t if it lies in (tmin, tmax), else the
    exit t (origin inside). Zero direction components give ±inf bounds; 0·inf (origin on
    a face plane) gives NaN, which the comparisons ignore. *)
-let intersect_box (mn : Vec3.t) (mx : Vec3.t) r tmin tmax =
-  let o = Ray.origin r and inv = Ray.inv_dir r in
-  let t0 = ref Float.neg_infinity and t1 = ref Float.infinity in
-  let slab lo hi o inv =
-    let a = (lo -. o) *. inv and c = (hi -. o) *. inv in
-    let near = if a < c then a else c and far = if a < c then c else a in
-    if near > !t0 then t0 := near;
-    if far < !t1 then t1 := far
-  in
-  slab mn.x mx.x o.x inv.x;
-  slab mn.y mx.y o.y inv.y;
-  slab mn.z mx.z o.z inv.z;
-  let t0 = !t0 and t1 = !t1 in
+let[@inline] box_s (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax =
+  let a = (mn.x -. ox) *. ix and c = (mx.x -. ox) *. ix in
+  let near = if a < c then a else c and far = if a < c then c else a in
+  let t0 = if near > Float.neg_infinity then near else Float.neg_infinity in
+  let t1 = if far < Float.infinity then far else Float.infinity in
+  let a = (mn.y -. oy) *. iy and c = (mx.y -. oy) *. iy in
+  let near = if a < c then a else c and far = if a < c then c else a in
+  let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
+  let a = (mn.z -. oz) *. iz and c = (mx.z -. oz) *. iz in
+  let near = if a < c then a else c and far = if a < c then c else a in
+  let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
   if not (t0 <= t1) then Float.infinity
   else if in_range t0 tmin tmax then t0
   else if in_range t1 tmin tmax then t1
   else Float.infinity
 
+let intersect_box mn mx r tmin tmax =
+  let o = Ray.origin r and inv = Ray.inv_dir r in
+  box_s mn mx o.x o.y o.z inv.x inv.y inv.z tmin tmax
+
 (* A disk of radius r at [center] in the plane of [normal], t from the plane test. *)
-let disk_hit (center : Vec3.t) (normal : Vec3.t) radius r tmin tmax =
-  let denom = Vec3.dot (Ray.dir r) normal in
+let[@inline] disk_s (center : Vec3.t) (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+  let denom = (dx *. normal.x) +. (dy *. normal.y) +. (dz *. normal.z) in
   if denom = 0. then Float.infinity
   else
-    let t = Vec3.dot (Vec3.sub center (Ray.origin r)) normal /. denom in
+    let t =
+      (((center.x -. ox) *. normal.x) +. ((center.y -. oy) *. normal.y) +. ((center.z -. oz) *. normal.z)) /. denom
+    in
     if in_range t tmin tmax then
-      let q = Vec3.sub (Ray.at r t) center in
-      if Vec3.dot q q <= radius *. radius then t else Float.infinity
+      let qx = ox +. (t *. dx) -. center.x and qy = oy +. (t *. dy) -. center.y and qz = oz +. (t *. dz) -. center.z in
+      if (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius then t else Float.infinity
     else Float.infinity
+
+let disk_hit center normal radius r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  disk_s center normal radius o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Cylinder side: the 2-D circle version of the sphere's stable discriminant, in the plane
    perpendicular to the axis (f⊥ and d⊥); kept for 0 ≤ y' ≤ h. Caps are disks. A ray
@@ -290,6 +319,42 @@ let intersect_into s r (h : hit) =
   | Paraboloid { vertex; axis; height; k; _ } -> h.t <- intersect_paraboloid vertex axis height k r tmin tmax
   | Cylinder { base; axis; height; radius; caps; _ } -> h.t <- intersect_cylinder base axis height radius caps r tmin tmax
   | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
+
+type probe = {
+  mutable ox : float;
+  mutable oy : float;
+  mutable oz : float;
+  mutable dx : float;
+  mutable dy : float;
+  mutable dz : float;
+  mutable ix : float;
+  mutable iy : float;
+  mutable iz : float;
+  mutable p_tmin : float;
+  mutable p_tmax : float;
+  mutable p_t : float;
+}
+
+let probe () =
+  { ox = 0.; oy = 0.; oz = 0.; dx = 0.; dy = 0.; dz = 0.; ix = 0.; iy = 0.; iz = 0.; p_tmin = 0.; p_tmax = 0.;
+    p_t = Float.infinity }
+
+(* The same tests as [intersect_into], on the probe's scalars; the quadrics with a height
+   range (cylinder, paraboloid) build the ray their vector form needs. *)
+let probe_into s (q : probe) =
+  let tmin = q.p_tmin and tmax = q.p_tmax in
+  match s with
+  | Sphere { center; radius } -> q.p_t <- sphere_s center radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Plane { normal; offset } -> q.p_t <- plane_s normal offset q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Triangle { a; b; c; _ } -> q.p_t <- triangle_s a b c q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Parallelogram { origin; edge1; edge2; pn; w; pd } ->
+      q.p_t <- parallelogram_s origin edge1 edge2 pn w pd q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
+  | Disk { center; normal; radius; _ } -> q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Paraboloid _ | Cylinder _ ->
+      let h = { tmin; tmax; t = Float.infinity } in
+      intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
+      q.p_t <- h.t
 
 let intersect s r tmin tmax =
   let h = { tmin; tmax; t = Float.infinity } in

@@ -104,6 +104,31 @@ val intersect_into : t -> Ray.t -> hit -> unit
 (** [intersect_into s r h] is [h.t <- intersect s r h.tmin h.tmax], without boxing a
     float: the form the ray queries use. *)
 
+type probe = {
+  mutable ox : float;
+  mutable oy : float;
+  mutable oz : float;  (** origin *)
+  mutable dx : float;
+  mutable dy : float;
+  mutable dz : float;  (** direction, not necessarily unit *)
+  mutable ix : float;
+  mutable iy : float;
+  mutable iz : float;  (** 1/direction, component-wise *)
+  mutable p_tmin : float;
+  mutable p_tmax : float;  (** the interval (p_tmin, p_tmax) *)
+  mutable p_t : float;  (** the answer *)
+}
+(** A ray held as scalars in one flat, reusable record: the form of the shadow query, which
+    builds no {!Ray.t}. *)
+
+val probe : unit -> probe
+(** A fresh probe (all zero, answer infinity). *)
+
+val probe_into : t -> probe -> unit
+(** [probe_into s q] is [q.p_t <- intersect s r q.p_tmin q.p_tmax] for the ray [r] that [q]
+    holds: the same root, bit for bit, computed without allocating (except for cylinders and
+    paraboloids, which build the ray). *)
+
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the plane's

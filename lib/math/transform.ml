@@ -94,6 +94,15 @@ let vector t p = if t.id then p else apply_vector t.m p
 let inv_point t p = if t.id then p else apply_point t.inv p
 let inv_vector t p = if t.id then p else apply_vector t.inv p
 
+(* [inv_point] and [inv_vector] one coordinate at a time, the same operations, for callers
+   that hold a ray as scalars. *)
+let[@inline] inv_px t x y z = let m = t.inv in (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z) +. m.a03
+let[@inline] inv_py t x y z = let m = t.inv in (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z) +. m.a13
+let[@inline] inv_pz t x y z = let m = t.inv in (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z) +. m.a23
+let[@inline] inv_vx t x y z = let m = t.inv in (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z)
+let[@inline] inv_vy t x y z = let m = t.inv in (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z)
+let[@inline] inv_vz t x y z = let m = t.inv in (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z)
+
 (* Normals transform by (M⁻¹)ᵀ. *)
 let normal t (n : Vec3.t) =
   if t.id then n

@@ -39,3 +39,17 @@ val inv_point : t -> Vec3.t -> Vec3.t
 
 val inv_vector : t -> Vec3.t -> Vec3.t
 (** World-space direction to object space (not renormalised). *)
+
+val inv_px : t -> float -> float -> float -> float
+(** [inv_px t x y z] is the x coordinate of [inv_point t (x, y, z)] for a transform that is
+    not the identity; [inv_py], [inv_pz] likewise. Inlined: nothing is boxed. *)
+
+val inv_py : t -> float -> float -> float -> float
+val inv_pz : t -> float -> float -> float -> float
+
+val inv_vx : t -> float -> float -> float -> float
+(** [inv_vx t x y z] is the x coordinate of [inv_vector t (x, y, z)] for a transform that
+    is not the identity; [inv_vy], [inv_vz] likewise. *)
+
+val inv_vy : t -> float -> float -> float -> float
+val inv_vz : t -> float -> float -> float -> float

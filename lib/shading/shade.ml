@@ -15,48 +15,111 @@ let albedo (o : Primitive.t) p n delta =
         Texture.eval tex q u v
       else Texture.eval tex q 0. 0.
 
-let transmittance (sc : Scene.t) (st : Stats.t) origin dir dist =
-  st.shadow <- st.shadow + 1;
-  Stats.tick st;
+(* The diffuse and specular light of one light is summed into [acc] (ar, ag, ab); the
+   transmittance of its shadow rays is written into (tr, tg, tb) first. A record of floats
+   is flat, so neither boxes anything. *)
+type acc = {
+  mutable ar : float;
+  mutable ag : float;
+  mutable ab : float;
+  mutable tr : float;
+  mutable tg : float;
+  mutable tb : float;
+}
+
+(* Where no opaque surface blocks the segment: the product over the transparent surfaces
+   crossed of transparency · albedo, into acc.(tr, tg, tb). Apart from [shadow_into], which
+   inlines (a function holding a closure would not). *)
+let transparent_into (sc : Scene.t) acc origin dir dist =
   let r = Ray.make_raw origin dir in
-  if not sc.features.refraction then
-    (* Every surface is opaque: the first one met makes the shadow. *)
-    if Accel.any_hit sc.accel r 0. dist then Color.black else Color.white
-  else
-  Accel.fold_hits sc.accel r 0. dist
-    (fun o t acc ->
-      let m = o.material in
-      if m.transparency = 0. then Color.black
-      else
+  let (c : Color.t) =
+    Accel.fold_transparent_hits sc.accel r 0. dist
+      (fun o t acc ->
+        let m = o.material in
         let p = Ray.at r t in
         let po = Primitive.to_object o p in
         let n = Primitive.normal o po in
         let c = albedo o p n (offset p origin) in
         Color.mul acc (Color.scale m.transparency c))
-    Color.white
+      Color.white
+  in
+  acc.tr <- c.r;
+  acc.tg <- c.g;
+  acc.tb <- c.b
+
+(* Transmittance from [origin] along the unit direction (dx, dy, dz) up to [dist], into
+   acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates nothing
+   and answers most shadow rays; only where none blocks and some surface is transparent
+   are the crossings of the transparent ones folded. [slot] is the light's index. *)
+let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot acc (origin : Vec3.t) dx dy dz dist =
+  st.shadow <- st.shadow + 1;
+  Stats.tick st;
+  let q = Accel.shadow_probe () in
+  q.ox <- origin.x;
+  q.oy <- origin.y;
+  q.oz <- origin.z;
+  q.dx <- dx;
+  q.dy <- dy;
+  q.dz <- dz;
+  q.p_tmin <- 0.;
+  q.p_tmax <- dist;
+  if Accel.occluded sc.accel q ~slot then begin
+    acc.tr <- 0.;
+    acc.tg <- 0.;
+    acc.tb <- 0.
+  end
+  else if not sc.features.refraction then begin
+    acc.tr <- 1.;
+    acc.tg <- 1.;
+    acc.tb <- 1.
+  end
+  else transparent_into sc acc origin (Vec3.v dx dy dz) dist
+
+(* Length of (x, y, z) as [Vec3.length] computes it. *)
+let[@inline] len3 x y z =
+  let l2 = (x *. x) +. (y *. y) +. (z *. z) in
+  if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v x y z)
 
 (* Stratified points on the disk of radius [radius] facing [p], centred on the light:
    sample (a, b) of n×n sits at radius R·√((a+½)/n) and angle 2π(b+½)/n. The pattern is
-   the same for every pixel, so soft shadows are deterministic and noise-free in time. *)
-let area_transmittance sc st p origin (position : Vec3.t) radius n =
-  let l = Vec3.sub position p in
-  let w = Vec3.normalize l in
-  let helper = if Float.abs w.x < 0.9 then Vec3.x_axis else Vec3.y_axis in
-  let e1 = Vec3.normalize (Vec3.cross helper w) in
-  let e2 = Vec3.cross w e1 in
-  let acc = ref Color.black in
+   the same for every pixel, so soft shadows are deterministic and noise-free in time.
+   The frame is w = (position − p)/|position − p|, e1 = normalize(h × w) with h the x axis
+   (the y axis when |w.x| ≥ 0.9), e2 = w × e1; everything is computed in scalars, with the
+   operations of the vector form. The mean transmittance goes into acc.(tr, tg, tb). *)
+let area_transmittance sc st slot acc (p : Vec3.t) (origin : Vec3.t) (position : Vec3.t) radius n =
+  let lx = position.x -. p.x and ly = position.y -. p.y and lz = position.z -. p.z in
+  let ll = len3 lx ly lz in
+  let k = 1. /. ll in
+  let wx = if ll = 0. then 0. else k *. lx and wy = if ll = 0. then 0. else k *. ly and wz = if ll = 0. then 0. else k *. lz in
+  let hx = if Float.abs wx < 0.9 then 1. else 0. in
+  let hy = 1. -. hx and hz = 0. in
+  let cx = (hy *. wz) -. (hz *. wy) and cy = (hz *. wx) -. (hx *. wz) and cz = (hx *. wy) -. (hy *. wx) in
+  let cl = len3 cx cy cz in
+  let k = 1. /. cl in
+  let e1x = if cl = 0. then 0. else k *. cx and e1y = if cl = 0. then 0. else k *. cy and e1z = if cl = 0. then 0. else k *. cz in
+  let e2x = (wy *. e1z) -. (wz *. e1y) and e2y = (wz *. e1x) -. (wx *. e1z) and e2z = (wx *. e1y) -. (wy *. e1x) in
+  let sr = ref 0. and sg = ref 0. and sb = ref 0. in
   let nf = Float.of_int n in
   for a = 0 to n - 1 do
     for b = 0 to n - 1 do
       let rr = radius *. Float.sqrt ((Float.of_int a +. 0.5) /. nf) in
       let th = 2. *. Float.pi *. (Float.of_int b +. 0.5) /. nf in
-      let target = Vec3.madd (Vec3.madd position (rr *. Float.cos th) e1) (rr *. Float.sin th) e2 in
-      let d = Vec3.sub target origin in
-      let dist = Vec3.length d in
-      acc := Color.add !acc (transmittance sc st origin (Vec3.smul (1. /. dist) d) dist)
+      let u = rr *. Float.cos th and v = rr *. Float.sin th in
+      let dx = position.x +. (u *. e1x) +. (v *. e2x) -. origin.x
+      and dy = position.y +. (u *. e1y) +. (v *. e2y) -. origin.y
+      and dz = position.z +. (u *. e1z) +. (v *. e2z) -. origin.z in
+      let dist = len3 dx dy dz in
+      let k = 1. /. dist in
+      shadow_into sc st slot acc origin (k *. dx) (k *. dy) (k *. dz) dist;
+      sr := !sr +. acc.tr;
+      sg := !sg +. acc.tg;
+      sb := !sb +. acc.tb
     done
   done;
-  Color.scale (1. /. (nf *. nf)) !acc
+  let s = 1. /. (nf *. nf) in
+  acc.tr <- s *. !sr;
+  acc.tg <- s *. !sg;
+  acc.tb <- s *. !sb
 
 let reflect d nf = Vec3.madd d (-2. *. Vec3.dot d nf) nf
 
@@ -70,23 +133,24 @@ let refract d nf eta =
   if k < 0. then None else Some (refracted d nf eta c k)
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
-   it, added into [acc] (doc/shading.md, section 4). Inlined into [shade]: its floats stay unboxed and
-   nothing is allocated but the shadow ray. [area_n] > 0 makes it an area light sampled
-   n×n over [radius] around [position]. *)
-type acc = { mutable ar : float; mutable ag : float; mutable ab : float }
-
-let[@inline] light_term (sc : Scene.t) st (m : Material.t) (c : Color.t) (nf : Vec3.t) (d : Vec3.t) p lit_origin acc ldx ldy
-    ldz dist att (color : Color.t) intensity position radius area_n =
+   it, added into [acc] (doc/shading.md, section 4). Inlined into [shade]: its floats stay
+   unboxed and nothing is allocated. [area_n] > 0 makes it an area light sampled n×n over
+   [radius] around [position]; [slot] is the light's index. *)
+let[@inline] light_term (sc : Scene.t) st slot (m : Material.t) (c : Color.t) (nf : Vec3.t) (d : Vec3.t) p
+    (lit_origin : Vec3.t) acc ldx ldy ldz dist att (color : Color.t) intensity position radius area_n =
   let ndl = (nf.x *. ldx) +. (nf.y *. ldy) +. (nf.z *. ldz) in
   if ndl > 0. then begin
-    let (tr : Color.t) =
-      if not sc.features.shadows then Color.white
-      else if area_n > 0 then area_transmittance sc st p lit_origin position radius area_n
-      else transmittance sc st lit_origin (Vec3.v ldx ldy ldz) dist
-    in
-    if tr.r > 0. || tr.g > 0. || tr.b > 0. then begin
+    if not sc.features.shadows then begin
+      acc.tr <- 1.;
+      acc.tg <- 1.;
+      acc.tb <- 1.
+    end
+    else if area_n > 0 then area_transmittance sc st slot acc p lit_origin position radius area_n
+    else shadow_into sc st slot acc lit_origin ldx ldy ldz dist;
+    let trr = acc.tr and trg = acc.tg and trb = acc.tb in
+    if trr > 0. || trg > 0. || trb > 0. then begin
       let ia = intensity *. att in
-      let er = ia *. color.r *. tr.r and eg = ia *. color.g *. tr.g and eb = ia *. color.b *. tr.b in
+      let er = ia *. color.r *. trr and eg = ia *. color.g *. trg and eb = ia *. color.b *. trb in
       let kd = m.diffuse *. ndl in
       acc.ar <- acc.ar +. (kd *. (c.r *. er));
       acc.ag <- acc.ag +. (kd *. (c.g *. eg));
@@ -148,7 +212,10 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let nf = if entering then n else Vec3.neg n in
   let nf = match m.bump with None -> nf | Some b -> Bump.perturb b ~uv:(fun d -> Shape.uv o.shape (Primitive.to_object o (Vec3.add p d))) po nf in
   let lit_origin = Vec3.madd p delta nf in
-  let acc = { ar = m.ambient *. (c.r *. s.ambient.r); ag = m.ambient *. (c.g *. s.ambient.g); ab = m.ambient *. (c.b *. s.ambient.b) } in
+  let acc =
+    { ar = m.ambient *. (c.r *. s.ambient.r); ag = m.ambient *. (c.g *. s.ambient.g); ab = m.ambient *. (c.b *. s.ambient.b);
+      tr = 0.; tg = 0.; tb = 0. }
+  in
   let lights = sc.lights in
   for li = 0 to Array.length lights - 1 do
     match lights.(li) with
@@ -160,17 +227,17 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
         let k = 1. /. dist in
         let area_n = if radius > 0. && samples > 1 then samples else 0 in
         (match spot with
-         | None -> light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius area_n
+         | None -> light_term sc st li m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist att color intensity position radius area_n
          | Some sp ->
              (* The cone scales E; outside it the light is not even tested for shadow. cos θ
                 is axis · (P − position)/d = −axis · Ldir. *)
              let ax = sp.axis in
              let f = Light.spot_factor sp (-.((ax.x *. k *. lx) +. (ax.y *. k *. ly) +. (ax.z *. k *. lz))) in
              if f > 0. then
-               light_term sc st m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist (att *. f) color intensity position
+               light_term sc st li m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz) dist (att *. f) color intensity position
                  radius area_n)
     | Light.Directional { direction; color; intensity } ->
-        light_term sc st m c nf d p lit_origin acc (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
+        light_term sc st li m c nf d p lit_origin acc (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
           intensity direction 0. 0
   done;
   let local = Color.v acc.ar acc.ag acc.ab in
@@ -215,3 +282,8 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
 let trace sc (st : Stats.t) ray depth =
   st.budget <- max_secondary;
   trace_b sc st ray depth
+
+let transmittance sc st origin (dir : Vec3.t) dist =
+  let acc = { ar = 0.; ag = 0.; ab = 0.; tr = 0.; tg = 0.; tb = 0. } in
+  shadow_into sc st 0 acc origin dir.x dir.y dir.z dist;
+  Color.v acc.tr acc.tg acc.tb

@@ -165,6 +165,29 @@ let scaling_json () =
   let only = json_of [ "bench"; "scaling"; "--counts"; "100"; "--sweeps"; "counts"; "--json"; "--width"; "16"; "--height"; "12" ] () in
   Alcotest.(check bool) "--sweeps counts: no other sweep" true (only |> member "domains" = `Null && only |> member "sizes" = `Null)
 
+(* ---- domains ---- *)
+
+(* Minor words per ray, on one domain. With an area light of 8×8 samples nearly every ray is
+   a shadow ray, so the figure is what a shadow ray allocates: nothing, the camera rays'
+   allocations spread over 65 rays each. *)
+let domains_words () =
+  let d = tmpdir () in
+  let scene = Filename.concat d "soft.rts" in
+  write_file scene
+    "settings { width: 64, height: 48 }\n\
+     camera { position: (0, 2, -6), look_at: (0, 0.7, 0), fov: 60 }\n\
+     light { position: (-3, 5, -4), radius: 0.5, samples: 8 }\n\
+     plane { normal: (0, 1, 0), offset: 0 }\n\
+     sphere { center: (-1.6, 1, 0), radius: 1 }\n\
+     sphere { center: (0.6, 0.7, 1), radius: 0.7 }\n";
+  let j = json_of [ "bench"; "domains"; scene; "--counts"; "1,2"; "--repeat"; "1"; "--json" ] () in
+  match j |> member "runs" |> to_list with
+  | [ one; two ] ->
+      let w = one |> member "minor_words_per_ray" |> to_number in
+      if not (w >= 0. && w < 2.) then Alcotest.failf "%.2f minor words per ray with soft shadows" w;
+      Alcotest.(check bool) "no figure for two domains" true (two |> member "minor_words_per_ray" = `Null)
+  | _ -> Alcotest.fail "two runs"
+
 let scaling_errors () =
   List.iter
     (fun args ->
@@ -178,5 +201,6 @@ let () =
     [ ("physics", [ Alcotest.test_case "closed form matches doc/numerics.md" `Quick closed_form;
                     Alcotest.test_case "physics --json" `Quick physics_json ]);
       ("quality", [ Alcotest.test_case "the second run reads the cache" `Quick quality_cache ]);
+      ("domains", [ Alcotest.test_case "minor words per ray" `Quick domains_words ]);
       ("scaling", [ Alcotest.test_case "scaling --json rows" `Quick scaling_json;
                     Alcotest.test_case "bad options exit 1" `Quick scaling_errors ]) ]

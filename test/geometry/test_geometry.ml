@@ -464,6 +464,121 @@ let bvh_fold_prop =
       done;
       !ok)
 
+(* ---- the shadow query ---- *)
+
+(* A soup of every shape the occlusion query tests in scalars (and, with [quadrics], the
+   two that build a ray), some transformed, some transparent. *)
+let shadow_soup ?(quadrics = true) st =
+  let n = 1 + Random.State.int st 60 in
+  let one () =
+    let c = rand_point st (-10.) 10. in
+    let e () = rand_point st (-2.) 2. in
+    let s =
+      match Random.State.int st (if quadrics then 8 else 6) with
+      | 0 -> Shape.sphere ~center:c ~radius:(rand_in st 0.1 2.)
+      | 1 -> Shape.triangle ~a:c ~b:(Vec3.add c (e ())) ~c:(Vec3.add c (e ()))
+      | 2 -> Shape.box ~min:c ~max:(Vec3.add c (rand_point st 0.1 3.))
+      | 3 -> Shape.disk ~center:c ~normal:(rand_dir st) ~radius:(rand_in st 0.1 2.)
+      | 4 -> Shape.parallelogram ~origin:c ~edge1:(e ()) ~edge2:(e ())
+      | 5 -> Shape.plane ~normal:(rand_dir st) ~offset:(rand_in st (-12.) 12.)
+      | 6 -> Shape.cylinder ~base:c ~top:(Vec3.add c (e ())) ~radius:(rand_in st 0.1 1.) ~caps:true
+      | _ -> Shape.paraboloid ~vertex:c ~axis:(rand_dir st) ~radius:(rand_in st 0.2 2.) ~height:(rand_in st 0.2 2.)
+    in
+    let transform =
+      if Random.State.int st 3 = 0 then
+        Transform.then_
+          (Transform.then_ (Transform.rotate (rand_point st 0. 90.)) (Transform.scale (rand_point st 0.5 2.)))
+          (Transform.translate (rand_point st (-3.) 3.))
+      else Transform.identity
+    in
+    let m = if Random.State.int st 4 = 0 then { Material.default with transparency = 0.5 } else Material.default in
+    Primitive.make ~transform m s
+  in
+  Array.init n (fun _ -> one ())
+
+let brute_occluded prims r tmax =
+  Array.exists
+    (fun (p : Primitive.t) -> p.material.transparency = 0. && Primitive.intersect p r 0. tmax < tmax)
+    prims
+
+let fill_probe (q : Shape.probe) r tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  q.ox <- o.x;
+  q.oy <- o.y;
+  q.oz <- o.z;
+  q.dx <- d.x;
+  q.dy <- d.y;
+  q.dz <- d.z;
+  q.p_tmin <- 0.;
+  q.p_tmax <- tmax
+
+let occluded_prop =
+  QCheck.Test.make ~name:"the shadow query answers as a scan for an opaque crossing, whatever it tried first"
+    ~count:60 QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let prims = shadow_soup st in
+      (* The same primitives through the tree and through the linear scan. *)
+      let accels = [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ] in
+      let q = Accel.shadow_probe () in
+      let ok = ref true in
+      for _ = 1 to 200 do
+        let r = rand_ray st in
+        let tmax = if Random.State.int st 4 = 0 then inf else rand_in st 0.5 30. in
+        let expected = brute_occluded prims r tmax in
+        List.iter
+          (fun a ->
+            fill_probe q r tmax;
+            let got = Accel.occluded a q ~slot:(Random.State.int st 3) in
+            if got <> expected then begin
+              ok := false;
+              QCheck.Test.fail_reportf "occluded %b, scan %b" got expected
+            end)
+          accels
+      done;
+      !ok)
+
+let occluded_allocation =
+  case "the shadow query allocates nothing" (fun () ->
+      let st = Random.State.make [| 7 |] in
+      let bounded = Array.concat (List.init 8 (fun _ -> shadow_soup ~quadrics:false st)) in
+      let bounded = List.filter (fun (p : Primitive.t) -> Option.is_some p.bounds) (Array.to_list bounded) in
+      let floor = Primitive.make Material.default (Shape.plane ~normal:Vec3.y_axis ~offset:(-20.)) in
+      let prims = Array.of_list (floor :: bounded) in
+      let n = 2000 in
+      let rays = Array.init n (fun _ -> rand_ray st) in
+      let data = Float.Array.make (6 * n) 0. in
+      Array.iteri
+        (fun k r ->
+          let o = Ray.origin r and d = Ray.dir r in
+          List.iteri (fun j x -> Float.Array.set data ((6 * k) + j) x) [ o.x; o.y; o.z; d.x; d.y; d.z ])
+        rays;
+      let q = Accel.shadow_probe () in
+      List.iter
+        (fun a ->
+          let run () =
+            let hits = ref 0 in
+            for k = 0 to n - 1 do
+              q.ox <- Float.Array.get data (6 * k);
+              q.oy <- Float.Array.get data ((6 * k) + 1);
+              q.oz <- Float.Array.get data ((6 * k) + 2);
+              q.dx <- Float.Array.get data ((6 * k) + 3);
+              q.dy <- Float.Array.get data ((6 * k) + 4);
+              q.dz <- Float.Array.get data ((6 * k) + 5);
+              q.p_tmin <- 0.;
+              q.p_tmax <- 25.;
+              if Accel.occluded a q ~slot:(k land 1) then incr hits
+            done;
+            !hits
+          in
+          ignore (run ());
+          let w0 = Gc.minor_words () in
+          let hits = run () in
+          let words = Gc.minor_words () -. w0 in
+          if hits = 0 || hits = n then Alcotest.failf "degenerate test: %d of %d rays blocked" hits n;
+          if words > 64. then Alcotest.failf "%.0f minor words for %d shadow queries" words n)
+        [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
+
 let bvh_tests =
   [ case "small scenes skip the hierarchy, larger ones build it" (fun () ->
         let s i = Primitive.make Material.default (Shape.sphere ~center:(v (Float.of_int i) 0. 0.) ~radius:0.4) in
@@ -567,4 +682,5 @@ let () =
       ("obj", mesh_tests);
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
+      ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("textures", texture_tests) ]
