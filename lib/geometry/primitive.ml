@@ -1,8 +1,21 @@
-type t = { shape : Shape.t; transform : Transform.t; material : Material.t; bounds : Bbox.t option }
+type t = { shape : Shape.t; transform : Transform.t; material : Material.t; bounds : Bbox.t option; shift : Vec3.t }
 
 let make ?(transform = Transform.identity) material shape =
   let bounds = Option.map (Bbox.transform transform) (Shape.bbox shape) in
-  { shape; transform; material; bounds }
+  { shape; transform; material; bounds; shift = Vec3.zero }
+
+(* A shape placed without a transform is moved itself, so that it stays on the fast path;
+   its texture space is the world before the move, [shift] away. A transformed one gets the
+   move appended to its transform, and its object space is its texture space as before. *)
+let translate (d : Vec3.t) o =
+  let moved =
+    if Transform.is_identity o.transform then
+      let shape = Shape.translate d o.shape in
+      { o with shape; bounds = Shape.bbox shape; shift = Vec3.sub o.shift d }
+    else make ~transform:(Transform.then_ o.transform (Transform.translate d)) o.material o.shape
+  in
+  (* One kept out of the hierarchy (see [without_bounds]) stays out. *)
+  if Option.is_none o.bounds then { moved with bounds = None } else moved
 
 let intersect_into o r h =
   if Transform.is_identity o.transform then Shape.intersect_into o.shape r h
@@ -45,6 +58,16 @@ let intersect o r tmin tmax =
     Shape.intersect o.shape r' tmin tmax
 
 let to_object o p = Transform.inv_point o.transform p
+
+let shifted o = not (o.shift.x = 0. && o.shift.y = 0. && o.shift.z = 0.)
+let texture_point o p = if shifted o then Vec3.add p o.shift else to_object o p
+
+(* A plane's (u, v) is measured from the world origin: a moved plane measures it in its
+   texture space. The other shapes measure it from their own points. *)
+let uv o p =
+  match o.shape with
+  | Shape.Plane _ when shifted o -> Shape.uv o.shape (Vec3.add p o.shift)
+  | _ -> Shape.uv o.shape (to_object o p)
 let normal o p = Transform.normal o.transform (Shape.normal o.shape p)
 
 let without_bounds o = { o with bounds = None }

@@ -8,6 +8,9 @@ type t = private {
   transform : Transform.t;  (** object space → world space *)
   material : Material.t;
   bounds : Bbox.t option;  (** world-space bounds; [None] when unbounded *)
+  shift : Vec3.t;
+      (** what a world point adds to become a texture-space point, for an untransformed
+          object that {!translate} moved; zero otherwise *)
 }
 
 val make : ?transform:Transform.t -> Material.t -> Shape.t -> t
@@ -33,6 +36,19 @@ val to_object : t -> Vec3.t -> Vec3.t
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal o p_obj] is the unit world-space geometric normal at object-space point
     [p_obj]. *)
+
+val translate : Vec3.t -> t -> t
+(** [translate d o] is [o] moved by [d], its textures moving with it: an untransformed
+    object has its shape moved (and keeps the fast path), a transformed one gets the move
+    after its transform. *)
+
+val texture_point : t -> Vec3.t -> Vec3.t
+(** The point of texture space at a world point: object space, or for a moved untransformed
+    object the world point before the move. *)
+
+val uv : t -> Vec3.t -> float * float
+(** [uv o p] is the (u, v) of the surface at world point [p] ({!Shape.uv} at the object's
+    own point). *)
 
 val without_bounds : t -> t
 (** The same primitive with no bounds, so that {!Accel} scans it linearly: tests compare

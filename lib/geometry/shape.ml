@@ -512,6 +512,20 @@ let bbox = function
       Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
   | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
 
+(* Every variant moved by d; precomputed directions, normals and frames stay as they were
+   (they do not depend on the position), offsets that do are recomputed. *)
+let translate (d : Vec3.t) = function
+  | Sphere { center; radius } -> Sphere { center = Vec3.add center d; radius }
+  | Plane { normal; offset } -> Plane { normal; offset = offset +. Vec3.dot normal d }
+  | Parallelogram { origin; edge1; edge2; pn; w; _ } ->
+      let origin = Vec3.add origin d in
+      Parallelogram { origin; edge1; edge2; pn; w; pd = Vec3.dot pn origin }
+  | Triangle { a; b; c; tn; normals; uvs } -> Triangle { a = Vec3.add a d; b = Vec3.add b d; c = Vec3.add c d; tn; normals; uvs }
+  | Paraboloid p -> Paraboloid { p with vertex = Vec3.add p.vertex d }
+  | Box { min; max } -> Box { min = Vec3.add min d; max = Vec3.add max d }
+  | Cylinder c -> Cylinder { c with base = Vec3.add c.base d }
+  | Disk k -> Disk { k with center = Vec3.add k.center d }
+
 let name = function
   | Sphere _ -> "sphere"
   | Plane _ -> "plane"

@@ -146,5 +146,8 @@ val uv : t -> Vec3.t -> float * float
 val bbox : t -> Bbox.t option
 (** Object-space bounds; [None] for unbounded surfaces (planes). *)
 
+val translate : Vec3.t -> t -> t
+(** [translate d s] is [s] moved by [d]: the same surface, its points plus [d]. *)
+
 val name : t -> string
 (** The kind, as written in a scene ("sphere", "plane", …; "mesh" for mesh faces). *)

@@ -9,7 +9,7 @@ let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
    its stratum by a hash of frame, pixel, sample and (a, b), so the image does not depend
    on which domain renders which tile. *)
 let camera_sample (sc : Scene.t) (st : Stats.t) i j x y =
-  let s = sc.settings and c = sc.camera in
+  let s = sc.settings and c = sc.view in
   if not (Camera.in_view c ~width:s.width ~height:s.height x y) then Shade.miss sc c.f
   else
     let ray = Camera.ray c ~width:s.width ~height:s.height x y in
@@ -36,9 +36,9 @@ let camera_sample (sc : Scene.t) (st : Stats.t) i j x y =
 let sample (sc : Scene.t) (st : Stats.t) i j x y =
   let s = sc.settings in
   let c =
-    if Camera.pinhole_perspective sc.camera then begin
+    if Camera.pinhole_perspective sc.view then begin
       st.primary <- st.primary + 1;
-      Shade.trace sc st (Camera.ray sc.camera ~width:s.width ~height:s.height x y) 1
+      Shade.trace sc st (Camera.ray sc.view ~width:s.width ~height:s.height x y) 1
     end
     else camera_sample sc st i j x y
   in

@@ -28,6 +28,7 @@ let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3
 let default = make ()
 
 let with_lens_samples c n = { c with lens_samples = n }
+let translate (d : Vec3.t) c = { c with position = Vec3.add c.position d; look_at = Vec3.add c.look_at d }
 
 let kind_name = function Perspective -> "perspective" | Orthographic _ -> "orthographic" | Fisheye -> "fisheye"
 let depth_of_field c = c.aperture > 0.

@@ -58,6 +58,10 @@ val validate : t -> (unit, string) result
 val with_lens_samples : t -> int -> t
 (** The same camera with another number of lens samples (a quality knob). *)
 
+val translate : Vec3.t -> t -> t
+(** [translate d c] is [c] moved by [d]: the same directions (f, r, u) and lens, from
+    [position + d]. *)
+
 val kind_name : kind -> string
 (** "perspective", "orthographic" or "fisheye", as written in a scene. *)
 

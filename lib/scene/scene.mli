@@ -7,12 +7,22 @@ type t = private {
   settings : Settings.t;
   camera : Camera.t;
   lights : Light.t array;
-  objects : Primitive.t array;
+  objects : Primitive.t array;  (** in render coordinates: moved by −[origin] *)
   accel : Accel.t;
   features : Features.t;
   time : float;  (** seconds *)
   frame : int;
+  origin : Vec3.t;
+      (** the world point that renders at the origin: the camera's position rounded to a
+          multiple of G in each coordinate, G the power of two at least 1024 times the
+          camera's distance to its look_at point (zero for a camera within G/2 of the
+          world's origin) *)
+  view : Camera.t;  (** [camera] in render coordinates *)
+  view_lights : Light.t array;  (** [lights] in render coordinates *)
 }
+(** [camera] and [lights] are as the scene gave them; the renderer traces in coordinates
+    centred near the camera ([view], [view_lights], [objects]), so that a scene far from
+    the world's origin renders as it would at the origin. *)
 
 val make :
   ?settings:Settings.t -> ?camera:Camera.t -> ?time:float -> ?frame:int -> lights:Light.t list ->

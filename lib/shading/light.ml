@@ -40,3 +40,9 @@ let directional ?(color = Color.white) ?(intensity = 1.) d =
   Directional { direction = Vec3.normalize d; color; intensity }
 
 let is_area = function Point { radius; samples; _ } -> radius > 0. && samples > 1 | Directional _ -> false
+
+let translate (d : Vec3.t) = function
+  | Point l ->
+      let spot = Option.map (fun s -> { s with point_at = Vec3.add s.point_at d }) l.spot in
+      Point { l with position = Vec3.add l.position d; spot }
+  | Directional _ as l -> l

@@ -48,3 +48,6 @@ val directional : ?color:Color.t -> ?intensity:float -> Vec3.t -> t
 val is_area : t -> bool
 (** Whether the light is a point light with a radius and more than one sample: an area light
     casting soft shadows. *)
+
+val translate : Vec3.t -> t -> t
+(** [translate d l] is [l] moved by [d] (a directional light has no position to move). *)

@@ -9,9 +9,9 @@ let albedo (o : Primitive.t) p n delta =
   | Some tex ->
       (* N is the geometric normal: a smooth mesh's interpolated normal is not. *)
       let n = match o.shape with Shape.Triangle { normals = Some _; tn; _ } -> Transform.normal o.transform tn | _ -> n in
-      let q = Primitive.to_object o (Vec3.madd p (-.delta) n) in
+      let q = Primitive.texture_point o (Vec3.madd p (-.delta) n) in
       if Texture.needs_uv tex then
-        let u, v = Shape.uv o.shape (Primitive.to_object o p) in
+        let u, v = Primitive.uv o p in
         Texture.eval tex q u v
       else Texture.eval tex q 0. 0.
 
@@ -210,13 +210,13 @@ and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
   let c = albedo o p n delta in
   let entering = Vec3.dot d n < 0. in
   let nf = if entering then n else Vec3.neg n in
-  let nf = match m.bump with None -> nf | Some b -> Bump.perturb b ~uv:(fun d -> Shape.uv o.shape (Primitive.to_object o (Vec3.add p d))) po nf in
+  let nf = match m.bump with None -> nf | Some b -> Bump.perturb b ~uv:(fun d -> Primitive.uv o (Vec3.add p d)) (Primitive.texture_point o p) nf in
   let lit_origin = Vec3.madd p delta nf in
   let acc =
     { ar = m.ambient *. (c.r *. s.ambient.r); ag = m.ambient *. (c.g *. s.ambient.g); ab = m.ambient *. (c.b *. s.ambient.b);
       tr = 0.; tg = 0.; tb = 0. }
   in
-  let lights = sc.lights in
+  let lights = sc.view_lights in
   for li = 0 to Array.length lights - 1 do
     match lights.(li) with
     | Light.Point { position; color; intensity; attenuation = a; radius; samples; spot } ->

@@ -388,20 +388,22 @@ let validation_tests =
 (* The demo scene with every length multiplied by [k]: positions, radii, plane offsets,
    checker size, area-light radius; attenuation coefficients rescaled so that
    att(k·d) = att(d). *)
-let scaled_scene ?(shift = Vec3.zero) k =
-  let settings = { Settings.default with width = 64; height = 48 } in
+let scaled_parts ?(shift = Vec3.zero) k =
   let floor = mat ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k }) () in
   let p x y z = Vec3.add shift (v (k *. x) (k *. y) (k *. z)) in
-  Scene.make_exn ~settings
-    ~camera:(Camera.make ~position:(p 0. 2. (-6.)) ~look_at:(p 0. 0.5 0.) ())
-    ~lights:
+  ( Camera.make ~position:(p 0. 2. (-6.)) ~look_at:(p 0. 0.5 0.) (),
+
       [ Light.point ~radius:(0.5 *. k) ~samples:3 ~attenuation:(v 1. (0.05 /. k) (0.01 /. (k *. k))) (p (-3.) 5. (-4.));
-        Light.directional ~intensity:0.3 (v 1. (-1.) 1.) ]
+        Light.directional ~intensity:0.3 (v 1. (-1.) 1.) ],
     [ prim floor (Shape.plane ~normal:Vec3.y_axis ~offset:shift.y);
       prim (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ()) (Shape.sphere ~center:(p (-1.5) 1. 0.) ~radius:k);
       prim (mat ~reflection:0.8 ()) (Shape.sphere ~center:(p 0.8 0.7 1.) ~radius:(0.7 *. k));
       prim (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ()) (Shape.sphere ~center:(p 1. 0.5 (-1.5)) ~radius:(0.5 *. k));
-      prim (mat ~color:(Color.v 0.2 0.9 0.3) ()) (Shape.sphere ~center:(p (-0.2) 0.25 (-1.2)) ~radius:(0.25 *. k)) ]
+      prim (mat ~color:(Color.v 0.2 0.9 0.3) ()) (Shape.sphere ~center:(p (-0.2) 0.25 (-1.2)) ~radius:(0.25 *. k)) ] )
+
+let scaled_scene ?shift k =
+  let camera, lights, prims = scaled_parts ?shift k in
+  Scene.make_exn ~settings:{ Settings.default with width = 64; height = 48 } ~camera ~lights prims
 
 let encoded sc =
   let fb, _ = Render.render sc in
@@ -433,9 +435,45 @@ let scale_tests =
   in
   [ translated; bit_identical 0x1p20; bit_identical 0x1p-20; within 1e3; within 1e-3; within 1e6; within 1e-6 ]
 
+(* The scene of [scaled_scene] with a transformed ellipsoid and box and a textured sphere
+   besides, at 320×240, moved by [shift] as a whole. *)
+let far_scene shift =
+  let camera, lights, prims = scaled_parts ~shift 1. in
+  let p x y z = Vec3.add shift (v x y z) in
+  let extra =
+    [ prim
+        ~transform:(Transform.then_ (Transform.scale (v 0.6 0.3 0.4)) (Transform.translate (p 1.9 0.3 0.2)))
+        (mat ~color:(Color.v 0.3 0.3 0.9) ~specular:0.4 ()) (Shape.sphere ~center:Vec3.zero ~radius:1.);
+      prim
+        ~transform:(Transform.then_ (Transform.rotate (v 0. 35. 0.)) (Transform.translate (p (-2.6) 0.4 1.5)))
+        (mat ~texture:(Texture.Stripes { c1 = Color.v 0.9 0.8 0.1; c2 = Color.v 0.1 0.3 0.6; size = 0.1 }) ())
+        (Shape.box ~min:(v (-0.4) (-0.4) (-0.4)) ~max:(v 0.4 0.4 0.4));
+      prim (mat ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 }) ())
+        (Shape.sphere ~center:(p 0.3 1.6 2.5) ~radius:0.6) ]
+  in
+  Scene.make_exn ~settings:{ Settings.default with width = 320; height = 240 } ~camera ~lights (prims @ extra)
+
+let far_tests =
+  let reference = lazy (encoded (far_scene Vec3.zero)) in
+  let moved d share =
+    Alcotest.test_case
+      (Printf.sprintf "moved by %g, at most %g%% of the pixels differ by more than 2/255" d (100. *. share)) `Quick
+      (fun () ->
+        let sc = far_scene (v d d (-.d)) in
+        Alcotest.(check bool) "rendered near the camera" true (Vec3.max_abs sc.view.position < 1e5);
+        let a = Lazy.force reference and b = encoded sc in
+        match Compare.compare ~threshold:2 (320, 240, a) (320, 240, b) with
+        | Error m -> Alcotest.fail m
+        | Ok c -> Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over_share <= share))
+  in
+  [ moved 1e6 1e-4; moved 1e9 1e-3;
+    Alcotest.test_case "a camera near the origin moves nothing" `Quick (fun () ->
+        let sc = far_scene (v 300. (-500.) 1000.) in
+        Alcotest.(check bool) "origin" true (Vec3.max_abs sc.origin = 0.)) ]
+
 let () =
   Alcotest.run "core"
     [ ("vec3", vec_tests); ("transform", transform_tests); ("camera", camera_tests); ("encode", encode_tests);
       ("lambert", lambert_tests); ("reflection", reflection_tests); ("refraction", refraction_tests);
       ("texture", texture_tests); ("files", file_tests); ("render", render_tests); ("validation", validation_tests);
-      ("scale", scale_tests) ]
+      ("scale", scale_tests); ("far from the origin", far_tests) ]
