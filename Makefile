@@ -8,7 +8,7 @@ JOBS ?= 2
 RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
-.PHONY: all deps build demo test golden-update bench bench-povray bench-mpi bench-watch fuzz doc clean \
+.PHONY: all deps build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
 	clean-toolchain fmt install uninstall static cluster-bundle
 
 all: build
@@ -118,6 +118,12 @@ clean:
 # Removes the project-local toolchain root (Debian 12 hosts), about 1.2 GB.
 clean-toolchain:
 	bash .ci/toolchain clean
+
+# lancer against Embree (an own harness, test/embree/) on the scenes of the speed table;
+# installs libembree-dev and GNU time where missing, skips with a message where it cannot.
+bench-limit: build
+	-@bash .ci/toolchain install libembree-dev time || echo "bench-limit: could not install libembree-dev"
+	$(RUN) bash test/embree/bench.sh
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
 bench-povray: build
