@@ -16,7 +16,7 @@ dune build @install 2>&1 | tail -n 5
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 
 W=${W:-1920}; H=${H:-1080}; REPEAT=${REPEAT:-3}
-SCENES=${SCENES:-"three_spheres field_1000 field_10000 field_100000 mirrors_5 mirrors_10 mirrors_50 glass"}
+SCENES=${SCENES:-"three_spheres field_1000 field_10000 field_100000 mirrors_5 mirrors_10 mirrors_50 glass transforms"}
 WORKERS=${WORKERS:-"1 2"}; AA=${AA:-"off on"}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/home"   # POV-Ray wants a writable user configuration directory
