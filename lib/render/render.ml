@@ -104,7 +104,7 @@ let coverage (sc : Scene.t) i j =
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      if Accel.any_hit sc.accel (Camera.ray sc.camera ~width:s.width ~height:s.height x y) 0. Float.infinity then incr hits
+      if Accel.any_hit sc.accel (Camera.ray sc.view ~width:s.width ~height:s.height x y) 0. Float.infinity then incr hits
     done
   done;
   Float.of_int !hits /. Float.of_int (n * n)

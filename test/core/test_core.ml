@@ -467,6 +467,16 @@ let far_tests =
         | Ok c -> Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over_share <= share))
   in
   [ moved 1e6 1e-4; moved 1e9 1e-3;
+    Alcotest.test_case "moved by 1e9, the alpha channel is the one at the origin" `Quick (fun () ->
+        let alpha sc =
+          let a = Float.Array.make (320 * 240) 0. in
+          ignore (Render.render ~alpha:a sc);
+          a
+        in
+        let a = alpha (far_scene Vec3.zero) and b = alpha (far_scene (v 1e9 1e9 (-1e9))) in
+        let differ = ref 0 in
+        Float.Array.iteri (fun k x -> if Float.abs (x -. Float.Array.get b k) > 0.01 then incr differ) a;
+        if !differ > 8 then Alcotest.failf "%d of %d pixels have another alpha" !differ (320 * 240));
     Alcotest.test_case "a camera near the origin moves nothing" `Quick (fun () ->
         let sc = far_scene (v 300. (-500.) 1000.) in
         Alcotest.(check bool) "origin" true (Vec3.max_abs sc.origin = 0.)) ]
