@@ -103,7 +103,10 @@ let plan ?(getenv = Sys.getenv_opt) (o : Cli.opts) (a : options) =
     ((Filename.concat dir Frameset.view_name, "the frames record")
      :: List.map (fun k -> (Filename.concat dir (Frameset.frame_name k), "a frame")) mine);
   let set =
-    Frameset.open_ ~dir ~scene:(Filename.basename (fst source)) ~job:(job_digest o prog) ~count
+    (* A directory belongs to one scene file, named by its real path (the same from any
+       working directory, and on every node that mounts it at the same place). *)
+    let scene = match fst source with "-" -> "<stdin>" | f -> ( try Unix.realpath f with Unix.Unix_error _ -> f) in
+    Frameset.open_ ~dir ~scene ~job:(job_digest o prog) ~count
   in
   let input_digest = Lancer_dsl.Dsl.input_digest prog in
   let todo = if a.resume then List.filter (fun k -> not (Frameset.is_done set k ~input_digest)) mine else mine in

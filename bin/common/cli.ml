@@ -412,8 +412,22 @@ let check_stats_name = function
             p kind
       | _ -> ())
 
+(* The records an animation keeps in its frames directory (Frameset's names): no other
+   output may replace them. *)
+let frames_view_name = "lancer-frames.json"
+let frames_journal_dir = "lancer-frames.d"
+
+let refuse_frames_records paths =
+  List.iter
+    (fun (p, what) ->
+      if String.equal (Filename.basename p) frames_view_name || String.equal (Filename.basename (Filename.dirname p)) frames_journal_dir then
+        user "%s %s would replace a record of an animation's frames directory: write it elsewhere" what p)
+    paths
+
 let guard_render (o : opts) prog ~out =
   if is_stdout out && o.stats = Some "-" then user "--stats - and -o - would both write to standard output: give --stats a file";
+  refuse_frames_records
+    ((if is_stdout out then [] else [ (out, "-o") ]) @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
   guard_writes ~reads:(reads o prog)
     ((if is_stdout out then [] else [ (out, "the image") ]) @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 

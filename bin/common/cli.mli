@@ -111,6 +111,12 @@ val check_stats_name : string option -> unit
 (** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png],
     …): the sign that the option took the scene as its value. *)
 
+val frames_view_name : string
+(** ["lancer-frames.json"]: the merged record of a frames directory. *)
+
+val frames_journal_dir : string
+(** ["lancer-frames.d"]: the folder of a frames directory's journals and scene record. *)
+
 val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
 (** {!guard_writes} for a still: the image and the statistics against the scene's
     files. *)

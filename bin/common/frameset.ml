@@ -1,8 +1,8 @@
 (* See frameset.mli. *)
 
 let frame_name k = Printf.sprintf "frame_%04d.png" k
-let journal_dir = "lancer-frames.d"
-let view_name = "lancer-frames.json"
+let journal_dir = Cli.frames_journal_dir
+let view_name = Cli.frames_view_name
 let binding_name = "scene.json"
 
 type entry = { frame : int; job : string; size : int; md5 : string; inputs : (string * string) list }
@@ -109,8 +109,9 @@ let rec bind ~dir ~jdir ~scene attempts =
   match read_binding path with
   | `Scene s when s = scene -> ()
   | `Scene s ->
-      Cli.user "%s holds the frames of another scene, %s (this one is %s): render into another directory, or remove %s to start over"
-        dir s scene dir
+      Cli.user
+        "%s holds the frames of another scene, %s (this one is %s): render into another directory, or remove %s to start over (or, if it is the same scene moved, %s)"
+        dir s scene dir path
   | `Unreadable when attempts > 0 ->
       (* Another run may be creating it on a file system without hard links: look again. *)
       Unix.sleepf 0.1;

@@ -1,22 +1,38 @@
+(* Who wrote a temporary file: the host and its process-id namespace, so that a process id
+   is only ever judged where it means something. Shards of one job on several nodes may
+   share an output directory (over NFS): a file of another node is never removed. *)
+let owner =
+  let clean s = String.map (fun c -> match c with 'a' .. 'z' | 'A' .. 'Z' | '0' .. '9' | '.' -> c | _ -> '_') s in
+  let host = try clean (Unix.gethostname ()) with Unix.Unix_error _ -> "host" in
+  let ns =
+    match Unix.readlink "/proc/self/ns/pid" with
+    | l -> String.concat "" (List.filter (fun s -> s <> "") (String.split_on_char ':' (clean l)))
+    | exception Unix.Unix_error _ -> "0"
+  in
+  host ^ "_" ^ ns
+
 let temp_path path =
   let dir = Filename.dirname path and base = Filename.basename path in
-  Filename.concat dir (Printf.sprintf ".%s.tmp-%d-%d" base (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
+  Filename.concat dir
+    (Printf.sprintf ".%s.tmp-%s-%d-%d" base owner (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
 
-(* The process id in a temporary name ".NAME.tmp-PID-RAND", if it is one. *)
-let temp_pid name =
-  let n = String.length name in
+(* The owner and process id in a temporary name ".NAME.tmp-OWNER-PID-RAND", if it is one. *)
+let temp_owner_pid name =
+  let digits s = s <> "" && String.length s < 10 && String.for_all (fun c -> c >= '0' && c <= '9') s in
+  let marker = ".tmp-" in
+  let n = String.length name and m = String.length marker in
   if n < 2 || name.[0] <> '.' then None
   else
-    match String.rindex_opt name '-' with
+    (* The last ".tmp-" in the name: NAME itself may hold one. *)
+    let rec find i = if i < 1 then None else if String.sub name i m = marker then Some i else find (i - 1) in
+    match find (n - m) with
     | None -> None
-    | Some last -> (
-        let digits s = s <> "" && String.for_all (fun c -> c >= '0' && c <= '9') s in
-        let rand = String.sub name (last + 1) (n - last - 1) in
-        match String.rindex_from_opt name (last - 1) '-' with
-        | Some before when digits rand && before >= 5 && String.sub name (before - 4) 4 = ".tmp" ->
-            let pid = String.sub name (before + 1) (last - before - 1) in
-            if digits pid && String.length pid < 10 then Some (int_of_string pid) else None
+    | Some i -> (
+        match String.split_on_char '-' (String.sub name (i + m) (n - i - m)) with
+        | [ owner; pid; rand ] when owner <> "" && digits pid && digits rand -> Some (owner, int_of_string pid)
         | _ -> None)
+
+let temp_pid name = Option.map snd (temp_owner_pid name)
 
 let running pid =
   match Unix.kill pid 0 with
@@ -30,8 +46,8 @@ let remove_stale dir =
   | names ->
       Array.to_list names
       |> List.filter_map (fun name ->
-             match temp_pid name with
-             | Some pid when pid <> Unix.getpid () && not (running pid) -> (
+             match temp_owner_pid name with
+             | Some (o, pid) when String.equal o owner && pid <> Unix.getpid () && not (running pid) -> (
                  let p = Filename.concat dir name in
                  match Unix.lstat p with
                  | { st_kind = Unix.S_REG; _ } -> ( try Sys.remove p; Some p with Sys_error _ -> None)

@@ -1,12 +1,12 @@
 (** Files written whole or not at all.
 
-    A file is written into a temporary file beside it, [.NAME.tmp-PID-RAND], and renamed
+    A file is written into a temporary file beside it, [.NAME.tmp-OWNER-PID-RAND], and renamed
     into place only once every write, the flush, the [fsync] and the close have
     succeeded; on any failure (a full disk, a file-size limit, an interrupt) the
     temporary file is removed and the previous file under the final name is untouched.
     An existing file that its owner may not write (mode 0444) is refused, not replaced.
-    Temporary files left by a process that was killed are removed by the next write into
-    the same directory. Messages name the final path, never the temporary one. *)
+    Temporary files left by a process of this machine that was killed are removed by the
+    next write into the same directory; those of other machines sharing it are left alone. Messages name the final path, never the temporary one. *)
 
 val check_writable : string -> (unit, string) result
 (** Whether [path] could be written: not a directory, in a directory that exists, and not
@@ -18,12 +18,20 @@ val write : string -> (out_channel -> unit) -> (unit, string) result
     a pipe ([/dev/stdout], a FIFO) is written in place, never replaced. [Sys.Break] from
     [f] is re-raised after the temporary file is removed. *)
 
+val owner : string
+(** This machine and process-id namespace as written in temporary names: the host name
+    (characters other than letters, digits and dots made [_]), [_], and the namespace's
+    number. *)
+
 val temp_path : string -> string
-(** A fresh temporary name beside [path], [.NAME.tmp-PID-RAND] with this process's id. *)
+(** A fresh temporary name beside [path], [.NAME.tmp-OWNER-PID-RAND] with {!owner} and
+    this process's id. *)
 
 val remove_stale : string -> string list
-(** [remove_stale dir] removes the temporary files of {!temp_path}'s form in [dir] whose
-    process is no longer running (no such process id), and is the list of paths removed.
+(** [remove_stale dir] removes the temporary files of {!temp_path}'s form in [dir] that
+    {!owner} wrote and whose process is no longer running (no such process id), and is the
+    list of paths removed; files of other owners (other machines sharing the directory)
+    are never touched.
     {!write} calls it once per directory and reports each removal through {!on_stale}. *)
 
 val on_stale : (string -> unit) ref

@@ -297,10 +297,13 @@ let stale_tests =
         let d = tmpdir () in
         write_file (d // "s.rts") scene;
         let dead = dead_pid () in
-        let stale = Printf.sprintf ".out.png.tmp-%d-123456" dead and stale2 = Printf.sprintf ".other.ppm.tmp-%d-42" dead in
-        (* One of a live process (this test), and files that only look alike. *)
-        let live = Printf.sprintf ".out.png.tmp-%d-99" (Unix.getpid ()) in
-        let others = [ "notes.tmp-1-2"; ".x.tmp-abc-1"; ".y.tmp-1"; "out.png.tmp-1-1" ] in
+        let o = Lancer.Safe_file.owner in
+        let stale = Printf.sprintf ".out.png.tmp-%s-%d-123456" o dead and stale2 = Printf.sprintf ".other.ppm.tmp-%s-%d-42" o dead in
+        (* One of a live process (this test), one of another machine sharing the directory
+           (its process id means nothing here), and files that only look alike. *)
+        let live = Printf.sprintf ".out.png.tmp-%s-%d-99" o (Unix.getpid ()) in
+        let other_host = Printf.sprintf ".out.png.tmp-node17_pid4026531836-%d-5" dead in
+        let others = [ other_host; "notes.tmp-1-2"; ".x.tmp-abc-1"; ".y.tmp-1"; "out.png.tmp-1-1"; ".z.tmp-1-2" ] in
         List.iter (fun f -> write_file (d // f) "partial") (stale :: stale2 :: live :: others);
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "out.png"; "-q" ] in
         check_status "render" 0 r;
@@ -314,7 +317,7 @@ let stale_tests =
         Alcotest.(check bool) "the image" true (Sys.file_exists (d // "out.png"));
         (* Frames directories too: the first frame written sweeps it. *)
         Unix.mkdir (d // "fr") 0o755;
-        let stale3 = Printf.sprintf ".frame_0000.png.tmp-%d-7" dead in
+        let stale3 = Printf.sprintf ".frame_0000.png.tmp-%s-%d-7" o dead in
         write_file (d // "fr" // stale3) "partial";
         write_file (d // "a.rts")
           "settings { width: 8, height: 6 }\nanimation { fps: 10, frames: 2 }\ncamera { position: (0, 1, -5), look_at: (0, 1, 0) }\n\

@@ -63,7 +63,7 @@ timed() { # OUT CMD...: median seconds over REPEAT runs writing OUT; empty if a 
   median <"$tmp/t"
 }
 same() { # REF OUT: same bytes (a file, or every file of a directory)
-  if [ -d "$1" ]; then local f; for f in "$1"/*; do cmp -s "$f" "$2/$(basename "$f")" || return 1; done
+  if [ -d "$1" ]; then local f; for f in "$1"/*; do [ -d "$f" ] || cmp -s "$f" "$2/$(basename "$f")" || return 1; done
   else cmp -s "$1" "$2"; fi
 }
 

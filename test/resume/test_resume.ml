@@ -178,7 +178,25 @@ let animate_tests =
           ("lancer-frames.json" :: List.init 8 frame);
         let loser = if ref_dir = "red" then "b.rts" else "a.rts" in
         let r = lancer ~dir:d [ "animate"; loser; "-o"; "mixed"; "--resume" ] in
-        check_status "still refused afterwards" 1 r) ]
+        check_status "still refused afterwards" 1 r;
+        (* Two scene files of the same name in two folders are two scenes; the same file
+           reached from another working directory is the same scene. *)
+        Unix.mkdir (path d "other") 0o755;
+        write_file (path d "other/a.rts") (scene ~color:"(0.2, 0.9, 0.2)" ~frames:8 ());
+        check_status "a.rts into same" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "same"; "-q" ]);
+        let r = lancer ~dir:d [ "animate"; "other/a.rts"; "-o"; "same"; "-q" ] in
+        check_status "other/a.rts refused" 1 r;
+        says "says why" r "holds the frames of another scene";
+        let r = lancer ~dir:(path d "other") [ "animate"; "../a.rts"; "-o"; "../same"; "--resume" ] in
+        check_status "../a.rts from another folder" 0 r;
+        says "is the same scene" r "8 frames already rendered, 0 to go";
+        (* Nor may another command's output replace the directory's records. *)
+        let r = lancer ~dir:d [ "render"; "a.rts"; "-o"; "z.png"; "--stats"; "same/lancer-frames.json" ] in
+        check_status "--stats onto the frames record" 1 r;
+        says "says why" r "would replace a record";
+        let r = lancer ~dir:d [ "render"; "a.rts"; "-o"; "z.png"; "--stats"; "same/lancer-frames.d/scene.json" ] in
+        check_status "--stats onto the scene record" 1 r;
+        Alcotest.(check bool) "the record kept" true (contains (read_file (path d "same/lancer-frames.d/scene.json")) "a.rts")) ]
 
 (* The built-in showcase at 200×150 on one domain: long enough to be stopped midway. *)
 let still = [ "render"; "--width"; "200"; "--height"; "150"; "--domains"; "1"; "-q"; "--resume"; "-o" ]
