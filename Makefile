@@ -39,7 +39,7 @@ demo: out/bin/lancer
 	@command -v ffmpeg >/dev/null 2>&1 && out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
 	@echo "lancer itself is out/bin/lancer: run 'make install' to put it in $(PREFIX)/bin"
 
-# lancer, lancer's man pages and shell completion, and its scene library (share/lancer/),
+# lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/, installed as share/lancer/),
 # under PREFIX (default ~/.local).
 install: out/bin/lancer
 	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1 $(PREFIX)/share/bash-completion/completions
@@ -47,7 +47,7 @@ install: out/bin/lancer
 	install -m 0644 _build/default/bin/share/*.1 $(PREFIX)/share/man/man1/
 	install -m 0644 _build/default/bin/share/lancer.bash $(PREFIX)/share/bash-completion/completions/lancer
 	install -d $(PREFIX)/share/lancer
-	install -m 0644 share/lancer/materials.rts share/lancer/colors.rts $(PREFIX)/share/lancer/
+	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(PREFIX)/share/lancer/
 	@echo "installed $(PREFIX)/bin/lancer, its man pages, bash completion and scene library ($(PREFIX)/share/lancer/)"
 	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
 
