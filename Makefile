@@ -108,14 +108,16 @@ doc:
 	$(RUN) $(DUNE) build @doc
 	@echo "The API documentation is in _build/default/_doc/_html/index.html"
 
+# Formats the tree with ocamlformat (the version pinned in .ocamlformat; installed if missing).
 fmt:
+	bash .ci/toolchain install ocamlformat
 	$(RUN) $(DUNE) fmt
 
 clean:
 	$(RUN) $(DUNE) clean
 	rm -rf out
 
-# Removes the project-local toolchain root (Debian 12 hosts), about 1.2 GB.
+# Removes the project-local toolchain root (Debian 12 hosts), about 2.5 GB.
 clean-toolchain:
 	bash .ci/toolchain clean
 
