@@ -169,6 +169,9 @@ type pending_obj = {
   p_transform : Transform.t;
   p_tjson : Yojson.Safe.t list;
   p_material : (Material.t * (string * Yojson.Safe.t) list) option;
+  p_leaves : (Material.t * (string * Yojson.Safe.t) list) option array;
+      (** a CSG object's leaf materials (its shape's [leaves], in order); empty otherwise *)
+  p_loc : Loc.t;  (** where the object's block starts *)
 }
 
 type ctx = {
@@ -226,7 +229,7 @@ let step ctx loc =
          max_steps)
 
 (* A scope: where objects go (the program, or a group or body being built). *)
-type scope = { sink : pending_obj list ref; in_group : bool }
+type scope = { sink : pending_obj list ref; in_group : bool; in_csg : bool }
 
 (* ------------------------------------------------------------------------------------ *)
 (* Numbers *)
@@ -394,6 +397,7 @@ let material_fields =
   [ "color"; "texture"; "ambient"; "diffuse"; "specular"; "shininess"; "reflection"; "transparency"; "ior";
     "fresnel"; "bump"; "base" ]
 
+let csg_blocks = [ "union"; "merge"; "intersection"; "difference" ]
 let common_fields = [ "material"; "translate"; "rotate"; "scale" ]
 let repeatable = [ "translate"; "rotate"; "scale" ]
 
@@ -556,7 +560,7 @@ and binop loc op a b bloc =
 (* Blocks: fields, their types and ranges *)
 
 and eval_material ctx env loc items =
-  let b = collect ctx env { sink = ref []; in_group = false } "material" loc ~holds_objects:false items in
+  let b = collect ctx env { sink = ref []; in_group = false; in_csg = false } "material" loc ~holds_objects:false items in
   check_names b material_fields;
   let base, base_desc =
     match live b "base" with
@@ -720,9 +724,9 @@ and bump ctx t =
   | "image", _ -> Error "an image bump map takes a file name and an amount: image(\"h.png\", amount)"
   | _ -> Error (Printf.sprintf "`%s(…)` is not a bump map: use noise(scale, amount) or image(\"file.png\", amount)" t.tname)
 
-and collect ctx env scope kind kloc ~holds_objects items =
+and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
   let b = { ctx; kind; kloc; fields = []; failed = false; members = ref [] } in
-  let inner = { sink = b.members; in_group = scope.in_group || holds_objects } in
+  let inner = { sink = b.members; in_group = scope.in_group || holds_objects; in_csg = csg } in
   let _env =
     List.fold_left
       (fun env item ->
@@ -857,7 +861,7 @@ and objects_written stmts =
       +
       match s.s with
       | Block (k, _) when List.mem_assoc k.id object_fields -> 1
-      | Block ({ id = "group"; _ }, its) ->
+      | Block ({ id = "group" | "union" | "merge" | "intersection" | "difference"; _ }, its) ->
           objects_written (List.filter_map (function Stmt s -> Some s | Field _ -> None) its)
       | If_stmt (_, t, e) -> min (objects_written t) (objects_written e)
       | Included (_, b) -> objects_written b
@@ -883,14 +887,15 @@ and block ctx env scope (k : name) items =
   | "animation" -> animation ctx env scope k items
   | "physics" -> physics ctx env scope k items
   | "light" -> light ctx env scope k items
+  | "group" when scope.in_csg -> csg ctx env scope k items
   | "group" -> group ctx env scope k items
+  | "union" | "merge" | "intersection" | "difference" -> csg ctx env scope k items
   | kind when List.mem_assoc kind object_fields -> (
       match object_ ctx env scope k items with Some o -> add_object ctx scope k.nloc o | None -> ())
   | "material" -> fail k.nloc "a material is a value: write `material: material { … }` inside an object, or `let m = material { … }`"
-  | x when Hints.csg_block x <> None -> fail k.nloc "%s" (Option.get (Hints.csg_block x))
   | x ->
       fail k.nloc "unknown block `%s`%s" x
-        (hint x ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ List.map fst object_fields))
+        (hint x ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ csg_blocks @ List.map fst object_fields))
 
 and add_object ctx scope loc o =
   ctx.objects <- ctx.objects + 1;
@@ -1141,7 +1146,8 @@ and object_ ctx env scope (k : name) items =
   finish b;
   match shape with
   | None -> None
-  | Some p_shapes -> Some { p_kind = k.id; p_fields = fields; p_shapes; p_transform = t; p_tjson = tj; p_material = mat }
+  | Some p_shapes ->
+      Some { p_kind = k.id; p_fields = fields; p_shapes; p_transform = t; p_tjson = tj; p_material = mat; p_leaves = [||]; p_loc = k.nloc }
 
 and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list option =
   let built fields sh = if b.failed then (lazy [], None) else (fields, Some [ sh () ]) in
@@ -1248,6 +1254,57 @@ and group ctx env scope (k : name) items =
       in
       scope.sink := o :: !(scope.sink))
     (List.rev !(b.members))
+
+(* A CSG block: its members are combined into one object. A group inside a CSG block is
+   one member, the union of its own. *)
+and csg ctx env scope (k : name) items =
+  let b = collect ~csg:true ctx env scope k.id k.nloc ~holds_objects:true items in
+  check_names b common_fields;
+  let t, tj = transforms b in
+  let mat = object_material b in
+  let members = List.rev !(b.members) in
+  let op : Shape.csg_op =
+    match k.id with "merge" -> Merge | "intersection" -> Intersection | "difference" -> Difference | _ -> Union
+  in
+  let what = if k.id = "group" then "a group inside a CSG block" else Printf.sprintf "a `%s`" k.id in
+  if members = [] && not b.failed then bad b k.nloc "%s needs at least one object inside" what;
+  if op = Difference && List.length members = 1 then
+    bad b k.nloc "a `difference` needs a solid to subtract from and at least one to subtract";
+  (* A union shows every member's surface; the other operations (and a union that is
+     itself a member of one) need each member to have an inside. *)
+  let need_solid = op <> Union || scope.in_csg in
+  List.iter
+    (fun o ->
+      match o.p_shapes with
+      | [ sh ] when Shape.is_solid sh || not need_solid -> ()
+      | [ _ ] ->
+          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, cylinder with caps, plane as a half-space, CSG of solids)%s"
+            (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | kd -> Printf.sprintf "a %s" kd)
+            (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
+            (if o.p_kind = "cylinder" then "; give it `caps: true`" else "")
+      | _ -> bad b o.p_loc "this mesh cannot be a member of `%s`" k.id)
+    members;
+  finish b;
+  let shape = Shape.csg op (List.map (fun o -> (List.hd o.p_shapes, o.p_transform)) members) in
+  let leaves =
+    Array.concat
+      (List.map
+         (fun o ->
+           if Array.length o.p_leaves = 0 then [| o.p_material |]
+           else Array.map (function None -> o.p_material | Some _ as m -> m) o.p_leaves)
+         members)
+  in
+  let member_json o =
+    `Assoc
+      ([ ("kind", `String o.p_kind); ("fields", `Assoc (Lazy.force o.p_fields)); ("transforms", `List o.p_tjson) ]
+      @ match o.p_material with Some (m, d) -> [ ("material", material_json m d) ] | None -> [])
+  in
+  let fields = lazy [ ("members", `List (List.map member_json members)) ] in
+  let o =
+    { p_kind = (if k.id = "group" then "union" else k.id); p_fields = fields; p_shapes = [ shape ]; p_transform = t;
+      p_tjson = tj; p_material = mat; p_leaves = leaves; p_loc = k.nloc }
+  in
+  add_object ctx scope k.nloc o
 
 and body ctx env scope loc (n : name) items =
   if scope.in_group then fail n.nloc "a body cannot be inside a group or another body";
@@ -1412,7 +1469,7 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
       depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
       warnings = []; definitions = lazy (definitions stmts) }
   in
-  let scope = { sink = ref []; in_group = false } in
+  let scope = { sink = ref []; in_group = false; in_csg = false } in
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
@@ -1421,7 +1478,7 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
       let mj = lazy (material_json m d) in
       let transform = Option.value transform ~default:o.p_transform in
       { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
-        prims = List.map (Primitive.make ~transform m) o.p_shapes; body }
+        prims = List.map (Primitive.make ~transform ~leaf_materials:(Array.map (Option.map fst) o.p_leaves) m) o.p_shapes; body }
     in
     let statics = if objects then List.rev_map (fun o -> finish o) !(scope.sink) else [] in
     let bodies = List.rev ctx.bodies in

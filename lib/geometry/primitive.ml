@@ -1,29 +1,64 @@
-type t = { shape : Shape.t; transform : Transform.t; material : Material.t; bounds : Bbox.t option; shift : Vec3.t }
+type t = {
+  shape : Shape.t;
+  transform : Transform.t;
+  material : Material.t;
+  bounds : Bbox.t option;
+  shift : Vec3.t;
+  flip : bool;
+  leaves : t array;
+}
 
-let make ?(transform = Transform.identity) material shape =
+let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material shape =
   let bounds = Option.map (Bbox.transform transform) (Shape.bbox shape) in
-  { shape; transform; material; bounds; shift = Vec3.zero }
+  let leaves =
+    match shape with
+    | Shape.Csg { leaves; _ } ->
+        Array.mapi
+          (fun i (l : Shape.csg_leaf) ->
+            let m =
+              match leaf_materials with
+              | Some ms when i < Array.length ms -> Option.value ms.(i) ~default:material
+              | _ -> material
+            in
+            make ~transform:(Transform.then_ l.leaf_transform transform) ~flip:l.flipped m l.leaf_shape)
+          leaves
+    | _ -> [||]
+  in
+  (* A CSG object never shades with its own material (its leaves do); shadow queries read
+     it to tell opaque objects from transparent ones, so it is a transparent leaf's when
+     any leaf is transparent. *)
+  let material =
+    if Array.length leaves = 0 then material
+    else
+      match Array.find_opt (fun l -> l.material.Material.transparency <> 0.) leaves with
+      | Some l -> l.material
+      | None -> leaves.(0).material
+  in
+  { shape; transform; material; bounds; shift = Vec3.zero; flip; leaves }
 
 (* A shape placed without a transform is moved itself, so that it stays on the fast path;
    its texture space is the world before the move, [shift] away. A transformed one gets the
-   move appended to its transform, and its object space is its texture space as before. *)
-let translate (d : Vec3.t) o =
+   move appended to its transform, and its object space is its texture space as before. A
+   CSG object takes the move in its transform and moves each of its leaves. *)
+let rec translate (d : Vec3.t) o =
   let moved =
-    if Transform.is_identity o.transform then
+    if Array.length o.leaves > 0 then
+      let transform = Transform.then_ o.transform (Transform.translate d) in
+      { o with transform; bounds = Option.map (Bbox.transform transform) (Shape.bbox o.shape); leaves = Array.map (translate d) o.leaves }
+    else if Transform.is_identity o.transform then
       let shape = Shape.translate d o.shape in
       { o with shape; bounds = Shape.bbox shape; shift = Vec3.sub o.shift d }
-    else make ~transform:(Transform.then_ o.transform (Transform.translate d)) o.material o.shape
+    else { (make ~transform:(Transform.then_ o.transform (Transform.translate d)) ~flip:o.flip o.material o.shape) with shift = o.shift }
   in
   (* One kept out of the hierarchy (see [without_bounds]) stays out. *)
   if Option.is_none o.bounds then { moved with bounds = None } else moved
 
+let object_ray o r =
+  Ray.make_raw (Transform.inv_point o.transform (Ray.origin r)) (Transform.inv_vector o.transform (Ray.dir r))
+
 let intersect_into o r h =
   if Transform.is_identity o.transform then Shape.intersect_into o.shape r h
-  else
-    let r' =
-      Ray.make_raw (Transform.inv_point o.transform (Ray.origin r)) (Transform.inv_vector o.transform (Ray.dir r))
-    in
-    Shape.intersect_into o.shape r' h
+  else Shape.intersect_into o.shape (object_ray o r) h
 
 (* The world probe [q] in object space, written into [obj]: the object-space ray of
    [intersect_into], coordinate by coordinate, its reciprocal direction recomputed. *)
@@ -51,11 +86,15 @@ let probe_into o (q : Shape.probe) (obj : Shape.probe) =
 
 let intersect o r tmin tmax =
   if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax
+  else Shape.intersect o.shape (object_ray o r) tmin tmax
+
+let surface o r t =
+  if Array.length o.leaves = 0 then o
   else
-    let r' =
-      Ray.make_raw (Transform.inv_point o.transform (Ray.origin r)) (Transform.inv_vector o.transform (Ray.dir r))
-    in
-    Shape.intersect o.shape r' tmin tmax
+    let r' = if Transform.is_identity o.transform then r else object_ray o r in
+    o.leaves.(Shape.csg_leaf o.shape r' t)
+
+let is_csg o = Array.length o.leaves > 0
 
 let to_object o p = Transform.inv_point o.transform p
 
@@ -68,6 +107,11 @@ let uv o p =
   match o.shape with
   | Shape.Plane _ when shifted o -> Shape.uv o.shape (Vec3.add p o.shift)
   | _ -> Shape.uv o.shape (to_object o p)
-let normal o p = Transform.normal o.transform (Shape.normal o.shape p)
+
+let normal o p =
+  let n = Transform.normal o.transform (Shape.normal o.shape p) in
+  if o.flip then Vec3.neg n else n
+
+let materials o = if Array.length o.leaves = 0 then [ o.material ] else Array.to_list (Array.map (fun l -> l.material) o.leaves)
 
 let without_bounds o = { o with bounds = None }

@@ -7,15 +7,33 @@ type t = private {
   shape : Shape.t;
   transform : Transform.t;  (** object space → world space *)
   material : Material.t;
+      (** for a CSG object, which shades with its leaves' materials, a transparent leaf's
+          when there is one (else its first leaf's): what shadow queries look at *)
   bounds : Bbox.t option;  (** world-space bounds; [None] when unbounded *)
   shift : Vec3.t;
       (** what a world point adds to become a texture-space point, for an untransformed
           object that {!translate} moved; zero otherwise *)
+  flip : bool;  (** the normal is reversed (a surface subtracted by a CSG difference) *)
+  leaves : t array;
+      (** for a CSG shape, each of its simple surfaces placed in the world with its own
+          material and orientation (the shape's [leaves], in order); empty otherwise *)
 }
 
-val make : ?transform:Transform.t -> Material.t -> Shape.t -> t
+val make : ?transform:Transform.t -> ?flip:bool -> ?leaf_materials:Material.t option array -> Material.t -> Shape.t -> t
 (** [make ~transform material shape] places [shape] in the world by [transform] (default the
-    identity) and computes its world bounds. *)
+    identity) and computes its world bounds. [flip] reverses its normal. For a CSG shape,
+    [leaf_materials.(i)] is the material of leaf i, [material] where it is [None]. *)
+
+val surface : t -> Ray.t -> float -> t
+(** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
+    or later): [o] itself, or for a CSG object the leaf the crossing lies on, with its
+    material and orientation. Shading and shadows ask it before anything else. *)
+
+val is_csg : t -> bool
+(** Whether [o] is a CSG object (its normal and material are those of its {!surface}). *)
+
+val materials : t -> Material.t list
+(** The materials the object can shade with: its own, or its leaves' for a CSG object. *)
 
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect o r tmin tmax] is the nearest t in (tmin, tmax) of world ray [r] on [o], or

@@ -1,3 +1,5 @@
+type csg_op = Union | Merge | Intersection | Difference
+
 type t =
   | Sphere of { center : Vec3.t; radius : float }
   | Plane of { normal : Vec3.t; offset : float }
@@ -14,6 +16,10 @@ type t =
   | Box of { min : Vec3.t; max : Vec3.t }
   | Cylinder of { base : Vec3.t; axis : Vec3.t; height : float; radius : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Csg of { op : csg_op; members : csg_member array; leaves : csg_leaf array; cbounds : Bbox.t option }
+
+and csg_member = { shape : t; transform : Transform.t; first_leaf : int }
+and csg_leaf = { leaf_shape : t; leaf_transform : Transform.t; flipped : bool }
 
 (* An orthonormal pair (e1, e2) perpendicular to the unit vector n, with e1 × e2 = n
    up to orientation: e1 is x (or y when n is near x) made perpendicular to n. *)
@@ -306,9 +312,77 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
 
 type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
 
+(* Bounds of a disk of radius r around c in the plane of unit normal n: along axis i the
+   disk extends r·√(1 − n_i²). *)
+let disk_bbox (c : Vec3.t) (n : Vec3.t) r =
+  let e x = r *. Float.sqrt (Float.max 0. (1. -. (x *. x))) in
+  let h = Vec3.v (e n.x) (e n.y) (e n.z) in
+  { Bbox.min = Vec3.sub c h; max = Vec3.add c h }
+
+let bbox_of = function
+  | Sphere { center; radius } ->
+      let r = Vec3.v radius radius radius in
+      Some { Bbox.min = Vec3.sub center r; max = Vec3.add center r }
+  | Plane _ -> None
+  | Parallelogram { origin; edge1; edge2; _ } ->
+      Some (Bbox.of_points [ origin; Vec3.add origin edge1; Vec3.add origin edge2; Vec3.add (Vec3.add origin edge1) edge2 ])
+  | Triangle { a; b; c; _ } -> Some (Bbox.of_points [ a; b; c ])
+  | Paraboloid { vertex; axis; radius; height; _ } ->
+      let top = disk_bbox (Vec3.madd vertex height axis) axis radius in
+      Some (Bbox.union top { Bbox.min = vertex; max = vertex })
+  | Box { min; max } -> Some { Bbox.min; max }
+  | Cylinder { base; axis; height; radius; _ } ->
+      Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
+  | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
+  | Csg { cbounds; _ } -> cbounds
+
+(* --- Solids and CSG ------------------------------------------------------------------ *)
+
+(* Whether a point is inside a solid; a point on the boundary counts as inside. A plane
+   is the half-space n̂·P ≤ offset. *)
+let rec inside s (p : Vec3.t) =
+  match s with
+  | Sphere { center; radius } ->
+      let q = Vec3.sub p center in
+      Vec3.dot q q <= radius *. radius
+  | Plane { normal; offset } -> Vec3.dot normal p <= offset
+  | Box { min; max } -> p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z && p.z <= max.z
+  | Cylinder { base; axis; height; radius; caps = true; _ } ->
+      let q = Vec3.sub p base in
+      let y = Vec3.dot q axis in
+      y >= 0. && y <= height
+      &&
+      let xp = Vec3.madd q (-.y) axis in
+      Vec3.dot xp xp <= radius *. radius
+  | Csg { op; members; _ } -> (
+      let ins (m : csg_member) = inside m.shape (Transform.inv_point m.transform p) in
+      match op with
+      | Union | Merge -> Array.exists ins members
+      | Intersection -> Array.for_all ins members
+      | Difference ->
+          ins members.(0)
+          &&
+          let rec none i = i >= Array.length members || ((not (ins members.(i))) && none (i + 1)) in
+          none 1)
+  | Cylinder { caps = false; _ } | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
+
+let rec is_solid = function
+  | Sphere _ | Plane _ | Box _ -> true
+  | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
+  | Cylinder { caps; _ } -> caps
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
+
+(* A member's crossings are found by asking again past the last root; a shape has few
+   roots, and this bound only guards against a surface that would never stop. *)
+let max_roots = 64
+
+let[@inline] member_ray (m : csg_member) r =
+  if Transform.is_identity m.transform then r
+  else Ray.make_raw (Transform.inv_point m.transform (Ray.origin r)) (Transform.inv_vector m.transform (Ray.dir r))
+
 (* The common shapes' tests are inlined here, reading the interval from and storing the
    root into the caller's record (a float record is flat): no float is boxed. *)
-let intersect_into s r (h : hit) =
+let rec intersect_into s r (h : hit) =
   let tmin = h.tmin and tmax = h.tmax in
   match s with
   | Sphere { center; radius } -> h.t <- intersect_sphere center radius r tmin tmax
@@ -319,6 +393,57 @@ let intersect_into s r (h : hit) =
   | Paraboloid { vertex; axis; height; k; _ } -> h.t <- intersect_paraboloid vertex axis height k r tmin tmax
   | Cylinder { base; axis; height; radius; caps; _ } -> h.t <- intersect_cylinder base axis height radius caps r tmin tmax
   | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
+  | Csg _ -> h.t <- (match csg_crossings s r tmin with (t, _) :: _ when t < tmax -> t | _ -> Float.infinity)
+
+and intersect s r tmin tmax =
+  let h = { tmin; tmax; t = Float.infinity } in
+  intersect_into s r h;
+  h.t
+
+(* Every root of member [m] after [tmin], each paired with the leaf whose surface it lies
+   on, prepended to [acc]. *)
+and member_crossings (m : csg_member) r tmin acc =
+  let r' = member_ray m r in
+  match m.shape with
+  | Csg _ -> List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc (csg_crossings m.shape r' tmin)
+  | s ->
+      let rec go acc tmin k =
+        let t = intersect s r' tmin Float.infinity in
+        if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1) else acc
+      in
+      go acc tmin 0
+
+(* The crossings of the combined set's boundary after [tmin], nearest first, each with its
+   leaf. Every member's roots are merged in order; between two consecutive roots (and
+   after the last) nothing changes, so the inside of the combined set is tested once per
+   gap, at its middle, and a root where it changes is a crossing. The answer does not
+   depend on tmin (only which roots are kept): the first gap's state is sampled within
+   the same gap whatever tmin is. Roots are computed up to infinity, so tmax plays no
+   part at all. *)
+and csg_crossings s r tmin =
+  match s with
+  | Csg { op; members; _ } -> (
+      let ev = Array.fold_left (fun acc m -> member_crossings m r tmin acc) [] members in
+      let ev =
+        List.stable_sort
+          (fun ((a : float), (i : int)) (b, j) -> if a < b then -1 else if a > b then 1 else Int.compare i j)
+          ev
+      in
+      let state t = inside s (Ray.at r t) in
+      let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
+      let rec walk before = function
+        | [] -> []
+        | (t, leaf) :: rest ->
+            let rest = skip t rest in
+            let probe = match rest with (t', _) :: _ -> 0.5 *. (t +. t') | [] -> t +. Float.max 1. (Float.abs t) in
+            let after = state probe in
+            if after <> before then (t, leaf) :: walk after rest else walk before rest
+      in
+      match ev with
+      | [] -> []
+      | _ when op = Union -> ev (* every member's surface, as a group *)
+      | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) ev)
+  | _ -> List.map (fun t -> (t, 0)) (let t = intersect s r tmin Float.infinity in if t < Float.infinity then [ t ] else [])
 
 type probe = {
   mutable ox : float;
@@ -351,15 +476,68 @@ let probe_into s (q : probe) =
       q.p_t <- parallelogram_s origin edge1 edge2 pn w pd q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
   | Disk { center; normal; radius; _ } -> q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Paraboloid _ | Cylinder _ ->
+  | Paraboloid _ | Cylinder _ | Csg _ ->
       let h = { tmin; tmax; t = Float.infinity } in
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
       q.p_t <- h.t
 
-let intersect s r tmin tmax =
-  let h = { tmin; tmax; t = Float.infinity } in
-  intersect_into s r h;
-  h.t
+let csg op (ms : (t * Transform.t) list) =
+  let leaves = ref [] and n = ref 0 in
+  let add l =
+    leaves := l :: !leaves;
+    incr n
+  in
+  let members =
+    List.mapi
+      (fun i (shape, transform) ->
+        let first_leaf = !n in
+        let subtracted = op = Difference && i > 0 in
+        (match shape with
+         | Csg { leaves = ls; _ } ->
+             Array.iter
+               (fun l ->
+                 add { l with leaf_transform = Transform.then_ l.leaf_transform transform; flipped = l.flipped <> subtracted })
+               ls
+         | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
+        { shape; transform; first_leaf })
+      ms
+    |> Array.of_list
+  in
+  if Array.length members = 0 then invalid_arg "Shape.csg: no member";
+  let boxes = Array.map (fun (m : csg_member) -> Option.map (Bbox.transform m.transform) (bbox_of m.shape)) members in
+  let known = List.filter_map Fun.id (Array.to_list boxes) in
+  let cbounds =
+    match op with
+    | Union | Merge -> if Array.exists Option.is_none boxes then None else Some (List.fold_left Bbox.union Bbox.empty known)
+    | Difference -> boxes.(0)
+    | Intersection -> (
+        match known with
+        | [] -> None
+        | b :: rest ->
+            Some
+              (List.fold_left
+                 (fun (a : Bbox.t) (b : Bbox.t) -> { Bbox.min = Vec3.max a.min b.min; max = Vec3.min a.max b.max })
+                 b rest))
+  in
+  Csg { op; members; leaves = Array.of_list (List.rev !leaves); cbounds }
+
+let csg_leaf s r t =
+  match s with
+  | Csg _ ->
+      (* The crossings from 0 (where every shading ray starts) or from before t: the same
+         roots as the query that found t, so t is among them. *)
+      let tmin = if t > 0. then 0. else t -. Float.max 1. (Float.abs t) in
+      let best = ref 0 and bd = ref Float.infinity in
+      List.iter
+        (fun (t', l) ->
+          let d = Float.abs (t' -. t) in
+          if d < !bd then begin
+            bd := d;
+            best := l
+          end)
+        (csg_crossings s r tmin);
+      !best
+  | _ -> 0
 
 (* Barycentric coordinates (u, v, w) of p (projected onto the triangle's plane), with
    p = u·a + v·b + w·c. *)
@@ -434,6 +612,7 @@ let normal s p =
           let n = Vec3.normalize (Vec3.madd q (-.Vec3.dot q axis) axis) in
           if Vec3.dot n n = 0. then axis else n)
   | Disk { normal; _ } -> normal
+  | Csg _ -> invalid_arg "Shape.normal: a CSG object has no surface of its own; ask its leaf (Shape.csg_leaf)"
 
 let frac x = x -. Float.floor x
 let clamp01 x = if x > 0. then if x < 1. then x else 1. else 0.
@@ -488,29 +667,9 @@ let uv s (p : Vec3.t) =
       | 0 | 1 -> (f min.z max.z p.z, f min.y max.y p.y)
       | 2 | 3 -> (f min.x max.x p.x, f min.z max.z p.z)
       | _ -> (f min.x max.x p.x, f min.y max.y p.y))
+  | Csg _ -> (0., 0.)
 
-(* Bounds of a disk of radius r around c in the plane of unit normal n: along axis i the
-   disk extends r·√(1 − n_i²). *)
-let disk_bbox (c : Vec3.t) (n : Vec3.t) r =
-  let e x = r *. Float.sqrt (Float.max 0. (1. -. (x *. x))) in
-  let h = Vec3.v (e n.x) (e n.y) (e n.z) in
-  { Bbox.min = Vec3.sub c h; max = Vec3.add c h }
-
-let bbox = function
-  | Sphere { center; radius } ->
-      let r = Vec3.v radius radius radius in
-      Some { Bbox.min = Vec3.sub center r; max = Vec3.add center r }
-  | Plane _ -> None
-  | Parallelogram { origin; edge1; edge2; _ } ->
-      Some (Bbox.of_points [ origin; Vec3.add origin edge1; Vec3.add origin edge2; Vec3.add (Vec3.add origin edge1) edge2 ])
-  | Triangle { a; b; c; _ } -> Some (Bbox.of_points [ a; b; c ])
-  | Paraboloid { vertex; axis; radius; height; _ } ->
-      let top = disk_bbox (Vec3.madd vertex height axis) axis radius in
-      Some (Bbox.union top { Bbox.min = vertex; max = vertex })
-  | Box { min; max } -> Some { Bbox.min; max }
-  | Cylinder { base; axis; height; radius; _ } ->
-      Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
-  | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
+let bbox = bbox_of
 
 (* Every variant moved by d; precomputed directions, normals and frames stay as they were
    (they do not depend on the position), offsets that do are recomputed. *)
@@ -525,6 +684,10 @@ let translate (d : Vec3.t) = function
   | Box { min; max } -> Box { min = Vec3.add min d; max = Vec3.add max d }
   | Cylinder c -> Cylinder { c with base = Vec3.add c.base d }
   | Disk k -> Disk { k with center = Vec3.add k.center d }
+  | Csg { op; members; _ } ->
+      csg op
+        (Array.to_list
+           (Array.map (fun (m : csg_member) -> (m.shape, Transform.then_ m.transform (Transform.translate d))) members))
 
 let name = function
   | Sphere _ -> "sphere"
@@ -536,3 +699,7 @@ let name = function
   | Box _ -> "box"
   | Cylinder _ -> "cylinder"
   | Disk _ -> "disk"
+  | Csg { op = Union; _ } -> "union"
+  | Csg { op = Merge; _ } -> "merge"
+  | Csg { op = Intersection; _ } -> "intersection"
+  | Csg { op = Difference; _ } -> "difference"

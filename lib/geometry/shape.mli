@@ -11,6 +11,12 @@
     Build shapes with the smart constructors: the variants hold precomputed values
     (unit normals, reciprocals, frames) that the constructors keep consistent. *)
 
+type csg_op =
+  | Union  (** every member's surface; inside where any member is *)
+  | Merge  (** the boundary of the union: surfaces inside another member vanish *)
+  | Intersection  (** points inside every member *)
+  | Difference  (** points inside the first member and inside none of the others *)
+
 type t = private
   | Sphere of { center : Vec3.t; radius : float }
   | Plane of { normal : Vec3.t; offset : float }  (** unit normal; n̂·P = offset *)
@@ -51,6 +57,24 @@ type t = private
     }
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
       (** unit normal; (e1, e2) a frame in the disk's plane *)
+  | Csg of {
+      op : csg_op;
+      members : csg_member array;  (** at least one *)
+      leaves : csg_leaf array;  (** every simple surface of the tree, depth first *)
+      cbounds : Bbox.t option;  (** the intersection's overlap, the difference's first member's *)
+    }  (** constructive solid geometry over solids placed by their own transforms *)
+
+and csg_member = {
+  shape : t;
+  transform : Transform.t;  (** member space → the CSG's space *)
+  first_leaf : int;  (** index in [leaves] of this member's first simple surface *)
+}
+
+and csg_leaf = {
+  leaf_shape : t;  (** never a [Csg] *)
+  leaf_transform : Transform.t;  (** leaf space → the outermost CSG's space *)
+  flipped : bool;  (** subtracted an odd number of times: its normal points the other way *)
+}
 
 val sphere : center:Vec3.t -> radius:float -> t
 (** The sphere |P − center| = radius; the radius must be positive. *)
@@ -91,6 +115,28 @@ val cylinder : base:Vec3.t -> top:Vec3.t -> radius:float -> caps:bool -> t
 
 val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
 (** The flat disk of [radius] around [center] in the plane of [normal] (need not be unit). *)
+
+val csg : csg_op -> (t * Transform.t) list -> t
+(** [csg op members] combines solids, each placed by its transform; members of
+    [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
+    solids ({!is_solid}); at least one member. *)
+
+val is_solid : t -> bool
+(** Whether the shape has an inside: sphere, box, capped cylinder, CSG, and the plane as the
+    half-space n̂·P ≤ offset. *)
+
+val inside : t -> Vec3.t -> bool
+(** [inside s p] is whether [p] is inside solid [s], the boundary included; [false] for
+    shapes that have no inside. *)
+
+val csg_crossings : t -> Ray.t -> float -> (float * int) list
+(** [csg_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
+    nearest first, with the index of the leaf the crossing lies on (0 for a simple
+    shape). It allocates: CSG objects are not on the allocation-free path. *)
+
+val csg_leaf : t -> Ray.t -> float -> int
+(** [csg_leaf s r t] is the index in [leaves] of the surface that the crossing of [r] at
+    [t] (found by {!intersect} from tmin = 0 or later) lies on; 0 for a simple shape. *)
 
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect s r tmin tmax] is the smallest root t of [r] on [s] with tmin < t < tmax,
@@ -133,7 +179,7 @@ val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the plane's
     own normal for flat shapes, and the interpolated vertex normal for smooth mesh
-    triangles. *)
+    triangles. Raises [Invalid_argument] on a [Csg]: ask the leaf ({!csg_leaf}). *)
 
 val uv : t -> Vec3.t -> float * float
 (** [uv s p] is the texture coordinate of surface point [p]: spheres longitude and

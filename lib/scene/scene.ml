@@ -35,7 +35,7 @@ let view_camera origin c = if is_zero origin then c else Camera.translate (Vec3.
 let view_lights origin lights = if is_zero origin then lights else Array.map (Light.translate (Vec3.neg origin)) lights
 
 let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
-  let mats = Array.map (fun (o : Primitive.t) -> o.material) objects in
+  let mats = Array.of_list (List.concat_map Primitive.materials (Array.to_list objects)) in
   let any f = Array.exists f mats in
   { Features.shadows = s.shadows && Array.length lights > 0;
     soft_shadows = s.shadows && Array.exists Light.is_area lights;
@@ -63,7 +63,7 @@ let rec first_error = function
 let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () = first_error (List.map (fun (o : Primitive.t) -> Material.validate o.material) objects) in
+  let* () = first_error (List.concat_map (fun o -> List.map Material.validate (Primitive.materials o)) objects) in
   let lights = Array.of_list lights and objects = Array.of_list objects in
   let origin = origin_of camera in
   let objects = if is_zero origin then objects else Array.map (Primitive.translate (Vec3.neg origin)) objects in

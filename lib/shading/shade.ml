@@ -35,6 +35,8 @@ let transparent_into (sc : Scene.t) acc origin dir dist =
   let (c : Color.t) =
     Accel.fold_transparent_hits sc.accel r 0. dist
       (fun o t acc ->
+        (* A CSG object's crossing shades with the leaf it lies on. *)
+        let o = Primitive.surface o r t in
         let m = o.material in
         let p = Ray.at r t in
         let po = Primitive.to_object o p in
@@ -200,6 +202,7 @@ let rec trace_b (sc : Scene.t) st ray depth =
       else Settings.fog_segment f Float.infinity (Settings.background_along sc.settings (Ray.dir ray))
 
 and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
+  let o = Primitive.surface o ray t in
   let s = sc.settings in
   let m = o.material in
   let d = Ray.dir ray in
