@@ -10,14 +10,6 @@ let directive = function
   | "macro" -> "`#macro` is not used in .rts scripts: write `fn NAME(a, b) { … }`"
   | d -> Printf.sprintf "`#%s` is not used in .rts scripts: there are no `#` directives (comments are `//` or `/* */`)" d
 
-(* Until the language has CSG: the POV-Ray operations, pointed at group. *)
-let csg_block = function
-  | ("union" | "merge" | "difference" | "intersection") as k ->
-      Some
-        (Printf.sprintf
-           "`%s` is not available: lancer has no CSG operations yet; use `group { … }` to put objects together" k)
-  | _ -> None
-
 let keyword_as_name k =
   Printf.sprintf "`%s` is a keyword%s: it cannot be a name; choose another%s." k
     (if k = "step" then " (as in `for i in 0 to 10 step 2`)" else "")

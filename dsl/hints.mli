@@ -1,7 +1,7 @@
 (** Hints for habits brought from other scene languages (mostly POV-Ray) and for common
     slips: each is a sentence added to an error whose cause is likely that habit. All of
     them live here, so that one goes away in one place when the language grows the
-    feature (CSG, say). *)
+    feature. *)
 
 val angle_vector : string
 (** For a [<] where a value was expected: vectors are written (x, y, z). *)
@@ -9,11 +9,6 @@ val angle_vector : string
 val directive : string -> string
 (** [directive d] is the message for [#d] ([#declare], [#include], [#if], …), which
     the language does not have: what to write instead. *)
-
-val csg_block : string -> string option
-(** [csg_block k] is the message for a block named [k] when [k] is a CSG operation of
-    POV-Ray ([union], [merge], [difference], [intersection]): use a group. [None]
-    otherwise. *)
 
 val keyword_as_name : string -> string
 (** [keyword_as_name k] says that keyword [k] (as [step]) cannot be used as a name. *)

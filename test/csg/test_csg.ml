@@ -1,0 +1,210 @@
+(* CSG: closed-form crossings, the boundary of the combined set against its inside
+   function sampled along rays, the BVH against a brute-force scan, and a hollow glass
+   sphere against the same picture made from its two surfaces. *)
+
+open Lancer
+
+let seeded ?(seed = 20261201) t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
+let close ?(eps = 1e-12) what want got = if Float.abs (want -. got) > eps then Alcotest.failf "%s: want %.17g, got %.17g" what want got
+let sphere x y z r = Shape.sphere ~center:(Vec3.v x y z) ~radius:r
+let id = Transform.identity
+let ray o d = Ray.make o d
+
+(* The lens: two unit spheres whose centres are 1 apart. Along their common axis it spans
+   z ∈ [−0.5, 0.5]: a ray from z = −5 enters at t = 4.5 (on the far sphere) and leaves at
+   5.5 (on the near one). *)
+let lens () = Shape.csg Intersection [ (sphere 0. 0. (-0.5) 1., id); (sphere 0. 0. 0.5 1., id) ]
+
+let test_lens () =
+  let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
+  match Shape.csg_crossings (lens ()) r 0. with
+  | [ (t0, l0); (t1, l1) ] ->
+      close "entry" 4.5 t0;
+      close "exit" 5.5 t1;
+      Alcotest.(check (pair int int)) "entry on the sphere at +z, exit on the one at −z" (1, 0) (l0, l1);
+      close "nearest hit" 4.5 (Shape.intersect (lens ()) r 0. Float.infinity)
+  | l -> Alcotest.failf "want two crossings, got %d" (List.length l)
+
+let test_lens_off_axis () =
+  (* Off the axis by 0.5 along x: each sphere's surface at x = 0.5 is z = ±0.5 ∓ √0.75. *)
+  let r = ray (Vec3.v 0.5 0. (-5.)) Vec3.z_axis in
+  let h = Float.sqrt 0.75 in
+  match Shape.csg_crossings (lens ()) r 0. with
+  | [ (t0, _); (t1, _) ] ->
+      close ~eps:1e-12 "entry" (5. +. 0.5 -. h) t0;
+      close ~eps:1e-12 "exit" (5. -. 0.5 +. h) t1
+  | l -> Alcotest.failf "want two crossings, got %d" (List.length l)
+
+(* A box minus a sphere that bites into its −x face: the ray along +x meets the cavity's
+   wall at x = −0.5 first, and the normal there points into the cavity (−x). *)
+let test_cavity_normal () =
+  let red = { Material.default with color = Color.v 1. 0. 0. } and blue = { Material.default with color = Color.v 0. 0. 1. } in
+  let shape = Shape.csg Difference [ (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id); (sphere (-1.) 0. 0. 0.5, id) ] in
+  let p = Primitive.make ~leaf_materials:[| None; Some blue |] red shape in
+  let r = ray (Vec3.v (-5.) 0.1 0.) Vec3.x_axis in
+  let t = Primitive.intersect p r 0. Float.infinity in
+  let want = 5. -. 1. +. Float.sqrt ((0.5 *. 0.5) -. (0.1 *. 0.1)) in
+  close "hit on the cavity wall" want t;
+  let s = Primitive.surface p r t in
+  let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
+  if not (n.x < -0.9) then Alcotest.failf "the normal (%g, %g, %g) does not point into the cavity" n.x n.y n.z;
+  Alcotest.(check bool) "the cavity wall shades with the sphere's material" true (s.material == blue);
+  (* Through the middle of the solid part: the box's own face, with the CSG's material. *)
+  let r = ray (Vec3.v (-5.) 0.9 0.9) Vec3.x_axis in
+  let t = Primitive.intersect p r 0. Float.infinity in
+  close "hit on the box face" 4. t;
+  let s = Primitive.surface p r t in
+  Alcotest.(check bool) "the box face shades with the CSG's material" true (s.material == red);
+  let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
+  if not (n.x < -0.9) then Alcotest.failf "the box face's normal (%g, %g, %g) is not −x" n.x n.y n.z
+
+(* A plane member is the half-space below it: a box cut by the plane y = 0 keeps its lower
+   half, and a ray from above meets the cut at y = 0. *)
+let test_plane_half_space () =
+  let shape =
+    Shape.csg Intersection
+      [ (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id); (Shape.plane ~normal:Vec3.y_axis ~offset:0., id) ]
+  in
+  close "the cut" 5. (Shape.intersect shape (ray (Vec3.v 0.2 5. 0.3) (Vec3.v 0. (-1.) 0.)) 0. Float.infinity)
+
+(* The hollow sphere's four walls: a shadow ray through it crosses the outer wall, the
+   inner wall twice and the outer wall again. *)
+let test_shadow_crosses_both_walls () =
+  let shell = Shape.csg Difference [ (sphere 0. 0. 0. 1., id); (sphere 0. 0. 0. 0.8, id) ] in
+  let glass = { Material.default with transparency = 0.9; ior = 1.5 } in
+  let acc = Accel.build [| Primitive.make glass shell |] in
+  let n = ref 0 in
+  let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
+  ignore (Accel.fold_hits acc r 0. 10. (fun _ _ c -> incr n; c) Color.white);
+  Alcotest.(check int) "crossings" 4 !n
+
+(* --- Random CSG trees ------------------------------------------------------------- *)
+
+let rnd st lo hi = lo +. Random.State.float st (hi -. lo)
+
+let rec random_tree st depth =
+  if depth = 0 || Random.State.int st 3 = 0 then
+    let c = Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) in
+    if Random.State.bool st then Shape.sphere ~center:c ~radius:(rnd st 0.3 1.2)
+    else
+      let h = Vec3.v (rnd st 0.2 1.) (rnd st 0.2 1.) (rnd st 0.2 1.) in
+      Shape.box ~min:(Vec3.sub c h) ~max:(Vec3.add c h)
+  else
+    let op : Shape.csg_op = match Random.State.int st 4 with 0 -> Union | 1 -> Merge | 2 -> Intersection | _ -> Difference in
+    let n = 2 + Random.State.int st 2 in
+    let member () =
+      let tf =
+        if Random.State.bool st then id
+        else
+          Transform.then_
+            (Transform.rotate (Vec3.v (rnd st 0. 90.) (rnd st 0. 90.) (rnd st 0. 90.)))
+            (Transform.translate (Vec3.v (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5)))
+      in
+      (random_tree st (depth - 1), tf)
+    in
+    Shape.csg op (List.init n (fun _ -> member ()))
+
+let random_ray st =
+  let o = Vec3.smul 5. (Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.))) in
+  let target = Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) in
+  ray o (Vec3.normalize (Vec3.sub target o))
+
+(* The nearest hit is where the combined inside function first changes along the ray:
+   sampled every 0.002 over [0, 12], the first change lies between two samples that
+   bracket the hit. A union shows every member's surface, so its first crossing is where
+   any member's inside first changes; for the other operations, the combined one. *)
+let test_first_sign_change =
+  QCheck.Test.make ~name:"the hit of a random CSG tree is the first change of its inside along the ray" ~count:400
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let s = random_tree st 3 in
+      let r = random_ray st in
+      let inside =
+        match s with
+        | Shape.Csg { op = Union; members; _ } ->
+            (* Any member changing: compare the whole vector of members' insides. *)
+            fun t -> List.map (fun (m : Shape.csg_member) -> Shape.inside m.shape (Transform.inv_point m.transform (Ray.at r t))) (Array.to_list members)
+        | _ -> fun t -> [ Shape.inside s (Ray.at r t) ]
+      in
+      let dt = 0.002 in
+      let t_hit = Shape.intersect s r 0. Float.infinity in
+      let s0 = inside 0. in
+      let rec first k = if k > 6000 then None else if inside (Float.of_int k *. dt) <> s0 then Some k else first (k + 1) in
+      match first 1 with
+      | None ->
+          (* No change seen: no hit, or one on a feature thinner than a sample step. *)
+          QCheck.assume (t_hit = Float.infinity || t_hit > 12.);
+          true
+      | Some k ->
+          let lo = Float.of_int (k - 1) *. dt and hi = Float.of_int k *. dt in
+          if t_hit >= lo -. 1e-9 && t_hit <= hi +. 1e-9 then true
+          else QCheck.Test.fail_reportf "hit at %.9g, first change of the inside in [%.9g, %.9g]" t_hit lo hi)
+
+(* The BVH over CSG objects gives the brute-force scan's nearest hits. *)
+let test_bvh_brute =
+  QCheck.Test.make ~name:"the BVH's nearest hit among CSG objects is the brute-force scan's" ~count:40
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let prims =
+        Array.init 24 (fun _ ->
+            let tf = Transform.translate (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.)) in
+            Primitive.make ~transform:tf Material.default (random_tree st 2))
+      in
+      let bvh = Accel.build prims and brute = Accel.build (Array.map Primitive.without_bounds prims) in
+      assert (Accel.uses_bvh bvh);
+      List.for_all
+        (fun _ ->
+          let o = Vec3.v (rnd st (-12.) 12.) (rnd st (-12.) 12.) (-20.) in
+          let r = ray o (Vec3.normalize (Vec3.sub (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.)) o)) in
+          let a = Accel.nearest bvh r 0. Float.infinity and b = Accel.nearest brute r 0. Float.infinity in
+          if a = b then true
+          else QCheck.Test.fail_reportf "BVH (%g, %d), brute force (%g, %d)" (fst a) (snd a) (fst b) (snd b))
+        (List.init 200 Fun.id))
+
+(* --- A hollow glass sphere -------------------------------------------------------- *)
+
+let hollow_scene =
+  {|settings { width: 64, height: 48, depth: 6 }
+camera { position: (0, 1.5, -5), look_at: (0, 0.3, 0) }
+light { position: (-4, 6, -5) }
+plane { normal: (0, 1, 0), offset: -1, material: material { texture: checker((1, 1, 1), (0.1, 0.1, 0.1), 0.5) } }
+difference {
+  sphere { center: (0, 0.2, 0), radius: 1 }
+  sphere { center: (0, 0.2, 0), radius: 0.8 }
+  material: material { color: (0.9, 0.95, 1), transparency: 0.85, reflection: 0.05, ior: 1.5 }
+}
+|}
+
+(* The same picture without CSG: the outer sphere, and the inner one with its normal
+   reversed (pointing into the cavity), both of the glass. *)
+let test_hollow_glass () =
+  let prog = match Lancer_dsl.Dsl.load_string hollow_scene with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
+  let sc = match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "the scene does not evaluate" in
+  let floor = sc.objects.(0) and shell = sc.objects.(1) in
+  Alcotest.(check bool) "the shell is one CSG object" true (Primitive.is_csg shell);
+  let glass = shell.leaves.(0).material in
+  let c = Vec3.v 0. 0.2 0. in
+  let plain =
+    Scene.make_exn ~settings:sc.settings ~camera:sc.camera ~lights:(Array.to_list sc.lights)
+      [ floor; Primitive.make glass (Shape.sphere ~center:c ~radius:1.); Primitive.make ~flip:true glass (Shape.sphere ~center:c ~radius:0.8) ]
+  in
+  let a, _ = Render.render sc and b, _ = Render.render plain in
+  let bytes im = Image.to_bytes sc.settings.gamma im in
+  Alcotest.(check bool) "pixel for pixel" true (Bytes.equal (bytes a) (bytes b));
+  (* And the shell is not the solid ball (the test can tell them apart). *)
+  let solid = Scene.make_exn ~settings:sc.settings ~camera:sc.camera ~lights:(Array.to_list sc.lights) [ floor; Primitive.make glass (Shape.sphere ~center:c ~radius:1.) ] in
+  let d, _ = Render.render solid in
+  Alcotest.(check bool) "differs from a solid glass ball" false (Bytes.equal (bytes a) (bytes d))
+
+let () =
+  Alcotest.run "csg"
+    [ ( "closed form",
+        [ Alcotest.test_case "a ray along the lens's axis enters at 4.5 and leaves at 5.5" `Quick test_lens;
+          Alcotest.test_case "a ray off the lens's axis crosses where the spheres say" `Quick test_lens_off_axis;
+          Alcotest.test_case "a box minus a sphere: the cavity's wall faces into the cavity" `Quick test_cavity_normal;
+          Alcotest.test_case "a plane member is the half-space below it" `Quick test_plane_half_space;
+          Alcotest.test_case "a shadow ray crosses both walls of a hollow sphere" `Quick test_shadow_crosses_both_walls ] );
+      ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
+      ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
