@@ -406,7 +406,8 @@ let object_fields =
     ("parallelogram", [ "origin"; "edge1"; "edge2" ]); ("triangle", [ "a"; "b"; "c" ]);
     ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]); ("box", [ "min"; "max" ]);
     ("cylinder", [ "base"; "top"; "radius"; "caps" ]); ("disk", [ "center"; "normal"; "radius" ]);
-    ("mesh", [ "file"; "smooth" ]) ]
+    ("mesh", [ "file"; "smooth" ]); ("cone", [ "base"; "base_radius"; "top"; "top_radius"; "caps" ]);
+    ("torus", [ "center"; "major"; "minor"; "axis" ]) ]
 
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
@@ -1199,6 +1200,26 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       built
         (lazy [ ("base", vjson base); ("top", vjson top); ("radius", `Float radius); ("caps", `Bool caps) ])
         (fun () -> Shape.cylinder ~base ~top ~radius ~caps)
+  | "cone" ->
+      let base = point b "base" ~required:true ~default:Vec3.zero in
+      let top = point b "top" ~required:true ~default:Vec3.y_axis in
+      let radius n = check_range b n (fun x -> x >= 0. && x <= 1e150) "must be a radius in [0, 1e150]" (number b ~required:true n ~default:1.) in
+      let r0 = radius "base_radius" and r1 = radius "top_radius" in
+      let caps = boolean b "caps" ~default:true in
+      if not b.failed && Vec3.length (Vec3.sub top base) < 1e-150 then bad b b.kloc "the base and top of a cone must differ";
+      if not b.failed && r0 < 1e-150 && r1 < 1e-150 then bad b b.kloc "a cone needs a `base_radius` or a `top_radius` greater than 0";
+      built
+        (lazy
+          [ ("base", vjson base); ("base_radius", `Float r0); ("top", vjson top); ("top_radius", `Float r1); ("caps", `Bool caps) ])
+        (fun () -> Shape.cone ~base ~top ~base_radius:r0 ~top_radius:r1 ~caps)
+  | "torus" ->
+      let center = point b "center" ~required:true ~default:Vec3.zero in
+      let major = length b "major" ~required:true ~default:1. in
+      let minor = length b "minor" ~required:true ~default:0.25 in
+      let axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
+      built
+        (lazy [ ("center", vjson center); ("major", `Float major); ("minor", `Float minor); ("axis", vjson axis) ])
+        (fun () -> Shape.torus ~center ~axis ~major ~minor)
   | "disk" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let normal = direction b "normal" ~required:true in
@@ -1278,10 +1299,10 @@ and csg ctx env scope (k : name) items =
       match o.p_shapes with
       | [ sh ] when Shape.is_solid sh || not need_solid -> ()
       | [ _ ] ->
-          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, cylinder with caps, plane as a half-space, CSG of solids)%s"
-            (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | kd -> Printf.sprintf "a %s" kd)
+          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone with caps, plane as a half-space, CSG of solids)%s"
+            (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | "cone" -> "a cone without caps" | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
-            (if o.p_kind = "cylinder" then "; give it `caps: true`" else "")
+            (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`" else "")
       | _ -> bad b o.p_loc "this mesh cannot be a member of `%s`" k.id)
     members;
   finish b;

@@ -16,6 +16,8 @@ type t =
   | Box of { min : Vec3.t; max : Vec3.t }
   | Cylinder of { base : Vec3.t; axis : Vec3.t; height : float; radius : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Cone of { base : Vec3.t; axis : Vec3.t; height : float; r0 : float; r1 : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
+  | Torus of { center : Vec3.t; axis : Vec3.t; major : float; minor : float; e1 : Vec3.t; e2 : Vec3.t }
   | Csg of { op : csg_op; members : csg_member array; leaves : csg_leaf array; cbounds : Bbox.t option }
 
 and csg_member = { shape : t; transform : Transform.t; first_leaf : int }
@@ -58,6 +60,18 @@ let cylinder ~base ~top ~radius ~caps =
   let axis = Vec3.smul (1. /. height) d in
   let e1, e2 = frame axis in
   Cylinder { base; axis; height; radius; caps; e1; e2 }
+
+let cone ~base ~top ~base_radius ~top_radius ~caps =
+  let d = Vec3.sub top base in
+  let height = Vec3.length d in
+  let axis = Vec3.smul (1. /. height) d in
+  let e1, e2 = frame axis in
+  Cone { base; axis; height; r0 = base_radius; r1 = top_radius; caps; e1; e2 }
+
+let torus ~center ~axis ~major ~minor =
+  let axis = Vec3.normalize axis in
+  let e1, e2 = frame axis in
+  Torus { center; axis; major; minor; e1; e2 }
 
 let disk ~center ~normal ~radius =
   let normal = Vec3.normalize normal in
@@ -310,6 +324,149 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
     let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
     Float.min side (Float.min t_lo t_hi)
 
+(* Cone side: |x⊥| = r(y') with r linear from r0 at y' = 0 to r1 at y' = h, kept for
+   0 ≤ y' ≤ h (where r ≥ 0, so the other nappe of the double cone is cut away). With
+   k = (r1 − r0)/h and ρ(t) = r0 + k·(f_y + t·d_y): a = |d⊥|² − k²·d_y²,
+   b = 2·(f⊥·d⊥ − k·d_y·ρ₀), c = |f⊥|² − ρ₀², solved by the stable formula. Caps are
+   disks (none at a point end). *)
+let intersect_cone base axis height r0 r1 caps r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  let f = Vec3.sub o base in
+  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
+  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
+  let k = (r1 -. r0) /. height in
+  let rho0 = r0 +. (k *. fy) in
+  let a = Vec3.dot dp dp -. (k *. k *. dy *. dy) in
+  let b = 2. *. (Vec3.dot fp dp -. (k *. dy *. rho0)) in
+  let c = Vec3.dot fp fp -. (rho0 *. rho0) in
+  let t0, t1 = roots a b c in
+  let ok t =
+    in_range t tmin tmax
+    &&
+    let y = fy +. (t *. dy) in
+    y >= 0. && y <= height
+  in
+  let side = if ok t0 then t0 else if ok t1 then t1 else Float.infinity in
+  if not caps then side
+  else
+    let tmax' = Float.min side tmax in
+    let t_lo = if r0 > 0. then disk_hit base axis r0 r tmin tmax' else Float.infinity in
+    let tmax' = Float.min t_lo tmax' in
+    let t_hi = if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax' else Float.infinity in
+    Float.min side (Float.min t_lo t_hi)
+
+(* Torus: with q = P − C, y = q·axis, the surface is (|q|² + R² − r²)² = 4R²(|q|² − y²),
+   a quartic along the ray. To keep it well scaled whatever the distance, the ray is
+   first restarted at p₀, its point nearest the centre, with a unit direction u, so that
+   p(s) = p₀ + s·u with p₀ ⊥ u: every root then lies in |s| ≤ L = √((R + r)² − |p₀|²),
+   and the ray misses when |p₀| > R + r. The roots are isolated from the derivatives,
+   which are simple in s: g'' = 12s² + 4(|p₀|² + R² − r²) − 8R²(1 − (u·axis)²) has at
+   most two roots; they split [−L, L] into pieces where g' is monotonic, whose sign
+   changes give g's critical points; between consecutive critical points g is monotonic,
+   and each sign change holds one root, found by Newton steps on the original equation
+   kept inside the bracket (bisection when a step leaves it). A critical point where g
+   is zero within its rounding error is a tangent (double) root: a ray grazing the tube
+   is not lost. *)
+let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  let dl = Vec3.length d in
+  let u = Vec3.smul (1. /. dl) d in
+  let f = Vec3.sub o center in
+  let sc = -.Vec3.dot f u in
+  (* p₀ = f + sc·u, computed as the part of f perpendicular to u (no cancellation). *)
+  let p0 = Vec3.madd f sc u in
+  let p0 = Vec3.madd p0 (-.Vec3.dot p0 u) u in
+  let big = major +. minor in
+  let p02 = Vec3.dot p0 p0 in
+  let out = ref [] in
+  (* A ray touching the outer equator has |p₀| = R + r up to rounding: let it in, with an
+     interval that is never empty. *)
+  if p02 <= big *. big *. (1. +. 1e-12) then begin
+    let l = (Float.sqrt (Float.max 0. ((big *. big) -. p02)) *. (1. +. 1e-9)) +. (1e-6 *. big) in
+    let ua = Vec3.dot u axis and pa = Vec3.dot p0 axis in
+    let kk = (major *. major) -. (minor *. minor) and r4 = 4. *. major *. major in
+    (* g and its first derivative in the original form, at s. *)
+    let g s =
+      let ss = p02 +. (s *. s) and y = pa +. (s *. ua) in
+      let w = ss +. kk in
+      (w *. w) -. (r4 *. (ss -. (y *. y)))
+    in
+    let g1 s =
+      let ss = p02 +. (s *. s) and y = pa +. (s *. ua) in
+      (4. *. (ss +. kk) *. s) -. (2. *. r4 *. (s -. (y *. ua)))
+    in
+    let g2 s = (12. *. s *. s) +. (4. *. (p02 +. kk)) -. (2. *. r4 *. (1. -. (ua *. ua))) in
+    (* The rounding error of g at s: a few ulps of its largest term. *)
+    let err s =
+      let ss = p02 +. (s *. s) in
+      let w = Float.abs (ss +. kk) in
+      16. *. epsilon_float *. ((w *. w) +. (r4 *. ss) +. (w *. (ss +. Float.abs kk)))
+    in
+    (* The root of h in [a, b] where h(a), h(b) differ in sign: Newton steps with h',
+       bisection when a step leaves the bracket or does not shrink it fast enough. *)
+    let solve h h' a b =
+      let a = ref a and b = ref b in
+      let ha = ref (h !a) in
+      let x = ref (0.5 *. (!a +. !b)) in
+      let k = ref 0 in
+      while !k < 200 && !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b) do
+        incr k;
+        let hx = h !x in
+        if hx = 0. then begin
+          a := !x;
+          b := !x
+        end
+        else begin
+          if (hx < 0.) = (!ha < 0.) then begin
+            a := !x;
+            ha := hx
+          end
+          else b := !x;
+          let dx = h' !x in
+          let nx = if dx <> 0. then !x -. (hx /. dx) else Float.nan in
+          x := if nx > !a && nx < !b && !k mod 8 <> 0 then nx else 0.5 *. (!a +. !b)
+        end
+      done;
+      if !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b) then !x else 0.5 *. (!a +. !b)
+    in
+    (* Critical points of g: roots of g' on each piece where g' is monotonic. *)
+    let q = ((2. *. r4 *. (1. -. (ua *. ua))) -. (4. *. (p02 +. kk))) /. 12. in
+    let splits = if q > 0. then let z = Float.sqrt q in List.filter (fun s -> s > -.l && s < l) [ -.z; z ] else [] in
+    let pts = (-.l :: splits) @ [ l ] in
+    let rec crits acc = function
+      | a :: (b :: _ as rest) ->
+          let fa = g1 a and fb = g1 b in
+          let acc = if (fa < 0. && fb > 0.) || (fa > 0. && fb < 0.) then solve g1 g2 a b :: acc else acc in
+          crits acc rest
+      | _ -> List.rev acc
+    in
+    let cs = crits [] pts in
+    let pts = (-.l :: cs) @ [ l ] in
+    let add s = out := (sc +. s) /. dl :: !out in
+    let rec roots_between = function
+      | a :: (b :: _ as rest) ->
+          let fa = g a and fb = g b in
+          if (fa < 0. && fb > 0.) || (fa > 0. && fb < 0.) then add (solve g g1 a b);
+          roots_between rest
+      | _ -> ()
+    in
+    roots_between pts;
+    (* Tangent roots: a critical point where g is zero within rounding and no sign change
+       beside it. *)
+    let rec tangents prev = function
+      | c :: rest ->
+          let gc = g c in
+          let next = match rest with n :: _ -> n | [] -> l in
+          if Float.abs gc <= err c && (g prev < 0.) = (gc < 0.) && (g next < 0.) = (gc < 0.) then add c;
+          tangents c rest
+      | [] -> ()
+    in
+    tangents (-.l) cs
+  end;
+  let best = ref Float.infinity in
+  List.iter (fun t -> if in_range t tmin tmax && t < !best then best := t) !out;
+  !best
+
 type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
 
 (* Bounds of a disk of radius r around c in the plane of unit normal n: along axis i the
@@ -334,6 +491,13 @@ let bbox_of = function
   | Cylinder { base; axis; height; radius; _ } ->
       Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
   | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
+  | Cone { base; axis; height; r0; r1; _ } ->
+      Some (Bbox.union (disk_bbox base axis r0) (disk_bbox (Vec3.madd base height axis) axis r1))
+  | Torus { center; axis; major; minor; _ } ->
+      (* The ring of radius R in the plane of the axis, grown by r in every direction. *)
+      let e x = (major *. Float.sqrt (Float.max 0. (1. -. (x *. x)))) +. minor in
+      let h = Vec3.v (e axis.x) (e axis.y) (e axis.z) in
+      Some { Bbox.min = Vec3.sub center h; max = Vec3.add center h }
   | Csg { cbounds; _ } -> cbounds
 
 (* --- Solids and CSG ------------------------------------------------------------------ *)
@@ -354,6 +518,20 @@ let rec inside s (p : Vec3.t) =
       &&
       let xp = Vec3.madd q (-.y) axis in
       Vec3.dot xp xp <= radius *. radius
+  | Cone { base; axis; height; r0; r1; caps = true; _ } ->
+      let q = Vec3.sub p base in
+      let y = Vec3.dot q axis in
+      y >= 0. && y <= height
+      &&
+      let xp = Vec3.madd q (-.y) axis in
+      let rr = r0 +. ((r1 -. r0) *. y /. height) in
+      Vec3.dot xp xp <= rr *. rr
+  | Torus { center; axis; major; minor; _ } ->
+      let q = Vec3.sub p center in
+      let y = Vec3.dot q axis in
+      let rho = Float.sqrt (Float.max 0. (Vec3.dot q q -. (y *. y))) in
+      let dr = rho -. major in
+      (dr *. dr) +. (y *. y) <= minor *. minor
   | Csg { op; members; _ } -> (
       let ins (m : csg_member) = inside m.shape (Transform.inv_point m.transform p) in
       match op with
@@ -364,10 +542,11 @@ let rec inside s (p : Vec3.t) =
           &&
           let rec none i = i >= Array.length members || ((not (ins members.(i))) && none (i + 1)) in
           none 1)
-  | Cylinder { caps = false; _ } | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
+  | Cylinder { caps = false; _ } | Cone { caps = false; _ } | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
 
 let rec is_solid = function
-  | Sphere _ | Plane _ | Box _ -> true
+  | Sphere _ | Plane _ | Box _ | Torus _ -> true
+  | Cone { caps; _ } -> caps
   | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
   | Cylinder { caps; _ } -> caps
   | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
@@ -393,6 +572,8 @@ let rec intersect_into s r (h : hit) =
   | Paraboloid { vertex; axis; height; k; _ } -> h.t <- intersect_paraboloid vertex axis height k r tmin tmax
   | Cylinder { base; axis; height; radius; caps; _ } -> h.t <- intersect_cylinder base axis height radius caps r tmin tmax
   | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
+  | Cone { base; axis; height; r0; r1; caps; _ } -> h.t <- intersect_cone base axis height r0 r1 caps r tmin tmax
+  | Torus { center; axis; major; minor; _ } -> h.t <- torus_roots center axis major minor r tmin tmax
   | Csg _ -> h.t <- (match csg_crossings s r tmin with (t, _) :: _ when t < tmax -> t | _ -> Float.infinity)
 
 and intersect s r tmin tmax =
@@ -562,6 +743,18 @@ let cylinder_part (base : Vec3.t) axis height radius caps p =
     let ds = Float.abs (radius -. rho) and d0 = Float.abs y and d1 = Float.abs (height -. y) in
     if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
 
+(* Which part of a cone p lies on, as for the cylinder: 0 side, 1 base cap, 2 top cap. *)
+let cone_part (base : Vec3.t) axis height r0 r1 caps p =
+  if not caps then 0
+  else
+    let q = Vec3.sub p base in
+    let y = Vec3.dot q axis in
+    let rho = Vec3.length (Vec3.madd q (-.y) axis) in
+    let rr = r0 +. ((r1 -. r0) *. y /. height) in
+    let ds = Float.abs (rr -. rho) and d0 = if r0 > 0. then Float.abs y else Float.infinity
+    and d1 = if r1 > 0. then Float.abs (height -. y) else Float.infinity in
+    if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
+
 (* The face of a box nearest to p, as 0..5 = −x, +x, −y, +y, −z, +z. *)
 let box_face (mn : Vec3.t) (mx : Vec3.t) (p : Vec3.t) =
   let best = ref 0 and bd = ref (Float.abs (p.x -. mn.x)) in
@@ -612,6 +805,24 @@ let normal s p =
           let n = Vec3.normalize (Vec3.madd q (-.Vec3.dot q axis) axis) in
           if Vec3.dot n n = 0. then axis else n)
   | Disk { normal; _ } -> normal
+  | Cone { base; axis; height; r0; r1; caps; _ } -> (
+      match cone_part base axis height r0 r1 caps p with
+      | 1 -> Vec3.neg axis
+      | 2 -> axis
+      | _ ->
+          (* ∇(|x⊥|² − r(y')²) ∝ x⊥/|x⊥| − k·axis with k = (r1 − r0)/h. *)
+          let q = Vec3.sub p base in
+          let xp = Vec3.madd q (-.Vec3.dot q axis) axis in
+          let l = Vec3.length xp in
+          if l = 0. then if r1 < r0 then axis else Vec3.neg axis
+          else Vec3.normalize (Vec3.madd (Vec3.smul (1. /. l) xp) (-.(r1 -. r0) /. height) axis))
+  | Torus { center; axis; major; _ } ->
+      (* Away from the nearest point of the ring of radius R. *)
+      let q = Vec3.sub p center in
+      let xp = Vec3.madd q (-.Vec3.dot q axis) axis in
+      let l = Vec3.length xp in
+      if l = 0. then if Vec3.dot q axis >= 0. then axis else Vec3.neg axis
+      else Vec3.normalize (Vec3.madd q (-.major /. l) xp)
   | Csg _ -> invalid_arg "Shape.normal: a CSG object has no surface of its own; ask its leaf (Shape.csg_leaf)"
 
 let frac x = x -. Float.floor x
@@ -667,6 +878,21 @@ let uv s (p : Vec3.t) =
       | 0 | 1 -> (f min.z max.z p.z, f min.y max.y p.y)
       | 2 | 3 -> (f min.x max.x p.x, f min.z max.z p.z)
       | _ -> (f min.x max.x p.x, f min.y max.y p.y))
+  | Cone { base; axis; height; r0; r1; caps; e1; e2 } -> (
+      let q = Vec3.sub p base in
+      match cone_part base axis height r0 r1 caps p with
+      | 0 -> (turn e1 e2 q, clamp01 (Vec3.dot q axis /. height))
+      | part ->
+          let q = if part = 2 then Vec3.madd q (-.height) axis else q in
+          let s = 0.5 /. if part = 2 then r1 else r0 in
+          (clamp01 (0.5 +. (s *. Vec3.dot q e1)), clamp01 (0.5 +. (s *. Vec3.dot q e2))))
+  | Torus { center; axis; major; e1; e2; _ } ->
+      (* u the turn around the axis, v the turn around the tube. *)
+      let q = Vec3.sub p center in
+      let y = Vec3.dot q axis in
+      let rho = Vec3.length (Vec3.madd q (-.y) axis) in
+      let v = 0.5 +. (Float.atan2 y (rho -. major) /. (2. *. Float.pi)) in
+      (turn e1 e2 q, if v >= 1. then 0. else clamp01 v)
   | Csg _ -> (0., 0.)
 
 let bbox = bbox_of
@@ -699,6 +925,8 @@ let name = function
   | Box _ -> "box"
   | Cylinder _ -> "cylinder"
   | Disk _ -> "disk"
+  | Cone _ -> "cone"
+  | Torus _ -> "torus"
   | Csg { op = Union; _ } -> "union"
   | Csg { op = Merge; _ } -> "merge"
   | Csg { op = Intersection; _ } -> "intersection"

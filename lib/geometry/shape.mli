@@ -57,6 +57,24 @@ type t = private
     }
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
       (** unit normal; (e1, e2) a frame in the disk's plane *)
+  | Cone of {
+      base : Vec3.t;
+      axis : Vec3.t;  (** unit, base → top *)
+      height : float;  (** |top − base| *)
+      r0 : float;  (** radius at the base, ≥ 0 *)
+      r1 : float;  (** radius at the top, ≥ 0; not both 0 *)
+      caps : bool;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }  (** the truncated cone between two disks, closed by them when [caps] *)
+  | Torus of {
+      center : Vec3.t;
+      axis : Vec3.t;  (** unit *)
+      major : float;  (** R: from the centre to the middle of the tube *)
+      minor : float;  (** r: the tube's radius *)
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }  (** points at distance r from the ring of radius R around [axis] *)
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
@@ -113,6 +131,16 @@ val cylinder : base:Vec3.t -> top:Vec3.t -> radius:float -> caps:bool -> t
 (** The cylinder of [radius] around the segment base–top (distinct points), closed by two
     disks when [caps]. *)
 
+val cone : base:Vec3.t -> top:Vec3.t -> base_radius:float -> top_radius:float -> caps:bool -> t
+(** The cone around the segment base–top (distinct points) whose radius goes linearly from
+    [base_radius] to [top_radius] (either may be 0, not both), closed by disks when [caps]. *)
+
+val torus : center:Vec3.t -> axis:Vec3.t -> major:float -> minor:float -> t
+(** The torus of tube radius [minor] around the ring of radius [major] about [axis] (need
+    not be unit) through [center]. Its quartic is solved on a ray restarted at its point
+    nearest the centre, each root isolated between critical points and refined by Newton
+    steps on the original equation; tangent (double) roots are kept. *)
+
 val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
 (** The flat disk of [radius] around [center] in the plane of [normal] (need not be unit). *)
 
@@ -122,8 +150,8 @@ val csg : csg_op -> (t * Transform.t) list -> t
     solids ({!is_solid}); at least one member. *)
 
 val is_solid : t -> bool
-(** Whether the shape has an inside: sphere, box, capped cylinder, CSG, and the plane as the
-    half-space n̂·P ≤ offset. *)
+(** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG
+    whose members all have one, and the plane as the half-space n̂·P ≤ offset. *)
 
 val inside : t -> Vec3.t -> bool
 (** [inside s p] is whether [p] is inside solid [s], the boundary included; [false] for

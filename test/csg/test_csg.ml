@@ -198,6 +198,120 @@ let test_hollow_glass () =
   let d, _ = Render.render solid in
   Alcotest.(check bool) "differs from a solid glass ball" false (Bytes.equal (bytes a) (bytes d))
 
+
+(* --- Cone ---------------------------------------------------------------------------- *)
+
+(* A cone of radius 1 at y = 0 narrowing to a point at y = 1: at y = 0.5 its radius is
+   0.5. From below, the base cap, or without caps the inside of the side where r = 0.2. *)
+let test_cone () =
+  let cone caps = Shape.cone ~base:Vec3.zero ~top:Vec3.y_axis ~base_radius:1. ~top_radius:0. ~caps in
+  close "side" 4.5 (Shape.intersect (cone true) (ray (Vec3.v (-5.) 0.5 0.) Vec3.x_axis) 0. Float.infinity);
+  let up = ray (Vec3.v 0.2 (-5.) 0.) Vec3.y_axis in
+  close "base cap" 5. (Shape.intersect (cone true) up 0. Float.infinity);
+  close ~eps:1e-12 "open: the side from inside" 5.8 (Shape.intersect (cone false) up 0. Float.infinity);
+  Alcotest.(check bool) "inside" true (Shape.inside (cone true) (Vec3.v 0.1 0.5 0.1));
+  Alcotest.(check bool) "outside" false (Shape.inside (cone true) (Vec3.v 0.45 0.5 0.3));
+  let n = Shape.normal (cone true) (Vec3.v (-0.5) 0.5 0.) in
+  close ~eps:1e-12 "side normal x" (-.Float.sqrt 0.5) n.x;
+  close ~eps:1e-12 "side normal y" (Float.sqrt 0.5) n.y
+
+(* --- Torus --------------------------------------------------------------------------- *)
+
+let torus_r = 1. and torus_rr = 0.25
+let torus = Shape.torus ~center:Vec3.zero ~axis:Vec3.y_axis ~major:torus_r ~minor:torus_rr
+
+(* Every root of the torus along r, found by asking again past each one. *)
+let all_roots s r =
+  let rec go tmin acc k =
+    let t = Shape.intersect s r tmin Float.infinity in
+    if t = Float.infinity || k > 8 then List.rev acc else go t (t :: acc) (k + 1)
+  in
+  go 0. [] 0
+
+let check_roots what ~eps want got =
+  if List.length want <> List.length got then
+    Alcotest.failf "%s: want %d roots (%s), got %d (%s)" what (List.length want)
+      (String.concat ", " (List.map (Printf.sprintf "%.17g") want))
+      (List.length got)
+      (String.concat ", " (List.map (Printf.sprintf "%.17g") got));
+  List.iter2 (fun w g -> close ~eps what w g) want got
+
+(* The reference for a ray through the centre, computed independently of the renderer's
+   solver: along p = s·u, with c = 1 − (u·axis)², the quartic is a quadratic in w = s²,
+   w² + (2K − 4R²c)·w + K² = 0 with K = R² − r², solved by the stable formula. *)
+let centre_roots ~dist (u : Vec3.t) =
+  let k = (torus_r *. torus_r) -. (torus_rr *. torus_rr) and c = 1. -. (u.y *. u.y) in
+  let b = (2. *. k) -. (4. *. torus_r *. torus_r *. c) and cc = k *. k in
+  let disc = (b *. b) -. (4. *. cc) in
+  if disc < 0. then []
+  else
+    let q = -0.5 *. (b +. (Float.of_int (compare b 0.) *. Float.sqrt disc)) in
+    let ws = List.filter (fun w -> w >= 0.) [ q; cc /. q ] in
+    let ss = List.concat_map (fun w -> [ -.Float.sqrt w; Float.sqrt w ]) ws in
+    List.sort compare (List.map (fun s -> dist +. s) ss)
+
+let test_torus_centre_rays () =
+  let st = Random.State.make [| 7 |] in
+  for _ = 1 to 200 do
+    (* Directions a little off the plane of the ring, so that the ray meets the tube. *)
+    let u = Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-0.15) 0.15) (rnd st (-1.) 1.)) in
+    List.iter
+      (fun (dist, eps) ->
+        let o = Vec3.smul (-.dist) u in
+        check_roots (Printf.sprintf "through the centre from %g" dist) ~eps (centre_roots ~dist u) (all_roots torus (ray o u)))
+      [ (5., 1e-12); (1e6, 1e-8) ]
+  done
+
+let test_torus_axis_parallel () =
+  (* At distance ρ from the axis, parallel to it: y = ±√(r² − (ρ − R)²). *)
+  List.iter
+    (fun (rho, dist) ->
+      let h = Float.sqrt ((torus_rr *. torus_rr) -. ((rho -. torus_r) *. (rho -. torus_r))) in
+      check_roots (Printf.sprintf "parallel to the axis at %g from %g" rho dist) ~eps:(if dist > 100. then 1e-8 else 1e-12)
+        [ dist -. h; dist +. h ]
+        (all_roots torus (ray (Vec3.v rho dist 0.) (Vec3.v 0. (-1.) 0.))))
+    [ (1., 5.); (1.2, 5.); (0.8, 1e6); (1.1, 1e6) ]
+
+let test_torus_tangent () =
+  (* Along x in the plane y = r: the ray touches the top of the tube at x = ±R. *)
+  List.iter
+    (fun dist ->
+      let eps = if dist > 100. then 1e-8 else 1e-12 in
+      check_roots (Printf.sprintf "tangent to the top of the tube from %g" dist) ~eps
+        [ dist -. torus_r; dist +. torus_r ]
+        (all_roots torus (ray (Vec3.v (-.dist) torus_rr 0.) Vec3.x_axis));
+      (* Along x at z = R + r: the ray grazes the outer equator at x = 0. *)
+      check_roots (Printf.sprintf "grazing the outer equator from %g" dist) ~eps [ dist ]
+        (all_roots torus (ray (Vec3.v (-.dist) 0. (torus_r +. torus_rr)) Vec3.x_axis)))
+    [ 3.; 1e6 ];
+  (* Just inside the top, four roots; just outside, none. *)
+  Alcotest.(check int) "just inside the top" 4 (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr -. 1e-9) 0.) Vec3.x_axis)));
+  Alcotest.(check int) "just above the top" 0 (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr +. 1e-6) 0.) Vec3.x_axis)))
+
+(* Any ray: each root lies on the surface, and the roots are where the inside changes. *)
+let test_torus_random =
+  QCheck.Test.make ~name:"a torus's roots lie on it, and its inside changes exactly there" ~count:500 QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let axis = Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.)) in
+      let s = Shape.torus ~center:Vec3.zero ~axis ~major:1. ~minor:0.3 in
+      let r = random_ray st in
+      let roots = all_roots s r in
+      let on_surface t =
+        let p = Ray.at r t in
+        let y = Vec3.dot p axis in
+        let rho = Float.sqrt (Float.max 0. (Vec3.dot p p -. (y *. y))) in
+        Float.abs (Float.sqrt (((rho -. 1.) *. (rho -. 1.)) +. (y *. y)) -. 0.3) < 1e-12
+      in
+      let changes = ref 0 in
+      let prev = ref (Shape.inside s (Ray.at r 0.)) in
+      for k = 1 to 10000 do
+        let v = Shape.inside s (Ray.at r (Float.of_int k *. 0.001)) in
+        if v <> !prev then incr changes;
+        prev := v
+      done;
+      List.for_all on_surface roots && (List.length roots = !changes || (QCheck.assume false; true)))
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -206,5 +320,11 @@ let () =
           Alcotest.test_case "a box minus a sphere: the cavity's wall faces into the cavity" `Quick test_cavity_normal;
           Alcotest.test_case "a plane member is the half-space below it" `Quick test_plane_half_space;
           Alcotest.test_case "a shadow ray crosses both walls of a hollow sphere" `Quick test_shadow_crosses_both_walls ] );
+      ( "solids",
+        [ Alcotest.test_case "a cone's side, cap and open inside where the radius says" `Quick test_cone;
+          Alcotest.test_case "torus rays through the centre, near and from 1e6, match the closed form" `Quick test_torus_centre_rays;
+          Alcotest.test_case "torus rays parallel to its axis, near and from 1e6" `Quick test_torus_axis_parallel;
+          Alcotest.test_case "torus rays tangent to the tube keep their double root, near and from 1e6" `Quick test_torus_tangent;
+          seeded test_torus_random ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
       ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
