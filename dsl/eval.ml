@@ -70,13 +70,16 @@ type output = {
 type images = {
   pictures : (string, (Image.t, string) result) Hashtbl.t;
   meshes : (string * bool, (Shape.t list, string) result) Hashtbl.t;
+  heights : (string, (int * int * Float.Array.t, string) result) Hashtbl.t;
+      (** height-field images: width, height and each pixel's luminance in [0, 1] *)
 }
 
-let new_images () : images = { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4 }
+let new_images () : images = { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4; heights = Hashtbl.create 4 }
 
 let image_files (c : images) =
   List.sort_uniq compare
-    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures [] @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes [])
+    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures [] @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
+    @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights [])
 
 (* ------------------------------------------------------------------------------------ *)
 (* Did-you-mean *)
@@ -407,7 +410,7 @@ let object_fields =
     ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]); ("box", [ "min"; "max" ]);
     ("cylinder", [ "base"; "top"; "radius"; "caps" ]); ("disk", [ "center"; "normal"; "radius" ]);
     ("mesh", [ "file"; "smooth" ]); ("cone", [ "base"; "base_radius"; "top"; "top_radius"; "caps" ]);
-    ("torus", [ "center"; "major"; "minor"; "axis" ]) ]
+    ("torus", [ "center"; "major"; "minor"; "axis" ]); ("height_field", [ "file"; "origin"; "size" ]) ]
 
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
@@ -1257,6 +1260,70 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
             if b.ctx.objects > max_objects then
               limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
             (lazy [ ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n) ], Some tris))
+  | "height_field" -> (
+      let file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
+      let origin = point b "origin" ~default:Vec3.zero in
+      let size = point b "size" ~required:true ~default:Vec3.one in
+      (match field b "size" with
+       | Some f when not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) ->
+           bad b f.vloc "the `size` (sx, sy, sz) of a height field must be positive on every axis"
+       | _ -> ());
+      if b.failed then (lazy [], None)
+      else
+        let path = Loc.relative_to b.kloc.file file in
+        Hashtbl.replace b.ctx.used path ();
+        let r =
+          match Hashtbl.find_opt b.ctx.images.heights path with
+          | Some r -> r
+          | None ->
+              let r =
+                match Error.cannot_read ~what:"image" ~written:file path with
+                | Some msg -> Error msg
+                | None -> (
+                    match Image.read_rgb8 path with
+                    | Error m -> Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
+                    | Ok (w, h, px) ->
+                        (* Luminance (Rec. 709 weights) of the stored values, linear from 0 to 1;
+                           a grey pixel is its own value. *)
+                        let v i =
+                          let c k = Float.of_int (Char.code (Bytes.get px ((3 * i) + k))) in
+                          if c 0 = c 1 && c 1 = c 2 then c 0 /. 255.
+                          else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. 255.
+                        in
+                        Ok (w, h, Float.Array.init (w * h) v))
+              in
+              Hashtbl.replace b.ctx.images.heights path r;
+              r
+        in
+        let f = Option.get (field b "file") in
+        match r with
+        | Error m -> bad b f.vloc "%s" m; (lazy [], None)
+        | Ok (w, h, _) when w < 2 || h < 2 ->
+            bad b f.vloc "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d" file w h;
+            (lazy [], None)
+        | Ok (w, h, v) ->
+            let n = 2 * (w - 1) * (h - 1) in
+            b.ctx.objects <- b.ctx.objects + n - 1;
+            if b.ctx.objects > max_objects then
+              limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
+            (* Vertex (i, j) at O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)); j is the image row. *)
+            let vert i j =
+              Vec3.v
+                (origin.x +. (size.x *. Float.of_int i /. Float.of_int (w - 1)))
+                (origin.y +. (size.y *. Float.Array.get v ((j * w) + i)))
+                (origin.z +. (size.z *. Float.of_int j /. Float.of_int (h - 1)))
+            in
+            let tris = ref [] in
+            for j = h - 2 downto 0 do
+              for i = w - 2 downto 0 do
+                let a = vert i j and bb = vert i (j + 1) and c = vert (i + 1) j and d = vert (i + 1) (j + 1) in
+                tris := Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
+              done
+            done;
+            ( lazy
+                [ ("file", `String file); ("origin", vjson origin); ("size", vjson size); ("width", `Int w); ("height", `Int h);
+                  ("triangles", `Int n) ],
+              Some !tris ))
   | _ -> fail k.nloc "%s is not an object" k.id
 
 and group ctx env scope (k : name) items =

@@ -312,6 +312,34 @@ let test_torus_random =
       done;
       List.for_all on_surface roots && (List.length roots = !changes || (QCheck.assume false; true)))
 
+(* --- Height field ----------------------------------------------------------------- *)
+
+(* A 3×2 image: W×H pixels give (W−1)×(H−1) cells of two triangles, vertex (i, j) at
+   O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)), v the pixel's luminance in [0, 1]. *)
+let test_height_field () =
+  let file = Filename.temp_file "lancer_hf" ".ppm" in
+  let px = [ 0; 0; 0; 255; 255; 255; 51; 51; 51; (* row 0 *) 102; 102; 102; 0; 0; 0; 255; 0; 0 (* row 1, last pixel red *) ] in
+  let oc = open_out_bin file in
+  output_string oc "P6\n3 2\n255\n";
+  List.iter (fun b -> output_char oc (Char.chr b)) px;
+  close_out oc;
+  let scene = Printf.sprintf "height_field { file: %S, origin: (1, 2, 3), size: (4, 10, 2) }" file in
+  let prog = match Lancer_dsl.Dsl.load_string scene with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
+  let sc = match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "the scene does not evaluate" in
+  Sys.remove file;
+  Alcotest.(check int) "two triangles per cell" 4 (Array.length sc.objects);
+  let acc = Accel.build sc.objects in
+  let down x z = Ray.make (Vec3.v x 100. z) (Vec3.v 0. (-1.) 0.) in
+  let height x z = let t, i = Accel.nearest acc (down x z) 0. Float.infinity in if i < 0 then Float.nan else 100. -. t in
+  (* Vertices: (i, j) = (1, 0) is white, (2, 0) grey 51, (0, 1) grey 102, (2, 1) red. *)
+  close ~eps:1e-9 "white vertex" 12. (height 3. 3.);
+  close ~eps:1e-9 "grey vertex" (2. +. (10. *. 51. /. 255.)) (height 5. 3.);
+  close ~eps:1e-9 "grey vertex of row 1" (2. +. (10. *. 102. /. 255.)) (height 1. 5.);
+  close ~eps:1e-9 "a red pixel is its luminance" (2. +. (10. *. 0.2126)) (height 5. 5.);
+  (* Midway along the edge from (0, 0) (black) to (1, 0) (white). *)
+  close ~eps:1e-9 "linear between vertices" 7. (height 2. 3.);
+  Alcotest.(check bool) "outside the grid: no hit" true (Float.is_nan (height 5.5 4.))
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -325,6 +353,7 @@ let () =
           Alcotest.test_case "torus rays through the centre, near and from 1e6, match the closed form" `Quick test_torus_centre_rays;
           Alcotest.test_case "torus rays parallel to its axis, near and from 1e6" `Quick test_torus_axis_parallel;
           Alcotest.test_case "torus rays tangent to the tube keep their double root, near and from 1e6" `Quick test_torus_tangent;
-          seeded test_torus_random ] );
+          seeded test_torus_random;
+          Alcotest.test_case "a height field's vertices stand at the image's luminance" `Quick test_height_field ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
       ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
