@@ -1361,24 +1361,40 @@ and csg ctx env scope (k : name) items =
   (* A union shows every member's surface; the other operations (and a union that is
      itself a member of one) need each member to have an inside. *)
   let need_solid = op <> Union || scope.in_csg in
+  let member_shape o =
+    match (o.p_kind, o.p_shapes) with
+    | "mesh", tris when need_solid -> (
+        match Mesh.open_edges tris with
+        | 0 -> Some (Shape.closed_mesh tris)
+        | n ->
+            bad b o.p_loc "this mesh is open: %d edge%s not shared by exactly two faces, so it has no inside to combine in `%s`" n
+              (if n = 1 then " is" else "s are") k.id;
+            None)
+    | "mesh", tris -> Some (Shape.closed_mesh tris)
+    | _, [ sh ] -> Some sh
+    | _ -> None
+  in
   List.iter
     (fun o ->
       match o.p_shapes with
+      | _ when o.p_kind = "mesh" -> ()
       | [ sh ] when Shape.is_solid sh || not need_solid -> ()
       | [ _ ] ->
           bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone with caps, plane as a half-space, CSG of solids)%s"
             (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | "cone" -> "a cone without caps" | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
             (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`" else "")
-      | _ -> bad b o.p_loc "this mesh cannot be a member of `%s`" k.id)
+      | _ -> bad b o.p_loc "a %s is not a solid: `%s` combines solids" (String.map (function '_' -> ' ' | c -> c) o.p_kind) k.id)
     members;
+  let shapes = List.map member_shape members in
   finish b;
-  let shape = Shape.csg op (List.map (fun o -> (List.hd o.p_shapes, o.p_transform)) members) in
+  let shape = Shape.csg op (List.map2 (fun o sh -> (Option.get sh, o.p_transform)) members shapes) in
   let leaves =
     Array.concat
       (List.map
          (fun o ->
-           if Array.length o.p_leaves = 0 then [| o.p_material |]
+           if o.p_kind = "mesh" then Array.make (List.length o.p_shapes) o.p_material
+           else if Array.length o.p_leaves = 0 then [| o.p_material |]
            else Array.map (function None -> o.p_material | Some _ as m -> m) o.p_leaves)
          members)
   in

@@ -112,3 +112,21 @@ let load ?smooth path =
   match In_channel.with_open_bin path In_channel.input_all with
   | text -> parse ?smooth ~file:path text
   | exception Sys_error m -> Error (Printf.sprintf "%s:0: cannot read the file (%s)" path m)
+
+let open_edges tris =
+  let uses = Hashtbl.create 1024 in
+  let key (a : Vec3.t) (b : Vec3.t) =
+    let k (v : Vec3.t) = (v.x, v.y, v.z) in
+    if compare (k a) (k b) <= 0 then (k a, k b) else (k b, k a)
+  in
+  List.iter
+    (function
+      | Shape.Triangle { a; b; c; _ } ->
+          List.iter
+            (fun (p, q) ->
+              let e = key p q in
+              Hashtbl.replace uses e (1 + Option.value (Hashtbl.find_opt uses e) ~default:0))
+            [ (a, b); (b, c); (c, a) ]
+      | _ -> ())
+    tris;
+  Hashtbl.fold (fun _ n acc -> if n = 2 then acc else acc + 1) uses 0

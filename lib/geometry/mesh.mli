@@ -12,3 +12,7 @@ val parse : ?smooth:bool -> file:string -> string -> (Shape.t list, string) resu
 
 val load : ?smooth:bool -> string -> (Shape.t list, string) result
 (** [load path] reads and parses the file at [path]. *)
+
+val open_edges : Shape.t list -> int
+(** [open_edges triangles] is how many edges (pairs of corner positions) are not shared by
+    exactly two of the triangles: 0 for a closed mesh. *)

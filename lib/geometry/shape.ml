@@ -18,6 +18,7 @@ type t =
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
   | Cone of { base : Vec3.t; axis : Vec3.t; height : float; r0 : float; r1 : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
   | Torus of { center : Vec3.t; axis : Vec3.t; major : float; minor : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Closed_mesh of { tris : t array; mbounds : Bbox.t option }
   | Csg of { op : csg_op; members : csg_member array; leaves : csg_leaf array; cbounds : Bbox.t option }
 
 and csg_member = { shape : t; transform : Transform.t; first_leaf : int }
@@ -498,6 +499,7 @@ let bbox_of = function
       let e x = (major *. Float.sqrt (Float.max 0. (1. -. (x *. x)))) +. minor in
       let h = Vec3.v (e axis.x) (e axis.y) (e axis.z) in
       Some { Bbox.min = Vec3.sub center h; max = Vec3.add center h }
+  | Closed_mesh { mbounds; _ } -> mbounds
   | Csg { cbounds; _ } -> cbounds
 
 (* --- Solids and CSG ------------------------------------------------------------------ *)
@@ -532,6 +534,17 @@ let rec inside s (p : Vec3.t) =
       let rho = Float.sqrt (Float.max 0. (Vec3.dot q q -. (y *. y))) in
       let dr = rho -. major in
       (dr *. dr) +. (y *. y) <= minor *. minor
+  | Closed_mesh { tris; _ } ->
+      (* Parity of the crossings of a ray from p in a fixed direction that no axis-aligned
+         feature lies along. *)
+      let r = Ray.make_raw p (Vec3.v 0.5773502691896258 0.5773502691896257 0.5773502691896259) in
+      let n = ref 0 in
+      Array.iter
+        (function
+          | Triangle { a; b; c; _ } -> if intersect_triangle a b c r 0. Float.infinity < Float.infinity then incr n
+          | _ -> ())
+        tris;
+      !n land 1 = 1
   | Csg { op; members; _ } -> (
       let ins (m : csg_member) = inside m.shape (Transform.inv_point m.transform p) in
       match op with
@@ -545,7 +558,7 @@ let rec inside s (p : Vec3.t) =
   | Cylinder { caps = false; _ } | Cone { caps = false; _ } | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
 
 let rec is_solid = function
-  | Sphere _ | Plane _ | Box _ | Torus _ -> true
+  | Sphere _ | Plane _ | Box _ | Torus _ | Closed_mesh _ -> true
   | Cone { caps; _ } -> caps
   | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
   | Cylinder { caps; _ } -> caps
@@ -574,6 +587,10 @@ let rec intersect_into s r (h : hit) =
   | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
   | Cone { base; axis; height; r0; r1; caps; _ } -> h.t <- intersect_cone base axis height r0 r1 caps r tmin tmax
   | Torus { center; axis; major; minor; _ } -> h.t <- torus_roots center axis major minor r tmin tmax
+  | Closed_mesh { tris; _ } ->
+      let best = ref tmax in
+      Array.iter (fun tr -> let t = intersect tr r tmin !best in if t < !best then best := t) tris;
+      h.t <- (if !best < tmax then !best else Float.infinity)
   | Csg _ -> h.t <- (match csg_crossings s r tmin with (t, _) :: _ when t < tmax -> t | _ -> Float.infinity)
 
 and intersect s r tmin tmax =
@@ -586,6 +603,14 @@ and intersect s r tmin tmax =
 and member_crossings (m : csg_member) r tmin acc =
   let r' = member_ray m r in
   match m.shape with
+  | Closed_mesh { tris; _ } ->
+      let acc = ref acc in
+      Array.iteri
+        (fun k tr ->
+          let t = intersect tr r' tmin Float.infinity in
+          if t < Float.infinity then acc := (t, m.first_leaf + k) :: !acc)
+        tris;
+      !acc
   | Csg _ -> List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc (csg_crossings m.shape r' tmin)
   | s ->
       let rec go acc tmin k =
@@ -679,6 +704,7 @@ let csg op (ms : (t * Transform.t) list) =
                (fun l ->
                  add { l with leaf_transform = Transform.then_ l.leaf_transform transform; flipped = l.flipped <> subtracted })
                ls
+         | Closed_mesh { tris; _ } -> Array.iter (fun s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted }) tris
          | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
         { shape; transform; first_leaf })
       ms
@@ -701,6 +727,11 @@ let csg op (ms : (t * Transform.t) list) =
                  b rest))
   in
   Csg { op; members; leaves = Array.of_list (List.rev !leaves); cbounds }
+
+let closed_mesh tris =
+  let tris = Array.of_list tris in
+  let b = Array.fold_left (fun acc tr -> match bbox_of tr with Some b -> Bbox.union acc b | None -> acc) Bbox.empty tris in
+  Closed_mesh { tris; mbounds = (if Array.length tris = 0 then None else Some b) }
 
 let csg_leaf s r t =
   match s with
@@ -823,6 +854,7 @@ let normal s p =
       let l = Vec3.length xp in
       if l = 0. then if Vec3.dot q axis >= 0. then axis else Vec3.neg axis
       else Vec3.normalize (Vec3.madd q (-.major /. l) xp)
+  | Closed_mesh _ -> invalid_arg "Shape.normal: a closed mesh's surface is its triangles"
   | Csg _ -> invalid_arg "Shape.normal: a CSG object has no surface of its own; ask its leaf (Shape.csg_leaf)"
 
 let frac x = x -. Float.floor x
@@ -893,7 +925,7 @@ let uv s (p : Vec3.t) =
       let rho = Vec3.length (Vec3.madd q (-.y) axis) in
       let v = 0.5 +. (Float.atan2 y (rho -. major) /. (2. *. Float.pi)) in
       (turn e1 e2 q, if v >= 1. then 0. else clamp01 v)
-  | Csg _ -> (0., 0.)
+  | Closed_mesh _ | Csg _ -> (0., 0.)
 
 let bbox = bbox_of
 
@@ -926,6 +958,7 @@ let name = function
   | Cylinder _ -> "cylinder"
   | Disk _ -> "disk"
   | Cone _ -> "cone"
+  | Closed_mesh _ -> "mesh"
   | Torus _ -> "torus"
   | Csg { op = Union; _ } -> "union"
   | Csg { op = Merge; _ } -> "merge"

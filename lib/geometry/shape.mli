@@ -75,6 +75,8 @@ type t = private
       e1 : Vec3.t;
       e2 : Vec3.t;
     }  (** points at distance r from the ring of radius R around [axis] *)
+  | Closed_mesh of { tris : t array;  (** triangles *) mbounds : Bbox.t option }
+      (** a mesh whose every edge is shared by exactly two faces: a solid, for CSG *)
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
@@ -148,6 +150,11 @@ val csg : csg_op -> (t * Transform.t) list -> t
 (** [csg op members] combines solids, each placed by its transform; members of
     [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
     solids ({!is_solid}); at least one member. *)
+
+val closed_mesh : t list -> t
+(** [closed_mesh triangles] is the solid those triangles bound; the caller has checked
+    that they are closed ({!Mesh.open_edges} is 0). Inside is decided by the parity of a
+    ray's crossings. *)
 
 val is_solid : t -> bool
 (** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG

@@ -4,6 +4,11 @@
 
 open Lancer
 
+let contains s sub =
+  let n = String.length sub in
+  let rec go i = i + n <= String.length s && (String.sub s i n = sub || go (i + 1)) in
+  go 0
+
 let seeded ?(seed = 20261201) t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
 let close ?(eps = 1e-12) what want got = if Float.abs (want -. got) > eps then Alcotest.failf "%s: want %.17g, got %.17g" what want got
 let sphere x y z r = Shape.sphere ~center:(Vec3.v x y z) ~radius:r
@@ -340,6 +345,52 @@ let test_height_field () =
   close ~eps:1e-9 "linear between vertices" 7. (height 2. 3.);
   Alcotest.(check bool) "outside the grid: no hit" true (Float.is_nan (height 5.5 4.))
 
+(* --- Closed meshes ------------------------------------------------------------------ *)
+
+let cube_obj ~faces =
+  let file = Filename.temp_file "lancer_cube" ".obj" in
+  let oc = open_out file in
+  output_string oc "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n";
+  List.iteri
+    (fun i f -> if i < faces then output_string oc (f ^ "\n"))
+    [ "f 1 4 3 2"; "f 5 6 7 8"; "f 1 2 6 5"; "f 4 8 7 3"; "f 1 5 8 4"; "f 2 3 7 6" ];
+  close_out oc;
+  file
+
+let load_scene text =
+  match Lancer_dsl.Dsl.load_string text with
+  | Error es -> Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
+  | Ok p -> (
+      match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+      | Ok s -> Ok s
+      | Error es -> Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es)))
+
+(* A sphere minus a closed OBJ cube: along the axis, the ray meets the sphere, then the
+   cube's face (the cavity's wall, facing the ray), then the far face and the sphere. *)
+let test_closed_mesh () =
+  let file = cube_obj ~faces:6 in
+  let sc = load_scene (Printf.sprintf "difference { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S, scale: 0.5 } }" file) in
+  Sys.remove file;
+  match sc with
+  | Error m -> Alcotest.fail m
+  | Ok sc ->
+      let o = sc.objects.(0) in
+      let r = Ray.make (Vec3.v 0.1 0.2 (-5.)) Vec3.z_axis in
+      let ts = List.map fst (Shape.csg_crossings o.shape r 0.) in
+      check_roots "crossings" ~eps:1e-9 [ 5. -. Float.sqrt (4. -. 0.05); 4.5; 5.5; 5. +. Float.sqrt (4. -. 0.05) ] ts;
+      let s = Primitive.surface o r 4.5 in
+      let n = Primitive.normal s (Primitive.to_object s (Ray.at r 4.5)) in
+      if not (n.z > 0.99) then Alcotest.failf "the cavity's wall faces (%g, %g, %g), not the ray" n.x n.y n.z
+
+let test_open_mesh_refused () =
+  let file = cube_obj ~faces:5 in
+  let sc = load_scene (Printf.sprintf "intersection { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S } }" file) in
+  Sys.remove file;
+  match sc with
+  | Ok _ -> Alcotest.fail "an open mesh was accepted"
+  | Error m ->
+      if not (contains m "4 edges are not shared by exactly two faces") then Alcotest.failf "unexpected message: %s" m
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -355,5 +406,8 @@ let () =
           Alcotest.test_case "torus rays tangent to the tube keep their double root, near and from 1e6" `Quick test_torus_tangent;
           seeded test_torus_random;
           Alcotest.test_case "a height field's vertices stand at the image's luminance" `Quick test_height_field ] );
+      ( "meshes",
+        [ Alcotest.test_case "a closed OBJ cube subtracted from a sphere leaves a cubic cavity" `Quick test_closed_mesh;
+          Alcotest.test_case "an open mesh is refused with the count of its open edges" `Quick test_open_mesh_refused ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
       ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
