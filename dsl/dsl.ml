@@ -222,10 +222,38 @@ let collider_of (o : Primitive.t) : Physics.collider list =
         face c111 c110 c011 ]
   | _ -> []
 
+(* A CSG object collides exactly as its members only when its surface is every member's
+   surface (a union, or a merge, whose faces a body outside meets first anyway) and each
+   member is a collider (plane, parallelogram, box). Anything else would let bodies pass
+   through it: refused, at the object. *)
+let rec exact_csg (s : Shape.t) =
+  match s with
+  | Shape.Csg { op = Union | Merge; members; _ } -> Array.for_all (fun (m : Shape.csg_member) -> exact_csg m.shape) members
+  | Shape.Csg _ -> false
+  | Shape.Plane _ | Shape.Parallelogram _ | Shape.Box _ -> true
+  | _ -> false
+
 let colliders t =
   match Eval.run ~sources:t.sources ~images:t.images ~time:0. ~frame:0 t.stmts with
   | Error _ -> []
-  | Ok out -> List.concat_map (fun (o : Eval.obj) -> if o.body = None then List.concat_map collider_of o.prims else []) out.objects
+  | Ok out ->
+      List.concat_map
+        (fun (o : Eval.obj) ->
+          if o.body <> None then []
+          else
+            List.concat_map
+              (fun (p : Primitive.t) ->
+                if not (Primitive.is_csg p) then collider_of p
+                else if exact_csg p.shape then List.concat_map collider_of (Array.to_list p.leaves)
+                else
+                  raise
+                    (Refused
+                       (Error.make ?source:(Hashtbl.find_opt t.sources o.loc.Loc.file) o.loc
+                          (Printf.sprintf
+                             "bodies cannot collide with this %s: physics follows a CSG object only when it is a union or merge of planes, parallelograms and boxes"
+                             o.kind))))
+              o.prims)
+        out.objects
 
 let world t : Physics.world =
   let p = Option.value (t.first.physics) ~default:Eval.default_physics in

@@ -110,8 +110,11 @@ val default_physics : physics
 
 val colliders : t -> Physics.collider list
 (** The static obstacles of the bodies: every plane, parallelogram and box of the scene at
-    time 0, in world space (a rotated box as its six faces). Other shapes are not
-    obstacles. *)
+    time 0, in world space (a rotated box as its six faces), and the members of a union or
+    merge made only of those. Other shapes are not obstacles; a CSG object that is not such
+    a union or merge makes the simulation fail with an error at its block (raised as an
+    exception inside this module's error boundary: call it through {!simulate} or
+    {!scene_at} to get it as an error). *)
 
 val simulate : t -> until:float -> (Physics.trajectory, Error.t list) result
 (** The motion of the bodies among {!colliders} under {!val-physics}, computed for

@@ -52,6 +52,7 @@ type obj = {
   material_json : Yojson.Safe.t Lazy.t;
   prims : Primitive.t list;  (** one, or a mesh's triangles *)
   body : string option;
+  loc : Loc.t;
 }
 
 type output = {
@@ -1582,7 +1583,8 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
       let mj = lazy (material_json m d) in
       let transform = Option.value transform ~default:o.p_transform in
       { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
-        prims = List.map (Primitive.make ~transform ~leaf_materials:(Array.map (Option.map fst) o.p_leaves) m) o.p_shapes; body }
+        prims = List.map (Primitive.make ~transform ~leaf_materials:(Array.map (Option.map fst) o.p_leaves) m) o.p_shapes; body;
+        loc = o.p_loc }
     in
     let statics = if objects then List.rev_map (fun o -> finish o) !(scope.sink) else [] in
     let bodies = List.rev ctx.bodies in

@@ -55,6 +55,7 @@ type obj = {
   material_json : Yojson.Safe.t Lazy.t;  (** built only when asked for *)
   prims : Primitive.t list;  (** one, or the triangles of a mesh *)
   body : string option;  (** the body this sphere is, if any *)
+  loc : Loc.t;  (** where the object's block starts *)
 }
 
 type output = {

@@ -391,6 +391,29 @@ let test_open_mesh_refused () =
   | Error m ->
       if not (contains m "4 edges are not shared by exactly two faces") then Alcotest.failf "unexpected message: %s" m
 
+(* --- Physics ------------------------------------------------------------------------- *)
+
+let test_physics_union_of_boxes () =
+  let scene =
+    "union { box { min: (-5, -1, -5), max: (5, 0, 5) } plane { normal: (1, 0, 0), offset: 6 } translate: (0, -1, 0) }\n\
+     body ball { sphere { center: (0, 2, 0), radius: 0.5 } }"
+  in
+  match Lancer_dsl.Dsl.load_string scene with
+  | Error _ -> Alcotest.fail "the scene does not load"
+  | Ok p -> (
+      match Lancer_dsl.Dsl.colliders p with
+      | [ Physics.Box { max; _ }; Physics.Plane _ ] -> close "the box's top, moved with the union" (-1.) max.y
+      | l -> Alcotest.failf "want the union's box and plane as colliders, got %d colliders" (List.length l))
+
+let test_physics_refuses_difference () =
+  let scene =
+    "difference { box { min: (-5, -1, -5), max: (5, 0, 5) } sphere { center: (0, 0, 0), radius: 1 } }\n\
+     body ball { sphere { center: (0, 2, 0), radius: 0.5 } }"
+  in
+  match load_scene scene with
+  | Ok _ -> Alcotest.fail "a body over a difference was simulated"
+  | Error m -> if not (contains m "bodies cannot collide with this difference") then Alcotest.failf "unexpected message: %s" m
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -409,5 +432,8 @@ let () =
       ( "meshes",
         [ Alcotest.test_case "a closed OBJ cube subtracted from a sphere leaves a cubic cavity" `Quick test_closed_mesh;
           Alcotest.test_case "an open mesh is refused with the count of its open edges" `Quick test_open_mesh_refused ] );
+      ( "physics",
+        [ Alcotest.test_case "a union of a box and a plane collides as its members" `Quick test_physics_union_of_boxes;
+          Alcotest.test_case "a body over a difference is refused at the difference" `Quick test_physics_refuses_difference ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
       ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
