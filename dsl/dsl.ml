@@ -363,14 +363,24 @@ let light_kind = function
   | Light.Point _ -> "point"
   | Light.Directional _ -> "directional"
 
+(* A CSG tree in one line: difference(box, sphere, union(sphere, sphere)). *)
+let rec csg_tree (s : Shape.t) =
+  match s with
+  | Shape.Csg { members; _ } ->
+      Printf.sprintf "%s(%s)" (Shape.name s)
+        (String.concat ", " (Array.to_list (Array.map (fun (m : Shape.csg_member) -> csg_tree m.shape) members)))
+  | s -> Shape.name s
+
 let distinct_materials (sc : Scene.t) =
   let tbl = Hashtbl.create 16 in
   Array.iter
     (fun (o : Primitive.t) ->
-      let m = o.material in
-      let h = Hashtbl.hash m in
-      let same = Hashtbl.find_all tbl h in
-      if not (List.exists (fun m' -> m' == m || (try m' = m with _ -> false)) same) then Hashtbl.add tbl h m)
+      List.iter
+        (fun (m : Material.t) ->
+          let h = Hashtbl.hash m in
+          let same = Hashtbl.find_all tbl h in
+          if not (List.exists (fun m' -> m' == m || (try m' = m with _ -> false)) same) then Hashtbl.add tbl h m)
+        (Primitive.materials o))
     sc.objects;
   Hashtbl.length tbl
 
@@ -413,6 +423,14 @@ let summary ?body_state:_ t (sc : Scene.t) =
    | Some (fps, n) -> line "animation: %d frames at %g fps (%g s); this is frame %d, time %g s" n fps (Float.of_int n /. fps) sc.frame sc.time
    | None -> line "animation: none (a still)");
   line "objects: %d%s" (List.length objs) (if kinds = [] then "" else " (" ^ list kinds ^ ")");
+  (let trees = List.filter_map (fun (o : Primitive.t) -> if Primitive.is_csg o then Some (csg_tree o.shape) else None) objs in
+   let shown = 4 in
+   match trees with
+   | [] -> ()
+   | ts ->
+       line "csg: %d object%s: %s%s" (List.length ts) (if List.length ts = 1 then "" else "s")
+         (String.concat "; " (List.filteri (fun i _ -> i < shown) ts))
+         (if List.length ts > shown then Printf.sprintf "; … and %d more" (List.length ts - shown) else ""));
   line "lights: %d%s" (Array.length sc.lights) (if lights = [] then "" else " (" ^ list lights ^ ")");
   line "materials: %d distinct" (distinct_materials sc);
   (match bodies t with

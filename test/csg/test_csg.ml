@@ -414,6 +414,27 @@ let test_physics_refuses_difference () =
   | Ok _ -> Alcotest.fail "a body over a difference was simulated"
   | Error m -> if not (contains m "bodies cannot collide with this difference") then Alcotest.failf "unexpected message: %s" m
 
+(* --- check and --json ---------------------------------------------------------------- *)
+
+let test_check_describes_trees () =
+  let text =
+    "difference { box { min: (-1, -1, -1), max: (1, 1, 1) } union { sphere { center: (1, 0, 0), radius: 0.5 } \
+     torus { center: (0, 0, 0), major: 1, minor: 0.2, material: material { color: (1, 0, 0) } } } translate: (0, 1, 0) }"
+  in
+  let p = match Lancer_dsl.Dsl.load_string text with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
+  let sc = match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "no scene" in
+  let summary = Lancer_dsl.Dsl.summary p sc in
+  if not (contains summary "csg: 1 object: difference(box, union(sphere, torus))") then Alcotest.failf "summary:\n%s" summary;
+  let open Yojson.Safe.Util in
+  let o = Lancer_dsl.Dsl.to_json p sc |> member "objects" |> index 0 in
+  Alcotest.(check string) "kind" "difference" (o |> member "kind" |> to_string);
+  let inner = o |> member "members" |> index 1 in
+  Alcotest.(check string) "nested kind" "union" (inner |> member "kind" |> to_string);
+  let torus = inner |> member "fields" |> member "members" |> index 1 in
+  Alcotest.(check string) "leaf kind" "torus" (torus |> member "kind" |> to_string);
+  Alcotest.(check (float 0.)) "leaf field" 0.2 (torus |> member "fields" |> member "minor" |> to_float);
+  Alcotest.(check bool) "leaf material" true (torus |> member "material" <> `Null)
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -435,5 +456,6 @@ let () =
       ( "physics",
         [ Alcotest.test_case "a union of a box and a plane collides as its members" `Quick test_physics_union_of_boxes;
           Alcotest.test_case "a body over a difference is refused at the difference" `Quick test_physics_refuses_difference ] );
+      ("check", [ Alcotest.test_case "check and --json describe a CSG tree, members and materials" `Quick test_check_describes_trees ]);
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
       ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
