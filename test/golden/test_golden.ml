@@ -49,6 +49,12 @@ let registry =
     ("gallery_stripes", "scenes/gallery/stripes.rts", "stripes along x; on the rotated sphere they turn with it");
     ("gallery_triangle", "scenes/gallery/triangle.rts", "a tetrahedron of four triangles and a lone triangle");
     ("gallery_wood", "scenes/gallery/wood.rts", "long grain on a log, a plank and a post (the pattern stretched along y)");
+    ("gallery_lens", "scenes/gallery/lens.rts", "a glass lens (two spheres intersected) magnifying the checkered wall; a merged pair of tinted spheres");
+    ("gallery_dice", "scenes/gallery/dice.rts", "two rounded dice with dark pips carved in three faces, the red one turned");
+    ("gallery_pipe", "scenes/gallery/pipe.rts", "a pipe seen into its bore, a hollow cone funnel, a solid pointed cone");
+    ("gallery_torus", "scenes/gallery/torus.rts", "a trefoil knot of 60 small rainbow tori above a large flat torus");
+    ("gallery_terrain", "scenes/gallery/terrain.rts", "green islands of a noise height field in a reflecting sea");
+    ("maps_terrain", "scenes/gallery/maps/terrain.rts", "grey noise, the terrain's height map, stretched to 4:3");
     ("maps_bricks", "scenes/gallery/maps/bricks.rts", "white bricks in dark mortar (the height map), stretched to 4:3");
     ("maps_smiley", "scenes/gallery/maps/smiley.rts", "the smiley image map, green mark top left, stretched to 4:3");
     ("materials_chrome", "scenes/materials/chrome.rts", "a grey mirror-like sphere reflecting floor and sky");
@@ -221,6 +227,7 @@ let () =
         [
           Alcotest.test_case "smiley.png is its scene's render" `Quick (test_map_reproducible "smiley");
           Alcotest.test_case "bricks.png is its scene's render" `Quick (test_map_reproducible "bricks");
+          Alcotest.test_case "terrain.png is its scene's render" `Quick (test_map_reproducible "terrain");
         ] );
       ( "comparison",
         [
