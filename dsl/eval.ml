@@ -1281,15 +1281,20 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
                 match Error.cannot_read ~what:"image" ~written:file path with
                 | Some msg -> Error msg
                 | None -> (
-                    match Image.read_rgb8 path with
+                    match Image.read_raster path with
                     | Error m -> Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
-                    | Ok (w, h, px) ->
-                        (* Luminance (Rec. 709 weights) of the stored values, linear from 0 to 1;
-                           a grey pixel is its own value. *)
-                        let v i =
-                          let c k = Float.of_int (Char.code (Bytes.get px ((3 * i) + k))) in
-                          if c 0 = c 1 && c 1 = c 2 then c 0 /. 255.
-                          else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. 255.
+                    | Ok r ->
+                        (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to
+                           the largest value (255, or 65535 for 16 bits) to 1; a grey pixel is
+                           its own value; alpha is ignored. *)
+                        let w = r.width and h = r.height in
+                        let top = Float.of_int (Raster.max_value r) in
+                        let v k =
+                          let i = k mod w and j = k / w in
+                          let c n = Float.of_int (Raster.get r i j n) in
+                          if r.channels <= 2 then c 0 /. top
+                          else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
+                          else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
                         in
                         Ok (w, h, Float.Array.init (w * h) v))
               in

@@ -435,6 +435,24 @@ let test_check_describes_trees () =
   Alcotest.(check (float 0.)) "leaf field" 0.2 (torus |> member "fields" |> member "minor" |> to_float);
   Alcotest.(check bool) "leaf material" true (torus |> member "material" <> `Null)
 
+(* A 16-bit image keeps its precision: a sample of 1 of 65535 is not rounded to 0. *)
+let test_height_field_16_bit () =
+  let file = Filename.temp_file "lancer_hf16" ".ppm" in
+  let oc = open_out_bin file in
+  output_string oc "P6\n2 2\n65535\n";
+  let sample v = output_char oc (Char.chr (v lsr 8)); output_char oc (Char.chr (v land 255)) in
+  List.iter (fun v -> sample v; sample v; sample v) [ 1; 0; 0; 0 ];
+  close_out oc;
+  let scene = Printf.sprintf "height_field { file: %S, size: (1, 65535, 1) }" file in
+  let r = load_scene scene in
+  Sys.remove file;
+  match r with
+  | Error m -> Alcotest.fail m
+  | Ok sc ->
+      let acc = Accel.build sc.objects in
+      let t, _ = Accel.nearest acc (Ray.make (Vec3.v 0. 100. 0.) (Vec3.v 0. (-1.) 0.)) 0. Float.infinity in
+      close ~eps:1e-9 "the corner of sample 1 stands at 1" 1. (100. -. t)
+
 let () =
   Alcotest.run "csg"
     [ ( "closed form",
@@ -449,7 +467,8 @@ let () =
           Alcotest.test_case "torus rays parallel to its axis, near and from 1e6" `Quick test_torus_axis_parallel;
           Alcotest.test_case "torus rays tangent to the tube keep their double root, near and from 1e6" `Quick test_torus_tangent;
           seeded test_torus_random;
-          Alcotest.test_case "a height field's vertices stand at the image's luminance" `Quick test_height_field ] );
+          Alcotest.test_case "a height field's vertices stand at the image's luminance" `Quick test_height_field;
+          Alcotest.test_case "a 16-bit height field keeps its precision" `Quick test_height_field_16_bit ] );
       ( "meshes",
         [ Alcotest.test_case "a closed OBJ cube subtracted from a sphere leaves a cubic cavity" `Quick test_closed_mesh;
           Alcotest.test_case "an open mesh is refused with the count of its open edges" `Quick test_open_mesh_refused ] );
