@@ -1386,7 +1386,7 @@ and csg ctx env scope (k : name) items =
       | _ when o.p_kind = "mesh" -> ()
       | [ sh ] when Shape.is_solid sh || not need_solid -> ()
       | [ _ ] ->
-          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone with caps, plane as a half-space, CSG of solids)%s"
+          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone with caps, closed mesh, plane as a half-space, CSG of solids)%s"
             (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | "cone" -> "a cone without caps" | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
             (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`" else "")
