@@ -9,8 +9,13 @@ let contains s sub =
   let rec go i = i + n <= String.length s && (String.sub s i n = sub || go (i + 1)) in
   go 0
 
-let seeded ?(seed = 20261201) t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
-let close ?(eps = 1e-12) what want got = if Float.abs (want -. got) > eps then Alcotest.failf "%s: want %.17g, got %.17g" what want got
+let seeded ?(seed = 20261201) t =
+  QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
+
+let close ?(eps = 1e-12) what want got =
+  if Float.abs (want -. got) > eps then
+    Alcotest.failf "%s: want %.17g, got %.17g" what want got
+
 let sphere x y z r = Shape.sphere ~center:(Vec3.v x y z) ~radius:r
 let id = Transform.identity
 let ray o d = Ray.make o d
@@ -18,7 +23,8 @@ let ray o d = Ray.make o d
 (* The lens: two unit spheres whose centres are 1 apart. Along their common axis it spans
    z ∈ [−0.5, 0.5]: a ray from z = −5 enters at t = 4.5 (on the far sphere) and leaves at
    5.5 (on the near one). *)
-let lens () = Shape.csg Intersection [ (sphere 0. 0. (-0.5) 1., id); (sphere 0. 0. 0.5 1., id) ]
+let lens () =
+  Shape.csg Intersection [ (sphere 0. 0. (-0.5) 1., id); (sphere 0. 0. 0.5 1., id) ]
 
 let test_lens () =
   let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
@@ -26,7 +32,8 @@ let test_lens () =
   | [ (t0, l0); (t1, l1) ] ->
       close "entry" 4.5 t0;
       close "exit" 5.5 t1;
-      Alcotest.(check (pair int int)) "entry on the sphere at +z, exit on the one at −z" (1, 0) (l0, l1);
+      Alcotest.(check (pair int int))
+        "entry on the sphere at +z, exit on the one at −z" (1, 0) (l0, l1);
       close "nearest hit" 4.5 (Shape.intersect (lens ()) r 0. Float.infinity)
   | l -> Alcotest.failf "want two crossings, got %d" (List.length l)
 
@@ -43,8 +50,15 @@ let test_lens_off_axis () =
 (* A box minus a sphere that bites into its −x face: the ray along +x meets the cavity's
    wall at x = −0.5 first, and the normal there points into the cavity (−x). *)
 let test_cavity_normal () =
-  let red = { Material.default with color = Color.v 1. 0. 0. } and blue = { Material.default with color = Color.v 0. 0. 1. } in
-  let shape = Shape.csg Difference [ (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id); (sphere (-1.) 0. 0. 0.5, id) ] in
+  let red = { Material.default with color = Color.v 1. 0. 0. }
+  and blue = { Material.default with color = Color.v 0. 0. 1. } in
+  let shape =
+    Shape.csg Difference
+      [
+        (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id);
+        (sphere (-1.) 0. 0. 0.5, id);
+      ]
+  in
   let p = Primitive.make ~leaf_materials:[| None; Some blue |] red shape in
   let r = ray (Vec3.v (-5.) 0.1 0.) Vec3.x_axis in
   let t = Primitive.intersect p r 0. Float.infinity in
@@ -52,35 +66,52 @@ let test_cavity_normal () =
   close "hit on the cavity wall" want t;
   let s = Primitive.surface p r t in
   let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
-  if not (n.x < -0.9) then Alcotest.failf "the normal (%g, %g, %g) does not point into the cavity" n.x n.y n.z;
-  Alcotest.(check bool) "the cavity wall shades with the sphere's material" true (s.material == blue);
+  if not (n.x < -0.9) then
+    Alcotest.failf "the normal (%g, %g, %g) does not point into the cavity" n.x n.y n.z;
+  Alcotest.(check bool)
+    "the cavity wall shades with the sphere's material" true (s.material == blue);
   (* Through the middle of the solid part: the box's own face, with the CSG's material. *)
   let r = ray (Vec3.v (-5.) 0.9 0.9) Vec3.x_axis in
   let t = Primitive.intersect p r 0. Float.infinity in
   close "hit on the box face" 4. t;
   let s = Primitive.surface p r t in
-  Alcotest.(check bool) "the box face shades with the CSG's material" true (s.material == red);
+  Alcotest.(check bool)
+    "the box face shades with the CSG's material" true (s.material == red);
   let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
-  if not (n.x < -0.9) then Alcotest.failf "the box face's normal (%g, %g, %g) is not −x" n.x n.y n.z
+  if not (n.x < -0.9) then
+    Alcotest.failf "the box face's normal (%g, %g, %g) is not −x" n.x n.y n.z
 
 (* A plane member is the half-space below it: a box cut by the plane y = 0 keeps its lower
    half, and a ray from above meets the cut at y = 0. *)
 let test_plane_half_space () =
   let shape =
     Shape.csg Intersection
-      [ (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id); (Shape.plane ~normal:Vec3.y_axis ~offset:0., id) ]
+      [
+        (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id);
+        (Shape.plane ~normal:Vec3.y_axis ~offset:0., id);
+      ]
   in
-  close "the cut" 5. (Shape.intersect shape (ray (Vec3.v 0.2 5. 0.3) (Vec3.v 0. (-1.) 0.)) 0. Float.infinity)
+  close "the cut" 5.
+    (Shape.intersect shape
+       (ray (Vec3.v 0.2 5. 0.3) (Vec3.v 0. (-1.) 0.))
+       0. Float.infinity)
 
 (* The hollow sphere's four walls: a shadow ray through it crosses the outer wall, the
    inner wall twice and the outer wall again. *)
 let test_shadow_crosses_both_walls () =
-  let shell = Shape.csg Difference [ (sphere 0. 0. 0. 1., id); (sphere 0. 0. 0. 0.8, id) ] in
+  let shell =
+    Shape.csg Difference [ (sphere 0. 0. 0. 1., id); (sphere 0. 0. 0. 0.8, id) ]
+  in
   let glass = { Material.default with transparency = 0.9; ior = 1.5 } in
   let acc = Accel.build [| Primitive.make glass shell |] in
   let n = ref 0 in
   let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
-  ignore (Accel.fold_hits acc r 0. 10. (fun _ _ c -> incr n; c) Color.white);
+  ignore
+    (Accel.fold_hits acc r 0. 10.
+       (fun _ _ c ->
+         incr n;
+         c)
+       Color.white);
   Alcotest.(check int) "crossings" 4 !n
 
 (* --- Random CSG trees ------------------------------------------------------------- *)
@@ -95,7 +126,13 @@ let rec random_tree st depth =
       let h = Vec3.v (rnd st 0.2 1.) (rnd st 0.2 1.) (rnd st 0.2 1.) in
       Shape.box ~min:(Vec3.sub c h) ~max:(Vec3.add c h)
   else
-    let op : Shape.csg_op = match Random.State.int st 4 with 0 -> Union | 1 -> Merge | 2 -> Intersection | _ -> Difference in
+    let op : Shape.csg_op =
+      match Random.State.int st 4 with
+      | 0 -> Union
+      | 1 -> Merge
+      | 2 -> Intersection
+      | _ -> Difference
+    in
     let n = 2 + Random.State.int st 2 in
     let member () =
       let tf =
@@ -103,14 +140,18 @@ let rec random_tree st depth =
         else
           Transform.then_
             (Transform.rotate (Vec3.v (rnd st 0. 90.) (rnd st 0. 90.) (rnd st 0. 90.)))
-            (Transform.translate (Vec3.v (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5)))
+            (Transform.translate
+               (Vec3.v (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5) (rnd st (-0.5) 0.5)))
       in
       (random_tree st (depth - 1), tf)
     in
     Shape.csg op (List.init n (fun _ -> member ()))
 
 let random_ray st =
-  let o = Vec3.smul 5. (Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.))) in
+  let o =
+    Vec3.smul 5.
+      (Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.)))
+  in
   let target = Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) in
   ray o (Vec3.normalize (Vec3.sub target o))
 
@@ -119,7 +160,9 @@ let random_ray st =
    bracket the hit. A union shows every member's surface, so its first crossing is where
    any member's inside first changes; for the other operations, the combined one. *)
 let test_first_sign_change =
-  QCheck.Test.make ~name:"the hit of a random CSG tree is the first change of its inside along the ray" ~count:400
+  QCheck.Test.make
+    ~name:"the hit of a random CSG tree is the first change of its inside along the ray"
+    ~count:400
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
@@ -129,13 +172,21 @@ let test_first_sign_change =
         match s with
         | Shape.Csg { op = Union; members; _ } ->
             (* Any member changing: compare the whole vector of members' insides. *)
-            fun t -> List.map (fun (m : Shape.csg_member) -> Shape.inside m.shape (Transform.inv_point m.transform (Ray.at r t))) (Array.to_list members)
+            fun t ->
+              List.map
+                (fun (m : Shape.csg_member) ->
+                  Shape.inside m.shape (Transform.inv_point m.transform (Ray.at r t)))
+                (Array.to_list members)
         | _ -> fun t -> [ Shape.inside s (Ray.at r t) ]
       in
       let dt = 0.002 in
       let t_hit = Shape.intersect s r 0. Float.infinity in
       let s0 = inside 0. in
-      let rec first k = if k > 6000 then None else if inside (Float.of_int k *. dt) <> s0 then Some k else first (k + 1) in
+      let rec first k =
+        if k > 6000 then None
+        else if inside (Float.of_int k *. dt) <> s0 then Some k
+        else first (k + 1)
+      in
       match first 1 with
       | None ->
           (* No change seen: no hit, or one on a feature thinner than a sample step. *)
@@ -144,28 +195,44 @@ let test_first_sign_change =
       | Some k ->
           let lo = Float.of_int (k - 1) *. dt and hi = Float.of_int k *. dt in
           if t_hit >= lo -. 1e-9 && t_hit <= hi +. 1e-9 then true
-          else QCheck.Test.fail_reportf "hit at %.9g, first change of the inside in [%.9g, %.9g]" t_hit lo hi)
+          else
+            QCheck.Test.fail_reportf
+              "hit at %.9g, first change of the inside in [%.9g, %.9g]" t_hit lo hi)
 
 (* The BVH over CSG objects gives the brute-force scan's nearest hits. *)
 let test_bvh_brute =
-  QCheck.Test.make ~name:"the BVH's nearest hit among CSG objects is the brute-force scan's" ~count:40
+  QCheck.Test.make
+    ~name:"the BVH's nearest hit among CSG objects is the brute-force scan's" ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let prims =
         Array.init 24 (fun _ ->
-            let tf = Transform.translate (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.)) in
+            let tf =
+              Transform.translate
+                (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.))
+            in
             Primitive.make ~transform:tf Material.default (random_tree st 2))
       in
-      let bvh = Accel.build prims and brute = Accel.build (Array.map Primitive.without_bounds prims) in
+      let bvh = Accel.build prims
+      and brute = Accel.build (Array.map Primitive.without_bounds prims) in
       assert (Accel.uses_bvh bvh);
       List.for_all
         (fun _ ->
           let o = Vec3.v (rnd st (-12.) 12.) (rnd st (-12.) 12.) (-20.) in
-          let r = ray o (Vec3.normalize (Vec3.sub (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.)) o)) in
-          let a = Accel.nearest bvh r 0. Float.infinity and b = Accel.nearest brute r 0. Float.infinity in
+          let r =
+            ray o
+              (Vec3.normalize
+                 (Vec3.sub
+                    (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.))
+                    o))
+          in
+          let a = Accel.nearest bvh r 0. Float.infinity
+          and b = Accel.nearest brute r 0. Float.infinity in
           if a = b then true
-          else QCheck.Test.fail_reportf "BVH (%g, %d), brute force (%g, %d)" (fst a) (snd a) (fst b) (snd b))
+          else
+            QCheck.Test.fail_reportf "BVH (%g, %d), brute force (%g, %d)" (fst a) (snd a)
+              (fst b) (snd b))
         (List.init 200 Fun.id))
 
 (* --- A hollow glass sphere -------------------------------------------------------- *)
@@ -185,35 +252,59 @@ difference {
 (* The same picture without CSG: the outer sphere, and the inner one with its normal
    reversed (pointing into the cavity), both of the glass. *)
 let test_hollow_glass () =
-  let prog = match Lancer_dsl.Dsl.load_string hollow_scene with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
-  let sc = match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "the scene does not evaluate" in
+  let prog =
+    match Lancer_dsl.Dsl.load_string hollow_scene with
+    | Ok p -> p
+    | Error _ -> Alcotest.fail "the scene does not load"
+  in
+  let sc =
+    match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+    | Ok s -> s
+    | Error _ -> Alcotest.fail "the scene does not evaluate"
+  in
   let floor = sc.objects.(0) and shell = sc.objects.(1) in
   Alcotest.(check bool) "the shell is one CSG object" true (Primitive.is_csg shell);
   let glass = shell.leaves.(0).material in
   let c = Vec3.v 0. 0.2 0. in
   let plain =
-    Scene.make_exn ~settings:sc.settings ~camera:sc.camera ~lights:(Array.to_list sc.lights)
-      [ floor; Primitive.make glass (Shape.sphere ~center:c ~radius:1.); Primitive.make ~flip:true glass (Shape.sphere ~center:c ~radius:0.8) ]
+    Scene.make_exn ~settings:sc.settings ~camera:sc.camera
+      ~lights:(Array.to_list sc.lights)
+      [
+        floor;
+        Primitive.make glass (Shape.sphere ~center:c ~radius:1.);
+        Primitive.make ~flip:true glass (Shape.sphere ~center:c ~radius:0.8);
+      ]
   in
   let a, _ = Render.render sc and b, _ = Render.render plain in
   let bytes im = Image.to_bytes sc.settings.gamma im in
   Alcotest.(check bool) "pixel for pixel" true (Bytes.equal (bytes a) (bytes b));
   (* And the shell is not the solid ball (the test can tell them apart). *)
-  let solid = Scene.make_exn ~settings:sc.settings ~camera:sc.camera ~lights:(Array.to_list sc.lights) [ floor; Primitive.make glass (Shape.sphere ~center:c ~radius:1.) ] in
+  let solid =
+    Scene.make_exn ~settings:sc.settings ~camera:sc.camera
+      ~lights:(Array.to_list sc.lights)
+      [ floor; Primitive.make glass (Shape.sphere ~center:c ~radius:1.) ]
+  in
   let d, _ = Render.render solid in
-  Alcotest.(check bool) "differs from a solid glass ball" false (Bytes.equal (bytes a) (bytes d))
-
+  Alcotest.(check bool)
+    "differs from a solid glass ball" false
+    (Bytes.equal (bytes a) (bytes d))
 
 (* --- Cone ---------------------------------------------------------------------------- *)
 
 (* A cone of radius 1 at y = 0 narrowing to a point at y = 1: at y = 0.5 its radius is
    0.5. From below, the base cap, or without caps the inside of the side where r = 0.2. *)
 let test_cone () =
-  let cone caps = Shape.cone ~base:Vec3.zero ~top:Vec3.y_axis ~base_radius:1. ~top_radius:0. ~caps in
-  close "side" 4.5 (Shape.intersect (cone true) (ray (Vec3.v (-5.) 0.5 0.) Vec3.x_axis) 0. Float.infinity);
+  let cone caps =
+    Shape.cone ~base:Vec3.zero ~top:Vec3.y_axis ~base_radius:1. ~top_radius:0. ~caps
+  in
+  close "side" 4.5
+    (Shape.intersect (cone true)
+       (ray (Vec3.v (-5.) 0.5 0.) Vec3.x_axis)
+       0. Float.infinity);
   let up = ray (Vec3.v 0.2 (-5.) 0.) Vec3.y_axis in
   close "base cap" 5. (Shape.intersect (cone true) up 0. Float.infinity);
-  close ~eps:1e-12 "open: the side from inside" 5.8 (Shape.intersect (cone false) up 0. Float.infinity);
+  close ~eps:1e-12 "open: the side from inside" 5.8
+    (Shape.intersect (cone false) up 0. Float.infinity);
   Alcotest.(check bool) "inside" true (Shape.inside (cone true) (Vec3.v 0.1 0.5 0.1));
   Alcotest.(check bool) "outside" false (Shape.inside (cone true) (Vec3.v 0.45 0.5 0.3));
   let n = Shape.normal (cone true) (Vec3.v (-0.5) 0.5 0.) in
@@ -222,7 +313,9 @@ let test_cone () =
 
 (* --- Torus --------------------------------------------------------------------------- *)
 
-let torus_r = 1. and torus_rr = 0.25
+let torus_r = 1.
+and torus_rr = 0.25
+
 let torus = Shape.torus ~center:Vec3.zero ~axis:Vec3.y_axis ~major:torus_r ~minor:torus_rr
 
 (* Every root of the torus along r, found by asking again past each one. *)
@@ -259,11 +352,16 @@ let test_torus_centre_rays () =
   let st = Random.State.make [| 7 |] in
   for _ = 1 to 200 do
     (* Directions a little off the plane of the ring, so that the ray meets the tube. *)
-    let u = Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-0.15) 0.15) (rnd st (-1.) 1.)) in
+    let u =
+      Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-0.15) 0.15) (rnd st (-1.) 1.))
+    in
     List.iter
       (fun (dist, eps) ->
         let o = Vec3.smul (-.dist) u in
-        check_roots (Printf.sprintf "through the centre from %g" dist) ~eps (centre_roots ~dist u) (all_roots torus (ray o u)))
+        check_roots
+          (Printf.sprintf "through the centre from %g" dist)
+          ~eps (centre_roots ~dist u)
+          (all_roots torus (ray o u)))
       [ (5., 1e-12); (1e6, 1e-8) ]
   done
 
@@ -271,8 +369,12 @@ let test_torus_axis_parallel () =
   (* At distance ρ from the axis, parallel to it: y = ±√(r² − (ρ − R)²). *)
   List.iter
     (fun (rho, dist) ->
-      let h = Float.sqrt ((torus_rr *. torus_rr) -. ((rho -. torus_r) *. (rho -. torus_r))) in
-      check_roots (Printf.sprintf "parallel to the axis at %g from %g" rho dist) ~eps:(if dist > 100. then 1e-8 else 1e-12)
+      let h =
+        Float.sqrt ((torus_rr *. torus_rr) -. ((rho -. torus_r) *. (rho -. torus_r)))
+      in
+      check_roots
+        (Printf.sprintf "parallel to the axis at %g from %g" rho dist)
+        ~eps:(if dist > 100. then 1e-8 else 1e-12)
         [ dist -. h; dist +. h ]
         (all_roots torus (ray (Vec3.v rho dist 0.) (Vec3.v 0. (-1.) 0.))))
     [ (1., 5.); (1.2, 5.); (0.8, 1e6); (1.1, 1e6) ]
@@ -282,23 +384,35 @@ let test_torus_tangent () =
   List.iter
     (fun dist ->
       let eps = if dist > 100. then 1e-8 else 1e-12 in
-      check_roots (Printf.sprintf "tangent to the top of the tube from %g" dist) ~eps
+      check_roots
+        (Printf.sprintf "tangent to the top of the tube from %g" dist)
+        ~eps
         [ dist -. torus_r; dist +. torus_r ]
         (all_roots torus (ray (Vec3.v (-.dist) torus_rr 0.) Vec3.x_axis));
       (* Along x at z = R + r: the ray grazes the outer equator at x = 0. *)
-      check_roots (Printf.sprintf "grazing the outer equator from %g" dist) ~eps [ dist ]
+      check_roots
+        (Printf.sprintf "grazing the outer equator from %g" dist)
+        ~eps [ dist ]
         (all_roots torus (ray (Vec3.v (-.dist) 0. (torus_r +. torus_rr)) Vec3.x_axis)))
     [ 3.; 1e6 ];
   (* Just inside the top, four roots; just outside, none. *)
-  Alcotest.(check int) "just inside the top" 4 (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr -. 1e-9) 0.) Vec3.x_axis)));
-  Alcotest.(check int) "just above the top" 0 (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr +. 1e-6) 0.) Vec3.x_axis)))
+  Alcotest.(check int)
+    "just inside the top" 4
+    (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr -. 1e-9) 0.) Vec3.x_axis)));
+  Alcotest.(check int)
+    "just above the top" 0
+    (List.length (all_roots torus (ray (Vec3.v (-3.) (torus_rr +. 1e-6) 0.) Vec3.x_axis)))
 
 (* Any ray: each root lies on the surface, and the roots are where the inside changes. *)
 let test_torus_random =
-  QCheck.Test.make ~name:"a torus's roots lie on it, and its inside changes exactly there" ~count:500 QCheck.(int_bound 1_000_000_000)
+  QCheck.Test.make ~name:"a torus's roots lie on it, and its inside changes exactly there"
+    ~count:500
+    QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
-      let axis = Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.)) in
+      let axis =
+        Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.))
+      in
       let s = Shape.torus ~center:Vec3.zero ~axis ~major:1. ~minor:0.3 in
       let r = random_ray st in
       let roots = all_roots s r in
@@ -315,7 +429,11 @@ let test_torus_random =
         if v <> !prev then incr changes;
         prev := v
       done;
-      List.for_all on_surface roots && (List.length roots = !changes || (QCheck.assume false; true)))
+      List.for_all on_surface roots
+      && (List.length roots = !changes
+         ||
+         (QCheck.assume false;
+          true)))
 
 (* --- Height field ----------------------------------------------------------------- *)
 
@@ -323,19 +441,54 @@ let test_torus_random =
    O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)), v the pixel's luminance in [0, 1]. *)
 let test_height_field () =
   let file = Filename.temp_file "lancer_hf" ".ppm" in
-  let px = [ 0; 0; 0; 255; 255; 255; 51; 51; 51; (* row 0 *) 102; 102; 102; 0; 0; 0; 255; 0; 0 (* row 1, last pixel red *) ] in
+  let px =
+    [
+      0;
+      0;
+      0;
+      255;
+      255;
+      255;
+      51;
+      51;
+      51;
+      (* row 0 *)
+      102;
+      102;
+      102;
+      0;
+      0;
+      0;
+      255;
+      0;
+      0 (* row 1, last pixel red *);
+    ]
+  in
   let oc = open_out_bin file in
   output_string oc "P6\n3 2\n255\n";
   List.iter (fun b -> output_char oc (Char.chr b)) px;
   close_out oc;
-  let scene = Printf.sprintf "height_field { file: %S, origin: (1, 2, 3), size: (4, 10, 2) }" file in
-  let prog = match Lancer_dsl.Dsl.load_string scene with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
-  let sc = match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "the scene does not evaluate" in
+  let scene =
+    Printf.sprintf "height_field { file: %S, origin: (1, 2, 3), size: (4, 10, 2) }" file
+  in
+  let prog =
+    match Lancer_dsl.Dsl.load_string scene with
+    | Ok p -> p
+    | Error _ -> Alcotest.fail "the scene does not load"
+  in
+  let sc =
+    match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+    | Ok s -> s
+    | Error _ -> Alcotest.fail "the scene does not evaluate"
+  in
   Sys.remove file;
   Alcotest.(check int) "two triangles per cell" 4 (Array.length sc.objects);
   let acc = Accel.build sc.objects in
   let down x z = Ray.make (Vec3.v x 100. z) (Vec3.v 0. (-1.) 0.) in
-  let height x z = let t, i = Accel.nearest acc (down x z) 0. Float.infinity in if i < 0 then Float.nan else 100. -. t in
+  let height x z =
+    let t, i = Accel.nearest acc (down x z) 0. Float.infinity in
+    if i < 0 then Float.nan else 100. -. t
+  in
   (* Vertices: (i, j) = (1, 0) is white, (2, 0) grey 51, (0, 1) grey 102, (2, 1) red. *)
   close ~eps:1e-9 "white vertex" 12. (height 3. 3.);
   close ~eps:1e-9 "grey vertex" (2. +. (10. *. 51. /. 255.)) (height 5. 3.);
@@ -350,7 +503,8 @@ let test_height_field () =
 let cube_obj ~faces =
   let file = Filename.temp_file "lancer_cube" ".obj" in
   let oc = open_out file in
-  output_string oc "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n";
+  output_string oc
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n";
   List.iteri
     (fun i f -> if i < faces then output_string oc (f ^ "\n"))
     [ "f 1 4 3 2"; "f 5 6 7 8"; "f 1 2 6 5"; "f 4 8 7 3"; "f 1 5 8 4"; "f 2 3 7 6" ];
@@ -359,17 +513,27 @@ let cube_obj ~faces =
 
 let load_scene text =
   match Lancer_dsl.Dsl.load_string text with
-  | Error es -> Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
+  | Error es ->
+      Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
   | Ok p -> (
       match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
       | Ok s -> Ok s
-      | Error es -> Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es)))
+      | Error es ->
+          Error
+            (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
+      )
 
 (* A sphere minus a closed OBJ cube: along the axis, the ray meets the sphere, then the
    cube's face (the cavity's wall, facing the ray), then the far face and the sphere. *)
 let test_closed_mesh () =
   let file = cube_obj ~faces:6 in
-  let sc = load_scene (Printf.sprintf "difference { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S, scale: 0.5 } }" file) in
+  let sc =
+    load_scene
+      (Printf.sprintf
+         "difference { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S, scale: \
+          0.5 } }"
+         file)
+  in
   Sys.remove file;
   match sc with
   | Error m -> Alcotest.fail m
@@ -377,54 +541,79 @@ let test_closed_mesh () =
       let o = sc.objects.(0) in
       let r = Ray.make (Vec3.v 0.1 0.2 (-5.)) Vec3.z_axis in
       let ts = List.map fst (Shape.csg_crossings o.shape r 0.) in
-      check_roots "crossings" ~eps:1e-9 [ 5. -. Float.sqrt (4. -. 0.05); 4.5; 5.5; 5. +. Float.sqrt (4. -. 0.05) ] ts;
+      check_roots "crossings" ~eps:1e-9
+        [ 5. -. Float.sqrt (4. -. 0.05); 4.5; 5.5; 5. +. Float.sqrt (4. -. 0.05) ]
+        ts;
       let s = Primitive.surface o r 4.5 in
       let n = Primitive.normal s (Primitive.to_object s (Ray.at r 4.5)) in
-      if not (n.z > 0.99) then Alcotest.failf "the cavity's wall faces (%g, %g, %g), not the ray" n.x n.y n.z
+      if not (n.z > 0.99) then
+        Alcotest.failf "the cavity's wall faces (%g, %g, %g), not the ray" n.x n.y n.z
 
 let test_open_mesh_refused () =
   let file = cube_obj ~faces:5 in
-  let sc = load_scene (Printf.sprintf "intersection { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S } }" file) in
+  let sc =
+    load_scene
+      (Printf.sprintf
+         "intersection { sphere { center: (0, 0, 0), radius: 2 } mesh { file: %S } }" file)
+  in
   Sys.remove file;
   match sc with
   | Ok _ -> Alcotest.fail "an open mesh was accepted"
   | Error m ->
-      if not (contains m "4 edges are not shared by exactly two faces") then Alcotest.failf "unexpected message: %s" m
+      if not (contains m "4 edges are not shared by exactly two faces") then
+        Alcotest.failf "unexpected message: %s" m
 
 (* --- Physics ------------------------------------------------------------------------- *)
 
 let test_physics_union_of_boxes () =
   let scene =
-    "union { box { min: (-5, -1, -5), max: (5, 0, 5) } plane { normal: (1, 0, 0), offset: 6 } translate: (0, -1, 0) }\n\
+    "union { box { min: (-5, -1, -5), max: (5, 0, 5) } plane { normal: (1, 0, 0), \
+     offset: 6 } translate: (0, -1, 0) }\n\
      body ball { sphere { center: (0, 2, 0), radius: 0.5 } }"
   in
   match Lancer_dsl.Dsl.load_string scene with
   | Error _ -> Alcotest.fail "the scene does not load"
   | Ok p -> (
       match Lancer_dsl.Dsl.colliders p with
-      | [ Physics.Box { max; _ }; Physics.Plane _ ] -> close "the box's top, moved with the union" (-1.) max.y
-      | l -> Alcotest.failf "want the union's box and plane as colliders, got %d colliders" (List.length l))
+      | [ Physics.Box { max; _ }; Physics.Plane _ ] ->
+          close "the box's top, moved with the union" (-1.) max.y
+      | l ->
+          Alcotest.failf "want the union's box and plane as colliders, got %d colliders"
+            (List.length l))
 
 let test_physics_refuses_difference () =
   let scene =
-    "difference { box { min: (-5, -1, -5), max: (5, 0, 5) } sphere { center: (0, 0, 0), radius: 1 } }\n\
+    "difference { box { min: (-5, -1, -5), max: (5, 0, 5) } sphere { center: (0, 0, 0), \
+     radius: 1 } }\n\
      body ball { sphere { center: (0, 2, 0), radius: 0.5 } }"
   in
   match load_scene scene with
   | Ok _ -> Alcotest.fail "a body over a difference was simulated"
-  | Error m -> if not (contains m "bodies cannot collide with this difference") then Alcotest.failf "unexpected message: %s" m
+  | Error m ->
+      if not (contains m "bodies cannot collide with this difference") then
+        Alcotest.failf "unexpected message: %s" m
 
 (* --- check and --json ---------------------------------------------------------------- *)
 
 let test_check_describes_trees () =
   let text =
-    "difference { box { min: (-1, -1, -1), max: (1, 1, 1) } union { sphere { center: (1, 0, 0), radius: 0.5 } \
-     torus { center: (0, 0, 0), major: 1, minor: 0.2, material: material { color: (1, 0, 0) } } } translate: (0, 1, 0) }"
+    "difference { box { min: (-1, -1, -1), max: (1, 1, 1) } union { sphere { center: (1, \
+     0, 0), radius: 0.5 } torus { center: (0, 0, 0), major: 1, minor: 0.2, material: \
+     material { color: (1, 0, 0) } } } translate: (0, 1, 0) }"
   in
-  let p = match Lancer_dsl.Dsl.load_string text with Ok p -> p | Error _ -> Alcotest.fail "the scene does not load" in
-  let sc = match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with Ok s -> s | Error _ -> Alcotest.fail "no scene" in
+  let p =
+    match Lancer_dsl.Dsl.load_string text with
+    | Ok p -> p
+    | Error _ -> Alcotest.fail "the scene does not load"
+  in
+  let sc =
+    match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+    | Ok s -> s
+    | Error _ -> Alcotest.fail "no scene"
+  in
   let summary = Lancer_dsl.Dsl.summary p sc in
-  if not (contains summary "csg: 1 object: difference(box, union(sphere, torus))") then Alcotest.failf "summary:\n%s" summary;
+  if not (contains summary "csg: 1 object: difference(box, union(sphere, torus))") then
+    Alcotest.failf "summary:\n%s" summary;
   let open Yojson.Safe.Util in
   let o = Lancer_dsl.Dsl.to_json p sc |> member "objects" |> index 0 in
   Alcotest.(check string) "kind" "difference" (o |> member "kind" |> to_string);
@@ -432,7 +621,9 @@ let test_check_describes_trees () =
   Alcotest.(check string) "nested kind" "union" (inner |> member "kind" |> to_string);
   let torus = inner |> member "fields" |> member "members" |> index 1 in
   Alcotest.(check string) "leaf kind" "torus" (torus |> member "kind" |> to_string);
-  Alcotest.(check (float 0.)) "leaf field" 0.2 (torus |> member "fields" |> member "minor" |> to_float);
+  Alcotest.(check (float 0.))
+    "leaf field" 0.2
+    (torus |> member "fields" |> member "minor" |> to_float);
   Alcotest.(check bool) "leaf material" true (torus |> member "material" <> `Null)
 
 (* A 16-bit image keeps its precision: a sample of 1 of 65535 is not rounded to 0. *)
@@ -440,8 +631,16 @@ let test_height_field_16_bit () =
   let file = Filename.temp_file "lancer_hf16" ".ppm" in
   let oc = open_out_bin file in
   output_string oc "P6\n2 2\n65535\n";
-  let sample v = output_char oc (Char.chr (v lsr 8)); output_char oc (Char.chr (v land 255)) in
-  List.iter (fun v -> sample v; sample v; sample v) [ 1; 0; 0; 0 ];
+  let sample v =
+    output_char oc (Char.chr (v lsr 8));
+    output_char oc (Char.chr (v land 255))
+  in
+  List.iter
+    (fun v ->
+      sample v;
+      sample v;
+      sample v)
+    [ 1; 0; 0; 0 ];
   close_out oc;
   let scene = Printf.sprintf "height_field { file: %S, size: (1, 65535, 1) }" file in
   let r = load_scene scene in
@@ -450,31 +649,135 @@ let test_height_field_16_bit () =
   | Error m -> Alcotest.fail m
   | Ok sc ->
       let acc = Accel.build sc.objects in
-      let t, _ = Accel.nearest acc (Ray.make (Vec3.v 0. 100. 0.) (Vec3.v 0. (-1.) 0.)) 0. Float.infinity in
+      let t, _ =
+        Accel.nearest acc
+          (Ray.make (Vec3.v 0. 100. 0.) (Vec3.v 0. (-1.) 0.))
+          0. Float.infinity
+      in
       close ~eps:1e-9 "the corner of sample 1 stands at 1" 1. (100. -. t)
+
+(* --- Bounds and errors -------------------------------------------------------------- *)
+
+(* One BVH leaf per CSG object: an intersection is bounded by the overlap of its
+   members' boxes, a difference by its first member's. *)
+let test_bounds () =
+  let a = sphere 0. 0. 0. 1.
+  and b = Shape.box ~min:(Vec3.v 0. (-3.) (-3.)) ~max:(Vec3.v 3. 3. 3.) in
+  let check what (want_min, want_max) s =
+    match Shape.bbox s with
+    | None -> Alcotest.failf "%s: unbounded" what
+    | Some (bb : Bbox.t) ->
+        if not (Vec3.equal_f bb.min want_min && Vec3.equal_f bb.max want_max) then
+          Alcotest.failf "%s: (%g, %g, %g)–(%g, %g, %g)" what bb.min.x bb.min.y bb.min.z
+            bb.max.x bb.max.y bb.max.z
+  in
+  check "intersection"
+    (Vec3.v 0. (-1.) (-1.), Vec3.v 1. 1. 1.)
+    (Shape.csg Intersection [ (a, id); (b, id) ]);
+  check "difference"
+    (Vec3.v (-1.) (-1.) (-1.), Vec3.one)
+    (Shape.csg Difference [ (a, id); (b, id) ]);
+  check "merge"
+    (Vec3.v (-1.) (-3.) (-3.), Vec3.v 3. 3. 3.)
+    (Shape.csg Merge [ (a, id); (b, id) ]);
+  let p =
+    Primitive.make Material.default
+      (Shape.csg Union [ (a, id); (Shape.plane ~normal:Vec3.y_axis ~offset:0., id) ])
+  in
+  Alcotest.(check bool) "a union with a plane is unbounded" true (p.bounds = None)
+
+let located text =
+  match Lancer_dsl.Dsl.load_string ~filename:"t.rts" text with
+  | Ok _ -> Alcotest.failf "accepted: %s" text
+  | Error es -> List.map (fun (e : Lancer_dsl.Error.t) -> (e.line, e.col, e.message)) es
+
+let test_not_solid_located () =
+  (match
+     located
+       "intersection {\n\
+       \  sphere { center: (0, 0, 0), radius: 1 }\n\
+       \  disk { center: (0, 0, 0), normal: (0, 1, 0), radius: 1 }\n\
+        }"
+   with
+  | [ (3, 3, m) ] ->
+      if not (contains m "a disk is not a solid") then Alcotest.failf "message: %s" m
+  | l -> Alcotest.failf "want one error at 3:3, got %d" (List.length l));
+  (match located "difference { sphere { center: (0, 0, 0), radius: 1 } }" with
+  | [ (1, 1, m) ] ->
+      if not (contains m "at least one to subtract") then Alcotest.failf "message: %s" m
+  | l -> Alcotest.failf "want one error at 1:1, got %d" (List.length l));
+  match located "merge { }" with
+  | [ (1, 1, m) ] ->
+      if not (contains m "needs at least one object") then Alcotest.failf "message: %s" m
+  | l -> Alcotest.failf "want one error at 1:1, got %d" (List.length l)
 
 let () =
   Alcotest.run "csg"
-    [ ( "closed form",
-        [ Alcotest.test_case "a ray along the lens's axis enters at 4.5 and leaves at 5.5" `Quick test_lens;
-          Alcotest.test_case "a ray off the lens's axis crosses where the spheres say" `Quick test_lens_off_axis;
-          Alcotest.test_case "a box minus a sphere: the cavity's wall faces into the cavity" `Quick test_cavity_normal;
-          Alcotest.test_case "a plane member is the half-space below it" `Quick test_plane_half_space;
-          Alcotest.test_case "a shadow ray crosses both walls of a hollow sphere" `Quick test_shadow_crosses_both_walls ] );
+    [
+      ( "bounds and errors",
+        [
+          Alcotest.test_case
+            "an intersection is bounded by the overlap, a difference by its first member"
+            `Quick test_bounds;
+          Alcotest.test_case "a member that is not a solid is refused where it is written"
+            `Quick test_not_solid_located;
+        ] );
+      ( "closed form",
+        [
+          Alcotest.test_case "a ray along the lens's axis enters at 4.5 and leaves at 5.5"
+            `Quick test_lens;
+          Alcotest.test_case "a ray off the lens's axis crosses where the spheres say"
+            `Quick test_lens_off_axis;
+          Alcotest.test_case
+            "a box minus a sphere: the cavity's wall faces into the cavity" `Quick
+            test_cavity_normal;
+          Alcotest.test_case "a plane member is the half-space below it" `Quick
+            test_plane_half_space;
+          Alcotest.test_case "a shadow ray crosses both walls of a hollow sphere" `Quick
+            test_shadow_crosses_both_walls;
+        ] );
       ( "solids",
-        [ Alcotest.test_case "a cone's side, cap and open inside where the radius says" `Quick test_cone;
-          Alcotest.test_case "torus rays through the centre, near and from 1e6, match the closed form" `Quick test_torus_centre_rays;
-          Alcotest.test_case "torus rays parallel to its axis, near and from 1e6" `Quick test_torus_axis_parallel;
-          Alcotest.test_case "torus rays tangent to the tube keep their double root, near and from 1e6" `Quick test_torus_tangent;
+        [
+          Alcotest.test_case "a cone's side, cap and open inside where the radius says"
+            `Quick test_cone;
+          Alcotest.test_case
+            "torus rays through the centre, near and from 1e6, match the closed form"
+            `Quick test_torus_centre_rays;
+          Alcotest.test_case "torus rays parallel to its axis, near and from 1e6" `Quick
+            test_torus_axis_parallel;
+          Alcotest.test_case
+            "torus rays tangent to the tube keep their double root, near and from 1e6"
+            `Quick test_torus_tangent;
           seeded test_torus_random;
-          Alcotest.test_case "a height field's vertices stand at the image's luminance" `Quick test_height_field;
-          Alcotest.test_case "a 16-bit height field keeps its precision" `Quick test_height_field_16_bit ] );
+          Alcotest.test_case "a height field's vertices stand at the image's luminance"
+            `Quick test_height_field;
+          Alcotest.test_case "a 16-bit height field keeps its precision" `Quick
+            test_height_field_16_bit;
+        ] );
       ( "meshes",
-        [ Alcotest.test_case "a closed OBJ cube subtracted from a sphere leaves a cubic cavity" `Quick test_closed_mesh;
-          Alcotest.test_case "an open mesh is refused with the count of its open edges" `Quick test_open_mesh_refused ] );
+        [
+          Alcotest.test_case
+            "a closed OBJ cube subtracted from a sphere leaves a cubic cavity" `Quick
+            test_closed_mesh;
+          Alcotest.test_case "an open mesh is refused with the count of its open edges"
+            `Quick test_open_mesh_refused;
+        ] );
       ( "physics",
-        [ Alcotest.test_case "a union of a box and a plane collides as its members" `Quick test_physics_union_of_boxes;
-          Alcotest.test_case "a body over a difference is refused at the difference" `Quick test_physics_refuses_difference ] );
-      ("check", [ Alcotest.test_case "check and --json describe a CSG tree, members and materials" `Quick test_check_describes_trees ]);
+        [
+          Alcotest.test_case "a union of a box and a plane collides as its members" `Quick
+            test_physics_union_of_boxes;
+          Alcotest.test_case "a body over a difference is refused at the difference"
+            `Quick test_physics_refuses_difference;
+        ] );
+      ( "check",
+        [
+          Alcotest.test_case "check and --json describe a CSG tree, members and materials"
+            `Quick test_check_describes_trees;
+        ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
-      ("rendering", [ Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel" `Quick test_hollow_glass ]) ]
+      ( "rendering",
+        [
+          Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel"
+            `Quick test_hollow_glass;
+        ] );
+    ]
