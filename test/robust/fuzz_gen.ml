@@ -210,7 +210,8 @@ let png_one_pixel () = png_claiming 1 1
 let dsl_tokens =
   [| "let"; "fn"; "for"; "in"; "to"; "step"; "if"; "then"; "else"; "include"; "body"; "material"; "and"; "or"; "not";
      "true"; "false"; "("; ")"; "{"; "}"; ","; ":"; "."; "="; "=="; "<"; "+"; "-"; "*"; "/"; "%"; "^"; "x"; "i"; "f";
-     "sphere"; "plane"; "box"; "mesh"; "group"; "settings"; "camera"; "light"; "animation"; "physics"; "center";
+     "sphere"; "plane"; "box"; "mesh"; "group"; "union"; "merge"; "intersection"; "difference"; "cone"; "torus";
+     "height_field"; "major"; "minor"; "caps"; "settings"; "camera"; "light"; "animation"; "physics"; "center";
      "radius"; "normal"; "offset"; "min"; "max"; "file"; "position"; "width"; "depth"; "samples"; "0"; "1"; "2";
      "-2.5"; ".5"; "1e300"; "1e-300"; "1e400"; "\"a.rts\""; "\"srgb\""; "\"x.png\""; "\"x.obj\""; "sin"; "sqrt";
      "rand"; "checker"; "image"; "noise"; "pi"; "time"; "frame"; "rgb"; "translate"; "rotate"; "scale"; "//";
