@@ -682,7 +682,7 @@ let probe_into s (q : probe) =
       q.p_t <- parallelogram_s origin edge1 edge2 pn w pd q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
   | Disk { center; normal; radius; _ } -> q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Paraboloid _ | Cylinder _ | Csg _ ->
+  | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
       let h = { tmin; tmax; t = Float.infinity } in
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
       q.p_t <- h.t
@@ -931,7 +931,7 @@ let bbox = bbox_of
 
 (* Every variant moved by d; precomputed directions, normals and frames stay as they were
    (they do not depend on the position), offsets that do are recomputed. *)
-let translate (d : Vec3.t) = function
+let rec translate (d : Vec3.t) = function
   | Sphere { center; radius } -> Sphere { center = Vec3.add center d; radius }
   | Plane { normal; offset } -> Plane { normal; offset = offset +. Vec3.dot normal d }
   | Parallelogram { origin; edge1; edge2; pn; w; _ } ->
@@ -942,6 +942,9 @@ let translate (d : Vec3.t) = function
   | Box { min; max } -> Box { min = Vec3.add min d; max = Vec3.add max d }
   | Cylinder c -> Cylinder { c with base = Vec3.add c.base d }
   | Disk k -> Disk { k with center = Vec3.add k.center d }
+  | Cone c -> Cone { c with base = Vec3.add c.base d }
+  | Torus t -> Torus { t with center = Vec3.add t.center d }
+  | Closed_mesh { tris; _ } -> closed_mesh (Array.to_list (Array.map (translate d) tris))
   | Csg { op; members; _ } ->
       csg op
         (Array.to_list
