@@ -711,6 +711,34 @@ let test_not_solid_located () =
       if not (contains m "needs at least one object") then Alcotest.failf "message: %s" m
   | l -> Alcotest.failf "want one error at 1:1, got %d" (List.length l)
 
+(* Far from the world's origin the scene is rendered in coordinates centred near the
+   camera: a CSG object moved there (by a power of two, an exact move) renders as it does
+   at the origin, its leaves moved with it. *)
+let test_far_from_origin () =
+  let scene dx =
+    Printf.sprintf
+      {|settings { width: 48, height: 36 }
+camera { position: (%.17g, 2, -5), look_at: (%.17g, 0, 0) }
+light { position: (%.17g, 6, -5) }
+difference {
+  box { min: (-1, -1, -1), max: (1, 1, 1) }
+  sphere { center: (-1, 0.3, -1), radius: 0.8, material: material { color: (0.2, 0.4, 1) } }
+  material: material { color: (1, 0.3, 0.2), texture: checker((1, 0.3, 0.2), (1, 1, 1), 0.5) }
+  translate: (%.17g, 0, 0)
+}|}
+      dx dx (dx -. 4.) dx
+  in
+  let render dx =
+    match load_scene (scene dx) with
+    | Error m -> Alcotest.fail m
+    | Ok sc ->
+        let im, _ = Render.render sc in
+        Image.to_bytes sc.settings.gamma im
+  in
+  Alcotest.(check bool)
+    "the same picture at 2^20" true
+    (Bytes.equal (render 0.) (render 1048576.))
+
 let () =
   Alcotest.run "csg"
     [
@@ -779,5 +807,8 @@ let () =
         [
           Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel"
             `Quick test_hollow_glass;
+          Alcotest.test_case
+            "a CSG object far from the origin renders as it does at the origin" `Quick
+            test_far_from_origin;
         ] );
     ]
