@@ -739,6 +739,52 @@ difference {
     "the same picture at 2^20" true
     (Bytes.equal (render 0.) (render 1048576.))
 
+(* Shadow rays through a CSG object whose leaves differ: an opaque box with a glass
+   sphere subtracted from it blocks the light where the ray crosses the box's solid part,
+   and nowhere does the glass leaf make it see through the box. *)
+let test_mixed_shadow () =
+  let glass = { Material.default with transparency = 0.9; ior = 1.5 } in
+  let shape =
+    Shape.csg Difference
+      [
+        (Shape.box ~min:(Vec3.v (-1.) (-1.) (-1.)) ~max:Vec3.one, id);
+        (sphere 0. 0. (-1.) 0.5, id);
+      ]
+  in
+  let p = Primitive.make ~leaf_materials:[| None; Some glass |] Material.default shape in
+  let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 10.) ] [ p ] in
+  let st = Stats.create () in
+  let through_box = Shade.transmittance sc st (Vec3.v 0.5 0.5 (-5.)) Vec3.z_axis 20. in
+  Alcotest.(check bool)
+    "through the box's solid part: black" true
+    (through_box.r = 0. && through_box.g = 0.);
+  let through_pit = Shade.transmittance sc st (Vec3.v 0. 0. (-5.)) Vec3.z_axis 20. in
+  Alcotest.(check bool)
+    "through the glass pit and then the box: black" true (through_pit.r = 0.);
+  let beside = Shade.transmittance sc st (Vec3.v 3. 0. (-5.)) Vec3.z_axis 20. in
+  Alcotest.(check bool)
+    "beside it: white" true
+    (beside.r = 1. && beside.g = 1. && beside.b = 1.);
+  (* And a glass difference with an opaque pit's wall: the wall blocks. *)
+  let p = Primitive.make ~leaf_materials:[| None; Some Material.default |] glass shape in
+  let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 10.) ] [ p ] in
+  let through_wall = Shade.transmittance sc st (Vec3.v 0. 0. (-5.)) Vec3.z_axis 20. in
+  Alcotest.(check bool)
+    "through the opaque pit wall of a glass box: black" true (through_wall.r = 0.);
+  let through_glass = Shade.transmittance sc st (Vec3.v 0.7 0.7 (-5.)) Vec3.z_axis 20. in
+  close ~eps:1e-12 "through the glass box: two glass walls" (0.9 *. 0.9) through_glass.r;
+  (* Glass members of a CSG object that has no material of its own: the light passes. *)
+  let shell =
+    Shape.csg Difference [ (sphere 0. 0. 0. 1., id); (sphere 0. 0. 0. 0.8, id) ]
+  in
+  let p =
+    Primitive.make ~leaf_materials:[| Some glass; Some glass |] Material.default shell
+  in
+  let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 10.) ] [ p ] in
+  let through_shell = Shade.transmittance sc st (Vec3.v 0. 0. (-5.)) Vec3.z_axis 20. in
+  close ~eps:1e-12 "through a shell of glass members: four walls" (0.9 ** 4.)
+    through_shell.r
+
 let () =
   Alcotest.run "csg"
     [
@@ -807,6 +853,8 @@ let () =
         [
           Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel"
             `Quick test_hollow_glass;
+          Alcotest.test_case "shadows through a CSG object of opaque and glass leaves"
+            `Quick test_mixed_shadow;
           Alcotest.test_case
             "a CSG object far from the origin renders as it does at the origin" `Quick
             test_far_from_origin;
