@@ -2,10 +2,10 @@
 
     Every expression, statement, name and field carries its {!Loc.t}, so that the
     evaluator can point at the exact text of an error. [Include] statements are replaced
-    by [Included] (the parsed statements of the included file) when a program is loaded. *)
+    by [Included] (the parsed statements of the included file) when a program is loaded.
+*)
 
 type name = { id : string; nloc : Loc.t }
-
 type binop = Add | Sub | Mul | Div | Mod | Pow | Eq | Ne | Lt | Le | Gt | Ge | And | Or
 type unop = Neg | Not
 
@@ -35,7 +35,8 @@ and stmt_desc =
   | Let of name * expr
   | Fn of name * name list * expr  (** [fn f(a, b) = e] *)
   | Macro of name * name list * stmt list  (** [fn f(a, b) { … }] *)
-  | For of name * expr * expr * expr option * stmt list  (** [for i in a to b step s { … }] *)
+  | For of name * expr * expr * expr option * stmt list
+      (** [for i in a to b step s { … }] *)
   | If_stmt of expr * stmt list * stmt list
   | Include of string * Loc.t
   | Included of string * stmt list  (** the file and its statements, after loading *)

@@ -1,6 +1,6 @@
-(** Located diagnostics of the scene language (errors, and the warnings of [lancer check]),
-    printed as [file:line:col: message], the source line, a caret under the span and, for a
-    file that was included, the chain of includes that led to it.
+(** Located diagnostics of the scene language (errors, and the warnings of
+    [lancer check]), printed as [file:line:col: message], the source line, a caret under
+    the span and, for a file that was included, the chain of includes that led to it.
 
     Every error a scene can cause (lexical, syntax, type, name, range, limits, includes)
     is one of these; no exception escapes {!Dsl}. *)
@@ -37,10 +37,10 @@ val with_includes : (string -> Loc.t list) -> t -> t
     already has a chain). *)
 
 val cannot_read : what:string -> written:string -> string -> string option
-(** [cannot_read ~what ~written path] is the message for a file that a scene names and that
-    cannot be read (missing, a directory, not readable): [cannot read the WHAT "WRITTEN":
-    REASON (looked for PATH)]; [None] when [path] is a readable file. Includes, images and
-    meshes all say it this way. *)
+(** [cannot_read ~what ~written path] is the message for a file that a scene names and
+    that cannot be read (missing, a directory, not readable):
+    [cannot read the WHAT "WRITTEN": REASON (looked for PATH)]; [None] when [path] is a
+    readable file. Includes, images and meshes all say it this way. *)
 
 val pp : Format.formatter -> t -> unit
 (** [file:line:col: message] ([warning: message] for a warning), then (when known) the

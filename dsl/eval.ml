@@ -19,11 +19,17 @@ let baseline_bytes = 320_000_000
 
 let memory_refusal objects =
   match Lazy.force address_limit with
-  | Some limit when Float.of_int objects *. Float.of_int bytes_per_object > Float.of_int (limit - baseline_bytes) ->
+  | Some limit
+    when Float.of_int objects *. Float.of_int bytes_per_object
+         > Float.of_int (limit - baseline_bytes) ->
       Some
         (Printf.sprintf
-           "%s objects need about %.0f MB of memory; this process may use %.0f MB in all (ulimit -v), room for about %d objects: raise the limit or build fewer objects"
-           (if objects >= 1_000_000 then Printf.sprintf "%.1f million" (Float.of_int objects /. 1e6) else string_of_int objects)
+           "%s objects need about %.0f MB of memory; this process may use %.0f MB in all \
+            (ulimit -v), room for about %d objects: raise the limit or build fewer \
+            objects"
+           (if objects >= 1_000_000 then
+              Printf.sprintf "%.1f million" (Float.of_int objects /. 1e6)
+            else string_of_int objects)
            (Float.of_int objects *. Float.of_int bytes_per_object /. 1e6)
            (Float.of_int limit /. 1e6)
            (max 0 ((limit - baseline_bytes) / bytes_per_object)))
@@ -32,7 +38,8 @@ let memory_refusal objects =
 type physics_method = Exact | Verlet | Euler
 type physics = { gravity : Vec3.t; method_ : physics_method; step : float }
 
-let default_physics = { gravity = Vec3.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
+let default_physics =
+  { gravity = Vec3.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
 
 type body = {
   name : string;
@@ -75,11 +82,13 @@ type images = {
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
 }
 
-let new_images () : images = { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4; heights = Hashtbl.create 4 }
+let new_images () : images =
+  { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4; heights = Hashtbl.create 4 }
 
 let image_files (c : images) =
   List.sort_uniq compare
-    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures [] @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
+    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures []
+    @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
     @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights [])
 
 (* ------------------------------------------------------------------------------------ *)
@@ -88,12 +97,17 @@ let image_files (c : images) =
 let edit_distance a b =
   let la = String.length a and lb = String.length b in
   let d = Array.make_matrix (la + 1) (lb + 1) 0 in
-  for i = 0 to la do d.(i).(0) <- i done;
-  for j = 0 to lb do d.(0).(j) <- j done;
+  for i = 0 to la do
+    d.(i).(0) <- i
+  done;
+  for j = 0 to lb do
+    d.(0).(j) <- j
+  done;
   for i = 1 to la do
     for j = 1 to lb do
       let c = if a.[i - 1] = b.[j - 1] then 0 else 1 in
-      d.(i).(j) <- min (min (d.(i - 1).(j) + 1) (d.(i).(j - 1) + 1)) (d.(i - 1).(j - 1) + c);
+      d.(i).(j) <-
+        min (min (d.(i - 1).(j) + 1) (d.(i).(j - 1) + 1)) (d.(i - 1).(j - 1) + c);
       if i > 1 && j > 1 && a.[i - 1] = b.[j - 2] && a.[i - 2] = b.[j - 1] then
         d.(i).(j) <- min d.(i).(j) (d.(i - 2).(j - 2) + 1)
     done
@@ -114,7 +128,9 @@ let suggest x candidates =
   Option.map fst best
 
 let hint x candidates =
-  match suggest x candidates with Some c -> Printf.sprintf "; did you mean `%s`?" c | None -> ""
+  match suggest x candidates with
+  | Some c -> Printf.sprintf "; did you mean `%s`?" c
+  | None -> ""
 
 (* ------------------------------------------------------------------------------------ *)
 (* Values *)
@@ -124,7 +140,8 @@ type value =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of Material.t * (string * Yojson.Safe.t) list  (** texture and bump descriptions *)
+  | VMat of Material.t * (string * Yojson.Safe.t) list
+      (** texture and bump descriptions *)
   | VTex of tex
   | VPair of value * value  (** [(t, c)], an entry of a colour map *)
   | VFun of closure
@@ -174,7 +191,8 @@ type pending_obj = {
   p_tjson : Yojson.Safe.t list;
   p_material : (Material.t * (string * Yojson.Safe.t) list) option;
   p_leaves : (Material.t * (string * Yojson.Safe.t) list) option array;
-      (** a CSG object's leaf materials (its shape's [leaves], in order); empty otherwise *)
+      (** a CSG object's leaf materials (its shape's [leaves], in order); empty otherwise
+      *)
   p_loc : Loc.t;  (** where the object's block starts *)
 }
 
@@ -206,17 +224,18 @@ type ctx = {
 
 let report ctx (loc : Loc.t) msg =
   let key = (loc.file, loc.line, loc.col, msg) in
-  if not (Hashtbl.mem ctx.seen key) then begin
+  if not (Hashtbl.mem ctx.seen key) then (
     Hashtbl.add ctx.seen key ();
-    ctx.errors <- Error.make ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.errors
-  end
+    ctx.errors <-
+      Error.make ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.errors)
 
 let warn ctx (loc : Loc.t) msg =
   let key = (loc.file, loc.line, loc.col, "warning: " ^ msg) in
-  if not (Hashtbl.mem ctx.seen key) then begin
+  if not (Hashtbl.mem ctx.seen key) then (
     Hashtbl.add ctx.seen key ();
-    ctx.warnings <- Error.warning ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg :: ctx.warnings
-  end
+    ctx.warnings <-
+      Error.warning ?source:(Hashtbl.find_opt ctx.sources loc.file) loc msg
+      :: ctx.warnings)
 
 let limit ctx loc msg =
   report ctx loc msg;
@@ -229,7 +248,9 @@ let step ctx loc =
   if ctx.steps land 4095 = 0 then Option.iter Cancel.check ctx.cancel;
   if ctx.steps > max_steps then
     limit ctx loc
-      (Printf.sprintf "this scene takes more than %d evaluation steps (loop iterations and calls); that is the limit"
+      (Printf.sprintf
+         "this scene takes more than %d evaluation steps (loop iterations and calls); \
+          that is the limit"
          max_steps)
 
 (* A scope: where objects go (the program, or a group or body being built). *)
@@ -250,7 +271,8 @@ let finite_vec loc (v : Vec3.t) =
   v
 
 let fmt_num x =
-  if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x else Printf.sprintf "%g" x
+  if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x
+  else Printf.sprintf "%g" x
 
 let vjson (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
 let cjson (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
@@ -259,16 +281,53 @@ let cjson (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
 (* Built-in functions *)
 
 let builtin_names =
-  [ "sin"; "cos"; "tan"; "asin"; "acos"; "atan"; "atan2"; "radians"; "degrees"; "sqrt"; "abs"; "floor";
-    "ceil"; "round"; "min"; "max"; "pow"; "exp"; "log"; "clamp"; "mix"; "dot"; "cross"; "length";
-    "normalize"; "rgb"; "hsv"; "rand"; "checker"; "stripes"; "noise"; "marble"; "wood"; "image"; "gradient";
-    "color_map"; "fog" ]
+  [
+    "sin";
+    "cos";
+    "tan";
+    "asin";
+    "acos";
+    "atan";
+    "atan2";
+    "radians";
+    "degrees";
+    "sqrt";
+    "abs";
+    "floor";
+    "ceil";
+    "round";
+    "min";
+    "max";
+    "pow";
+    "exp";
+    "log";
+    "clamp";
+    "mix";
+    "dot";
+    "cross";
+    "length";
+    "normalize";
+    "rgb";
+    "hsv";
+    "rand";
+    "checker";
+    "stripes";
+    "noise";
+    "marble";
+    "wood";
+    "image";
+    "gradient";
+    "color_map";
+    "fog";
+  ]
 
 let hsv h s v =
   let h = (h -. Float.floor h) *. 6. in
   let i = int_of_float (Float.floor h) mod 6 in
   let f = h -. Float.floor h in
-  let p = v *. (1. -. s) and q = v *. (1. -. (s *. f)) and t = v *. (1. -. (s *. (1. -. f))) in
+  let p = v *. (1. -. s)
+  and q = v *. (1. -. (s *. f))
+  and t = v *. (1. -. (s *. (1. -. f))) in
   match i with
   | 0 -> Vec3.v v t p
   | 1 -> Vec3.v q v p
@@ -280,26 +339,38 @@ let hsv h s v =
 let call_builtin name loc (args : (value * Loc.t) list) =
   let n = List.length args in
   let arity k =
-    if n <> k then fail loc "`%s` takes %d argument%s, got %d" name k (if k = 1 then "" else "s") n
+    if n <> k then
+      fail loc "`%s` takes %d argument%s, got %d" name k (if k = 1 then "" else "s") n
   in
   let num i =
     let v, l = List.nth args i in
-    match v with VNum x -> x | v -> fail l "argument %d of `%s` must be a number, got %s" (i + 1) name (type_name v)
+    match v with
+    | VNum x -> x
+    | v ->
+        fail l "argument %d of `%s` must be a number, got %s" (i + 1) name (type_name v)
   in
   let vec i =
     let v, l = List.nth args i in
     match v with
     | VVec x -> x
-    | v -> fail l "argument %d of `%s` must be a vector (x, y, z), got %s" (i + 1) name (type_name v)
+    | v ->
+        fail l "argument %d of `%s` must be a vector (x, y, z), got %s" (i + 1) name
+          (type_name v)
   in
-  let f1 f = arity 1; VNum (finite loc (f (num 0))) in
+  let f1 f =
+    arity 1;
+    VNum (finite loc (f (num 0)))
+  in
   let domain ok what f =
     arity 1;
     let x = num 0 in
     if not (ok x) then fail loc "`%s` needs %s, got %s" name what (fmt_num x);
     VNum (finite loc (f x))
   in
-  let tex k = arity k; VTex { tname = name; targs = List.map fst args; tloc = loc } in
+  let tex k =
+    arity k;
+    VTex { tname = name; targs = List.map fst args; tloc = loc }
+  in
   match name with
   | "sin" -> f1 sin
   | "cos" -> f1 cos
@@ -307,7 +378,9 @@ let call_builtin name loc (args : (value * Loc.t) list) =
   | "asin" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" asin
   | "acos" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" acos
   | "atan" -> f1 atan
-  | "atan2" -> arity 2; VNum (finite loc (Float.atan2 (num 0) (num 1)))
+  | "atan2" ->
+      arity 2;
+      VNum (finite loc (Float.atan2 (num 0) (num 1)))
   | "radians" -> f1 (fun d -> d *. Float.pi /. 180.)
   | "degrees" -> f1 (fun r -> r *. 180. /. Float.pi)
   | "sqrt" -> domain (fun x -> x >= 0.) "a value ≥ 0" sqrt
@@ -317,7 +390,9 @@ let call_builtin name loc (args : (value * Loc.t) list) =
   | "round" -> f1 Float.round
   | "exp" -> f1 exp
   | "log" -> domain (fun x -> x > 0.) "a value > 0" log
-  | "pow" -> arity 2; VNum (finite loc (Float.pow (num 0) (num 1)))
+  | "pow" ->
+      arity 2;
+      VNum (finite loc (Float.pow (num 0) (num 1)))
   | "min" | "max" ->
       if n < 2 then fail loc "`%s` takes at least 2 arguments, got %d" name n;
       let xs = List.mapi (fun i _ -> num i) args in
@@ -326,7 +401,8 @@ let call_builtin name loc (args : (value * Loc.t) list) =
   | "clamp" ->
       arity 3;
       let x = num 0 and lo = num 1 and hi = num 2 in
-      if lo > hi then fail loc "`clamp` needs lo ≤ hi, got %s > %s" (fmt_num lo) (fmt_num hi);
+      if lo > hi then
+        fail loc "`clamp` needs lo ≤ hi, got %s > %s" (fmt_num lo) (fmt_num hi);
       VNum (Float.min hi (Float.max lo x))
   | "mix" -> (
       arity 3;
@@ -334,25 +410,45 @@ let call_builtin name loc (args : (value * Loc.t) list) =
       match (fst (List.nth args 0), fst (List.nth args 1)) with
       | VNum a, VNum b -> VNum (finite loc (a +. (t *. (b -. a))))
       | VVec a, VVec b -> VVec (finite_vec loc (Vec3.madd a t (Vec3.sub b a)))
-      | a, b -> fail loc "`mix` mixes two numbers or two vectors, got %s and %s" (type_name a) (type_name b))
-  | "dot" -> arity 2; VNum (finite loc (Vec3.dot (vec 0) (vec 1)))
-  | "cross" -> arity 2; VVec (finite_vec loc (Vec3.cross (vec 0) (vec 1)))
-  | "length" -> arity 1; VNum (finite loc (Vec3.length (vec 0)))
+      | a, b ->
+          fail loc "`mix` mixes two numbers or two vectors, got %s and %s" (type_name a)
+            (type_name b))
+  | "dot" ->
+      arity 2;
+      VNum (finite loc (Vec3.dot (vec 0) (vec 1)))
+  | "cross" ->
+      arity 2;
+      VVec (finite_vec loc (Vec3.cross (vec 0) (vec 1)))
+  | "length" ->
+      arity 1;
+      VNum (finite loc (Vec3.length (vec 0)))
   | "normalize" ->
       arity 1;
       let v = vec 0 in
       if Vec3.max_abs v = 0. then fail loc "`normalize` of the zero vector";
       VVec (finite_vec loc (Vec3.normalize v))
-  | "rgb" -> arity 3; VVec (Vec3.v (num 0) (num 1) (num 2))
-  | "hsv" -> arity 3; VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
-  | "rand" -> arity 1; VNum (Hash.of_float (num 0))
+  | "rgb" ->
+      arity 3;
+      VVec (Vec3.v (num 0) (num 1) (num 2))
+  | "hsv" ->
+      arity 3;
+      VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
+  | "rand" ->
+      arity 1;
+      VNum (Hash.of_float (num 0))
   | "checker" | "stripes" -> tex 3
   | "marble" | "wood" ->
-      if n <> 2 && n <> 3 then fail loc "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d" name n;
+      if n <> 2 && n <> 3 then
+        fail loc
+          "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d"
+          name n;
       tex n
   | "noise" ->
       if n <> 2 && n <> 3 then
-        fail loc "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a texture, or 2 (scale, amount) as a bump map; got %d" n;
+        fail loc
+          "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a \
+           texture, or 2 (scale, amount) as a bump map; got %d"
+          n;
       tex n
   | "gradient" -> (
       (* gradient(AXIS, MAP) is a texture; gradient(HORIZON, ZENITH) a background. *)
@@ -360,58 +456,104 @@ let call_builtin name loc (args : (value * Loc.t) list) =
       ignore (vec 0);
       match List.nth args 1 with
       | VTex { tname = "color_map"; _ }, _ | VVec _, _ -> tex 2
-      | v, l -> fail l "argument 2 of `gradient` must be a color_map(…) (a texture along an axis) or a colour (a background from horizon to zenith), got %s" (type_name v))
+      | v, l ->
+          fail l
+            "argument 2 of `gradient` must be a color_map(…) (a texture along an axis) \
+             or a colour (a background from horizon to zenith), got %s"
+            (type_name v))
   | "color_map" ->
       if n = 0 then fail loc "`color_map` needs at least one entry (t, colour)";
       ignore
         (List.fold_left
            (fun (i, prev) (v, l) ->
              (match v with
-              | VPair (VNum t, VVec c) ->
-                  if not (t >= 0. && t <= 1.) then fail l "entry %d of `color_map` has t = %s; t must be in [0, 1]" i (fmt_num t);
-                  if t < prev then fail l "entry %d of `color_map` has t = %s, below the %s before it: entries go in increasing t" i (fmt_num t) (fmt_num prev);
-                  if c.x < 0. || c.y < 0. || c.z < 0. then fail l "entry %d of `color_map` has a colour with a negative component" i
-              | _ -> ());
+             | VPair (VNum t, VVec c) ->
+                 if not (t >= 0. && t <= 1.) then
+                   fail l "entry %d of `color_map` has t = %s; t must be in [0, 1]" i
+                     (fmt_num t);
+                 if t < prev then
+                   fail l
+                     "entry %d of `color_map` has t = %s, below the %s before it: \
+                      entries go in increasing t"
+                     i (fmt_num t) (fmt_num prev);
+                 if c.x < 0. || c.y < 0. || c.z < 0. then
+                   fail l "entry %d of `color_map` has a colour with a negative component"
+                     i
+             | _ -> ());
              (i + 1, match v with VPair (VNum t, _) -> t | _ -> prev))
            (1, 0.) args);
       List.iteri
         (fun i (v, l) ->
           match v with
           | VPair (VNum _, VVec _) -> ()
-          | VPair (a, b) -> fail l "entry %d of `color_map` must be (t, colour) with t a number and colour (r, g, b), got (%s, %s)" (i + 1) (type_name a) (type_name b)
-          | v -> fail l "entry %d of `color_map` must be a pair (t, colour), e.g. (0.5, (1, 0, 0)), got %s" (i + 1) (type_name v))
+          | VPair (a, b) ->
+              fail l
+                "entry %d of `color_map` must be (t, colour) with t a number and colour \
+                 (r, g, b), got (%s, %s)"
+                (i + 1) (type_name a) (type_name b)
+          | v ->
+              fail l
+                "entry %d of `color_map` must be a pair (t, colour), e.g. (0.5, (1, 0, \
+                 0)), got %s"
+                (i + 1) (type_name v))
         args;
       tex n
   | "fog" ->
       arity 2;
       ignore (vec 0);
       let d = num 1 in
-      if not (d > 0. && d <= 1e150) then fail (snd (List.nth args 1)) "the distance of `fog` must be in (0, 1e150], got %s" (fmt_num d);
+      if not (d > 0. && d <= 1e150) then
+        fail
+          (snd (List.nth args 1))
+          "the distance of `fog` must be in (0, 1e150], got %s" (fmt_num d);
       tex 2
   | "image" ->
       arity 2;
       (match fst (List.nth args 0) with
-       | VStr _ -> ()
-       | v -> fail (snd (List.nth args 0)) "argument 1 of `image` must be a file name string, got %s" (type_name v));
+      | VStr _ -> ()
+      | v ->
+          fail
+            (snd (List.nth args 0))
+            "argument 1 of `image` must be a file name string, got %s" (type_name v));
       ignore (num 1);
       tex 2
   | _ -> fail loc "internal error: unknown built-in `%s`" name
 
 let material_fields =
-  [ "color"; "texture"; "ambient"; "diffuse"; "specular"; "shininess"; "reflection"; "transparency"; "ior";
-    "fresnel"; "bump"; "base" ]
+  [
+    "color";
+    "texture";
+    "ambient";
+    "diffuse";
+    "specular";
+    "shininess";
+    "reflection";
+    "transparency";
+    "ior";
+    "fresnel";
+    "bump";
+    "base";
+  ]
 
 let csg_blocks = [ "union"; "merge"; "intersection"; "difference" ]
 let common_fields = [ "material"; "translate"; "rotate"; "scale" ]
 let repeatable = [ "translate"; "rotate"; "scale" ]
 
 let object_fields =
-  [ ("sphere", [ "center"; "radius" ]); ("plane", [ "normal"; "offset" ]);
-    ("parallelogram", [ "origin"; "edge1"; "edge2" ]); ("triangle", [ "a"; "b"; "c" ]);
-    ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]); ("box", [ "min"; "max" ]);
-    ("cylinder", [ "base"; "top"; "radius"; "caps" ]); ("disk", [ "center"; "normal"; "radius" ]);
-    ("mesh", [ "file"; "smooth" ]); ("cone", [ "base"; "base_radius"; "top"; "top_radius"; "caps" ]);
-    ("torus", [ "center"; "major"; "minor"; "axis" ]); ("height_field", [ "file"; "origin"; "size" ]) ]
+  [
+    ("sphere", [ "center"; "radius" ]);
+    ("plane", [ "normal"; "offset" ]);
+    ("parallelogram", [ "origin"; "edge1"; "edge2" ]);
+    ("triangle", [ "a"; "b"; "c" ]);
+    ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]);
+    ("box", [ "min"; "max" ]);
+    ("cylinder", [ "base"; "top"; "radius"; "caps" ]);
+    ("disk", [ "center"; "normal"; "radius" ]);
+    ("mesh", [ "file"; "smooth" ]);
+    ("cone", [ "base"; "base_radius"; "top"; "top_radius"; "caps" ]);
+    ("torus", [ "center"; "major"; "minor"; "axis" ]);
+    ("height_field", [ "file"; "origin"; "size" ]);
+  ]
 
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
@@ -435,7 +577,11 @@ let rec eval ctx env (e : expr) : value =
   | Bool b -> VBool b
   | Var x -> lookup ctx env x e.loc
   | Vec (a, b, c) ->
-      let n (e : expr) = match eval ctx env e with VNum x -> x | v -> fail e.loc "a vector component must be a number, got %s" (type_name v) in
+      let n (e : expr) =
+        match eval ctx env e with
+        | VNum x -> x
+        | v -> fail e.loc "a vector component must be a number, got %s" (type_name v)
+      in
       let x = n a in
       let y = n b in
       let z = n c in
@@ -450,16 +596,16 @@ let rec eval ctx env (e : expr) : value =
       | VVec v -> VVec (Vec3.neg v)
       | v -> fail e.loc "`-` needs a number or a vector, got %s" (type_name v))
   | Unop (Not, a) -> (
-      match eval ctx env a with VBool b -> VBool (not b) | v -> fail e.loc "`not` needs a boolean, got %s" (type_name v))
+      match eval ctx env a with
+      | VBool b -> VBool (not b)
+      | v -> fail e.loc "`not` needs a boolean, got %s" (type_name v))
   | Binop (((And | Or) as op), a, b) -> (
       let bool (x : expr) =
         match eval ctx env x with
         | VBool b -> b
         | v -> fail x.loc "`%s` needs booleans, got %s" (binop_name op) (type_name v)
       in
-      match op with
-      | And -> VBool (bool a && bool b)
-      | _ -> VBool (bool a || bool b))
+      match op with And -> VBool (bool a && bool b) | _ -> VBool (bool a || bool b))
   | Binop (op, a, b) ->
       let va = eval ctx env a in
       let vb = eval ctx env b in
@@ -478,7 +624,9 @@ let rec eval ctx env (e : expr) : value =
             | None -> (b.center, b.velocity)
           in
           VVec (if f.id = "position" then pos else vel)
-      | VBody _, x -> fail f.nloc "a body has `position` and `velocity`, not `%s`%s" x (hint x [ "position"; "velocity" ])
+      | VBody _, x ->
+          fail f.nloc "a body has `position` and `velocity`, not `%s`%s" x
+            (hint x [ "position"; "velocity" ])
       | v, x -> fail f.nloc "`.%s` needs a vector or a body, got %s" x (type_name v))
   | If (c, a, b) -> (
       match eval ctx env c with
@@ -494,7 +642,11 @@ let rec eval ctx env (e : expr) : value =
       | VFun c ->
           let env' = bind_params ctx env c.fname c.params c.fenv args e.loc in
           nested ctx e.loc (fun () -> eval ctx env' c.fbody)
-      | VMacro m -> fail f.nloc "`%s` is a scene macro (fn %s(…) { … }): call it as a statement, not in an expression" m.mname m.mname
+      | VMacro m ->
+          fail f.nloc
+            "`%s` is a scene macro (fn %s(…) { … }): call it as a statement, not in an \
+             expression"
+            m.mname m.mname
       | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v))
   | Material items -> eval_material ctx env e.loc items
 
@@ -504,8 +656,12 @@ and lookup ctx env x (loc : Loc.t) =
   | Some v -> v
   | None -> (
       (* A name defined further down the same file was most likely meant. *)
-      let later (d : Loc.t) = d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col)) in
-      match List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force ctx.definitions) with
+      let later (d : Loc.t) =
+        d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col))
+      in
+      match
+        List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force ctx.definitions)
+      with
       | Some (_, d) -> fail loc "unknown name `%s`: %s" x (Hints.defined_later x d)
       | None ->
           let names = Env.fold (fun k _ acc -> k :: acc) env [] in
@@ -513,14 +669,18 @@ and lookup ctx env x (loc : Loc.t) =
 
 and bind_params ctx env fname params cenv args loc =
   let np = List.length params and na = List.length args in
-  if np <> na then fail loc "`%s` takes %d argument%s, got %d" fname np (if np = 1 then "" else "s") na;
-  List.fold_left2 (fun acc (p : name) (a : expr) -> Env.add p.id (eval ctx env a) acc) cenv params args
+  if np <> na then
+    fail loc "`%s` takes %d argument%s, got %d" fname np (if np = 1 then "" else "s") na;
+  List.fold_left2
+    (fun acc (p : name) (a : expr) -> Env.add p.id (eval ctx env a) acc)
+    cenv params args
 
 and nested : 'a. ctx -> Loc.t -> (unit -> 'a) -> 'a =
  fun ctx loc f ->
   step ctx loc;
   if ctx.depth >= max_depth then
-    limit ctx loc (Printf.sprintf "calls are nested more than %d deep (runaway recursion?)" max_depth);
+    limit ctx loc
+      (Printf.sprintf "calls are nested more than %d deep (runaway recursion?)" max_depth);
   ctx.depth <- ctx.depth + 1;
   Fun.protect ~finally:(fun () -> ctx.depth <- ctx.depth - 1) f
 
@@ -545,7 +705,8 @@ and binop loc op a b bloc =
   | Mod, VNum x, VNum y -> num (Float.rem x y)
   | Pow, VNum x, VNum y ->
       let r = Float.pow x y in
-      if Float.is_nan r then fail loc "%s ^ %s is not a real number" (fmt_num x) (fmt_num y);
+      if Float.is_nan r then
+        fail loc "%s ^ %s is not a real number" (fmt_num x) (fmt_num y);
       num r
   | (Eq | Ne), _, _ ->
       let eq =
@@ -553,7 +714,8 @@ and binop loc op a b bloc =
         | VNum x, VNum y -> Float.equal x y
         | VBool x, VBool y -> x = y
         | VStr x, VStr y -> String.equal x y
-        | VVec x, VVec y -> Float.equal x.x y.x && Float.equal x.y y.y && Float.equal x.z y.z
+        | VVec x, VVec y ->
+            Float.equal x.x y.x && Float.equal x.y y.y && Float.equal x.z y.z
         | _ -> bad ()
       in
       VBool (if op = Eq then eq else not eq)
@@ -565,7 +727,11 @@ and binop loc op a b bloc =
 (* Blocks: fields, their types and ranges *)
 
 and eval_material ctx env loc items =
-  let b = collect ctx env { sink = ref []; in_group = false; in_csg = false } "material" loc ~holds_objects:false items in
+  let b =
+    collect ctx env
+      { sink = ref []; in_group = false; in_csg = false }
+      "material" loc ~holds_objects:false items
+  in
   check_names b material_fields;
   let base, base_desc =
     match live b "base" with
@@ -573,11 +739,14 @@ and eval_material ctx env loc items =
     | Some f -> (
         match f.value with
         | VMat (m, d) -> (m, d)
-        | v -> bad b f.vloc "`base` must be a material, got %s" (type_name v); (Material.default, []))
+        | v ->
+            bad b f.vloc "`base` must be a material, got %s" (type_name v);
+            (Material.default, []))
   in
   let d = base in
   let m : Material.t =
-    { color = color b "color" ~default:d.color;
+    {
+      color = color b "color" ~default:d.color;
       texture = d.texture;
       ambient = nonneg b "ambient" ~default:d.ambient;
       diffuse = nonneg b "diffuse" ~default:d.diffuse;
@@ -587,7 +756,8 @@ and eval_material ctx env loc items =
       transparency = unit_range b "transparency" ~default:d.transparency;
       ior = positive b "ior" ~default:d.ior;
       fresnel = boolean b "fresnel" ~default:d.fresnel;
-      bump = d.bump }
+      bump = d.bump;
+    }
   in
   let desc = ref base_desc in
   let set k j = desc := (k, j) :: List.remove_assoc k !desc in
@@ -598,11 +768,19 @@ and eval_material ctx env loc items =
         match f.value with
         | VTex t -> (
             match texture ctx t with
-            | Ok (tex, j) -> set "texture" j; { m with texture = Some tex }
-            | Error msg -> bad b (image_loc t f.vloc) "%s" msg; m)
-        | VVec v -> set "texture" (`Assoc [ ("kind", `String "solid"); ("color", vjson v) ]);
+            | Ok (tex, j) ->
+                set "texture" j;
+                { m with texture = Some tex }
+            | Error msg ->
+                bad b (image_loc t f.vloc) "%s" msg;
+                m)
+        | VVec v ->
+            set "texture" (`Assoc [ ("kind", `String "solid"); ("color", vjson v) ]);
             { m with texture = Some (Texture.Solid (Color.of_vec3 v)) }
-        | v -> bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s" (type_name v); m)
+        | v ->
+            bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s"
+              (type_name v);
+            m)
   in
   let m =
     match live b "bump" with
@@ -611,18 +789,33 @@ and eval_material ctx env loc items =
         match f.value with
         | VTex t -> (
             match bump ctx t with
-            | Ok (bm, j) -> set "bump" j; { m with bump = Some bm }
-            | Error msg -> bad b (image_loc t f.vloc) "%s" msg; m)
-        | v -> bad b f.vloc "`bump` must be noise(scale, amount) or image(\"file.png\", amount), got %s" (type_name v); m)
+            | Ok (bm, j) ->
+                set "bump" j;
+                { m with bump = Some bm }
+            | Error msg ->
+                bad b (image_loc t f.vloc) "%s" msg;
+                m)
+        | v ->
+            bad b f.vloc
+              "`bump` must be noise(scale, amount) or image(\"file.png\", amount), got %s"
+              (type_name v);
+            m)
   in
-  (match field b "reflection", field b "transparency" with
-   | (Some _, _ | _, Some _) when m.reflection +. m.transparency > 1. && not b.failed ->
-       let f = match field b "transparency" with Some f -> f | None -> Option.get (field b "reflection") in
-       bad b f.vloc "reflection + transparency must be at most 1, got %s + %s = %s" (fmt_num m.reflection)
-         (fmt_num m.transparency) (fmt_num (m.reflection +. m.transparency))
-   | _ -> ());
+  (match (field b "reflection", field b "transparency") with
+  | (Some _, _ | _, Some _) when m.reflection +. m.transparency > 1. && not b.failed ->
+      let f =
+        match field b "transparency" with
+        | Some f -> f
+        | None -> Option.get (field b "reflection")
+      in
+      bad b f.vloc "reflection + transparency must be at most 1, got %s + %s = %s"
+        (fmt_num m.reflection) (fmt_num m.transparency)
+        (fmt_num (m.reflection +. m.transparency))
+  | _ -> ());
   finish b;
-  (match Material.validate m with Ok () -> () | Error msg -> fail loc "invalid material: %s" msg);
+  (match Material.validate m with
+  | Ok () -> ()
+  | Error msg -> fail loc "invalid material: %s" msg);
   VMat (m, List.rev !desc)
 
 (* Where an [image(…)] texture's problem is shown: at the call that names the file (which
@@ -644,8 +837,16 @@ and load_image ctx t =
               match Error.cannot_read ~what:"image" ~written:p path with
               | Some msg -> Error msg
               | None -> (
-                  try Result.map_error (Printf.sprintf "cannot read the image \"%s\": %s" p) (Image.read_linear path)
-                  with Sys.Break -> raise Sys.Break | e -> Error (Printf.sprintf "cannot read the image \"%s\": %s" p (Printexc.to_string e)))
+                  try
+                    Result.map_error
+                      (Printf.sprintf "cannot read the image \"%s\": %s" p)
+                      (Image.read_linear path)
+                  with
+                  | Sys.Break -> raise Sys.Break
+                  | e ->
+                      Error
+                        (Printf.sprintf "cannot read the image \"%s\": %s" p
+                           (Printexc.to_string e)))
             in
             Hashtbl.replace ctx.images.pictures path r;
             r
@@ -654,40 +855,81 @@ and load_image ctx t =
   | _ -> Error "image(…) needs a file name"
 
 and texture ctx t =
-  let c i = match List.nth t.targs i with VVec v -> Ok (Color.of_vec3 v) | v -> Error (Printf.sprintf "argument %d of `%s` must be a colour (r, g, b), got %s" (i + 1) t.tname (type_name v)) in
-  let n i = match List.nth t.targs i with VNum x -> Ok x | v -> Error (Printf.sprintf "argument %d of `%s` must be a number, got %s" (i + 1) t.tname (type_name v)) in
+  let c i =
+    match List.nth t.targs i with
+    | VVec v -> Ok (Color.of_vec3 v)
+    | v ->
+        Error
+          (Printf.sprintf "argument %d of `%s` must be a colour (r, g, b), got %s" (i + 1)
+             t.tname (type_name v))
+  in
+  let n i =
+    match List.nth t.targs i with
+    | VNum x -> Ok x
+    | v ->
+        Error
+          (Printf.sprintf "argument %d of `%s` must be a number, got %s" (i + 1) t.tname
+             (type_name v))
+  in
   let ( let* ) = Result.bind in
   let size i what =
     let* s = n i in
     if s >= 1e-150 && s <= 1e150 then Ok s
-    else Error (Printf.sprintf "the %s of `%s` must be in [1e-150, 1e150], got %s" what t.tname (fmt_num s))
+    else
+      Error
+        (Printf.sprintf "the %s of `%s` must be in [1e-150, 1e150], got %s" what t.tname
+           (fmt_num s))
   in
   let solid mk =
     let* c1 = c 0 in
     let* c2 = c 1 in
-    let* s = size 2 (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale") in
-    let j = `Assoc [ ("kind", `String t.tname); ("c1", cjson c1); ("c2", cjson c2); ((if t.tname = "checker" || t.tname = "stripes" then "size" else "scale"), `Float s) ] in
+    let* s =
+      size 2 (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale")
+    in
+    let j =
+      `Assoc
+        [
+          ("kind", `String t.tname);
+          ("c1", cjson c1);
+          ("c2", cjson c2);
+          ( (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale"),
+            `Float s );
+        ]
+    in
     Result.map (fun tex -> (tex, j)) (mk c1 c2 s)
   in
   match (t.tname, List.length t.targs) with
   | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
   | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
-  | ("noise" | "marble" | "wood"), 2 when (match t.targs with VTex { tname = "color_map"; _ } :: _ -> true | _ -> false) -> (
+  | ("noise" | "marble" | "wood"), 2
+    when match t.targs with VTex { tname = "color_map"; _ } :: _ -> true | _ -> false -> (
       match t.targs with
       | [ VTex cm; _ ] ->
           let* scale = size 1 "scale" in
           let* map, mj = color_map cm in
           let pattern =
-            match t.tname with "noise" -> Texture.Noise_pattern scale | "marble" -> Texture.Marble_pattern scale | _ -> Texture.Wood_pattern scale
+            match t.tname with
+            | "noise" -> Texture.Noise_pattern scale
+            | "marble" -> Texture.Marble_pattern scale
+            | _ -> Texture.Wood_pattern scale
           in
-          Ok (Texture.Mapped { pattern; map }, `Assoc [ ("kind", `String t.tname); ("map", mj); ("scale", `Float scale) ])
-      | _ -> Error (Printf.sprintf "%s(color_map(…), scale) takes a colour map and a number" t.tname))
+          Ok
+            ( Texture.Mapped { pattern; map },
+              `Assoc [ ("kind", `String t.tname); ("map", mj); ("scale", `Float scale) ]
+            )
+      | _ ->
+          Error
+            (Printf.sprintf "%s(color_map(…), scale) takes a colour map and a number"
+               t.tname))
   | "marble", 2 | "wood", 2 ->
       Error (Printf.sprintf "%s takes (c1, c2, scale) or (color_map(…), scale)" t.tname)
   | "noise", 3 -> solid (fun c1 c2 scale -> Ok (Texture.Noise { c1; c2; scale }))
   | "marble", _ -> solid (fun c1 c2 scale -> Ok (Texture.Marble { c1; c2; scale }))
   | "wood", _ -> solid (fun c1 c2 scale -> Ok (Texture.Wood { c1; c2; scale }))
-  | "noise", _ -> Error "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise takes (c1, c2, scale)"
+  | "noise", _ ->
+      Error
+        "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise \
+         takes (c1, c2, scale)"
   | "gradient", _ -> (
       match t.targs with
       | [ VVec axis; VTex ({ tname = "color_map"; _ } as cm) ] ->
@@ -695,22 +937,45 @@ and texture ctx t =
             Error "the axis of `gradient` must be a non-zero vector within ±1e150"
           else
             let* map, mj = color_map cm in
-            Ok (Texture.Gradient { axis; map }, `Assoc [ ("kind", `String "gradient"); ("axis", vjson axis); ("map", mj) ])
+            Ok
+              ( Texture.Gradient { axis; map },
+                `Assoc [ ("kind", `String "gradient"); ("axis", vjson axis); ("map", mj) ]
+              )
       | _ ->
-          Error "gradient(HORIZON, ZENITH) with two colours is a background (settings { background: … }); as a texture, write gradient(AXIS, color_map(…))")
-  | "color_map", _ -> Error "a color_map is the colours of a texture, not a texture itself: write gradient(AXIS, color_map(…))"
+          Error
+            "gradient(HORIZON, ZENITH) with two colours is a background (settings { \
+             background: … }); as a texture, write gradient(AXIS, color_map(…))")
+  | "color_map", _ ->
+      Error
+        "a color_map is the colours of a texture, not a texture itself: write \
+         gradient(AXIS, color_map(…))"
   | "image", _ -> (
       let* img = load_image ctx t in
       match t.targs with
       | [ VStr p; VNum scale ] when scale >= 1e-150 && scale <= 1e150 ->
-          Ok (Texture.Image { img; scale }, `Assoc [ ("kind", `String "image"); ("file", `String p); ("scale", `Float scale) ])
-      | [ VStr _; VNum scale ] -> Error (Printf.sprintf "the scale of `image` must be in [1e-150, 1e150], got %s" (fmt_num scale))
-      | [ VStr _ ] -> Error "image(\"file.png\", scale) needs a scale (1 maps the picture once onto the surface's (u, v))"
+          Ok
+            ( Texture.Image { img; scale },
+              `Assoc
+                [
+                  ("kind", `String "image"); ("file", `String p); ("scale", `Float scale);
+                ] )
+      | [ VStr _; VNum scale ] ->
+          Error
+            (Printf.sprintf "the scale of `image` must be in [1e-150, 1e150], got %s"
+               (fmt_num scale))
+      | [ VStr _ ] ->
+          Error
+            "image(\"file.png\", scale) needs a scale (1 maps the picture once onto the \
+             surface's (u, v))"
       | _ -> Error "image(\"file.png\", scale) takes a file name and a number")
   | _ -> Error (Printf.sprintf "`%s` is not a texture" t.tname)
 
 and color_map t =
-  let entries = List.filter_map (function VPair (VNum x, VVec c) -> Some (x, Color.of_vec3 c) | _ -> None) t.targs in
+  let entries =
+    List.filter_map
+      (function VPair (VNum x, VVec c) -> Some (x, Color.of_vec3 c) | _ -> None)
+      t.targs
+  in
   Result.map
     (fun m -> (m, `List (List.map (fun (x, c) -> `List [ `Float x; cjson c ]) entries)))
     (Texture.color_map entries)
@@ -718,20 +983,45 @@ and color_map t =
 and bump ctx t =
   match (t.tname, t.targs) with
   | "noise", [ VNum scale; VNum amount ] ->
-      if not (scale >= 1e-150 && scale <= 1e150) then Error (Printf.sprintf "the scale of a noise bump must be in [1e-150, 1e150], got %s" (fmt_num scale))
-      else if not (Float.abs amount <= 1e150) then Error "the amount of a noise bump is out of range"
-      else Ok (Bump.Noise { scale; amount }, `Assoc [ ("kind", `String "noise"); ("scale", `Float scale); ("amount", `Float amount) ])
+      if not (scale >= 1e-150 && scale <= 1e150) then
+        Error
+          (Printf.sprintf "the scale of a noise bump must be in [1e-150, 1e150], got %s"
+             (fmt_num scale))
+      else if not (Float.abs amount <= 1e150) then
+        Error "the amount of a noise bump is out of range"
+      else
+        Ok
+          ( Bump.Noise { scale; amount },
+            `Assoc
+              [
+                ("kind", `String "noise");
+                ("scale", `Float scale);
+                ("amount", `Float amount);
+              ] )
   | "noise", [ _; _ ] -> Error "a noise bump map takes two numbers: noise(scale, amount)"
   | "image", [ VStr p; VNum amount ] when Float.abs amount <= 1e150 ->
       Result.map
-        (fun img -> (Bump.Image { img; amount }, `Assoc [ ("kind", `String "image"); ("file", `String p); ("amount", `Float amount) ]))
+        (fun img ->
+          ( Bump.Image { img; amount },
+            `Assoc
+              [
+                ("kind", `String "image"); ("file", `String p); ("amount", `Float amount);
+              ] ))
         (load_image ctx t)
-  | "image", _ -> Error "an image bump map takes a file name and an amount: image(\"h.png\", amount)"
-  | _ -> Error (Printf.sprintf "`%s(…)` is not a bump map: use noise(scale, amount) or image(\"file.png\", amount)" t.tname)
+  | "image", _ ->
+      Error "an image bump map takes a file name and an amount: image(\"h.png\", amount)"
+  | _ ->
+      Error
+        (Printf.sprintf
+           "`%s(…)` is not a bump map: use noise(scale, amount) or image(\"file.png\", \
+            amount)"
+           t.tname)
 
 and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
   let b = { ctx; kind; kloc; fields = []; failed = false; members = ref [] } in
-  let inner = { sink = b.members; in_group = scope.in_group || holds_objects; in_csg = csg } in
+  let inner =
+    { sink = b.members; in_group = scope.in_group || holds_objects; in_csg = csg }
+  in
   let _env =
     List.fold_left
       (fun env item ->
@@ -739,19 +1029,30 @@ and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
         | Field (n, e) -> (
             match List.find_opt (fun f -> f.name.id = n.id) b.fields with
             | Some prev when not (List.mem n.id repeatable) ->
-                bad b n.nloc "`%s` is given twice in this %s (first at line %d)" n.id kind prev.name.nloc.line;
+                bad b n.nloc "`%s` is given twice in this %s (first at line %d)" n.id kind
+                  prev.name.nloc.line;
                 env
             | _ -> (
                 match eval ctx env e with
-                | v -> b.fields <- b.fields @ [ { name = n; value = v; vloc = e.loc } ]; env
-                | exception Fail (l, m) -> report ctx l m; poisoned_field b n e; env
-                | exception Poisoned -> poisoned_field b n e; env))
+                | v ->
+                    b.fields <- b.fields @ [ { name = n; value = v; vloc = e.loc } ];
+                    env
+                | exception Fail (l, m) ->
+                    report ctx l m;
+                    poisoned_field b n e;
+                    env
+                | exception Poisoned ->
+                    poisoned_field b n e;
+                    env))
         | Stmt s -> (
             match s.s with
             | Let _ | Fn _ | Macro _ -> exec ctx env inner s
             | _ when holds_objects -> exec ctx env inner s
             | _ ->
-                bad b s.sloc "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind;
+                bad b s.sloc
+                  "a %s holds only `field: value` pairs (and `let`); objects go in a \
+                   `group`"
+                  kind;
                 env))
       env items
   in
@@ -763,7 +1064,8 @@ and poisoned_field b n e =
   b.failed <- true;
   b.fields <- b.fields @ [ { name = n; value = VPoison; vloc = e.loc } ]
 
-and exec_list ctx env scope stmts = List.fold_left (fun env s -> exec ctx env scope s) env stmts
+and exec_list ctx env scope stmts =
+  List.fold_left (fun env s -> exec ctx env scope s) env stmts
 
 and exec ctx env scope (s : stmt) : env =
   try exec_ ctx env scope s with
@@ -773,7 +1075,9 @@ and exec ctx env scope (s : stmt) : env =
   | Poisoned -> poison env s
 
 and poison env s =
-  match s.s with Let (x, _) | Fn (x, _, _) | Macro (x, _, _) -> Env.add x.id VPoison env | _ -> env
+  match s.s with
+  | Let (x, _) | Fn (x, _, _) | Macro (x, _, _) -> Env.add x.id VPoison env
+  | _ -> env
 
 and exec_ ctx env scope (s : stmt) : env =
   match s.s with
@@ -792,7 +1096,11 @@ and exec_ ctx env scope (s : stmt) : env =
       env
   | For (x, a, b, st, body) ->
       let num (e : expr) what =
-        match eval ctx env e with VNum v -> v | v -> fail e.loc "the %s of a `for` loop must be a number, got %s" what (type_name v)
+        match eval ctx env e with
+        | VNum v -> v
+        | v ->
+            fail e.loc "the %s of a `for` loop must be a number, got %s" what
+              (type_name v)
       in
       let a' = num a "start" in
       let b' = num b "end" in
@@ -804,32 +1112,53 @@ and exec_ ctx env scope (s : stmt) : env =
       let total = Float.max 0. count *. ctx.loops in
       if count > 1e15 || total +. Float.of_int ctx.steps > Float.of_int max_steps then
         limit ctx s.sloc
-          (Printf.sprintf "this loop would run %s times%s; a scene may take at most %d loop iterations and calls, and build at most %d objects"
+          (Printf.sprintf
+             "this loop would run %s times%s; a scene may take at most %d loop \
+              iterations and calls, and build at most %d objects"
              (fmt_num count)
-             (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left (%s in all)" (fmt_num ctx.loops) (fmt_num total) else "")
+             (if ctx.loops > 1. then
+                Printf.sprintf " inside loops that have %s iterations left (%s in all)"
+                  (fmt_num ctx.loops) (fmt_num total)
+              else "")
              max_steps max_objects);
       (* The same for the object limit: each iteration builds at least the objects
          written in the loop's body. *)
       let per_iteration = Float.of_int (objects_written body) in
-      if per_iteration > 0. && (total *. per_iteration) +. Float.of_int ctx.objects > Float.of_int max_objects then
+      if
+        per_iteration > 0.
+        && (total *. per_iteration) +. Float.of_int ctx.objects > Float.of_int max_objects
+      then
         limit ctx s.sloc
-          (Printf.sprintf "this loop would build %s objects (%s an iteration, %s iterations%s)%s; a scene may build at most %d objects"
-             (fmt_num (total *. per_iteration)) (fmt_num per_iteration) (fmt_num count)
-             (if ctx.loops > 1. then Printf.sprintf " inside loops that have %s iterations left" (fmt_num ctx.loops) else "")
-             (if ctx.objects > 0 then Printf.sprintf ", after the %d already built" ctx.objects else "")
+          (Printf.sprintf
+             "this loop would build %s objects (%s an iteration, %s iterations%s)%s; a \
+              scene may build at most %d objects"
+             (fmt_num (total *. per_iteration))
+             (fmt_num per_iteration) (fmt_num count)
+             (if ctx.loops > 1. then
+                Printf.sprintf " inside loops that have %s iterations left"
+                  (fmt_num ctx.loops)
+              else "")
+             (if ctx.objects > 0 then
+                Printf.sprintf ", after the %d already built" ctx.objects
+              else "")
              max_objects);
       if count <= 0. then
         warn ctx s.sloc
-          (Printf.sprintf "this loop runs zero times: it counts from %s to %s in steps of %s%s" (fmt_num a') (fmt_num b')
-             (fmt_num st')
-             (if st' > 0. then " (to count down, give a negative step: `step -1`)" else " (to count up, give a positive step)"));
+          (Printf.sprintf
+             "this loop runs zero times: it counts from %s to %s in steps of %s%s"
+             (fmt_num a') (fmt_num b') (fmt_num st')
+             (if st' > 0. then " (to count down, give a negative step: `step -1`)"
+              else " (to count up, give a positive step)"));
       (* And for memory: objects that would not fit under the process's limit are refused
          before they are built (the runtime would abort, not raise, once it runs out). *)
       if per_iteration > 0. && total < 1e15 then
-        Option.iter (limit ctx s.sloc) (memory_refusal (ctx.objects + int_of_float (total *. per_iteration)));
+        Option.iter (limit ctx s.sloc)
+          (memory_refusal (ctx.objects + int_of_float (total *. per_iteration)));
       let count = if count < 0. then 0 else int_of_float count in
       let outer = ctx.loops in
-      Fun.protect ~finally:(fun () -> ctx.loops <- outer) (fun () ->
+      Fun.protect
+        ~finally:(fun () -> ctx.loops <- outer)
+        (fun () ->
           for k = 0 to count - 1 do
             step ctx s.sloc;
             ctx.loops <- outer *. Float.of_int (count - k);
@@ -839,8 +1168,12 @@ and exec_ ctx env scope (s : stmt) : env =
       env
   | If_stmt (c, t, e) -> (
       match eval ctx env c with
-      | VBool true -> ignore (exec_list ctx env scope t); env
-      | VBool false -> ignore (exec_list ctx env scope e); env
+      | VBool true ->
+          ignore (exec_list ctx env scope t);
+          env
+      | VBool false ->
+          ignore (exec_list ctx env scope e);
+          env
       | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
   | Include (p, loc) -> fail loc "internal error: include \"%s\" was not resolved" p
   | Included (_, stmts) -> exec_list ctx env scope stmts
@@ -850,11 +1183,19 @@ and exec_ ctx env scope (s : stmt) : env =
           let env' = bind_params ctx env m.mname m.mparams m.menv args s.sloc in
           nested ctx s.sloc (fun () -> ignore (exec_list ctx env' scope m.mbody));
           env
-      | VFun c -> fail f.nloc "`%s` is an expression function (fn %s(…) = …): use it in an expression, e.g. let x = %s(…)" c.fname c.fname c.fname
+      | VFun c ->
+          fail f.nloc
+            "`%s` is an expression function (fn %s(…) = …): use it in an expression, \
+             e.g. let x = %s(…)"
+            c.fname c.fname c.fname
       | VBuiltin n -> fail f.nloc "`%s` is a built-in function: use it in an expression" n
       | v -> fail f.nloc "`%s` is %s, not a scene macro" f.id (type_name v))
-  | Block (k, items) -> block ctx env scope k items; env
-  | Body (n, items) -> body ctx env scope s.sloc n items; Env.add n.id (VBody n.id) env
+  | Block (k, items) ->
+      block ctx env scope k items;
+      env
+  | Body (n, items) ->
+      body ctx env scope s.sloc n items;
+      Env.add n.id (VBody n.id) env
 
 (* The objects a list of statements surely builds each time it runs: object blocks, and
    those of groups; not those behind a condition (the smaller branch), a macro call or an
@@ -866,8 +1207,11 @@ and objects_written stmts =
       +
       match s.s with
       | Block (k, _) when List.mem_assoc k.id object_fields -> 1
-      | Block ({ id = "group" | "union" | "merge" | "intersection" | "difference"; _ }, its) ->
-          objects_written (List.filter_map (function Stmt s -> Some s | Field _ -> None) its)
+      | Block
+          ({ id = "group" | "union" | "merge" | "intersection" | "difference"; _ }, its)
+        ->
+          objects_written
+            (List.filter_map (function Stmt s -> Some s | Field _ -> None) its)
       | If_stmt (_, t, e) -> min (objects_written t) (objects_written e)
       | Included (_, b) -> objects_written b
       | _ -> 0)
@@ -877,7 +1221,8 @@ and check_params params =
   let rec go = function
     | [] -> ()
     | (p : name) :: rest ->
-        if List.exists (fun (q : name) -> q.id = p.id) rest then fail p.nloc "parameter `%s` is named twice" p.id;
+        if List.exists (fun (q : name) -> q.id = p.id) rest then
+          fail p.nloc "parameter `%s` is named twice" p.id;
         go rest
   in
   go params
@@ -885,7 +1230,9 @@ and check_params params =
 and block ctx env scope (k : name) items =
   match k.id with
   | ("settings" | "camera" | "animation" | "physics" | "light") when scope.in_group ->
-      fail k.nloc "`%s` cannot be inside a group: a group's transforms and material apply to objects only; write it at top level"
+      fail k.nloc
+        "`%s` cannot be inside a group: a group's transforms and material apply to \
+         objects only; write it at top level"
         k.id
   | "settings" -> settings ctx env scope k items
   | "camera" -> camera ctx env scope k items
@@ -896,81 +1243,143 @@ and block ctx env scope (k : name) items =
   | "group" -> group ctx env scope k items
   | "union" | "merge" | "intersection" | "difference" -> csg ctx env scope k items
   | kind when List.mem_assoc kind object_fields -> (
-      match object_ ctx env scope k items with Some o -> add_object ctx scope k.nloc o | None -> ())
-  | "material" -> fail k.nloc "a material is a value: write `material: material { … }` inside an object, or `let m = material { … }`"
+      match object_ ctx env scope k items with
+      | Some o -> add_object ctx scope k.nloc o
+      | None -> ())
+  | "material" ->
+      fail k.nloc
+        "a material is a value: write `material: material { … }` inside an object, or \
+         `let m = material { … }`"
   | x ->
       fail k.nloc "unknown block `%s`%s" x
-        (hint x ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ csg_blocks @ List.map fst object_fields))
+        (hint x
+           ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ]
+           @ csg_blocks @ List.map fst object_fields))
 
 and add_object ctx scope loc o =
   ctx.objects <- ctx.objects + 1;
   if ctx.objects land 0xFFFF = 0 then Option.iter (fun f -> f ctx.objects) ctx.on_objects;
   if ctx.objects > max_objects then
-    limit ctx loc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
-  if ctx.objects land 1023 = 0 then Option.iter (limit ctx loc) (memory_refusal ctx.objects);
+    limit ctx loc
+      (Printf.sprintf "this scene builds more than %d objects; that is the limit"
+         max_objects);
+  if ctx.objects land 1023 = 0 then
+    Option.iter (limit ctx loc) (memory_refusal ctx.objects);
   scope.sink := o :: !(scope.sink)
 
 and once : 'a. ctx -> string -> ('a * Loc.t) option -> name -> unit =
  fun ctx what slot k ->
   match slot with
-  | Some (_, l) -> ignore ctx; fail k.nloc "%s is given twice (the first is at %s:%d:%d)" what l.file l.line l.col
+  | Some (_, l) ->
+      ignore ctx;
+      fail k.nloc "%s is given twice (the first is at %s:%d:%d)" what l.file l.line l.col
   | None -> ()
 
 and settings ctx env scope k items =
   once ctx "settings" ctx.settings k;
   let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
-  check_names b [ "width"; "height"; "depth"; "samples"; "jitter"; "adaptive"; "shadows"; "background"; "ambient"; "gamma"; "fog" ];
+  check_names b
+    [
+      "width";
+      "height";
+      "depth";
+      "samples";
+      "jitter";
+      "adaptive";
+      "shadows";
+      "background";
+      "ambient";
+      "gamma";
+      "fog";
+    ];
   let d = Settings.default in
   let gamma =
     match live b "gamma" with
     | None -> d.gamma
     | Some { value = VStr s; _ } when String.lowercase_ascii s = "srgb" -> Settings.Srgb
     | Some { value = VNum g; _ } when g > 0. && g <= 1e3 -> Settings.Power g
-    | Some f -> bad b f.vloc "`gamma` must be \"srgb\" or a number in (0, 1000]"; d.gamma
+    | Some f ->
+        bad b f.vloc "`gamma` must be \"srgb\" or a number in (0, 1000]";
+        d.gamma
   in
   let s : Settings.t =
-    { width = int_range b "width" ~lo:1 ~hi:65536 ~default:d.width;
+    {
+      width = int_range b "width" ~lo:1 ~hi:65536 ~default:d.width;
       height = int_range b "height" ~lo:1 ~hi:65536 ~default:d.height;
       depth = int_range b "depth" ~lo:1 ~hi:Settings.max_depth ~default:d.depth;
       samples = int_range b "samples" ~lo:1 ~hi:64 ~default:d.samples;
       jitter = boolean b "jitter" ~default:d.jitter;
       adaptive = nonneg b "adaptive" ~default:d.adaptive;
       shadows = boolean b "shadows" ~default:d.shadows;
-      background = (match live b "background" with Some { value = VTex _; _ } -> d.background | _ -> color b "background" ~default:d.background);
+      background =
+        (match live b "background" with
+        | Some { value = VTex _; _ } -> d.background
+        | _ -> color b "background" ~default:d.background);
       sky = None;
       fog = None;
       ambient = color b "ambient" ~default:d.ambient;
-      gamma }
+      gamma;
+    }
   in
   let s = environment b s in
   finish b;
-  (match Settings.validate s with Ok () -> () | Error m -> fail k.nloc "invalid settings: %s" m);
+  (match Settings.validate s with
+  | Ok () -> ()
+  | Error m -> fail k.nloc "invalid settings: %s" m);
   ctx.settings <- Some (s, k.nloc)
 
 (* A gradient background and fog, from the settings block's `background` and `fog`. *)
 and environment b (s : Settings.t) =
-  let colour_arg (v : value) = match v with VVec c when c.x >= 0. && c.y >= 0. && c.z >= 0. -> Some (Color.of_vec3 c) | _ -> None in
+  let colour_arg (v : value) =
+    match v with
+    | VVec c when c.x >= 0. && c.y >= 0. && c.z >= 0. -> Some (Color.of_vec3 c)
+    | _ -> None
+  in
   let s =
     match live b "background" with
     | Some ({ value = VTex { tname = "gradient"; targs = [ h; z ]; _ }; _ } as f) -> (
         match (colour_arg h, colour_arg z) with
-        | Some horizon, Some zenith -> { s with background = horizon; sky = Some { horizon; zenith } }
-        | _ -> bad b f.vloc "a background gradient(HORIZON, ZENITH) takes two colours (r, g, b) with no negative component"; s)
+        | Some horizon, Some zenith ->
+            { s with background = horizon; sky = Some { horizon; zenith } }
+        | _ ->
+            bad b f.vloc
+              "a background gradient(HORIZON, ZENITH) takes two colours (r, g, b) with \
+               no negative component";
+            s)
     | Some ({ value = VTex _; _ } as f) ->
-        bad b f.vloc "`background` must be a colour (r, g, b) or gradient(HORIZON, ZENITH), got %s" (type_name f.value); s
+        bad b f.vloc
+          "`background` must be a colour (r, g, b) or gradient(HORIZON, ZENITH), got %s"
+          (type_name f.value);
+        s
     | _ -> s
   in
   match live b "fog" with
   | None -> s
-  | Some { value = VTex { tname = "fog"; targs = [ VVec c; VNum distance ]; _ }; vloc; _ } ->
-      if c.x < 0. || c.y < 0. || c.z < 0. then (bad b vloc "the colour of `fog` has no negative component"; s)
+  | Some { value = VTex { tname = "fog"; targs = [ VVec c; VNum distance ]; _ }; vloc; _ }
+    ->
+      if c.x < 0. || c.y < 0. || c.z < 0. then (
+        bad b vloc "the colour of `fog` has no negative component";
+        s)
       else { s with fog = Some { color = Color.of_vec3 c; distance } }
-  | Some f -> bad b f.vloc "`fog` must be fog(COLOR, DISTANCE), got %s" (type_name f.value); s
+  | Some f ->
+      bad b f.vloc "`fog` must be fog(COLOR, DISTANCE), got %s" (type_name f.value);
+      s
 
 and camera ctx env scope k items =
   once ctx "camera" ctx.camera k;
   let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
-  check_names b [ "kind"; "position"; "look_at"; "up"; "fov"; "width"; "aperture"; "focal_distance"; "lens_samples" ];
+  check_names b
+    [
+      "kind";
+      "position";
+      "look_at";
+      "up";
+      "fov";
+      "width";
+      "aperture";
+      "focal_distance";
+      "lens_samples";
+    ];
   let d = Camera.default in
   let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
   (* An unknown kind is reported once; the fields that depend on the kind are then not
@@ -981,45 +1390,79 @@ and camera ctx env scope k items =
     | Some { value = VStr s; _ } when List.mem s kinds -> s
     | Some { value = VStr s; vloc; _ } ->
         (match suggest s kinds with
-         | Some k -> bad b vloc "unknown camera kind \"%s\"; did you mean \"%s\"?" s k
-         | None -> bad b vloc "unknown camera kind \"%s\"; use \"perspective\", \"orthographic\" or \"fisheye\"" s);
+        | Some k -> bad b vloc "unknown camera kind \"%s\"; did you mean \"%s\"?" s k
+        | None ->
+            bad b vloc
+              "unknown camera kind \"%s\"; use \"perspective\", \"orthographic\" or \
+               \"fisheye\""
+              s);
         "unknown"
-    | Some f -> bad b f.vloc "`kind` must be a string (\"perspective\", \"orthographic\" or \"fisheye\"), got %s" (type_name f.value); "unknown"
+    | Some f ->
+        bad b f.vloc
+          "`kind` must be a string (\"perspective\", \"orthographic\" or \"fisheye\"), \
+           got %s"
+          (type_name f.value);
+        "unknown"
   in
   let position = point b "position" ~default:d.position in
   let look_at = point b "look_at" ~default:d.look_at in
   let up = point b "up" ~default:d.up in
   let fov = number b "fov" ~default:d.fov in
   (match field b "fov" with
-   | Some f when kind_name = "fisheye" && not (fov > 0. && fov <= 360.) ->
-       bad b f.vloc "a fisheye's `fov` must be in (0, 360] degrees, got %s" (fmt_num fov)
-   | Some f when kind_name = "orthographic" -> bad b f.vloc "an orthographic camera has no `fov`: its `width` sets how much it sees"
-   | Some f when kind_name = "perspective" && not (fov > 0. && fov < 180.) ->
-       bad b f.vloc "`fov` must be in (0, 180) degrees, got %s%s" (fmt_num fov)
-         (if fov >= 180. && fov <= 360. then " (a wider view needs kind: \"fisheye\")" else "")
-   | _ -> ());
+  | Some f when kind_name = "fisheye" && not (fov > 0. && fov <= 360.) ->
+      bad b f.vloc "a fisheye's `fov` must be in (0, 360] degrees, got %s" (fmt_num fov)
+  | Some f when kind_name = "orthographic" ->
+      bad b f.vloc
+        "an orthographic camera has no `fov`: its `width` sets how much it sees"
+  | Some f when kind_name = "perspective" && not (fov > 0. && fov < 180.) ->
+      bad b f.vloc "`fov` must be in (0, 180) degrees, got %s%s" (fmt_num fov)
+        (if fov >= 180. && fov <= 360. then " (a wider view needs kind: \"fisheye\")"
+         else "")
+  | _ -> ());
   let width =
     match field b "width" with
-    | Some f when kind_name <> "orthographic" && kind_name <> "unknown" -> bad b f.vloc "`width` is for an orthographic camera (kind: \"orthographic\")"; 1.
-    | None when kind_name = "orthographic" -> bad b k.nloc "an orthographic camera needs a `width` (world units across the image)"; 1.
+    | Some f when kind_name <> "orthographic" && kind_name <> "unknown" ->
+        bad b f.vloc "`width` is for an orthographic camera (kind: \"orthographic\")";
+        1.
+    | None when kind_name = "orthographic" ->
+        bad b k.nloc
+          "an orthographic camera needs a `width` (world units across the image)";
+        1.
     | _ -> length b "width" ~default:1.
   in
   let aperture = nonneg b "aperture" ~default:d.aperture in
   let focal_distance = length b "focal_distance" ~default:d.focal_distance in
   let lens_samples = int_range b "lens_samples" ~lo:1 ~hi:64 ~default:d.lens_samples in
   (match (field b "aperture", field b "focal_distance") with
-   | Some _, None when aperture > 0. -> bad b k.nloc "a camera with an `aperture` needs a `focal_distance` (the distance that is in focus)"
-   | _ -> ());
+  | Some _, None when aperture > 0. ->
+      bad b k.nloc
+        "a camera with an `aperture` needs a `focal_distance` (the distance that is in \
+         focus)"
+  | _ -> ());
   finish b;
   let view = Vec3.sub look_at position in
   (if Vec3.max_abs view > 0. && Vec3.max_abs up > 0. then
      let cos = Vec3.dot view up /. (Vec3.length view *. Vec3.length up) in
      if Float.abs cos > 1. -. 1e-12 then
-       let at = match (field b "up", field b "look_at") with Some f, _ | None, Some f -> f.vloc | None, None -> k.nloc in
+       let at =
+         match (field b "up", field b "look_at") with
+         | Some f, _ | None, Some f -> f.vloc
+         | None, None -> k.nloc
+       in
        fail at "%s" (Hints.camera_up view up));
-  let kind = match kind_name with "orthographic" -> Camera.Orthographic { width } | "fisheye" -> Camera.Fisheye | _ -> Camera.Perspective in
-  let c = Camera.make ~kind ~position ~look_at ~up ~fov ~aperture ~focal_distance ~lens_samples () in
-  (match Camera.validate c with Ok () -> () | Error m -> fail k.nloc "invalid camera: %s" m);
+  let kind =
+    match kind_name with
+    | "orthographic" -> Camera.Orthographic { width }
+    | "fisheye" -> Camera.Fisheye
+    | _ -> Camera.Perspective
+  in
+  let c =
+    Camera.make ~kind ~position ~look_at ~up ~fov ~aperture ~focal_distance ~lens_samples
+      ()
+  in
+  (match Camera.validate c with
+  | Ok () -> ()
+  | Error m -> fail k.nloc "invalid camera: %s" m);
   ctx.camera <- Some (c, k.nloc)
 
 and animation ctx env scope k items =
@@ -1027,15 +1470,21 @@ and animation ctx env scope k items =
   let b = collect ctx env scope "animation" k.nloc ~holds_objects:false items in
   check_names b [ "fps"; "frames"; "duration" ];
   let fps = positive b "fps" ~default:24. in
-  (match field b "fps" with Some f when fps > 1000. -> bad b f.vloc "`fps` must be at most 1000" | _ -> ());
+  (match field b "fps" with
+  | Some f when fps > 1000. -> bad b f.vloc "`fps` must be at most 1000"
+  | _ -> ());
   let frames =
     match (field b "frames", field b "duration") with
-    | Some _, Some f -> bad b f.vloc "give `frames` or `duration`, not both"; 1
+    | Some _, Some f ->
+        bad b f.vloc "give `frames` or `duration`, not both";
+        1
     | Some _, None -> int_range b "frames" ~lo:1 ~hi:10_000_000 ~default:1
     | None, Some f ->
         let d = positive b "duration" ~default:1. in
         let n = Float.round (d *. fps) in
-        if n > 1e7 then (bad b f.vloc "this animation would have more than 10 000 000 frames"; 1)
+        if n > 1e7 then (
+          bad b f.vloc "this animation would have more than 10 000 000 frames";
+          1)
         else max 1 (int_of_float n)
     | None, None -> 48
   in
@@ -1054,8 +1503,16 @@ and physics ctx env scope k items =
     | Some { value = VStr "exact"; _ } -> Exact
     | Some { value = VStr "verlet"; _ } -> Verlet
     | Some { value = VStr "euler"; _ } -> Euler
-    | Some { value = VStr s; vloc; _ } -> bad b vloc "unknown physics method \"%s\"%s; use \"exact\", \"verlet\" or \"euler\"" s (hint s [ "exact"; "verlet"; "euler" ]); d.method_
-    | Some f -> bad b f.vloc "`method` must be a string (\"exact\", \"verlet\" or \"euler\"), got %s" (type_name f.value); d.method_
+    | Some { value = VStr s; vloc; _ } ->
+        bad b vloc
+          "unknown physics method \"%s\"%s; use \"exact\", \"verlet\" or \"euler\"" s
+          (hint s [ "exact"; "verlet"; "euler" ]);
+        d.method_
+    | Some f ->
+        bad b f.vloc
+          "`method` must be a string (\"exact\", \"verlet\" or \"euler\"), got %s"
+          (type_name f.value);
+        d.method_
   in
   let step = length b "step" ~default:d.step in
   finish b;
@@ -1064,31 +1521,60 @@ and physics ctx env scope k items =
 and light ctx env scope k items =
   let b = collect ctx env scope "light" k.nloc ~holds_objects:false items in
   match (field b "position", field b "direction") with
-  | Some _, Some f -> bad b f.vloc "a light has a `position` (point light) or a `direction` (directional light), not both"; finish b
-  | None, None -> bad b k.nloc "a light needs a `position` (point light) or a `direction` (directional light)"; finish b
+  | Some _, Some f ->
+      bad b f.vloc
+        "a light has a `position` (point light) or a `direction` (directional light), \
+         not both";
+      finish b
+  | None, None ->
+      bad b k.nloc
+        "a light needs a `position` (point light) or a `direction` (directional light)";
+      finish b
   | Some _, None ->
-      check_names b [ "position"; "color"; "intensity"; "attenuation"; "radius"; "samples"; "point_at"; "inner"; "outer" ];
+      check_names b
+        [
+          "position";
+          "color";
+          "intensity";
+          "attenuation";
+          "radius";
+          "samples";
+          "point_at";
+          "inner";
+          "outer";
+        ];
       let position = point b "position" ~default:Vec3.zero in
       let color = color b "color" ~default:Color.white in
       let intensity = nonneg b "intensity" ~default:1. in
       let attenuation = point b "attenuation" ~default:(Vec3.v 1. 0. 0.) in
       (match field b "attenuation" with
-       | Some f when attenuation.x < 0. || attenuation.y < 0. || attenuation.z < 0. || Vec3.max_abs attenuation = 0. ->
-           bad b f.vloc "`attenuation` (a0, a1, a2) must be non-negative and not all zero"
-       | _ -> ());
+      | Some f
+        when attenuation.x < 0. || attenuation.y < 0. || attenuation.z < 0.
+             || Vec3.max_abs attenuation = 0. ->
+          bad b f.vloc "`attenuation` (a0, a1, a2) must be non-negative and not all zero"
+      | _ -> ());
       let radius = nonneg b "radius" ~default:0. in
       let samples = int_range b "samples" ~lo:1 ~hi:64 ~default:1 in
       let spot =
         match field b "point_at" with
         | None ->
             List.iter
-              (fun n -> match field b n with Some f -> bad b f.name.nloc "`%s` is for a spot light: give it a `point_at`" n | None -> ())
+              (fun n ->
+                match field b n with
+                | Some f ->
+                    bad b f.name.nloc "`%s` is for a spot light: give it a `point_at`" n
+                | None -> ())
               [ "inner"; "outer" ];
             None
         | Some pf -> (
             let point_at = point b "point_at" ~default:Vec3.zero in
-            let angle n ~default = check_range b n (fun x -> x >= 0. && x <= 180.) "must be an angle in [0, 180] degrees" (number b n ~default) in
-            let inner = angle "inner" ~default:30. and outer = angle "outer" ~default:45. in
+            let angle n ~default =
+              check_range b n
+                (fun x -> x >= 0. && x <= 180.)
+                "must be an angle in [0, 180] degrees" (number b n ~default)
+            in
+            let inner = angle "inner" ~default:30.
+            and outer = angle "outer" ~default:45. in
             if b.failed then None
             else
               match Light.spot ~position ~point_at ~inner ~outer with
@@ -1105,11 +1591,14 @@ and light ctx env scope k items =
                   None)
       in
       finish b;
-      ctx.lights <- Light.point ~color ~intensity ~attenuation ~radius ~samples ?spot position :: ctx.lights
+      ctx.lights <-
+        Light.point ~color ~intensity ~attenuation ~radius ~samples ?spot position
+        :: ctx.lights
   | None, Some f ->
       check_names b [ "direction"; "color"; "intensity" ];
       let direction = point b "direction" ~default:Vec3.y_axis in
-      if Vec3.max_abs direction = 0. then bad b f.vloc "the `direction` of a light must not be (0, 0, 0)";
+      if Vec3.max_abs direction = 0. then
+        bad b f.vloc "the `direction` of a light must not be (0, 0, 0)";
       let color = color b "color" ~default:Color.white in
       let intensity = nonneg b "intensity" ~default:1. in
       finish b;
@@ -1120,18 +1609,30 @@ and transforms b =
   List.fold_left
     (fun (t, js) f ->
       match (f.name.id, f.value) with
-      | "translate", VVec v -> check_coords b f v; (Transform.then_ t (Transform.translate v), js @ [ `Assoc [ ("translate", vjson v) ] ])
-      | "rotate", VVec v -> check_coords b f v; (Transform.then_ t (Transform.rotate v), js @ [ `Assoc [ ("rotate", vjson v) ] ])
+      | "translate", VVec v ->
+          check_coords b f v;
+          ( Transform.then_ t (Transform.translate v),
+            js @ [ `Assoc [ ("translate", vjson v) ] ] )
+      | "rotate", VVec v ->
+          check_coords b f v;
+          (Transform.then_ t (Transform.rotate v), js @ [ `Assoc [ ("rotate", vjson v) ] ])
       | "scale", (VNum _ | VVec _) ->
-          let v = match f.value with VNum s -> Vec3.v s s s | VVec v -> v | _ -> Vec3.one in
+          let v =
+            match f.value with VNum s -> Vec3.v s s s | VVec v -> v | _ -> Vec3.one
+          in
           let ok x = Float.abs x >= 1e-150 && Float.abs x <= 1e150 in
-          if not (ok v.x && ok v.y && ok v.z) then begin
-            bad b f.vloc "`scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
-            (t, js)
-          end
-          else (Transform.then_ t (Transform.scale v), js @ [ `Assoc [ ("scale", vjson v) ] ])
-      | ("translate" | "rotate"), v -> bad b f.vloc "`%s` must be a vector (x, y, z), got %s" f.name.id (type_name v); (t, js)
-      | "scale", v -> bad b f.vloc "`scale` must be a number or a vector, got %s" (type_name v); (t, js)
+          if not (ok v.x && ok v.y && ok v.z) then (
+            bad b f.vloc
+              "`scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+            (t, js))
+          else
+            (Transform.then_ t (Transform.scale v), js @ [ `Assoc [ ("scale", vjson v) ] ])
+      | ("translate" | "rotate"), v ->
+          bad b f.vloc "`%s` must be a vector (x, y, z), got %s" f.name.id (type_name v);
+          (t, js)
+      | "scale", v ->
+          bad b f.vloc "`scale` must be a number or a vector, got %s" (type_name v);
+          (t, js)
       | _ -> (t, js))
     (Transform.identity, []) b.fields
 
@@ -1139,7 +1640,10 @@ and object_material b =
   match live b "material" with
   | None -> None
   | Some { value = VMat (m, d); _ } -> Some (m, d)
-  | Some f -> bad b f.vloc "`material` must be a material (material { … }), got %s" (type_name f.value); None
+  | Some f ->
+      bad b f.vloc "`material` must be a material (material { … }), got %s"
+        (type_name f.value);
+      None
 
 and object_ ctx env scope (k : name) items =
   let b = collect ctx env scope k.id k.nloc ~holds_objects:false items in
@@ -1152,7 +1656,17 @@ and object_ ctx env scope (k : name) items =
   match shape with
   | None -> None
   | Some p_shapes ->
-      Some { p_kind = k.id; p_fields = fields; p_shapes; p_transform = t; p_tjson = tj; p_material = mat; p_leaves = [||]; p_loc = k.nloc }
+      Some
+        {
+          p_kind = k.id;
+          p_fields = fields;
+          p_shapes;
+          p_transform = t;
+          p_tjson = tj;
+          p_material = mat;
+          p_leaves = [||];
+          p_loc = k.nloc;
+        }
 
 and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list option =
   let built fields sh = if b.failed then (lazy [], None) else (fields, Some [ sh () ]) in
@@ -1160,78 +1674,132 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
   | "sphere" ->
       let center = point b "center" ~default:Vec3.zero ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built (lazy [ ("center", vjson center); ("radius", `Float radius) ]) (fun () -> Shape.sphere ~center ~radius)
+      built
+        (lazy [ ("center", vjson center); ("radius", `Float radius) ])
+        (fun () -> Shape.sphere ~center ~radius)
   | "plane" ->
       let normal = direction b "normal" ~required:true in
       let offset = coord b "offset" ~default:0. in
-      built (lazy [ ("normal", vjson normal); ("offset", `Float offset) ]) (fun () -> Shape.plane ~normal ~offset)
+      built
+        (lazy [ ("normal", vjson normal); ("offset", `Float offset) ])
+        (fun () -> Shape.plane ~normal ~offset)
   | "parallelogram" ->
       let origin = point b "origin" ~required:true ~default:Vec3.zero in
       let edge1 = direction b "edge1" ~required:true in
       let edge2 = direction b "edge2" ~required:true in
-      if not b.failed && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
+      if (not b.failed) && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
         bad b b.kloc "the edges of a parallelogram must not be parallel";
-      built (lazy [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ]) (fun () ->
-          Shape.parallelogram ~origin ~edge1 ~edge2)
+      built
+        (lazy
+          [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ])
+        (fun () -> Shape.parallelogram ~origin ~edge1 ~edge2)
   | "triangle" ->
       let a = point b "a" ~required:true ~default:Vec3.zero in
       let bb = point b "b" ~required:true ~default:Vec3.zero in
       let c = point b "c" ~required:true ~default:Vec3.zero in
-      if not b.failed && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300 then
-        bad b b.kloc "the corners of a triangle must not be in a line";
-      built (lazy [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ]) (fun () -> Shape.triangle ~a ~b:bb ~c)
+      if
+        (not b.failed) && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300
+      then bad b b.kloc "the corners of a triangle must not be in a line";
+      built
+        (lazy [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ])
+        (fun () -> Shape.triangle ~a ~b:bb ~c)
   | "paraboloid" ->
       let vertex = point b "vertex" ~required:true ~default:Vec3.zero in
-      let axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
+      let axis =
+        match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis"
+      in
       let radius = length b "radius" ~required:true ~default:1. in
       let height = length b "height" ~required:true ~default:1. in
       built
-        (lazy [ ("vertex", vjson vertex); ("axis", vjson axis); ("radius", `Float radius); ("height", `Float height) ])
+        (lazy
+          [
+            ("vertex", vjson vertex);
+            ("axis", vjson axis);
+            ("radius", `Float radius);
+            ("height", `Float height);
+          ])
         (fun () -> Shape.paraboloid ~vertex ~axis ~radius ~height)
   | "box" ->
       let mn = point b "min" ~required:true ~default:Vec3.zero in
       let mx = point b "max" ~required:true ~default:Vec3.one in
-      if not b.failed && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
+      if (not b.failed) && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
         bad b b.kloc "a box needs min < max on every axis";
-      built (lazy [ ("min", vjson mn); ("max", vjson mx) ]) (fun () -> Shape.box ~min:mn ~max:mx)
+      built
+        (lazy [ ("min", vjson mn); ("max", vjson mx) ])
+        (fun () -> Shape.box ~min:mn ~max:mx)
   | "cylinder" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
       let radius = length b "radius" ~required:true ~default:1. in
       let caps = boolean b "caps" ~default:true in
-      if not b.failed && Vec3.length (Vec3.sub top base) < 1e-150 then
+      if (not b.failed) && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cylinder must differ";
       built
-        (lazy [ ("base", vjson base); ("top", vjson top); ("radius", `Float radius); ("caps", `Bool caps) ])
+        (lazy
+          [
+            ("base", vjson base);
+            ("top", vjson top);
+            ("radius", `Float radius);
+            ("caps", `Bool caps);
+          ])
         (fun () -> Shape.cylinder ~base ~top ~radius ~caps)
   | "cone" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
-      let radius n = check_range b n (fun x -> x >= 0. && x <= 1e150) "must be a radius in [0, 1e150]" (number b ~required:true n ~default:1.) in
+      let radius n =
+        check_range b n
+          (fun x -> x >= 0. && x <= 1e150)
+          "must be a radius in [0, 1e150]"
+          (number b ~required:true n ~default:1.)
+      in
       let r0 = radius "base_radius" and r1 = radius "top_radius" in
       let caps = boolean b "caps" ~default:true in
-      if not b.failed && Vec3.length (Vec3.sub top base) < 1e-150 then bad b b.kloc "the base and top of a cone must differ";
-      if not b.failed && r0 < 1e-150 && r1 < 1e-150 then bad b b.kloc "a cone needs a `base_radius` or a `top_radius` greater than 0";
+      if (not b.failed) && Vec3.length (Vec3.sub top base) < 1e-150 then
+        bad b b.kloc "the base and top of a cone must differ";
+      if (not b.failed) && r0 < 1e-150 && r1 < 1e-150 then
+        bad b b.kloc "a cone needs a `base_radius` or a `top_radius` greater than 0";
       built
         (lazy
-          [ ("base", vjson base); ("base_radius", `Float r0); ("top", vjson top); ("top_radius", `Float r1); ("caps", `Bool caps) ])
+          [
+            ("base", vjson base);
+            ("base_radius", `Float r0);
+            ("top", vjson top);
+            ("top_radius", `Float r1);
+            ("caps", `Bool caps);
+          ])
         (fun () -> Shape.cone ~base ~top ~base_radius:r0 ~top_radius:r1 ~caps)
   | "torus" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let major = length b "major" ~required:true ~default:1. in
       let minor = length b "minor" ~required:true ~default:0.25 in
-      let axis = match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis" in
+      let axis =
+        match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis"
+      in
       built
-        (lazy [ ("center", vjson center); ("major", `Float major); ("minor", `Float minor); ("axis", vjson axis) ])
+        (lazy
+          [
+            ("center", vjson center);
+            ("major", `Float major);
+            ("minor", `Float minor);
+            ("axis", vjson axis);
+          ])
         (fun () -> Shape.torus ~center ~axis ~major ~minor)
   | "disk" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let normal = direction b "normal" ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built (lazy [ ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius) ]) (fun () ->
-          Shape.disk ~center ~normal ~radius)
+      built
+        (lazy
+          [
+            ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius);
+          ])
+        (fun () -> Shape.disk ~center ~normal ~radius)
   | "mesh" -> (
-      let file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
+      let file =
+        get b "file" ~default:"" ~required:true "a file name string" (function
+          | VStr s -> Some s
+          | _ -> None)
+      in
       let smooth = boolean b "smooth" ~default:true in
       if b.failed then (lazy [], None)
       else
@@ -1245,30 +1813,53 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
                 match Error.cannot_read ~what:"mesh" ~written:file path with
                 | Some msg -> Error msg
                 | None -> (
-                    try Result.map_error (Printf.sprintf "cannot load the mesh \"%s\": %s" file) (Mesh.load ~smooth path)
-                    with Sys.Break -> raise Sys.Break | e -> Error (Printf.sprintf "cannot load the mesh \"%s\": %s" file (Printexc.to_string e)))
+                    try
+                      Result.map_error
+                        (Printf.sprintf "cannot load the mesh \"%s\": %s" file)
+                        (Mesh.load ~smooth path)
+                    with
+                    | Sys.Break -> raise Sys.Break
+                    | e ->
+                        Error
+                          (Printf.sprintf "cannot load the mesh \"%s\": %s" file
+                             (Printexc.to_string e)))
               in
               Hashtbl.replace b.ctx.images.meshes (path, smooth) r;
               r
         in
         let f = Option.get (field b "file") in
         match r with
-        | Error m -> bad b f.vloc "%s" m; (lazy [], None)
-        | Ok [] -> bad b f.vloc "the mesh \"%s\" has no triangles" file; (lazy [], None)
+        | Error m ->
+            bad b f.vloc "%s" m;
+            (lazy [], None)
+        | Ok [] ->
+            bad b f.vloc "the mesh \"%s\" has no triangles" file;
+            (lazy [], None)
         | Ok tris ->
             let n = List.length tris in
             b.ctx.objects <- b.ctx.objects + n - 1;
             if b.ctx.objects > max_objects then
-              limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
-            (lazy [ ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n) ], Some tris))
+              limit b.ctx b.kloc
+                (Printf.sprintf
+                   "this scene builds more than %d objects; that is the limit" max_objects);
+            ( lazy
+                [
+                  ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n);
+                ],
+              Some tris ))
   | "height_field" -> (
-      let file = get b "file" ~default:"" ~required:true "a file name string" (function VStr s -> Some s | _ -> None) in
+      let file =
+        get b "file" ~default:"" ~required:true "a file name string" (function
+          | VStr s -> Some s
+          | _ -> None)
+      in
       let origin = point b "origin" ~default:Vec3.zero in
       let size = point b "size" ~required:true ~default:Vec3.one in
       (match field b "size" with
-       | Some f when not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) ->
-           bad b f.vloc "the `size` (sx, sy, sz) of a height field must be positive on every axis"
-       | _ -> ());
+      | Some f when not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) ->
+          bad b f.vloc
+            "the `size` (sx, sy, sz) of a height field must be positive on every axis"
+      | _ -> ());
       if b.failed then (lazy [], None)
       else
         let path = Loc.relative_to b.kloc.file file in
@@ -1282,7 +1873,8 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
                 | Some msg -> Error msg
                 | None -> (
                     match Image.read_raster path with
-                    | Error m -> Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
+                    | Error m ->
+                        Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
                     | Ok r ->
                         (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to
                            the largest value (255, or 65535 for 16 bits) to 1; a grey pixel is
@@ -1294,7 +1886,8 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
                           let c n = Float.of_int (Raster.get r i j n) in
                           if r.channels <= 2 then c 0 /. top
                           else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
-                          else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
+                          else
+                            ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
                         in
                         Ok (w, h, Float.Array.init (w * h) v))
               in
@@ -1303,15 +1896,21 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
         in
         let f = Option.get (field b "file") in
         match r with
-        | Error m -> bad b f.vloc "%s" m; (lazy [], None)
+        | Error m ->
+            bad b f.vloc "%s" m;
+            (lazy [], None)
         | Ok (w, h, _) when w < 2 || h < 2 ->
-            bad b f.vloc "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d" file w h;
+            bad b f.vloc
+              "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d" file
+              w h;
             (lazy [], None)
         | Ok (w, h, v) ->
             let n = 2 * (w - 1) * (h - 1) in
             b.ctx.objects <- b.ctx.objects + n - 1;
             if b.ctx.objects > max_objects then
-              limit b.ctx b.kloc (Printf.sprintf "this scene builds more than %d objects; that is the limit" max_objects);
+              limit b.ctx b.kloc
+                (Printf.sprintf
+                   "this scene builds more than %d objects; that is the limit" max_objects);
             (* Vertex (i, j) at O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)); j is the image row. *)
             let vert i j =
               Vec3.v
@@ -1322,13 +1921,23 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
             let tris = ref [] in
             for j = h - 2 downto 0 do
               for i = w - 2 downto 0 do
-                let a = vert i j and bb = vert i (j + 1) and c = vert (i + 1) j and d = vert (i + 1) (j + 1) in
-                tris := Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
+                let a = vert i j
+                and bb = vert i (j + 1)
+                and c = vert (i + 1) j
+                and d = vert (i + 1) (j + 1) in
+                tris :=
+                  Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
               done
             done;
             ( lazy
-                [ ("file", `String file); ("origin", vjson origin); ("size", vjson size); ("width", `Int w); ("height", `Int h);
-                  ("triangles", `Int n) ],
+                [
+                  ("file", `String file);
+                  ("origin", vjson origin);
+                  ("size", vjson size);
+                  ("width", `Int w);
+                  ("height", `Int h);
+                  ("triangles", `Int n);
+                ],
               Some !tris ))
   | _ -> fail k.nloc "%s is not an object" k.id
 
@@ -1341,10 +1950,12 @@ and group ctx env scope (k : name) items =
   List.iter
     (fun o ->
       let o =
-        { o with
+        {
+          o with
           p_transform = Transform.then_ o.p_transform t;
           p_tjson = o.p_tjson @ tj;
-          p_material = (match o.p_material with Some _ -> o.p_material | None -> mat) }
+          p_material = (match o.p_material with Some _ -> o.p_material | None -> mat);
+        }
       in
       scope.sink := o :: !(scope.sink))
     (List.rev !(b.members))
@@ -1358,12 +1969,20 @@ and csg ctx env scope (k : name) items =
   let mat = object_material b in
   let members = List.rev !(b.members) in
   let op : Shape.csg_op =
-    match k.id with "merge" -> Merge | "intersection" -> Intersection | "difference" -> Difference | _ -> Union
+    match k.id with
+    | "merge" -> Merge
+    | "intersection" -> Intersection
+    | "difference" -> Difference
+    | _ -> Union
   in
-  let what = if k.id = "group" then "a group inside a CSG block" else Printf.sprintf "a `%s`" k.id in
-  if members = [] && not b.failed then bad b k.nloc "%s needs at least one object inside" what;
+  let what =
+    if k.id = "group" then "a group inside a CSG block" else Printf.sprintf "a `%s`" k.id
+  in
+  if members = [] && not b.failed then
+    bad b k.nloc "%s needs at least one object inside" what;
   if op = Difference && List.length members = 1 then
-    bad b k.nloc "a `difference` needs a solid to subtract from and at least one to subtract";
+    bad b k.nloc
+      "a `difference` needs a solid to subtract from and at least one to subtract";
   (* A union shows every member's surface; the other operations (and a union that is
      itself a member of one) need each member to have an inside. *)
   let need_solid = op <> Union || scope.in_csg in
@@ -1373,8 +1992,12 @@ and csg ctx env scope (k : name) items =
         match Mesh.open_edges tris with
         | 0 -> Some (Shape.closed_mesh tris)
         | n ->
-            bad b o.p_loc "this mesh is open: %d edge%s not shared by exactly two faces, so it has no inside to combine in `%s`" n
-              (if n = 1 then " is" else "s are") k.id;
+            bad b o.p_loc
+              "this mesh is open: %d edge%s not shared by exactly two faces, so it has \
+               no inside to combine in `%s`"
+              n
+              (if n = 1 then " is" else "s are")
+              k.id;
             None)
     | "mesh", tris -> Some (Shape.closed_mesh tris)
     | _, [ sh ] -> Some sh
@@ -1386,15 +2009,27 @@ and csg ctx env scope (k : name) items =
       | _ when o.p_kind = "mesh" -> ()
       | [ sh ] when Shape.is_solid sh || not need_solid -> ()
       | [ _ ] ->
-          bad b o.p_loc "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone with caps, closed mesh, plane as a half-space, CSG of solids)%s"
-            (match o.p_kind with "mesh" -> "this mesh" | "cylinder" -> "a cylinder without caps" | "cone" -> "a cone without caps" | kd -> Printf.sprintf "a %s" kd)
+          bad b o.p_loc
+            "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone \
+             with caps, closed mesh, plane as a half-space, CSG of solids)%s"
+            (match o.p_kind with
+            | "mesh" -> "this mesh"
+            | "cylinder" -> "a cylinder without caps"
+            | "cone" -> "a cone without caps"
+            | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
-            (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`" else "")
-      | _ -> bad b o.p_loc "a %s is not a solid: `%s` combines solids" (String.map (function '_' -> ' ' | c -> c) o.p_kind) k.id)
+            (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`"
+             else "")
+      | _ ->
+          bad b o.p_loc "a %s is not a solid: `%s` combines solids"
+            (String.map (function '_' -> ' ' | c -> c) o.p_kind)
+            k.id)
     members;
   let shapes = List.map member_shape members in
   finish b;
-  let shape = Shape.csg op (List.map2 (fun o sh -> (Option.get sh, o.p_transform)) members shapes) in
+  let shape =
+    Shape.csg op (List.map2 (fun o sh -> (Option.get sh, o.p_transform)) members shapes)
+  in
   let leaves =
     Array.concat
       (List.map
@@ -1406,19 +2041,35 @@ and csg ctx env scope (k : name) items =
   in
   let member_json o =
     `Assoc
-      ([ ("kind", `String o.p_kind); ("fields", `Assoc (Lazy.force o.p_fields)); ("transforms", `List o.p_tjson) ]
-      @ match o.p_material with Some (m, d) -> [ ("material", material_json m d) ] | None -> [])
+      ([
+         ("kind", `String o.p_kind);
+         ("fields", `Assoc (Lazy.force o.p_fields));
+         ("transforms", `List o.p_tjson);
+       ]
+      @
+      match o.p_material with
+      | Some (m, d) -> [ ("material", material_json m d) ]
+      | None -> [])
   in
   let fields = lazy [ ("members", `List (List.map member_json members)) ] in
   let o =
-    { p_kind = (if k.id = "group" then "union" else k.id); p_fields = fields; p_shapes = [ shape ]; p_transform = t;
-      p_tjson = tj; p_material = mat; p_leaves = leaves; p_loc = k.nloc }
+    {
+      p_kind = (if k.id = "group" then "union" else k.id);
+      p_fields = fields;
+      p_shapes = [ shape ];
+      p_transform = t;
+      p_tjson = tj;
+      p_material = mat;
+      p_leaves = leaves;
+      p_loc = k.nloc;
+    }
   in
   add_object ctx scope k.nloc o
 
 and body ctx env scope loc (n : name) items =
   if scope.in_group then fail n.nloc "a body cannot be inside a group or another body";
-  if List.exists (fun ((b : body), _) -> b.name = n.id) ctx.bodies then fail n.nloc "body `%s` is defined twice" n.id;
+  if List.exists (fun ((b : body), _) -> b.name = n.id) ctx.bodies then
+    fail n.nloc "body `%s` is defined twice" n.id;
   let b = collect ctx env scope "body" n.nloc ~holds_objects:true items in
   check_names b [ "velocity"; "mass"; "restitution" ];
   let velocity = point b "velocity" ~default:Vec3.zero in
@@ -1436,11 +2087,26 @@ and body ctx env scope loc (n : name) items =
       let sx = axis Vec3.x_axis and sy = axis Vec3.y_axis and sz = axis Vec3.z_axis in
       let lo = Float.min sx (Float.min sy sz) and hi = Float.max sx (Float.max sy sz) in
       if hi > lo *. (1. +. 1e-9) then
-        fail n.nloc "the sphere of body `%s` is scaled differently along its axes (%s, %s, %s): a body must stay a sphere"
+        fail n.nloc
+          "the sphere of body `%s` is scaled differently along its axes (%s, %s, %s): a \
+           body must stay a sphere"
           n.id (fmt_num sx) (fmt_num sy) (fmt_num sz);
       let r = radius *. hi in
-      let material = match o.p_material with Some (m, _) -> m | None -> Material.default in
-      let bd = { name = n.id; center = c0; radius = r; material; velocity; mass; restitution; loc } in
+      let material =
+        match o.p_material with Some (m, _) -> m | None -> Material.default
+      in
+      let bd =
+        {
+          name = n.id;
+          center = c0;
+          radius = r;
+          material;
+          velocity;
+          mass;
+          restitution;
+          loc;
+        }
+      in
       ctx.bodies <- (bd, o) :: ctx.bodies
   | _ -> fail n.nloc "a body holds exactly one sphere { … }"
 
@@ -1453,7 +2119,12 @@ and field b name = List.find_opt (fun f -> f.name.id = name) b.fields
 and live b name = match field b name with Some { value = VPoison; _ } -> None | f -> f
 
 and bad : 'a. block -> Loc.t -> ('a, unit, string, unit) format4 -> 'a =
- fun b loc fmt -> Printf.ksprintf (fun m -> report b.ctx loc m; b.failed <- true) fmt
+ fun b loc fmt ->
+  Printf.ksprintf
+    (fun m ->
+      report b.ctx loc m;
+      b.failed <- true)
+    fmt
 
 and finish b = if b.failed then raise Poisoned
 
@@ -1461,16 +2132,22 @@ and check_names b allowed =
   List.iter
     (fun f ->
       if not (List.mem f.name.id allowed) then
-        bad b f.name.nloc "unknown field `%s` in %s%s" f.name.id b.kind (hint f.name.id allowed))
+        bad b f.name.nloc "unknown field `%s` in %s%s" f.name.id b.kind
+          (hint f.name.id allowed))
     b.fields
 
-and get : 'a. block -> string -> default:'a -> required:bool -> string -> (value -> 'a option) -> 'a =
+and get :
+    'a.
+    block -> string -> default:'a -> required:bool -> string -> (value -> 'a option) -> 'a
+    =
  fun b name ~default ~required what conv ->
   match field b name with
   | None ->
       (* A misspelt field already reported as unknown, with this one as its hint, is not
          reported missing as well. *)
-      let misspelt = required && List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields in
+      let misspelt =
+        required && List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields
+      in
       if required && misspelt then b.failed <- true
       else if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
       default
@@ -1485,30 +2162,55 @@ and get : 'a. block -> string -> default:'a -> required:bool -> string -> (value
 and number b ?(required = false) name ~default =
   get b name ~default ~required "a number" (function VNum x -> Some x | _ -> None)
 
-and boolean b name ~default = get b name ~default ~required:false "true or false" (function VBool x -> Some x | _ -> None)
+and boolean b name ~default =
+  get b name ~default ~required:false "true or false" (function
+    | VBool x -> Some x
+    | _ -> None)
 
 and vector b ?(required = false) name ~default =
-  get b name ~default ~required "a vector (x, y, z)" (function VVec v -> Some v | _ -> None)
+  get b name ~default ~required "a vector (x, y, z)" (function
+    | VVec v -> Some v
+    | _ -> None)
 
 and check_range b name ok msg x =
-  (match field b name with Some f when not (ok x) -> bad b f.vloc "`%s` %s, got %s" name msg (fmt_num x) | _ -> ());
+  (match field b name with
+  | Some f when not (ok x) -> bad b f.vloc "`%s` %s, got %s" name msg (fmt_num x)
+  | _ -> ());
   x
 
-and nonneg b name ~default = check_range b name (fun x -> x >= 0. && x <= 1e150) "must be in [0, 1e150]" (number b name ~default)
-and positive b name ~default = check_range b name (fun x -> x > 0. && x <= 1e150) "must be greater than 0" (number b name ~default)
-and unit_range b name ~default = check_range b name (fun x -> x >= 0. && x <= 1.) "must be in [0, 1]" (number b name ~default)
+and nonneg b name ~default =
+  check_range b name
+    (fun x -> x >= 0. && x <= 1e150)
+    "must be in [0, 1e150]" (number b name ~default)
+
+and positive b name ~default =
+  check_range b name
+    (fun x -> x > 0. && x <= 1e150)
+    "must be greater than 0" (number b name ~default)
+
+and unit_range b name ~default =
+  check_range b name
+    (fun x -> x >= 0. && x <= 1.)
+    "must be in [0, 1]" (number b name ~default)
 
 and length b ?(required = false) name ~default =
-  check_range b name (fun x -> x >= 1e-150 && x <= 1e150) "must be a length in [1e-150, 1e150]" (number b ~required name ~default)
+  check_range b name
+    (fun x -> x >= 1e-150 && x <= 1e150)
+    "must be a length in [1e-150, 1e150]"
+    (number b ~required name ~default)
 
 and coord b name ~default =
-  check_range b name (fun x -> Float.abs x <= 1e150) "must be within ±1e150" (number b name ~default)
+  check_range b name
+    (fun x -> Float.abs x <= 1e150)
+    "must be within ±1e150" (number b name ~default)
 
 and int_range b name ~lo ~hi ~default =
   let x = number b name ~default:(Float.of_int default) in
   match field b name with
-  | Some f when not (Float.is_integer x && x >= Float.of_int lo && x <= Float.of_int hi) ->
-      bad b f.vloc "`%s` must be a whole number in [%d, %d], got %s" name lo hi (fmt_num x);
+  | Some f when not (Float.is_integer x && x >= Float.of_int lo && x <= Float.of_int hi)
+    ->
+      bad b f.vloc "`%s` must be a whole number in [%d, %d], got %s" name lo hi
+        (fmt_num x);
       default
   | _ -> int_of_float x
 
@@ -1524,22 +2226,33 @@ and point b ?(required = false) name ~default =
 and direction b ?(required = false) name =
   let v = point b ~required name ~default:Vec3.y_axis in
   (match field b name with
-   | Some f when Vec3.max_abs v < 1e-150 -> bad b f.vloc "`%s` must be a non-zero vector" name
-   | _ -> ());
+  | Some f when Vec3.max_abs v < 1e-150 ->
+      bad b f.vloc "`%s` must be a non-zero vector" name
+  | _ -> ());
   v
 
 and color b name ~default =
   let v = point b name ~default:(Color.to_vec3 default) in
   (match field b name with
-   | Some f when v.x < 0. || v.y < 0. || v.z < 0. -> bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name (fmt_num v.x) (fmt_num v.y) (fmt_num v.z)
-   | _ -> ());
+  | Some f when v.x < 0. || v.y < 0. || v.z < 0. ->
+      bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name
+        (fmt_num v.x) (fmt_num v.y) (fmt_num v.z)
+  | _ -> ());
   Color.of_vec3 v
 
 and material_json (m : Material.t) desc =
   `Assoc
-    ([ ("color", cjson m.color); ("ambient", `Float m.ambient); ("diffuse", `Float m.diffuse);
-       ("specular", `Float m.specular); ("shininess", `Float m.shininess); ("reflection", `Float m.reflection);
-       ("transparency", `Float m.transparency); ("ior", `Float m.ior); ("fresnel", `Bool m.fresnel) ]
+    ([
+       ("color", cjson m.color);
+       ("ambient", `Float m.ambient);
+       ("diffuse", `Float m.diffuse);
+       ("specular", `Float m.specular);
+       ("shininess", `Float m.shininess);
+       ("reflection", `Float m.reflection);
+       ("transparency", `Float m.transparency);
+       ("ior", `Float m.ior);
+       ("fresnel", `Bool m.fresnel);
+     ]
     @ desc)
 
 (* ------------------------------------------------------------------------------------ *)
@@ -1547,8 +2260,15 @@ and material_json (m : Material.t) desc =
 
 (* Errors in source order: files in the order they first appear, then line and column. *)
 let sort_errors (es : Error.t list) =
-  let files = List.fold_left (fun acc (e : Error.t) -> if List.mem e.file acc then acc else acc @ [ e.file ]) [] es in
-  let rec index x i = function [] -> i | y :: r -> if y = x then i else index x (i + 1) r in
+  let files =
+    List.fold_left
+      (fun acc (e : Error.t) -> if List.mem e.file acc then acc else acc @ [ e.file ])
+      [] es
+  in
+  let rec index x i = function
+    | [] -> i
+    | y :: r -> if y = x then i else index x (i + 1) r
+  in
   let key (e : Error.t) = (index e.file 0 files, e.line, e.col) in
   List.stable_sort (fun a b -> compare (key a) (key b)) es
 
@@ -1558,10 +2278,16 @@ let definitions stmts =
   let rec stmt (s : stmt) =
     match s.s with
     | Let (x, _) | Fn (x, _, _) -> acc := (x.id, x.nloc) :: !acc
-    | Macro (x, _, b) -> acc := (x.id, x.nloc) :: !acc; List.iter stmt b
-    | Body (x, its) -> acc := (x.id, x.nloc) :: !acc; items its
+    | Macro (x, _, b) ->
+        acc := (x.id, x.nloc) :: !acc;
+        List.iter stmt b
+    | Body (x, its) ->
+        acc := (x.id, x.nloc) :: !acc;
+        items its
     | For (_, _, _, _, b) -> List.iter stmt b
-    | If_stmt (_, t, e) -> List.iter stmt t; List.iter stmt e
+    | If_stmt (_, t, e) ->
+        List.iter stmt t;
+        List.iter stmt e
     | Included (_, b) -> List.iter stmt b
     | Block (_, its) -> items its
     | Include _ | Call_stmt _ -> ()
@@ -1570,42 +2296,83 @@ let definitions stmts =
   List.rev !acc
 
 let initial_env ~time ~frame =
-  let env = List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names in
-  env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time) |> Env.add "frame" (VNum (Float.of_int frame))
+  let env =
+    List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names
+  in
+  env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time)
+  |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time ~frame stmts =
+let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time ~frame
+    stmts =
   let ctx =
-    { on_objects; cancel; time; body_state; sources; images; used = Hashtbl.create 4; errors = []; seen = Hashtbl.create 16; objects = 0; steps = 0; loops = 1.;
-      depth = 0; settings = None; camera = None; animation = None; physics = None; lights = []; bodies = [];
-      warnings = []; definitions = lazy (definitions stmts) }
+    {
+      on_objects;
+      cancel;
+      time;
+      body_state;
+      sources;
+      images;
+      used = Hashtbl.create 4;
+      errors = [];
+      seen = Hashtbl.create 16;
+      objects = 0;
+      steps = 0;
+      loops = 1.;
+      depth = 0;
+      settings = None;
+      camera = None;
+      animation = None;
+      physics = None;
+      lights = [];
+      bodies = [];
+      warnings = [];
+      definitions = lazy (definitions stmts);
+    }
   in
   let scope = { sink = ref []; in_group = false; in_csg = false } in
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
     let finish ?transform ?body o =
-      let m, d = match o.p_material with Some md -> md | None -> (Material.default, []) in
+      let m, d =
+        match o.p_material with Some md -> md | None -> (Material.default, [])
+      in
       let mj = lazy (material_json m d) in
       let transform = Option.value transform ~default:o.p_transform in
-      { kind = o.p_kind; fields = o.p_fields; transforms = o.p_tjson; material_json = mj;
-        prims = List.map (Primitive.make ~transform ~leaf_materials:(Array.map (Option.map fst) o.p_leaves) m) o.p_shapes; body;
-        loc = o.p_loc }
+      {
+        kind = o.p_kind;
+        fields = o.p_fields;
+        transforms = o.p_tjson;
+        material_json = mj;
+        prims =
+          List.map
+            (Primitive.make ~transform
+               ~leaf_materials:(Array.map (Option.map fst) o.p_leaves)
+               m)
+            o.p_shapes;
+        body;
+        loc = o.p_loc;
+      }
     in
-    let statics = if objects then List.rev_map (fun o -> finish o) !(scope.sink) else [] in
+    let statics =
+      if objects then List.rev_map (fun o -> finish o) !(scope.sink) else []
+    in
     let bodies = List.rev ctx.bodies in
     let body_objs =
       List.map
         (fun ((b : body), o) ->
           let transform =
             match Option.bind body_state (fun f -> f b.name time) with
-            | Some (p, _) -> Transform.then_ o.p_transform (Transform.translate (Vec3.sub p b.center))
+            | Some (p, _) ->
+                Transform.then_ o.p_transform (Transform.translate (Vec3.sub p b.center))
             | None -> o.p_transform
           in
           finish ~transform ~body:b.name o)
         (if objects then bodies else [])
     in
     Ok
-      { settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
+      {
+        settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
         camera = (match ctx.camera with Some (c, _) -> c | None -> Camera.default);
         lights = List.rev ctx.lights;
         objects = statics @ body_objs;
@@ -1614,4 +2381,7 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
         physics_loc = Option.map snd ctx.physics;
         warnings = sort_errors (List.rev ctx.warnings);
         bodies = List.map (fun ((b : body), _) -> b) bodies;
-        files = List.sort_uniq String.compare (Hashtbl.fold (fun p () acc -> p :: acc) ctx.used []) }
+        files =
+          List.sort_uniq String.compare
+            (Hashtbl.fold (fun p () acc -> p :: acc) ctx.used []);
+      }

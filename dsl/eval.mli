@@ -8,8 +8,8 @@
     {!max_steps} loop iterations and calls in all, call depth {!max_depth}. Under a limit
     on the address space (ulimit -v) a scene whose objects would need more than it
     ({!bytes_per_object} each) is refused with a located error: at the loop that would
-    build them, when its body builds them directly, or else at the object that crosses
-    the limit. *)
+    build them, when its body builds them directly, or else at the object that crosses the
+    limit. *)
 
 open Lancer
 
@@ -23,8 +23,8 @@ val max_depth : int
 (** 1000 nested function or macro calls. *)
 
 val bytes_per_object : int
-(** 2560: the address space one object is counted as needing (measured: 2.3 KB a sphere
-    at the peak of building and rendering 200 000). *)
+(** 2560: the address space one object is counted as needing (measured: 2.3 KB a sphere at
+    the peak of building and rendering 200 000). *)
 
 type physics_method = Exact | Verlet | Euler
 
@@ -50,7 +50,8 @@ type body = {
 
 type obj = {
   kind : string;  (** "sphere", "plane", … *)
-  fields : (string * Yojson.Safe.t) list Lazy.t;  (** the object's fields, in object space; built when asked for *)
+  fields : (string * Yojson.Safe.t) list Lazy.t;
+      (** the object's fields, in object space; built when asked for *)
   transforms : Yojson.Safe.t list;  (** the transforms applied, in order (group's last) *)
   material_json : Yojson.Safe.t Lazy.t;  (** built only when asked for *)
   prims : Primitive.t list;  (** one, or the triangles of a mesh *)
@@ -66,9 +67,12 @@ type output = {
   animation : (float * int) option;  (** fps, frames *)
   physics : physics option;
   physics_loc : Loc.t option;  (** where the [physics] block is *)
-  warnings : Error.t list;  (** what is legal but likely a mistake (a loop that runs zero times), in source order *)
+  warnings : Error.t list;
+      (** what is legal but likely a mistake (a loop that runs zero times), in source
+          order *)
   bodies : body list;  (** in program order *)
-  files : string list;  (** the image and mesh files this evaluation used, sorted (cached ones too) *)
+  files : string list;
+      (** the image and mesh files this evaluation used, sorted (cached ones too) *)
 }
 
 type images
@@ -82,14 +86,21 @@ val image_files : images -> string list
 (** The paths of the images and meshes read so far, sorted. *)
 
 val run :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) -> ?on_objects:(int -> unit) -> ?cancel:Cancel.t -> ?objects:bool ->
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?on_objects:(int -> unit) ->
+  ?cancel:Cancel.t ->
+  ?objects:bool ->
   sources:(string, string) Hashtbl.t ->
-  images:images -> time:float -> frame:int -> Ast.stmt list -> (output, Error.t list) result
+  images:images ->
+  time:float ->
+  frame:int ->
+  Ast.stmt list ->
+  (output, Error.t list) result
 (** [run ~sources ~images ~time ~frame prog] evaluates [prog] with [time] and [frame]
-    bound. [sources] maps each file name to its text (for error display). [body_state
-    name t] is (position, velocity) of body [name] at time [t]; without it (or when it
-    answers [None]) a body stays at its initial centre with its initial velocity. With
-    [~objects:false] (a check only) [objects] is left empty. [on_objects n] is called
+    bound. [sources] maps each file name to its text (for error display).
+    [body_state name t] is (position, velocity) of body [name] at time [t]; without it (or
+    when it answers [None]) a body stays at its initial centre with its initial velocity.
+    With [~objects:false] (a check only) [objects] is left empty. [on_objects n] is called
     every 65 536 objects built, with their count (for progress during a long build).
     [cancel] is polled every 4096 loop iterations and calls: once it is cancelled, [run]
     raises [Sys.Break]. *)

@@ -3,12 +3,19 @@ open Lancer
 let angle_vector = "Vectors are written (x, y, z), not <x, y, z>."
 
 let directive = function
-  | "declare" | "local" -> "`#declare` is not used in .rts scripts: write `let NAME = value`"
+  | "declare" | "local" ->
+      "`#declare` is not used in .rts scripts: write `let NAME = value`"
   | "include" -> "`#include` is not used in .rts scripts: write `include \"file.rts\"`"
-  | "if" | "ifdef" | "else" | "end" -> "`#if` is not used in .rts scripts: write `if CONDITION { … } else { … }`"
-  | "while" | "for" -> "`#while` is not used in .rts scripts: write `for i in A to B { … }`"
+  | "if" | "ifdef" | "else" | "end" ->
+      "`#if` is not used in .rts scripts: write `if CONDITION { … } else { … }`"
+  | "while" | "for" ->
+      "`#while` is not used in .rts scripts: write `for i in A to B { … }`"
   | "macro" -> "`#macro` is not used in .rts scripts: write `fn NAME(a, b) { … }`"
-  | d -> Printf.sprintf "`#%s` is not used in .rts scripts: there are no `#` directives (comments are `//` or `/* */`)" d
+  | d ->
+      Printf.sprintf
+        "`#%s` is not used in .rts scripts: there are no `#` directives (comments are \
+         `//` or `/* */`)"
+        d
 
 let keyword_as_name k =
   Printf.sprintf "`%s` is a keyword%s: it cannot be a name; choose another%s." k
@@ -20,8 +27,11 @@ let camera_up (view : Vec3.t) (up : Vec3.t) =
   let ax = Float.abs view.x and ay = Float.abs view.y and az = Float.abs view.z in
   let suggestion = if ay >= ax && ay >= az then "(0, 0, 1)" else "(0, 1, 0)" in
   Printf.sprintf
-    "the camera looks straight along its `up` direction (%g, %g, %g), so the image has no upright; give an `up` across the view, such as `up: %s`"
+    "the camera looks straight along its `up` direction (%g, %g, %g), so the image has \
+     no upright; give an `up` across the view, such as `up: %s`"
     up.x up.y up.z suggestion
 
 let defined_later x (def : Loc.t) =
-  Printf.sprintf "`%s` is defined later, at line %d: a name can be used only after its definition" x def.line
+  Printf.sprintf
+    "`%s` is defined later, at line %d: a name can be used only after its definition" x
+    def.line

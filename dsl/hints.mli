@@ -7,16 +7,16 @@ val angle_vector : string
 (** For a [<] where a value was expected: vectors are written (x, y, z). *)
 
 val directive : string -> string
-(** [directive d] is the message for [#d] ([#declare], [#include], [#if], …), which
-    the language does not have: what to write instead. *)
+(** [directive d] is the message for [#d] ([#declare], [#include], [#if], …), which the
+    language does not have: what to write instead. *)
 
 val keyword_as_name : string -> string
 (** [keyword_as_name k] says that keyword [k] (as [step]) cannot be used as a name. *)
 
 val camera_up : Lancer.Vec3.t -> Lancer.Vec3.t -> string
-(** [camera_up view up] is the message for a camera whose view direction [view] is
-    along its [up] vector, suggesting an [up] across the view. *)
+(** [camera_up view up] is the message for a camera whose view direction [view] is along
+    its [up] vector, suggesting an [up] across the view. *)
 
 val defined_later : string -> Loc.t -> string
-(** [defined_later x def] is the message for a use of [x] before its definition at
-    [def]. *)
+(** [defined_later x def] is the message for a use of [x] before its definition at [def].
+*)

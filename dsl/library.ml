@@ -1,19 +1,27 @@
 let builtin_prefix = "(built in)/"
 let files = List.map fst Library_files.all
 let builtin p = List.assoc_opt p Library_files.all
-
 let is_library p = String.length p > 7 && String.sub p 0 7 = "lancer/"
 
 (* Where an installed lancer keeps its library: PREFIX/share beside PREFIX/bin. *)
 let roots () =
-  let env = match Sys.getenv_opt "LANCER_PATH" with Some s when s <> "" -> String.split_on_char ':' s | _ -> [] in
+  let env =
+    match Sys.getenv_opt "LANCER_PATH" with
+    | Some s when s <> "" -> String.split_on_char ':' s
+    | _ -> []
+  in
   let exe_dir = Filename.dirname Sys.executable_name in
-  let exe_dir = if Filename.is_relative exe_dir then Filename.concat (Sys.getcwd ()) exe_dir else exe_dir in
-  List.filter (fun d -> d <> "") env @ [ Filename.concat (Filename.dirname exe_dir) "share" ]
+  let exe_dir =
+    if Filename.is_relative exe_dir then Filename.concat (Sys.getcwd ()) exe_dir
+    else exe_dir
+  in
+  List.filter (fun d -> d <> "") env
+  @ [ Filename.concat (Filename.dirname exe_dir) "share" ]
 
 let locate ~including p =
   let beside = Loc.relative_to including p in
-  if Sys.file_exists beside || not (is_library p) || not (Filename.is_relative p) then beside
+  if Sys.file_exists beside || (not (is_library p)) || not (Filename.is_relative p) then
+    beside
   else
     match List.find_opt (fun r -> Sys.file_exists (Filename.concat r p)) (roots ()) with
     | Some r -> Filename.concat r p
@@ -25,4 +33,6 @@ let read path =
     match builtin (String.sub path n (String.length path - n)) with
     | Some text -> Ok text
     | None -> Error "no such file in lancer's library"
-  else try Ok (In_channel.with_open_bin path In_channel.input_all) with Sys_error m -> Error m
+  else
+    try Ok (In_channel.with_open_bin path In_channel.input_all)
+    with Sys_error m -> Error m

@@ -1,10 +1,10 @@
 (** The scene library shipped with lancer: the files that [include "lancer/…"] finds
     (lancer/materials.rts, lancer/colors.rts).
 
-    An include path is first taken relative to the including file, as always. When no
-    such file exists and the path starts with [lancer/], it is looked for under each
-    directory of [LANCER_PATH] (colon-separated), then under the [share] directory beside
-    the running program's [bin] (where [dune install] puts the library:
+    An include path is first taken relative to the including file, as always. When no such
+    file exists and the path starts with [lancer/], it is looked for under each directory
+    of [LANCER_PATH] (colon-separated), then under the [share] directory beside the
+    running program's [bin] (where [dune install] puts the library:
     [PREFIX/share/lancer/]), and last in the copy built into the language, so that a scene
     using the library loads wherever lancer runs. *)
 
@@ -15,7 +15,8 @@ val locate : including:string -> string -> string
     ["(built in)/lancer/NAME"]. *)
 
 val read : string -> (string, string) result
-(** [read path] is the text of [path] as {!locate} gave it: a built-in copy, or the file. *)
+(** [read path] is the text of [path] as {!locate} gave it: a built-in copy, or the file.
+*)
 
 val files : string list
 (** The library's include paths, e.g. ["lancer/materials.rts"]. *)

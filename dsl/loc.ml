@@ -1,8 +1,13 @@
 type t = { file : string; line : int; col : int; end_line : int; end_col : int }
 
 let of_positions (s : Lexing.position) (e : Lexing.position) =
-  { file = s.pos_fname; line = s.pos_lnum; col = s.pos_cnum - s.pos_bol + 1; end_line = e.pos_lnum;
-    end_col = e.pos_cnum - e.pos_bol + 1 }
+  {
+    file = s.pos_fname;
+    line = s.pos_lnum;
+    col = s.pos_cnum - s.pos_bol + 1;
+    end_line = e.pos_lnum;
+    end_col = e.pos_cnum - e.pos_bol + 1;
+  }
 
 let whole_file file = { file; line = 1; col = 1; end_line = 1; end_col = 1 }
 

@@ -6,7 +6,8 @@
 type t = { file : string; line : int; col : int; end_line : int; end_col : int }
 
 val of_positions : Lexing.position -> Lexing.position -> t
-(** [of_positions start stop] is the span from [start] to [stop] (as the lexer gives them). *)
+(** [of_positions start stop] is the span from [start] to [stop] (as the lexer gives
+    them). *)
 
 val whole_file : string -> t
 (** The location 1:1 of a file, for errors about the file as a whole. *)

@@ -2,7 +2,9 @@ module I = Parser.MenhirInterpreter
 
 let not_text file text =
   if String.contains text '\000' then
-    Some (Error.file_error file "this is not a text file (it contains NUL bytes); a scene is UTF-8 text")
+    Some
+      (Error.file_error file
+         "this is not a text file (it contains NUL bytes); a scene is UTF-8 text")
   else if not (String.is_valid_utf_8 text) then
     Some (Error.file_error file "this is not UTF-8 text; a scene is UTF-8 text")
   else None
@@ -13,7 +15,8 @@ let what text tok (s : Lexing.position) (e : Lexing.position) =
   | Parser.EOF -> "end of file"
   | _ ->
       let n = e.pos_cnum - s.pos_cnum in
-      if s.pos_cnum < 0 || n <= 0 || s.pos_cnum + n > String.length text then Lexer.describe tok
+      if s.pos_cnum < 0 || n <= 0 || s.pos_cnum + n > String.length text then
+        Lexer.describe tok
       else if n > 30 then "`" ^ String.sub text s.pos_cnum 27 ^ "...`"
       else "`" ^ String.sub text s.pos_cnum n ^ "`"
 
@@ -38,21 +41,26 @@ let parse ~file text =
       let last = ref (Parser.EOF, lexbuf.lex_start_p, lexbuf.lex_curr_p) in
       (* The brackets open so far, innermost first, so that a missing `}` or `)` is
          reported where its block was opened rather than at the end of the file. *)
-      let open_ = ref [] and prev = ref Parser.EOF and prev2 = ref Parser.EOF and keyword = ref [ None ] in
+      let open_ = ref []
+      and prev = ref Parser.EOF
+      and prev2 = ref Parser.EOF
+      and keyword = ref [ None ] in
       let track tok s e =
         (match tok with
-         | Parser.LBRACE ->
-             let label = opener ~prev:!prev ~prev2:!prev2 ~keyword:(List.hd !keyword) in
-             open_ := { label; at = s; stop = e } :: !open_;
-             keyword := None :: !keyword
-         | Parser.LPAREN -> open_ := { label = "("; at = s; stop = e } :: !open_
-         | Parser.RBRACE | Parser.RPAREN -> (
-             (match (tok, !keyword) with Parser.RBRACE, _ :: (_ :: _ as rest) -> keyword := rest | _ -> ());
-             match !open_ with _ :: rest -> open_ := rest | [] -> ())
-         | Parser.FOR -> keyword := Some "for" :: List.tl !keyword
-         | Parser.IF -> keyword := Some "if" :: List.tl !keyword
-         | Parser.FN -> keyword := Some "fn" :: List.tl !keyword
-         | _ -> ());
+        | Parser.LBRACE ->
+            let label = opener ~prev:!prev ~prev2:!prev2 ~keyword:(List.hd !keyword) in
+            open_ := { label; at = s; stop = e } :: !open_;
+            keyword := None :: !keyword
+        | Parser.LPAREN -> open_ := { label = "("; at = s; stop = e } :: !open_
+        | Parser.RBRACE | Parser.RPAREN -> (
+            (match (tok, !keyword) with
+            | Parser.RBRACE, _ :: (_ :: _ as rest) -> keyword := rest
+            | _ -> ());
+            match !open_ with _ :: rest -> open_ := rest | [] -> ())
+        | Parser.FOR -> keyword := Some "for" :: List.tl !keyword
+        | Parser.IF -> keyword := Some "if" :: List.tl !keyword
+        | Parser.FN -> keyword := Some "fn" :: List.tl !keyword
+        | _ -> ());
         prev2 := !prev;
         prev := tok
       in
@@ -66,29 +74,40 @@ let parse ~file text =
         | I.Shifting _ | I.AboutToReduce _ -> loop (I.resume checkpoint)
         | I.HandlingError env -> (
             let state = I.current_state_number env in
-            let msg = try String.trim (Parser_messages.message state) with Not_found -> "this is not valid here" in
+            let msg =
+              try String.trim (Parser_messages.message state)
+              with Not_found -> "this is not valid here"
+            in
             let tok, s, e = !last in
             match (tok, !open_) with
             | Parser.EOF, b :: _ ->
                 let closer = if b.label = "(" then ")" else "}" in
-                let where = Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1) in
+                let where =
+                  Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1)
+                in
                 Error
-                  (Error.make ~source:text (Loc.of_positions b.at b.stop)
-                     (Printf.sprintf "the %s opened at %s is not closed: a `%s` is missing before the end of the file"
+                  (Error.make ~source:text
+                     (Loc.of_positions b.at b.stop)
+                     (Printf.sprintf
+                        "the %s opened at %s is not closed: a `%s` is missing before the \
+                         end of the file"
                         b.label where closer))
             | _ ->
                 (* A habit from another language, or a keyword where a name was meant. *)
                 let msg =
                   match (tok, Lexer.keyword_name tok, !prev2) with
-                  | _, Some k, (Parser.LET | Parser.FN | Parser.FOR | Parser.BODY) -> Hints.keyword_as_name k
+                  | _, Some k, (Parser.LET | Parser.FN | Parser.FOR | Parser.BODY) ->
+                      Hints.keyword_as_name k
                   | Parser.LT, _, _ -> msg ^ " " ^ Hints.angle_vector
                   | Parser.STEP, Some k, _ -> msg ^ " " ^ Hints.keyword_as_name k
                   | _ -> msg
                 in
                 Error
-                  (Error.make ~source:text (Loc.of_positions s e) (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg)))
+                  (Error.make ~source:text (Loc.of_positions s e)
+                     (Printf.sprintf "unexpected %s: %s" (what text tok s e) msg)))
         | I.Accepted v -> Ok v
-        | I.Rejected -> Error (Error.make ~source:text (Loc.whole_file file) "syntax error")
+        | I.Rejected ->
+            Error (Error.make ~source:text (Loc.whole_file file) "syntax error")
       in
       try loop (Parser.Incremental.program lexbuf.lex_curr_p)
       with Lexer.Lex_error (loc, msg) -> Error (Error.make ~source:text loc msg))

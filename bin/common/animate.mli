@@ -1,17 +1,16 @@
 (** [lancer animate]: render an animation's frames to [DIR/frame_0000.png …].
 
-    With at least twice as many frames as domains, and scenes small enough that a batch
-    of them fits in about 2 GB, whole frames render in parallel, one domain each;
-    otherwise one after the other, each over all domains in tiles. Either
-    way a frame's bytes are the same. Each frame is
-    written atomically and recorded ({!Frameset}) with a digest of the scene's text and
-    includes and of the options that change pixels, the frame's size and MD5, and the
-    MD5 of the images and meshes it read, so [--resume] skips frames already written for
-    the same scene, inputs and options and re-renders those that are missing, stale or
-    damaged. [--shard K/N] renders a share of the frames; shards may run at once into one
-    directory. [--video] assembles the frames with ffmpeg.
-    [lancer-mpi animate] uses the same plan, names and manifest, so either command
-    resumes the other's frames. *)
+    With at least twice as many frames as domains, and scenes small enough that a batch of
+    them fits in about 2 GB, whole frames render in parallel, one domain each; otherwise
+    one after the other, each over all domains in tiles. Either way a frame's bytes are
+    the same. Each frame is written atomically and recorded ({!Frameset}) with a digest of
+    the scene's text and includes and of the options that change pixels, the frame's size
+    and MD5, and the MD5 of the images and meshes it read, so [--resume] skips frames
+    already written for the same scene, inputs and options and re-renders those that are
+    missing, stale or damaged. [--shard K/N] renders a share of the frames; shards may run
+    at once into one directory. [--video] assembles the frames with ffmpeg.
+    [lancer-mpi animate] uses the same plan, names and manifest, so either command resumes
+    the other's frames. *)
 
 val frames_of_string : string -> (int * int, string) result
 (** ["A..B"] (inclusive) or ["K"]. *)
@@ -22,8 +21,8 @@ val shard_of_string : string -> (shard, string) result
 (** ["K/N"] with 0 <= K < N, or ["slurm"]. *)
 
 val slurm_shard : (string -> string option) -> int * int
-(** (K, N) from a Slurm job array's environment, read through the given [getenv]:
-    N = [SLURM_ARRAY_TASK_COUNT], K = ([SLURM_ARRAY_TASK_ID] − [SLURM_ARRAY_TASK_MIN]) /
+(** (K, N) from a Slurm job array's environment, read through the given [getenv]: N =
+    [SLURM_ARRAY_TASK_COUNT], K = ([SLURM_ARRAY_TASK_ID] − [SLURM_ARRAY_TASK_MIN]) /
     [SLURM_ARRAY_TASK_STEP] (MIN 0 and STEP 1 when unset). Raises [Cli.User_error]. *)
 
 type options = {
@@ -44,24 +43,27 @@ type plan = private {
   first : int;
   last : int;
   shard : (int * int) option;
-  todo : int list;  (** the frames to render: this shard's of [first..last], less those resumed *)
+  todo : int list;
+      (** the frames to render: this shard's of [first..last], less those resumed *)
   set : Frameset.t;
-  inputs : (int, (string * string) list) Hashtbl.t;  (** frames evaluated and not yet written: the files they read *)
+  inputs : (int, (string * string) list) Hashtbl.t;
+      (** frames evaluated and not yet written: the files they read *)
   inputs_lock : Mutex.t;
 }
 
 val plan : ?getenv:(string -> string option) -> Cli.opts -> options -> plan
-(** Load the scene, check the options and the output directory (made if missing), claim
-    it for this scene ({!Frameset.open_}), and work out which frames to render: this
-    shard's frames of the range ([index mod N = K]), less, with [resume], those already
-    done for the same job. Raises [Cli.User_error]. *)
+(** Load the scene, check the options and the output directory (made if missing), claim it
+    for this scene ({!Frameset.open_}), and work out which frames to render: this shard's
+    frames of the range ([index mod N = K]), less, with [resume], those already done for
+    the same job. Raises [Cli.User_error]. *)
 
 val frame_scene : ?cancel:Lancer.Cancel.t -> plan -> int -> Lancer.Scene.t
 (** The scene of frame k (time k / fps), with the command-line overrides; the image and
     mesh files it read are kept for {!write_frame}. [cancel] stops the evaluation with
     [Sys.Break]. *)
 
-val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
+val write_frame :
+  plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> Lancer.Stats.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)
 

@@ -1,20 +1,20 @@
-(** [lancer bench]: measured speed and the speed/accuracy trade, as Markdown tables,
-    JSON, or an SVG chart.
+(** [lancer bench]: measured speed and the speed/accuracy trade, as Markdown tables, JSON,
+    or an SVG chart.
 
     - [domains]: wall time of one scene over a list of domain counts, median of several
       runs, with the speed-up over one domain.
-    - [quality]: the scene rendered across each knob (samples, adaptive threshold,
-      depth, soft-shadow samples, quality presets), each with its wall time, rays and
-      error against a reference render (RMSE, PSNR, share of pixels off by more than
-      1/255). The reference render and the measured rows are cached under
-      [$XDG_CACHE_HOME/lancer] (or [~/.cache/lancer]), keyed by the scene text, the size
-      and options, the build of the executable and the host; [--fresh] ignores the cache.
+    - [quality]: the scene rendered across each knob (samples, adaptive threshold, depth,
+      soft-shadow samples, quality presets), each with its wall time, rays and error
+      against a reference render (RMSE, PSNR, share of pixels off by more than 1/255). The
+      reference render and the measured rows are cached under [$XDG_CACHE_HOME/lancer] (or
+      [~/.cache/lancer]), keyed by the scene text, the size and options, the build of the
+      executable and the host; [--fresh] ignores the cache.
     - [physics]: a ball dropped from 1 m with restitution 1 and 0.8, simulated by each
       method and step, against its closed-form motion: position, impact-time and apex
       errors, and the cost (wall time, steps, events).
     - [scaling]: random spheres against the sphere count, the domain count and the image
-      size: build and render times, rays per second, peak memory, each configuration in
-      a child process so that its peak memory is its own. *)
+      size: build and render times, rays per second, peak memory, each configuration in a
+      child process so that its peak memory is its own. *)
 
 val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
 (** [domains_cmd opts counts repeat json]. *)

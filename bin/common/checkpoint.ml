@@ -11,9 +11,9 @@ type payload = {
   key : string;
   width : int;
   height : int;
-  finished : bool array;  (* by tile *)
-  pixels : Float.Array.t;  (* the framebuffer; only finished tiles' pixels count *)
-  counters : Stats.t option array;  (* by tile; a unit's counters on its first tile *)
+  finished : bool array; (* by tile *)
+  pixels : Float.Array.t; (* the framebuffer; only finished tiles' pixels count *)
+  counters : Stats.t option array; (* by tile; a unit's counters on its first tile *)
 }
 
 type t = {
@@ -24,7 +24,7 @@ type t = {
   lock : Mutex.t;
   writing : bool Atomic.t;
   mutable count : int;
-  mutable last : float;  (* when it was last written *)
+  mutable last : float; (* when it was last written *)
   mutable interval : float;
 }
 
@@ -35,9 +35,18 @@ let key (o : Cli.opts) prog ~time ~frame ~files =
   Digest.to_hex
     (Digest.string
        (String.concat "|"
-          [ "lancer-still-v1"; Dsl.text_digest prog; String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
-            Printf.sprintf "%h" time; string_of_int frame; opt string_of_int o.width; opt string_of_int o.height;
-            opt string_of_int o.samples; opt string_of_int o.depth; opt Quality.to_string o.quality ]))
+          [
+            "lancer-still-v1";
+            Dsl.text_digest prog;
+            String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
+            Printf.sprintf "%h" time;
+            string_of_int frame;
+            opt string_of_int o.width;
+            opt string_of_int o.height;
+            opt string_of_int o.samples;
+            opt string_of_int o.depth;
+            opt Quality.to_string o.quality;
+          ]))
 
 let load path ~key ~width ~height ~tiles =
   match In_channel.with_open_bin path In_channel.input_all with
@@ -51,7 +60,8 @@ let load path ~key ~width ~height ~tiles =
         else
           match (Marshal.from_string body 0 : payload) with
           | p
-            when String.equal p.key key && p.width = width && p.height = height && Array.length p.finished = tiles
+            when String.equal p.key key && p.width = width && p.height = height
+                 && Array.length p.finished = tiles
                  && Array.length p.counters = tiles
                  && Float.Array.length p.pixels = 3 * width * height ->
               Some p
@@ -67,21 +77,41 @@ let start ~out ~key ~quiet (sc : Scene.t) =
     match load path ~key ~width ~height ~tiles with
     | Some p -> p
     | None ->
-        { key; width; height; finished = Array.make tiles false; pixels = (Image.create width height).data;
-          counters = Array.make tiles None }
+        {
+          key;
+          width;
+          height;
+          finished = Array.make tiles false;
+          pixels = (Image.create width height).data;
+          counters = Array.make tiles None;
+        }
   in
   let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 p.finished in
-  if count > 0 && not quiet then Printf.printf "resuming: %d of %d tiles already rendered\n%!" count tiles;
-  let todo = Array.of_list (List.filter (fun k -> not p.finished.(k)) (List.init tiles Fun.id)) in
-  { path; p; fb = { width; height; data = p.pixels }; todo; lock = Mutex.create (); writing = Atomic.make false; count;
-    last = 0.; interval = 1. }
+  if count > 0 && not quiet then
+    Printf.printf "resuming: %d of %d tiles already rendered\n%!" count tiles;
+  let todo =
+    Array.of_list (List.filter (fun k -> not p.finished.(k)) (List.init tiles Fun.id))
+  in
+  {
+    path;
+    p;
+    fb = { width; height; data = p.pixels };
+    todo;
+    lock = Mutex.create ();
+    writing = Atomic.make false;
+    count;
+    last = 0.;
+    interval = 1.;
+  }
 
 let framebuffer t = t.fb
 let todo t = t.todo
 let finished t = Mutex.protect t.lock (fun () -> t.count)
 
 let write t =
-  let finished, counters = Mutex.protect t.lock (fun () -> (Array.copy t.p.finished, Array.copy t.p.counters)) in
+  let finished, counters =
+    Mutex.protect t.lock (fun () -> (Array.copy t.p.finished, Array.copy t.p.counters))
+  in
   (* The finished tiles' pixels were written before they were marked, under the lock
      taken above; other domains write only into unfinished tiles meanwhile. *)
   let body = Marshal.to_string { t.p with finished; counters } [ Marshal.No_sharing ] in
@@ -120,7 +150,8 @@ let tiles_done t tiles st =
 
 let stats t =
   let total = Stats.create () in
-  Mutex.protect t.lock (fun () -> Array.iter (Option.iter (Stats.add_into total)) t.p.counters);
+  Mutex.protect t.lock (fun () ->
+      Array.iter (Option.iter (Stats.add_into total)) t.p.counters);
   total
 
 let remove t = try Unix.unlink t.path with Unix.Unix_error _ -> ()

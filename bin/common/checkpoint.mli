@@ -6,17 +6,23 @@
     it reads, the time and frame, and the options that change pixels), which tiles are
     done, their linear pixels bit for bit and their counters, and an MD5 of all that. It
     is rewritten atomically (a temporary file, then a rename) at most every second, and
-    never more often than ten times the time the last write took, so that writing it
-    costs at most about a tenth of the render. A checkpoint with another key, or damaged,
-    is ignored and replaced. Pixels are rendered by {!Lancer.Render.render_tile} either
-    way, so the finished image is the same bytes as an uninterrupted render. *)
+    never more often than ten times the time the last write took, so that writing it costs
+    at most about a tenth of the render. A checkpoint with another key, or damaged, is
+    ignored and replaced. Pixels are rendered by {!Lancer.Render.render_tile} either way,
+    so the finished image is the same bytes as an uninterrupted render. *)
 
 type t
 
 val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
-val key : Cli.opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> files:(string * string) list -> string
+val key :
+  Cli.opts ->
+  Lancer_dsl.Dsl.t ->
+  time:float ->
+  frame:int ->
+  files:(string * string) list ->
+  string
 (** The key of a still: what its pixels depend on. *)
 
 val start : out:string -> key:string -> quiet:bool -> Lancer.Scene.t -> t
@@ -48,7 +54,12 @@ val remove : t -> unit
 (** Delete the checkpoint: the image is written. *)
 
 val render :
-  ?cancel:Lancer.Cancel.t -> ?pool:Lancer.Pool.t -> ?on_tile:(int -> int -> unit) -> t -> Lancer.Scene.t -> unit
+  ?cancel:Lancer.Cancel.t ->
+  ?pool:Lancer.Pool.t ->
+  ?on_tile:(int -> int -> unit) ->
+  t ->
+  Lancer.Scene.t ->
+  unit
 (** Render the tiles still to do into the framebuffer over [pool] with
     {!Lancer.Render.render_tiles}, recording each one; [on_tile finished rays] after each.
     Raises [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles

@@ -24,8 +24,21 @@ type opts = {
 }
 
 let default_opts () =
-  { scene = None; output = None; width = None; height = None; samples = None; depth = None; quality = None;
-    domains = None; time = None; frame = None; stats = None; quiet = false; progress = false }
+  {
+    scene = None;
+    output = None;
+    width = None;
+    height = None;
+    samples = None;
+    depth = None;
+    quality = None;
+    domains = None;
+    time = None;
+    frame = None;
+    stats = None;
+    quiet = false;
+    progress = false;
+  }
 
 open Cmdliner
 
@@ -38,88 +51,189 @@ type command = Render | Animate | Golden | Bench_domains | Bench_quality
    says what they are for in that command. *)
 let term command =
   let scene =
-    let pos_scene ~doc = Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc) in
-    let required ~doc = Term.(const Option.some $ Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc)) in
+    let pos_scene ~doc =
+      Arg.(value & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc)
+    in
+    let required ~doc =
+      Term.(
+        const Option.some
+        $ Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc))
+    in
     match command with
-    | Render -> pos_scene ~doc:"The scene to render ($(b,-): read it from standard input). Without one, the built-in showcase is rendered."
-    | Animate -> required ~doc:"The scene to render ($(b,-): read it from standard input); it needs an animation block."
-    | Golden -> required ~doc:"The scene to render and compare with $(i,GOLDEN.png) ($(b,-): read it from standard input)."
-    | Bench_domains | Bench_quality -> pos_scene ~doc:"The scene to measure. Without one, the built-in showcase is measured."
+    | Render ->
+        pos_scene
+          ~doc:
+            "The scene to render ($(b,-): read it from standard input). Without one, the \
+             built-in showcase is rendered."
+    | Animate ->
+        required
+          ~doc:
+            "The scene to render ($(b,-): read it from standard input); it needs an \
+             animation block."
+    | Golden ->
+        required
+          ~doc:
+            "The scene to render and compare with $(i,GOLDEN.png) ($(b,-): read it from \
+             standard input)."
+    | Bench_domains | Bench_quality ->
+        pos_scene
+          ~doc:"The scene to measure. Without one, the built-in showcase is measured."
   in
   let none = Term.const None in
   let output =
     match command with
-    | Render -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"FILE" ~doc:"Output image (.png or .ppm); $(b,-) writes it to standard output; default: the scene's name with .png.")
-    | Animate -> Arg.(value & opt (some string) None & info [ "o"; "output" ] ~docv:"DIR" ~doc:"Directory for the frames (created if missing).")
+    | Render ->
+        Arg.(
+          value
+          & opt (some string) None
+          & info [ "o"; "output" ] ~docv:"FILE"
+              ~doc:
+                "Output image (.png or .ppm); $(b,-) writes it to standard output; \
+                 default: the scene's name with .png.")
+    | Animate ->
+        Arg.(
+          value
+          & opt (some string) None
+          & info [ "o"; "output" ] ~docv:"DIR"
+              ~doc:"Directory for the frames (created if missing).")
     | Golden | Bench_domains | Bench_quality -> none
   in
-  let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
+  let int_opt names docv doc =
+    Arg.(value & opt (some int) None & info names ~docv ~doc)
+  in
   (* The language's bound on a side, checked as the option is read. *)
   let side =
     let parse s =
       match int_of_string_opt s with
       | None -> Error (`Msg (Printf.sprintf "invalid value '%s', expected an integer" s))
-      | Some n when n < 1 || n > max_side -> Error (`Msg (Printf.sprintf "must be 1 to %d pixels (got %d)" max_side n))
+      | Some n when n < 1 || n > max_side ->
+          Error (`Msg (Printf.sprintf "must be 1 to %d pixels (got %d)" max_side n))
       | Some n -> Ok n
     in
     Arg.conv (parse, Format.pp_print_int)
   in
-  let side_opt names docv doc = Arg.(value & opt (some side) None & info names ~docv ~doc) in
-  let width = side_opt [ "width"; "W" ] "W" "Image width in pixels, 1 to 65536 (overrides the scene)." in
-  let height = side_opt [ "height"; "H" ] "H" "Image height in pixels, 1 to 65536 (overrides the scene)." in
-  let samples = int_opt [ "samples" ] "N" "N×N samples per pixel (overrides the scene and the quality preset)." in
-  let depth = int_opt [ "depth" ] "D" "Maximum ray depth (overrides the scene and the quality preset)." in
+  let side_opt names docv doc =
+    Arg.(value & opt (some side) None & info names ~docv ~doc)
+  in
+  let width =
+    side_opt [ "width"; "W" ] "W"
+      "Image width in pixels, 1 to 65536 (overrides the scene)."
+  in
+  let height =
+    side_opt [ "height"; "H" ] "H"
+      "Image height in pixels, 1 to 65536 (overrides the scene)."
+  in
+  let samples =
+    int_opt [ "samples" ] "N"
+      "N×N samples per pixel (overrides the scene and the quality preset)."
+  in
+  let depth =
+    int_opt [ "depth" ] "D"
+      "Maximum ray depth (overrides the scene and the quality preset)."
+  in
   let quality =
     match command with
     | Bench_quality -> none
     | _ ->
-        Arg.(value & opt (some (enum Quality.all)) None
-             & info [ "quality" ] ~docv:"PRESET"
-                 ~doc:"$(b,draft), $(b,preview), $(b,final) or $(b,reference): presets of samples, depth, adaptive threshold and soft-shadow samples.")
+        Arg.(
+          value
+          & opt (some (enum Quality.all)) None
+          & info [ "quality" ] ~docv:"PRESET"
+              ~doc:
+                "$(b,draft), $(b,preview), $(b,final) or $(b,reference): presets of \
+                 samples, depth, adaptive threshold and soft-shadow samples.")
   in
   let domains =
     match command with
     | Bench_domains -> none
-    | _ -> int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with; default: the number this machine recommends."
+    | _ ->
+        int_opt [ "domains"; "j" ] "N"
+          "Domains (cores) to render with; default: the number this machine recommends."
   in
   let time, frame =
     match command with
     | Render | Golden | Bench_domains ->
-        ( Arg.(value & opt (some float) None & info [ "time"; "t" ] ~docv:"SECONDS" ~doc:"Render the scene at this time (a negative one is written $(b,--time=-1)).")
-        , int_opt [ "frame" ] "K" "Render frame K of the animation (time = K / fps); the scene needs an animation block with more than K frames." )
+        ( Arg.(
+            value
+            & opt (some float) None
+            & info [ "time"; "t" ] ~docv:"SECONDS"
+                ~doc:
+                  "Render the scene at this time (a negative one is written \
+                   $(b,--time=-1))."),
+          int_opt [ "frame" ] "K"
+            "Render frame K of the animation (time = K / fps); the scene needs an \
+             animation block with more than K frames." )
     | Animate | Bench_quality -> (none, none)
   in
   let stats =
     match command with
-    | Render -> Arg.(value & opt (some string) None & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.")
+    | Render ->
+        Arg.(
+          value
+          & opt (some string) None
+          & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.")
     | _ -> none
   in
   let quiet, progress =
     match command with
     | Render | Animate | Golden ->
-        ( Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"No progress line, and no summary when all went well.")
-        , Arg.(value & flag
-               & info [ "progress" ]
-                   ~doc:"Report progress even when stderr is not a terminal: a line every 2 seconds (for logs, and under mpirun).") )
+        ( Arg.(
+            value & flag
+            & info [ "q"; "quiet" ]
+                ~doc:"No progress line, and no summary when all went well."),
+          Arg.(
+            value & flag
+            & info [ "progress" ]
+                ~doc:
+                  "Report progress even when stderr is not a terminal: a line every 2 \
+                   seconds (for logs, and under mpirun).") )
     | Bench_domains | Bench_quality -> (Term.const false, Term.const false)
   in
-  let make scene output width height samples depth quality domains time frame stats quiet progress =
-    { scene; output; width; height; samples; depth; quality; domains; time; frame; stats; quiet; progress }
+  let make scene output width height samples depth quality domains time frame stats quiet
+      progress =
+    {
+      scene;
+      output;
+      width;
+      height;
+      samples;
+      depth;
+      quality;
+      domains;
+      time;
+      frame;
+      stats;
+      quiet;
+      progress;
+    }
   in
-  Term.(const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains $ time $ frame $ stats $ quiet $ progress)
+  Term.(
+    const make $ scene $ output $ width $ height $ samples $ depth $ quality $ domains
+    $ time $ frame $ stats $ quiet $ progress)
 
 let opts_term = term Render
 
 let resume_still =
-  Arg.(value & flag
-       & info [ "resume" ]
-           ~doc:"Keep finished tiles in a checkpoint next to the output (OUT.checkpoint) and continue from it after an interruption; it is removed once the image is written.")
+  Arg.(
+    value & flag
+    & info [ "resume" ]
+        ~doc:
+          "Keep finished tiles in a checkpoint next to the output (OUT.checkpoint) and \
+           continue from it after an interruption; it is removed once the image is \
+           written.")
 
 (* ---- How the image of a still is written ---- *)
 
-type encoding = { bits : int; alpha : bool; region : Image.region option; crop : bool; format : Image.format option }
+type encoding = {
+  bits : int;
+  alpha : bool;
+  region : Image.region option;
+  crop : bool;
+  format : Image.format option;
+}
 
-let default_encoding = { bits = 8; alpha = false; region = None; crop = false; format = None }
+let default_encoding =
+  { bits = 8; alpha = false; region = None; crop = false; format = None }
 
 let is_stdout p = p = "-"
 
@@ -130,54 +244,94 @@ let format_of ?format path =
     match (Image.format_of_path path, format) with
     | Error m, _ -> raise (User_error m)
     | Ok f, Some g when f <> g ->
-        user "--format %s, but -o %s has the extension of the other format; --format is for -o - (standard output)"
-          (if g = Image.Png then "png" else "ppm") path
+        user
+          "--format %s, but -o %s has the extension of the other format; --format is for \
+           -o - (standard output)"
+          (if g = Image.Png then "png" else "ppm")
+          path
     | Ok f, _ -> f
 
 let encoding_term =
   let bits =
-    Arg.(value & opt (enum [ ("8", 8); ("16", 16) ]) 8
-         & info [ "bits" ] ~docv:"8|16" ~doc:"Bits per channel of the image: 8 (default) or 16, with the same encoding curve.")
+    Arg.(
+      value
+      & opt (enum [ ("8", 8); ("16", 16) ]) 8
+      & info [ "bits" ] ~docv:"8|16"
+          ~doc:
+            "Bits per channel of the image: 8 (default) or 16, with the same encoding \
+             curve.")
   in
   let alpha =
-    Arg.(value & flag
-         & info [ "alpha" ]
-             ~doc:"Add an alpha channel (PNG only): the share of each pixel's samples whose primary ray hits a surface; 0 where only the background is seen.")
+    Arg.(
+      value & flag
+      & info [ "alpha" ]
+          ~doc:
+            "Add an alpha channel (PNG only): the share of each pixel's samples whose \
+             primary ray hits a surface; 0 where only the background is seen.")
   in
   let region =
     let parse s =
       match List.map int_of_string_opt (String.split_on_char ',' s) with
       | [ Some x0; Some y0; Some x1; Some y1 ] -> Ok { Image.x0; y0; x1; y1 }
-      | _ -> Error (`Msg (Printf.sprintf "--region expects x0,y0,x1,y1 (four integers), got %S" s))
+      | _ ->
+          Error
+            (`Msg
+               (Printf.sprintf "--region expects x0,y0,x1,y1 (four integers), got %S" s))
     in
-    let print ppf (r : Image.region) = Format.fprintf ppf "%d,%d,%d,%d" r.x0 r.y0 r.x1 r.y1 in
-    Arg.(value & opt (some (conv (parse, print))) None
-         & info [ "region" ] ~docv:"X0,Y0,X1,Y1"
-             ~doc:"Render only columns X0 to X1-1 of rows Y0 to Y1-1 (pixels, from the top-left corner); the rest of the image is the background.")
+    let print ppf (r : Image.region) =
+      Format.fprintf ppf "%d,%d,%d,%d" r.x0 r.y0 r.x1 r.y1
+    in
+    Arg.(
+      value
+      & opt (some (conv (parse, print))) None
+      & info [ "region" ] ~docv:"X0,Y0,X1,Y1"
+          ~doc:
+            "Render only columns X0 to X1-1 of rows Y0 to Y1-1 (pixels, from the \
+             top-left corner); the rest of the image is the background.")
   in
-  let crop = Arg.(value & flag & info [ "crop" ] ~doc:"With $(b,--region): write only the region, not the whole image.") in
+  let crop =
+    Arg.(
+      value & flag
+      & info [ "crop" ]
+          ~doc:"With $(b,--region): write only the region, not the whole image.")
+  in
   let format =
-    Arg.(value & opt (some (enum [ ("png", Image.Png); ("ppm", Image.Ppm) ])) None
-         & info [ "format" ] ~docv:"png|ppm"
-             ~doc:"The format of the image written to standard output with $(b,-o -) (default png); with a file name, its extension decides.")
+    Arg.(
+      value
+      & opt (some (enum [ ("png", Image.Png); ("ppm", Image.Ppm) ])) None
+      & info [ "format" ] ~docv:"png|ppm"
+          ~doc:
+            "The format of the image written to standard output with $(b,-o -) (default \
+             png); with a file name, its extension decides.")
   in
-  Term.(const (fun bits alpha region crop format -> { bits; alpha; region; crop; format }) $ bits $ alpha $ region $ crop $ format)
+  Term.(
+    const (fun bits alpha region crop format -> { bits; alpha; region; crop; format })
+    $ bits $ alpha $ region $ crop $ format)
 
 (* What can be refused once the scene's size is known. *)
 let check_encoding e ~out (sc : Scene.t) =
   if e.crop && e.region = None then user "--crop needs --region x0,y0,x1,y1";
   (match e.region with
-   | Some r ->
-       let w = sc.settings.width and h = sc.settings.height in
-       if not (0 <= r.x0 && r.x0 < r.x1 && r.x1 <= w && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= h) then
-         user "--region %d,%d,%d,%d is not inside the %d×%d image: it needs 0 <= x0 < x1 <= %d and 0 <= y0 < y1 <= %d" r.x0 r.y0
-           r.x1 r.y1 w h w h
-   | None -> ());
-  if e.alpha && format_of ?format:e.format out = Image.Ppm then user "--alpha needs a PNG output: a PPM file has no alpha channel"
+  | Some r ->
+      let w = sc.settings.width and h = sc.settings.height in
+      if
+        not
+          (0 <= r.x0 && r.x0 < r.x1 && r.x1 <= w && 0 <= r.y0 && r.y0 < r.y1 && r.y1 <= h)
+      then
+        user
+          "--region %d,%d,%d,%d is not inside the %d×%d image: it needs 0 <= x0 < x1 <= \
+           %d and 0 <= y0 < y1 <= %d"
+          r.x0 r.y0 r.x1 r.y1 w h w h
+  | None -> ());
+  if e.alpha && format_of ?format:e.format out = Image.Ppm then
+    user "--alpha needs a PNG output: a PPM file has no alpha channel"
 
 let progress o ~label ~total =
   let mode : Progress.mode =
-    if o.quiet then Off else if Unix.isatty Unix.stderr then Terminal else if o.progress then Lines else Off
+    if o.quiet then Off
+    else if Unix.isatty Unix.stderr then Terminal
+    else if o.progress then Lines
+    else Off
   in
   Progress.create ~mode ~label ~total ()
 
@@ -200,8 +354,11 @@ let build o f =
 let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
   let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
   let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
-  Printf.sprintf "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M rays/s)" out
-    w h (build +. render) build render workers rays (rays /. Float.max render 1e-9)
+  Printf.sprintf
+    "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M \
+     rays/s)"
+    out w h (build +. render) build render workers rays
+    (rays /. Float.max render 1e-9)
 
 (* A count of rays the way a person reads it: 307 200, 18.4 M, 1.28 G. *)
 let rays_text r =
@@ -223,16 +380,25 @@ let cost_report (sc : Scene.t) =
   let base = (Cost.estimate sc).direct in
   let line name (sc : Scene.t) =
     let c = Cost.estimate sc in
-    Printf.sprintf "  %s %s %s %s %s\n" (pad 10 name) (pad 16 (range c.primary_low c.primary)) (pad 18 (range c.direct_low c.direct))
+    Printf.sprintf "  %s %s %s %s %s\n" (pad 10 name)
+      (pad 16 (range c.primary_low c.primary))
+      (pad 18 (range c.direct_low c.direct))
       (pad 22 (Printf.sprintf "%s (depth %d)" (rays_text c.bound) sc.settings.depth))
       (if base > 0. then Printf.sprintf "%.3g" (c.direct /. base) else "-")
   in
   let presets =
-    List.filter_map (fun (name, q) -> match Quality.apply q sc with Ok s -> Some (line name s) | Error _ -> None) Quality.all
+    List.filter_map
+      (fun (name, q) ->
+        match Quality.apply q sc with Ok s -> Some (line name s) | Error _ -> None)
+      Quality.all
   in
-  "rays, estimated before rendering (each primary ray counted as a hit lit by every light; a range where adaptive\n\
+  "rays, estimated before rendering (each primary ray counted as a hit lit by every \
+   light; a range where adaptive\n\
    sampling refines none to all of the pixels):\n"
-  ^ Printf.sprintf "  %s %s %s %s %s\n" (pad 10 "quality") (pad 16 "primary") (pad 18 "with shadow rays") (pad 22 "at most, every bounce") "× as set"
+  ^ Printf.sprintf "  %s %s %s %s %s\n" (pad 10 "quality") (pad 16 "primary")
+      (pad 18 "with shadow rays")
+      (pad 22 "at most, every bounce")
+      "× as set"
   ^ line "as set" sc ^ String.concat "" presets
 
 (* Renders estimated above this many rays (minutes on a small machine) say so first. *)
@@ -242,15 +408,19 @@ let warn_long_render o (sc : Scene.t) =
   let c = Cost.estimate sc in
   if (not o.quiet) && c.direct > long_render_rays then
     Printf.eprintf
-      "lancer: note: this render is estimated at up to %s rays (%s primary; at most %s with every bounce): it may take long; `lancer check` compares the quality presets\n%!"
+      "lancer: note: this render is estimated at up to %s rays (%s primary; at most %s \
+       with every bounce): it may take long; `lancer check` compares the quality presets\n\
+       %!"
       (rays_text c.direct) (rays_text c.primary) (rays_text c.bound)
 
 let exits =
-  Cmd.Exit.info 0 ~doc:"on success."
-  :: Cmd.Exit.info 1 ~doc:"on a user error: a scene, option or file problem, explained in one message."
-  :: Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it)."
-  :: Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind."
-  :: []
+  [
+    Cmd.Exit.info 0 ~doc:"on success.";
+    Cmd.Exit.info 1
+      ~doc:"on a user error: a scene, option or file problem, explained in one message.";
+    Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it).";
+    Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind.";
+  ]
 
 (* The OCaml runtime refuses to start more than 128 domains. *)
 let max_domains = 128
@@ -259,12 +429,16 @@ let domains o =
   match o.domains with
   | Some n when n < 1 -> user "--domains must be at least 1 (got %d)" n
   | Some n when n > max_domains ->
-      user "--domains must be at most %d, the most the OCaml runtime can run (got %d; this machine recommends %d)"
-        max_domains n (Domain.recommended_domain_count ())
+      user
+        "--domains must be at most %d, the most the OCaml runtime can run (got %d; this \
+         machine recommends %d)"
+        max_domains n
+        (Domain.recommended_domain_count ())
   | Some n -> n
   | None -> max 1 (Domain.recommended_domain_count ())
 
-let errors_to_string errs = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
+let errors_to_string errs =
+  String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
 
 (* A scene named "-" is read from standard input, once however often it is asked for; its
    errors are located in "<stdin>" and its includes are found from the current
@@ -276,7 +450,8 @@ let stdin_text =
     (if Unix.isatty Unix.stdin then
        prerr_endline "lancer: reading the scene from standard input (end it with Ctrl-D)";
      set_binary_mode_in stdin true;
-     try In_channel.input_all stdin with Sys_error m -> user "cannot read the scene from standard input: %s" m)
+     try In_channel.input_all stdin
+     with Sys_error m -> user "cannot read the scene from standard input: %s" m)
 
 let source o =
   match o.scene with
@@ -285,8 +460,13 @@ let source o =
   | Some path ->
       if not (Sys.file_exists path) then user "%s: no such file" path;
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
-      Option.iter (fun m -> user "%s: cannot read the scene: %s" path m) (Dsl.source_problem path);
-      let text = try In_channel.with_open_bin path In_channel.input_all with Sys_error m -> user "%s" m in
+      Option.iter
+        (fun m -> user "%s: cannot read the scene: %s" path m)
+        (Dsl.source_problem path);
+      let text =
+        try In_channel.with_open_bin path In_channel.input_all
+        with Sys_error m -> user "%s" m
+      in
       (path, text)
 
 (* An exact simulation that gave up after Physics.max_events is worth a warning: the
@@ -296,14 +476,18 @@ let warn_truncated prog =
     match Dsl.simulate prog ~until:0. with
     | Ok tr when Physics.truncated tr ->
         Printf.eprintf
-          "lancer: warning: the physics simulation stopped handling collisions after %d events (at %.6g s); bodies fly freely from there\n%!"
+          "lancer: warning: the physics simulation stopped handling collisions after %d \
+           events (at %.6g s); bodies fly freely from there\n\
+           %!"
           Physics.max_events
           (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> ()
 
 let load_source ?progress (filename, text) =
   match Dsl.load_string ?progress ~filename text with
-  | Ok p -> warn_truncated p; p
+  | Ok p ->
+      warn_truncated p;
+      p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
       user "the built-in showcase does not load:\n%s" (errors_to_string errs)
   | Error errs -> raise (Scene_error (errors_to_string errs))
@@ -314,7 +498,10 @@ let default_output o =
   match (o.output, o.scene) with
   | Some p, _ -> p
   | None, None -> "showcase.png"
-  | None, Some "-" -> user "a scene read from standard input has no name to make the image's from: give one with -o FILE"
+  | None, Some "-" ->
+      user
+        "a scene read from standard input has no name to make the image's from: give one \
+         with -o FILE"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
 (* A directory the system will not let this process create files in (permissions, a
@@ -322,15 +509,27 @@ let default_output o =
    the temporary file of the write will be, before any rendering. *)
 let probe_directory path =
   let dir = Filename.dirname path in
-  let special = match (Unix.stat path).st_kind with Unix.S_REG | Unix.S_DIR -> false | _ -> true | exception Unix.Unix_error _ -> false in
-  if not special then begin
-    let probe = Filename.concat dir (Printf.sprintf ".lancer-probe-%d-%d" (Unix.getpid ()) (Random.bits ())) in
-    match Unix.openfile probe [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ] 0o600 with
-    | fd ->
+  let special =
+    match (Unix.stat path).st_kind with
+    | Unix.S_REG | Unix.S_DIR -> false
+    | _ -> true
+    | exception Unix.Unix_error _ -> false
+  in
+  if not special then
+    let probe =
+      Filename.concat dir
+        (Printf.sprintf ".lancer-probe-%d-%d" (Unix.getpid ()) (Random.bits ()))
+    in
+    match
+      Unix.openfile probe
+        [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ]
+        0o600
+    with
+    | fd -> (
         Unix.close fd;
-        (try Unix.unlink probe with Unix.Unix_error _ -> ())
-    | exception Unix.Unix_error (e, _, _) -> user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
-  end
+        try Unix.unlink probe with Unix.Unix_error _ -> ())
+    | exception Unix.Unix_error (e, _, _) ->
+        user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
 
 let check_writable path =
   (match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m));
@@ -338,10 +537,11 @@ let check_writable path =
 
 let check_output ?format path =
   ignore (format_of ?format path);
-  if is_stdout path then begin
+  if is_stdout path then (
     if Unix.isatty Unix.stdout then
-      user "-o - writes the image to standard output, which is a terminal here; redirect it (-o - > image.png) or pipe it"
-  end
+      user
+        "-o - writes the image to standard output, which is a terminal here; redirect it \
+         (-o - > image.png) or pipe it")
   else check_writable path
 
 (* ---- What a run reads and what it writes ---- *)
@@ -360,11 +560,19 @@ let where p =
 type identity = { path : string; resolved : string; inode : (int * int) option }
 
 let identity path =
-  { path; resolved = where path;
-    inode = (match Unix.stat path with st -> Some (st.st_dev, st.st_ino) | exception Unix.Unix_error _ -> None) }
+  {
+    path;
+    resolved = where path;
+    inode =
+      (match Unix.stat path with
+      | st -> Some (st.st_dev, st.st_ino)
+      | exception Unix.Unix_error _ -> None);
+  }
 
 (* Also two hard links to one file. *)
-let same a b = a.resolved = b.resolved || (match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false)
+let same a b =
+  a.resolved = b.resolved
+  || match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false
 
 let reads (o : opts) prog =
   let main = Dsl.file prog in
@@ -387,15 +595,28 @@ let guard_writes ?(distinct = true) ~reads writes =
       List.iter
         (fun (r, rwhat) ->
           if same w r then
-            if r.path = w.path then user "refusing to write %s to %s: that file is %s, read by this run; choose another name" what w.path rwhat
-            else user "refusing to write %s to %s: that file is %s (%s), read by this run; choose another name" what w.path r.path rwhat)
+            if r.path = w.path then
+              user
+                "refusing to write %s to %s: that file is %s, read by this run; choose \
+                 another name"
+                what w.path rwhat
+            else
+              user
+                "refusing to write %s to %s: that file is %s (%s), read by this run; \
+                 choose another name"
+                what w.path r.path rwhat)
         reads)
     writes;
   if distinct then
     let rec pairs = function
       | [] -> ()
       | (a, wa) :: rest ->
-          List.iter (fun (b, wb) -> if same a b then user "%s and %s would be the same file, %s: give each its own name" wa wb a.path) rest;
+          List.iter
+            (fun (b, wb) ->
+              if same a b then
+                user "%s and %s would be the same file, %s: give each its own name" wa wb
+                  a.path)
+            rest;
           pairs rest
     in
     pairs writes
@@ -407,8 +628,16 @@ let check_stats_name = function
   | Some p -> (
       match String.lowercase_ascii (Filename.extension p) with
       | (".rts" | ".png" | ".ppm" | ".obj" | ".gif" | ".mp4") as e ->
-          let kind = match e with ".rts" -> "a scene" | ".obj" -> "a mesh" | ".gif" | ".mp4" -> "a video" | _ -> "an image" in
-          user "--stats %s: statistics are written as JSON, and that name is %s's; did --stats take the scene as its value? Write --stats FILE.json"
+          let kind =
+            match e with
+            | ".rts" -> "a scene"
+            | ".obj" -> "a mesh"
+            | ".gif" | ".mp4" -> "a video"
+            | _ -> "an image"
+          in
+          user
+            "--stats %s: statistics are written as JSON, and that name is %s's; did \
+             --stats take the scene as its value? Write --stats FILE.json"
             p kind
       | _ -> ())
 
@@ -420,16 +649,25 @@ let frames_journal_dir = "lancer-frames.d"
 let refuse_frames_records paths =
   List.iter
     (fun (p, what) ->
-      if String.equal (Filename.basename p) frames_view_name || String.equal (Filename.basename (Filename.dirname p)) frames_journal_dir then
-        user "%s %s would replace a record of an animation's frames directory: write it elsewhere" what p)
+      if
+        String.equal (Filename.basename p) frames_view_name
+        || String.equal (Filename.basename (Filename.dirname p)) frames_journal_dir
+      then
+        user
+          "%s %s would replace a record of an animation's frames directory: write it \
+           elsewhere"
+          what p)
     paths
 
 let guard_render (o : opts) prog ~out =
-  if is_stdout out && o.stats = Some "-" then user "--stats - and -o - would both write to standard output: give --stats a file";
+  if is_stdout out && o.stats = Some "-" then
+    user "--stats - and -o - would both write to standard output: give --stats a file";
   refuse_frames_records
-    ((if is_stdout out then [] else [ (out, "-o") ]) @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
+    ((if is_stdout out then [] else [ (out, "-o") ])
+    @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
   guard_writes ~reads:(reads o prog)
-    ((if is_stdout out then [] else [ (out, "the image") ]) @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
+    ((if is_stdout out then [] else [ (out, "the image") ])
+    @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
 let time_of o prog =
   match (o.time, o.frame) with
@@ -443,27 +681,45 @@ let time_of o prog =
   | None, Some k -> (
       if k < 0 then user "--frame must be at least 0 (got %d)" k;
       match Dsl.animation prog with
-      | None -> user "--frame %d: the scene has no animation block, so it has no frames (use --time to set the time)" k
-      | Some (_, count) when k >= count -> user "--frame %d: the animation has frames 0..%d" k (count - 1)
+      | None ->
+          user
+            "--frame %d: the scene has no animation block, so it has no frames (use \
+             --time to set the time)"
+            k
+      | Some (_, count) when k >= count ->
+          user "--frame %d: the animation has frames 0..%d" k (count - 1)
       | Some (fps, _) -> (Float.of_int k /. fps, k))
   | None, None -> (0., 0)
 
 let scene_with_files ?progress ?cancel o prog ~time ~frame =
   let sc, files =
-    match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with Ok r -> r | Error errs -> raise (Scene_error (errors_to_string errs))
+    match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with
+    | Ok r -> r
+    | Error errs -> raise (Scene_error (errors_to_string errs))
   in
   let ok = function Ok s -> s | Error m -> user "%s" m in
   let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
   (* Named by the option the user typed; Settings.validate holds the same bound. *)
-  Option.iter (fun d -> if d > Settings.max_depth then user "--depth must be at most %d (got %d)" Settings.max_depth d) o.depth;
+  Option.iter
+    (fun d ->
+      if d > Settings.max_depth then
+        user "--depth must be at most %d (got %d)" Settings.max_depth d)
+    o.depth;
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in
   let settings =
-    { s with width = pick o.width s.width; height = pick o.height s.height; samples = pick o.samples s.samples; depth = pick o.depth s.depth }
+    {
+      s with
+      width = pick o.width s.width;
+      height = pick o.height s.height;
+      samples = pick o.samples s.samples;
+      depth = pick o.depth s.depth;
+    }
   in
   ((if settings = s then sc else ok (Scene.with_settings sc settings)), files)
 
-let scene_at ?progress ?cancel o prog ~time ~frame = fst (scene_with_files ?progress ?cancel o prog ~time ~frame)
+let scene_at ?progress ?cancel o prog ~time ~frame =
+  fst (scene_with_files ?progress ?cancel o prog ~time ~frame)
 
 (* A write is not cut short by an interrupt: an exception raised half-way through the
    encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt
@@ -492,10 +748,14 @@ let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t
   let crop = if encoding.crop then encoding.region else None in
   if is_stdout path then
     guarded_write ?cancel "the image on standard output" (fun () ->
-        write_stdout (format_of ?format:encoding.format path) (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
+        write_stdout
+          (format_of ?format:encoding.format path)
+          (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
   else
     guarded_write ?cancel path (fun () ->
-        match Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb with
+        match
+          Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb
+        with
         | Ok () -> ()
         | Error m -> raise (User_error m))
 
@@ -515,26 +775,58 @@ let stats_json o (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t) =
   let rays = Stats.total_rays st in
   let opt_int = function Some n -> `Int n | None -> `Null in
   `Assoc
-    [ ("scene", match o.scene with Some p -> `String p | None -> `String "(showcase)");
-      ("width", `Int s.width); ("height", `Int s.height); ("samples", `Int s.samples); ("depth", `Int s.depth);
-      ("adaptive", `Float s.adaptive); ("time", `Float sc.time); ("frame", `Int sc.frame);
-      ("domains", `Int domains); ("ranks", `Int ranks);
-      ("wall_seconds", `Float (build +. wall)); ("build_seconds", `Float build); ("render_seconds", `Float wall);
-      ("rays", `Assoc [ ("primary", `Int st.primary); ("shadow", `Int st.shadow); ("reflected", `Int st.reflected);
-                        ("refracted", `Int st.refracted); ("total", `Int rays) ]);
+    [
+      ("scene", match o.scene with Some p -> `String p | None -> `String "(showcase)");
+      ("width", `Int s.width);
+      ("height", `Int s.height);
+      ("samples", `Int s.samples);
+      ("depth", `Int s.depth);
+      ("adaptive", `Float s.adaptive);
+      ("time", `Float sc.time);
+      ("frame", `Int sc.frame);
+      ("domains", `Int domains);
+      ("ranks", `Int ranks);
+      ("wall_seconds", `Float (build +. wall));
+      ("build_seconds", `Float build);
+      ("render_seconds", `Float wall);
+      ( "rays",
+        `Assoc
+          [
+            ("primary", `Int st.primary);
+            ("shadow", `Int st.shadow);
+            ("reflected", `Int st.reflected);
+            ("refracted", `Int st.refracted);
+            ("total", `Int rays);
+          ] );
       ("rays_per_second", `Float (if wall > 0. then Float.of_int rays /. wall else 0.));
       ("bad_samples", `Int st.bad_samples);
       ("peak_memory_kib", opt_int (peak_memory_kib ()));
-      ("objects", `Int (Array.length sc.objects)); ("lights", `Int (Array.length sc.lights));
-      ("features", `Assoc (List.map (fun (k, b) -> (k, `Bool b)) (Features.to_list sc.features)));
-      ("options", `Assoc
-         [ ("quality", match o.quality with Some q -> `String (Quality.to_string q) | None -> `Null);
-           ("width", opt_int o.width); ("height", opt_int o.height); ("samples", opt_int o.samples);
-           ("depth", opt_int o.depth); ("domains", opt_int o.domains) ]) ]
+      ("objects", `Int (Array.length sc.objects));
+      ("lights", `Int (Array.length sc.lights));
+      ( "features",
+        `Assoc (List.map (fun (k, b) -> (k, `Bool b)) (Features.to_list sc.features)) );
+      ( "options",
+        `Assoc
+          [
+            ( "quality",
+              match o.quality with
+              | Some q -> `String (Quality.to_string q)
+              | None -> `Null );
+            ("width", opt_int o.width);
+            ("height", opt_int o.height);
+            ("samples", opt_int o.samples);
+            ("depth", opt_int o.depth);
+            ("domains", opt_int o.domains);
+          ] );
+    ]
 
 let write_json ?cancel path j =
   guarded_write ?cancel path (fun () ->
-      match Image.write_atomic path (fun oc -> Yojson.Safe.pretty_to_channel oc j; output_char oc '\n') with
+      match
+        Image.write_atomic path (fun oc ->
+            Yojson.Safe.pretty_to_channel oc j;
+            output_char oc '\n')
+      with
       | Ok () -> ()
       | Error m -> raise (User_error m))
 
@@ -542,7 +834,10 @@ let warn_bad_samples (st : Stats.t) =
   if st.bad_samples > 0 then
     match st.first_bad with
     | Some (i, j) ->
-        Printf.eprintf "lancer: warning: %d samples were NaN or infinite (first at pixel %d,%d); they were replaced by the background\n%!"
+        Printf.eprintf
+          "lancer: warning: %d samples were NaN or infinite (first at pixel %d,%d); they \
+           were replaced by the background\n\
+           %!"
           st.bad_samples i j
     | None -> ()
 
@@ -611,7 +906,9 @@ let run ?(interrupted = "no output was written") ?terminated f =
             1
         | exception Sys_error m -> stdout_failed m)
     | exception e ->
-        Printf.eprintf "lancer: internal error: %s\nThis is a bug in lancer; please report it with the scene and the command.\n"
+        Printf.eprintf
+          "lancer: internal error: %s\n\
+           This is a bug in lancer; please report it with the scene and the command.\n"
           (Printexc.to_string e);
         2
   in
@@ -623,19 +920,29 @@ let run ?(interrupted = "no output was written") ?terminated f =
    to write it. *)
 let negative_value_hint argv =
   let is_negative a =
-    String.length a >= 2 && a.[0] = '-' && (match a.[1] with '0' .. '9' | '.' -> true | _ -> false) && Float.of_string_opt a <> None
+    String.length a >= 2
+    && a.[0] = '-'
+    && (match a.[1] with '0' .. '9' | '.' -> true | _ -> false)
+    && Float.of_string_opt a <> None
   in
   let args = Array.to_list argv in
   let rec find = function
     | "--" :: _ | [] | [ _ ] -> None
-    | opt :: v :: _ when is_negative v && String.length opt > 1 && opt.[0] = '-' && not (String.contains opt '=') ->
+    | opt :: v :: _
+      when is_negative v
+           && String.length opt > 1
+           && opt.[0] = '-'
+           && not (String.contains opt '=') ->
         let long = String.length opt > 2 && opt.[1] = '-' in
         Some
           (if long then Printf.sprintf "a negative value is written with '=': %s=%s" opt v
-           else Printf.sprintf "a negative value is written next to its option: %s%s" opt v)
+           else
+             Printf.sprintf "a negative value is written next to its option: %s%s" opt v)
     | _ :: rest -> find rest
   in
   match args with _ :: rest -> find rest | [] -> None
 
 let status_of_eval code =
-  if code = Cmd.Exit.cli_error then 1 else if code = Cmd.Exit.internal_error then 2 else code
+  if code = Cmd.Exit.cli_error then 1
+  else if code = Cmd.Exit.internal_error then 2
+  else code

@@ -1,6 +1,6 @@
-(** What [lancer] and [lancer-mpi] share: the command-line options, loading a scene
-    (or the embedded showcase), applying overrides, writing images and statistics, and
-    the exit-code discipline (0 success, 1 user error, 2 internal error). *)
+(** What [lancer] and [lancer-mpi] share: the command-line options, loading a scene (or
+    the embedded showcase), applying overrides, writing images and statistics, and the
+    exit-code discipline (0 success, 1 user error, 2 internal error). *)
 
 exception User_error of string
 (** A mistake the user can fix (options, files): one clear message, exit 1. *)
@@ -34,8 +34,12 @@ val default_opts : unit -> opts
 val errors_to_string : Lancer_dsl.Error.t list -> string
 (** Each error printed with {!Lancer_dsl.Error.pp}, one after the other. *)
 
-type command = Render | Animate | Golden | Bench_domains | Bench_quality
-(** The commands that take a scene and the rendering options. *)
+type command =
+  | Render
+  | Animate
+  | Golden
+  | Bench_domains
+  | Bench_quality  (** The commands that take a scene and the rendering options. *)
 
 val term : command -> opts Cmdliner.Term.t
 (** The options a command acts on, and only those (the others stay unset): [render] takes
@@ -98,18 +102,19 @@ val check_output : ?format:Lancer.Image.format -> string -> unit
     [-] when standard output is a terminal; raises [User_error]. *)
 
 val reads : opts -> Lancer_dsl.Dsl.t -> (string * string) list
-(** The files a run of this program reads, as (path, what it is): the scene file (not
-    for the built-in showcase), its includes, images and meshes loaded so far. *)
+(** The files a run of this program reads, as (path, what it is): the scene file (not for
+    the built-in showcase), its includes, images and meshes loaded so far. *)
 
-val guard_writes : ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
+val guard_writes :
+  ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
 (** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
-    that {!check_writable} refuses, that is one of the files read (by any name: a
-    symbolic link, a hard link, ./a.png for a.png), or, with [distinct] (default), that
-    is the same file as another write. Raises [User_error] naming both. *)
+    that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
+    link, a hard link, ./a.png for a.png), or, with [distinct] (default), that is the same
+    file as another write. Raises [User_error] naming both. *)
 
 val check_stats_name : string option -> unit
-(** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png],
-    …): the sign that the option took the scene as its value. *)
+(** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png], …):
+    the sign that the option took the scene as its value. *)
 
 val frames_view_name : string
 (** ["lancer-frames.json"]: the merged record of a frames directory. *)
@@ -118,11 +123,17 @@ val frames_journal_dir : string
 (** ["lancer-frames.d"]: the folder of a frames directory's journals and scene record. *)
 
 val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
-(** {!guard_writes} for a still: the image and the statistics against the scene's
-    files. *)
+(** {!guard_writes} for a still: the image and the statistics against the scene's files.
+*)
 
 val scene_at :
-  ?progress:(string -> unit) -> ?cancel:Lancer.Cancel.t -> opts -> Lancer_dsl.Dsl.t -> time:float -> frame:int -> Lancer.Scene.t
+  ?progress:(string -> unit) ->
+  ?cancel:Lancer.Cancel.t ->
+  opts ->
+  Lancer_dsl.Dsl.t ->
+  time:float ->
+  frame:int ->
+  Lancer.Scene.t
 (** Evaluate at a time and apply the command-line overrides; [progress] and [cancel] as
     for {!Lancer_dsl.Dsl.scene_at}. *)
 
@@ -165,7 +176,13 @@ val check_encoding : encoding -> out:string -> Lancer.Scene.t -> unit
     with a PPM output; raises [User_error]. *)
 
 val write_image :
-  ?cancel:Lancer.Cancel.t -> ?encoding:encoding -> ?alpha:Float.Array.t -> string -> Lancer.Scene.t -> Lancer.Image.t -> unit
+  ?cancel:Lancer.Cancel.t ->
+  ?encoding:encoding ->
+  ?alpha:Float.Array.t ->
+  string ->
+  Lancer.Scene.t ->
+  Lancer.Image.t ->
+  unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for
     [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
@@ -180,7 +197,14 @@ val build : opts -> ((string -> unit) -> 'a) -> 'a * float
     line is cleared when [f] returns or raises. The result and the seconds it took. *)
 
 val summary :
-  ?size:int * int -> out:string -> Lancer.Scene.t -> build:float -> render:float -> workers:string -> Lancer.Stats.t -> string
+  ?size:int * int ->
+  out:string ->
+  Lancer.Scene.t ->
+  build:float ->
+  render:float ->
+  workers:string ->
+  Lancer.Stats.t ->
+  string
 (** The line a render prints when done: the file, size, total, build and render seconds,
     [workers] ("2 domains"), rays and rays per second of the render; [size] is the size
     written when it is not the scene's (a crop). *)
@@ -190,16 +214,25 @@ val rays_text : float -> string
 
 val cost_report : Lancer.Scene.t -> string
 (** The estimated rays ({!Lancer.Cost}) of the scene as set and under each quality preset,
-    with how many times the scene's own cost each is; the header says it is an estimate. *)
+    with how many times the scene's own cost each is; the header says it is an estimate.
+*)
 
 val long_render_rays : float
 (** 10⁹: a render estimated above this says so before it starts. *)
 
 val warn_long_render : opts -> Lancer.Scene.t -> unit
-(** A note on stderr (unless [--quiet]) when the estimated rays pass {!long_render_rays}. *)
+(** A note on stderr (unless [--quiet]) when the estimated rays pass {!long_render_rays}.
+*)
 
 val stats_json :
-  opts -> Lancer.Scene.t -> build:float -> wall:float -> domains:int -> ranks:int -> Lancer.Stats.t -> Yojson.Safe.t
+  opts ->
+  Lancer.Scene.t ->
+  build:float ->
+  wall:float ->
+  domains:int ->
+  ranks:int ->
+  Lancer.Stats.t ->
+  Yojson.Safe.t
 (** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:
     loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
     counts, rays per second of the render, peak memory, features and options. *)
@@ -220,17 +253,17 @@ exception Interrupted of string
 val run : ?interrupted:string -> ?terminated:string -> (unit -> unit) -> int
 (** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
     "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
-    Ctrl-C, saying [interrupted] (default "no output was written"), or [terminated] instead
-    when the stop came from SIGTERM and it is given; 2 with "internal
-    error … please report" for anything unexpected. A file or standard output that the
-    system refuses ([Sys_error]: a full disk, [>/dev/full]) is a user error, 1, with the
-    system's reason. No backtrace reaches the user. *)
+    Ctrl-C, saying [interrupted] (default "no output was written"), or [terminated]
+    instead when the stop came from SIGTERM and it is given; 2 with "internal error …
+    please report" for anything unexpected. A file or standard output that the system
+    refuses ([Sys_error]: a full disk, [>/dev/full]) is a user error, 1, with the system's
+    reason. No backtrace reaches the user. *)
 
 val install_interrupt_handler : unit -> Lancer.Cancel.t
-(** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work
-    that polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is
-    raised at once, so that loading and evaluation stop too. Pass the token to the
-    render, the pool and the writes. *)
+(** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work that
+    polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is raised at
+    once, so that loading and evaluation stop too. Pass the token to the render, the pool
+    and the writes. *)
 
 val negative_value_hint : string array -> string option
 (** For a command line such as [--time -5], which the parser refuses ([-5] reads as an

@@ -5,7 +5,13 @@ let journal_dir = Cli.frames_journal_dir
 let view_name = Cli.frames_view_name
 let binding_name = "scene.json"
 
-type entry = { frame : int; job : string; size : int; md5 : string; inputs : (string * string) list }
+type entry = {
+  frame : int;
+  job : string;
+  size : int;
+  md5 : string;
+  inputs : (string * string) list;
+}
 
 type t = {
   dir : string;
@@ -13,10 +19,10 @@ type t = {
   scene : string;
   job : string;
   count : int;
-  entries : (int, entry list) Hashtbl.t;  (* what every run recorded, by frame *)
-  journal : string;  (* this run's, made on its first entry *)
+  entries : (int, entry list) Hashtbl.t; (* what every run recorded, by frame *)
+  journal : string; (* this run's, made on its first entry *)
   mutable fd : Unix.file_descr option;
-  mutable synced : float;  (* when the journal was last synced *)
+  mutable synced : float; (* when the journal was last synced *)
   lock : Mutex.t;
 }
 
@@ -25,44 +31,62 @@ let unix_msg e = Unix.error_message e
 let sync_fd fd =
   match Unix.fsync fd with
   | () -> Ok ()
-  | exception Unix.Unix_error ((Unix.EINVAL | Unix.EROFS), _, _) -> Ok () (* a file that cannot be synced *)
+  | exception Unix.Unix_error ((Unix.EINVAL | Unix.EROFS), _, _) ->
+      Ok () (* a file that cannot be synced *)
   | exception Unix.Unix_error (e, _, _) -> Error (unix_msg e)
 
 (* Every byte written; synced too unless [sync] is false. *)
 let write_fd ?(sync = true) fd text =
   let rec go off =
-    if off < String.length text then go (off + Unix.write_substring fd text off (String.length text - off))
+    if off < String.length text then
+      go (off + Unix.write_substring fd text off (String.length text - off))
   in
   match go 0 with
   | () -> if sync then sync_fd fd else Ok ()
   | exception Unix.Unix_error (e, _, _) -> Error (unix_msg e)
 
 let write_new path text =
-  match Unix.openfile path [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ] 0o644 with
+  match
+    Unix.openfile path [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ] 0o644
+  with
   | exception Unix.Unix_error (e, _, _) -> Error (unix_msg e)
   | fd -> (
       let r = write_fd fd text in
       match Unix.close fd with
       | () -> r
-      | exception Unix.Unix_error (e, _, _) -> if r = Ok () then Error (unix_msg e) else r)
+      | exception Unix.Unix_error (e, _, _) -> if r = Ok () then Error (unix_msg e) else r
+      )
 
 (* ---- Entries as JSON lines ---- *)
 
 let entry_json (e : entry) =
   `Assoc
-    [ ("frame", `Int e.frame); ("file", `String (frame_name e.frame)); ("job", `String e.job); ("size", `Int e.size);
-      ("md5", `String e.md5); ("inputs", `Assoc (List.map (fun (f, d) -> (f, `String d)) e.inputs)) ]
+    [
+      ("frame", `Int e.frame);
+      ("file", `String (frame_name e.frame));
+      ("job", `String e.job);
+      ("size", `Int e.size);
+      ("md5", `String e.md5);
+      ("inputs", `Assoc (List.map (fun (f, d) -> (f, `String d)) e.inputs));
+    ]
 
 let entry_of_json ?job j =
   let open Yojson.Safe.Util in
   try
     let job = match job with Some j -> j | None -> to_string (member "job" j) in
     Some
-      { frame = to_int (member "frame" j); job; size = to_int (member "size" j); md5 = to_string (member "md5" j);
-        inputs = List.map (fun (f, d) -> (f, to_string d)) (to_assoc (member "inputs" j)) }
+      {
+        frame = to_int (member "frame" j);
+        job;
+        size = to_int (member "size" j);
+        md5 = to_string (member "md5" j);
+        inputs = List.map (fun (f, d) -> (f, to_string d)) (to_assoc (member "inputs" j));
+      }
   with _ -> None
 
-let add t (e : entry) = Hashtbl.replace t.entries e.frame (e :: Option.value (Hashtbl.find_opt t.entries e.frame) ~default:[])
+let add t (e : entry) =
+  Hashtbl.replace t.entries e.frame
+    (e :: Option.value (Hashtbl.find_opt t.entries e.frame) ~default:[])
 
 (* A journal cut short by a kill ends in a partial line: every complete line counts. *)
 let read_journal t path =
@@ -81,7 +105,8 @@ let read_view t =
   match Yojson.Safe.from_file (Filename.concat t.dir view_name) with
   | `Assoc kvs -> (
       match (List.assoc_opt "job" kvs, List.assoc_opt "frames" kvs) with
-      | Some (`String job), Some (`List fs) -> List.iter (fun j -> Option.iter (add t) (entry_of_json ~job j)) fs
+      | Some (`String job), Some (`List fs) ->
+          List.iter (fun j -> Option.iter (add t) (entry_of_json ~job j)) fs
       | _ -> ())
   | _ -> ()
   | exception _ -> ()
@@ -93,13 +118,20 @@ let read_all t =
   | exception Sys_error _ -> ()
   | names ->
       Array.sort compare names;
-      Array.iter (fun n -> if Filename.check_suffix n ".jsonl" then read_journal t (Filename.concat t.jdir n)) names
+      Array.iter
+        (fun n ->
+          if Filename.check_suffix n ".jsonl" then
+            read_journal t (Filename.concat t.jdir n))
+        names
 
 (* ---- The directory's scene ---- *)
 
 let read_binding path =
   match Yojson.Safe.from_file path with
-  | `Assoc kvs -> ( match List.assoc_opt "scene" kvs with Some (`String s) -> `Scene s | _ -> `Unreadable)
+  | `Assoc kvs -> (
+      match List.assoc_opt "scene" kvs with
+      | Some (`String s) -> `Scene s
+      | _ -> `Unreadable)
   | _ -> `Unreadable
   | exception Sys_error _ when not (Sys.file_exists path) -> `Missing
   | exception _ -> `Unreadable
@@ -110,29 +142,46 @@ let rec bind ~dir ~jdir ~scene attempts =
   | `Scene s when s = scene -> ()
   | `Scene s ->
       Cli.user
-        "%s holds the frames of another scene, %s (this one is %s): render into another directory, or remove %s to start over (or, if it is the same scene moved, %s)"
+        "%s holds the frames of another scene, %s (this one is %s): render into another \
+         directory, or remove %s to start over (or, if it is the same scene moved, %s)"
         dir s scene dir path
   | `Unreadable when attempts > 0 ->
       (* Another run may be creating it on a file system without hard links: look again. *)
       Unix.sleepf 0.1;
       bind ~dir ~jdir ~scene (attempts - 1)
-  | `Unreadable -> Cli.user "%s is not a scene record of lancer; remove it, or render into another directory" path
+  | `Unreadable ->
+      Cli.user
+        "%s is not a scene record of lancer; remove it, or render into another directory"
+        path
   | `Missing -> (
       (* Written whole under a private name, then linked into place: link fails if the
          name exists, atomically, on the server for NFS. *)
-      let tmp = Filename.concat jdir (Printf.sprintf ".scene.json.tmp-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+      let tmp =
+        Filename.concat jdir
+          (Printf.sprintf ".scene.json.tmp-%d-%d" (Unix.getpid ()) (Random.bits ()))
+      in
       let text = Yojson.Safe.to_string (`Assoc [ ("scene", `String scene) ]) ^ "\n" in
-      (match write_new tmp text with Ok () -> () | Error m -> Cli.user "cannot write %s: %s" path m);
+      (match write_new tmp text with
+      | Ok () -> ()
+      | Error m -> Cli.user "cannot write %s: %s" path m);
       let linked =
         match Unix.link tmp path with
         | () -> Ok ()
         | exception Unix.Unix_error (Unix.EEXIST, _, _) -> Ok ()
-        | exception Unix.Unix_error ((Unix.EPERM | Unix.EOPNOTSUPP | Unix.ENOSYS | Unix.EMLINK), _, _) -> (
+        | exception
+            Unix.Unix_error
+              ((Unix.EPERM | Unix.EOPNOTSUPP | Unix.ENOSYS | Unix.EMLINK), _, _) -> (
             (* No hard links here: an exclusive create does the same, though a reader may
                see it empty for a moment (hence the second look above). *)
-            match Unix.openfile path [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ] 0o644 with
+            match
+              Unix.openfile path
+                [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ]
+                0o644
+            with
             | fd ->
-                Fun.protect ~finally:(fun () -> Unix.close fd) (fun () -> write_fd fd text)
+                Fun.protect
+                  ~finally:(fun () -> Unix.close fd)
+                  (fun () -> write_fd fd text)
             | exception Unix.Unix_error (Unix.EEXIST, _, _) -> Ok ()
             | exception Unix.Unix_error (e, _, _) -> Error (unix_msg e))
         | exception Unix.Unix_error (e, _, _) -> Error (unix_msg e)
@@ -145,22 +194,38 @@ let rec bind ~dir ~jdir ~scene attempts =
 let open_ ~dir ~scene ~job ~count =
   let jdir = Filename.concat dir journal_dir in
   (try Unix.mkdir jdir 0o755 with
-   | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory jdir -> ()
-   | Unix.Unix_error (Unix.EEXIST, _, _) -> Cli.user "%s exists and is not a directory" jdir
-   | Unix.Unix_error (e, _, _) -> Cli.user "cannot create %s: %s" jdir (unix_msg e));
+  | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory jdir -> ()
+  | Unix.Unix_error (Unix.EEXIST, _, _) ->
+      Cli.user "%s exists and is not a directory" jdir
+  | Unix.Unix_error (e, _, _) -> Cli.user "cannot create %s: %s" jdir (unix_msg e));
   bind ~dir ~jdir ~scene 20;
   let host = try Unix.gethostname () with Unix.Unix_error _ -> "host" in
   let journal =
     Filename.concat jdir
-      (Printf.sprintf "%s-%d-%06x.jsonl" host (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ()) land 0xffffff))
+      (Printf.sprintf "%s-%d-%06x.jsonl" host (Unix.getpid ())
+         (Random.State.bits (Random.State.make_self_init ()) land 0xffffff))
   in
-  let t = { dir; jdir; scene; job; count; entries = Hashtbl.create 64; journal; fd = None; synced = 0.; lock = Mutex.create () } in
+  let t =
+    {
+      dir;
+      jdir;
+      scene;
+      job;
+      count;
+      entries = Hashtbl.create 64;
+      journal;
+      fd = None;
+      synced = 0.;
+      lock = Mutex.create ();
+    }
+  in
   read_all t;
   t
 
 (* ---- Checking a frame ---- *)
 
-let inputs_current ~input_digest (e : entry) = List.for_all (fun (f, d) -> String.equal (input_digest f) d) e.inputs
+let inputs_current ~input_digest (e : entry) =
+  List.for_all (fun (f, d) -> String.equal (input_digest f) d) e.inputs
 
 let regular_size path =
   match Unix.lstat path with
@@ -169,7 +234,9 @@ let regular_size path =
   | exception Unix.Unix_error _ -> None
 
 let candidates t k ~input_digest =
-  List.filter (fun (e : entry) -> String.equal e.job t.job && inputs_current ~input_digest e) (Option.value (Hashtbl.find_opt t.entries k) ~default:[])
+  List.filter
+    (fun (e : entry) -> String.equal e.job t.job && inputs_current ~input_digest e)
+    (Option.value (Hashtbl.find_opt t.entries k) ~default:[])
 
 let is_done t k ~input_digest =
   let path = Filename.concat t.dir (frame_name k) in
@@ -189,18 +256,23 @@ let journal_fd t =
   match t.fd with
   | Some fd -> fd
   | None -> (
-      match Unix.openfile t.journal [ Unix.O_WRONLY; Unix.O_APPEND; Unix.O_CREAT; Unix.O_CLOEXEC ] 0o644 with
+      match
+        Unix.openfile t.journal
+          [ Unix.O_WRONLY; Unix.O_APPEND; Unix.O_CREAT; Unix.O_CLOEXEC ]
+          0o644
+      with
       | fd ->
           t.fd <- Some fd;
           fd
-      | exception Unix.Unix_error (e, _, _) -> Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
+      | exception Unix.Unix_error (e, _, _) ->
+          Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
 
 let record t k ~inputs =
   let path = Filename.concat t.dir (frame_name k) in
   let size, md5 =
-    try ((Unix.stat path).st_size, Digest.to_hex (Digest.file path))
-    with Unix.Unix_error (e, _, _) -> Cli.user "cannot read back %s: %s" path (unix_msg e)
-       | Sys_error m -> Cli.user "cannot read back %s: %s" path m
+    try ((Unix.stat path).st_size, Digest.to_hex (Digest.file path)) with
+    | Unix.Unix_error (e, _, _) -> Cli.user "cannot read back %s: %s" path (unix_msg e)
+    | Sys_error m -> Cli.user "cannot read back %s: %s" path m
   in
   let e = { frame = k; job = t.job; size; md5; inputs } in
   let line = Yojson.Safe.to_string (entry_json e) ^ "\n" in
@@ -227,12 +299,14 @@ let close t =
           match (r, Unix.close fd) with
           | Ok (), () -> ()
           | Error m, () -> Cli.user "cannot record frames in %s: %s" t.journal m
-          | exception Unix.Unix_error (e, _, _) -> Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
+          | exception Unix.Unix_error (e, _, _) ->
+              Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
         fd)
 
 (* ---- The merged view ---- *)
 
-let drop_view t = try Unix.unlink (Filename.concat t.dir view_name) with Unix.Unix_error _ -> ()
+let drop_view t =
+  try Unix.unlink (Filename.concat t.dir view_name) with Unix.Unix_error _ -> ()
 
 let finish t ~input_digest =
   close t;
@@ -241,9 +315,12 @@ let finish t ~input_digest =
     List.init t.count (fun k ->
         match regular_size (Filename.concat t.dir (frame_name k)) with
         | None -> None
-        | Some size -> List.find_opt (fun e -> e.size = size) (List.rev (candidates t k ~input_digest)))
+        | Some size ->
+            List.find_opt
+              (fun e -> e.size = size)
+              (List.rev (candidates t k ~input_digest)))
   in
-  if List.for_all Option.is_some chosen then begin
+  if List.for_all Option.is_some chosen then (
     let frames =
       List.map
         (fun e ->
@@ -252,8 +329,9 @@ let finish t ~input_digest =
           | j -> j)
         chosen
     in
-    Cli.write_json (Filename.concat t.dir view_name)
-      (`Assoc [ ("scene", `String t.scene); ("job", `String t.job); ("frames", `List frames) ]);
-    true
-  end
+    Cli.write_json
+      (Filename.concat t.dir view_name)
+      (`Assoc
+         [ ("scene", `String t.scene); ("job", `String t.job); ("frames", `List frames) ]);
+    true)
   else false

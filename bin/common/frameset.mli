@@ -3,19 +3,20 @@
 
     [DIR/lancer-frames.d/] holds one journal per run ([HOST-PID-RAND.jsonl]): a line per
     frame written, with the job's digest (scene text, includes and pixel options), the
-    frame's size and MD5, and the MD5 of each image and mesh that frame read. A journal has
-    one writer and is only appended to (each line written whole; synced at most once a second and when closed), so runs never
-    overwrite each other's entries, on a local disk or on NFS, and recording a frame costs
-    the same whatever the number of frames. Readers merge every journal (and the view
-    below). A frame counts as done when some entry has the current job, the file on disk is
-    a regular file of that size and MD5, and every input it read still has its MD5.
+    frame's size and MD5, and the MD5 of each image and mesh that frame read. A journal
+    has one writer and is only appended to (each line written whole; synced at most once a
+    second and when closed), so runs never overwrite each other's entries, on a local disk
+    or on NFS, and recording a frame costs the same whatever the number of frames. Readers
+    merge every journal (and the view below). A frame counts as done when some entry has
+    the current job, the file on disk is a regular file of that size and MD5, and every
+    input it read still has its MD5.
 
     [DIR/lancer-frames.d/scene.json] names the scene the directory belongs to (the scene
     file's base name); it is created once, atomically (a hard link of a complete file,
     which NFS performs on the server), and a run of another scene into the directory is
     refused. [DIR/lancer-frames.json] is the merged view, one entry per frame in order,
-    written (atomically) by the run that finds every frame of the animation done; its bytes
-    depend only on the frames, not on how many runs made them. *)
+    written (atomically) by the run that finds every frame of the animation done; its
+    bytes depend only on the frames, not on how many runs made them. *)
 
 type t
 

@@ -12,9 +12,22 @@ type t = {
 }
 
 let create ?mode ~label ~total () =
-  let mode = match mode with Some m -> m | None -> if Unix.isatty Unix.stderr then Terminal else Off in
+  let mode =
+    match mode with
+    | Some m -> m
+    | None -> if Unix.isatty Unix.stderr then Terminal else Off
+  in
   let now = Unix.gettimeofday () in
-  { mode; enabled = mode <> Off; label; total; start = now; last = Atomic.make 0.; rays = Atomic.make 0; lock = Mutex.create () }
+  {
+    mode;
+    enabled = mode <> Off;
+    label;
+    total;
+    start = now;
+    last = Atomic.make 0.;
+    rays = Atomic.make 0;
+    lock = Mutex.create ();
+  }
 
 let hms s =
   let s = int_of_float (Float.max 0. s) in
@@ -23,18 +36,20 @@ let hms s =
   else Printf.sprintf "%ds" s
 
 let update ?(rays = 0) p done_ =
-  if p.enabled then begin
+  if p.enabled then
     let all_rays = Atomic.fetch_and_add p.rays rays + rays in
     let now = Unix.gettimeofday () in
     let last = Atomic.get p.last in
     let every = if p.mode = Lines then 2. else 0.2 in
-    if (now -. last >= every || done_ = p.total) && Atomic.compare_and_set p.last last now then
+    if (now -. last >= every || done_ = p.total) && Atomic.compare_and_set p.last last now
+    then
       Mutex.protect p.lock (fun () ->
           let el = now -. p.start in
           let rate = if el > 0. then Float.of_int done_ /. el else 0. in
           let left = if rate > 0. then Float.of_int (p.total - done_) /. rate else 0. in
           let speed =
-            if all_rays > 0 && el > 0. then Printf.sprintf "%.2f M rays/s" (Float.of_int all_rays /. el /. 1e6)
+            if all_rays > 0 && el > 0. then
+              Printf.sprintf "%.2f M rays/s" (Float.of_int all_rays /. el /. 1e6)
             else Printf.sprintf "%.1f %s/s" rate p.label
           in
           Printf.eprintf "%s%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s%s%!"
@@ -43,6 +58,9 @@ let update ?(rays = 0) p done_ =
             (100. *. Float.of_int done_ /. Float.of_int (max 1 p.total))
             speed (hms el) (hms left)
             (if p.mode = Lines then "\n" else ""))
-  end
 
-let finish p = if p.mode = Terminal then Mutex.protect p.lock (fun () -> prerr_string "\r\027[K"; flush stderr)
+let finish p =
+  if p.mode = Terminal then
+    Mutex.protect p.lock (fun () ->
+        prerr_string "\r\027[K";
+        flush stderr)

@@ -1,6 +1,6 @@
-(** A progress line on a terminal: units done, rays per second, elapsed and time left, redrawn at
-    most a few times a second, from any domain. Silent when stderr is not a terminal or
-    when disabled. *)
+(** A progress line on a terminal: units done, rays per second, elapsed and time left,
+    redrawn at most a few times a second, from any domain. Silent when stderr is not a
+    terminal or when disabled. *)
 
 type t
 

@@ -20,7 +20,8 @@ type shared = {
   mutable reload : bool;  (** read the files again *)
   mutable params : params;
   mutable outbox : (string * string) list;  (** (event, JSON data), newest first *)
-  mutable images : (int * string) list;  (** (sequence number, PNG bytes), newest first, a few *)
+  mutable images : (int * string) list;
+      (** (sequence number, PNG bytes), newest first, a few *)
   mutable inputs : string list;  (** the files to watch *)
   wake_w : Unix.file_descr;
 }
@@ -39,7 +40,8 @@ let request sh ?(reload = false) f =
       Atomic.incr sh.wanted;
       Condition.signal sh.cond)
 
-let wake sh = try ignore (Unix.write_substring sh.wake_w "x" 0 1) with Unix.Unix_error _ -> ()
+let wake sh =
+  try ignore (Unix.write_substring sh.wake_w "x" 0 1) with Unix.Unix_error _ -> ()
 
 let publish sh ev data =
   with_lock sh (fun () -> sh.outbox <- (ev, Yojson.Safe.to_string data) :: sh.outbox);
@@ -51,7 +53,9 @@ let publish sh ev data =
 (* The PNG bytes of an image, through camlimages and a file in a private directory. *)
 let png_bytes tmp (sc : Scene.t) (fb : Image.t) =
   let path = Filename.concat tmp "view.png" in
-  match Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb) with
+  match
+    Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb)
+  with
   | Error m -> failwith m
   | Ok () -> In_channel.with_open_bin path In_channel.input_all
 
@@ -70,7 +74,12 @@ let coarse_pass pool cancelled (sc : Scene.t) k =
       Image.set fb i j (Render.pixel sc stats.(j) (min (w - 1) ((i * k) + (k / 2))) py)
     done
   in
-  (match pool with None -> for j = 0 to ch - 1 do row j done | Some p -> Pool.parallel_for p ch row);
+  (match pool with
+  | None ->
+      for j = 0 to ch - 1 do
+        row j
+      done
+  | Some p -> Pool.parallel_for p ch row);
   let total = Stats.create () in
   Array.iter (Stats.add_into total) stats;
   (fb, total)
@@ -81,11 +90,18 @@ let full_pass pool cancelled sc =
 let knobs (o : Cli.opts) (sc : Scene.t) =
   let s = sc.settings in
   `Assoc
-    [ ("quality", `String (match o.quality with Some q -> Quality.to_string q | None -> "the scene's own"));
+    [
+      ( "quality",
+        `String
+          (match o.quality with
+          | Some q -> Quality.to_string q
+          | None -> "the scene's own") );
       ("size", `String (Printf.sprintf "%d×%d" s.width s.height));
       ("samples", `String (Printf.sprintf "%d×%d" s.samples s.samples));
-      ("adaptive", `String (if s.adaptive > 0. then Printf.sprintf "%g" s.adaptive else "off"));
-      ("depth", `Int s.depth) ]
+      ( "adaptive",
+        `String (if s.adaptive > 0. then Printf.sprintf "%g" s.adaptive else "off") );
+      ("depth", `Int s.depth);
+    ]
 
 let quality_name = function Some q -> Quality.to_string q | None -> "scene"
 
@@ -98,7 +114,9 @@ let load path =
       match Dsl.load_string ~filename text with
       | Ok p -> Ok p
       | Error errs ->
-          Error (Cli.errors_to_string errs, List.map (fun (e : Lancer_dsl.Error.t) -> e.file) errs))
+          Error
+            ( Cli.errors_to_string errs,
+              List.map (fun (e : Lancer_dsl.Error.t) -> e.file) errs ))
 
 type version = { gen : int; t0 : float; reload : bool; params : params }
 
@@ -108,7 +126,8 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
   let cancelled () = Atomic.get sh.wanted <> v.gen in
   let path = Option.get o.scene in
   let failed text files =
-    with_lock sh (fun () -> sh.inputs <- List.sort_uniq compare ((path :: files) @ sh.inputs));
+    with_lock sh (fun () ->
+        sh.inputs <- List.sort_uniq compare ((path :: files) @ sh.inputs));
     publish sh "failure" (`Assoc [ ("text", `String text) ]);
     wake sh;
     if not o.quiet then prerr_string text
@@ -132,15 +151,21 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
   match loaded with
   | Error (text, files) -> failed text files
   | Ok p -> (
-      let fps, frames = match Dsl.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1) in
+      let fps, frames =
+        match Dsl.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1)
+      in
       let frame = max 0 (min (frames - 1) v.params.frame) in
       let time = Float.of_int frame /. fps in
       let o = { o with quality = v.params.quality } in
-      let coarse_q = match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview in
+      let coarse_q =
+        match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview
+      in
       let evaluated =
         try
           let sc = Cli.scene_at o p ~time ~frame in
-          let coarse = Cli.scene_at { o with quality = Some coarse_q; samples = None } p ~time ~frame in
+          let coarse =
+            Cli.scene_at { o with quality = Some coarse_q; samples = None } p ~time ~frame
+          in
           Ok (sc, coarse)
         with
         | Cli.Scene_error m -> Error m
@@ -153,19 +178,34 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
           publish sh "ok" (`Assoc []);
           publish sh "scene"
             (`Assoc
-               [ ("file", `String path); ("quality", `String (quality_name o.quality)); ("frame", `Int frame);
-                 ("animation",
+               [
+                 ("file", `String path);
+                 ("quality", `String (quality_name o.quality));
+                 ("frame", `Int frame);
+                 ( "animation",
                    match Dsl.animation p with
                    | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]
-                   | None -> `Null) ]);
+                   | None -> `Null );
+               ]);
           let summary = try Dsl.summary p sc with _ -> "" in
           let base = Filename.remove_extension (Filename.basename path) in
-          let name = if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png" in
-          let final_differs = match o.quality with Some (Quality.Draft | Quality.Preview) -> false | _ -> true in
+          let name =
+            if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png"
+          in
+          let final_differs =
+            match o.quality with
+            | Some (Quality.Draft | Quality.Preview) -> false
+            | _ -> true
+          in
           let passes =
-            [ (`Coarse 8, "1 sample per 8×8 pixels"); (`Coarse 4, "1 sample per 4×4 pixels");
+            [
+              (`Coarse 8, "1 sample per 8×8 pixels");
+              (`Coarse 4, "1 sample per 4×4 pixels");
               (`Coarse 2, "1 sample per 2×2 pixels");
-              (`Full coarse, if final_differs then Quality.to_string coarse_q ^ " quality" else "done") ]
+              ( `Full coarse,
+                if final_differs then Quality.to_string coarse_q ^ " quality" else "done"
+              );
+            ]
             @ if final_differs && not v.params.play then [ (`Full sc, "done") ] else []
           in
           let n = List.length passes in
@@ -189,7 +229,8 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
               incr seq;
               let s = !seq in
               with_lock sh (fun () ->
-                  sh.images <- (s, bytes) :: List.filteri (fun i _ -> i < kept_images - 1) sh.images);
+                  sh.images <-
+                    (s, bytes) :: List.filteri (fun i _ -> i < kept_images - 1) sh.images);
               let last = idx = n - 1 in
               if !first = None then first := Some (Unix.gettimeofday () -. v.t0);
               let pname =
@@ -198,23 +239,48 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                 | `Full _ when last -> "full image"
                 | `Full _ -> label
               in
-              done_passes := `Assoc [ ("name", `String pname); ("seconds", `Float secs); ("rays", `Int (Stats.total_rays st)) ] :: !done_passes;
+              done_passes :=
+                `Assoc
+                  [
+                    ("name", `String pname);
+                    ("seconds", `Float secs);
+                    ("rays", `Int (Stats.total_rays st));
+                  ]
+                :: !done_passes;
               publish sh "image"
                 (`Assoc
-                   [ ("seq", `Int s); ("label", `String (if last then Printf.sprintf "%s (%d×%d)" label sc.settings.width sc.settings.height else label));
-                     ("last", `Bool last); ("frame", `Int frame); ("width", `Int sc.settings.width);
-                     ("height", `Int sc.settings.height); ("name", `String name) ]);
-              if last then begin
+                   [
+                     ("seq", `Int s);
+                     ( "label",
+                       `String
+                         (if last then
+                            Printf.sprintf "%s (%d×%d)" label sc.settings.width
+                              sc.settings.height
+                          else label) );
+                     ("last", `Bool last);
+                     ("frame", `Int frame);
+                     ("width", `Int sc.settings.width);
+                     ("height", `Int sc.settings.height);
+                     ("name", `String name);
+                   ]);
+              if last then (
                 let rays = Stats.total_rays st in
                 publish sh "stats"
                   (`Assoc
-                     [ ("build_seconds", `Float build); ("passes", `List (List.rev !done_passes));
-                       ("rays_per_second", `Float (if secs > 0. then Float.of_int rays /. secs else 0.));
-                       ("knobs", knobs o shown); ("summary", `String summary) ]);
-                log o.quiet "%s: frame %d, %d×%d: first image %.3f s after the change, full image %.3f s" path frame
-                  sc.settings.width sc.settings.height (Option.value !first ~default:0.)
-                  (Unix.gettimeofday () -. v.t0)
-              end)
+                     [
+                       ("build_seconds", `Float build);
+                       ("passes", `List (List.rev !done_passes));
+                       ( "rays_per_second",
+                         `Float (if secs > 0. then Float.of_int rays /. secs else 0.) );
+                       ("knobs", knobs o shown);
+                       ("summary", `String summary);
+                     ]);
+                log o.quiet
+                  "%s: frame %d, %d×%d: first image %.3f s after the change, full image \
+                   %.3f s"
+                  path frame sc.settings.width sc.settings.height
+                  (Option.value !first ~default:0.)
+                  (Unix.gettimeofday () -. v.t0)))
             passes)
 
 let renderer sh (o : Cli.opts) domains tmp () =
@@ -235,10 +301,22 @@ let renderer sh (o : Cli.opts) domains tmp () =
         (try render_version sh o pool tmp prog seq v with
         | Cancelled -> ()
         | Out_of_memory ->
-            publish sh "failure" (`Assoc [ ("text", `String "lancer: out of memory (try a smaller image or fewer objects)\n") ])
+            publish sh "failure"
+              (`Assoc
+                 [
+                   ( "text",
+                     `String
+                       "lancer: out of memory (try a smaller image or fewer objects)\n" );
+                 ])
         | e ->
             publish sh "failure"
-              (`Assoc [ ("text", `String (Printf.sprintf "lancer: internal error: %s (please report it)\n" (Printexc.to_string e))) ]));
+              (`Assoc
+                 [
+                   ( "text",
+                     `String
+                       (Printf.sprintf "lancer: internal error: %s (please report it)\n"
+                          (Printexc.to_string e)) );
+                 ]));
         loop ()
       in
       loop ())
@@ -262,9 +340,9 @@ let watch_files ~poll inputs changed =
     | None ->
         debounce :=
           Some
-            (Lwt_unix.sleep 0.03 >|= fun () ->
-             debounce := None;
-             changed ())
+            ( Lwt_unix.sleep 0.03 >|= fun () ->
+              debounce := None;
+              changed () )
   in
   let polling () =
     (* Modification time (to the nanosecond, as an integer), size and inode: a file
@@ -280,7 +358,10 @@ let watch_files ~poll inputs changed =
       let now = snapshot () in
       (* A new input set (after a reload) is a new baseline, except for the files it shares. *)
       let differs =
-        List.exists (fun (p, s) -> match List.assoc_opt p last with Some s' -> s <> s' | None -> false) now
+        List.exists
+          (fun (p, s) ->
+            match List.assoc_opt p last with Some s' -> s <> s' | None -> false)
+          now
       in
       if differs then fire ();
       go now
@@ -294,13 +375,23 @@ let watch_files ~poll inputs changed =
         (fun p ->
           let d, _ = split p in
           if not (Hashtbl.mem watched d) then
-            match Lwt_inotify.add_watch' fd d Inotify.[ S_Close_write; S_Moved_to; S_Create; S_Delete; S_Modify ] with
+            match
+              Lwt_inotify.add_watch' fd d
+                Inotify.[ S_Close_write; S_Moved_to; S_Create; S_Delete; S_Modify ]
+            with
             | w -> Hashtbl.replace watched d (Inotify.int_of_watch w)
             | exception Unix.Unix_error _ -> ())
         (inputs ())
     in
-    let dir_of w = Hashtbl.fold (fun d w' acc -> if w' = Inotify.int_of_watch w then Some d else acc) watched None in
-    let rec refresh () = update (); Lwt_unix.sleep 0.25 >>= refresh in
+    let dir_of w =
+      Hashtbl.fold
+        (fun d w' acc -> if w' = Inotify.int_of_watch w then Some d else acc)
+        watched None
+    in
+    let rec refresh () =
+      update ();
+      Lwt_unix.sleep 0.25 >>= refresh
+    in
     let rec go () =
       Lwt_inotify.read fd >>= fun (w, kinds, _, name) ->
       let relevant =
@@ -333,7 +424,9 @@ let run (o : Cli.opts) ~host ~port ~poll =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let path =
     match o.scene with
-    | Some "-" -> Cli.user "watch needs a scene file to watch, not standard input: lancer watch SCENE.rts"
+    | Some "-" ->
+        Cli.user
+          "watch needs a scene file to watch, not standard input: lancer watch SCENE.rts"
     | Some p -> p
     | None -> Cli.user "watch needs a scene file: lancer watch SCENE.rts"
   in
@@ -347,13 +440,25 @@ let run (o : Cli.opts) ~host ~port ~poll =
     | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
   in
   if addr = Unix.inet_addr_any || addr = Unix.inet6_addr_any then
-    Cli.user "--host must be one address of this machine, not %s: the server answers only requests addressed to it" host;
-  let sock = Lwt_unix.socket (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0))) Unix.SOCK_STREAM 0 in
+    Cli.user
+      "--host must be one address of this machine, not %s: the server answers only \
+       requests addressed to it"
+      host;
+  let sock =
+    Lwt_unix.socket
+      (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)))
+      Unix.SOCK_STREAM 0
+  in
   Lwt_unix.setsockopt sock Unix.SO_REUSEADDR true;
   (try Unix.bind (Lwt_unix.unix_file_descr sock) (Unix.ADDR_INET (addr, port))
-   with Unix.Unix_error (e, _, _) -> Cli.user "cannot listen on %s:%d: %s" host port (Unix.error_message e));
+   with Unix.Unix_error (e, _, _) ->
+     Cli.user "cannot listen on %s:%d: %s" host port (Unix.error_message e));
   Lwt_unix.listen sock 64;
-  let port = match Unix.getsockname (Lwt_unix.unix_file_descr sock) with Unix.ADDR_INET (_, p) -> p | _ -> port in
+  let port =
+    match Unix.getsockname (Lwt_unix.unix_file_descr sock) with
+    | Unix.ADDR_INET (_, p) -> p
+    | _ -> port
+  in
   let authority =
     match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
     | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" host port
@@ -363,9 +468,18 @@ let run (o : Cli.opts) ~host ~port ~poll =
   let wake_r, wake_w = Unix.pipe ~cloexec:true () in
   Unix.set_nonblock wake_w;
   let sh =
-    { lock = Mutex.create (); cond = Condition.create (); wanted = Atomic.make 1; started = 0; reload = true;
+    {
+      lock = Mutex.create ();
+      cond = Condition.create ();
+      wanted = Atomic.make 1;
+      started = 0;
+      reload = true;
       params = { quality = o.quality; frame = 0; play = false };
-      outbox = []; images = []; inputs = [ path ]; wake_w }
+      outbox = [];
+      images = [];
+      inputs = [ path ];
+      wake_w;
+    }
   in
   let worker = Domain.spawn (renderer sh o domains tmp) in
   ignore worker;
@@ -385,7 +499,12 @@ let run (o : Cli.opts) ~host ~port ~poll =
     let fd = Lwt_unix.of_unix_file_descr ~blocking:false wake_r in
     let rec go () =
       Lwt_unix.read fd buf 0 256 >>= fun _ ->
-      let evs = with_lock sh (fun () -> let e = List.rev sh.outbox in sh.outbox <- []; e) in
+      let evs =
+        with_lock sh (fun () ->
+            let e = List.rev sh.outbox in
+            sh.outbox <- [];
+            e)
+      in
       List.iter deliver evs;
       go ()
     in
@@ -393,56 +512,83 @@ let run (o : Cli.opts) ~host ~port ~poll =
   in
   let rec keepalive () =
     Lwt_unix.sleep 15. >>= fun () ->
-    Hashtbl.iter (fun _ (_, push) -> try push (Some ": keep-alive\n\n") with Lwt_stream.Closed -> ()) streams;
+    Hashtbl.iter
+      (fun _ (_, push) ->
+        try push (Some ": keep-alive\n\n") with Lwt_stream.Closed -> ())
+      streams;
     keepalive ()
   in
-  let text status s = Server.respond_string ~headers:(Cohttp.Header.of_list [ ("content-type", "text/plain; charset=utf-8") ]) ~status ~body:s () in
+  let text status s =
+    Server.respond_string
+      ~headers:(Cohttp.Header.of_list [ ("content-type", "text/plain; charset=utf-8") ])
+      ~status ~body:s ()
+  in
   let callback (_, conn) (req : Cohttp.Request.t) body =
     Cohttp_lwt.Body.drain_body body >>= fun () ->
     let headers = Cohttp.Request.headers req in
     let meth = Cohttp.Request.meth req in
     let target = Uri.path (Cohttp.Request.uri req) in
-    if Cohttp.Header.get headers "host" <> Some authority then text `Forbidden "this server answers only to its own address\n"
-    else if meth = `POST && (match Cohttp.Header.get headers "origin" with Some org -> org <> "http://" ^ authority | None -> false)
+    if Cohttp.Header.get headers "host" <> Some authority then
+      text `Forbidden "this server answers only to its own address\n"
+    else if
+      meth = `POST
+      &&
+      match Cohttp.Header.get headers "origin" with
+      | Some org -> org <> "http://" ^ authority
+      | None -> false
     then text `Forbidden "foreign origin\n"
     else
       match (meth, target) with
       | `GET, "/" ->
           Server.respond_string
-            ~headers:(Cohttp.Header.of_list [ ("content-type", "text/html; charset=utf-8"); ("cache-control", "no-store") ])
+            ~headers:
+              (Cohttp.Header.of_list
+                 [
+                   ("content-type", "text/html; charset=utf-8");
+                   ("cache-control", "no-store");
+                 ])
             ~status:`OK ~body:Watch_page.html ()
       | `GET, "/events" ->
-          begin
-            if Hashtbl.length streams >= max_streams then begin
-              let oldest =
-                Hashtbl.fold (fun k (n, _) acc -> match acc with Some (_, m) when m <= n -> acc | _ -> Some (k, n)) streams None
-              in
-              Option.iter
-                (fun (k, _) ->
-                  (try (snd (Hashtbl.find streams k)) None with Lwt_stream.Closed -> ());
-                  Hashtbl.remove streams k)
-                oldest
-            end;
-            let stream, push = Lwt_stream.create () in
-            let key = Cohttp.Connection.to_string conn in
-            incr opened;
-            Hashtbl.replace streams key (!opened, push);
-            List.iter
-              (fun ev -> Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
-              [ "scene"; "image"; "stats"; "failure" ];
-            Server.respond ~flush:true
-              ~headers:
-                (Cohttp.Header.of_list [ ("content-type", "text/event-stream"); ("cache-control", "no-store") ])
-              ~status:`OK ~body:(Cohttp_lwt.Body.of_stream stream) ()
-          end
-      | `GET, p when String.length p > 11 && String.sub p 0 7 = "/image/" && Filename.check_suffix p ".png" -> (
+          (if Hashtbl.length streams >= max_streams then
+             let oldest =
+               Hashtbl.fold
+                 (fun k (n, _) acc ->
+                   match acc with Some (_, m) when m <= n -> acc | _ -> Some (k, n))
+                 streams None
+             in
+             Option.iter
+               (fun (k, _) ->
+                 (try (snd (Hashtbl.find streams k)) None with Lwt_stream.Closed -> ());
+                 Hashtbl.remove streams k)
+               oldest);
+          let stream, push = Lwt_stream.create () in
+          let key = Cohttp.Connection.to_string conn in
+          incr opened;
+          Hashtbl.replace streams key (!opened, push);
+          List.iter
+            (fun ev ->
+              Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
+            [ "scene"; "image"; "stats"; "failure" ];
+          Server.respond ~flush:true
+            ~headers:
+              (Cohttp.Header.of_list
+                 [ ("content-type", "text/event-stream"); ("cache-control", "no-store") ])
+            ~status:`OK
+            ~body:(Cohttp_lwt.Body.of_stream stream)
+            ()
+      | `GET, p
+        when String.length p > 11
+             && String.sub p 0 7 = "/image/"
+             && Filename.check_suffix p ".png" -> (
           let n = String.sub p 7 (String.length p - 11) in
           match int_of_string_opt n with
           | Some k when String.for_all (fun c -> c >= '0' && c <= '9') n -> (
               match with_lock sh (fun () -> List.assoc_opt k sh.images) with
               | Some bytes ->
                   Server.respond_string
-                    ~headers:(Cohttp.Header.of_list [ ("content-type", "image/png"); ("cache-control", "no-store") ])
+                    ~headers:
+                      (Cohttp.Header.of_list
+                         [ ("content-type", "image/png"); ("cache-control", "no-store") ])
                     ~status:`OK ~body:bytes ()
               | None -> text `Not_found "no such image (a newer one replaced it)\n")
           | _ -> text `Not_found "not found\n")
@@ -452,7 +598,10 @@ let run (o : Cli.opts) ~host ~port ~poll =
             match Uri.get_query_param uri "quality" with
             | None -> Ok None
             | Some "scene" -> Ok (Some None)
-            | Some q -> ( match List.assoc_opt q Quality.all with Some q -> Ok (Some (Some q)) | None -> Error q)
+            | Some q -> (
+                match List.assoc_opt q Quality.all with
+                | Some q -> Ok (Some (Some q))
+                | None -> Error q)
           in
           let frame = Option.map int_of_string_opt (Uri.get_query_param uri "frame") in
           match (quality, frame) with
@@ -461,7 +610,11 @@ let run (o : Cli.opts) ~host ~port ~poll =
           | Ok q, f ->
               let play = Uri.get_query_param uri "play" = Some "1" in
               request sh (fun p ->
-                  { quality = Option.value q ~default:p.quality; frame = (match f with Some (Some k) -> max 0 k | _ -> p.frame); play });
+                  {
+                    quality = Option.value q ~default:p.quality;
+                    frame = (match f with Some (Some k) -> max 0 k | _ -> p.frame);
+                    play;
+                  });
               text `No_content "")
       | (`GET | `POST), _ -> text `Not_found "not found\n"
       | _ -> text `Method_not_allowed "method not allowed\n"
@@ -469,62 +622,130 @@ let run (o : Cli.opts) ~host ~port ~poll =
   let conn_closed (_, conn) =
     let key = Cohttp.Connection.to_string conn in
     match Hashtbl.find_opt streams key with
-    | Some (_, push) -> Hashtbl.remove streams key; (try push None with Lwt_stream.Closed -> ())
+    | Some (_, push) -> (
+        Hashtbl.remove streams key;
+        try push None with Lwt_stream.Closed -> ())
     | None -> ()
   in
   let stop, stopper = Lwt.wait () in
   let on_signal _ = if Lwt.is_sleeping stop then Lwt.wakeup_later stopper () in
-  let sigs = List.map (fun s -> Lwt_unix.on_signal s on_signal) [ Sys.sigint; Sys.sigterm ] in
+  let sigs =
+    List.map (fun s -> Lwt_unix.on_signal s on_signal) [ Sys.sigint; Sys.sigterm ]
+  in
   let changed () = request sh ~reload:true Fun.id in
   let inputs () = with_lock sh (fun () -> sh.inputs) in
   Printf.printf "lancer watch: http://%s/ shows %s (Ctrl-C to stop)\n%!" authority path;
   let server =
-    Server.create ~on_exn:(fun _ -> ()) ~stop ~mode:(`TCP (`Socket sock)) (Server.make ~conn_closed ~callback ())
+    Server.create
+      ~on_exn:(fun _ -> ())
+      ~stop
+      ~mode:(`TCP (`Socket sock))
+      (Server.make ~conn_closed ~callback ())
   in
   Fun.protect
     ~finally:(fun () ->
       List.iter Lwt_unix.disable_signal_handler sigs;
-      (try Array.iter (fun f -> Sys.remove (Filename.concat tmp f)) (Sys.readdir tmp); Sys.rmdir tmp with Sys_error _ -> ()))
+      try
+        Array.iter (fun f -> Sys.remove (Filename.concat tmp f)) (Sys.readdir tmp);
+        Sys.rmdir tmp
+      with Sys_error _ -> ())
     (fun () ->
-      Lwt_main.run (Lwt.pick [ server; stop; pump (); keepalive (); watch_files ~poll inputs changed ]);
+      Lwt_main.run
+        (Lwt.pick
+           [ server; stop; pump (); keepalive (); watch_files ~poll inputs changed ]);
       raise Sys.Break)
 
 open Cmdliner
 
 let cmd =
   let doc = "show a scene in the browser, re-rendered progressively on every save" in
-  let scene = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENE.rts" ~doc:"The scene to show.") in
+  let scene =
+    Arg.(
+      required
+      & pos 0 (some string) None
+      & info [] ~docv:"SCENE.rts" ~doc:"The scene to show.")
+  in
   let port =
-    Arg.(value & opt int 8123 & info [ "port"; "p" ] ~docv:"N" ~doc:"The port to listen on; 0 picks a free one.")
+    Arg.(
+      value & opt int 8123
+      & info [ "port"; "p" ] ~docv:"N" ~doc:"The port to listen on; 0 picks a free one.")
   in
   let host =
-    Arg.(value & opt string "127.0.0.1"
-         & info [ "host" ] ~docv:"ADDR"
-             ~doc:"The address to listen on. The server answers only requests addressed to it (their Host header), so a foreign web page cannot reach it by a renamed domain.")
+    Arg.(
+      value & opt string "127.0.0.1"
+      & info [ "host" ] ~docv:"ADDR"
+          ~doc:
+            "The address to listen on. The server answers only requests addressed to it \
+             (their Host header), so a foreign web page cannot reach it by a renamed \
+             domain.")
   in
   let poll =
-    Arg.(value & flag & info [ "poll" ] ~doc:"Look for changes by polling the files' status twice a second instead of inotify (network file systems).")
+    Arg.(
+      value & flag
+      & info [ "poll" ]
+          ~doc:
+            "Look for changes by polling the files' status twice a second instead of \
+             inotify (network file systems).")
   in
-  let int_opt names docv doc = Arg.(value & opt (some int) None & info names ~docv ~doc) in
-  let width = int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)." in
-  let height = int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)." in
+  let int_opt names docv doc =
+    Arg.(value & opt (some int) None & info names ~docv ~doc)
+  in
+  let width =
+    int_opt [ "width"; "W" ] "W" "Image width in pixels (overrides the scene)."
+  in
+  let height =
+    int_opt [ "height"; "H" ] "H" "Image height in pixels (overrides the scene)."
+  in
   let samples = int_opt [ "samples" ] "N" "N×N samples per pixel for the full image." in
   let depth = int_opt [ "depth" ] "D" "Maximum ray depth." in
   let domains = int_opt [ "domains"; "j" ] "N" "Domains (cores) to render with." in
   let quality =
-    Arg.(value & opt (some (enum Quality.all)) None
-         & info [ "quality" ] ~docv:"PRESET" ~doc:"The preset of the full image: $(b,draft), $(b,preview), $(b,final) or $(b,reference) (the page can switch it).")
+    Arg.(
+      value
+      & opt (some (enum Quality.all)) None
+      & info [ "quality" ] ~docv:"PRESET"
+          ~doc:
+            "The preset of the full image: $(b,draft), $(b,preview), $(b,final) or \
+             $(b,reference) (the page can switch it).")
   in
   let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"Print only the address.") in
   let man =
-    [ `S Manpage.s_description;
-      `P "Starts a web server on this machine and prints its address. The page shows the scene, first coarse (one sample every 8, 4, then 2 pixels), then at preview quality, then at the chosen quality, each image replacing the last. Saving the scene, or any file it includes or loads, renders it again and cancels the render in progress; a scene error is shown over the last good image until the file is fixed. An animation gets a time slider and play/pause. The page shows what the render cost and can switch the quality preset. It writes no output file (frames are the job of $(b,animate)); the page has a button that saves the current view as a PNG.";
-      `S Manpage.s_examples; `Pre "  lancer watch scenes/showcase.rts"; `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480" ]
+    [
+      `S Manpage.s_description;
+      `P
+        "Starts a web server on this machine and prints its address. The page shows the \
+         scene, first coarse (one sample every 8, 4, then 2 pixels), then at preview \
+         quality, then at the chosen quality, each image replacing the last. Saving the \
+         scene, or any file it includes or loads, renders it again and cancels the \
+         render in progress; a scene error is shown over the last good image until the \
+         file is fixed. An animation gets a time slider and play/pause. The page shows \
+         what the render cost and can switch the quality preset. It writes no output \
+         file (frames are the job of $(b,animate)); the page has a button that saves the \
+         current view as a PNG.";
+      `S Manpage.s_examples;
+      `Pre "  lancer watch scenes/showcase.rts";
+      `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480";
+    ]
   in
   let term =
-    Term.(const (fun scene port host poll width height samples depth domains quality quiet ->
-              let o = { (Cli.default_opts ()) with scene = Some scene; width; height; samples; depth; domains; quality; quiet } in
-              Cli.run ~interrupted:"the preview server stopped" (fun () -> run o ~host ~port ~poll))
-          $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality $ quiet)
+    Term.(
+      const (fun scene port host poll width height samples depth domains quality quiet ->
+          let o =
+            {
+              (Cli.default_opts ()) with
+              scene = Some scene;
+              width;
+              height;
+              samples;
+              depth;
+              domains;
+              quality;
+              quiet;
+            }
+          in
+          Cli.run ~interrupted:"the preview server stopped" (fun () ->
+              run o ~host ~port ~poll))
+      $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality
+      $ quiet)
   in
   Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term

@@ -30,10 +30,13 @@ let from_mpicc c =
 
 let () =
   C.main ~name:"lancer-mpi" (fun c ->
-      let found = match from_pkg_config c with Some r -> Some r | None -> from_mpicc c in
+      let found =
+        match from_pkg_config c with Some r -> Some r | None -> from_mpicc c
+      in
       match found with
       | Some (_, cflags, libs) ->
-          C.Flags.write_sexp "c_flags.sexp" ("-DLANCER_HAVE_MPI" :: List.filter (( <> ) "") cflags);
+          C.Flags.write_sexp "c_flags.sexp"
+            ("-DLANCER_HAVE_MPI" :: List.filter (( <> ) "") cflags);
           C.Flags.write_sexp "c_library_flags.sexp" (List.filter (( <> ) "") libs)
       | None ->
           prerr_endline

@@ -27,7 +27,11 @@ let render_unit ?cancel ?(on_tile = fun () -> ()) ~pool sc fb idxs =
 (* The floats of a unit travel as the rows of each tile in turn, 3 per pixel. Copying
    between [fb] and [buf] in one direction or the other. *)
 let pixel_count (all : (int * int * int * int) array) idxs =
-  Array.fold_left (fun acc k -> let x0, y0, x1, y1 = all.(k) in acc + (3 * (x1 - x0) * (y1 - y0))) 0 idxs
+  Array.fold_left
+    (fun acc k ->
+      let x0, y0, x1, y1 = all.(k) in
+      acc + (3 * (x1 - x0) * (y1 - y0)))
+    0 idxs
 
 let transfer ~to_buf (fb : Image.t) all idxs (buf : Mpi.floats) =
   let pos = ref 0 in
@@ -37,14 +41,19 @@ let transfer ~to_buf (fb : Image.t) all idxs (buf : Mpi.floats) =
       for j = y0 to y1 - 1 do
         let row = 3 * ((j * fb.width) + x0) in
         for c = 0 to (3 * (x1 - x0)) - 1 do
-          if to_buf then Bigarray.Array1.unsafe_set buf (!pos + c) (Float.Array.unsafe_get fb.data (row + c))
-          else Float.Array.unsafe_set fb.data (row + c) (Bigarray.Array1.unsafe_get buf (!pos + c))
+          if to_buf then
+            Bigarray.Array1.unsafe_set buf (!pos + c)
+              (Float.Array.unsafe_get fb.data (row + c))
+          else
+            Float.Array.unsafe_set fb.data (row + c)
+              (Bigarray.Array1.unsafe_get buf (!pos + c))
         done;
         pos := !pos + (3 * (x1 - x0))
       done)
     idxs
 
 let floats n = Bigarray.Array1.create Bigarray.float64 Bigarray.c_layout (max n 1)
+
 exception Worker_failed of int * string
 
 (* ---- Rank 0 ---- *)
@@ -53,7 +62,7 @@ exception Worker_failed of int * string
 type open_frame = {
   sc : Scene.t;
   all : (int * int * int * int) array;
-  todo : int array;  (* the tiles to render: all of them, or those a checkpoint lacks *)
+  todo : int array; (* the tiles to render: all of them, or those a checkpoint lacks *)
   fb : Image.t;
   mutable left : int;
   st : Stats.t;
@@ -63,7 +72,7 @@ type open_frame = {
    [unit_tiles] of [chunk] and the domains of the rank that asks. *)
 type cutter = {
   mutable pending : (int * (unit -> Scene.t)) list;
-  mutable current : (int * open_frame * int ref) option;  (* key, frame, next tile *)
+  mutable current : (int * open_frame * int ref) option; (* key, frame, next tile *)
   opened : (int, open_frame) Hashtbl.t;
   whole : bool;
   mutable chunk : int;
@@ -80,7 +89,9 @@ let open_next c =
       let fb, todo =
         match c.start key with
         | Some (fb, todo) -> (fb, todo)
-        | None -> (Image.create sc.settings.width sc.settings.height, Array.init (Array.length all) Fun.id)
+        | None ->
+            ( Image.create sc.settings.width sc.settings.height,
+              Array.init (Array.length all) Fun.id )
       in
       let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in
       Hashtbl.replace c.opened key f;
@@ -94,7 +105,8 @@ let whole_frames ~ranks ~frames = ranks = 1 || (frames >= ranks && frames > 1)
 (* A still, or fewer frames than ranks: chunks small enough that every rank gets several,
    for an even finish. *)
 let chunk ~ranks ~frames ~tiles =
-  if whole_frames ~ranks ~frames then None else Some (max 1 (tiles * frames / (4 * ranks)))
+  if whole_frames ~ranks ~frames then None
+  else Some (max 1 (tiles * frames / (4 * ranks)))
 
 (* What a rank of [domains] domains is given: about four tiles per domain at most, and
    never fewer tiles than it has domains (while the frame has them), even when that
@@ -108,19 +120,28 @@ let plan ~ranks ~domains tiles =
     match tiles with
     | [] -> max_int
     | first :: _ -> (
-        match chunk ~ranks ~frames ~tiles:first with None -> max_int | Some chunk -> unit_tiles ~chunk ~domains)
+        match chunk ~ranks ~frames ~tiles:first with
+        | None -> max_int
+        | Some chunk -> unit_tiles ~chunk ~domains)
   in
   List.concat
     (List.mapi
        (fun k n ->
-         let rec cut from = if from >= n then [] else (k, min cap (n - from)) :: cut (from + min cap (n - from)) in
+         let rec cut from =
+           if from >= n then []
+           else (k, min cap (n - from)) :: cut (from + min cap (n - from))
+         in
          cut 0)
        tiles)
 
 let rec next_unit c ~domains =
   match c.current with
   | Some (key, f, next) when !next < Array.length f.todo ->
-      let n = min (Array.length f.todo - !next) (if c.whole then max_int else unit_tiles ~chunk:c.chunk ~domains) in
+      let n =
+        min
+          (Array.length f.todo - !next)
+          (if c.whole then max_int else unit_tiles ~chunk:c.chunk ~domains)
+      in
       let u = { key; tiles = Array.sub f.todo !next n } in
       next := !next + n;
       Some u
@@ -141,7 +162,10 @@ let percentile p = function
   | l ->
       let a = Array.of_list l in
       Array.sort Float.compare a;
-      a.(max 0 (min (Array.length a - 1) (int_of_float (Float.ceil (p *. Float.of_int (Array.length a))) - 1)))
+      a.(max 0
+           (min
+              (Array.length a - 1)
+              (int_of_float (Float.ceil (p *. Float.of_int (Array.length a))) - 1)))
 
 (* Rank 0's own worker: a domain that renders, over rank 0's pool, the units the serving
    loop hands it, so that the serving loop (the only domain allowed to call MPI) stays
@@ -178,22 +202,39 @@ let local_worker ~render l () =
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 
-let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : renderer option) ?(local = true) ?cancel ~fatal
-    ~pool ~domains ~on_tiles ~on_frame frames =
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
+    ?(render : renderer option) ?(local = true) ?cancel ~fatal ~pool ~domains ~on_tiles
+    ~on_frame frames =
   let ranks = Mpi.size () in
   let total_tiles = ref 0 in
   (* Every rank renders, rank 0 included. *)
   let whole = whole_frames ~ranks ~frames:(List.length frames) in
-  let c = { pending = frames; current = None; opened = Hashtbl.create 8; whole; chunk = max_int; start } in
+  let c =
+    {
+      pending = frames;
+      current = None;
+      opened = Hashtbl.create 8;
+      whole;
+      chunk = max_int;
+      start;
+    }
+  in
   (* Otherwise chunks sized from the first frame's tile count, cut now. *)
-  if not whole then begin
-    match open_next c with
-    | Some (key, f) ->
-        c.current <- Some (key, f, ref 0);
-        c.chunk <- Option.value ~default:max_int (chunk ~ranks ~frames:(List.length frames) ~tiles:(Array.length f.todo))
-    | None -> ()
-  end;
-  let report = { units = Array.make ranks 0; tiles = Array.make ranks 0; waits = Array.make ranks [] } in
+  (if not whole then
+     match open_next c with
+     | Some (key, f) ->
+         c.current <- Some (key, f, ref 0);
+         c.chunk <-
+           Option.value ~default:max_int
+             (chunk ~ranks ~frames:(List.length frames) ~tiles:(Array.length f.todo))
+     | None -> ());
+  let report =
+    {
+      units = Array.make ranks 0;
+      tiles = Array.make ranks 0;
+      waits = Array.make ranks [];
+    }
+  in
   let failure = ref None in
   let finished key f =
     Hashtbl.remove c.opened key;
@@ -212,131 +253,153 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(render : rende
     report.tiles.(rank) <- report.tiles.(rank) + n;
     if f.left = 0 then finished key f
   in
-  if ranks = 1 then begin
-    (* One rank works alone: whole frames over its own pool, progress tile by tile. *)
-    let rec loop () =
-      match (!failure, next_unit c ~domains) with
-      | Some _, _ | None, None -> ()
-      | None, Some u ->
-          let f = Hashtbl.find c.opened u.key in
-          let base = !total_tiles and done_ = Atomic.make 0 in
-          let on_tile () = on_tiles (base + Atomic.fetch_and_add done_ 1 + 1) in
-          let st =
-            match render with
-            | Some r -> r ~pool f.sc f.fb u.tiles
-            | None -> render_unit ?cancel ~on_tile ~pool f.sc f.fb u.tiles
-          in
-          deposit 0 u.key u.tiles st;
-          loop ()
-    in
-    loop ()
-  end
-  else begin
-    let render = match render with Some r -> r ~pool | None -> fun sc fb tiles -> render_unit ?cancel ~pool sc fb tiles in
-    let buf = ref (floats 0) in
-    let active = ref (ranks - 1) in
-    let rank_domains = Array.make ranks 1 in
-    let reply dest =
-      let r = match !failure with Some _ -> None | None -> next_unit c ~domains:rank_domains.(dest) in
-      match r with
-      | Some u -> Mpi.send (Work u) ~dest ~tag:tag_reply
-      | None ->
-          Mpi.send Stop ~dest ~tag:tag_reply;
-          decr active
-    in
-    let l =
-      { lock = Mutex.create (); given = Condition.create (); task = None; quit = false;
-        result = Atomic.make None; crashed = Atomic.make None }
-    in
-    let helper = Domain.spawn (local_worker ~render l) in
-    let stop_local () =
-      Mutex.lock l.lock;
-      l.quit <- true;
-      Condition.signal l.given;
-      Mutex.unlock l.lock;
-      Domain.join helper
-    in
-    (* Whether rank 0's worker has a unit. *)
-    let local_busy = ref false in
-    let feed_local ~posted =
-      match (match !failure with Some _ -> None | None -> next_unit c ~domains) with
-      | None -> ()
-      | Some u ->
-          Option.iter (fun t -> report.waits.(0) <- (Unix.gettimeofday () -. t) :: report.waits.(0)) posted;
-          Mutex.lock l.lock;
-          l.task <- Some (u, Hashtbl.find c.opened u.key);
-          Condition.signal l.given;
-          Mutex.unlock l.lock;
-          local_busy := true
-    in
-    (* Rank 0's own unit, if it is done: deposited, and the next one handed over. *)
-    let collect_local () =
-      Option.iter raise (Atomic.get l.crashed);
-      Option.iter Cancel.check cancel;
-      match Atomic.get l.result with
-      | None -> false
-      | Some (u, r, posted) ->
-          Atomic.set l.result None;
-          local_busy := false;
-          (match r with
-          | Ok st ->
-              deposit 0 u.key u.tiles st;
-              on_tiles !total_tiles
-          | Error Sys.Break -> raise Sys.Break
-          | Error e -> if !failure = None then failure := Some e);
-          feed_local ~posted:(Some posted);
-          true
-    in
-    let handle src =
-      let (req : request), _, _ = Mpi.recv ~source:src ~tag:tag_request in
-      match req with
-      | Ready d ->
-          rank_domains.(src) <- max 1 d;
-          reply src
-      | Done (u, st, waited) ->
-          let f = Hashtbl.find c.opened u.key in
-          let n = pixel_count f.all u.tiles in
-          if Bigarray.Array1.dim !buf < n then buf := floats n;
-          let count, _, _ = Mpi.recv_floats !buf ~source:src ~tag:tag_pixels in
-          if count <> n then failwith (Printf.sprintf "rank %d sent %d floats for a unit of %d" src count n);
-          transfer ~to_buf:false f.fb f.all u.tiles !buf;
-          report.waits.(src) <- waited :: report.waits.(src);
-          deposit src u.key u.tiles st;
-          on_tiles !total_tiles;
-          reply src
-      | Failed m ->
-          if !failure = None then failure := Some (Worker_failed (src, m));
-          reply src
-    in
-    (* Serve without spinning, so that rank 0 leaves the cores to the rendering domains
+  (if ranks = 1 then
+     (* One rank works alone: whole frames over its own pool, progress tile by tile. *)
+     let rec loop () =
+       match (!failure, next_unit c ~domains) with
+       | Some _, _ | None, None -> ()
+       | None, Some u ->
+           let f = Hashtbl.find c.opened u.key in
+           let base = !total_tiles and done_ = Atomic.make 0 in
+           let on_tile () = on_tiles (base + Atomic.fetch_and_add done_ 1 + 1) in
+           let st =
+             match render with
+             | Some r -> r ~pool f.sc f.fb u.tiles
+             | None -> render_unit ?cancel ~on_tile ~pool f.sc f.fb u.tiles
+           in
+           deposit 0 u.key u.tiles st;
+           loop ()
+     in
+     loop ()
+   else
+     let render =
+       match render with
+       | Some r -> r ~pool
+       | None -> fun sc fb tiles -> render_unit ?cancel ~pool sc fb tiles
+     in
+     let buf = ref (floats 0) in
+     let active = ref (ranks - 1) in
+     let rank_domains = Array.make ranks 1 in
+     let reply dest =
+       let r =
+         match !failure with
+         | Some _ -> None
+         | None -> next_unit c ~domains:rank_domains.(dest)
+       in
+       match r with
+       | Some u -> Mpi.send (Work u) ~dest ~tag:tag_reply
+       | None ->
+           Mpi.send Stop ~dest ~tag:tag_reply;
+           decr active
+     in
+     let l =
+       {
+         lock = Mutex.create ();
+         given = Condition.create ();
+         task = None;
+         quit = false;
+         result = Atomic.make None;
+         crashed = Atomic.make None;
+       }
+     in
+     let helper = Domain.spawn (local_worker ~render l) in
+     let stop_local () =
+       Mutex.lock l.lock;
+       l.quit <- true;
+       Condition.signal l.given;
+       Mutex.unlock l.lock;
+       Domain.join helper
+     in
+     (* Whether rank 0's worker has a unit. *)
+     let local_busy = ref false in
+     let feed_local ~posted =
+       match match !failure with Some _ -> None | None -> next_unit c ~domains with
+       | None -> ()
+       | Some u ->
+           Option.iter
+             (fun t ->
+               report.waits.(0) <- (Unix.gettimeofday () -. t) :: report.waits.(0))
+             posted;
+           Mutex.lock l.lock;
+           l.task <- Some (u, Hashtbl.find c.opened u.key);
+           Condition.signal l.given;
+           Mutex.unlock l.lock;
+           local_busy := true
+     in
+     (* Rank 0's own unit, if it is done: deposited, and the next one handed over. *)
+     let collect_local () =
+       Option.iter raise (Atomic.get l.crashed);
+       Option.iter Cancel.check cancel;
+       match Atomic.get l.result with
+       | None -> false
+       | Some (u, r, posted) ->
+           Atomic.set l.result None;
+           local_busy := false;
+           (match r with
+           | Ok st ->
+               deposit 0 u.key u.tiles st;
+               on_tiles !total_tiles
+           | Error Sys.Break -> raise Sys.Break
+           | Error e -> if !failure = None then failure := Some e);
+           feed_local ~posted:(Some posted);
+           true
+     in
+     let handle src =
+       let (req : request), _, _ = Mpi.recv ~source:src ~tag:tag_request in
+       match req with
+       | Ready d ->
+           rank_domains.(src) <- max 1 d;
+           reply src
+       | Done (u, st, waited) ->
+           let f = Hashtbl.find c.opened u.key in
+           let n = pixel_count f.all u.tiles in
+           if Bigarray.Array1.dim !buf < n then buf := floats n;
+           let count, _, _ = Mpi.recv_floats !buf ~source:src ~tag:tag_pixels in
+           if count <> n then
+             failwith
+               (Printf.sprintf "rank %d sent %d floats for a unit of %d" src count n);
+           transfer ~to_buf:false f.fb f.all u.tiles !buf;
+           report.waits.(src) <- waited :: report.waits.(src);
+           deposit src u.key u.tiles st;
+           on_tiles !total_tiles;
+           reply src
+       | Failed m ->
+           if !failure = None then failure := Some (Worker_failed (src, m));
+           reply src
+     in
+     (* Serve without spinning, so that rank 0 leaves the cores to the rendering domains
        (MPI's blocking probe polls at full speed), yet answers within a quarter of a
        millisecond: a worker waits for its next unit meanwhile. *)
-    let pause = ref 0.00002 in
-    (* An exception here leaves workers waiting for an answer: end the whole job. *)
-    (try
-       if local then feed_local ~posted:None;
-       while !active > 0 || !local_busy do
-         let mine = collect_local () in
-         let theirs =
-           match Mpi.iprobe ~source:Mpi.any_source ~tag:tag_request with
-           | Some (src, _, _) -> handle src; true
-           | None -> false
-         in
-         if mine || theirs then pause := 0.00002
-         else begin
-           Unix.sleepf !pause;
-           pause := Float.min 0.00025 (!pause *. 2.)
-         end
-       done
-     with e -> Mpi.abort (fatal e));
-    stop_local ()
-  end;
+     let pause = ref 0.00002 in
+     (* An exception here leaves workers waiting for an answer: end the whole job. *)
+     (try
+        if local then feed_local ~posted:None;
+        while !active > 0 || !local_busy do
+          let mine = collect_local () in
+          let theirs =
+            match Mpi.iprobe ~source:Mpi.any_source ~tag:tag_request with
+            | Some (src, _, _) ->
+                handle src;
+                true
+            | None -> false
+          in
+          if mine || theirs then pause := 0.00002
+          else (
+            Unix.sleepf !pause;
+            pause := Float.min 0.00025 (!pause *. 2.))
+        done
+      with e -> Mpi.abort (fatal e));
+     stop_local ());
   match !failure with Some e -> raise e | None -> report
 
 (* ---- Other ranks ---- *)
 
 let work ?cancel ?render ~describe ~pool ~domains scene_of =
-  let render : renderer = match render with Some r -> r | None -> fun ~pool sc fb tiles -> render_unit ?cancel ~pool sc fb tiles in
+  let render : renderer =
+    match render with
+    | Some r -> r
+    | None -> fun ~pool sc fb tiles -> render_unit ?cancel ~pool sc fb tiles
+  in
   let cache = ref None in
   let scene key =
     match !cache with
@@ -345,7 +408,9 @@ let work ?cancel ?render ~describe ~pool ~domains scene_of =
         let (sc : Scene.t) = scene_of key in
         let fb =
           match !cache with
-          | Some (_, _, _, (fb : Image.t)) when fb.width = sc.settings.width && fb.height = sc.settings.height -> fb
+          | Some (_, _, _, (fb : Image.t))
+            when fb.width = sc.settings.width && fb.height = sc.settings.height ->
+              fb
           | _ -> Image.create sc.settings.width sc.settings.height
         in
         let all = Render.tiles sc in
@@ -358,16 +423,16 @@ let work ?cancel ?render ~describe ~pool ~domains scene_of =
   let rec loop asked =
     match (Mpi.recv ~source:0 ~tag:tag_reply : reply * int * int) with
     | Stop, _, _ -> ()
-    | Work u, _, _ ->
+    | Work u, _, _ -> (
         let waited = Unix.gettimeofday () -. asked in
-        (match
-           let sc, all, fb = scene u.key in
-           let st = render ~pool sc fb u.tiles in
-           let n = pixel_count all u.tiles in
-           if Bigarray.Array1.dim !buf < n then buf := floats n;
-           transfer ~to_buf:true fb all u.tiles !buf;
-           (st, n)
-         with
+        match
+          let sc, all, fb = scene u.key in
+          let st = render ~pool sc fb u.tiles in
+          let n = pixel_count all u.tiles in
+          if Bigarray.Array1.dim !buf < n then buf := floats n;
+          transfer ~to_buf:true fb all u.tiles !buf;
+          (st, n)
+        with
         | st, n ->
             let asked = Unix.gettimeofday () in
             Mpi.send (Done (u, st, waited)) ~dest:0 ~tag:tag_request;

@@ -1,16 +1,16 @@
-(** The client-server scheme over MPI: rank 0 hands out work units on
-    demand, gathers their pixels and hands each finished frame to its caller; every rank,
-    rank 0 too, renders the units it is given with its own pool of domains.
+(** The client-server scheme over MPI: rank 0 hands out work units on demand, gathers
+    their pixels and hands each finished frame to its caller; every rank, rank 0 too,
+    renders the units it is given with its own pool of domains.
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
     for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
     whole frames when there are at least as many frames as ranks (and more than one),
     otherwise chunks of a few tiles. Every rank renders units, rank 0 included: its main
     domain serves (only it may call MPI) while another domain renders rank 0's units over
-    its pool. Each tile is rendered by {!Lancer.Render.render_tile} from the same
-    scene, and its floats travel bit for bit, so the pixels are identical to a local
-    render whatever the number of ranks and domains. When rank 0 is alone it renders
-    the units itself, a whole frame at a time over its pool.
+    its pool. Each tile is rendered by {!Lancer.Render.render_tile} from the same scene,
+    and its floats travel bit for bit, so the pixels are identical to a local render
+    whatever the number of ranks and domains. When rank 0 is alone it renders the units
+    itself, a whole frame at a time over its pool.
 
     Failures: a worker that cannot evaluate the scene or render a unit reports it; rank 0
     then stops handing out work, lets every worker finish, and raises {!Worker_failed}, so
@@ -29,14 +29,14 @@ type report = {
   waits : float list array;
       (** per rank: each time it handed in a unit (or, first, said it was ready) and then
           waited for its next one, the seconds it waited, most recent first. For rank 0
-          that is its own serving loop's reaction; for the others it includes sending
-          the unit's floats. *)
+          that is its own serving loop's reaction; for the others it includes sending the
+          unit's floats. *)
 }
 (** What rank 0 saw of the scheme itself during {!serve}. *)
 
 val percentile : float -> float list -> float
-(** [percentile p l] is the smallest element of [l] with at least a share [p] (in
-    \[0, 1\]) of [l] at or below it; NaN for an empty [l]. *)
+(** [percentile p l] is the smallest element of [l] with at least a share [p] (in \[0,
+    1\]) of [l] at or below it; NaN for an empty [l]. *)
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 (** How a unit is rendered: {!render_unit} without progress, unless a measurement of the
@@ -61,34 +61,44 @@ val serve :
   on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
   (int * (unit -> Scene.t)) list ->
   report
-(** [serve ~fatal ~pool ~domains ~on_tiles ~on_frame frames] runs on rank 0 and is what
-    it saw. [start key], when it answers, gives a frame's framebuffer with some tiles
-    already in it and the tiles still to render (a resumed still); [on_unit key tiles
-    stats] is called as each unit's pixels are in the framebuffer (to keep a checkpoint).
-    [frames] lists the keys to render in order, with the scene of each (asked for once,
-    when its first unit is cut). [on_tiles n] is called as tiles finish, with the count
-    so far over all frames, from any domain; [on_frame key scene fb stats] as each frame
-    is complete (in any order), from the calling domain. Rank 0's own units are rendered
-    over [pool] ([domains] domains) by a domain it starts, one unit at a time (cut as for
-    any other rank), while the calling domain serves; with [~local:false] (for measuring
-    the serving alone) rank 0 only serves. Raises what [on_frame] raises, or
-    {!Worker_failed}, once every worker has stopped. [fatal e] reports an unexpected
-    exception and is the status the job is then aborted with. [cancel] stops rank 0's
-    own rendering as {!Lancer.Render.render_tiles} does, and the serving loop at its next
-    round (the job is then aborted with [fatal Sys.Break]). *)
+(** [serve ~fatal ~pool ~domains ~on_tiles ~on_frame frames] runs on rank 0 and is what it
+    saw. [start key], when it answers, gives a frame's framebuffer with some tiles already
+    in it and the tiles still to render (a resumed still); [on_unit key tiles stats] is
+    called as each unit's pixels are in the framebuffer (to keep a checkpoint). [frames]
+    lists the keys to render in order, with the scene of each (asked for once, when its
+    first unit is cut). [on_tiles n] is called as tiles finish, with the count so far over
+    all frames, from any domain; [on_frame key scene fb stats] as each frame is complete
+    (in any order), from the calling domain. Rank 0's own units are rendered over [pool]
+    ([domains] domains) by a domain it starts, one unit at a time (cut as for any other
+    rank), while the calling domain serves; with [~local:false] (for measuring the serving
+    alone) rank 0 only serves. Raises what [on_frame] raises, or {!Worker_failed}, once
+    every worker has stopped. [fatal e] reports an unexpected exception and is the status
+    the job is then aborted with. [cancel] stops rank 0's own rendering as
+    {!Lancer.Render.render_tiles} does, and the serving loop at its next round (the job is
+    then aborted with [fatal Sys.Break]). *)
 
 val work :
   ?cancel:Cancel.t ->
   ?render:renderer ->
-  describe:(exn -> string) -> pool:Pool.t option -> domains:int -> (int -> Scene.t) -> unit
-(** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0
-    says stop; [scene_of key] evaluates the scene of a frame. An exception from it or
-    from rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
+  describe:(exn -> string) ->
+  pool:Pool.t option ->
+  domains:int ->
+  (int -> Scene.t) ->
+  unit
+(** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0 says
+    stop; [scene_of key] evaluates the scene of a frame. An exception from it or from
+    rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
     [Sys.Break], which ends the job. *)
 
 val render_unit :
-  ?cancel:Cancel.t -> ?on_tile:(unit -> unit) -> pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
-(** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles]
-    into [fb] over [pool] through {!Lancer.Render.render_tiles}, the tile loop of every
-    render, and is their summed counters. [on_tile] is called after each tile, from
-    whichever domain rendered it. *)
+  ?cancel:Cancel.t ->
+  ?on_tile:(unit -> unit) ->
+  pool:Pool.t option ->
+  Scene.t ->
+  Image.t ->
+  int array ->
+  Stats.t
+(** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles] into
+    [fb] over [pool] through {!Lancer.Render.render_tiles}, the tile loop of every render,
+    and is their summed counters. [on_tile] is called after each tile, from whichever
+    domain rendered it. *)

@@ -19,21 +19,25 @@ type setup = Go of { filename : string; text : string } | Quit
 
 let user = Cli.user
 
-
 let ranks_text domains =
   match Mpi.size () with
   | 1 -> Printf.sprintf "1 rank, %d domain%s" domains (if domains = 1 then "" else "s")
-  | n -> Printf.sprintf "%d ranks × %d domain%s, rank 0 also serving" n domains (if domains = 1 then "" else "s")
+  | n ->
+      Printf.sprintf "%d ranks × %d domain%s, rank 0 also serving" n domains
+        (if domains = 1 then "" else "s")
 
 (* mpirun stops every rank with SIGTERM, on Ctrl-C and when a rank has died: rank 0 cannot
    tell which, and says both. *)
 let terminated =
-  "stopped by SIGTERM, which mpirun sends on Ctrl-C and when another rank has died (mpirun says which rank and why); no output was written"
+  "stopped by SIGTERM, which mpirun sends on Ctrl-C and when another rank has died \
+   (mpirun says which rank and why); no output was written"
 
 (* How rank 0 reports an exception that ends the job, and the status it ends with. *)
 let fatal e = Cli.run ~terminated (fun () -> raise e)
 
-let describe = function Cli.User_error m | Cli.Scene_error m -> m | e -> "internal error: " ^ Printexc.to_string e
+let describe = function
+  | Cli.User_error m | Cli.Scene_error m -> m
+  | e -> "internal error: " ^ Printexc.to_string e
 
 (* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
    state); [lead] runs on rank 0 with the pool its own units are rendered over;
@@ -50,7 +54,8 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         in
         ignore (Mpi.bcast (Go { filename = fst source; text = snd source }) ~root:0);
         let domains = Cli.domains o in
-        try Render.with_pool ~cancel domains (fun pool -> lead state ~cancel ~pool ~domains)
+        try
+          Render.with_pool ~cancel domains (fun pool -> lead state ~cancel ~pool ~domains)
         with Farm.Worker_failed (rank, m) -> user "rank %d: %s" rank m)
   else
     match Mpi.bcast Quit ~root:0 with
@@ -60,7 +65,11 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
            file missing on this node): they reach rank 0 through Farm and are reported
            there. *)
         let prog = lazy (Cli.load_source (filename, text)) in
-        let domains = match o.domains with Some n when n >= 1 -> n | _ -> max 1 (Domain.recommended_domain_count ()) in
+        let domains =
+          match o.domains with
+          | Some n when n >= 1 -> n
+          | _ -> max 1 (Domain.recommended_domain_count ())
+        in
         Render.with_pool domains (fun pool ->
             Farm.work ~describe ~pool ~domains (fun key -> scene_of (Lazy.force prog) key));
         0
@@ -68,19 +77,36 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
 (* What --stats adds under lancer-mpi: per rank, the units and tiles it rendered and how
    long it waited for each next unit (milliseconds: median, 90th percentile, largest). *)
 let report_json (r : Farm.report) =
-  let ms x = if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3) in
+  let ms x =
+    if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3)
+  in
   let waits l =
     `Assoc
-      [ ("count", `Int (List.length l)); ("median", ms (Farm.percentile 0.5 l));
-        ("p90", ms (Farm.percentile 0.9 l)); ("max", ms (List.fold_left Float.max Float.neg_infinity l)) ]
+      [
+        ("count", `Int (List.length l));
+        ("median", ms (Farm.percentile 0.5 l));
+        ("p90", ms (Farm.percentile 0.9 l));
+        ("max", ms (List.fold_left Float.max Float.neg_infinity l));
+      ]
   in
-  let others = List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1))) in
+  let others =
+    List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1)))
+  in
   let rank k =
-    `Assoc [ ("rank", `Int k); ("units", `Int r.units.(k)); ("tiles", `Int r.tiles.(k)); ("wait_ms", waits r.waits.(k)) ]
+    `Assoc
+      [
+        ("rank", `Int k);
+        ("units", `Int r.units.(k));
+        ("tiles", `Int r.tiles.(k));
+        ("wait_ms", waits r.waits.(k));
+      ]
   in
   `Assoc
-    [ ("units", `Int (Array.fold_left ( + ) 0 r.units)); ("reply_wait_ms", waits others);
-      ("ranks", `List (List.init (Array.length r.units) rank)) ]
+    [
+      ("units", `Int (Array.fold_left ( + ) 0 r.units));
+      ("reply_wait_ms", waits others);
+      ("ranks", `List (List.init (Array.length r.units) rank));
+    ]
 
 (* ---- render ---- *)
 
@@ -91,7 +117,10 @@ let render_cmd (o : Cli.opts) ~resume =
   in
   let prepare () =
     let out = Cli.default_output o in
-    if Cli.is_stdout out then user "lancer-mpi writes its image to a file; -o - (standard output) is for lancer render";
+    if Cli.is_stdout out then
+      user
+        "lancer-mpi writes its image to a file; -o - (standard output) is for lancer \
+         render";
     Cli.check_output out;
     Cli.check_stats_name o.stats;
     Option.iter Cli.check_writable o.stats;
@@ -110,13 +139,20 @@ let render_cmd (o : Cli.opts) ~resume =
       if not resume then None
       else
         let time, frame = Cli.time_of o prog in
-        Some (Lancer_cli.Checkpoint.start ~out ~key:(Lancer_cli.Checkpoint.key o prog ~time ~frame ~files) ~quiet:o.quiet sc)
+        Some
+          (Lancer_cli.Checkpoint.start ~out
+             ~key:(Lancer_cli.Checkpoint.key o prog ~time ~frame ~files)
+             ~quiet:o.quiet sc)
     in
     (source, (out, sc, build, ck))
   in
   let lead (out, sc, build, ck) ~cancel ~pool ~domains =
     let module Ck = Lancer_cli.Checkpoint in
-    let total = match ck with Some ck -> Array.length (Ck.todo ck) | None -> Array.length (Render.tiles sc) in
+    let total =
+      match ck with
+      | Some ck -> Array.length (Ck.todo ck)
+      | None -> Array.length (Render.tiles sc)
+    in
     let progress = Cli.progress o ~label:"tiles" ~total in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
@@ -130,7 +166,9 @@ let render_cmd (o : Cli.opts) ~resume =
     in
     let wall = Unix.gettimeofday () -. t0 in
     Progress.finish progress;
-    let fb, st = match !result with Some r -> r | None -> failwith "the frame never completed" in
+    let fb, st =
+      match !result with Some r -> r | None -> failwith "the frame never completed"
+    in
     let st = match ck with Some ck -> Ck.stats ck | None -> st in
     (* Every pixel is here and every worker has been told to stop: the job ends now, so
        that the workers leave before the image is written. A worker killed while rank 0
@@ -149,7 +187,8 @@ let render_cmd (o : Cli.opts) ~resume =
         in
         Cli.write_json ~cancel p j)
       o.stats;
-    if not o.quiet then print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
+    if not o.quiet then
+      print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog _ -> fst (still prog))
 
@@ -180,12 +219,16 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
     Progress.finish progress;
     Animate.finish p;
     if not o.quiet then
-      Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo) p.dir
-        (Unix.gettimeofday () -. t0) (Animate.describe_range p) (ranks_text domains);
+      Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo)
+        p.dir
+        (Unix.gettimeofday () -. t0)
+        (Animate.describe_range p) (ranks_text domains);
     Option.iter (Animate.make_video p) a.video
   in
   let animation prog =
-    match Dsl.animation prog with Some (fps, _) -> fps | None -> user "the scene has no animation block"
+    match Dsl.animation prog with
+    | Some (fps, _) -> fps
+    | None -> user "the scene has no animation block"
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
       Cli.scene_at o prog ~time:(Float.of_int k /. animation prog) ~frame:k)
@@ -193,36 +236,59 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
 (* ---- command line ---- *)
 
 let exits =
-  Cmd.Exit.info 0 ~doc:"on success."
-  :: Cmd.Exit.info 1 ~doc:"on a user error (scene, option or file), reported once by rank 0; every rank exits so."
-  :: Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it)."
-  :: []
+  [
+    Cmd.Exit.info 0 ~doc:"on success.";
+    Cmd.Exit.info 1
+      ~doc:
+        "on a user error (scene, option or file), reported once by rank 0; every rank \
+         exits so.";
+    Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it).";
+  ]
 
 let render =
   let doc = "render a scene to a PNG or PPM image over MPI ranks" in
   let man =
-    [ `S Manpage.s_description;
-      `P "The same options and the same image bytes as $(b,lancer render). Rank 0 reads the scene and hands out tiles; every other rank renders them with $(b,--domains) domains.";
-      `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi render scenes/showcase.rts -o showcase.png --domains 2";
-      `Pre "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 --height 2160 --quality final --resume" ]
+    [
+      `S Manpage.s_description;
+      `P
+        "The same options and the same image bytes as $(b,lancer render). Rank 0 reads \
+         the scene and hands out tiles; every other rank renders them with \
+         $(b,--domains) domains.";
+      `S Manpage.s_examples;
+      `Pre
+        "  mpirun -np 4 lancer-mpi render scenes/showcase.rts -o showcase.png --domains 2";
+      `Pre
+        "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 \
+         --height 2160 --quality final --resume";
+    ]
   in
-  Cmd.v (Cmd.info "render" ~doc ~man ~exits) Term.(const (fun o resume -> render_cmd o ~resume) $ Cli.opts_term $ Cli.resume_still)
+  Cmd.v
+    (Cmd.info "render" ~doc ~man ~exits)
+    Term.(const (fun o resume -> render_cmd o ~resume) $ Cli.opts_term $ Cli.resume_still)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png … over MPI ranks" in
   let man =
-    [ `S Manpage.s_description;
-      `P "The same options and the same frames as $(b,lancer animate). Rank 0 hands out whole frames (tiles when there are fewer frames than ranks) and writes each frame once it is complete.";
-      `S Manpage.s_examples; `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume" ]
+    [
+      `S Manpage.s_description;
+      `P
+        "The same options and the same frames as $(b,lancer animate). Rank 0 hands out \
+         whole frames (tiles when there are fewer frames than ranks) and writes each \
+         frame once it is complete.";
+      `S Manpage.s_examples;
+      `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume";
+    ]
   in
-  Cmd.v (Cmd.info "animate" ~doc ~man ~exits)
+  Cmd.v
+    (Cmd.info "animate" ~doc ~man ~exits)
     Term.(const animate_cmd $ Cli.(term Animate) $ Animate.options_term)
 
 let () =
-  if not Mpi.available then begin
-    prerr_endline "lancer-mpi: this lancer was built without Open MPI (mpicc was not on PATH); install libopenmpi-dev and rebuild";
-    exit 1
-  end;
+  if not Mpi.available then (
+    prerr_endline
+      "lancer-mpi: this lancer was built without Open MPI (mpicc was not on PATH); \
+       install libopenmpi-dev and rebuild";
+    exit 1);
   Mpi.init ();
   at_exit Mpi.finalize;
   let info =
@@ -238,5 +304,7 @@ let () =
       Cmd.eval' ~help:null ~err:null cmd
   in
   if code = Cmd.Exit.cli_error && Mpi.rank () = 0 then
-    Option.iter (fun h -> prerr_endline ("lancer-mpi: " ^ h)) (Cli.negative_value_hint Sys.argv);
+    Option.iter
+      (fun h -> prerr_endline ("lancer-mpi: " ^ h))
+      (Cli.negative_value_hint Sys.argv);
   exit (Cli.status_of_eval code)

@@ -31,7 +31,9 @@ let any_source = -1
 let any_tag = -1
 
 (* MPI guarantees tags up to 32767 at least. *)
-let check_tag tag = if tag < 0 || tag > 32767 then invalid_arg (Printf.sprintf "Mpi: tag %d is not in [0, 32767]" tag)
+let check_tag tag =
+  if tag < 0 || tag > 32767 then
+    invalid_arg (Printf.sprintf "Mpi: tag %d is not in [0, 32767]" tag)
 
 let send_bytes b ~dest ~tag =
   check_tag tag;

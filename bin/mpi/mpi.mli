@@ -5,9 +5,9 @@
     the OCaml runtime lock meanwhile, so other domains keep running. MPI's default error
     handler is kept: an MPI error, or a rank that dies, aborts the whole job.
 
-    OCaml values travel marshalled ({!send}, {!recv}): a receiver must know the type a
-    tag carries, exactly as with [Marshal], and all ranks must run the same executable.
-    Float arrays travel as raw IEEE doubles, bit for bit.
+    OCaml values travel marshalled ({!send}, {!recv}): a receiver must know the type a tag
+    carries, exactly as with [Marshal], and all ranks must run the same executable. Float
+    arrays travel as raw IEEE doubles, bit for bit.
 
     When lancer was built without Open MPI ({!available} is [false]), every function but
     {!available}, {!initialized}, {!finalize} and {!abort} raises [Failure] saying so. *)
@@ -49,8 +49,8 @@ val any_tag : int
 (** {1 Bytes and marshalled values} *)
 
 val send_bytes : bytes -> dest:int -> tag:int -> unit
-(** [send_bytes b ~dest ~tag] sends [b] (copied first; [b] may be reused at once).
-    Tags are in [0, 32767]. Blocks until MPI no longer needs the copy. *)
+(** [send_bytes b ~dest ~tag] sends [b] (copied first; [b] may be reused at once). Tags
+    are in [0, 32767]. Blocks until MPI no longer needs the copy. *)
 
 val recv_bytes : source:int -> tag:int -> bytes * int * int
 (** [recv_bytes ~source ~tag] is (data, source, tag) of the next matching message of any
@@ -64,8 +64,8 @@ val send : 'a -> dest:int -> tag:int -> unit
 (** [send v ~dest ~tag] sends [v] marshalled (no closures). *)
 
 val recv : source:int -> tag:int -> 'a * int * int
-(** [recv ~source ~tag] is (value, source, tag). The type is the caller's promise, as
-    with [Marshal.from_bytes]. *)
+(** [recv ~source ~tag] is (value, source, tag). The type is the caller's promise, as with
+    [Marshal.from_bytes]. *)
 
 val bcast : 'a -> root:int -> 'a
 (** {!bcast_bytes} of a marshalled value. *)
@@ -75,13 +75,13 @@ val bcast : 'a -> root:int -> 'a
 type floats = (float, Bigarray.float64_elt, Bigarray.c_layout) Bigarray.Array1.t
 
 val send_floats : ?len:int -> floats -> dest:int -> tag:int -> unit
-(** [send_floats a ~dest ~tag] sends the first [len] (default all) elements of [a],
-    in place (no copy). *)
+(** [send_floats a ~dest ~tag] sends the first [len] (default all) elements of [a], in
+    place (no copy). *)
 
 val recv_floats : floats -> source:int -> tag:int -> int * int * int
 (** [recv_floats a ~source ~tag] receives the next matching message of doubles into the
-    start of [a] and is (count, source, tag). Raises [Invalid_argument] (the message
-    is then dropped) when it holds more than [Bigarray.Array1.dim a] elements. *)
+    start of [a] and is (count, source, tag). Raises [Invalid_argument] (the message is
+    then dropped) when it holds more than [Bigarray.Array1.dim a] elements. *)
 
 (** {1 Looking before receiving} *)
 

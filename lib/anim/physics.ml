@@ -33,9 +33,9 @@ type event = { time : float; body : string; target : target; kind : kind; speed 
 type seg = { t0 : float; p0 : V.t; v0 : V.t; acc : V.t }
 
 type track =
-  | Segments of seg array  (* Exact: sorted by t0, the first at t0 = 0 *)
+  | Segments of seg array (* Exact: sorted by t0, the first at t0 = 0 *)
   | Steps of { dt : float; ps : V.t array; vs : V.t array; gravity : V.t }
-      (* fixed step: the state at k·dt *)
+(* fixed step: the state at k·dt *)
 
 type trajectory = {
   names : string array;
@@ -61,7 +61,8 @@ let eval c x =
   done;
   !r
 
-let deriv c = Array.init (Int.max 0 (Array.length c - 1)) (fun k -> float (k + 1) *. c.(k + 1))
+let deriv c =
+  Array.init (Int.max 0 (Array.length c - 1)) (fun k -> float (k + 1) *. c.(k + 1))
 
 let degree c =
   let d = ref (Array.length c - 1) in
@@ -93,7 +94,7 @@ let bisect c lo hi =
     else
       let fm = eval c mid in
       if fm = 0. then mid
-      else if (fm < 0.) = (flo < 0.) then go mid hi fm (n - 1)
+      else if fm < 0. = (flo < 0.) then go mid hi fm (n - 1)
       else go lo mid flo (n - 1)
   in
   go lo hi flo 200
@@ -113,7 +114,10 @@ let rec roots_in c lo hi =
         | x0 :: (x1 :: _ as rest) ->
             let f0 = eval c x0 and f1 = eval c x1 in
             let acc = if f0 = 0. then x0 :: acc else acc in
-            let acc = if f0 <> 0. && f1 <> 0. && f0 < 0. <> (f1 < 0.) then bisect c x0 x1 :: acc else acc in
+            let acc =
+              if f0 <> 0. && f1 <> 0. && f0 < 0. <> (f1 < 0.) then bisect c x0 x1 :: acc
+              else acc
+            in
             scan acc rest
         | [ x ] -> if eval c x = 0. then x :: acc else acc
         | [] -> acc
@@ -122,21 +126,27 @@ let rec roots_in c lo hi =
 
 (* |D + W·τ + ½·A·τ²|² − R², as coefficients. *)
 let dist2_poly d w a r =
-  [| V.dot d d -. (r *. r); 2. *. V.dot d w; V.dot w w +. V.dot d a; V.dot w a; 0.25 *. V.dot a a |]
+  [|
+    V.dot d d -. (r *. r);
+    2. *. V.dot d w;
+    V.dot w w +. V.dot d a;
+    V.dot w a;
+    0.25 *. V.dot a a;
+  |]
 
 (* ---------- Features of the static colliders ---------- *)
 
 type feature =
   | Face of {
-      n : V.t;  (* unit normal *)
-      d : float;  (* n·P = d *)
+      n : V.t; (* unit normal *)
+      d : float; (* n·P = d *)
       finite : bool;
       origin : V.t;
-      alpha : V.t;  (* u = alpha·(P − origin) *)
-      beta : V.t;  (* v = beta·(P − origin) *)
+      alpha : V.t; (* u = alpha·(P − origin) *)
+      beta : V.t; (* v = beta·(P − origin) *)
       owner : int;
     }
-  | Edge of { a : V.t; u : V.t; len : float; owner : int }  (* capsule around a segment *)
+  | Edge of { a : V.t; u : V.t; len : float; owner : int } (* capsule around a segment *)
   | Corner of { c : V.t; owner : int }
 
 let owner = function Face f -> f.owner | Edge e -> e.owner | Corner c -> c.owner
@@ -163,23 +173,51 @@ let edge_of owner a b =
 let features_of i = function
   | Plane { normal; offset } ->
       let n = V.normalize normal in
-      [ Face { n; d = offset; finite = false; origin = V.zero; alpha = V.zero; beta = V.zero; owner = i } ]
+      [
+        Face
+          {
+            n;
+            d = offset;
+            finite = false;
+            origin = V.zero;
+            alpha = V.zero;
+            beta = V.zero;
+            owner = i;
+          };
+      ]
   | Parallelogram { origin; edge1; edge2 } ->
       let p1 = V.add origin edge1 and p2 = V.add origin edge2 in
       let p12 = V.add p1 edge2 in
-      [ face_of i origin edge1 edge2;
-        edge_of i origin p1; edge_of i origin p2; edge_of i p1 p12; edge_of i p2 p12;
-        Corner { c = origin; owner = i }; Corner { c = p1; owner = i };
-        Corner { c = p2; owner = i }; Corner { c = p12; owner = i } ]
+      [
+        face_of i origin edge1 edge2;
+        edge_of i origin p1;
+        edge_of i origin p2;
+        edge_of i p1 p12;
+        edge_of i p2 p12;
+        Corner { c = origin; owner = i };
+        Corner { c = p1; owner = i };
+        Corner { c = p2; owner = i };
+        Corner { c = p12; owner = i };
+      ]
   | Box { min = lo; max = hi } ->
-      let ex = V.v (hi.x -. lo.x) 0. 0. and ey = V.v 0. (hi.y -. lo.y) 0.
+      let ex = V.v (hi.x -. lo.x) 0. 0.
+      and ey = V.v 0. (hi.y -. lo.y) 0.
       and ez = V.v 0. 0. (hi.z -. lo.z) in
       let corner bx by bz =
-        V.v (if bx then hi.x else lo.x) (if by then hi.y else lo.y) (if bz then hi.z else lo.z)
+        V.v
+          (if bx then hi.x else lo.x)
+          (if by then hi.y else lo.y)
+          (if bz then hi.z else lo.z)
       in
       let faces =
-        [ face_of i lo ey ez; face_of i (V.add lo ex) ey ez; face_of i lo ex ez;
-          face_of i (V.add lo ey) ex ez; face_of i lo ex ey; face_of i (V.add lo ez) ex ey ]
+        [
+          face_of i lo ey ez;
+          face_of i (V.add lo ex) ey ez;
+          face_of i lo ex ez;
+          face_of i (V.add lo ey) ex ez;
+          face_of i lo ex ey;
+          face_of i (V.add lo ez) ex ey;
+        ]
       in
       let bools = [ false; true ] in
       let edges =
@@ -187,16 +225,21 @@ let features_of i = function
           (fun b1 ->
             List.concat_map
               (fun b2 ->
-                [ edge_of i (corner false b1 b2) (corner true b1 b2);
+                [
+                  edge_of i (corner false b1 b2) (corner true b1 b2);
                   edge_of i (corner b1 false b2) (corner b1 true b2);
-                  edge_of i (corner b1 b2 false) (corner b1 b2 true) ])
+                  edge_of i (corner b1 b2 false) (corner b1 b2 true);
+                ])
               bools)
           bools
       in
       let corners =
         List.concat_map
           (fun bx ->
-            List.concat_map (fun by -> List.map (fun bz -> Corner { c = corner bx by bz; owner = i }) bools) bools)
+            List.concat_map
+              (fun by ->
+                List.map (fun bz -> Corner { c = corner bx by bz; owner = i }) bools)
+              bools)
           bools
       in
       faces @ edges @ corners
@@ -230,7 +273,7 @@ let project (cons : constraints) x =
   | _ -> V.zero
 
 type action =
-  | Hit of { feature : int; side : float }  (* side: ±1 for faces, unused otherwise *)
+  | Hit of { feature : int; side : float } (* side: ±1 for faces, unused otherwise *)
   | Leave_face of int
   | Hit_body of int
 
@@ -249,32 +292,36 @@ let first_contact ?(settle = false) c ~overlapping ~min_slope ~horizon valid =
     && (slope0 < -.min_slope || (settle && slope0 <= min_slope && eval (deriv dc) 0. < 0.))
   then Some 0.
   else
-    List.find_opt (fun tau -> tau > 0. && eval dc tau < -.min_slope && valid tau) (roots_in c 0. horizon)
+    List.find_opt
+      (fun tau -> tau > 0. && eval dc tau < -.min_slope && valid tau)
+      (roots_in c 0. horizon)
 
 (* Approach speeds below this (m/s) are grazing touches, not impacts. *)
 let min_speed = 1e-9
-
 let perp u x = V.madd x (-.V.dot x u) u
 
 let static_contact feats (b : body) seg (cons : constraints) horizon =
   let best = ref None in
   let consider tau action =
-    match !best with
-    | Some (t, _) when t <= tau -> ()
-    | _ -> best := Some (tau, action)
+    match !best with Some (t, _) when t <= tau -> () | _ -> best := Some (tau, action)
   in
   Array.iteri
     (fun fi f ->
       if not (List.mem_assoc fi cons) then
         match f with
         | Face { n; d; finite; origin; alpha; beta; _ } ->
-            let s0 = V.dot n seg.p0 -. d and sv = V.dot n seg.v0 and sa = V.dot n seg.acc in
+            let s0 = V.dot n seg.p0 -. d
+            and sv = V.dot n seg.v0
+            and sa = V.dot n seg.acc in
             let valid tau = (not finite) || in_face alpha beta origin (pos seg tau) in
             List.iter
               (fun side ->
                 let c = [| (side *. s0) -. b.radius; side *. sv; 0.5 *. side *. sa |] in
                 let overlapping = side *. s0 >= 0. && side *. s0 <= b.radius in
-                match first_contact ~settle:true c ~overlapping ~min_slope:min_speed ~horizon valid with
+                match
+                  first_contact ~settle:true c ~overlapping ~min_slope:min_speed ~horizon
+                    valid
+                with
                 | Some tau -> consider tau (Hit { feature = fi; side })
                 | None -> ())
               [ 1.; -1. ]
@@ -287,12 +334,18 @@ let static_contact feats (b : body) seg (cons : constraints) horizon =
             in
             Option.iter
               (fun tau -> consider tau (Hit { feature = fi; side = 1. }))
-              (first_contact c ~overlapping:(c.(0) <= 0.) ~min_slope:(2. *. b.radius *. min_speed) ~horizon valid)
+              (first_contact c
+                 ~overlapping:(c.(0) <= 0.)
+                 ~min_slope:(2. *. b.radius *. min_speed)
+                 ~horizon valid)
         | Corner { c = p; _ } ->
             let c = dist2_poly (V.sub seg.p0 p) seg.v0 seg.acc b.radius in
             Option.iter
               (fun tau -> consider tau (Hit { feature = fi; side = 1. }))
-              (first_contact c ~overlapping:(c.(0) <= 0.) ~min_slope:(2. *. b.radius *. min_speed) ~horizon
+              (first_contact c
+                 ~overlapping:(c.(0) <= 0.)
+                 ~min_slope:(2. *. b.radius *. min_speed)
+                 ~horizon
                  (fun _ -> true)))
     feats;
   (* A body resting on a finite face leaves it when its centre crosses the border. *)
@@ -306,7 +359,9 @@ let static_contact feats (b : body) seg (cons : constraints) horizon =
               let c = [| V.dot w q0 -. bound; V.dot w seg.v0; 0.5 *. V.dot w seg.acc |] in
               let dc = deriv c in
               match
-                List.find_opt (fun tau -> tau > 0. && dir *. eval dc tau > 0.) (roots_in c 0. horizon)
+                List.find_opt
+                  (fun tau -> tau > 0. && dir *. eval dc tau > 0.)
+                  (roots_in c 0. horizon)
               with
               | Some tau -> consider tau (Leave_face feature)
               | None -> ())
@@ -322,7 +377,12 @@ let pair_contact (bi : body) (bj : body) si sj j horizon_end =
   let a = V.sub sj.acc si.acc in
   let c = dist2_poly d w a (bi.radius +. bj.radius) in
   let min_slope = 2. *. (bi.radius +. bj.radius) *. min_speed in
-  match first_contact c ~overlapping:(c.(0) <= 0.) ~min_slope ~horizon:(horizon_end -. tb) (fun _ -> true) with
+  match
+    first_contact c
+      ~overlapping:(c.(0) <= 0.)
+      ~min_slope ~horizon:(horizon_end -. tb)
+      (fun _ -> true)
+  with
   | Some tau -> Some { at = tb +. tau; tau; action = Hit_body j }
   | None -> None
 
@@ -330,8 +390,10 @@ let validate world bodies =
   if not (world.step > 0.) then invalid_arg "Physics.simulate: step must be > 0";
   List.iteri
     (fun i (b : body) ->
-      if not (b.radius > 0.) then invalid_arg ("Physics.simulate: radius of " ^ b.name ^ " must be > 0");
-      if not (b.mass > 0.) then invalid_arg ("Physics.simulate: mass of " ^ b.name ^ " must be > 0");
+      if not (b.radius > 0.) then
+        invalid_arg ("Physics.simulate: radius of " ^ b.name ^ " must be > 0");
+      if not (b.mass > 0.) then
+        invalid_arg ("Physics.simulate: mass of " ^ b.name ^ " must be > 0");
       if not (b.restitution >= 0. && b.restitution <= 1.) then
         invalid_arg ("Physics.simulate: restitution of " ^ b.name ^ " must be in [0, 1]");
       List.iteri
@@ -354,11 +416,16 @@ let slow g (b : body) vn = vn *. vn < 2. *. V.length g *. rest_fraction *. b.rad
 let simulate_exact world feats (bodies : body array) ~until =
   let g = world.gravity in
   let nb = Array.length bodies in
-  let segs = Array.map (fun (b : body) -> [ { t0 = 0.; p0 = b.center; v0 = b.velocity; acc = g } ]) bodies in
+  let segs =
+    Array.map
+      (fun (b : body) -> [ { t0 = 0.; p0 = b.center; v0 = b.velocity; acc = g } ])
+      bodies
+  in
   let cur i = List.hd segs.(i) in
   let cons = Array.make nb ([] : constraints) in
   let static_c = Array.make nb None and static_dirty = Array.make nb true in
-  let pair_c = Array.make_matrix nb nb None and pair_dirty = Array.make_matrix nb nb true in
+  let pair_c = Array.make_matrix nb nb None
+  and pair_dirty = Array.make_matrix nb nb true in
   let evs = ref [] and count = ref 0 in
   let set_state i t p v =
     let acc = project cons.(i) g in
@@ -390,7 +457,8 @@ let simulate_exact world feats (bodies : body array) ~until =
     for i = 0 to nb - 1 do
       if static_dirty.(i) then (
         let s = cur i in
-        static_c.(i) <- static_contact feats bodies.(i) s cons.(i) (Float.max 0. (until -. s.t0));
+        static_c.(i) <-
+          static_contact feats bodies.(i) s cons.(i) (Float.max 0. (until -. s.t0));
         static_dirty.(i) <- false);
       for j = i + 1 to nb - 1 do
         if pair_dirty.(i).(j) then (
@@ -424,7 +492,13 @@ let simulate_exact world feats (bodies : body array) ~until =
               cons.(i) <- List.filter (fun (f, _) -> f <> feature) cons.(i);
               set_state i t (pos s c.tau) (vel s c.tau);
               evs :=
-                { time = t; body = b.name; target = Collider (owner feats.(feature)); kind = Leave; speed = 0. }
+                {
+                  time = t;
+                  body = b.name;
+                  target = Collider (owner feats.(feature));
+                  kind = Leave;
+                  speed = 0.;
+                }
                 :: !evs
           | Hit { feature; side } ->
               let t = c.at in
@@ -455,7 +529,15 @@ let simulate_exact world feats (bodies : body array) ~until =
                   else (Bounce, v')
               in
               set_state i t p v';
-              evs := { time = t; body = b.name; target = Collider (owner feats.(feature)); kind; speed = -.vn } :: !evs
+              evs :=
+                {
+                  time = t;
+                  body = b.name;
+                  target = Collider (owner feats.(feature));
+                  kind;
+                  speed = -.vn;
+                }
+                :: !evs
           | Hit_body j ->
               let bj = bodies.(j) in
               let sj = cur j in
@@ -470,7 +552,8 @@ let simulate_exact world feats (bodies : body array) ~until =
                  is projected on its free motions, which lowers its effective inverse mass
                  along n; pushed away from a support, it is free (and [settle] lifts it). *)
               let free k dir =
-                if List.exists (fun (_, ns) -> V.dot dir ns > 0.) cons.(k) then dir else project cons.(k) dir
+                if List.exists (fun (_, ns) -> V.dot dir ns > 0.) cons.(k) then dir
+                else project cons.(k) dir
               in
               let di = free i (V.neg n) and dj = free j n in
               let wi = 1. /. b.mass and wj = 1. /. bj.mass in
@@ -480,7 +563,15 @@ let simulate_exact world feats (bodies : body array) ~until =
               let vj' = settle j (V.madd vj (jimp *. wj) dj) in
               set_state i t pi vi';
               set_state j t pj vj';
-              evs := { time = t; body = b.name; target = Body bj.name; kind = Bounce; speed = -.vrel } :: !evs);
+              evs :=
+                {
+                  time = t;
+                  body = b.name;
+                  target = Body bj.name;
+                  kind = Bounce;
+                  speed = -.vrel;
+                }
+                :: !evs);
           loop ())
     | _ -> ()
   in
@@ -494,7 +585,9 @@ let simulate_exact world feats (bodies : body array) ~until =
 let closest_on_segment a b p =
   let e = V.sub b a in
   let l2 = V.dot e e in
-  let t = if l2 = 0. then 0. else Float.min 1. (Float.max 0. (V.dot (V.sub p a) e /. l2)) in
+  let t =
+    if l2 = 0. then 0. else Float.min 1. (Float.max 0. (V.dot (V.sub p a) e /. l2))
+  in
   V.madd a t e
 
 (* Push a body out of a collider it penetrates; the contact normal if it did. *)
@@ -520,7 +613,8 @@ let push_out collider (b : body) p v =
   | Parallelogram { origin; edge1; edge2 } ->
       let nn = V.cross edge1 edge2 in
       let nn2 = V.dot nn nn in
-      let alpha = V.smul (1. /. nn2) (V.cross edge2 nn) and beta = V.smul (1. /. nn2) (V.cross nn edge1) in
+      let alpha = V.smul (1. /. nn2) (V.cross edge2 nn)
+      and beta = V.smul (1. /. nn2) (V.cross nn edge1) in
       let n = V.normalize nn in
       let s = V.dot n (V.sub p origin) in
       let fallback = side n s in
@@ -528,10 +622,15 @@ let push_out collider (b : body) p v =
       else
         let p1 = V.add origin edge1 and p2 = V.add origin edge2 in
         let p12 = V.add p1 edge2 in
-        let cands = List.map (fun (a, b) -> closest_on_segment a b p) [ (origin, p1); (origin, p2); (p1, p12); (p2, p12) ] in
+        let cands =
+          List.map
+            (fun (a, b) -> closest_on_segment a b p)
+            [ (origin, p1); (origin, p2); (p1, p12); (p2, p12) ]
+        in
         let c =
           List.fold_left
-            (fun best c -> if V.length2 (V.sub p c) < V.length2 (V.sub p best) then c else best)
+            (fun best c ->
+              if V.length2 (V.sub p c) < V.length2 (V.sub p best) then c else best)
             (List.hd cands) (List.tl cands)
         in
         from_point c fallback
@@ -541,22 +640,33 @@ let push_out collider (b : body) p v =
       else
         (* Centre inside the box: out through the nearest face. *)
         let faces =
-          [ (p.x -. lo.x, V.neg V.x_axis); (hi.x -. p.x, V.x_axis); (p.y -. lo.y, V.neg V.y_axis);
-            (hi.y -. p.y, V.y_axis); (p.z -. lo.z, V.neg V.z_axis); (hi.z -. p.z, V.z_axis) ]
+          [
+            (p.x -. lo.x, V.neg V.x_axis);
+            (hi.x -. p.x, V.x_axis);
+            (p.y -. lo.y, V.neg V.y_axis);
+            (hi.y -. p.y, V.y_axis);
+            (p.z -. lo.z, V.neg V.z_axis);
+            (hi.z -. p.z, V.z_axis);
+          ]
         in
         let d, n =
-          List.fold_left (fun (bd, bn) (d, n) -> if d < bd then (d, n) else (bd, bn)) (List.hd faces) (List.tl faces)
+          List.fold_left
+            (fun (bd, bn) (d, n) -> if d < bd then (d, n) else (bd, bn))
+            (List.hd faces) (List.tl faces)
         in
         Some (V.madd p (d +. r) n, n)
 
 let simulate_fixed world colliders (bodies : body array) ~until =
   let g = world.gravity and dt = world.step in
   let nb = Array.length bodies in
-  let nsteps = if until <= 0. then 0 else int_of_float (Float.ceil ((until /. dt) -. 1e-9)) in
+  let nsteps =
+    if until <= 0. then 0 else int_of_float (Float.ceil ((until /. dt) -. 1e-9))
+  in
   let ps = Array.map (fun (b : body) -> Array.make (nsteps + 1) b.center) bodies in
   let vs = Array.map (fun (b : body) -> Array.make (nsteps + 1) b.velocity) bodies in
   let evs = ref [] in
-  let p = Array.map (fun (b : body) -> b.center) bodies and v = Array.map (fun (b : body) -> b.velocity) bodies in
+  let p = Array.map (fun (b : body) -> b.center) bodies
+  and v = Array.map (fun (b : body) -> b.velocity) bodies in
   for k = 1 to nsteps do
     let t = float k *. dt in
     for i = 0 to nb - 1 do
@@ -580,7 +690,15 @@ let simulate_fixed world colliders (bodies : body array) ~until =
               let vn = V.dot v.(i) n in
               if vn < 0. then (
                 v.(i) <- V.madd v.(i) (-.(1. +. b.restitution) *. vn) n;
-                evs := { time = t; body = b.name; target = Collider ci; kind = Bounce; speed = -.vn } :: !evs))
+                evs :=
+                  {
+                    time = t;
+                    body = b.name;
+                    target = Collider ci;
+                    kind = Bounce;
+                    speed = -.vn;
+                  }
+                  :: !evs))
         colliders
     done;
     for i = 0 to nb - 1 do
@@ -596,10 +714,20 @@ let simulate_fixed world colliders (bodies : body array) ~until =
           p.(j) <- V.madd p.(j) (overlap *. wj /. (wi +. wj)) n;
           let vrel = V.dot (V.sub v.(j) v.(i)) n in
           if vrel < 0. then (
-            let jimp = -.(1. +. (bi.restitution *. bj.restitution)) *. vrel /. (wi +. wj) in
+            let jimp =
+              -.(1. +. (bi.restitution *. bj.restitution)) *. vrel /. (wi +. wj)
+            in
             v.(i) <- V.madd v.(i) (-.jimp *. wi) n;
             v.(j) <- V.madd v.(j) (jimp *. wj) n;
-            evs := { time = t; body = bi.name; target = Body bj.name; kind = Bounce; speed = -.vrel } :: !evs))
+            evs :=
+              {
+                time = t;
+                body = bi.name;
+                target = Body bj.name;
+                kind = Bounce;
+                speed = -.vrel;
+              }
+              :: !evs))
       done
     done;
     for i = 0 to nb - 1 do
@@ -607,7 +735,9 @@ let simulate_fixed world colliders (bodies : body array) ~until =
       vs.(i).(k) <- v.(i)
     done
   done;
-  let tracks = Array.init nb (fun i -> Steps { dt; ps = ps.(i); vs = vs.(i); gravity = g }) in
+  let tracks =
+    Array.init nb (fun i -> Steps { dt; ps = ps.(i); vs = vs.(i); gravity = g })
+  in
   (tracks, List.rev !evs, false)
 
 let simulate world colliders bodies ~until =
@@ -622,7 +752,13 @@ let simulate world colliders bodies ~until =
   in
   (* Stable sort: time order, ties in body order as produced. *)
   let evs = List.stable_sort (fun a b -> Float.compare a.time b.time) evs in
-  { names = Array.map (fun (b : body) -> b.name) arr; tracks; events = evs; until; truncated }
+  {
+    names = Array.map (fun (b : body) -> b.name) arr;
+    tracks;
+    events = evs;
+    until;
+    truncated;
+  }
 
 (* ---------- Sampling ---------- *)
 
@@ -647,7 +783,9 @@ let sample_steps dt ps vs g t =
       let s = { t0 = 0.; p0 = ps.(0); v0 = vs.(0); acc = g } in
       (pos s t, vel s t)
   else
-    let k = int_of_float (Float.min (float (n - 1)) (Float.of_int (truncate (t /. dt)))) in
+    let k =
+      int_of_float (Float.min (float (n - 1)) (Float.of_int (truncate (t /. dt))))
+    in
     if k >= n - 1 then
       let s = { t0 = float (n - 1) *. dt; p0 = ps.(n - 1); v0 = vs.(n - 1); acc = g } in
       let tau = t -. s.t0 in
@@ -661,12 +799,18 @@ let sample_steps dt ps vs g t =
       let h01 = (-2. *. u3) +. (3. *. u2) and h11 = u3 -. u2 in
       let p0 = ps.(k) and p1 = ps.(k + 1) and v0 = vs.(k) and v1 = vs.(k + 1) in
       let p =
-        V.add (V.add (V.smul h00 p0) (V.smul (h10 *. dt) v0)) (V.add (V.smul h01 p1) (V.smul (h11 *. dt) v1))
+        V.add
+          (V.add (V.smul h00 p0) (V.smul (h10 *. dt) v0))
+          (V.add (V.smul h01 p1) (V.smul (h11 *. dt) v1))
       in
       (p, V.add (V.smul (1. -. u) v0) (V.smul u v1))
 
 let sample tr name t =
-  let rec find i = if i >= Array.length tr.names then None else if String.equal tr.names.(i) name then Some i else find (i + 1) in
+  let rec find i =
+    if i >= Array.length tr.names then None
+    else if String.equal tr.names.(i) name then Some i
+    else find (i + 1)
+  in
   match find 0 with
   | None -> None
   | Some i -> (

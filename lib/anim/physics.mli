@@ -1,43 +1,44 @@
 (** Newtonian motion of dynamic spheres under gravity, bouncing off static colliders and
     each other: computed once per scene, then sampled at any time.
 
-    Everything here is a pure function of its inputs: the same world, colliders, bodies and
-    horizon give the same trajectory bit for bit, however and wherever it is sampled. Units
-    are the scene's (metres, seconds, kilograms in the examples); times are seconds from the
-    start of the animation.
+    Everything here is a pure function of its inputs: the same world, colliders, bodies
+    and horizon give the same trajectory bit for bit, however and wherever it is sampled.
+    Units are the scene's (metres, seconds, kilograms in the examples); times are seconds
+    from the start of the animation.
 
     {2 Methods}
 
-    - [Exact] is event-driven. Between events a body moves in closed form,
-      p(τ) = p₀ + v₀·τ + ½·a·τ² with a = g in flight. Impacts are the roots of the contact
-      equation (gap = 0 while approaching): a degree-2 polynomial for a face or plane and for
-      two flying spheres (both share gravity), degree 4 for an edge (capsule), a corner
-      (point) or a pair where one body rests. Quadratics use the stable form; higher degrees
-      are isolated between the roots of their derivative and bisected, so no impact is missed
-      at any speed (no tunnelling). Events are processed in time order and each event's time
-      is the body's last event time plus the root Δt, never a sum of steps.
+    - [Exact] is event-driven. Between events a body moves in closed form, p(τ) = p₀ +
+      v₀·τ + ½·a·τ² with a = g in flight. Impacts are the roots of the contact equation
+      (gap = 0 while approaching): a degree-2 polynomial for a face or plane and for two
+      flying spheres (both share gravity), degree 4 for an edge (capsule), a corner
+      (point) or a pair where one body rests. Quadratics use the stable form; higher
+      degrees are isolated between the roots of their derivative and bisected, so no
+      impact is missed at any speed (no tunnelling). Events are processed in time order
+      and each event's time is the body's last event time plus the root Δt, never a sum of
+      steps.
     - [Verlet] (velocity Verlet) and [Euler] (explicit) advance every body by [step] and
       exist to measure the speed/accuracy trade (see below).
 
     {2 Impacts}
 
     The impulse is along the contact normal. A body with restitution e reflects its normal
-    velocity as v'ₙ = −e·vₙ off static colliders; a pair uses e₁·e₂, conserves momentum and
-    applies the impulse along the line of centres. Colliders are two-sided and
+    velocity as v'ₙ = −e·vₙ off static colliders; a pair uses e₁·e₂, conserves momentum
+    and applies the impulse along the line of centres. Colliders are two-sided and
     frictionless; a box is its six faces, twelve edges and eight corners (so a ball inside
     a box bounces off its inner walls).
 
     {2 Resting rule (Exact)}
 
     A bounce off a face or plane whose rebound would rise less than {!rest_fraction} of
-    the body's radius (v'ₙ² / (2·|a·n̂|) < rest_fraction·r, the acceleration a pointing into
-    the surface) ends the Zeno cascade: the body rests on that surface. Its normal velocity
-    is set to 0 and its acceleration becomes the tangential part of gravity,
-    g − (g·n̂)·n̂, so it stays put on a level surface and slides (frictionless) on an
-    incline. A resting body that slides into a second surface (face, edge or corner) under
-    the same rule, or whose rebound its support would turn back into it, rests on both and
-    slides along their crease; a third support stops it. Approach speeds under 1e-9 m/s
-    are grazing touches, not impacts. A supported body struck by another moves only as its
+    the body's radius (v'ₙ² / (2·|a·n̂|) < rest_fraction·r, the acceleration a pointing
+    into the surface) ends the Zeno cascade: the body rests on that surface. Its normal
+    velocity is set to 0 and its acceleration becomes the tangential part of gravity, g −
+    (g·n̂)·n̂, so it stays put on a level surface and slides (frictionless) on an incline. A
+    resting body that slides into a second surface (face, edge or corner) under the same
+    rule, or whose rebound its support would turn back into it, rests on both and slides
+    along their crease; a third support stops it. Approach speeds under 1e-9 m/s are
+    grazing touches, not impacts. A supported body struck by another moves only as its
     supports allow (they take their share of the impulse). It leaves a support when an
     impulse lifts it or bounces it off faster than the resting threshold, or, on a finite
     face, when its centre passes the face's border (it then flies; it does not roll around
@@ -50,15 +51,16 @@
     {2 Fixed-step collision handling (Verlet, Euler)}
 
     After each step, each body is tested against each collider in order, then each pair:
-    if the centre is closer than r to the collider's closest point (or two spheres overlap),
-    it is pushed out along the normal to touching distance (pairs share the push by inverse
-    mass) and, if approaching, its normal velocity is reflected with restitution. Contacts
-    are only seen at step ends, so these methods show the documented errors: a fast small
-    sphere can pass through a thin plate, and clamping at step end adds energy to every
-    bounce (first apex ≈ 1.068 m instead of 1 m for a 1 m drop at step 1/30). In free
-    flight Verlet is exact for constant gravity and Euler lags by g·dt·t/2. There is no
-    resting rule: a ball on the floor jitters by about g·dt². Between steps, positions are
-    interpolated by cubic Hermite (exact for constant acceleration), velocities linearly. *)
+    if the centre is closer than r to the collider's closest point (or two spheres
+    overlap), it is pushed out along the normal to touching distance (pairs share the push
+    by inverse mass) and, if approaching, its normal velocity is reflected with
+    restitution. Contacts are only seen at step ends, so these methods show the documented
+    errors: a fast small sphere can pass through a thin plate, and clamping at step end
+    adds energy to every bounce (first apex ≈ 1.068 m instead of 1 m for a 1 m drop at
+    step 1/30). In free flight Verlet is exact for constant gravity and Euler lags by
+    g·dt·t/2. There is no resting rule: a ball on the floor jitters by about g·dt².
+    Between steps, positions are interpolated by cubic Hermite (exact for constant
+    acceleration), velocities linearly. *)
 
 type body = {
   name : string;  (** unique among the bodies of a simulation *)
@@ -70,8 +72,14 @@ type body = {
 }
 
 val body :
-  ?velocity:Vec3.t -> ?mass:float -> ?restitution:float -> name:string -> center:Vec3.t ->
-  radius:float -> unit -> body
+  ?velocity:Vec3.t ->
+  ?mass:float ->
+  ?restitution:float ->
+  name:string ->
+  center:Vec3.t ->
+  radius:float ->
+  unit ->
+  body
 (** [body ~name ~center ~radius ()] is a sphere at rest (defaults: velocity 0, mass 1,
     restitution 1). *)
 
@@ -80,7 +88,8 @@ type collider =
       (** n̂·P = offset with n̂ = normalize normal; infinite, two-sided *)
   | Parallelogram of { origin : Vec3.t; edge1 : Vec3.t; edge2 : Vec3.t }
       (** the points origin + u·edge1 + v·edge2, u, v ∈ [0, 1]; two-sided *)
-  | Box of { min : Vec3.t; max : Vec3.t }  (** axis-aligned, solid from outside, walls from inside *)
+  | Box of { min : Vec3.t; max : Vec3.t }
+      (** axis-aligned, solid from outside, walls from inside *)
 
 type method_ = Exact | Verlet | Euler
 
@@ -114,9 +123,9 @@ type trajectory
 (** The motion of every body from time 0 to the horizon, with its events. *)
 
 val simulate : world -> collider list -> body list -> until:float -> trajectory
-(** [simulate world colliders bodies ~until] computes the motion over [0, until] s.
-    Raises [Invalid_argument] on a non-positive radius, mass or step, a restitution
-    outside [0, 1], or a duplicated body name. *)
+(** [simulate world colliders bodies ~until] computes the motion over [0, until] s. Raises
+    [Invalid_argument] on a non-positive radius, mass or step, a restitution outside
+    [0, 1], or a duplicated body name. *)
 
 val sample : trajectory -> string -> float -> (Vec3.t * Vec3.t) option
 (** [sample tr name t] is the (position, velocity) of body [name] at time [t] s, or [None]

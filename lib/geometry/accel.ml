@@ -27,12 +27,11 @@ type t = { prims : Primitive.t array; outside : int array; tree : tree option }
 let min_bvh = 8
 let max_leaf = 8
 let bins = 16
-
 let uses_bvh a = Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =
-  Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z && Float.is_finite b.max.x
-  && Float.is_finite b.max.y && Float.is_finite b.max.z
+  Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z
+  && Float.is_finite b.max.x && Float.is_finite b.max.y && Float.is_finite b.max.z
 
 (* --- Construction ----------------------------------------------------------------- *)
 
@@ -61,8 +60,11 @@ let new_node w =
 
 (* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
 let area a off =
-  let dx = fget a (off + 3) -. fget a off and dy = fget a (off + 4) -. fget a (off + 1) and dz = fget a (off + 5) -. fget a (off + 2) in
-  if dx < 0. || dy < 0. || dz < 0. then 0. else 2. *. ((dx *. dy) +. (dy *. dz) +. (dz *. dx))
+  let dx = fget a (off + 3) -. fget a off
+  and dy = fget a (off + 4) -. fget a (off + 1)
+  and dz = fget a (off + 5) -. fget a (off + 2) in
+  if dx < 0. || dy < 0. || dz < 0. then 0.
+  else 2. *. ((dx *. dy) +. (dy *. dz) +. (dz *. dx))
 
 let box_empty a off =
   for k = 0 to 2 do
@@ -118,81 +120,81 @@ let rec build_node w lo hi depth =
     w.links_b.(2 * node) <- right;
     w.links_b.((2 * node) + 1) <- 0
   in
-  if n <= 2 then leaf ()
-  else begin
-    (* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and
+  (if n <= 2 then leaf ()
+   else
+     (* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and
        keep the cheapest split cost SA(L)·nL + SA(R)·nR. *)
-    let best_cost = ref Float.infinity and best_axis = ref (-1) and best_split = ref 0 in
-    let left_a = Float.Array.make 6 0. and right_area = Array.make bins 0. and right_n = Array.make bins 0 in
-    (* Large nodes bin only along their widest centroid axis: a third of the build time
+     let best_cost = ref Float.infinity and best_axis = ref (-1) and best_split = ref 0 in
+     let left_a = Float.Array.make 6 0.
+     and right_area = Array.make bins 0.
+     and right_n = Array.make bins 0 in
+     (* Large nodes bin only along their widest centroid axis: a third of the build time
        where it matters, at a negligible cost in tree quality. *)
-    let widest =
-      let e k = cmax.(k) -. cmin.(k) in
-      if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2
-    in
-    for axis = 0 to 2 do
-      let ext = cmax.(axis) -. cmin.(axis) in
-      if ext > 0. && (n <= 4096 || axis = widest) then begin
-        let scale = Float.of_int bins /. ext in
-        for b = 0 to bins - 1 do
-          w.bin_n.(b) <- 0;
-          box_empty w.bin_b (6 * b)
-        done;
-        for i = lo to hi - 1 do
-          let p = w.ids.(i) in
-          let b = bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) in
-          w.bin_n.(b) <- w.bin_n.(b) + 1;
-          box_add w.bin_b (6 * b) w p
-        done;
-        (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
-        box_empty left_a 0;
-        let acc_n = ref 0 in
-        for b = bins - 1 downto 1 do
-          box_merge left_a 0 w.bin_b (6 * b);
-          acc_n := !acc_n + w.bin_n.(b);
-          right_area.(b) <- area left_a 0;
-          right_n.(b) <- !acc_n
-        done;
-        box_empty left_a 0;
-        let acc_n = ref 0 in
-        for b = 0 to bins - 2 do
-          box_merge left_a 0 w.bin_b (6 * b);
-          acc_n := !acc_n + w.bin_n.(b);
-          let nl = !acc_n and nr = right_n.(b + 1) in
-          if nl > 0 && nr > 0 then begin
-            let cost = (area left_a 0 *. Float.of_int nl) +. (right_area.(b + 1) *. Float.of_int nr) in
-            if cost < !best_cost then begin
-              best_cost := cost;
-              best_axis := axis;
-              best_split := b + 1
-            end
-          end
-        done
-      end
-    done;
-    let node_area = area w.nodes_b off in
-    (* Cost model: one box test per child against one intersection per primitive. *)
-    let leaf_cost = Float.of_int n *. node_area in
-    if !best_axis < 0 then (if n <= max_leaf then leaf () else interior (lo + (n / 2)))
-    else if n <= max_leaf && leaf_cost <= node_area +. !best_cost then leaf ()
-    else begin
-      let axis = !best_axis in
-      let scale = Float.of_int bins /. (cmax.(axis) -. cmin.(axis)) in
-      (* Partition ids[lo, hi) so that bins below the split come first. *)
-      let i = ref lo and j = ref (hi - 1) in
-      while !i <= !j do
-        let p = w.ids.(!i) in
-        if bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) < !best_split then incr i
-        else begin
-          w.ids.(!i) <- w.ids.(!j);
-          w.ids.(!j) <- p;
-          decr j
-        end
-      done;
-      let mid = !i in
-      if mid = lo || mid = hi then interior (lo + (n / 2)) else interior mid
-    end
-  end;
+     let widest =
+       let e k = cmax.(k) -. cmin.(k) in
+       if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2
+     in
+     for axis = 0 to 2 do
+       let ext = cmax.(axis) -. cmin.(axis) in
+       if ext > 0. && (n <= 4096 || axis = widest) then (
+         let scale = Float.of_int bins /. ext in
+         for b = 0 to bins - 1 do
+           w.bin_n.(b) <- 0;
+           box_empty w.bin_b (6 * b)
+         done;
+         for i = lo to hi - 1 do
+           let p = w.ids.(i) in
+           let b = bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) in
+           w.bin_n.(b) <- w.bin_n.(b) + 1;
+           box_add w.bin_b (6 * b) w p
+         done;
+         (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
+         box_empty left_a 0;
+         let acc_n = ref 0 in
+         for b = bins - 1 downto 1 do
+           box_merge left_a 0 w.bin_b (6 * b);
+           acc_n := !acc_n + w.bin_n.(b);
+           right_area.(b) <- area left_a 0;
+           right_n.(b) <- !acc_n
+         done;
+         box_empty left_a 0;
+         let acc_n = ref 0 in
+         for b = 0 to bins - 2 do
+           box_merge left_a 0 w.bin_b (6 * b);
+           acc_n := !acc_n + w.bin_n.(b);
+           let nl = !acc_n and nr = right_n.(b + 1) in
+           if nl > 0 && nr > 0 then
+             let cost =
+               (area left_a 0 *. Float.of_int nl)
+               +. (right_area.(b + 1) *. Float.of_int nr)
+             in
+             if cost < !best_cost then (
+               best_cost := cost;
+               best_axis := axis;
+               best_split := b + 1)
+         done)
+     done;
+     let node_area = area w.nodes_b off in
+     (* Cost model: one box test per child against one intersection per primitive. *)
+     let leaf_cost = Float.of_int n *. node_area in
+     if !best_axis < 0 then if n <= max_leaf then leaf () else interior (lo + (n / 2))
+     else if n <= max_leaf && leaf_cost <= node_area +. !best_cost then leaf ()
+     else
+       let axis = !best_axis in
+       let scale = Float.of_int bins /. (cmax.(axis) -. cmin.(axis)) in
+       (* Partition ids[lo, hi) so that bins below the split come first. *)
+       let i = ref lo and j = ref (hi - 1) in
+       while !i <= !j do
+         let p = w.ids.(!i) in
+         if bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) < !best_split then
+           incr i
+         else (
+           w.ids.(!i) <- w.ids.(!j);
+           w.ids.(!j) <- p;
+           decr j)
+       done;
+       let mid = !i in
+       if mid = lo || mid = hi then interior (lo + (n / 2)) else interior mid);
   node
 
 (* Bounds padded by a relative 1e-9 of their magnitude (see the header). *)
@@ -213,14 +215,22 @@ let pad_into w k (b : Bbox.t) =
 
 let build prims =
   let n = Array.length prims in
-  let is_bounded (p : Primitive.t) = match p.bounds with Some b -> finite_box b | None -> false in
-  let bounded = List.filter (fun i -> is_bounded prims.(i)) (List.init n Fun.id) |> Array.of_list in
+  let is_bounded (p : Primitive.t) =
+    match p.bounds with Some b -> finite_box b | None -> false
+  in
+  let bounded =
+    List.filter (fun i -> is_bounded prims.(i)) (List.init n Fun.id) |> Array.of_list
+  in
   let m = Array.length bounded in
   if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None }
-  else begin
-    let outside = List.filter (fun i -> not (is_bounded prims.(i))) (List.init n Fun.id) |> Array.of_list in
+  else
+    let outside =
+      List.filter (fun i -> not (is_bounded prims.(i))) (List.init n Fun.id)
+      |> Array.of_list
+    in
     let w =
-      { bmin = Float.Array.create (3 * m);
+      {
+        bmin = Float.Array.create (3 * m);
         bmax = Float.Array.create (3 * m);
         cent = Float.Array.create (3 * m);
         ids = Array.init m Fun.id;
@@ -229,15 +239,23 @@ let build prims =
         count = 0;
         max_depth = 0;
         bin_n = Array.make bins 0;
-        bin_b = Float.Array.create (6 * bins) }
+        bin_b = Float.Array.create (6 * bins);
+      }
     in
-    Array.iteri (fun k i -> match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ()) bounded;
+    Array.iteri
+      (fun k i ->
+        match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ())
+      bounded;
     ignore (build_node w 0 m 1);
-    let nodes = Float.Array.sub w.nodes_b 0 (6 * w.count) and links = Array.sub w.links_b 0 (2 * w.count) in
+    let nodes = Float.Array.sub w.nodes_b 0 (6 * w.count)
+    and links = Array.sub w.links_b 0 (2 * w.count) in
     let leaf_idx = Array.map (fun k -> bounded.(k)) w.ids in
     let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
-    { prims; outside; tree = Some { nodes; links; leaf_prims; leaf_idx; depth = w.max_depth } }
-  end
+    {
+      prims;
+      outside;
+      tree = Some { nodes; links; leaf_prims; leaf_idx; depth = w.max_depth };
+    }
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
@@ -247,33 +265,33 @@ let build prims =
 let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
   let off = 6 * k in
   let a = (fget nodes off -. ox) *. ix and c = (fget nodes (off + 3) -. ox) *. ix in
-  let t0 = if a < c then (if a > tmin then a else tmin) else if c > tmin then c else tmin in
-  let t1 = if a < c then (if c < tmax then c else tmax) else if a < tmax then a else tmax in
+  let t0 = if a < c then if a > tmin then a else tmin else if c > tmin then c else tmin in
+  let t1 = if a < c then if c < tmax then c else tmax else if a < tmax then a else tmax in
   let a = (fget nodes (off + 1) -. oy) *. iy and c = (fget nodes (off + 4) -. oy) *. iy in
-  let t0 = if a < c then (if a > t0 then a else t0) else if c > t0 then c else t0 in
-  let t1 = if a < c then (if c < t1 then c else t1) else if a < t1 then a else t1 in
+  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
+  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
   let a = (fget nodes (off + 2) -. oz) *. iz and c = (fget nodes (off + 5) -. oz) *. iz in
-  let t0 = if a < c then (if a > t0 then a else t0) else if c > t0 then c else t0 in
-  let t1 = if a < c then (if c < t1 then c else t1) else if a < t1 then a else t1 in
+  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
+  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
   if t0 <= t1 then t0 else Float.infinity
 
 (* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
    finds them busy (a fold callback that queries again) allocates its own. *)
 type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
 
-let stack_key = Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
+let stack_key =
+  Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
 
 let get_stack depth =
   let s = Domain.DLS.get stack_key in
-  if s.busy then { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
-  else begin
-    if Array.length s.ids <= depth then begin
+  if s.busy then
+    { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
+  else (
+    if Array.length s.ids <= depth then (
       s.ids <- Array.make (depth + 1) 0;
-      s.ts <- Float.Array.create (depth + 1)
-    end;
+      s.ts <- Float.Array.create (depth + 1));
     s.busy <- true;
-    s
-  end
+    s)
 
 (* One primitive over (h.tmin, tmax): the root, unboxed. *)
 let[@inline] test p r tmax (h : Shape.hit) =
@@ -286,10 +304,9 @@ let linear_nearest prims r tmin tmax (h : Shape.hit) =
   h.tmin <- tmin;
   for i = 0 to Array.length prims - 1 do
     let t = test prims.(i) r !best_t h in
-    if t < !best_t then begin
+    if t < !best_t then (
       best_t := t;
-      best_i := i
-    end
+      best_i := i)
   done;
   h.t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
@@ -302,11 +319,10 @@ let tree_nearest a tr r tmin tmax (h : Shape.hit) =
   for k = 0 to Array.length outside - 1 do
     let i = outside.(k) in
     let t = test prims.(i) r !query h in
-    if t < !best_t || (t = !best_t && i < !best_i) then begin
+    if t < !best_t || (t = !best_t && i < !best_i) then (
       best_t := t;
       best_i := i;
-      query := Float.succ t
-    end
+      query := Float.succ t)
   done;
   let o = Ray.origin r and inv = Ray.inv_dir r in
   let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
@@ -319,66 +335,59 @@ let tree_nearest a tr r tmin tmax (h : Shape.hit) =
     let k = !node in
     let count = Array.unsafe_get links ((2 * k) + 1) in
     let next =
-      if count > 0 then begin
+      if count > 0 then (
         let first = Array.unsafe_get links (2 * k) in
         for j = first to first + count - 1 do
           let t = test (Array.unsafe_get tr.leaf_prims j) r !query h in
-          if t <= !best_t then begin
+          if t <= !best_t then
             let i = Array.unsafe_get tr.leaf_idx j in
-            if t < !best_t || i < !best_i then begin
+            if t < !best_t || i < !best_i then (
               best_t := t;
               best_i := i;
-              query := Float.succ t
-            end
-          end
+              query := Float.succ t)
         done;
-        -1
-      end
-      else begin
+        -1)
+      else
         let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
         let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
         let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
         if tl < Float.infinity then
-          if trr < Float.infinity then begin
+          if trr < Float.infinity then
             (* Nearest child first; the other waits on the stack with its entry t. *)
-            if trr < tl then begin
+            if trr < tl then (
               Array.unsafe_set sids !sp l;
               fset sts !sp tl;
               incr sp;
-              rr
-            end
-            else begin
+              rr)
+            else (
               Array.unsafe_set sids !sp rr;
               fset sts !sp trr;
               incr sp;
-              l
-            end
-          end
+              l)
           else l
         else if trr < Float.infinity then rr
         else -1
-      end
     in
     if next >= 0 then node := next
-    else begin
+    else
       (* Pop the next node whose entry is not beyond the best hit. *)
       let found = ref false in
       while (not !found) && !sp > 0 do
         decr sp;
-        if fget sts !sp <= !best_t then begin
+        if fget sts !sp <= !best_t then (
           found := true;
-          node := Array.unsafe_get sids !sp
-        end
+          node := Array.unsafe_get sids !sp)
       done;
       if not !found then go := false
-    end
   done;
   st.busy <- false;
   h.t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
 let nearest_into a r tmin tmax h =
-  match a.tree with None -> linear_nearest a.prims r tmin tmax h | Some tr -> tree_nearest a tr r tmin tmax h
+  match a.tree with
+  | None -> linear_nearest a.prims r tmin tmax h
+  | Some tr -> tree_nearest a tr r tmin tmax h
 
 let nearest a r tmin tmax =
   let h = { Shape.tmin; tmax; t = Float.infinity } in
@@ -403,7 +412,8 @@ let crossings p r tmin tmax (h : Shape.hit) f acc =
 
 (* With [only_transparent], opaque primitives are skipped: the caller knows that none
    crosses the segment, so they would leave [acc] as it is. *)
-let[@inline] skipped only_transparent (p : Primitive.t) = only_transparent && p.material.transparency = 0.
+let[@inline] skipped only_transparent (p : Primitive.t) =
+  only_transparent && p.material.transparency = 0.
 
 let linear_fold ~only_transparent prims r tmin tmax f acc =
   let acc = ref acc and i = ref 0 in
@@ -429,47 +439,41 @@ let tree_visit a tr r tmin tmax visit =
     stop := visit a.prims.(outside.(!k));
     incr k
   done;
-  if not !stop then begin
+  if not !stop then (
     let o = Ray.origin r and inv = Ray.inv_dir r in
     let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
     let nodes = tr.nodes and links = tr.links in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
       Array.unsafe_set sids 0 0;
-      sp := 1
-    end;
+      sp := 1);
     (try
        while (not !stop) && !sp > 0 do
          decr sp;
          let node = Array.unsafe_get sids !sp in
          let count = Array.unsafe_get links ((2 * node) + 1) in
-         if count > 0 then begin
+         if count > 0 then
            let first = Array.unsafe_get links (2 * node) in
            let j = ref first in
            while (not !stop) && !j < first + count do
              stop := visit (Array.unsafe_get tr.leaf_prims !j);
              incr j
            done
-         end
-         else begin
+         else
            let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
-           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp rr;
-             incr sp
-           end;
-           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+             incr sp);
+           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp l;
-             incr sp
-           end
-         end
+             incr sp)
        done
      with e ->
        st.busy <- false;
        raise e);
-    st.busy <- false
-  end;
+    st.busy <- false);
   !stop
 
 let tree_fold ~only_transparent a tr r tmin tmax f acc =
@@ -478,7 +482,8 @@ let tree_fold ~only_transparent a tr r tmin tmax f acc =
   if not (is_black !acc) then
     ignore
       (tree_visit a tr r tmin tmax (fun p ->
-           if not (skipped only_transparent p) then acc := crossings p r tmin tmax h f !acc;
+           if not (skipped only_transparent p) then
+             acc := crossings p r tmin tmax h f !acc;
            is_black !acc));
   !acc
 
@@ -488,7 +493,9 @@ let fold ~only_transparent a r tmin tmax f acc =
   | Some tr -> tree_fold ~only_transparent a tr r tmin tmax f acc
 
 let fold_hits a r tmin tmax f acc = fold ~only_transparent:false a r tmin tmax f acc
-let fold_transparent_hits a r tmin tmax f acc = fold ~only_transparent:true a r tmin tmax f acc
+
+let fold_transparent_hits a r tmin tmax f acc =
+  fold ~only_transparent:true a r tmin tmax f acc
 
 (* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
    first surface met makes the shadow black. Exits on the first hit, in no particular
@@ -506,7 +513,10 @@ let tree_any a tr r tmin tmax =
   let h = { Shape.tmin; tmax; t = Float.infinity } in
   tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
 
-let any_hit a r tmin tmax = match a.tree with None -> linear_any a.prims r tmin tmax | Some tr -> tree_any a tr r tmin tmax
+let any_hit a r tmin tmax =
+  match a.tree with
+  | None -> linear_any a.prims r tmin tmax
+  | Some tr -> tree_any a tr r tmin tmax
 
 (* --- Occlusion ---------------------------------------------------------------------- *)
 
@@ -518,15 +528,16 @@ let any_hit a r tmin tmax = match a.tree with None -> linear_any a.prims r tmin 
    soon it is found, never what is found. *)
 type scratch = { q : Shape.probe; obj : Shape.probe; mutable last : int array }
 
-let scratch_key = Domain.DLS.new_key (fun () -> { q = Shape.probe (); obj = Shape.probe (); last = [||] })
+let scratch_key =
+  Domain.DLS.new_key (fun () -> { q = Shape.probe (); obj = Shape.probe (); last = [||] })
+
 let shadow_probe () = (Domain.DLS.get scratch_key).q
 
 let[@inline] blocks (p : Primitive.t) (q : Shape.probe) obj =
   if p.material.transparency <> 0. then false
-  else begin
+  else (
     Primitive.probe_into p q obj;
-    q.p_t < q.p_tmax
-  end
+    q.p_t < q.p_tmax)
 
 let linear_occluder prims q obj =
   let found = ref (-1) and i = ref 0 in
@@ -545,43 +556,38 @@ let tree_occluder a tr (q : Shape.probe) obj =
     if blocks (Array.unsafe_get prims i) q obj then found := i;
     incr k
   done;
-  if !found < 0 then begin
+  if !found < 0 then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes and links = tr.links in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
       Array.unsafe_set sids 0 0;
-      sp := 1
-    end;
+      sp := 1);
     while !found < 0 && !sp > 0 do
       decr sp;
       let node = Array.unsafe_get sids !sp in
       let count = Array.unsafe_get links ((2 * node) + 1) in
-      if count > 0 then begin
+      if count > 0 then
         let first = Array.unsafe_get links (2 * node) in
         let j = ref first in
         while !found < 0 && !j < first + count do
-          if blocks (Array.unsafe_get tr.leaf_prims !j) q obj then found := Array.unsafe_get tr.leaf_idx !j;
+          if blocks (Array.unsafe_get tr.leaf_prims !j) q obj then
+            found := Array.unsafe_get tr.leaf_idx !j;
           incr j
         done
-      end
-      else begin
+      else
         let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
-        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
           Array.unsafe_set sids !sp rr;
-          incr sp
-        end;
-        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then begin
+          incr sp);
+        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
           Array.unsafe_set sids !sp l;
-          incr sp
-        end
-      end
+          incr sp)
     done;
-    st.busy <- false
-  end;
+    st.busy <- false);
   !found
 
 let occluded a (q : Shape.probe) ~slot =
@@ -590,16 +596,18 @@ let occluded a (q : Shape.probe) ~slot =
   q.ix <- 1. /. q.dx;
   q.iy <- 1. /. q.dy;
   q.iz <- 1. /. q.dz;
-  if slot >= Array.length sc.last then begin
+  if slot >= Array.length sc.last then (
     let last = Array.make (slot + 1) (-1) in
     Array.blit sc.last 0 last 0 (Array.length sc.last);
-    sc.last <- last
-  end;
+    sc.last <- last);
   let prims = a.prims in
   let c = Array.unsafe_get sc.last slot in
   if c >= 0 && c < Array.length prims && blocks (Array.unsafe_get prims c) q obj then true
-  else begin
-    let found = match a.tree with None -> linear_occluder prims q obj | Some tr -> tree_occluder a tr q obj in
+  else
+    let found =
+      match a.tree with
+      | None -> linear_occluder prims q obj
+      | Some tr -> tree_occluder a tr q obj
+    in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
-  end

@@ -15,20 +15,32 @@ val uses_bvh : t -> bool
 
 val nearest : t -> Ray.t -> float -> float -> float * int
 (** [nearest a r tmin tmax] is (t, index) of the primitive hit nearest in (tmin, tmax), or
-    (infinity, −1); the index is into the array given to {!build}. Ties go to the lower index, so the answer never depends on the
-    traversal order. *)
+    (infinity, −1); the index is into the array given to {!build}. Ties go to the lower
+    index, so the answer never depends on the traversal order. *)
 
 val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int
 (** {!nearest} without allocating: the index is returned and t stored in the record. *)
 
 val fold_hits :
-  t -> Ray.t -> float -> float -> (Primitive.t -> float -> Color.t -> Color.t) -> Color.t -> Color.t
-(** [fold_hits a r tmin tmax f acc] folds [f prim t acc] over every surface crossing of [r]
-    with tmin < t < tmax, stopping early once [acc] is black. Used for shadow
+  t ->
+  Ray.t ->
+  float ->
+  float ->
+  (Primitive.t -> float -> Color.t -> Color.t) ->
+  Color.t ->
+  Color.t
+(** [fold_hits a r tmin tmax f acc] folds [f prim t acc] over every surface crossing of
+    [r] with tmin < t < tmax, stopping early once [acc] is black. Used for shadow
     transmittance, whose product does not depend on the order. *)
 
 val fold_transparent_hits :
-  t -> Ray.t -> float -> float -> (Primitive.t -> float -> Color.t -> Color.t) -> Color.t -> Color.t
+  t ->
+  Ray.t ->
+  float ->
+  float ->
+  (Primitive.t -> float -> Color.t -> Color.t) ->
+  Color.t ->
+  Color.t
 (** {!fold_hits} over the transparent primitives only (transparency ≠ 0): the same answer
     where {!occluded} has said that no opaque surface crosses the segment. *)
 
@@ -45,6 +57,6 @@ val occluded : t -> Shape.probe -> slot:int -> bool
 (** [occluded a q ~slot] is whether an opaque surface (transparency 0) crosses the ray
     that [q] holds with [q.p_tmin] < t < [q.p_tmax]; it sets the probe's reciprocal
     direction itself. It stops at the first one found, trying first the one that answered
-    the last query of the same [slot] (a light's index) in this domain: the answer does not
-    depend on it. Allocates nothing (with the shapes that {!Shape.probe_into} tests in
+    the last query of the same [slot] (a light's index) in this domain: the answer does
+    not depend on it. Allocates nothing (with the shapes that {!Shape.probe_into} tests in
     scalars). *)

@@ -8,7 +8,8 @@ type t = {
   leaves : t array;
 }
 
-let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material shape =
+let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material
+    shape =
   let bounds = Option.map (Bbox.transform transform) (Shape.bbox shape) in
   let leaves =
     match shape with
@@ -20,7 +21,9 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
               | Some ms when i < Array.length ms -> Option.value ms.(i) ~default:material
               | _ -> material
             in
-            make ~transform:(Transform.then_ l.leaf_transform transform) ~flip:l.flipped m l.leaf_shape)
+            make
+              ~transform:(Transform.then_ l.leaf_transform transform)
+              ~flip:l.flipped m l.leaf_shape)
           leaves
     | _ -> [||]
   in
@@ -44,17 +47,31 @@ let rec translate (d : Vec3.t) o =
   let moved =
     if Array.length o.leaves > 0 then
       let transform = Transform.then_ o.transform (Transform.translate d) in
-      { o with transform; bounds = Option.map (Bbox.transform transform) (Shape.bbox o.shape); leaves = Array.map (translate d) o.leaves }
+      {
+        o with
+        transform;
+        bounds = Option.map (Bbox.transform transform) (Shape.bbox o.shape);
+        leaves = Array.map (translate d) o.leaves;
+      }
     else if Transform.is_identity o.transform then
       let shape = Shape.translate d o.shape in
       { o with shape; bounds = Shape.bbox shape; shift = Vec3.sub o.shift d }
-    else { (make ~transform:(Transform.then_ o.transform (Transform.translate d)) ~flip:o.flip o.material o.shape) with shift = o.shift }
+    else
+      {
+        (make
+           ~transform:(Transform.then_ o.transform (Transform.translate d))
+           ~flip:o.flip o.material o.shape)
+        with
+        shift = o.shift;
+      }
   in
   (* One kept out of the hierarchy (see [without_bounds]) stays out. *)
   if Option.is_none o.bounds then { moved with bounds = None } else moved
 
 let object_ray o r =
-  Ray.make_raw (Transform.inv_point o.transform (Ray.origin r)) (Transform.inv_vector o.transform (Ray.dir r))
+  Ray.make_raw
+    (Transform.inv_point o.transform (Ray.origin r))
+    (Transform.inv_vector o.transform (Ray.dir r))
 
 let intersect_into o r h =
   if Transform.is_identity o.transform then Shape.intersect_into o.shape r h
@@ -65,13 +82,15 @@ let intersect_into o r h =
 let probe_into o (q : Shape.probe) (obj : Shape.probe) =
   let tr = o.transform in
   if Transform.is_identity tr then Shape.probe_into o.shape q
-  else begin
+  else
     let x = q.ox and y = q.oy and z = q.oz in
     obj.ox <- Transform.inv_px tr x y z;
     obj.oy <- Transform.inv_py tr x y z;
     obj.oz <- Transform.inv_pz tr x y z;
     let x = q.dx and y = q.dy and z = q.dz in
-    let dx = Transform.inv_vx tr x y z and dy = Transform.inv_vy tr x y z and dz = Transform.inv_vz tr x y z in
+    let dx = Transform.inv_vx tr x y z
+    and dy = Transform.inv_vy tr x y z
+    and dz = Transform.inv_vz tr x y z in
     obj.dx <- dx;
     obj.dy <- dy;
     obj.dz <- dz;
@@ -82,7 +101,6 @@ let probe_into o (q : Shape.probe) (obj : Shape.probe) =
     obj.p_tmax <- q.p_tmax;
     Shape.probe_into o.shape obj;
     q.p_t <- obj.p_t
-  end
 
 let intersect o r tmin tmax =
   if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax
@@ -95,9 +113,7 @@ let surface o r t =
     o.leaves.(Shape.csg_leaf o.shape r' t)
 
 let is_csg o = Array.length o.leaves > 0
-
 let to_object o p = Transform.inv_point o.transform p
-
 let shifted o = not (o.shift.x = 0. && o.shift.y = 0. && o.shift.z = 0.)
 let texture_point o p = if shifted o then Vec3.add p o.shift else to_object o p
 
@@ -112,6 +128,8 @@ let normal o p =
   let n = Transform.normal o.transform (Shape.normal o.shape p) in
   if o.flip then Vec3.neg n else n
 
-let materials o = if Array.length o.leaves = 0 then [ o.material ] else Array.to_list (Array.map (fun l -> l.material) o.leaves)
+let materials o =
+  if Array.length o.leaves = 0 then [ o.material ]
+  else Array.to_list (Array.map (fun l -> l.material) o.leaves)
 
 let without_bounds o = { o with bounds = None }

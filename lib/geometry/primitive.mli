@@ -19,10 +19,17 @@ type t = private {
           material and orientation (the shape's [leaves], in order); empty otherwise *)
 }
 
-val make : ?transform:Transform.t -> ?flip:bool -> ?leaf_materials:Material.t option array -> Material.t -> Shape.t -> t
-(** [make ~transform material shape] places [shape] in the world by [transform] (default the
-    identity) and computes its world bounds. [flip] reverses its normal. For a CSG shape,
-    [leaf_materials.(i)] is the material of leaf i, [material] where it is [None]. *)
+val make :
+  ?transform:Transform.t ->
+  ?flip:bool ->
+  ?leaf_materials:Material.t option array ->
+  Material.t ->
+  Shape.t ->
+  t
+(** [make ~transform material shape] places [shape] in the world by [transform] (default
+    the identity) and computes its world bounds. [flip] reverses its normal. For a CSG
+    shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None].
+*)
 
 val surface : t -> Ray.t -> float -> t
 (** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
@@ -44,9 +51,9 @@ val intersect_into : t -> Ray.t -> Shape.hit -> unit
 (** {!intersect} over [h.tmin, h.tmax], the answer stored in [h.t] (no boxed float). *)
 
 val probe_into : t -> Shape.probe -> Shape.probe -> unit
-(** [probe_into o q obj] is {!intersect_into} for the ray that the probe [q] holds, answer in
-    [q.p_t]; a transformed object writes its object-space ray into the scratch probe [obj].
-    Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
+(** [probe_into o q obj] is {!intersect_into} for the ray that the probe [q] holds, answer
+    in [q.p_t]; a transformed object writes its object-space ray into the scratch probe
+    [obj]. Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
 
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)
@@ -61,8 +68,8 @@ val translate : Vec3.t -> t -> t
     after its transform. *)
 
 val texture_point : t -> Vec3.t -> Vec3.t
-(** The point of texture space at a world point: object space, or for a moved untransformed
-    object the world point before the move. *)
+(** The point of texture space at a world point: object space, or for a moved
+    untransformed object the world point before the move. *)
 
 val uv : t -> Vec3.t -> float * float
 (** [uv o p] is the (u, v) of the surface at world point [p] ({!Shape.uv} at the object's

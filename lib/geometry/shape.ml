@@ -3,7 +3,14 @@ type csg_op = Union | Merge | Intersection | Difference
 type t =
   | Sphere of { center : Vec3.t; radius : float }
   | Plane of { normal : Vec3.t; offset : float }
-  | Parallelogram of { origin : Vec3.t; edge1 : Vec3.t; edge2 : Vec3.t; pn : Vec3.t; w : Vec3.t; pd : float }
+  | Parallelogram of {
+      origin : Vec3.t;
+      edge1 : Vec3.t;
+      edge2 : Vec3.t;
+      pn : Vec3.t;
+      w : Vec3.t;
+      pd : float;
+    }
   | Triangle of {
       a : Vec3.t;
       b : Vec3.t;
@@ -12,14 +19,51 @@ type t =
       normals : (Vec3.t * Vec3.t * Vec3.t) option;
       uvs : ((float * float) * (float * float) * (float * float)) option;
     }
-  | Paraboloid of { vertex : Vec3.t; axis : Vec3.t; radius : float; height : float; k : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Paraboloid of {
+      vertex : Vec3.t;
+      axis : Vec3.t;
+      radius : float;
+      height : float;
+      k : float;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }
   | Box of { min : Vec3.t; max : Vec3.t }
-  | Cylinder of { base : Vec3.t; axis : Vec3.t; height : float; radius : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
+  | Cylinder of {
+      base : Vec3.t;
+      axis : Vec3.t;
+      height : float;
+      radius : float;
+      caps : bool;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }
   | Disk of { center : Vec3.t; normal : Vec3.t; radius : float; e1 : Vec3.t; e2 : Vec3.t }
-  | Cone of { base : Vec3.t; axis : Vec3.t; height : float; r0 : float; r1 : float; caps : bool; e1 : Vec3.t; e2 : Vec3.t }
-  | Torus of { center : Vec3.t; axis : Vec3.t; major : float; minor : float; e1 : Vec3.t; e2 : Vec3.t }
+  | Cone of {
+      base : Vec3.t;
+      axis : Vec3.t;
+      height : float;
+      r0 : float;
+      r1 : float;
+      caps : bool;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }
+  | Torus of {
+      center : Vec3.t;
+      axis : Vec3.t;
+      major : float;
+      minor : float;
+      e1 : Vec3.t;
+      e2 : Vec3.t;
+    }
   | Closed_mesh of { tris : t array; mbounds : Bbox.t option }
-  | Csg of { op : csg_op; members : csg_member array; leaves : csg_leaf array; cbounds : Bbox.t option }
+  | Csg of {
+      op : csg_op;
+      members : csg_member array;
+      leaves : csg_leaf array;
+      cbounds : Bbox.t option;
+    }
 
 and csg_member = { shape : t; transform : Transform.t; first_leaf : int }
 and csg_leaf = { leaf_shape : t; leaf_transform : Transform.t; flipped : bool }
@@ -38,11 +82,23 @@ let plane ~normal ~offset = Plane { normal = Vec3.normalize normal; offset }
 let parallelogram ~origin ~edge1 ~edge2 =
   let n = Vec3.cross edge1 edge2 in
   let pn = Vec3.normalize n in
-  Parallelogram { origin; edge1; edge2; pn; w = Vec3.smul (1. /. Vec3.dot n n) n; pd = Vec3.dot pn origin }
+  Parallelogram
+    {
+      origin;
+      edge1;
+      edge2;
+      pn;
+      w = Vec3.smul (1. /. Vec3.dot n n) n;
+      pd = Vec3.dot pn origin;
+    }
 
 let triangle_gen ?normals ?uvs a b c =
   let tn = Vec3.normalize (Vec3.cross (Vec3.sub b a) (Vec3.sub c a)) in
-  let normals = Option.map (fun (na, nb, nc) -> (Vec3.normalize na, Vec3.normalize nb, Vec3.normalize nc)) normals in
+  let normals =
+    Option.map
+      (fun (na, nb, nc) -> (Vec3.normalize na, Vec3.normalize nb, Vec3.normalize nc))
+      normals
+  in
   Triangle { a; b; c; tn; normals; uvs }
 
 let triangle ~a ~b ~c = triangle_gen a b c
@@ -98,12 +154,17 @@ let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   let l2 = (px *. px) +. (py *. py) +. (pz *. pz) in
   if l2 > radius *. radius *. (1. +. 1e-9) && l2 < 1e280 then Float.infinity
   else
-    let l = if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v px py pz) in
+    let l =
+      if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v px py pz)
+    in
     let disc = a *. (radius -. l) *. (radius +. l) in
     if disc < 0. then Float.infinity
     else
       let fl2 = (fx *. fx) +. (fy *. fy) +. (fz *. fz) in
-      let fl = if fl2 > 1e-280 && fl2 < 1e280 then Float.sqrt fl2 else Vec3.length (Vec3.v fx fy fz) in
+      let fl =
+        if fl2 > 1e-280 && fl2 < 1e280 then Float.sqrt fl2
+        else Vec3.length (Vec3.v fx fy fz)
+      in
       let c = (fl -. radius) *. (fl +. radius) in
       let s = Float.sqrt disc in
       let q = if b < 0. then s -. b else -.(b +. s) in
@@ -114,7 +175,9 @@ let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
         let t0 = q /. a and t1 = c /. q in
         (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
         let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
-        if in_range lo tmin tmax then lo else if in_range hi tmin tmax then hi else Float.infinity
+        if in_range lo tmin tmax then lo
+        else if in_range hi tmin tmax then hi
+        else Float.infinity
 
 let[@inline] intersect_sphere center radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
@@ -145,17 +208,21 @@ let para_coords origin edge1 edge2 w p =
   (a, b)
 
 (* The vector form (q = O + t·d − origin, a = w·(q × e2), b = w·(e1 × q)) in scalars. *)
-let[@inline] parallelogram_s (origin : Vec3.t) (edge1 : Vec3.t) (edge2 : Vec3.t) pn (w : Vec3.t) pd ox oy oz dx dy dz tmin
-    tmax =
+let[@inline] parallelogram_s (origin : Vec3.t) (edge1 : Vec3.t) (edge2 : Vec3.t) pn
+    (w : Vec3.t) pd ox oy oz dx dy dz tmin tmax =
   let t = plane_s pn pd ox oy oz dx dy dz tmin tmax in
   if t = Float.infinity then t
   else
-    let qx = ox +. (t *. dx) -. origin.x and qy = oy +. (t *. dy) -. origin.y and qz = oz +. (t *. dz) -. origin.z in
-    let cx = (qy *. edge2.z) -. (qz *. edge2.y) and cy = (qz *. edge2.x) -. (qx *. edge2.z)
+    let qx = ox +. (t *. dx) -. origin.x
+    and qy = oy +. (t *. dy) -. origin.y
+    and qz = oz +. (t *. dz) -. origin.z in
+    let cx = (qy *. edge2.z) -. (qz *. edge2.y)
+    and cy = (qz *. edge2.x) -. (qx *. edge2.z)
     and cz = (qx *. edge2.y) -. (qy *. edge2.x) in
     let a = (w.x *. cx) +. (w.y *. cy) +. (w.z *. cz) in
     if a >= -.para_eps && a <= 1. +. para_eps then
-      let cx = (edge1.y *. qz) -. (edge1.z *. qy) and cy = (edge1.z *. qx) -. (edge1.x *. qz)
+      let cx = (edge1.y *. qz) -. (edge1.z *. qy)
+      and cy = (edge1.z *. qx) -. (edge1.x *. qz)
       and cz = (edge1.x *. qy) -. (edge1.y *. qx) in
       let b = (w.x *. cx) +. (w.y *. cy) +. (w.z *. cz) in
       if b >= -.para_eps && b <= 1. +. para_eps then t else Float.infinity
@@ -175,17 +242,22 @@ let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
 let[@inline] pick (v : Vec3.t) k = if k = 0 then v.x else if k = 1 then v.y else v.z
 let[@inline] pick3 (x : float) y z k = if k = 0 then x else if k = 1 then y else z
 
-let[@inline] triangle_s (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) rox roy roz rdx rdy rdz tmin tmax =
+let[@inline] triangle_s (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) rox roy roz rdx rdy rdz
+    tmin tmax =
   let ax = Float.abs rdx and ay = Float.abs rdy and az = Float.abs rdz in
   (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
   let kz = if ax > ay then if ax > az then 0 else 2 else if ay > az then 1 else 2 in
   let kx = if kz = 2 then 0 else kz + 1 in
   let ky = if kx = 2 then 0 else kx + 1 in
-  let dx = pick3 rdx rdy rdz kx and dy = pick3 rdx rdy rdz ky and dz = pick3 rdx rdy rdz kz in
+  let dx = pick3 rdx rdy rdz kx
+  and dy = pick3 rdx rdy rdz ky
+  and dz = pick3 rdx rdy rdz kz in
   if dz = 0. then Float.infinity (* zero direction *)
   else
     let sx = -.dx /. dz and sy = -.dy /. dz and sz = 1. /. dz in
-    let ox = pick3 rox roy roz kx and oy = pick3 rox roy roz ky and oz = pick3 rox roy roz kz in
+    let ox = pick3 rox roy roz kx
+    and oy = pick3 rox roy roz ky
+    and oz = pick3 rox roy roz kz in
     let z0 = pick p0 kz -. oz and z1 = pick p1 kz -. oz and z2 = pick p2 kz -. oz in
     let x0 = pick p0 kx -. ox +. (sx *. z0) and y0 = pick p0 ky -. oy +. (sy *. z0) in
     let x1 = pick p1 kx -. ox +. (sx *. z1) and y1 = pick p1 ky -. oy +. (sy *. z1) in
@@ -193,7 +265,8 @@ let[@inline] triangle_s (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) rox roy roz rd
     let e0 = (x1 *. y2) -. (y1 *. x2) in
     let e1 = (x2 *. y0) -. (y2 *. x0) in
     let e2 = (x0 *. y1) -. (y0 *. x1) in
-    if (e0 < 0. || e1 < 0. || e2 < 0.) && (e0 > 0. || e1 > 0. || e2 > 0.) then Float.infinity
+    if (e0 < 0. || e1 < 0. || e2 < 0.) && (e0 > 0. || e1 > 0. || e2 > 0.) then
+      Float.infinity
     else
       let det = e0 +. e1 +. e2 in
       if det = 0. || Float.is_nan det then Float.infinity
@@ -237,7 +310,9 @@ let intersect_paraboloid vertex axis height k r tmin tmax =
   let f = Vec3.sub o vertex in
   let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
   let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
-  let a = Vec3.dot dp dp and b = (2. *. Vec3.dot fp dp) -. (k *. dy) and c = Vec3.dot fp fp -. (k *. fy) in
+  let a = Vec3.dot dp dp
+  and b = (2. *. Vec3.dot fp dp) -. (k *. dy)
+  and c = Vec3.dot fp fp -. (k *. fy) in
   let t0, t1 = roots a b c in
   let ok t =
     in_range t tmin tmax
@@ -271,16 +346,23 @@ let intersect_box mn mx r tmin tmax =
   box_s mn mx o.x o.y o.z inv.x inv.y inv.z tmin tmax
 
 (* A disk of radius r at [center] in the plane of [normal], t from the plane test. *)
-let[@inline] disk_s (center : Vec3.t) (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+let[@inline] disk_s (center : Vec3.t) (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax
+    =
   let denom = (dx *. normal.x) +. (dy *. normal.y) +. (dz *. normal.z) in
   if denom = 0. then Float.infinity
   else
     let t =
-      (((center.x -. ox) *. normal.x) +. ((center.y -. oy) *. normal.y) +. ((center.z -. oz) *. normal.z)) /. denom
+      (((center.x -. ox) *. normal.x)
+      +. ((center.y -. oy) *. normal.y)
+      +. ((center.z -. oz) *. normal.z))
+      /. denom
     in
     if in_range t tmin tmax then
-      let qx = ox +. (t *. dx) -. center.x and qy = oy +. (t *. dy) -. center.y and qz = oz +. (t *. dz) -. center.z in
-      if (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius then t else Float.infinity
+      let qx = ox +. (t *. dx) -. center.x
+      and qy = oy +. (t *. dy) -. center.y
+      and qz = oz +. (t *. dz) -. center.z in
+      if (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius then t
+      else Float.infinity
     else Float.infinity
 
 let disk_hit center normal radius r tmin tmax =
@@ -308,7 +390,10 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
         let c = (fl -. radius) *. (fl +. radius) in
         let s = Float.sqrt disc in
         let q = if b < 0. then s -. b else -.(b +. s) in
-        let t0, t1 = if q = 0. then (-.b /. a, Float.infinity) else (Float.min (q /. a) (c /. q), Float.max (q /. a) (c /. q)) in
+        let t0, t1 =
+          if q = 0. then (-.b /. a, Float.infinity)
+          else (Float.min (q /. a) (c /. q), Float.max (q /. a) (c /. q))
+        in
         let ok t =
           in_range t tmin tmax
           &&
@@ -353,7 +438,10 @@ let intersect_cone base axis height r0 r1 caps r tmin tmax =
     let tmax' = Float.min side tmax in
     let t_lo = if r0 > 0. then disk_hit base axis r0 r tmin tmax' else Float.infinity in
     let tmax' = Float.min t_lo tmax' in
-    let t_hi = if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax' else Float.infinity in
+    let t_hi =
+      if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax'
+      else Float.infinity
+    in
     Float.min side (Float.min t_lo t_hi)
 
 (* Torus: with q = P − C, y = q·axis, the surface is (|q|² + R² − r²)² = 4R²(|q|² − y²),
@@ -382,8 +470,10 @@ let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
   let out = ref [] in
   (* A ray touching the outer equator has |p₀| = R + r up to rounding: let it in, with an
      interval that is never empty. *)
-  if p02 <= big *. big *. (1. +. 1e-12) then begin
-    let l = (Float.sqrt (Float.max 0. ((big *. big) -. p02)) *. (1. +. 1e-9)) +. (1e-6 *. big) in
+  if p02 <= big *. big *. (1. +. 1e-12) then (
+    let l =
+      (Float.sqrt (Float.max 0. ((big *. big) -. p02)) *. (1. +. 1e-9)) +. (1e-6 *. big)
+    in
     let ua = Vec3.dot u axis and pa = Vec3.dot p0 axis in
     let kk = (major *. major) -. (minor *. minor) and r4 = 4. *. major *. major in
     (* g and its first derivative in the original form, at s. *)
@@ -396,7 +486,9 @@ let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
       let ss = p02 +. (s *. s) and y = pa +. (s *. ua) in
       (4. *. (ss +. kk) *. s) -. (2. *. r4 *. (s -. (y *. ua)))
     in
-    let g2 s = (12. *. s *. s) +. (4. *. (p02 +. kk)) -. (2. *. r4 *. (1. -. (ua *. ua))) in
+    let g2 s =
+      (12. *. s *. s) +. (4. *. (p02 +. kk)) -. (2. *. r4 *. (1. -. (ua *. ua)))
+    in
     (* The rounding error of g at s: a few ulps of its largest term. *)
     let err s =
       let ss = p02 +. (s *. s) in
@@ -410,40 +502,49 @@ let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
       let ha = ref (h !a) in
       let x = ref (0.5 *. (!a +. !b)) in
       let k = ref 0 in
-      while !k < 200 && !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b) do
+      while
+        !k < 200
+        && !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b)
+      do
         incr k;
         let hx = h !x in
-        if hx = 0. then begin
+        if hx = 0. then (
           a := !x;
-          b := !x
-        end
-        else begin
-          if (hx < 0.) = (!ha < 0.) then begin
+          b := !x)
+        else (
+          if hx < 0. = (!ha < 0.) then (
             a := !x;
-            ha := hx
-          end
+            ha := hx)
           else b := !x;
           let dx = h' !x in
           let nx = if dx <> 0. then !x -. (hx /. dx) else Float.nan in
-          x := if nx > !a && nx < !b && !k mod 8 <> 0 then nx else 0.5 *. (!a +. !b)
-        end
+          x := if nx > !a && nx < !b && !k mod 8 <> 0 then nx else 0.5 *. (!a +. !b))
       done;
-      if !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b) then !x else 0.5 *. (!a +. !b)
+      if !b -. !a > 2. *. epsilon_float *. Float.max (Float.abs !a) (Float.abs !b) then !x
+      else 0.5 *. (!a +. !b)
     in
     (* Critical points of g: roots of g' on each piece where g' is monotonic. *)
     let q = ((2. *. r4 *. (1. -. (ua *. ua))) -. (4. *. (p02 +. kk))) /. 12. in
-    let splits = if q > 0. then let z = Float.sqrt q in List.filter (fun s -> s > -.l && s < l) [ -.z; z ] else [] in
+    let splits =
+      if q > 0. then
+        let z = Float.sqrt q in
+        List.filter (fun s -> s > -.l && s < l) [ -.z; z ]
+      else []
+    in
     let pts = (-.l :: splits) @ [ l ] in
     let rec crits acc = function
       | a :: (b :: _ as rest) ->
           let fa = g1 a and fb = g1 b in
-          let acc = if (fa < 0. && fb > 0.) || (fa > 0. && fb < 0.) then solve g1 g2 a b :: acc else acc in
+          let acc =
+            if (fa < 0. && fb > 0.) || (fa > 0. && fb < 0.) then solve g1 g2 a b :: acc
+            else acc
+          in
           crits acc rest
       | _ -> List.rev acc
     in
     let cs = crits [] pts in
     let pts = (-.l :: cs) @ [ l ] in
-    let add s = out := (sc +. s) /. dl :: !out in
+    let add s = out := ((sc +. s) /. dl) :: !out in
     let rec roots_between = function
       | a :: (b :: _ as rest) ->
           let fa = g a and fb = g b in
@@ -458,12 +559,12 @@ let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
       | c :: rest ->
           let gc = g c in
           let next = match rest with n :: _ -> n | [] -> l in
-          if Float.abs gc <= err c && (g prev < 0.) = (gc < 0.) && (g next < 0.) = (gc < 0.) then add c;
+          if Float.abs gc <= err c && g prev < 0. = (gc < 0.) && g next < 0. = (gc < 0.)
+          then add c;
           tangents c rest
       | [] -> ()
     in
-    tangents (-.l) cs
-  end;
+    tangents (-.l) cs);
   let best = ref Float.infinity in
   List.iter (fun t -> if in_range t tmin tmax && t < !best then best := t) !out;
   !best
@@ -483,17 +584,28 @@ let bbox_of = function
       Some { Bbox.min = Vec3.sub center r; max = Vec3.add center r }
   | Plane _ -> None
   | Parallelogram { origin; edge1; edge2; _ } ->
-      Some (Bbox.of_points [ origin; Vec3.add origin edge1; Vec3.add origin edge2; Vec3.add (Vec3.add origin edge1) edge2 ])
+      Some
+        (Bbox.of_points
+           [
+             origin;
+             Vec3.add origin edge1;
+             Vec3.add origin edge2;
+             Vec3.add (Vec3.add origin edge1) edge2;
+           ])
   | Triangle { a; b; c; _ } -> Some (Bbox.of_points [ a; b; c ])
   | Paraboloid { vertex; axis; radius; height; _ } ->
       let top = disk_bbox (Vec3.madd vertex height axis) axis radius in
       Some (Bbox.union top { Bbox.min = vertex; max = vertex })
   | Box { min; max } -> Some { Bbox.min; max }
   | Cylinder { base; axis; height; radius; _ } ->
-      Some (Bbox.union (disk_bbox base axis radius) (disk_bbox (Vec3.madd base height axis) axis radius))
+      Some
+        (Bbox.union (disk_bbox base axis radius)
+           (disk_bbox (Vec3.madd base height axis) axis radius))
   | Disk { center; normal; radius; _ } -> Some (disk_bbox center normal radius)
   | Cone { base; axis; height; r0; r1; _ } ->
-      Some (Bbox.union (disk_bbox base axis r0) (disk_bbox (Vec3.madd base height axis) axis r1))
+      Some
+        (Bbox.union (disk_bbox base axis r0)
+           (disk_bbox (Vec3.madd base height axis) axis r1))
   | Torus { center; axis; major; minor; _ } ->
       (* The ring of radius R in the plane of the axis, grown by r in every direction. *)
       let e x = (major *. Float.sqrt (Float.max 0. (1. -. (x *. x)))) +. minor in
@@ -512,7 +624,9 @@ let rec inside s (p : Vec3.t) =
       let q = Vec3.sub p center in
       Vec3.dot q q <= radius *. radius
   | Plane { normal; offset } -> Vec3.dot normal p <= offset
-  | Box { min; max } -> p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z && p.z <= max.z
+  | Box { min; max } ->
+      p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z
+      && p.z <= max.z
   | Cylinder { base; axis; height; radius; caps = true; _ } ->
       let q = Vec3.sub p base in
       let y = Vec3.dot q axis in
@@ -537,11 +651,14 @@ let rec inside s (p : Vec3.t) =
   | Closed_mesh { tris; _ } ->
       (* Parity of the crossings of a ray from p in a fixed direction that no axis-aligned
          feature lies along. *)
-      let r = Ray.make_raw p (Vec3.v 0.5773502691896258 0.5773502691896257 0.5773502691896259) in
+      let r =
+        Ray.make_raw p (Vec3.v 0.5773502691896258 0.5773502691896257 0.5773502691896259)
+      in
       let n = ref 0 in
       Array.iter
         (function
-          | Triangle { a; b; c; _ } -> if intersect_triangle a b c r 0. Float.infinity < Float.infinity then incr n
+          | Triangle { a; b; c; _ } ->
+              if intersect_triangle a b c r 0. Float.infinity < Float.infinity then incr n
           | _ -> ())
         tris;
       !n land 1 = 1
@@ -553,9 +670,14 @@ let rec inside s (p : Vec3.t) =
       | Difference ->
           ins members.(0)
           &&
-          let rec none i = i >= Array.length members || ((not (ins members.(i))) && none (i + 1)) in
+          let rec none i =
+            i >= Array.length members || ((not (ins members.(i))) && none (i + 1))
+          in
           none 1)
-  | Cylinder { caps = false; _ } | Cone { caps = false; _ } | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
+  | Cylinder { caps = false; _ }
+  | Cone { caps = false; _ }
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ ->
+      false
 
 let rec is_solid = function
   | Sphere _ | Plane _ | Box _ | Torus _ | Closed_mesh _ -> true
@@ -570,7 +692,10 @@ let max_roots = 64
 
 let[@inline] member_ray (m : csg_member) r =
   if Transform.is_identity m.transform then r
-  else Ray.make_raw (Transform.inv_point m.transform (Ray.origin r)) (Transform.inv_vector m.transform (Ray.dir r))
+  else
+    Ray.make_raw
+      (Transform.inv_point m.transform (Ray.origin r))
+      (Transform.inv_vector m.transform (Ray.dir r))
 
 (* The common shapes' tests are inlined here, reading the interval from and storing the
    root into the caller's record (a float record is flat): no float is boxed. *)
@@ -580,18 +705,31 @@ let rec intersect_into s r (h : hit) =
   | Sphere { center; radius } -> h.t <- intersect_sphere center radius r tmin tmax
   | Plane { normal; offset } -> h.t <- intersect_plane normal offset r tmin tmax
   | Triangle { a; b; c; _ } -> h.t <- intersect_triangle a b c r tmin tmax
-  | Parallelogram { origin; edge1; edge2; pn; w; pd } -> h.t <- intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
+  | Parallelogram { origin; edge1; edge2; pn; w; pd } ->
+      h.t <- intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
   | Box { min; max } -> h.t <- intersect_box min max r tmin tmax
-  | Paraboloid { vertex; axis; height; k; _ } -> h.t <- intersect_paraboloid vertex axis height k r tmin tmax
-  | Cylinder { base; axis; height; radius; caps; _ } -> h.t <- intersect_cylinder base axis height radius caps r tmin tmax
+  | Paraboloid { vertex; axis; height; k; _ } ->
+      h.t <- intersect_paraboloid vertex axis height k r tmin tmax
+  | Cylinder { base; axis; height; radius; caps; _ } ->
+      h.t <- intersect_cylinder base axis height radius caps r tmin tmax
   | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
-  | Cone { base; axis; height; r0; r1; caps; _ } -> h.t <- intersect_cone base axis height r0 r1 caps r tmin tmax
-  | Torus { center; axis; major; minor; _ } -> h.t <- torus_roots center axis major minor r tmin tmax
+  | Cone { base; axis; height; r0; r1; caps; _ } ->
+      h.t <- intersect_cone base axis height r0 r1 caps r tmin tmax
+  | Torus { center; axis; major; minor; _ } ->
+      h.t <- torus_roots center axis major minor r tmin tmax
   | Closed_mesh { tris; _ } ->
       let best = ref tmax in
-      Array.iter (fun tr -> let t = intersect tr r tmin !best in if t < !best then best := t) tris;
+      Array.iter
+        (fun tr ->
+          let t = intersect tr r tmin !best in
+          if t < !best then best := t)
+        tris;
       h.t <- (if !best < tmax then !best else Float.infinity)
-  | Csg _ -> h.t <- (match csg_crossings s r tmin with (t, _) :: _ when t < tmax -> t | _ -> Float.infinity)
+  | Csg _ ->
+      h.t <-
+        (match csg_crossings s r tmin with
+        | (t, _) :: _ when t < tmax -> t
+        | _ -> Float.infinity)
 
 and intersect s r tmin tmax =
   let h = { tmin; tmax; t = Float.infinity } in
@@ -611,11 +749,16 @@ and member_crossings (m : csg_member) r tmin acc =
           if t < Float.infinity then acc := (t, m.first_leaf + k) :: !acc)
         tris;
       !acc
-  | Csg _ -> List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc (csg_crossings m.shape r' tmin)
+  | Csg _ ->
+      List.fold_left
+        (fun acc (t, l) -> (t, m.first_leaf + l) :: acc)
+        acc
+        (csg_crossings m.shape r' tmin)
   | s ->
       let rec go acc tmin k =
         let t = intersect s r' tmin Float.infinity in
-        if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1) else acc
+        if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1)
+        else acc
       in
       go acc tmin 0
 
@@ -632,7 +775,8 @@ and csg_crossings s r tmin =
       let ev = Array.fold_left (fun acc m -> member_crossings m r tmin acc) [] members in
       let ev =
         List.stable_sort
-          (fun ((a : float), (i : int)) (b, j) -> if a < b then -1 else if a > b then 1 else Int.compare i j)
+          (fun ((a : float), (i : int)) (b, j) ->
+            if a < b then -1 else if a > b then 1 else Int.compare i j)
           ev
       in
       let state t = inside s (Ray.at r t) in
@@ -641,7 +785,11 @@ and csg_crossings s r tmin =
         | [] -> []
         | (t, leaf) :: rest ->
             let rest = skip t rest in
-            let probe = match rest with (t', _) :: _ -> 0.5 *. (t +. t') | [] -> t +. Float.max 1. (Float.abs t) in
+            let probe =
+              match rest with
+              | (t', _) :: _ -> 0.5 *. (t +. t')
+              | [] -> t +. Float.max 1. (Float.abs t)
+            in
             let after = state probe in
             if after <> before then (t, leaf) :: walk after rest else walk before rest
       in
@@ -649,7 +797,11 @@ and csg_crossings s r tmin =
       | [] -> []
       | _ when op = Union -> ev (* every member's surface, as a group *)
       | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) ev)
-  | _ -> List.map (fun t -> (t, 0)) (let t = intersect s r tmin Float.infinity in if t < Float.infinity then [ t ] else [])
+  | _ ->
+      List.map
+        (fun t -> (t, 0))
+        (let t = intersect s r tmin Float.infinity in
+         if t < Float.infinity then [ t ] else [])
 
 type probe = {
   mutable ox : float;
@@ -667,21 +819,38 @@ type probe = {
 }
 
 let probe () =
-  { ox = 0.; oy = 0.; oz = 0.; dx = 0.; dy = 0.; dz = 0.; ix = 0.; iy = 0.; iz = 0.; p_tmin = 0.; p_tmax = 0.;
-    p_t = Float.infinity }
+  {
+    ox = 0.;
+    oy = 0.;
+    oz = 0.;
+    dx = 0.;
+    dy = 0.;
+    dz = 0.;
+    ix = 0.;
+    iy = 0.;
+    iz = 0.;
+    p_tmin = 0.;
+    p_tmax = 0.;
+    p_t = Float.infinity;
+  }
 
 (* The same tests as [intersect_into], on the probe's scalars; the quadrics with a height
    range (cylinder, paraboloid) build the ray their vector form needs. *)
 let probe_into s (q : probe) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   match s with
-  | Sphere { center; radius } -> q.p_t <- sphere_s center radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Plane { normal; offset } -> q.p_t <- plane_s normal offset q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Triangle { a; b; c; _ } -> q.p_t <- triangle_s a b c q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Sphere { center; radius } ->
+      q.p_t <- sphere_s center radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Plane { normal; offset } ->
+      q.p_t <- plane_s normal offset q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Triangle { a; b; c; _ } ->
+      q.p_t <- triangle_s a b c q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Parallelogram { origin; edge1; edge2; pn; w; pd } ->
-      q.p_t <- parallelogram_s origin edge1 edge2 pn w pd q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+      q.p_t <-
+        parallelogram_s origin edge1 edge2 pn w pd q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
-  | Disk { center; normal; radius; _ } -> q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Disk { center; normal; radius; _ } ->
+      q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
       let h = { tmin; tmax; t = Float.infinity } in
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
@@ -699,23 +868,38 @@ let csg op (ms : (t * Transform.t) list) =
         let first_leaf = !n in
         let subtracted = op = Difference && i > 0 in
         (match shape with
-         | Csg { leaves = ls; _ } ->
-             Array.iter
-               (fun l ->
-                 add { l with leaf_transform = Transform.then_ l.leaf_transform transform; flipped = l.flipped <> subtracted })
-               ls
-         | Closed_mesh { tris; _ } -> Array.iter (fun s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted }) tris
-         | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
+        | Csg { leaves = ls; _ } ->
+            Array.iter
+              (fun l ->
+                add
+                  {
+                    l with
+                    leaf_transform = Transform.then_ l.leaf_transform transform;
+                    flipped = l.flipped <> subtracted;
+                  })
+              ls
+        | Closed_mesh { tris; _ } ->
+            Array.iter
+              (fun s ->
+                add { leaf_shape = s; leaf_transform = transform; flipped = subtracted })
+              tris
+        | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
         { shape; transform; first_leaf })
       ms
     |> Array.of_list
   in
   if Array.length members = 0 then invalid_arg "Shape.csg: no member";
-  let boxes = Array.map (fun (m : csg_member) -> Option.map (Bbox.transform m.transform) (bbox_of m.shape)) members in
+  let boxes =
+    Array.map
+      (fun (m : csg_member) -> Option.map (Bbox.transform m.transform) (bbox_of m.shape))
+      members
+  in
   let known = List.filter_map Fun.id (Array.to_list boxes) in
   let cbounds =
     match op with
-    | Union | Merge -> if Array.exists Option.is_none boxes then None else Some (List.fold_left Bbox.union Bbox.empty known)
+    | Union | Merge ->
+        if Array.exists Option.is_none boxes then None
+        else Some (List.fold_left Bbox.union Bbox.empty known)
     | Difference -> boxes.(0)
     | Intersection -> (
         match known with
@@ -723,14 +907,19 @@ let csg op (ms : (t * Transform.t) list) =
         | b :: rest ->
             Some
               (List.fold_left
-                 (fun (a : Bbox.t) (b : Bbox.t) -> { Bbox.min = Vec3.max a.min b.min; max = Vec3.min a.max b.max })
+                 (fun (a : Bbox.t) (b : Bbox.t) ->
+                   { Bbox.min = Vec3.max a.min b.min; max = Vec3.min a.max b.max })
                  b rest))
   in
   Csg { op; members; leaves = Array.of_list (List.rev !leaves); cbounds }
 
 let closed_mesh tris =
   let tris = Array.of_list tris in
-  let b = Array.fold_left (fun acc tr -> match bbox_of tr with Some b -> Bbox.union acc b | None -> acc) Bbox.empty tris in
+  let b =
+    Array.fold_left
+      (fun acc tr -> match bbox_of tr with Some b -> Bbox.union acc b | None -> acc)
+      Bbox.empty tris
+  in
   Closed_mesh { tris; mbounds = (if Array.length tris = 0 then None else Some b) }
 
 let csg_leaf s r t =
@@ -743,10 +932,9 @@ let csg_leaf s r t =
       List.iter
         (fun (t', l) ->
           let d = Float.abs (t' -. t) in
-          if d < !bd then begin
+          if d < !bd then (
             bd := d;
-            best := l
-          end)
+            best := l))
         (csg_crossings s r tmin);
       !best
   | _ -> 0
@@ -760,7 +948,8 @@ let barycentric (a : Vec3.t) b c p =
   let den = (d00 *. d11) -. (d01 *. d01) in
   if den = 0. then (1., 0., 0.)
   else
-    let v = ((d11 *. d20) -. (d01 *. d21)) /. den and w = ((d00 *. d21) -. (d01 *. d20)) /. den in
+    let v = ((d11 *. d20) -. (d01 *. d21)) /. den
+    and w = ((d00 *. d21) -. (d01 *. d20)) /. den in
     (1. -. v -. w, v, w)
 
 (* Which part of a capped cylinder p lies on: 0 side, 1 base cap, 2 top cap; the nearest
@@ -771,7 +960,9 @@ let cylinder_part (base : Vec3.t) axis height radius caps p =
   if not caps then 0
   else
     let rho = Vec3.length (Vec3.madd q (-.y) axis) in
-    let ds = Float.abs (radius -. rho) and d0 = Float.abs y and d1 = Float.abs (height -. y) in
+    let ds = Float.abs (radius -. rho)
+    and d0 = Float.abs y
+    and d1 = Float.abs (height -. y) in
     if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
 
 (* Which part of a cone p lies on, as for the cylinder: 0 side, 1 base cap, 2 top cap. *)
@@ -782,7 +973,8 @@ let cone_part (base : Vec3.t) axis height r0 r1 caps p =
     let y = Vec3.dot q axis in
     let rho = Vec3.length (Vec3.madd q (-.y) axis) in
     let rr = r0 +. ((r1 -. r0) *. y /. height) in
-    let ds = Float.abs (rr -. rho) and d0 = if r0 > 0. then Float.abs y else Float.infinity
+    let ds = Float.abs (rr -. rho)
+    and d0 = if r0 > 0. then Float.abs y else Float.infinity
     and d1 = if r1 > 0. then Float.abs (height -. y) else Float.infinity in
     if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
 
@@ -790,10 +982,9 @@ let cone_part (base : Vec3.t) axis height r0 r1 caps p =
 let box_face (mn : Vec3.t) (mx : Vec3.t) (p : Vec3.t) =
   let best = ref 0 and bd = ref (Float.abs (p.x -. mn.x)) in
   let try_ i d =
-    if d < !bd then begin
+    if d < !bd then (
       bd := d;
-      best := i
-    end
+      best := i)
   in
   try_ 1 (Float.abs (mx.x -. p.x));
   try_ 2 (Float.abs (p.y -. mn.y));
@@ -846,7 +1037,9 @@ let normal s p =
           let xp = Vec3.madd q (-.Vec3.dot q axis) axis in
           let l = Vec3.length xp in
           if l = 0. then if r1 < r0 then axis else Vec3.neg axis
-          else Vec3.normalize (Vec3.madd (Vec3.smul (1. /. l) xp) (-.(r1 -. r0) /. height) axis))
+          else
+            Vec3.normalize
+              (Vec3.madd (Vec3.smul (1. /. l) xp) (-.(r1 -. r0) /. height) axis))
   | Torus { center; axis; major; _ } ->
       (* Away from the nearest point of the ring of radius R. *)
       let q = Vec3.sub p center in
@@ -855,7 +1048,10 @@ let normal s p =
       if l = 0. then if Vec3.dot q axis >= 0. then axis else Vec3.neg axis
       else Vec3.normalize (Vec3.madd q (-.major /. l) xp)
   | Closed_mesh _ -> invalid_arg "Shape.normal: a closed mesh's surface is its triangles"
-  | Csg _ -> invalid_arg "Shape.normal: a CSG object has no surface of its own; ask its leaf (Shape.csg_leaf)"
+  | Csg _ ->
+      invalid_arg
+        "Shape.normal: a CSG object has no surface of its own; ask its leaf \
+         (Shape.csg_leaf)"
 
 let frac x = x -. Float.floor x
 let clamp01 x = if x > 0. then if x < 1. then x else 1. else 0.
@@ -887,7 +1083,8 @@ let uv s (p : Vec3.t) =
       match uvs with
       | None -> (clamp01 l1, clamp01 l2)
       | Some ((u0, v0), (u1, v1), (u2, v2)) ->
-          ((l0 *. u0) +. (l1 *. u1) +. (l2 *. u2), (l0 *. v0) +. (l1 *. v1) +. (l2 *. v2)))
+          ((l0 *. u0) +. (l1 *. u1) +. (l2 *. u2), (l0 *. v0) +. (l1 *. v1) +. (l2 *. v2))
+      )
   | Paraboloid { vertex; axis; height; e1; e2; _ } ->
       let q = Vec3.sub p vertex in
       (turn e1 e2 q, clamp01 (Vec3.dot q axis /. height))
@@ -937,7 +1134,8 @@ let rec translate (d : Vec3.t) = function
   | Parallelogram { origin; edge1; edge2; pn; w; _ } ->
       let origin = Vec3.add origin d in
       Parallelogram { origin; edge1; edge2; pn; w; pd = Vec3.dot pn origin }
-  | Triangle { a; b; c; tn; normals; uvs } -> Triangle { a = Vec3.add a d; b = Vec3.add b d; c = Vec3.add c d; tn; normals; uvs }
+  | Triangle { a; b; c; tn; normals; uvs } ->
+      Triangle { a = Vec3.add a d; b = Vec3.add b d; c = Vec3.add c d; tn; normals; uvs }
   | Paraboloid p -> Paraboloid { p with vertex = Vec3.add p.vertex d }
   | Box { min; max } -> Box { min = Vec3.add min d; max = Vec3.add max d }
   | Cylinder c -> Cylinder { c with base = Vec3.add c.base d }
@@ -948,7 +1146,10 @@ let rec translate (d : Vec3.t) = function
   | Csg { op; members; _ } ->
       csg op
         (Array.to_list
-           (Array.map (fun (m : csg_member) -> (m.shape, Transform.then_ m.transform (Transform.translate d))) members))
+           (Array.map
+              (fun (m : csg_member) ->
+                (m.shape, Transform.then_ m.transform (Transform.translate d)))
+              members))
 
 let name = function
   | Sphere _ -> "sphere"

@@ -8,8 +8,8 @@
     depend on tmin and tmax (only which root is kept does), so a smaller tmax never moves
     a hit: the bounding volume hierarchy relies on it.
 
-    Build shapes with the smart constructors: the variants hold precomputed values
-    (unit normals, reciprocals, frames) that the constructors keep consistent. *)
+    Build shapes with the smart constructors: the variants hold precomputed values (unit
+    normals, reciprocals, frames) that the constructors keep consistent. *)
 
 type csg_op =
   | Union  (** every member's surface; inside where any member is *)
@@ -33,8 +33,10 @@ type t = private
       b : Vec3.t;
       c : Vec3.t;
       tn : Vec3.t;  (** unit geometric normal, (b − a) × (c − a) normalised *)
-      normals : (Vec3.t * Vec3.t * Vec3.t) option;  (** unit vertex normals (smooth meshes) *)
-      uvs : ((float * float) * (float * float) * (float * float)) option;  (** vertex (u, v) *)
+      normals : (Vec3.t * Vec3.t * Vec3.t) option;
+          (** unit vertex normals (smooth meshes) *)
+      uvs : ((float * float) * (float * float) * (float * float)) option;
+          (** vertex (u, v) *)
     }
   | Paraboloid of {
       vertex : Vec3.t;
@@ -81,7 +83,8 @@ type t = private
       op : csg_op;
       members : csg_member array;  (** at least one *)
       leaves : csg_leaf array;  (** every simple surface of the tree, depth first *)
-      cbounds : Bbox.t option;  (** the intersection's overlap, the difference's first member's *)
+      cbounds : Bbox.t option;
+          (** the intersection's overlap, the difference's first member's *)
     }  (** constructive solid geometry over solids placed by their own transforms *)
 
 and csg_member = {
@@ -93,15 +96,16 @@ and csg_member = {
 and csg_leaf = {
   leaf_shape : t;  (** never a [Csg] *)
   leaf_transform : Transform.t;  (** leaf space → the outermost CSG's space *)
-  flipped : bool;  (** subtracted an odd number of times: its normal points the other way *)
+  flipped : bool;
+      (** subtracted an odd number of times: its normal points the other way *)
 }
 
 val sphere : center:Vec3.t -> radius:float -> t
 (** The sphere |P − center| = radius; the radius must be positive. *)
 
 val plane : normal:Vec3.t -> offset:float -> t
-(** [plane ~normal ~offset]: [normal] need not be unit; the plane is n̂·P = offset with
-    n̂ = normalize normal. *)
+(** [plane ~normal ~offset]: [normal] need not be unit; the plane is n̂·P = offset with n̂ =
+    normalize normal. *)
 
 val parallelogram : origin:Vec3.t -> edge1:Vec3.t -> edge2:Vec3.t -> t
 (** A + a·E1 + b·E2 for a, b ∈ [0, 1]; the edges must not be parallel. Hits use a
@@ -133,9 +137,11 @@ val cylinder : base:Vec3.t -> top:Vec3.t -> radius:float -> caps:bool -> t
 (** The cylinder of [radius] around the segment base–top (distinct points), closed by two
     disks when [caps]. *)
 
-val cone : base:Vec3.t -> top:Vec3.t -> base_radius:float -> top_radius:float -> caps:bool -> t
+val cone :
+  base:Vec3.t -> top:Vec3.t -> base_radius:float -> top_radius:float -> caps:bool -> t
 (** The cone around the segment base–top (distinct points) whose radius goes linearly from
-    [base_radius] to [top_radius] (either may be 0, not both), closed by disks when [caps]. *)
+    [base_radius] to [top_radius] (either may be 0, not both), closed by disks when
+    [caps]. *)
 
 val torus : center:Vec3.t -> axis:Vec3.t -> major:float -> minor:float -> t
 (** The torus of tube radius [minor] around the ring of radius [major] about [axis] (need
@@ -144,7 +150,8 @@ val torus : center:Vec3.t -> axis:Vec3.t -> major:float -> minor:float -> t
     steps on the original equation; tangent (double) roots are kept. *)
 
 val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
-(** The flat disk of [radius] around [center] in the plane of [normal] (need not be unit). *)
+(** The flat disk of [radius] around [center] in the plane of [normal] (need not be unit).
+*)
 
 val csg : csg_op -> (t * Transform.t) list -> t
 (** [csg op members] combines solids, each placed by its transform; members of
@@ -166,8 +173,8 @@ val inside : t -> Vec3.t -> bool
 
 val csg_crossings : t -> Ray.t -> float -> (float * int) list
 (** [csg_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
-    nearest first, with the index of the leaf the crossing lies on (0 for a simple
-    shape). It allocates: CSG objects are not on the allocation-free path. *)
+    nearest first, with the index of the leaf the crossing lies on (0 for a simple shape).
+    It allocates: CSG objects are not on the allocation-free path. *)
 
 val csg_leaf : t -> Ray.t -> float -> int
 (** [csg_leaf s r t] is the index in [leaves] of the surface that the crossing of [r] at
@@ -199,21 +206,21 @@ type probe = {
   mutable p_tmax : float;  (** the interval (p_tmin, p_tmax) *)
   mutable p_t : float;  (** the answer *)
 }
-(** A ray held as scalars in one flat, reusable record: the form of the shadow query, which
-    builds no {!Ray.t}. *)
+(** A ray held as scalars in one flat, reusable record: the form of the shadow query,
+    which builds no {!Ray.t}. *)
 
 val probe : unit -> probe
 (** A fresh probe (all zero, answer infinity). *)
 
 val probe_into : t -> probe -> unit
-(** [probe_into s q] is [q.p_t <- intersect s r q.p_tmin q.p_tmax] for the ray [r] that [q]
-    holds: the same root, bit for bit, computed without allocating (except for cylinders and
-    paraboloids, which build the ray). *)
+(** [probe_into s q] is [q.p_t <- intersect s r q.p_tmin q.p_tmax] for the ray [r] that
+    [q] holds: the same root, bit for bit, computed without allocating (except for
+    cylinders and paraboloids, which build the ray). *)
 
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
-    (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the plane's
-    own normal for flat shapes, and the interpolated vertex normal for smooth mesh
+    (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the
+    plane's own normal for flat shapes, and the interpolated vertex normal for smooth mesh
     triangles. Raises [Invalid_argument] on a [Csg]: ask the leaf ({!csg_leaf}). *)
 
 val uv : t -> Vec3.t -> float * float

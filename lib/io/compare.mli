@@ -13,7 +13,8 @@ type t = {
   over_share : float;  (** [over] / pixels *)
 }
 
-val compare : ?threshold:int -> int * int * Bytes.t -> int * int * Bytes.t -> (t, string) result
+val compare :
+  ?threshold:int -> int * int * Bytes.t -> int * int * Bytes.t -> (t, string) result
 (** [compare ~threshold a b] compares two (width, height, RGB bytes) images; [Error] when
     their sizes differ. [threshold] (default 1) is the per-channel difference a pixel may
     have without counting in [over]. *)
@@ -39,10 +40,16 @@ type outcome =
   | Missing of { actual : string }  (** no golden yet; the actual image was written *)
 
 val golden :
-  ?tolerance:int -> ?max_share:float -> update:bool -> golden:string -> int * int * Bytes.t -> (outcome, string) result
+  ?tolerance:int ->
+  ?max_share:float ->
+  update:bool ->
+  golden:string ->
+  int * int * Bytes.t ->
+  (outcome, string) result
 (** [golden ~update ~golden img] holds an encoded image against the PNG at [golden]: with
     [update], writes it there instead. On a difference (or with no golden) the image is
     written beside the golden as [NAME.actual.png], with [NAME.diff.png] for a difference;
     after a pass or an update, those of an earlier failure are removed. The golden's
     directory is created when it is missing. [tolerance] (default 1) and [max_share]
-    (default 0) are as in {!within}. What [lancer golden] and [lancer-alcotest] both do. *)
+    (default 0) are as in {!within}. What [lancer golden] and [lancer-alcotest] both do.
+*)

@@ -1,10 +1,13 @@
 type t = { width : int; height : int; data : Float.Array.t }
 
-let create width height = { width; height; data = Float.Array.make (3 * width * height) 0. }
+let create width height =
+  { width; height; data = Float.Array.make (3 * width * height) 0. }
 
 let get fb i j =
   let k = 3 * ((j * fb.width) + i) in
-  Color.v (Float.Array.get fb.data k) (Float.Array.get fb.data (k + 1)) (Float.Array.get fb.data (k + 2))
+  Color.v (Float.Array.get fb.data k)
+    (Float.Array.get fb.data (k + 1))
+    (Float.Array.get fb.data (k + 2))
 
 let set fb i j (c : Color.t) =
   let k = 3 * ((j * fb.width) + i) in
@@ -15,22 +18,26 @@ let set fb i j (c : Color.t) =
 (* The encoding curve on a clamped value. *)
 let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
-  let v = if v > 0. then (if v < 1. then v else 1.) else 0. in
+  let v = if v > 0. then if v < 1. then v else 1. else 0. in
   match gamma with
-  | Settings.Srgb -> if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
+  | Settings.Srgb ->
+      if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
   | Settings.Power g -> Float.pow v (1. /. g)
 
 let encode_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
-let encode_channel16 gamma v = int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
+
+let encode_channel16 gamma v =
+  int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
 
 (* Alpha is a linear share, never gamma-encoded. *)
 let quantise maxv a =
-  let a = if a > 0. then (if a < 1. then a else 1.) else 0. in
+  let a = if a > 0. then if a < 1. then a else 1. else 0. in
   int_of_float (Float.floor ((Float.of_int maxv *. a) +. 0.5))
 
 let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
-  Bytes.init n (fun k -> Char.unsafe_chr (encode_channel gamma (Float.Array.get fb.data k)))
+  Bytes.init n (fun k ->
+      Char.unsafe_chr (encode_channel gamma (Float.Array.get fb.data k)))
 
 type format = Png | Ppm
 
@@ -59,22 +66,33 @@ let write_rgb8 path w h bytes =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm oc w h bytes)
-  | Ok Png -> write_atomic path (fun oc -> write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
+  | Ok Png ->
+      write_atomic path (fun oc ->
+          write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
 
 type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 
 let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
   if bits <> 8 && bits <> 16 then invalid_arg "Image.encode: bits must be 8 or 16";
   (match alpha with
-   | Some a when Float.Array.length a <> fb.width * fb.height -> invalid_arg "Image.encode: alpha has the wrong size"
-   | _ -> ());
-  let r = match crop with Some r -> r | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height } in
-  if r.x0 < 0 || r.y0 < 0 || r.x1 > fb.width || r.y1 > fb.height || r.x0 >= r.x1 || r.y0 >= r.y1 then
-    invalid_arg "Image.encode: the crop region is not inside the image";
+  | Some a when Float.Array.length a <> fb.width * fb.height ->
+      invalid_arg "Image.encode: alpha has the wrong size"
+  | _ -> ());
+  let r =
+    match crop with
+    | Some r -> r
+    | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height }
+  in
+  if
+    r.x0 < 0 || r.y0 < 0 || r.x1 > fb.width || r.y1 > fb.height || r.x0 >= r.x1
+    || r.y0 >= r.y1
+  then invalid_arg "Image.encode: the crop region is not inside the image";
   let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
   let channels = if alpha = None then 3 else 4 in
   let b = Bytes.create (w * h * channels * (bits / 8)) in
-  let put k v = if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v in
+  let put k v =
+    if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v
+  in
   let enc = if bits = 8 then encode_channel gamma else encode_channel16 gamma in
   let maxv = if bits = 8 then 255 else 65535 in
   for j = 0 to h - 1 do
@@ -83,7 +101,9 @@ let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
       for c = 0 to 2 do
         put (dst + c) (enc (Float.Array.get fb.data ((3 * src) + c)))
       done;
-      match alpha with Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src)) | None -> ()
+      match alpha with
+      | Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src))
+      | None -> ()
     done
   done;
   Raster.make ~width:w ~height:h ~channels ~depth:bits b
@@ -94,7 +114,8 @@ let write_ppm_raster oc (r : Raster.t) =
 
 let output_raster fmt oc (r : Raster.t) =
   match fmt with
-  | Ppm when r.channels <> 3 -> invalid_arg "Image.output_raster: a PPM file holds RGB only"
+  | Ppm when r.channels <> 3 ->
+      invalid_arg "Image.output_raster: a PPM file holds RGB only"
   | Ppm -> write_ppm_raster oc r
   | Png -> write_png oc r
 
@@ -102,11 +123,15 @@ let write_raster path (r : Raster.t) =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm when r.channels <> 3 ->
-      Error (Printf.sprintf "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png" path)
+      Error
+        (Printf.sprintf
+           "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png"
+           path)
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm_raster oc r)
   | Ok Png -> write_atomic path (fun oc -> write_png oc r)
 
-let save ?gamma ?bits ?alpha ?crop path fb = write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
+let save ?gamma ?bits ?alpha ?crop path fb =
+  write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
 
 let read_ppm path =
   let ic = open_in_bin path in
@@ -115,7 +140,9 @@ let read_ppm path =
     let b = Buffer.create 8 in
     let rec skip () =
       match input_char ic with
-      | '#' -> ignore (input_line ic); skip ()
+      | '#' ->
+          ignore (input_line ic);
+          skip ()
       | ' ' | '\n' | '\r' | '\t' -> skip ()
       | c -> Buffer.add_char b c
     in
@@ -123,17 +150,26 @@ let read_ppm path =
     let rec more () =
       match input_char ic with
       | ' ' | '\n' | '\r' | '\t' -> ()
-      | c -> Buffer.add_char b c; more ()
+      | c ->
+          Buffer.add_char b c;
+          more ()
     in
     more ();
     Buffer.contents b
-  and int_token () = match int_of_string_opt (token ()) with Some n -> n | None -> failwith "not a PPM file" in
+  and int_token () =
+    match int_of_string_opt (token ()) with
+    | Some n -> n
+    | None -> failwith "not a PPM file"
+  in
   if token () <> "P6" then failwith "not a binary (P6) PPM file";
   let w = int_token () in
   let h = int_token () in
   let maxv = int_token () in
-  if w < 1 || h < 1 || w > Settings.max_pixels / h then failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
-  if maxv <> 255 && maxv <> 65535 then failwith (Printf.sprintf "unsupported PPM maximum value %d (lancer reads 255 and 65535)" maxv);
+  if w < 1 || h < 1 || w > Settings.max_pixels / h then
+    failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
+  if maxv <> 255 && maxv <> 65535 then
+    failwith
+      (Printf.sprintf "unsupported PPM maximum value %d (lancer reads 255 and 65535)" maxv);
   let depth = if maxv = 255 then 8 else 16 in
   let bytes = Bytes.create (3 * w * h * (depth / 8)) in
   really_input ic bytes 0 (Bytes.length bytes);
@@ -142,7 +178,8 @@ let read_ppm path =
 let read_png path =
   let size = (Unix.stat path).st_size in
   (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
-  if size > 4 * 8 * Settings.max_pixels then failwith (Printf.sprintf "the file is too large for an image (%d bytes)" size);
+  if size > 4 * 8 * Settings.max_pixels then
+    failwith (Printf.sprintf "the file is too large for an image (%d bytes)" size);
   match Png.decode (In_channel.with_open_bin path In_channel.input_all) with
   | Ok r -> r
   | Error m -> failwith m
@@ -152,22 +189,32 @@ let read_raster path =
   | Error e -> Error e
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
-      else if Sys.is_directory path then Error (Printf.sprintf "%s: is a directory, not an image" path)
-      else if (try (Unix.stat path).st_kind <> Unix.S_REG with Unix.Unix_error _ -> true) then
+      else if Sys.is_directory path then
+        Error (Printf.sprintf "%s: is a directory, not an image" path)
+      else if try (Unix.stat path).st_kind <> Unix.S_REG with Unix.Unix_error _ -> true
+      then
         (* A device or a pipe could be endless (/dev/zero) or block forever (a FIFO). *)
-        Error (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image" path)
+        Error
+          (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image" path)
       else
-        match (match fmt with Png -> read_png path | Ppm -> read_ppm path) with
+        match match fmt with Png -> read_png path | Ppm -> read_ppm path with
         | r -> Ok r
         | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
-        | exception e -> Error (Printf.sprintf "%s: cannot read image: %s" path (describe_exn e)))
+        | exception e ->
+            Error (Printf.sprintf "%s: cannot read image: %s" path (describe_exn e)))
 
 let read_rgb8 path =
-  Result.map (fun (r : Raster.t) -> (r.width, r.height, Raster.to_rgb8 r)) (read_raster path)
-let srgb_to_linear v = if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
+  Result.map
+    (fun (r : Raster.t) -> (r.width, r.height, Raster.to_rgb8 r))
+    (read_raster path)
+
+let srgb_to_linear v =
+  if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
 
 (* Every possible sample value decoded once: 256 or 65536 entries. *)
-let linear_lut maxv = Float.Array.init (maxv + 1) (fun k -> srgb_to_linear (Float.of_int k /. Float.of_int maxv))
+let linear_lut maxv =
+  Float.Array.init (maxv + 1) (fun k ->
+      srgb_to_linear (Float.of_int k /. Float.of_int maxv))
 
 let of_raster (r : Raster.t) =
   let lut = linear_lut (Raster.max_value r) in
@@ -177,7 +224,9 @@ let of_raster (r : Raster.t) =
   for p = 0 to n - 1 do
     let i = p mod r.width and j = p / r.width in
     for c = 0 to 2 do
-      Float.Array.set data ((3 * p) + c) (Float.Array.get lut (Raster.get r i j (if gray then 0 else c)))
+      Float.Array.set data
+        ((3 * p) + c)
+        (Float.Array.get lut (Raster.get r i j (if gray then 0 else c)))
     done
   done;
   { width = r.width; height = r.height; data }

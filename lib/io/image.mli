@@ -6,7 +6,11 @@
     plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
     temporary file in the same directory, then a rename. *)
 
-type t = { width : int; height : int; data : Float.Array.t  (** 3·width·height linear floats *) }
+type t = {
+  width : int;
+  height : int;
+  data : Float.Array.t;  (** 3·width·height linear floats *)
+}
 
 val create : int -> int -> t
 (** [create w h] is a black framebuffer of [w] columns and [h] rows. *)
@@ -37,16 +41,23 @@ val check_writable : string -> (unit, string) result
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
 (** {!Safe_file.write}: [write_atomic path f] writes [path] through [f] into a temporary
     file beside it and renames it into place once every write, the flush, the [fsync] and
-    the close succeeded; on any failure [path] is untouched and no temporary file stays. *)
+    the close succeeded; on any failure [path] is untouched and no temporary file stays.
+*)
 
 val write_rgb8 : string -> int -> int -> Bytes.t -> (unit, string) result
-(** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s
-    extension, atomically. *)
+(** [write_rgb8 path w h bytes] writes encoded pixels as PNG or PPM by [path]'s extension,
+    atomically. *)
 
 type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 (** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
 
-val encode : ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> t -> Raster.t
+val encode :
+  ?gamma:Settings.gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  t ->
+  Raster.t
 (** [encode fb] is [fb]'s RGB samples at [bits] (8, the default, or 16) through
     {!encode_channel} or {!encode_channel16}; with [alpha] (one linear value per pixel,
     row-major) a fourth channel ⌊max·a + 0.5⌋, not gamma-encoded; with [crop] only that
@@ -62,15 +73,21 @@ val output_raster : format -> out_channel -> Raster.t -> unit
     [Invalid_argument]. *)
 
 val save :
-  ?gamma:Settings.gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> string -> t -> (unit, string) result
+  ?gamma:Settings.gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  string ->
+  t ->
+  (unit, string) result
 (** [save path fb] is {!write_raster} of {!encode} (default sRGB, 8-bit RGB, the whole
     image). *)
 
 val read_raster : string -> (Raster.t, string) result
 (** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
     or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
-    before its pixels are allocated: larger than {!Settings.max_pixels} is an error.
-    Never raises; the message starts with [path]. *)
+    before its pixels are allocated: larger than {!Settings.max_pixels} is an error. Never
+    raises; the message starts with [path]. *)
 
 val read_rgb8 : string -> (int * int * Bytes.t, string) result
 (** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file converted to 8-bit RGB

@@ -4,7 +4,9 @@ exception Bad of string
    from [release] (an interrupt arriving just then) never hides [body]'s own. *)
 let finally release body =
   match body () with
-  | r -> release (); r
+  | r ->
+      release ();
+      r
   | exception e ->
       (try release () with _ -> ());
       raise e
@@ -38,7 +40,13 @@ let paeth a b c =
 
 (* The filtered value of byte x with left neighbour a, upper b and upper-left c. *)
 let filtered ft x a b c =
-  (match ft with 0 -> x | 1 -> x - a | 2 -> x - b | 3 -> x - ((a + b) lsr 1) | _ -> x - paeth a b c) land 255
+  (match ft with
+  | 0 -> x
+  | 1 -> x - a
+  | 2 -> x - b
+  | 3 -> x - ((a + b) lsr 1)
+  | _ -> x - paeth a b c)
+  land 255
 
 (* Row [j] filtered with the filter that minimises the sum of absolute (signed) values,
    into [out] (filter byte first). [prev] is the row above (zeros for the first). *)
@@ -57,13 +65,16 @@ let filter_row ~bpp row prev out =
   let best = ref 0 and best_cost = ref (cost 0) in
   for ft = 1 to 4 do
     let c = cost ft in
-    if c < !best_cost then (best := ft; best_cost := c)
+    if c < !best_cost then (
+      best := ft;
+      best_cost := c)
   done;
   Bytes.set_uint8 out 0 !best;
   for k = 0 to n - 1 do
     let a = if k >= bpp then Bytes.get_uint8 row (k - bpp) else 0 in
     let c = if k >= bpp then Bytes.get_uint8 prev (k - bpp) else 0 in
-    Bytes.set_uint8 out (k + 1) (filtered !best (Bytes.get_uint8 row k) a (Bytes.get_uint8 prev k) c)
+    Bytes.set_uint8 out (k + 1)
+      (filtered !best (Bytes.get_uint8 row k) a (Bytes.get_uint8 prev k) c)
   done
 
 let colour_type channels = match channels with 1 -> 0 | 2 -> 4 | 3 -> 2 | _ -> 6
@@ -89,15 +100,21 @@ let encode ?(level = 6) (r : Raster.t) write =
   let emit n = if n > 0 then chunk write "IDAT" (Bytes.sub_string out 0 n) n in
   let filled = ref 0 in
   let rec feed src pos len flush =
-    let finished, used_in, used_out = Zlib.deflate z src pos len out !filled (Bytes.length out - !filled) flush in
+    let finished, used_in, used_out =
+      Zlib.deflate z src pos len out !filled (Bytes.length out - !filled) flush
+    in
     filled := !filled + used_out;
-    if !filled = Bytes.length out then (emit !filled; filled := 0);
+    if !filled = Bytes.length out then (
+      emit !filled;
+      filled := 0);
     let pos = pos + used_in and len = len - used_in in
     match flush with
     | Zlib.Z_FINISH -> if not finished then feed src pos len flush
     | _ -> if len > 0 then feed src pos len flush
   in
-  let row = Bytes.create stride and prev = ref (Bytes.make stride '\000') and line = Bytes.create (stride + 1) in
+  let row = Bytes.create stride
+  and prev = ref (Bytes.make stride '\000')
+  and line = Bytes.create (stride + 1) in
   for j = 0 to r.height - 1 do
     Bytes.blit r.samples (j * stride) row 0 stride;
     filter_row ~bpp row !prev line;
@@ -115,21 +132,41 @@ type header = { w : int; h : int; depth : int; ctype : int; interlaced : bool }
 let channels_of_type = function 0 -> 1 | 2 -> 3 | 3 -> 1 | 4 -> 2 | 6 -> 4 | _ -> 0
 
 let type_name = function
-  | 0 -> "gray" | 2 -> "RGB" | 3 -> "palette" | 4 -> "gray+alpha" | 6 -> "RGBA" | t -> Printf.sprintf "colour type %d" t
+  | 0 -> "gray"
+  | 2 -> "RGB"
+  | 3 -> "palette"
+  | 4 -> "gray+alpha"
+  | 6 -> "RGBA"
+  | t -> Printf.sprintf "colour type %d" t
 
 let parse_header max_pixels d =
-  if String.length d <> 13 then bad "its IHDR chunk has %d bytes, not 13" (String.length d);
-  let w = Int32.to_int (String.get_int32_be d 0) and h = Int32.to_int (String.get_int32_be d 4) in
+  if String.length d <> 13 then
+    bad "its IHDR chunk has %d bytes, not 13" (String.length d);
+  let w = Int32.to_int (String.get_int32_be d 0)
+  and h = Int32.to_int (String.get_int32_be d 4) in
   let depth = Char.code d.[8] and ctype = Char.code d.[9] in
   if w < 1 || h < 1 then bad "a PNG image of %d×%d pixels is empty" w h;
-  if w > max_pixels / h then bad "image %d×%d is larger than the limit of %d pixels" w h max_pixels;
-  let depths = match ctype with 0 -> [ 1; 2; 4; 8; 16 ] | 3 -> [ 1; 2; 4; 8 ] | 2 | 4 | 6 -> [ 8; 16 ] | _ -> [] in
-  if depths = [] then bad "unsupported PNG colour type %d (the standard ones are 0, 2, 3, 4 and 6)" ctype;
-  if not (List.mem depth depths) then bad "a %s PNG cannot have %d bits per sample" (type_name ctype) depth;
-  if Char.code d.[10] <> 0 then bad "unsupported PNG compression method %d" (Char.code d.[10]);
+  if w > max_pixels / h then
+    bad "image %d×%d is larger than the limit of %d pixels" w h max_pixels;
+  let depths =
+    match ctype with
+    | 0 -> [ 1; 2; 4; 8; 16 ]
+    | 3 -> [ 1; 2; 4; 8 ]
+    | 2 | 4 | 6 -> [ 8; 16 ]
+    | _ -> []
+  in
+  if depths = [] then
+    bad "unsupported PNG colour type %d (the standard ones are 0, 2, 3, 4 and 6)" ctype;
+  if not (List.mem depth depths) then
+    bad "a %s PNG cannot have %d bits per sample" (type_name ctype) depth;
+  if Char.code d.[10] <> 0 then
+    bad "unsupported PNG compression method %d" (Char.code d.[10]);
   if Char.code d.[11] <> 0 then bad "unsupported PNG filter method %d" (Char.code d.[11]);
   let interlaced =
-    match Char.code d.[12] with 0 -> false | 1 -> true | m -> bad "unsupported PNG interlace method %d" m
+    match Char.code d.[12] with
+    | 0 -> false
+    | 1 -> true
+    | m -> bad "unsupported PNG interlace method %d" m
   in
   { w; h; depth; ctype; interlaced }
 
@@ -137,27 +174,43 @@ let parse_header max_pixels d =
 let read_chunks max_pixels s =
   let n = String.length s in
   if n < 8 || String.sub s 0 8 <> signature then bad "not a PNG file";
-  let header = ref None and plte = ref None and trns = ref None and idat = Buffer.create (n / 2 + 16) in
+  let header = ref None
+  and plte = ref None
+  and trns = ref None
+  and idat = Buffer.create ((n / 2) + 16) in
   let rec go pos first =
     if pos + 8 > n then bad "truncated PNG file (it ends before its IEND chunk)";
     let len = Int32.to_int (String.get_int32_be s pos) land 0xFFFFFFFF in
     let kind = String.sub s (pos + 4) 4 in
-    if pos + 12 + len > n || len < 0 then bad "truncated PNG file (chunk %s at byte %d runs past the end)" (String.escaped kind) pos;
+    if pos + 12 + len > n || len < 0 then
+      bad "truncated PNG file (chunk %s at byte %d runs past the end)"
+        (String.escaped kind) pos;
     if first && kind <> "IHDR" then bad "not a PNG file (its first chunk is not IHDR)";
     let stored = String.get_int32_be s (pos + 8 + len) in
     let data = String.sub s (pos + 8) len in
     if not (Int32.equal stored (crc_of kind data len)) then
-      bad "corrupt PNG file (bad checksum in chunk %s at byte %d)" (String.escaped kind) pos;
+      bad "corrupt PNG file (bad checksum in chunk %s at byte %d)" (String.escaped kind)
+        pos;
     let next = pos + 12 + len in
     match kind with
-    | "IHDR" -> if first then header := Some (parse_header max_pixels data) else bad "corrupt PNG file (a second IHDR chunk)"; go next false
-    | "PLTE" -> plte := Some data; go next false
-    | "tRNS" -> trns := Some data; go next false
-    | "IDAT" -> Buffer.add_string idat data; go next false
+    | "IHDR" ->
+        if first then header := Some (parse_header max_pixels data)
+        else bad "corrupt PNG file (a second IHDR chunk)";
+        go next false
+    | "PLTE" ->
+        plte := Some data;
+        go next false
+    | "tRNS" ->
+        trns := Some data;
+        go next false
+    | "IDAT" ->
+        Buffer.add_string idat data;
+        go next false
     | "IEND" -> ()
     | _ ->
         (* Ancillary chunks (lower-case first letter) may be skipped; critical ones not. *)
-        if Char.code kind.[0] land 32 = 0 then bad "unsupported critical PNG chunk %s" (String.escaped kind);
+        if Char.code kind.[0] land 32 = 0 then
+          bad "unsupported critical PNG chunk %s" (String.escaped kind);
         go next false
   in
   go 8 true;
@@ -169,7 +222,16 @@ let read_chunks max_pixels s =
 
 (* The passes of the image: (x0, y0, dx, dy); Adam7 has seven, a plain image one. *)
 let passes hd =
-  if hd.interlaced then [ (0, 0, 8, 8); (4, 0, 8, 8); (0, 4, 4, 8); (2, 0, 4, 4); (0, 2, 2, 4); (1, 0, 2, 2); (0, 1, 1, 2) ]
+  if hd.interlaced then
+    [
+      (0, 0, 8, 8);
+      (4, 0, 8, 8);
+      (0, 4, 4, 8);
+      (2, 0, 4, 4);
+      (0, 2, 2, 4);
+      (1, 0, 2, 2);
+      (0, 1, 1, 2);
+    ]
   else [ (0, 0, 1, 1) ]
 
 let pass_size hd (x0, y0, dx, dy) = ((hd.w - x0 + dx - 1) / dx, (hd.h - y0 + dy - 1) / dy)
@@ -183,14 +245,19 @@ let inflate data expected =
   let rec go pos opos =
     let len = String.length data - pos in
     let finished, used_in, used_out =
-      if opos < expected then Zlib.inflate_string z data pos len out opos (expected - opos) Zlib.Z_SYNC_FLUSH
+      if opos < expected then
+        Zlib.inflate_string z data pos len out opos (expected - opos) Zlib.Z_SYNC_FLUSH
       else Zlib.inflate_string z data pos len spare 0 1 Zlib.Z_SYNC_FLUSH
     in
-    if opos >= expected && used_out > 0 then bad "corrupt PNG file (more image data than its size needs)";
+    if opos >= expected && used_out > 0 then
+      bad "corrupt PNG file (more image data than its size needs)";
     let pos = pos + used_in and opos = opos + used_out in
-    if finished then (if opos < expected then bad "truncated PNG image data (%d of %d bytes)" opos expected)
-    else if used_in = 0 && used_out = 0 then
-      (if opos < expected then bad "truncated PNG image data (%d of %d bytes)" opos expected)
+    if finished then (
+      if opos < expected then
+        bad "truncated PNG image data (%d of %d bytes)" opos expected)
+    else if used_in = 0 && used_out = 0 then (
+      if opos < expected then
+        bad "truncated PNG image data (%d of %d bytes)" opos expected)
     else go pos opos
   in
   (try go 0 0 with Zlib.Error (_, m) -> bad "corrupt PNG image data (zlib: %s)" m);
@@ -209,7 +276,14 @@ let unfilter ~bpp buf off stride rows =
       let b = if up >= 0 then Bytes.get_uint8 buf (up + k) else 0 in
       let c = if k >= bpp && up >= 0 then Bytes.get_uint8 buf (up + k - bpp) else 0 in
       let x = Bytes.get_uint8 buf (row + k) in
-      let v = match ft with 0 -> x | 1 -> x + a | 2 -> x + b | 3 -> x + ((a + b) lsr 1) | _ -> x + paeth a b c in
+      let v =
+        match ft with
+        | 0 -> x
+        | 1 -> x + a
+        | 2 -> x + b
+        | 3 -> x + ((a + b) lsr 1)
+        | _ -> x + paeth a b c
+      in
       Bytes.set_uint8 buf (row + k) (v land 255)
     done;
     prev_row := row
@@ -221,7 +295,8 @@ let decode_exn max_pixels s =
   let palette =
     match (hd.ctype, plte) with
     | 3, None -> bad "corrupt PNG file (a palette image without a PLTE chunk)"
-    | 3, Some p when String.length p mod 3 <> 0 || String.length p = 0 -> bad "corrupt PNG file (PLTE chunk of %d bytes)" (String.length p)
+    | 3, Some p when String.length p mod 3 <> 0 || String.length p = 0 ->
+        bad "corrupt PNG file (PLTE chunk of %d bytes)" (String.length p)
     | 3, Some p -> p
     | _ -> ""
   in
@@ -230,8 +305,20 @@ let decode_exn max_pixels s =
   let ob = out_depth / 8 in
   let samples = Bytes.create (hd.w * hd.h * out_ch * ob) in
   let bpp = max 1 (ch * hd.depth / 8) in
-  let ps = List.filter (fun p -> let pw, ph = pass_size hd p in pw > 0 && ph > 0) (passes hd) in
-  let expected = List.fold_left (fun acc p -> let pw, ph = pass_size hd p in acc + (ph * (row_bytes hd pw + 1))) 0 ps in
+  let ps =
+    List.filter
+      (fun p ->
+        let pw, ph = pass_size hd p in
+        pw > 0 && ph > 0)
+      (passes hd)
+  in
+  let expected =
+    List.fold_left
+      (fun acc p ->
+        let pw, ph = pass_size hd p in
+        acc + (ph * (row_bytes hd pw + 1)))
+      0 ps
+  in
   let raw = inflate idat expected in
   let maxv = (1 lsl hd.depth) - 1 in
   let off = ref 0 in
@@ -248,31 +335,36 @@ let decode_exn max_pixels s =
           let dst = ((j * hd.w) + i) * out_ch in
           if hd.depth = 16 then
             for c = 0 to ch - 1 do
-              Bytes.set_uint16_be samples (2 * (dst + c)) (Bytes.get_uint16_be raw (row + (2 * ((x * ch) + c))))
+              Bytes.set_uint16_be samples
+                (2 * (dst + c))
+                (Bytes.get_uint16_be raw (row + (2 * ((x * ch) + c))))
             done
           else if hd.depth = 8 && hd.ctype <> 3 then
             for c = 0 to ch - 1 do
               Bytes.set_uint8 samples (dst + c) (Bytes.get_uint8 raw (row + (x * ch) + c))
             done
-          else begin
+          else
             (* One sample of 1, 2, 4 or 8 bits: gray or a palette index. *)
             let v =
               if hd.depth = 8 then Bytes.get_uint8 raw (row + x)
               else
                 let bit = x * hd.depth in
-                (Bytes.get_uint8 raw (row + (bit / 8)) lsr (8 - hd.depth - (bit mod 8))) land maxv
+                (Bytes.get_uint8 raw (row + (bit / 8)) lsr (8 - hd.depth - (bit mod 8)))
+                land maxv
             in
-            if hd.ctype = 3 then begin
-              if (3 * v) + 2 >= String.length palette then bad "corrupt PNG image data (palette index %d of %d entries)" v (String.length palette / 3);
+            if hd.ctype = 3 then (
+              if (3 * v) + 2 >= String.length palette then
+                bad "corrupt PNG image data (palette index %d of %d entries)" v
+                  (String.length palette / 3);
               for c = 0 to 2 do
                 Bytes.set_uint8 samples (dst + c) (Char.code palette.[(3 * v) + c])
               done;
               match trns with
-              | Some t -> Bytes.set_uint8 samples (dst + 3) (if v < String.length t then Char.code t.[v] else 255)
-              | None -> ()
-            end
+              | Some t ->
+                  Bytes.set_uint8 samples (dst + 3)
+                    (if v < String.length t then Char.code t.[v] else 255)
+              | None -> ())
             else Bytes.set_uint8 samples dst (v * 255 / maxv)
-          end
         done
       done;
       off := !off + (ph * (stride + 1)))

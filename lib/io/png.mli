@@ -4,8 +4,8 @@
     samples at 8 or 16 bits, each row with the filter that makes it smallest (the sum of
     absolute differences, as libpng chooses). The reader takes every standard PNG: colour
     types gray, gray+alpha, RGB, RGBA and palette, bit depths 1 to 16, interlaced (Adam7)
-    or not; every chunk's CRC is checked. Palette images become RGB (RGBA when they have
-    a transparency chunk); gray at 1, 2 or 4 bits is scaled to 8. Nothing is printed. *)
+    or not; every chunk's CRC is checked. Palette images become RGB (RGBA when they have a
+    transparency chunk); gray at 1, 2 or 4 bits is scaled to 8. Nothing is printed. *)
 
 val encode : ?level:int -> Raster.t -> (string -> unit) -> unit
 (** [encode r write] passes the bytes of a PNG file of [r] to [write], in order, a chunk

@@ -2,8 +2,8 @@
 
     A raster has [channels] samples per pixel (1 gray, 2 gray and alpha, 3 RGB, 4 RGBA) of
     [depth] bits (8 or 16), row-major from the top-left pixel. Samples of 8 bits take one
-    byte each; samples of 16 bits take two, most significant first (the byte order of
-    both PNG and PPM). *)
+    byte each; samples of 16 bits take two, most significant first (the byte order of both
+    PNG and PPM). *)
 
 type t = { width : int; height : int; channels : int; depth : int; samples : Bytes.t }
 
@@ -19,5 +19,5 @@ val max_value : t -> int
 (** 255 or 65535. *)
 
 val to_rgb8 : t -> Bytes.t
-(** 3·width·height bytes of 8-bit RGB: gray is repeated into the three channels, alpha
-    is dropped, 16-bit samples are rounded to the nearest 8-bit value (v·255/65535). *)
+(** 3·width·height bytes of 8-bit RGB: gray is repeated into the three channels, alpha is
+    dropped, 16-bit samples are rounded to the nearest 8-bit value (v·255/65535). *)

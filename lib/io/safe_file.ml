@@ -2,11 +2,17 @@
    is only ever judged where it means something. Shards of one job on several nodes may
    share an output directory (over NFS): a file of another node is never removed. *)
 let owner =
-  let clean s = String.map (fun c -> match c with 'a' .. 'z' | 'A' .. 'Z' | '0' .. '9' | '.' -> c | _ -> '_') s in
+  let clean s =
+    String.map
+      (fun c -> match c with 'a' .. 'z' | 'A' .. 'Z' | '0' .. '9' | '.' -> c | _ -> '_')
+      s
+  in
   let host = try clean (Unix.gethostname ()) with Unix.Unix_error _ -> "host" in
   let ns =
     match Unix.readlink "/proc/self/ns/pid" with
-    | l -> String.concat "" (List.filter (fun s -> s <> "") (String.split_on_char ':' (clean l)))
+    | l ->
+        String.concat ""
+          (List.filter (fun s -> s <> "") (String.split_on_char ':' (clean l)))
     | exception Unix.Unix_error _ -> "0"
   in
   host ^ "_" ^ ns
@@ -14,22 +20,28 @@ let owner =
 let temp_path path =
   let dir = Filename.dirname path and base = Filename.basename path in
   Filename.concat dir
-    (Printf.sprintf ".%s.tmp-%s-%d-%d" base owner (Unix.getpid ()) (Random.State.bits (Random.State.make_self_init ())))
+    (Printf.sprintf ".%s.tmp-%s-%d-%d" base owner (Unix.getpid ())
+       (Random.State.bits (Random.State.make_self_init ())))
 
 (* The owner and process id in a temporary name ".NAME.tmp-OWNER-PID-RAND", if it is one. *)
 let temp_owner_pid name =
-  let digits s = s <> "" && String.length s < 10 && String.for_all (fun c -> c >= '0' && c <= '9') s in
+  let digits s =
+    s <> "" && String.length s < 10 && String.for_all (fun c -> c >= '0' && c <= '9') s
+  in
   let marker = ".tmp-" in
   let n = String.length name and m = String.length marker in
   if n < 2 || name.[0] <> '.' then None
   else
     (* The last ".tmp-" in the name: NAME itself may hold one. *)
-    let rec find i = if i < 1 then None else if String.sub name i m = marker then Some i else find (i - 1) in
+    let rec find i =
+      if i < 1 then None else if String.sub name i m = marker then Some i else find (i - 1)
+    in
     match find (n - m) with
     | None -> None
     | Some i -> (
         match String.split_on_char '-' (String.sub name (i + m) (n - i - m)) with
-        | [ owner; pid; rand ] when owner <> "" && digits pid && digits rand -> Some (owner, int_of_string pid)
+        | [ owner; pid; rand ] when owner <> "" && digits pid && digits rand ->
+            Some (owner, int_of_string pid)
         | _ -> None)
 
 let temp_pid name = Option.map snd (temp_owner_pid name)
@@ -47,17 +59,27 @@ let remove_stale dir =
       Array.to_list names
       |> List.filter_map (fun name ->
              match temp_owner_pid name with
-             | Some (o, pid) when String.equal o owner && pid <> Unix.getpid () && not (running pid) -> (
+             | Some (o, pid)
+               when String.equal o owner && pid <> Unix.getpid () && not (running pid)
+               -> (
                  let p = Filename.concat dir name in
                  match Unix.lstat p with
-                 | { st_kind = Unix.S_REG; _ } -> ( try Sys.remove p; Some p with Sys_error _ -> None)
+                 | { st_kind = Unix.S_REG; _ } -> (
+                     try
+                       Sys.remove p;
+                       Some p
+                     with Sys_error _ -> None)
                  | _ | (exception Unix.Unix_error _) -> None)
              | _ -> None)
 
 let on_stale =
   ref (fun p ->
       let pid = Option.value ~default:0 (temp_pid (Filename.basename p)) in
-      Printf.eprintf "lancer: removed %s, a temporary file left by process %d, which is no longer running\n%!" p pid)
+      Printf.eprintf
+        "lancer: removed %s, a temporary file left by process %d, which is no longer \
+         running\n\
+         %!"
+        p pid)
 
 (* Directories already swept by this process; frames are written from several domains. *)
 let swept = Hashtbl.create 4
@@ -65,7 +87,13 @@ let swept_lock = Mutex.create ()
 
 let sweep dir =
   let key = try Unix.realpath dir with Unix.Unix_error _ -> dir in
-  let first = Mutex.protect swept_lock (fun () -> if Hashtbl.mem swept key then false else (Hashtbl.replace swept key (); true)) in
+  let first =
+    Mutex.protect swept_lock (fun () ->
+        if Hashtbl.mem swept key then false
+        else (
+          Hashtbl.replace swept key ();
+          true))
+  in
   if first then List.iter (fun p -> !on_stale p) (remove_stale dir)
 
 (* The reason of a failure, without the name of the temporary file: the user only knows
@@ -74,26 +102,38 @@ let describe ~tmp = function
   | Sys_error m ->
       let t = tmp ^ ": " in
       let lt = String.length t in
-      if String.length m > lt && String.sub m 0 lt = t then String.sub m lt (String.length m - lt) else m
+      if String.length m > lt && String.sub m 0 lt = t then
+        String.sub m lt (String.length m - lt)
+      else m
   | Unix.Unix_error (e, _, _) -> Unix.error_message e
   | Failure m -> m
   | e -> Printexc.to_string e
 
 let read_only path =
   match Unix.stat path with
-  | { st_kind = Unix.S_REG; st_perm; _ } ->
+  | { st_kind = Unix.S_REG; st_perm; _ } -> (
       if Unix.getuid () = 0 then st_perm land 0o222 = 0
-      else ( try Unix.access path [ Unix.W_OK ]; false with Unix.Unix_error _ -> true)
+      else
+        try
+          Unix.access path [ Unix.W_OK ];
+          false
+        with Unix.Unix_error _ -> true)
   | _ -> false
   | exception Unix.Unix_error _ -> false
 
 let check_writable path =
   let dir = Filename.dirname path in
-  if Sys.file_exists path && Sys.is_directory path then Error (Printf.sprintf "cannot write %s: is a directory" path)
-  else if not (Sys.file_exists dir) then Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
-  else if not (Sys.is_directory dir) then Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
+  if Sys.file_exists path && Sys.is_directory path then
+    Error (Printf.sprintf "cannot write %s: is a directory" path)
+  else if not (Sys.file_exists dir) then
+    Error (Printf.sprintf "cannot write %s: directory %s does not exist" path dir)
+  else if not (Sys.is_directory dir) then
+    Error (Printf.sprintf "cannot write %s: %s is not a directory" path dir)
   else if read_only path then
-    Error (Printf.sprintf "cannot write %s: the file is read-only (make it writable or remove it first)" path)
+    Error
+      (Printf.sprintf
+         "cannot write %s: the file is read-only (make it writable or remove it first)"
+         path)
   else Ok ()
 
 (* A device or a pipe (/dev/stdout, /dev/null, a FIFO) cannot be replaced by a rename,
@@ -122,15 +162,20 @@ let write path f =
   match check_writable path with
   | Error e -> Error e
   | Ok () when is_special path -> (
-      match write_channel ~sync:false (open_out_gen [ Open_wronly; Open_binary ] 0o666 path) f with
+      match
+        write_channel ~sync:false (open_out_gen [ Open_wronly; Open_binary ] 0o666 path) f
+      with
       | () -> Ok ()
       | exception Sys.Break -> raise Sys.Break
-      | exception e -> Error (Printf.sprintf "cannot write %s: %s" path (describe ~tmp:path e)))
+      | exception e ->
+          Error (Printf.sprintf "cannot write %s: %s" path (describe ~tmp:path e)))
   | Ok () -> (
       sweep (Filename.dirname path);
       let tmp = temp_path path in
       match
-        let oc = open_out_gen [ Open_wronly; Open_creat; Open_excl; Open_binary ] 0o666 tmp in
+        let oc =
+          open_out_gen [ Open_wronly; Open_creat; Open_excl; Open_binary ] 0o666 tmp
+        in
         write_channel ~sync:true oc f;
         Unix.rename tmp path
       with

@@ -1,12 +1,13 @@
 (** Files written whole or not at all.
 
-    A file is written into a temporary file beside it, [.NAME.tmp-OWNER-PID-RAND], and renamed
-    into place only once every write, the flush, the [fsync] and the close have
-    succeeded; on any failure (a full disk, a file-size limit, an interrupt) the
-    temporary file is removed and the previous file under the final name is untouched.
-    An existing file that its owner may not write (mode 0444) is refused, not replaced.
-    Temporary files left by a process of this machine that was killed are removed by the
-    next write into the same directory; those of other machines sharing it are left alone. Messages name the final path, never the temporary one. *)
+    A file is written into a temporary file beside it, [.NAME.tmp-OWNER-PID-RAND], and
+    renamed into place only once every write, the flush, the [fsync] and the close have
+    succeeded; on any failure (a full disk, a file-size limit, an interrupt) the temporary
+    file is removed and the previous file under the final name is untouched. An existing
+    file that its owner may not write (mode 0444) is refused, not replaced. Temporary
+    files left by a process of this machine that was killed are removed by the next write
+    into the same directory; those of other machines sharing it are left alone. Messages
+    name the final path, never the temporary one. *)
 
 val check_writable : string -> (unit, string) result
 (** Whether [path] could be written: not a directory, in a directory that exists, and not
@@ -14,9 +15,9 @@ val check_writable : string -> (unit, string) result
     Checked again by {!write}; callers use it to refuse before working. *)
 
 val write : string -> (out_channel -> unit) -> (unit, string) result
-(** [write path f] writes [path] through [f] atomically, as described above. A device or
-    a pipe ([/dev/stdout], a FIFO) is written in place, never replaced. [Sys.Break] from
-    [f] is re-raised after the temporary file is removed. *)
+(** [write path f] writes [path] through [f] atomically, as described above. A device or a
+    pipe ([/dev/stdout], a FIFO) is written in place, never replaced. [Sys.Break] from [f]
+    is re-raised after the temporary file is removed. *)
 
 val owner : string
 (** This machine and process-id namespace as written in temporary names: the host name
@@ -31,8 +32,8 @@ val remove_stale : string -> string list
 (** [remove_stale dir] removes the temporary files of {!temp_path}'s form in [dir] that
     {!owner} wrote and whose process is no longer running (no such process id), and is the
     list of paths removed; files of other owners (other machines sharing the directory)
-    are never touched.
-    {!write} calls it once per directory and reports each removal through {!on_stale}. *)
+    are never touched. {!write} calls it once per directory and reports each removal
+    through {!on_stale}. *)
 
 val on_stale : (string -> unit) ref
 (** Called with each stale temporary file {!write} removes; by default it says so on

@@ -1,6 +1,6 @@
 let mix z =
-  let z = (z lxor (z lsr 30)) * 0x3f58476d1ce4e5b9 in
-  let z = (z lxor (z lsr 27)) * 0x14d049bb133111eb in
+  let z = z lxor (z lsr 30) * 0x3f58476d1ce4e5b9 in
+  let z = z lxor (z lsr 27) * 0x14d049bb133111eb in
   z lxor (z lsr 31)
 
 let combine h x = mix (h + (x * 0x1e3779b97f4a7c15) + 0x2545f4914f6cdd1d)

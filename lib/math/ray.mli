@@ -2,9 +2,9 @@
     bounding-box slab tests.
 
     The type is abstract so the direction is always normalised and [inv_dir] always
-    matches it. Object-space rays (after an inverse transform) are built with
-    {!make_raw}: their direction is not renormalised, so a parameter t means the same
-    point in world and object space. *)
+    matches it. Object-space rays (after an inverse transform) are built with {!make_raw}:
+    their direction is not renormalised, so a parameter t means the same point in world
+    and object space. *)
 
 type t
 

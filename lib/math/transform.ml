@@ -1,22 +1,43 @@
 (* Row-major 3×4 affine matrices: p' = M·p + t. *)
 type m = {
-  a00 : float; a01 : float; a02 : float; a03 : float;
-  a10 : float; a11 : float; a12 : float; a13 : float;
-  a20 : float; a21 : float; a22 : float; a23 : float;
+  a00 : float;
+  a01 : float;
+  a02 : float;
+  a03 : float;
+  a10 : float;
+  a11 : float;
+  a12 : float;
+  a13 : float;
+  a20 : float;
+  a21 : float;
+  a22 : float;
+  a23 : float;
 }
 
 type t = { m : m; inv : m; id : bool }
 
 let m_identity =
-  { a00 = 1.; a01 = 0.; a02 = 0.; a03 = 0.;
-    a10 = 0.; a11 = 1.; a12 = 0.; a13 = 0.;
-    a20 = 0.; a21 = 0.; a22 = 1.; a23 = 0. }
+  {
+    a00 = 1.;
+    a01 = 0.;
+    a02 = 0.;
+    a03 = 0.;
+    a10 = 0.;
+    a11 = 1.;
+    a12 = 0.;
+    a13 = 0.;
+    a20 = 0.;
+    a21 = 0.;
+    a22 = 1.;
+    a23 = 0.;
+  }
 
 let identity = { m = m_identity; inv = m_identity; id = true }
 
 (* [mul a b] applies b first, then a. *)
 let mul a b =
-  { a00 = (a.a00 *. b.a00) +. (a.a01 *. b.a10) +. (a.a02 *. b.a20);
+  {
+    a00 = (a.a00 *. b.a00) +. (a.a01 *. b.a10) +. (a.a02 *. b.a20);
     a01 = (a.a00 *. b.a01) +. (a.a01 *. b.a11) +. (a.a02 *. b.a21);
     a02 = (a.a00 *. b.a02) +. (a.a01 *. b.a12) +. (a.a02 *. b.a22);
     a03 = (a.a00 *. b.a03) +. (a.a01 *. b.a13) +. (a.a02 *. b.a23) +. a.a03;
@@ -27,17 +48,22 @@ let mul a b =
     a20 = (a.a20 *. b.a00) +. (a.a21 *. b.a10) +. (a.a22 *. b.a20);
     a21 = (a.a20 *. b.a01) +. (a.a21 *. b.a11) +. (a.a22 *. b.a21);
     a22 = (a.a20 *. b.a02) +. (a.a21 *. b.a12) +. (a.a22 *. b.a22);
-    a23 = (a.a20 *. b.a03) +. (a.a21 *. b.a13) +. (a.a22 *. b.a23) +. a.a23 }
+    a23 = (a.a20 *. b.a03) +. (a.a21 *. b.a13) +. (a.a22 *. b.a23) +. a.a23;
+  }
 
 let translate (v : Vec3.t) =
-  { m = { m_identity with a03 = v.x; a13 = v.y; a23 = v.z };
+  {
+    m = { m_identity with a03 = v.x; a13 = v.y; a23 = v.z };
     inv = { m_identity with a03 = -.v.x; a13 = -.v.y; a23 = -.v.z };
-    id = false }
+    id = false;
+  }
 
 let scale (v : Vec3.t) =
-  { m = { m_identity with a00 = v.x; a11 = v.y; a22 = v.z };
+  {
+    m = { m_identity with a00 = v.x; a11 = v.y; a22 = v.z };
     inv = { m_identity with a00 = 1. /. v.x; a11 = 1. /. v.y; a22 = 1. /. v.z };
-    id = false }
+    id = false;
+  }
 
 (* Exact values at multiples of 90° so that axis-aligned rotations introduce no error. *)
 let sin_cos_deg d =
@@ -75,19 +101,25 @@ let rotate (v : Vec3.t) =
   { m; inv = transpose3 m; id = false }
 
 let then_ a b =
-  if a.id then b else if b.id then a else { m = mul b.m a.m; inv = mul a.inv b.inv; id = false }
+  if a.id then b
+  else if b.id then a
+  else { m = mul b.m a.m; inv = mul a.inv b.inv; id = false }
 
 let is_identity t = t.id
 
 let apply_point m (p : Vec3.t) : Vec3.t =
-  { x = (m.a00 *. p.x) +. (m.a01 *. p.y) +. (m.a02 *. p.z) +. m.a03;
+  {
+    x = (m.a00 *. p.x) +. (m.a01 *. p.y) +. (m.a02 *. p.z) +. m.a03;
     y = (m.a10 *. p.x) +. (m.a11 *. p.y) +. (m.a12 *. p.z) +. m.a13;
-    z = (m.a20 *. p.x) +. (m.a21 *. p.y) +. (m.a22 *. p.z) +. m.a23 }
+    z = (m.a20 *. p.x) +. (m.a21 *. p.y) +. (m.a22 *. p.z) +. m.a23;
+  }
 
 let apply_vector m (p : Vec3.t) : Vec3.t =
-  { x = (m.a00 *. p.x) +. (m.a01 *. p.y) +. (m.a02 *. p.z);
+  {
+    x = (m.a00 *. p.x) +. (m.a01 *. p.y) +. (m.a02 *. p.z);
     y = (m.a10 *. p.x) +. (m.a11 *. p.y) +. (m.a12 *. p.z);
-    z = (m.a20 *. p.x) +. (m.a21 *. p.y) +. (m.a22 *. p.z) }
+    z = (m.a20 *. p.x) +. (m.a21 *. p.y) +. (m.a22 *. p.z);
+  }
 
 let point t p = if t.id then p else apply_point t.m p
 let vector t p = if t.id then p else apply_vector t.m p
@@ -96,12 +128,29 @@ let inv_vector t p = if t.id then p else apply_vector t.inv p
 
 (* [inv_point] and [inv_vector] one coordinate at a time, the same operations, for callers
    that hold a ray as scalars. *)
-let[@inline] inv_px t x y z = let m = t.inv in (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z) +. m.a03
-let[@inline] inv_py t x y z = let m = t.inv in (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z) +. m.a13
-let[@inline] inv_pz t x y z = let m = t.inv in (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z) +. m.a23
-let[@inline] inv_vx t x y z = let m = t.inv in (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z)
-let[@inline] inv_vy t x y z = let m = t.inv in (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z)
-let[@inline] inv_vz t x y z = let m = t.inv in (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z)
+let[@inline] inv_px t x y z =
+  let m = t.inv in
+  (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z) +. m.a03
+
+let[@inline] inv_py t x y z =
+  let m = t.inv in
+  (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z) +. m.a13
+
+let[@inline] inv_pz t x y z =
+  let m = t.inv in
+  (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z) +. m.a23
+
+let[@inline] inv_vx t x y z =
+  let m = t.inv in
+  (m.a00 *. x) +. (m.a01 *. y) +. (m.a02 *. z)
+
+let[@inline] inv_vy t x y z =
+  let m = t.inv in
+  (m.a10 *. x) +. (m.a11 *. y) +. (m.a12 *. z)
+
+let[@inline] inv_vz t x y z =
+  let m = t.inv in
+  (m.a20 *. x) +. (m.a21 *. y) +. (m.a22 *. z)
 
 (* Normals transform by (M⁻¹)ᵀ. *)
 let normal t (n : Vec3.t) =
@@ -109,6 +158,8 @@ let normal t (n : Vec3.t) =
   else
     let i = t.inv in
     Vec3.normalize
-      { x = (i.a00 *. n.x) +. (i.a10 *. n.y) +. (i.a20 *. n.z);
+      {
+        x = (i.a00 *. n.x) +. (i.a10 *. n.y) +. (i.a20 *. n.z);
         y = (i.a01 *. n.x) +. (i.a11 *. n.y) +. (i.a21 *. n.z);
-        z = (i.a02 *. n.x) +. (i.a12 *. n.y) +. (i.a22 *. n.z) }
+        z = (i.a02 *. n.x) +. (i.a12 *. n.y) +. (i.a22 *. n.z);
+      }

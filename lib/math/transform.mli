@@ -17,7 +17,8 @@ val scale : Vec3.t -> t
 (** [scale s] scales each axis; components must be non-zero (the loader checks). *)
 
 val rotate : Vec3.t -> t
-(** [rotate (ax, ay, az)] rotates by ax degrees about X, then ay about Y, then az about Z. *)
+(** [rotate (ax, ay, az)] rotates by ax degrees about X, then ay about Y, then az about Z.
+*)
 
 val then_ : t -> t -> t
 (** [then_ a b] is the transform that applies [a], then [b]. *)
@@ -41,8 +42,8 @@ val inv_vector : t -> Vec3.t -> Vec3.t
 (** World-space direction to object space (not renormalised). *)
 
 val inv_px : t -> float -> float -> float -> float
-(** [inv_px t x y z] is the x coordinate of [inv_point t (x, y, z)] for a transform that is
-    not the identity; [inv_py], [inv_pz] likewise. Inlined: nothing is boxed. *)
+(** [inv_px t x y z] is the x coordinate of [inv_point t (x, y, z)] for a transform that
+    is not the identity; [inv_py], [inv_pz] likewise. Inlined: nothing is boxed. *)
 
 val inv_py : t -> float -> float -> float -> float
 val inv_pz : t -> float -> float -> float -> float

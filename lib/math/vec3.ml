@@ -11,17 +11,23 @@ let[@inline] sub a b = { x = a.x -. b.x; y = a.y -. b.y; z = a.z -. b.z }
 let[@inline] neg a = { x = -.a.x; y = -.a.y; z = -.a.z }
 let[@inline] mul a b = { x = a.x *. b.x; y = a.y *. b.y; z = a.z *. b.z }
 let[@inline] smul s a = { x = s *. a.x; y = s *. a.y; z = s *. a.z }
-let[@inline] madd a s b = { x = a.x +. (s *. b.x); y = a.y +. (s *. b.y); z = a.z +. (s *. b.z) }
+
+let[@inline] madd a s b =
+  { x = a.x +. (s *. b.x); y = a.y +. (s *. b.y); z = a.z +. (s *. b.z) }
+
 let[@inline] dot a b = (a.x *. b.x) +. (a.y *. b.y) +. (a.z *. b.z)
 
 let[@inline] cross a b =
-  { x = (a.y *. b.z) -. (a.z *. b.y);
+  {
+    x = (a.y *. b.z) -. (a.z *. b.y);
     y = (a.z *. b.x) -. (a.x *. b.z);
-    z = (a.x *. b.y) -. (a.y *. b.x) }
+    z = (a.x *. b.y) -. (a.y *. b.x);
+  }
 
 let[@inline] length2 a = dot a a
 
-let[@inline] max_abs a = Float.max (Float.abs a.x) (Float.max (Float.abs a.y) (Float.abs a.z))
+let[@inline] max_abs a =
+  Float.max (Float.abs a.x) (Float.max (Float.abs a.y) (Float.abs a.z))
 
 (* Plain sqrt(dot) in the common range; rescale by the largest component only when the
    squares would overflow or underflow, so lengths stay exact to 1 ulp over the whole
@@ -41,9 +47,13 @@ let[@inline] normalize a =
   let l = length a in
   if l = 0. then zero else smul (1. /. l) a
 
-let[@inline] min a b = { x = Float.min a.x b.x; y = Float.min a.y b.y; z = Float.min a.z b.z }
-let[@inline] max a b = { x = Float.max a.x b.x; y = Float.max a.y b.y; z = Float.max a.z b.z }
+let[@inline] min a b =
+  { x = Float.min a.x b.x; y = Float.min a.y b.y; z = Float.min a.z b.z }
+
+let[@inline] max a b =
+  { x = Float.max a.x b.x; y = Float.max a.y b.y; z = Float.max a.z b.z }
 
 let equal_f ?(eps = 1e-9) a b =
-  Float.abs (a.x -. b.x) <= eps && Float.abs (a.y -. b.y) <= eps && Float.abs (a.z -. b.z) <= eps
-
+  Float.abs (a.x -. b.x) <= eps
+  && Float.abs (a.y -. b.y) <= eps
+  && Float.abs (a.z -. b.z) <= eps

@@ -68,4 +68,5 @@ val max : t -> t -> t
 (** Component-wise maximum (typed float comparison; NaN-free inputs assumed). *)
 
 val equal_f : ?eps:float -> t -> t -> bool
-(** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9). *)
+(** [equal_f ~eps a b] holds when each component differs by at most [eps] (default 1e-9).
+*)

@@ -25,7 +25,8 @@ val check : t -> unit
 
 val signal : t -> unit
 (** What a SIGINT/SIGTERM handler calls: [cancel t], then raise [Sys.Break] right away
-    unless a {!deferring} region of [t] is running (then the work stops at its next poll). *)
+    unless a {!deferring} region of [t] is running (then the work stops at its next poll).
+*)
 
 val deferring : t -> (unit -> 'a) -> 'a
 (** [deferring t f] runs [f] with {!signal} not raising; regions nest. It does not check

@@ -23,8 +23,8 @@ type t = {
 }
 
 val samples_per_pixel : Settings.t -> int
-(** The most samples a pixel takes: n² with n×n samples, or 2×2 plus the refined
-    max(n, 4)² grid with adaptive sampling. *)
+(** The most samples a pixel takes: n² with n×n samples, or 2×2 plus the refined max(n,
+    4)² grid with adaptive sampling. *)
 
 val shadow_rays_per_hit : Scene.t -> int
 (** Shadow rays cast at each lit point: 1 per point or directional light, n² per area

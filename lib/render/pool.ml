@@ -26,16 +26,14 @@ let size t = t.size
 (* Run indices of [j] until none is left or one has failed. *)
 let work j =
   let rec go () =
-    if Option.is_none (Atomic.get j.failed) then begin
+    if Option.is_none (Atomic.get j.failed) then
       let i = Atomic.fetch_and_add j.next 1 in
-      if i < j.n then begin
+      if i < j.n then (
         (try j.body i
          with e ->
            let bt = Printexc.get_raw_backtrace () in
            ignore (Atomic.compare_and_set j.failed None (Some (e, bt))));
-        go ()
-      end
-    end
+        go ())
   in
   go ()
 
@@ -47,7 +45,7 @@ let worker t () =
       Condition.wait t.wake t.lock
     done;
     if t.stop then Mutex.unlock t.lock
-    else begin
+    else (
       seen := t.generation;
       let j = t.job in
       Mutex.unlock t.lock;
@@ -56,8 +54,7 @@ let worker t () =
       t.busy <- t.busy - 1;
       if t.busy = 0 then Condition.broadcast t.finished;
       Mutex.unlock t.lock;
-      loop ()
-    end
+      loop ())
   in
   loop ()
 
@@ -79,31 +76,28 @@ let create n =
   t
 
 let parallel_for t n body =
-  if n > 0 then begin
+  if n > 0 then (
     let j = { body; n; next = Atomic.make 0; failed = Atomic.make None } in
     let workers = t.size - 1 in
-    if workers > 0 then begin
+    if workers > 0 then (
       Mutex.lock t.lock;
       t.job <- Some j;
       t.busy <- workers;
       t.generation <- t.generation + 1;
       Condition.broadcast t.wake;
-      Mutex.unlock t.lock
-    end;
+      Mutex.unlock t.lock);
     (* The caller works too; whatever it raises is recorded like a worker's. *)
     work j;
-    if workers > 0 then begin
+    if workers > 0 then (
       Mutex.lock t.lock;
       while t.busy > 0 do
         Condition.wait t.finished t.lock
       done;
       t.job <- None;
-      Mutex.unlock t.lock
-    end;
+      Mutex.unlock t.lock);
     match Atomic.get j.failed with
     | Some (e, bt) -> Printexc.raise_with_backtrace e bt
-    | None -> ()
-  end
+    | None -> ())
 
 let teardown t =
   Mutex.lock t.lock;

@@ -13,8 +13,8 @@ type t
 (** A pool: [size t - 1] worker domains, parked while no loop runs. *)
 
 val create : int -> t
-(** [create n] starts a pool of [n] domains in all, the caller counting as one
-    ([n - 1] new domains; none when [n <= 1]). *)
+(** [create n] starts a pool of [n] domains in all, the caller counting as one ([n - 1]
+    new domains; none when [n <= 1]). *)
 
 val size : t -> int
 (** The number of domains that run a loop, the caller's included. *)

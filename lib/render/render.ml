@@ -13,41 +13,45 @@ let camera_sample (sc : Scene.t) (st : Stats.t) i j x y =
   if not (Camera.in_view c ~width:s.width ~height:s.height x y) then Shade.miss sc c.f
   else
     let ray = Camera.ray c ~width:s.width ~height:s.height x y in
-    if not (Camera.depth_of_field c) then begin
+    if not (Camera.depth_of_field c) then (
       st.primary <- st.primary + 1;
-      Shade.trace sc st ray 1
-    end
-    else begin
+      Shade.trace sc st ray 1)
+    else
       let n = c.lens_samples in
-      let h0 = Hash.combine (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) (bits x)) (bits y) in
+      let h0 =
+        Hash.combine
+          (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) (bits x))
+          (bits y)
+      in
       let acc = ref Color.black in
       for a = 0 to n - 1 do
         for b = 0 to n - 1 do
           let hk = Hash.combine h0 ((a * 4096) + b) in
-          let lx, ly = Camera.lens_point c a b (Hash.to_unit (Hash.combine hk 2)) (Hash.to_unit (Hash.combine hk 3)) in
+          let lx, ly =
+            Camera.lens_point c a b
+              (Hash.to_unit (Hash.combine hk 2))
+              (Hash.to_unit (Hash.combine hk 3))
+          in
           st.primary <- st.primary + 1;
           acc := Color.add !acc (Shade.trace sc st (Camera.lens_ray c ray lx ly) 1)
         done
       done;
       Color.scale (1. /. Float.of_int (n * n)) !acc
-    end
 
 (* One sample at image point (x, y). *)
 let sample (sc : Scene.t) (st : Stats.t) i j x y =
   let s = sc.settings in
   let c =
-    if Camera.pinhole_perspective sc.view then begin
+    if Camera.pinhole_perspective sc.view then (
       st.primary <- st.primary + 1;
-      Shade.trace sc st (Camera.ray sc.view ~width:s.width ~height:s.height x y) 1
-    end
+      Shade.trace sc st (Camera.ray sc.view ~width:s.width ~height:s.height x y) 1)
     else camera_sample sc st i j x y
   in
   if Color.is_finite c then c
-  else begin
+  else (
     st.bad_samples <- st.bad_samples + 1;
     if st.first_bad = None then st.first_bad <- Some (i, j);
-    s.background
-  end
+    s.background)
 
 (* Offset of sample (p, q) of n inside pixel (i, j): the sub-cell centre, or a hashed
    point inside the sub-cell with jitter. *)
@@ -55,7 +59,13 @@ let sub_offset (sc : Scene.t) n i j p q axis =
   let nf = Float.of_int n in
   if not sc.settings.jitter then (Float.of_int p +. 0.5) /. nf
   else
-    let h = Hash.combine (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) ((p * 4096) + q)) axis in
+    let h =
+      Hash.combine
+        (Hash.combine
+           (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j)
+           ((p * 4096) + q))
+        axis
+    in
     (Float.of_int p +. Hash.to_unit h) /. nf
 
 let grid sc st i j n =
@@ -71,7 +81,7 @@ let grid sc st i j n =
 
 let pixel (sc : Scene.t) st i j =
   let s = sc.settings in
-  if s.adaptive > 0. then begin
+  if s.adaptive > 0. then (
     let coarse = Array.make 4 Color.black in
     for q = 0 to 1 do
       for p = 0 to 1 do
@@ -82,15 +92,20 @@ let pixel (sc : Scene.t) st i j =
     done;
     let spread f =
       let vs = Array.map f coarse in
-      Array.fold_left Float.max Float.neg_infinity vs -. Array.fold_left Float.min Float.infinity vs
+      Array.fold_left Float.max Float.neg_infinity vs
+      -. Array.fold_left Float.min Float.infinity vs
     in
     let contrast =
-      Float.max (spread (fun (c : Color.t) -> c.r)) (Float.max (spread (fun c -> c.g)) (spread (fun c -> c.b)))
+      Float.max
+        (spread (fun (c : Color.t) -> c.r))
+        (Float.max (spread (fun c -> c.g)) (spread (fun c -> c.b)))
     in
     if contrast > s.adaptive then grid sc st i j (max s.samples 4)
-    else Color.scale 0.25 (Array.fold_left Color.add Color.black coarse)
-  end
-  else if s.samples = 1 then sample sc st i j (Float.of_int i +. sub_offset sc 1 i j 0 0 0) (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
+    else Color.scale 0.25 (Array.fold_left Color.add Color.black coarse))
+  else if s.samples = 1 then
+    sample sc st i j
+      (Float.of_int i +. sub_offset sc 1 i j 0 0 0)
+      (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
   else grid sc st i j s.samples
 
 (* The share of pixel (i, j)'s sample points whose primary ray hits a surface: its
@@ -104,7 +119,11 @@ let coverage (sc : Scene.t) i j =
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      if Accel.any_hit sc.accel (Camera.ray sc.view ~width:s.width ~height:s.height x y) 0. Float.infinity then incr hits
+      if
+        Accel.any_hit sc.accel
+          (Camera.ray sc.view ~width:s.width ~height:s.height x y)
+          0. Float.infinity
+      then incr hits
     done
   done;
   Float.of_int !hits /. Float.of_int (n * n)
@@ -113,7 +132,9 @@ let render_tile ?alpha sc st fb x0 y0 x1 y1 =
   for j = y0 to y1 - 1 do
     for i = x0 to x1 - 1 do
       Image.set fb i j (pixel sc st i j);
-      match alpha with Some a -> Float.Array.set a ((j * fb.Image.width) + i) (coverage sc i j) | None -> ()
+      match alpha with
+      | Some a -> Float.Array.set a ((j * fb.Image.width) + i) (coverage sc i j)
+      | None -> ()
     done
   done
 
@@ -133,14 +154,18 @@ let tiles ?region (sc : Scene.t) =
       Array.of_list
         (List.filter_map
            (fun (x0, y0, x1, y1) ->
-             let x0 = max x0 r.x0 and y0 = max y0 r.y0 and x1 = min x1 r.x1 and y1 = min y1 r.y1 in
+             let x0 = max x0 r.x0
+             and y0 = max y0 r.y0
+             and x1 = min x1 r.x1
+             and y1 = min y1 r.y1 in
              if x0 < x1 && y0 < y1 then Some (x0, y0, x1, y1) else None)
            (Array.to_list all))
 
 (* The one tile loop: tiles [idxs] of the scene (of the region's tiles with [region]),
    each written only by the task that renders it, with its own counters; the token is
    polled before each tile and inside it. *)
-let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) fb idxs =
+let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region
+    ?alpha (sc : Scene.t) fb idxs =
   let all = tiles ?region sc in
   let n = Array.length idxs in
   let stats = Array.init n (fun _ -> Stats.create ~cancel ()) in
@@ -152,7 +177,10 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
     on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) stats.(k)
   in
   (match pool with
-  | None -> for k = 0 to n - 1 do work k done
+  | None ->
+      for k = 0 to n - 1 do
+        work k
+      done
   | Some pool -> Pool.parallel_for pool n work);
   (* A cancellation after the last tile started: the result is not to be used. *)
   Cancel.check cancel;
@@ -172,8 +200,9 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
   let n = Array.length (tiles ?region sc) in
   let st =
-    render_tiles ?cancel ?pool ?region ?alpha ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st)) sc fb
-      (Array.init n Fun.id)
+    render_tiles ?cancel ?pool ?region ?alpha
+      ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st))
+      sc fb (Array.init n Fun.id)
   in
   (fb, st)
 

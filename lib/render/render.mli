@@ -1,13 +1,14 @@
-(** Turning a scene into a linear framebuffer, in parallel tiles over a pool of domains ({!Pool}).
+(** Turning a scene into a linear framebuffer, in parallel tiles over a pool of domains
+    ({!Pool}).
 
     The image is cut into 32×32 tiles handed out dynamically; each task writes only its
     own pixels and keeps its own counters, so the result is bit-identical whatever the
-    number of domains. Each pixel averages, in linear colour, the n×n points
-    (i + (p+½)/n, j + (q+½)/n) (doc/shading.md, section 2); [jitter] moves each inside its sub-cell by a hash
-    of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2 grid and
-    refines to max(n, 4)×max(n, 4) only where those four samples differ by more than θ in
-    some channel. Samples that are NaN or infinite are counted and replaced by the
-    background. *)
+    number of domains. Each pixel averages, in linear colour, the n×n points (i + (p+½)/n,
+    j + (q+½)/n) (doc/shading.md, section 2); [jitter] moves each inside its sub-cell by a
+    hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2
+    grid and refines to max(n, 4)×max(n, 4) only where those four samples differ by more
+    than θ in some channel. Samples that are NaN or infinite are counted and replaced by
+    the background. *)
 
 val tile_size : int
 (** The side of a square tile in pixels (32); the last row and column of tiles may be
@@ -21,7 +22,16 @@ val coverage : Scene.t -> int -> int -> float
     primary ray hits a surface: the n×n points of [samples] (jittered like the colour's);
     with adaptive sampling the refined max(n, 4)×max(n, 4) points, in every pixel. *)
 
-val render_tile : ?alpha:Float.Array.t -> Scene.t -> Stats.t -> Image.t -> int -> int -> int -> int -> unit
+val render_tile :
+  ?alpha:Float.Array.t ->
+  Scene.t ->
+  Stats.t ->
+  Image.t ->
+  int ->
+  int ->
+  int ->
+  int ->
+  unit
 (** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
     with [alpha] it also stores each pixel's {!coverage} there (row-major). *)
 
@@ -39,36 +49,41 @@ val render_tiles :
   Image.t ->
   int array ->
   Stats.t
-(** [render_tiles scene fb idxs] renders the tiles of {!tiles}[ ?region scene] numbered [idxs] into
-    [fb] (the one tile loop: {!render}, [lancer-mpi], the animation and a resumed still
-    all use it) and is their summed counters. Without [pool] it runs on the calling
-    domain. [on_tile done_ k stats] is called after each tile, from whichever domain
-    rendered it: [done_] of the tiles are finished, the last being tile [k] with its own
-    counters [stats]. [cancel] is polled before each
-    tile, every {!Cancel.check_every} rays inside one, and once all are done: when it is
-    cancelled the call raises [Sys.Break] within a few thousand rays per domain, and [fb]
-    is not to be used. [alpha] as for {!render_tile}. *)
+(** [render_tiles scene fb idxs] renders the tiles of {!tiles}[ ?region scene] numbered
+    [idxs] into [fb] (the one tile loop: {!render}, [lancer-mpi], the animation and a
+    resumed still all use it) and is their summed counters. Without [pool] it runs on the
+    calling domain. [on_tile done_ k stats] is called after each tile, from whichever
+    domain rendered it: [done_] of the tiles are finished, the last being tile [k] with
+    its own counters [stats]. [cancel] is polled before each tile, every
+    {!Cancel.check_every} rays inside one, and once all are done: when it is cancelled the
+    call raises [Sys.Break] within a few thousand rays per domain, and [fb] is not to be
+    used. [alpha] as for {!render_tile}. *)
 
 val render :
-  ?cancel:Cancel.t -> ?pool:Pool.t -> ?on_tile:(int -> int -> int -> unit) -> ?region:Image.region -> ?alpha:Float.Array.t ->
-  Scene.t -> Image.t * Stats.t
-(** [render scene] renders the whole image through {!render_tiles}. [on_tile done_ total
-    rays]: [done_] tiles of [total] are finished, and that tile cast [rays] rays. With
-    [region] only its pixels are rendered, each exactly as in a whole render; the others
-    are the background. With [alpha] (width·height values) each rendered pixel's
-    {!coverage} is stored there, 0 elsewhere. *)
+  ?cancel:Cancel.t ->
+  ?pool:Pool.t ->
+  ?on_tile:(int -> int -> int -> unit) ->
+  ?region:Image.region ->
+  ?alpha:Float.Array.t ->
+  Scene.t ->
+  Image.t * Stats.t
+(** [render scene] renders the whole image through {!render_tiles}.
+    [on_tile done_ total rays]: [done_] tiles of [total] are finished, and that tile cast
+    [rays] rays. With [region] only its pixels are rendered, each exactly as in a whole
+    render; the others are the background. With [alpha] (width·height values) each
+    rendered pixel's {!coverage} is stored there, 0 elsewhere. *)
 
 val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
-(** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and tears
-    it down afterwards, also on an exception. While the pool lives, {!Cancel.signal} on
-    [cancel] does not raise (it could land inside the pool's own synchronisation): pass
+(** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and
+    tears it down afterwards, also on an exception. While the pool lives, {!Cancel.signal}
+    on [cancel] does not raise (it could land inside the pool's own synchronisation): pass
     the token the signal handler cancels, and the same to the work done in [f]; if it was
-    cancelled, [with_pool] raises [Sys.Break] on its way out. With more
-    than one domain it first raises the minor heap to {!parallel_minor_heap_words} words
-    per domain (never lowers it): fewer minor collections, each of which stops every
-    domain. Under a limit on the address space (ulimit -v) it raises it only as far as
-    {!minor_heap_words_for} allows, since the runtime reserves the minor heaps of all the
-    domains it could run at once. *)
+    cancelled, [with_pool] raises [Sys.Break] on its way out. With more than one domain it
+    first raises the minor heap to {!parallel_minor_heap_words} words per domain (never
+    lowers it): fewer minor collections, each of which stops every domain. Under a limit
+    on the address space (ulimit -v) it raises it only as far as {!minor_heap_words_for}
+    allows, since the runtime reserves the minor heaps of all the domains it could run at
+    once. *)
 
 val parallel_minor_heap_words : int
 (** 2M words (16 MB) per domain. *)

@@ -11,15 +11,23 @@ type t = {
 }
 
 let create ?(cancel = Cancel.create ()) () =
-  { primary = 0; shadow = 0; reflected = 0; refracted = 0; bad_samples = 0; first_bad = None; cancel;
-    until_poll = Cancel.check_every; budget = 0 }
+  {
+    primary = 0;
+    shadow = 0;
+    reflected = 0;
+    refracted = 0;
+    bad_samples = 0;
+    first_bad = None;
+    cancel;
+    until_poll = Cancel.check_every;
+    budget = 0;
+  }
 
 let[@inline] tick s =
   s.until_poll <- s.until_poll - 1;
-  if s.until_poll <= 0 then begin
+  if s.until_poll <= 0 then (
     s.until_poll <- Cancel.check_every;
-    Cancel.check s.cancel
-  end
+    Cancel.check s.cancel)
 
 let add_into acc s =
   acc.primary <- acc.primary + s.primary;

@@ -16,48 +16,83 @@ type t = {
   pinhole : bool;
 }
 
-let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero) ?(up = Vec3.y_axis) ?(fov = 60.)
-    ?(aperture = 0.) ?(focal_distance = 1.) ?(lens_samples = 1) () =
+let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero)
+    ?(up = Vec3.y_axis) ?(fov = 60.) ?(aperture = 0.) ?(focal_distance = 1.)
+    ?(lens_samples = 1) () =
   let f = Vec3.normalize (Vec3.sub look_at position) in
   let r = Vec3.normalize (Vec3.cross up f) in
   let u = Vec3.cross f r in
   let h = Float.tan (fov *. Float.pi /. 360.) in
-  let pinhole = match kind with Perspective -> aperture = 0. | Orthographic _ | Fisheye -> false in
-  { kind; position; look_at; up; fov; aperture; focal_distance; lens_samples; f; r; u; h; pinhole }
+  let pinhole =
+    match kind with Perspective -> aperture = 0. | Orthographic _ | Fisheye -> false
+  in
+  {
+    kind;
+    position;
+    look_at;
+    up;
+    fov;
+    aperture;
+    focal_distance;
+    lens_samples;
+    f;
+    r;
+    u;
+    h;
+    pinhole;
+  }
 
 let default = make ()
-
 let with_lens_samples c n = { c with lens_samples = n }
-let translate (d : Vec3.t) c = { c with position = Vec3.add c.position d; look_at = Vec3.add c.look_at d }
 
-let kind_name = function Perspective -> "perspective" | Orthographic _ -> "orthographic" | Fisheye -> "fisheye"
+let translate (d : Vec3.t) c =
+  { c with position = Vec3.add c.position d; look_at = Vec3.add c.look_at d }
+
+let kind_name = function
+  | Perspective -> "perspective"
+  | Orthographic _ -> "orthographic"
+  | Fisheye -> "fisheye"
+
 let depth_of_field c = c.aperture > 0.
 let[@inline] pinhole_perspective c = c.pinhole
 
 let validate c =
-  if Vec3.length2 (Vec3.sub c.look_at c.position) = 0. then Error "camera look_at must differ from position"
-  else if Vec3.length2 c.r = 0. then Error "camera up must not be parallel to the view direction"
+  if Vec3.length2 (Vec3.sub c.look_at c.position) = 0. then
+    Error "camera look_at must differ from position"
+  else if Vec3.length2 c.r = 0. then
+    Error "camera up must not be parallel to the view direction"
   else
     match c.kind with
     | Perspective when not (c.fov > 0. && c.fov < 180.) ->
         Error (Printf.sprintf "camera fov must be in (0, 180) degrees (got %g)" c.fov)
     | Fisheye when not (c.fov > 0. && c.fov <= 360.) ->
-        Error (Printf.sprintf "a fisheye camera's fov must be in (0, 360] degrees (got %g)" c.fov)
+        Error
+          (Printf.sprintf "a fisheye camera's fov must be in (0, 360] degrees (got %g)"
+             c.fov)
     | Orthographic { width } when not (Float.is_finite width && width > 0.) ->
-        Error (Printf.sprintf "an orthographic camera's width must be a number > 0 (got %g)" width)
+        Error
+          (Printf.sprintf "an orthographic camera's width must be a number > 0 (got %g)"
+             width)
     | _ ->
         if not (Float.is_finite c.aperture && c.aperture >= 0.) then
-          Error (Printf.sprintf "camera aperture must be a number >= 0 (got %g)" c.aperture)
+          Error
+            (Printf.sprintf "camera aperture must be a number >= 0 (got %g)" c.aperture)
         else if not (Float.is_finite c.focal_distance && c.focal_distance > 0.) then
-          Error (Printf.sprintf "camera focal_distance must be a number > 0 (got %g)" c.focal_distance)
+          Error
+            (Printf.sprintf "camera focal_distance must be a number > 0 (got %g)"
+               c.focal_distance)
         else if c.lens_samples < 1 || c.lens_samples > 64 then
-          Error (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
+          Error
+            (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
         else Ok ()
 
 (* f + (sx·r + sy·u), component by component (one allocation instead of four). *)
 let[@inline] along c sx sy =
   let f = c.f and r = c.r and u = c.u in
-  Vec3.v (f.x +. ((sx *. r.x) +. (sy *. u.x))) (f.y +. ((sx *. r.y) +. (sy *. u.y))) (f.z +. ((sx *. r.z) +. (sy *. u.z)))
+  Vec3.v
+    (f.x +. ((sx *. r.x) +. (sy *. u.x)))
+    (f.y +. ((sx *. r.y) +. (sy *. u.y)))
+    (f.z +. ((sx *. r.z) +. (sy *. u.z)))
 
 (* The fisheye's normalised image coordinates (n_x, n_y): the inscribed circle is ρ ≤ 1. *)
 let[@inline] fisheye_n ~width ~height x y =

@@ -30,8 +30,10 @@ type t = private {
   look_at : Vec3.t;
   up : Vec3.t;
   fov : float;  (** degrees: vertical for perspective, across the circle for fisheye *)
-  aperture : float;  (** radius of the lens disk, world units, ≥ 0; 0 = a pinhole (default) *)
-  focal_distance : float;  (** distance to the points in focus along each ray, > 0; default 1 *)
+  aperture : float;
+      (** radius of the lens disk, world units, ≥ 0; 0 = a pinhole (default) *)
+  focal_distance : float;
+      (** distance to the points in focus along each ray, > 0; default 1 *)
   lens_samples : int;  (** n: n×n lens points per sample, in 1–64; default 1 *)
   f : Vec3.t;
   r : Vec3.t;
@@ -41,8 +43,16 @@ type t = private {
 }
 
 val make :
-  ?kind:kind -> ?position:Vec3.t -> ?look_at:Vec3.t -> ?up:Vec3.t -> ?fov:float -> ?aperture:float ->
-  ?focal_distance:float -> ?lens_samples:int -> unit -> t
+  ?kind:kind ->
+  ?position:Vec3.t ->
+  ?look_at:Vec3.t ->
+  ?up:Vec3.t ->
+  ?fov:float ->
+  ?aperture:float ->
+  ?focal_distance:float ->
+  ?lens_samples:int ->
+  unit ->
+  t
 (** Defaults: perspective, position (0,0,−5), look_at origin, up (0,1,0), fov 60, no depth
     of field (aperture 0, focal distance 1, 1 lens sample). *)
 
@@ -80,8 +90,8 @@ val in_view : t -> width:int -> height:int -> float -> float -> bool
 (** False only for a fisheye point with ρ > 1 (outside the image circle). *)
 
 val lens_ray : t -> Ray.t -> float -> float -> Ray.t
-(** [lens_ray c pinhole lx ly] is the ray from the origin of [pinhole] moved by
-    lx·r + ly·u (a point of the lens disk) towards origin + focal_distance·dir. *)
+(** [lens_ray c pinhole lx ly] is the ray from the origin of [pinhole] moved by lx·r +
+    ly·u (a point of the lens disk) towards origin + focal_distance·dir. *)
 
 val lens_point : t -> int -> int -> float -> float -> float * float
 (** [lens_point c a b u1 u2] is lens point (a, b) of the n×n stratified pattern, with

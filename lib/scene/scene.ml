@@ -26,51 +26,90 @@ let origin_of (c : Camera.t) =
   if not (Float.is_finite d && d > 0.) then Vec3.zero
   else
     let g = Float.ldexp 1. (snd (Float.frexp d) + 10) in
-    let r x = if Float.is_finite x && Float.is_finite g then Float.round (x /. g) *. g else 0. in
+    let r x =
+      if Float.is_finite x && Float.is_finite g then Float.round (x /. g) *. g else 0.
+    in
     let p = c.position in
     Vec3.v (r p.x) (r p.y) (r p.z)
 
 let is_zero (v : Vec3.t) = v.x = 0. && v.y = 0. && v.z = 0.
-let view_camera origin c = if is_zero origin then c else Camera.translate (Vec3.neg origin) c
-let view_lights origin lights = if is_zero origin then lights else Array.map (Light.translate (Vec3.neg origin)) lights
+
+let view_camera origin c =
+  if is_zero origin then c else Camera.translate (Vec3.neg origin) c
+
+let view_lights origin lights =
+  if is_zero origin then lights else Array.map (Light.translate (Vec3.neg origin)) lights
 
 let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
-  let mats = Array.of_list (List.concat_map Primitive.materials (Array.to_list objects)) in
+  let mats =
+    Array.of_list (List.concat_map Primitive.materials (Array.to_list objects))
+  in
   let any f = Array.exists f mats in
-  { Features.shadows = s.shadows && Array.length lights > 0;
+  {
+    Features.shadows = s.shadows && Array.length lights > 0;
     soft_shadows = s.shadows && Array.exists Light.is_area lights;
-    reflection = any (fun m -> m.Material.reflection > 0. || (m.fresnel && m.transparency > 0.));
+    reflection =
+      any (fun m -> m.Material.reflection > 0. || (m.fresnel && m.transparency > 0.));
     refraction = any (fun m -> m.Material.transparency > 0.);
     textures = any (fun m -> Option.is_some m.Material.texture);
     bump = any (fun m -> Option.is_some m.Material.bump);
     supersampling = s.samples > 1 || s.adaptive > 0.;
     bvh = Accel.uses_bvh accel;
-    orthographic = (match c.kind with Camera.Orthographic _ -> true | Perspective | Fisheye -> false);
-    fisheye = (match c.kind with Camera.Fisheye -> true | Perspective | Orthographic _ -> false);
+    orthographic =
+      (match c.kind with Camera.Orthographic _ -> true | Perspective | Fisheye -> false);
+    fisheye =
+      (match c.kind with Camera.Fisheye -> true | Perspective | Orthographic _ -> false);
     depth_of_field = Camera.depth_of_field c;
     spot_lights = Array.exists Light.is_spot lights;
     sky = Option.is_some s.sky;
     fog = Option.is_some s.fog;
-    color_maps = any (fun m -> match m.Material.texture with Some (Texture.Gradient _ | Texture.Mapped _) -> true | _ -> false) }
+    color_maps =
+      any (fun m ->
+          match m.Material.texture with
+          | Some (Texture.Gradient _ | Texture.Mapped _) -> true
+          | _ -> false);
+  }
 
 let ( let* ) = Result.bind
 
 let rec first_error = function
   | [] -> Ok ()
-  | (Ok () :: rest) -> first_error rest
+  | Ok () :: rest -> first_error rest
   | (Error _ as e) :: _ -> e
 
-let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
+let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
+    ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () = first_error (List.concat_map (fun o -> List.map Material.validate (Primitive.materials o)) objects) in
+  let* () =
+    first_error
+      (List.concat_map
+         (fun o -> List.map Material.validate (Primitive.materials o))
+         objects)
+  in
   let lights = Array.of_list lights and objects = Array.of_list objects in
   let origin = origin_of camera in
-  let objects = if is_zero origin then objects else Array.map (Primitive.translate (Vec3.neg origin)) objects in
+  let objects =
+    if is_zero origin then objects
+    else Array.map (Primitive.translate (Vec3.neg origin)) objects
+  in
   let accel = Accel.build objects in
   let features = derive_features settings camera lights objects accel in
   let view = view_camera origin camera and view_lights = view_lights origin lights in
-  Ok { settings; camera; lights; objects; accel; features; time; frame; origin; view; view_lights }
+  Ok
+    {
+      settings;
+      camera;
+      lights;
+      objects;
+      accel;
+      features;
+      time;
+      frame;
+      origin;
+      view;
+      view_lights;
+    }
 
 let make_exn ?settings ?camera ?time ?frame ~lights objects =
   match make ?settings ?camera ?time ?frame ~lights objects with
@@ -79,12 +118,28 @@ let make_exn ?settings ?camera ?time ?frame ~lights objects =
 
 let with_settings t settings =
   let* () = Settings.validate settings in
-  Ok { t with settings; features = derive_features settings t.camera t.lights t.objects t.accel }
+  Ok
+    {
+      t with
+      settings;
+      features = derive_features settings t.camera t.lights t.objects t.accel;
+    }
 
 let with_camera t camera =
   let* () = Camera.validate camera in
-  Ok { t with camera; view = view_camera t.origin camera; features = derive_features t.settings camera t.lights t.objects t.accel }
+  Ok
+    {
+      t with
+      camera;
+      view = view_camera t.origin camera;
+      features = derive_features t.settings camera t.lights t.objects t.accel;
+    }
 
 let map_lights t f =
   let lights = Array.map f t.lights in
-  { t with lights; view_lights = view_lights t.origin lights; features = derive_features t.settings t.camera lights t.objects t.accel }
+  {
+    t with
+    lights;
+    view_lights = view_lights t.origin lights;
+    features = derive_features t.settings t.camera lights t.objects t.accel;
+  }

@@ -25,13 +25,24 @@ type t = private {
     the world's origin renders as it would at the origin. *)
 
 val make :
-  ?settings:Settings.t -> ?camera:Camera.t -> ?time:float -> ?frame:int -> lights:Light.t list ->
-  Primitive.t list -> (t, string) result
-(** [make ~lights objects] validates settings, camera and materials and builds the scene. *)
+  ?settings:Settings.t ->
+  ?camera:Camera.t ->
+  ?time:float ->
+  ?frame:int ->
+  lights:Light.t list ->
+  Primitive.t list ->
+  (t, string) result
+(** [make ~lights objects] validates settings, camera and materials and builds the scene.
+*)
 
 val make_exn :
-  ?settings:Settings.t -> ?camera:Camera.t -> ?time:float -> ?frame:int -> lights:Light.t list ->
-  Primitive.t list -> t
+  ?settings:Settings.t ->
+  ?camera:Camera.t ->
+  ?time:float ->
+  ?frame:int ->
+  lights:Light.t list ->
+  Primitive.t list ->
+  t
 (** As {!make}; raises [Invalid_argument] on an invalid scene (for tests and code-built
     scenes). *)
 

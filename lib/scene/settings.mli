@@ -7,9 +7,9 @@ type sky = { horizon : Color.t; zenith : Color.t }
     mix(horizon, zenith, max(0, D.y)), i.e. horizon + max(0, D.y)·(zenith − horizon). *)
 
 type fog = { color : Color.t; distance : float }
-(** Fog: a ray segment of length t (infinite for a ray that hits nothing) turns its
-    colour c into c·e^(−t/distance) + color·(1 − e^(−t/distance)); [distance] > 0, world
-    units. Primary and secondary rays are fogged, shadow rays are not. *)
+(** Fog: a ray segment of length t (infinite for a ray that hits nothing) turns its colour
+    c into c·e^(−t/distance) + color·(1 − e^(−t/distance)); [distance] > 0, world units.
+    Primary and secondary rays are fogged, shadow rays are not. *)
 
 type t = {
   width : int;  (** pixels, ≥ 1; default 640 *)
@@ -21,11 +21,13 @@ type t = {
   shadows : bool;  (** default true *)
   background : Color.t;
       (** linear colour of rays that hit nothing; default black. With [sky] it is the
-          horizon colour (what stands for the background where one colour is needed,
-          e.g. in place of a NaN sample) *)
-  sky : sky option;  (** a background gradient instead of the flat [background]; default none *)
+          horizon colour (what stands for the background where one colour is needed, e.g.
+          in place of a NaN sample) *)
+  sky : sky option;
+      (** a background gradient instead of the flat [background]; default none *)
   fog : fog option;  (** default none *)
-  ambient : Color.t;  (** scene ambient light, multiplies material ambient; default white *)
+  ambient : Color.t;
+      (** scene ambient light, multiplies material ambient; default white *)
   gamma : gamma;  (** output encoding; default sRGB *)
 }
 
@@ -41,13 +43,14 @@ val max_depth : int
 
 val validate : t -> (unit, string) result
 (** [Error] naming the field when a setting is out of range: size below 1×1 or above
-    {!max_pixels}, depth below 1, samples outside 1–64, adaptive negative or not finite, or
-    a gamma that is not a positive number, a fog distance that is not a positive number. *)
+    {!max_pixels}, depth below 1, samples outside 1–64, adaptive negative or not finite,
+    or a gamma that is not a positive number, a fog distance that is not a positive
+    number. *)
 
 val background_along : t -> Vec3.t -> Color.t
 (** [background_along s d] is what a ray with unit direction [d] that hits nothing sees,
     before fog: [background], or the [sky] gradient at [d]. *)
 
 val fog_segment : fog -> float -> Color.t -> Color.t
-(** [fog_segment f t c] is c·e^(−t/distance) + color·(1 − e^(−t/distance)), per channel;
-    t may be infinite (then it is [f.color]). *)
+(** [fog_segment f t c] is c·e^(−t/distance) + color·(1 − e^(−t/distance)), per channel; t
+    may be infinite (then it is [f.color]). *)

@@ -10,7 +10,7 @@ type t =
 
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t
 (** [perturb b ~uv p n] is the unit shading normal at object-space point [p] with unit
-    normal [n] (world space, facing the viewer). [uv d] is the surface's (u, v) at the
-    hit point moved by the world-space vector [d] (within the tangent plane): image maps
+    normal [n] (world space, facing the viewer). [uv d] is the surface's (u, v) at the hit
+    point moved by the world-space vector [d] (within the tangent plane): image maps
     differentiate it to find the surface directions of u and v. The result stays on the
     side of [n]. *)

@@ -1,4 +1,11 @@
-type spot = { point_at : Vec3.t; axis : Vec3.t; inner : float; outer : float; cos_inner : float; cos_outer : float }
+type spot = {
+  point_at : Vec3.t;
+  axis : Vec3.t;
+  inner : float;
+  outer : float;
+  cos_inner : float;
+  cos_outer : float;
+}
 
 type t =
   | Point of {
@@ -12,18 +19,30 @@ type t =
     }
   | Directional of { direction : Vec3.t; color : Color.t; intensity : float }
 
-let point ?(color = Color.white) ?(intensity = 1.) ?(attenuation = Vec3.v 1. 0. 0.) ?(radius = 0.)
-    ?(samples = 1) ?spot position =
+let point ?(color = Color.white) ?(intensity = 1.) ?(attenuation = Vec3.v 1. 0. 0.)
+    ?(radius = 0.) ?(samples = 1) ?spot position =
   Point { position; color; intensity; attenuation; radius; samples; spot }
 
 let spot ~position ~point_at ~inner ~outer =
   let d = Vec3.sub point_at position in
-  if Vec3.max_abs d = 0. then Error "a spot light's point_at must differ from its position"
+  if Vec3.max_abs d = 0. then
+    Error "a spot light's point_at must differ from its position"
   else if not (inner >= 0. && inner <= outer && outer <= 180.) then
-    Error (Printf.sprintf "a spot light needs 0 ≤ inner ≤ outer ≤ 180 degrees (got inner %g, outer %g)" inner outer)
+    Error
+      (Printf.sprintf
+         "a spot light needs 0 ≤ inner ≤ outer ≤ 180 degrees (got inner %g, outer %g)"
+         inner outer)
   else
     let rad a = a *. Float.pi /. 180. in
-    Ok { point_at; axis = Vec3.normalize d; inner; outer; cos_inner = Float.cos (rad inner); cos_outer = Float.cos (rad outer) }
+    Ok
+      {
+        point_at;
+        axis = Vec3.normalize d;
+        inner;
+        outer;
+        cos_inner = Float.cos (rad inner);
+        cos_outer = Float.cos (rad outer);
+      }
 
 (* θ ≤ inner ⇔ cos θ ≥ cos inner (cos falls on [0°, 180°]); the smooth step between is
    continuous at both ends, so comparing cosines rather than angles changes nothing. *)
@@ -34,15 +53,21 @@ let spot_factor s cos_theta =
     let t = (cos_theta -. s.cos_outer) /. (s.cos_inner -. s.cos_outer) in
     t *. t *. (3. -. (2. *. t))
 
-let is_spot = function Point { spot = Some _; _ } -> true | Point _ | Directional _ -> false
+let is_spot = function
+  | Point { spot = Some _; _ } -> true
+  | Point _ | Directional _ -> false
 
 let directional ?(color = Color.white) ?(intensity = 1.) d =
   Directional { direction = Vec3.normalize d; color; intensity }
 
-let is_area = function Point { radius; samples; _ } -> radius > 0. && samples > 1 | Directional _ -> false
+let is_area = function
+  | Point { radius; samples; _ } -> radius > 0. && samples > 1
+  | Directional _ -> false
 
 let translate (d : Vec3.t) = function
   | Point l ->
-      let spot = Option.map (fun s -> { s with point_at = Vec3.add s.point_at d }) l.spot in
+      let spot =
+        Option.map (fun s -> { s with point_at = Vec3.add s.point_at d }) l.spot
+      in
       Point { l with position = Vec3.add l.position d; spot }
   | Directional _ as l -> l

@@ -10,9 +10,9 @@ type spot = {
   cos_outer : float;
 }
 (** A spot light's cone. With θ the angle between the axis and the direction from the
-    light to a lit point, the light's E is multiplied by 1 where θ ≤ inner, 0 where
-    θ ≥ outer, and in between by s(t) = t²(3 − 2t), t = (cos θ − cos outer)/(cos inner −
-    cos outer). *)
+    light to a lit point, the light's E is multiplied by 1 where θ ≤ inner, 0 where θ ≥
+    outer, and in between by s(t) = t²(3 − 2t), t = (cos θ − cos outer)/(cos inner − cos
+    outer). *)
 
 type t =
   | Point of {
@@ -28,16 +28,28 @@ type t =
       (** [direction] is unit, the way the light travels; Ldir = −direction *)
 
 val point :
-  ?color:Color.t -> ?intensity:float -> ?attenuation:Vec3.t -> ?radius:float -> ?samples:int -> ?spot:spot ->
-  Vec3.t -> t
+  ?color:Color.t ->
+  ?intensity:float ->
+  ?attenuation:Vec3.t ->
+  ?radius:float ->
+  ?samples:int ->
+  ?spot:spot ->
+  Vec3.t ->
+  t
 (** Defaults: white, intensity 1, attenuation (1, 0, 0), radius 0, 1 sample, no spot. *)
 
-val spot : position:Vec3.t -> point_at:Vec3.t -> inner:float -> outer:float -> (spot, string) result
-(** The cone of a spot light at [position] aimed at [point_at], angles in degrees;
-    [Error] when [point_at] is the position, or unless 0 ≤ inner ≤ outer ≤ 180. *)
+val spot :
+  position:Vec3.t ->
+  point_at:Vec3.t ->
+  inner:float ->
+  outer:float ->
+  (spot, string) result
+(** The cone of a spot light at [position] aimed at [point_at], angles in degrees; [Error]
+    when [point_at] is the position, or unless 0 ≤ inner ≤ outer ≤ 180. *)
 
 val spot_factor : spot -> float -> float
-(** [spot_factor s cos_theta] is the factor of E at angle θ from the axis (see {!spot}). *)
+(** [spot_factor s cos_theta] is the factor of E at angle θ from the axis (see {!spot}).
+*)
 
 val is_spot : t -> bool
 (** Whether the light is a spot light. *)
@@ -46,8 +58,8 @@ val directional : ?color:Color.t -> ?intensity:float -> Vec3.t -> t
 (** [directional d] travels along [normalize d]. *)
 
 val is_area : t -> bool
-(** Whether the light is a point light with a radius and more than one sample: an area light
-    casting soft shadows. *)
+(** Whether the light is a point light with a radius and more than one sample: an area
+    light casting soft shadows. *)
 
 val translate : Vec3.t -> t -> t
 (** [translate d l] is [l] moved by [d] (a directional light has no position to move). *)

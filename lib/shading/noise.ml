@@ -22,7 +22,8 @@ let[@inline] grad h x y z =
   (if h land 1 = 0 then u else -.u) +. if h land 2 = 0 then v else -.v
 
 (* Lattice cell index modulo 256, safe for any finite or non-finite input. *)
-let[@inline] cell f = if Float.is_finite f && Float.abs f < 1e15 then int_of_float f land 255 else 0
+let[@inline] cell f =
+  if Float.is_finite f && Float.abs f < 1e15 then int_of_float f land 255 else 0
 
 let perlin x y z =
   let fx = Float.floor x and fy = Float.floor y and fz = Float.floor z in
@@ -40,7 +41,9 @@ let perlin x y z =
        (lerp u (grad p.(ab) x (y -. 1.) z) (grad p.(bb) (x -. 1.) (y -. 1.) z)))
     (lerp v
        (lerp u (grad p.(aa + 1) x y (z -. 1.)) (grad p.(ba + 1) (x -. 1.) y (z -. 1.)))
-       (lerp u (grad p.(ab + 1) x (y -. 1.) (z -. 1.)) (grad p.(bb + 1) (x -. 1.) (y -. 1.) (z -. 1.))))
+       (lerp u
+          (grad p.(ab + 1) x (y -. 1.) (z -. 1.))
+          (grad p.(bb + 1) (x -. 1.) (y -. 1.) (z -. 1.))))
 
 let turbulence ?(octaves = 6) (p : Vec3.t) =
   let acc = ref 0. and f = ref 1. in

@@ -6,12 +6,29 @@ let color_map entries =
   if n = 0 then Error "a color_map needs at least one entry (t, colour)"
   else
     let rec check prev k = function
-      | [] -> Ok { ts = Array.of_list (List.map fst entries); cs = Array.of_list (List.map snd entries) }
+      | [] ->
+          Ok
+            {
+              ts = Array.of_list (List.map fst entries);
+              cs = Array.of_list (List.map snd entries);
+            }
       | (t, c) :: rest ->
-          if not (t >= 0. && t <= 1.) then Error (Printf.sprintf "entry %d of the color_map has t = %g; t must be in [0, 1]" k t)
+          if not (t >= 0. && t <= 1.) then
+            Error
+              (Printf.sprintf "entry %d of the color_map has t = %g; t must be in [0, 1]"
+                 k t)
           else if t < prev then
-            Error (Printf.sprintf "entry %d of the color_map has t = %g, below the t = %g before it: entries go in increasing t" k t prev)
-          else if not (ok_color c) then Error (Printf.sprintf "entry %d of the color_map has a colour with a negative or non-finite component" k)
+            Error
+              (Printf.sprintf
+                 "entry %d of the color_map has t = %g, below the t = %g before it: \
+                  entries go in increasing t"
+                 k t prev)
+          else if not (ok_color c) then
+            Error
+              (Printf.sprintf
+                 "entry %d of the color_map has a colour with a negative or non-finite \
+                  component"
+                 k)
           else check t (k + 1) rest
     in
     check 0. 1 entries
@@ -21,14 +38,19 @@ let lookup m v =
   let ts = m.ts and cs = m.cs in
   let n = Array.length ts in
   let k = ref (-1) in
-  while !k + 1 < n && ts.(!k + 1) <= v do incr k done;
+  while !k + 1 < n && ts.(!k + 1) <= v do
+    incr k
+  done;
   if !k < 0 then cs.(0)
   else if !k = n - 1 then cs.(n - 1)
   else
     let t0 = ts.(!k) and t1 = ts.(!k + 1) in
     let c0 = cs.(!k) and c1 = cs.(!k + 1) in
     let s = (v -. t0) /. (t1 -. t0) in
-    Color.v (c0.r +. (s *. (c1.r -. c0.r))) (c0.g +. (s *. (c1.g -. c0.g))) (c0.b +. (s *. (c1.b -. c0.b)))
+    Color.v
+      (c0.r +. (s *. (c1.r -. c0.r)))
+      (c0.g +. (s *. (c1.g -. c0.g)))
+      (c0.b +. (s *. (c1.b -. c0.b)))
 
 type t =
   | Solid of Color.t
@@ -52,7 +74,10 @@ let ifloor x =
 (* s in [0, 1] (NaN counts as 0) from c1 to c2. *)
 let mix (c1 : Color.t) (c2 : Color.t) s =
   let s = if s > 0. then if s < 1. then s else 1. else 0. in
-  Color.v (c1.r +. (s *. (c2.r -. c1.r))) (c1.g +. (s *. (c2.g -. c1.g))) (c1.b +. (s *. (c2.b -. c1.b)))
+  Color.v
+    (c1.r +. (s *. (c2.r -. c1.r)))
+    (c1.g +. (s *. (c2.g -. c1.g)))
+    (c1.b +. (s *. (c2.b -. c1.b)))
 
 (* Wrap x into [0, n): integer coordinates of a tiled image. *)
 let wrap i n =
@@ -95,7 +120,10 @@ let pattern_value pat (p : Vec3.t) =
       let q = Vec3.smul (1. /. scale) p in
       (* Rings around the y axis, wobbled by a third of a ring by noise that is slow along
          the axis (grain) and across it (irregular rings). *)
-      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
+      let r =
+        Float.sqrt ((q.x *. q.x) +. (q.z *. q.z))
+        +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z))
+      in
       let f = if Float.is_finite r then r -. Float.floor r else 0. in
       (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
       f *. f *. (3. -. (2. *. f))
@@ -118,7 +146,10 @@ let eval t (p : Vec3.t) u v =
       mix c1 c2 (0.5 *. (1. +. s))
   | Wood { c1; c2; scale } ->
       let q = Vec3.smul (1. /. scale) p in
-      let r = Float.sqrt ((q.x *. q.x) +. (q.z *. q.z)) +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z)) in
+      let r =
+        Float.sqrt ((q.x *. q.x) +. (q.z *. q.z))
+        +. (0.35 *. Noise.perlin (0.5 *. q.x) (0.1 *. q.y) (0.5 *. q.z))
+      in
       let f = if Float.is_finite r then r -. Float.floor r else 0. in
       mix c1 c2 (f *. f *. (3. -. (2. *. f)))
   | Mapped { pattern; map } ->
@@ -131,7 +162,11 @@ let eval t (p : Vec3.t) u v =
       lookup map f
   | Image { img; scale } -> bilinear img (u *. scale) (v *. scale)
 
-let needs_uv = function Image _ -> true | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ | Mapped _ -> false
+let needs_uv = function
+  | Image _ -> true
+  | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ | Mapped _
+    ->
+      false
 
 let name = function
   | Solid _ -> "solid"

@@ -1,10 +1,10 @@
 (** Albedo textures: solid and procedural colour fields, and image maps.
 
-    Solid (3-D) textures are evaluated at an object-space point; the caller passes
-    P − δ·N (doc/shading.md, section 6) so that a surface lying exactly on a cell boundary does not
-    flicker. Image textures use the surface's (u, v). All colours are linear RGB. Every
-    texture is a pure function of its arguments (the noise is seeded once, see {!module-Noise}),
-    and never returns NaN for finite input. *)
+    Solid (3-D) textures are evaluated at an object-space point; the caller passes P − δ·N
+    (doc/shading.md, section 6) so that a surface lying exactly on a cell boundary does
+    not flicker. Image textures use the surface's (u, v). All colours are linear RGB.
+    Every texture is a pure function of its arguments (the noise is seeded once, see
+    {!module-Noise}), and never returns NaN for finite input. *)
 
 type color_map = { ts : float array; cs : Color.t array }
 (** A colour map: entries (t_k, c_k) with 0 ≤ t_0 ≤ t_1 ≤ … ≤ 1, at least one. *)
@@ -15,8 +15,8 @@ val color_map : (float * Color.t) list -> (color_map, string) result
 
 val lookup : color_map -> float -> Color.t
 (** [lookup m v] is the colour at [v]: c_0 below t_0, the last colour from the last t on,
-    and in between linear between the bracketing entries t_k ≤ v < t_(k+1):
-    c_k + ((v − t_k)/(t_(k+1) − t_k))·(c_(k+1) − c_k). *)
+    and in between linear between the bracketing entries t_k ≤ v < t_(k+1): c_k + ((v −
+    t_k)/(t_(k+1) − t_k))·(c_(k+1) − c_k). *)
 
 type t =
   | Solid of Color.t
@@ -28,20 +28,23 @@ type t =
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
       (** veins along x: mix c1 c2 by ½(1 + sin(π·(x/scale + 4·turbulence(P/scale)))) *)
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
-      (** rings around the y axis, [scale] apart: the fraction of
-          r/scale + 0.35·perlin(x/2s, y/10s, z/2s) (s = scale, r = √(x² + z²)), mixed
-          smoothly from c1 (ring start) to c2 *)
+      (** rings around the y axis, [scale] apart: the fraction of r/scale +
+          0.35·perlin(x/2s, y/10s, z/2s) (s = scale, r = √(x² + z²)), mixed smoothly from
+          c1 (ring start) to c2 *)
   | Gradient of { axis : Vec3.t; map : color_map }
       (** value fract(P·axis) = P·axis − ⌊P·axis⌋ (object space), coloured by the map *)
   | Mapped of { pattern : pattern; map : color_map }
-      (** a noise, marble or wood pattern coloured by a map: the value that would mix
-          c1 and c2, clamped to [0, 1], looked up in the map *)
+      (** a noise, marble or wood pattern coloured by a map: the value that would mix c1
+          and c2, clamped to [0, 1], looked up in the map *)
   | Image of { img : Image.t; scale : float }
       (** a linear framebuffer (from {!Image.read_linear}) on (u, v): u left to right, v
-          bottom to top, [scale] copies across the unit square in each direction,
-          bilinear filtering, wrapping at the edges *)
+          bottom to top, [scale] copies across the unit square in each direction, bilinear
+          filtering, wrapping at the edges *)
 
-and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float  (** each with its scale *)
+and pattern =
+  | Noise_pattern of float
+  | Marble_pattern of float
+  | Wood_pattern of float  (** each with its scale *)
 
 val eval : t -> Vec3.t -> float -> float -> Color.t
 (** [eval tex p u v] is the albedo at object-space point [p] with texture coordinates

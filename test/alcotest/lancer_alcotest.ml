@@ -7,7 +7,10 @@ type outcome = Compare.outcome =
   | Different of { figures : Compare.t; actual : string; diff : string }
   | Missing of { actual : string }
 
-let updating () = match Sys.getenv_opt "LANCER_UPDATE_GOLDEN" with Some ("1" | "true" | "yes") -> true | _ -> false
+let updating () =
+  match Sys.getenv_opt "LANCER_UPDATE_GOLDEN" with
+  | Some ("1" | "true" | "yes") -> true
+  | _ -> false
 
 (* dune runs tests in <root>/_build/default/<dir>; goldens live in <root>/<dir>. The
    source root and the build directory's root, when running so. *)
@@ -21,13 +24,22 @@ let dune_roots () =
       | None -> None
       | Some i ->
           let build = String.sub cwd 0 (i + String.length marker) in
-          let rel = String.sub cwd (String.length build) (String.length cwd - String.length build) in
-          let rel = if String.length rel > 0 && rel.[0] = '/' then String.sub rel 1 (String.length rel - 1) else rel in
+          let rel =
+            String.sub cwd (String.length build) (String.length cwd - String.length build)
+          in
+          let rel =
+            if String.length rel > 0 && rel.[0] = '/' then
+              String.sub rel 1 (String.length rel - 1)
+            else rel
+          in
           Some (root, build, rel))
 
 let source_path p =
   if not (Filename.is_relative p) then p
-  else match dune_roots () with None -> p | Some (root, _, rel) -> Filename.concat (Filename.concat root rel) p
+  else
+    match dune_roots () with
+    | None -> p
+    | Some (root, _, rel) -> Filename.concat (Filename.concat root rel) p
 
 let errs e = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) e)
 
@@ -41,8 +53,12 @@ let time_and_frame ?time ?frame prog =
   | None, Some k -> (
       match Dsl.animation prog with
       | _ when k < 0 -> Error (Printf.sprintf "~frame must be at least 0 (got %d)" k)
-      | None -> Error (Printf.sprintf "~frame:%d: the scene has no animation block, so it has no frames" k)
-      | Some (_, count) when k >= count -> Error (Printf.sprintf "~frame:%d: the animation has frames 0..%d" k (count - 1))
+      | None ->
+          Error
+            (Printf.sprintf
+               "~frame:%d: the scene has no animation block, so it has no frames" k)
+      | Some (_, count) when k >= count ->
+          Error (Printf.sprintf "~frame:%d: the animation has frames 0..%d" k (count - 1))
       | Some (fps, _) -> Ok (Float.of_int k /. fps, k))
   | None, None -> Ok (0., 0)
 
@@ -55,13 +71,21 @@ let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) 
   let* sc = match quality with None -> Ok sc | Some q -> Quality.apply q sc in
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in
-  let s' = { s with width = pick width s.width; height = pick height s.height; samples = pick samples s.samples } in
+  let s' =
+    {
+      s with
+      width = pick width s.width;
+      height = pick height s.height;
+      samples = pick samples s.samples;
+    }
+  in
   let* sc = if s' = s then Ok sc else Scene.with_settings sc s' in
   let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
   Ok (prog, (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb))
 
 let render_scene ?width ?height ?samples ?quality ?time ?frame ?domains path =
-  Result.map snd (render_program ?width ?height ?samples ?quality ?time ?frame ?domains path)
+  Result.map snd
+    (render_program ?width ?height ?samples ?quality ?time ?frame ?domains path)
 
 (* Under dune a test sees only its dependencies, copied into the build directory, and is
    run again only when one of them changes. The scene is read from the source tree, so a
@@ -72,39 +96,58 @@ let undeclared_inputs files =
   | None -> []
   | Some (root, build, rel) ->
       let root_slash = Filename.concat root "" in
-      let under p pre = String.length p >= String.length pre && String.sub p 0 (String.length pre) = pre in
+      let under p pre =
+        String.length p >= String.length pre && String.sub p 0 (String.length pre) = pre
+      in
       List.filter_map
         (fun p ->
           if under p root_slash && not (under p (Filename.concat root "_build")) then
-            let in_root = String.sub p (String.length root_slash) (String.length p - String.length root_slash) in
+            let in_root =
+              String.sub p (String.length root_slash)
+                (String.length p - String.length root_slash)
+            in
             let copy = Filename.concat build in_root in
-            let same a b = try Digest.file a = Digest.file b with Sys_error _ -> false in
+            let same a b =
+              try Digest.file a = Digest.file b with Sys_error _ -> false
+            in
             (* A copy left by another rule is stale as soon as the file changes. *)
             if Sys.file_exists copy && same copy p then None
             else
               (* The path as the test's own directory sees it. *)
               let dir = if rel = "" then [] else String.split_on_char '/' rel in
-              let rec strip d f = match (d, f) with x :: d', y :: f' when x = y -> strip d' f' | _ -> (d, f) in
+              let rec strip d f =
+                match (d, f) with
+                | x :: d', y :: f' when x = y -> strip d' f'
+                | _ -> (d, f)
+              in
               let up, down = strip dir (String.split_on_char '/' in_root) in
               Some (String.concat "/" (List.map (fun _ -> "..") up @ down))
           else None)
         files
 
 let compare_golden ?tolerance ?max_share ~golden actual =
-  Compare.golden ?tolerance ?max_share ~update:(updating ()) ~golden:(source_path golden) actual
+  Compare.golden ?tolerance ?max_share ~update:(updating ()) ~golden:(source_path golden)
+    actual
 
-let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene ~golden () =
-  match render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene) with
+let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene
+    ~golden () =
+  match
+    render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene)
+  with
   | Error m -> Alcotest.failf "%s: %s" scene m
   | Ok (prog, img) -> (
       let golden_file = source_path golden in
-      let read = Dsl.inputs prog @ if updating () || not (Sys.file_exists golden_file) then [] else [ golden_file ] in
+      let read =
+        Dsl.inputs prog
+        @ if updating () || not (Sys.file_exists golden_file) then [] else [ golden_file ]
+      in
       (match undeclared_inputs read with
       | [] -> ()
       | missing ->
           Alcotest.failf
-            "%s: the test reads %s, which %s not among its dependencies, so dune would not run it again when %s \
-             changes: add %s to the (deps …) of its test stanza, for example %s"
+            "%s: the test reads %s, which %s not among its dependencies, so dune would \
+             not run it again when %s changes: add %s to the (deps …) of its test \
+             stanza, for example %s"
             scene (String.concat ", " missing)
             (if List.length missing = 1 then "is" else "are")
             (if List.length missing = 1 then "it" else "one of them")
@@ -121,11 +164,20 @@ let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~s
       | Error m -> Alcotest.failf "%s: %s" golden m
       | Ok (Same _) | Ok (Updated _) -> ()
       | Ok (Missing { actual }) ->
-          Alcotest.failf "no golden image %s yet; the render is in %s (accept it with LANCER_UPDATE_GOLDEN=1)" golden_file actual
+          Alcotest.failf
+            "no golden image %s yet; the render is in %s (accept it with \
+             LANCER_UPDATE_GOLDEN=1)"
+            golden_file actual
       | Ok (Different { figures; actual; diff }) ->
-          Alcotest.failf "%s differs from its golden %s: %a\n  actual image: %s\n  diff image:   %s\n  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
+          Alcotest.failf
+            "%s differs from its golden %s: %a\n\
+            \  actual image: %s\n\
+            \  diff image:   %s\n\
+            \  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
             scene golden_file Compare.pp figures actual diff)
 
-let test_case ?(speed = `Quick) ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame name ~scene ~golden () =
+let test_case ?(speed = `Quick) ?tolerance ?max_share ?width ?height ?samples ?quality
+    ?time ?frame name ~scene ~golden () =
   Alcotest.test_case name speed (fun () ->
-      check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene ~golden ())
+      check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene
+        ~golden ())

@@ -1,16 +1,22 @@
 (** Golden-image tests for lancer scenes, as alcotest checks.
 
-    A golden test renders a scene and compares the encoded image with a stored PNG under
-    a per-channel tolerance. On failure it writes [NAME.actual.png] and [NAME.diff.png]
-    next to the golden file (in the source tree when run by dune), prints their paths
-    and the figures, and fails. With the environment variable [LANCER_UPDATE_GOLDEN=1]
-    it writes the golden instead (making its directory if needed) and passes: goldens
-    change only on that explicit request.
+    A golden test renders a scene and compares the encoded image with a stored PNG under a
+    per-channel tolerance. On failure it writes [NAME.actual.png] and [NAME.diff.png] next
+    to the golden file (in the source tree when run by dune), prints their paths and the
+    figures, and fails. With the environment variable [LANCER_UPDATE_GOLDEN=1] it writes
+    the golden instead (making its directory if needed) and passes: goldens change only on
+    that explicit request.
 
     {[
       let () =
         Alcotest.run "my scenes"
-          [ ("looks", [ Lancer_alcotest.test_case "the red ball" ~scene:"ball.rts" ~golden:"ball.png" () ]) ]
+          [
+            ( "looks",
+              [
+                Lancer_alcotest.test_case "the red ball" ~scene:"ball.rts"
+                  ~golden:"ball.png" ();
+              ] );
+          ]
     ]} *)
 
 type outcome = Lancer.Compare.outcome =
@@ -21,8 +27,15 @@ type outcome = Lancer.Compare.outcome =
   | Missing of { actual : string }  (** no golden yet; the actual image was written *)
 
 val render_scene :
-  ?width:int -> ?height:int -> ?samples:int -> ?quality:Lancer.Quality.t -> ?time:float -> ?frame:int -> ?domains:int ->
-  string -> (int * int * Bytes.t, string) result
+  ?width:int ->
+  ?height:int ->
+  ?samples:int ->
+  ?quality:Lancer.Quality.t ->
+  ?time:float ->
+  ?frame:int ->
+  ?domains:int ->
+  string ->
+  (int * int * Bytes.t, string) result
 (** [render_scene path] loads, evaluates and renders a scene file, and encodes it with its
     gamma: (width, height, RGB bytes). The scene is evaluated at [time] (seconds), or at
     frame [frame] of its animation (time = frame / fps; the scene needs an animation block
@@ -31,12 +44,26 @@ val render_scene :
     image [lancer render --quality --samples --width --height --time/--frame] writes. *)
 
 val compare_golden :
-  ?tolerance:int -> ?max_share:float -> golden:string -> int * int * Bytes.t -> (outcome, string) result
+  ?tolerance:int ->
+  ?max_share:float ->
+  golden:string ->
+  int * int * Bytes.t ->
+  (outcome, string) result
 (** Compare an encoded image with the golden file, writing images as described above. *)
 
 val check :
-  ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> ?samples:int -> ?quality:Lancer.Quality.t ->
-  ?time:float -> ?frame:int -> scene:string -> golden:string -> unit -> unit
+  ?tolerance:int ->
+  ?max_share:float ->
+  ?width:int ->
+  ?height:int ->
+  ?samples:int ->
+  ?quality:Lancer.Quality.t ->
+  ?time:float ->
+  ?frame:int ->
+  scene:string ->
+  golden:string ->
+  unit ->
+  unit
 (** Render as {!render_scene} does and compare; an alcotest failure with a useful message
     unless [Same] or [Updated]. [tolerance] (default 1) is the largest per-channel
     difference allowed; [max_share] (default 0) the share of pixels allowed to exceed it.
@@ -47,8 +74,19 @@ val check :
     removed. *)
 
 val test_case :
-  ?speed:Alcotest.speed_level -> ?tolerance:int -> ?max_share:float -> ?width:int -> ?height:int -> ?samples:int ->
-  ?quality:Lancer.Quality.t -> ?time:float -> ?frame:int -> string -> scene:string -> golden:string -> unit ->
+  ?speed:Alcotest.speed_level ->
+  ?tolerance:int ->
+  ?max_share:float ->
+  ?width:int ->
+  ?height:int ->
+  ?samples:int ->
+  ?quality:Lancer.Quality.t ->
+  ?time:float ->
+  ?frame:int ->
+  string ->
+  scene:string ->
+  golden:string ->
+  unit ->
   unit Alcotest.test_case
 (** [test_case name ~scene ~golden ()] is {!check} as a named alcotest case. *)
 

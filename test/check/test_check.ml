@@ -7,9 +7,19 @@ let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 open Run_lancer
 
 let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
-let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-let has msg text sub = Alcotest.(check bool) (Printf.sprintf "%s: %S in\n%s" msg sub text) true (contains text sub)
-let lacks msg text sub = Alcotest.(check bool) (Printf.sprintf "%s: no %S in\n%s" msg sub text) false (contains text sub)
+
+let check_status msg expected (st, _, e) =
+  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+
+let has msg text sub =
+  Alcotest.(check bool)
+    (Printf.sprintf "%s: %S in\n%s" msg sub text)
+    true (contains text sub)
+
+let lacks msg text sub =
+  Alcotest.(check bool)
+    (Printf.sprintf "%s: no %S in\n%s" msg sub text)
+    false (contains text sub)
 
 let scene_dir text =
   let d = tmpdir "lancer-check" in
@@ -26,40 +36,60 @@ sphere { center: (0, 0, 0), radius: if frame > 20 then -1 else 1 }
 |}
 
 let frame_tests =
-  [ Alcotest.test_case "an error at one frame only names the frame and time" `Quick (fun () ->
+  [
+    Alcotest.test_case "an error at one frame only names the frame and time" `Quick
+      (fun () ->
         let d = scene_dir flaky_anim in
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "--frame"; "12"; "-o"; "x.png" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "--frame"; "12"; "-o"; "x.png" ]
+        in
         check_status "render --frame 12" 1 r;
         has "located" e "s.rts:4:13: division by zero (at frame 12, time 1.2 s)";
-        Alcotest.(check bool) "no output" false (Sys.file_exists (Filename.concat d "x.png")));
-    Alcotest.test_case "check --frames all evaluates every frame and lists those that fail" `Quick (fun () ->
+        Alcotest.(check bool)
+          "no output" false
+          (Sys.file_exists (Filename.concat d "x.png")));
+    Alcotest.test_case
+      "check --frames all evaluates every frame and lists those that fail" `Quick
+      (fun () ->
         let d = scene_dir flaky_anim in
         let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "all" ] in
         check_status "check --frames all" 1 r;
         has "first failing frame shown" e "division by zero (at frame 12, time 1.2 s)";
-        has "every failing frame listed" e "10 of the 30 frames checked (0..29) fail: 12, 21..29";
+        has "every failing frame listed" e
+          "10 of the 30 frames checked (0..29) fail: 12, 21..29";
         (* Frame 0 alone is fine: plain check passes. *)
         check_status "check (frame 0)" 0 (lancer ~dir:d [ "check"; "s.rts" ]));
     Alcotest.test_case "check --frames A..B checks only that range" `Quick (fun () ->
         let d = scene_dir flaky_anim in
-        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "0..11" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "s.rts"; "--frames"; "0..11" ]
+        in
         check_status "frames before the error" 0 r;
-        has "says what it checked" out "frames checked: 0..11 (12 frames), every one evaluates";
+        has "says what it checked" out
+          "frames checked: 0..11 (12 frames), every one evaluates";
         let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "20..25" ] in
         check_status "a range with failing frames" 1 r;
         has "the radius error, at frame 21" e "(at frame 21, time 2.1 s)";
         has "listed" e "5 of the 6 frames checked (20..25) fail: 21..25");
-    Alcotest.test_case "check --frames outside the animation, or a bad range, is refused" `Quick (fun () ->
+    Alcotest.test_case "check --frames outside the animation, or a bad range, is refused"
+      `Quick (fun () ->
         let d = scene_dir flaky_anim in
         let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts"; "--frames"; "0..40" ] in
         check_status "beyond the end" 1 r;
         has "says the range" e "the animation has frames 0..29";
-        check_status "not a range" 1 (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "some" ]);
-        check_status "with --time" 1 (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "all"; "--time"; "1" ]);
-        write_file (Filename.concat d "still.rts") "sphere { center: (0, 0, 0), radius: 1 }\n";
-        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "still.rts"; "--frames"; "all" ] in
+        check_status "not a range" 1
+          (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "some" ]);
+        check_status "with --time" 1
+          (lancer ~dir:d [ "check"; "s.rts"; "--frames"; "all"; "--time"; "1" ]);
+        write_file
+          (Filename.concat d "still.rts")
+          "sphere { center: (0, 0, 0), radius: 1 }\n";
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "still.rts"; "--frames"; "all" ]
+        in
         check_status "a still has frame 0" 0 r;
-        has "one frame" out "frames checked: 0..0 (1 frame)") ]
+        has "one frame" out "frames checked: 0..0 (1 frame)");
+  ]
 
 let build_scene =
   {|settings { width: 32, height: 24 }
@@ -68,47 +98,70 @@ for i in 0 to 499 { sphere { center: (i, 0, 0), radius: 0.5 } }
 |}
 
 let time_tests =
-  [ Alcotest.test_case "the summary and --stats give build and render time apart" `Quick (fun () ->
+  [
+    Alcotest.test_case "the summary and --stats give build and render time apart" `Quick
+      (fun () ->
         let d = scene_dir build_scene in
-        let ((_, out, _) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "st.json" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "st.json" ]
+        in
         check_status "render" 0 r;
         has "summary" out "s: build ";
         has "summary" out " s, render ";
         let j = Yojson.Safe.from_file (Filename.concat d "st.json") in
         let open Yojson.Safe.Util in
         let f k = j |> member k |> to_number in
-        let build = f "build_seconds" and render = f "render_seconds" and wall = f "wall_seconds" in
+        let build = f "build_seconds"
+        and render = f "render_seconds"
+        and wall = f "wall_seconds" in
         Alcotest.(check bool) "build time is counted" true (build > 0.);
         Alcotest.(check bool) "render time is counted" true (render > 0.);
         Alcotest.(check (float 1e-9)) "wall is build + render" (build +. render) wall);
-    Alcotest.test_case "the build says what it is doing with --progress, and nothing without" `Quick (fun () ->
+    Alcotest.test_case
+      "the build says what it is doing with --progress, and nothing without" `Quick
+      (fun () ->
         let d = scene_dir build_scene in
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ]
+        in
         check_status "render --progress" 0 r;
         has "loading" e "building: reading and checking s.rts";
-        has "evaluating" e "building: evaluating the scene and building its acceleration structure";
+        has "evaluating" e
+          "building: evaluating the scene and building its acceleration structure";
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
         check_status "render" 0 r;
         Alcotest.(check string) "not a terminal: silent" "" e;
-        if Sys.command "command -v script >/dev/null 2>&1" = 0 then begin
+        if Sys.command "command -v script >/dev/null 2>&1" = 0 then (
           let out = Filename.concat d "tty.out" in
           let cmd =
-            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1" (Filename.quote d)
-              (Filename.quote (Printf.sprintf "%s render s.rts -o b.png" (Filename.quote exe)))
+            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1"
+              (Filename.quote d)
+              (Filename.quote
+                 (Printf.sprintf "%s render s.rts -o b.png" (Filename.quote exe)))
               (Filename.quote out)
           in
           Alcotest.(check int) "render on a terminal" 0 (Sys.command cmd);
-          has "on a terminal, redrawn in place" (read_file out) "\r\027[Kbuilding: evaluating the scene"
-        end);
-    Alcotest.test_case "a long build counts the objects built so far, then names the acceleration structure" `Quick (fun () ->
+          has "on a terminal, redrawn in place" (read_file out)
+            "\r\027[Kbuilding: evaluating the scene"));
+    Alcotest.test_case
+      "a long build counts the objects built so far, then names the acceleration \
+       structure"
+      `Quick (fun () ->
         let d =
-          scene_dir "settings { width: 8, height: 8 }\nlight { position: (0, 5, 0) }\nfor i in 0 to 65535 { sphere { center: (i, 0, 0), radius: 0.4 } }\n"
+          scene_dir
+            "settings { width: 8, height: 8 }\n\
+             light { position: (0, 5, 0) }\n\
+             for i in 0 to 65535 { sphere { center: (i, 0, 0), radius: 0.4 } }\n"
         in
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--progress" ]
+        in
         check_status "render --progress" 0 r;
         has "checking" e "building: checking the scene: 65536 objects so far";
         has "evaluating" e "building: evaluating the scene: 65536 objects so far";
-        has "acceleration structure" e "building: building the acceleration structure over 65536 objects") ]
+        has "acceleration structure" e
+          "building: building the acceleration structure over 65536 objects");
+  ]
 
 let check_out text =
   let d = scene_dir text in
@@ -117,14 +170,24 @@ let check_out text =
   out
 
 let warning_tests =
-  [ Alcotest.test_case "the summary shows jitter and adaptive sampling" `Quick (fun () ->
-        let out = check_out "settings { samples: 2, jitter: true, adaptive: 0.05 }\nlight { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\n" in
+  [
+    Alcotest.test_case "the summary shows jitter and adaptive sampling" `Quick (fun () ->
+        let out =
+          check_out
+            "settings { samples: 2, jitter: true, adaptive: 0.05 }\n\
+             light { position: (0, 5, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n"
+        in
         has "jitter" out "jitter on";
         has "adaptive" out "adaptive 0.05: 2×2 samples, 4×4 where they differ by more";
-        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\n" in
+        let out =
+          check_out
+            "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\n"
+        in
         has "defaults" out "1×1 samples per pixel (jitter off, adaptive off)";
         lacks "a fine scene" out "warning");
-    Alcotest.test_case "check warns about an empty file, no objects, no lights" `Quick (fun () ->
+    Alcotest.test_case "check warns about an empty file, no objects, no lights" `Quick
+      (fun () ->
         let out = check_out "// only a comment\n" in
         has "empty" out "s.rts: warning: the scene is empty (no statements)";
         lacks "empty says it once" out "no objects";
@@ -134,22 +197,47 @@ let warning_tests =
         let out = check_out "sphere { center: (0, 0, 0), radius: 1 }\n" in
         has "no lights" out "s.rts: warning: the scene has no lights";
         lacks "has an object" out "no objects");
-    Alcotest.test_case "check warns, at the loop, about a loop that runs zero times" `Quick (fun () ->
-        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\nfor i in 10 to 0 { sphere { center: (i, 0, 0), radius: 1 } }\n" in
-        has "located" out "s.rts:3:1: warning: this loop runs zero times: it counts from 10 to 0 in steps of 1";
+    Alcotest.test_case "check warns, at the loop, about a loop that runs zero times"
+      `Quick (fun () ->
+        let out =
+          check_out
+            "light { position: (0, 5, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n\
+             for i in 10 to 0 { sphere { center: (i, 0, 0), radius: 1 } }\n"
+        in
+        has "located" out
+          "s.rts:3:1: warning: this loop runs zero times: it counts from 10 to 0 in \
+           steps of 1";
         has "how to count down" out "give a negative step";
         has "the line" out "\nfor i in 10 to 0 {";
-        let out = check_out "light { position: (0, 5, 0) }\nsphere { center: (0, 0, 0), radius: 1 }\nfor i in 10 to 0 step -1 { }\n" in
-        lacks "a loop that runs" out "warning") ]
+        let out =
+          check_out
+            "light { position: (0, 5, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n\
+             for i in 10 to 0 step -1 { }\n"
+        in
+        lacks "a loop that runs" out "warning");
+  ]
 
 (* The row of [name] in check's estimate table, as words. *)
 let row out name =
-  match List.find_opt (fun l -> match String.split_on_char ' ' (String.trim l) with w :: _ -> w = name | [] -> false) (String.split_on_char '\n' out) with
+  match
+    List.find_opt
+      (fun l ->
+        match String.split_on_char ' ' (String.trim l) with
+        | w :: _ -> w = name
+        | [] -> false)
+      (String.split_on_char '\n' out)
+  with
   | Some l -> List.filter (( <> ) "") (String.split_on_char ' ' (String.trim l))
   | None -> Alcotest.failf "no row %S in\n%s" name out
 
 let cost_tests =
-  [ Alcotest.test_case "check estimates the rays of the scene and of each preset, and says it is an estimate" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "check estimates the rays of the scene and of each preset, and says it is an \
+       estimate"
+      `Quick (fun () ->
         (* 100×50 pixels, one point light and one area light of 3×3 samples: 5000 primary
            rays, each with 1 + 9 shadow rays; a mirror to depth 4 bounds it at 4×. *)
         let out =
@@ -161,16 +249,31 @@ sphere { center: (0, 0, 0), radius: 1, material: material { reflection: 0.5 } }
 |}
         in
         has "an estimate" out "rays, estimated before rendering";
-        Alcotest.(check (list string)) "as set" [ "as"; "set"; "5"; "k"; "55"; "k"; "220"; "k"; "(depth"; "4)"; "1" ] (row out "as");
+        Alcotest.(check (list string))
+          "as set"
+          [ "as"; "set"; "5"; "k"; "55"; "k"; "220"; "k"; "(depth"; "4)"; "1" ]
+          (row out "as");
         (* draft: 1 sample, hard shadows (1 + 1 shadow rays), depth 3 *)
-        Alcotest.(check (list string)) "draft" [ "draft"; "5"; "k"; "15"; "k"; "45"; "k"; "(depth"; "3)"; "0.273" ] (row out "draft");
+        Alcotest.(check (list string))
+          "draft"
+          [ "draft"; "5"; "k"; "15"; "k"; "45"; "k"; "(depth"; "3)"; "0.273" ]
+          (row out "draft");
         (* reference: 8×8 samples, area light at 8×8: 320 k primary, × (1 + 1 + 64) *)
-        Alcotest.(check (list string)) "reference" [ "reference"; "320"; "k"; "21.1"; "M"; "338"; "M"; "(depth"; "16)"; "384" ]
+        Alcotest.(check (list string))
+          "reference"
+          [ "reference"; "320"; "k"; "21.1"; "M"; "338"; "M"; "(depth"; "16)"; "384" ]
           (row out "reference");
         (* final refines adaptively: a range *)
         has "final is a range" (String.concat " " (row out "final")) "20 k–100 k");
-    Alcotest.test_case "a render estimated above a billion rays says so before it starts; a small one does not" `Quick (fun () ->
-        let d = scene_dir "settings { width: 64, height: 64 }\nfor i in 0 to 63 { light { position: (i, 10, 0), radius: 1, samples: 64 } }\n" in
+    Alcotest.test_case
+      "a render estimated above a billion rays says so before it starts; a small one \
+       does not"
+      `Quick (fun () ->
+        let d =
+          scene_dir
+            "settings { width: 64, height: 64 }\n\
+             for i in 0 to 63 { light { position: (i, 10, 0), radius: 1, samples: 64 } }\n"
+        in
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
         check_status "render" 0 r;
         has "the note" e "lancer: note: this render is estimated at up to 1.07 G rays";
@@ -180,8 +283,14 @@ sphere { center: (0, 0, 0), radius: 1, material: material { reflection: 0.5 } }
         let d = scene_dir build_scene in
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
         check_status "small render" 0 r;
-        Alcotest.(check string) "no note" "" e) ]
+        Alcotest.(check string) "no note" "" e);
+  ]
 
 let () =
   Alcotest.run "check"
-    [ ("frames", frame_tests); ("times", time_tests); ("warnings", warning_tests); ("cost", cost_tests) ]
+    [
+      ("frames", frame_tests);
+      ("times", time_tests);
+      ("warnings", warning_tests);
+      ("cost", cost_tests);
+    ]

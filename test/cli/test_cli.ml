@@ -10,7 +10,8 @@ let tmpdir () = tmpdir "lancer-cli"
 (* Run lancer with [args] in [dir]; (status, stdout, stderr). *)
 let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
 
-let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+let check_status msg expected (st, _, e) =
+  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
 
 let small_scene =
   {|// A small scene with jitter and a soft shadow.
@@ -23,7 +24,10 @@ sphere { center: (1.5, 0.5, -1), radius: 0.5, material: material { transparency:
 |}
 
 let no_backtrace msg e =
-  Alcotest.(check bool) (msg ^ ": no backtrace\n" ^ e) false (contains e "Raised at" || contains e "Fatal error")
+  Alcotest.(check bool)
+    (msg ^ ": no backtrace\n" ^ e)
+    false
+    (contains e "Raised at" || contains e "Fatal error")
 
 let anim_scene =
   {|settings { width: 24, height: 18 }
@@ -37,85 +41,156 @@ body ball { sphere { center: (0, 2, 0), radius: 0.4 } restitution: 0.8 }
 let mtime p = (Unix.stat p).Unix.st_mtime
 
 let animate_tests =
-  [ Alcotest.test_case "animate writes every frame and a manifest; --resume renders only what is missing or stale" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "animate writes every frame and a manifest; --resume renders only what is missing \
+       or stale"
+      `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
         let frames = List.init 4 (Printf.sprintf "frame_%04d.png") in
         check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q" ]);
         let path f = Filename.concat (Filename.concat d "out") f in
-        List.iter (fun f -> Alcotest.(check bool) f true (Sys.file_exists (path f))) ("lancer-frames.json" :: frames);
+        List.iter
+          (fun f -> Alcotest.(check bool) f true (Sys.file_exists (path f)))
+          ("lancer-frames.json" :: frames);
         (* The ball falls: frames differ. *)
-        Alcotest.(check bool) "the ball moves" false (read_file (path "frame_0000.png") = read_file (path "frame_0003.png"));
+        Alcotest.(check bool)
+          "the ball moves" false
+          (read_file (path "frame_0000.png") = read_file (path "frame_0003.png"));
         let before = read_file (path "frame_0001.png") in
         Sys.remove (path "frame_0002.png");
         Unix.sleepf 0.05;
         let t3 = mtime (path "frame_0003.png") in
-        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume" ]
+        in
         check_status "resume" 0 r;
-        Alcotest.(check bool) ("says what it skips: " ^ out) true (contains out "3 frames already rendered, 1 to go");
-        Alcotest.(check bool) "frame 2 is back" true (Sys.file_exists (path "frame_0002.png"));
+        Alcotest.(check bool)
+          ("says what it skips: " ^ out)
+          true
+          (contains out "3 frames already rendered, 1 to go");
+        Alcotest.(check bool)
+          "frame 2 is back" true
+          (Sys.file_exists (path "frame_0002.png"));
         Alcotest.(check (float 0.)) "frame 3 untouched" t3 (mtime (path "frame_0003.png"));
-        Alcotest.(check bool) "same bytes" true (before = read_file (path "frame_0001.png"));
+        Alcotest.(check bool)
+          "same bytes" true
+          (before = read_file (path "frame_0001.png"));
         (* A change in an included file makes every frame stale too. *)
         write_file (Filename.concat d "col.rts") "let c = (0.9, 0.1, 0.1)\n";
-        write_file (Filename.concat d "b.rts") ("include \"col.rts\"\n" ^ anim_scene ^ "sphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n");
-        check_status "with include" 0 (lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "-q" ]);
+        write_file (Filename.concat d "b.rts")
+          ("include \"col.rts\"\n" ^ anim_scene
+         ^ "sphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n"
+          );
+        check_status "with include" 0
+          (lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "-q" ]);
         write_file (Filename.concat d "col.rts") "let c = (0.1, 0.9, 0.1)\n";
-        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "--resume" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "animate"; "b.rts"; "-o"; "outb"; "--resume" ]
+        in
         check_status "include changed" 0 r;
-        Alcotest.(check bool) ("stale after the include changed: " ^ out) true (contains out "wrote 4 frames");
+        Alcotest.(check bool)
+          ("stale after the include changed: " ^ out)
+          true
+          (contains out "wrote 4 frames");
         (* Another size makes every frame stale. *)
-        let ((_, out, _) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume"; "--width"; "20" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--resume"; "--width"; "20" ]
+        in
         check_status "stale" 0 r;
-        Alcotest.(check bool) ("re-renders all: " ^ out) true (contains out "wrote 4 frames"));
-    Alcotest.test_case "animate writes the same frames on 1 domain (in tiles) and on 2 (whole frames in parallel)" `Quick (fun () ->
+        Alcotest.(check bool)
+          ("re-renders all: " ^ out) true
+          (contains out "wrote 4 frames"));
+    Alcotest.test_case
+      "animate writes the same frames on 1 domain (in tiles) and on 2 (whole frames in \
+       parallel)"
+      `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
-        check_status "1 domain" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "one"; "-q"; "--domains"; "1" ]);
-        check_status "2 domains" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "two"; "-q"; "--domains"; "2" ]);
+        check_status "1 domain" 0
+          (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "one"; "-q"; "--domains"; "1" ]);
+        check_status "2 domains" 0
+          (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "two"; "-q"; "--domains"; "2" ]);
         List.iter
           (fun f ->
-            Alcotest.(check bool) f true
-              (read_file (Filename.concat d ("one/" ^ f)) = read_file (Filename.concat d ("two/" ^ f))))
-          [ "frame_0000.png"; "frame_0001.png"; "frame_0002.png"; "frame_0003.png"; "lancer-frames.json" ]);
-    Alcotest.test_case "animate --frames renders a range; bad ranges and stills are refused" `Quick (fun () ->
+            Alcotest.(check bool)
+              f true
+              (read_file (Filename.concat d ("one/" ^ f))
+              = read_file (Filename.concat d ("two/" ^ f))))
+          [
+            "frame_0000.png";
+            "frame_0001.png";
+            "frame_0002.png";
+            "frame_0003.png";
+            "lancer-frames.json";
+          ]);
+    Alcotest.test_case
+      "animate --frames renders a range; bad ranges and stills are refused" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
         write_file (Filename.concat d "s.rts") small_scene;
-        check_status "range" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..2"; "-q" ]);
+        check_status "range" 0
+          (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..2"; "-q" ]);
         (* Not every frame is done: the record is the journal, no merged view yet. *)
-        Alcotest.(check (list string)) "frames 1 and 2" [ "frame_0001.png"; "frame_0002.png"; "lancer-frames.d" ]
+        Alcotest.(check (list string))
+          "frames 1 and 2"
+          [ "frame_0001.png"; "frame_0002.png"; "lancer-frames.d" ]
           (List.sort compare (Array.to_list (Sys.readdir (Filename.concat d "out"))));
-        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "2..9" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "2..9" ]
+        in
         check_status "past the end" 1 r;
         Alcotest.(check bool) e true (contains e "the animation has frames 0..3");
         let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "s.rts"; "-o"; "out2" ] in
         check_status "a still" 1 r;
         Alcotest.(check bool) e true (contains e "no animation block"));
-    Alcotest.test_case "animate --video is checked before any frame is rendered" `Quick (fun () ->
+    Alcotest.test_case "animate --video is checked before any frame is rendered" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
-        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "no/a.gif" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "no/a.gif" ]
+        in
         check_status "missing directory" 1 r;
         Alcotest.(check bool) e true (contains e "directory no does not exist");
-        let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "a.avi" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "--video"; "a.avi" ]
+        in
         check_status "unknown format" 1 r;
         Alcotest.(check bool) e true (contains e ".mp4 or a .gif");
-        Alcotest.(check bool) "nothing rendered" false (Sys.file_exists (Filename.concat d "out")));
-    Alcotest.test_case "an interrupted animate keeps its finished frames and says how to resume" `Slow (fun () ->
+        Alcotest.(check bool)
+          "nothing rendered" false
+          (Sys.file_exists (Filename.concat d "out")));
+    Alcotest.test_case
+      "an interrupted animate keeps its finished frames and says how to resume" `Slow
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts")
-          "settings { width: 400, height: 300, samples: 4 }\nanimation { fps: 10, frames: 400 }\n\
-           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4) }\n\
+          "settings { width: 400, height: 300, samples: 4 }\n\
+           animation { fps: 10, frames: 400 }\n\
+           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\n\
+           light { position: (-3, 5, -4) }\n\
            sphere { center: (0, 1, 0), radius: 1, material: material { reflection: 0.5 } }\n";
         let err = Filename.concat d "err" in
         let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT ] 0o644 in
         let pid =
-          Unix.create_process exe [| exe; "animate"; Filename.concat d "a.rts"; "-o"; Filename.concat d "out"; "-q" |] Unix.stdin
-            Unix.stdout fd
+          Unix.create_process exe
+            [|
+              exe;
+              "animate";
+              Filename.concat d "a.rts";
+              "-o";
+              Filename.concat d "out";
+              "-q";
+            |]
+            Unix.stdin Unix.stdout fd
         in
         let rec wait_frame n =
-          if n > 0 && not (Sys.file_exists (Filename.concat d "out/frame_0001.png")) then (Unix.sleepf 0.05; wait_frame (n - 1))
+          if n > 0 && not (Sys.file_exists (Filename.concat d "out/frame_0001.png")) then (
+            Unix.sleepf 0.05;
+            wait_frame (n - 1))
         in
         wait_frame 400;
         Unix.kill pid Sys.sigint;
@@ -123,66 +198,128 @@ let animate_tests =
         Unix.close fd;
         Alcotest.(check bool) "exit 130" true (st = Unix.WEXITED 130);
         let e = read_file err in
-        Alcotest.(check bool) e true (contains e "frames written so far are kept" && contains e "--resume");
-        let kept = List.filter (fun f -> Filename.check_suffix f ".png") (Array.to_list (Sys.readdir (Filename.concat d "out"))) in
+        Alcotest.(check bool)
+          e true
+          (contains e "frames written so far are kept" && contains e "--resume");
+        let kept =
+          List.filter
+            (fun f -> Filename.check_suffix f ".png")
+            (Array.to_list (Sys.readdir (Filename.concat d "out")))
+        in
         Alcotest.(check bool) "frames kept" true (kept <> []);
         let journals = Sys.readdir (Filename.concat d "out/lancer-frames.d") in
         let recorded =
-          String.concat "" (Array.to_list (Array.map (fun j -> read_file (Filename.concat d ("out/lancer-frames.d/" ^ j))) journals))
+          String.concat ""
+            (Array.to_list
+               (Array.map
+                  (fun j -> read_file (Filename.concat d ("out/lancer-frames.d/" ^ j)))
+                  journals))
         in
-        List.iter (fun f -> Alcotest.(check bool) (f ^ " recorded") true (contains recorded f)) kept;
-        Alcotest.(check bool) "no temporary file" false
-          (Array.exists (fun f -> contains f ".tmp") (Sys.readdir (Filename.concat d "out"))));
-    Alcotest.test_case "animate --video: a GIF with ffmpeg; without it a clear message and the frames kept" `Quick (fun () ->
+        List.iter
+          (fun f -> Alcotest.(check bool) (f ^ " recorded") true (contains recorded f))
+          kept;
+        Alcotest.(check bool)
+          "no temporary file" false
+          (Array.exists
+             (fun f -> contains f ".tmp")
+             (Sys.readdir (Filename.concat d "out"))));
+    Alcotest.test_case
+      "animate --video: a GIF with ffmpeg; without it a clear message and the frames kept"
+      `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts") anim_scene;
-        if Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 then begin
-          check_status "video" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ]);
+        if Sys.command "command -v ffmpeg >/dev/null 2>&1" = 0 then (
+          check_status "video" 0
+            (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ]);
           let gif = read_file (Filename.concat d "a.gif") in
           Alcotest.(check string) "a GIF file" "GIF8" (String.sub gif 0 4);
           (* An odd height (18 + 1) still makes an MP4. *)
-          check_status "mp4" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out2"; "-q"; "--height"; "19"; "--video"; "a.mp4" ]);
-          Alcotest.(check bool) "an MP4 file" true (contains (read_file (Filename.concat d "a.mp4")) "ftyp");
-          Alcotest.(check bool) "no temporary left" false
-            (Array.exists (fun f -> contains f ".tmp") (Sys.readdir d))
-        end
-        else begin
-          let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ] in
+          check_status "mp4" 0
+            (lancer ~dir:d
+               [
+                 "animate";
+                 "a.rts";
+                 "-o";
+                 "out2";
+                 "-q";
+                 "--height";
+                 "19";
+                 "--video";
+                 "a.mp4";
+               ]);
+          Alcotest.(check bool)
+            "an MP4 file" true
+            (contains (read_file (Filename.concat d "a.mp4")) "ftyp");
+          Alcotest.(check bool)
+            "no temporary left" false
+            (Array.exists (fun f -> contains f ".tmp") (Sys.readdir d)))
+        else
+          let ((_, _, e) as r) =
+            lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q"; "--video"; "a.gif" ]
+          in
           check_status "no ffmpeg" 1 r;
           Alcotest.(check bool) e true (contains e "ffmpeg is not installed");
-          Alcotest.(check bool) "frames kept" true (Sys.file_exists (Filename.concat d "out/frame_0003.png"));
-          Alcotest.(check bool) "no video" false (Sys.file_exists (Filename.concat d "a.gif"))
-        end);
-    Alcotest.test_case "frames written from two domains never lose the error message that follows them" `Quick (fun () ->
+          Alcotest.(check bool)
+            "frames kept" true
+            (Sys.file_exists (Filename.concat d "out/frame_0003.png"));
+          Alcotest.(check bool)
+            "no video" false
+            (Sys.file_exists (Filename.concat d "a.gif")));
+    Alcotest.test_case
+      "frames written from two domains never lose the error message that follows them"
+      `Quick (fun () ->
         (* Frames in parallel (2 domains, 8 frames) write PNGs at the same time; stderr must
            still carry the message about the missing ffmpeg, every time. ffmpeg is hidden by
            an empty PATH. *)
         let d = tmpdir () in
         write_file (Filename.concat d "a.rts")
-          "settings { width: 16, height: 12 }\nanimation { fps: 10, frames: 8 }\n\
-           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\nlight { position: (-3, 5, -4) }\n\
+          "settings { width: 16, height: 12 }\n\
+           animation { fps: 10, frames: 8 }\n\
+           camera { position: (0, 1, -5), look_at: (0, 1, 0) }\n\
+           light { position: (-3, 5, -4) }\n\
            sphere { center: (0, 1, 0), radius: 1 }\n";
         for i = 1 to 6 do
           let ((_, _, e) as r) =
             run ~prefix:"PATH=/nonexistent" ~exe ~dir:d
-              [ "animate"; "a.rts"; "-o"; Printf.sprintf "fr%d" i; "--domains"; "2"; "-q"; "--video"; "x.gif" ]
+              [
+                "animate";
+                "a.rts";
+                "-o";
+                Printf.sprintf "fr%d" i;
+                "--domains";
+                "2";
+                "-q";
+                "--video";
+                "x.gif";
+              ]
           in
           check_status (Printf.sprintf "run %d" i) 1 r;
-          Alcotest.(check bool) (Printf.sprintf "run %d says why: %S" i e) true (contains e "ffmpeg is not installed")
-        done) ]
+          Alcotest.(check bool)
+            (Printf.sprintf "run %d says why: %S" i e)
+            true
+            (contains e "ffmpeg is not installed")
+        done);
+  ]
 
 let tests =
-  [ Alcotest.test_case "render with no scene writes the built-in showcase" `Slow (fun () ->
+  [
+    Alcotest.test_case "render with no scene writes the built-in showcase" `Slow
+      (fun () ->
         let d = tmpdir () in
-        check_status "exit" 0 (lancer ~dir:d [ "render"; "--width"; "64"; "--height"; "48" ]);
-        Alcotest.(check bool) "showcase.png" true (Sys.file_exists (Filename.concat d "showcase.png")));
-    Alcotest.test_case "a missing scene file is one line, exit 1, and no output" `Quick (fun () ->
+        check_status "exit" 0
+          (lancer ~dir:d [ "render"; "--width"; "64"; "--height"; "48" ]);
+        Alcotest.(check bool)
+          "showcase.png" true
+          (Sys.file_exists (Filename.concat d "showcase.png")));
+    Alcotest.test_case "a missing scene file is one line, exit 1, and no output" `Quick
+      (fun () ->
         let d = tmpdir () in
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "nope.rts"; "-o"; "x.png" ] in
         check_status "exit" 1 r;
         Alcotest.(check string) "message" "lancer: nope.rts: no such file\n" e;
         Alcotest.(check (array string)) "nothing written" [||] (Sys.readdir d));
-    Alcotest.test_case "an output in a missing directory fails before rendering" `Quick (fun () ->
+    Alcotest.test_case "an output in a missing directory fails before rendering" `Quick
+      (fun () ->
         let d = tmpdir () in
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "-o"; "no/such/dir/x.png" ] in
         check_status "exit" 1 r;
@@ -199,37 +336,61 @@ let tests =
         Alcotest.(check bool) "says which formats" true (contains e ".png or .ppm"));
     Alcotest.test_case "a bad scene prints file:line:col and exits 1" `Quick (fun () ->
         let d = tmpdir () in
-        write_file (Filename.concat d "bad.rts") "sphere { center: (0,0,0), radius: -1 }\n";
+        write_file (Filename.concat d "bad.rts")
+          "sphere { center: (0,0,0), radius: -1 }\n";
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "bad.rts" ] in
         check_status "exit" 1 r;
         no_backtrace "bad scene" e;
         Alcotest.(check bool) ("located: " ^ e) true (contains e "bad.rts:1:");
-        Alcotest.(check bool) "no image" false (Sys.file_exists (Filename.concat d "bad.png")));
-    Alcotest.test_case "1, 2, 3 and 4 domains write identical bytes (jitter, soft shadows)" `Slow (fun () ->
+        Alcotest.(check bool)
+          "no image" false
+          (Sys.file_exists (Filename.concat d "bad.png")));
+    Alcotest.test_case
+      "1, 2, 3 and 4 domains write identical bytes (jitter, soft shadows)" `Slow
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
         let files =
           List.map
             (fun n ->
               let o = Printf.sprintf "d%d.png" n in
-              check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; o; "--domains"; string_of_int n; "-q" ]);
+              check_status "exit" 0
+                (lancer ~dir:d
+                   [ "render"; "s.rts"; "-o"; o; "--domains"; string_of_int n; "-q" ]);
               read_file (Filename.concat d o))
             [ 1; 2; 3; 4 ]
         in
-        List.iteri (fun i f -> Alcotest.(check bool) (Printf.sprintf "%d domains" (i + 1)) true (f = List.hd files)) files);
-    Alcotest.test_case "--stats writes JSON with ray counts and features" `Quick (fun () ->
+        List.iteri
+          (fun i f ->
+            Alcotest.(check bool)
+              (Printf.sprintf "%d domains" (i + 1))
+              true
+              (f = List.hd files))
+          files);
+    Alcotest.test_case "--stats writes JSON with ray counts and features" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "--stats"; "st.json"; "-q" ]);
+        check_status "exit" 0
+          (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "--stats"; "st.json"; "-q" ]);
         let j = Yojson.Safe.from_file (Filename.concat d "st.json") in
         let open Yojson.Safe.Util in
-        Alcotest.(check int) "primary rays" (48 * 36 * 4) (j |> member "rays" |> member "primary" |> to_int);
-        Alcotest.(check bool) "soft shadows used" true (j |> member "features" |> member "soft_shadows" |> to_bool);
-        Alcotest.(check bool) "reflection skipped" false (j |> member "features" |> member "reflection" |> to_bool));
+        Alcotest.(check int)
+          "primary rays"
+          (48 * 36 * 4)
+          (j |> member "rays" |> member "primary" |> to_int);
+        Alcotest.(check bool)
+          "soft shadows used" true
+          (j |> member "features" |> member "soft_shadows" |> to_bool);
+        Alcotest.(check bool)
+          "reflection skipped" false
+          (j |> member "features" |> member "reflection" |> to_bool));
     Alcotest.test_case "options override the scene's settings" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        check_status "exit" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.ppm"; "--width"; "20"; "--height"; "10"; "-q" ]);
+        check_status "exit" 0
+          (lancer ~dir:d
+             [ "render"; "s.rts"; "-o"; "s.ppm"; "--width"; "20"; "--height"; "10"; "-q" ]);
         match Lancer.Image.read_rgb8 (Filename.concat d "s.ppm") with
         | Ok (w, h, _) -> Alcotest.(check (pair int int)) "size" (20, 10) (w, h)
         | Error m -> Alcotest.fail m);
@@ -238,7 +399,20 @@ let tests =
         write_file (Filename.concat d "s.rts") small_scene;
         let pid =
           Unix.create_process exe
-            [| exe; "render"; Filename.concat d "s.rts"; "-o"; Filename.concat d "big.png"; "--width"; "4000"; "--height"; "3000"; "--samples"; "3"; "-q" |]
+            [|
+              exe;
+              "render";
+              Filename.concat d "s.rts";
+              "-o";
+              Filename.concat d "big.png";
+              "--width";
+              "4000";
+              "--height";
+              "3000";
+              "--samples";
+              "3";
+              "-q";
+            |]
             Unix.stdin Unix.stdout Unix.stderr
         in
         Unix.sleepf 1.0;
@@ -246,13 +420,20 @@ let tests =
         (* The render stops within a tile per domain, not after the whole image. *)
         let rec wait n =
           match Unix.waitpid [ Unix.WNOHANG ] pid with
-          | 0, _ when n > 0 -> Unix.sleepf 0.1; wait (n - 1)
-          | 0, _ -> Unix.kill pid Sys.sigkill; ignore (Unix.waitpid [] pid); Alcotest.fail "still rendering 20 s after Ctrl-C"
+          | 0, _ when n > 0 ->
+              Unix.sleepf 0.1;
+              wait (n - 1)
+          | 0, _ ->
+              Unix.kill pid Sys.sigkill;
+              ignore (Unix.waitpid [] pid);
+              Alcotest.fail "still rendering 20 s after Ctrl-C"
           | _, st -> st
         in
         let st = wait 200 in
         Alcotest.(check bool) "interrupted" true (st = Unix.WEXITED 130);
-        Alcotest.(check (list string)) "no file, no temporary" [ "s.rts" ] (Array.to_list (Sys.readdir d)));
+        Alcotest.(check (list string))
+          "no file, no temporary" [ "s.rts" ]
+          (Array.to_list (Sys.readdir d)));
     Alcotest.test_case "check --json lists every object with its fields" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
@@ -260,81 +441,141 @@ let tests =
         check_status "exit" 0 r;
         let j = Yojson.Safe.from_string out in
         let open Yojson.Safe.Util in
-        Alcotest.(check int) "3 objects" 3 (List.length (j |> member "objects" |> to_list)));
-    Alcotest.test_case "diff exits 0 on identical images and 1 with a diff image otherwise" `Quick (fun () ->
+        Alcotest.(check int)
+          "3 objects" 3
+          (List.length (j |> member "objects" |> to_list)));
+    Alcotest.test_case
+      "diff exits 0 on identical images and 1 with a diff image otherwise" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
-        check_status "b" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--samples"; "1" ]);
+        check_status "b" 0
+          (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--samples"; "1" ]);
         check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png" ]);
-        check_status "different" 1 (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "d.png" ]);
-        Alcotest.(check bool) "diff image" true (Sys.file_exists (Filename.concat d "d.png")));
-    Alcotest.test_case "golden: missing, --update, same, and different with actual and diff images" `Quick (fun () ->
+        check_status "different" 1
+          (lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "d.png" ]);
+        Alcotest.(check bool)
+          "diff image" true
+          (Sys.file_exists (Filename.concat d "d.png")));
+    Alcotest.test_case
+      "golden: missing, --update, same, and different with actual and diff images" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        write_file (Filename.concat d "t.rts") (small_scene ^ "sphere { center: (-1.5, 0.5, -1), radius: 0.5 }\n");
+        write_file (Filename.concat d "t.rts")
+          (small_scene ^ "sphere { center: (-1.5, 0.5, -1), radius: 0.5 }\n");
         let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png" ] in
         check_status "no golden yet" 1 r;
         Alcotest.(check bool) e true (contains e "--update");
         check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update" ]);
-        Alcotest.(check bool) "the update removed the earlier render" false (Sys.file_exists (Filename.concat d "g.actual.png"));
+        Alcotest.(check bool)
+          "the update removed the earlier render" false
+          (Sys.file_exists (Filename.concat d "g.actual.png"));
         check_status "same" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png" ]);
         let ((_, out, _) as r) = lancer ~dir:d [ "golden"; "t.rts"; "g.png" ] in
         check_status "different" 1 r;
-        Alcotest.(check bool) out true (contains out "differs from g.png" && contains out "g.diff.png");
-        Alcotest.(check bool) "actual and diff written" true
-          (Sys.file_exists (Filename.concat d "g.actual.png") && Sys.file_exists (Filename.concat d "g.diff.png"));
+        Alcotest.(check bool)
+          out true
+          (contains out "differs from g.png" && contains out "g.diff.png");
+        Alcotest.(check bool)
+          "actual and diff written" true
+          (Sys.file_exists (Filename.concat d "g.actual.png")
+          && Sys.file_exists (Filename.concat d "g.diff.png"));
         check_status "same again" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png" ]);
-        Alcotest.(check bool) "a pass removes them" false
-          (Sys.file_exists (Filename.concat d "g.actual.png") || Sys.file_exists (Filename.concat d "g.diff.png")));
-    Alcotest.test_case "a physics simulation that gives up is a warning, not silence" `Quick (fun () ->
+        Alcotest.(check bool)
+          "a pass removes them" false
+          (Sys.file_exists (Filename.concat d "g.actual.png")
+          || Sys.file_exists (Filename.concat d "g.diff.png")));
+    Alcotest.test_case "a physics simulation that gives up is a warning, not silence"
+      `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "z.rts")
-          "animation { fps: 1, frames: 200 }\nphysics { gravity: (0, 0, 0) }\nplane { normal: (0, 1, 0), offset: 0 }\n\
+          "animation { fps: 1, frames: 200 }\n\
+           physics { gravity: (0, 0, 0) }\n\
+           plane { normal: (0, 1, 0), offset: 0 }\n\
            plane { normal: (0, 1, 0), offset: 1.01 }\n\
-           body b { sphere { center: (0, 0.505, 0), radius: 0.5 } velocity: (0, 10, 0), restitution: 1 }\n";
+           body b { sphere { center: (0, 0.505, 0), radius: 0.5 } velocity: (0, 10, 0), \
+           restitution: 1 }\n";
         let ((_, _, e) as r) = lancer ~dir:d [ "check"; "z.rts" ] in
         check_status "check" 0 r;
-        Alcotest.(check bool) e true (contains e "warning: the physics simulation stopped handling collisions after 100000 events"));
-    Alcotest.test_case "--stats in a missing directory is refused before rendering" `Quick (fun () ->
+        Alcotest.(check bool)
+          e true
+          (contains e
+             "warning: the physics simulation stopped handling collisions after 100000 \
+              events"));
+    Alcotest.test_case "--stats in a missing directory is refused before rendering" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "no/s.json" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "no/s.json" ]
+        in
         check_status "refused" 1 r;
         Alcotest.(check bool) e true (contains e "directory no does not exist");
-        Alcotest.(check (list string)) "no image" [ "s.rts" ] (Array.to_list (Sys.readdir d)));
+        Alcotest.(check (list string))
+          "no image" [ "s.rts" ]
+          (Array.to_list (Sys.readdir d)));
     Alcotest.test_case "a mistyped option is a user error: exit 1" `Quick (fun () ->
         let ((st, _, e) as r) = lancer [ "render"; "--width"; "abc" ] in
         ignore st;
         check_status "exit" 1 r;
         Alcotest.(check bool) e true (contains e "expected an integer"));
-    Alcotest.test_case "progress: a line with rays per second on a terminal, nothing otherwise" `Quick (fun () ->
+    Alcotest.test_case
+      "progress: a line with rays per second on a terminal, nothing otherwise" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d
+            [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ]
+        in
         check_status "render" 0 r;
         Alcotest.(check string) "stderr is not a terminal: silent" "" e;
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150"; "--progress" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d
+            [
+              "render";
+              "s.rts";
+              "-o";
+              "a.png";
+              "--width";
+              "200";
+              "--height";
+              "150";
+              "--progress";
+            ]
+        in
         check_status "render --progress" 0 r;
-        Alcotest.(check bool) ("--progress: lines for a log\n" ^ e) true
-          (contains e "tiles 35/35 (100%)" && contains e "M rays/s" && not (contains e "\r"));
-        if Sys.command "command -v script >/dev/null 2>&1" = 0 then begin
+        Alcotest.(check bool)
+          ("--progress: lines for a log\n" ^ e)
+          true
+          (contains e "tiles 35/35 (100%)"
+          && contains e "M rays/s"
+          && not (contains e "\r"));
+        if Sys.command "command -v script >/dev/null 2>&1" = 0 then (
           let out = Filename.concat d "tty.out" in
           let cmd =
-            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1" (Filename.quote d)
-              (Filename.quote (Printf.sprintf "%s render s.rts -o b.png --width 200 --height 150" (Filename.quote exe)))
+            Printf.sprintf "cd %s && script -qec %s /dev/null > %s 2>&1"
+              (Filename.quote d)
+              (Filename.quote
+                 (Printf.sprintf "%s render s.rts -o b.png --width 200 --height 150"
+                    (Filename.quote exe)))
               (Filename.quote out)
           in
           Alcotest.(check int) "render on a terminal" 0 (Sys.command cmd);
           let text = read_file out in
-          Alcotest.(check bool) text true (contains text "tiles " && contains text "M rays/s" && contains text "left ")
-        end);
+          Alcotest.(check bool)
+            text true
+            (contains text "tiles " && contains text "M rays/s" && contains text "left ")));
     Alcotest.test_case "--version and --help work" `Quick (fun () ->
         let ((_, out, _) as r) = lancer [ "--version" ] in
         check_status "version" 0 r;
-        Alcotest.(check string) "the version of dune-project" (Lancer.Version.v ^ "\n") out;
+        Alcotest.(check string)
+          "the version of dune-project" (Lancer.Version.v ^ "\n") out;
         let ((_, out, _) as r) = lancer [ "render"; "--help=plain" ] in
         check_status "help" 0 r;
-        Alcotest.(check bool) "examples" true (contains out "EXAMPLES")) ]
+        Alcotest.(check bool) "examples" true (contains out "EXAMPLES"));
+  ]
 
 let () = Alcotest.run "cli" [ ("lancer", tests); ("animate", animate_tests) ]

@@ -6,9 +6,17 @@ let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 open Run_lancer
 
 let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
-let check_status msg expected (st, _, e) = Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-let has msg s sub = Alcotest.(check bool) (Printf.sprintf "%s: %S in\n%s" msg sub s) true (contains s sub)
-let lacks msg s sub = Alcotest.(check bool) (Printf.sprintf "%s: no %S in\n%s" msg sub s) false (contains s sub)
+
+let check_status msg expected (st, _, e) =
+  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+
+let has msg s sub =
+  Alcotest.(check bool) (Printf.sprintf "%s: %S in\n%s" msg sub s) true (contains s sub)
+
+let lacks msg s sub =
+  Alcotest.(check bool)
+    (Printf.sprintf "%s: no %S in\n%s" msg sub s)
+    false (contains s sub)
 
 let still =
   {|settings { width: 24, height: 18 }
@@ -39,13 +47,30 @@ let listed args =
   String.split_on_char '\n' out
   |> List.filter_map (fun line ->
          let t = String.trim line in
-         if String.length line > 7 && String.sub line 0 7 = "       " && String.length t > 1 && t.[0] = '-' then
+         if
+           String.length line > 7
+           && String.sub line 0 7 = "       "
+           && String.length t > 1
+           && t.[0] = '-'
+         then
            let words = String.split_on_char ' ' t in
            List.find_map
              (fun w ->
-               let w = match String.index_opt w '=' with Some i -> String.sub w 0 i | None -> w in
-               let w = match String.index_opt w '[' with Some i -> String.sub w 0 i | None -> w in
-               let w = if String.ends_with ~suffix:"," w then String.sub w 0 (String.length w - 1) else w in
+               let w =
+                 match String.index_opt w '=' with
+                 | Some i -> String.sub w 0 i
+                 | None -> w
+               in
+               let w =
+                 match String.index_opt w '[' with
+                 | Some i -> String.sub w 0 i
+                 | None -> w
+               in
+               let w =
+                 if String.ends_with ~suffix:"," w then
+                   String.sub w 0 (String.length w - 1)
+                 else w
+               in
                if String.length w > 2 && String.sub w 0 2 = "--" then Some w else None)
              words
          else None)
@@ -53,27 +78,101 @@ let listed args =
   |> List.sort_uniq compare
 
 let render_options =
-  [ "--alpha"; "--bits"; "--crop"; "--depth"; "--domains"; "--format"; "--frame"; "--height"; "--output"; "--progress";
-    "--quality"; "--quiet"; "--region"; "--resume"; "--samples"; "--stats"; "--time"; "--width" ]
+  [
+    "--alpha";
+    "--bits";
+    "--crop";
+    "--depth";
+    "--domains";
+    "--format";
+    "--frame";
+    "--height";
+    "--output";
+    "--progress";
+    "--quality";
+    "--quiet";
+    "--region";
+    "--resume";
+    "--samples";
+    "--stats";
+    "--time";
+    "--width";
+  ]
 
 let help_tests =
-  [ Alcotest.test_case "each command lists the options it acts on, and only those" `Quick (fun () ->
-        let check args expected = Alcotest.(check (list string)) (String.concat " " args) (List.sort compare expected) (listed args) in
+  [
+    Alcotest.test_case "each command lists the options it acts on, and only those" `Quick
+      (fun () ->
+        let check args expected =
+          Alcotest.(check (list string))
+            (String.concat " " args) (List.sort compare expected) (listed args)
+        in
         check [ "render" ] render_options;
         check [ "animate" ]
-          [ "--depth"; "--domains"; "--frames"; "--height"; "--output"; "--progress"; "--quality"; "--quiet"; "--resume";
-            "--samples"; "--shard"; "--video"; "--width" ];
+          [
+            "--depth";
+            "--domains";
+            "--frames";
+            "--height";
+            "--output";
+            "--progress";
+            "--quality";
+            "--quiet";
+            "--resume";
+            "--samples";
+            "--shard";
+            "--video";
+            "--width";
+          ];
         check [ "golden" ]
-          [ "--depth"; "--domains"; "--frame"; "--height"; "--max-share"; "--progress"; "--quality"; "--quiet"; "--samples";
-            "--time"; "--tolerance"; "--update"; "--width" ];
+          [
+            "--depth";
+            "--domains";
+            "--frame";
+            "--height";
+            "--max-share";
+            "--progress";
+            "--quality";
+            "--quiet";
+            "--samples";
+            "--time";
+            "--tolerance";
+            "--update";
+            "--width";
+          ];
         check [ "bench"; "domains" ]
-          [ "--counts"; "--depth"; "--frame"; "--height"; "--json"; "--quality"; "--repeat"; "--samples"; "--time"; "--width" ];
-        check [ "bench"; "quality" ] [ "--depth"; "--domains"; "--fresh"; "--height"; "--json"; "--samples"; "--svg"; "--width" ]);
-    Alcotest.test_case "the scene argument and -o say what they are in each command" `Quick (fun () ->
+          [
+            "--counts";
+            "--depth";
+            "--frame";
+            "--height";
+            "--json";
+            "--quality";
+            "--repeat";
+            "--samples";
+            "--time";
+            "--width";
+          ];
+        check [ "bench"; "quality" ]
+          [
+            "--depth";
+            "--domains";
+            "--fresh";
+            "--height";
+            "--json";
+            "--samples";
+            "--svg";
+            "--width";
+          ]);
+    Alcotest.test_case "the scene argument and -o say what they are in each command"
+      `Quick (fun () ->
         (* The text with its line breaks and indentation as single spaces. *)
         let help args =
           let _, out, _ = lancer (args @ [ "--help=plain" ]) in
-          String.concat " " (List.filter (( <> ) "") (String.split_on_char ' ' (String.map (function '\n' -> ' ' | c -> c) out)))
+          String.concat " "
+            (List.filter (( <> ) "")
+               (String.split_on_char ' '
+                  (String.map (function '\n' -> ' ' | c -> c) out)))
         in
         let r = help [ "render" ] in
         has "render" r "Without one, the built-in showcase is rendered";
@@ -93,53 +192,83 @@ let help_tests =
         has "check" (help [ "check" ]) "-: read it from standard input";
         let b = help [ "bench"; "domains" ] in
         has "bench" b "The scene to measure";
-        lacks "bench" b "Output image") ]
+        lacks "bench" b "Output image");
+  ]
 
 let refusal_tests =
-  [ Alcotest.test_case "animate refuses --time and --stats instead of ignoring them" `Quick (fun () ->
+  [
+    Alcotest.test_case "animate refuses --time and --stats instead of ignoring them"
+      `Quick (fun () ->
         let d = scenes () in
         List.iter
           (fun (opt, v) ->
-            let ((_, _, e) as r) = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; opt; v ] in
+            let ((_, _, e) as r) =
+              lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; opt; v ]
+            in
             check_status opt 1 r;
             has opt e (Printf.sprintf "unknown option '%s'" opt))
           [ ("--time", "1"); ("--stats", "st.json") ];
-        Alcotest.(check bool) "no frames, no statistics" false
-          (Sys.file_exists (Filename.concat d "out") || Sys.file_exists (Filename.concat d "st.json")));
-    Alcotest.test_case "golden refuses -o and --stats, which it never wrote" `Quick (fun () ->
+        Alcotest.(check bool)
+          "no frames, no statistics" false
+          (Sys.file_exists (Filename.concat d "out")
+          || Sys.file_exists (Filename.concat d "st.json")));
+    Alcotest.test_case "golden refuses -o and --stats, which it never wrote" `Quick
+      (fun () ->
         let d = scenes () in
         List.iter
           (fun (opt, v) ->
-            let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png"; opt; v; "--update" ] in
+            let ((_, _, e) as r) =
+              lancer ~dir:d [ "golden"; "s.rts"; "g.png"; opt; v; "--update" ]
+            in
             check_status opt 1 r;
             has opt e (Printf.sprintf "unknown option '%s'" opt))
           [ ("-o", "x.png"); ("--stats", "st.json") ];
-        Alcotest.(check (list string)) "nothing written" [ "a.rts"; "s.rts" ] (List.sort compare (Array.to_list (Sys.readdir d))));
-    Alcotest.test_case "golden and animate need a scene: the usage says so" `Quick (fun () ->
+        Alcotest.(check (list string))
+          "nothing written" [ "a.rts"; "s.rts" ]
+          (List.sort compare (Array.to_list (Sys.readdir d))));
+    Alcotest.test_case "golden and animate need a scene: the usage says so" `Quick
+      (fun () ->
         let ((_, _, e) as r) = lancer [ "golden" ] in
         check_status "golden" 1 r;
         has "golden" e "SCENE.rts";
         let ((_, _, e) as r) = lancer [ "animate"; "-o"; "out" ] in
         check_status "animate" 1 r;
         has "animate" e "required argument SCENE.rts is missing");
-    Alcotest.test_case "render --frame K: beyond the animation or on a still it is refused" `Quick (fun () ->
+    Alcotest.test_case
+      "render --frame K: beyond the animation or on a still it is refused" `Quick
+      (fun () ->
         let d = scenes () in
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "a.rts"; "--frame"; "4"; "-o"; "f.png" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "a.rts"; "--frame"; "4"; "-o"; "f.png" ]
+        in
         check_status "past the end" 1 r;
         has "past the end" e "--frame 4: the animation has frames 0..3";
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "--frame"; "1"; "-o"; "f.png" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "--frame"; "1"; "-o"; "f.png" ]
+        in
         check_status "a still" 1 r;
         has "a still" e "no animation block";
         has "a still" e "--time";
-        Alcotest.(check bool) "no image" false (Sys.file_exists (Filename.concat d "f.png"));
+        Alcotest.(check bool)
+          "no image" false
+          (Sys.file_exists (Filename.concat d "f.png"));
         (* The last frame is frame 3, at time 0.3: the same image as --time 0.3. *)
-        check_status "last frame" 0 (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f.png"; "-q" ]);
-        check_status "its time" 0 (lancer ~dir:d [ "render"; "a.rts"; "--time"; "0.3"; "-o"; "t.png"; "-q" ]);
-        check_status "frame 0" 0 (lancer ~dir:d [ "render"; "a.rts"; "-o"; "z.png"; "-q" ]);
+        check_status "last frame" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f.png"; "-q" ]);
+        check_status "its time" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "--time"; "0.3"; "-o"; "t.png"; "-q" ]);
+        check_status "frame 0" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "-o"; "z.png"; "-q" ]);
         let f = read_file (Filename.concat d "f.png") in
-        Alcotest.(check bool) "frame 3 is at time 0.3" true (f = read_file (Filename.concat d "t.png"));
-        Alcotest.(check bool) "and not at time 0" false (f = read_file (Filename.concat d "z.png")));
-    Alcotest.test_case "golden --quiet prints nothing when it passes; --progress reports tiles" `Quick (fun () ->
+        Alcotest.(check bool)
+          "frame 3 is at time 0.3" true
+          (f = read_file (Filename.concat d "t.png"));
+        Alcotest.(check bool)
+          "and not at time 0" false
+          (f = read_file (Filename.concat d "z.png")));
+    Alcotest.test_case
+      "golden --quiet prints nothing when it passes; --progress reports tiles" `Quick
+      (fun () ->
         let d = scenes () in
         check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update" ]);
         let ((_, out, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "-q" ] in
@@ -148,89 +277,130 @@ let refusal_tests =
         let ((_, out, _) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png" ] in
         check_status "same" 0 r;
         has "not quiet" out "same as g.png";
-        let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--progress" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--progress" ]
+        in
         check_status "progress" 0 r;
         has "progress" e "tiles 1/1 (100%)";
         (* A difference is reported even with --quiet. *)
-        let ((_, out, _) as r) = lancer ~dir:d [ "golden"; "a.rts"; "g.png"; "-q"; "--time"; "0.3" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "golden"; "a.rts"; "g.png"; "-q"; "--time"; "0.3" ]
+        in
         check_status "different" 1 r;
-        has "different, quiet" out "differs from g.png") ]
+        has "different, quiet" out "differs from g.png");
+  ]
 
 let diff_tests =
-  [ Alcotest.test_case "diff refuses a tolerance outside 0..255 and a share outside 0..1" `Quick (fun () ->
+  [
+    Alcotest.test_case "diff refuses a tolerance outside 0..255 and a share outside 0..1"
+      `Quick (fun () ->
         let d = scenes () in
         check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
         List.iter
           (fun (args, msg) ->
-            let ((_, out, e) as r) = lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args) in
+            let ((_, out, e) as r) =
+              lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args)
+            in
             check_status (String.concat " " args) 1 r;
             has (String.concat " " args) e msg;
             Alcotest.(check string) "no figures" "" out)
-          [ ([ "--tolerance"; "300" ], "--tolerance must be between 0 and 255 (got 300)");
+          [
+            ([ "--tolerance"; "300" ], "--tolerance must be between 0 and 255 (got 300)");
             ([ "--tolerance=-1" ], "--tolerance must be between 0 and 255 (got -1)");
             ([ "--max-share"; "2" ], "--max-share must be between 0 and 1 (got 2)");
             ([ "--max-share"; "nan" ], "--max-share must be between 0 and 1");
-            ([ "--max-share=-0.5" ], "--max-share must be between 0 and 1 (got -0.5)") ];
-        let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--tolerance"; "256" ] in
+            ([ "--max-share=-0.5" ], "--max-share must be between 0 and 1 (got -0.5)");
+          ];
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--tolerance"; "256" ]
+        in
         check_status "golden" 1 r;
         has "golden" e "--tolerance must be between 0 and 255";
-        Alcotest.(check bool) "no golden written" false (Sys.file_exists (Filename.concat d "g.png")));
-    Alcotest.test_case "diff says same, within tolerance or differ before its figures" `Quick (fun () ->
+        Alcotest.(check bool)
+          "no golden written" false
+          (Sys.file_exists (Filename.concat d "g.png")));
+    Alcotest.test_case "diff says same, within tolerance or differ before its figures"
+      `Quick (fun () ->
         let d = scenes () in
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
-        check_status "b" 0 (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
+        check_status "b" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
         let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "a.png" ] in
         check_status "same" 0 r;
         has "same" out "same: max difference 0/255";
         let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
         check_status "differ" 1 r;
         has "differ" out "differ: max difference";
-        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--tolerance"; "255" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--tolerance"; "255" ]
+        in
         check_status "within" 0 r;
         has "within" out "within tolerance: max difference";
-        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--max-share"; "1" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--max-share"; "1" ]
+        in
         check_status "within a share" 0 r;
         has "within a share" out "within tolerance: ");
-    Alcotest.test_case "a golden of another size: which is the golden, and --width/--height" `Quick (fun () ->
+    Alcotest.test_case
+      "a golden of another size: which is the golden, and --width/--height" `Quick
+      (fun () ->
         let d = scenes () in
-        check_status "update" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--width"; "16"; "--height"; "12" ]);
+        check_status "update" 0
+          (lancer ~dir:d
+             [ "golden"; "s.rts"; "g.png"; "--update"; "--width"; "16"; "--height"; "12" ]);
         let ((_, _, e) as r) = lancer ~dir:d [ "golden"; "s.rts"; "g.png" ] in
         check_status "size" 1 r;
         has "size" e "the golden g.png is 16×12 but the render would be 24×18";
         has "size" e "--width 16 --height 12";
-        Alcotest.(check bool) "no actual image" false (Sys.file_exists (Filename.concat d "g.actual.png"));
-        check_status "at the golden's size" 0 (lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--width"; "16"; "--height"; "12" ]);
+        Alcotest.(check bool)
+          "no actual image" false
+          (Sys.file_exists (Filename.concat d "g.actual.png"));
+        check_status "at the golden's size" 0
+          (lancer ~dir:d
+             [ "golden"; "s.rts"; "g.png"; "--width"; "16"; "--height"; "12" ]);
         (* The library says which image is the golden too (lancer-alcotest's message). *)
-        match Lancer.Compare.golden ~update:false ~golden:(Filename.concat d "g.png") (24, 18, Bytes.make (24 * 18 * 3) '\000') with
+        match
+          Lancer.Compare.golden ~update:false ~golden:(Filename.concat d "g.png")
+            (24, 18, Bytes.make (24 * 18 * 3) '\000')
+        with
         | Error m -> has "library" m "g.png is 16×12 but the image is 24×18"
         | Ok _ -> Alcotest.fail "a golden of another size passed");
     Alcotest.test_case "diff names the images of different sizes" `Quick (fun () ->
         let d = scenes () in
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
-        check_status "b" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--width"; "16" ]);
+        check_status "b" 0
+          (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--width"; "16" ]);
         let ((_, _, e) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
         check_status "sizes" 1 r;
         has "sizes" e "a.png is 24×18 but b.png is 16×18");
-    Alcotest.test_case "a negative value after an option gets a hint to write --time=-5" `Quick (fun () ->
+    Alcotest.test_case "a negative value after an option gets a hint to write --time=-5"
+      `Quick (fun () ->
         let d = scenes () in
-        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "a.rts"; "--time"; "-5"; "-o"; "n.png" ] in
+        let ((_, _, e) as r) =
+          lancer ~dir:d [ "render"; "a.rts"; "--time"; "-5"; "-o"; "n.png" ]
+        in
         check_status "--time -5" 1 r;
         has "--time -5" e "--time=-5";
         let ((_, _, e) as r) = lancer ~dir:d [ "check"; "a.rts"; "-t"; "-0.5" ] in
         check_status "-t -0.5" 1 r;
         has "-t -0.5" e "-t-0.5";
-        check_status "--time=-5" 0 (lancer ~dir:d [ "render"; "a.rts"; "--time=-5"; "-o"; "n.png"; "-q" ]);
+        check_status "--time=-5" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "--time=-5"; "-o"; "n.png"; "-q" ]);
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "a.rts"; "--widht"; "5" ] in
         check_status "no negative value" 1 r;
-        lacks "no negative value" e "negative") ]
+        lacks "no negative value" e "negative");
+  ]
 
 (* lancer with [input] on its standard input; (status, stdout, stderr). *)
 let lancer_stdin ~dir ~input args =
-  let inp = Filename.concat dir ".stdin" and out = Filename.concat dir ".out" and err = Filename.concat dir ".err" in
+  let inp = Filename.concat dir ".stdin"
+  and out = Filename.concat dir ".out"
+  and err = Filename.concat dir ".err" in
   write_file inp input;
   let cmd =
     Printf.sprintf "cd %s && %s %s <%s >%s 2>%s" (Filename.quote dir) (Filename.quote exe)
-      (String.concat " " (List.map Filename.quote args)) (Filename.quote inp) (Filename.quote out) (Filename.quote err)
+      (String.concat " " (List.map Filename.quote args))
+      (Filename.quote inp) (Filename.quote out) (Filename.quote err)
   in
   let st = Sys.command cmd in
   let r = (st, read_file out, read_file err) in
@@ -238,49 +408,92 @@ let lancer_stdin ~dir ~input args =
   r
 
 let stdin_tests =
-  [ Alcotest.test_case "render - and check - read the scene from standard input" `Quick (fun () ->
+  [
+    Alcotest.test_case "render - and check - read the scene from standard input" `Quick
+      (fun () ->
         let d = scenes () in
         let ((_, out, _) as r) = lancer_stdin ~dir:d ~input:still [ "check"; "-" ] in
         check_status "check -" 0 r;
         has "check -" out "scene: <stdin>";
         has "check -" out "objects: 2";
-        check_status "render -" 0 (lancer_stdin ~dir:d ~input:still [ "render"; "-"; "-o"; "in.png"; "-q" ]);
-        check_status "render the file" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "file.png"; "-q" ]);
-        Alcotest.(check bool) "the same image" true
-          (read_file (Filename.concat d "in.png") = read_file (Filename.concat d "file.png"));
-        check_status "animate -" 0 (lancer_stdin ~dir:d ~input:anim [ "animate"; "-"; "-o"; "frames"; "-q"; "--frames"; "3" ]);
-        check_status "render --frame 3" 0 (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f3.png"; "-q" ]);
-        Alcotest.(check bool) "frame 3 the same" true
-          (read_file (Filename.concat d "frames/frame_0003.png") = read_file (Filename.concat d "f3.png")));
+        check_status "render -" 0
+          (lancer_stdin ~dir:d ~input:still [ "render"; "-"; "-o"; "in.png"; "-q" ]);
+        check_status "render the file" 0
+          (lancer ~dir:d [ "render"; "s.rts"; "-o"; "file.png"; "-q" ]);
+        Alcotest.(check bool)
+          "the same image" true
+          (read_file (Filename.concat d "in.png")
+          = read_file (Filename.concat d "file.png"));
+        check_status "animate -" 0
+          (lancer_stdin ~dir:d ~input:anim
+             [ "animate"; "-"; "-o"; "frames"; "-q"; "--frames"; "3" ]);
+        check_status "render --frame 3" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f3.png"; "-q" ]);
+        Alcotest.(check bool)
+          "frame 3 the same" true
+          (read_file (Filename.concat d "frames/frame_0003.png")
+          = read_file (Filename.concat d "f3.png")));
     Alcotest.test_case "a scene from standard input needs -o" `Quick (fun () ->
         let d = scenes () in
         let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:still [ "render"; "-" ] in
         check_status "no -o" 1 r;
         has "no -o" e "-o FILE";
-        Alcotest.(check bool) "no -.png" false (Sys.file_exists (Filename.concat d "-.png")));
-    Alcotest.test_case "errors of a scene on standard input are located in <stdin>, with the line and a caret" `Quick (fun () ->
+        Alcotest.(check bool)
+          "no -.png" false
+          (Sys.file_exists (Filename.concat d "-.png")));
+    Alcotest.test_case
+      "errors of a scene on standard input are located in <stdin>, with the line and a \
+       caret"
+      `Quick (fun () ->
         let d = scenes () in
-        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:"sphere { center: (0, 0, 0), radius: -1 }\n" [ "check"; "-" ] in
+        let ((_, _, e) as r) =
+          lancer_stdin ~dir:d ~input:"sphere { center: (0, 0, 0), radius: -1 }\n"
+            [ "check"; "-" ]
+        in
         check_status "bad" 1 r;
         has "bad" e "<stdin>:1:";
         has "bad" e "sphere { center: (0, 0, 0), radius: -1 }";
         has "bad" e "^");
-    Alcotest.test_case "includes of a scene on standard input are found from the current directory" `Quick (fun () ->
+    Alcotest.test_case
+      "includes of a scene on standard input are found from the current directory" `Quick
+      (fun () ->
         let d = scenes () in
         Unix.mkdir (Filename.concat d "inc") 0o755;
         write_file (Filename.concat d "inc/col.rts") "let c = (0.1, 0.9, 0.1)\n";
         write_file (Filename.concat d "inc/bad.rts") "let c = (0.1, 0.9\n";
-        let scene inc = Printf.sprintf "include \"%s\"\n%ssphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n" inc still in
-        check_status "include" 0 (lancer_stdin ~dir:d ~input:(scene "inc/col.rts") [ "render"; "-"; "-o"; "i.png"; "-q" ]);
+        let scene inc =
+          Printf.sprintf
+            "include \"%s\"\n\
+             %ssphere { center: (1, 1, 0), radius: 0.3, material: material { color: c } }\n"
+            inc still
+        in
+        check_status "include" 0
+          (lancer_stdin ~dir:d ~input:(scene "inc/col.rts")
+             [ "render"; "-"; "-o"; "i.png"; "-q" ]);
         write_file (Filename.concat d "i.rts") (scene "inc/col.rts");
-        check_status "from a file" 0 (lancer ~dir:d [ "render"; "i.rts"; "-o"; "j.png"; "-q" ]);
-        Alcotest.(check bool) "the same image" true (read_file (Filename.concat d "i.png") = read_file (Filename.concat d "j.png"));
-        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:(scene "inc/bad.rts") [ "check"; "-" ] in
+        check_status "from a file" 0
+          (lancer ~dir:d [ "render"; "i.rts"; "-o"; "j.png"; "-q" ]);
+        Alcotest.(check bool)
+          "the same image" true
+          (read_file (Filename.concat d "i.png") = read_file (Filename.concat d "j.png"));
+        let ((_, _, e) as r) =
+          lancer_stdin ~dir:d ~input:(scene "inc/bad.rts") [ "check"; "-" ]
+        in
         check_status "bad include" 1 r;
         has "bad include" e "inc/bad.rts:";
-        let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:(scene "nope.rts") [ "check"; "-" ] in
+        let ((_, _, e) as r) =
+          lancer_stdin ~dir:d ~input:(scene "nope.rts") [ "check"; "-" ]
+        in
         check_status "missing include" 1 r;
         has "missing include" e "<stdin>:1:";
-        has "missing include" e "nope.rts") ]
+        has "missing include" e "nope.rts");
+  ]
 
-let () = Alcotest.run "options" [ ("help", help_tests); ("refusals", refusal_tests); ("diff", diff_tests); ("stdin", stdin_tests) ]
+let () =
+  Alcotest.run "options"
+    [
+      ("help", help_tests);
+      ("refusals", refusal_tests);
+      ("diff", diff_tests);
+      ("stdin", stdin_tests);
+    ]

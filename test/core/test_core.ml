@@ -3,12 +3,16 @@
 open Lancer
 
 let v = Vec3.v
+
 (* Float.Array.equal is OCaml 5.4 only; bitwise equality of two framebuffers. *)
 let floats_equal a b =
   Float.Array.length a = Float.Array.length b
-  && (let ok = ref true in
-      Float.Array.iteri (fun i x -> if not (Float.equal x (Float.Array.get b i)) then ok := false) a;
-      !ok)
+  &&
+  let ok = ref true in
+  Float.Array.iteri
+    (fun i x -> if not (Float.equal x (Float.Array.get b i)) then ok := false)
+    a;
+  !ok
 
 let close ?(eps = 1e-12) msg a b = Alcotest.(check (float eps)) msg a b
 
@@ -22,36 +26,62 @@ let check_vec ?(eps = 1e-12) msg (a : Vec3.t) (b : Vec3.t) =
   close ~eps (msg ^ " (y)") a.y b.y;
   close ~eps (msg ^ " (z)") a.z b.z
 
-let mat ?(color = Color.white) ?(ambient = 0.1) ?(diffuse = 0.9) ?(specular = 0.) ?(shininess = 50.)
-    ?(reflection = 0.) ?(transparency = 0.) ?(ior = 1.) ?(fresnel = false) ?texture () =
-  { Material.default with color; ambient; diffuse; specular; shininess; reflection; transparency; ior; fresnel; texture }
+let mat ?(color = Color.white) ?(ambient = 0.1) ?(diffuse = 0.9) ?(specular = 0.)
+    ?(shininess = 50.) ?(reflection = 0.) ?(transparency = 0.) ?(ior = 1.)
+    ?(fresnel = false) ?texture () =
+  {
+    Material.default with
+    color;
+    ambient;
+    diffuse;
+    specular;
+    shininess;
+    reflection;
+    transparency;
+    ior;
+    fresnel;
+    texture;
+  }
 
 let prim ?transform m s = Primitive.make ?transform m s
 
 (* ---- vectors ---- *)
 
 let vec_tests =
-  [ Alcotest.test_case "cross product follows x × y = z" `Quick (fun () ->
+  [
+    Alcotest.test_case "cross product follows x × y = z" `Quick (fun () ->
         check_vec "x×y" (Vec3.cross Vec3.x_axis Vec3.y_axis) Vec3.z_axis);
     Alcotest.test_case "normalize keeps the zero vector zero, never NaN" `Quick (fun () ->
         check_vec "zero" (Vec3.normalize Vec3.zero) Vec3.zero);
     Alcotest.test_case "length does not overflow at 1e200" `Quick (fun () ->
         close ~eps:1e188 "len" (Vec3.length (v 3e200 4e200 0.)) 5e200);
     Alcotest.test_case "length does not underflow at 1e-200" `Quick (fun () ->
-        close ~eps:1e-212 "len" (Vec3.length (v 3e-200 4e-200 0.)) 5e-200) ]
+        close ~eps:1e-212 "len" (Vec3.length (v 3e-200 4e-200 0.)) 5e-200);
+  ]
 
 (* ---- transforms ---- *)
 
 let transform_tests =
-  [ Alcotest.test_case "rotating x by 90° about y gives −z (left-handed, as POV-Ray)" `Quick (fun () ->
-        check_vec "p" (Transform.point (Transform.rotate (v 0. 90. 0.)) Vec3.x_axis) (v 0. 0. (-1.)));
+  [
+    Alcotest.test_case "rotating x by 90° about y gives −z (left-handed, as POV-Ray)"
+      `Quick (fun () ->
+        check_vec "p"
+          (Transform.point (Transform.rotate (v 0. 90. 0.)) Vec3.x_axis)
+          (v 0. 0. (-1.)));
     Alcotest.test_case "transforms apply in the order written" `Quick (fun () ->
-        let t = Transform.then_ (Transform.translate (v 1. 0. 0.)) (Transform.scale (v 2. 2. 2.)) in
+        let t =
+          Transform.then_
+            (Transform.translate (v 1. 0. 0.))
+            (Transform.scale (v 2. 2. 2.))
+        in
         check_vec "p" (Transform.point t Vec3.zero) (v 2. 0. 0.));
     Alcotest.test_case "inverse undoes a composite transform" `Quick (fun () ->
         let t =
-          Transform.then_ (Transform.rotate (v 10. 20. 30.))
-            (Transform.then_ (Transform.scale (v 1. 2. 3.)) (Transform.translate (v 4. 5. 6.)))
+          Transform.then_
+            (Transform.rotate (v 10. 20. 30.))
+            (Transform.then_
+               (Transform.scale (v 1. 2. 3.))
+               (Transform.translate (v 4. 5. 6.)))
         in
         let p = v 0.3 (-1.2) 7. in
         check_vec ~eps:1e-12 "p" (Transform.inv_point t (Transform.point t p)) p);
@@ -60,30 +90,36 @@ let transform_tests =
         let t = Transform.scale (v 2. 1. 1.) in
         let n = Transform.normal t (Vec3.normalize (v 1. (-1.) 0.)) in
         let tangent = Transform.vector t (v 1. 1. 0.) in
-        close ~eps:1e-15 "n·t" (Vec3.dot n tangent) 0.) ]
+        close ~eps:1e-15 "n·t" (Vec3.dot n tangent) 0.);
+  ]
 
 (* ---- camera ---- *)
 
 let camera_tests =
-  [ Alcotest.test_case "the centre of an odd image looks straight ahead" `Quick (fun () ->
+  [
+    Alcotest.test_case "the centre of an odd image looks straight ahead" `Quick (fun () ->
         let c = Camera.make () in
         let r = Camera.ray c ~width:11 ~height:11 5.5 5.5 in
         check_vec "dir" (Ray.dir r) Vec3.z_axis);
-    Alcotest.test_case "the top edge of the image is fov/2 above the axis" `Quick (fun () ->
+    Alcotest.test_case "the top edge of the image is fov/2 above the axis" `Quick
+      (fun () ->
         let c = Camera.make ~fov:90. () in
         let d = Ray.dir (Camera.ray c ~width:10 ~height:10 5. 0.) in
         close ~eps:1e-12 "45°" (Float.atan2 d.y d.z) (Float.pi /. 4.));
-    Alcotest.test_case "image x grows to the right (+x) for the default camera" `Quick (fun () ->
+    Alcotest.test_case "image x grows to the right (+x) for the default camera" `Quick
+      (fun () ->
         let c = Camera.make () in
         let d = Ray.dir (Camera.ray c ~width:640 ~height:480 640. 240.) in
         Alcotest.(check bool) "right" true (d.x > 0.);
-        close ~eps:1e-12 "aspect" (d.x /. d.z) (Float.tan (Float.pi /. 6.) *. 640. /. 480.)) ]
+        close ~eps:1e-12 "aspect" (d.x /. d.z) (Float.tan (Float.pi /. 6.) *. 640. /. 480.));
+  ]
 
 (* ---- encoding ---- *)
 
 let encode_tests =
   let e = Image.encode_channel Settings.Srgb in
-  [ Alcotest.test_case "sRGB encodes the breakpoints of doc/shading.md" `Quick (fun () ->
+  [
+    Alcotest.test_case "sRGB encodes the breakpoints of doc/shading.md" `Quick (fun () ->
         Alcotest.(check int) "0" 0 (e 0.);
         Alcotest.(check int) "1" 255 (e 1.);
         (* 12.92 · 0.0031308 = 0.04045 → ⌊10.31 + 0.5⌋ *)
@@ -98,8 +134,11 @@ let encode_tests =
         Alcotest.(check int) "inf" 255 (e Float.infinity);
         Alcotest.(check int) "nan" 0 (e Float.nan));
     Alcotest.test_case "a numeric gamma encodes v^(1/g)" `Quick (fun () ->
-        Alcotest.(check int) "0.5 at 2.2" 186 (Image.encode_channel (Settings.Power 2.2) 0.5);
-        Alcotest.(check int) "gamma 1" 128 (Image.encode_channel (Settings.Power 1.) 0.5)) ]
+        Alcotest.(check int)
+          "0.5 at 2.2" 186
+          (Image.encode_channel (Settings.Power 2.2) 0.5);
+        Alcotest.(check int) "gamma 1" 128 (Image.encode_channel (Settings.Power 1.) 0.5));
+  ]
 
 (* ---- shading, in closed form ---- *)
 
@@ -108,11 +147,18 @@ let small = { Settings.default with width = 11; height = 11 }
 let centre_ray () = Camera.ray Camera.default ~width:11 ~height:11 5.5 5.5
 
 let lambert_tests =
-  [ Alcotest.test_case "a Lambert sphere under a head-on light matches the formula" `Quick (fun () ->
+  [
+    Alcotest.test_case "a Lambert sphere under a head-on light matches the formula" `Quick
+      (fun () ->
         let c = Color.v 1. 0.5 0.25 in
         let m = mat ~color:c ~ambient:0.1 ~diffuse:0.9 () in
-        let light = Light.point ~intensity:2. ~attenuation:(v 1. 0.1 0.01) (v 0. 0. (-10.)) in
-        let sc = Scene.make_exn ~settings:small ~lights:[ light ] [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ] in
+        let light =
+          Light.point ~intensity:2. ~attenuation:(v 1. 0.1 0.01) (v 0. 0. (-10.))
+        in
+        let sc =
+          Scene.make_exn ~settings:small ~lights:[ light ]
+            [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
+        in
         let got = Shade.trace sc (Stats.create ()) (centre_ray ()) 1 in
         (* P = (0,0,−1), N·L = 1, d = 9, att = 1/(1 + 0.9 + 0.81) *)
         let att = 1. /. (1. +. 0.9 +. 0.81) in
@@ -121,7 +167,8 @@ let lambert_tests =
     Alcotest.test_case "light at an angle scales diffuse by the cosine" `Quick (fun () ->
         let m = mat ~ambient:0. ~diffuse:1. () in
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.directional (v 1. 0. 1.) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.directional (v 1. 0. 1.) ]
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
         let got = Shade.trace sc (Stats.create ()) (centre_ray ()) 1 in
@@ -129,103 +176,154 @@ let lambert_tests =
     Alcotest.test_case "a light behind the surface contributes nothing" `Quick (fun () ->
         let m = mat ~ambient:0.2 () in
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.point (v 0. 0. 10.) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.point (v 0. 0. 10.) ]
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        check_color "ambient only" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) (Color.scale 0.2 Color.white));
-    Alcotest.test_case "Phong highlight adds specular · (R·V)^n · E, uncoloured" `Quick (fun () ->
-        let m = mat ~color:(Color.v 1. 0. 0.) ~ambient:0. ~diffuse:0. ~specular:0.5 ~shininess:10. () in
+        check_color "ambient only"
+          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Color.scale 0.2 Color.white));
+    Alcotest.test_case "Phong highlight adds specular · (R·V)^n · E, uncoloured" `Quick
+      (fun () ->
+        let m =
+          mat ~color:(Color.v 1. 0. 0.) ~ambient:0. ~diffuse:0. ~specular:0.5
+            ~shininess:10. ()
+        in
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.point (v 0. 0. (-10.)) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.point (v 0. 0. (-10.)) ]
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        check_color ~eps:1e-12 "white highlight" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) (Color.scale 0.5 Color.white));
-    Alcotest.test_case "shininess 0: max(0, R·V)^0 = 1, so specular · E even where R·V < 0" `Quick (fun () ->
+        check_color ~eps:1e-12 "white highlight"
+          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Color.scale 0.5 Color.white));
+    Alcotest.test_case
+      "shininess 0: max(0, R·V)^0 = 1, so specular · E even where R·V < 0" `Quick
+      (fun () ->
         (* A floor seen at 45° (V = (0, 1, −1)/√2), lit from in front of the camera
            (L = (0, 1, −3)/√10): R = (0, 1, 3)/√10 and R·V = −2/√20 < 0. *)
         let m = mat ~ambient:0. ~diffuse:0. ~specular:0.5 ~shininess:0. () in
         let camera = Camera.make ~position:(v 0. 1. (-1.)) ~look_at:Vec3.zero () in
         let sc =
-          Scene.make_exn ~settings:small ~camera ~lights:[ Light.directional (v 0. (-1.) 3.) ]
+          Scene.make_exn ~settings:small ~camera
+            ~lights:[ Light.directional (v 0. (-1.) 3.) ]
             [ prim m (Shape.plane ~normal:(v 0. 1. 0.) ~offset:0.) ]
         in
         let ray = Camera.ray camera ~width:11 ~height:11 5.5 5.5 in
-        check_color ~eps:1e-12 "specular · E" (Shade.trace sc (Stats.create ()) ray 1) (Color.scale 0.5 Color.white));
-    Alcotest.test_case "an opaque object between surface and light casts a full shadow" `Quick (fun () ->
+        check_color ~eps:1e-12 "specular · E"
+          (Shade.trace sc (Stats.create ()) ray 1)
+          (Color.scale 0.5 Color.white));
+    Alcotest.test_case "an opaque object between surface and light casts a full shadow"
+      `Quick (fun () ->
         let m = mat ~ambient:0.1 () in
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.point (v 0. 0. (-10.)) ]
-            [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
-              prim m (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.point (v 0. 0. (-10.)) ]
+            [
+              prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
+              prim m (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5);
+            ]
         in
         (* The camera at z = −5 is between the blocker (z = −7) and the sphere. *)
-        check_color "ambient" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) (Color.scale 0.1 Color.white));
+        check_color "ambient"
+          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Color.scale 0.1 Color.white));
     Alcotest.test_case "shadows: false ignores blockers" `Quick (fun () ->
         let m = mat ~ambient:0. ~diffuse:1. () in
         let sc =
-          Scene.make_exn ~settings:{ small with shadows = false } ~lights:[ Light.point (v 0. 0. (-10.)) ]
-            [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
-              prim m (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5) ]
+          Scene.make_exn
+            ~settings:{ small with shadows = false }
+            ~lights:[ Light.point (v 0. 0. (-10.)) ]
+            [
+              prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
+              prim m (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5);
+            ]
         in
         check_color "lit" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) Color.white);
-    Alcotest.test_case "a transparent blocker transmits (τ·C) once per surface crossed" `Quick (fun () ->
+    Alcotest.test_case "a transparent blocker transmits (τ·C) once per surface crossed"
+      `Quick (fun () ->
         let m = mat ~ambient:0. ~diffuse:1. () in
         let glass = mat ~color:(Color.v 1. 0.5 0.5) ~transparency:0.5 ~ior:1. () in
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.point (v 0. 0. (-10.)) ]
-            [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
-              prim glass (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.point (v 0. 0. (-10.)) ]
+            [
+              prim m (Shape.sphere ~center:Vec3.zero ~radius:1.);
+              prim glass (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5);
+            ]
         in
         (* Two crossings of the glass sphere: (0.5·C)² *)
-        check_color ~eps:1e-12 "filtered" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) (Color.v 0.25 0.0625 0.0625));
+        check_color ~eps:1e-12 "filtered"
+          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Color.v 0.25 0.0625 0.0625));
     Alcotest.test_case "a ray that hits nothing returns the background" `Quick (fun () ->
         let bg = Color.v 0.1 0.2 0.3 in
         let sc = Scene.make_exn ~settings:{ small with background = bg } ~lights:[] [] in
-        check_color "bg" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) bg) ]
+        check_color "bg" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) bg);
+  ]
 
 let mirror_floor ?(depth = 5) ?(bg = Color.v 0.2 0.4 0.6) reflection =
   let m = mat ~ambient:1. ~diffuse:0. ~reflection () in
-  Scene.make_exn ~settings:{ small with depth; background = bg } ~lights:[]
+  Scene.make_exn
+    ~settings:{ small with depth; background = bg }
+    ~lights:[]
     [ prim m (Shape.plane ~normal:Vec3.y_axis ~offset:(-1.)) ]
 
 let down_ray () = Ray.make (v 0. 0. 0.) (v 0. (-1.) 1.)
 
 let reflection_tests =
-  [ Alcotest.test_case "a mirror mixes (1 − r)·local with r·(reflected colour)" `Quick (fun () ->
+  [
+    Alcotest.test_case "a mirror mixes (1 − r)·local with r·(reflected colour)" `Quick
+      (fun () ->
         let bg = Color.v 0.2 0.4 0.6 in
         let sc = mirror_floor 0.25 in
         let got = Shade.trace sc (Stats.create ()) (down_ray ()) 1 in
-        check_color ~eps:1e-12 "mix" got (Color.add (Color.scale 0.75 Color.white) (Color.scale 0.25 bg)));
-    Alcotest.test_case "at the depth limit the reflection contributes black" `Quick (fun () ->
+        check_color ~eps:1e-12 "mix" got
+          (Color.add (Color.scale 0.75 Color.white) (Color.scale 0.25 bg)));
+    Alcotest.test_case "at the depth limit the reflection contributes black" `Quick
+      (fun () ->
         let sc = mirror_floor ~depth:1 0.25 in
-        check_color ~eps:1e-12 "no bounce" (Shade.trace sc (Stats.create ()) (down_ray ()) 1) (Color.scale 0.75 Color.white));
+        check_color ~eps:1e-12 "no bounce"
+          (Shade.trace sc (Stats.create ()) (down_ray ()) 1)
+          (Color.scale 0.75 Color.white));
     Alcotest.test_case "reflect mirrors the direction about the normal" `Quick (fun () ->
-        check_vec "r" (Shade.reflect (v 1. (-1.) 0.) Vec3.y_axis) (v 1. 1. 0.)) ]
+        check_vec "r" (Shade.reflect (v 1. (-1.) 0.) Vec3.y_axis) (v 1. 1. 0.));
+  ]
 
 let deg x = x *. Float.pi /. 180.
 
 let refraction_tests =
   let dir_at a = v (Float.sin (deg a)) (-.Float.cos (deg a)) 0. in
-  [ Alcotest.test_case "a slab returns a ray parallel to the incident one" `Quick (fun () ->
+  [
+    Alcotest.test_case "a slab returns a ray parallel to the incident one" `Quick
+      (fun () ->
         let d = dir_at 30. in
         let inside = Option.get (Shade.refract d Vec3.y_axis (1. /. 1.5)) in
         close ~eps:1e-12 "Snell" (Float.sin (deg 30.) /. inside.x) 1.5;
         let out = Option.get (Shade.refract inside Vec3.y_axis 1.5) in
         check_vec ~eps:1e-12 "out" out d);
-    Alcotest.test_case "total internal reflection starts past 41.8103149° for ior 1.5" `Quick (fun () ->
+    Alcotest.test_case "total internal reflection starts past 41.8103149° for ior 1.5"
+      `Quick (fun () ->
         (* Leaving glass: the ray travels upward inside, normal faces it. *)
-        let leaving a = Shade.refract (v (Float.sin (deg a)) (Float.cos (deg a)) 0.) (v 0. (-1.) 0.) 1.5 in
+        let leaving a =
+          Shade.refract (v (Float.sin (deg a)) (Float.cos (deg a)) 0.) (v 0. (-1.) 0.) 1.5
+        in
         Alcotest.(check bool) "41.81° refracts" true (Option.is_some (leaving 41.81));
         Alcotest.(check bool) "41.811° reflects" true (Option.is_none (leaving 41.811)));
-    Alcotest.test_case "past the critical angle transparency joins reflection" `Quick (fun () ->
+    Alcotest.test_case "past the critical angle transparency joins reflection" `Quick
+      (fun () ->
         (* Inside a glass half-space y < 0 looking up at 60°: all light is reflected. *)
         let bg = Color.v 0.3 0.3 0.3 in
         let glass = mat ~ambient:0. ~diffuse:0. ~transparency:1. ~ior:1.5 () in
         let sc =
-          Scene.make_exn ~settings:{ small with background = bg } ~lights:[]
+          Scene.make_exn
+            ~settings:{ small with background = bg }
+            ~lights:[]
             [ prim glass (Shape.plane ~normal:Vec3.y_axis ~offset:0.) ]
         in
-        let r = Ray.make (v 0. (-1.) 0.) (v (Float.sin (deg 60.)) (Float.cos (deg 60.)) 0.) in
+        let r =
+          Ray.make (v 0. (-1.) 0.) (v (Float.sin (deg 60.)) (Float.cos (deg 60.)) 0.)
+        in
         let st = Stats.create () in
         check_color ~eps:1e-12 "bg via reflection" (Shade.trace sc st r 1) bg;
         Alcotest.(check int) "no refracted ray" 0 st.refracted;
@@ -234,41 +332,67 @@ let refraction_tests =
         let bg = Color.v 0.3 0.5 0.7 in
         let glass = mat ~ambient:0. ~diffuse:0. ~transparency:1. ~ior:1. () in
         let sc =
-          Scene.make_exn ~settings:{ small with background = bg } ~lights:[]
+          Scene.make_exn
+            ~settings:{ small with background = bg }
+            ~lights:[]
             [ prim glass (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        check_color ~eps:1e-12 "bg" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) bg);
-    Alcotest.test_case "Schlick Fresnel with ior 1.5 reflects F0 = 0.04 head-on" `Quick (fun () ->
+        check_color ~eps:1e-12 "bg"
+          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          bg);
+    Alcotest.test_case "Schlick Fresnel with ior 1.5 reflects F0 = 0.04 head-on" `Quick
+      (fun () ->
         let bg = Color.v 1. 1. 1. in
         let black_floor = mat ~color:Color.black ~ambient:0. ~diffuse:0. () in
-        let glass = mat ~ambient:0. ~diffuse:0. ~transparency:1. ~ior:1.5 ~fresnel:true () in
+        let glass =
+          mat ~ambient:0. ~diffuse:0. ~transparency:1. ~ior:1.5 ~fresnel:true ()
+        in
         (* A glass plane at y = 0 above a black plane at y = −1: looking straight down,
            only the 4 % reflected towards the white sky comes back. *)
         let sc =
-          Scene.make_exn ~settings:{ small with background = bg; depth = 2 } ~lights:[]
-            [ prim glass (Shape.plane ~normal:Vec3.y_axis ~offset:0.);
-              prim black_floor (Shape.plane ~normal:Vec3.y_axis ~offset:(-1.)) ]
+          Scene.make_exn
+            ~settings:{ small with background = bg; depth = 2 }
+            ~lights:[]
+            [
+              prim glass (Shape.plane ~normal:Vec3.y_axis ~offset:0.);
+              prim black_floor (Shape.plane ~normal:Vec3.y_axis ~offset:(-1.));
+            ]
         in
         let r = Ray.make (v 0. 1. 0.) (v 0. (-1.) 0.) in
-        check_color ~eps:1e-12 "F0" (Shade.trace sc (Stats.create ()) r 1) (Color.scale 0.04 Color.white)) ]
+        check_color ~eps:1e-12 "F0"
+          (Shade.trace sc (Stats.create ()) r 1)
+          (Color.scale 0.04 Color.white));
+  ]
 
 (* ---- textures ---- *)
 
 let texture_tests =
-  [ Alcotest.test_case "a floor lying on a checker boundary takes the cell below it" `Quick (fun () ->
+  [
+    Alcotest.test_case "a floor lying on a checker boundary takes the cell below it"
+      `Quick (fun () ->
         let c1 = Color.v 1. 0. 0. and c2 = Color.v 0. 0. 1. in
-        let m = mat ~ambient:1. ~diffuse:0. ~texture:(Texture.Checker { c1; c2; size = 1. }) () in
-        let sc = Scene.make_exn ~settings:small ~lights:[] [ prim m (Shape.plane ~normal:Vec3.y_axis ~offset:0.) ] in
+        let m =
+          mat ~ambient:1. ~diffuse:0. ~texture:(Texture.Checker { c1; c2; size = 1. }) ()
+        in
+        let sc =
+          Scene.make_exn ~settings:small ~lights:[]
+            [ prim m (Shape.plane ~normal:Vec3.y_axis ~offset:0.) ]
+        in
         (* Hit at (0.5, 0, 0.5): ⌊0.5⌋ + ⌊−δ⌋ + ⌊0.5⌋ = −1, odd → c2. *)
         let r = Ray.make (v 0.5 1. 0.5) (v 0. (-1.) 0.) in
         check_color "c2" (Shade.trace sc (Stats.create ()) r 1) c2;
         let r = Ray.make (v 1.5 1. 0.5) (v 0. (-1.) 0.) in
-        check_color "c1" (Shade.trace sc (Stats.create ()) r 1) c1) ]
+        check_color "c1" (Shade.trace sc (Stats.create ()) r 1) c1);
+  ]
 
 (* ---- images and files ---- *)
 
 let tmpdir () =
-  let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-test-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+  let d =
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "lancer-test-%d-%d" (Unix.getpid ()) (Random.bits ()))
+  in
   Unix.mkdir d 0o755;
   d
 
@@ -282,7 +406,8 @@ let gradient () =
   fb
 
 let file_tests =
-  [ Alcotest.test_case "PNG and PPM round-trip the encoded bytes" `Quick (fun () ->
+  [
+    Alcotest.test_case "PNG and PPM round-trip the encoded bytes" `Quick (fun () ->
         let d = tmpdir () in
         let fb = gradient () in
         let bytes = Image.to_bytes Settings.Srgb fb in
@@ -296,92 +421,160 @@ let file_tests =
                 Alcotest.(check bool) ("bytes " ^ ext) true (Bytes.equal b bytes)
             | Error e -> Alcotest.fail e)
           [ ".png"; ".ppm" ]);
-    Alcotest.test_case "an unwritable path is an error and leaves no file" `Quick (fun () ->
+    Alcotest.test_case "an unwritable path is an error and leaves no file" `Quick
+      (fun () ->
         let d = tmpdir () in
         let p = Filename.concat (Filename.concat d "missing-dir") "x.png" in
-        (match Image.save p (gradient ()) with Ok () -> Alcotest.fail "wrote" | Error _ -> ());
+        (match Image.save p (gradient ()) with
+        | Ok () -> Alcotest.fail "wrote"
+        | Error _ -> ());
         Alcotest.(check (array string)) "nothing left" [||] (Sys.readdir d));
     Alcotest.test_case "an output path that is a directory is refused" `Quick (fun () ->
         let d = tmpdir () in
         let p = Filename.concat d "dir.png" in
         Unix.mkdir p 0o755;
-        match Image.save p (gradient ()) with Ok () -> Alcotest.fail "wrote" | Error _ -> ());
+        match Image.save p (gradient ()) with
+        | Ok () -> Alcotest.fail "wrote"
+        | Error _ -> ());
     Alcotest.test_case "a failed write leaves the previous file intact" `Quick (fun () ->
         let d = tmpdir () in
         let p = Filename.concat d "keep.ppm" in
         Alcotest.(check (result unit string)) "write" (Ok ()) (Image.save p (gradient ()));
         let before = In_channel.with_open_bin p In_channel.input_all in
-        (match Image.write_atomic p (fun _ -> failwith "disk full") with Ok () -> Alcotest.fail "ok" | Error _ -> ());
-        Alcotest.(check string) "unchanged" before (In_channel.with_open_bin p In_channel.input_all);
+        (match Image.write_atomic p (fun _ -> failwith "disk full") with
+        | Ok () -> Alcotest.fail "ok"
+        | Error _ -> ());
+        Alcotest.(check string)
+          "unchanged" before
+          (In_channel.with_open_bin p In_channel.input_all);
         Alcotest.(check int) "no temp file" 1 (Array.length (Sys.readdir d)));
     Alcotest.test_case "unknown extensions are refused" `Quick (fun () ->
-        Alcotest.(check bool) "jpg" true (Result.is_error (Image.format_of_path "a.jpg"))) ]
+        Alcotest.(check bool) "jpg" true (Result.is_error (Image.format_of_path "a.jpg")));
+  ]
 
 (* ---- rendering ---- *)
 
 let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) () =
-  let floor = mat ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. }) () in
+  let floor =
+    mat
+      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. })
+      ()
+  in
   Scene.make_exn ~settings
     ~camera:(Camera.make ~position:(v 0. 2. (-6.)) ~look_at:(v 0. 0.5 0.) ())
-    ~lights:[ Light.point ~radius:0.5 ~samples:3 (v (-3.) 5. (-4.)); Light.directional ~intensity:0.3 (v 1. (-1.) 1.) ]
-    [ prim floor (Shape.plane ~normal:Vec3.y_axis ~offset:0.);
-      prim (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ()) (Shape.sphere ~center:(v (-1.5) 1. 0.) ~radius:1.);
+    ~lights:
+      [
+        Light.point ~radius:0.5 ~samples:3 (v (-3.) 5. (-4.));
+        Light.directional ~intensity:0.3 (v 1. (-1.) 1.);
+      ]
+    [
+      prim floor (Shape.plane ~normal:Vec3.y_axis ~offset:0.);
+      prim
+        (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ())
+        (Shape.sphere ~center:(v (-1.5) 1. 0.) ~radius:1.);
       prim (mat ~reflection:0.8 ()) (Shape.sphere ~center:(v 0.8 0.7 1.) ~radius:0.7);
-      prim (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ()) (Shape.sphere ~center:(v 1. 0.5 (-1.5)) ~radius:0.5) ]
+      prim
+        (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ())
+        (Shape.sphere ~center:(v 1. 0.5 (-1.5)) ~radius:0.5);
+    ]
 
 let render_tests =
-  [ Alcotest.test_case "1, 2, 3 and 4 domains give identical framebuffers (jitter and soft shadows on)" `Slow (fun () ->
-        let settings = { Settings.default with width = 70; height = 45; samples = 2; jitter = true } in
+  [
+    Alcotest.test_case
+      "1, 2, 3 and 4 domains give identical framebuffers (jitter and soft shadows on)"
+      `Slow (fun () ->
+        let settings =
+          { Settings.default with width = 70; height = 45; samples = 2; jitter = true }
+        in
         let sc = demo_scene ~settings () in
         let reference, _ = Render.render sc in
         List.iter
           (fun n ->
             let fb, _ = Render.with_pool n (fun pool -> Render.render ?pool sc) in
-            Alcotest.(check bool) (Printf.sprintf "%d domains" n) true (floats_equal fb.data reference.data))
+            Alcotest.(check bool)
+              (Printf.sprintf "%d domains" n)
+              true
+              (floats_equal fb.data reference.data))
           [ 1; 2; 3; 4 ]);
-    Alcotest.test_case "ray counts do not depend on the number of domains" `Quick (fun () ->
+    Alcotest.test_case "ray counts do not depend on the number of domains" `Quick
+      (fun () ->
         let sc = demo_scene () in
         let _, a = Render.render sc in
         let _, b = Render.with_pool 2 (fun pool -> Render.render ?pool sc) in
         Alcotest.(check int) "rays" (Stats.total_rays a) (Stats.total_rays b);
         Alcotest.(check int) "primary" (64 * 48) a.primary);
-    Alcotest.test_case "n×n supersampling averages the sub-pixel centres" `Quick (fun () ->
-        let sc = demo_scene ~settings:{ Settings.default with width = 8; height = 6; samples = 2 } () in
+    Alcotest.test_case "n×n supersampling averages the sub-pixel centres" `Quick
+      (fun () ->
+        let sc =
+          demo_scene
+            ~settings:{ Settings.default with width = 8; height = 6; samples = 2 }
+            ()
+        in
         let st = Stats.create () in
         let got = Render.pixel sc st 3 2 in
-        let one x y = Shade.trace sc (Stats.create ()) (Camera.ray sc.camera ~width:8 ~height:6 x y) 1 in
+        let one x y =
+          Shade.trace sc (Stats.create ()) (Camera.ray sc.camera ~width:8 ~height:6 x y) 1
+        in
         let expect =
-          Color.scale 0.25 (Color.add (Color.add (one 3.25 2.25) (one 3.75 2.25)) (Color.add (one 3.25 2.75) (one 3.75 2.75)))
+          Color.scale 0.25
+            (Color.add
+               (Color.add (one 3.25 2.25) (one 3.75 2.25))
+               (Color.add (one 3.25 2.75) (one 3.75 2.75)))
         in
         check_color ~eps:1e-15 "mean" got expect;
         Alcotest.(check int) "4 primary rays" 4 st.primary);
-    Alcotest.test_case "adaptive sampling refines only where the 2×2 samples differ" `Quick (fun () ->
-        let sc = demo_scene ~settings:{ Settings.default with width = 32; height = 24; adaptive = 0.2 } () in
+    Alcotest.test_case "adaptive sampling refines only where the 2×2 samples differ"
+      `Quick (fun () ->
+        let sc =
+          demo_scene
+            ~settings:{ Settings.default with width = 32; height = 24; adaptive = 0.2 }
+            ()
+        in
         let _, st = Render.render sc in
-        Alcotest.(check bool) "more than 4 per pixel somewhere" true (st.primary > 4 * 32 * 24);
+        Alcotest.(check bool)
+          "more than 4 per pixel somewhere" true
+          (st.primary > 4 * 32 * 24);
         (* 4 samples everywhere, 16 more in each refined pixel: fewer than half refine. *)
         Alcotest.(check bool) "most pixels stay at 4" true (st.primary < (4 + 8) * 32 * 24));
-    Alcotest.test_case "a scene made only of opaque, matte objects casts no secondary rays" `Quick (fun () ->
+    Alcotest.test_case
+      "a scene made only of opaque, matte objects casts no secondary rays" `Quick
+      (fun () ->
         let sc =
-          Scene.make_exn ~settings:small ~lights:[ Light.point (v 0. 5. (-5.)) ]
+          Scene.make_exn ~settings:small
+            ~lights:[ Light.point (v 0. 5. (-5.)) ]
             [ prim (mat ()) (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
         Alcotest.(check bool) "no reflection feature" false sc.features.reflection;
         let _, st = Render.render sc in
         Alcotest.(check int) "reflected" 0 st.reflected;
-        Alcotest.(check int) "refracted" 0 st.refracted) ]
+        Alcotest.(check int) "refracted" 0 st.refracted);
+  ]
 
 let validation_tests =
-  [ Alcotest.test_case "reflection + transparency above 1 is refused" `Quick (fun () ->
+  [
+    Alcotest.test_case "reflection + transparency above 1 is refused" `Quick (fun () ->
         let m = mat ~reflection:0.6 ~transparency:0.6 () in
-        Alcotest.(check bool) "error" true
-          (Result.is_error (Scene.make ~lights:[] [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ])));
+        Alcotest.(check bool)
+          "error" true
+          (Result.is_error
+             (Scene.make ~lights:[]
+                [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ])));
     Alcotest.test_case "a camera looking at itself is refused" `Quick (fun () ->
-        Alcotest.(check bool) "error" true
-          (Result.is_error (Scene.make ~camera:(Camera.make ~position:Vec3.zero ~look_at:Vec3.zero ()) ~lights:[] [])));
-    Alcotest.test_case "an absurd image size is refused before allocating" `Quick (fun () ->
-        Alcotest.(check bool) "error" true
-          (Result.is_error (Scene.make ~settings:{ Settings.default with width = 100_000; height = 100_000 } ~lights:[] []))) ]
+        Alcotest.(check bool)
+          "error" true
+          (Result.is_error
+             (Scene.make
+                ~camera:(Camera.make ~position:Vec3.zero ~look_at:Vec3.zero ())
+                ~lights:[] [])));
+    Alcotest.test_case "an absurd image size is refused before allocating" `Quick
+      (fun () ->
+        Alcotest.(check bool)
+          "error" true
+          (Result.is_error
+             (Scene.make
+                ~settings:{ Settings.default with width = 100_000; height = 100_000 }
+                ~lights:[] [])));
+  ]
 
 (* ---- scale invariance (doc/numerics.md) ---- *)
 
@@ -389,21 +582,39 @@ let validation_tests =
    checker size, area-light radius; attenuation coefficients rescaled so that
    att(k·d) = att(d). *)
 let scaled_parts ?(shift = Vec3.zero) k =
-  let floor = mat ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k }) () in
+  let floor =
+    mat
+      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k })
+      ()
+  in
   let p x y z = Vec3.add shift (v (k *. x) (k *. y) (k *. z)) in
   ( Camera.make ~position:(p 0. 2. (-6.)) ~look_at:(p 0. 0.5 0.) (),
-
-      [ Light.point ~radius:(0.5 *. k) ~samples:3 ~attenuation:(v 1. (0.05 /. k) (0.01 /. (k *. k))) (p (-3.) 5. (-4.));
-        Light.directional ~intensity:0.3 (v 1. (-1.) 1.) ],
-    [ prim floor (Shape.plane ~normal:Vec3.y_axis ~offset:shift.y);
-      prim (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ()) (Shape.sphere ~center:(p (-1.5) 1. 0.) ~radius:k);
-      prim (mat ~reflection:0.8 ()) (Shape.sphere ~center:(p 0.8 0.7 1.) ~radius:(0.7 *. k));
-      prim (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ()) (Shape.sphere ~center:(p 1. 0.5 (-1.5)) ~radius:(0.5 *. k));
-      prim (mat ~color:(Color.v 0.2 0.9 0.3) ()) (Shape.sphere ~center:(p (-0.2) 0.25 (-1.2)) ~radius:(0.25 *. k)) ] )
+    [
+      Light.point ~radius:(0.5 *. k) ~samples:3
+        ~attenuation:(v 1. (0.05 /. k) (0.01 /. (k *. k)))
+        (p (-3.) 5. (-4.));
+      Light.directional ~intensity:0.3 (v 1. (-1.) 1.);
+    ],
+    [
+      prim floor (Shape.plane ~normal:Vec3.y_axis ~offset:shift.y);
+      prim
+        (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ())
+        (Shape.sphere ~center:(p (-1.5) 1. 0.) ~radius:k);
+      prim (mat ~reflection:0.8 ())
+        (Shape.sphere ~center:(p 0.8 0.7 1.) ~radius:(0.7 *. k));
+      prim
+        (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ())
+        (Shape.sphere ~center:(p 1. 0.5 (-1.5)) ~radius:(0.5 *. k));
+      prim
+        (mat ~color:(Color.v 0.2 0.9 0.3) ())
+        (Shape.sphere ~center:(p (-0.2) 0.25 (-1.2)) ~radius:(0.25 *. k));
+    ] )
 
 let scaled_scene ?shift k =
   let camera, lights, prims = scaled_parts ?shift k in
-  Scene.make_exn ~settings:{ Settings.default with width = 64; height = 48 } ~camera ~lights prims
+  Scene.make_exn
+    ~settings:{ Settings.default with width = 64; height = 48 }
+    ~camera ~lights prims
 
 let encoded sc =
   let fb, _ = Render.render sc in
@@ -412,28 +623,51 @@ let encoded sc =
 let scale_tests =
   let reference = lazy (encoded (scaled_scene 1.)) in
   let bit_identical k =
-    Alcotest.test_case (Printf.sprintf "scaling the scene by %g gives a bit-identical framebuffer" k) `Quick (fun () ->
-        let a, _ = Render.render (scaled_scene 1.) and b, _ = Render.render (scaled_scene k) in
+    Alcotest.test_case
+      (Printf.sprintf "scaling the scene by %g gives a bit-identical framebuffer" k)
+      `Quick (fun () ->
+        let a, _ = Render.render (scaled_scene 1.)
+        and b, _ = Render.render (scaled_scene k) in
         Alcotest.(check bool) "identical" true (floats_equal a.data b.data))
   in
   let within k =
-    Alcotest.test_case (Printf.sprintf "scaling the scene by %g moves no pixel by more than 1/255 (but a few edge pixels)" k) `Quick
-      (fun () ->
+    Alcotest.test_case
+      (Printf.sprintf
+         "scaling the scene by %g moves no pixel by more than 1/255 (but a few edge \
+          pixels)"
+         k) `Quick (fun () ->
         let a = Lazy.force reference and b = encoded (scaled_scene k) in
         match Compare.compare ~threshold:1 (64, 48, a) (64, 48, b) with
         | Error m -> Alcotest.fail m
-        | Ok c -> Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over <= 3))
+        | Ok c ->
+            Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over <= 3))
   in
   let translated =
-    Alcotest.test_case "translating the scene by 1e6 moves no pixel by more than 1/255 (but a few edge pixels)" `Quick (fun () ->
+    Alcotest.test_case
+      "translating the scene by 1e6 moves no pixel by more than 1/255 (but a few edge \
+       pixels)"
+      `Quick (fun () ->
         (* At 1e6 the offset δ is 1e-3 scene units: shadow and silhouette edges move by that
            much, which flips a handful of 1-sample edge pixels (8 of 3072 when measured). *)
-        let a = Lazy.force reference and b = encoded (scaled_scene ~shift:(v 1e6 1e6 (-1e6)) 1.) in
+        let a = Lazy.force reference
+        and b = encoded (scaled_scene ~shift:(v 1e6 1e6 (-1e6)) 1.) in
         match Compare.compare ~threshold:1 (64, 48, a) (64, 48, b) with
         | Error m -> Alcotest.fail m
-        | Ok c -> Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over <= 12 && c.rmse < 1.))
+        | Ok c ->
+            Alcotest.(check bool)
+              (Format.asprintf "%a" Compare.pp c)
+              true
+              (c.over <= 12 && c.rmse < 1.))
   in
-  [ translated; bit_identical 0x1p20; bit_identical 0x1p-20; within 1e3; within 1e-3; within 1e6; within 1e-6 ]
+  [
+    translated;
+    bit_identical 0x1p20;
+    bit_identical 0x1p-20;
+    within 1e3;
+    within 1e-3;
+    within 1e6;
+    within 1e-6;
+  ]
 
 (* The scene of [scaled_scene] with a transformed ellipsoid and box and a textured sphere
    besides, at 320×240, moved by [shift] as a whole. *)
@@ -441,49 +675,93 @@ let far_scene shift =
   let camera, lights, prims = scaled_parts ~shift 1. in
   let p x y z = Vec3.add shift (v x y z) in
   let extra =
-    [ prim
-        ~transform:(Transform.then_ (Transform.scale (v 0.6 0.3 0.4)) (Transform.translate (p 1.9 0.3 0.2)))
-        (mat ~color:(Color.v 0.3 0.3 0.9) ~specular:0.4 ()) (Shape.sphere ~center:Vec3.zero ~radius:1.);
+    [
       prim
-        ~transform:(Transform.then_ (Transform.rotate (v 0. 35. 0.)) (Transform.translate (p (-2.6) 0.4 1.5)))
-        (mat ~texture:(Texture.Stripes { c1 = Color.v 0.9 0.8 0.1; c2 = Color.v 0.1 0.3 0.6; size = 0.1 }) ())
+        ~transform:
+          (Transform.then_
+             (Transform.scale (v 0.6 0.3 0.4))
+             (Transform.translate (p 1.9 0.3 0.2)))
+        (mat ~color:(Color.v 0.3 0.3 0.9) ~specular:0.4 ())
+        (Shape.sphere ~center:Vec3.zero ~radius:1.);
+      prim
+        ~transform:
+          (Transform.then_
+             (Transform.rotate (v 0. 35. 0.))
+             (Transform.translate (p (-2.6) 0.4 1.5)))
+        (mat
+           ~texture:
+             (Texture.Stripes
+                { c1 = Color.v 0.9 0.8 0.1; c2 = Color.v 0.1 0.3 0.6; size = 0.1 })
+           ())
         (Shape.box ~min:(v (-0.4) (-0.4) (-0.4)) ~max:(v 0.4 0.4 0.4));
-      prim (mat ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 }) ())
-        (Shape.sphere ~center:(p 0.3 1.6 2.5) ~radius:0.6) ]
+      prim
+        (mat
+           ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 })
+           ())
+        (Shape.sphere ~center:(p 0.3 1.6 2.5) ~radius:0.6);
+    ]
   in
-  Scene.make_exn ~settings:{ Settings.default with width = 320; height = 240 } ~camera ~lights (prims @ extra)
+  Scene.make_exn
+    ~settings:{ Settings.default with width = 320; height = 240 }
+    ~camera ~lights (prims @ extra)
 
 let far_tests =
   let reference = lazy (encoded (far_scene Vec3.zero)) in
   let moved d share =
     Alcotest.test_case
-      (Printf.sprintf "moved by %g, at most %g%% of the pixels differ by more than 2/255" d (100. *. share)) `Quick
+      (Printf.sprintf "moved by %g, at most %g%% of the pixels differ by more than 2/255"
+         d (100. *. share))
+      `Quick
       (fun () ->
         let sc = far_scene (v d d (-.d)) in
-        Alcotest.(check bool) "rendered near the camera" true (Vec3.max_abs sc.view.position < 1e5);
+        Alcotest.(check bool)
+          "rendered near the camera" true
+          (Vec3.max_abs sc.view.position < 1e5);
         let a = Lazy.force reference and b = encoded sc in
         match Compare.compare ~threshold:2 (320, 240, a) (320, 240, b) with
         | Error m -> Alcotest.fail m
-        | Ok c -> Alcotest.(check bool) (Format.asprintf "%a" Compare.pp c) true (c.over_share <= share))
+        | Ok c ->
+            Alcotest.(check bool)
+              (Format.asprintf "%a" Compare.pp c)
+              true (c.over_share <= share))
   in
-  [ moved 1e6 1e-4; moved 1e9 1e-3;
-    Alcotest.test_case "moved by 1e9, the alpha channel is the one at the origin" `Quick (fun () ->
+  [
+    moved 1e6 1e-4;
+    moved 1e9 1e-3;
+    Alcotest.test_case "moved by 1e9, the alpha channel is the one at the origin" `Quick
+      (fun () ->
         let alpha sc =
           let a = Float.Array.make (320 * 240) 0. in
           ignore (Render.render ~alpha:a sc);
           a
         in
-        let a = alpha (far_scene Vec3.zero) and b = alpha (far_scene (v 1e9 1e9 (-1e9))) in
+        let a = alpha (far_scene Vec3.zero)
+        and b = alpha (far_scene (v 1e9 1e9 (-1e9))) in
         let differ = ref 0 in
-        Float.Array.iteri (fun k x -> if Float.abs (x -. Float.Array.get b k) > 0.01 then incr differ) a;
-        if !differ > 8 then Alcotest.failf "%d of %d pixels have another alpha" !differ (320 * 240));
+        Float.Array.iteri
+          (fun k x -> if Float.abs (x -. Float.Array.get b k) > 0.01 then incr differ)
+          a;
+        if !differ > 8 then
+          Alcotest.failf "%d of %d pixels have another alpha" !differ (320 * 240));
     Alcotest.test_case "a camera near the origin moves nothing" `Quick (fun () ->
         let sc = far_scene (v 300. (-500.) 1000.) in
-        Alcotest.(check bool) "origin" true (Vec3.max_abs sc.origin = 0.)) ]
+        Alcotest.(check bool) "origin" true (Vec3.max_abs sc.origin = 0.));
+  ]
 
 let () =
   Alcotest.run "core"
-    [ ("vec3", vec_tests); ("transform", transform_tests); ("camera", camera_tests); ("encode", encode_tests);
-      ("lambert", lambert_tests); ("reflection", reflection_tests); ("refraction", refraction_tests);
-      ("texture", texture_tests); ("files", file_tests); ("render", render_tests); ("validation", validation_tests);
-      ("scale", scale_tests); ("far from the origin", far_tests) ]
+    [
+      ("vec3", vec_tests);
+      ("transform", transform_tests);
+      ("camera", camera_tests);
+      ("encode", encode_tests);
+      ("lambert", lambert_tests);
+      ("reflection", reflection_tests);
+      ("refraction", refraction_tests);
+      ("texture", texture_tests);
+      ("files", file_tests);
+      ("render", render_tests);
+      ("validation", validation_tests);
+      ("scale", scale_tests);
+      ("far from the origin", far_tests);
+    ]

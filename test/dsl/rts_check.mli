@@ -1,1 +1,2 @@
-(** A test helper executable: it runs one bad scene and prints its errors, for the diff rules of scenes/bad. *)
+(** A test helper executable: it runs one bad scene and prints its errors, for the diff
+    rules of scenes/bad. *)

@@ -25,12 +25,16 @@ let scene ?(time = 0.) ?(frame = 0) text =
 (* The value of expression [e]: the radius of a sphere whose radius is [e]. *)
 let num e =
   let s = scene (Printf.sprintf "sphere { center: (0, 0, 0), radius: %s }" e) in
-  match s.objects.(0).shape with Shape.Sphere { radius; _ } -> radius | _ -> Alcotest.fail "not a sphere"
+  match s.objects.(0).shape with
+  | Shape.Sphere { radius; _ } -> radius
+  | _ -> Alcotest.fail "not a sphere"
 
 (* The value of vector expression [e]: the centre of a sphere. *)
 let vec e =
   let s = scene (Printf.sprintf "sphere { center: %s, radius: 1 }" e) in
-  match s.objects.(0).shape with Shape.Sphere { center; _ } -> center | _ -> Alcotest.fail "not a sphere"
+  match s.objects.(0).shape with
+  | Shape.Sphere { center; _ } -> center
+  | _ -> Alcotest.fail "not a sphere"
 
 let errs text =
   match Dsl.load_string ~filename:"test.rts" text with
@@ -70,14 +74,17 @@ let test_vectors () =
   veq "vector over scalar" (Vec3.v 0.5 1. 1.5) (vec "(1, 2, 3) / 2");
   veq "negation" (Vec3.v (-1.) (-2.) (-3.)) (vec "-(1, 2, 3)");
   feq "components" 6. (num "(1, 2, 3).x + (1, 2, 3).y + (1, 2, 3).z");
-  veq "parentheses around one expression only group" (Vec3.v 3. 0. 0.) (vec "((1 + 2), 0, 0)")
+  veq "parentheses around one expression only group" (Vec3.v 3. 0. 0.)
+    (vec "((1 + 2), 0, 0)")
 
 let test_builtins () =
   feq "sin" 1. (num "sin(pi / 2) + 0.0");
   feq "radians" (Float.pi /. 2.) (num "radians(90)");
   feq "degrees" 180. (num "degrees(pi)");
   feq "atan2" (Float.pi /. 4.) (num "atan2(1, 1)");
-  feq "sqrt abs floor ceil round" (3. +. 2. +. 1. +. 2. +. 3.) (num "sqrt(9) + abs(-2) + floor(1.7) + ceil(1.2) + round(2.6)");
+  feq "sqrt abs floor ceil round"
+    (3. +. 2. +. 1. +. 2. +. 3.)
+    (num "sqrt(9) + abs(-2) + floor(1.7) + ceil(1.2) + round(2.6)");
   feq "min max" 5. (num "min(3, 1, 2) + max(1, 4)");
   feq "pow exp log" 9. (num "pow(2, 3) + exp(0) + log(1)");
   feq "clamp" 1. (num "clamp(5, 0, 1)");
@@ -94,28 +101,65 @@ let test_builtins () =
 
 let test_let_fn_scoping () =
   feq "let" 3. (num "3\nlet z = 1");
-  let s = scene "let r = 2\nfn twice(x) = 2 * x\nsphere { center: (0,0,0), radius: twice(r) }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "fn" 4. radius | _ -> Alcotest.fail "expected a sphere");
-  let s = scene "let r = 1\nfor i in 1 to 1 { let r = 5 }\nsphere { center: (0,0,0), radius: r }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "a let in a loop is local" 1. radius | _ -> Alcotest.fail "expected a sphere");
-  let s = scene "let k = 3\nfn f(x) = x * k\nlet k = 100\nsphere { center: (0,0,0), radius: f(1) }" in
-  (match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "functions are lexically scoped" 3. radius | _ -> Alcotest.fail "expected a sphere");
-  let s = scene "fn fact(n) = if n <= 1 then 1 else n * fact(n - 1)\nsphere { center: (0,0,0), radius: fact(5) }" in
-  match s.objects.(0).shape with Shape.Sphere { radius; _ } -> feq "recursion" 120. radius | _ -> Alcotest.fail "expected a sphere"
+  let s =
+    scene "let r = 2\nfn twice(x) = 2 * x\nsphere { center: (0,0,0), radius: twice(r) }"
+  in
+  (match s.objects.(0).shape with
+  | Shape.Sphere { radius; _ } -> feq "fn" 4. radius
+  | _ -> Alcotest.fail "expected a sphere");
+  let s =
+    scene
+      "let r = 1\nfor i in 1 to 1 { let r = 5 }\nsphere { center: (0,0,0), radius: r }"
+  in
+  (match s.objects.(0).shape with
+  | Shape.Sphere { radius; _ } -> feq "a let in a loop is local" 1. radius
+  | _ -> Alcotest.fail "expected a sphere");
+  let s =
+    scene
+      "let k = 3\nfn f(x) = x * k\nlet k = 100\nsphere { center: (0,0,0), radius: f(1) }"
+  in
+  (match s.objects.(0).shape with
+  | Shape.Sphere { radius; _ } -> feq "functions are lexically scoped" 3. radius
+  | _ -> Alcotest.fail "expected a sphere");
+  let s =
+    scene
+      "fn fact(n) = if n <= 1 then 1 else n * fact(n - 1)\n\
+       sphere { center: (0,0,0), radius: fact(5) }"
+  in
+  match s.objects.(0).shape with
+  | Shape.Sphere { radius; _ } -> feq "recursion" 120. radius
+  | _ -> Alcotest.fail "expected a sphere"
 
 let count text = Array.length (scene text).objects
 
 let test_loops_and_macros () =
-  Alcotest.(check int) "inclusive loop" 5 (count "for i in 1 to 5 { sphere { center: (i, 0, 0), radius: 0.1 } }");
-  Alcotest.(check int) "step" 3 (count "for i in 0 to 1 step 0.5 { sphere { center: (i, 0, 0), radius: 0.1 } }");
-  Alcotest.(check int) "negative step" 4 (count "for i in 3 to 0 step -1 { sphere { center: (i, 0, 0), radius: 0.1 } }");
-  Alcotest.(check int) "empty range" 0 (count "for i in 1 to 0 { sphere { center: (i, 0, 0), radius: 0.1 } }");
-  Alcotest.(check int) "macro called as a statement" 6
-    (count "fn row(n) { for i in 1 to n { sphere { center: (i, 0, 0), radius: 0.1 } } }\nrow(2)\nrow(4)");
-  Alcotest.(check int) "if statement" 1
-    (count "if 1 < 2 { sphere { center: (0,0,0), radius: 1 } } else { plane { normal: (0,1,0) } plane { normal: (0,1,0) } }");
-  Alcotest.(check int) "else if" 2
-    (count "if false { } else if true { plane { normal: (0,1,0) } plane { normal: (0,1,0) } }")
+  Alcotest.(check int)
+    "inclusive loop" 5
+    (count "for i in 1 to 5 { sphere { center: (i, 0, 0), radius: 0.1 } }");
+  Alcotest.(check int)
+    "step" 3
+    (count "for i in 0 to 1 step 0.5 { sphere { center: (i, 0, 0), radius: 0.1 } }");
+  Alcotest.(check int)
+    "negative step" 4
+    (count "for i in 3 to 0 step -1 { sphere { center: (i, 0, 0), radius: 0.1 } }");
+  Alcotest.(check int)
+    "empty range" 0
+    (count "for i in 1 to 0 { sphere { center: (i, 0, 0), radius: 0.1 } }");
+  Alcotest.(check int)
+    "macro called as a statement" 6
+    (count
+       "fn row(n) { for i in 1 to n { sphere { center: (i, 0, 0), radius: 0.1 } } }\n\
+        row(2)\n\
+        row(4)");
+  Alcotest.(check int)
+    "if statement" 1
+    (count
+       "if 1 < 2 { sphere { center: (0,0,0), radius: 1 } } else { plane { normal: \
+        (0,1,0) } plane { normal: (0,1,0) } }");
+  Alcotest.(check int)
+    "else if" 2
+    (count
+       "if false { } else if true { plane { normal: (0,1,0) } plane { normal: (0,1,0) } }")
 
 let test_groups_and_transforms () =
   let s =
@@ -123,39 +167,59 @@ let test_groups_and_transforms () =
       "let red = material { color: (1, 0, 0) }\n\
        group { translate: (10, 0, 0), material: red,\n\
       \  sphere { center: (0, 0, 0), radius: 1 }\n\
-      \  sphere { center: (0, 0, 0), radius: 1, material: material { color: (0, 0, 1) } } }"
+      \  sphere { center: (0, 0, 0), radius: 1, material: material { color: (0, 0, 1) } \
+       } }"
   in
   let o0 = s.objects.(0) and o1 = s.objects.(1) in
-  Alcotest.(check bool) "a member without a material takes the group's" true (o0.material.color = Color.v 1. 0. 0.);
-  Alcotest.(check bool) "a member with its own keeps it" true (o1.material.color = Color.v 0. 0. 1.);
-  veq "the group's transform applies" (Vec3.v 10. 0. 0.) (Transform.point o0.transform Vec3.zero);
-  let s = scene "sphere { center: (0,0,0), radius: 1, translate: (1, 0, 0), rotate: (0, 0, 90) }" in
-  veq "translate then rotate" (Vec3.v 0. 1. 0.) (Transform.point s.objects.(0).transform Vec3.zero);
-  let s = scene "sphere { center: (0,0,0), radius: 1, rotate: (0, 0, 90), translate: (1, 0, 0) }" in
-  veq "rotate then translate" (Vec3.v 1. 0. 0.) (Transform.point s.objects.(0).transform Vec3.zero);
+  Alcotest.(check bool)
+    "a member without a material takes the group's" true
+    (o0.material.color = Color.v 1. 0. 0.);
+  Alcotest.(check bool)
+    "a member with its own keeps it" true
+    (o1.material.color = Color.v 0. 0. 1.);
+  veq "the group's transform applies" (Vec3.v 10. 0. 0.)
+    (Transform.point o0.transform Vec3.zero);
+  let s =
+    scene
+      "sphere { center: (0,0,0), radius: 1, translate: (1, 0, 0), rotate: (0, 0, 90) }"
+  in
+  veq "translate then rotate" (Vec3.v 0. 1. 0.)
+    (Transform.point s.objects.(0).transform Vec3.zero);
+  let s =
+    scene
+      "sphere { center: (0,0,0), radius: 1, rotate: (0, 0, 90), translate: (1, 0, 0) }"
+  in
+  veq "rotate then translate" (Vec3.v 1. 0. 0.)
+    (Transform.point s.objects.(0).transform Vec3.zero);
   let s = scene "sphere { center: (0,0,0), radius: 1, scale: 2, translate: (1, 0, 0) }" in
-  veq "scale then translate" (Vec3.v 3. 0. 0.) (Transform.point s.objects.(0).transform (Vec3.v 1. 0. 0.))
+  veq "scale then translate" (Vec3.v 3. 0. 0.)
+    (Transform.point s.objects.(0).transform (Vec3.v 1. 0. 0.))
 
 let test_materials () =
   let s =
     scene
       "let glass = material { transparency: 0.9, ior: 1.5, color: (0.5, 0.5, 0.5) }\n\
        sphere { center: (0,0,0), radius: 1, material: material { base: glass, ior: 1.3 } }\n\
-       plane { normal: (0, 1, 0), material: material { texture: checker((1,1,1), (0,0,0), 2), bump: noise(1, 0.1) } }"
+       plane { normal: (0, 1, 0), material: material { texture: checker((1,1,1), \
+       (0,0,0), 2), bump: noise(1, 0.1) } }"
   in
   let m = s.objects.(0).material in
   feq "base copies" 0.9 m.transparency;
   feq "then overrides" 1.3 m.ior;
   feq "defaults stay" Material.default.diffuse m.diffuse;
   let p = s.objects.(1).material in
-  Alcotest.(check bool) "checker texture" true
+  Alcotest.(check bool)
+    "checker texture" true
     (p.texture = Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
-  Alcotest.(check bool) "noise bump" true (p.bump = Some (Bump.Noise { scale = 1.; amount = 0.1 }))
+  Alcotest.(check bool)
+    "noise bump" true
+    (p.bump = Some (Bump.Noise { scale = 1.; amount = 0.1 }))
 
 let test_settings_camera_lights () =
   let s =
     scene
-      "settings { width: 320, height: 200, samples: 2, gamma: 2.2, background: (0.1, 0.2, 0.3), shadows: false }\n\
+      "settings { width: 320, height: 200, samples: 2, gamma: 2.2, background: (0.1, \
+       0.2, 0.3), shadows: false }\n\
        camera { position: (0, 1, -3), fov: 40 }\n\
        light { position: (1, 2, 3), intensity: 2 }\n\
        light { direction: (0, -1, 0) }"
@@ -171,44 +235,67 @@ let test_settings_camera_lights () =
   feq "default camera" (-5.) d.camera.position.z
 
 let test_animation_time () =
-  let p = load "animation { fps: 10, frames: 20 }\nsphere { center: (time, frame, 0), radius: 1 }" in
-  Alcotest.(check (option (pair (float 0.) int))) "animation" (Some (10., 20)) (Dsl.animation p);
+  let p =
+    load
+      "animation { fps: 10, frames: 20 }\nsphere { center: (time, frame, 0), radius: 1 }"
+  in
+  Alcotest.(check (option (pair (float 0.) int)))
+    "animation"
+    (Some (10., 20))
+    (Dsl.animation p);
   (match Dsl.scene_at p ~time:1.5 ~frame:15 with
-   | Ok s -> (
-       match s.objects.(0).shape with
-       | Shape.Sphere { center; _ } -> veq "time and frame are bound" (Vec3.v 1.5 15. 0.) center
-       | _ -> Alcotest.fail "expected a sphere")
-   | Error es -> Alcotest.fail (errors_text es));
+  | Ok s -> (
+      match s.objects.(0).shape with
+      | Shape.Sphere { center; _ } ->
+          veq "time and frame are bound" (Vec3.v 1.5 15. 0.) center
+      | _ -> Alcotest.fail "expected a sphere")
+  | Error es -> Alcotest.fail (errors_text es));
   let p = load "animation { fps: 24, duration: 2 }" in
-  Alcotest.(check (option (pair (float 0.) int))) "duration" (Some (24., 48)) (Dsl.animation p);
-  Alcotest.(check (option (pair (float 0.) int))) "defaults: 24 fps, 48 frames" (Some (24., 48)) (Dsl.animation (load "animation { }"));
-  Alcotest.(check (option (pair (float 0.) int))) "frames default to 48" (Some (12., 48)) (Dsl.animation (load "animation { fps: 12 }"));
+  Alcotest.(check (option (pair (float 0.) int)))
+    "duration"
+    (Some (24., 48))
+    (Dsl.animation p);
+  Alcotest.(check (option (pair (float 0.) int)))
+    "defaults: 24 fps, 48 frames"
+    (Some (24., 48))
+    (Dsl.animation (load "animation { }"));
+  Alcotest.(check (option (pair (float 0.) int)))
+    "frames default to 48"
+    (Some (12., 48))
+    (Dsl.animation (load "animation { fps: 12 }"));
   Alcotest.(check (option (pair (float 0.) int))) "none" None (Dsl.animation (load ""))
 
 let test_bodies () =
   let text =
     "physics { gravity: (0, -10, 0), method: \"verlet\" }\n\
-     body ball { sphere { center: (0, 2, 0), radius: 0.5 } velocity: (1, 0, 0), mass: 2, restitution: 0.5 }\n\
+     body ball { sphere { center: (0, 2, 0), radius: 0.5 } velocity: (1, 0, 0), mass: 2, \
+     restitution: 0.5 }\n\
      camera { position: ball.position + (0, 0, -5), look_at: ball.position }\n\
      plane { normal: (0, 1, 0) }"
   in
   let p = load text in
   (match Dsl.bodies p with
-   | [ b ] ->
-       Alcotest.(check string) "name" "ball" b.name;
-       veq "centre" (Vec3.v 0. 2. 0.) b.center;
-       feq "mass" 2. b.mass;
-       feq "restitution" 0.5 b.restitution
-   | _ -> Alcotest.fail "one body");
-  Alcotest.(check bool) "physics" true
-    (match Dsl.physics p with Some { method_ = Dsl.Verlet; gravity; _ } -> gravity.y = -10. | _ -> false);
-  let hook name t = if name = "ball" then Some (Vec3.v t 7. 0., Vec3.v 1. 0. 0.) else None in
+  | [ b ] ->
+      Alcotest.(check string) "name" "ball" b.name;
+      veq "centre" (Vec3.v 0. 2. 0.) b.center;
+      feq "mass" 2. b.mass;
+      feq "restitution" 0.5 b.restitution
+  | _ -> Alcotest.fail "one body");
+  Alcotest.(check bool)
+    "physics" true
+    (match Dsl.physics p with
+    | Some { method_ = Dsl.Verlet; gravity; _ } -> gravity.y = -10.
+    | _ -> false);
+  let hook name t =
+    if name = "ball" then Some (Vec3.v t 7. 0., Vec3.v 1. 0. 0.) else None
+  in
   match Dsl.scene_at ~body_state:hook p ~time:3. ~frame:0 with
   | Ok s ->
       veq "the camera follows the hook" (Vec3.v 3. 7. 0.) s.camera.look_at;
       let o = s.objects.(Array.length s.objects - 1) in
       veq "the body sphere is drawn at its position" (Vec3.v 3. 7. 0.)
-        (Transform.point o.transform (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero))
+        (Transform.point o.transform
+           (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero))
   | Error es -> Alcotest.fail (errors_text es)
 
 (* Without a hook, bodies move by the engine among the scene's static planes,
@@ -225,7 +312,8 @@ let test_physics_wired () =
   let p = load text in
   let centre s =
     let o = (s : Scene.t).objects.(Array.length s.objects - 1) in
-    Transform.point o.transform (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero)
+    Transform.point o.transform
+      (match o.shape with Shape.Sphere { center; _ } -> center | _ -> Vec3.zero)
   in
   let at t = scene_of p ~time:t in
   (* Impact when the centre has fallen 2 m: t = sqrt(2·2/10). *)
@@ -234,23 +322,40 @@ let test_physics_wired () =
   feq "the camera looks at the moving ball" (centre (at 0.3)).y (at 0.3).camera.look_at.y;
   let v_up = 0.5 *. 10. *. t_hit in
   let dt = 0.1 in
-  feq "after the bounce, the rebound in closed form" (0.5 +. (v_up *. dt) -. (5. *. dt *. dt)) (centre (at (t_hit +. dt))).y;
+  feq "after the bounce, the rebound in closed form"
+    (0.5 +. (v_up *. dt) -. (5. *. dt *. dt))
+    (centre (at (t_hit +. dt))).y;
   feq "at rest on the floor at the end" 0.5 (centre (at 3.)).y;
-  (match Dsl.colliders p with [ Physics.Plane _ ] -> () | _ -> Alcotest.fail "one plane collider");
+  (match Dsl.colliders p with
+  | [ Physics.Plane _ ] -> ()
+  | _ -> Alcotest.fail "one plane collider");
   (* A rotated body keeps its radius; a body scaled unevenly is refused. *)
-  (match Dsl.bodies (load "body b { sphere { center: (0, 2, 0), radius: 1, rotate: (0, 45, 0), scale: 2 } }") with
-   | [ b ] -> feq "radius under rotation and uniform scale" 2. b.radius
-   | _ -> Alcotest.fail "one body");
-  check_err "body b { sphere { center: (0, 2, 0), radius: 1, scale: (1, 2, 1) } }" "a body must stay a sphere";
-  check_err "group { translate: (0, 10, 0) light { position: (0, 0, 0) } }" "`light` cannot be inside a group";
+  (match
+     Dsl.bodies
+       (load
+          "body b { sphere { center: (0, 2, 0), radius: 1, rotate: (0, 45, 0), scale: 2 \
+           } }")
+   with
+  | [ b ] -> feq "radius under rotation and uniform scale" 2. b.radius
+  | _ -> Alcotest.fail "one body");
+  check_err "body b { sphere { center: (0, 2, 0), radius: 1, scale: (1, 2, 1) } }"
+    "a body must stay a sphere";
+  check_err "group { translate: (0, 10, 0) light { position: (0, 0, 0) } }"
+    "`light` cannot be inside a group";
   (* A fixed step that would not fit in memory is refused, not attempted. *)
   (match
      Dsl.scene_at
-       (load "animation { fps: 24, duration: 2 }\nphysics { method: \"verlet\", step: 1e-9 }\nbody b { sphere { center: (0, 2, 0), radius: 0.5 } }")
+       (load
+          "animation { fps: 24, duration: 2 }\n\
+           physics { method: \"verlet\", step: 1e-9 }\n\
+           body b { sphere { center: (0, 2, 0), radius: 0.5 } }")
        ~time:1. ~frame:24
    with
-   | Ok _ -> Alcotest.fail "a 2e9-step simulation was attempted"
-   | Error es -> Alcotest.(check bool) (errors_text es) true (contains (errors_text es) "steps per body; the limit is 10000000"));
+  | Ok _ -> Alcotest.fail "a 2e9-step simulation was attempted"
+  | Error es ->
+      Alcotest.(check bool)
+        (errors_text es) true
+        (contains (errors_text es) "steps per body; the limit is 10000000"));
   (* An axis-aligned box is one collider; a rotated one is its six faces; spheres are none. *)
   let q =
     load
@@ -267,22 +372,32 @@ let test_physics_wired () =
   | _ -> Alcotest.fail "a box, then faces"
 
 let test_includes () =
-  let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "rts_inc_%d" (Unix.getpid ())) in
+  let dir =
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "rts_inc_%d" (Unix.getpid ()))
+  in
   (try Unix.mkdir dir 0o755 with _ -> ());
-  let write f s = Out_channel.with_open_bin (Filename.concat dir f) (fun oc -> output_string oc s) in
+  let write f s =
+    Out_channel.with_open_bin (Filename.concat dir f) (fun oc -> output_string oc s)
+  in
   write "common.rts" "let r = 2\nsphere { center: (0, 0, 0), radius: r }";
   write "main.rts" "include \"common.rts\"\nsphere { center: (1, 0, 0), radius: r }";
   (match Dsl.load_file (Filename.concat dir "main.rts") with
-   | Ok p -> (
-       match Dsl.scene_at p ~time:0. ~frame:0 with
-       | Ok s -> Alcotest.(check int) "included objects and names" 2 (Array.length s.objects)
-       | Error es -> Alcotest.fail (errors_text es))
-   | Error es -> Alcotest.fail (errors_text es));
+  | Ok p -> (
+      match Dsl.scene_at p ~time:0. ~frame:0 with
+      | Ok s ->
+          Alcotest.(check int) "included objects and names" 2 (Array.length s.objects)
+      | Error es -> Alcotest.fail (errors_text es))
+  | Error es -> Alcotest.fail (errors_text es));
   write "a.rts" "include \"b.rts\"";
   write "b.rts" "include \"a.rts\"";
   match Dsl.load_file (Filename.concat dir "a.rts") with
   | Ok _ -> Alcotest.fail "a cycle must fail"
-  | Error es -> Alcotest.(check bool) "cycle" true (List.exists (fun (e : Error.t) -> contains e.message "include cycle") es)
+  | Error es ->
+      Alcotest.(check bool)
+        "cycle" true
+        (List.exists (fun (e : Error.t) -> contains e.message "include cycle") es)
 
 let test_errors () =
   check_err "sphere { center: (0,0,0), radiu: 1 }" "did you mean `radius`?";
@@ -291,7 +406,8 @@ let test_errors () =
   check_err "sphere { center: (0,0,0), radius: 0 }" "`radius` must be a length";
   check_err "sphere { center: (0,0,0), radius: 1e200 }" "`radius` must be a length";
   check_err "let m = material { ior: 0 }" "`ior` must be greater than 0";
-  check_err "let m = material { reflection: 0.7, transparency: 0.7 }" "reflection + transparency";
+  check_err "let m = material { reflection: 0.7, transparency: 0.7 }"
+    "reflection + transparency";
   check_err "settings { width: 0 }" "`width`";
   check_err "let x = 1 / 0" "division by zero";
   check_err "let x = 1e300 * 1e300" "infinity";
@@ -299,7 +415,10 @@ let test_errors () =
   check_err "for i in 0 to 1e12 { }" "loop would run";
   check_err "fn f(n) = f(n)\nlet x = f(1)" "nested more than";
   check_err "let x = 1 < 2 < 3" "comparisons do not chain";
-  check_err "sphere { center: (0,0,0), radius: 1 } sphere { center: (0,0,0), radius: 1, radius: 2 }" "given twice";
+  check_err
+    "sphere { center: (0,0,0), radius: 1 } sphere { center: (0,0,0), radius: 1, radius: \
+     2 }"
+    "given twice";
   check_err "settings { }\nsettings { }" "settings is given twice";
   check_err "let x = \"unterminated" "not closed";
   check_err "/* open" "not closed";
@@ -307,17 +426,27 @@ let test_errors () =
   check_err "let a = \"x\000y\"" "not a text file";
   check_err "body b { plane { normal: (0, 1, 0) } }" "exactly one sphere";
   check_err "physics { method: \"eular\" }" "did you mean `euler`?";
-  Alcotest.(check int) "independent errors are all reported" 3
-    (List.length (errs "let a = 1 / 0\nlet b = nope\nsphere { center: (0,0,0), radius: -1 }"));
-  Alcotest.(check int) "a failed let is not reported again where it is used" 1
-    (List.length (errs "let a = 1 / 0\nlet b = a + 1\nsphere { center: (0,0,0), radius: a }"))
+  Alcotest.(check int)
+    "independent errors are all reported" 3
+    (List.length
+       (errs "let a = 1 / 0\nlet b = nope\nsphere { center: (0,0,0), radius: -1 }"));
+  Alcotest.(check int)
+    "a failed let is not reported again where it is used" 1
+    (List.length
+       (errs "let a = 1 / 0\nlet b = a + 1\nsphere { center: (0,0,0), radius: a }"))
 
 let test_error_display () =
-  match Dsl.load_string ~filename:"x.rts" "sphere {\n  center: (0, 0, 0)\n  radiu: 2\n}" with
+  match
+    Dsl.load_string ~filename:"x.rts" "sphere {\n  center: (0, 0, 0)\n  radiu: 2\n}"
+  with
   | Ok _ -> Alcotest.fail "expected an error"
   | Error [ e ] ->
-      Alcotest.(check string) "file:line:col, source line, caret"
-        "x.rts:3:3: unknown field `radiu` in sphere; did you mean `radius`?\n  radiu: 2\n  ^^^^^\n" (Error.to_string e)
+      Alcotest.(check string)
+        "file:line:col, source line, caret"
+        "x.rts:3:3: unknown field `radiu` in sphere; did you mean `radius`?\n\
+        \  radiu: 2\n\
+        \  ^^^^^\n"
+        (Error.to_string e)
   | Error es -> Alcotest.failf "one error expected, got:\n%s" (errors_text es)
 
 (* A 200 000-character line is shown as a window around the column, caret under it. *)
@@ -325,22 +454,28 @@ let test_long_line () =
   let text = "let x = " ^ String.concat "" (List.init 50_000 (fun _ -> "1 + ")) ^ "y" in
   match Dsl.load_string ~filename:"x.rts" text with
   | Ok _ -> Alcotest.fail "expected an error"
-  | Error [ e ] ->
+  | Error [ e ] -> (
       let lines = String.split_on_char '\n' (Error.to_string e) in
-      (match lines with
-       | [ head; src; caret; "" ] ->
-           Alcotest.(check bool) head true (contains head "unknown name `y`");
-           Alcotest.(check bool) "short" true (String.length src < 200);
-           Alcotest.(check bool) "marked as cut" true (String.sub src 0 3 = "\xe2\x80\xa6");
-           Alcotest.(check int) "caret under the y" (String.index src 'y' - 2) (String.index caret '^')
-       | _ -> Alcotest.failf "unexpected display:\n%s" (Error.to_string e))
+      match lines with
+      | [ head; src; caret; "" ] ->
+          Alcotest.(check bool) head true (contains head "unknown name `y`");
+          Alcotest.(check bool) "short" true (String.length src < 200);
+          Alcotest.(check bool) "marked as cut" true (String.sub src 0 3 = "\xe2\x80\xa6");
+          Alcotest.(check int)
+            "caret under the y"
+            (String.index src 'y' - 2)
+            (String.index caret '^')
+      | _ -> Alcotest.failf "unexpected display:\n%s" (Error.to_string e))
   | Error es -> Alcotest.failf "one error expected, got:\n%s" (errors_text es)
 
 (* Every scene of scenes/ (not bad/) loads and evaluates. *)
 let scenes_dir = "../../scenes"
 
 let test_scenes () =
-  let files = Sys.readdir scenes_dir |> Array.to_list |> List.filter (fun f -> Filename.check_suffix f ".rts") in
+  let files =
+    Sys.readdir scenes_dir |> Array.to_list
+    |> List.filter (fun f -> Filename.check_suffix f ".rts")
+  in
   Alcotest.(check bool) "there are scenes" true (List.length files >= 6);
   List.iter
     (fun f ->
@@ -356,7 +491,11 @@ let test_scenes () =
     files
 
 let test_json () =
-  let p = load "sphere { center: (1, 2, 3), radius: 4, translate: (1, 0, 0) }\nlight { position: (0, 5, 0) }" in
+  let p =
+    load
+      "sphere { center: (1, 2, 3), radius: 4, translate: (1, 0, 0) }\n\
+       light { position: (0, 5, 0) }"
+  in
   match Dsl.scene_at p ~time:0. ~frame:0 with
   | Error es -> Alcotest.fail (errors_text es)
   | Ok s ->
@@ -370,7 +509,8 @@ let test_json () =
 (* ---------------------------------------------------------------------------------- *)
 (* Robustness: no input makes the language raise. *)
 
-let count = match Sys.getenv_opt "LANCER_FUZZ_COUNT" with Some n -> int_of_string n | None -> 2000
+let count =
+  match Sys.getenv_opt "LANCER_FUZZ_COUNT" with Some n -> int_of_string n | None -> 2000
 
 (* The boundary turns any exception into an "internal error": that is a crash too. *)
 let no_crash text es =
@@ -382,38 +522,132 @@ let no_exception text =
   match Dsl.load_string ~filename:"fuzz.rts" text with
   | Ok p -> (
       match Dsl.scene_at p ~time:0.5 ~frame:1 with
-      | Ok s -> ignore (Dsl.to_json p s); true
+      | Ok s ->
+          ignore (Dsl.to_json p s);
+          true
       | Error es -> no_crash text es)
-  | Error es -> List.iter (fun e -> ignore (Error.to_string e)) es; no_crash text es
-  | exception e -> QCheck.Test.fail_reportf "raised %s on:\n%s" (Printexc.to_string e) text
+  | Error es ->
+      List.iter (fun e -> ignore (Error.to_string e)) es;
+      no_crash text es
+  | exception e ->
+      QCheck.Test.fail_reportf "raised %s on:\n%s" (Printexc.to_string e) text
 
 let tokens =
-  [| "let"; "fn"; "for"; "in"; "to"; "step"; "if"; "then"; "else"; "include"; "body"; "material"; "and"; "or";
-     "not"; "true"; "false"; "("; ")"; "{"; "}"; ","; ":"; "."; "="; "=="; "!="; "<"; "<="; ">"; ">="; "+"; "-";
-     "*"; "/"; "%"; "^"; "x"; "i"; "f"; "sphere"; "plane"; "group"; "settings"; "camera"; "light"; "animation";
-     "physics"; "center"; "radius"; "normal"; "offset"; "position"; "width"; "0"; "1"; "-2.5"; ".5"; "1e300";
-     "1e-300"; "\"a.rts\""; "\"srgb\""; "sin"; "rand"; "checker"; "noise"; "image"; "pi"; "time"; "frame";
-     "\n"; "//c\n"; "/*"; "*/"; "\""; "\000"; "é" |]
+  [|
+    "let";
+    "fn";
+    "for";
+    "in";
+    "to";
+    "step";
+    "if";
+    "then";
+    "else";
+    "include";
+    "body";
+    "material";
+    "and";
+    "or";
+    "not";
+    "true";
+    "false";
+    "(";
+    ")";
+    "{";
+    "}";
+    ",";
+    ":";
+    ".";
+    "=";
+    "==";
+    "!=";
+    "<";
+    "<=";
+    ">";
+    ">=";
+    "+";
+    "-";
+    "*";
+    "/";
+    "%";
+    "^";
+    "x";
+    "i";
+    "f";
+    "sphere";
+    "plane";
+    "group";
+    "settings";
+    "camera";
+    "light";
+    "animation";
+    "physics";
+    "center";
+    "radius";
+    "normal";
+    "offset";
+    "position";
+    "width";
+    "0";
+    "1";
+    "-2.5";
+    ".5";
+    "1e300";
+    "1e-300";
+    "\"a.rts\"";
+    "\"srgb\"";
+    "sin";
+    "rand";
+    "checker";
+    "noise";
+    "image";
+    "pi";
+    "time";
+    "frame";
+    "\n";
+    "//c\n";
+    "/*";
+    "*/";
+    "\"";
+    "\000";
+    "é";
+  |]
 
 let token_seq =
   QCheck.make
     ~print:(fun s -> s)
-    QCheck.Gen.(map (fun l -> String.concat " " l) (list_size (int_range 0 40) (map (fun i -> tokens.(i)) (int_bound (Array.length tokens - 1)))))
+    QCheck.Gen.(
+      map
+        (fun l -> String.concat " " l)
+        (list_size (int_range 0 40)
+           (map (fun i -> tokens.(i)) (int_bound (Array.length tokens - 1)))))
 
 let valid =
-  [| In_channel.with_open_bin (Filename.concat scenes_dir "showcase.rts") In_channel.input_all;
-     "fn row(n) { for i in 0 to n { sphere { center: (i, 0, 0), radius: 0.5 } } }\nrow(3)\n\
-      group { scale: 2, material: material { color: (1, 0, 0) }, plane { normal: (0, 1, 0) } }\n\
-      body b { sphere { center: (0, 1, 0), radius: 1 } velocity: (0, 1, 0) }\n\
-      camera { position: b.position + (0, 0, -4) }\nanimation { fps: 4, frames: 3 }\n\
-      let x = if frame > 1 then sin(time) else hsv(0.5, 1, 1).x" |]
+  [|
+    In_channel.with_open_bin
+      (Filename.concat scenes_dir "showcase.rts")
+      In_channel.input_all;
+    "fn row(n) { for i in 0 to n { sphere { center: (i, 0, 0), radius: 0.5 } } }\n\
+     row(3)\n\
+     group { scale: 2, material: material { color: (1, 0, 0) }, plane { normal: (0, 1, \
+     0) } }\n\
+     body b { sphere { center: (0, 1, 0), radius: 1 } velocity: (0, 1, 0) }\n\
+     camera { position: b.position + (0, 0, -4) }\n\
+     animation { fps: 4, frames: 3 }\n\
+     let x = if frame > 1 then sin(time) else hsv(0.5, 1, 1).x";
+  |]
 
 (* A valid scene with a few random edits: a character deleted, replaced or duplicated. *)
 let mutated =
   let gen =
     QCheck.Gen.(
       let* base = oneofl (Array.to_list valid) in
-      let* edits = list_size (int_range 1 4) (triple (int_bound 2) nat (oneofl [ "("; ")"; "{"; "}"; ","; "0"; "-"; "/"; "x"; ":"; "\""; "1e999"; " " ])) in
+      let* edits =
+        list_size (int_range 1 4)
+          (triple (int_bound 2) nat
+             (oneofl
+                [ "("; ")"; "{"; "}"; ","; "0"; "-"; "/"; "x"; ":"; "\""; "1e999"; " " ]))
+      in
       return
         (List.fold_left
            (fun s (kind, pos, ins) ->
@@ -433,30 +667,73 @@ let props =
   let rand = Random.State.make [| 2024 |] in
   List.map
     (QCheck_alcotest.to_alcotest ~rand)
-    [ QCheck.Test.make ~name:"random token sequences give Ok or Error, never an exception nor an internal error" ~count token_seq no_exception;
-      QCheck.Test.make ~name:"mutated valid scenes give Ok or Error, never an exception nor an internal error" ~count mutated no_exception ]
+    [
+      QCheck.Test.make
+        ~name:
+          "random token sequences give Ok or Error, never an exception nor an internal \
+           error"
+        ~count token_seq no_exception;
+      QCheck.Test.make
+        ~name:
+          "mutated valid scenes give Ok or Error, never an exception nor an internal \
+           error"
+        ~count mutated no_exception;
+    ]
 
 let () =
   Alcotest.run "dsl"
-    [ ( "expressions",
-        [ Alcotest.test_case "operators follow the precedence of dsl/README.md" `Quick test_precedence;
-          Alcotest.test_case "vector arithmetic and components work component-wise" `Quick test_vectors;
-          Alcotest.test_case "every built-in computes what its name says" `Quick test_builtins;
-          Alcotest.test_case "let and fn are lexically scoped, and fn may recurse" `Quick test_let_fn_scoping ] );
+    [
+      ( "expressions",
+        [
+          Alcotest.test_case "operators follow the precedence of dsl/README.md" `Quick
+            test_precedence;
+          Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
+            test_vectors;
+          Alcotest.test_case "every built-in computes what its name says" `Quick
+            test_builtins;
+          Alcotest.test_case "let and fn are lexically scoped, and fn may recurse" `Quick
+            test_let_fn_scoping;
+        ] );
       ( "statements",
-        [ Alcotest.test_case "loops are inclusive, steps may be negative, macros add objects" `Quick test_loops_and_macros;
-          Alcotest.test_case "groups pass transforms and material; transforms apply in written order" `Quick test_groups_and_transforms;
-          Alcotest.test_case "a material copies its base, then overrides; textures and bumps evaluate" `Quick test_materials;
-          Alcotest.test_case "settings, camera and lights take their fields and defaults" `Quick test_settings_camera_lights;
-          Alcotest.test_case "time and frame are bound and animation reports fps and frames" `Quick test_animation_time;
-          Alcotest.test_case "bodies and physics are evaluated and positions come from the hook" `Quick test_bodies;
-          Alcotest.test_case "bodies fall, bounce and rest among the scene's static objects" `Quick test_physics_wired;
-          Alcotest.test_case "includes are relative to the including file and cycles fail" `Quick test_includes ] );
+        [
+          Alcotest.test_case
+            "loops are inclusive, steps may be negative, macros add objects" `Quick
+            test_loops_and_macros;
+          Alcotest.test_case
+            "groups pass transforms and material; transforms apply in written order"
+            `Quick test_groups_and_transforms;
+          Alcotest.test_case
+            "a material copies its base, then overrides; textures and bumps evaluate"
+            `Quick test_materials;
+          Alcotest.test_case "settings, camera and lights take their fields and defaults"
+            `Quick test_settings_camera_lights;
+          Alcotest.test_case
+            "time and frame are bound and animation reports fps and frames" `Quick
+            test_animation_time;
+          Alcotest.test_case
+            "bodies and physics are evaluated and positions come from the hook" `Quick
+            test_bodies;
+          Alcotest.test_case
+            "bodies fall, bounce and rest among the scene's static objects" `Quick
+            test_physics_wired;
+          Alcotest.test_case "includes are relative to the including file and cycles fail"
+            `Quick test_includes;
+        ] );
       ( "errors",
-        [ Alcotest.test_case "each kind of mistake gets its located message" `Quick test_errors;
-          Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick test_error_display;
-          Alcotest.test_case "a very long line is shown as a window around the error" `Quick test_long_line ] );
+        [
+          Alcotest.test_case "each kind of mistake gets its located message" `Quick
+            test_errors;
+          Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick
+            test_error_display;
+          Alcotest.test_case "a very long line is shown as a window around the error"
+            `Quick test_long_line;
+        ] );
       ( "scenes",
-        [ Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick test_scenes;
-          Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick test_json ] );
-      ("robustness", props) ]
+        [
+          Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick
+            test_scenes;
+          Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick
+            test_json;
+        ] );
+      ("robustness", props);
+    ]

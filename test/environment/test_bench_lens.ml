@@ -22,39 +22,67 @@ let rows aperture =
   let d = tmpdir "lancer-bench-lens" in
   write_file (Filename.concat d "dof.rts") (scene aperture);
   let st, out, err =
-    run ~prefix:("XDG_CACHE_HOME=" ^ Filename.quote (Filename.concat d "cache")) ~exe ~dir:d
+    run
+      ~prefix:("XDG_CACHE_HOME=" ^ Filename.quote (Filename.concat d "cache"))
+      ~exe ~dir:d
       [ "bench"; "quality"; "dof.rts"; "--domains"; "1"; "--json" ]
   in
   if st <> 0 then Alcotest.failf "bench quality failed (%d): %s" st err;
   let open Yojson.Safe.Util in
   Yojson.Safe.from_string out |> member "rows" |> to_list
   |> List.filter (fun r -> r |> member "knob" |> to_string = "lens samples")
-  |> List.map (fun r -> (r |> member "value" |> to_string, r |> member "rmse" |> to_number))
+  |> List.map (fun r ->
+         (r |> member "value" |> to_string, r |> member "rmse" |> to_number))
 
 let tests =
-  [ Alcotest.test_case "the lens-sample rows converge towards the reference" `Quick (fun () ->
+  [
+    Alcotest.test_case "the lens-sample rows converge towards the reference" `Quick
+      (fun () ->
         let r = rows 0.3 in
-        Alcotest.(check (list string)) "values" [ "1×1"; "2×2"; "4×4"; "8×8" ] (List.map fst r);
+        Alcotest.(check (list string))
+          "values"
+          [ "1×1"; "2×2"; "4×4"; "8×8" ]
+          (List.map fst r);
         let e = List.map snd r in
         let shown = String.concat ", " (List.map (Printf.sprintf "%.3f") e) in
         match e with
-        | [ e1; e2; e4; e8 ] -> Alcotest.(check bool) ("RMSE falls: " ^ shown) true (e1 > e2 && e2 > e4 && e4 > e8)
+        | [ e1; e2; e4; e8 ] ->
+            Alcotest.(check bool)
+              ("RMSE falls: " ^ shown) true
+              (e1 > e2 && e2 > e4 && e4 > e8)
         | _ -> Alcotest.fail shown);
     Alcotest.test_case "a pinhole camera has no lens-sample rows" `Quick (fun () ->
-        Alcotest.(check int) "rows" 0 (List.length (rows 0.))) ]
+        Alcotest.(check int) "rows" 0 (List.length (rows 0.)));
+  ]
 
 let render_tests =
-  [ Alcotest.test_case "depth of field writes the same bytes with --domains 1, 2 and 3" `Quick (fun () ->
+  [
+    Alcotest.test_case "depth of field writes the same bytes with --domains 1, 2 and 3"
+      `Quick (fun () ->
         let d = tmpdir "lancer-dof-domains" in
         write_file (Filename.concat d "dof.rts") (scene 0.3);
         let render n =
           let out = Printf.sprintf "d%d.png" n in
-          let st, _, err = run ~exe ~dir:d [ "render"; "dof.rts"; "-o"; out; "-q"; "--samples"; "2"; "--domains"; string_of_int n ] in
+          let st, _, err =
+            run ~exe ~dir:d
+              [
+                "render";
+                "dof.rts";
+                "-o";
+                out;
+                "-q";
+                "--samples";
+                "2";
+                "--domains";
+                string_of_int n;
+              ]
+          in
           if st <> 0 then Alcotest.failf "render failed (%d): %s" st err;
           read_file (Filename.concat d out)
         in
         let one = render 1 in
         Alcotest.(check bool) "2 domains" true (one = render 2);
-        Alcotest.(check bool) "3 domains" true (one = render 3)) ]
+        Alcotest.(check bool) "3 domains" true (one = render 3));
+  ]
 
 let () = Alcotest.run "depth of field" [ ("quality", tests); ("render", render_tests) ]

@@ -4,9 +4,10 @@
 
 let blue = "color: (0.15, 0.35, 0.9)"
 let green = "color: (0.2, 0.8, 0.2)"
-
 let read_file path = In_channel.with_open_bin path In_channel.input_all
-let write_file path s = Out_channel.with_open_bin path (fun oc -> Out_channel.output_string oc s)
+
+let write_file path s =
+  Out_channel.with_open_bin path (fun oc -> Out_channel.output_string oc s)
 
 let contains s sub =
   let n = String.length sub in
@@ -15,7 +16,11 @@ let contains s sub =
 
 let replace_once s ~sub ~by =
   let n = String.length sub in
-  let rec find i = if i + n > String.length s then None else if String.sub s i n = sub then Some i else find (i + 1) in
+  let rec find i =
+    if i + n > String.length s then None
+    else if String.sub s i n = sub then Some i
+    else find (i + 1)
+  in
   match find 0 with
   | None -> Alcotest.failf "ball.rts no longer contains %S; update this test" sub
   | Some i -> String.sub s 0 i ^ by ^ String.sub s (i + n) (String.length s - i - n)
@@ -35,7 +40,10 @@ let test_green_ball_fails () =
   Unix.putenv "LANCER_UPDATE_GOLDEN" "0";
   with_temp_dir @@ fun dir ->
   let scene = Filename.concat dir "ball.rts" in
-  write_file scene (replace_once (read_file (Lancer_alcotest.source_path "ball.rts")) ~sub:blue ~by:green);
+  write_file scene
+    (replace_once
+       (read_file (Lancer_alcotest.source_path "ball.rts"))
+       ~sub:blue ~by:green);
   (* the golden is copied so that the failure's images land in the temporary directory *)
   let golden = Filename.concat dir "ball.png" in
   write_file golden (read_file (Lancer_alcotest.source_path "golden/ball.png"));
@@ -44,15 +52,26 @@ let test_green_ball_fails () =
     | () -> Alcotest.fail "the green ball passed against the blue ball's golden"
     | exception e -> Printexc.to_string e
   in
-  let diff = Filename.concat dir "ball.diff.png" and actual = Filename.concat dir "ball.actual.png" in
+  let diff = Filename.concat dir "ball.diff.png"
+  and actual = Filename.concat dir "ball.actual.png" in
   List.iter
-    (fun part -> Alcotest.(check bool) (Printf.sprintf "the message %S mentions %S" message part) true (contains message part))
-    [ "differs from its golden"; golden; "max difference"; "pixels"; "actual image: " ^ actual; "diff image:   " ^ diff;
-      "LANCER_UPDATE_GOLDEN=1" ];
+    (fun part ->
+      Alcotest.(check bool)
+        (Printf.sprintf "the message %S mentions %S" message part)
+        true (contains message part))
+    [
+      "differs from its golden";
+      golden;
+      "max difference";
+      "pixels";
+      "actual image: " ^ actual;
+      "diff image:   " ^ diff;
+      "LANCER_UPDATE_GOLDEN=1";
+    ];
   Alcotest.(check bool) "diff image written" true (Sys.file_exists diff);
   Alcotest.(check bool) "actual image written" true (Sys.file_exists actual);
   (* the diff marks the ball: a sizeable share of the pixels, not the whole picture *)
-  match Lancer.Image.read_rgb8 golden, Lancer.Image.read_rgb8 actual with
+  match (Lancer.Image.read_rgb8 golden, Lancer.Image.read_rgb8 actual) with
   | Ok g, Ok a -> (
       match Lancer.Compare.compare g a with
       | Ok c ->
@@ -67,7 +86,9 @@ let test_unchanged_passes () =
   let golden = Filename.concat dir "ball.png" in
   write_file golden (read_file (Lancer_alcotest.source_path "golden/ball.png"));
   Lancer_alcotest.check ~scene:(Lancer_alcotest.source_path "ball.rts") ~golden ();
-  Alcotest.(check bool) "no diff image" false (Sys.file_exists (Filename.concat dir "ball.diff.png"))
+  Alcotest.(check bool)
+    "no diff image" false
+    (Sys.file_exists (Filename.concat dir "ball.diff.png"))
 
 let () =
   Alcotest.run "example: a change is caught"
@@ -75,6 +96,7 @@ let () =
       ( "golden",
         [
           Alcotest.test_case "the unchanged scene passes" `Quick test_unchanged_passes;
-          Alcotest.test_case "a green ball fails against the blue golden" `Quick test_green_ball_fails;
+          Alcotest.test_case "a green ball fails against the blue golden" `Quick
+            test_green_ball_fails;
         ] );
     ]

@@ -9,9 +9,12 @@ let () =
     [
       ( "scenes",
         [
-          Lancer_alcotest.test_case "the blue ball" ~scene:"ball.rts" ~golden:"golden/ball.png" ();
-          Lancer_alcotest.test_case "the tower" ~scene:"tower.rts" ~golden:"golden/tower.png" ();
+          Lancer_alcotest.test_case "the blue ball" ~scene:"ball.rts"
+            ~golden:"golden/ball.png" ();
+          Lancer_alcotest.test_case "the tower" ~scene:"tower.rts"
+            ~golden:"golden/tower.png" ();
           (* One frame of an animation: the ball just after its first bounce. *)
-          Lancer_alcotest.test_case "the dropped ball at frame 20" ~scene:"drop.rts" ~frame:20 ~golden:"golden/drop_20.png" ();
+          Lancer_alcotest.test_case "the dropped ball at frame 20" ~scene:"drop.rts"
+            ~frame:20 ~golden:"golden/drop_20.png" ();
         ] );
     ]

@@ -10,33 +10,42 @@ let close ?(eps = 1e-12) msg a b = Alcotest.(check (float eps)) msg a b
 
 let rel msg ~tol expected got =
   if not (Float.abs (got -. expected) <= tol *. Float.abs expected) then
-    Alcotest.failf "%s: expected %.17g, got %.17g (relative tolerance %g)" msg expected got tol
+    Alcotest.failf "%s: expected %.17g, got %.17g (relative tolerance %g)" msg expected
+      got tol
 
 let check_vec ?(eps = 1e-12) msg (a : Vec3.t) (b : Vec3.t) =
   close ~eps (msg ^ " (x)") a.x b.x;
   close ~eps (msg ^ " (y)") a.y b.y;
   close ~eps (msg ^ " (z)") a.z b.z
 
-let miss msg t = if t <> inf then Alcotest.failf "%s: expected a miss, got t = %.17g" msg t
+let miss msg t =
+  if t <> inf then Alcotest.failf "%s: expected a miss, got t = %.17g" msg t
+
 let ray o d = Ray.make o d
 let raw o d = Ray.make_raw o d
 let hit s r = Shape.intersect s r 0. inf
 let case name f = Alcotest.test_case name `Quick f
-let seeded ?(seed = 20240611) t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
+
+let seeded ?(seed = 20240611) t =
+  QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed |]) t
 
 (* ---- sphere and plane ---- *)
 
 let sphere_tests =
   let unit_at c = Shape.sphere ~center:c ~radius:1. in
-  [ case "a unit sphere 1e8 away is hit at 99999999.00000001 and 100000001" (fun () ->
+  [
+    case "a unit sphere 1e8 away is hit at 99999999.00000001 and 100000001" (fun () ->
         let s = unit_at (v 0. 0. 1e8) and r = ray Vec3.zero Vec3.z_axis in
         close ~eps:1e-6 "near" 99999999.00000001 (hit s r);
         close ~eps:1e-6 "far" 100000001. (Shape.intersect s r 1e8 inf));
     case "a sphere of radius 1e-6 at distance 1 is hit at 1 ∓ 1e-6" (fun () ->
-        let s = Shape.sphere ~center:(v 0. 0. 1.) ~radius:1e-6 and r = ray Vec3.zero Vec3.z_axis in
+        let s = Shape.sphere ~center:(v 0. 0. 1.) ~radius:1e-6
+        and r = ray Vec3.zero Vec3.z_axis in
         close ~eps:1e-15 "near" (1. -. 1e-6) (hit s r);
         close ~eps:1e-15 "far" (1. +. 1e-6) (Shape.intersect s r 1. inf));
-    case "an unnormalised direction (0,0,1e-3) meets the sphere at z = 10 at t = 9000 and 11000" (fun () ->
+    case
+      "an unnormalised direction (0,0,1e-3) meets the sphere at z = 10 at t = 9000 and \
+       11000" (fun () ->
         let s = unit_at (v 0. 0. 10.) and r = raw Vec3.zero (v 0. 0. 1e-3) in
         rel "near" ~tol:1e-12 9000. (hit s r);
         rel "far" ~tol:1e-12 11000. (Shape.intersect s r 9000. inf));
@@ -48,20 +57,23 @@ let sphere_tests =
         close "t" 5. (hit (unit_at Vec3.zero) (ray (v 1. 0. (-5.)) Vec3.z_axis)));
     case "a ray passing just outside the sphere misses" (fun () ->
         miss "t" (hit (unit_at Vec3.zero) (ray (v 1.000001 0. (-5.)) Vec3.z_axis)));
-    case "a plane is missed by a parallel ray even with its origin on the plane" (fun () ->
+    case "a plane is missed by a parallel ray even with its origin on the plane"
+      (fun () ->
         let p = Shape.plane ~normal:Vec3.y_axis ~offset:0. in
         miss "on" (hit p (ray Vec3.zero Vec3.x_axis));
         miss "above" (hit p (ray Vec3.y_axis Vec3.x_axis)));
     case "a grazing ray at 1e-12 rad hits the plane 1e12 away, finite" (fun () ->
         let p = Shape.plane ~normal:Vec3.y_axis ~offset:0. in
-        rel "t" ~tol:1e-9 1e12 (hit p (raw (v 0. 1. 0.) (v 1. (-1e-12) 0.)))) ]
+        rel "t" ~tol:1e-9 1e12 (hit p (raw (v 0. 1. 0.) (v 1. (-1e-12) 0.))));
+  ]
 
 (* ---- flat shapes ---- *)
 
 let tri = Shape.triangle ~a:Vec3.zero ~b:Vec3.x_axis ~c:Vec3.y_axis
 
 let flat_tests =
-  [ case "a triangle is hit inside, from both sides" (fun () ->
+  [
+    case "a triangle is hit inside, from both sides" (fun () ->
         close "front" 1. (hit tri (ray (v 0.25 0.25 (-1.)) Vec3.z_axis));
         close "back" 1. (hit tri (ray (v 0.25 0.25 1.) (v 0. 0. (-1.)))));
     case "a triangle is missed outside its edges" (fun () ->
@@ -72,14 +84,20 @@ let flat_tests =
     case "a zero direction never hits anything" (fun () ->
         let r = raw (v 0.25 0.25 (-1.)) Vec3.zero in
         miss "triangle" (hit tri r);
-        miss "paraboloid" (hit (Shape.paraboloid ~vertex:Vec3.zero ~axis:Vec3.y_axis ~radius:1. ~height:1.) r));
-    case "a triangle's (u, v) are the weights of b and c, and its normal is (b−a)×(c−a)" (fun () ->
+        miss "paraboloid"
+          (hit
+             (Shape.paraboloid ~vertex:Vec3.zero ~axis:Vec3.y_axis ~radius:1. ~height:1.)
+             r));
+    case "a triangle's (u, v) are the weights of b and c, and its normal is (b−a)×(c−a)"
+      (fun () ->
         let u, w = Shape.uv tri (v 0.25 0.5 0.) in
         close "u" 0.25 u;
         close "v" 0.5 w;
         check_vec "n" Vec3.z_axis (Shape.normal tri (v 0.2 0.2 0.)));
     case "a parallelogram is hit inside and has (a, b) as its uv" (fun () ->
-        let p = Shape.parallelogram ~origin:Vec3.zero ~edge1:(v 2. 0. 0.) ~edge2:(v 0. 1. 0.) in
+        let p =
+          Shape.parallelogram ~origin:Vec3.zero ~edge1:(v 2. 0. 0.) ~edge2:(v 0. 1. 0.)
+        in
         close "t" 1. (hit p (ray (v 1.9 0.9 (-1.)) Vec3.z_axis));
         let a, b = Shape.uv p (v 1.9 0.9 0.) in
         close "a" 0.95 a;
@@ -93,16 +111,22 @@ let flat_tests =
         miss "parallel" (hit d (ray Vec3.zero Vec3.x_axis));
         let u, w = Shape.uv d Vec3.zero in
         close "u centre" 0.5 u;
-        close "v centre" 0.5 w) ]
+        close "v centre" 0.5 w);
+  ]
 
 (* ---- quadrics with a height range, and the box ---- *)
 
 let cup = Shape.paraboloid ~vertex:Vec3.zero ~axis:Vec3.y_axis ~radius:1. ~height:1.
-let can ?(caps = true) () = Shape.cylinder ~base:Vec3.zero ~top:(v 0. 2. 0.) ~radius:1. ~caps
+
+let can ?(caps = true) () =
+  Shape.cylinder ~base:Vec3.zero ~top:(v 0. 2. 0.) ~radius:1. ~caps
+
 let cube = Shape.box ~min:(v (-1.) (-1.) (-1.)) ~max:Vec3.one
 
 let quadric_tests =
-  [ case "a ray nearly parallel to a paraboloid's axis (a = 1e-18) hits at 9.4999999905" (fun () ->
+  [
+    case "a ray nearly parallel to a paraboloid's axis (a = 1e-18) hits at 9.4999999905"
+      (fun () ->
         rel "t" ~tol:1e-10 9.4999999905 (hit cup (raw (v 0.5 9.75 0.) (v 1e-9 (-1.) 0.))));
     case "a ray parallel to a paraboloid's axis (a = 0) is solved linearly" (fun () ->
         close "t" 4.75 (hit cup (ray (v 0.5 5. 0.) (v 0. (-1.) 0.))));
@@ -126,7 +150,8 @@ let quadric_tests =
     case "a cylinder is missed above its top and beside it" (fun () ->
         miss "above" (hit (can ()) (ray (v (-5.) 2.5 0.) Vec3.x_axis));
         miss "beside" (hit (can ()) (ray (v (-5.) 1. 1.5) Vec3.x_axis)));
-    case "a box is hit on its near face from outside and on its far face from inside" (fun () ->
+    case "a box is hit on its near face from outside and on its far face from inside"
+      (fun () ->
         close "outside" 4. (hit cube (ray (v 0. 0. (-5.)) Vec3.z_axis));
         check_vec "normal" (v 0. 0. (-1.)) (Shape.normal cube (v 0.2 0.3 (-1.)));
         close "inside" 1. (hit cube (ray Vec3.zero Vec3.z_axis)));
@@ -136,13 +161,19 @@ let quadric_tests =
         miss "parallel outside" (hit cube (ray (v (-5.) 2. 0.) Vec3.x_axis)));
     case "uv stays in [0, 1] on every bounded primitive" (fun () ->
         let shapes_points =
-          [ (cup, v 0.5 0.25 0.); (can (), v 1. 1. 0.); (can (), v 0.3 2. 0.1); (cube, v 1. 0.3 (-0.2));
-            (Shape.sphere ~center:Vec3.zero ~radius:1., v 0. 1. 0.) ]
+          [
+            (cup, v 0.5 0.25 0.);
+            (can (), v 1. 1. 0.);
+            (can (), v 0.3 2. 0.1);
+            (cube, v 1. 0.3 (-0.2));
+            (Shape.sphere ~center:Vec3.zero ~radius:1., v 0. 1. 0.);
+          ]
         in
         List.iter
           (fun (s, p) ->
             let u, w = Shape.uv s p in
-            if not (u >= 0. && u <= 1. && w >= 0. && w <= 1.) then Alcotest.failf "%s: uv (%g, %g)" (Shape.name s) u w)
+            if not (u >= 0. && u <= 1. && w >= 0. && w <= 1.) then
+              Alcotest.failf "%s: uv (%g, %g)" (Shape.name s) u w)
           shapes_points);
     case "bounds enclose every primitive" (fun () ->
         let b = Option.get (Shape.bbox (can ())) in
@@ -150,13 +181,21 @@ let quadric_tests =
         check_vec "max" (v 1. 2. 1.) b.max;
         let b = Option.get (Shape.bbox cup) in
         check_vec "cup min" (v (-1.) 0. (-1.)) b.min;
-        Alcotest.(check bool) "plane unbounded" true (Shape.bbox (Shape.plane ~normal:Vec3.y_axis ~offset:0.) = None)) ]
+        Alcotest.(check bool)
+          "plane unbounded" true
+          (Shape.bbox (Shape.plane ~normal:Vec3.y_axis ~offset:0.) = None));
+  ]
 
 (* ---- random directions and points ---- *)
 
 let rand_dir st =
   let rec go () =
-    let d = v (Random.State.float st 2. -. 1.) (Random.State.float st 2. -. 1.) (Random.State.float st 2. -. 1.) in
+    let d =
+      v
+        (Random.State.float st 2. -. 1.)
+        (Random.State.float st 2. -. 1.)
+        (Random.State.float st 2. -. 1.)
+    in
     let l = Vec3.length d in
     if l < 0.1 || l > 1. then go () else Vec3.smul (1. /. l) d
   in
@@ -169,18 +208,26 @@ let rand_point st lo hi = v (rand_in st lo hi) (rand_in st lo hi) (rand_in st lo
    scale-aware offset, never comes back to it. *)
 let convex_prop =
   let shapes =
-    [| Shape.sphere ~center:(v 0.3 (-0.2) 0.1) ~radius:1.3; cube; can ();
-       Shape.box ~min:(v 1e3 1e3 1e3) ~max:(v 1001. 1002. 1003.);
-       Shape.sphere ~center:(v 1e4 0. 0.) ~radius:1e-2 |]
+    [|
+      Shape.sphere ~center:(v 0.3 (-0.2) 0.1) ~radius:1.3;
+      cube;
+      can ();
+      Shape.box ~min:(v 1e3 1e3 1e3) ~max:(v 1001. 1002. 1003.);
+      Shape.sphere ~center:(v 1e4 0. 0.) ~radius:1e-2;
+    |]
   in
-  QCheck.Test.make ~name:"a ray leaving a convex shape outward never re-hits it" ~count:3000 QCheck.(int_bound 1_000_000_000)
+  QCheck.Test.make ~name:"a ray leaving a convex shape outward never re-hits it"
+    ~count:3000
+    QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let s = shapes.(seed mod Array.length shapes) in
       let b = Option.get (Shape.bbox s) in
       let c = Bbox.centroid b in
       let size = Vec3.max_abs (Vec3.sub b.max b.min) in
-      let inside = Vec3.madd c (0.2 *. size) (Vec3.smul (Random.State.float st 1.) (rand_dir st)) in
+      let inside =
+        Vec3.madd c (0.2 *. size) (Vec3.smul (Random.State.float st 1.) (rand_dir st))
+      in
       let r = ray inside (rand_dir st) in
       let t = hit s r in
       if t = inf then QCheck.assume_fail ()
@@ -203,7 +250,10 @@ let sphere_obj ?(nlat = 12) ?(nlon = 16) () =
     let th = Float.pi *. Float.of_int i /. Float.of_int nlat in
     for j = 0 to nlon - 1 do
       let ph = 2. *. Float.pi *. Float.of_int j /. Float.of_int nlon in
-      Printf.bprintf b "v %.17g %.17g %.17g\n" (Float.sin th *. Float.cos ph) (Float.cos th) (Float.sin th *. Float.sin ph)
+      Printf.bprintf b "v %.17g %.17g %.17g\n"
+        (Float.sin th *. Float.cos ph)
+        (Float.cos th)
+        (Float.sin th *. Float.sin ph)
     done
   done;
   Buffer.add_string b "v 0 -1 0\n";
@@ -214,7 +264,10 @@ let sphere_obj ?(nlat = 12) ?(nlon = 16) () =
   done;
   for i = 1 to nlat - 2 do
     for j = 0 to nlon - 1 do
-      Printf.bprintf b "f %d %d %d %d\n" (ring i j) (ring i (j + 1)) (ring (i + 1) (j + 1)) (ring (i + 1) j)
+      Printf.bprintf b "f %d %d %d %d\n" (ring i j)
+        (ring i (j + 1))
+        (ring (i + 1) (j + 1))
+        (ring (i + 1) j)
     done
   done;
   for j = 0 to nlon - 1 do
@@ -223,7 +276,9 @@ let sphere_obj ?(nlat = 12) ?(nlon = 16) () =
   Buffer.contents b
 
 let parse_ok ?smooth text =
-  match Mesh.parse ?smooth ~file:"t.obj" text with Ok l -> l | Error e -> Alcotest.failf "unexpected error: %s" e
+  match Mesh.parse ?smooth ~file:"t.obj" text with
+  | Ok l -> l
+  | Error e -> Alcotest.failf "unexpected error: %s" e
 
 let parse_err text expected_prefix =
   match Mesh.parse ~file:"t.obj" text with
@@ -236,7 +291,8 @@ let parse_err text expected_prefix =
 let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
 
 let mesh_tests =
-  [ case "a quad is fan-triangulated into two triangles" (fun () ->
+  [
+    case "a quad is fan-triangulated into two triangles" (fun () ->
         Alcotest.(check int) "count" 2 (List.length (parse_ok (quad ^ "f 1 2 3 4\n"))));
     case "negative indices count back from the last vertex" (fun () ->
         match parse_ok (quad ^ "f -4 -3 -2\n") with
@@ -246,13 +302,26 @@ let mesh_tests =
             check_vec "c" (v 1. 1. 0.) c
         | _ -> Alcotest.fail "one triangle expected");
     case "a/b, a/b/c and a//c corners read texture coordinates and normals" (fun () ->
-        let text = quad ^ "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nvn 1 0 1\nvn 0 1 1\nf 1/1/1 2/2/2 3/3/3\nf 1//1 3//3 4//1\nf 1/1 3/3 4/2\n" in
+        let text =
+          quad
+          ^ "vt 0 0\n\
+             vt 1 0\n\
+             vt 1 1\n\
+             vn 0 0 1\n\
+             vn 1 0 1\n\
+             vn 0 1 1\n\
+             f 1/1/1 2/2/2 3/3/3\n\
+             f 1//1 3//3 4//1\n\
+             f 1/1 3/3 4/2\n"
+        in
         match parse_ok text with
         | [ t1; t2; t3 ] ->
             let u, w = Shape.uv t1 (v 1. 0.5 0.) in
             close "u" 1. u;
             close "v" 0.5 w;
-            check_vec "smooth normal at a corner" (Vec3.normalize (v 1. 0. 1.)) (Shape.normal t1 Vec3.x_axis);
+            check_vec "smooth normal at a corner"
+              (Vec3.normalize (v 1. 0. 1.))
+              (Shape.normal t1 Vec3.x_axis);
             Alcotest.(check string) "kind" "mesh" (Shape.name t2);
             check_vec "flat without normals" (v 0. 0. 1.) (Shape.normal t3 (v 0.5 0.7 0.))
         | l -> Alcotest.failf "3 triangles expected, got %d" (List.length l));
@@ -261,39 +330,58 @@ let mesh_tests =
         | [ t ] -> check_vec "flat" Vec3.z_axis (Shape.normal t (v 0.9 0.1 0.))
         | _ -> Alcotest.fail "one triangle expected");
     case "comments, groups and materials are ignored" (fun () ->
-        Alcotest.(check int) "count" 1
-          (List.length (parse_ok ("# hi\nmtllib m.mtl\no obj\ng grp\nusemtl red\ns off\n" ^ quad ^ "f 1 2 3 # tail\n"))));
-    case "an index past the vertices read so far is an error with file and line" (fun () ->
-        parse_err (quad ^ "f 1 2 5\n") "t.obj:5:");
+        Alcotest.(check int)
+          "count" 1
+          (List.length
+             (parse_ok
+                ("# hi\nmtllib m.mtl\no obj\ng grp\nusemtl red\ns off\n" ^ quad
+               ^ "f 1 2 3 # tail\n"))));
+    case "an index past the vertices read so far is an error with file and line"
+      (fun () -> parse_err (quad ^ "f 1 2 5\n") "t.obj:5:");
     case "index 0 is an error" (fun () -> parse_err (quad ^ "f 0 1 2\n") "t.obj:5:");
-    case "a face before any vertex is an error" (fun () -> parse_err "f 1 2 3\n" "t.obj:1:");
-    case "a vertex with two coordinates is an error" (fun () -> parse_err "v 1 2\n" "t.obj:1:");
-    case "a non-numeric coordinate is an error" (fun () -> parse_err "v 1 x 2\n" "t.obj:1:");
-    case "a face with two corners is an error" (fun () -> parse_err (quad ^ "f 1 2\n") "t.obj:5:");
-    case "a malformed corner is an error" (fun () -> parse_err (quad ^ "f 1/2/3/4 2 3\n") "t.obj:5:");
-    case "a texture index out of range is an error" (fun () -> parse_err (quad ^ "f 1/1 2/1 3/1\n") "t.obj:5:");
+    case "a face before any vertex is an error" (fun () ->
+        parse_err "f 1 2 3\n" "t.obj:1:");
+    case "a vertex with two coordinates is an error" (fun () ->
+        parse_err "v 1 2\n" "t.obj:1:");
+    case "a non-numeric coordinate is an error" (fun () ->
+        parse_err "v 1 x 2\n" "t.obj:1:");
+    case "a face with two corners is an error" (fun () ->
+        parse_err (quad ^ "f 1 2\n") "t.obj:5:");
+    case "a malformed corner is an error" (fun () ->
+        parse_err (quad ^ "f 1/2/3/4 2 3\n") "t.obj:5:");
+    case "a texture index out of range is an error" (fun () ->
+        parse_err (quad ^ "f 1/1 2/1 3/1\n") "t.obj:5:");
     case "garbage is an error, not an exception" (fun () ->
         parse_err "hello world\n" "t.obj:1:";
         parse_err "\000\001\002binary" "t.obj:1:");
     case "a file without faces is an error" (fun () -> parse_err quad "t.obj:");
     case "a missing file is an error" (fun () ->
-        match Mesh.load "/nonexistent/x.obj" with Ok _ -> Alcotest.fail "expected an error" | Error _ -> ());
+        match Mesh.load "/nonexistent/x.obj" with
+        | Ok _ -> Alcotest.fail "expected an error"
+        | Error _ -> ());
     case "a mesh file on disk loads" (fun () ->
         let path = Filename.temp_file "lancer" ".obj" in
         Out_channel.with_open_bin path (fun oc -> output_string oc (sphere_obj ()));
         let r = Mesh.load path in
         Sys.remove path;
-        match r with Ok l -> Alcotest.(check int) "triangles" (2 * 16 * 11) (List.length l) | Error e -> Alcotest.fail e) ]
+        match r with
+        | Ok l -> Alcotest.(check int) "triangles" (2 * 16 * 11) (List.length l)
+        | Error e -> Alcotest.fail e);
+  ]
 
 (* ---- watertightness ---- *)
 
 let mesh_prims () =
-  parse_ok ~smooth:false (sphere_obj ()) |> List.map (Primitive.make Material.default) |> Array.of_list
+  parse_ok ~smooth:false (sphere_obj ())
+  |> List.map (Primitive.make Material.default)
+  |> Array.of_list
 
 let vertices_of prims =
   Array.to_list prims
   |> List.concat_map (fun (p : Primitive.t) ->
-         match p.shape with Shape.Triangle { a; b; c; _ } -> [ (a, b); (b, c); (c, a) ] | _ -> [])
+         match p.shape with
+         | Shape.Triangle { a; b; c; _ } -> [ (a, b); (b, c); (c, a) ]
+         | _ -> [])
 
 (* Rays from points inside the closed mesh aimed exactly at its vertices, and at points
    of its edges: every one must hit, through the hierarchy and through a plain scan. *)
@@ -301,15 +389,22 @@ let watertight_mesh =
   let prims = mesh_prims () in
   let accel = Accel.build prims in
   let edges = Array.of_list (vertices_of prims) in
-  QCheck.Test.make ~name:"no ray escapes a closed OBJ sphere through a vertex or an edge" ~count:5000
+  QCheck.Test.make ~name:"no ray escapes a closed OBJ sphere through a vertex or an edge"
+    ~count:5000
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let a, b = edges.(Random.State.int st (Array.length edges)) in
       let target =
-        match seed mod 3 with 0 -> a | 1 -> Vec3.smul 0.5 (Vec3.add a b) | _ -> Vec3.madd a (Random.State.float st 1.) (Vec3.sub b a)
+        match seed mod 3 with
+        | 0 -> a
+        | 1 -> Vec3.smul 0.5 (Vec3.add a b)
+        | _ -> Vec3.madd a (Random.State.float st 1.) (Vec3.sub b a)
       in
-      let origin = if seed mod 5 = 0 then Vec3.zero else Vec3.smul 0.5 (Vec3.smul (Random.State.float st 1.) (rand_dir st)) in
+      let origin =
+        if seed mod 5 = 0 then Vec3.zero
+        else Vec3.smul 0.5 (Vec3.smul (Random.State.float st 1.) (rand_dir st))
+      in
       let r = Ray.make_raw origin (Vec3.sub target origin) in
       let _, i = Accel.nearest accel r 0. inf in
       let scan = Array.exists (fun p -> Primitive.intersect p r 0. inf < inf) prims in
@@ -317,7 +412,9 @@ let watertight_mesh =
 
 (* Tilted tiles with edges that are not representable exactly, so that shared edges are
    computed with rounding: exact [0, 1] bounds leak there. *)
-let tile_o = v 0.1 (-0.3) 0.7 and tile_e1 = v 0.3 0.1 (-0.2) and tile_e2 = v (-0.1) 0.7 0.3
+let tile_o = v 0.1 (-0.3) 0.7
+and tile_e1 = v 0.3 0.1 (-0.2)
+and tile_e2 = v (-0.1) 0.7 0.3
 
 let tile_point a b = Vec3.madd (Vec3.madd tile_o a tile_e1) b tile_e2
 
@@ -328,14 +425,19 @@ let tiles =
          List.map
            (fun j ->
              Primitive.make Material.default
-               (Shape.parallelogram ~origin:(tile_point (Float.of_int i) (Float.of_int j)) ~edge1:tile_e1 ~edge2:tile_e2))
+               (Shape.parallelogram
+                  ~origin:(tile_point (Float.of_int i) (Float.of_int j))
+                  ~edge1:tile_e1 ~edge2:tile_e2))
            [ 0; 1 ])
        [ 0; 1 ])
 
 let watertight_tiles =
   let accel = Accel.build tiles in
   let n = Vec3.normalize (Vec3.cross tile_e1 tile_e2) in
-  QCheck.Test.make ~name:"no ray passes between 2×2 tiled parallelograms at their shared edges and vertex" ~count:5000
+  QCheck.Test.make
+    ~name:
+      "no ray passes between 2×2 tiled parallelograms at their shared edges and vertex"
+    ~count:5000
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
@@ -346,7 +448,12 @@ let watertight_tiles =
         | _ -> tile_point 1. 1.
       in
       let side = if Random.State.bool st then 1. else -1. in
-      let origin = Vec3.madd (Vec3.add (tile_point 1. 1.) (rand_point st (-2.) 2.)) (side *. rand_in st 0.1 3.) n in
+      let origin =
+        Vec3.madd
+          (Vec3.add (tile_point 1. 1.) (rand_point st (-2.) 2.))
+          (side *. rand_in st 0.1 3.)
+          n
+      in
       let r = Ray.make_raw origin (Vec3.sub target origin) in
       QCheck.assume (Float.abs (Vec3.dot (Vec3.normalize (Ray.dir r)) n) > 1e-3);
       let _, i = Accel.nearest accel r 0. inf in
@@ -359,10 +466,9 @@ let brute_nearest prims r tmin tmax =
   Array.iteri
     (fun i p ->
       let t = Primitive.intersect p r tmin !best_t in
-      if t < !best_t then begin
+      if t < !best_t then (
         best_t := t;
-        best_i := i
-      end)
+        best_i := i))
     prims;
   if !best_i < 0 then (inf, -1) else (!best_t, !best_i)
 
@@ -393,34 +499,49 @@ let soup st =
     let s =
       match Random.State.int st 5 with
       | 0 -> Shape.sphere ~center:c ~radius:(rand_in st 0.1 2.)
-      | 1 -> Shape.triangle ~a:c ~b:(Vec3.add c (rand_point st (-2.) 2.)) ~c:(Vec3.add c (rand_point st (-2.) 2.))
+      | 1 ->
+          Shape.triangle ~a:c
+            ~b:(Vec3.add c (rand_point st (-2.) 2.))
+            ~c:(Vec3.add c (rand_point st (-2.) 2.))
       | 2 -> Shape.box ~min:c ~max:(Vec3.add c (rand_point st 0.1 3.))
-      | 3 -> Shape.cylinder ~base:c ~top:(Vec3.add c (rand_point st (-2.) 2.)) ~radius:(rand_in st 0.1 1.) ~caps:true
+      | 3 ->
+          Shape.cylinder ~base:c
+            ~top:(Vec3.add c (rand_point st (-2.) 2.))
+            ~radius:(rand_in st 0.1 1.) ~caps:true
       | _ -> Shape.disk ~center:c ~normal:(rand_dir st) ~radius:(rand_in st 0.1 2.)
     in
     let transform =
       if Random.State.int st 4 = 0 then
-        Transform.then_ (Transform.rotate (rand_point st 0. 90.)) (Transform.scale (rand_point st 0.5 2.))
+        Transform.then_
+          (Transform.rotate (rand_point st 0. 90.))
+          (Transform.scale (rand_point st 0.5 2.))
       else Transform.identity
     in
     Primitive.make ~transform m s
   in
   let l = List.init n (fun _ -> one ()) in
-  let l = if Random.State.bool st then Primitive.make m (Shape.plane ~normal:(rand_dir st) ~offset:(rand_in st (-5.) 5.)) :: l else l in
-  let l = match l with a :: b :: rest -> a :: b :: rest @ [ a; b ] | l -> l in
+  let l =
+    if Random.State.bool st then
+      Primitive.make m (Shape.plane ~normal:(rand_dir st) ~offset:(rand_in st (-5.) 5.))
+      :: l
+    else l
+  in
+  let l = match l with a :: b :: rest -> (a :: b :: rest) @ [ a; b ] | l -> l in
   Array.of_list l
 
 let rand_ray st =
   let o = rand_point st (-15.) 15. in
   let d =
     match Random.State.int st 4 with
-    | 0 -> [| Vec3.x_axis; Vec3.y_axis; Vec3.z_axis; v 0. (-1.) 0. |].(Random.State.int st 4)
+    | 0 ->
+        [| Vec3.x_axis; Vec3.y_axis; Vec3.z_axis; v 0. (-1.) 0. |].(Random.State.int st 4)
     | _ -> rand_dir st
   in
   ray o d
 
 let bvh_nearest_prop =
-  QCheck.Test.make ~name:"the BVH's nearest hit is the brute-force scan's, ties included" ~count:60
+  QCheck.Test.make ~name:"the BVH's nearest hit is the brute-force scan's, ties included"
+    ~count:60
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
@@ -431,16 +552,18 @@ let bvh_nearest_prop =
       for _ = 1 to 300 do
         let r = rand_ray st in
         let tmax = if Random.State.int st 4 = 0 then rand_in st 1. 30. else inf in
-        let t1, i1 = Accel.nearest accel r 0. tmax and t2, i2 = brute_nearest prims r 0. tmax in
-        if not (i1 = i2 && Int64.equal (Int64.bits_of_float t1) (Int64.bits_of_float t2)) then begin
+        let t1, i1 = Accel.nearest accel r 0. tmax
+        and t2, i2 = brute_nearest prims r 0. tmax in
+        if not (i1 = i2 && Int64.equal (Int64.bits_of_float t1) (Int64.bits_of_float t2))
+        then (
           ok := false;
-          QCheck.Test.fail_reportf "BVH (%.17g, %d) vs scan (%.17g, %d)" t1 i1 t2 i2
-        end
+          QCheck.Test.fail_reportf "BVH (%.17g, %d) vs scan (%.17g, %d)" t1 i1 t2 i2)
       done;
       !ok)
 
 let bvh_fold_prop =
-  QCheck.Test.make ~name:"fold_hits visits every crossing once, as the brute-force scan" ~count:40
+  QCheck.Test.make ~name:"fold_hits visits every crossing once, as the brute-force scan"
+    ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
@@ -459,7 +582,9 @@ let bvh_fold_prop =
         in
         (* Duplicated primitives are physically the same object twice: compare by index
            of first occurrence on both sides. *)
-        let norm l = List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l) in
+        let norm l =
+          List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l)
+        in
         if norm !seen <> norm (brute_crossings prims r 0. 40.) then ok := false
       done;
       !ok)
@@ -481,24 +606,35 @@ let shadow_soup ?(quadrics = true) st =
       | 3 -> Shape.disk ~center:c ~normal:(rand_dir st) ~radius:(rand_in st 0.1 2.)
       | 4 -> Shape.parallelogram ~origin:c ~edge1:(e ()) ~edge2:(e ())
       | 5 -> Shape.plane ~normal:(rand_dir st) ~offset:(rand_in st (-12.) 12.)
-      | 6 -> Shape.cylinder ~base:c ~top:(Vec3.add c (e ())) ~radius:(rand_in st 0.1 1.) ~caps:true
-      | _ -> Shape.paraboloid ~vertex:c ~axis:(rand_dir st) ~radius:(rand_in st 0.2 2.) ~height:(rand_in st 0.2 2.)
+      | 6 ->
+          Shape.cylinder ~base:c
+            ~top:(Vec3.add c (e ()))
+            ~radius:(rand_in st 0.1 1.) ~caps:true
+      | _ ->
+          Shape.paraboloid ~vertex:c ~axis:(rand_dir st) ~radius:(rand_in st 0.2 2.)
+            ~height:(rand_in st 0.2 2.)
     in
     let transform =
       if Random.State.int st 3 = 0 then
         Transform.then_
-          (Transform.then_ (Transform.rotate (rand_point st 0. 90.)) (Transform.scale (rand_point st 0.5 2.)))
+          (Transform.then_
+             (Transform.rotate (rand_point st 0. 90.))
+             (Transform.scale (rand_point st 0.5 2.)))
           (Transform.translate (rand_point st (-3.) 3.))
       else Transform.identity
     in
-    let m = if Random.State.int st 4 = 0 then { Material.default with transparency = 0.5 } else Material.default in
+    let m =
+      if Random.State.int st 4 = 0 then { Material.default with transparency = 0.5 }
+      else Material.default
+    in
     Primitive.make ~transform m s
   in
   Array.init n (fun _ -> one ())
 
 let brute_occluded prims r tmax =
   Array.exists
-    (fun (p : Primitive.t) -> p.material.transparency = 0. && Primitive.intersect p r 0. tmax < tmax)
+    (fun (p : Primitive.t) ->
+      p.material.transparency = 0. && Primitive.intersect p r 0. tmax < tmax)
     prims
 
 let fill_probe (q : Shape.probe) r tmax =
@@ -513,13 +649,18 @@ let fill_probe (q : Shape.probe) r tmax =
   q.p_tmax <- tmax
 
 let occluded_prop =
-  QCheck.Test.make ~name:"the shadow query answers as a scan for an opaque crossing, whatever it tried first"
-    ~count:60 QCheck.(int_bound 1_000_000_000)
+  QCheck.Test.make
+    ~name:
+      "the shadow query answers as a scan for an opaque crossing, whatever it tried first"
+    ~count:60
+    QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let prims = shadow_soup st in
       (* The same primitives through the tree and through the linear scan. *)
-      let accels = [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ] in
+      let accels =
+        [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ]
+      in
       let q = Accel.shadow_probe () in
       let ok = ref true in
       for _ = 1 to 200 do
@@ -530,10 +671,9 @@ let occluded_prop =
           (fun a ->
             fill_probe q r tmax;
             let got = Accel.occluded a q ~slot:(Random.State.int st 3) in
-            if got <> expected then begin
+            if got <> expected then (
               ok := false;
-              QCheck.Test.fail_reportf "occluded %b, scan %b" got expected
-            end)
+              QCheck.Test.fail_reportf "occluded %b, scan %b" got expected))
           accels
       done;
       !ok)
@@ -541,9 +681,17 @@ let occluded_prop =
 let occluded_allocation =
   case "the shadow query allocates nothing" (fun () ->
       let st = Random.State.make [| 7 |] in
-      let bounded = Array.concat (List.init 8 (fun _ -> shadow_soup ~quadrics:false st)) in
-      let bounded = List.filter (fun (p : Primitive.t) -> Option.is_some p.bounds) (Array.to_list bounded) in
-      let floor = Primitive.make Material.default (Shape.plane ~normal:Vec3.y_axis ~offset:(-20.)) in
+      let bounded =
+        Array.concat (List.init 8 (fun _ -> shadow_soup ~quadrics:false st))
+      in
+      let bounded =
+        List.filter
+          (fun (p : Primitive.t) -> Option.is_some p.bounds)
+          (Array.to_list bounded)
+      in
+      let floor =
+        Primitive.make Material.default (Shape.plane ~normal:Vec3.y_axis ~offset:(-20.))
+      in
       let prims = Array.of_list (floor :: bounded) in
       let n = 2000 in
       let rays = Array.init n (fun _ -> rand_ray st) in
@@ -551,7 +699,9 @@ let occluded_allocation =
       Array.iteri
         (fun k r ->
           let o = Ray.origin r and d = Ray.dir r in
-          List.iteri (fun j x -> Float.Array.set data ((6 * k) + j) x) [ o.x; o.y; o.z; d.x; d.y; d.z ])
+          List.iteri
+            (fun j x -> Float.Array.set data ((6 * k) + j) x)
+            [ o.x; o.y; o.z; d.x; d.y; d.z ])
         rays;
       let q = Accel.shadow_probe () in
       List.iter
@@ -575,19 +725,33 @@ let occluded_allocation =
           let w0 = Gc.minor_words () in
           let hits = run () in
           let words = Gc.minor_words () -. w0 in
-          if hits = 0 || hits = n then Alcotest.failf "degenerate test: %d of %d rays blocked" hits n;
-          if words > 64. then Alcotest.failf "%.0f minor words for %d shadow queries" words n)
+          if hits = 0 || hits = n then
+            Alcotest.failf "degenerate test: %d of %d rays blocked" hits n;
+          if words > 64. then
+            Alcotest.failf "%.0f minor words for %d shadow queries" words n)
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
 
 let bvh_tests =
-  [ case "small scenes skip the hierarchy, larger ones build it" (fun () ->
-        let s i = Primitive.make Material.default (Shape.sphere ~center:(v (Float.of_int i) 0. 0.) ~radius:0.4) in
+  [
+    case "small scenes skip the hierarchy, larger ones build it" (fun () ->
+        let s i =
+          Primitive.make Material.default
+            (Shape.sphere ~center:(v (Float.of_int i) 0. 0.) ~radius:0.4)
+        in
         Alcotest.(check bool) "7" false (Accel.uses_bvh (Accel.build (Array.init 7 s)));
         Alcotest.(check bool) "100" true (Accel.uses_bvh (Accel.build (Array.init 100 s)));
-        Alcotest.(check bool) "planes only" false
-          (Accel.uses_bvh (Accel.build (Array.init 20 (fun i -> Primitive.make Material.default (Shape.plane ~normal:Vec3.y_axis ~offset:(Float.of_int i)))))));
+        Alcotest.(check bool)
+          "planes only" false
+          (Accel.uses_bvh
+             (Accel.build
+                (Array.init 20 (fun i ->
+                     Primitive.make Material.default
+                       (Shape.plane ~normal:Vec3.y_axis ~offset:(Float.of_int i)))))));
     case "a thousand identical spheres give the lowest index" (fun () ->
-        let prims = Array.init 1000 (fun _ -> Primitive.make Material.default (Shape.sphere ~center:Vec3.zero ~radius:1.)) in
+        let prims =
+          Array.init 1000 (fun _ ->
+              Primitive.make Material.default (Shape.sphere ~center:Vec3.zero ~radius:1.))
+        in
         let accel = Accel.build prims in
         let t, i = Accel.nearest accel (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
         close "t" 4. t;
@@ -596,32 +760,76 @@ let bvh_tests =
         let st = Random.State.make [| 7 |] in
         let mat c = { Material.default with color = c; specular = 0.3 } in
         let objs =
-          Primitive.make (mat (Color.v 0.8 0.8 0.8)) (Shape.plane ~normal:Vec3.y_axis ~offset:(-2.))
+          Primitive.make
+            (mat (Color.v 0.8 0.8 0.8))
+            (Shape.plane ~normal:Vec3.y_axis ~offset:(-2.))
           :: List.init 60 (fun k ->
-                 let c = v (rand_in st (-4.) 4.) (rand_in st (-1.5) 3.) (rand_in st 0. 8.) in
-                 let color = Color.v (Random.State.float st 1.) (Random.State.float st 1.) (Random.State.float st 1.) in
-                 let m = if k mod 7 = 0 then { (mat color) with reflection = 0.5 } else mat color in
+                 let c =
+                   v (rand_in st (-4.) 4.) (rand_in st (-1.5) 3.) (rand_in st 0. 8.)
+                 in
+                 let color =
+                   Color.v (Random.State.float st 1.) (Random.State.float st 1.)
+                     (Random.State.float st 1.)
+                 in
+                 let m =
+                   if k mod 7 = 0 then { (mat color) with reflection = 0.5 }
+                   else mat color
+                 in
                  let s =
                    match k mod 4 with
                    | 0 -> Shape.sphere ~center:c ~radius:(rand_in st 0.2 0.7)
                    | 1 -> Shape.box ~min:c ~max:(Vec3.add c (rand_point st 0.2 0.8))
-                   | 2 -> Shape.triangle ~a:c ~b:(Vec3.add c (v 0.8 0. 0.)) ~c:(Vec3.add c (v 0. 0.8 0.3))
-                   | _ -> Shape.cylinder ~base:c ~top:(Vec3.add c (v 0. 0.7 0.)) ~radius:0.3 ~caps:true
+                   | 2 ->
+                       Shape.triangle ~a:c
+                         ~b:(Vec3.add c (v 0.8 0. 0.))
+                         ~c:(Vec3.add c (v 0. 0.8 0.3))
+                   | _ ->
+                       Shape.cylinder ~base:c
+                         ~top:(Vec3.add c (v 0. 0.7 0.))
+                         ~radius:0.3 ~caps:true
                  in
                  Primitive.make m s)
         in
         let settings = { Settings.default with width = 96; height = 72; depth = 3 } in
-        let lights = [ Light.Point { position = v 5. 8. (-6.); color = Color.white; intensity = 1.; attenuation = v 1. 0. 0.; radius = 0.; samples = 1; spot = None } ] in
+        let lights =
+          [
+            Light.Point
+              {
+                position = v 5. 8. (-6.);
+                color = Color.white;
+                intensity = 1.;
+                attenuation = v 1. 0. 0.;
+                radius = 0.;
+                samples = 1;
+                spot = None;
+              };
+          ]
+        in
         let a = Scene.make_exn ~settings ~lights objs in
-        let b = Scene.make_exn ~settings ~lights (List.map Primitive.without_bounds objs) in
+        let b =
+          Scene.make_exn ~settings ~lights (List.map Primitive.without_bounds objs)
+        in
         Alcotest.(check bool) "a uses the BVH" true (Accel.uses_bvh a.accel);
         Alcotest.(check bool) "b scans" false (Accel.uses_bvh b.accel);
         let fa, _ = Render.render a and fb, _ = Render.render b in
-        Alcotest.(check bool) "identical framebuffers" true (let same = ref true in Float.Array.iteri (fun k x -> if not (Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float (Float.Array.get fb.data k))) then same := false) fa.data; !same)) ]
+        Alcotest.(check bool)
+          "identical framebuffers" true
+          (let same = ref true in
+           Float.Array.iteri
+             (fun k x ->
+               if
+                 not
+                   (Int64.equal (Int64.bits_of_float x)
+                      (Int64.bits_of_float (Float.Array.get fb.data k)))
+               then same := false)
+             fa.data;
+           !same));
+  ]
 
 (* ---- textures and bump maps ---- *)
 
-let red = Color.v 1. 0. 0. and blue = Color.v 0. 0. 1.
+let red = Color.v 1. 0. 0.
+and blue = Color.v 0. 0. 1.
 
 let ramp =
   (* 4×1 image, brightness growing to the right. *)
@@ -632,25 +840,43 @@ let ramp =
   done;
   img
 
-let in_between (c : Color.t) = c.r >= 0. && c.r <= 1. && c.b >= 0. && c.b <= 1. && Float.abs (c.r +. c.b -. 1.) < 1e-12
+let in_between (c : Color.t) =
+  c.r >= 0. && c.r <= 1. && c.b >= 0. && c.b <= 1. && Float.abs (c.r +. c.b -. 1.) < 1e-12
 
 let texture_tests =
-  let procedural = [ Texture.Noise { c1 = red; c2 = blue; scale = 0.7 }; Marble { c1 = red; c2 = blue; scale = 0.7 }; Wood { c1 = red; c2 = blue; scale = 0.7 } ] in
-  [ case "noise, marble and wood are deterministic and mix between their two colours" (fun () ->
+  let procedural =
+    [
+      Texture.Noise { c1 = red; c2 = blue; scale = 0.7 };
+      Marble { c1 = red; c2 = blue; scale = 0.7 };
+      Wood { c1 = red; c2 = blue; scale = 0.7 };
+    ]
+  in
+  [
+    case "noise, marble and wood are deterministic and mix between their two colours"
+      (fun () ->
         let st = Random.State.make [| 3 |] in
         let pts = List.init 200 (fun _ -> rand_point st (-20.) 20.) in
         List.iter
           (fun tex ->
-            let a = List.map (fun p -> Texture.eval tex p 0. 0.) pts and b = List.map (fun p -> Texture.eval tex p 0. 0.) pts in
+            let a = List.map (fun p -> Texture.eval tex p 0. 0.) pts
+            and b = List.map (fun p -> Texture.eval tex p 0. 0.) pts in
             Alcotest.(check bool) (Texture.name tex ^ " deterministic") true (a = b);
-            Alcotest.(check bool) (Texture.name tex ^ " in range") true (List.for_all in_between a);
-            Alcotest.(check bool) (Texture.name tex ^ " varies") true (List.exists (fun c -> c <> List.hd a) a))
+            Alcotest.(check bool)
+              (Texture.name tex ^ " in range")
+              true (List.for_all in_between a);
+            Alcotest.(check bool)
+              (Texture.name tex ^ " varies")
+              true
+              (List.exists (fun c -> c <> List.hd a) a))
           procedural);
     case "procedural textures survive huge and non-finite points" (fun () ->
         List.iter
           (fun tex ->
             List.iter
-              (fun p -> Alcotest.(check bool) "finite" true (Color.is_finite (Texture.eval tex p 0. 0.)))
+              (fun p ->
+                Alcotest.(check bool)
+                  "finite" true
+                  (Color.is_finite (Texture.eval tex p 0. 0.)))
               [ v 1e300 (-1e300) 0.; v Float.nan 0. 0.; v inf 0. 0. ])
           procedural);
     case "an image texture returns its pixels at their centres and wraps" (fun () ->
@@ -658,10 +884,15 @@ let texture_tests =
         close "second pixel" (1. /. 3.) (Texture.eval tex Vec3.zero 0.375 0.5).r;
         close "wrapped" (1. /. 3.) (Texture.eval tex Vec3.zero 1.375 (-2.5)).r;
         close "bilinear between pixels 1 and 2" 0.5 (Texture.eval tex Vec3.zero 0.5 0.5).g;
-        close "scale tiles" (1. /. 3.) (Texture.eval (Texture.Image { img = ramp; scale = 2. }) Vec3.zero 0.1875 0.5).r;
+        close "scale tiles" (1. /. 3.)
+          (Texture.eval (Texture.Image { img = ramp; scale = 2. }) Vec3.zero 0.1875 0.5).r;
         Alcotest.(check bool) "needs uv" true (Texture.needs_uv tex);
-        Alcotest.(check bool) "nan coordinates" true (Color.is_finite (Texture.eval tex Vec3.zero Float.nan inf)));
-    case "an image bump map tilts the normal against the height's growth, a flat one leaves it" (fun () ->
+        Alcotest.(check bool)
+          "nan coordinates" true
+          (Color.is_finite (Texture.eval tex Vec3.zero Float.nan inf)));
+    case
+      "an image bump map tilts the normal against the height's growth, a flat one leaves \
+       it" (fun () ->
         let plane = Shape.plane ~normal:Vec3.y_axis ~offset:0. in
         let p = v 0.3 0. 0.2 in
         let uv d = Shape.uv plane (Vec3.add p d) in
@@ -670,7 +901,8 @@ let texture_tests =
         Alcotest.(check bool) "tilted toward −x (u grows with x)" true (n.x < -0.01);
         let flat = Image.create 4 4 in
         let n = Bump.perturb (Bump.Image { img = flat; amount = 1. }) ~uv p Vec3.y_axis in
-        check_vec "flat" Vec3.y_axis n) ]
+        check_vec "flat" Vec3.y_axis n);
+  ]
 
 let () =
   Alcotest.run "geometry"
@@ -683,4 +915,5 @@ let () =
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
-      ("textures", texture_tests) ]
+      ("textures", texture_tests);
+    ]

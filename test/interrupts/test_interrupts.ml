@@ -24,7 +24,11 @@ plane { normal: (0, 0, 1), offset: 1, material: m }
 
 (* lancer in [d] with its stderr in a file; the pid and that file. *)
 let spawn d args =
-  let err = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "intr-%d-%d.err" (Unix.getpid ()) (Random.bits ())) in
+  let err =
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "intr-%d-%d.err" (Unix.getpid ()) (Random.bits ()))
+  in
   let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_TRUNC ] 0o644 in
   let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
   let cwd = Sys.getcwd () in
@@ -36,20 +40,29 @@ let spawn d args =
   (pid, err)
 
 (* The threads of a process: a pool of domains adds some once the scene is loaded. *)
-let threads pid = try Array.length (Sys.readdir (Printf.sprintf "/proc/%d/task" pid)) with Sys_error _ -> 0
+let threads pid =
+  try Array.length (Sys.readdir (Printf.sprintf "/proc/%d/task" pid))
+  with Sys_error _ -> 0
 
 let rec wait_until ?(timeout = 60.) cond =
   if cond () then true
   else if timeout <= 0. then false
-  else (Unix.sleepf 0.01; wait_until ~timeout:(timeout -. 0.01) cond)
+  else (
+    Unix.sleepf 0.01;
+    wait_until ~timeout:(timeout -. 0.01) cond)
 
 (* Wait for [pid] at most [limit] seconds: its status, or None (then it is killed). *)
 let wait_for pid limit =
   let t0 = Unix.gettimeofday () in
   let rec go () =
     match Unix.waitpid [ Unix.WNOHANG ] pid with
-    | 0, _ when Unix.gettimeofday () -. t0 < limit -> Unix.sleepf 0.02; go ()
-    | 0, _ -> Unix.kill pid Sys.sigkill; ignore (Unix.waitpid [] pid); None
+    | 0, _ when Unix.gettimeofday () -. t0 < limit ->
+        Unix.sleepf 0.02;
+        go ()
+    | 0, _ ->
+        Unix.kill pid Sys.sigkill;
+        ignore (Unix.waitpid [] pid);
+        None
     | _, st -> Some (st, Unix.gettimeofday () -. t0)
   in
   go ()
@@ -62,31 +75,52 @@ let interrupted ?(limit = 2.) ~what pid err signal =
   match r with
   | None -> Alcotest.failf "%s: still running %.0f s after the signal\n%s" what limit e
   | Some (st, took) ->
-      Alcotest.(check bool) (Printf.sprintf "%s: exit 130 (stopped in %.2f s)\n%s" what took e) true (st = Unix.WEXITED 130);
-      Alcotest.(check bool) ("says it was interrupted: " ^ e) true (contains e "lancer: interrupted");
-      Alcotest.(check bool) ("no internal error: " ^ e) false (contains e "internal error" || contains e "Raised at");
+      Alcotest.(check bool)
+        (Printf.sprintf "%s: exit 130 (stopped in %.2f s)\n%s" what took e)
+        true (st = Unix.WEXITED 130);
+      Alcotest.(check bool)
+        ("says it was interrupted: " ^ e)
+        true
+        (contains e "lancer: interrupted");
+      Alcotest.(check bool)
+        ("no internal error: " ^ e) false
+        (contains e "internal error" || contains e "Raised at");
       e
 
 let branching_case (name, signal, domains) =
   Alcotest.test_case
-    (Printf.sprintf "%s stops rays that double at every bounce within 2 s (%s domain%s)" name domains
+    (Printf.sprintf "%s stops rays that double at every bounce within 2 s (%s domain%s)"
+       name domains
        (if domains = "1" then "" else "s"))
-    `Slow (fun () ->
+    `Slow
+    (fun () ->
       let d = tmpdir () in
       write_file (Filename.concat d "b.rts") branching;
       let pid, err = spawn d [ "render"; "b.rts"; "-o"; "b.png"; "--domains"; domains ] in
       (* Into the render: the pool's domains have started (or, with one domain, the scene
          has had time to load). *)
-      if domains = "1" then Unix.sleepf 1.0 else ignore (wait_until (fun () -> threads pid > 1));
+      if domains = "1" then Unix.sleepf 1.0
+      else ignore (wait_until (fun () -> threads pid > 1));
       Unix.sleepf 0.3;
       ignore (interrupted ~what:name pid err signal);
       Alcotest.(check (list string)) "no output, no temporary file" [ "b.rts" ] (files d))
 
 let tests =
-  List.map branching_case [ ("SIGINT", Sys.sigint, "2"); ("SIGTERM", Sys.sigterm, "2"); ("SIGINT", Sys.sigint, "1") ]
-  @ [ Alcotest.test_case "Ctrl-C while a scene is evaluated exits 130, not with an internal error" `Slow (fun () ->
+  List.map branching_case
+    [
+      ("SIGINT", Sys.sigint, "2");
+      ("SIGTERM", Sys.sigterm, "2");
+      ("SIGINT", Sys.sigint, "1");
+    ]
+  @ [
+      Alcotest.test_case
+        "Ctrl-C while a scene is evaluated exits 130, not with an internal error" `Slow
+        (fun () ->
           let d = tmpdir () in
-          write_file (Filename.concat d "loop.rts") "for i in 0 to 15000000 { let x = i * 2 }\nsphere { center: (0, 0, 0), radius: 1 }\n";
+          write_file
+            (Filename.concat d "loop.rts")
+            "for i in 0 to 15000000 { let x = i * 2 }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n";
           List.iter
             (fun args ->
               let cmd = List.hd args in
@@ -95,66 +129,110 @@ let tests =
               ignore (interrupted ~what:cmd pid err Sys.sigint))
             [ [ "render"; "loop.rts"; "-o"; "loop.png" ]; [ "check"; "loop.rts" ] ];
           Alcotest.(check (list string)) "no output" [ "loop.rts" ] (files d));
-      Alcotest.test_case "Ctrl-C while animate evaluates a frame's scene stops it within 2 s" `Slow (fun () ->
+      Alcotest.test_case
+        "Ctrl-C while animate evaluates a frame's scene stops it within 2 s" `Slow
+        (fun () ->
           let d = tmpdir () in
           (* Frame 0 (what loading checks) is instant; frame 1 takes 4 M loop iterations,
              evaluated once the pool of domains is running. *)
           write_file (Filename.concat d "a.rts")
-            "animation { fps: 10, frames: 3 }\nsettings { width: 8, height: 6 }\n\
-             for i in 1 to frame * 4000000 { let x = i * 2 }\nsphere { center: (0, 0, 0), radius: 1 }\n";
-          let pid, err = spawn d [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..1"; "--domains"; "2" ] in
-          Alcotest.(check bool) "the pool starts" true (wait_until (fun () -> threads pid > 1));
+            "animation { fps: 10, frames: 3 }\n\
+             settings { width: 8, height: 6 }\n\
+             for i in 1 to frame * 4000000 { let x = i * 2 }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n";
+          let pid, err =
+            spawn d
+              [ "animate"; "a.rts"; "-o"; "out"; "--frames"; "1..1"; "--domains"; "2" ]
+          in
+          Alcotest.(check bool)
+            "the pool starts" true
+            (wait_until (fun () -> threads pid > 1));
           Unix.sleepf 0.3;
           ignore (interrupted ~what:"SIGINT" pid err Sys.sigint);
-          Alcotest.(check bool) "no frame" false (Sys.file_exists (Filename.concat d "out/frame_0001.png")));
-      Alcotest.test_case "Ctrl-C stops a render with 200 000 lights within 2 s" `Slow (fun () ->
+          Alcotest.(check bool)
+            "no frame" false
+            (Sys.file_exists (Filename.concat d "out/frame_0001.png")));
+      Alcotest.test_case "Ctrl-C stops a render with 200 000 lights within 2 s" `Slow
+        (fun () ->
           let d = tmpdir () in
           write_file (Filename.concat d "l.rts")
-            "settings { width: 64, height: 48 }\ncamera { position: (0, 2, -6), look_at: (0, 0, 0) }\n\
-             for i in 1 to 200000 { light { position: (i * 0.001, 5, -5), intensity: 0.000001 } }\n\
+            "settings { width: 64, height: 48 }\n\
+             camera { position: (0, 2, -6), look_at: (0, 0, 0) }\n\
+             for i in 1 to 200000 { light { position: (i * 0.001, 5, -5), intensity: \
+             0.000001 } }\n\
              plane { normal: (0, 1, 0), offset: 0 }\n";
           let pid, err = spawn d [ "render"; "l.rts"; "-o"; "l.png"; "--domains"; "2" ] in
-          Alcotest.(check bool) "the render starts" true (wait_until (fun () -> threads pid > 1));
+          Alcotest.(check bool)
+            "the render starts" true
+            (wait_until (fun () -> threads pid > 1));
           Unix.sleepf 0.3;
           ignore (interrupted ~what:"SIGINT" pid err Sys.sigint);
           Alcotest.(check (list string)) "no output" [ "l.rts" ] (files d));
-      Alcotest.test_case "--domains beyond 128 is refused at once, with the bound" `Quick (fun () ->
-          let ((st, _, e) as _r) = run ~exe ~dir:(Sys.getcwd ()) [ "render"; "--domains"; "100000"; "-o"; "x.png" ] in
+      Alcotest.test_case "--domains beyond 128 is refused at once, with the bound" `Quick
+        (fun () ->
+          let ((st, _, e) as _r) =
+            run ~exe ~dir:(Sys.getcwd ())
+              [ "render"; "--domains"; "100000"; "-o"; "x.png" ]
+          in
           Alcotest.(check int) ("exit 1\n" ^ e) 1 st;
           Alcotest.(check bool) e true (contains e "--domains must be at most 128");
-          Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png")) ]
+          Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png"));
+    ]
 
 let is_temp f = String.length f > 0 && f.[0] = '.' && contains f ".tmp"
 
 let write_tests =
-  [ Alcotest.test_case "Ctrl-C while the PNG is written: exit 130, a whole image, no temporary file" `Slow (fun () ->
+  [
+    Alcotest.test_case
+      "Ctrl-C while the PNG is written: exit 130, a whole image, no temporary file" `Slow
+      (fun () ->
         let d = tmpdir () in
         (* Nothing to hit: the render is quick and the encoder has 9 M pixels to write. *)
-        write_file (Filename.concat d "e.rts") "settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n";
+        write_file (Filename.concat d "e.rts")
+          "settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n";
         let pid, err = spawn d [ "render"; "e.rts"; "-o"; "e.png"; "--domains"; "1" ] in
         let writing () = List.exists is_temp (files d) in
         Alcotest.(check bool) "the write starts" true (wait_until ~timeout:60. writing);
         let e = interrupted ~limit:20. ~what:"SIGINT" pid err Sys.sigint in
-        Alcotest.(check bool) ("no Finally_raised: " ^ e) false (contains e "Finally_raised");
-        Alcotest.(check (list string)) "the image, no temporary file" [ "e.png"; "e.rts" ] (files d);
+        Alcotest.(check bool)
+          ("no Finally_raised: " ^ e) false (contains e "Finally_raised");
+        Alcotest.(check (list string))
+          "the image, no temporary file" [ "e.png"; "e.rts" ] (files d);
         match Lancer.Image.read_rgb8 (Filename.concat d "e.png") with
         | Ok (w, h, _) -> Alcotest.(check (pair int int)) "whole" (3000, 3000) (w, h)
-        | Error m -> Alcotest.fail m) ]
+        | Error m -> Alcotest.fail m);
+  ]
 
 let stdout_tests =
-  [ Alcotest.test_case "standard output on a full device is a user error, exit 1, with the reason" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "standard output on a full device is a user error, exit 1, with the reason" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") "sphere { center: (0, 0, 0), radius: 1 }\n";
         List.iter
           (fun args ->
             let cmd =
-              Printf.sprintf "cd %s && %s %s >/dev/full 2>err.txt" (Filename.quote d) (Filename.quote exe) (String.concat " " args)
+              Printf.sprintf "cd %s && %s %s >/dev/full 2>err.txt" (Filename.quote d)
+                (Filename.quote exe) (String.concat " " args)
             in
             let st = Sys.command cmd in
             let e = read_file (Filename.concat d "err.txt") in
             Alcotest.(check int) (String.concat " " args ^ ": exit 1\n" ^ e) 1 st;
-            Alcotest.(check bool) e true (contains e "lancer: cannot write to standard output: No space left on device");
-            Alcotest.(check bool) e false (contains e "internal error" || contains e "Fatal error"))
-          [ [ "check"; "s.rts" ]; [ "check"; "s.rts"; "--json" ]; [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "8"; "--height"; "6" ] ]) ]
+            Alcotest.(check bool)
+              e true
+              (contains e
+                 "lancer: cannot write to standard output: No space left on device");
+            Alcotest.(check bool)
+              e false
+              (contains e "internal error" || contains e "Fatal error"))
+          [
+            [ "check"; "s.rts" ];
+            [ "check"; "s.rts"; "--json" ];
+            [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "8"; "--height"; "6" ];
+          ]);
+  ]
 
-let () = Alcotest.run "interrupts" [ ("stopping", tests); ("writing", write_tests); ("stdout", stdout_tests) ]
+let () =
+  Alcotest.run "interrupts"
+    [ ("stopping", tests); ("writing", write_tests); ("stdout", stdout_tests) ]

@@ -12,50 +12,97 @@ let files d = List.sort compare (Array.to_list (Sys.readdir d))
 let lancer ?prefix d args = run ?prefix ~exe ~dir:d args
 
 let small =
-  "settings { width: 32, height: 24 }\ncamera { position: (0, 1, -5), look_at: (0, 0.5, 0) }\n\
-   light { position: (-3, 5, -4) }\nplane { normal: (0, 1, 0), offset: 0 }\n\
+  "settings { width: 32, height: 24 }\n\
+   camera { position: (0, 1, -5), look_at: (0, 0.5, 0) }\n\
+   light { position: (-3, 5, -4) }\n\
+   plane { normal: (0, 1, 0), offset: 0 }\n\
    sphere { center: (0, 1, 0), radius: 1, material: material { reflection: 0.3 } }\n"
 
 let refused ?prefix ~what d args expect =
   let st, _, e = lancer ?prefix d args in
   Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
   Alcotest.(check bool) (what ^ ": " ^ e) true (contains e expect);
-  Alcotest.(check bool) (what ^ ": no internal error\n" ^ e) false (contains e "internal error" || contains e "Fatal error");
+  Alcotest.(check bool)
+    (what ^ ": no internal error\n" ^ e)
+    false
+    (contains e "internal error" || contains e "Fatal error");
   e
 
 let memory_tests =
-  [ Alcotest.test_case "under ulimit -v 1500000 a render on two domains works" `Quick (fun () ->
+  [
+    Alcotest.test_case "under ulimit -v 1500000 a render on two domains works" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small;
-        let st, _, e = lancer ~prefix:"ulimit -v 1500000;" d [ "render"; "s.rts"; "-o"; "s.png"; "--domains"; "2"; "-q" ] in
+        let st, _, e =
+          lancer ~prefix:"ulimit -v 1500000;" d
+            [ "render"; "s.rts"; "-o"; "s.png"; "--domains"; "2"; "-q" ]
+        in
         Alcotest.(check int) ("exit 0\n" ^ e) 0 st;
-        Alcotest.(check bool) "the image" true (Sys.file_exists (Filename.concat d "s.png")));
-    Alcotest.test_case "more objects than the memory limit can hold are refused before they are built, located" `Quick (fun () ->
+        Alcotest.(check bool)
+          "the image" true
+          (Sys.file_exists (Filename.concat d "s.png")));
+    Alcotest.test_case
+      "more objects than the memory limit can hold are refused before they are built, \
+       located"
+      `Quick (fun () ->
         let d = tmpdir () in
-        write_file (Filename.concat d "many.rts") "for i in 0 to 3999999 { sphere { center: (i, 0, 0), radius: 0.5 } }\n";
-        write_file (Filename.concat d "macro.rts")
-          "fn ball(i) { sphere { center: (i, 0, 0), radius: 0.5 } }\nfor i in 0 to 3999999 { ball(i) }\n";
-        let e = refused ~prefix:"ulimit -v 1000000;" ~what:"a loop" d [ "check"; "many.rts" ] "many.rts:1:1: 4.0 million objects need about" in
+        write_file
+          (Filename.concat d "many.rts")
+          "for i in 0 to 3999999 { sphere { center: (i, 0, 0), radius: 0.5 } }\n";
+        write_file
+          (Filename.concat d "macro.rts")
+          "fn ball(i) { sphere { center: (i, 0, 0), radius: 0.5 } }\n\
+           for i in 0 to 3999999 { ball(i) }\n";
+        let e =
+          refused ~prefix:"ulimit -v 1000000;" ~what:"a loop" d [ "check"; "many.rts" ]
+            "many.rts:1:1: 4.0 million objects need about"
+        in
         Alcotest.(check bool) e true (contains e "ulimit -v");
-        ignore (refused ~prefix:"ulimit -v 1000000;" ~what:"a macro in a loop" d [ "render"; "macro.rts"; "-o"; "m.png" ] "macro.rts:1:14: ");
-        Alcotest.(check (list string)) "no output" [ "macro.rts"; "many.rts" ] (files d)) ]
+        ignore
+          (refused ~prefix:"ulimit -v 1000000;" ~what:"a macro in a loop" d
+             [ "render"; "macro.rts"; "-o"; "m.png" ]
+             "macro.rts:1:14: ");
+        Alcotest.(check (list string)) "no output" [ "macro.rts"; "many.rts" ] (files d));
+  ]
 
 let options_tests =
-  [ Alcotest.test_case "--width and --height above 65536 are refused as the options are read" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "--width and --height above 65536 are refused as the options are read" `Quick
+      (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small;
-        ignore (refused ~what:"--width" d [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "70000"; "--height"; "1" ] "must be 1 to 65536 pixels (got 70000)");
-        ignore (refused ~what:"--height" d [ "render"; "s.rts"; "-o"; "s.png"; "--height"; "65537" ] "--height");
+        ignore
+          (refused ~what:"--width" d
+             [ "render"; "s.rts"; "-o"; "s.png"; "--width"; "70000"; "--height"; "1" ]
+             "must be 1 to 65536 pixels (got 70000)");
+        ignore
+          (refused ~what:"--height" d
+             [ "render"; "s.rts"; "-o"; "s.png"; "--height"; "65537" ]
+             "--height");
         Alcotest.(check (list string)) "no output" [ "s.rts" ] (files d));
-    Alcotest.test_case "--time 2.3e18 is refused, not turned into a negative frame" `Quick (fun () ->
+    Alcotest.test_case "--time 2.3e18 is refused, not turned into a negative frame" `Quick
+      (fun () ->
         let d = tmpdir () in
-        write_file (Filename.concat d "s.rts") ("animation { fps: 24, frames: 10 }\n" ^ small);
-        ignore (refused ~what:"render" d [ "render"; "s.rts"; "-o"; "s.png"; "--time"; "2.3e18" ] "--time must be within");
-        ignore (refused ~what:"check" d [ "check"; "s.rts"; "--time"; "2.3e18" ] "--time must be within");
-        Alcotest.(check (list string)) "no output" [ "s.rts" ] (files d)) ]
+        write_file (Filename.concat d "s.rts")
+          ("animation { fps: 24, frames: 10 }\n" ^ small);
+        ignore
+          (refused ~what:"render" d
+             [ "render"; "s.rts"; "-o"; "s.png"; "--time"; "2.3e18" ]
+             "--time must be within");
+        ignore
+          (refused ~what:"check" d
+             [ "check"; "s.rts"; "--time"; "2.3e18" ]
+             "--time must be within");
+        Alcotest.(check (list string)) "no output" [ "s.rts" ] (files d));
+  ]
 
 let input_tests =
-  [ Alcotest.test_case "an include of a device, a FIFO or a huge file is refused from its status, located" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "an include of a device, a FIFO or a huge file is refused from its status, located"
+      `Quick (fun () ->
         let d = tmpdir () in
         let p = Filename.concat d in
         Unix.mkfifo (p "fifo.rts") 0o644;
@@ -64,30 +111,75 @@ let input_tests =
         Unix.truncate (p "big.rts") 100_000_000;
         List.iter
           (fun (name, target, expect) ->
-            write_file (p name) (Printf.sprintf "sphere { center: (0, 0, 0), radius: 1 }\ninclude \"%s\"\n" target);
-            ignore (refused ~what:name d [ "check"; name ] (Printf.sprintf "%s:2:1: cannot read the included file \"%s\": %s" name target expect)))
-          [ ("zero.rts", "/dev/zero", "it is a device");
+            write_file (p name)
+              (Printf.sprintf "sphere { center: (0, 0, 0), radius: 1 }\ninclude \"%s\"\n"
+                 target);
+            ignore
+              (refused ~what:name d [ "check"; name ]
+                 (Printf.sprintf "%s:2:1: cannot read the included file \"%s\": %s" name
+                    target expect)))
+          [
+            ("zero.rts", "/dev/zero", "it is a device");
             ("fifo_inc.rts", "fifo.rts", "it is a pipe (FIFO)");
-            ("big_inc.rts", "big.rts", "it is 100 MB; a scene file may be at most 64 MB") ];
-        ignore (refused ~what:"a FIFO as the scene" d [ "check"; "fifo.rts" ] "fifo.rts: cannot read the scene: it is a pipe");
-        ignore (refused ~what:"a device as the scene" d [ "render"; "/dev/zero"; "-o"; "z.png" ] "/dev/zero: cannot read the scene: it is a device"));
-    Alcotest.test_case "an output directory that cannot be written is refused before rendering" `Quick (fun () ->
+            ("big_inc.rts", "big.rts", "it is 100 MB; a scene file may be at most 64 MB");
+          ];
+        ignore
+          (refused ~what:"a FIFO as the scene" d [ "check"; "fifo.rts" ]
+             "fifo.rts: cannot read the scene: it is a pipe");
+        ignore
+          (refused ~what:"a device as the scene" d
+             [ "render"; "/dev/zero"; "-o"; "z.png" ]
+             "/dev/zero: cannot read the scene: it is a device"));
+    Alcotest.test_case
+      "an output directory that cannot be written is refused before rendering" `Quick
+      (fun () ->
         let d = tmpdir () in
         (* Long to render: the refusal must come first. *)
         write_file (Filename.concat d "s.rts") small;
         let t0 = Unix.gettimeofday () in
         (* No process may create files in /proc, not even root. *)
-        ignore (refused ~what:"-o" d [ "render"; "s.rts"; "-o"; "/proc/lancer-out.png"; "--width"; "4000"; "--height"; "4000"; "--samples"; "4" ]
-                  "cannot write /proc/lancer-out.png");
-        ignore (refused ~what:"--stats" d [ "render"; "s.rts"; "-o"; "s.png"; "--stats"; "/proc/lancer-stats.json"; "--width"; "4000"; "--height"; "4000" ]
-                  "cannot write /proc/lancer-stats.json");
+        ignore
+          (refused ~what:"-o" d
+             [
+               "render";
+               "s.rts";
+               "-o";
+               "/proc/lancer-out.png";
+               "--width";
+               "4000";
+               "--height";
+               "4000";
+               "--samples";
+               "4";
+             ]
+             "cannot write /proc/lancer-out.png");
+        ignore
+          (refused ~what:"--stats" d
+             [
+               "render";
+               "s.rts";
+               "-o";
+               "s.png";
+               "--stats";
+               "/proc/lancer-stats.json";
+               "--width";
+               "4000";
+               "--height";
+               "4000";
+             ]
+             "cannot write /proc/lancer-stats.json");
         Alcotest.(check bool) "refused at once" true (Unix.gettimeofday () -. t0 < 10.);
-        Alcotest.(check (list string)) "no output, no probe left" [ "s.rts" ] (files d)) ]
+        Alcotest.(check (list string)) "no output, no probe left" [ "s.rts" ] (files d));
+  ]
 
 let rays_tests =
-  [ Alcotest.test_case "the ray estimate of a branching scene stops at the bound on rays per sample" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "the ray estimate of a branching scene stops at the bound on rays per sample" `Quick
+      (fun () ->
         let text =
-          "settings { width: 8, height: 6, depth: 1000 }\nlight { position: (0, 5, -0.5) }\n\
+          "settings { width: 8, height: 6, depth: 1000 }\n\
+           light { position: (0, 5, -0.5) }\n\
            let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }\n\
            plane { normal: (0, 0, 1), offset: 0, material: m }\n"
         in
@@ -100,7 +192,17 @@ let rays_tests =
                 let c = Lancer.Cost.estimate sc in
                 (* 48 camera rays, each with 65 536 secondary rays at most, every ray
                    casting its one shadow ray. *)
-                Alcotest.(check (float 1.)) "bound" (48. *. Float.of_int (1 + Lancer.Shade.max_secondary) *. 2.) c.bound)) ]
+                Alcotest.(check (float 1.))
+                  "bound"
+                  (48. *. Float.of_int (1 + Lancer.Shade.max_secondary) *. 2.)
+                  c.bound));
+  ]
 
 let () =
-  Alcotest.run "limits" [ ("rays", rays_tests); ("memory", memory_tests); ("options", options_tests); ("inputs and outputs", input_tests) ]
+  Alcotest.run "limits"
+    [
+      ("rays", rays_tests);
+      ("memory", memory_tests);
+      ("options", options_tests);
+      ("inputs and outputs", input_tests);
+    ]

@@ -2,7 +2,11 @@
 open Lancer
 
 let tmpdir () =
-  let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-io-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+  let d =
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "lancer-io-%d-%d" (Unix.getpid ()) (Random.bits ()))
+  in
   Unix.mkdir d 0o755;
   d
 
@@ -16,7 +20,9 @@ let sample_raster ~width ~height ~channels ~depth =
   let n = width * height * channels in
   let b = Bytes.create (n * (depth / 8)) in
   for k = 0 to n - 1 do
-    let v = if k mod 7 < 3 then k * 37 mod (maxv + 1) else Random.State.int st (maxv + 1) in
+    let v =
+      if k mod 7 < 3 then k * 37 mod (maxv + 1) else Random.State.int st (maxv + 1)
+    in
     if depth = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v
   done;
   Raster.make ~width ~height ~channels ~depth b
@@ -27,7 +33,9 @@ let encode r =
   Buffer.contents b
 
 let check_raster msg (a : Raster.t) (b : Raster.t) =
-  Alcotest.(check (list int)) (msg ^ ": size, channels, depth") [ a.width; a.height; a.channels; a.depth ]
+  Alcotest.(check (list int))
+    (msg ^ ": size, channels, depth")
+    [ a.width; a.height; a.channels; a.depth ]
     [ b.width; b.height; b.channels; b.depth ];
   Alcotest.(check bool) (msg ^ ": samples") true (Bytes.equal a.samples b.samples)
 
@@ -45,10 +53,14 @@ let crc32 s =
         !c)
   in
   let c = ref 0xFFFFFFFF in
-  String.iter (fun ch -> c := table.((!c lxor Char.code ch) land 0xFF) lxor (!c lsr 8)) s;
+  String.iter (fun ch -> c := table.(!c lxor Char.code ch land 0xFF) lxor (!c lsr 8)) s;
   !c lxor 0xFFFFFFFF
 
-let be32 n = let b = Bytes.create 4 in Bytes.set_int32_be b 0 (Int32.of_int n); Bytes.to_string b
+let be32 n =
+  let b = Bytes.create 4 in
+  Bytes.set_int32_be b 0 (Int32.of_int n);
+  Bytes.to_string b
+
 let chunk kind data = be32 (String.length data) ^ kind ^ data ^ be32 (crc32 (kind ^ data))
 
 let deflate s =
@@ -66,7 +78,16 @@ let deflate s =
 let png_of ~ctype ~depth ~interlaced ?(extra = "") w h (values : int array array array) =
   let channels = match ctype with 0 | 3 -> 1 | 2 -> 3 | 4 -> 2 | _ -> 4 in
   let passes =
-    if interlaced then [ (0, 0, 8, 8); (4, 0, 8, 8); (0, 4, 4, 8); (2, 0, 4, 4); (0, 2, 2, 4); (1, 0, 2, 2); (0, 1, 1, 2) ]
+    if interlaced then
+      [
+        (0, 0, 8, 8);
+        (4, 0, 8, 8);
+        (0, 4, 4, 8);
+        (2, 0, 4, 4);
+        (0, 2, 2, 4);
+        (1, 0, 2, 2);
+        (0, 1, 1, 2);
+      ]
     else [ (0, 0, 1, 1) ]
   in
   let raw = Buffer.create 1024 in
@@ -74,7 +95,7 @@ let png_of ~ctype ~depth ~interlaced ?(extra = "") w h (values : int array array
   List.iter
     (fun (x0, y0, dx, dy) ->
       let pw = (w - x0 + dx - 1) / dx and ph = (h - y0 + dy - 1) / dy in
-      if pw > 0 && ph > 0 then begin
+      if pw > 0 && ph > 0 then
         let stride = ((pw * channels * depth) + 7) / 8 in
         let bpp = max 1 (channels * depth / 8) in
         let prev = ref (Bytes.make stride '\000') in
@@ -84,12 +105,12 @@ let png_of ~ctype ~depth ~interlaced ?(extra = "") w h (values : int array array
           for x = 0 to pw - 1 do
             Array.iter
               (fun v ->
-                if depth = 16 then Bytes.set_uint16_be row (!bit / 8) v
-                else if depth = 8 then Bytes.set_uint8 row (!bit / 8) v
-                else begin
-                  let k = !bit / 8 in
-                  Bytes.set_uint8 row k (Bytes.get_uint8 row k lor (v lsl (8 - depth - (!bit mod 8))))
-                end;
+                (if depth = 16 then Bytes.set_uint16_be row (!bit / 8) v
+                 else if depth = 8 then Bytes.set_uint8 row (!bit / 8) v
+                 else
+                   let k = !bit / 8 in
+                   Bytes.set_uint8 row k
+                     (Bytes.get_uint8 row k lor (v lsl (8 - depth - (!bit mod 8)))));
                 bit := !bit + depth)
               values.(y0 + (y * dy)).(x0 + (x * dx))
           done;
@@ -106,18 +127,26 @@ let png_of ~ctype ~depth ~interlaced ?(extra = "") w h (values : int array array
               let pa = abs (p - a) and pb = abs (p - b) and pc = abs (p - c) in
               if pa <= pb && pa <= pc then a else if pb <= pc then b else c
             in
-            let f = match ft with 0 -> 0 | 1 -> a | 2 -> b | 3 -> (a + b) / 2 | _ -> pr in
+            let f =
+              match ft with 0 -> 0 | 1 -> a | 2 -> b | 3 -> (a + b) / 2 | _ -> pr
+            in
             Buffer.add_char raw (Char.chr ((x - f) land 255))
           done;
           prev := row
-        done
-      end)
+        done)
     passes;
-  let ihdr = be32 w ^ be32 h ^ String.init 5 (fun k -> Char.chr [| depth; ctype; 0; 0; (if interlaced then 1 else 0) |].(k)) in
-  "\137PNG\r\n\026\n" ^ chunk "IHDR" ihdr ^ extra ^ chunk "tEXt" "Comment\000made by the test" ^ chunk "IDAT" (deflate (Buffer.contents raw))
+  let ihdr =
+    be32 w ^ be32 h
+    ^ String.init 5 (fun k ->
+          Char.chr [| depth; ctype; 0; 0; (if interlaced then 1 else 0) |].(k))
+  in
+  "\137PNG\r\n\026\n" ^ chunk "IHDR" ihdr ^ extra
+  ^ chunk "tEXt" "Comment\000made by the test"
+  ^ chunk "IDAT" (deflate (Buffer.contents raw))
   ^ chunk "IEND" ""
 
-let decode_ok msg s = match Png.decode s with Ok r -> r | Error m -> Alcotest.failf "%s: %s" msg m
+let decode_ok msg s =
+  match Png.decode s with Ok r -> r | Error m -> Alcotest.failf "%s: %s" msg m
 
 let grid w h f = Array.init h (fun j -> Array.init w (fun i -> f i j))
 
@@ -128,39 +157,87 @@ let reader_tests =
       let il = if interlaced then "interlaced" else "plain" in
       List.map
         (fun (ctype, depth, name) ->
-          Alcotest.test_case (Printf.sprintf "a %s %d-bit %s PNG reads as written" il depth name) `Quick (fun () ->
+          Alcotest.test_case
+            (Printf.sprintf "a %s %d-bit %s PNG reads as written" il depth name) `Quick
+            (fun () ->
               let channels = match ctype with 0 | 3 -> 1 | 2 -> 3 | 4 -> 2 | _ -> 4 in
               let maxv = (1 lsl depth) - 1 in
-              let values = grid w h (fun i j -> Array.init channels (fun c -> ((i * 7) + (j * 13) + (c * 5) + (i * j)) * 2654435761 mod (maxv + 1))) in
-              let palette = String.init (3 * (maxv + 1)) (fun k -> Char.chr ((k * 11) land 255)) in
+              let values =
+                grid w h (fun i j ->
+                    Array.init channels (fun c ->
+                        ((i * 7) + (j * 13) + (c * 5) + (i * j))
+                        * 2654435761 mod (maxv + 1)))
+              in
+              let palette =
+                String.init (3 * (maxv + 1)) (fun k -> Char.chr (k * 11 land 255))
+              in
               let extra = if ctype = 3 then chunk "PLTE" palette else "" in
-              let r = decode_ok name (png_of ~ctype ~depth ~interlaced ~extra w h values) in
+              let r =
+                decode_ok name (png_of ~ctype ~depth ~interlaced ~extra w h values)
+              in
               Alcotest.(check (pair int int)) "size" (w, h) (r.width, r.height);
               for j = 0 to h - 1 do
                 for i = 0 to w - 1 do
                   let v = values.(j).(i) in
                   let expect =
-                    if ctype = 3 then Array.init 3 (fun c -> Char.code palette.[(3 * v.(0)) + c])
+                    if ctype = 3 then
+                      Array.init 3 (fun c -> Char.code palette.[(3 * v.(0)) + c])
                     else if depth < 8 then [| v.(0) * 255 / maxv |]
                     else v
                   in
-                  Alcotest.(check (array int)) (Printf.sprintf "pixel %d,%d" i j) expect (Array.init r.channels (Raster.get r i j))
+                  Alcotest.(check (array int))
+                    (Printf.sprintf "pixel %d,%d" i j)
+                    expect
+                    (Array.init r.channels (Raster.get r i j))
                 done
               done))
-        [ (0, 1, "gray"); (0, 2, "gray"); (0, 4, "gray"); (0, 8, "gray"); (0, 16, "gray"); (4, 8, "gray+alpha"); (4, 16, "gray+alpha");
-          (2, 8, "RGB"); (2, 16, "RGB"); (6, 8, "RGBA"); (6, 16, "RGBA"); (3, 1, "palette"); (3, 4, "palette"); (3, 8, "palette") ])
+        [
+          (0, 1, "gray");
+          (0, 2, "gray");
+          (0, 4, "gray");
+          (0, 8, "gray");
+          (0, 16, "gray");
+          (4, 8, "gray+alpha");
+          (4, 16, "gray+alpha");
+          (2, 8, "RGB");
+          (2, 16, "RGB");
+          (6, 8, "RGBA");
+          (6, 16, "RGBA");
+          (3, 1, "palette");
+          (3, 4, "palette");
+          (3, 8, "palette");
+        ])
     [ false; true ]
-  @ [ Alcotest.test_case "a palette PNG with a transparency chunk reads as RGBA" `Quick (fun () ->
+  @ [
+      Alcotest.test_case "a palette PNG with a transparency chunk reads as RGBA" `Quick
+        (fun () ->
           let values = grid 3 2 (fun i j -> [| (i + j) mod 3 |]) in
-          let extra = chunk "PLTE" "\255\000\000\000\255\000\000\000\255" ^ chunk "tRNS" "\000\128" in
-          let r = decode_ok "tRNS" (png_of ~ctype:3 ~depth:8 ~interlaced:false ~extra 3 2 values) in
+          let extra =
+            chunk "PLTE" "\255\000\000\000\255\000\000\000\255" ^ chunk "tRNS" "\000\128"
+          in
+          let r =
+            decode_ok "tRNS"
+              (png_of ~ctype:3 ~depth:8 ~interlaced:false ~extra 3 2 values)
+          in
           Alcotest.(check int) "4 channels" 4 r.channels;
-          Alcotest.(check (array int)) "pixel 0,0" [| 255; 0; 0; 0 |] (Array.init 4 (Raster.get r 0 0));
-          Alcotest.(check (array int)) "pixel 1,0" [| 0; 255; 0; 128 |] (Array.init 4 (Raster.get r 1 0));
-          Alcotest.(check (array int)) "pixel 2,0: opaque" [| 0; 0; 255; 255 |] (Array.init 4 (Raster.get r 2 0)));
-      Alcotest.test_case "the goldens written by the former (interlaced, libpng) writer still read" `Quick (fun () ->
+          Alcotest.(check (array int))
+            "pixel 0,0" [| 255; 0; 0; 0 |]
+            (Array.init 4 (Raster.get r 0 0));
+          Alcotest.(check (array int))
+            "pixel 1,0" [| 0; 255; 0; 128 |]
+            (Array.init 4 (Raster.get r 1 0));
+          Alcotest.(check (array int))
+            "pixel 2,0: opaque" [| 0; 0; 255; 255 |]
+            (Array.init 4 (Raster.get r 2 0)));
+      Alcotest.test_case
+        "the goldens written by the former (interlaced, libpng) writer still read" `Quick
+        (fun () ->
           let dir = "../golden" in
-          let pngs = List.filter (fun f -> Filename.check_suffix f ".png") (Array.to_list (Sys.readdir dir)) in
+          let pngs =
+            List.filter
+              (fun f -> Filename.check_suffix f ".png")
+              (Array.to_list (Sys.readdir dir))
+          in
           Alcotest.(check bool) "some goldens" true (List.length pngs > 5);
           List.iter
             (fun f ->
@@ -169,23 +246,32 @@ let reader_tests =
               let r = decode_ok f s in
               (* Re-encoded plainly, it decodes to the same samples. *)
               check_raster f r (decode_ok (f ^ " re-encoded") (encode r)))
-            pngs) ]
+            pngs);
+    ]
 
 let writer_tests =
-  [ Alcotest.test_case "every colour type at 8 and 16 bits round-trips through the writer" `Quick (fun () ->
+  [
+    Alcotest.test_case "every colour type at 8 and 16 bits round-trips through the writer"
+      `Quick (fun () ->
         List.iter
           (fun (channels, depth) ->
             let r = sample_raster ~width:37 ~height:23 ~channels ~depth in
             let s = encode r in
             Alcotest.(check int) "not interlaced" 0 (Char.code s.[28]);
-            check_raster (Printf.sprintf "%d channels, %d bits" channels depth) r (decode_ok "round trip" s))
+            check_raster
+              (Printf.sprintf "%d channels, %d bits" channels depth)
+              r (decode_ok "round trip" s))
           [ (1, 8); (1, 16); (2, 8); (2, 16); (3, 8); (3, 16); (4, 8); (4, 16) ]);
-    Alcotest.test_case "a one-pixel image and an image wider than deflate's buffer round-trip" `Quick (fun () ->
+    Alcotest.test_case
+      "a one-pixel image and an image wider than deflate's buffer round-trip" `Quick
+      (fun () ->
         List.iter
           (fun (w, h) ->
             let r = sample_raster ~width:w ~height:h ~channels:3 ~depth:16 in
-            check_raster (Printf.sprintf "%d×%d" w h) r (decode_ok "round trip" (encode r)))
-          [ (1, 1); (12000, 2); (3, 400) ]) ]
+            check_raster (Printf.sprintf "%d×%d" w h) r
+              (decode_ok "round trip" (encode r)))
+          [ (1, 1); (12000, 2); (3, 400) ]);
+  ]
 
 let corrupt_tests =
   let good = encode (sample_raster ~width:20 ~height:10 ~channels:3 ~depth:8) in
@@ -199,44 +285,75 @@ let corrupt_tests =
               let rec go i = i + k <= n && (String.sub s i k = sub || go (i + 1)) in
               go 0
             in
-            Alcotest.(check bool) (Printf.sprintf "%S mentions %S" m expect) true (contains m expect))
+            Alcotest.(check bool)
+              (Printf.sprintf "%S mentions %S" m expect)
+              true (contains m expect))
   in
-  let flip s k = String.mapi (fun i c -> if i = k then Char.chr (Char.code c lxor 0x40) else c) s in
+  let flip s k =
+    String.mapi (fun i c -> if i = k then Char.chr (Char.code c lxor 0x40) else c) s
+  in
   let idat_at =
     let rec find i = if String.sub good i 4 = "IDAT" then i else find (i + 1) in
     find 8
   in
-  [ refused "an empty file" "" "not a PNG file";
+  [
+    refused "an empty file" "" "not a PNG file";
     refused "a text file" "hello, world\n" "not a PNG file";
     refused "a truncated file" (String.sub good 0 (String.length good - 20)) "truncated";
     refused "a file cut inside its header" (String.sub good 0 20) "truncated";
-    refused "a flipped bit in the image data" (flip good (idat_at + 10)) "bad checksum in chunk IDAT";
+    refused "a flipped bit in the image data"
+      (flip good (idat_at + 10))
+      "bad checksum in chunk IDAT";
     refused "a flipped bit in the header" (flip good 18) "bad checksum in chunk IHDR";
     refused "data that does not inflate"
-      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 2 ^ be32 2 ^ "\008\002\000\000\000") ^ chunk "IDAT" "not zlib at all" ^ chunk "IEND" "")
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 2 ^ be32 2 ^ "\008\002\000\000\000")
+      ^ chunk "IDAT" "not zlib at all"
+      ^ chunk "IEND" "")
       "corrupt PNG image data";
     refused "too little image data"
-      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 4 ^ be32 4 ^ "\008\002\000\000\000") ^ chunk "IDAT" (deflate "\000\001\002") ^ chunk "IEND" "")
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 4 ^ be32 4 ^ "\008\002\000\000\000")
+      ^ chunk "IDAT" (deflate "\000\001\002")
+      ^ chunk "IEND" "")
       "truncated PNG image data";
     refused "a bad filter type"
-      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\000\000\000\000") ^ chunk "IDAT" (deflate "\009\000") ^ chunk "IEND" "")
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\000\000\000\000")
+      ^ chunk "IDAT" (deflate "\009\000")
+      ^ chunk "IEND" "")
       "filter type 9";
-    refused "an unknown colour type" ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\005\000\000\000")) "colour type 5";
-    refused "a bit depth the colour type cannot have" ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\004\002\000\000\000"))
+    refused "an unknown colour type"
+      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\005\000\000\000"))
+      "colour type 5";
+    refused "a bit depth the colour type cannot have"
+      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\004\002\000\000\000"))
       "cannot have 4 bits";
-    refused "an unknown interlace method" ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\002\000\000\002"))
+    refused "an unknown interlace method"
+      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\002\000\000\002"))
       "interlace method 2";
-    refused "a huge size before any allocation" ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 100000 ^ be32 100000 ^ "\008\002\000\000\000"))
+    refused "a huge size before any allocation"
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 100000 ^ be32 100000 ^ "\008\002\000\000\000"))
       "larger than the limit";
     refused "an unknown critical chunk"
-      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\000\000\000\000") ^ chunk "ABCD" "" ^ chunk "IEND" "")
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\000\000\000\000")
+      ^ chunk "ABCD" "" ^ chunk "IEND" "")
       "unsupported critical PNG chunk ABCD";
     refused "a palette image without a palette"
-      ("\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\003\000\000\000") ^ chunk "IDAT" (deflate "\000\000") ^ chunk "IEND" "")
-      "without a PLTE chunk" ]
+      ("\137PNG\r\n\026\n"
+      ^ chunk "IHDR" (be32 1 ^ be32 1 ^ "\008\003\000\000\000")
+      ^ chunk "IDAT" (deflate "\000\000")
+      ^ chunk "IEND" "")
+      "without a PLTE chunk";
+  ]
 
 let texture_tests =
-  [ Alcotest.test_case "a pipe or a device named like an image is refused at once, not read" `Quick (fun () ->
+  [
+    Alcotest.test_case
+      "a pipe or a device named like an image is refused at once, not read" `Quick
+      (fun () ->
         let d = tmpdir () in
         Unix.mkfifo (Filename.concat d "fifo.png") 0o644;
         List.iter
@@ -244,20 +361,29 @@ let texture_tests =
             match Image.read_raster p with
             | Ok _ -> Alcotest.fail "read"
             | Error m ->
-                Alcotest.(check bool) m true
-                  (String.length m > 0 && String.sub m 0 (String.length p) = p
-                  && String.ends_with ~suffix:"not a regular file (a device or a pipe), not an image" m))
+                Alcotest.(check bool)
+                  m true
+                  (String.length m > 0
+                  && String.sub m 0 (String.length p) = p
+                  && String.ends_with
+                       ~suffix:"not a regular file (a device or a pipe), not an image" m))
           [ Filename.concat d "fifo.png" ]);
- Alcotest.test_case "an 8- and a 16-bit gray PNG read as linear textures with their full precision" `Quick (fun () ->
+    Alcotest.test_case
+      "an 8- and a 16-bit gray PNG read as linear textures with their full precision"
+      `Quick (fun () ->
         let d = tmpdir () in
-        let srgb v = if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4 in
+        let srgb v =
+          if v <= 0.04045 then v /. 12.92 else Float.pow ((v +. 0.055) /. 1.055) 2.4
+        in
         List.iter
           (fun depth ->
             let maxv = (1 lsl depth) - 1 in
             (* Two neighbouring 16-bit values that 8 bits cannot tell apart. *)
             let vs = [| 0; maxv / 3; (maxv / 3) + 1; maxv |] in
             let p = Filename.concat d (Printf.sprintf "h%d.png" depth) in
-            write_file p (png_of ~ctype:0 ~depth ~interlaced:false 4 1 (grid 4 1 (fun i _ -> [| vs.(i) |])));
+            write_file p
+              (png_of ~ctype:0 ~depth ~interlaced:false 4 1
+                 (grid 4 1 (fun i _ -> [| vs.(i) |])));
             match Image.read_linear p with
             | Error m -> Alcotest.fail m
             | Ok fb ->
@@ -265,44 +391,85 @@ let texture_tests =
                   (fun i v ->
                     let c = Image.get fb i 0 in
                     let e = srgb (Float.of_int v /. Float.of_int maxv) in
-                    Alcotest.(check (float 1e-12)) (Printf.sprintf "%d-bit gray %d" depth v) e c.r;
-                    Alcotest.(check bool) "gray in all three channels" true (Float.equal c.r c.g && Float.equal c.g c.b))
+                    Alcotest.(check (float 1e-12))
+                      (Printf.sprintf "%d-bit gray %d" depth v)
+                      e c.r;
+                    Alcotest.(check bool)
+                      "gray in all three channels" true
+                      (Float.equal c.r c.g && Float.equal c.g c.b))
                   vs;
                 if depth = 16 then
-                  Alcotest.(check bool) "16 bits kept" true ((Image.get fb 1 0).r < (Image.get fb 2 0).r))
-          [ 8; 16 ]) ]
+                  Alcotest.(check bool)
+                    "16 bits kept" true
+                    ((Image.get fb 1 0).r < (Image.get fb 2 0).r))
+          [ 8; 16 ]);
+  ]
 
 let sixteen_tests =
-  [ Alcotest.test_case "16-bit encoding: the same curve, quantised to 65535" `Quick (fun () ->
+  [
+    Alcotest.test_case "16-bit encoding: the same curve, quantised to 65535" `Quick
+      (fun () ->
         let e = Image.encode_channel16 Settings.Srgb in
         List.iter
-          (fun (v, expect) -> Alcotest.(check int) (Printf.sprintf "sRGB %g" v) expect (e v))
-          [ (0., 0); (1., 65535); (0.5, 48192); (0.25, 35199); (0.001, 847); (0.2, 31754); (-1., 0); (2., 65535); (Float.nan, 0) ];
-        Alcotest.(check int) "gamma 2.2 at 0.5" 47824 (Image.encode_channel16 (Settings.Power 2.2) 0.5));
-    Alcotest.test_case "a 16-bit RGBA image written and read back is what was encoded" `Quick (fun () ->
+          (fun (v, expect) ->
+            Alcotest.(check int) (Printf.sprintf "sRGB %g" v) expect (e v))
+          [
+            (0., 0);
+            (1., 65535);
+            (0.5, 48192);
+            (0.25, 35199);
+            (0.001, 847);
+            (0.2, 31754);
+            (-1., 0);
+            (2., 65535);
+            (Float.nan, 0);
+          ];
+        Alcotest.(check int)
+          "gamma 2.2 at 0.5" 47824
+          (Image.encode_channel16 (Settings.Power 2.2) 0.5));
+    Alcotest.test_case "a 16-bit RGBA image written and read back is what was encoded"
+      `Quick (fun () ->
         let d = tmpdir () in
         let fb = Image.create 9 7 in
         let alpha = Float.Array.init (9 * 7) (fun k -> Float.of_int k /. 62.) in
         for j = 0 to 6 do
           for i = 0 to 8 do
-            Image.set fb i j (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) (Float.of_int (i * j) /. 48.))
+            Image.set fb i j
+              (Color.v
+                 (Float.of_int i /. 8.)
+                 (Float.of_int j /. 6.)
+                 (Float.of_int (i * j) /. 48.))
           done
         done;
         List.iter
           (fun (bits, alpha, ext) ->
             let p = Filename.concat d ("x" ^ ext) in
             let expect = Image.encode ~bits ?alpha fb in
-            (match Image.save ~bits ?alpha p fb with Ok () -> () | Error m -> Alcotest.fail m);
+            (match Image.save ~bits ?alpha p fb with
+            | Ok () -> ()
+            | Error m -> Alcotest.fail m);
             match Image.read_raster p with
             | Error m -> Alcotest.fail m
             | Ok r ->
-                check_raster (Printf.sprintf "%d bits%s %s" bits (if alpha = None then "" else " + alpha") ext) expect r;
+                check_raster
+                  (Printf.sprintf "%d bits%s %s" bits
+                     (if alpha = None then "" else " + alpha")
+                     ext)
+                  expect r;
                 Alcotest.(check int) "top-left red" 0 (Raster.get r 0 0 0);
                 Alcotest.(check int) "right red" (Raster.max_value r) (Raster.get r 8 0 0);
-                if alpha <> None then Alcotest.(check int) "last alpha" (Raster.max_value r) (Raster.get r 8 6 3))
-          [ (16, None, ".png"); (16, Some alpha, ".png"); (16, None, ".ppm"); (8, Some alpha, ".png") ];
+                if alpha <> None then
+                  Alcotest.(check int)
+                    "last alpha" (Raster.max_value r) (Raster.get r 8 6 3))
+          [
+            (16, None, ".png");
+            (16, Some alpha, ".png");
+            (16, None, ".ppm");
+            (8, Some alpha, ".png");
+          ];
         let r = Image.encode ~bits:16 fb in
-        Alcotest.(check int) "a 16-bit sample is big-endian, as PNG and PPM store it"
+        Alcotest.(check int)
+          "a 16-bit sample is big-endian, as PNG and PPM store it"
           (Image.encode_channel16 Settings.Srgb 0.5)
           (Bytes.get_uint16_be r.samples (2 * (((0 * 9) + 4) * 3))));
     Alcotest.test_case "a crop takes exactly the region's pixels" `Quick (fun () ->
@@ -312,17 +479,27 @@ let sixteen_tests =
             Image.set fb i j (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) 0.)
           done
         done;
-        let whole = Image.encode fb and part = Image.encode ~crop:{ x0 = 2; y0 = 3; x1 = 7; y1 = 5 } fb in
+        let whole = Image.encode fb
+        and part = Image.encode ~crop:{ x0 = 2; y0 = 3; x1 = 7; y1 = 5 } fb in
         Alcotest.(check (pair int int)) "5×2" (5, 2) (part.width, part.height);
         for j = 0 to 1 do
           for i = 0 to 4 do
             for c = 0 to 2 do
-              Alcotest.(check int) "same sample" (Raster.get whole (i + 2) (j + 3) c) (Raster.get part i j c)
+              Alcotest.(check int)
+                "same sample"
+                (Raster.get whole (i + 2) (j + 3) c)
+                (Raster.get part i j c)
             done
           done
-        done) ]
+        done);
+  ]
 
 let () =
   Alcotest.run "io"
-    [ ("reader", reader_tests); ("writer", writer_tests); ("corrupt", corrupt_tests); ("textures", texture_tests);
-      ("16 bits, alpha, crop", sixteen_tests) ]
+    [
+      ("reader", reader_tests);
+      ("writer", writer_tests);
+      ("corrupt", corrupt_tests);
+      ("textures", texture_tests);
+      ("16 bits, alpha, crop", sixteen_tests);
+    ]

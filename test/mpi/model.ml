@@ -31,20 +31,29 @@ let () =
     (fun i a ->
       if i > 0 then
         match String.index_opt a '=' with
-        | Some k -> Hashtbl.replace args (String.sub a 0 k) (float_of_string (String.sub a (k + 1) (String.length a - k - 1)))
-        | None -> prerr_endline ("model: not KEY=VALUE: " ^ a); exit 1)
+        | Some k ->
+            Hashtbl.replace args (String.sub a 0 k)
+              (float_of_string (String.sub a (k + 1) (String.length a - k - 1)))
+        | None ->
+            prerr_endline ("model: not KEY=VALUE: " ^ a);
+            exit 1)
     Sys.argv;
   let get ?default k =
     match (Hashtbl.find_opt args k, default) with
     | Some v, _ -> v
     | None, Some d -> d
-    | None, None -> prerr_endline ("model: missing " ^ k); exit 1
+    | None, None ->
+        prerr_endline ("model: missing " ^ k);
+        exit 1
   in
   let width = int_of_float (get "width") and height = int_of_float (get "height") in
   let frames = int_of_float (get ~default:1. "frames") in
-  let ranks = int_of_float (get "ranks") and domains = int_of_float (get ~default:1. "domains") in
+  let ranks = int_of_float (get "ranks")
+  and domains = int_of_float (get ~default:1. "domains") in
   let cores = get ~default:(Float.of_int (ranks * domains)) "cores" in
-  let pixel = get "pixel" and eval = get ~default:0. "eval" and write = get ~default:0. "write" in
+  let pixel = get "pixel"
+  and eval = get ~default:0. "eval"
+  and write = get ~default:0. "write" in
   let per_unit = get "unit" and per_byte = get "byte" in
   let link = get ~default:0. "link_gbps" in
   let fixed = get ~default:0. "fixed" in
@@ -54,10 +63,16 @@ let () =
   let ts = Lancer.Render.tile_size in
   let tiles =
     Array.concat
-      (List.init ((height + ts - 1) / ts) (fun j ->
-           Array.init ((width + ts - 1) / ts) (fun i -> (min ts (width - (i * ts))) * min ts (height - (j * ts)))))
+      (List.init
+         ((height + ts - 1) / ts)
+         (fun j ->
+           Array.init
+             ((width + ts - 1) / ts)
+             (fun i -> min ts (width - (i * ts)) * min ts (height - (j * ts)))))
   in
-  let units = Farm.plan ~ranks ~domains (List.init frames (fun _ -> Array.length tiles)) in
+  let units =
+    Farm.plan ~ranks ~domains (List.init frames (fun _ -> Array.length tiles))
+  in
   (* A unit of [k] tiles from tile [first], its tiles in order to the first free domain. *)
   let duration first k =
     let free = Array.make domains 0. in
@@ -74,7 +89,10 @@ let () =
   let holding = Array.make ranks None and last_frame = Array.make ranks (-1) in
   let server = ref 0. and busy = ref 0. and render = ref 0. in
   (* Rank 0's serving domain's time, by what it was spent on. *)
-  let on_units = ref 0. and on_bytes = ref 0. and on_writes = ref 0. and on_evals = ref 0. in
+  let on_units = ref 0.
+  and on_bytes = ref 0.
+  and on_writes = ref 0.
+  and on_evals = ref 0. in
   let serve t cost =
     server := Float.max t !server +. cost;
     busy := !busy +. cost
@@ -104,22 +122,25 @@ let () =
       Array.iteri (fun r t -> if Float.compare t free.(!i) < 0 then i := r) free;
       let i = !i in
       hand_in i free.(i);
-      if next_tile.(f) = 0 then begin
+      if next_tile.(f) = 0 then (
         serve !server eval;
-        on_evals := !on_evals +. eval
-      end;
+        on_evals := !on_evals +. eval);
       let first = next_tile.(f) in
       next_tile.(f) <- first + k;
       let d = duration first k +. if last_frame.(i) <> f then eval else 0. in
       last_frame.(i) <- f;
       let px = ref 0 in
-      for t = first to first + k - 1 do px := !px + tiles.(t) done;
+      for t = first to first + k - 1 do
+        px := !px + tiles.(t)
+      done;
       holding.(i) <- Some (f, !px);
       render := Float.max !render (!server +. d);
       free.(i) <- !server +. d)
     units;
   (* The last hand-ins, in the order the ranks finish. *)
-  let order = List.sort (fun a b -> Float.compare free.(a) free.(b)) (List.init ranks Fun.id) in
+  let order =
+    List.sort (fun a b -> Float.compare free.(a) free.(b)) (List.init ranks Fun.id)
+  in
   List.iter (fun i -> if holding.(i) <> None || i > 0 then hand_in i free.(i)) order;
   let total = fixed +. !server in
   (* What bounds the job: the largest of the fixed cost, the rendering itself spread
@@ -128,19 +149,27 @@ let () =
   let pixels = Float.of_int (Array.fold_left ( + ) 0 tiles * frames) in
   let even = pixels *. pixel *. slow /. Float.of_int (ranks * domains) in
   let parts =
-    [ ("fixed cost", fixed); ("rendering", even); ("ranks idle or waiting for rank 0", !render -. even);
-      ("rank 0 writing frames", !on_writes); ("rank 0 evaluating frames", !on_evals);
-      ("rank 0 receiving bytes", !on_bytes); ("rank 0 answering requests", !on_units) ]
+    [
+      ("fixed cost", fixed);
+      ("rendering", even);
+      ("ranks idle or waiting for rank 0", !render -. even);
+      ("rank 0 writing frames", !on_writes);
+      ("rank 0 evaluating frames", !on_evals);
+      ("rank 0 receiving bytes", !on_bytes);
+      ("rank 0 answering requests", !on_units);
+    ]
   in
   let largest parts =
     fst
       (List.fold_left
          (fun (b, v) (n, x) -> if Float.compare x v > 0 then (n, x) else (b, v))
-         ("rendering", Float.neg_infinity) parts)
+         ("rendering", Float.neg_infinity)
+         parts)
   in
   let word s = String.concat "_" (String.split_on_char ' ' s) in
   (* [limit]: the largest part that is not rendering, what keeps the job from scaling. *)
-  Printf.printf "seconds %.4f render_seconds %.4f server_busy %.4f units %d limit %s bound %s\n" total !render !busy
-    (List.length units)
+  Printf.printf
+    "seconds %.4f render_seconds %.4f server_busy %.4f units %d limit %s bound %s\n" total
+    !render !busy (List.length units)
     (word (largest (List.filter (fun (n, _) -> n <> "rendering") parts)))
     (word (largest parts))

@@ -12,7 +12,8 @@
    directory. Exit status 1 when anything failed. *)
 module G = Fuzz_gen
 
-let env name default = match Sys.getenv_opt name with Some s when String.trim s <> "" -> s | _ -> default
+let env name default =
+  match Sys.getenv_opt name with Some s when String.trim s <> "" -> s | _ -> default
 
 let env_float name default =
   match float_of_string_opt (env name (string_of_float default)) with
@@ -21,8 +22,14 @@ let env_float name default =
       Printf.eprintf "fuzz: %s must be a number of seconds >= 0\n" name;
       exit 2
 
-type target = { name : string; share : float; case : Random.State.t -> string * string; check : string * string -> (unit, string) result;
-                mutable tried : int; mutable failed : int }
+type target = {
+  name : string;
+  share : float;
+  case : Random.State.t -> string * string;
+  check : string * string -> (unit, string) result;
+  mutable tried : int;
+  mutable failed : int;
+}
 
 let failure_dir = "fuzz-failures"
 
@@ -39,22 +46,52 @@ let save_failure t seed (ext, input) message =
 
 let () =
   let seconds = env_float "FUZZ_SECONDS" 60. in
-  let seed0 = match int_of_string_opt (env "FUZZ_SEED" "1") with Some s -> s | None -> 1 in
+  let seed0 =
+    match int_of_string_opt (env "FUZZ_SEED" "1") with Some s -> s | None -> 1
+  in
   let root = env "FUZZ_ROOT" "." in
-  let wanted = String.split_on_char ',' (env "FUZZ_TARGETS" "scene,obj,image") |> List.map String.trim in
+  let wanted =
+    String.split_on_char ',' (env "FUZZ_TARGETS" "scene,obj,image")
+    |> List.map String.trim
+  in
   let seeds = G.scene_seeds root in
   let targets =
-    [ { name = "scene"; share = 0.5; case = G.scene_case seeds;
-        check = (fun (file, text) -> G.check_scene (file, text)); tried = 0; failed = 0 };
-      { name = "obj"; share = 0.3;
-        case = (fun st -> (".obj", if Random.State.bool st then G.random_obj st else G.mutated_obj st));
-        check = (fun (_, text) -> G.check_obj text); tried = 0; failed = 0 };
-      { name = "image"; share = 0.2; case = G.image_case; check = G.check_image; tried = 0; failed = 0 } ]
+    [
+      {
+        name = "scene";
+        share = 0.5;
+        case = G.scene_case seeds;
+        check = (fun (file, text) -> G.check_scene (file, text));
+        tried = 0;
+        failed = 0;
+      };
+      {
+        name = "obj";
+        share = 0.3;
+        case =
+          (fun st ->
+            (".obj", if Random.State.bool st then G.random_obj st else G.mutated_obj st));
+        check = (fun (_, text) -> G.check_obj text);
+        tried = 0;
+        failed = 0;
+      };
+      {
+        name = "image";
+        share = 0.2;
+        case = G.image_case;
+        check = G.check_image;
+        tried = 0;
+        failed = 0;
+      };
+    ]
     |> List.filter (fun t -> List.mem t.name wanted)
   in
-  if targets = [] then (prerr_endline "fuzz: FUZZ_TARGETS names none of scene, obj, image"; exit 2);
+  if targets = [] then (
+    prerr_endline "fuzz: FUZZ_TARGETS names none of scene, obj, image";
+    exit 2);
   let total_share = List.fold_left (fun a t -> a +. t.share) 0. targets in
-  Printf.printf "fuzzing %s for %g s from seed %d (%d seed scenes)\n%!" (String.concat ", " (List.map (fun t -> t.name) targets))
+  Printf.printf "fuzzing %s for %g s from seed %d (%d seed scenes)\n%!"
+    (String.concat ", " (List.map (fun t -> t.name) targets))
     seconds seed0 (Array.length seeds);
   let seed = ref seed0 in
   let start = Unix.gettimeofday () in
@@ -65,7 +102,10 @@ let () =
     first := false;
     List.iter
       (fun t ->
-        let until = Float.min (start +. seconds) (Unix.gettimeofday () +. (slice *. t.share /. total_share *. 3.)) in
+        let until =
+          Float.min (start +. seconds)
+            (Unix.gettimeofday () +. (slice *. t.share /. total_share *. 3.))
+        in
         let continue = ref true in
         while !continue do
           let s = !seed in
@@ -74,20 +114,26 @@ let () =
           let input = t.case st in
           t.tried <- t.tried + 1;
           (match t.check input with
-           | Ok () -> ()
-           | Error m ->
-               t.failed <- t.failed + 1;
-               if t.failed <= max_reported then begin
-                 let file = save_failure t s input m in
-                 Printf.printf "FAIL %s case %d: %s (input in %s)\n%!" t.name s m file
-               end);
+          | Ok () -> ()
+          | Error m ->
+              t.failed <- t.failed + 1;
+              if t.failed <= max_reported then
+                let file = save_failure t s input m in
+                Printf.printf "FAIL %s case %d: %s (input in %s)\n%!" t.name s m file);
           continue := Unix.gettimeofday () < until
         done)
       targets
   done;
   let elapsed = Unix.gettimeofday () -. start in
-  List.iter (fun t -> Printf.printf "%-6s %8d cases, %d failures\n" t.name t.tried t.failed) targets;
+  List.iter
+    (fun t -> Printf.printf "%-6s %8d cases, %d failures\n" t.name t.tried t.failed)
+    targets;
   let failed = List.fold_left (fun a t -> a + t.failed) 0 targets in
-  Printf.printf "%.1f s, %d cases, %d failures%s\n" elapsed (List.fold_left (fun a t -> a + t.tried) 0 targets) failed
-    (if failed > 0 then Printf.sprintf " (inputs in %s/; replay with FUZZ_SEED=<case> FUZZ_SECONDS=0)" failure_dir else "");
+  Printf.printf "%.1f s, %d cases, %d failures%s\n" elapsed
+    (List.fold_left (fun a t -> a + t.tried) 0 targets)
+    failed
+    (if failed > 0 then
+       Printf.sprintf " (inputs in %s/; replay with FUZZ_SEED=<case> FUZZ_SECONDS=0)"
+         failure_dir
+     else "");
   exit (if failed > 0 then 1 else 0)

@@ -17,29 +17,36 @@ let mutate_once st alphabet s =
   let n = String.length s in
   let pos () = if n = 0 then 0 else Random.State.int st (n + 1) in
   match Random.State.int st 7 with
-  | 0 when n > 0 -> (* delete a short range *)
+  | 0 when n > 0 ->
+      (* delete a short range *)
       let i = Random.State.int st n in
       let k = min (n - i) (1 + Random.State.int st 8) in
       String.sub s 0 i ^ String.sub s (i + k) (n - i - k)
-  | 1 -> (* insert a piece of the alphabet *)
+  | 1 ->
+      (* insert a piece of the alphabet *)
       let i = pos () in
       String.sub s 0 i ^ pick st alphabet ^ String.sub s i (n - i)
-  | 2 when n > 0 -> (* overwrite a byte with any byte *)
+  | 2 when n > 0 ->
+      (* overwrite a byte with any byte *)
       let b = Bytes.of_string s in
       Bytes.set b (Random.State.int st n) (Char.chr (Random.State.int st 256));
       Bytes.to_string b
-  | 3 when n > 0 -> (* duplicate a range *)
+  | 3 when n > 0 ->
+      (* duplicate a range *)
       let i = Random.State.int st n in
       let k = min (n - i) (1 + Random.State.int st 64) in
       let i' = pos () in
       String.sub s 0 i' ^ String.sub s i k ^ String.sub s i' (n - i')
   | 4 when n > 0 -> (* truncate *) String.sub s 0 (Random.State.int st n)
-  | 5 when n > 0 -> (* flip one bit *)
+  | 5 when n > 0 ->
+      (* flip one bit *)
       let b = Bytes.of_string s in
       let i = Random.State.int st n in
-      Bytes.set b i (Char.chr (Char.code (Bytes.get b i) lxor (1 lsl Random.State.int st 8)));
+      Bytes.set b i
+        (Char.chr (Char.code (Bytes.get b i) lxor (1 lsl Random.State.int st 8)));
       Bytes.to_string b
-  | _ -> (* swap two ranges' order around a cut *)
+  | _ ->
+      (* swap two ranges' order around a cut *)
       let i = pos () in
       String.sub s i (n - i) ^ String.sub s 0 i
 
@@ -50,16 +57,41 @@ let mutate st alphabet s =
 (* ---- OBJ ---- *)
 
 let obj_numbers =
-  [| "0"; "1"; "-1"; "0.5"; "-0"; "1e-7"; "3.25"; "1e300"; "-1e300"; "1e400"; "nan"; "inf"; "-inf"; "0x1p3"; "1_0";
-     "1e-320"; "."; "-"; "+2"; "1e"; "12345678901234567890" |]
+  [|
+    "0";
+    "1";
+    "-1";
+    "0.5";
+    "-0";
+    "1e-7";
+    "3.25";
+    "1e300";
+    "-1e300";
+    "1e400";
+    "nan";
+    "inf";
+    "-inf";
+    "0x1p3";
+    "1_0";
+    "1e-320";
+    ".";
+    "-";
+    "+2";
+    "1e";
+    "12345678901234567890";
+  |]
 
-let obj_number st = if Random.State.bool st then Printf.sprintf "%g" (Random.State.float st 4. -. 2.) else pick st obj_numbers
+let obj_number st =
+  if Random.State.bool st then Printf.sprintf "%g" (Random.State.float st 4. -. 2.)
+  else pick st obj_numbers
 
 let obj_index st =
   match Random.State.int st 6 with
   | 0 -> "0"
   | 1 -> string_of_int (-1 - Random.State.int st 6)
-  | 2 -> pick st [| "x"; ""; "-"; "1.5"; "99999999999999999999"; "-4611686018427387904"; "0x2" |]
+  | 2 ->
+      pick st
+        [| "x"; ""; "-"; "1.5"; "99999999999999999999"; "-4611686018427387904"; "0x2" |]
   | _ -> string_of_int (1 + Random.State.int st 10)
 
 let obj_corner st =
@@ -69,7 +101,8 @@ let obj_corner st =
   | 4 -> obj_index st ^ "//" ^ obj_index st
   | _ -> obj_index st ^ "/" ^ obj_index st ^ "/" ^ obj_index st
 
-let repeat st lo hi f = String.concat " " (List.init (lo + Random.State.int st (hi - lo + 1)) (fun _ -> f st))
+let repeat st lo hi f =
+  String.concat " " (List.init (lo + Random.State.int st (hi - lo + 1)) (fun _ -> f st))
 
 let obj_line st =
   match Random.State.int st 14 with
@@ -77,10 +110,44 @@ let obj_line st =
   | 4 -> "vt " ^ repeat st 0 4 obj_number
   | 5 -> "vn " ^ repeat st 2 4 obj_number
   | 6 | 7 | 8 | 9 -> "f " ^ repeat st 1 7 obj_corner
-  | 10 -> pick st [| "o thing"; "g a b"; "s off"; "usemtl red"; "mtllib x.mtl"; "# a comment"; ""; "l 1 2" |]
-  | 11 -> pick st [| "vx 1 2 3"; "F 1 2 3"; "\t"; "v\t1\t2\t3"; "f 1 2 3 # tail"; "\r"; "\xef\xbb\xbfv 1 2 3" |]
-  | 12 -> String.init (Random.State.int st 12) (fun _ -> Char.chr (32 + Random.State.int st 95))
-  | _ -> pick st [| "v 0 0 0"; "v 1 0 0"; "v 0 1 0"; "v 0 0 1"; "f 1 2 3"; "f -1 -2 -3"; "vn 0 0 1"; "vt 0.5 0.5" |]
+  | 10 ->
+      pick st
+        [|
+          "o thing";
+          "g a b";
+          "s off";
+          "usemtl red";
+          "mtllib x.mtl";
+          "# a comment";
+          "";
+          "l 1 2";
+        |]
+  | 11 ->
+      pick st
+        [|
+          "vx 1 2 3";
+          "F 1 2 3";
+          "\t";
+          "v\t1\t2\t3";
+          "f 1 2 3 # tail";
+          "\r";
+          "\xef\xbb\xbfv 1 2 3";
+        |]
+  | 12 ->
+      String.init (Random.State.int st 12) (fun _ ->
+          Char.chr (32 + Random.State.int st 95))
+  | _ ->
+      pick st
+        [|
+          "v 0 0 0";
+          "v 1 0 0";
+          "v 0 1 0";
+          "v 0 0 1";
+          "f 1 2 3";
+          "f -1 -2 -3";
+          "vn 0 0 1";
+          "vt 0.5 0.5";
+        |]
 
 let random_obj st =
   let eol = if Random.State.int st 8 = 0 then "\r\n" else "\n" in
@@ -89,14 +156,62 @@ let random_obj st =
 (* A small valid mesh using every statement the loader knows. *)
 let seed_obj =
   String.concat "\n"
-    [ "# cube with texture coordinates and normals"; "o cube"; "v -1 -1 -1"; "v 1 -1 -1"; "v 1 1 -1"; "v -1 1 -1";
-      "v -1 -1 1"; "v 1 -1 1"; "v 1 1 1"; "v -1 1 1"; "vt 0 0"; "vt 1 0"; "vt 1 1"; "vt 0 1"; "vn 0 0 -1"; "vn 0 0 1";
-      "vn 0 -1 0"; "vn 0 1 0"; "vn -1 0 0"; "vn 1 0 0"; "usemtl grey"; "s 1"; "f 1/1/1 2/2/1 3/3/1 4/4/1";
-      "f 5/1/2 8/4/2 7/3/2 6/2/2"; "f 1//3 5//3 6//3 2//3"; "f 4 3 7 8"; "f -8/-4 -4/-3 -1/-2 -5/-1"; "f 2 6 7 3"; "" ]
+    [
+      "# cube with texture coordinates and normals";
+      "o cube";
+      "v -1 -1 -1";
+      "v 1 -1 -1";
+      "v 1 1 -1";
+      "v -1 1 -1";
+      "v -1 -1 1";
+      "v 1 -1 1";
+      "v 1 1 1";
+      "v -1 1 1";
+      "vt 0 0";
+      "vt 1 0";
+      "vt 1 1";
+      "vt 0 1";
+      "vn 0 0 -1";
+      "vn 0 0 1";
+      "vn 0 -1 0";
+      "vn 0 1 0";
+      "vn -1 0 0";
+      "vn 1 0 0";
+      "usemtl grey";
+      "s 1";
+      "f 1/1/1 2/2/1 3/3/1 4/4/1";
+      "f 5/1/2 8/4/2 7/3/2 6/2/2";
+      "f 1//3 5//3 6//3 2//3";
+      "f 4 3 7 8";
+      "f -8/-4 -4/-3 -1/-2 -5/-1";
+      "f 2 6 7 3";
+      "";
+    ]
 
 let obj_alphabet =
-  [| " "; "\n"; "/"; "//"; "-"; "."; "e"; "0"; "1"; "9"; "f "; "v "; "vn "; "vt "; "#"; "\t"; "\r"; "\000"; "nan";
-     "1e308"; "99999999999999999999" |]
+  [|
+    " ";
+    "\n";
+    "/";
+    "//";
+    "-";
+    ".";
+    "e";
+    "0";
+    "1";
+    "9";
+    "f ";
+    "v ";
+    "vn ";
+    "vt ";
+    "#";
+    "\t";
+    "\r";
+    "\000";
+    "nan";
+    "1e308";
+    "99999999999999999999";
+  |]
 
 let mutated_obj st = mutate st obj_alphabet seed_obj
 
@@ -112,8 +227,17 @@ let check_obj text =
       else Ok ()
   | Ok [] -> Error "Ok with no triangles"
   | Ok tris ->
-      let finite (p : Vec3.t) = Float.is_finite p.x && Float.is_finite p.y && Float.is_finite p.z in
-      if List.for_all (fun s -> match Shape.bbox s with Some b -> finite b.min && finite b.max | None -> false) tris then Ok ()
+      let finite (p : Vec3.t) =
+        Float.is_finite p.x && Float.is_finite p.y && Float.is_finite p.z
+      in
+      if
+        List.for_all
+          (fun s ->
+            match Shape.bbox s with
+            | Some b -> finite b.min && finite b.max
+            | None -> false)
+          tris
+      then Ok ()
       else Error "a triangle with non-finite bounds"
 
 (* ---- images ---- *)
@@ -123,10 +247,14 @@ let tmp_counter = ref 0
 let with_temp_file ext contents f =
   incr tmp_counter;
   let path =
-    Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-fuzz-%d-%d%s" (Unix.getpid ()) !tmp_counter ext)
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "lancer-fuzz-%d-%d%s" (Unix.getpid ()) !tmp_counter ext)
   in
   Out_channel.with_open_bin path (fun oc -> output_string oc contents);
-  Fun.protect ~finally:(fun () -> try Sys.remove path with Sys_error _ -> ()) (fun () -> f path)
+  Fun.protect
+    ~finally:(fun () -> try Sys.remove path with Sys_error _ -> ())
+    (fun () -> f path)
 
 (* Valid files to mutate: a 5×3 gradient as PNG and as PPM, written by the library. *)
 let seed_images =
@@ -136,13 +264,30 @@ let seed_images =
      List.map
        (fun ext ->
          let path = Filename.temp_file "lancer-seed" ext in
-         (match Image.write_rgb8 path w h bytes with Ok () -> () | Error m -> failwith m);
+         (match Image.write_rgb8 path w h bytes with
+         | Ok () -> ()
+         | Error m -> failwith m);
          let s = In_channel.with_open_bin path In_channel.input_all in
          Sys.remove path;
          (ext, s))
        [ ".png"; ".ppm" ])
 
-let image_alphabet = [| "\000"; "\255"; "P6"; "\n"; " "; "255"; "65535"; "99999"; "#"; "\137PNG\r\n\026\n"; "IHDR"; "IDAT"; "IEND" |]
+let image_alphabet =
+  [|
+    "\000";
+    "\255";
+    "P6";
+    "\n";
+    " ";
+    "255";
+    "65535";
+    "99999";
+    "#";
+    "\137PNG\r\n\026\n";
+    "IHDR";
+    "IDAT";
+    "IEND";
+  |]
 
 (* (extension, file contents): mostly mutated valid files, some random bytes. *)
 let image_case st =
@@ -150,7 +295,10 @@ let image_case st =
   | 0 ->
       let ext = pick st [| ".png"; ".ppm" |] in
       let header = if ext = ".png" then "\137PNG\r\n\026\n" else "P6\n" in
-      (ext, (if Random.State.bool st then header else "") ^ String.init (Random.State.int st 200) (fun _ -> Char.chr (Random.State.int st 256)))
+      ( ext,
+        (if Random.State.bool st then header else "")
+        ^ String.init (Random.State.int st 200) (fun _ ->
+              Char.chr (Random.State.int st 256)) )
   | _ ->
       let ext, s = pick st (Array.of_list (Lazy.force seed_images)) in
       (ext, mutate st image_alphabet s)
@@ -158,8 +306,17 @@ let image_case st =
 (* What an unexpected exception looks like once the reader has turned it into a message:
    the decoder crashed, however the crash was reported. *)
 let crash_names =
-  [ "internal error"; "Invalid_argument"; "Not_found"; "Assert_failure"; "Match_failure"; "Division_by_zero";
-    "Stack_overflow"; "Out_of_memory"; "Stdlib." ]
+  [
+    "internal error";
+    "Invalid_argument";
+    "Not_found";
+    "Assert_failure";
+    "Match_failure";
+    "Division_by_zero";
+    "Stack_overflow";
+    "Out_of_memory";
+    "Stdlib.";
+  ]
 
 (* The decoder's contract: Error with a one-line reason, or a framebuffer of the stated
    size with finite values in [0, 1]; never an exception, nor a crash reported as an
@@ -175,8 +332,12 @@ let check_image (ext, contents) =
       | exception e -> Error ("raised " ^ Printexc.to_string e)
       | Error m -> judge_image_error m
       | Ok fb ->
-          if fb.width < 1 || fb.height < 1 || Float.Array.length fb.data <> 3 * fb.width * fb.height then Error "inconsistent size"
-          else if Float.Array.exists (fun v -> not (v >= 0. && v <= 1.)) fb.data then Error "a value outside [0, 1]"
+          if
+            fb.width < 1 || fb.height < 1
+            || Float.Array.length fb.data <> 3 * fb.width * fb.height
+          then Error "inconsistent size"
+          else if Float.Array.exists (fun v -> not (v >= 0. && v <= 1.)) fb.data then
+            Error "a value outside [0, 1]"
           else Ok ())
 
 let crc_table =
@@ -191,7 +352,7 @@ let crc_table =
 let crc32 s =
   let t = Lazy.force crc_table in
   let c = ref 0xffffffff in
-  String.iter (fun ch -> c := t.((!c lxor Char.code ch) land 0xff) lxor (!c lsr 8)) s;
+  String.iter (fun ch -> c := t.(!c lxor Char.code ch land 0xff) lxor (!c lsr 8)) s;
   !c lxor 0xffffffff
 
 let be32 n = String.init 4 (fun i -> Char.chr ((n lsr (8 * (3 - i))) land 0xff))
@@ -200,24 +361,121 @@ let chunk kind data = be32 (String.length data) ^ kind ^ data ^ be32 (crc32 (kin
 (* Hand-made PNG files with valid checksums (random mutation rarely keeps a CRC right).
    A PNG whose header claims w×h 8-bit RGB pixels, with the data of one black pixel. *)
 let png_claiming w h =
-  "\137PNG\r\n\026\n" ^ chunk "IHDR" (be32 w ^ be32 h ^ "\008\002\000\000\000")
-  ^ chunk "IDAT" "\120\156\099\096\096\096\000\000\000\004\000\001" ^ chunk "IEND" ""
+  "\137PNG\r\n\026\n"
+  ^ chunk "IHDR" (be32 w ^ be32 h ^ "\008\002\000\000\000")
+  ^ chunk "IDAT" "\120\156\099\096\096\096\000\000\000\004\000\001"
+  ^ chunk "IEND" ""
 
 let png_one_pixel () = png_claiming 1 1
 
 (* ---- scenes ---- *)
 
 let dsl_tokens =
-  [| "let"; "fn"; "for"; "in"; "to"; "step"; "if"; "then"; "else"; "include"; "body"; "material"; "and"; "or"; "not";
-     "true"; "false"; "("; ")"; "{"; "}"; ","; ":"; "."; "="; "=="; "<"; "+"; "-"; "*"; "/"; "%"; "^"; "x"; "i"; "f";
-     "sphere"; "plane"; "box"; "mesh"; "group"; "union"; "merge"; "intersection"; "difference"; "cone"; "torus";
-     "height_field"; "major"; "minor"; "caps"; "settings"; "camera"; "light"; "animation"; "physics"; "center";
-     "radius"; "normal"; "offset"; "min"; "max"; "file"; "position"; "width"; "depth"; "samples"; "0"; "1"; "2";
-     "-2.5"; ".5"; "1e300"; "1e-300"; "1e400"; "\"a.rts\""; "\"srgb\""; "\"x.png\""; "\"x.obj\""; "sin"; "sqrt";
-     "rand"; "checker"; "image"; "noise"; "pi"; "time"; "frame"; "rgb"; "translate"; "rotate"; "scale"; "//";
-     "/*"; "*/"; "\n"; "\""; "\000"; "\xc3\xa9"; "\xff" |]
+  [|
+    "let";
+    "fn";
+    "for";
+    "in";
+    "to";
+    "step";
+    "if";
+    "then";
+    "else";
+    "include";
+    "body";
+    "material";
+    "and";
+    "or";
+    "not";
+    "true";
+    "false";
+    "(";
+    ")";
+    "{";
+    "}";
+    ",";
+    ":";
+    ".";
+    "=";
+    "==";
+    "<";
+    "+";
+    "-";
+    "*";
+    "/";
+    "%";
+    "^";
+    "x";
+    "i";
+    "f";
+    "sphere";
+    "plane";
+    "box";
+    "mesh";
+    "group";
+    "union";
+    "merge";
+    "intersection";
+    "difference";
+    "cone";
+    "torus";
+    "height_field";
+    "major";
+    "minor";
+    "caps";
+    "settings";
+    "camera";
+    "light";
+    "animation";
+    "physics";
+    "center";
+    "radius";
+    "normal";
+    "offset";
+    "min";
+    "max";
+    "file";
+    "position";
+    "width";
+    "depth";
+    "samples";
+    "0";
+    "1";
+    "2";
+    "-2.5";
+    ".5";
+    "1e300";
+    "1e-300";
+    "1e400";
+    "\"a.rts\"";
+    "\"srgb\"";
+    "\"x.png\"";
+    "\"x.obj\"";
+    "sin";
+    "sqrt";
+    "rand";
+    "checker";
+    "image";
+    "noise";
+    "pi";
+    "time";
+    "frame";
+    "rgb";
+    "translate";
+    "rotate";
+    "scale";
+    "//";
+    "/*";
+    "*/";
+    "\n";
+    "\"";
+    "\000";
+    "\xc3\xa9";
+    "\xff";
+  |]
 
-let random_tokens st = String.concat " " (List.init (Random.State.int st 30) (fun _ -> pick st dsl_tokens))
+let random_tokens st =
+  String.concat " " (List.init (Random.State.int st 30) (fun _ -> pick st dsl_tokens))
 
 (* The scenes of scenes/, relative to [root], with their file names (includes, meshes and
    images resolve beside them). *)
@@ -234,17 +492,21 @@ let scene_seeds root =
       |> Array.of_list
 
 let scene_case seeds st =
-  if Array.length seeds = 0 || Random.State.int st 3 = 0 then ("fuzz.rts", random_tokens st)
+  if Array.length seeds = 0 || Random.State.int st 3 = 0 then
+    ("fuzz.rts", random_tokens st)
   else
     let file, text = pick st seeds in
     (file, mutate st dsl_tokens text)
 
 (* An error that reports a crash: the boundary turns an unexpected exception into an
    "internal error" message, which is a bug however well it is worded. *)
-let crash (es : Lancer_dsl.Error.t list) = List.find_opt (fun (e : Lancer_dsl.Error.t) -> contains e.message "internal error") es
+let crash (es : Lancer_dsl.Error.t list) =
+  List.find_opt (fun (e : Lancer_dsl.Error.t) -> contains e.message "internal error") es
 
 let judge_scene_errors es =
-  match crash es with Some e -> Error ("crashed: " ^ e.message) | None -> if es = [] then Error "Error with no message" else Ok ()
+  match crash es with
+  | Some e -> Error ("crashed: " ^ e.message)
+  | None -> if es = [] then Error "Error with no message" else Ok ()
 
 (* The language's contract (dsl.mli): Ok or located errors, never an exception nor an
    internal error, at load and at evaluation. *)
@@ -259,4 +521,7 @@ let check_scene (file, text) =
       match Dsl.scene_at p ~time:0.5 ~frame:12 with
       | exception e -> Error ("evaluation raised " ^ Printexc.to_string e)
       | Error es -> Result.map_error (fun m -> "evaluation " ^ m) (judge_scene_errors es)
-      | Ok sc -> ( match Dsl.to_json p sc with exception e -> Error ("to_json raised " ^ Printexc.to_string e) | _ -> Ok ()))
+      | Ok sc -> (
+          match Dsl.to_json p sc with
+          | exception e -> Error ("to_json raised " ^ Printexc.to_string e)
+          | _ -> Ok ()))

@@ -1,6 +1,6 @@
-(** Inputs for the robustness tests and for [make fuzz]: random and mutated OBJ text, image
-    bytes and scene text, with the oracles that judge what the loaders do with them. Every
-    generator is a function of a [Random.State.t], so a seed replays a case. *)
+(** Inputs for the robustness tests and for [make fuzz]: random and mutated OBJ text,
+    image bytes and scene text, with the oracles that judge what the loaders do with them.
+    Every generator is a function of a [Random.State.t], so a seed replays a case. *)
 
 val contains : string -> string -> bool
 (** [contains s sub]: whether [sub] occurs in [s]. *)
@@ -13,8 +13,8 @@ val mutated_obj : Random.State.t -> string
 
 val check_obj : string -> (unit, string) result
 (** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Mesh.parse} raises,
-    answers a message without the file name or on several lines, or returns no triangle
-    or one with non-finite bounds. *)
+    answers a message without the file name or on several lines, or returns no triangle or
+    one with non-finite bounds. *)
 
 val with_temp_file : string -> string -> (string -> 'a) -> 'a
 (** [with_temp_file ext contents f] is [f path] for a temporary file holding [contents],
@@ -27,7 +27,7 @@ val check_image : string * string -> (unit, string) result
 (** The decoder's contract: [Error] (the case fails) when reading raises, fails with a
     message of several lines or one that reports a crash (an internal error, or the name
     of an OCaml exception such as [Invalid_argument]), or returns a framebuffer of the
-    wrong size or with values outside [\[0, 1\]]. *)
+    wrong size or with values outside [[0, 1]]. *)
 
 val judge_image_error : string -> (unit, string) result
 (** How {!check_image} judges a reader's [Error] message: [Ok] for a one-line reason, an

@@ -10,15 +10,27 @@ let seeded seed t = QCheck_alcotest.to_alcotest ~rand:(Random.State.make [| seed
 (* A property over a seed: the generator runs from its own state, so a failing case is
    reported with the seed that replays it (FUZZ_SEED=<seed> FUZZ_SECONDS=0 fuzz.exe). *)
 let prop ~name ~count gen check =
-  QCheck.Test.make ~name ~count QCheck.(int_bound 1_000_000_000) (fun seed ->
+  QCheck.Test.make ~name ~count
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
       let input = gen (Random.State.make [| seed |]) in
-      match check input with Ok () -> true | Error m -> QCheck.Test.fail_reportf "seed %d: %s" seed m)
+      match check input with
+      | Ok () -> true
+      | Error m -> QCheck.Test.fail_reportf "seed %d: %s" seed m)
 
 let obj_props =
-  [ prop ~name:"random OBJ text gives triangles or a located one-line error" ~count:4000 G.random_obj G.check_obj;
-    prop ~name:"mutated OBJ files give triangles or a located one-line error" ~count:4000 G.mutated_obj G.check_obj ]
+  [
+    prop ~name:"random OBJ text gives triangles or a located one-line error" ~count:4000
+      G.random_obj G.check_obj;
+    prop ~name:"mutated OBJ files give triangles or a located one-line error" ~count:4000
+      G.mutated_obj G.check_obj;
+  ]
 
-let image_props = [ prop ~name:"random and mutated PNG/PPM bytes decode or give an Error" ~count:1500 G.image_case G.check_image ]
+let image_props =
+  [
+    prop ~name:"random and mutated PNG/PPM bytes decode or give an Error" ~count:1500
+      G.image_case G.check_image;
+  ]
 
 (* ---- hand-made OBJ cases ---- *)
 
@@ -26,19 +38,24 @@ let obj_error text fragment =
   match Mesh.parse ~file:"m.obj" text with
   | Ok _ -> Alcotest.failf "expected an error containing %S" fragment
   | Error m ->
-      if not (G.contains m fragment) then Alcotest.failf "expected %S in the message, got %S" fragment m
+      if not (G.contains m fragment) then
+        Alcotest.failf "expected %S in the message, got %S" fragment m
 
 let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
 
 let obj_cases =
-  [ Alcotest.test_case "coordinates beyond ±1e150 are refused at their line" `Quick (fun () ->
-        obj_error (tri ^ "v 1e200 0 0\nf 1 2 4\n") "m.obj:4:");
+  [
+    Alcotest.test_case "coordinates beyond ±1e150 are refused at their line" `Quick
+      (fun () -> obj_error (tri ^ "v 1e200 0 0\nf 1 2 4\n") "m.obj:4:");
     Alcotest.test_case "a mesh whose faces all have zero area says so" `Quick (fun () ->
         obj_error "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n" "zero area");
-    Alcotest.test_case "an index beyond the integers is out of range, not a crash" `Quick (fun () ->
-        obj_error (tri ^ "f 1 2 99999999999999999999\n") "m.obj:4:");
+    Alcotest.test_case "an index beyond the integers is out of range, not a crash" `Quick
+      (fun () -> obj_error (tri ^ "f 1 2 99999999999999999999\n") "m.obj:4:");
     Alcotest.test_case "a million-corner face and a megabyte line load" `Quick (fun () ->
-        let corners = String.concat " " (List.init 1_000_000 (fun i -> if i mod 2 = 0 then "1" else "2")) in
+        let corners =
+          String.concat " "
+            (List.init 1_000_000 (fun i -> if i mod 2 = 0 then "1" else "2"))
+        in
         match Mesh.parse ~file:"m.obj" (tri ^ "f 3 " ^ corners ^ "\n") with
         | Ok ts -> Alcotest.(check bool) "some triangles" true (ts <> [])
         | Error m -> Alcotest.fail m);
@@ -48,7 +65,8 @@ let obj_cases =
         match Mesh.parse ~file:"m.obj" "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n" with
         | Ok [ _ ] -> ()
         | Ok _ -> Alcotest.fail "one triangle expected"
-        | Error m -> Alcotest.fail m) ]
+        | Error m -> Alcotest.fail m);
+  ]
 
 (* ---- hand-made image cases ---- *)
 
@@ -58,43 +76,60 @@ let decode_error ext contents fragment =
   G.with_temp_file ext contents (fun path ->
       let t0 = Unix.gettimeofday () in
       (match Image.read_linear path with
-       | Ok fb -> Alcotest.failf "expected an error, got a %d×%d image" fb.width fb.height
-       | Error m -> if not (G.contains m fragment) then Alcotest.failf "expected %S in %S" fragment m
-       | exception e -> Alcotest.failf "raised %s" (Printexc.to_string e));
+      | Ok fb -> Alcotest.failf "expected an error, got a %d×%d image" fb.width fb.height
+      | Error m ->
+          if not (G.contains m fragment) then
+            Alcotest.failf "expected %S in %S" fragment m
+      | exception e -> Alcotest.failf "raised %s" (Printexc.to_string e));
       let dt = Unix.gettimeofday () -. t0 in
       if dt > 2. then Alcotest.failf "took %.1f s to refuse" dt)
 
 let image_cases =
-  [ Alcotest.test_case "the checksums of the hand-made PNG are right (a 1×1 one decodes)" `Quick (fun () ->
+  [
+    Alcotest.test_case "the checksums of the hand-made PNG are right (a 1×1 one decodes)"
+      `Quick (fun () ->
         (* Guards the cases below: they must be refused for their size, not their CRC. *)
         G.with_temp_file ".png" (png_claiming 1 1) (fun path ->
             match Image.read_linear path with
             | Ok fb -> Alcotest.(check (pair int int)) "size" (1, 1) (fb.width, fb.height)
             | Error m -> Alcotest.fail m));
-    Alcotest.test_case "a PNG claiming 100000×100000 pixels is refused before decoding" `Quick (fun () ->
+    Alcotest.test_case "a PNG claiming 100000×100000 pixels is refused before decoding"
+      `Quick (fun () ->
         decode_error ".png" (png_claiming 100_000 100_000) "larger than the limit");
-    Alcotest.test_case "a PNG claiming 20000×20000 pixels (1.2 GB) is refused before allocating" `Quick (fun () ->
-        decode_error ".png" (png_claiming 20_000 20_000) "larger than the limit");
-    Alcotest.test_case "a PNG claiming 2^31−1 × 2^31−1 pixels is refused" `Quick (fun () ->
+    Alcotest.test_case
+      "a PNG claiming 20000×20000 pixels (1.2 GB) is refused before allocating" `Quick
+      (fun () -> decode_error ".png" (png_claiming 20_000 20_000) "larger than the limit");
+    Alcotest.test_case "a PNG claiming 2^31−1 × 2^31−1 pixels is refused" `Quick
+      (fun () ->
         decode_error ".png" (png_claiming 0x7fffffff 0x7fffffff) "larger than the limit");
-    Alcotest.test_case "a PNG of zero width is refused" `Quick (fun () -> decode_error ".png" (png_claiming 0 5) "");
+    Alcotest.test_case "a PNG of zero width is refused" `Quick (fun () ->
+        decode_error ".png" (png_claiming 0 5) "");
     Alcotest.test_case "a file that is not a PNG says so" `Quick (fun () ->
         decode_error ".png" "GIF89a\001\000\001\000" "not a PNG file";
         decode_error ".png" "" "not a PNG file");
-    Alcotest.test_case "a PPM claiming more pixels than the limit is refused before reading" `Quick (fun () ->
-        decode_error ".ppm" "P6\n100000 100000\n255\n\000\000\000" "");
-    Alcotest.test_case "a PPM claiming more pixels than it holds is truncated" `Quick (fun () ->
-        decode_error ".ppm" "P6\n4 4\n255\n\000\000\000" "truncated");
-    Alcotest.test_case "a PPM with a header of a megabyte of digits is refused" `Quick (fun () ->
-        decode_error ".ppm" ("P6\n" ^ String.make 1_000_000 '9') "");
+    Alcotest.test_case
+      "a PPM claiming more pixels than the limit is refused before reading" `Quick
+      (fun () -> decode_error ".ppm" "P6\n100000 100000\n255\n\000\000\000" "");
+    Alcotest.test_case "a PPM claiming more pixels than it holds is truncated" `Quick
+      (fun () -> decode_error ".ppm" "P6\n4 4\n255\n\000\000\000" "truncated");
+    Alcotest.test_case "a PPM with a header of a megabyte of digits is refused" `Quick
+      (fun () -> decode_error ".ppm" ("P6\n" ^ String.make 1_000_000 '9') "");
     Alcotest.test_case "a directory named like an image is refused" `Quick (fun () ->
-        let d = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "lancer-dir-%d.png" (Unix.getpid ())) in
+        let d =
+          Filename.concat
+            (Filename.get_temp_dir_name ())
+            (Printf.sprintf "lancer-dir-%d.png" (Unix.getpid ()))
+        in
         Unix.mkdir d 0o755;
-        Fun.protect ~finally:(fun () -> Unix.rmdir d) (fun () ->
+        Fun.protect
+          ~finally:(fun () -> Unix.rmdir d)
+          (fun () ->
             match Image.read_linear d with
             | Ok _ -> Alcotest.fail "a directory decoded"
-            | Error m -> Alcotest.(check bool) ("says so: " ^ m) true (G.contains m "directory")
-            | exception e -> Alcotest.failf "raised %s" (Printexc.to_string e))) ]
+            | Error m ->
+                Alcotest.(check bool) ("says so: " ^ m) true (G.contains m "directory")
+            | exception e -> Alcotest.failf "raised %s" (Printexc.to_string e)));
+  ]
 
 (* ---- the oracles themselves ---- *)
 
@@ -102,22 +137,35 @@ let image_cases =
 let oracle_cases =
   let module E = Lancer_dsl.Error in
   let fails what = function Ok () -> Alcotest.failf "%s passed" what | Error _ -> () in
-  let passes what = function Ok () -> () | Error m -> Alcotest.failf "%s failed: %s" what m in
-  [ Alcotest.test_case "the scene oracle rejects an internal error and accepts a located one" `Quick (fun () ->
+  let passes what = function
+    | Ok () -> ()
+    | Error m -> Alcotest.failf "%s failed: %s" what m
+  in
+  [
+    Alcotest.test_case
+      "the scene oracle rejects an internal error and accepts a located one" `Quick
+      (fun () ->
         fails "an internal error"
-          (G.judge_scene_errors [ E.file_error "fuzz.rts" "internal error: Not_found (please report it)" ]);
+          (G.judge_scene_errors
+             [ E.file_error "fuzz.rts" "internal error: Not_found (please report it)" ]);
         fails "no error at all" (G.judge_scene_errors []);
         match Lancer_dsl.Dsl.load_string ~filename:"fuzz.rts" "sphere { radius: -1 }" with
         | Ok _ -> Alcotest.fail "a negative radius loaded"
         | Error es -> passes "a located error" (G.judge_scene_errors es));
-    Alcotest.test_case "the image oracle rejects a crash reported as an error" `Quick (fun () ->
-        fails "Invalid_argument" (G.judge_image_error "x.png: cannot read image: Invalid_argument(\"index out of bounds\")");
+    Alcotest.test_case "the image oracle rejects a crash reported as an error" `Quick
+      (fun () ->
+        fails "Invalid_argument"
+          (G.judge_image_error
+             "x.png: cannot read image: Invalid_argument(\"index out of bounds\")");
         fails "Not_found" (G.judge_image_error "x.png: cannot read image: Not_found");
         fails "two lines" (G.judge_image_error "x.png: one\ntwo");
-        passes "a reason" (G.judge_image_error "x.png: not a PNG file")) ]
+        passes "a reason" (G.judge_image_error "x.png: not a PNG file"));
+  ]
 
 let () =
   Alcotest.run "fuzz"
-    [ ("obj", List.map (seeded 20240611) obj_props @ obj_cases);
+    [
+      ("obj", List.map (seeded 20240611) obj_props @ obj_cases);
       ("image", List.map (seeded 20240612) image_props @ image_cases);
-      ("oracles", oracle_cases) ]
+      ("oracles", oracle_cases);
+    ]

@@ -1,6 +1,8 @@
 let tmpdir prefix =
   let d =
-    Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "%s-%d-%d" prefix (Unix.getpid ()) (Random.bits ()))
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "%s-%d-%d" prefix (Unix.getpid ()) (Random.bits ()))
   in
   Unix.mkdir d 0o755;
   d
@@ -14,10 +16,13 @@ let contains s sub =
   go 0
 
 let run ?(prefix = "") ~exe ~dir args =
-  let out = Filename.temp_file "lancer" ".out" and err = Filename.temp_file "lancer" ".err" in
+  let out = Filename.temp_file "lancer" ".out"
+  and err = Filename.temp_file "lancer" ".err" in
   let cmd =
-    Printf.sprintf "cd %s && %s %s %s >%s 2>%s </dev/null" (Filename.quote dir) prefix (Filename.quote exe)
-      (String.concat " " (List.map Filename.quote args)) out err
+    Printf.sprintf "cd %s && %s %s %s >%s 2>%s </dev/null" (Filename.quote dir) prefix
+      (Filename.quote exe)
+      (String.concat " " (List.map Filename.quote args))
+      out err
   in
   let status = Sys.command cmd in
   let o = read_file out and e = read_file err in

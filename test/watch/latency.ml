@@ -8,9 +8,17 @@
 open Watch_client
 
 let () =
-  let exe = if Array.length Sys.argv > 1 then Sys.argv.(1) else "_build/default/bin/main.exe" in
-  let extra = if Array.length Sys.argv > 2 then Array.to_list (Array.sub Sys.argv 2 (Array.length Sys.argv - 2)) else [] in
-  let exe = if Filename.is_relative exe then Filename.concat (Sys.getcwd ()) exe else exe in
+  let exe =
+    if Array.length Sys.argv > 1 then Sys.argv.(1) else "_build/default/bin/main.exe"
+  in
+  let extra =
+    if Array.length Sys.argv > 2 then
+      Array.to_list (Array.sub Sys.argv 2 (Array.length Sys.argv - 2))
+    else []
+  in
+  let exe =
+    if Filename.is_relative exe then Filename.concat (Sys.getcwd ()) exe else exe
+  in
   let showcase = In_channel.with_open_bin "scenes/showcase.rts" In_channel.input_all in
   let dir = Run_lancer.tmpdir "lancer-latency" in
   let path = Filename.concat dir "s.rts" in
@@ -19,7 +27,9 @@ let () =
     let i = Option.get (find showcase marker) in
     String.sub showcase 0 i
     ^ Printf.sprintf "color: (0.85, %.2f, 0.15)" (0.2 +. (0.1 *. Float.of_int k))
-    ^ String.sub showcase (i + String.length marker) (String.length showcase - i - String.length marker)
+    ^ String.sub showcase
+        (i + String.length marker)
+        (String.length showcase - i - String.length marker)
   in
   Run_lancer.write_file path (version 0);
   let s = start ~exe ~dir ([ "s.rts"; "--width"; "640"; "--height"; "480" ] @ extra) in
@@ -30,7 +40,11 @@ let () =
      same moment: the load of a shared machine changes from minute to minute. *)
   let render () =
     let t = Unix.gettimeofday () in
-    let st, _, err = Run_lancer.run ~exe ~dir ([ "render"; "s.rts"; "-o"; "r.png"; "-q"; "--width"; "640"; "--height"; "480" ] @ extra) in
+    let st, _, err =
+      Run_lancer.run ~exe ~dir
+        ([ "render"; "s.rts"; "-o"; "r.png"; "-q"; "--width"; "640"; "--height"; "480" ]
+        @ extra)
+    in
     if st <> 0 then prerr_string err;
     Unix.gettimeofday () -. t
   in
@@ -44,12 +58,17 @@ let () =
         ignore (wait_for e ~timeout:600. "the full image" last);
         let t2 = Unix.gettimeofday () in
         let r = render () in
-        Printf.printf "save %d: first image %.3f s, full image %.3f s; lancer render %.3f s\n%!" (k + 1) (t1 -. t0) (t2 -. t0) r;
+        Printf.printf
+          "save %d: first image %.3f s, full image %.3f s; lancer render %.3f s\n%!"
+          (k + 1) (t1 -. t0) (t2 -. t0) r;
         (t1 -. t0, t2 -. t0, r))
   in
   close_events e;
   ignore (stop s);
   let median l = List.nth (List.sort Float.compare l) (List.length l / 2) in
-  Printf.printf "median of 5 saves: first (coarse) image %.3f s, full image %.2f s; lancer render of the same: %.2f s\n"
-    (median (List.map (fun (a, _, _) -> a) runs)) (median (List.map (fun (_, b, _) -> b) runs))
+  Printf.printf
+    "median of 5 saves: first (coarse) image %.3f s, full image %.2f s; lancer render of \
+     the same: %.2f s\n"
+    (median (List.map (fun (a, _, _) -> a) runs))
+    (median (List.map (fun (_, b, _) -> b) runs))
     (median (List.map (fun (_, _, c) -> c) runs))

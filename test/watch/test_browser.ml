@@ -22,21 +22,45 @@ sphere { center: (0, 1, 0), radius: 1.6, material: material { color: %s } }
 
 (* ---- A DevTools client over the pipe: JSON messages, each ended by a NUL byte. ---- *)
 
-type cdp = { pid : int; cmd : Unix.file_descr; resp : Unix.file_descr; buf : Buffer.t; mutable id : int; profile : string }
+type cdp = {
+  pid : int;
+  cmd : Unix.file_descr;
+  resp : Unix.file_descr;
+  buf : Buffer.t;
+  mutable id : int;
+  profile : string;
+}
 
 let chromium_flags profile =
-  [ "--headless"; "--no-sandbox"; "--disable-gpu"; "--no-first-run"; "--disable-background-networking";
-    "--disable-component-update"; "--disable-sync"; "--user-data-dir=" ^ profile; "--remote-debugging-pipe";
-    "--window-size=800,600"; "--hide-scrollbars"; "about:blank" ]
+  [
+    "--headless";
+    "--no-sandbox";
+    "--disable-gpu";
+    "--no-first-run";
+    "--disable-background-networking";
+    "--disable-component-update";
+    "--disable-sync";
+    "--user-data-dir=" ^ profile;
+    "--remote-debugging-pipe";
+    "--window-size=800,600";
+    "--hide-scrollbars";
+    "about:blank";
+  ]
 
 let launch dir =
   let profile = Run_lancer.tmpdir "lancer-chromium" in
   let cmd_r, cmd_w = Unix.pipe ~cloexec:true () in
   let resp_r, resp_w = Unix.pipe ~cloexec:true () in
-  let log = Unix.openfile (Filename.concat dir "chromium.log") [ O_WRONLY; O_CREAT; O_TRUNC; O_CLOEXEC ] 0o644 in
+  let log =
+    Unix.openfile
+      (Filename.concat dir "chromium.log")
+      [ O_WRONLY; O_CREAT; O_TRUNC; O_CLOEXEC ]
+      0o644
+  in
   (* The shell moves the two pipes to descriptors 3 and 4, where Chromium expects them. *)
   let args =
-    [ "sh"; "-c"; "exec 3<&0 4>&1 </dev/null >/dev/null; exec \"$@\""; "sh"; "chromium" ] @ chromium_flags profile
+    [ "sh"; "-c"; "exec 3<&0 4>&1 </dev/null >/dev/null; exec \"$@\""; "sh"; "chromium" ]
+    @ chromium_flags profile
   in
   let pid = Unix.create_process "sh" (Array.of_list args) cmd_r resp_w log in
   Unix.close cmd_r;
@@ -62,7 +86,9 @@ let rec read_message c ~deadline =
             let b = Bytes.create 65536 in
             match Unix.read c.resp b 0 65536 with
             | 0 -> None
-            | n -> Buffer.add_subbytes c.buf b 0 n; read_message c ~deadline)
+            | n ->
+                Buffer.add_subbytes c.buf b 0 n;
+                read_message c ~deadline)
         | exception Unix.Unix_error (Unix.EINTR, _, _) -> read_message c ~deadline)
 
 (* Send a command and wait for its answer (events in between are dropped). *)
@@ -75,14 +101,19 @@ let call ?session ?(timeout = 60.) c meth params =
       @ match session with Some s -> [ ("sessionId", `String s) ] | None -> [])
   in
   let text = Yojson.Safe.to_string msg ^ "\000" in
-  let rec write off = if off < String.length text then write (off + Unix.write_substring c.cmd text off (String.length text - off)) in
+  let rec write off =
+    if off < String.length text then
+      write (off + Unix.write_substring c.cmd text off (String.length text - off))
+  in
   write 0;
   let deadline = Unix.gettimeofday () +. timeout in
   let rec wait () =
     match read_message c ~deadline with
-    | None -> failwith (Printf.sprintf "Chromium did not answer %s within %.0f s" meth timeout)
+    | None ->
+        failwith (Printf.sprintf "Chromium did not answer %s within %.0f s" meth timeout)
     | Some j when to_int (member "id" j) = id ->
-        if member "error" j <> `Null then failwith (meth ^ ": " ^ Yojson.Safe.to_string (member "error" j));
+        if member "error" j <> `Null then
+          failwith (meth ^ ": " ^ Yojson.Safe.to_string (member "error" j));
         member "result" j
     | Some _ -> wait ()
   in
@@ -94,8 +125,12 @@ let close c =
   let deadline = Unix.gettimeofday () +. 20. in
   let rec wait () =
     match Unix.waitpid [ Unix.WNOHANG ] c.pid with
-    | 0, _ when Unix.gettimeofday () < deadline -> Unix.sleepf 0.1; wait ()
-    | 0, _ -> (try Unix.kill c.pid Sys.sigkill with _ -> ()); ignore (Unix.waitpid [] c.pid)
+    | 0, _ when Unix.gettimeofday () < deadline ->
+        Unix.sleepf 0.1;
+        wait ()
+    | 0, _ ->
+        (try Unix.kill c.pid Sys.sigkill with _ -> ());
+        ignore (Unix.waitpid [] c.pid)
     | _ -> ()
     | exception Unix.Unix_error (Unix.EINTR, _, _) -> wait ()
   in
@@ -105,7 +140,10 @@ let close c =
 
 (* The value of a JavaScript expression in the page. *)
 let eval c session expr =
-  let r = call ~session c "Runtime.evaluate" [ ("expression", `String expr); ("returnByValue", `Bool true) ] in
+  let r =
+    call ~session c "Runtime.evaluate"
+      [ ("expression", `String expr); ("returnByValue", `Bool true) ]
+  in
   member "value" (member "result" r)
 
 let until c session what expr =
@@ -113,7 +151,9 @@ let until c session what expr =
   let rec go () =
     if eval c session expr = `Bool true then ()
     else if Unix.gettimeofday () > deadline then failwith ("the page never showed " ^ what)
-    else (Unix.sleepf 0.1; go ())
+    else (
+      Unix.sleepf 0.1;
+      go ())
   in
   go ()
 
@@ -147,60 +187,108 @@ let test () =
   let s = start ~exe ~dir [ "s.rts" ] in
   let c = launch dir in
   Fun.protect
-    ~finally:(fun () -> close c; ignore (stop s))
+    ~finally:(fun () ->
+      close c;
+      ignore (stop s))
     (fun () ->
       let target = call c "Target.createTarget" [ ("url", `String "about:blank") ] in
       let session =
         to_string
           (member "sessionId"
-             (call c "Target.attachToTarget" [ ("targetId", member "targetId" target); ("flatten", `Bool true) ]))
+             (call c "Target.attachToTarget"
+                [ ("targetId", member "targetId" target); ("flatten", `Bool true) ]))
       in
       ignore
         (call ~session c "Emulation.setDeviceMetricsOverride"
-           [ ("width", `Int 960); ("height", `Int 400); ("deviceScaleFactor", `Int 1); ("mobile", `Bool false) ]);
-      ignore (call ~session c "Page.navigate" [ ("url", `String (Printf.sprintf "http://127.0.0.1:%d/" s.port)) ]);
+           [
+             ("width", `Int 960);
+             ("height", `Int 400);
+             ("deviceScaleFactor", `Int 1);
+             ("mobile", `Bool false);
+           ]);
+      ignore
+        (call ~session c "Page.navigate"
+           [ ("url", `String (Printf.sprintf "http://127.0.0.1:%d/" s.port)) ]);
       let finished = "document.getElementById('state').textContent.startsWith('done')" in
       until c session "the full image" finished;
       (* Where the picture is on the page. *)
       let rect =
-        match eval c session "(() => { const r = document.getElementById('img').getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom].map(Math.round); })()" with
+        match
+          eval c session
+            "(() => { const r = document.getElementById('img').getBoundingClientRect(); \
+             return [r.left, r.top, r.right, r.bottom].map(Math.round); })()"
+        with
         | `List [ `Int x0; `Int y0; `Int x1; `Int y1 ] -> (x0, y0, x1, y1)
         | j -> failwith ("no picture on the page: " ^ Yojson.Safe.to_string j)
       in
       let x0, y0, x1, y1 = rect in
-      Alcotest.(check (pair int int)) "the picture at its size" (160, 120) (x1 - x0, y1 - y0);
+      Alcotest.(check (pair int int))
+        "the picture at its size" (160, 120)
+        (x1 - x0, y1 - y0);
       let red = screenshot c session dir "red.png" in
-      let reddish r g b = r > g + 60 && r > b + 60 and bluish r g b = b > r + 60 && b > g + 30 in
-      Alcotest.(check bool) "the screenshot shows the red sphere" true (share red rect reddish > 0.15);
+      let reddish r g b = r > g + 60 && r > b + 60
+      and bluish r g b = b > r + 60 && b > g + 30 in
+      Alcotest.(check bool)
+        "the screenshot shows the red sphere" true
+        (share red rect reddish > 0.15);
       (* Saved with another colour: the page changes by itself. *)
       let seq = eval c session "document.getElementById('img').src" in
       atomic_write path (scene "(0.1, 0.2, 0.9)");
-      until c session "a new image" (Printf.sprintf "document.getElementById('img').src !== %s && %s" (Yojson.Safe.to_string seq) finished);
+      until c session "a new image"
+        (Printf.sprintf "document.getElementById('img').src !== %s && %s"
+           (Yojson.Safe.to_string seq) finished);
       let blue = screenshot c session dir "blue.png" in
       Alcotest.(check bool) "no red left" true (share blue rect reddish < 0.01);
-      Alcotest.(check bool) "the screenshot shows the blue sphere" true (share blue rect bluish > 0.15);
+      Alcotest.(check bool)
+        "the screenshot shows the blue sphere" true
+        (share blue rect bluish > 0.15);
       (* A broken scene: the error over the last good image. *)
-      atomic_write path (scene "(0.1, 0.2, 0.9)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
-      until c session "the error" "document.getElementById('err').style.display === 'block'";
-      let text = to_string (eval c session "document.getElementById('err').textContent") in
-      Alcotest.(check bool) ("the located error: " ^ text) true
-        (Run_lancer.contains text "s.rts:7:" && Run_lancer.contains text "^^^^^" && Run_lancer.contains text "did you mean `radius`?");
+      atomic_write path
+        (scene "(0.1, 0.2, 0.9)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
+      until c session "the error"
+        "document.getElementById('err').style.display === 'block'";
+      let text =
+        to_string (eval c session "document.getElementById('err').textContent")
+      in
+      Alcotest.(check bool)
+        ("the located error: " ^ text)
+        true
+        (Run_lancer.contains text "s.rts:7:"
+        && Run_lancer.contains text "^^^^^"
+        && Run_lancer.contains text "did you mean `radius`?");
       let broken = screenshot c session dir "error.png" in
       let panel r g b = r > 60 && r > g + 40 && r > b + 40 in
       let band = (x0, y1 - 20, x1, y1) in
-      Alcotest.(check bool) "the screenshot shows the error panel" true (share broken band panel > 0.5);
-      Alcotest.(check bool) "and the last good image above it" true (share broken (x0, y0, x1, y0 + 40) bluish +. share broken rect bluish > 0.05);
+      Alcotest.(check bool)
+        "the screenshot shows the error panel" true
+        (share broken band panel > 0.5);
+      Alcotest.(check bool)
+        "and the last good image above it" true
+        (share broken (x0, y0, x1, y0 + 40) bluish +. share broken rect bluish > 0.05);
       (* Fixed: the panel goes. *)
       atomic_write path (scene "(0.1, 0.9, 0.1)");
-      until c session "the error cleared" (Printf.sprintf "document.getElementById('err').style.display === 'none' && %s" finished);
+      until c session "the error cleared"
+        (Printf.sprintf "document.getElementById('err').style.display === 'none' && %s"
+           finished);
       let fixed = screenshot c session dir "fixed.png" in
       Alcotest.(check bool) "no error panel" true (share fixed band panel < 0.05))
 
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let can_start =
-    Sys.command "command -v chromium >/dev/null 2>&1 && timeout 60 chromium --headless --no-sandbox --disable-gpu --version >/dev/null 2>&1" = 0
+    Sys.command
+      "command -v chromium >/dev/null 2>&1 && timeout 60 chromium --headless \
+       --no-sandbox --disable-gpu --version >/dev/null 2>&1"
+    = 0
   in
   if not can_start then
-    print_endline "SKIPPED: the browser test of lancer watch: chromium cannot be started here (make deps installs it)"
-  else Alcotest.run "browser" [ ("watch page", [ Alcotest.test_case "live update and the error panel in Chromium" `Quick test ]) ]
+    print_endline
+      "SKIPPED: the browser test of lancer watch: chromium cannot be started here (make \
+       deps installs it)"
+  else
+    Alcotest.run "browser"
+      [
+        ( "watch page",
+          [ Alcotest.test_case "live update and the error panel in Chromium" `Quick test ]
+        );
+      ]

@@ -6,7 +6,6 @@
 open Watch_client
 
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
-
 let tmpdir () = Run_lancer.tmpdir "lancer-watch"
 
 let scene ?(size = "64, height: 48") colour =
@@ -25,12 +24,13 @@ let with_server ?(args = []) dir f =
   let result = try Ok (f s) with e -> Error (e, Printexc.get_raw_backtrace ()) in
   let st = stop s in
   match result with
-  | Error (e, bt) -> Printf.eprintf "server stderr:\n%s\n" (stderr_text s); Printexc.raise_with_backtrace e bt
+  | Error (e, bt) ->
+      Printf.eprintf "server stderr:\n%s\n" (stderr_text s);
+      Printexc.raise_with_backtrace e bt
   | Ok () ->
       Alcotest.(check bool)
         ("exits with 130 on Ctrl-C\n" ^ stderr_text s)
-        true
-        (st = Unix.WEXITED 130)
+        true (st = Unix.WEXITED 130)
 
 let is_image ev _ = ev = "image"
 let is_last ev j = ev = "image" && to_bool (member "last" j)
@@ -42,11 +42,15 @@ let pixels s seq =
   Alcotest.(check string) "as a PNG" "\137PNG" (String.sub body 0 4);
   let p = Filename.concat s.dir (Printf.sprintf "got%d.png" seq) in
   Run_lancer.write_file p body;
-  match Lancer.Image.read_rgb8 p with Ok (w, h, b) -> (w, h, b, body) | Error m -> Alcotest.fail m
+  match Lancer.Image.read_rgb8 p with
+  | Ok (w, h, b) -> (w, h, b, body)
+  | Error m -> Alcotest.fail m
 
 let count_diff a b =
   let n = ref 0 in
-  Bytes.iteri (fun i c -> if abs (Char.code c - Char.code (Bytes.get b i)) > 8 then incr n) a;
+  Bytes.iteri
+    (fun i c -> if abs (Char.code c - Char.code (Bytes.get b i)) > 8 then incr n)
+    a;
   !n
 
 let basic () =
@@ -55,43 +59,74 @@ let basic () =
   with_server d (fun s ->
       let st, page = request s "/" in
       Alcotest.(check int) "the page" 200 st;
-      Alcotest.(check bool) "it listens to the event stream" true (Run_lancer.contains page "new EventSource(\"/events\")");
+      Alcotest.(check bool)
+        "it listens to the event stream" true
+        (Run_lancer.contains page "new EventSource(\"/events\")");
       let e = events s in
       (* The first version: coarse images, then the full one. *)
       let coarse = ref 0 in
-      let _, j = wait_for e "first full image" (fun ev j -> if is_image ev j && not (to_bool (member "last" j)) then incr coarse; is_last ev j) in
+      let _, j =
+        wait_for e "first full image" (fun ev j ->
+            if is_image ev j && not (to_bool (member "last" j)) then incr coarse;
+            is_last ev j)
+      in
       let w, h, red, red_png = pixels s (to_int (member "seq" j)) in
       Alcotest.(check (pair int int)) "full size" (64, 48) (w, h);
       (* The full image is what lancer render writes. *)
-      let _, _, err = Run_lancer.run ~exe ~dir:d [ "render"; "s.rts"; "-o"; "r.png"; "-q" ] in
-      Alcotest.(check bool) ("the same bytes as lancer render\n" ^ err) true (red_png = Run_lancer.read_file (Filename.concat d "r.png"));
+      let _, _, err =
+        Run_lancer.run ~exe ~dir:d [ "render"; "s.rts"; "-o"; "r.png"; "-q" ]
+      in
+      Alcotest.(check bool)
+        ("the same bytes as lancer render\n" ^ err)
+        true
+        (red_png = Run_lancer.read_file (Filename.concat d "r.png"));
       (* An edit: a coarse image first, then a full one with other pixels. *)
       atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)");
       let _, j = wait_for e "a coarse image after the edit" is_image in
-      Alcotest.(check bool) "the first image after an edit is coarse" false (to_bool (member "last" j));
-      Alcotest.(check bool) "one sample per 8×8 pixels" true (Run_lancer.contains (to_string (member "label" j)) "8×8");
+      Alcotest.(check bool)
+        "the first image after an edit is coarse" false
+        (to_bool (member "last" j));
+      Alcotest.(check bool)
+        "one sample per 8×8 pixels" true
+        (Run_lancer.contains (to_string (member "label" j)) "8×8");
       let cw, ch, _, _ = pixels s (to_int (member "seq" j)) in
-      Alcotest.(check (pair int int)) "a complete picture at an eighth of the size" (8, 6) (cw, ch);
+      Alcotest.(check (pair int int))
+        "a complete picture at an eighth of the size" (8, 6) (cw, ch);
       let _, j = wait_for e "the full image after the edit" is_last in
       let blue_seq = to_int (member "seq" j) in
       let _, _, blue, _ = pixels s blue_seq in
       Alcotest.(check bool) "the picture changed" true (count_diff red blue > 100);
       (* A statistics event says what it cost. *)
       let _, stats = wait_for e "statistics" (fun ev _ -> ev = "stats") in
-      Alcotest.(check bool) "rays per second" true (member "rays_per_second" stats <> `Null);
-      Alcotest.(check bool) "the check summary" true (Run_lancer.contains (to_string (member "summary" stats)) "objects: 2");
+      Alcotest.(check bool)
+        "rays per second" true
+        (member "rays_per_second" stats <> `Null);
+      Alcotest.(check bool)
+        "the check summary" true
+        (Run_lancer.contains (to_string (member "summary" stats)) "objects: 2");
       (* A broken scene: the located error, as lancer prints it. *)
-      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
+      atomic_write (Filename.concat d "s.rts")
+        (scene "(0.1, 0.2, 0.9)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
       let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
       let text = to_string (member "text" j) in
-      Alcotest.(check bool) ("file:line:col in " ^ text) true (Run_lancer.contains text "s.rts:7:");
-      Alcotest.(check bool) ("the message in " ^ text) true (Run_lancer.contains text "did you mean `radius`?");
-      Alcotest.(check bool) ("the source line and a caret in " ^ text) true
-        (Run_lancer.contains text "sphere { center: (0, 1, 0), radiu: 1 }\n" && Run_lancer.contains text "^^^^^");
+      Alcotest.(check bool)
+        ("file:line:col in " ^ text) true
+        (Run_lancer.contains text "s.rts:7:");
+      Alcotest.(check bool)
+        ("the message in " ^ text) true
+        (Run_lancer.contains text "did you mean `radius`?");
+      Alcotest.(check bool)
+        ("the source line and a caret in " ^ text)
+        true
+        (Run_lancer.contains text "sphere { center: (0, 1, 0), radiu: 1 }\n"
+        && Run_lancer.contains text "^^^^^");
       (* Another preset while the file is broken: still the error, not the old scene. *)
       let st, _ = request ~meth:"POST" s "/control?quality=preview" in
       Alcotest.(check int) "quality switched" 204 st;
-      let ev, _ = wait_for e "the error again" (fun ev _ -> ev = "failure" || ev = "ok" || ev = "image") in
+      let ev, _ =
+        wait_for e "the error again" (fun ev _ ->
+            ev = "failure" || ev = "ok" || ev = "image")
+      in
       Alcotest.(check string) "the error stays" "failure" ev;
       let st, _ = request ~meth:"POST" s "/control?quality=scene" in
       Alcotest.(check int) "back to the scene's own" 204 st;
@@ -122,8 +157,12 @@ let includes ~poll () =
   Unix.mkdir (Filename.concat d "lib") 0o755;
   let col c = Printf.sprintf "let c = %s\n" c in
   Run_lancer.write_file (Filename.concat d "lib/col.rts") (col "(0.9, 0.1, 0.1)");
-  Run_lancer.write_file (Filename.concat d "s.rts") ("include \"lib/col.rts\"\n" ^ scene "c");
-  with_server ~args:(if poll then [ "--poll" ] else []) d (fun s ->
+  Run_lancer.write_file (Filename.concat d "s.rts")
+    ("include \"lib/col.rts\"\n" ^ scene "c");
+  with_server
+    ~args:(if poll then [ "--poll" ] else [])
+    d
+    (fun s ->
       let e = events s in
       let _, j = wait_for e "first full image" is_last in
       let _, _, a, _ = pixels s (to_int (member "seq" j)) in
@@ -144,7 +183,8 @@ let cancel () =
       ignore (wait_for e "first full image" is_last);
       (* 1600×1200 at 8×8 samples: minutes of work on one core, seconds to its first
          coarse image. *)
-      atomic_write (Filename.concat d "s.rts") (scene ~size:"1600, height: 1200, samples: 8" "(0.1, 0.2, 0.9)");
+      atomic_write (Filename.concat d "s.rts")
+        (scene ~size:"1600, height: 1200, samples: 8" "(0.1, 0.2, 0.9)");
       ignore (wait_for e ~timeout:120. "a coarse image of the slow version" is_image);
       atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
       let slow_finished = ref false in
@@ -152,9 +192,11 @@ let cancel () =
         (wait_for e ~timeout:120. "the newer version's full image"
            ~seen:(fun ev data ->
              let j = Yojson.Safe.from_string data in
-             if is_last ev j && to_int (member "width" j) = 1600 then slow_finished := true)
+             if is_last ev j && to_int (member "width" j) = 1600 then
+               slow_finished := true)
            (fun ev j -> is_last ev j && to_int (member "width" j) = 64));
-      Alcotest.(check bool) "the slow version never finished: it was cancelled" false !slow_finished;
+      Alcotest.(check bool)
+        "the slow version never finished: it was cancelled" false !slow_finished;
       let st, _ = request s "/" in
       Alcotest.(check int) "still serving" 200 st;
       close_events e)
@@ -162,37 +204,80 @@ let cancel () =
 let hostile () =
   let d = tmpdir () in
   Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
-  Run_lancer.write_file (Filename.concat d "secret.txt") "a secret in the scene's directory\n";
+  Run_lancer.write_file
+    (Filename.concat d "secret.txt")
+    "a secret in the scene's directory\n";
   with_server d (fun s ->
       let e = events s in
       ignore (wait_for e "first full image" is_last);
       let no_secret what (_, body) =
-        Alcotest.(check bool) (what ^ ": no file content") false
-          (Run_lancer.contains body "root:" || Run_lancer.contains body "a secret" || Run_lancer.contains body "sphere {")
+        Alcotest.(check bool)
+          (what ^ ": no file content") false
+          (Run_lancer.contains body "root:"
+          || Run_lancer.contains body "a secret"
+          || Run_lancer.contains body "sphere {")
       in
       List.iter
         (fun p ->
-          let ((st, _) as r) = raw s.port (Printf.sprintf "GET %s HTTP/1.0\r\nHost: 127.0.0.1:%d\r\n\r\n" p s.port) in
+          let ((st, _) as r) =
+            raw s.port
+              (Printf.sprintf "GET %s HTTP/1.0\r\nHost: 127.0.0.1:%d\r\n\r\n" p s.port)
+          in
           Alcotest.(check int) (p ^ " is not found") 404 st;
           no_secret p r)
-        [ "/../../etc/passwd"; "/..%2f..%2fetc%2fpasswd"; "/etc/passwd"; "/secret.txt"; "/s.rts"; "/image/../s.rts";
-          "/image/..%2f..%2fetc%2fpasswd.png"; "/image/-1.png"; "/image/99999999999999999999999.png"; "//etc/passwd" ];
+        [
+          "/../../etc/passwd";
+          "/..%2f..%2fetc%2fpasswd";
+          "/etc/passwd";
+          "/secret.txt";
+          "/s.rts";
+          "/image/../s.rts";
+          "/image/..%2f..%2fetc%2fpasswd.png";
+          "/image/-1.png";
+          "/image/99999999999999999999999.png";
+          "//etc/passwd";
+        ];
       (* A foreign Host (a renamed domain pointing at 127.0.0.1), or none. *)
       List.iter
         (fun (what, req) ->
           let ((st, _) as r) = raw s.port req in
           Alcotest.(check int) (what ^ " is refused") 403 st;
           no_secret what r)
-        [ ("a foreign Host", "GET / HTTP/1.1\r\nHost: evil.example:80\r\nConnection: close\r\n\r\n");
-          ("a foreign Host for the events", "GET /events HTTP/1.1\r\nHost: evil.example\r\nConnection: close\r\n\r\n");
-          ("the right port on another name", Printf.sprintf "GET / HTTP/1.1\r\nHost: localhost.evil.example:%d\r\nConnection: close\r\n\r\n" s.port);
+        [
+          ( "a foreign Host",
+            "GET / HTTP/1.1\r\nHost: evil.example:80\r\nConnection: close\r\n\r\n" );
+          ( "a foreign Host for the events",
+            "GET /events HTTP/1.1\r\nHost: evil.example\r\nConnection: close\r\n\r\n" );
+          ( "the right port on another name",
+            Printf.sprintf
+              "GET / HTTP/1.1\r\n\
+               Host: localhost.evil.example:%d\r\n\
+               Connection: close\r\n\
+               \r\n"
+              s.port );
           ("no Host", "GET / HTTP/1.0\r\n\r\n");
-          ("a control from a foreign page",
-            Printf.sprintf "POST /control?quality=draft HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nOrigin: http://evil.example\r\nContent-Length: 0\r\nConnection: close\r\n\r\n" s.port) ];
+          ( "a control from a foreign page",
+            Printf.sprintf
+              "POST /control?quality=draft HTTP/1.1\r\n\
+               Host: 127.0.0.1:%d\r\n\
+               Origin: http://evil.example\r\n\
+               Content-Length: 0\r\n\
+               Connection: close\r\n\
+               \r\n"
+              s.port );
+        ];
       (* Garbage and a flood: many connections at once, some never finishing their
          request, some sending nonsense. *)
-      let idle = List.init 40 (fun _ -> let fd = Unix.socket PF_INET SOCK_STREAM 0 in Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port)); fd) in
-      List.iteri (fun i fd -> if i mod 2 = 0 then ignore (Unix.write_substring fd "GET / HTTP/1.1\r\nHo" 0 18)) idle;
+      let idle =
+        List.init 40 (fun _ ->
+            let fd = Unix.socket PF_INET SOCK_STREAM 0 in
+            Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port));
+            fd)
+      in
+      List.iteri
+        (fun i fd ->
+          if i mod 2 = 0 then ignore (Unix.write_substring fd "GET / HTTP/1.1\r\nHo" 0 18))
+        idle;
       ignore (raw s.port "\000\001\002 garbage \r\n\r\n");
       ignore (raw s.port (String.make 70000 'A' ^ "\r\n\r\n"));
       for _ = 1 to 10 do
@@ -200,10 +285,21 @@ let hostile () =
           List.init 30 (fun i ->
               let fd = Unix.socket PF_INET SOCK_STREAM 0 in
               Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port));
-              let path = if i mod 3 = 0 then "/../../etc/passwd" else if i mod 3 = 1 then "/" else "/image/1.png" in
-              let host = if i mod 5 = 0 then "evil.example" else Printf.sprintf "127.0.0.1:%d" s.port in
-              ignore (Unix.write_substring fd (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host) 0
-                        (String.length (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host)));
+              let path =
+                if i mod 3 = 0 then "/../../etc/passwd"
+                else if i mod 3 = 1 then "/"
+                else "/image/1.png"
+              in
+              let host =
+                if i mod 5 = 0 then "evil.example"
+                else Printf.sprintf "127.0.0.1:%d" s.port
+              in
+              ignore
+                (Unix.write_substring fd
+                   (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host)
+                   0
+                   (String.length
+                      (Printf.sprintf "GET %s HTTP/1.0\r\nHost: %s\r\n\r\n" path host)));
               fd)
         in
         List.iter (fun fd -> Unix.close fd) batch
@@ -218,7 +314,9 @@ let hostile () =
       (* Pages opened and closed again and again, and many left open (the oldest are then
          closed): a new page still gets its events, and the next edit. *)
       let left_open = List.init 40 (fun _ -> events s) in
-      for _ = 1 to 60 do close_events (events s) done;
+      for _ = 1 to 60 do
+        close_events (events s)
+      done;
       let fresh = events s in
       ignore (wait_for fresh "the current image, for a page opened after many" is_image);
       atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.1, 0.9)");
@@ -240,21 +338,33 @@ sphere { center: (-2 + 0.6 * frame, 1, 0), radius: 0.8, material: material { col
   with_server d (fun s ->
       let e = events s in
       let _, sc = wait_for e "the scene" (fun ev _ -> ev = "scene") in
-      Alcotest.(check int) "its frames" 8 (to_int (member "frames" (member "animation" sc)));
+      Alcotest.(check int)
+        "its frames" 8
+        (to_int (member "frames" (member "animation" sc)));
       let _, j = wait_for e "frame 0" is_last in
-      Alcotest.(check string) "named for saving" "s_0000.png" (to_string (member "name" j));
+      Alcotest.(check string)
+        "named for saving" "s_0000.png"
+        (to_string (member "name" j));
       let _, _, f0, _ = pixels s (to_int (member "seq" j)) in
       let st, _ = request ~meth:"POST" s "/control?frame=6" in
       Alcotest.(check int) "frame chosen" 204 st;
-      let _, j = wait_for e "frame 6" (fun ev j -> is_last ev j && to_int (member "frame" j) = 6) in
-      Alcotest.(check string) "named for saving" "s_0006.png" (to_string (member "name" j));
+      let _, j =
+        wait_for e "frame 6" (fun ev j -> is_last ev j && to_int (member "frame" j) = 6)
+      in
+      Alcotest.(check string)
+        "named for saving" "s_0006.png"
+        (to_string (member "name" j));
       let _, _, f6, _ = pixels s (to_int (member "seq" j)) in
       Alcotest.(check bool) "the sphere moved" true (count_diff f0 f6 > 50);
       (* While playing, only the preview passes: the last image is the preview. *)
       let st, _ = request ~meth:"POST" s "/control?frame=7&play=1" in
       Alcotest.(check int) "playing" 204 st;
-      let _, j = wait_for e "frame 7" (fun ev j -> is_last ev j && to_int (member "frame" j) = 7) in
-      Alcotest.(check bool) ("at preview quality: " ^ to_string (member "label" j)) true
+      let _, j =
+        wait_for e "frame 7" (fun ev j -> is_last ev j && to_int (member "frame" j) = 7)
+      in
+      Alcotest.(check bool)
+        ("at preview quality: " ^ to_string (member "label" j))
+        true
         (Run_lancer.contains (to_string (member "label" j)) "preview");
       let st, _ = request ~meth:"POST" s "/control?frame=x" in
       Alcotest.(check int) "a frame must be a number" 400 st;
@@ -269,28 +379,54 @@ let mistakes () =
     let st, _, e = Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d ("watch" :: args) in
     Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
     Alcotest.(check bool) (what ^ ": " ^ e) true (Run_lancer.contains e expect);
-    Alcotest.(check bool) (what ^ ": no backtrace") false (Run_lancer.contains e "Raised at")
+    Alcotest.(check bool)
+      (what ^ ": no backtrace") false
+      (Run_lancer.contains e "Raised at")
   in
   one "a missing scene" [ "nope.rts"; "--port"; "0" ] "lancer: nope.rts: no such file";
-  one "standard input" [ "-"; "--port"; "0" ] "watch needs a scene file to watch, not standard input";
-  one "a host name" [ "s.rts"; "--host"; "localhost"; "--port"; "0" ] "--host must be an IP address";
-  one "every address" [ "s.rts"; "--host"; "0.0.0.0"; "--port"; "0" ] "--host must be one address of this machine";
+  one "standard input" [ "-"; "--port"; "0" ]
+    "watch needs a scene file to watch, not standard input";
+  one "a host name"
+    [ "s.rts"; "--host"; "localhost"; "--port"; "0" ]
+    "--host must be an IP address";
+  one "every address"
+    [ "s.rts"; "--host"; "0.0.0.0"; "--port"; "0" ]
+    "--host must be one address of this machine";
   (* A port already taken. *)
   let sock = Unix.socket PF_INET SOCK_STREAM 0 in
   Unix.bind sock (ADDR_INET (Unix.inet_addr_loopback, 0));
   Unix.listen sock 1;
-  let port = match Unix.getsockname sock with ADDR_INET (_, p) -> p | _ -> assert false in
-  one "a port in use" [ "s.rts"; "--port"; string_of_int port ] (Printf.sprintf "cannot listen on 127.0.0.1:%d" port);
+  let port =
+    match Unix.getsockname sock with ADDR_INET (_, p) -> p | _ -> assert false
+  in
+  one "a port in use"
+    [ "s.rts"; "--port"; string_of_int port ]
+    (Printf.sprintf "cannot listen on 127.0.0.1:%d" port);
   Unix.close sock
 
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
-    [ ( "watch",
-        [ Alcotest.test_case "page, images, a new image on an edit, the located error and its fix, quality" `Quick basic;
-          Alcotest.test_case "a change in an included file (inotify)" `Quick (includes ~poll:false);
-          Alcotest.test_case "a change in an included file (polling)" `Quick (includes ~poll:true);
-          Alcotest.test_case "an animation: its frames, a chosen frame, playing at preview quality" `Quick animation;
-          Alcotest.test_case "a newer version cancels the render in progress" `Quick cancel;
-          Alcotest.test_case "a missing scene, a host name, a port in use: one line, exit 1" `Quick mistakes;
-          Alcotest.test_case "paths, foreign hosts and a flood read nothing and stall nothing" `Quick hostile ] ) ]
+    [
+      ( "watch",
+        [
+          Alcotest.test_case
+            "page, images, a new image on an edit, the located error and its fix, quality"
+            `Quick basic;
+          Alcotest.test_case "a change in an included file (inotify)" `Quick
+            (includes ~poll:false);
+          Alcotest.test_case "a change in an included file (polling)" `Quick
+            (includes ~poll:true);
+          Alcotest.test_case
+            "an animation: its frames, a chosen frame, playing at preview quality" `Quick
+            animation;
+          Alcotest.test_case "a newer version cancels the render in progress" `Quick
+            cancel;
+          Alcotest.test_case
+            "a missing scene, a host name, a port in use: one line, exit 1" `Quick
+            mistakes;
+          Alcotest.test_case
+            "paths, foreign hosts and a flood read nothing and stall nothing" `Quick
+            hostile;
+        ] );
+    ]

@@ -1,4 +1,10 @@
-type server = { pid : int; port : int; out : in_channel; dir : string; mutable log : string list }
+type server = {
+  pid : int;
+  port : int;
+  out : in_channel;
+  dir : string;
+  mutable log : string list;
+}
 
 let now = Unix.gettimeofday
 
@@ -18,20 +24,31 @@ let input_line_within ic timeout =
           match Unix.read fd b 0 1 with
           | 0 -> None
           | _ when Bytes.get b 0 = '\n' -> Some (Buffer.contents buf)
-          | _ -> Buffer.add_char buf (Bytes.get b 0); go ())
+          | _ ->
+              Buffer.add_char buf (Bytes.get b 0);
+              go ())
       | exception Unix.Unix_error (Unix.EINTR, _, _) -> go ()
   in
   go ()
 
 let start ~exe ~dir args =
   let r, w = Unix.pipe ~cloexec:true () in
-  let err = Unix.openfile (Filename.concat dir "watch.err") [ O_WRONLY; O_CREAT; O_TRUNC; O_CLOEXEC ] 0o644 in
+  let err =
+    Unix.openfile
+      (Filename.concat dir "watch.err")
+      [ O_WRONLY; O_CREAT; O_TRUNC; O_CLOEXEC ]
+      0o644
+  in
   let devnull = Unix.openfile "/dev/null" [ O_RDONLY; O_CLOEXEC ] 0 in
   let cwd = Sys.getcwd () in
   Sys.chdir dir;
   let pid =
-    Fun.protect ~finally:(fun () -> Sys.chdir cwd) (fun () ->
-        Unix.create_process exe (Array.of_list (exe :: "watch" :: args @ [ "--port"; "0" ])) devnull w err)
+    Fun.protect
+      ~finally:(fun () -> Sys.chdir cwd)
+      (fun () ->
+        Unix.create_process exe
+          (Array.of_list ((exe :: "watch" :: args) @ [ "--port"; "0" ]))
+          devnull w err)
   in
   Unix.close w;
   Unix.close err;
@@ -44,15 +61,21 @@ let start ~exe ~dir args =
       | Some port -> { pid; port; out; dir; log = [] }
       | None -> failwith ("unexpected first line: " ^ line))
 
-let stderr_text s = try In_channel.with_open_bin (Filename.concat s.dir "watch.err") In_channel.input_all with Sys_error _ -> ""
+let stderr_text s =
+  try In_channel.with_open_bin (Filename.concat s.dir "watch.err") In_channel.input_all
+  with Sys_error _ -> ""
 
 let stop s =
   (try Unix.kill s.pid Sys.sigint with Unix.Unix_error _ -> ());
   let deadline = now () +. 30. in
   let rec wait () =
     match Unix.waitpid [ Unix.WNOHANG ] s.pid with
-    | 0, _ when now () < deadline -> Unix.sleepf 0.05; wait ()
-    | 0, _ -> Unix.kill s.pid Sys.sigkill; snd (Unix.waitpid [] s.pid)
+    | 0, _ when now () < deadline ->
+        Unix.sleepf 0.05;
+        wait ()
+    | 0, _ ->
+        Unix.kill s.pid Sys.sigkill;
+        snd (Unix.waitpid [] s.pid)
     | _, st -> st
     | exception Unix.Unix_error (Unix.EINTR, _, _) -> wait ()
   in
@@ -67,7 +90,10 @@ let connect port =
   fd
 
 let send_all fd s =
-  let rec go off = if off < String.length s then go (off + Unix.write_substring fd s off (String.length s - off)) in
+  let rec go off =
+    if off < String.length s then
+      go (off + Unix.write_substring fd s off (String.length s - off))
+  in
   go 0
 
 let read_all fd =
@@ -75,7 +101,9 @@ let read_all fd =
   let rec go () =
     match Unix.read fd b 0 (Bytes.length b) with
     | 0 -> ()
-    | n -> Buffer.add_subbytes buf b 0 n; go ()
+    | n ->
+        Buffer.add_subbytes buf b 0 n;
+        go ()
     | exception Unix.Unix_error ((Unix.EAGAIN | Unix.ECONNRESET), _, _) -> ()
   in
   go ();
@@ -83,16 +111,28 @@ let read_all fd =
 
 let find s sub =
   let n = String.length s and m = String.length sub in
-  let rec go i = if i + m > n then None else if String.sub s i m = sub then Some i else go (i + 1) in
+  let rec go i =
+    if i + m > n then None else if String.sub s i m = sub then Some i else go (i + 1)
+  in
   go 0
 
 let raw port text =
   let fd = connect port in
-  Fun.protect ~finally:(fun () -> Unix.close fd) (fun () ->
+  Fun.protect
+    ~finally:(fun () -> Unix.close fd)
+    (fun () ->
       send_all fd text;
       let resp = read_all fd in
-      let status = match Scanf.sscanf_opt resp "HTTP/1.%d %d" (fun _ c -> c) with Some c -> c | None -> 0 in
-      let body = match find resp "\r\n\r\n" with Some i -> String.sub resp (i + 4) (String.length resp - i - 4) | None -> "" in
+      let status =
+        match Scanf.sscanf_opt resp "HTTP/1.%d %d" (fun _ c -> c) with
+        | Some c -> c
+        | None -> 0
+      in
+      let body =
+        match find resp "\r\n\r\n" with
+        | Some i -> String.sub resp (i + 4) (String.length resp - i - 4)
+        | None -> ""
+      in
       (status, body))
 
 let request ?host ?(meth = "GET") s path =
@@ -124,7 +164,15 @@ let rec next_event e ~deadline =
       | Some k ->
           let block = take i (i + k + 2) in
           let lines = String.split_on_char '\n' block in
-          let field p = List.find_map (fun l -> if String.starts_with ~prefix:p l then Some (String.sub l (String.length p) (String.length l - String.length p)) else None) lines in
+          let field p =
+            List.find_map
+              (fun l ->
+                if String.starts_with ~prefix:p l then
+                  Some
+                    (String.sub l (String.length p) (String.length l - String.length p))
+                else None)
+              lines
+          in
           Some (Option.get (field "event: "), Option.value (field "data: ") ~default:"")
       | None -> more e ~deadline)
   | None -> more e ~deadline
@@ -139,7 +187,9 @@ and more e ~deadline =
         let b = Bytes.create 65536 in
         match Unix.read e.fd b 0 65536 with
         | 0 -> None
-        | n -> Buffer.add_subbytes e.buf b 0 n; next_event e ~deadline)
+        | n ->
+            Buffer.add_subbytes e.buf b 0 n;
+            next_event e ~deadline)
     | exception Unix.Unix_error (Unix.EINTR, _, _) -> more e ~deadline
 
 let wait_for e ?(timeout = 60.) ?(seen = fun _ _ -> ()) what pred =
@@ -154,7 +204,11 @@ let wait_for e ?(timeout = 60.) ?(seen = fun _ _ -> ()) what pred =
   in
   go ()
 
-let member k j = match j with `Assoc l -> ( match List.assoc_opt k l with Some v -> v | None -> `Null) | _ -> `Null
+let member k j =
+  match j with
+  | `Assoc l -> ( match List.assoc_opt k l with Some v -> v | None -> `Null)
+  | _ -> `Null
+
 let to_int = function `Int n -> n | _ -> -1
 let to_bool = function `Bool b -> b | _ -> false
 let to_string = function `String s -> s | _ -> ""

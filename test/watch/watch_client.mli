@@ -1,7 +1,13 @@
 (** A client of [lancer watch] for the tests: start the server on a free port, make raw
     HTTP requests (any path, any Host), read its server-sent events. *)
 
-type server = { pid : int; port : int; out : in_channel; dir : string; mutable log : string list }
+type server = {
+  pid : int;
+  port : int;
+  out : in_channel;
+  dir : string;
+  mutable log : string list;
+}
 
 val start : exe:string -> dir:string -> string list -> server
 (** [start ~exe ~dir args] runs [exe watch args --port 0] in [dir] and reads the address
@@ -28,10 +34,14 @@ val events : server -> events
 val close_events : events -> unit
 
 val wait_for :
-  events -> ?timeout:float -> ?seen:(string -> string -> unit) -> string -> (string -> Yojson.Safe.t -> bool) ->
+  events ->
+  ?timeout:float ->
+  ?seen:(string -> string -> unit) ->
+  string ->
+  (string -> Yojson.Safe.t -> bool) ->
   string * Yojson.Safe.t
-(** [wait_for e what pred] reads events until [pred name data] holds (default timeout
-    60 s, then [Failure] naming [what]); [seen] is called on every event read. *)
+(** [wait_for e what pred] reads events until [pred name data] holds (default timeout 60
+    s, then [Failure] naming [what]); [seen] is called on every event read. *)
 
 val member : string -> Yojson.Safe.t -> Yojson.Safe.t
 val to_int : Yojson.Safe.t -> int
