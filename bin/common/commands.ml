@@ -31,6 +31,10 @@ let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
   Cli.guard_render o prog ~out;
   Cli.warn_long_render o sc;
   Cli.check_encoding enc ~out sc;
+  if resume && Cli.is_stdout out then
+    Cli.user
+      "--resume keeps its checkpoint beside the output file: it cannot be combined with \
+       -o - (standard output)";
   if resume && (enc.alpha || enc.region <> None) then
     Cli.user
       "--resume keeps a checkpoint of the whole image: it cannot be combined with \

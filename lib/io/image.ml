@@ -200,8 +200,7 @@ let read_raster path =
         match match fmt with Png -> read_png path | Ppm -> read_ppm path with
         | r -> Ok r
         | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
-        | exception e ->
-            Error (Printf.sprintf "%s: cannot read image: %s" path (describe_exn e)))
+        | exception e -> Error (Printf.sprintf "%s: %s" path (describe_exn e)))
 
 let read_rgb8 path =
   Result.map

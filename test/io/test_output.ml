@@ -789,6 +789,8 @@ let stdout_tests =
             ([ "-o"; "x.png"; "--format"; "ppm" ], "--format is for -o -");
             ([ "-o"; "-"; "--format"; "ppm"; "--alpha" ], "--alpha needs a PNG output");
             ([ "-o"; "-"; "--stats"; "-" ], "would both write to standard output");
+            ( [ "-o"; "-"; "--resume" ],
+              "--resume keeps its checkpoint beside the output file" );
           ];
         Alcotest.(check (list string)) "nothing written" [ "s.rts" ] (listing d));
   ]
