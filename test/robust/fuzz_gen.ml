@@ -370,6 +370,7 @@ let png_one_pixel () = png_claiming 1 1
 
 (* ---- scenes ---- *)
 
+(* The words and symbols random scenes are made of; the language's own properties use them too. *)
 let dsl_tokens =
   [|
     "let";
@@ -398,7 +399,11 @@ let dsl_tokens =
     ".";
     "=";
     "==";
+    "!=";
     "<";
+    "<=";
+    ">";
+    ">=";
     "+";
     "-";
     "*";

@@ -36,6 +36,10 @@ val judge_image_error : string -> (unit, string) result
 val png_claiming : int -> int -> string
 (** A PNG file with valid checksums whose header claims [w × h] pixels. *)
 
+val dsl_tokens : string array
+(** The words, symbols and literals of the scene language (and some bytes that are not)
+    that random scenes are made of; shared with the language's own properties. *)
+
 val png_one_pixel : unit -> string
 (** A valid 1×1 PNG file. *)
 
