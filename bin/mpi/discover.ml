@@ -35,8 +35,7 @@ let () =
       in
       match found with
       | Some (_, cflags, libs) ->
-          C.Flags.write_sexp "c_flags.sexp"
-            ("-DLANCER_HAVE_MPI" :: List.filter (( <> ) "") cflags);
+          C.Flags.write_sexp "c_flags.sexp" (List.filter (( <> ) "") cflags);
           C.Flags.write_sexp "c_library_flags.sexp" (List.filter (( <> ) "") libs)
       | None ->
           prerr_endline

@@ -284,11 +284,6 @@ let animate =
     Term.(const animate_cmd $ Cli.(term Animate) $ Animate.options_term)
 
 let () =
-  if not Mpi.available then (
-    prerr_endline
-      "lancer-mpi: this lancer was built without Open MPI (mpicc was not on PATH); \
-       install libopenmpi-dev and rebuild";
-    exit 1);
   Mpi.init ();
   at_exit Mpi.finalize;
   let info =

@@ -1,6 +1,5 @@
 (* See mpi.mli. The stubs are in mpi_stubs.c. *)
 
-external available_ : unit -> bool = "lancer_mpi_available"
 external init : unit -> unit = "lancer_mpi_init"
 external initialized : unit -> bool = "lancer_mpi_initialized"
 external finalize : unit -> unit = "lancer_mpi_finalize"
@@ -19,8 +18,6 @@ external send_floats_ : floats -> int -> int -> int -> unit = "lancer_mpi_send_f
 external recv_floats_ : floats -> int -> int -> int * int * int = "lancer_mpi_recv_floats"
 external probe_ : int -> int -> int * int * int = "lancer_mpi_probe"
 external iprobe_ : int -> int -> (int * int * int) option = "lancer_mpi_iprobe"
-
-let available = available_ ()
 
 let abort code =
   abort_ code;

@@ -7,13 +7,7 @@
 
     OCaml values travel marshalled ({!send}, {!recv}): a receiver must know the type a tag
     carries, exactly as with [Marshal], and all ranks must run the same executable. Float
-    arrays travel as raw IEEE doubles, bit for bit.
-
-    When lancer was built without Open MPI ({!available} is [false]), every function but
-    {!available}, {!initialized}, {!finalize} and {!abort} raises [Failure] saying so. *)
-
-val available : bool
-(** Whether these bindings were built against an MPI library. *)
+    arrays travel as raw IEEE doubles, bit for bit. *)
 
 val init : unit -> unit
 (** [MPI_Init_thread] with [MPI_THREAD_FUNNELED]; does nothing if already initialised.

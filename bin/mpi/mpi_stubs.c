@@ -8,8 +8,7 @@
    Bigarray data, which lives outside the heap and does not move, is used in place while
    the Bigarray is held as a root.
 
-   Built without LANCER_HAVE_MPI (mpicc was not found at build time), every primitive
-   but [lancer_mpi_available] fails with a message saying so. */
+   These stubs are built only where an MPI library was found (bin/mpi/discover.ml). */
 
 #include <stdlib.h>
 #include <string.h>
@@ -20,8 +19,6 @@
 #include <caml/memory.h>
 #include <caml/mlvalues.h>
 #include <caml/signals.h>
-
-#ifdef LANCER_HAVE_MPI
 
 #include <mpi.h>
 
@@ -50,7 +47,6 @@ static value triple(int source, int tag, int count)
   return r;
 }
 
-value lancer_mpi_available(value unit) { return Val_true; }
 
 value lancer_mpi_init(value unit)
 {
@@ -255,25 +251,4 @@ value lancer_mpi_iprobe(value source, value tag)
   CAMLreturn(caml_alloc_some(r));
 }
 
-#else /* built without MPI */
 
-#define NO_MPI caml_failwith("lancer was built without Open MPI (mpicc was not found on PATH at build time)")
-
-value lancer_mpi_available(value unit) { return Val_false; }
-value lancer_mpi_init(value unit) { NO_MPI; return Val_unit; }
-value lancer_mpi_initialized(value unit) { return Val_false; }
-value lancer_mpi_finalize(value unit) { return Val_unit; }
-value lancer_mpi_rank(value unit) { NO_MPI; return Val_unit; }
-value lancer_mpi_size(value unit) { NO_MPI; return Val_unit; }
-value lancer_mpi_barrier(value unit) { NO_MPI; return Val_unit; }
-value lancer_mpi_abort(value code) { exit(Int_val(code)); }
-value lancer_mpi_wtime(value unit) { NO_MPI; return Val_unit; }
-value lancer_mpi_send_bytes(value b, value d, value t) { NO_MPI; return Val_unit; }
-value lancer_mpi_recv_bytes(value s, value t) { NO_MPI; return Val_unit; }
-value lancer_mpi_bcast_bytes(value b, value r) { NO_MPI; return Val_unit; }
-value lancer_mpi_send_floats(value b, value l, value d, value t) { NO_MPI; return Val_unit; }
-value lancer_mpi_recv_floats(value b, value s, value t) { NO_MPI; return Val_unit; }
-value lancer_mpi_probe(value s, value t) { NO_MPI; return Val_unit; }
-value lancer_mpi_iprobe(value s, value t) { NO_MPI; return Val_unit; }
-
-#endif

@@ -11,8 +11,6 @@ bindings=$(realpath "$1") showcase=$(realpath "$2") orbit=$(realpath "$3") dof=$
 
 skip() { echo "MPI tests skipped: $*"; exit 0; }
 command -v mpirun >/dev/null 2>&1 || skip "mpirun is not installed (apt-get install openmpi-bin libopenmpi-dev)"
-out=$("$bindings" 2>&1) || true
-case $out in skipped*) skip "lancer was built without Open MPI (mpicc was not on PATH)";; esac
 
 # Quiet and self-contained on one machine without a network: shared memory between
 # ranks, no UCX, no warnings about unused transports. The user's settings win.
