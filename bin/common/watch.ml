@@ -1,7 +1,8 @@
 (* lancer watch: a local web server showing the scene, re-rendered progressively on every
    save. Two sides share one record: the server (Lwt, on the main domain) and the renderer
    (its own domain, with the render pool). The server asks for a new version by raising
-   [wanted]; the renderer checks it between rows and tiles and drops what it was doing.
+   [wanted] and cancelling the token of the version being rendered, which the render
+   polls as any render does (between rows, between tiles and inside them).
    The renderer publishes server-sent events into [outbox] and wakes the server through
    a pipe. *)
 
@@ -17,6 +18,7 @@ type shared = {
   cond : Condition.t;
   wanted : int Atomic.t;  (** the newest version asked for *)
   mutable started : int;  (** the version the renderer last took *)
+  mutable current : Cancel.t;  (** the token of that version's render *)
   mutable reload : bool;  (** read the files again *)
   mutable params : params;
   mutable outbox : (string * string) list;  (** (event, JSON data), newest first *)
@@ -38,6 +40,7 @@ let request sh ?(reload = false) f =
       sh.params <- f sh.params;
       if reload then sh.reload <- true;
       Atomic.incr sh.wanted;
+      Cancel.cancel sh.current;
       Condition.signal sh.cond)
 
 let wake sh =
@@ -84,8 +87,9 @@ let coarse_pass pool cancelled (sc : Scene.t) k =
   Array.iter (Stats.add_into total) stats;
   (fb, total)
 
-let full_pass pool cancelled sc =
-  Render.render ?pool ~on_tile:(fun _ _ _ -> if cancelled () then raise Cancelled) sc
+let full_pass pool cancel sc =
+  try Render.render ?pool ~cancel sc
+  with Sys.Break when Cancel.cancelled cancel -> raise Cancelled
 
 let knobs (o : Cli.opts) (sc : Scene.t) =
   let s = sc.settings in
@@ -118,12 +122,18 @@ let load path =
             ( Cli.errors_to_string errs,
               List.map (fun (e : Lancer_dsl.Error.t) -> e.file) errs ))
 
-type version = { gen : int; t0 : float; reload : bool; params : params }
+type version = {
+  gen : int;
+  t0 : float;
+  reload : bool;
+  params : params;
+  cancel : Cancel.t;
+}
 
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
 let render_version sh (o : Cli.opts) pool tmp prog seq v =
-  let cancelled () = Atomic.get sh.wanted <> v.gen in
+  let cancelled () = Cancel.cancelled v.cancel in
   let path = Option.get o.scene in
   let failed text files =
     with_lock sh (fun () ->
@@ -220,7 +230,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                     let fb, st = coarse_pass pool cancelled coarse k in
                     (coarse, fb, st)
                 | `Full s ->
-                    let fb, st = full_pass pool cancelled s in
+                    let fb, st = full_pass pool v.cancel s in
                     (s, fb, st)
               in
               let secs = Unix.gettimeofday () -. t in
@@ -294,9 +304,16 @@ let renderer sh (o : Cli.opts) domains tmp () =
               done;
               let gen = Atomic.get sh.wanted in
               sh.started <- gen;
+              sh.current <- Cancel.create ();
               let r = sh.reload in
               sh.reload <- false;
-              { gen; t0 = Unix.gettimeofday (); reload = r; params = sh.params })
+              {
+                gen;
+                t0 = Unix.gettimeofday ();
+                reload = r;
+                params = sh.params;
+                cancel = sh.current;
+              })
         in
         (try render_version sh o pool tmp prog seq v with
         | Cancelled -> ()
@@ -473,6 +490,7 @@ let run (o : Cli.opts) ~host ~port ~poll =
       cond = Condition.create ();
       wanted = Atomic.make 1;
       started = 0;
+      current = Cancel.create ();
       reload = true;
       params = { quality = o.quality; frame = 0; play = false };
       outbox = [];
