@@ -1,0 +1,64 @@
+(** lancer as one library: every module of its layers, by its own name.
+
+    The layers, each using only those before it: [lancer.math], [lancer.diag],
+    [lancer.description], [lancer.image] and [lancer.physics], [lancer.render],
+    [lancer.job]. *)
+
+(** {1 [lancer.math]} *)
+
+module Bbox = Lancer_math.Bbox
+module Color = Lancer_math.Color
+module Hash = Lancer_math.Hash
+module Ray = Lancer_math.Ray
+module Transform = Lancer_math.Transform
+module Vec3 = Lancer_math.Vec3
+
+(** {1 [lancer.diag]} *)
+
+module Cancel = Lancer_diag.Cancel
+module Diagnostic = Lancer_diag.Diagnostic
+module Loc = Lancer_diag.Loc
+
+(** {1 [lancer.description]} *)
+
+module Camera = Lancer_description.Camera
+module Features = Lancer_description.Features
+module Light = Lancer_description.Light
+module Settings = Lancer_description.Settings
+
+(** {1 [lancer.image]} *)
+
+module Compare = Lancer_image.Compare
+module Image = Lancer_image.Image
+module Png = Lancer_image.Png
+module Raster = Lancer_image.Raster
+module Safe_file = Lancer_image.Safe_file
+
+(** {1 [lancer.physics]} *)
+
+module Physics = Lancer_physics.Physics
+
+(** {1 [lancer.render]} *)
+
+module Accel = Lancer_render.Accel
+module Bump = Lancer_render.Bump
+module Cost = Lancer_render.Cost
+module Material = Lancer_render.Material
+module Mesh = Lancer_render.Mesh
+module Noise = Lancer_render.Noise
+module Pool = Lancer_render.Pool
+module Primitive = Lancer_render.Primitive
+module Render = Lancer_render.Render
+module Scene = Lancer_render.Scene
+module Shade = Lancer_render.Shade
+module Shape = Lancer_render.Shape
+module Stats = Lancer_render.Stats
+module Texture = Lancer_render.Texture
+
+(** {1 [lancer.job]} *)
+
+module Quality = Lancer_job.Quality
+
+(** {1 The version} *)
+
+module Version = Version
