@@ -83,11 +83,13 @@ bench-mpi: build
 
 # What the 16-core run needs on a machine without OCaml, in out/cluster/ and
 # out/cluster.tar.gz: the static lancer, lancer-mpi (it needs Open MPI 5's libraries:
-# Debian 13's openmpi-bin), run16.sh and bounce.rts. There: ./run16.sh
+# Debian 13's openmpi-bin), lancer-mpirun (only the C library), run16.sh and bounce.rts.
+# There: ./run16.sh
 cluster-bundle: build static
 	rm -rf out/cluster && mkdir -p out/cluster
 	install -m 0755 _build/default/bin/static/lancer_static.exe out/cluster/lancer
 	install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe out/cluster/lancer-mpi
+	install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe out/cluster/lancer-mpirun
 	install -m 0755 test/mpi/run16.sh out/cluster/run16.sh
 	install -m 0644 scenes/bounce.rts out/cluster/bounce.rts
 	tar -C out -czf out/cluster.tar.gz cluster
