@@ -181,11 +181,12 @@ stop "Ctrl-C on 2 ranks" group
 stop "SIGINT to lancer-mpirun alone" alone
 stop "Ctrl-C three times (mpirun's forcible termination)" group group group
 
-# A real terminal, where script(1) is there to give one: ^C typed into it.
-if command -v script >/dev/null 2>&1 && command -v timeout >/dev/null 2>&1; then
+# A real terminal, where util-linux's script(1) is there to give one: ^C typed into it
+# reaches the terminal's foreground process group, lancer-mpirun and mpirun.
+if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev/null 2>&1; then
   mkdir -p tty
   t0=$(now_ms)
-  { sleep 2; printf '\003'; sleep 6; } | timeout 20 script -qec \
+  { sleep 3; printf '\003'; sleep 8; } | timeout 20 script -qec \
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
   t1=$(now_ms)
@@ -193,7 +194,7 @@ if command -v script >/dev/null 2>&1 && command -v timeout >/dev/null 2>&1; then
      && ! grep -aq 'hit ctrl-c again' tty.log && [ -z "$(ls -A tty)" ]; then
     ok "Ctrl-C typed at a terminal: status 130, the message, mpirun signalled once"
   else fail "Ctrl-C at a terminal ($((t1 - t0)) ms):"; cat -v tty.log; fi
-else echo "the terminal case skipped: script(1) is not installed"; fi
+else echo "the terminal case skipped: util-linux's script(1) is not installed"; fi
 
 [ "$failures" = 0 ] || { echo "$failures lancer-mpirun test(s) failed"; exit 1; }
 echo "lancer-mpirun tests passed"
