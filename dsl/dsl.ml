@@ -236,10 +236,27 @@ let load_text ?progress file text =
             (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
             progress
         in
+        (* The static check's mistakes, with those of the evaluation at time 0: one that
+           both find (in code that runs) is reported once. *)
+        let static = Static_check.run ~sources stmts in
+        let merged es =
+          let key (e : Error.t) = (e.file, e.line, e.col, e.message) in
+          let seen = Hashtbl.create 16 in
+          Eval.sort_errors
+            (List.filter
+               (fun e ->
+                 let k = key e in
+                 (not (Hashtbl.mem seen k))
+                 &&
+                 (Hashtbl.add seen k ();
+                  true))
+               (static @ es))
+        in
         match
           Eval.run ~on_objects ~objects:false ~sources ~images ~time:0. ~frame:0 stmts
         with
-        | Error es -> Error es
+        | Error es -> Error (merged es)
+        | Ok _ when static <> [] -> Error (merged [])
         | Ok first ->
             Ok
               {

@@ -519,41 +519,9 @@ let call_builtin name loc (args : (value * Loc.t) list) =
       tex 2
   | _ -> fail loc "internal error: unknown built-in `%s`" name
 
-let material_fields =
-  [
-    "color";
-    "texture";
-    "ambient";
-    "diffuse";
-    "specular";
-    "shininess";
-    "reflection";
-    "transparency";
-    "ior";
-    "fresnel";
-    "bump";
-    "base";
-  ]
-
-let csg_blocks = [ "union"; "merge"; "intersection"; "difference" ]
-let common_fields = [ "material"; "translate"; "rotate"; "scale" ]
-let repeatable = [ "translate"; "rotate"; "scale" ]
-
-let object_fields =
-  [
-    ("sphere", [ "center"; "radius" ]);
-    ("plane", [ "normal"; "offset" ]);
-    ("parallelogram", [ "origin"; "edge1"; "edge2" ]);
-    ("triangle", [ "a"; "b"; "c" ]);
-    ("paraboloid", [ "vertex"; "axis"; "radius"; "height" ]);
-    ("box", [ "min"; "max" ]);
-    ("cylinder", [ "base"; "top"; "radius"; "caps" ]);
-    ("disk", [ "center"; "normal"; "radius" ]);
-    ("mesh", [ "file"; "smooth" ]);
-    ("cone", [ "base"; "base_radius"; "top"; "top_radius"; "caps" ]);
-    ("torus", [ "center"; "major"; "minor"; "axis" ]);
-    ("height_field", [ "file"; "origin"; "size" ]);
-  ]
+(* The allowed fields of each block kind come from the language's schema. *)
+let material_fields = Schema.field_names "material"
+let repeatable = Schema.repeatable
 
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
@@ -1206,7 +1174,7 @@ and objects_written stmts =
       n
       +
       match s.s with
-      | Block (k, _) when List.mem_assoc k.id object_fields -> 1
+      | Block (k, _) when Schema.is_shape k.id -> 1
       | Block
           ({ id = "group" | "union" | "merge" | "intersection" | "difference"; _ }, its)
         ->
@@ -1242,7 +1210,7 @@ and block ctx env scope (k : name) items =
   | "group" when scope.in_csg -> csg ctx env scope k items
   | "group" -> group ctx env scope k items
   | "union" | "merge" | "intersection" | "difference" -> csg ctx env scope k items
-  | kind when List.mem_assoc kind object_fields -> (
+  | kind when Schema.is_shape kind -> (
       match object_ ctx env scope k items with
       | Some o -> add_object ctx scope k.nloc o
       | None -> ())
@@ -1250,11 +1218,7 @@ and block ctx env scope (k : name) items =
       fail k.nloc
         "a material is a value: write `material: material { … }` inside an object, or \
          `let m = material { … }`"
-  | x ->
-      fail k.nloc "unknown block `%s`%s" x
-        (hint x
-           ([ "settings"; "camera"; "animation"; "physics"; "light"; "group" ]
-           @ csg_blocks @ List.map fst object_fields))
+  | x -> fail k.nloc "unknown block `%s`%s" x (hint x Schema.keywords)
 
 and add_object ctx scope loc o =
   ctx.objects <- ctx.objects + 1;
@@ -1278,20 +1242,7 @@ and once : 'a. ctx -> string -> ('a * Loc.t) option -> name -> unit =
 and settings ctx env scope k items =
   once ctx "settings" ctx.settings k;
   let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
-  check_names b
-    [
-      "width";
-      "height";
-      "depth";
-      "samples";
-      "jitter";
-      "adaptive";
-      "shadows";
-      "background";
-      "ambient";
-      "gamma";
-      "fog";
-    ];
+  check_names b (Schema.field_names "settings");
   let d = Settings.default in
   let gamma =
     match live b "gamma" with
@@ -1368,18 +1319,7 @@ and environment b (s : Settings.t) =
 and camera ctx env scope k items =
   once ctx "camera" ctx.camera k;
   let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
-  check_names b
-    [
-      "kind";
-      "position";
-      "look_at";
-      "up";
-      "fov";
-      "width";
-      "aperture";
-      "focal_distance";
-      "lens_samples";
-    ];
+  check_names b (Schema.field_names "camera");
   let d = Camera.default in
   let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
   (* An unknown kind is reported once; the fields that depend on the kind are then not
@@ -1468,7 +1408,7 @@ and camera ctx env scope k items =
 and animation ctx env scope k items =
   once ctx "animation" ctx.animation k;
   let b = collect ctx env scope "animation" k.nloc ~holds_objects:false items in
-  check_names b [ "fps"; "frames"; "duration" ];
+  check_names b (Schema.field_names "animation");
   let fps = positive b "fps" ~default:24. in
   (match field b "fps" with
   | Some f when fps > 1000. -> bad b f.vloc "`fps` must be at most 1000"
@@ -1494,7 +1434,7 @@ and animation ctx env scope k items =
 and physics ctx env scope k items =
   once ctx "physics" ctx.physics k;
   let b = collect ctx env scope "physics" k.nloc ~holds_objects:false items in
-  check_names b [ "gravity"; "method"; "step" ];
+  check_names b (Schema.field_names "physics");
   let d = default_physics in
   let gravity = point b "gravity" ~default:d.gravity in
   let method_ =
@@ -1531,18 +1471,7 @@ and light ctx env scope k items =
         "a light needs a `position` (point light) or a `direction` (directional light)";
       finish b
   | Some _, None ->
-      check_names b
-        [
-          "position";
-          "color";
-          "intensity";
-          "attenuation";
-          "radius";
-          "samples";
-          "point_at";
-          "inner";
-          "outer";
-        ];
+      check_names b (Schema.field_names "point_light");
       let position = point b "position" ~default:Vec3.zero in
       let color = color b "color" ~default:Color.white in
       let intensity = nonneg b "intensity" ~default:1. in
@@ -1595,7 +1524,7 @@ and light ctx env scope k items =
         Light.point ~color ~intensity ~attenuation ~radius ~samples ?spot position
         :: ctx.lights
   | None, Some f ->
-      check_names b [ "direction"; "color"; "intensity" ];
+      check_names b (Schema.field_names "directional_light");
       let direction = point b "direction" ~default:Vec3.y_axis in
       if Vec3.max_abs direction = 0. then
         bad b f.vloc "the `direction` of a light must not be (0, 0, 0)";
@@ -1647,8 +1576,7 @@ and object_material b =
 
 and object_ ctx env scope (k : name) items =
   let b = collect ctx env scope k.id k.nloc ~holds_objects:false items in
-  let own = List.assoc k.id object_fields in
-  check_names b (own @ common_fields);
+  check_names b (Schema.field_names k.id);
   let t, tj = transforms b in
   let mat = object_material b in
   let fields, shape = shape b k in
@@ -1943,7 +1871,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
 
 and group ctx env scope (k : name) items =
   let b = collect ctx env scope "group" k.nloc ~holds_objects:true items in
-  check_names b common_fields;
+  check_names b (Schema.field_names "group");
   let t, tj = transforms b in
   let mat = object_material b in
   finish b;
@@ -1964,7 +1892,7 @@ and group ctx env scope (k : name) items =
    one member, the union of its own. *)
 and csg ctx env scope (k : name) items =
   let b = collect ~csg:true ctx env scope k.id k.nloc ~holds_objects:true items in
-  check_names b common_fields;
+  check_names b (Schema.field_names k.id);
   let t, tj = transforms b in
   let mat = object_material b in
   let members = List.rev !(b.members) in
@@ -2071,7 +1999,7 @@ and body ctx env scope loc (n : name) items =
   if List.exists (fun ((b : body), _) -> b.name = n.id) ctx.bodies then
     fail n.nloc "body `%s` is defined twice" n.id;
   let b = collect ctx env scope "body" n.nloc ~holds_objects:true items in
-  check_names b [ "velocity"; "mass"; "restitution" ];
+  check_names b (Schema.field_names "body");
   let velocity = point b "velocity" ~default:Vec3.zero in
   let mass = positive b "mass" ~default:1. in
   let restitution = unit_range b "restitution" ~default:0.9 in

@@ -108,3 +108,7 @@ val run :
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close
     enough to be a likely typo. *)
+
+val sort_errors : Error.t list -> Error.t list
+(** Errors in source order: files in the order they first appear in the list, then by line
+    and column (stable). *)
