@@ -2072,9 +2072,15 @@ and get :
   match field b name with
   | None ->
       (* A misspelt field already reported as unknown, with this one as its hint, is not
-         reported missing as well. *)
+         reported missing as well (a field of the block's own is not misspelt: a
+         triangle's `b` does not stand for a missing `c`). *)
       let misspelt =
-        required && List.exists (fun f -> suggest f.name.id [ name ] = Some name) b.fields
+        required
+        && List.exists
+             (fun f ->
+               (not (List.mem f.name.id (Schema.field_names b.kind)))
+               && suggest f.name.id [ name ] = Some name)
+             b.fields
       in
       if required && misspelt then b.failed <- true
       else if required then bad b b.kloc "%s needs a `%s` field" b.kind name;

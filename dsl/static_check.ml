@@ -347,7 +347,9 @@ and schema_fields cx (b : Schema.block) ~keyword kloc given =
       if fl.default = Required && fl.condition = Always && not (present fl.name) then
         let misspelt =
           List.exists
-            (fun ((m : name), _, _) -> Eval.suggest m.id [ fl.name ] = Some fl.name)
+            (fun ((m : name), _, _) ->
+              (not (List.mem m.id allowed))
+              && Eval.suggest m.id [ fl.name ] = Some fl.name)
             given
         in
         if not misspelt then

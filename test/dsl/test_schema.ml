@@ -1,0 +1,273 @@
+(* The schema of the language (dsl/schema.ml) is what the evaluator does: every field of
+   every block kind is accepted and no other, required fields are required, defaults are
+   the values used when a field is left out, and numbers outside a field's range are
+   refused where they are written. *)
+
+module Dsl = Lancer_dsl.Dsl
+module Error = Lancer_dsl.Error
+module Eval = Lancer_dsl.Eval
+module Syntax = Lancer_dsl.Syntax
+module Schema = Lancer_dsl.Schema
+
+let errors_text es = String.concat "" (List.map Error.to_string es)
+
+(* The evaluator's own errors (without the static check), for a program of one file. *)
+let eval_errors text =
+  match Syntax.parse ~file:"test.rts" text with
+  | Error e -> Alcotest.failf "syntax error: %s" (Error.to_string e)
+  | Ok stmts -> (
+      let sources = Hashtbl.create 1 in
+      Hashtbl.replace sources "test.rts" text;
+      match
+        Eval.run ~objects:false ~sources ~images:(Eval.new_images ()) ~time:0. ~frame:0
+          stmts
+      with
+      | Ok _ -> []
+      | Error es -> es)
+
+(* A valid block of each shape: its required fields. *)
+let shape_fields = function
+  | "sphere" -> [ ("center", "(0, 0, 0)"); ("radius", "1") ]
+  | "plane" -> [ ("normal", "(0, 1, 0)") ]
+  | "parallelogram" ->
+      [ ("origin", "(0, 0, 0)"); ("edge1", "(1, 0, 0)"); ("edge2", "(0, 1, 0)") ]
+  | "triangle" -> [ ("a", "(0, 0, 0)"); ("b", "(1, 0, 0)"); ("c", "(0, 1, 0)") ]
+  | "paraboloid" -> [ ("vertex", "(0, 0, 0)"); ("radius", "1"); ("height", "1") ]
+  | "box" -> [ ("min", "(0, 0, 0)"); ("max", "(1, 1, 1)") ]
+  | "cylinder" -> [ ("base", "(0, 0, 0)"); ("top", "(0, 1, 0)"); ("radius", "1") ]
+  | "disk" -> [ ("center", "(0, 0, 0)"); ("normal", "(0, 1, 0)"); ("radius", "1") ]
+  | "mesh" -> [ ("file", "\"../../scenes/gallery/torus.obj\"") ]
+  | "cone" ->
+      [
+        ("base", "(0, 0, 0)");
+        ("top", "(0, 1, 0)");
+        ("base_radius", "1");
+        ("top_radius", "0");
+      ]
+  | "torus" -> [ ("center", "(0, 0, 0)"); ("major", "1"); ("minor", "0.25") ]
+  | "height_field" ->
+      [ ("file", "\"../../scenes/gallery/maps/terrain.png\""); ("size", "(1, 1, 1)") ]
+  | k -> Alcotest.failf "no valid %s in this test" k
+
+let items_text fields =
+  String.concat ", " (List.map (fun (n, v) -> Printf.sprintf "%s: %s" n v) fields)
+
+let shape_required k = items_text (shape_fields k)
+let sphere = "sphere { center: (0, 0, 0), radius: 1 }"
+
+(* What a field needs beside it to apply. *)
+let context (b : Schema.block) (fl : Schema.field) =
+  (match fl.condition with
+  | Kind_in (k :: _) -> [ Printf.sprintf "kind: \"%s\"" k ]
+  | With n -> [ n ^ ": (0, 0, 0)" ]
+  | _ -> [])
+  @ (match b.chosen_by with Some c when c <> fl.name -> [ c ^ ": (0, 5, 0)" ] | _ -> [])
+  @
+  if Schema.is_shape b.id then
+    [ items_text (List.filter (fun (n, _) -> n <> fl.name) (shape_fields b.id)) ]
+  else []
+
+(* A program with block [b] holding [items] (field: value texts, comma-separated). *)
+let program (b : Schema.block) items =
+  let items = String.concat ", " (List.filter (fun s -> s <> "") items) in
+  match b.keyword with
+  | "material" -> Printf.sprintf "%s\nlet m = material { %s }" sphere items
+  | "body" -> Printf.sprintf "body ball { %s %s }" sphere items
+  | k when b.holds_objects -> Printf.sprintf "%s { %s %s }" k sphere items
+  | k -> Printf.sprintf "%s { %s }" k items
+
+(* A value of the field's type, in its range. *)
+let sample (fl : Schema.field) =
+  let number () =
+    List.find (Schema.in_range fl.range) [ 1.; 0.; 0.5; 30.; 1e-150; 1e-9 ]
+    |> Printf.sprintf "%g"
+  in
+  match fl.ty with
+  | Number | Integer -> number ()
+  | Boolean -> "true"
+  | File -> "\"x.obj\""
+  | Choice l -> Printf.sprintf "\"%s\"" (List.hd l)
+  | Vector | Direction | Colour -> "(0, 1, 0)"
+  | Material | Base_material -> "material { }"
+  | Texture -> "checker((1, 1, 1), (0, 0, 0), 1)"
+  | Bump -> "noise(1, 0.1)"
+  | Scale -> "2"
+  | Background -> "(0, 0, 0)"
+  | Fog -> "fog((1, 1, 1), 5)"
+  | Gamma -> "2.2"
+
+let unknown_field (e : Error.t) = String.starts_with ~prefix:"unknown field" e.message
+
+let test_fields_accepted () =
+  List.iter
+    (fun (b : Schema.block) ->
+      List.iter
+        (fun (fl : Schema.field) ->
+          let text =
+            program b (context b fl @ [ Printf.sprintf "%s: %s" fl.name (sample fl) ])
+          in
+          match List.filter unknown_field (eval_errors text) with
+          | [] -> ()
+          | es -> Alcotest.failf "%s: `%s` is refused:\n%s" b.id fl.name (errors_text es))
+        b.fields;
+      let plain = { (List.hd b.fields) with name = ""; condition = Always } in
+      let text = program b (context b plain @ [ "bogus_field: 1" ]) in
+      let expected = Printf.sprintf "unknown field `bogus_field` in %s" b.keyword in
+      if not (List.exists (fun (e : Error.t) -> e.message = expected) (eval_errors text))
+      then Alcotest.failf "%s: a field not in the schema is accepted:\n%s" b.id text)
+    Schema.blocks
+
+let test_required () =
+  List.iter
+    (fun id ->
+      let b = Option.get (Schema.find id) in
+      let required =
+        List.filter_map
+          (fun (fl : Schema.field) ->
+            if fl.default = Required then Some fl.name else None)
+          b.fields
+      in
+      Alcotest.(check (list string))
+        (id ^ ": the required fields")
+        (List.sort compare required)
+        (List.sort compare (List.map fst (shape_fields id)));
+      Alcotest.(check (list string))
+        (id ^ " with its required fields is valid")
+        []
+        (List.map Error.to_string (eval_errors (program b [ shape_required id ])));
+      List.iter
+        (fun name ->
+          let others = List.filter (fun (n, _) -> n <> name) (shape_fields id) in
+          let text = Printf.sprintf "%s { %s }" id (items_text others) in
+          let expected = Printf.sprintf "%s needs a `%s` field" id name in
+          if
+            not
+              (List.exists (fun (e : Error.t) -> e.message = expected) (eval_errors text))
+          then Alcotest.failf "no %S for:\n%s" expected text)
+        required)
+    Schema.shapes
+
+(* The whole scene, as lancer check --json gives it. *)
+let json text =
+  match Dsl.load_string ~filename:"test.rts" text with
+  | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
+  | Ok p -> (
+      match Dsl.scene_at p ~time:0. ~frame:0 with
+      | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
+      | Ok sc -> Yojson.Safe.to_string (Dsl.to_json p sc))
+
+let test_defaults () =
+  let checked = ref 0 in
+  List.iter
+    (fun (b : Schema.block) ->
+      List.iter
+        (fun (fl : Schema.field) ->
+          match fl.default with
+          | Value v ->
+              let ctx = context b fl in
+              let ctx = if b.id = "material" then [] else ctx in
+              let with_ items =
+                if b.id = "material" then
+                  Printf.sprintf
+                    "sphere { center: (0, 0, 0), radius: 1, material: material { %s } }"
+                    (String.concat ", " items)
+                else program b (ctx @ items)
+              in
+              incr checked;
+              Alcotest.(check string)
+                (Printf.sprintf "%s: leaving out `%s` is `%s: %s`" b.id fl.name fl.name v)
+                (json (with_ []))
+                (json (with_ [ Printf.sprintf "%s: %s" fl.name v ]))
+          | Required | Absent _ -> ())
+        b.fields)
+    Schema.blocks;
+  Alcotest.(check bool) "defaults were compared" true (!checked >= 50)
+
+let num x =
+  let s = Printf.sprintf "%.17g" x in
+  String.concat "" (String.split_on_char '+' s)
+
+(* Values just outside a field's range, and just inside. *)
+let outside (r : Schema.range) =
+  let below = function
+    | Schema.Incl a -> [ a -. Float.max (Float.abs a *. 0.5) 0.5 ]
+    | Excl a -> [ a ]
+    | Unbounded -> []
+  and above = function
+    | Schema.Incl b -> [ b +. Float.max (Float.abs b *. 0.5) 0.5 ]
+    | Excl b -> [ b ]
+    | Unbounded -> []
+  in
+  match r with
+  | Any -> []
+  | Real (a, b) -> below a @ above b
+  | Whole (a, b) -> [ Float.of_int a -. 1.; Float.of_int b +. 1.; Float.of_int a +. 0.5 ]
+
+let inside (r : Schema.range) =
+  let tiny a = Float.max (Float.abs a *. 1e-9) 1e-9 in
+  match r with
+  | Any -> []
+  | Real (a, b) -> (
+      (match a with Incl a -> [ a ] | Excl a -> [ a +. tiny a ] | Unbounded -> [])
+      @ match b with Incl b -> [ b ] | Excl b -> [ b -. tiny b ] | Unbounded -> [])
+  | Whole (a, b) -> [ Float.of_int a; Float.of_int b ]
+
+(* Fields whose other checks refuse a value in range: a spot's angles must keep
+   inner ≤ outer, and a very long animation has too many frames. *)
+let partner = function "inner" -> [ "outer: 180" ] | "outer" -> [ "inner: 0" ] | _ -> []
+
+let test_ranges () =
+  let checked = ref 0 in
+  List.iter
+    (fun (b : Schema.block) ->
+      List.iter
+        (fun (fl : Schema.field) ->
+          let at_value x =
+            let items = context b fl @ partner fl.name in
+            let text = program b (items @ [ Printf.sprintf "%s: %s" fl.name (num x) ]) in
+            let lines = String.split_on_char '\n' text in
+            let last = List.nth lines (List.length lines - 1) in
+            let key = fl.name ^ ": " ^ num x in
+            let rec find i =
+              if String.sub last i (String.length key) = key then i else find (i + 1)
+            in
+            let col = find 0 + String.length fl.name + 3 in
+            ( text,
+              List.exists
+                (fun (e : Error.t) -> e.line = List.length lines && e.col = col)
+                (eval_errors text) )
+          in
+          List.iter
+            (fun x ->
+              incr checked;
+              let text, refused = at_value x in
+              if not refused then
+                Alcotest.failf "%s: %s is accepted:\n%s" b.id (num x) text)
+            (outside fl.range);
+          List.iter
+            (fun x ->
+              if not (fl.name = "duration" && x > 1e6) then (
+                incr checked;
+                let text, refused = at_value x in
+                if refused then
+                  Alcotest.failf "%s: %s is refused:\n%s\n%s" b.id (num x) text
+                    (errors_text (eval_errors text))))
+            (inside fl.range))
+        b.fields)
+    Schema.blocks;
+  Alcotest.(check bool) "ranges were checked" true (!checked >= 100)
+
+let () =
+  Alcotest.run "schema"
+    [
+      ( "the evaluator follows the schema",
+        [
+          Alcotest.test_case "every field of every block kind is accepted, no other"
+            `Quick test_fields_accepted;
+          Alcotest.test_case "required fields are required" `Quick test_required;
+          Alcotest.test_case "defaults are what a missing field means" `Quick
+            test_defaults;
+          Alcotest.test_case "numbers out of range are refused at the value" `Quick
+            test_ranges;
+        ] );
+    ]
