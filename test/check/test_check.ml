@@ -286,6 +286,44 @@ sphere { center: (0, 0, 0), radius: 1, material: material { reflection: 0.5 } }
         Alcotest.(check string) "no note" "" e);
   ]
 
+(* Mistakes in code that does not run are found before the scene is evaluated. *)
+let static_scene =
+  {|settings { width: 16, height: 12 }
+light { position: (0, 5, -5) }
+sphere { center: (0, 0, 0), radius: 1 }
+if false { sphere { center: (0, 0, 0), radiu: 1 } }
+fn post(h) { cylinder { base: 0, top: (0, h, 0), radius: 0.1 } }
+|}
+
+let remove_dir d =
+  Array.iter (fun f -> Sys.remove (Filename.concat d f)) (Sys.readdir d);
+  Unix.rmdir d
+
+let static_tests =
+  [
+    Alcotest.test_case
+      "check and render report a mistake in a branch not taken or a macro never called"
+      `Quick (fun () ->
+        let d = scene_dir static_scene in
+        Fun.protect
+          ~finally:(fun () -> remove_dir d)
+          (fun () ->
+            let ((_, _, e) as r) = lancer ~dir:d [ "check"; "s.rts" ] in
+            check_status "check" 1 r;
+            has "the branch not taken" e
+              ("s.rts:4:40: unknown field `radiu` in sphere; did you mean `radius`?\n\
+                if false { sphere { center: (0, 0, 0), radiu: 1 } }\n"
+             ^ String.make 39 ' ' ^ "^^^^^\n");
+            has "the macro never called" e
+              "s.rts:5:31: `base` must be a vector (x, y, z), got a number";
+            let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+            check_status "render" 1 r;
+            has "render reports it too" e "s.rts:4:40: unknown field `radiu`";
+            Alcotest.(check bool)
+              "no image" false
+              (Sys.file_exists (Filename.concat d "s.png"))));
+  ]
+
 let () =
   Alcotest.run "check"
     [
@@ -293,4 +331,5 @@ let () =
       ("times", time_tests);
       ("warnings", warning_tests);
       ("cost", cost_tests);
+      ("static", static_tests);
     ]
