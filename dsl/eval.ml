@@ -1538,6 +1538,7 @@ and transforms b =
   List.fold_left
     (fun (t, js) f ->
       match (f.name.id, f.value) with
+      | _, VPoison -> (t, js) (* its value failed, already reported *)
       | "translate", VVec v ->
           check_coords b f v;
           ( Transform.then_ t (Transform.translate v),

@@ -160,6 +160,9 @@ let test_reported_once () =
       "test.rts:1:37: `radius` must be a number, got a vector";
       "test.rts:1:48: unknown field `colr` in sphere";
     ];
+  check_errors "a transform whose value failed is not reported again"
+    "sphere { center: (0, 0, 0), radius: 1, translate: nope, scale: 1 / 0 }\n"
+    [ "test.rts:1:51: unknown name `nope`"; "test.rts:1:68: division by zero" ];
   check_errors "a use of a value whose definition failed is not reported again"
     "let m = material { colr: (1, 0, 0) }\nif false { sphere { center: m, radius: 1 } }\n"
     [ "test.rts:1:20: unknown field `colr` in material; did you mean `color`?" ]
