@@ -311,13 +311,41 @@ and fields cx env ~in_group ~keyword kloc items =
              light)")
   | None -> ()
 
+(* The evaluator's messages for a field given where it does not apply (where the kind or
+   the other field it depends on says so), and where it is shown: at the field's name or
+   at its value. *)
+and misplaced id name =
+  match (id, name) with
+  | "point_light", ("inner" | "outer") ->
+      Some (`Name, Printf.sprintf "`%s` is for a spot light: give it a `point_at`" name)
+  | "camera", "width" ->
+      Some (`Value, "`width` is for an orthographic camera (kind: \"orthographic\")")
+  | "camera", "fov" ->
+      Some
+        (`Value, "an orthographic camera has no `fov`: its `width` sets how much it sees")
+  | "animation", "duration" -> Some (`Value, "give `frames` or `duration`, not both")
+  | _ -> None
+
+(* The evaluator's message for a required field that is missing. *)
+and missing id keyword name =
+  match (id, name) with
+  | "camera", "width" ->
+      "an orthographic camera needs a `width` (world units across the image)"
+  | _ -> Printf.sprintf "%s needs a `%s` field" keyword name
+
 and schema_fields cx (b : Schema.block) ~keyword kloc given =
   let allowed = Schema.names_of b in
   let present name = List.exists (fun ((m : name), _, _) -> m.id = name) given in
   (* The block's kind, when it is written as a literal (or left at its default). *)
   let kind =
+    let known s =
+      List.exists
+        (fun (fl : Schema.field) ->
+          match fl.ty with Choice l -> List.mem s l | _ -> false)
+        (Schema.fields_named b "kind")
+    in
     match List.find_opt (fun ((m : name), _, _) -> m.id = "kind") given with
-    | Some (_, { e = Str s; _ }, _) -> Some s
+    | Some (_, { e = Str s; _ }, _) when known s -> Some s
     | Some _ -> None
     | None -> (
         match Schema.fields_named b "kind" with
@@ -332,28 +360,42 @@ and schema_fields cx (b : Schema.block) ~keyword kloc given =
     | Without n -> not (present n)
     | Kind_in ks -> ( match kind with Some k -> List.mem k ks | None -> false)
   in
+  (* Whether a field surely does not apply (its kind, or the field it depends on, is
+     known and says so). *)
+  let excluded (fl : Schema.field) =
+    match fl.condition with
+    | Always -> false
+    | With n -> not (present n)
+    | Without n -> present n
+    | Kind_in ks -> ( match kind with Some k -> not (List.mem k ks) | None -> false)
+  in
   List.iter
     (fun ((n : name), (e : expr), t) ->
       if not (List.mem n.id allowed) then
         report cx n.nloc
           (Printf.sprintf "unknown field `%s` in %s%s" n.id keyword (hint n.id allowed))
       else
-        match List.filter applies (Schema.fields_named b n.id) with
+        let entries = Schema.fields_named b n.id in
+        match List.filter applies entries with
         | fl :: _ -> Option.iter (report cx e.loc) (mismatch n.id fl.ty t)
-        | [] -> ())
+        | [] -> (
+            match misplaced b.id n.id with
+            | Some (at, msg) when List.for_all excluded entries ->
+                report cx (if at = `Name then n.nloc else e.loc) msg
+            | _ -> ()))
     given;
   List.iter
     (fun (fl : Schema.field) ->
-      if fl.default = Required && fl.condition = Always && not (present fl.name) then
+      if fl.default = Required && applies fl && not (present fl.name) then
         let misspelt =
-          List.exists
-            (fun ((m : name), _, _) ->
-              (not (List.mem m.id allowed))
-              && Eval.suggest m.id [ fl.name ] = Some fl.name)
-            given
+          fl.condition = Always
+          && List.exists
+               (fun ((m : name), _, _) ->
+                 (not (List.mem m.id allowed))
+                 && Eval.suggest m.id [ fl.name ] = Some fl.name)
+               given
         in
-        if not misspelt then
-          report cx kloc (Printf.sprintf "%s needs a `%s` field" keyword fl.name))
+        if not misspelt then report cx kloc (missing b.id keyword fl.name))
     b.fields
 
 let run ~sources program =

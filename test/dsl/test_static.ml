@@ -103,6 +103,15 @@ let test_groups_and_csg () =
       "test.rts:3:22: a material holds only `field: value` pairs (and `let`); objects go \
        in a `group`";
     ];
+  check_errors "fields that do not apply to the kind written"
+    "if false {\n\
+    \  light { position: (0, 5, 0), inner: 10 }\n\
+    \  camera { kind: \"fisheye\", width: 2 }\n\
+     }\n"
+    [
+      "test.rts:2:32: `inner` is for a spot light: give it a `point_at`";
+      "test.rts:3:36: `width` is for an orthographic camera (kind: \"orthographic\")";
+    ];
   check_errors "a field of the block's own does not stand for a missing one"
     "if false { triangle { a: (0, 0, 0), b: (1, 0, 0) } }\n"
     [ "test.rts:1:12: triangle needs a `c` field" ];
@@ -225,6 +234,9 @@ let same_as_evaluator =
     "cylinder { base: (0, 0, 0), top: (0, 1, 0) }";
     "triangle { a: (0, 0, 0), b: (1, 0, 0), cc: (0, 1, 0) }";
     "group { body b { sphere { center: (0, 0, 0), radius: 1 } } }";
+    "camera { kind: \"orthographic\", fov: 30 }";
+    "camera { width: 2 } animation { frames: 10, duration: 2 }";
+    "light { position: (0, 1, 0), inner: 10, outer: 20 }";
   ]
 
 let test_same_as_evaluator () =
@@ -285,6 +297,11 @@ let test_no_false_positives () =
        mix(1, 2, 0.5) } }";
       "fn m(i) { for j in 0 to i { sphere { center: (j, 0, 0) * 2 - (0, i, 0), radius: j \
        / 2 + 1 } } }";
+      "fn c(k) { camera { kind: k, width: 2, fov: 300 } }";
+      "if false { camera { kind: \"fishey\", width: 2 } }";
+      "if false { camera { kind: \"fisheye\", fov: 300 } animation { frames: 3 } light { \
+       position: (0, 1, 0), point_at: (0, 0, 0), inner: 5 } camera { kind: \
+       \"orthographic\", width: 3 } }";
       "let k = 1\n\
        if false { let k = (1, 1, 1) sphere { center: k, radius: 1 } }\n\
        sphere { center: (0, 0, 0), radius: k }";
