@@ -176,9 +176,14 @@ let hint x candidates =
   | Some c -> Printf.sprintf "; did you mean `%s`?" c
   | None -> ""
 
-type cx = { sources : (string, string) Hashtbl.t; mutable errors : Error.t list }
+type cx = {
+  sources : (string, string) Hashtbl.t;
+  mutable errors : Error.t list;  (** reversed *)
+  mutable count : int;  (** of [errors] *)
+}
 
 let report cx (loc : Loc.t) msg =
+  cx.count <- cx.count + 1;
   cx.errors <-
     Error.make ?source:(Hashtbl.find_opt cx.sources loc.file) loc msg :: cx.errors
 
@@ -228,9 +233,9 @@ and bind params env =
 (* The type of [e], after checking it; unknown when a mistake was found in it (the
    evaluator does not report again the uses of a value whose definition failed). *)
 and checked_type cx env e =
-  let before = List.length cx.errors in
+  let before = cx.count in
   expr cx env e;
-  if List.length cx.errors > before then Unknown else type_of env e
+  if cx.count > before then Unknown else type_of env e
 
 and expr cx env (e : expr) =
   match e.e with
@@ -399,6 +404,6 @@ and schema_fields cx (b : Schema.block) ~keyword kloc given =
     b.fields
 
 let run ~sources program =
-  let cx = { sources; errors = [] } in
+  let cx = { sources; errors = []; count = 0 } in
   ignore (stmts cx initial_env ~in_group:(Some false) program);
   List.rev cx.errors
