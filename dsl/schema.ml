@@ -284,18 +284,18 @@ let blocks =
       [
         f "color" Colour ~default:(opt "(1, 1, 1)") "the surface colour";
         f "texture" Texture ~default:(Absent "none")
-          "a texture (checker(…), …) or a colour, instead of `color`";
+          "a texture (checker(…), …) or a colour; overrides `color`";
         f "ambient" Number ~range:non_negative ~default:(opt "0.1")
-          "share of the ambient light";
-        f "diffuse" Number ~range:non_negative ~default:(opt "0.9") "diffuse reflection";
-        f "specular" Number ~range:non_negative ~default:(opt "0") "highlight strength";
-        f "shininess" Number ~range:non_negative ~default:(opt "50") "highlight sharpness";
+          "weight of the ambient light";
+        f "diffuse" Number ~range:non_negative ~default:(opt "0.9") "diffuse weight";
+        f "specular" Number ~range:non_negative ~default:(opt "0") "Phong highlight weight";
+        f "shininess" Number ~range:non_negative ~default:(opt "50") "Phong exponent";
         f "reflection" Number ~range:unit_interval ~default:(opt "0")
-          "mirror share; reflection + transparency at most 1";
-        f "transparency" Number ~range:unit_interval ~default:(opt "0") "refracted share";
+          "mirror weight; reflection + transparency at most 1";
+        f "transparency" Number ~range:unit_interval ~default:(opt "0") "refraction weight";
         f "ior" Number ~range:positive ~default:(opt "1") "index of refraction";
         f "fresnel" Boolean ~default:(opt "false")
-          "reflection and transparency follow Fresnel's equations";
+          "Schlick's approximation of Fresnel moves transparency × F to reflection";
         f "bump" Bump ~default:(Absent "none") "perturbs the normal";
         f "base" Base_material ~default:(Absent "the default material")
           "a material to copy before the other fields apply";
