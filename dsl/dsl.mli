@@ -13,10 +13,13 @@ type t
 (** A parsed, checked program, ready to be evaluated at any time. *)
 
 val load_file : string -> (t, Error.t list) result
-(** [load_file path] reads, parses and checks [path]. Included files are found relative to
-    the file that includes them. Errors name files as the paths were written. The scene
-    and every include must be a regular file of at most {!max_source_bytes}: a device, a
-    FIFO or a larger file is refused from its status, before it is opened. *)
+(** [load_file path] reads, parses and checks [path]: the whole program against the fields
+    of each block kind ({!Static_check}, code that does not run included), then its
+    evaluation at time 0; the errors of both, each once, in source order. Included files
+    are found relative to the file that includes them. Errors name files as the paths were
+    written. The scene and every include must be a regular file of at most
+    {!max_source_bytes}: a device, a FIFO or a larger file is refused from its status,
+    before it is opened. *)
 
 val max_source_bytes : int
 (** 64 MiB: the largest scene or included file. *)

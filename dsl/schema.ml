@@ -288,11 +288,13 @@ let blocks =
         f "ambient" Number ~range:non_negative ~default:(opt "0.1")
           "weight of the ambient light";
         f "diffuse" Number ~range:non_negative ~default:(opt "0.9") "diffuse weight";
-        f "specular" Number ~range:non_negative ~default:(opt "0") "Phong highlight weight";
+        f "specular" Number ~range:non_negative ~default:(opt "0")
+          "Phong highlight weight";
         f "shininess" Number ~range:non_negative ~default:(opt "50") "Phong exponent";
         f "reflection" Number ~range:unit_interval ~default:(opt "0")
           "mirror weight; reflection + transparency at most 1";
-        f "transparency" Number ~range:unit_interval ~default:(opt "0") "refraction weight";
+        f "transparency" Number ~range:unit_interval ~default:(opt "0")
+          "refraction weight";
         f "ior" Number ~range:positive ~default:(opt "1") "index of refraction";
         f "fresnel" Boolean ~default:(opt "false")
           "Schlick's approximation of Fresnel moves transparency × F to reflection";
