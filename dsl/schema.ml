@@ -57,7 +57,8 @@ let opt v = Value v
 (* Fields every object, group and CSG block takes, after its own. *)
 let common =
   [
-    f "material" Material ~default:(Absent "the group's, or the default material")
+    f "material" Material
+      ~default:(Absent "the enclosing group's, or the default material")
       "the object's material (`material { … }` or a name bound to one)";
     f "translate" Vector ~repeats:true ~default:(Absent "none")
       "moves the object by (x, y, z)";
