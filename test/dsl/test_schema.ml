@@ -216,27 +216,53 @@ let inside (r : Schema.range) =
    inner ≤ outer, and a very long animation has too many frames. *)
 let partner = function "inner" -> [ "outer: 180" ] | "outer" -> [ "inner: 0" ] | _ -> []
 
+(* Whether the evaluator reports an error at the value of [name: value], the last item of
+   block [b]'s program. *)
+let refused_at_value b (fl : Schema.field) value =
+  let text =
+    program b (context b fl @ partner fl.name @ [ Printf.sprintf "%s: %s" fl.name value ])
+  in
+  let lines = String.split_on_char '\n' text in
+  let last = List.nth lines (List.length lines - 1) in
+  let key = fl.name ^ ": " ^ value in
+  let rec find i =
+    if String.sub last i (String.length key) = key then i else find (i + 1)
+  in
+  let col = find 0 + String.length fl.name + 3 in
+  ( text,
+    List.exists
+      (fun (e : Error.t) -> e.line = List.length lines && e.col = col)
+      (eval_errors text) )
+
+let test_choices () =
+  let checked = ref 0 in
+  List.iter
+    (fun (b : Schema.block) ->
+      List.iter
+        (fun (fl : Schema.field) ->
+          match fl.ty with
+          | Choice l ->
+              List.iter
+                (fun c ->
+                  incr checked;
+                  let text, refused = refused_at_value b fl (Printf.sprintf "%S" c) in
+                  if refused then Alcotest.failf "%s: %S is refused:\n%s" b.id c text)
+                l;
+              let text, refused = refused_at_value b fl "\"bogus\"" in
+              if not refused then
+                Alcotest.failf "%s: \"bogus\" is accepted:\n%s" b.id text
+          | _ -> ())
+        b.fields)
+    Schema.blocks;
+  Alcotest.(check int) "the camera's kinds and the physics methods" 6 !checked
+
 let test_ranges () =
   let checked = ref 0 in
   List.iter
     (fun (b : Schema.block) ->
       List.iter
         (fun (fl : Schema.field) ->
-          let at_value x =
-            let items = context b fl @ partner fl.name in
-            let text = program b (items @ [ Printf.sprintf "%s: %s" fl.name (num x) ]) in
-            let lines = String.split_on_char '\n' text in
-            let last = List.nth lines (List.length lines - 1) in
-            let key = fl.name ^ ": " ^ num x in
-            let rec find i =
-              if String.sub last i (String.length key) = key then i else find (i + 1)
-            in
-            let col = find 0 + String.length fl.name + 3 in
-            ( text,
-              List.exists
-                (fun (e : Error.t) -> e.line = List.length lines && e.col = col)
-                (eval_errors text) )
-          in
+          let at_value x = refused_at_value b fl (num x) in
           List.iter
             (fun x ->
               incr checked;
@@ -267,6 +293,8 @@ let () =
           Alcotest.test_case "required fields are required" `Quick test_required;
           Alcotest.test_case "defaults are what a missing field means" `Quick
             test_defaults;
+          Alcotest.test_case "every choice of a string field is accepted, no other" `Quick
+            test_choices;
           Alcotest.test_case "numbers out of range are refused at the value" `Quick
             test_ranges;
         ] );
