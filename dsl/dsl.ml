@@ -237,7 +237,9 @@ let load_text ?progress file text =
             progress
         in
         (* The static check's mistakes, with those of the evaluation at time 0: one that
-           both find (in code that runs) is reported once. *)
+           both find (in code that runs) is reported once. The evaluation's come first, so
+           that its files keep the order they had without the static check; sorted in
+           source order within each file. *)
         let static = Static_check.run ~sources stmts in
         let merged es =
           let key (e : Error.t) = (e.file, e.line, e.col, e.message) in
@@ -250,7 +252,7 @@ let load_text ?progress file text =
                  &&
                  (Hashtbl.add seen k ();
                   true))
-               (static @ es))
+               (es @ static))
         in
         match
           Eval.run ~on_objects ~objects:false ~sources ~images ~time:0. ~frame:0 stmts
