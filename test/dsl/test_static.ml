@@ -307,6 +307,157 @@ let test_no_false_positives () =
        sphere { center: (0, 0, 0), radius: k }";
     ]
 
+(* Random programs of blocks whose code all runs (no condition, no macro): whatever
+   the static check reports there, the evaluator reports too, with the same text at the
+   same place. *)
+module Schema = Lancer_dsl.Schema
+
+let values =
+  [
+    "1";
+    "0";
+    "-1";
+    "0.5";
+    "2 * 3";
+    "1e300";
+    "(1, 2, 3)";
+    "(0, 1, 0)";
+    "-(1, 0, 0)";
+    "(1, 2, 3) * 2";
+    "\"srgb\"";
+    "\"perspective\"";
+    "\"orthographic\"";
+    "\"fisheye\"";
+    "\"exact\"";
+    "\"x.obj\"";
+    "true";
+    "false";
+    "1 < 2";
+    "not true";
+    "material { }";
+    "material { color: (1, 0, 0) }";
+    "material { colr: 1 }";
+    "material { base: 1 }";
+    "checker((1, 1, 1), (0, 0, 0), 1)";
+    "noise(1, 0.1)";
+    "fog((1, 1, 1), 2)";
+    "gradient((1, 1, 1), (0, 0, 1))";
+    "color_map((0, (1, 0, 0)))";
+    "(0.5, (1, 0, 0))";
+    "rgb(1, 0, 0)";
+    "sin(1)";
+    "if true then 1 else 2";
+    "if true then 1 else (1, 1, 1)";
+    "v";
+    "n";
+    "s";
+    "m";
+    "f";
+    "undefined";
+    "1 / 0";
+    "(1, 2, 3) + 4";
+    "sqrt(-1)";
+    "mix(1, 2, 0.5)";
+    "mix((0, 0, 0), (1, 1, 1), 0.5)";
+    "(1, 2, 3).x";
+    "pi";
+    "f(2)";
+  ]
+
+let prelude =
+  "let v = (1, 2, 3)\nlet n = 2\nlet s = \"srgb\"\nlet m = material { }\nfn f(x) = x\n"
+
+let random_program =
+  let open QCheck.Gen in
+  let blocks = Array.of_list Schema.blocks in
+  let counter = ref 0 in
+  let rec block depth =
+    let* b = oneofa blocks in
+    let names = Schema.names_of b in
+    let* fields =
+      list_size (int_range 0 4)
+        (pair
+           (oneof
+              [
+                oneofl names;
+                oneofl names;
+                oneofl [ "bogus"; "colour"; "radiu" ];
+                map (fun n -> n ^ "x") (oneofl names);
+              ])
+           (oneofl values))
+    in
+    let* inner =
+      if b.holds_objects && depth < 2 then list_size (int_range 0 2) (block (depth + 1))
+      else return []
+    in
+    let* chooser = bool in
+    let fields =
+      (match b.chosen_by with
+      | Some c when chooser -> [ Printf.sprintf "%s: (0, 5, 0)" c ]
+      | _ -> [])
+      @ List.map (fun (n, v) -> Printf.sprintf "%s: %s" n v) fields
+    in
+    let body = String.concat ", " fields ^ " " ^ String.concat "\n" inner in
+    incr counter;
+    return
+      (match b.keyword with
+      | "material" -> Printf.sprintf "let mm = material { %s }" body
+      | "body" ->
+          Printf.sprintf "body b%d { sphere { center: (0, 1, 0), radius: 1 } %s }"
+            !counter body
+      | k -> Printf.sprintf "%s { %s }" k body)
+  in
+  QCheck.make
+    ~print:(fun s -> s)
+    (map
+       (fun bs -> prelude ^ String.concat "\n" bs)
+       (list_size (int_range 1 4) (block 0)))
+
+(* How often [sub] occurs in [s]. *)
+let occurrences s sub =
+  let n = String.length sub in
+  let rec go i acc =
+    if i + n > String.length s then acc
+    else go (i + 1) (if String.sub s i n = sub then acc + 1 else acc)
+  in
+  go 0 0
+
+let static_subset_of_evaluation text =
+  (* A second settings, camera, animation or physics block is refused as a whole: the
+     evaluator does not look at its fields. *)
+  QCheck.assume
+    (List.for_all
+       (fun k -> occurrences text (k ^ " {") < 2)
+       [ "settings"; "camera"; "animation"; "physics" ]);
+  let key (e : Error.t) = Printf.sprintf "%d:%d: %s" e.line e.col e.message in
+  let es = eval_errors text in
+  let evaluated = List.map key es in
+  (* A value that fails to evaluate (1 / 0) is reported as that; the static check may
+     see its type is wrong as well. *)
+  let inside (e : Error.t) =
+    List.exists
+      (fun (x : Error.t) ->
+        x.line = e.line && x.col >= e.col && x.col < e.end_col && x.message <> e.message)
+      es
+  in
+  List.iter
+    (fun e ->
+      if not (List.mem (key e) evaluated || inside e) then
+        QCheck.Test.fail_reportf "the static check says %s; the evaluator:\n%s" (key e)
+          (String.concat "\n" evaluated))
+    (static_errors text);
+  true
+
+let props =
+  let rand = Random.State.make [| 2026 |] in
+  List.map
+    (QCheck_alcotest.to_alcotest ~rand)
+    [
+      QCheck.Test.make
+        ~name:"in code that runs, the static check reports only what the evaluator does"
+        ~count:3000 random_program static_subset_of_evaluation;
+    ]
+
 let () =
   Alcotest.run "static check"
     [
@@ -326,5 +477,6 @@ let () =
             test_same_as_evaluator;
           Alcotest.test_case "no false positives" `Quick test_no_false_positives;
           Alcotest.test_case "every scene in scenes/ passes" `Quick test_scenes_pass;
-        ] );
+        ]
+        @ props );
     ]
