@@ -62,13 +62,18 @@ let write_ppm oc w h bytes =
 
 let write_png oc raster = Png.encode raster (output_string oc)
 
+let png_bytes raster =
+  let b = Buffer.create (max 4096 (Bytes.length raster.Raster.samples / 4)) in
+  Png.encode raster (Buffer.add_string b);
+  Buffer.contents b
+
 let write_rgb8 path w h bytes =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm oc w h bytes)
   | Ok Png ->
-      write_atomic path (fun oc ->
-          write_png oc (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes))
+      let png = png_bytes (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes) in
+      write_atomic path (fun oc -> output_string oc png)
 
 type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 
@@ -128,7 +133,12 @@ let write_raster path (r : Raster.t) =
            "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png"
            path)
   | Ok Ppm -> write_atomic path (fun oc -> write_ppm_raster oc r)
-  | Ok Png -> write_atomic path (fun oc -> write_png oc r)
+  | Ok Png ->
+      (* The file is compressed in memory first, so that the temporary file exists only
+         while its bytes are written: a process killed while it compresses (as mpirun
+         kills its ranks half a second after it asks them to stop) leaves nothing behind. *)
+      let png = png_bytes r in
+      write_atomic path (fun oc -> output_string oc png)
 
 let save ?gamma ?bits ?alpha ?crop path fb =
   write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
