@@ -14,7 +14,7 @@ let time_render ?pool sc =
   (Unix.gettimeofday () -. t0, fb, st)
 
 let domains_cmd (o : Cli.opts) counts repeat json =
-  let prog = Cli.load o.scene in
+  let prog = Cli.scene_source o (Cli.load o.scene) in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
   let cores = Domain.recommended_domain_count () in
@@ -288,7 +288,7 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
       Quality.all
 
 let quality_cmd (o : Cli.opts) json svg fresh =
-  let prog = Cli.load o.scene in
+  let prog = Cli.scene_source o (Cli.load o.scene) in
   let domains = Cli.domains o in
   let s =
     (Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0)
@@ -951,7 +951,7 @@ let cmd =
             domain the minor words allocated per ray"
          ~man ~exits)
       Term.(
-        const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j))
+        const (fun o c r j -> Report.run (fun _ -> domains_cmd o c r j))
         $ Cli.(term Bench_domains)
         $ counts $ repeat $ json)
   in
@@ -990,7 +990,7 @@ let cmd =
       (Cmd.info "quality"
          ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
       Term.(
-        const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f))
+        const (fun o j s f -> Report.run (fun _ -> quality_cmd o j s f))
         $ Cli.(term Bench_quality)
         $ json $ svg $ fresh)
   in
@@ -1040,7 +1040,7 @@ let cmd =
             answer"
          ~man ~exits)
       Term.(
-        const (fun r u s j -> Cli.run (fun () -> physics_cmd r u s j))
+        const (fun r u s j -> Report.run (fun _ -> physics_cmd r u s j))
         $ rates $ until $ sample_rate $ json)
   in
   let scaling =
@@ -1159,7 +1159,7 @@ let cmd =
             repeat
             json
           ->
-            Cli.run (fun () ->
+            Report.run (fun _ ->
                 scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes
                   ~base_count ~sweeps ~in_process ~row ~repeat ~json))
         $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps

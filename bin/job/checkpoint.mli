@@ -17,18 +17,24 @@ val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
 val key :
-  Cli.opts ->
-  Lancer_dsl.Dsl.t ->
+  Source.t ->
+  Overrides.t ->
   time:float ->
   frame:int ->
   files:(string * string) list ->
   string
-(** The key of a still: what its pixels depend on. *)
+(** The key of a still: what its pixels depend on (the scene's text digest, the files it
+    read, the time and frame, the overrides). *)
 
-val start : out:string -> key:string -> quiet:bool -> Lancer.Scene.t -> t
-(** Load the checkpoint of [out] if it has this key (saying how many tiles it holds), or
-    start an empty one. Raises [Cli.User_error] when the checkpoint's place cannot be
-    written. *)
+val start : out:string -> key:string -> Lancer.Scene.t -> t
+(** Load the checkpoint of [out] if it has this key, or start an empty one. Raises
+    {!Job_error.User} when the checkpoint's place cannot be written. *)
+
+val resumed : t -> int
+(** How many tiles the checkpoint held when it was loaded (0 for a new one). *)
+
+val tiles : t -> int
+(** How many tiles the image has. *)
 
 val framebuffer : t -> Lancer.Image.t
 (** The image being rendered, with the finished tiles' pixels already in. *)
@@ -42,7 +48,7 @@ val finished : t -> int
 val tiles_done : t -> int array -> Lancer.Stats.t -> unit
 (** [tiles_done t tiles stats]: those tiles' pixels are in the framebuffer, with their
     counters summed in [stats]; rewrites the checkpoint when due. Safe from several
-    domains at once. Raises [Cli.User_error] if the checkpoint cannot be written. *)
+    domains at once. Raises {!Job_error.User} if the checkpoint cannot be written. *)
 
 val save : t -> unit
 (** Write the checkpoint now (on an interrupt). *)
