@@ -579,6 +579,15 @@ let scene_with_files ?progress ?cancel o src ~time ~frame =
 let scene_at ?progress ?cancel o src ~time ~frame =
   fst (scene_with_files ?progress ?cancel o src ~time ~frame)
 
+let checkpoint o src ~out ~time ~frame ~files sc =
+  let ck =
+    Checkpoint.start ~out ~key:(Checkpoint.key src (overrides o) ~time ~frame ~files) sc
+  in
+  if Checkpoint.resumed ck > 0 && not o.quiet then
+    Printf.printf "resuming: %d of %d tiles already rendered\n%!" (Checkpoint.resumed ck)
+      (Checkpoint.tiles ck);
+  ck
+
 (* Standard output carries the image's bytes and nothing else; a reader that goes away
    (a closed pipe) is an error to report, not a signal that kills. *)
 let write_stdout fmt raster =

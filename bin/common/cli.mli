@@ -142,6 +142,18 @@ val scene_with_files :
   Lancer.Scene.t * (string * string) list
 (** [scene_at], and the image and mesh files it read with their digests. *)
 
+val checkpoint :
+  opts ->
+  Lancer_job.Source.t ->
+  out:string ->
+  time:float ->
+  frame:int ->
+  files:(string * string) list ->
+  Lancer.Scene.t ->
+  Lancer_job.Checkpoint.t
+(** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
+    saying how many tiles it brings back (unless [--quiet]). *)
+
 val time_of : opts -> Lancer_job.Source.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0):
     {!Lancer_job.Source.time_of}. *)

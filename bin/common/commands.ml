@@ -48,41 +48,18 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
     else None
   in
   let t0 = Unix.gettimeofday () in
-  let fb, st, finish =
-    if resume then (
-      (* Finished tiles go to a checkpoint beside the output, and come back from it. *)
-      let ck =
-        Checkpoint.start ~out
-          ~key:(Checkpoint.key src (Cli.overrides o) ~time ~frame ~files)
-          sc
-      in
-      if Checkpoint.resumed ck > 0 && not o.quiet then
-        Printf.printf "resuming: %d of %d tiles already rendered\n%!"
-          (Checkpoint.resumed ck) (Checkpoint.tiles ck);
-      (try
-         Render.with_pool ~cancel domains (fun pool ->
-             Checkpoint.render ~cancel ?pool
-               ~on_tile:(fun d rays -> Progress.update ~rays progress d)
-               ck sc)
-       with Sys.Break ->
-         (try Checkpoint.save ck
-          with Job_error.User m ->
-            raise (Job_error.Interrupted ("the finished tiles could not be kept: " ^ m)));
-         raise Sys.Break);
-      (Checkpoint.framebuffer ck, Checkpoint.stats ck, fun () -> Checkpoint.remove ck))
-    else
-      let fb, st =
-        Render.with_pool ~cancel domains (fun pool ->
-            Render.render ~cancel ?pool
-              ~on_tile:(fun d _ rays -> Progress.update ~rays progress d)
-              ?region ?alpha sc)
-      in
-      (fb, st, ignore)
+  let checkpoint =
+    if resume then Some (Cli.checkpoint o src ~out ~time ~frame ~files sc) else None
+  in
+  let fb, st =
+    Still.render ~cancel ?checkpoint ?region ?alpha ~domains
+      ~on_tile:(fun d rays -> Progress.update ~rays progress d)
+      sc
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
   Cli.write_image ~cancel ~encoding:enc ?alpha out sc fb;
-  finish ();
+  Option.iter Checkpoint.remove checkpoint;
   Cli.warn_bad_samples st;
   Option.iter
     (fun p ->

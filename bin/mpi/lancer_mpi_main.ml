@@ -138,15 +138,7 @@ let render_cmd (o : Cli.opts) ~resume =
       if not resume then None
       else
         let time, frame = Cli.time_of o src in
-        let ck =
-          Checkpoint.start ~out
-            ~key:(Checkpoint.key src (Cli.overrides o) ~time ~frame ~files)
-            sc
-        in
-        if Checkpoint.resumed ck > 0 && not o.quiet then
-          Printf.printf "resuming: %d of %d tiles already rendered\n%!"
-            (Checkpoint.resumed ck) (Checkpoint.tiles ck);
-        Some ck
+        Some (Cli.checkpoint o src ~out ~time ~frame ~files sc)
     in
     (source, (out, sc, build, ck))
   in
