@@ -492,7 +492,7 @@ let load_source ?progress (filename, text) =
       p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
       user "the built-in showcase does not load:\n%s" (Report.errors_text errs)
-  | Error errors -> raise (Lang.Scene_error { errors; note = "" })
+  | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
 let load ?progress scene = load_source ?progress (source { (default_opts ()) with scene })
 let scene_source (o : opts) prog = Lang.source ~builtin:(o.scene = None) prog

@@ -79,8 +79,8 @@ val source : opts -> string * string
     embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
 val load_source : ?progress:(string -> unit) -> string * string -> Lang.program
-(** Parse and check a scene's text; raises {!Lang.Scene_error} with every located error.
-    Includes are found relative to the file name. *)
+(** Parse and check a scene's text; raises {!Lancer_job.Job_error.Scene} with every
+    located error. Includes are found relative to the file name. *)
 
 val load : ?progress:(string -> unit) -> string option -> Lang.program
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)

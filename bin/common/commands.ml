@@ -124,7 +124,7 @@ let check_cmd stop scene json time frames =
   | None -> (
       let time, frame = Cli.time_of o (Cli.scene_source o prog) in
       match Lang.scene_at prog ~time ~frame with
-      | Error errors -> raise (Lang.Scene_error { errors; note = "" })
+      | Error errors -> raise (Job_error.Scene { errors; note = "" })
       | Ok sc ->
           if json then print_endline (Yojson.Safe.pretty_to_string (Lang.to_json prog sc))
           else (
@@ -150,7 +150,7 @@ let check_cmd stop scene json time frames =
       | [] -> ()
       | ks ->
           raise
-            (Lang.Scene_error
+            (Job_error.Scene
                {
                  errors = !first_errors;
                  note =

@@ -2,12 +2,8 @@ open Lancer
 module Dsl = Lancer_dsl.Dsl
 
 type program = Dsl.t
-type error = Lancer_dsl.Error.t
+type error = Diagnostic.t
 
-exception Scene_error of { errors : error list; note : string }
-
-let error_file (e : error) = e.file
-let pp_error = Lancer_dsl.Error.pp
 let source_problem = Dsl.source_problem
 let load ?progress ~filename text = Dsl.load_string ?progress ~filename text
 let animation = Dsl.animation
@@ -34,7 +30,7 @@ let source ~builtin prog : Lancer_job.Source.t =
       (fun ~progress ~cancel ~time ~frame ->
         match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with
         | Ok r -> r
-        | Error errors -> raise (Scene_error { errors; note = "" }));
+        | Error errors -> raise (Lancer_job.Job_error.Scene { errors; note = "" }));
     inputs = (fun () -> Dsl.inputs prog);
     text_digest = (fun () -> Dsl.text_digest prog);
     input_digest = Dsl.input_digest prog;

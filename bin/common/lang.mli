@@ -5,17 +5,8 @@
 type program = Lancer_dsl.Dsl.t
 (** A scene's program, parsed and checked. *)
 
-type error = Lancer_dsl.Error.t
+type error = Lancer.Diagnostic.t
 (** A located error of a scene. *)
-
-exception Scene_error of { errors : error list; note : string }
-(** A scene's located errors, and a line to say after them ([""] for none). *)
-
-val error_file : error -> string
-(** The file an error is in. *)
-
-val pp_error : Format.formatter -> error -> unit
-(** [file:line:col: message], the line, a caret. *)
 
 val source_problem : string -> string option
 (** Why a path cannot be read as a scene file, from its status alone; [None] if it can. *)
@@ -44,5 +35,5 @@ val to_json : program -> Lancer.Scene.t -> Yojson.Safe.t
 (** The evaluated scene as JSON ([lancer check --json]). *)
 
 val source : builtin:bool -> program -> Lancer_job.Source.t
-(** The program as the job layer takes it; its [evaluate] raises {!Scene_error}.
-    [builtin]: the program is the built-in showcase. *)
+(** The program as the job layer takes it; its [evaluate] raises
+    {!Lancer_job.Job_error.Scene}. [builtin]: the program is the built-in showcase. *)

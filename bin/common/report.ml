@@ -2,7 +2,7 @@ open Lancer
 module Job_error = Lancer_job.Job_error
 
 let errors_text errs =
-  String.concat "\n" (List.map (Format.asprintf "%a" Lang.pp_error) errs)
+  String.concat "\n" (List.map (Format.asprintf "%a" Diagnostic.pp) errs)
 
 let scene_text errors note =
   errors_text errors ^ if note = "" then "" else "lancer: " ^ note ^ "\n"
@@ -15,7 +15,7 @@ let internal e =
 
 let describe ?(interrupted = "interrupted; no output was written") = function
   | Job_error.User m -> ("lancer: " ^ m ^ "\n", 1)
-  | Lang.Scene_error { errors; note } -> (scene_text errors note, 1)
+  | Job_error.Scene { errors; note } -> (scene_text errors note, 1)
   | Sys.Break | Fun.Finally_raised Sys.Break -> ("\nlancer: " ^ interrupted ^ "\n", 130)
   | Job_error.Interrupted what -> ("\nlancer: interrupted; " ^ what ^ "\n", 130)
   | Out_of_memory -> ("lancer: out of memory (try a smaller image or fewer objects)\n", 1)
@@ -24,7 +24,7 @@ let describe ?(interrupted = "interrupted; no output was written") = function
 
 let message = function
   | Job_error.User m -> m
-  | Lang.Scene_error { errors; note } -> scene_text errors note
+  | Job_error.Scene { errors; note } -> scene_text errors note
   | e -> "internal error: " ^ Printexc.to_string e
 
 type stop = { signal : int Atomic.t (* the signal that stopped the run; 0: none *) }

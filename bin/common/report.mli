@@ -5,15 +5,15 @@
     internal error (a bug: "please report it"), 130 interrupted. No backtrace reaches the
     user. *)
 
-val errors_text : Lang.error list -> string
-(** Each located error printed with {!Lang.pp_error}, one after the other. *)
+val errors_text : Lancer.Diagnostic.t list -> string
+(** Each located error printed with {!Lancer.Diagnostic.pp}, one after the other. *)
 
 val describe : ?interrupted:string -> exn -> string * int
 (** The text printed on stderr for an exception that ends a command, and the exit status:
     [lancer: message] for {!Lancer_job.Job_error.User} (1), the located errors and their
-    note for {!Lang.Scene_error} (1), [lancer: interrupted; …] for an interrupt (130:
-    [interrupted] says what became of the output, default "no output was written", and
-    {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
+    note for {!Lancer_job.Job_error.Scene} (1), [lancer: interrupted; …] for an interrupt
+    (130: [interrupted] says what became of the output, default "no output was written",
+    and {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
     system's reason for [Sys_error] (1), out of memory (1), and anything else as an
     internal error (2). *)
 

@@ -7,6 +7,7 @@
    a pipe. *)
 
 open Lancer
+module Job_error = Lancer_job.Job_error
 
 exception Cancelled
 
@@ -116,7 +117,9 @@ let load path =
   | filename, text -> (
       match Lang.load ~filename text with
       | Ok p -> Ok p
-      | Error errs -> Error (Report.errors_text errs, List.map Lang.error_file errs))
+      | Error errs ->
+          Error (Report.errors_text errs, List.map (fun (e : Diagnostic.t) -> e.file) errs)
+      )
 
 type version = {
   gen : int;
@@ -176,7 +179,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
               src ~time ~frame
           in
           Ok (sc, coarse)
-        with (Cli.User_error _ | Lang.Scene_error _) as e ->
+        with (Cli.User_error _ | Job_error.Scene _) as e ->
           Error (fst (Report.describe e))
       in
       match evaluated with

@@ -14,24 +14,24 @@ val guard_writes :
     link, a hard link, ./a.png for a.png), or, with [distinct] (default), that is the same
     file as another write. Raises {!Job_error.User} naming both. *)
 
-val uninterrupted : ?cancel:Lancer.Cancel.t -> string -> (unit -> unit) -> unit
+val uninterrupted : ?cancel:Cancel.t -> string -> (unit -> unit) -> unit
 (** [uninterrupted ~cancel what write] runs [write] so that an interrupt does not cut it
     short: a token already cancelled raises [Sys.Break] and writes nothing; one cancelled
     during the write lets it finish, then raises {!Job_error.Interrupted} saying [what]
     was written in full first. *)
 
 val write_image :
-  ?cancel:Lancer.Cancel.t ->
+  ?cancel:Cancel.t ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
-  ?crop:Lancer.Image.region ->
+  ?crop:Image.region ->
   string ->
-  Lancer.Scene.t ->
-  Lancer.Image.t ->
+  Scene.t ->
+  Image.t ->
   unit
 (** Encode with the scene's gamma ([bits] 8 by default; the coverage [alpha] as a fourth
     channel; only [crop] when given) and write the file atomically, {!uninterrupted};
     raises {!Job_error.User}. *)
 
-val write_json : ?cancel:Lancer.Cancel.t -> string -> Yojson.Safe.t -> unit
+val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

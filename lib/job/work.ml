@@ -1,5 +1,3 @@
-open Lancer
-
 type work_unit = { key : int; tiles : int array }
 
 let render_unit ?cancel ?(on_tile = fun () -> ()) ~pool sc fb idxs =

@@ -1,5 +1,3 @@
-open Lancer
-
 type t = {
   width : int option;
   height : int option;

@@ -1,7 +1,7 @@
 (** A scene as the job layer sees it: a set of functions the language supplies. The job
     layer never reads a scene's text itself; it asks this record for the scene at a time
-    and for what it read, so that how a program becomes a {!Lancer.Scene.t} is the
-    language's business alone. *)
+    and for what it read, so that how a program becomes a {!Scene.t} is the language's
+    business alone. *)
 
 type t = {
   file : string;
@@ -11,12 +11,12 @@ type t = {
   animation : (float * int) option;  (** frames per second and frame count, if any *)
   evaluate :
     progress:(string -> unit) option ->
-    cancel:Lancer.Cancel.t option ->
+    cancel:Cancel.t option ->
     time:float ->
     frame:int ->
-    Lancer.Scene.t * (string * string) list;
+    Scene.t * (string * string) list;
       (** the scene at a time, as the file sets it, and the image and mesh files it read
-          with their MD5s; raises the language's own errors (located) *)
+          with their MD5s; raises {!Job_error.Scene} for its located errors *)
   inputs : unit -> string list;
       (** the files read so far: the scene, its includes, images and meshes *)
   text_digest : unit -> string;  (** a digest of the scene's text and includes *)
@@ -25,12 +25,12 @@ type t = {
 
 val scene :
   ?progress:(string -> unit) ->
-  ?cancel:Lancer.Cancel.t ->
+  ?cancel:Cancel.t ->
   t ->
   Overrides.t ->
   time:float ->
   frame:int ->
-  Lancer.Scene.t * (string * string) list
+  Scene.t * (string * string) list
 (** [evaluate], then the overrides ({!Overrides.apply}). *)
 
 val reads : t -> (string * string) list

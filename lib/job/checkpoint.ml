@@ -1,5 +1,4 @@
 (* See checkpoint.mli. *)
-open Lancer
 
 (* The payload is marshalled: the number changes with its types (2: counters carry their
    cancellation token), so that a file of another layout is ignored, never misread. *)

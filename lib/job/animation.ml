@@ -1,5 +1,3 @@
-open Lancer
-
 let user = Job_error.user
 
 (* What changes every frame's pixels: the scene's text and includes (not the path it was

@@ -1,5 +1,3 @@
-open Lancer
-
 let user = Job_error.user
 
 (* A directory the system will not let this process create files in (permissions, a

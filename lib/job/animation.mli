@@ -45,20 +45,16 @@ val plan :
     out which frames to render: this shard's frames of the range ({!Plan.shard_frames}),
     less, with [resume], those already done for the same job. Raises {!Job_error.User}. *)
 
-val frame_scene : ?cancel:Lancer.Cancel.t -> plan -> int -> Lancer.Scene.t
+val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it
     read are kept for {!write_frame}. [cancel] stops the evaluation with [Sys.Break]. *)
 
-val write_frame : plan -> int -> Lancer.Scene.t -> Lancer.Image.t -> unit
+val write_frame : plan -> int -> Scene.t -> Image.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)
 
 val render :
-  ?cancel:Lancer.Cancel.t ->
-  domains:int ->
-  on_frame:(int -> Lancer.Stats.t -> unit) ->
-  plan ->
-  unit
+  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Stats.t -> unit) -> plan -> unit
 (** Render and write every frame of [todo] over a pool of [domains] domains, scheduled as
     above; [on_frame k stats] once frame k is written, from whichever domain wrote it.
     Raises [Sys.Break] once [cancel] is cancelled; the frames written by then are kept. *)

@@ -1,5 +1,3 @@
-open Lancer
-
 let render ?cancel ?checkpoint ?region ?alpha ~domains ~on_tile sc =
   match checkpoint with
   | Some ck ->

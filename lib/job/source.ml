@@ -4,10 +4,10 @@ type t = {
   animation : (float * int) option;
   evaluate :
     progress:(string -> unit) option ->
-    cancel:Lancer.Cancel.t option ->
+    cancel:Cancel.t option ->
     time:float ->
     frame:int ->
-    Lancer.Scene.t * (string * string) list;
+    Scene.t * (string * string) list;
   inputs : unit -> string list;
   text_digest : unit -> string;
   input_digest : string -> string;
