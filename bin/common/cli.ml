@@ -50,7 +50,6 @@ let default_opts () =
 open Cmdliner
 
 let max_side = 65536
-let max_time = Source.max_time
 
 type command = Render | Animate | Golden | Bench_domains | Bench_quality
 
@@ -545,15 +544,13 @@ let check_stats_name = function
 
 (* The records an animation keeps in its frames directory (Frameset's names): no other
    output may replace them. *)
-let frames_view_name = Frameset.view_name
-let frames_journal_dir = Frameset.journal_dir
 
 let refuse_frames_records paths =
   List.iter
     (fun (p, what) ->
       if
-        String.equal (Filename.basename p) frames_view_name
-        || String.equal (Filename.basename (Filename.dirname p)) frames_journal_dir
+        String.equal (Filename.basename p) Frameset.view_name
+        || String.equal (Filename.basename (Filename.dirname p)) Frameset.journal_dir
       then
         user
           "%s %s would replace a record of an animation's frames directory: write it \

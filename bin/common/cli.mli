@@ -63,9 +63,6 @@ val max_side : int
 (** 65536: the largest [--width] or [--height], as in the language; refused as the option
     is read. *)
 
-val max_time : float
-(** 1e9 s: the largest [--time] in magnitude (the frame number must fit an integer). *)
-
 val max_domains : int
 (** 128: the most domains [--domains] may ask for (the OCaml runtime's own limit). *)
 
@@ -110,12 +107,6 @@ val guard_writes :
 val check_stats_name : string option -> unit
 (** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png], …):
     the sign that the option took the scene as its value. *)
-
-val frames_view_name : string
-(** ["lancer-frames.json"]: the merged record of a frames directory. *)
-
-val frames_journal_dir : string
-(** ["lancer-frames.d"]: the folder of a frames directory's journals and scene record. *)
 
 val guard_render : opts -> Lancer_job.Source.t -> out:string -> unit
 (** {!guard_writes} for a still: the image and the statistics against the scene's files.
