@@ -218,6 +218,72 @@ let frames_record () =
   user_error "a directory of another scene" (fun () ->
       Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2)
 
+(* ---- An animation's plan, through a source of the test's own ---- *)
+
+(* Four frames of the small scene, each reading one input whose digest [input] says. *)
+let animation_source ?(text = "text") input : Source.t =
+  {
+    file = "anim.rts";
+    builtin = false;
+    animation = Some (4., 4);
+    evaluate =
+      (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ ("tex.ppm", !input) ]));
+    inputs = (fun () -> [ "anim.rts"; "tex.ppm" ]);
+    text_digest = (fun () -> text);
+    input_digest = (fun _ -> !input);
+  }
+
+let animation_plan () =
+  let dir = Filename.concat (tmpdir ()) "frames" in
+  let input = ref "d1" in
+  let plan ?text ?(resume = true) ?frames shard =
+    Animation.plan ~dir:(Some dir) ~frames ~shard ~resume ~overrides:Overrides.none
+      (fun () -> animation_source ?text input)
+  in
+  let written = ref [] in
+  let render p =
+    written := [];
+    Animation.render ~domains:1 p ~on_frame:(fun k _ -> written := k :: !written);
+    Animation.finish p;
+    List.sort compare !written
+  in
+  let p = plan (Some (Plan.Shard (1, 2))) in
+  Alcotest.(check (list int)) "shard 1/2: frames 1 and 3" [ 1; 3 ] p.todo;
+  Alcotest.(check (list int)) "rendered" [ 1; 3 ] (render p);
+  Alcotest.(check bool)
+    "no merged view with half the frames" false
+    (Sys.file_exists (Filename.concat dir Frameset.view_name));
+  let p = plan None in
+  Alcotest.(check int) "resumed: the other shard's two" 2 p.resumed;
+  Alcotest.(check (list int)) "the rest" [ 0; 2 ] (render p);
+  Alcotest.(check bool)
+    "every frame done: the merged view" true
+    (Sys.file_exists (Filename.concat dir Frameset.view_name));
+  Alcotest.(check (list int)) "nothing left" [] (plan None).todo;
+  Alcotest.(check (list int))
+    "without resume, every frame of the range" [ 1; 2 ]
+    (plan ~resume:false ~frames:(1, 2) None).todo;
+  input := "d2";
+  Alcotest.(check (list int))
+    "an input changed: all again" [ 0; 1; 2; 3 ] (plan None).todo;
+  input := "d1";
+  Alcotest.(check (list int))
+    "another text: all again" [ 0; 1; 2; 3 ] (plan ~text:"other" None).todo;
+  let fb, _ = Render.render (scene ()) in
+  let expected = Image.to_bytes (scene ()).settings.gamma fb in
+  let w, h, bytes =
+    match Image.read_rgb8 (Filename.concat dir (Frameset.frame_name 2)) with
+    | Ok i -> i
+    | Error m -> Alcotest.fail m
+  in
+  Alcotest.(check (pair int int)) "a frame's size" (40, 36) (w, h);
+  Alcotest.(check bool)
+    "a frame's bytes are the render's" true (Bytes.equal expected bytes);
+  user_error "past the animation" (fun () -> plan ~frames:(2, 4) None);
+  user_error "no directory" (fun () ->
+      Animation.plan ~dir:None ~frames:None ~shard:None ~resume:false
+        ~overrides:Overrides.none (fun () -> animation_source input))
+
 (* ---- The still checkpoint ---- *)
 
 let checkpoint_roundtrip () =
@@ -366,6 +432,8 @@ let () =
             frames_record;
           Alcotest.test_case "a checkpoint comes back bit for bit" `Quick
             checkpoint_roundtrip;
+          Alcotest.test_case "an animation's plan: shards, resume, stale frames" `Quick
+            animation_plan;
         ] );
       ( "work",
         [
