@@ -14,7 +14,7 @@ let time_render ?pool sc =
   (Unix.gettimeofday () -. t0, fb, st)
 
 let domains_cmd (o : Cli.opts) counts repeat json =
-  let prog = Cli.load o.scene in
+  let prog = Cli.scene_source o (Cli.load o.scene) in
   let time, frame = Cli.time_of o prog in
   let sc = Cli.scene_at o prog ~time ~frame in
   let cores = Domain.recommended_domain_count () in
@@ -288,7 +288,7 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
       Quality.all
 
 let quality_cmd (o : Cli.opts) json svg fresh =
-  let prog = Cli.load o.scene in
+  let prog = Cli.scene_source o (Cli.load o.scene) in
   let domains = Cli.domains o in
   let s =
     (Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0)
@@ -383,51 +383,14 @@ let quality_cmd (o : Cli.opts) json svg fresh =
 
 (* ---- physics ---- *)
 
-(* The drop of doc/numerics.md: a ball whose lowest point starts [drop_height] above the floor
-   y = 0, from rest, under g = 9.81 m/s². Written here in closed form, independently of
-   the engine it checks. *)
-let drop_height = 1.0
-let drop_radius = 0.1
-let drop_g = 9.81
-
-(* First impact time and speed. *)
-let drop_t1 = Float.sqrt (2. *. drop_height /. drop_g)
-let drop_v1 = drop_g *. drop_t1
-
-(* Time of the k-th impact (k ≥ 1), from the first one and a closed sum, never by
-   accumulating flight times. *)
-let impact_time e k =
-  let p = 2. *. drop_v1 /. drop_g in
-  if e = 1. then drop_t1 +. (Float.of_int (k - 1) *. p)
-  else if e = 0. then drop_t1
-  else drop_t1 +. (p *. e *. (1. -. (e ** Float.of_int (k - 1))) /. (1. -. e))
-
-(* The instant the infinitely many bounces of e < 1 end (Zeno). *)
-let zeno_time e = if e >= 1. then Float.infinity else drop_t1 *. (1. +. e) /. (1. -. e)
-
-(* Height of the apex after the k-th impact, and the gap under the ball at time t. *)
-let apex_height e k = drop_height *. (e ** (2. *. Float.of_int k))
-
-let drop_gap e t =
-  if t <= drop_t1 then drop_height -. (0.5 *. drop_g *. t *. t)
-  else if t >= zeno_time e then 0.
-  else
-    let k =
-      if e = 1. then
-        let k =
-          1 + int_of_float (Float.floor ((t -. drop_t1) /. (2. *. drop_v1 /. drop_g)))
-        in
-        (* guard the floor against rounding at the impact instants *)
-        if impact_time e k > t then k - 1
-        else if impact_time e (k + 1) <= t then k + 1
-        else k
-      else
-        let rec go k = if k < 2000 && impact_time e (k + 1) <= t then go (k + 1) else k in
-        go 1
-    in
-    let v = (e ** Float.of_int k) *. drop_v1 in
-    let u = t -. impact_time e k in
-    Float.max 0. ((v *. u) -. (0.5 *. drop_g *. u *. u))
+(* The drop of doc/numerics.md, in closed form (Drop), independently of the engine it
+   checks. *)
+let drop_height = Drop.height
+let drop_radius = Drop.radius
+let drop_g = Drop.g
+let drop_v1 = Drop.impact_speed
+let impact_time = Drop.impact_time
+let drop_gap = Drop.gap
 
 let method_name = function
   | Physics.Exact -> "exact"
@@ -556,7 +519,9 @@ let physics_row ~until ~sample_rate ~e meth step =
                    Float.abs (btimes.(i) -. impact_time e (i + 1))))));
     max_apex_err =
       (if apexes = [] then None
-       else Some (maxf (List.map (fun (k, a) -> Float.abs (a -. apex_height e k)) apexes)));
+       else
+         Some
+           (maxf (List.map (fun (k, a) -> Float.abs (a -. Drop.apex_height e k)) apexes)));
     first_apex = (match apexes with (_, a) :: _ -> Some a | [] -> None);
   }
 
@@ -951,7 +916,7 @@ let cmd =
             domain the minor words allocated per ray"
          ~man ~exits)
       Term.(
-        const (fun o c r j -> Cli.run (fun () -> domains_cmd o c r j))
+        const (fun o c r j -> Report.run (fun _ -> domains_cmd o c r j))
         $ Cli.(term Bench_domains)
         $ counts $ repeat $ json)
   in
@@ -990,7 +955,7 @@ let cmd =
       (Cmd.info "quality"
          ~doc:"time, rays and error against a reference for each quality knob" ~man ~exits)
       Term.(
-        const (fun o j s f -> Cli.run (fun () -> quality_cmd o j s f))
+        const (fun o j s f -> Report.run (fun _ -> quality_cmd o j s f))
         $ Cli.(term Bench_quality)
         $ json $ svg $ fresh)
   in
@@ -1040,7 +1005,7 @@ let cmd =
             answer"
          ~man ~exits)
       Term.(
-        const (fun r u s j -> Cli.run (fun () -> physics_cmd r u s j))
+        const (fun r u s j -> Report.run (fun _ -> physics_cmd r u s j))
         $ rates $ until $ sample_rate $ json)
   in
   let scaling =
@@ -1159,7 +1124,7 @@ let cmd =
             repeat
             json
           ->
-            Cli.run (fun () ->
+            Report.run (fun _ ->
                 scaling_cmd ~counts ~width ~height ~domains ~domain_counts ~sizes
                   ~base_count ~sweeps ~in_process ~row ~repeat ~json))
         $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps

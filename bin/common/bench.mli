@@ -25,15 +25,6 @@ val quality_cmd : Cli.opts -> bool -> string option -> bool -> unit
 val physics_cmd : float list -> float -> float -> bool -> unit
 (** [physics_cmd rates until sample_rate json]: fixed steps of 1/rate s. *)
 
-(** {2 The bouncing-ball closed form} (a 0.1 m ball whose lowest point starts 1 m above
-    the floor y = 0, at rest, g = 9.81 m/s²) *)
-
-val impact_time : float -> int -> float
-(** [impact_time e k]: time of the k-th impact (k ≥ 1), s. *)
-
-val drop_gap : float -> float -> float
-(** [drop_gap e t]: height of the ball's lowest point above the floor at time [t] s. *)
-
 val sphere_field : int -> Lancer.Primitive.t list * Lancer.Camera.t * Lancer.Light.t list
 (** [sphere_field n]: the scene of [scaling]: [n] random spheres from a fixed seed,
     uniform in a cube of side n^(1/3), radii in [0.1, 0.4], the camera outside the cube

@@ -1,11 +1,9 @@
 open Lancer
-module Dsl = Lancer_dsl.Dsl
+open Lancer_job
 
-exception User_error of string
-exception Scene_error of string
-exception Interrupted of string
+exception User_error = Job_error.User
 
-let user fmt = Printf.ksprintf (fun s -> raise (User_error s)) fmt
+let user = Job_error.user
 
 type opts = {
   scene : string option;
@@ -22,6 +20,15 @@ type opts = {
   quiet : bool;
   progress : bool;
 }
+
+let overrides (o : opts) : Overrides.t =
+  {
+    width = o.width;
+    height = o.height;
+    samples = o.samples;
+    depth = o.depth;
+    quality = o.quality;
+  }
 
 let default_opts () =
   {
@@ -43,7 +50,6 @@ let default_opts () =
 open Cmdliner
 
 let max_side = 65536
-let max_time = 1e9
 
 type command = Render | Animate | Golden | Bench_domains | Bench_quality
 
@@ -437,9 +443,6 @@ let domains o =
   | Some n -> n
   | None -> max 1 (Domain.recommended_domain_count ())
 
-let errors_to_string errs =
-  String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error.pp) errs)
-
 (* A scene named "-" is read from standard input, once however often it is asked for; its
    errors are located in "<stdin>" and its includes are found from the current
    directory. *)
@@ -462,7 +465,7 @@ let source o =
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
       Option.iter
         (fun m -> user "%s: cannot read the scene: %s" path m)
-        (Dsl.source_problem path);
+        (Lang.source_problem path);
       let text =
         try In_channel.with_open_bin path In_channel.input_all
         with Sys_error m -> user "%s" m
@@ -472,27 +475,26 @@ let source o =
 (* An exact simulation that gave up after Physics.max_events is worth a warning: the
    bodies move on without colliding after that. *)
 let warn_truncated prog =
-  if Dsl.bodies prog <> [] then
-    match Dsl.simulate prog ~until:0. with
-    | Ok tr when Physics.truncated tr ->
-        Printf.eprintf
-          "lancer: warning: the physics simulation stopped handling collisions after %d \
-           events (at %.6g s); bodies fly freely from there\n\
-           %!"
-          Physics.max_events
-          (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
-    | _ -> ()
+  Option.iter
+    (fun time ->
+      Printf.eprintf
+        "lancer: warning: the physics simulation stopped handling collisions after %d \
+         events (at %.6g s); bodies fly freely from there\n\
+         %!"
+        Physics.max_events time)
+    (Lang.truncated_physics prog)
 
 let load_source ?progress (filename, text) =
-  match Dsl.load_string ?progress ~filename text with
+  match Lang.load ?progress ~filename text with
   | Ok p ->
       warn_truncated p;
       p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
-      user "the built-in showcase does not load:\n%s" (errors_to_string errs)
-  | Error errs -> raise (Scene_error (errors_to_string errs))
+      user "the built-in showcase does not load:\n%s" (Report.errors_text errs)
+  | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
 let load ?progress scene = load_source ?progress (source { (default_opts ()) with scene })
+let scene_source (o : opts) prog = Lang.source ~builtin:(o.scene = None) prog
 
 let default_output o =
   match (o.output, o.scene) with
@@ -504,36 +506,7 @@ let default_output o =
          with -o FILE"
   | None, Some s -> Filename.remove_extension (Filename.basename s) ^ ".png"
 
-(* A directory the system will not let this process create files in (permissions, a
-   read-only file system, /proc): found by creating and removing an empty file there, as
-   the temporary file of the write will be, before any rendering. *)
-let probe_directory path =
-  let dir = Filename.dirname path in
-  let special =
-    match (Unix.stat path).st_kind with
-    | Unix.S_REG | Unix.S_DIR -> false
-    | _ -> true
-    | exception Unix.Unix_error _ -> false
-  in
-  if not special then
-    let probe =
-      Filename.concat dir
-        (Printf.sprintf ".lancer-probe-%d-%d" (Unix.getpid ()) (Random.bits ()))
-    in
-    match
-      Unix.openfile probe
-        [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_EXCL; Unix.O_CLOEXEC ]
-        0o600
-    with
-    | fd -> (
-        Unix.close fd;
-        try Unix.unlink probe with Unix.Unix_error _ -> ())
-    | exception Unix.Unix_error (e, _, _) ->
-        user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
-
-let check_writable path =
-  (match Image.check_writable path with Ok () -> () | Error m -> raise (User_error m));
-  probe_directory path
+let check_writable = Files.check_writable
 
 let check_output ?format path =
   ignore (format_of ?format path);
@@ -546,80 +519,8 @@ let check_output ?format path =
 
 (* ---- What a run reads and what it writes ---- *)
 
-(* Where a path leads, for comparing two names of one file: the file itself resolved when
-   it exists, else its directory, so that ./a.png, a.png and a path through a symbolic
-   link agree. *)
-let where p =
-  match Unix.realpath p with
-  | r -> r
-  | exception Unix.Unix_error _ -> (
-      match Unix.realpath (Filename.dirname p) with
-      | d -> Filename.concat d (Filename.basename p)
-      | exception Unix.Unix_error _ -> p)
-
-type identity = { path : string; resolved : string; inode : (int * int) option }
-
-let identity path =
-  {
-    path;
-    resolved = where path;
-    inode =
-      (match Unix.stat path with
-      | st -> Some (st.st_dev, st.st_ino)
-      | exception Unix.Unix_error _ -> None);
-  }
-
-(* Also two hard links to one file. *)
-let same a b =
-  a.resolved = b.resolved
-  || match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false
-
-let reads (o : opts) prog =
-  let main = Dsl.file prog in
-  List.filter_map
-    (fun p ->
-      if String.equal p main then if o.scene = None then None else Some (p, "the scene")
-      else
-        match String.lowercase_ascii (Filename.extension p) with
-        | ".rts" -> Some (p, "a file the scene includes")
-        | ".obj" -> Some (p, "a mesh the scene uses")
-        | _ -> Some (p, "an image the scene uses"))
-    (Dsl.inputs prog)
-
-let guard_writes ?(distinct = true) ~reads writes =
-  let reads = List.map (fun (p, what) -> (identity p, what)) reads in
-  let writes = List.map (fun (p, what) -> (identity p, what)) writes in
-  List.iter
-    (fun (w, what) ->
-      check_writable w.path;
-      List.iter
-        (fun (r, rwhat) ->
-          if same w r then
-            if r.path = w.path then
-              user
-                "refusing to write %s to %s: that file is %s, read by this run; choose \
-                 another name"
-                what w.path rwhat
-            else
-              user
-                "refusing to write %s to %s: that file is %s (%s), read by this run; \
-                 choose another name"
-                what w.path r.path rwhat)
-        reads)
-    writes;
-  if distinct then
-    let rec pairs = function
-      | [] -> ()
-      | (a, wa) :: rest ->
-          List.iter
-            (fun (b, wb) ->
-              if same a b then
-                user "%s and %s would be the same file, %s: give each its own name" wa wb
-                  a.path)
-            rest;
-          pairs rest
-    in
-    pairs writes
+let reads = Source.reads
+let guard_writes = Files.guard_writes
 
 (* --stats takes a value: [lancer render --stats scene.rts] means the scene was taken as
    its value. A statistics file is JSON; lancer's own kinds of files are refused. *)
@@ -643,15 +544,13 @@ let check_stats_name = function
 
 (* The records an animation keeps in its frames directory (Frameset's names): no other
    output may replace them. *)
-let frames_view_name = "lancer-frames.json"
-let frames_journal_dir = "lancer-frames.d"
 
 let refuse_frames_records paths =
   List.iter
     (fun (p, what) ->
       if
-        String.equal (Filename.basename p) frames_view_name
-        || String.equal (Filename.basename (Filename.dirname p)) frames_journal_dir
+        String.equal (Filename.basename p) Frameset.view_name
+        || String.equal (Filename.basename (Filename.dirname p)) Frameset.journal_dir
       then
         user
           "%s %s would replace a record of an animation's frames directory: write it \
@@ -659,78 +558,32 @@ let refuse_frames_records paths =
           what p)
     paths
 
-let guard_render (o : opts) prog ~out =
+let guard_render (o : opts) src ~out =
   if is_stdout out && o.stats = Some "-" then
     user "--stats - and -o - would both write to standard output: give --stats a file";
   refuse_frames_records
     ((if is_stdout out then [] else [ (out, "-o") ])
     @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
-  guard_writes ~reads:(reads o prog)
+  guard_writes ~reads:(reads src)
     ((if is_stdout out then [] else [ (out, "the image") ])
     @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
-let time_of o prog =
-  match (o.time, o.frame) with
-  | Some _, Some _ -> user "give either --time or --frame, not both"
-  | Some t, None ->
-      if not (Float.is_finite t) then user "--time must be a finite number";
-      (* Beyond this the frame number (time × fps, fps ≤ 1000) would not fit an integer. *)
-      if Float.abs t > max_time then user "--time must be within ±1e9 seconds (got %g)" t;
-      let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
-      (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
-  | None, Some k -> (
-      if k < 0 then user "--frame must be at least 0 (got %d)" k;
-      match Dsl.animation prog with
-      | None ->
-          user
-            "--frame %d: the scene has no animation block, so it has no frames (use \
-             --time to set the time)"
-            k
-      | Some (_, count) when k >= count ->
-          user "--frame %d: the animation has frames 0..%d" k (count - 1)
-      | Some (fps, _) -> (Float.of_int k /. fps, k))
-  | None, None -> (0., 0)
+let time_of (o : opts) src = Source.time_of src ~time:o.time ~frame:o.frame
 
-let scene_with_files ?progress ?cancel o prog ~time ~frame =
-  let sc, files =
-    match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with
-    | Ok r -> r
-    | Error errs -> raise (Scene_error (errors_to_string errs))
+let scene_with_files ?progress ?cancel o src ~time ~frame =
+  Source.scene ?progress ?cancel src (overrides o) ~time ~frame
+
+let scene_at ?progress ?cancel o src ~time ~frame =
+  fst (scene_with_files ?progress ?cancel o src ~time ~frame)
+
+let checkpoint o src ~out ~time ~frame ~files sc =
+  let ck =
+    Checkpoint.start ~out ~key:(Checkpoint.key src (overrides o) ~time ~frame ~files) sc
   in
-  let ok = function Ok s -> s | Error m -> user "%s" m in
-  let sc = match o.quality with None -> sc | Some q -> ok (Quality.apply q sc) in
-  (* Named by the option the user typed; Settings.validate holds the same bound. *)
-  Option.iter
-    (fun d ->
-      if d > Settings.max_depth then
-        user "--depth must be at most %d (got %d)" Settings.max_depth d)
-    o.depth;
-  let s = sc.settings in
-  let pick v d = Option.value v ~default:d in
-  let settings =
-    {
-      s with
-      width = pick o.width s.width;
-      height = pick o.height s.height;
-      samples = pick o.samples s.samples;
-      depth = pick o.depth s.depth;
-    }
-  in
-  ((if settings = s then sc else ok (Scene.with_settings sc settings)), files)
-
-let scene_at ?progress ?cancel o prog ~time ~frame =
-  fst (scene_with_files ?progress ?cancel o prog ~time ~frame)
-
-(* A write is not cut short by an interrupt: an exception raised half-way through the
-   encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt
-   is answered once the file is whole. *)
-let guarded_write ?cancel path write =
-  match cancel with
-  | None -> write ()
-  | Some c ->
-      Cancel.check c;
-      Cancel.deferring c write;
-      if Cancel.cancelled c then raise (Interrupted (path ^ " was written in full first"))
+  if Checkpoint.resumed ck > 0 && not o.quiet then
+    Printf.printf "resuming: %d of %d tiles already rendered\n%!" (Checkpoint.resumed ck)
+      (Checkpoint.tiles ck);
+  ck
 
 (* Standard output carries the image's bytes and nothing else; a reader that goes away
    (a closed pipe) is an error to report, not a signal that kills. *)
@@ -747,17 +600,11 @@ let write_stdout fmt raster =
 let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
   let crop = if encoding.crop then encoding.region else None in
   if is_stdout path then
-    guarded_write ?cancel "the image on standard output" (fun () ->
+    Files.uninterrupted ?cancel "the image on standard output" (fun () ->
         write_stdout
           (format_of ?format:encoding.format path)
           (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
-  else
-    guarded_write ?cancel path (fun () ->
-        match
-          Image.save ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop path fb
-        with
-        | Ok () -> ()
-        | Error m -> raise (User_error m))
+  else Files.write_image ?cancel ~bits:encoding.bits ?alpha ?crop path sc fb
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with
@@ -820,15 +667,7 @@ let stats_json o (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t) =
           ] );
     ]
 
-let write_json ?cancel path j =
-  guarded_write ?cancel path (fun () ->
-      match
-        Image.write_atomic path (fun oc ->
-            Yojson.Safe.pretty_to_channel oc j;
-            output_char oc '\n')
-      with
-      | Ok () -> ()
-      | Error m -> raise (User_error m))
+let write_json = Files.write_json
 
 let warn_bad_samples (st : Stats.t) =
   if st.bad_samples > 0 then
@@ -840,81 +679,6 @@ let warn_bad_samples (st : Stats.t) =
            %!"
           st.bad_samples i j
     | None -> ()
-
-(* The signal that stopped the run, so that the message can say where it came from. *)
-let stop_signal = Atomic.make 0
-
-let install_interrupt_handler () =
-  let token = Cancel.create () in
-  (* Inside a pool or a write the work stops at its next poll of the token, in lancer's
-     own code; elsewhere (loading, evaluating) at once. *)
-  let h =
-    Sys.Signal_handle
-      (fun signal ->
-        Atomic.set stop_signal signal;
-        Cancel.signal token)
-  in
-  Sys.set_signal Sys.sigint h;
-  Sys.set_signal Sys.sigterm h;
-  (* Past a file-size limit (ulimit -f) the default action of SIGXFSZ kills the process
-     and leaves the temporary file behind; ignored, the write fails with EFBIG and the
-     atomic write cleans up and reports it. *)
-  Sys.set_signal Sys.sigxfsz Sys.Signal_ignore;
-  token
-
-(* Standard output that cannot take what was printed (a full disk, /dev/full): said once,
-   and fd 1 is pointed at /dev/null so that the flush at exit does not fail again. *)
-let stdout_failed m =
-  prerr_endline ("lancer: cannot write to standard output: " ^ m);
-  (try
-     let null = Unix.openfile "/dev/null" [ Unix.O_WRONLY ] 0 in
-     Unix.dup2 null Unix.stdout;
-     Unix.close null
-   with Unix.Unix_error _ -> ());
-  1
-
-let run ?(interrupted = "no output was written") ?terminated f =
-  let interrupted () =
-    match terminated with
-    | Some m when Atomic.get stop_signal = Sys.sigterm -> m
-    | _ -> "interrupted; " ^ interrupted
-  in
-  let outcome =
-    match f () with
-    | () -> 0
-    | exception User_error m ->
-        prerr_endline ("lancer: " ^ m);
-        1
-    | exception Scene_error m ->
-        prerr_string m;
-        flush stderr;
-        1
-    | exception (Sys.Break | Fun.Finally_raised Sys.Break) ->
-        prerr_endline ("\nlancer: " ^ interrupted ());
-        130
-    | exception Interrupted what ->
-        prerr_endline ("\nlancer: interrupted; " ^ what);
-        130
-    | exception Out_of_memory ->
-        prerr_endline "lancer: out of memory (try a smaller image or fewer objects)";
-        1
-    | exception Sys_error m -> (
-        (* What the system refused: a file, or standard output. *)
-        match flush stdout with
-        | () ->
-            prerr_endline ("lancer: " ^ m);
-            1
-        | exception Sys_error m -> stdout_failed m)
-    | exception e ->
-        Printf.eprintf
-          "lancer: internal error: %s\n\
-           This is a bug in lancer; please report it with the scene and the command.\n"
-          (Printexc.to_string e);
-        2
-  in
-  match flush stdout with
-  | () -> outcome
-  | exception Sys_error m -> if outcome = 0 then stdout_failed m else outcome
 
 (* Cmdliner reads "-5" as an option, so "--time -5" fails: find such a value and say how
    to write it. *)

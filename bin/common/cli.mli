@@ -1,13 +1,11 @@
 (** What [lancer] and [lancer-mpi] share: the command-line options, loading a scene (or
-    the embedded showcase), applying overrides, writing images and statistics, and the
-    exit-code discipline (0 success, 1 user error, 2 internal error). *)
+    the embedded showcase) and handing it to the job layer ({!Lancer_job}), checking the
+    outputs, writing images and statistics, and the lines they print. Errors are reported
+    by {!Report}. *)
 
 exception User_error of string
-(** A mistake the user can fix (options, files): one clear message, exit 1. *)
-
-exception Scene_error of string
-(** The located errors of a scene, already formatted ([file:line:col: message], the line,
-    a caret): printed as they are, exit 1. *)
+(** {!Lancer_job.Job_error.User}: a mistake the user can fix (options, files); one clear
+    message, exit 1. *)
 
 val user : ('a, unit, string, 'b) format4 -> 'a
 (** [user fmt …] raises [User_error] with the formatted message. *)
@@ -31,8 +29,8 @@ type opts = {
 val default_opts : unit -> opts
 (** Every option unset. *)
 
-val errors_to_string : Lancer_dsl.Error.t list -> string
-(** Each error printed with {!Lancer_dsl.Error.pp}, one after the other. *)
+val overrides : opts -> Lancer_job.Overrides.t
+(** The options that change pixels: size, samples, depth, quality. *)
 
 type command =
   | Render
@@ -65,9 +63,6 @@ val max_side : int
 (** 65536: the largest [--width] or [--height], as in the language; refused as the option
     is read. *)
 
-val max_time : float
-(** 1e9 s: the largest [--time] in magnitude (the frame number must fit an integer). *)
-
 val max_domains : int
 (** 128: the most domains [--domains] may ask for (the OCaml runtime's own limit). *)
 
@@ -80,49 +75,40 @@ val source : opts -> string * string
     ["<stdin>"], read once, its includes found from the current directory), or the
     embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
-val load_source : ?progress:(string -> unit) -> string * string -> Lancer_dsl.Dsl.t
-(** Parse and check a scene's text; raises [User_error] with every located error printed.
-    Includes are found relative to the file name. *)
+val load_source : ?progress:(string -> unit) -> string * string -> Lang.program
+(** Parse and check a scene's text; raises {!Lancer_job.Job_error.Scene} with every
+    located error. Includes are found relative to the file name. *)
 
-val load : ?progress:(string -> unit) -> string option -> Lancer_dsl.Dsl.t
+val load : ?progress:(string -> unit) -> string option -> Lang.program
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)
+
+val scene_source : opts -> Lang.program -> Lancer_job.Source.t
+(** The program as the job layer takes it ({!Lang.source}); built in without a scene. *)
 
 val default_output : opts -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
     scene); a scene read from standard input needs [-o] (raises [User_error]). *)
 
 val check_writable : string -> unit
-(** Refuse, before any work, a file path in a missing directory, that is a directory, or
-    that is a read-only file, or in a directory where this process cannot create a file
-    (tried with an empty file, removed at once); raises [User_error]. *)
+(** {!Lancer_job.Files.check_writable}. *)
 
 val check_output : ?format:Lancer.Image.format -> string -> unit
 (** Refuse, before any rendering, an output with an unknown extension (or one that
     [format] contradicts), in a missing directory, that is a directory or read-only, and
     [-] when standard output is a terminal; raises [User_error]. *)
 
-val reads : opts -> Lancer_dsl.Dsl.t -> (string * string) list
-(** The files a run of this program reads, as (path, what it is): the scene file (not for
-    the built-in showcase), its includes, images and meshes loaded so far. *)
+val reads : Lancer_job.Source.t -> (string * string) list
+(** {!Lancer_job.Source.reads}: the files a run of this scene reads. *)
 
 val guard_writes :
   ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
-(** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
-    that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
-    link, a hard link, ./a.png for a.png), or, with [distinct] (default), that is the same
-    file as another write. Raises [User_error] naming both. *)
+(** {!Lancer_job.Files.guard_writes}. *)
 
 val check_stats_name : string option -> unit
 (** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png], …):
     the sign that the option took the scene as its value. *)
 
-val frames_view_name : string
-(** ["lancer-frames.json"]: the merged record of a frames directory. *)
-
-val frames_journal_dir : string
-(** ["lancer-frames.d"]: the folder of a frames directory's journals and scene record. *)
-
-val guard_render : opts -> Lancer_dsl.Dsl.t -> out:string -> unit
+val guard_render : opts -> Lancer_job.Source.t -> out:string -> unit
 (** {!guard_writes} for a still: the image and the statistics against the scene's files.
 *)
 
@@ -130,26 +116,38 @@ val scene_at :
   ?progress:(string -> unit) ->
   ?cancel:Lancer.Cancel.t ->
   opts ->
-  Lancer_dsl.Dsl.t ->
+  Lancer_job.Source.t ->
   time:float ->
   frame:int ->
   Lancer.Scene.t
-(** Evaluate at a time and apply the command-line overrides; [progress] and [cancel] as
-    for {!Lancer_dsl.Dsl.scene_at}. *)
+(** The scene at a time with the command-line overrides ({!Lancer_job.Source.scene});
+    [progress] and [cancel] as for the language's evaluation. *)
 
 val scene_with_files :
   ?progress:(string -> unit) ->
   ?cancel:Lancer.Cancel.t ->
   opts ->
-  Lancer_dsl.Dsl.t ->
+  Lancer_job.Source.t ->
   time:float ->
   frame:int ->
   Lancer.Scene.t * (string * string) list
-(** [scene_at], and the image and mesh files it read with their digests
-    ({!Lancer_dsl.Dsl.scene_with_files}). *)
+(** [scene_at], and the image and mesh files it read with their digests. *)
 
-val time_of : opts -> Lancer_dsl.Dsl.t -> float * int
-(** The (time, frame) chosen by [--time] / [--frame] (default 0, 0). *)
+val checkpoint :
+  opts ->
+  Lancer_job.Source.t ->
+  out:string ->
+  time:float ->
+  frame:int ->
+  files:(string * string) list ->
+  Lancer.Scene.t ->
+  Lancer_job.Checkpoint.t
+(** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
+    saying how many tiles it brings back (unless [--quiet]). *)
+
+val time_of : opts -> Lancer_job.Source.t -> float * int
+(** The (time, frame) chosen by [--time] / [--frame] (default 0, 0):
+    {!Lancer_job.Source.time_of}. *)
 
 type encoding = {
   bits : int;  (** 8 or 16 bits per channel *)
@@ -186,9 +184,8 @@ val write_image :
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for
     [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    [User_error]. With [cancel] an interrupt during the write does not cut it short: the
-    file is finished, then [Interrupted] is raised; a token already cancelled raises
-    [Sys.Break] and writes nothing. *)
+    [User_error]. With [cancel] an interrupt during the write does not cut it short
+    ({!Lancer_job.Files.uninterrupted}). *)
 
 val build : opts -> ((string -> unit) -> 'a) -> 'a * float
 (** [build o f] runs [f say], the building of a scene (loading, evaluation, acceleration
@@ -238,32 +235,13 @@ val stats_json :
     counts, rays per second of the render, peak memory, features and options. *)
 
 val write_json : ?cancel:Lancer.Cancel.t -> string -> Yojson.Safe.t -> unit
-(** Write a JSON file atomically; raises [User_error]; [cancel] as for {!write_image}. *)
+(** {!Lancer_job.Files.write_json}. *)
 
 val peak_memory_kib : unit -> int option
 (** The process's peak resident set (VmHWM), where /proc exists. *)
 
 val warn_bad_samples : Lancer.Stats.t -> unit
 (** A warning on stderr when some samples were NaN or infinite. *)
-
-exception Interrupted of string
-(** An interrupt that came once the output was complete: [Interrupted what] exits 130
-    saying [what] was done. *)
-
-val run : ?interrupted:string -> ?terminated:string -> (unit -> unit) -> int
-(** [run f] runs a command body and turns its outcome into an exit status: 0; 1 with
-    "lancer: message" for [User_error], or the located errors for [Scene_error]; 130 on
-    Ctrl-C, saying [interrupted] (default "no output was written"), or [terminated]
-    instead when the stop came from SIGTERM and it is given; 2 with "internal error …
-    please report" for anything unexpected. A file or standard output that the system
-    refuses ([Sys_error]: a full disk, [>/dev/full]) is a user error, 1, with the system's
-    reason. No backtrace reaches the user. *)
-
-val install_interrupt_handler : unit -> Lancer.Cancel.t
-(** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work that
-    polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is raised at
-    once, so that loading and evaluation stop too. Pass the token to the render, the pool
-    and the writes. *)
 
 val negative_value_hint : string array -> string option
 (** For a command line such as [--time -5], which the parser refuses ([-5] reads as an

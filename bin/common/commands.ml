@@ -1,34 +1,34 @@
 (* The lancer command line: argument parsing and one library call per command. *)
 open Lancer
+open Lancer_job
 open Cmdliner
-module Dsl = Lancer_dsl.Dsl
 
 let resumed_interrupt =
   "the finished tiles are kept in the checkpoint; run again with --resume to continue"
 
-let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
-  let cancel = Cli.install_interrupt_handler () in
+let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
+  let cancel = Report.on_interrupt stop in
   let out = Cli.default_output o in
   Cli.check_output ?format:enc.format out;
   Cli.check_stats_name o.stats;
   Option.iter Cli.check_writable o.stats;
   let domains = Cli.domains o in
-  let (sc, files, prog, time, frame), build =
+  let (sc, files, src, time, frame), build =
     Cli.build o (fun say ->
         say
           (Printf.sprintf "reading and checking %s"
              (Option.value o.scene ~default:"the showcase"));
-        let prog = Cli.load ~progress:say o.scene in
-        let time, frame = Cli.time_of o prog in
+        let src = Cli.scene_source o (Cli.load ~progress:say o.scene) in
+        let time, frame = Cli.time_of o src in
         say "evaluating the scene and building its acceleration structure";
-        let sc, files = Cli.scene_with_files ~progress:say o prog ~time ~frame in
+        let sc, files = Cli.scene_with_files ~progress:say o src ~time ~frame in
         (* Evaluating a large scene leaves garbage (the evaluator's values): give it back
            before the framebuffer is allocated, so that peak memory is the scene plus the
            image. *)
         Gc.compact ();
-        (sc, files, prog, time, frame))
+        (sc, files, src, time, frame))
   in
-  Cli.guard_render o prog ~out;
+  Cli.guard_render o src ~out;
   Cli.warn_long_render o sc;
   Cli.check_encoding enc ~out sc;
   if resume && Cli.is_stdout out then
@@ -48,37 +48,18 @@ let render_cmd (o : Cli.opts) ~resume (enc : Cli.encoding) =
     else None
   in
   let t0 = Unix.gettimeofday () in
-  let fb, st, finish =
-    if resume then (
-      (* Finished tiles go to a checkpoint beside the output, and come back from it. *)
-      let ck =
-        Checkpoint.start ~out
-          ~key:(Checkpoint.key o prog ~time ~frame ~files)
-          ~quiet:o.quiet sc
-      in
-      (try
-         Render.with_pool ~cancel domains (fun pool ->
-             Checkpoint.render ~cancel ?pool
-               ~on_tile:(fun d rays -> Progress.update ~rays progress d)
-               ck sc)
-       with Sys.Break ->
-         (try Checkpoint.save ck
-          with Cli.User_error m -> prerr_endline ("\nlancer: " ^ m));
-         raise Sys.Break);
-      (Checkpoint.framebuffer ck, Checkpoint.stats ck, fun () -> Checkpoint.remove ck))
-    else
-      let fb, st =
-        Render.with_pool ~cancel domains (fun pool ->
-            Render.render ~cancel ?pool
-              ~on_tile:(fun d _ rays -> Progress.update ~rays progress d)
-              ?region ?alpha sc)
-      in
-      (fb, st, ignore)
+  let checkpoint =
+    if resume then Some (Cli.checkpoint o src ~out ~time ~frame ~files sc) else None
+  in
+  let fb, st =
+    Still.render ~cancel ?checkpoint ?region ?alpha ~domains
+      ~on_tile:(fun d rays -> Progress.update ~rays progress d)
+      sc
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
   Cli.write_image ~cancel ~encoding:enc ?alpha out sc fb;
-  finish ();
+  Option.iter Checkpoint.remove checkpoint;
   Cli.warn_bad_samples st;
   Option.iter
     (fun p ->
@@ -118,7 +99,7 @@ let runs ks =
    frame 0 only). *)
 let check_frames prog spec =
   let fps, count =
-    match Dsl.animation prog with Some (fps, n) -> (fps, n) | None -> (24., 1)
+    match Lang.animation prog with Some (fps, n) -> (fps, n) | None -> (24., 1)
   in
   let first, last =
     if String.equal spec "all" then (0, count - 1)
@@ -130,24 +111,24 @@ let check_frames prog spec =
   if first < 0 || first > last then
     Cli.user "--frames %s: the first frame must be at least 0 and at most the last" spec;
   if last >= count then
-    if Dsl.animation prog = None then
+    if Lang.animation prog = None then
       Cli.user "--frames %s: the scene is a still (frame 0 only)" spec
     else Cli.user "--frames %s: the animation has frames 0..%d" spec (count - 1);
   (fps, first, last)
 
-let check_cmd scene json time frames =
-  ignore (Cli.install_interrupt_handler ());
+let check_cmd stop scene json time frames =
+  ignore (Report.on_interrupt stop);
   let o = { (Cli.default_opts ()) with scene = Some scene; time } in
   let prog = Cli.load o.scene in
   match frames with
   | None -> (
-      let time, frame = Cli.time_of o prog in
-      match Dsl.scene_at prog ~time ~frame with
-      | Error errs -> raise (Cli.Scene_error (Cli.errors_to_string errs))
+      let time, frame = Cli.time_of o (Cli.scene_source o prog) in
+      match Lang.scene_at prog ~time ~frame with
+      | Error errors -> raise (Job_error.Scene { errors; note = "" })
       | Ok sc ->
-          if json then print_endline (Yojson.Safe.pretty_to_string (Dsl.to_json prog sc))
+          if json then print_endline (Yojson.Safe.pretty_to_string (Lang.to_json prog sc))
           else (
-            print_string (Dsl.summary prog sc);
+            print_string (Lang.summary prog sc);
             print_string (Cli.cost_report sc)))
   | Some _ when time <> None -> Cli.user "give either --time or --frames, not both"
   | Some _ when json ->
@@ -158,7 +139,7 @@ let check_cmd scene json time frames =
          others that fail are listed. *)
       let first_scene = ref None and failed = ref [] and first_errors = ref [] in
       for k = first to last do
-        match Dsl.scene_at prog ~time:(Float.of_int k /. fps) ~frame:k with
+        match Lang.scene_at prog ~time:(Float.of_int k /. fps) ~frame:k with
         | Ok sc -> if Option.is_none !first_scene then first_scene := Some sc
         | Error errs ->
             if !failed = [] then first_errors := errs;
@@ -169,12 +150,15 @@ let check_cmd scene json time frames =
       | [] -> ()
       | ks ->
           raise
-            (Cli.Scene_error
-               (Cli.errors_to_string !first_errors
-               ^ Printf.sprintf "lancer: %d of the %d frames checked (%d..%d) fail: %s\n"
-                   (List.length ks) n first last (runs ks))));
+            (Job_error.Scene
+               {
+                 errors = !first_errors;
+                 note =
+                   Printf.sprintf "%d of the %d frames checked (%d..%d) fail: %s"
+                     (List.length ks) n first last (runs ks);
+               }));
       (match !first_scene with
-      | Some sc -> print_string (Dsl.summary prog sc)
+      | Some sc -> print_string (Lang.summary prog sc)
       | None -> ());
       Printf.printf "frames checked: %d..%d (%d frame%s), every one evaluates\n" first
         last n
@@ -224,12 +208,12 @@ let diff_cmd a b out tolerance share =
       if not (Compare.within ~max_diff:tolerance ~max_share:share c) then exit 1
 
 (* Render a scene and hold it against a golden PNG, as lancer-alcotest does in a test. *)
-let golden_cmd (o : Cli.opts) golden tolerance share update =
-  let cancel = Cli.install_interrupt_handler () in
+let golden_cmd stop (o : Cli.opts) golden tolerance share update =
+  let cancel = Report.on_interrupt stop in
   check_tolerance tolerance share;
-  let prog = Cli.load o.scene in
-  let time, frame = Cli.time_of o prog in
-  let sc = Cli.scene_at o prog ~time ~frame in
+  let src = Cli.scene_source o (Cli.load o.scene) in
+  let time, frame = Cli.time_of o src in
+  let sc = Cli.scene_at o src ~time ~frame in
   (* A golden of another size can never match: say so before rendering, and how to fix it. *)
   (if (not update) && Sys.file_exists golden then
      match Image.read_rgb8 golden with
@@ -242,8 +226,7 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
   let sibling suffix = Filename.remove_extension golden ^ suffix in
   Cli.guard_writes
     ~reads:
-      (if update then Cli.reads o prog
-       else (golden, "the golden image") :: Cli.reads o prog)
+      (if update then Cli.reads src else (golden, "the golden image") :: Cli.reads src)
     (if update then [ (golden, "the golden image") ]
      else
        [
@@ -278,7 +261,7 @@ let golden_cmd (o : Cli.opts) golden tolerance share update =
       exit 1
 
 let exits = Cli.exits
-let wrap f = Cli.run f
+let wrap f = Report.run f
 
 let render =
   let doc = "render a scene to a PNG or PPM image" in
@@ -302,9 +285,9 @@ let render =
     (Cmd.info "render" ~doc ~man ~exits)
     Term.(
       const (fun o resume e ->
-          Cli.run
+          Report.run
             ?interrupted:(if resume then Some resumed_interrupt else None)
-            (fun () -> render_cmd o ~resume e))
+            (fun stop -> render_cmd stop o ~resume e))
       $ Cli.opts_term $ Cli.resume_still $ Cli.encoding_term)
 
 let animate =
@@ -328,7 +311,7 @@ let animate =
     (Cmd.info "animate" ~doc ~man ~exits)
     Term.(
       const (fun o a ->
-          Cli.run ~interrupted:Animate.interrupted (fun () -> Animate.run o a))
+          Report.run ~interrupted:Animate.interrupted (fun stop -> Animate.run stop o a))
       $ Cli.(term Animate)
       $ Animate.options_term)
 
@@ -374,7 +357,7 @@ let check =
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits)
     Term.(
-      const (fun s j t f -> wrap (fun () -> check_cmd s j t f))
+      const (fun s j t f -> wrap (fun stop -> check_cmd stop s j t f))
       $ scene $ json $ time $ frames)
 
 let diff =
@@ -408,7 +391,7 @@ let diff =
   Cmd.v
     (Cmd.info "diff" ~doc ~man ~exits)
     Term.(
-      const (fun a b o t s -> wrap (fun () -> diff_cmd a b o t s))
+      const (fun a b o t s -> wrap (fun _ -> diff_cmd a b o t s))
       $ a $ b $ out $ tol $ share)
 
 let golden =
@@ -450,7 +433,7 @@ let golden =
   in
   let term =
     Term.(
-      const (fun (o : Cli.opts) g t sh u -> wrap (fun () -> golden_cmd o g t sh u))
+      const (fun (o : Cli.opts) g t sh u -> wrap (fun stop -> golden_cmd stop o g t sh u))
       $ Cli.(term Golden)
       $ golden $ tol $ share $ update)
   in
@@ -477,7 +460,5 @@ let main () =
       (Cmd.group info [ render; animate; check; diff; golden; Watch.cmd; Bench.cmd ])
   in
   if code = Cmd.Exit.cli_error then
-    Option.iter
-      (fun h -> prerr_endline ("lancer: " ^ h))
-      (Cli.negative_value_hint Sys.argv);
+    Option.iter (Report.say ~program:"lancer") (Cli.negative_value_hint Sys.argv);
   exit (Cli.status_of_eval code)

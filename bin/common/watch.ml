@@ -7,7 +7,7 @@
    a pipe. *)
 
 open Lancer
-module Dsl = Lancer_dsl.Dsl
+module Job_error = Lancer_job.Job_error
 
 exception Cancelled
 
@@ -113,14 +113,13 @@ let quality_name = function Some q -> Quality.to_string q | None -> "scene"
    they name (to be watched too). *)
 let load path =
   match Cli.source { (Cli.default_opts ()) with scene = Some path } with
-  | exception Cli.User_error m -> Error ("lancer: " ^ m ^ "\n", [])
+  | exception (Cli.User_error _ as e) -> Error (fst (Report.describe e), [])
   | filename, text -> (
-      match Dsl.load_string ~filename text with
+      match Lang.load ~filename text with
       | Ok p -> Ok p
       | Error errs ->
-          Error
-            ( Cli.errors_to_string errs,
-              List.map (fun (e : Lancer_dsl.Error.t) -> e.file) errs ))
+          Error (Report.errors_text errs, List.map (fun (e : Diagnostic.t) -> e.file) errs)
+      )
 
 type version = {
   gen : int;
@@ -150,7 +149,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
         match load path with
         | Ok p ->
             prog := Some p;
-            with_lock sh (fun () -> sh.inputs <- Dsl.inputs p);
+            with_lock sh (fun () -> sh.inputs <- Lang.inputs p);
             wake sh;
             Ok p
         | Error (text, files) ->
@@ -162,7 +161,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
   | Error (text, files) -> failed text files
   | Ok p -> (
       let fps, frames =
-        match Dsl.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1)
+        match Lang.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1)
       in
       let frame = max 0 (min (frames - 1) v.params.frame) in
       let time = Float.of_int frame /. fps in
@@ -171,15 +170,17 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
         match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview
       in
       let evaluated =
+        let src = Cli.scene_source o p in
         try
-          let sc = Cli.scene_at o p ~time ~frame in
+          let sc = Cli.scene_at o src ~time ~frame in
           let coarse =
-            Cli.scene_at { o with quality = Some coarse_q; samples = None } p ~time ~frame
+            Cli.scene_at
+              { o with quality = Some coarse_q; samples = None }
+              src ~time ~frame
           in
           Ok (sc, coarse)
-        with
-        | Cli.Scene_error m -> Error m
-        | Cli.User_error m -> Error ("lancer: " ^ m ^ "\n")
+        with (Cli.User_error _ | Job_error.Scene _) as e ->
+          Error (fst (Report.describe e))
       in
       match evaluated with
       | Error text -> failed text []
@@ -193,11 +194,11 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                  ("quality", `String (quality_name o.quality));
                  ("frame", `Int frame);
                  ( "animation",
-                   match Dsl.animation p with
+                   match Lang.animation p with
                    | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]
                    | None -> `Null );
                ]);
-          let summary = try Dsl.summary p sc with _ -> "" in
+          let summary = try Lang.summary p sc with _ -> "" in
           let base = Filename.remove_extension (Filename.basename path) in
           let name =
             if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png"
@@ -317,23 +318,8 @@ let renderer sh (o : Cli.opts) domains tmp () =
         in
         (try render_version sh o pool tmp prog seq v with
         | Cancelled -> ()
-        | Out_of_memory ->
-            publish sh "failure"
-              (`Assoc
-                 [
-                   ( "text",
-                     `String
-                       "lancer: out of memory (try a smaller image or fewer objects)\n" );
-                 ])
         | e ->
-            publish sh "failure"
-              (`Assoc
-                 [
-                   ( "text",
-                     `String
-                       (Printf.sprintf "lancer: internal error: %s (please report it)\n"
-                          (Printexc.to_string e)) );
-                 ]));
+            publish sh "failure" (`Assoc [ ("text", `String (fst (Report.describe e))) ]));
         loop ()
       in
       loop ())
@@ -435,8 +421,8 @@ module Server = Cohttp_lwt_unix.Server
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
 let max_streams = 32
 
-let run (o : Cli.opts) ~host ~port ~poll =
-  ignore (Cli.install_interrupt_handler ());
+let run stop (o : Cli.opts) ~host ~port ~poll =
+  ignore (Report.on_interrupt stop);
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let path =
@@ -761,8 +747,8 @@ let cmd =
               quiet;
             }
           in
-          Cli.run ~interrupted:"the preview server stopped" (fun () ->
-              run o ~host ~port ~poll))
+          Report.run ~interrupted:"the preview server stopped" (fun stop ->
+              run stop o ~host ~port ~poll))
       $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality
       $ quiet)
   in

@@ -12,17 +12,15 @@
    Rank 0 renders units as well, on a domain of its own (see [local] below). *)
 
 open Lancer
+open Lancer_job
+open Work
 
-type work_unit = { key : int; tiles : int array }
 type request = Ready of int | Done of work_unit * Stats.t * float | Failed of string
 type reply = Work of work_unit | Stop
 
 let tag_request = 1
 let tag_pixels = 2
 let tag_reply = 3
-
-let render_unit ?cancel ?(on_tile = fun () -> ()) ~pool sc fb idxs =
-  Render.render_tiles ?cancel ?pool ~on_tile:(fun _ _ _ -> on_tile ()) sc fb idxs
 
 (* The floats of a unit travel as the rows of each tile in turn, 3 per pixel. Copying
    between [fb] and [buf] in one direction or the other. *)
@@ -58,99 +56,7 @@ exception Worker_failed of int * string
 
 (* ---- Rank 0 ---- *)
 
-(* A frame whose units are out: its framebuffer, and how many tiles are still to come. *)
-type open_frame = {
-  sc : Scene.t;
-  all : (int * int * int * int) array;
-  todo : int array; (* the tiles to render: all of them, or those a checkpoint lacks *)
-  fb : Image.t;
-  mutable left : int;
-  st : Stats.t;
-}
-
-(* Units are cut from [frames] in order. With [whole] a unit is a frame; otherwise
-   [unit_tiles] of [chunk] and the domains of the rank that asks. *)
-type cutter = {
-  mutable pending : (int * (unit -> Scene.t)) list;
-  mutable current : (int * open_frame * int ref) option; (* key, frame, next tile *)
-  opened : (int, open_frame) Hashtbl.t;
-  whole : bool;
-  mutable chunk : int;
-  start : int -> (Image.t * int array) option;
-}
-
-let open_next c =
-  match c.pending with
-  | [] -> None
-  | (key, scene) :: rest ->
-      c.pending <- rest;
-      let sc = scene () in
-      let all = Render.tiles sc in
-      let fb, todo =
-        match c.start key with
-        | Some (fb, todo) -> (fb, todo)
-        | None ->
-            ( Image.create sc.settings.width sc.settings.height,
-              Array.init (Array.length all) Fun.id )
-      in
-      let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in
-      Hashtbl.replace c.opened key f;
-      Some (key, f)
-
-(* The sizes of units: the rules {!plan} and the cutter share. Whole frames when every
-   rank can have one; one frame alone (a still) is always cut, so that units come back,
-   and can be kept, as the render goes. *)
-let whole_frames ~ranks ~frames = ranks = 1 || (frames >= ranks && frames > 1)
-
-(* A still, or fewer frames than ranks: chunks small enough that every rank gets several,
-   for an even finish. *)
-let chunk ~ranks ~frames ~tiles =
-  if whole_frames ~ranks ~frames then None
-  else Some (max 1 (tiles * frames / (4 * ranks)))
-
-(* What a rank of [domains] domains is given: about four tiles per domain at most, and
-   never fewer tiles than it has domains (while the frame has them), even when that
-   leaves fewer units than ranks: a unit of fewer tiles leaves domains idle and costs
-   rank 0 as much to serve, so many ranks of one-tile units finish later. *)
-let unit_tiles ~chunk ~domains = min (max 1 (4 * domains)) (max domains chunk)
-
-let plan ~ranks ~domains tiles =
-  let frames = List.length tiles in
-  let cap =
-    match tiles with
-    | [] -> max_int
-    | first :: _ -> (
-        match chunk ~ranks ~frames ~tiles:first with
-        | None -> max_int
-        | Some chunk -> unit_tiles ~chunk ~domains)
-  in
-  List.concat
-    (List.mapi
-       (fun k n ->
-         let rec cut from =
-           if from >= n then []
-           else (k, min cap (n - from)) :: cut (from + min cap (n - from))
-         in
-         cut 0)
-       tiles)
-
-let rec next_unit c ~domains =
-  match c.current with
-  | Some (key, f, next) when !next < Array.length f.todo ->
-      let n =
-        min
-          (Array.length f.todo - !next)
-          (if c.whole then max_int else unit_tiles ~chunk:c.chunk ~domains)
-      in
-      let u = { key; tiles = Array.sub f.todo !next n } in
-      next := !next + n;
-      Some u
-  | _ -> (
-      match open_next c with
-      | None -> None
-      | Some (key, f) ->
-          c.current <- Some (key, f, ref 0);
-          next_unit c ~domains)
+let plan = Work.plan
 
 (* What rank 0 learns about the scheme while serving: per rank, the units and tiles it
    rendered and how long it waited each time between handing in a unit and being given
@@ -175,7 +81,7 @@ let percentile p = function
 type local = {
   lock : Mutex.t;
   given : Condition.t;
-  mutable task : (work_unit * open_frame) option;
+  mutable task : (work_unit * frame) option;
   mutable quit : bool;
   result : (work_unit * (Stats.t, exn) result * float) option Atomic.t;
   crashed : exn option Atomic.t;
@@ -208,26 +114,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
   let ranks = Mpi.size () in
   let total_tiles = ref 0 in
   (* Every rank renders, rank 0 included. *)
-  let whole = whole_frames ~ranks ~frames:(List.length frames) in
-  let c =
-    {
-      pending = frames;
-      current = None;
-      opened = Hashtbl.create 8;
-      whole;
-      chunk = max_int;
-      start;
-    }
-  in
-  (* Otherwise chunks sized from the first frame's tile count, cut now. *)
-  (if not whole then
-     match open_next c with
-     | Some (key, f) ->
-         c.current <- Some (key, f, ref 0);
-         c.chunk <-
-           Option.value ~default:max_int
-             (chunk ~ranks ~frames:(List.length frames) ~tiles:(Array.length f.todo))
-     | None -> ());
+  let c = Work.cutter ~start ~ranks frames in
   let report =
     {
       units = Array.make ranks 0;
@@ -236,30 +123,27 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
     }
   in
   let failure = ref None in
-  let finished key f =
-    Hashtbl.remove c.opened key;
+  let finished key (f : frame) =
     match !failure with
     | Some _ -> ()
     | None -> ( try on_frame key f.sc f.fb f.st with e -> failure := Some e)
   in
   let deposit rank key tiles st =
     let n = Array.length tiles in
-    let f = Hashtbl.find c.opened key in
-    f.left <- f.left - n;
-    Stats.add_into f.st st;
+    let complete = Work.deposit c key tiles st in
     on_unit key tiles st;
     total_tiles := !total_tiles + n;
     report.units.(rank) <- report.units.(rank) + 1;
     report.tiles.(rank) <- report.tiles.(rank) + n;
-    if f.left = 0 then finished key f
+    Option.iter (finished key) complete
   in
   (if ranks = 1 then
      (* One rank works alone: whole frames over its own pool, progress tile by tile. *)
      let rec loop () =
-       match (!failure, next_unit c ~domains) with
+       match (!failure, Work.next c ~domains) with
        | Some _, _ | None, None -> ()
        | None, Some u ->
-           let f = Hashtbl.find c.opened u.key in
+           let f = Work.frame c u.key in
            let base = !total_tiles and done_ = Atomic.make 0 in
            let on_tile () = on_tiles (base + Atomic.fetch_and_add done_ 1 + 1) in
            let st =
@@ -284,7 +168,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
        let r =
          match !failure with
          | Some _ -> None
-         | None -> next_unit c ~domains:rank_domains.(dest)
+         | None -> Work.next c ~domains:rank_domains.(dest)
        in
        match r with
        | Some u -> Mpi.send (Work u) ~dest ~tag:tag_reply
@@ -313,7 +197,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
      (* Whether rank 0's worker has a unit. *)
      let local_busy = ref false in
      let feed_local ~posted =
-       match match !failure with Some _ -> None | None -> next_unit c ~domains with
+       match match !failure with Some _ -> None | None -> Work.next c ~domains with
        | None -> ()
        | Some u ->
            Option.iter
@@ -321,7 +205,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
                report.waits.(0) <- (Unix.gettimeofday () -. t) :: report.waits.(0))
              posted;
            Mutex.lock l.lock;
-           l.task <- Some (u, Hashtbl.find c.opened u.key);
+           l.task <- Some (u, Work.frame c u.key);
            Condition.signal l.given;
            Mutex.unlock l.lock;
            local_busy := true
@@ -351,7 +235,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
            rank_domains.(src) <- max 1 d;
            reply src
        | Done (u, st, waited) ->
-           let f = Hashtbl.find c.opened u.key in
+           let f = Work.frame c u.key in
            let n = pixel_count f.all u.tiles in
            if Bigarray.Array1.dim !buf < n then buf := floats n;
            let count, _, _ = Mpi.recv_floats !buf ~source:src ~tag:tag_pixels in

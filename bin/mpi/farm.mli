@@ -3,14 +3,14 @@
     renders the units it is given with its own pool of domains.
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
-    for a still). A work unit is a set of tiles ({!Lancer.Render.tiles}) of one frame:
-    whole frames when there are at least as many frames as ranks (and more than one),
-    otherwise chunks of a few tiles. Every rank renders units, rank 0 included: its main
-    domain serves (only it may call MPI) while another domain renders rank 0's units over
-    its pool. Each tile is rendered by {!Lancer.Render.render_tile} from the same scene,
-    and its floats travel bit for bit, so the pixels are identical to a local render
-    whatever the number of ranks and domains. When rank 0 is alone it renders the units
-    itself, a whole frame at a time over its pool.
+    for a still), cut into work units by {!Lancer_job.Work}: whole frames when there are
+    at least as many frames as ranks (and more than one), otherwise chunks of a few tiles.
+    Every rank renders units, rank 0 included: its main domain serves (only it may call
+    MPI) while another domain renders rank 0's units over its pool. Each tile is rendered
+    by {!Lancer.Render.render_tile} from the same scene, and its floats travel bit for
+    bit, so the pixels are identical to a local render whatever the number of ranks and
+    domains. When rank 0 is alone it renders the units itself, a whole frame at a time
+    over its pool.
 
     Failures: a worker that cannot evaluate the scene or render a unit reports it; rank 0
     then stops handing out work, lets every worker finish, and raises {!Worker_failed}, so
@@ -39,14 +39,12 @@ val percentile : float -> float list -> float
     1\]) of [l] at or below it; NaN for an empty [l]. *)
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
-(** How a unit is rendered: {!render_unit} without progress, unless a measurement of the
-    scheme's own cost replaces it (e.g. by one that renders nothing). *)
+(** How a unit is rendered: {!Lancer_job.Work.render_unit} without progress, unless a
+    measurement of the scheme's own cost replaces it (e.g. by one that renders nothing).
+*)
 
 val plan : ranks:int -> domains:int -> int list -> (int * int) list
-(** [plan ~ranks ~domains tiles] is the units {!serve} cuts, in the order it hands them
-    out, when every rank has [domains] domains and frame k (counted from 0) of the job has
-    the k-th element of [tiles] tiles: a list of (frame index, tiles in the unit). For
-    predicting the scheme's speed without running it. *)
+(** {!Lancer_job.Work.plan}: the units {!serve} cuts, in the order it hands them out. *)
 
 val serve :
   ?start:(int -> (Image.t * int array) option) ->
@@ -89,16 +87,3 @@ val work :
     stop; [scene_of key] evaluates the scene of a frame. An exception from it or from
     rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
     [Sys.Break], which ends the job. *)
-
-val render_unit :
-  ?cancel:Cancel.t ->
-  ?on_tile:(unit -> unit) ->
-  pool:Pool.t option ->
-  Scene.t ->
-  Image.t ->
-  int array ->
-  Stats.t
-(** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles] into
-    [fb] over [pool] through {!Lancer.Render.render_tiles}, the tile loop of every render,
-    and is their summed counters. [on_tile] is called after each tile, from whichever
-    domain rendered it. *)

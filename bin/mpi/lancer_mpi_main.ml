@@ -6,11 +6,12 @@
    leaves with the same status. The work itself is Farm's. *)
 
 open Lancer
+open Lancer_job
 open Cmdliner
 module Cli = Lancer_cli.Cli
+module Report = Lancer_cli.Report
 module Progress = Lancer_cli.Progress
 module Animate = Lancer_cli.Animate
-module Dsl = Lancer_dsl.Dsl
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
 
@@ -33,19 +34,15 @@ let terminated =
    (mpirun says which rank and why); no output was written"
 
 (* How rank 0 reports an exception that ends the job, and the status it ends with. *)
-let fatal e = Cli.run ~terminated (fun () -> raise e)
-
-let describe = function
-  | Cli.User_error m | Cli.Scene_error m -> m
-  | e -> "internal error: " ^ Printexc.to_string e
+let fatal stop e = Report.fail ~terminated stop e
 
 (* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
    state); [lead] runs on rank 0 with the pool its own units are rendered over;
    [scene_of prog key] is the scene of a frame on the other ranks. *)
 let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
-    Cli.run ~terminated (fun () ->
-        let cancel = Cli.install_interrupt_handler () in
+    Report.run ~terminated (fun stop ->
+        let cancel = Report.on_interrupt stop in
         let source, state =
           try prepare ()
           with e ->
@@ -55,7 +52,8 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         ignore (Mpi.bcast (Go { filename = fst source; text = snd source }) ~root:0);
         let domains = Cli.domains o in
         try
-          Render.with_pool ~cancel domains (fun pool -> lead state ~cancel ~pool ~domains)
+          Render.with_pool ~cancel domains (fun pool ->
+              lead state ~fatal:(fatal stop) ~cancel ~pool ~domains)
         with Farm.Worker_failed (rank, m) -> user "rank %d: %s" rank m)
   else
     match Mpi.bcast Quit ~root:0 with
@@ -71,7 +69,8 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
           | _ -> max 1 (Domain.recommended_domain_count ())
         in
         Render.with_pool domains (fun pool ->
-            Farm.work ~describe ~pool ~domains (fun key -> scene_of (Lazy.force prog) key));
+            Farm.work ~describe:Report.message ~pool ~domains (fun key ->
+                scene_of (Lazy.force prog) key));
         0
 
 (* What --stats adds under lancer-mpi: per rank, the units and tiles it rendered and how
@@ -111,9 +110,9 @@ let report_json (r : Farm.report) =
 (* ---- render ---- *)
 
 let render_cmd (o : Cli.opts) ~resume =
-  let still ?progress prog =
-    let time, frame = Cli.time_of o prog in
-    Cli.scene_with_files ?progress o prog ~time ~frame
+  let still ?progress src =
+    let time, frame = Cli.time_of o src in
+    Cli.scene_with_files ?progress o src ~time ~frame
   in
   let prepare () =
     let out = Cli.default_output o in
@@ -126,28 +125,25 @@ let render_cmd (o : Cli.opts) ~resume =
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
-    let (sc, files, prog), build =
+    let (sc, files, src), build =
       Cli.build o (fun say ->
           say "loading and evaluating the scene";
-          let prog = Cli.load_source ~progress:say source in
-          let sc, files = still ~progress:say prog in
-          (sc, files, prog))
+          let src = Cli.scene_source o (Cli.load_source ~progress:say source) in
+          let sc, files = still ~progress:say src in
+          (sc, files, src))
     in
-    Cli.guard_render o prog ~out;
+    Cli.guard_render o src ~out;
     (* With --resume rank 0 keeps the finished tiles in a checkpoint beside the output. *)
     let ck =
       if not resume then None
       else
-        let time, frame = Cli.time_of o prog in
-        Some
-          (Lancer_cli.Checkpoint.start ~out
-             ~key:(Lancer_cli.Checkpoint.key o prog ~time ~frame ~files)
-             ~quiet:o.quiet sc)
+        let time, frame = Cli.time_of o src in
+        Some (Cli.checkpoint o src ~out ~time ~frame ~files sc)
     in
     (source, (out, sc, build, ck))
   in
-  let lead (out, sc, build, ck) ~cancel ~pool ~domains =
-    let module Ck = Lancer_cli.Checkpoint in
+  let lead (out, sc, build, ck) ~fatal ~cancel ~pool ~domains =
+    let module Ck = Checkpoint in
     let total =
       match ck with
       | Some ck -> Array.length (Ck.todo ck)
@@ -190,7 +186,8 @@ let render_cmd (o : Cli.opts) ~resume =
     if not o.quiet then
       print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
   in
-  distributed o ~prepare ~lead ~scene_of:(fun prog _ -> fst (still prog))
+  distributed o ~prepare ~lead ~scene_of:(fun prog _ ->
+      fst (still (Cli.scene_source o prog)))
 
 (* ---- animate ---- *)
 
@@ -199,11 +196,10 @@ let render_cmd (o : Cli.opts) ~resume =
 let animate_cmd (o : Cli.opts) (a : Animate.options) =
   let prepare () =
     Animate.check_video a;
-    let p = Animate.plan o a in
-    (p.source, p)
+    Animate.plan o a
   in
-  let lead (p : Animate.plan) ~cancel ~pool ~domains =
-    let progress = Animate.progress p in
+  let lead (p : Animation.plan) ~fatal ~cancel ~pool ~domains =
+    let progress = Animate.progress o p in
     let t0 = Unix.gettimeofday () in
     let written = ref 0 in
     (* Each frame is written atomically as soon as all its tiles are in, whatever order
@@ -215,23 +211,24 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
     in
     ignore
       (Farm.serve ~cancel ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
-         (List.map (fun k -> (k, fun () -> Animate.frame_scene ~cancel p k)) p.todo));
+         (List.map (fun k -> (k, fun () -> Animation.frame_scene ~cancel p k)) p.todo));
     Progress.finish progress;
-    Animate.finish p;
+    Animation.finish p;
     if not o.quiet then
       Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo)
         p.dir
         (Unix.gettimeofday () -. t0)
-        (Animate.describe_range p) (ranks_text domains);
-    Option.iter (Animate.make_video p) a.video
+        (Animation.describe_range p) (ranks_text domains);
+    Option.iter (Animate.make_video o p) a.video
   in
-  let animation prog =
-    match Dsl.animation prog with
+  let animation (src : Source.t) =
+    match src.animation with
     | Some (fps, _) -> fps
     | None -> user "the scene has no animation block"
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
-      Cli.scene_at o prog ~time:(Float.of_int k /. animation prog) ~frame:k)
+      let src = Cli.scene_source o prog in
+      Cli.scene_at o src ~time:(Float.of_int k /. animation src) ~frame:k)
 
 (* ---- command line ---- *)
 
@@ -299,7 +296,5 @@ let () =
       Cmd.eval' ~help:null ~err:null cmd
   in
   if code = Cmd.Exit.cli_error && Mpi.rank () = 0 then
-    Option.iter
-      (fun h -> prerr_endline ("lancer-mpi: " ^ h))
-      (Cli.negative_value_hint Sys.argv);
+    Option.iter (Report.say ~program:"lancer-mpi") (Cli.negative_value_hint Sys.argv);
   exit (Cli.status_of_eval code)

@@ -36,6 +36,7 @@ module Safe_file = Lancer_image.Safe_file
 
 (** {1 [lancer.physics]} *)
 
+module Drop = Lancer_physics.Drop
 module Physics = Lancer_physics.Physics
 
 (** {1 [lancer.render]} *)
@@ -57,7 +58,17 @@ module Texture = Lancer_render.Texture
 
 (** {1 [lancer.job]} *)
 
+module Animation = Lancer_job.Animation
+module Checkpoint = Lancer_job.Checkpoint
+module Files = Lancer_job.Files
+module Frameset = Lancer_job.Frameset
+module Job_error = Lancer_job.Job_error
+module Overrides = Lancer_job.Overrides
+module Plan = Lancer_job.Plan
 module Quality = Lancer_job.Quality
+module Source = Lancer_job.Source
+module Still = Lancer_job.Still
+module Work = Lancer_job.Work
 
 (** {1 The version} *)
 

@@ -51,25 +51,22 @@ let contains s sub =
 let closed_form () =
   (* doc/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given there. *)
   let close msg a b = Alcotest.(check (float 5e-12)) msg a b in
-  close "e = 1, first impact" 0.451523640986 (Lancer_cli.Bench.impact_time 1. 1);
+  close "e = 1, first impact" 0.451523640986 (Lancer.Drop.impact_time 1. 1);
   close "e = 1, impact 4"
     (0.451523640986 +. (3. *. 0.903047281971))
-    (Lancer_cli.Bench.impact_time 1. 4);
+    (Lancer.Drop.impact_time 1. 4);
   List.iteri
     (fun i t ->
       close
         (Printf.sprintf "e = 0.8, impact %d" (i + 1))
         t
-        (Lancer_cli.Bench.impact_time 0.8 (i + 1)))
+        (Lancer.Drop.impact_time 0.8 (i + 1)))
     [ 0.451523640986; 1.173961466563; 1.751911727025; 2.214271935394; 2.584160102090 ];
   (* apex 0.64 m after the first e = 0.8 impact, half-way to the second *)
-  let mid =
-    0.5 *. (Lancer_cli.Bench.impact_time 0.8 1 +. Lancer_cli.Bench.impact_time 0.8 2)
-  in
-  Alcotest.(check (float 1e-12)) "apex 0.64 m" 0.64 (Lancer_cli.Bench.drop_gap 0.8 mid);
+  let mid = 0.5 *. (Lancer.Drop.impact_time 0.8 1 +. Lancer.Drop.impact_time 0.8 2) in
+  Alcotest.(check (float 1e-12)) "apex 0.64 m" 0.64 (Lancer.Drop.gap 0.8 mid);
   Alcotest.(check (float 0.))
-    "at rest after Zeno's 4.0637 s" 0.
-    (Lancer_cli.Bench.drop_gap 0.8 4.07)
+    "at rest after Zeno's 4.0637 s" 0. (Lancer.Drop.gap 0.8 4.07)
 
 let physics_json () =
   let j = json_of [ "bench"; "physics"; "--json" ] () in

@@ -1,9 +1,9 @@
-(* How lancer-mpi cuts a job into units (Farm.plan, the rule its server follows): every
+(* How a job is cut into units (Work.plan, the rule lancer-mpi's server follows): every
    tile handed out once, in order; whole frames when there are frames enough for every
    rank; otherwise units of at most four tiles per domain and never fewer tiles than the
    rank has domains, unless the frame has no more; a still on several ranks is always
    cut. No MPI needed. *)
-module Farm = Lancer_mpi.Farm
+module Work = Lancer_job.Work
 
 let failures = ref 0
 
@@ -16,7 +16,7 @@ let check name ok =
 let () =
   List.iter
     (fun (ranks, domains, frames, tiles) ->
-      let units = Farm.plan ~ranks ~domains (List.init frames (fun _ -> tiles)) in
+      let units = Work.plan ~ranks ~domains (List.init frames (fun _ -> tiles)) in
       let label =
         Printf.sprintf "%d frame(s) of %d tiles over %d ranks × %d domains" frames tiles
           ranks domains
@@ -61,7 +61,7 @@ let () =
   (* The case the rule is for: a 1080p still (60×34 tiles) over 1024 ranks of 16 domains
      is cut into 128 units of 16 tiles, not 2040 of one tile that would each leave 15
      domains idle. *)
-  let units = Farm.plan ~ranks:1024 ~domains:16 [ 2040 ] in
+  let units = Work.plan ~ranks:1024 ~domains:16 [ 2040 ] in
   check
     "a 1080p still over 1024 ranks × 16 domains is 128 units of 16 tiles, the last of 8"
     (List.length units = 128

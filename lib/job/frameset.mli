@@ -32,7 +32,7 @@ val view_name : string
 val open_ : dir:string -> scene:string -> job:string -> count:int -> t
 (** Claim [dir] (an existing directory) for the scene named [scene], or join it if it
     already holds that scene's frames, and read what every run recorded. Raises
-    [Cli.User_error] when [dir] holds another scene's frames or cannot be used. *)
+    {!Job_error.User} when [dir] holds another scene's frames or cannot be used. *)
 
 val is_done : t -> int -> input_digest:(string -> string) -> bool
 (** Whether frame k is on disk as an entry of this job recorded it, with every input it
@@ -40,7 +40,7 @@ val is_done : t -> int -> input_digest:(string -> string) -> bool
 
 val record : t -> int -> inputs:(string * string) list -> unit
 (** Record frame k, just written, in this run's journal (its size and MD5 are read from
-    the file). Safe to call from several domains. Raises [Cli.User_error] if the journal
+    the file). Safe to call from several domains. Raises {!Job_error.User} if the journal
     cannot be written. *)
 
 val drop_view : t -> unit

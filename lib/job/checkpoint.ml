@@ -1,6 +1,4 @@
 (* See checkpoint.mli. *)
-open Lancer
-module Dsl = Lancer_dsl.Dsl
 
 (* The payload is marshalled: the number changes with its types (2: counters carry their
    cancellation token), so that a file of another layout is ignored, never misread. *)
@@ -23,6 +21,7 @@ type t = {
   todo : int array;
   lock : Mutex.t;
   writing : bool Atomic.t;
+  resumed : int; (* tiles loaded from the file *)
   mutable count : int;
   mutable last : float; (* when it was last written *)
   mutable interval : float;
@@ -30,23 +29,18 @@ type t = {
 
 let path_for out = out ^ ".checkpoint"
 
-let key (o : Cli.opts) prog ~time ~frame ~files =
-  let opt f = function Some v -> f v | None -> "-" in
+let key (src : Source.t) overrides ~time ~frame ~files =
   Digest.to_hex
     (Digest.string
        (String.concat "|"
-          [
-            "lancer-still-v1";
-            Dsl.text_digest prog;
-            String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
-            Printf.sprintf "%h" time;
-            string_of_int frame;
-            opt string_of_int o.width;
-            opt string_of_int o.height;
-            opt string_of_int o.samples;
-            opt string_of_int o.depth;
-            opt Quality.to_string o.quality;
-          ]))
+          ([
+             "lancer-still-v1";
+             src.text_digest ();
+             String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
+             Printf.sprintf "%h" time;
+             string_of_int frame;
+           ]
+          @ Overrides.digest_fields overrides)))
 
 let load path ~key ~width ~height ~tiles =
   match In_channel.with_open_bin path In_channel.input_all with
@@ -68,9 +62,9 @@ let load path ~key ~width ~height ~tiles =
           | _ -> None
           | exception _ -> None)
 
-let start ~out ~key ~quiet (sc : Scene.t) =
+let start ~out ~key (sc : Scene.t) =
   let path = path_for out in
-  Cli.check_writable path;
+  Files.check_writable path;
   let width = sc.settings.width and height = sc.settings.height in
   let tiles = Array.length (Render.tiles sc) in
   let p =
@@ -87,8 +81,6 @@ let start ~out ~key ~quiet (sc : Scene.t) =
         }
   in
   let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 p.finished in
-  if count > 0 && not quiet then
-    Printf.printf "resuming: %d of %d tiles already rendered\n%!" count tiles;
   let todo =
     Array.of_list (List.filter (fun k -> not p.finished.(k)) (List.init tiles Fun.id))
   in
@@ -97,6 +89,7 @@ let start ~out ~key ~quiet (sc : Scene.t) =
     p;
     fb = { width; height; data = p.pixels };
     todo;
+    resumed = count;
     lock = Mutex.create ();
     writing = Atomic.make false;
     count;
@@ -105,6 +98,8 @@ let start ~out ~key ~quiet (sc : Scene.t) =
   }
 
 let framebuffer t = t.fb
+let resumed t = t.resumed
+let tiles t = Array.length t.p.finished
 let todo t = t.todo
 let finished t = Mutex.protect t.lock (fun () -> t.count)
 
@@ -122,7 +117,7 @@ let write t =
         output_string oc body)
   with
   | Ok () -> ()
-  | Error m -> Cli.user "the checkpoint: %s" m
+  | Error m -> Job_error.user "the checkpoint: %s" m
 
 let save t = write t
 

@@ -8,8 +8,8 @@
     is rewritten atomically (a temporary file, then a rename) at most every second, and
     never more often than ten times the time the last write took, so that writing it costs
     at most about a tenth of the render. A checkpoint with another key, or damaged, is
-    ignored and replaced. Pixels are rendered by {!Lancer.Render.render_tile} either way,
-    so the finished image is the same bytes as an uninterrupted render. *)
+    ignored and replaced. Pixels are rendered by {!Render.render_tile} either way, so the
+    finished image is the same bytes as an uninterrupted render. *)
 
 type t
 
@@ -17,50 +17,56 @@ val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
 val key :
-  Cli.opts ->
-  Lancer_dsl.Dsl.t ->
+  Source.t ->
+  Overrides.t ->
   time:float ->
   frame:int ->
   files:(string * string) list ->
   string
-(** The key of a still: what its pixels depend on. *)
+(** The key of a still: what its pixels depend on (the scene's text digest, the files it
+    read, the time and frame, the overrides). *)
 
-val start : out:string -> key:string -> quiet:bool -> Lancer.Scene.t -> t
-(** Load the checkpoint of [out] if it has this key (saying how many tiles it holds), or
-    start an empty one. Raises [Cli.User_error] when the checkpoint's place cannot be
-    written. *)
+val start : out:string -> key:string -> Scene.t -> t
+(** Load the checkpoint of [out] if it has this key, or start an empty one. Raises
+    {!Job_error.User} when the checkpoint's place cannot be written. *)
 
-val framebuffer : t -> Lancer.Image.t
+val resumed : t -> int
+(** How many tiles the checkpoint held when it was loaded (0 for a new one). *)
+
+val tiles : t -> int
+(** How many tiles the image has. *)
+
+val framebuffer : t -> Image.t
 (** The image being rendered, with the finished tiles' pixels already in. *)
 
 val todo : t -> int array
-(** The tiles ({!Lancer.Render.tiles} numbers) still to render, in order. *)
+(** The tiles ({!Render.tiles} numbers) still to render, in order. *)
 
 val finished : t -> int
 (** How many tiles are done. *)
 
-val tiles_done : t -> int array -> Lancer.Stats.t -> unit
+val tiles_done : t -> int array -> Stats.t -> unit
 (** [tiles_done t tiles stats]: those tiles' pixels are in the framebuffer, with their
     counters summed in [stats]; rewrites the checkpoint when due. Safe from several
-    domains at once. Raises [Cli.User_error] if the checkpoint cannot be written. *)
+    domains at once. Raises {!Job_error.User} if the checkpoint cannot be written. *)
 
 val save : t -> unit
 (** Write the checkpoint now (on an interrupt). *)
 
-val stats : t -> Lancer.Stats.t
+val stats : t -> Stats.t
 (** The counters of every finished tile, loaded ones included, summed in tile order. *)
 
 val remove : t -> unit
 (** Delete the checkpoint: the image is written. *)
 
 val render :
-  ?cancel:Lancer.Cancel.t ->
-  ?pool:Lancer.Pool.t ->
+  ?cancel:Cancel.t ->
+  ?pool:Pool.t ->
   ?on_tile:(int -> int -> unit) ->
   t ->
-  Lancer.Scene.t ->
+  Scene.t ->
   unit
 (** Render the tiles still to do into the framebuffer over [pool] with
-    {!Lancer.Render.render_tiles}, recording each one; [on_tile finished rays] after each.
-    Raises [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles
-    finished by then are recorded. *)
+    {!Render.render_tiles}, recording each one; [on_tile finished rays] after each. Raises
+    [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles finished
+    by then are recorded. *)

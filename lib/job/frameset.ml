@@ -1,8 +1,8 @@
 (* See frameset.mli. *)
 
 let frame_name k = Printf.sprintf "frame_%04d.png" k
-let journal_dir = Cli.frames_journal_dir
-let view_name = Cli.frames_view_name
+let journal_dir = "lancer-frames.d"
+let view_name = "lancer-frames.json"
 let binding_name = "scene.json"
 
 type entry = {
@@ -141,7 +141,7 @@ let rec bind ~dir ~jdir ~scene attempts =
   match read_binding path with
   | `Scene s when s = scene -> ()
   | `Scene s ->
-      Cli.user
+      Job_error.user
         "%s holds the frames of another scene, %s (this one is %s): render into another \
          directory, or remove %s to start over (or, if it is the same scene moved, %s)"
         dir s scene dir path
@@ -150,7 +150,7 @@ let rec bind ~dir ~jdir ~scene attempts =
       Unix.sleepf 0.1;
       bind ~dir ~jdir ~scene (attempts - 1)
   | `Unreadable ->
-      Cli.user
+      Job_error.user
         "%s is not a scene record of lancer; remove it, or render into another directory"
         path
   | `Missing -> (
@@ -163,7 +163,7 @@ let rec bind ~dir ~jdir ~scene attempts =
       let text = Yojson.Safe.to_string (`Assoc [ ("scene", `String scene) ]) ^ "\n" in
       (match write_new tmp text with
       | Ok () -> ()
-      | Error m -> Cli.user "cannot write %s: %s" path m);
+      | Error m -> Job_error.user "cannot write %s: %s" path m);
       let linked =
         match Unix.link tmp path with
         | () -> Ok ()
@@ -188,7 +188,7 @@ let rec bind ~dir ~jdir ~scene attempts =
       in
       (try Unix.unlink tmp with Unix.Unix_error _ -> ());
       match linked with
-      | Error m -> Cli.user "cannot write %s: %s" path m
+      | Error m -> Job_error.user "cannot write %s: %s" path m
       | Ok () -> bind ~dir ~jdir ~scene attempts)
 
 let open_ ~dir ~scene ~job ~count =
@@ -196,8 +196,8 @@ let open_ ~dir ~scene ~job ~count =
   (try Unix.mkdir jdir 0o755 with
   | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory jdir -> ()
   | Unix.Unix_error (Unix.EEXIST, _, _) ->
-      Cli.user "%s exists and is not a directory" jdir
-  | Unix.Unix_error (e, _, _) -> Cli.user "cannot create %s: %s" jdir (unix_msg e));
+      Job_error.user "%s exists and is not a directory" jdir
+  | Unix.Unix_error (e, _, _) -> Job_error.user "cannot create %s: %s" jdir (unix_msg e));
   bind ~dir ~jdir ~scene 20;
   let host = try Unix.gethostname () with Unix.Unix_error _ -> "host" in
   let journal =
@@ -265,14 +265,15 @@ let journal_fd t =
           t.fd <- Some fd;
           fd
       | exception Unix.Unix_error (e, _, _) ->
-          Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
+          Job_error.user "cannot record frames in %s: %s" t.journal (unix_msg e))
 
 let record t k ~inputs =
   let path = Filename.concat t.dir (frame_name k) in
   let size, md5 =
     try ((Unix.stat path).st_size, Digest.to_hex (Digest.file path)) with
-    | Unix.Unix_error (e, _, _) -> Cli.user "cannot read back %s: %s" path (unix_msg e)
-    | Sys_error m -> Cli.user "cannot read back %s: %s" path m
+    | Unix.Unix_error (e, _, _) ->
+        Job_error.user "cannot read back %s: %s" path (unix_msg e)
+    | Sys_error m -> Job_error.user "cannot read back %s: %s" path m
   in
   let e = { frame = k; job = t.job; size; md5; inputs } in
   let line = Yojson.Safe.to_string (entry_json e) ^ "\n" in
@@ -287,7 +288,7 @@ let record t k ~inputs =
       | Ok () ->
           if sync then t.synced <- now;
           add t e
-      | Error m -> Cli.user "cannot record %s in %s: %s" (frame_name k) t.journal m)
+      | Error m -> Job_error.user "cannot record %s in %s: %s" (frame_name k) t.journal m)
 
 let close t =
   Mutex.protect t.lock (fun () ->
@@ -298,9 +299,9 @@ let close t =
           let r = sync_fd fd in
           match (r, Unix.close fd) with
           | Ok (), () -> ()
-          | Error m, () -> Cli.user "cannot record frames in %s: %s" t.journal m
+          | Error m, () -> Job_error.user "cannot record frames in %s: %s" t.journal m
           | exception Unix.Unix_error (e, _, _) ->
-              Cli.user "cannot record frames in %s: %s" t.journal (unix_msg e))
+              Job_error.user "cannot record frames in %s: %s" t.journal (unix_msg e))
         fd)
 
 (* ---- The merged view ---- *)
@@ -329,7 +330,7 @@ let finish t ~input_digest =
           | j -> j)
         chosen
     in
-    Cli.write_json
+    Files.write_json
       (Filename.concat t.dir view_name)
       (`Assoc
          [ ("scene", `String t.scene); ("job", `String t.job); ("frames", `List frames) ]);

@@ -1,0 +1,47 @@
+(** The one way [lancer] and [lancer-mpi] report an error: the job layer's and the
+    language's failures turned into text at the edge, with the exit statuses the README
+    documents: 0 success, 1 a user error (a scene, option or file problem, explained in
+    one message; a file or standard output the system refuses; out of memory), 2 an
+    internal error (a bug: "please report it"), 130 interrupted. No backtrace reaches the
+    user. *)
+
+val errors_text : Lancer.Diagnostic.t list -> string
+(** Each located error printed with {!Lancer.Diagnostic.pp}, one after the other. *)
+
+val describe : ?interrupted:string -> exn -> string * int
+(** The text printed on stderr for an exception that ends a command, and the exit status:
+    [lancer: message] for {!Lancer_job.Job_error.User} (1), the located errors and their
+    note for {!Lancer_job.Job_error.Scene} (1), [lancer: interrupted; …] for an interrupt
+    (130: [interrupted] says what became of the output, default "no output was written",
+    and {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
+    system's reason for [Sys_error] (1), out of memory (1), and anything else as an
+    internal error (2). *)
+
+val message : exn -> string
+(** What went wrong, without the program's name: the message of a user error, the located
+    errors of a scene, ["internal error: …"] for anything else (a worker's failure, shown
+    by rank 0). *)
+
+(** {1 Running a command} *)
+
+type stop
+(** This run's interrupts: the token SIGINT and SIGTERM cancel, and which one came. *)
+
+val on_interrupt : stop -> Lancer.Cancel.t
+(** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work that
+    polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is raised at
+    once, so that loading and evaluation stop too. Pass the token to the render, the pool
+    and the writes. *)
+
+val fail : ?interrupted:string -> ?terminated:string -> stop -> exn -> int
+(** Print what {!describe} says of an exception and give its status; [terminated] replaces
+    the interrupt's message when the stop came from SIGTERM. *)
+
+val run : ?interrupted:string -> ?terminated:string -> (stop -> unit) -> int
+(** [run f] runs a command body with this run's {!stop} and turns its outcome into an exit
+    status ({!fail}); output that standard output cannot take (a full disk, [>/dev/full])
+    is a user error, 1, with the system's reason. *)
+
+val say : program:string -> string -> unit
+(** A line on stderr from the command line, before any command runs (a hint about the
+    command line itself), prefixed with the program's name. *)

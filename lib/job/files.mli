@@ -1,0 +1,37 @@
+(** The files a job writes: refused before any work when they cannot be written or would
+    replace what the job reads, and written whole (a temporary file, then a rename), an
+    interrupt answered only once the file is complete. *)
+
+val check_writable : string -> unit
+(** Refuse, before any work, a file path in a missing directory, that is a directory, or
+    that is a read-only file, or in a directory where this process cannot create a file
+    (tried with an empty file, removed at once); raises {!Job_error.User}. *)
+
+val guard_writes :
+  ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
+(** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
+    that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
+    link, a hard link, ./a.png for a.png), or, with [distinct] (default), that is the same
+    file as another write. Raises {!Job_error.User} naming both. *)
+
+val uninterrupted : ?cancel:Cancel.t -> string -> (unit -> unit) -> unit
+(** [uninterrupted ~cancel what write] runs [write] so that an interrupt does not cut it
+    short: a token already cancelled raises [Sys.Break] and writes nothing; one cancelled
+    during the write lets it finish, then raises {!Job_error.Interrupted} saying [what]
+    was written in full first. *)
+
+val write_image :
+  ?cancel:Cancel.t ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:Image.region ->
+  string ->
+  Scene.t ->
+  Image.t ->
+  unit
+(** Encode with the scene's gamma ([bits] 8 by default; the coverage [alpha] as a fourth
+    channel; only [crop] when given) and write the file atomically, {!uninterrupted};
+    raises {!Job_error.User}. *)
+
+val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
+(** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

@@ -1,0 +1,22 @@
+(** The command-line options that change a scene's pixels: the image size, samples and
+    depth, and a quality preset ({!Quality}), applied over what the scene file sets. *)
+
+type t = {
+  width : int option;
+  height : int option;
+  samples : int option;
+  depth : int option;
+  quality : Quality.t option;
+}
+
+val none : t
+(** Nothing overridden. *)
+
+val apply : t -> Scene.t -> Scene.t
+(** The scene under the preset, then with the given size, samples and depth. Raises
+    {!Job_error.User} for a depth beyond {!Settings.max_depth} (named [--depth]) or
+    settings the scene refuses. *)
+
+val digest_fields : t -> string list
+(** Each option as text (["-"] when unset), in a fixed order: for the digests that say
+    which pixels a record holds. *)

@@ -1,0 +1,46 @@
+(** A scene as the job layer sees it: a set of functions the language supplies. The job
+    layer never reads a scene's text itself; it asks this record for the scene at a time
+    and for what it read, so that how a program becomes a {!Scene.t} is the language's
+    business alone. *)
+
+type t = {
+  file : string;
+      (** the scene's file name as given (["<stdin>"] for standard input, the file name of
+          the built-in showcase for it) *)
+  builtin : bool;  (** the built-in showcase: no file of the user's *)
+  animation : (float * int) option;  (** frames per second and frame count, if any *)
+  evaluate :
+    progress:(string -> unit) option ->
+    cancel:Cancel.t option ->
+    time:float ->
+    frame:int ->
+    Scene.t * (string * string) list;
+      (** the scene at a time, as the file sets it, and the image and mesh files it read
+          with their MD5s; raises {!Job_error.Scene} for its located errors *)
+  inputs : unit -> string list;
+      (** the files read so far: the scene, its includes, images and meshes *)
+  text_digest : unit -> string;  (** a digest of the scene's text and includes *)
+  input_digest : string -> string;  (** the MD5 of an input file now *)
+}
+
+val scene :
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  t ->
+  Overrides.t ->
+  time:float ->
+  frame:int ->
+  Scene.t * (string * string) list
+(** [evaluate], then the overrides ({!Overrides.apply}). *)
+
+val reads : t -> (string * string) list
+(** The files a run of this scene reads, as (path, what it is): the scene file (not for
+    the built-in showcase), its includes, images and meshes loaded so far. *)
+
+val max_time : float
+(** 1e9 s: the largest time in magnitude (the frame number must fit an integer). *)
+
+val time_of : t -> time:float option -> frame:int option -> float * int
+(** The (time, frame) of a still chosen by [--time] or [--frame] (default 0, 0): a time
+    gives the frame under way then (24 fps without an animation block); a frame needs an
+    animation that has it. Raises {!Job_error.User}. *)

@@ -1,0 +1,448 @@
+(* The job layer as lancer and lancer-mpi call it, without a command line: which frames a
+   shard renders, the frames record and the still checkpoint on disk, how units are cut
+   and rendered, the overrides, the guarded writes. *)
+open Lancer
+open Lancer_job
+
+let user_error name f =
+  match f () with
+  | _ -> Alcotest.failf "%s: expected a user error" name
+  | exception Job_error.User _ -> ()
+
+(* ---- Temporary directories ---- *)
+
+let tmpdir () =
+  let d = Filename.temp_dir "lancer-job-test" "" in
+  at_exit (fun () -> ignore (Sys.command ("rm -rf " ^ Filename.quote d)));
+  d
+
+let write path text = Out_channel.with_open_bin path (fun oc -> output_string oc text)
+
+(* ---- A small scene, 40×36: four tiles of 32×32 at most ---- *)
+
+let scene_text =
+  {|settings { width: 40, height: 36, samples: 2 }
+camera { position: (0, 1, -5), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.2) } }
+|}
+
+let scene () =
+  match Lancer_dsl.Dsl.load_string ~filename:"small.rts" scene_text with
+  | Error _ -> Alcotest.fail "the test scene does not load"
+  | Ok p -> (
+      match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+      | Ok sc -> sc
+      | Error _ -> Alcotest.fail "the test scene does not evaluate")
+
+let floats_equal a b =
+  Float.Array.length a = Float.Array.length b
+  &&
+  let ok = ref true in
+  Float.Array.iteri
+    (fun i x -> if not (Float.equal x (Float.Array.get b i)) then ok := false)
+    a;
+  !ok
+
+(* ---- Plan ---- *)
+
+let frames_syntax () =
+  let r = Alcotest.(result (pair int int) string) in
+  Alcotest.check r "A..B" (Ok (3, 7)) (Plan.frames_of_string "3..7");
+  Alcotest.check r "K" (Ok (5, 5)) (Plan.frames_of_string "5");
+  List.iter
+    (fun s ->
+      Alcotest.(check bool)
+        (s ^ " is refused") true
+        (Result.is_error (Plan.frames_of_string s)))
+    [ "7..3"; "a"; "3."; "3..."; "-1"; "" ];
+  (match Plan.shard_of_string "2/4" with
+  | Ok (Plan.Shard (2, 4)) -> ()
+  | _ -> Alcotest.fail "2/4");
+  (match Plan.shard_of_string "slurm" with
+  | Ok Plan.Slurm -> ()
+  | _ -> Alcotest.fail "slurm");
+  (match Plan.shard_of_string "4/4" with
+  | Error m ->
+      Alcotest.(check bool)
+        ("says the range: " ^ m) true
+        (String.ends_with ~suffix:"0 and 3" m)
+  | Ok _ -> Alcotest.fail "4/4 accepted");
+  List.iter
+    (fun s ->
+      Alcotest.(check bool)
+        (s ^ " is refused") true
+        (Result.is_error (Plan.shard_of_string s)))
+    [ "1/0"; "-1/3"; "x"; "1/2/3" ]
+
+(* Shards partition the range: every frame once, each shard's ascending. *)
+let shards_partition () =
+  let first = 3 and last = 17 in
+  Alcotest.(check (list int))
+    "no shard: the whole range"
+    (List.init 15 (fun i -> 3 + i))
+    (Plan.shard_frames ~first ~last None);
+  for n = 1 to 6 do
+    let shards = List.init n (fun k -> Plan.shard_frames ~first ~last (Some (k, n))) in
+    List.iteri
+      (fun k fs ->
+        Alcotest.(check (list int))
+          (Printf.sprintf "shard %d/%d ascending" k n)
+          (List.sort compare fs) fs;
+        List.iter
+          (fun f ->
+            Alcotest.(check int)
+              (Printf.sprintf "frame %d in shard %d/%d" f k n)
+              k
+              ((f - first) mod n))
+          fs)
+      shards;
+    Alcotest.(check (list int))
+      (Printf.sprintf "%d shards cover the range once" n)
+      (List.init 15 (fun i -> 3 + i))
+      (List.sort compare (List.concat shards))
+  done
+
+let slurm () =
+  let env l name = List.assoc_opt name l in
+  Alcotest.(check (pair int int))
+    "ID 5 of MIN 3 STEP 2" (1, 4)
+    (Plan.slurm_shard
+       (env
+          [
+            ("SLURM_ARRAY_TASK_ID", "5");
+            ("SLURM_ARRAY_TASK_COUNT", "4");
+            ("SLURM_ARRAY_TASK_MIN", "3");
+            ("SLURM_ARRAY_TASK_STEP", "2");
+          ]));
+  Alcotest.(check (pair int int))
+    "MIN 0 and STEP 1 by default" (7, 16)
+    (Plan.slurm_shard
+       (env [ ("SLURM_ARRAY_TASK_ID", "7"); ("SLURM_ARRAY_TASK_COUNT", "16") ]));
+  user_error "unset" (fun () -> Plan.slurm_shard (env []));
+  user_error "not a number" (fun () ->
+      Plan.slurm_shard
+        (env [ ("SLURM_ARRAY_TASK_ID", "x"); ("SLURM_ARRAY_TASK_COUNT", "4") ]));
+  user_error "past the count" (fun () ->
+      Plan.slurm_shard
+        (env [ ("SLURM_ARRAY_TASK_ID", "4"); ("SLURM_ARRAY_TASK_COUNT", "4") ]))
+
+(* A source of no file: only its animation matters to [time_of]. *)
+let source ?animation () : Source.t =
+  {
+    file = "none.rts";
+    builtin = true;
+    animation;
+    evaluate = (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), []));
+    inputs = (fun () -> []);
+    text_digest = (fun () -> "text");
+    input_digest = (fun _ -> "-");
+  }
+
+let still_time () =
+  let anim = source ~animation:(10., 6) () and still = source () in
+  let tf = Alcotest.(pair (float 1e-12) int) in
+  Alcotest.check tf "nothing given" (0., 0) (Source.time_of still ~time:None ~frame:None);
+  Alcotest.check tf "frame 3 at 10 fps" (0.3, 3)
+    (Source.time_of anim ~time:None ~frame:(Some 3));
+  Alcotest.check tf "time 0.25 s is frame 2" (0.25, 2)
+    (Source.time_of anim ~time:(Some 0.25) ~frame:None);
+  Alcotest.check tf "24 fps without an animation" (0.5, 12)
+    (Source.time_of still ~time:(Some 0.5) ~frame:None);
+  user_error "frame 6 of 6" (fun () -> Source.time_of anim ~time:None ~frame:(Some 6));
+  user_error "a frame of a still" (fun () ->
+      Source.time_of still ~time:None ~frame:(Some 0));
+  user_error "both" (fun () -> Source.time_of anim ~time:(Some 0.) ~frame:(Some 0));
+  user_error "not finite" (fun () ->
+      Source.time_of anim ~time:(Some Float.nan) ~frame:None)
+
+(* ---- The frames record ---- *)
+
+let frames_record () =
+  let dir = tmpdir () in
+  let frame k = Filename.concat dir (Frameset.frame_name k) in
+  let current f = if f = "tex.ppm" then "d1" else "-" in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  Alcotest.(check bool)
+    "nothing done yet" false
+    (Frameset.is_done set 0 ~input_digest:current);
+  write (frame 0) "frame zero";
+  Frameset.record set 0 ~inputs:[ ("tex.ppm", "d1") ];
+  Alcotest.(check bool) "frame 0 done" true (Frameset.is_done set 0 ~input_digest:current);
+  Alcotest.(check bool)
+    "not once its input changed" false
+    (Frameset.is_done set 0 ~input_digest:(fun _ -> "d2"));
+  Alcotest.(check bool)
+    "not while frame 1 is missing: no merged view" false
+    (Frameset.finish set ~input_digest:current);
+  Alcotest.(check bool)
+    "no view yet" false
+    (Sys.file_exists (Filename.concat dir Frameset.view_name));
+  (* Another run of the same job reads the first one's journal. *)
+  let again = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  Alcotest.(check bool)
+    "a second run sees frame 0" true
+    (Frameset.is_done again 0 ~input_digest:current);
+  write (frame 1) "frame one";
+  Frameset.record again 1 ~inputs:[];
+  Alcotest.(check bool)
+    "every frame done: the view is written" true
+    (Frameset.finish again ~input_digest:current);
+  (* The merged view alone carries the record. *)
+  let jdir = Filename.concat dir Frameset.journal_dir in
+  Array.iter
+    (fun n ->
+      if Filename.check_suffix n ".jsonl" then Sys.remove (Filename.concat jdir n))
+    (Sys.readdir jdir);
+  let third = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  List.iter
+    (fun k ->
+      Alcotest.(check bool)
+        (Printf.sprintf "frame %d read back from the view" k)
+        true
+        (Frameset.is_done third k ~input_digest:current))
+    [ 0; 1 ];
+  let other = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"K" ~count:2 in
+  Alcotest.(check bool)
+    "another job's frames are not done" false
+    (Frameset.is_done other 0 ~input_digest:current);
+  write (frame 0) "frame 0 damaged";
+  Alcotest.(check bool)
+    "a frame of another size is not done" false
+    (Frameset.is_done third 0 ~input_digest:current);
+  write (frame 0) "frame zerO";
+  Alcotest.(check bool)
+    "a frame of the same size and other bytes is not done" false
+    (Frameset.is_done third 0 ~input_digest:current);
+  user_error "a directory of another scene" (fun () ->
+      Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2)
+
+(* ---- An animation's plan, through a source of the test's own ---- *)
+
+(* Four frames of the small scene, each reading one input whose digest [input] says. *)
+let animation_source ?(text = "text") input : Source.t =
+  {
+    file = "anim.rts";
+    builtin = false;
+    animation = Some (4., 4);
+    evaluate =
+      (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ ("tex.ppm", !input) ]));
+    inputs = (fun () -> [ "anim.rts"; "tex.ppm" ]);
+    text_digest = (fun () -> text);
+    input_digest = (fun _ -> !input);
+  }
+
+let animation_plan () =
+  let dir = Filename.concat (tmpdir ()) "frames" in
+  let input = ref "d1" in
+  let plan ?text ?(resume = true) ?frames shard =
+    Animation.plan ~dir:(Some dir) ~frames ~shard ~resume ~overrides:Overrides.none
+      (fun () -> animation_source ?text input)
+  in
+  let written = ref [] in
+  let render p =
+    written := [];
+    Animation.render ~domains:1 p ~on_frame:(fun k _ -> written := k :: !written);
+    Animation.finish p;
+    List.sort compare !written
+  in
+  let p = plan (Some (Plan.Shard (1, 2))) in
+  Alcotest.(check (list int)) "shard 1/2: frames 1 and 3" [ 1; 3 ] p.todo;
+  Alcotest.(check (list int)) "rendered" [ 1; 3 ] (render p);
+  Alcotest.(check bool)
+    "no merged view with half the frames" false
+    (Sys.file_exists (Filename.concat dir Frameset.view_name));
+  let p = plan None in
+  Alcotest.(check int) "resumed: the other shard's two" 2 p.resumed;
+  Alcotest.(check (list int)) "the rest" [ 0; 2 ] (render p);
+  Alcotest.(check bool)
+    "every frame done: the merged view" true
+    (Sys.file_exists (Filename.concat dir Frameset.view_name));
+  Alcotest.(check (list int)) "nothing left" [] (plan None).todo;
+  Alcotest.(check (list int))
+    "without resume, every frame of the range" [ 1; 2 ]
+    (plan ~resume:false ~frames:(1, 2) None).todo;
+  input := "d2";
+  Alcotest.(check (list int))
+    "an input changed: all again" [ 0; 1; 2; 3 ] (plan None).todo;
+  input := "d1";
+  Alcotest.(check (list int))
+    "another text: all again" [ 0; 1; 2; 3 ] (plan ~text:"other" None).todo;
+  let fb, _ = Render.render (scene ()) in
+  let expected = Image.to_bytes (scene ()).settings.gamma fb in
+  let w, h, bytes =
+    match Image.read_rgb8 (Filename.concat dir (Frameset.frame_name 2)) with
+    | Ok i -> i
+    | Error m -> Alcotest.fail m
+  in
+  Alcotest.(check (pair int int)) "a frame's size" (40, 36) (w, h);
+  Alcotest.(check bool)
+    "a frame's bytes are the render's" true (Bytes.equal expected bytes);
+  user_error "past the animation" (fun () -> plan ~frames:(2, 4) None);
+  user_error "no directory" (fun () ->
+      Animation.plan ~dir:None ~frames:None ~shard:None ~resume:false
+        ~overrides:Overrides.none (fun () -> animation_source input))
+
+(* ---- The still checkpoint ---- *)
+
+let checkpoint_roundtrip () =
+  let dir = tmpdir () in
+  let out = Filename.concat dir "still.png" in
+  let sc = scene () in
+  let tiles = Array.length (Render.tiles sc) in
+  Alcotest.(check int) "four tiles" 4 tiles;
+  let ck = Checkpoint.start ~out ~key:"k1" sc in
+  Alcotest.(check int) "a new checkpoint holds nothing" 0 (Checkpoint.resumed ck);
+  Alcotest.(check int) "its tiles" 4 (Checkpoint.tiles ck);
+  ignore
+    (Render.render_tiles
+       ~on_tile:(fun _ k st -> Checkpoint.tiles_done ck [| k |] st)
+       sc (Checkpoint.framebuffer ck) [| 0; 2 |]);
+  Checkpoint.save ck;
+  Alcotest.(check bool)
+    "saved beside the output" true
+    (Sys.file_exists (Checkpoint.path_for out));
+  let back = Checkpoint.start ~out ~key:"k1" sc in
+  Alcotest.(check int) "two tiles come back" 2 (Checkpoint.resumed back);
+  Alcotest.(check (array int)) "the other two are to do" [| 1; 3 |] (Checkpoint.todo back);
+  Checkpoint.render back sc;
+  let fb, st = Render.render sc in
+  Alcotest.(check bool)
+    "the resumed image is the uninterrupted one, bit for bit" true
+    (floats_equal fb.data (Checkpoint.framebuffer back).data);
+  Alcotest.(check int)
+    "and its counters" (Stats.total_rays st)
+    (Stats.total_rays (Checkpoint.stats back));
+  Alcotest.(check int)
+    "another key starts afresh" 0
+    (Checkpoint.resumed (Checkpoint.start ~out ~key:"k2" sc));
+  let text = In_channel.with_open_bin (Checkpoint.path_for out) In_channel.input_all in
+  write (Checkpoint.path_for out) (String.sub text 0 (String.length text - 7));
+  Alcotest.(check int)
+    "a damaged checkpoint is ignored" 0
+    (Checkpoint.resumed (Checkpoint.start ~out ~key:"k1" sc));
+  Checkpoint.remove back;
+  Alcotest.(check bool) "removed" false (Sys.file_exists (Checkpoint.path_for out))
+
+(* ---- Work units ---- *)
+
+(* What a cutter hands out is what [plan] predicts, and rendering the units through the
+   one unit renderer gives the bytes of a whole render. *)
+let units_cut_and_render () =
+  let sc = scene () in
+  let fb, _ = Render.render sc in
+  List.iter
+    (fun (ranks, frames, domains) ->
+      let label = Printf.sprintf "%d frame(s) over %d ranks of %d" frames ranks domains in
+      let c = Work.cutter ~ranks (List.init frames (fun k -> (k, fun () -> scene ()))) in
+      let rec all acc =
+        match Work.next c ~domains with
+        | None -> List.rev acc
+        | Some (u : Work.work_unit) -> all (u :: acc)
+      in
+      let units = all [] in
+      Alcotest.(check (list (pair int int)))
+        (label ^ ": the plan's units")
+        (Work.plan ~ranks ~domains (List.init frames (fun _ -> 4)))
+        (List.map (fun (u : Work.work_unit) -> (u.key, Array.length u.tiles)) units);
+      let complete = ref [] in
+      List.iter
+        (fun (u : Work.work_unit) ->
+          let f = Work.frame c u.key in
+          let st = Work.render_unit ~pool:None f.sc f.fb u.tiles in
+          Option.iter
+            (fun (f : Work.frame) -> complete := (u.key, f) :: !complete)
+            (Work.deposit c u.key u.tiles st))
+        units;
+      Alcotest.(check (list int))
+        (label ^ ": every frame completes once")
+        (List.init frames Fun.id)
+        (List.sort compare (List.map fst !complete));
+      List.iter
+        (fun (k, (f : Work.frame)) ->
+          Alcotest.(check bool)
+            (Printf.sprintf "%s: frame %d is the whole render's bytes" label k)
+            true
+            (floats_equal fb.data f.fb.data))
+        !complete)
+    [ (1, 1, 2); (3, 1, 1); (3, 2, 1); (2, 2, 1); (4, 1, 2) ]
+
+(* ---- Overrides and files ---- *)
+
+let overrides () =
+  let sc = scene () in
+  Alcotest.(check (list string))
+    "nothing overridden" [ "-"; "-"; "-"; "-"; "-" ]
+    (Overrides.digest_fields Overrides.none);
+  Alcotest.(check bool) "no change" true (Overrides.apply Overrides.none sc == sc);
+  let s =
+    (Overrides.apply { Overrides.none with width = Some 20; samples = Some 3 } sc)
+      .settings
+  in
+  Alcotest.(check (pair int int)) "the size" (20, 36) (s.width, s.height);
+  Alcotest.(check int) "the samples" 3 s.samples;
+  let draft = Overrides.apply { Overrides.none with quality = Some Quality.Draft } sc in
+  Alcotest.(check bool) "draft: at most depth 3" true (draft.settings.depth <= 3);
+  user_error "a depth past the bound" (fun () ->
+      Overrides.apply { Overrides.none with depth = Some (Settings.max_depth + 1) } sc)
+
+let guarded_files () =
+  let dir = tmpdir () in
+  let a = Filename.concat dir "a.rts" in
+  write a "x";
+  user_error "writing over a file read" (fun () ->
+      Files.guard_writes ~reads:[ (a, "the scene") ] [ (a, "the image") ]);
+  user_error "by another name" (fun () ->
+      Files.guard_writes
+        ~reads:[ (a, "the scene") ]
+        [ (Filename.concat (Filename.concat dir ".") "a.rts", "the image") ]);
+  let b = Filename.concat dir "b.png" in
+  user_error "two writes to one file" (fun () ->
+      Files.guard_writes ~reads:[] [ (b, "the image"); (b, "the statistics") ]);
+  Files.guard_writes ~distinct:false ~reads:[] [ (b, "the image"); (b, "the statistics") ];
+  user_error "a missing directory" (fun () ->
+      Files.check_writable (Filename.concat dir "no/such.png"));
+  let cancel = Cancel.create () in
+  Cancel.cancel cancel;
+  let ran = ref false in
+  (match Files.uninterrupted ~cancel "b.png" (fun () -> ran := true) with
+  | () -> Alcotest.fail "a cancelled write ran"
+  | exception Sys.Break -> ());
+  Alcotest.(check bool) "nothing written once cancelled" false !ran;
+  let c = Cancel.create () in
+  match Files.uninterrupted ~cancel:c "b.png" (fun () -> Cancel.cancel c) with
+  | () -> Alcotest.fail "an interrupt during the write went unsaid"
+  | exception Job_error.Interrupted what ->
+      Alcotest.(check string) "said once written" "b.png was written in full first" what
+
+let () =
+  Alcotest.run "job"
+    [
+      ( "plan",
+        [
+          Alcotest.test_case "frame ranges and shards as typed" `Quick frames_syntax;
+          Alcotest.test_case "shards partition the frames" `Quick shards_partition;
+          Alcotest.test_case "a Slurm task's shard" `Quick slurm;
+          Alcotest.test_case "the time and frame of a still" `Quick still_time;
+        ] );
+      ( "records",
+        [
+          Alcotest.test_case "the frames record: journals, view, damage" `Quick
+            frames_record;
+          Alcotest.test_case "a checkpoint comes back bit for bit" `Quick
+            checkpoint_roundtrip;
+          Alcotest.test_case "an animation's plan: shards, resume, stale frames" `Quick
+            animation_plan;
+        ] );
+      ( "work",
+        [
+          Alcotest.test_case "units as planned, pixels as rendered" `Quick
+            units_cut_and_render;
+        ] );
+      ( "options",
+        [
+          Alcotest.test_case "overrides" `Quick overrides;
+          Alcotest.test_case "guarded writes" `Quick guarded_files;
+        ] );
+    ]
