@@ -20,6 +20,16 @@ command -v lancer-mpirun >/dev/null 2>&1 || { echo "FAIL: lancer-mpirun is not o
 launcher=$(command -v lancer-mpirun)
 
 now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# waits up to 30 s until two ranks rendering into directory $1 run, then half a second
+# more (a loaded machine may take seconds to start a job: the interrupt must find it running)
+ranks_running() {
+  local i
+  for i in $(seq 1 300); do
+    [ "$(pgrep -fc "^[^ ]*lancer-mpi render branching.rts -o $1/")" -ge 2 ] && break
+    sleep 0.1
+  done
+  sleep 0.5
+}
 # waits up to 10 s for pid $1 to end, then kills what is left; its status is in $status
 wait_for() {
   local i
@@ -141,7 +151,7 @@ else fail "a scene error: status $status"; cat bad.err; fi
 # A render that would take far longer than the test: three half-mirror, half-glass planes
 # double a sample's rays at every bounce.
 cat >branching.rts <<'EOS'
-settings { width: 64, height: 48, depth: 1000 }
+settings { width: 320, height: 240, depth: 1000 }
 camera { position: (0, 0, -0.5), look_at: (1, 0.3, 0) }
 light { position: (0, 5, -0.5) }
 let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }
@@ -151,7 +161,7 @@ plane { normal: (0, 0, 1), offset: 1, material: m }
 EOS
 
 # stop NAME HOW…: starts the long render through lancer-mpirun in a session (and so a
-# process group) of its own, lets it run 1.5 s, sends the signals HOW says (group: SIGINT
+# process group) of its own, waits until its ranks run, sends the signals HOW says (group: SIGINT
 # to the whole group, as a terminal's Ctrl-C; alone: SIGINT to lancer-mpirun's pid only),
 # 0.1 s apart, then checks status 130 within 5 s, the message, and an empty directory.
 stop() {
@@ -161,7 +171,7 @@ stop() {
   setsid lancer-mpirun "${opts[@]}" -np 2 lancer-mpi render branching.rts -o "$name/b.png" --domains 1 \
     >"$name.out" 2>"$name.err" &
   local pid=$!
-  sleep 1.5
+  ranks_running "$name"
   t0=$(now_ms)
   for how in "$@"; do
     case $how in
@@ -186,7 +196,7 @@ stop "Ctrl-C three times (mpirun's forcible termination)" group group group
 if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev/null 2>&1; then
   mkdir -p tty
   t0=$(now_ms)
-  { sleep 3; printf '\003'; sleep 8; } | timeout 20 script -qec \
+  { ranks_running tty; printf '\003'; sleep 8; } | timeout 40 script -qec \
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
   t1=$(now_ms)
