@@ -52,115 +52,244 @@ let ignored =
     "stech";
   ]
 
-let number line what s =
-  match float_of_string_opt s with
-  | Some f when Float.is_finite f -> f
-  | _ -> bad line "%s: expected a number, got %S" what s
+(* --- Numbers, read in place ----------------------------------------------------------
+
+   The bytes of [text] between [s] and [e] are read as [float_of_string] and
+   [int_of_string] would read them. The common forms are decoded here without a copy:
+   an optional minus sign and at most 15 digits, with or without a decimal point, are
+   M / 10^k with M < 2^53 and k ≤ 15, both exact doubles, and one IEEE division rounds
+   their quotient correctly, which is what the C library's strtod gives too. Anything
+   else (exponents, more digits, signs, hexadecimal, underscores, nan, inf) goes to the
+   standard functions on a copy. *)
+
+let pow10 =
+  Float.Array.of_list
+    [
+      1e0; 1e1; 1e2; 1e3; 1e4; 1e5; 1e6; 1e7; 1e8; 1e9; 1e10; 1e11; 1e12; 1e13; 1e14; 1e15;
+    ]
+
+let[@inline] digit c = Char.code c - 48
+
+(* The float at [s, e), or NaN when those bytes are not one. *)
+let float_at text s e =
+  let i = ref s and neg = text.[s] = '-' in
+  if neg then incr i;
+  let m = ref 0 and nd = ref 0 and frac = ref (-1) and ok = ref (!i < e) in
+  while !ok && !i < e do
+    let c = String.unsafe_get text !i in
+    if c >= '0' && c <= '9' then (
+      m := (10 * !m) + digit c;
+      incr nd;
+      if !frac >= 0 then incr frac)
+    else if c = '.' && !frac < 0 && !nd > 0 then frac := 0
+    else ok := false;
+    incr i
+  done;
+  if !ok && !nd > 0 && !nd <= 15 then
+    let f = Float.of_int !m in
+    let f = if !frac > 0 then f /. Float.Array.unsafe_get pow10 !frac else f in
+    if neg then -.f else f
+  else
+    match float_of_string_opt (String.sub text s (e - s)) with
+    | Some f -> f
+    | None -> Float.nan
+
+(* The int at [s, e), as [int_of_string_opt] reads it. *)
+let int_at text s e =
+  let i = ref s and neg = s < e && text.[s] = '-' in
+  if neg then incr i;
+  let m = ref 0 and ok = ref (!i < e && e - !i <= 18) in
+  while !ok && !i < e do
+    let c = String.unsafe_get text !i in
+    if c >= '0' && c <= '9' then m := (10 * !m) + digit c else ok := false;
+    incr i
+  done;
+  if !ok then Some (if neg then - !m else !m)
+  else int_of_string_opt (String.sub text s (e - s))
 
 (* The coordinate range of the whole renderer (doc/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
-let coordinate line s =
-  let f = number line "vertex" s in
-  if Float.abs f > 1e150 then bad line "vertex coordinate %s is outside ±1e150" s else f
-
-(* A 1-based or negative index into [n] elements, as a 0-based index. *)
-let index line what n s =
-  match int_of_string_opt s with
-  | None -> bad line "expected a %s index, got %S" what s
-  | Some 0 -> bad line "%s index 0 is invalid (indices start at 1)" what
-  | Some i ->
-      let k = if i > 0 then i - 1 else n + i in
-      if k < 0 || k >= n then
-        bad line "%s index %d is out of range (%d defined so far)" what i n
-      else k
+let max_coordinate = 1e150
 
 let parse ?(smooth = true) ~file text =
   let vs = store () and vts = store () and vns = store () in
-  let tris = ref [] and faces = ref 0 in
-  let corner line s =
-    match String.split_on_char '/' s with
-    | [ v ] -> (index line "vertex" vs.len v, -1, -1)
-    | [ v; t ] -> (index line "vertex" vs.len v, index line "texture" vts.len t, -1)
-    | [ v; ""; n ] -> (index line "vertex" vs.len v, -1, index line "normal" vns.len n)
-    | [ v; t; n ] ->
-        ( index line "vertex" vs.len v,
-          index line "texture" vts.len t,
-          index line "normal" vns.len n )
-    | _ -> bad line "malformed face corner %S" s
+  let tris = store () and faces = ref 0 in
+  let len = String.length text in
+  (* The words of the current line, as (start, end) byte offsets. *)
+  let ws = ref (Array.make 64 0) and nw = ref 0 in
+  let ws0 k = Array.unsafe_get !ws (2 * k)
+  and ws1 k = Array.unsafe_get !ws ((2 * k) + 1) in
+  let word k = String.sub text (ws0 k) (ws1 k - ws0 k) in
+  let add_word s e =
+    if 2 * (!nw + 1) > Array.length !ws then (
+      let d = Array.make (4 * (!nw + 1)) 0 in
+      Array.blit !ws 0 d 0 (2 * !nw);
+      ws := d);
+    !ws.(2 * !nw) <- s;
+    !ws.((2 * !nw) + 1) <- e;
+    incr nw
   in
-  let face line (a, ta, na) (b, tb, nb) (c, tc, nc) =
-    let pa = vs.data.(a) and pb = vs.data.(b) and pc = vs.data.(c) in
+  let is_word k w =
+    let s = ws0 k and n = String.length w in
+    ws1 k - s = n
+    && String.unsafe_get text s = String.unsafe_get w 0
+    && (n = 1 || (n = 2 && String.unsafe_get text (s + 1) = String.unsafe_get w 1))
+  in
+  let number line what k =
+    let f = float_at text (ws0 k) (ws1 k) in
+    if Float.is_finite f then f
+    else bad line "%s: expected a number, got %S" what (word k)
+  in
+  let coordinate line k =
+    let f = number line "vertex" k in
+    if Float.abs f > max_coordinate then
+      bad line "vertex coordinate %s is outside ±1e150" (word k)
+    else f
+  in
+  (* A 1-based or negative index into [n] elements, at [s, e), as a 0-based index. *)
+  let index line what n s e =
+    match int_at text s e with
+    | None -> bad line "expected a %s index, got %S" what (String.sub text s (e - s))
+    | Some 0 -> bad line "%s index 0 is invalid (indices start at 1)" what
+    | Some i ->
+        let k = if i > 0 then i - 1 else n + i in
+        if k < 0 || k >= n then
+          bad line "%s index %d is out of range (%d defined so far)" what i n
+        else k
+  in
+  (* The corners of the current face: vertex, texture and normal indices (−1: none). *)
+  let cv = ref (Array.make 16 0)
+  and ct = ref (Array.make 16 0)
+  and cn = ref (Array.make 16 0) in
+  let corner line j k =
+    let s = ws0 k and e = ws1 k in
+    let slash from =
+      let r = ref (-1) and i = ref from in
+      while !r < 0 && !i < e do
+        if String.unsafe_get text !i = '/' then r := !i;
+        incr i
+      done;
+      !r
+    in
+    let p1 = slash s in
+    let p2 = if p1 < 0 then -1 else slash (p1 + 1) in
+    (* Within a corner, the normal is checked before the texture coordinate, and both
+       before the vertex. *)
+    let v, t, n =
+      if p1 < 0 then (index line "vertex" vs.len s e, -1, -1)
+      else if p2 < 0 then
+        let t = index line "texture" vts.len (p1 + 1) e in
+        (index line "vertex" vs.len s p1, t, -1)
+      else if slash (p2 + 1) >= 0 then bad line "malformed face corner %S" (word k)
+      else
+        let n = index line "normal" vns.len (p2 + 1) e in
+        let t = if p2 = p1 + 1 then -1 else index line "texture" vts.len (p1 + 1) p2 in
+        (index line "vertex" vs.len s p1, t, n)
+    in
+    if j >= Array.length !cv then (
+      let grow a =
+        let d = Array.make (2 * j) 0 in
+        Array.blit !a 0 d 0 j;
+        a := d
+      in
+      grow cv;
+      grow ct;
+      grow cn);
+    !cv.(j) <- v;
+    !ct.(j) <- t;
+    !cn.(j) <- n
+  in
+  let face i j k =
+    let cv = !cv and ct = !ct and cn = !cn in
+    let pa = vs.data.(cv.(i)) and pb = vs.data.(cv.(j)) and pc = vs.data.(cv.(k)) in
     let area = Vec3.length (Vec3.cross (Vec3.sub pb pa) (Vec3.sub pc pa)) in
-    if area > 0. && Float.is_finite area then (
+    if area > 0. && Float.is_finite area then
       let normals =
-        if smooth && na >= 0 && nb >= 0 && nc >= 0 then
-          Some (vns.data.(na), vns.data.(nb), vns.data.(nc))
+        if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then
+          Some (vns.data.(cn.(i)), vns.data.(cn.(j)), vns.data.(cn.(k)))
         else None
       in
       let uvs =
-        if ta >= 0 && tb >= 0 && tc >= 0 then
-          Some (vts.data.(ta), vts.data.(tb), vts.data.(tc))
+        if ct.(i) >= 0 && ct.(j) >= 0 && ct.(k) >= 0 then
+          Some (vts.data.(ct.(i)), vts.data.(ct.(j)), vts.data.(ct.(k)))
         else None
       in
-      ignore line;
-      tris := Shape.mesh_triangle ?normals ?uvs ~a:pa ~b:pb ~c:pc () :: !tris)
+      push tris (Shape.mesh_triangle ?normals ?uvs ~a:pa ~b:pb ~c:pc ())
   in
-  let statement line words =
-    match words with
-    | [] -> ()
-    | "v" :: x :: y :: z :: rest ->
-        if List.length rest > 1 then
-          bad line "a vertex has 3 coordinates (and an optional weight)";
-        push vs (Vec3.v (coordinate line x) (coordinate line y) (coordinate line z))
-    | "v" :: _ -> bad line "a vertex needs 3 coordinates"
-    | "vt" :: u :: rest ->
-        let v =
-          match rest with [] -> 0. | v :: _ -> number line "texture coordinate" v
-        in
-        if List.length rest > 2 then
-          bad line "a texture coordinate has at most 3 components";
-        push vts (number line "texture coordinate" u, v)
-    | "vt" :: _ -> bad line "a texture coordinate needs at least 1 component"
-    | [ "vn"; x; y; z ] ->
-        push vns
-          (Vec3.v (number line "normal" x) (number line "normal" y)
-             (number line "normal" z))
-    | "vn" :: _ -> bad line "a normal needs 3 components"
-    | "f" :: corners ->
-        let cs = Array.of_list (List.map (corner line) corners) in
-        if Array.length cs < 3 then
-          bad line "a face needs at least 3 corners, got %d" (Array.length cs);
-        incr faces;
-        for i = 1 to Array.length cs - 2 do
-          face line cs.(0) cs.(i) cs.(i + 1)
-        done
-    | kw :: _ when List.mem kw ignored -> ()
-    | kw :: _ ->
+  (* One line's words: a statement. Within a statement, components are checked from the
+     last to the first. *)
+  let statement line =
+    let nw = !nw in
+    if nw = 0 then ()
+    else if is_word 0 "v" then (
+      if nw < 4 then bad line "a vertex needs 3 coordinates";
+      if nw > 5 then bad line "a vertex has 3 coordinates (and an optional weight)";
+      let z = coordinate line 3 in
+      let y = coordinate line 2 in
+      let x = coordinate line 1 in
+      push vs (Vec3.v x y z))
+    else if is_word 0 "f" then (
+      for j = 0 to nw - 2 do
+        corner line j (j + 1)
+      done;
+      if nw - 1 < 3 then bad line "a face needs at least 3 corners, got %d" (nw - 1);
+      incr faces;
+      for i = 1 to nw - 3 do
+        face 0 i (i + 1)
+      done)
+    else if is_word 0 "vn" then (
+      if nw <> 4 then bad line "a normal needs 3 components";
+      let z = number line "normal" 3 in
+      let y = number line "normal" 2 in
+      let x = number line "normal" 1 in
+      push vns (Vec3.v x y z))
+    else if is_word 0 "vt" then (
+      if nw < 2 then bad line "a texture coordinate needs at least 1 component";
+      let v = if nw >= 3 then number line "texture coordinate" 2 else 0. in
+      if nw > 4 then bad line "a texture coordinate has at most 3 components";
+      push vts (number line "texture coordinate" 1, v))
+    else
+      let kw = word 0 in
+      if not (List.mem kw ignored) then
         let kw = if String.length kw > 16 then String.sub kw 0 16 ^ "…" else kw in
         bad line "unknown statement %S (expected v, vt, vn or f)" kw
   in
   try
     if String.contains text '\000' then bad 1 "not a text file";
-    let lines = String.split_on_char '\n' text in
-    List.iteri
-      (fun i l ->
-        let l =
-          match String.index_opt l '#' with Some k -> String.sub l 0 k | None -> l
-        in
-        let words =
-          String.split_on_char ' '
-            (String.map (fun c -> if c = '\t' || c = '\r' then ' ' else c) l)
-          |> List.filter (fun w -> w <> "")
-        in
-        statement (i + 1) words)
-      lines;
-    if !tris = [] && !faces > 0 then
+    (* Lines end at '\n' (the text after the last one is a line too); '#' starts a
+       comment; words are separated by spaces, tabs and carriage returns. *)
+    let line = ref 1 and i = ref 0 and start = ref (-1) and comment = ref false in
+    nw := 0;
+    while !i <= len do
+      let c = if !i = len then '\n' else String.unsafe_get text !i in
+      if c = '\n' then (
+        if !start >= 0 then add_word !start !i;
+        statement !line;
+        nw := 0;
+        start := -1;
+        comment := false;
+        if !i < len then incr line)
+      else if !comment then ()
+      else if c = ' ' || c = '\t' || c = '\r' || c = '#' then (
+        if !start >= 0 then (
+          add_word !start !i;
+          start := -1);
+        if c = '#' then comment := true)
+      else if !start < 0 then start := !i;
+      incr i
+    done;
+    let lines = !line in
+    if tris.len = 0 && !faces > 0 then
       Error
-        (Printf.sprintf "%s:%d: all %d faces of the file have zero area" file
-           (List.length lines) !faces)
-    else if !tris = [] then
-      Error (Printf.sprintf "%s:%d: the file has no faces" file (List.length lines))
-    else Ok (List.rev !tris)
+        (Printf.sprintf "%s:%d: all %d faces of the file have zero area" file lines !faces)
+    else if tris.len = 0 then
+      Error (Printf.sprintf "%s:%d: the file has no faces" file lines)
+    else
+      let l = ref [] in
+      for k = tris.len - 1 downto 0 do
+        l := tris.data.(k) :: !l
+      done;
+      Ok !l
   with Bad (line, m) -> Error (Printf.sprintf "%s:%d: %s" file line m)
 
 let load ?smooth path =
