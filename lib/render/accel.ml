@@ -27,6 +27,7 @@ type t = { prims : Primitive.t array; outside : int array; tree : tree option }
 let min_bvh = 8
 let max_leaf = 8
 let bins = 16
+let small = 32
 let uses_bvh a = Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =
@@ -35,19 +36,31 @@ let finite_box (b : Bbox.t) =
 
 (* --- Construction ----------------------------------------------------------------- *)
 
-(* Per-primitive data during the build, struct-of-arrays: padded bounds and centroids. *)
+(* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
+   data is struct-of-arrays (padded bounds and centroids in Float.Array), nodes are written
+   into arrays grown by doubling, and the binning scratch is reused at every node. Floats
+   stay in local mutable variables and inlined functions, so that none is boxed. *)
 type work = {
-  bmin : Float.Array.t;
+  bmin : Float.Array.t;  (** 3 per primitive *)
   bmax : Float.Array.t;
   cent : Float.Array.t;
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
-  nodes_b : Float.Array.t;
-  links_b : int array;
+  mutable nodes_b : Float.Array.t;  (** 6 per node *)
+  mutable links_b : int array;  (** 2 per node *)
   mutable count : int;
   mutable max_depth : int;
-  (* Bin scratch, reused at every node: counts and bounds per axis and bin. *)
+  (* Bin scratch, reused at every node: counts and bounds per bin, the areas and counts
+     of the bins from b to the last, and the node's centroid bounds. *)
   bin_n : int array;
   bin_b : Float.Array.t;
+  right_area : Float.Array.t;
+  right_n : int array;
+  cbox : Float.Array.t;
+  (* Small nodes: each primitive's bin, the primitives (3 × index) sorted by bin, and the
+     area of the boxes from each position to the last. *)
+  small_bin : int array;
+  small_p : int array;
+  small_area : Float.Array.t;
 }
 
 let fget = Float.Array.unsafe_get
@@ -55,11 +68,23 @@ let fset = Float.Array.unsafe_set
 
 let new_node w =
   let k = w.count in
+  if 2 * (k + 1) > Array.length w.links_b then (
+    let cap = 2 * (k + 1) in
+    let nodes = Float.Array.create (6 * cap) and links = Array.make (2 * cap) 0 in
+    Float.Array.blit w.nodes_b 0 nodes 0 (6 * k);
+    Array.blit w.links_b 0 links 0 (2 * k);
+    w.nodes_b <- nodes;
+    w.links_b <- links);
   w.count <- k + 1;
   k
 
+(* Typed comparisons rather than Float.min/max: the bounds are finite (checked at
+   entry), and Float.min's NaN and signed-zero handling costs a C call per use. *)
+let[@inline] fmin (a : float) b = if a < b then a else b
+let[@inline] fmax (a : float) b = if a > b then a else b
+
 (* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
-let area a off =
+let[@inline] area a off =
   let dx = fget a (off + 3) -. fget a off
   and dy = fget a (off + 4) -. fget a (off + 1)
   and dz = fget a (off + 5) -. fget a (off + 2) in
@@ -72,129 +97,251 @@ let box_empty a off =
     fset a (off + 3 + k) Float.neg_infinity
   done
 
-(* Grow the box at [off] in [a] by primitive [p]'s bounds. *)
-(* Typed comparisons rather than Float.min/max: the bounds are finite (checked at
-   entry), and Float.min's NaN and signed-zero handling costs a C call per use. *)
-let[@inline] fmin (a : float) b = if a < b then a else b
-let[@inline] fmax (a : float) b = if a > b then a else b
-
-let box_add a off w p =
-  for k = 0 to 2 do
-    fset a (off + k) (fmin (fget a (off + k)) (fget w.bmin ((3 * p) + k)));
-    fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget w.bmax ((3 * p) + k)))
-  done
-
 let box_merge a off b boff =
   for k = 0 to 2 do
     fset a (off + k) (fmin (fget a (off + k)) (fget b (boff + k)));
     fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
   done
 
-let bin_of cmin scale c =
+let[@inline] bin_of cmin scale c =
   let b = int_of_float ((c -. cmin) *. scale) in
   if b < 0 then 0 else if b >= bins then bins - 1 else b
 
-let rec build_node w lo hi depth =
+(* Add the primitive at [p3] (3 × index) to bin [b] of the bin scratch. *)
+let[@inline] bin_add w b p3 =
+  let bin_n = w.bin_n and bb = w.bin_b and bmin = w.bmin and bmax = w.bmax in
+  Array.unsafe_set bin_n b (Array.unsafe_get bin_n b + 1);
+  let o = 6 * b in
+  fset bb o (fmin (fget bb o) (fget bmin p3));
+  fset bb (o + 1) (fmin (fget bb (o + 1)) (fget bmin (p3 + 1)));
+  fset bb (o + 2) (fmin (fget bb (o + 2)) (fget bmin (p3 + 2)));
+  fset bb (o + 3) (fmax (fget bb (o + 3)) (fget bmax p3));
+  fset bb (o + 4) (fmax (fget bb (o + 4)) (fget bmax (p3 + 1)));
+  fset bb (o + 5) (fmax (fget bb (o + 5)) (fget bmax (p3 + 2)))
+
+(* Bin ids[lo, hi) into the bin scratch, in one pass, along each axis k whose [use_k]
+   holds (bins k·bins to k·bins + bins − 1): counts and bounds. *)
+let bin_axes w lo hi use_x use_y use_z =
+  let cb = w.cbox and ids = w.ids and cent = w.cent in
+  let scale k =
+    let e = fget cb (3 + k) -. fget cb k in
+    if e > 0. then Float.of_int bins /. e else 0.
+  in
+  let x0 = fget cb 0 and y0 = fget cb 1 and z0 = fget cb 2 in
+  let sx = scale 0 and sy = scale 1 and sz = scale 2 in
+  for b = 0 to (3 * bins) - 1 do
+    Array.unsafe_set w.bin_n b 0;
+    box_empty w.bin_b (6 * b)
+  done;
+  for i = lo to hi - 1 do
+    let p3 = 3 * Array.unsafe_get ids i in
+    if use_x then bin_add w (bin_of x0 sx (fget cent p3)) p3;
+    if use_y then bin_add w (bins + bin_of y0 sy (fget cent (p3 + 1))) p3;
+    if use_z then bin_add w ((2 * bins) + bin_of z0 sz (fget cent (p3 + 2))) p3
+  done
+
+(* The node's box and its centroids' bounds (into [cbox]) over ids[lo, hi). *)
+let bound_node w off lo hi =
+  let ids = w.ids and bmin = w.bmin and bmax = w.bmax and cent = w.cent in
+  let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+  let x1 = ref Float.neg_infinity
+  and y1 = ref Float.neg_infinity
+  and z1 = ref Float.neg_infinity in
+  let cx0 = ref Float.infinity
+  and cy0 = ref Float.infinity
+  and cz0 = ref Float.infinity in
+  let cx1 = ref Float.neg_infinity
+  and cy1 = ref Float.neg_infinity
+  and cz1 = ref Float.neg_infinity in
+  for i = lo to hi - 1 do
+    let p3 = 3 * Array.unsafe_get ids i in
+    x0 := fmin !x0 (fget bmin p3);
+    y0 := fmin !y0 (fget bmin (p3 + 1));
+    z0 := fmin !z0 (fget bmin (p3 + 2));
+    x1 := fmax !x1 (fget bmax p3);
+    y1 := fmax !y1 (fget bmax (p3 + 1));
+    z1 := fmax !z1 (fget bmax (p3 + 2));
+    let cx = fget cent p3 and cy = fget cent (p3 + 1) and cz = fget cent (p3 + 2) in
+    cx0 := fmin !cx0 cx;
+    cy0 := fmin !cy0 cy;
+    cz0 := fmin !cz0 cz;
+    cx1 := fmax !cx1 cx;
+    cy1 := fmax !cy1 cy;
+    cz1 := fmax !cz1 cz
+  done;
+  let nb = w.nodes_b and cb = w.cbox in
+  fset nb off !x0;
+  fset nb (off + 1) !y0;
+  fset nb (off + 2) !z0;
+  fset nb (off + 3) !x1;
+  fset nb (off + 4) !y1;
+  fset nb (off + 5) !z1;
+  fset cb 0 !cx0;
+  fset cb 1 !cy0;
+  fset cb 2 !cz0;
+  fset cb 3 !cx1;
+  fset cb 4 !cy1;
+  fset cb 5 !cz1
+
+(* [best_split] for a node of at most [small] primitives, with the same answer: the
+   primitives sorted by bin, the cost is evaluated only between two occupied bins. A split
+   b among empty bins has the cost of the split just after the occupied bin below it, and
+   sends the same primitives to each side, so the full sweep keeps that one (the first of
+   equal costs); its boxes are unions of the same boxes, which min and max compute exactly
+   in any order. *)
+let best_split_small w lo hi split =
+  let n = hi - lo and cb = w.cbox in
+  let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
+  let bmin = w.bmin and bmax = w.bmax and cent = w.cent and ids = w.ids in
+  let box = w.bin_b in
+  let best_cost = ref Float.infinity in
+  split.(0) <- -1;
+  for axis = 0 to 2 do
+    let cmin = fget cb axis in
+    let ext = fget cb (3 + axis) -. cmin in
+    if ext > 0. then (
+      let scale = Float.of_int bins /. ext in
+      (* Insertion sort by bin. *)
+      for i = 0 to n - 1 do
+        let p3 = 3 * Array.unsafe_get ids (lo + i) in
+        let b = bin_of cmin scale (fget cent (p3 + axis)) in
+        let j = ref i in
+        while !j > 0 && Array.unsafe_get sb (!j - 1) > b do
+          Array.unsafe_set sb !j (Array.unsafe_get sb (!j - 1));
+          Array.unsafe_set sp !j (Array.unsafe_get sp (!j - 1));
+          decr j
+        done;
+        Array.unsafe_set sb !j b;
+        Array.unsafe_set sp !j p3
+      done;
+      (* sa.(j): the area of the boxes of positions j..n−1, where j starts a bin. *)
+      box_empty box 0;
+      for j = n - 1 downto 1 do
+        let p3 = Array.unsafe_get sp j in
+        fset box 0 (fmin (fget box 0) (fget bmin p3));
+        fset box 1 (fmin (fget box 1) (fget bmin (p3 + 1)));
+        fset box 2 (fmin (fget box 2) (fget bmin (p3 + 2)));
+        fset box 3 (fmax (fget box 3) (fget bmax p3));
+        fset box 4 (fmax (fget box 4) (fget bmax (p3 + 1)));
+        fset box 5 (fmax (fget box 5) (fget bmax (p3 + 2)));
+        if Array.unsafe_get sb j <> Array.unsafe_get sb (j - 1) then
+          fset sa j (area box 0)
+      done;
+      box_empty box 0;
+      for j = 0 to n - 2 do
+        let p3 = Array.unsafe_get sp j in
+        fset box 0 (fmin (fget box 0) (fget bmin p3));
+        fset box 1 (fmin (fget box 1) (fget bmin (p3 + 1)));
+        fset box 2 (fmin (fget box 2) (fget bmin (p3 + 2)));
+        fset box 3 (fmax (fget box 3) (fget bmax p3));
+        fset box 4 (fmax (fget box 4) (fget bmax (p3 + 1)));
+        fset box 5 (fmax (fget box 5) (fget bmax (p3 + 2)));
+        let b = Array.unsafe_get sb j in
+        if b <> Array.unsafe_get sb (j + 1) then
+          let cost =
+            (area box 0 *. Float.of_int (j + 1))
+            +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
+          in
+          if cost < !best_cost then (
+            best_cost := cost;
+            split.(0) <- axis;
+            split.(1) <- b + 1)
+      done)
+  done;
+  !best_cost
+
+(* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and keep
+   the cheapest split cost SA(L)·nL + SA(R)·nR. The split (axis, first bin of the right
+   side) is stored in [split] and its cost returned; infinity when no axis splits. Large
+   nodes bin only along their widest centroid axis: a third of the build time where it
+   matters, at a negligible cost in tree quality. *)
+let best_split w lo hi split =
+  let n = hi - lo and cb = w.cbox in
+  let best_cost = ref Float.infinity in
+  split.(0) <- -1;
+  let e k = fget cb (3 + k) -. fget cb k in
+  let widest = if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2 in
+  let use k = fget cb (3 + k) -. fget cb k > 0. && (n <= 4096 || k = widest) in
+  let use_x = use 0 and use_y = use 1 and use_z = use 2 in
+  bin_axes w lo hi use_x use_y use_z;
+  let left_a = w.bin_b and la = 6 * 3 * bins in
+  for axis = 0 to 2 do
+    if (axis = 0 && use_x) || (axis = 1 && use_y) || (axis = 2 && use_z) then (
+      let b0 = axis * bins in
+      (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
+      box_empty left_a la;
+      let acc_n = ref 0 in
+      for b = bins - 1 downto 1 do
+        box_merge left_a la w.bin_b (6 * (b0 + b));
+        acc_n := !acc_n + w.bin_n.(b0 + b);
+        fset w.right_area b (area left_a la);
+        w.right_n.(b) <- !acc_n
+      done;
+      box_empty left_a la;
+      let acc_n = ref 0 in
+      for b = 0 to bins - 2 do
+        box_merge left_a la w.bin_b (6 * (b0 + b));
+        acc_n := !acc_n + w.bin_n.(b0 + b);
+        let nl = !acc_n and nr = w.right_n.(b + 1) in
+        if nl > 0 && nr > 0 then
+          let cost =
+            (area left_a la *. Float.of_int nl)
+            +. (fget w.right_area (b + 1) *. Float.of_int nr)
+          in
+          if cost < !best_cost then (
+            best_cost := cost;
+            split.(0) <- axis;
+            split.(1) <- b + 1)
+      done)
+  done;
+  !best_cost
+
+(* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
+   first; the index of the first of the others. *)
+let partition w lo hi axis split =
+  let cb = w.cbox and ids = w.ids and cent = w.cent in
+  let cmin = fget cb axis in
+  let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
+  let i = ref lo and j = ref (hi - 1) in
+  while !i <= !j do
+    let p = Array.unsafe_get ids !i in
+    if bin_of cmin scale (fget cent ((3 * p) + axis)) < split then incr i
+    else (
+      Array.unsafe_set ids !i (Array.unsafe_get ids !j);
+      Array.unsafe_set ids !j p;
+      decr j)
+  done;
+  !i
+
+let rec build_node w split lo hi depth =
   let node = new_node w in
   if depth > w.max_depth then w.max_depth <- depth;
   let off = 6 * node in
-  box_empty w.nodes_b off;
-  let cmin = Array.make 3 Float.infinity and cmax = Array.make 3 Float.neg_infinity in
-  for i = lo to hi - 1 do
-    let p = w.ids.(i) in
-    box_add w.nodes_b off w p;
-    for k = 0 to 2 do
-      let c = fget w.cent ((3 * p) + k) in
-      cmin.(k) <- fmin cmin.(k) c;
-      cmax.(k) <- fmax cmax.(k) c
-    done
-  done;
+  bound_node w off lo hi;
   let n = hi - lo in
-  let leaf () =
+  let mid =
+    if n <= 2 then -1
+    else
+      let best_cost =
+        if n <= small then best_split_small w lo hi split else best_split w lo hi split
+      in
+      let node_area = area w.nodes_b off in
+      (* Cost model: one box test per child against one intersection per primitive. *)
+      let leaf_cost = Float.of_int n *. node_area in
+      if split.(0) < 0 then if n <= max_leaf then -1 else lo + (n / 2)
+      else if n <= max_leaf && leaf_cost <= node_area +. best_cost then -1
+      else
+        let mid = partition w lo hi split.(0) split.(1) in
+        if mid = lo || mid = hi then lo + (n / 2) else mid
+  in
+  if mid < 0 then (
     w.links_b.(2 * node) <- lo;
-    w.links_b.((2 * node) + 1) <- n
-  in
-  let interior mid =
-    let _left = build_node w lo mid (depth + 1) in
-    let right = build_node w mid hi (depth + 1) in
+    w.links_b.((2 * node) + 1) <- n)
+  else (
+    ignore (build_node w split lo mid (depth + 1));
+    let right = build_node w split mid hi (depth + 1) in
     w.links_b.(2 * node) <- right;
-    w.links_b.((2 * node) + 1) <- 0
-  in
-  (if n <= 2 then leaf ()
-   else
-     (* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and
-       keep the cheapest split cost SA(L)·nL + SA(R)·nR. *)
-     let best_cost = ref Float.infinity and best_axis = ref (-1) and best_split = ref 0 in
-     let left_a = Float.Array.make 6 0.
-     and right_area = Array.make bins 0.
-     and right_n = Array.make bins 0 in
-     (* Large nodes bin only along their widest centroid axis: a third of the build time
-       where it matters, at a negligible cost in tree quality. *)
-     let widest =
-       let e k = cmax.(k) -. cmin.(k) in
-       if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2
-     in
-     for axis = 0 to 2 do
-       let ext = cmax.(axis) -. cmin.(axis) in
-       if ext > 0. && (n <= 4096 || axis = widest) then (
-         let scale = Float.of_int bins /. ext in
-         for b = 0 to bins - 1 do
-           w.bin_n.(b) <- 0;
-           box_empty w.bin_b (6 * b)
-         done;
-         for i = lo to hi - 1 do
-           let p = w.ids.(i) in
-           let b = bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) in
-           w.bin_n.(b) <- w.bin_n.(b) + 1;
-           box_add w.bin_b (6 * b) w p
-         done;
-         (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
-         box_empty left_a 0;
-         let acc_n = ref 0 in
-         for b = bins - 1 downto 1 do
-           box_merge left_a 0 w.bin_b (6 * b);
-           acc_n := !acc_n + w.bin_n.(b);
-           right_area.(b) <- area left_a 0;
-           right_n.(b) <- !acc_n
-         done;
-         box_empty left_a 0;
-         let acc_n = ref 0 in
-         for b = 0 to bins - 2 do
-           box_merge left_a 0 w.bin_b (6 * b);
-           acc_n := !acc_n + w.bin_n.(b);
-           let nl = !acc_n and nr = right_n.(b + 1) in
-           if nl > 0 && nr > 0 then
-             let cost =
-               (area left_a 0 *. Float.of_int nl)
-               +. (right_area.(b + 1) *. Float.of_int nr)
-             in
-             if cost < !best_cost then (
-               best_cost := cost;
-               best_axis := axis;
-               best_split := b + 1)
-         done)
-     done;
-     let node_area = area w.nodes_b off in
-     (* Cost model: one box test per child against one intersection per primitive. *)
-     let leaf_cost = Float.of_int n *. node_area in
-     if !best_axis < 0 then if n <= max_leaf then leaf () else interior (lo + (n / 2))
-     else if n <= max_leaf && leaf_cost <= node_area +. !best_cost then leaf ()
-     else
-       let axis = !best_axis in
-       let scale = Float.of_int bins /. (cmax.(axis) -. cmin.(axis)) in
-       (* Partition ids[lo, hi) so that bins below the split come first. *)
-       let i = ref lo and j = ref (hi - 1) in
-       while !i <= !j do
-         let p = w.ids.(!i) in
-         if bin_of cmin.(axis) scale (fget w.cent ((3 * p) + axis)) < !best_split then
-           incr i
-         else (
-           w.ids.(!i) <- w.ids.(!j);
-           w.ids.(!j) <- p;
-           decr j)
-       done;
-       let mid = !i in
-       if mid = lo || mid = hi then interior (lo + (n / 2)) else interior mid);
+    w.links_b.((2 * node) + 1) <- 0);
   node
 
 (* Bounds padded by a relative 1e-9 of their magnitude (see the header). *)
@@ -208,45 +355,62 @@ let pad_into w k (b : Bbox.t) =
   in
   set w.bmin b.min (-.e);
   set w.bmax b.max e;
-  let c = Bbox.centroid b in
-  fset w.cent (3 * k) c.x;
-  fset w.cent ((3 * k) + 1) c.y;
-  fset w.cent ((3 * k) + 2) c.z
+  (* Bbox.centroid, without its vectors. *)
+  fset w.cent (3 * k) (0.5 *. (b.min.x +. b.max.x));
+  fset w.cent ((3 * k) + 1) (0.5 *. (b.min.y +. b.max.y));
+  fset w.cent ((3 * k) + 2) (0.5 *. (b.min.z +. b.max.z))
+
+let is_bounded (p : Primitive.t) =
+  match p.bounds with Some b -> finite_box b | None -> false
+
+(* The indices of the bounded primitives ([want]) or of the others, in order. *)
+let indices prims want =
+  let n = Array.length prims in
+  let k = ref 0 in
+  Array.iter (fun p -> if is_bounded p = want then incr k) prims;
+  let r = Array.make !k 0 and j = ref 0 in
+  for i = 0 to n - 1 do
+    if is_bounded prims.(i) = want then (
+      r.(!j) <- i;
+      incr j)
+  done;
+  r
 
 let build prims =
   let n = Array.length prims in
-  let is_bounded (p : Primitive.t) =
-    match p.bounds with Some b -> finite_box b | None -> false
-  in
-  let bounded =
-    List.filter (fun i -> is_bounded prims.(i)) (List.init n Fun.id) |> Array.of_list
-  in
+  let bounded = indices prims true in
   let m = Array.length bounded in
   if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None }
   else
-    let outside =
-      List.filter (fun i -> not (is_bounded prims.(i))) (List.init n Fun.id)
-      |> Array.of_list
-    in
+    let outside = indices prims false in
+    (* A tree of m primitives has at most 2m − 1 nodes; leaves hold several, so start
+       from a quarter of that and grow. *)
+    let cap = max 16 (m / 2) in
     let w =
       {
         bmin = Float.Array.create (3 * m);
         bmax = Float.Array.create (3 * m);
         cent = Float.Array.create (3 * m);
         ids = Array.init m Fun.id;
-        nodes_b = Float.Array.create (6 * 2 * m);
-        links_b = Array.make (2 * 2 * m) 0;
+        nodes_b = Float.Array.create (6 * cap);
+        links_b = Array.make (2 * cap) 0;
         count = 0;
         max_depth = 0;
-        bin_n = Array.make bins 0;
-        bin_b = Float.Array.create (6 * bins);
+        bin_n = Array.make (3 * bins) 0;
+        bin_b = Float.Array.create (6 * ((3 * bins) + 1));
+        right_area = Float.Array.make bins 0.;
+        right_n = Array.make bins 0;
+        cbox = Float.Array.create 6;
+        small_bin = Array.make small 0;
+        small_p = Array.make small 0;
+        small_area = Float.Array.make small 0.;
       }
     in
     Array.iteri
       (fun k i ->
         match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ())
       bounded;
-    ignore (build_node w 0 m 1);
+    ignore (build_node w [| -1; 0 |] 0 m 1);
     let nodes = Float.Array.sub w.nodes_b 0 (6 * w.count)
     and links = Array.sub w.links_b 0 (2 * w.count) in
     let leaf_idx = Array.map (fun k -> bounded.(k)) w.ids in
