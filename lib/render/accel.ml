@@ -37,13 +37,11 @@ let finite_box (b : Bbox.t) =
 (* --- Construction ----------------------------------------------------------------- *)
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
-   data is struct-of-arrays (padded bounds and centroids in Float.Array), nodes are written
-   into arrays grown by doubling, and the binning scratch is reused at every node. Floats
+   data is one Float.Array of padded bounds (centroids are their midpoints), nodes are written
+   into arrays grown by half, and the binning scratch is reused at every node. Floats
    stay in local mutable variables and inlined functions, so that none is boxed. *)
 type work = {
-  bmin : Float.Array.t;  (** 3 per primitive *)
-  bmax : Float.Array.t;
-  cent : Float.Array.t;
+  pbox : Float.Array.t;  (** 6 per primitive: padded min x y z, max x y z *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
   mutable nodes_b : Float.Array.t;  (** 6 per node *)
   mutable links_b : int array;  (** 2 per node *)
@@ -69,7 +67,7 @@ let fset = Float.Array.unsafe_set
 let new_node w =
   let k = w.count in
   if 2 * (k + 1) > Array.length w.links_b then (
-    let cap = 2 * (k + 1) in
+    let cap = k + (k / 2) + 16 in
     let nodes = Float.Array.create (6 * cap) and links = Array.make (2 * cap) 0 in
     Float.Array.blit w.nodes_b 0 nodes 0 (6 * k);
     Array.blit w.links_b 0 links 0 (2 * k);
@@ -103,26 +101,29 @@ let box_merge a off b boff =
     fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
   done
 
+(* The centroid's coordinate [k] of the padded box at [q] in [pb]. *)
+let[@inline] cen pb q k = 0.5 *. (fget pb (q + k) +. fget pb (q + 3 + k))
+
 let[@inline] bin_of cmin scale c =
   let b = int_of_float ((c -. cmin) *. scale) in
   if b < 0 then 0 else if b >= bins then bins - 1 else b
 
-(* Add the primitive at [p3] (3 × index) to bin [b] of the bin scratch. *)
-let[@inline] bin_add w b p3 =
-  let bin_n = w.bin_n and bb = w.bin_b and bmin = w.bmin and bmax = w.bmax in
+(* Add the primitive at [q] (3 × index) to bin [b] of the bin scratch. *)
+let[@inline] bin_add w b q =
+  let bin_n = w.bin_n and bb = w.bin_b and pb = w.pbox in
   Array.unsafe_set bin_n b (Array.unsafe_get bin_n b + 1);
   let o = 6 * b in
-  fset bb o (fmin (fget bb o) (fget bmin p3));
-  fset bb (o + 1) (fmin (fget bb (o + 1)) (fget bmin (p3 + 1)));
-  fset bb (o + 2) (fmin (fget bb (o + 2)) (fget bmin (p3 + 2)));
-  fset bb (o + 3) (fmax (fget bb (o + 3)) (fget bmax p3));
-  fset bb (o + 4) (fmax (fget bb (o + 4)) (fget bmax (p3 + 1)));
-  fset bb (o + 5) (fmax (fget bb (o + 5)) (fget bmax (p3 + 2)))
+  fset bb o (fmin (fget bb o) (fget pb q));
+  fset bb (o + 1) (fmin (fget bb (o + 1)) (fget pb (q + 1)));
+  fset bb (o + 2) (fmin (fget bb (o + 2)) (fget pb (q + 2)));
+  fset bb (o + 3) (fmax (fget bb (o + 3)) (fget pb (q + 3)));
+  fset bb (o + 4) (fmax (fget bb (o + 4)) (fget pb (q + 4)));
+  fset bb (o + 5) (fmax (fget bb (o + 5)) (fget pb (q + 5)))
 
 (* Bin ids[lo, hi) into the bin scratch, in one pass, along each axis k whose [use_k]
    holds (bins k·bins to k·bins + bins − 1): counts and bounds. *)
 let bin_axes w lo hi use_x use_y use_z =
-  let cb = w.cbox and ids = w.ids and cent = w.cent in
+  let cb = w.cbox and ids = w.ids and pb = w.pbox in
   let scale k =
     let e = fget cb (3 + k) -. fget cb k in
     if e > 0. then Float.of_int bins /. e else 0.
@@ -134,15 +135,15 @@ let bin_axes w lo hi use_x use_y use_z =
     box_empty w.bin_b (6 * b)
   done;
   for i = lo to hi - 1 do
-    let p3 = 3 * Array.unsafe_get ids i in
-    if use_x then bin_add w (bin_of x0 sx (fget cent p3)) p3;
-    if use_y then bin_add w (bins + bin_of y0 sy (fget cent (p3 + 1))) p3;
-    if use_z then bin_add w ((2 * bins) + bin_of z0 sz (fget cent (p3 + 2))) p3
+    let q = 6 * Array.unsafe_get ids i in
+    if use_x then bin_add w (bin_of x0 sx (cen pb q 0)) q;
+    if use_y then bin_add w (bins + bin_of y0 sy (cen pb q 1)) q;
+    if use_z then bin_add w ((2 * bins) + bin_of z0 sz (cen pb q 2)) q
   done
 
 (* The node's box and its centroids' bounds (into [cbox]) over ids[lo, hi). *)
 let bound_node w off lo hi =
-  let ids = w.ids and bmin = w.bmin and bmax = w.bmax and cent = w.cent in
+  let ids = w.ids and pb = w.pbox in
   let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
   let x1 = ref Float.neg_infinity
   and y1 = ref Float.neg_infinity
@@ -154,14 +155,14 @@ let bound_node w off lo hi =
   and cy1 = ref Float.neg_infinity
   and cz1 = ref Float.neg_infinity in
   for i = lo to hi - 1 do
-    let p3 = 3 * Array.unsafe_get ids i in
-    x0 := fmin !x0 (fget bmin p3);
-    y0 := fmin !y0 (fget bmin (p3 + 1));
-    z0 := fmin !z0 (fget bmin (p3 + 2));
-    x1 := fmax !x1 (fget bmax p3);
-    y1 := fmax !y1 (fget bmax (p3 + 1));
-    z1 := fmax !z1 (fget bmax (p3 + 2));
-    let cx = fget cent p3 and cy = fget cent (p3 + 1) and cz = fget cent (p3 + 2) in
+    let q = 6 * Array.unsafe_get ids i in
+    x0 := fmin !x0 (fget pb q);
+    y0 := fmin !y0 (fget pb (q + 1));
+    z0 := fmin !z0 (fget pb (q + 2));
+    x1 := fmax !x1 (fget pb (q + 3));
+    y1 := fmax !y1 (fget pb (q + 4));
+    z1 := fmax !z1 (fget pb (q + 5));
+    let cx = cen pb q 0 and cy = cen pb q 1 and cz = cen pb q 2 in
     cx0 := fmin !cx0 cx;
     cy0 := fmin !cy0 cy;
     cz0 := fmin !cz0 cz;
@@ -192,7 +193,7 @@ let bound_node w off lo hi =
 let best_split_small w lo hi split =
   let n = hi - lo and cb = w.cbox in
   let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
-  let bmin = w.bmin and bmax = w.bmax and cent = w.cent and ids = w.ids in
+  let pb = w.pbox and ids = w.ids in
   let box = w.bin_b in
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
@@ -203,8 +204,8 @@ let best_split_small w lo hi split =
       let scale = Float.of_int bins /. ext in
       (* Insertion sort by bin. *)
       for i = 0 to n - 1 do
-        let p3 = 3 * Array.unsafe_get ids (lo + i) in
-        let b = bin_of cmin scale (fget cent (p3 + axis)) in
+        let q = 6 * Array.unsafe_get ids (lo + i) in
+        let b = bin_of cmin scale (cen pb q axis) in
         let j = ref i in
         while !j > 0 && Array.unsafe_get sb (!j - 1) > b do
           Array.unsafe_set sb !j (Array.unsafe_get sb (!j - 1));
@@ -212,30 +213,30 @@ let best_split_small w lo hi split =
           decr j
         done;
         Array.unsafe_set sb !j b;
-        Array.unsafe_set sp !j p3
+        Array.unsafe_set sp !j q
       done;
       (* sa.(j): the area of the boxes of positions j..n−1, where j starts a bin. *)
       box_empty box 0;
       for j = n - 1 downto 1 do
-        let p3 = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget bmin p3));
-        fset box 1 (fmin (fget box 1) (fget bmin (p3 + 1)));
-        fset box 2 (fmin (fget box 2) (fget bmin (p3 + 2)));
-        fset box 3 (fmax (fget box 3) (fget bmax p3));
-        fset box 4 (fmax (fget box 4) (fget bmax (p3 + 1)));
-        fset box 5 (fmax (fget box 5) (fget bmax (p3 + 2)));
+        let q = Array.unsafe_get sp j in
+        fset box 0 (fmin (fget box 0) (fget pb q));
+        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
+        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
+        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
+        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
+        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
         if Array.unsafe_get sb j <> Array.unsafe_get sb (j - 1) then
           fset sa j (area box 0)
       done;
       box_empty box 0;
       for j = 0 to n - 2 do
-        let p3 = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget bmin p3));
-        fset box 1 (fmin (fget box 1) (fget bmin (p3 + 1)));
-        fset box 2 (fmin (fget box 2) (fget bmin (p3 + 2)));
-        fset box 3 (fmax (fget box 3) (fget bmax p3));
-        fset box 4 (fmax (fget box 4) (fget bmax (p3 + 1)));
-        fset box 5 (fmax (fget box 5) (fget bmax (p3 + 2)));
+        let q = Array.unsafe_get sp j in
+        fset box 0 (fmin (fget box 0) (fget pb q));
+        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
+        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
+        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
+        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
+        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
         let b = Array.unsafe_get sb j in
         if b <> Array.unsafe_get sb (j + 1) then
           let cost =
@@ -300,13 +301,13 @@ let best_split w lo hi split =
 (* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
    first; the index of the first of the others. *)
 let partition w lo hi axis split =
-  let cb = w.cbox and ids = w.ids and cent = w.cent in
+  let cb = w.cbox and ids = w.ids and pb = w.pbox in
   let cmin = fget cb axis in
   let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
     let p = Array.unsafe_get ids !i in
-    if bin_of cmin scale (fget cent ((3 * p) + axis)) < split then incr i
+    if bin_of cmin scale (cen pb (6 * p) axis) < split then incr i
     else (
       Array.unsafe_set ids !i (Array.unsafe_get ids !j);
       Array.unsafe_set ids !j p;
@@ -349,17 +350,13 @@ let rec build_node w split lo hi depth =
 let pad_into w k (b : Bbox.t) =
   let m = Float.max (Vec3.max_abs b.min) (Vec3.max_abs b.max) in
   let e = (1e-9 *. m) +. 1e-300 in
-  let set a (v : Vec3.t) s =
-    fset a (3 * k) (v.x +. s);
-    fset a ((3 * k) + 1) (v.y +. s);
-    fset a ((3 * k) + 2) (v.z +. s)
-  in
-  set w.bmin b.min (-.e);
-  set w.bmax b.max e;
-  (* Bbox.centroid, without its vectors. *)
-  fset w.cent (3 * k) (0.5 *. (b.min.x +. b.max.x));
-  fset w.cent ((3 * k) + 1) (0.5 *. (b.min.y +. b.max.y));
-  fset w.cent ((3 * k) + 2) (0.5 *. (b.min.z +. b.max.z))
+  let pb = w.pbox and q = 6 * k in
+  fset pb q (b.min.x -. e);
+  fset pb (q + 1) (b.min.y -. e);
+  fset pb (q + 2) (b.min.z -. e);
+  fset pb (q + 3) (b.max.x +. e);
+  fset pb (q + 4) (b.max.y +. e);
+  fset pb (q + 5) (b.max.z +. e)
 
 let is_bounded (p : Primitive.t) =
   match p.bounds with Some b -> finite_box b | None -> false
@@ -384,14 +381,12 @@ let build prims =
   if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None }
   else
     let outside = indices prims false in
-    (* A tree of m primitives has at most 2m − 1 nodes; leaves hold several, so start
-       from a quarter of that and grow. *)
-    let cap = max 16 (m / 2) in
+    (* A tree of m primitives has at most 2m − 1 nodes; with leaves of one or two, as the
+       cost model makes them, a little more than m. *)
+    let cap = m + (m / 8) + 16 in
     let w =
       {
-        bmin = Float.Array.create (3 * m);
-        bmax = Float.Array.create (3 * m);
-        cent = Float.Array.create (3 * m);
+        pbox = Float.Array.create (6 * m);
         ids = Array.init m Fun.id;
         nodes_b = Float.Array.create (6 * cap);
         links_b = Array.make (2 * cap) 0;
@@ -412,9 +407,15 @@ let build prims =
         match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ())
       bounded;
     ignore (build_node w [| -1; 0 |] 0 m 1);
-    let nodes = Float.Array.sub w.nodes_b 0 (6 * w.count)
-    and links = Array.sub w.links_b 0 (2 * w.count) in
-    let leaf_idx = Array.map (fun k -> bounded.(k)) w.ids in
+    (* The node arrays as they are when little of them is unused, rather than a copy
+       beside them at the peak of memory. *)
+    let nodes, links =
+      if 8 * w.count >= 7 * (Array.length w.links_b / 2) then (w.nodes_b, w.links_b)
+      else (Float.Array.sub w.nodes_b 0 (6 * w.count), Array.sub w.links_b 0 (2 * w.count))
+    in
+    (* The leaf order as indices into [prims], in place. *)
+    let leaf_idx = w.ids in
+    Array.iteri (fun j k -> leaf_idx.(j) <- bounded.(k)) leaf_idx;
     let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
     {
       prims;
