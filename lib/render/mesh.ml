@@ -255,14 +255,16 @@ let parse ?(smooth = true) ~file text =
         bad line "unknown statement %S (expected v, vt, vn or f)" kw
   in
   try
-    if String.contains text '\000' then bad 1 "not a text file";
     (* Lines end at '\n' (the text after the last one is a line too); '#' starts a
-       comment; words are separated by spaces, tabs and carriage returns. *)
+       comment; words are separated by spaces, tabs and carriage returns. A NUL byte
+       anywhere makes the whole file not text, whatever else is wrong with it: the scan
+       stops at one, and the first error found before one is checked against the rest. *)
     let line = ref 1 and i = ref 0 and start = ref (-1) and comment = ref false in
     nw := 0;
     while !i <= len do
       let c = if !i = len then '\n' else String.unsafe_get text !i in
-      if c = '\n' then (
+      if c = '\000' then bad 1 "not a text file"
+      else if c = '\n' then (
         if !start >= 0 then add_word !start !i;
         statement !line;
         nw := 0;
@@ -290,7 +292,11 @@ let parse ?(smooth = true) ~file text =
         l := tris.data.(k) :: !l
       done;
       Ok !l
-  with Bad (line, m) -> Error (Printf.sprintf "%s:%d: %s" file line m)
+  with Bad (line, m) ->
+    let line, m =
+      if String.contains text '\000' then (1, "not a text file") else (line, m)
+    in
+    Error (Printf.sprintf "%s:%d: %s" file line m)
 
 let load ?smooth path =
   match In_channel.with_open_bin path In_channel.input_all with

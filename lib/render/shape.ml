@@ -592,7 +592,10 @@ let bbox_of = function
              Vec3.add origin edge2;
              Vec3.add (Vec3.add origin edge1) edge2;
            ])
-  | Triangle { a; b; c; _ } -> Some (Bbox.of_points [ a; b; c ])
+  | Triangle { a; b; c; _ } ->
+      (* Bbox.of_points [a; b; c], without its list and intermediate boxes (the same
+         bits: min and max from the empty box keep the first point). *)
+      Some { Bbox.min = Vec3.min (Vec3.min a b) c; max = Vec3.max (Vec3.max a b) c }
   | Paraboloid { vertex; axis; radius; height; _ } ->
       let top = disk_bbox (Vec3.madd vertex height axis) axis radius in
       Some (Bbox.union top { Bbox.min = vertex; max = vertex })
