@@ -369,6 +369,41 @@ let mesh_tests =
         | Error e -> Alcotest.fail e);
   ]
 
+(* Coordinates in every decimal form an exporter writes (signs, leading zeros, long
+   fractions, exponents, underscores) are read to the same double as float_of_string. *)
+let obj_number_prop =
+  let gen =
+    QCheck.Gen.(
+      let digits n = string_size ~gen:(char_range '0' '9') (int_bound n) in
+      let* sign = oneofl [ ""; "-"; "+" ] in
+      let* int_part = digits 18 in
+      let* frac = opt (digits 22) in
+      let* exp = opt (pair (oneofl [ "e"; "E"; "e-"; "e+" ]) (int_bound 30)) in
+      let* under = bool in
+      let int_part = if int_part = "" && frac = None then "0" else int_part in
+      let int_part =
+        if under && String.length int_part > 1 then
+          String.sub int_part 0 1 ^ "_"
+          ^ String.sub int_part 1 (String.length int_part - 1)
+        else int_part
+      in
+      let s =
+        sign ^ int_part
+        ^ (match frac with Some f -> "." ^ f | None -> "")
+        ^ match exp with Some (e, k) -> e ^ string_of_int k | None -> ""
+      in
+      return s)
+  in
+  QCheck.Test.make ~name:"OBJ coordinates read as float_of_string reads them" ~count:3000
+    (QCheck.make ~print:Fun.id gen) (fun s ->
+      match float_of_string_opt s with
+      | None -> QCheck.assume_fail ()
+      | Some x -> (
+          match parse_ok (Printf.sprintf "v %s 2 0\nv 0 0 0\nv 0 0 1\nf 1 2 3\n" s) with
+          | [ Shape.Triangle { a; _ } ] ->
+              Int64.equal (Int64.bits_of_float a.x) (Int64.bits_of_float x)
+          | _ -> false))
+
 (* ---- watertightness ---- *)
 
 let mesh_prims () =
@@ -911,7 +946,7 @@ let () =
       ("flat shapes", flat_tests);
       ("quadrics and box", quadric_tests);
       ("convexity", [ seeded convex_prop ]);
-      ("obj", mesh_tests);
+      ("obj", mesh_tests @ [ seeded obj_number_prop ]);
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
