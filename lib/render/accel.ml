@@ -37,11 +37,14 @@ let finite_box (b : Bbox.t) =
 (* --- Construction ----------------------------------------------------------------- *)
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
-   data is one Float.Array of padded bounds (centroids are their midpoints), nodes are written
+   data is one Float.Array of padded bounds (centroids are their midpoints), moved with
+   the primitives' order as nodes are partitioned, nodes are written
    into arrays grown by half, and the binning scratch is reused at every node. Floats
    stay in local mutable variables and inlined functions, so that none is boxed. *)
 type work = {
-  pbox : Float.Array.t;  (** 6 per primitive: padded min x y z, max x y z *)
+  pbox : Float.Array.t;
+      (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
+          every pass over a node reads memory in sequence *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
   mutable nodes_b : Float.Array.t;  (** 6 per node *)
   mutable links_b : int array;  (** 2 per node *)
@@ -123,7 +126,7 @@ let[@inline] bin_add w b q =
 (* Bin ids[lo, hi) into the bin scratch, in one pass, along each axis k whose [use_k]
    holds (bins k·bins to k·bins + bins − 1): counts and bounds. *)
 let bin_axes w lo hi use_x use_y use_z =
-  let cb = w.cbox and ids = w.ids and pb = w.pbox in
+  let cb = w.cbox and pb = w.pbox in
   let scale k =
     let e = fget cb (3 + k) -. fget cb k in
     if e > 0. then Float.of_int bins /. e else 0.
@@ -135,7 +138,7 @@ let bin_axes w lo hi use_x use_y use_z =
     box_empty w.bin_b (6 * b)
   done;
   for i = lo to hi - 1 do
-    let q = 6 * Array.unsafe_get ids i in
+    let q = 6 * i in
     if use_x then bin_add w (bin_of x0 sx (cen pb q 0)) q;
     if use_y then bin_add w (bins + bin_of y0 sy (cen pb q 1)) q;
     if use_z then bin_add w ((2 * bins) + bin_of z0 sz (cen pb q 2)) q
@@ -143,7 +146,7 @@ let bin_axes w lo hi use_x use_y use_z =
 
 (* The node's box and its centroids' bounds (into [cbox]) over ids[lo, hi). *)
 let bound_node w off lo hi =
-  let ids = w.ids and pb = w.pbox in
+  let pb = w.pbox in
   let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
   let x1 = ref Float.neg_infinity
   and y1 = ref Float.neg_infinity
@@ -155,7 +158,7 @@ let bound_node w off lo hi =
   and cy1 = ref Float.neg_infinity
   and cz1 = ref Float.neg_infinity in
   for i = lo to hi - 1 do
-    let q = 6 * Array.unsafe_get ids i in
+    let q = 6 * i in
     x0 := fmin !x0 (fget pb q);
     y0 := fmin !y0 (fget pb (q + 1));
     z0 := fmin !z0 (fget pb (q + 2));
@@ -193,7 +196,7 @@ let bound_node w off lo hi =
 let best_split_small w lo hi split =
   let n = hi - lo and cb = w.cbox in
   let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
-  let pb = w.pbox and ids = w.ids in
+  let pb = w.pbox in
   let box = w.bin_b in
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
@@ -204,7 +207,7 @@ let best_split_small w lo hi split =
       let scale = Float.of_int bins /. ext in
       (* Insertion sort by bin. *)
       for i = 0 to n - 1 do
-        let q = 6 * Array.unsafe_get ids (lo + i) in
+        let q = 6 * (lo + i) in
         let b = bin_of cmin scale (cen pb q axis) in
         let j = ref i in
         while !j > 0 && Array.unsafe_get sb (!j - 1) > b do
@@ -306,12 +309,18 @@ let partition w lo hi axis split =
   let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
-    let p = Array.unsafe_get ids !i in
-    if bin_of cmin scale (cen pb (6 * p) axis) < split then incr i
-    else (
+    if bin_of cmin scale (cen pb (6 * !i) axis) < split then incr i
+    else
+      let p = Array.unsafe_get ids !i in
       Array.unsafe_set ids !i (Array.unsafe_get ids !j);
       Array.unsafe_set ids !j p;
-      decr j)
+      let a = 6 * !i and b = 6 * !j in
+      for k = 0 to 5 do
+        let t = fget pb (a + k) in
+        fset pb (a + k) (fget pb (b + k));
+        fset pb (b + k) t
+      done;
+      decr j
   done;
   !i
 
