@@ -41,10 +41,13 @@ let view_lights origin lights =
   if is_zero origin then lights else Array.map (Light.translate (Vec3.neg origin)) lights
 
 let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
-  let mats =
-    Array.of_list (List.concat_map Primitive.materials (Array.to_list objects))
+  (* Over the objects themselves: no list or array of a million materials beside them. *)
+  let any f =
+    Array.exists
+      (fun (o : Primitive.t) ->
+        if Primitive.is_csg o then List.exists f (Primitive.materials o) else f o.material)
+      objects
   in
-  let any f = Array.exists f mats in
   {
     Features.shadows = s.shadows && Array.length lights > 0;
     soft_shadows = s.shadows && Array.exists Light.is_area lights;
@@ -72,10 +75,12 @@ let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
 
 let ( let* ) = Result.bind
 
-let rec first_error = function
-  | [] -> Ok ()
-  | Ok () :: rest -> first_error rest
-  | (Error _ as e) :: _ -> e
+(* The first error of a sequence of checks, running none after it. *)
+let rec first_error s =
+  match s () with
+  | Seq.Nil -> Ok ()
+  | Seq.Cons (Ok (), rest) -> first_error rest
+  | Seq.Cons ((Error _ as e), _) -> e
 
 let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
     ?(frame = 0) ~lights objects =
@@ -83,9 +88,9 @@ let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
   let* () = Camera.validate camera in
   let* () =
     first_error
-      (List.concat_map
-         (fun o -> List.map Material.validate (Primitive.materials o))
-         objects)
+      (List.to_seq objects
+      |> Seq.concat_map (fun o -> List.to_seq (Primitive.materials o))
+      |> Seq.map Material.validate)
   in
   let lights = Array.of_list lights and objects = Array.of_list objects in
   let origin = origin_of camera in
