@@ -12,7 +12,7 @@ type ty =
   | Pair
   | Fun
   | Macro
-  | Builtin
+  | Builtin of string  (** a built-in function: the built-in's own name *)
   | Body
   | Unknown
 
@@ -31,7 +31,7 @@ let type_name = function
   | Pair -> "a pair (t, colour)"
   | Fun -> "a function"
   | Macro -> "a scene macro"
-  | Builtin -> "a built-in function"
+  | Builtin _ -> "a built-in function"
   | Body -> "a body"
   | Unknown -> "a value"
 
@@ -79,7 +79,7 @@ let textures =
 
 let initial_env =
   List.fold_left
-    (fun env n -> Env.add n Builtin env)
+    (fun env n -> Env.add n (Builtin n) env)
     Env.empty
     (numeric @ vectorial @ textures @ [ "mix" ])
   |> Env.add "pi" Num |> Env.add "time" Num |> Env.add "frame" Num
@@ -131,7 +131,9 @@ let rec type_of env (e : expr) =
       if ta = type_of env b then ta else Unknown
   | Call (f, args) -> (
       match Env.find_opt f.id env with
-      | Some Builtin -> builtin f.id (List.map (type_of env) args)
+      (* the built-in the name holds, which [let dot = cross] makes another than its
+         name says *)
+      | Some (Builtin b) -> builtin b (List.map (type_of env) args)
       | _ -> Unknown)
 
 (* The message the evaluator gives for a value of type [t] in field [name] of type [ty];

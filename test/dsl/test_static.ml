@@ -305,6 +305,9 @@ let test_no_false_positives () =
       "let k = 1\n\
        if false { let k = (1, 1, 1) sphere { center: k, radius: 1 } }\n\
        sphere { center: (0, 0, 0), radius: k }";
+      (* a built-in under another name has the type of the built-in it holds *)
+      "let dot = cross\nsphere { center: dot((1, 0, 0), (0, 1, 0)), radius: 1 }";
+      "let min = mix\nsphere { center: min((0, 0, 0), (1, 1, 1), 0.5), radius: 1 }";
     ]
 
 (* Random programs of blocks whose code all runs (no condition, no macro): whatever
