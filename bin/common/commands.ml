@@ -3,8 +3,7 @@ open Lancer
 open Lancer_job
 open Cmdliner
 
-let resumed_interrupt =
-  "the finished tiles are kept in the checkpoint; run again with --resume to continue"
+let resumed_interrupt = Report.resumed_interrupt
 
 let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
   let cancel = Report.on_interrupt stop in

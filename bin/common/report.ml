@@ -89,3 +89,6 @@ let run ?interrupted ?terminated f =
   | exception Sys_error m -> if outcome = 0 then stdout_failed m else outcome
 
 let say ~program line = prerr_endline (program ^ ": " ^ line)
+
+let resumed_interrupt =
+  "the finished tiles are kept in the checkpoint; run again with --resume to continue"

@@ -45,3 +45,7 @@ val run : ?interrupted:string -> ?terminated:string -> (stop -> unit) -> int
 val say : program:string -> string -> unit
 (** A line on stderr from the command line, before any command runs (a hint about the
     command line itself), prefixed with the program's name. *)
+
+val resumed_interrupt : string
+(** What an interrupted [render --resume] says after "interrupted": the finished tiles are
+    kept in the checkpoint. *)

@@ -29,19 +29,27 @@ let ranks_text domains =
 
 (* mpirun stops every rank with SIGTERM, on Ctrl-C and when a rank has died: rank 0 cannot
    tell which, and says both. *)
-let terminated =
+let terminated ~resume =
   "stopped by SIGTERM, which mpirun sends on Ctrl-C and when another rank has died \
-   (mpirun says which rank and why); no output was written"
+   (mpirun says which rank and why); "
+  ^ if resume then Report.resumed_interrupt else "no output was written"
 
-(* How rank 0 reports an exception that ends the job, and the status it ends with. *)
-let fatal stop e = Report.fail ~terminated stop e
+(* How rank 0 reports an exception that ends the job, and the status it ends with; with
+   --resume the finished tiles are in the checkpoint, and the message says so. *)
+let fatal ~resume stop e =
+  Report.fail
+    ?interrupted:(if resume then Some Report.resumed_interrupt else None)
+    ~terminated:(terminated ~resume) stop e
 
 (* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
    state); [lead] runs on rank 0 with the pool its own units are rendered over;
    [scene_of prog key] is the scene of a frame on the other ranks. *)
-let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
+let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
-    Report.run ~terminated (fun stop ->
+    Report.run
+      ?interrupted:(if resume then Some Report.resumed_interrupt else None)
+      ~terminated:(terminated ~resume)
+      (fun stop ->
         let cancel = Report.on_interrupt stop in
         let source, state =
           try prepare ()
@@ -53,7 +61,7 @@ let distributed (o : Cli.opts) ~prepare ~lead ~scene_of =
         let domains = Cli.domains o in
         try
           Render.with_pool ~cancel domains (fun pool ->
-              lead state ~fatal:(fatal stop) ~cancel ~pool ~domains)
+              lead state ~fatal:(fatal ~resume stop) ~cancel ~pool ~domains)
         with Farm.Worker_failed (rank, m) -> user "rank %d: %s" rank m)
   else
     match Mpi.bcast Quit ~root:0 with
@@ -152,6 +160,18 @@ let render_cmd (o : Cli.opts) ~resume =
     let progress = Cli.progress o ~label:"tiles" ~total in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
+    (* An interrupt ends the job through [fatal]: with --resume, the finished tiles are
+       written to the checkpoint first, as lancer render does. *)
+    let fatal e =
+      match (e, ck) with
+      | Sys.Break, Some ck -> (
+          match Ck.save ck with
+          | () -> fatal e
+          | exception Job_error.User m ->
+              fatal (Job_error.Interrupted ("the finished tiles could not be kept: " ^ m))
+          )
+      | _ -> fatal e
+    in
     let report =
       Farm.serve
         ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
@@ -186,7 +206,7 @@ let render_cmd (o : Cli.opts) ~resume =
     if not o.quiet then
       print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
   in
-  distributed o ~prepare ~lead ~scene_of:(fun prog _ ->
+  distributed ~resume o ~prepare ~lead ~scene_of:(fun prog _ ->
       fst (still (Cli.scene_source o prog)))
 
 (* ---- animate ---- *)

@@ -85,10 +85,12 @@ done
 # Ctrl-C reaching rank 0 while its own domains render and it serves: the job ends with
 # status 130 and no image (the render would take far longer than the test waits).
 here=$(pwd -P)
-for d in 1 2; do
-  rm -f int.png
+for d in 1 2 resume; do
+  rm -f int.png int.png.checkpoint
+  extra=()
+  [ "$d" = resume ] && { d=1; extra=(--resume); }
   run -np 2 lancer-mpi render "$showcase" --width 1920 --height 1080 --samples 4 --domains "$d" -q -o int.png \
-    >/dev/null 2>int.log &
+    "${extra[@]}" >/dev/null 2>int.log &
   job=$!
   rank0=
   # This job's rank 0 only: the one in this test's own directory (other jobs, and the
@@ -109,6 +111,13 @@ for d in 1 2; do
   if [ -n "$rank0" ] && [ "$status" = 130 ] && [ ! -e int.png ] && grep -q "interrupted" int.log; then
     ok "an interrupt on rank 0 with $d domain(s) ends the job with status 130 and no image"
   else fail "interrupt with $d domain(s): rank 0 pid ${rank0:-not found}, status $status"; cat int.log; fi
+  # With --resume the finished tiles stay in the checkpoint, and the message says so.
+  if [ ${#extra[@]} -gt 0 ]; then
+    if [ -e int.png.checkpoint ] && grep -q "kept in the checkpoint; run again with --resume" int.log; then
+      ok "an interrupted --resume keeps the checkpoint and says so"
+    else fail "interrupted --resume: checkpoint $(ls int.png.checkpoint 2>&1)"; cat int.log; fi
+    rm -f int.png.checkpoint
+  fi
 done
 
 # Fewer frames than ranks: frames are cut into tiles; one domain per rank.
