@@ -15,10 +15,11 @@ let default_options = { frames = None; resume = false; video = None; shard = Non
 
 let plan ?getenv (o : Cli.opts) (a : options) =
   let text = ref None in
+  (* The options first, as every command checks them: then the shard and the scene. *)
+  ignore (Cli.domains o);
   let p =
     Animation.plan ?getenv ~dir:o.output ~frames:a.frames ~shard:a.shard ~resume:a.resume
       ~overrides:(Cli.overrides o) (fun () ->
-        ignore (Cli.domains o);
         let source = Cli.source o in
         text := Some source;
         Cli.scene_source o (Cli.load_source source))
