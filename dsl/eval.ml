@@ -1,7 +1,7 @@
-open Lancer
 open Ast
+module D = Description
 
-let max_objects = 10_000_000
+let max_objects = D.max_objects
 let max_steps = 20_000_000
 let max_depth = 1000
 
@@ -11,7 +11,7 @@ let max_depth = 1000
 let bytes_per_object = 2560
 
 (* The process's limit on its address space (ulimit -v), read once. *)
-let address_limit = lazy (Render.address_space_limit ())
+let address_limit = lazy (Address_space.limit ())
 
 (* What the runtime reserves before any object: the minor heaps of the 128 domains it could
    run (256 MB at the default size), and the program itself. *)
@@ -35,61 +35,20 @@ let memory_refusal objects =
            (max 0 ((limit - baseline_bytes) / bytes_per_object)))
   | _ -> None
 
-type physics_method = Exact | Verlet | Euler
-type physics = { gravity : Vec3.t; method_ : physics_method; step : float }
+type physics_method = D.physics_method = Exact | Verlet | Euler
+type physics = D.physics = { gravity : Vec3.t; method_ : physics_method; step : float }
 
-let default_physics =
-  { gravity = Vec3.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
+let default_physics = D.default_physics
 
-type body = {
+type body = D.body = {
   name : string;
   center : Vec3.t;
   radius : float;
-  material : Material.t;
   velocity : Vec3.t;
   mass : float;
   restitution : float;
   loc : Loc.t;
 }
-
-type obj = {
-  kind : string;
-  fields : (string * Yojson.Safe.t) list Lazy.t;
-  transforms : Yojson.Safe.t list;
-  material_json : Yojson.Safe.t Lazy.t;
-  prims : Primitive.t list;  (** one, or a mesh's triangles *)
-  body : string option;
-  loc : Loc.t;
-}
-
-type output = {
-  settings : Settings.t;
-  camera : Camera.t;
-  lights : Light.t list;
-  objects : obj list;
-  animation : (float * int) option;
-  physics : physics option;
-  physics_loc : Loc.t option;  (** where the [physics] block is *)
-  warnings : Error.t list;
-  bodies : body list;
-  files : string list;
-}
-
-type images = {
-  pictures : (string, (Image.t, string) result) Hashtbl.t;
-  meshes : (string * bool, (Shape.t list, string) result) Hashtbl.t;
-  heights : (string, (int * int * Float.Array.t, string) result) Hashtbl.t;
-      (** height-field images: width, height and each pixel's luminance in [0, 1] *)
-}
-
-let new_images () : images =
-  { pictures = Hashtbl.create 4; meshes = Hashtbl.create 4; heights = Hashtbl.create 4 }
-
-let image_files (c : images) =
-  List.sort_uniq compare
-    (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures []
-    @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
-    @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights [])
 
 (* ------------------------------------------------------------------------------------ *)
 (* Did-you-mean *)
@@ -140,8 +99,7 @@ type value =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of Material.t * (string * Yojson.Safe.t) list
-      (** texture and bump descriptions *)
+  | VMat of D.material
   | VTex of tex
   | VPair of value * value  (** [(t, c)], an entry of a colour map *)
   | VFun of closure
@@ -185,14 +143,10 @@ let fail loc fmt = Printf.ksprintf (fun m -> raise (Fail (loc, m))) fmt
 
 type pending_obj = {
   p_kind : string;
-  p_fields : (string * Yojson.Safe.t) list Lazy.t;
-  p_shapes : Shape.t list;
+  p_shape : D.shape;
   p_transform : Transform.t;
-  p_tjson : Yojson.Safe.t list;
-  p_material : (Material.t * (string * Yojson.Safe.t) list) option;
-  p_leaves : (Material.t * (string * Yojson.Safe.t) list) option array;
-      (** a CSG object's leaf materials (its shape's [leaves], in order); empty otherwise
-      *)
+  p_steps : D.step list;
+  p_material : D.material option;
   p_loc : Loc.t;  (** where the object's block starts *)
 }
 
@@ -200,8 +154,8 @@ type ctx = {
   time : float;
   body_state : (string -> float -> (Vec3.t * Vec3.t) option) option;
   sources : (string, string) Hashtbl.t;
-  images : images;
-  used : (string, unit) Hashtbl.t;  (** the image and mesh files this evaluation read *)
+  used : (string, unit) Hashtbl.t;  (** the image and mesh files this evaluation names *)
+  on_file : D.file_use -> unit;  (** told each use of a file, as it is met *)
   mutable errors : Error.t list;  (** reversed *)
   seen : (string * int * int * string, unit) Hashtbl.t;
   mutable objects : int;
@@ -273,9 +227,6 @@ let finite_vec loc (v : Vec3.t) =
 let fmt_num x =
   if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x
   else Printf.sprintf "%g" x
-
-let vjson (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
-let cjson (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
 
 (* ------------------------------------------------------------------------------------ *)
 (* Built-in functions *)
@@ -701,18 +652,18 @@ and eval_material ctx env loc items =
       "material" loc ~holds_objects:false items
   in
   check_names b material_fields;
-  let base, base_desc =
+  let base =
     match live b "base" with
-    | None -> (Material.default, [])
+    | None -> D.default_material
     | Some f -> (
         match f.value with
-        | VMat (m, d) -> (m, d)
+        | VMat m -> m
         | v ->
             bad b f.vloc "`base` must be a material, got %s" (type_name v);
-            (Material.default, []))
+            D.default_material)
   in
   let d = base in
-  let m : Material.t =
+  let m : D.material =
     {
       color = color b "color" ~default:d.color;
       texture = d.texture;
@@ -727,8 +678,6 @@ and eval_material ctx env loc items =
       bump = d.bump;
     }
   in
-  let desc = ref base_desc in
-  let set k j = desc := (k, j) :: List.remove_assoc k !desc in
   let m =
     match live b "texture" with
     | None -> m
@@ -736,15 +685,11 @@ and eval_material ctx env loc items =
         match f.value with
         | VTex t -> (
             match texture ctx t with
-            | Ok (tex, j) ->
-                set "texture" j;
-                { m with texture = Some tex }
+            | Ok tex -> { m with texture = Some tex }
             | Error msg ->
                 bad b (image_loc t f.vloc) "%s" msg;
                 m)
-        | VVec v ->
-            set "texture" (`Assoc [ ("kind", `String "solid"); ("color", vjson v) ]);
-            { m with texture = Some (Texture.Solid (Color.of_vec3 v)) }
+        | VVec v -> { m with texture = Some (D.Solid (Color.of_vec3 v)) }
         | v ->
             bad b f.vloc "`texture` must be a texture (checker(…), stripes(…), …), got %s"
               (type_name v);
@@ -757,9 +702,7 @@ and eval_material ctx env loc items =
         match f.value with
         | VTex t -> (
             match bump ctx t with
-            | Ok (bm, j) ->
-                set "bump" j;
-                { m with bump = Some bm }
+            | Ok bm -> { m with bump = Some bm }
             | Error msg ->
                 bad b (image_loc t f.vloc) "%s" msg;
                 m)
@@ -781,45 +724,25 @@ and eval_material ctx env loc items =
         (fmt_num (m.reflection +. m.transparency))
   | _ -> ());
   finish b;
-  (match Material.validate m with
+  (match D.validate_material m with
   | Ok () -> ()
   | Error msg -> fail loc "invalid material: %s" msg);
-  VMat (m, List.rev !desc)
+  VMat m
 
 (* Where an [image(…)] texture's problem is shown: at the call that names the file (which
    may be a `let` away from the field that uses it); other textures at the field. *)
 and image_loc t field_loc = if t.tname = "image" then t.tloc else field_loc
 
 (* The image file of an [image(…)] texture or bump map, relative to the scene file that
-   names it, read once and cached for every frame. *)
-and load_image ctx t =
+   names it; the renderer reads it (and reports a problem with it at the call). *)
+and image_file ctx t =
   match t.targs with
   | VStr p :: _ ->
       let path = Loc.relative_to t.tloc.file p in
       Hashtbl.replace ctx.used path ();
-      let r =
-        match Hashtbl.find_opt ctx.images.pictures path with
-        | Some r -> r
-        | None ->
-            let r =
-              match Error.cannot_read ~what:"image" ~written:p path with
-              | Some msg -> Error msg
-              | None -> (
-                  try
-                    Result.map_error
-                      (Printf.sprintf "cannot read the image \"%s\": %s" p)
-                      (Image.read_linear path)
-                  with
-                  | Sys.Break -> raise Sys.Break
-                  | e ->
-                      Error
-                        (Printf.sprintf "cannot read the image \"%s\": %s" p
-                           (Printexc.to_string e)))
-            in
-            Hashtbl.replace ctx.images.pictures path r;
-            r
-      in
-      r
+      let im = { D.written = p; path; at = t.tloc } in
+      ctx.on_file (D.Picture im);
+      Ok im
   | _ -> Error "image(…) needs a file name"
 
 and texture ctx t =
@@ -854,46 +777,33 @@ and texture ctx t =
     let* s =
       size 2 (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale")
     in
-    let j =
-      `Assoc
-        [
-          ("kind", `String t.tname);
-          ("c1", cjson c1);
-          ("c2", cjson c2);
-          ( (if t.tname = "checker" || t.tname = "stripes" then "size" else "scale"),
-            `Float s );
-        ]
-    in
-    Result.map (fun tex -> (tex, j)) (mk c1 c2 s)
+    Ok (mk c1 c2 s)
   in
   match (t.tname, List.length t.targs) with
-  | "checker", _ -> solid (fun c1 c2 size -> Ok (Texture.Checker { c1; c2; size }))
-  | "stripes", _ -> solid (fun c1 c2 size -> Ok (Texture.Stripes { c1; c2; size }))
+  | "checker", _ -> solid (fun c1 c2 size -> D.Checker { c1; c2; size })
+  | "stripes", _ -> solid (fun c1 c2 size -> D.Stripes { c1; c2; size })
   | ("noise" | "marble" | "wood"), 2
     when match t.targs with VTex { tname = "color_map"; _ } :: _ -> true | _ -> false -> (
       match t.targs with
       | [ VTex cm; _ ] ->
           let* scale = size 1 "scale" in
-          let* map, mj = color_map cm in
+          let* map = color_map cm in
           let pattern =
             match t.tname with
-            | "noise" -> Texture.Noise_pattern scale
-            | "marble" -> Texture.Marble_pattern scale
-            | _ -> Texture.Wood_pattern scale
+            | "noise" -> D.Noise_pattern scale
+            | "marble" -> D.Marble_pattern scale
+            | _ -> D.Wood_pattern scale
           in
-          Ok
-            ( Texture.Mapped { pattern; map },
-              `Assoc [ ("kind", `String t.tname); ("map", mj); ("scale", `Float scale) ]
-            )
+          Ok (D.Mapped { pattern; map })
       | _ ->
           Error
             (Printf.sprintf "%s(color_map(…), scale) takes a colour map and a number"
                t.tname))
   | "marble", 2 | "wood", 2 ->
       Error (Printf.sprintf "%s takes (c1, c2, scale) or (color_map(…), scale)" t.tname)
-  | "noise", 3 -> solid (fun c1 c2 scale -> Ok (Texture.Noise { c1; c2; scale }))
-  | "marble", _ -> solid (fun c1 c2 scale -> Ok (Texture.Marble { c1; c2; scale }))
-  | "wood", _ -> solid (fun c1 c2 scale -> Ok (Texture.Wood { c1; c2; scale }))
+  | "noise", 3 -> solid (fun c1 c2 scale -> D.Noise { c1; c2; scale })
+  | "marble", _ -> solid (fun c1 c2 scale -> D.Marble { c1; c2; scale })
+  | "wood", _ -> solid (fun c1 c2 scale -> D.Wood { c1; c2; scale })
   | "noise", _ ->
       Error
         "noise(scale, amount) is a bump map: use it as `bump:`; as a texture, noise \
@@ -904,11 +814,8 @@ and texture ctx t =
           if not (Vec3.max_abs axis > 0. && Vec3.max_abs axis <= 1e150) then
             Error "the axis of `gradient` must be a non-zero vector within ±1e150"
           else
-            let* map, mj = color_map cm in
-            Ok
-              ( Texture.Gradient { axis; map },
-                `Assoc [ ("kind", `String "gradient"); ("axis", vjson axis); ("map", mj) ]
-              )
+            let* map = color_map cm in
+            Ok (D.Gradient { axis; map })
       | _ ->
           Error
             "gradient(HORIZON, ZENITH) with two colours is a background (settings { \
@@ -918,15 +825,11 @@ and texture ctx t =
         "a color_map is the colours of a texture, not a texture itself: write \
          gradient(AXIS, color_map(…))"
   | "image", _ -> (
-      let* img = load_image ctx t in
+      (* The file is the renderer's to read, once the call is right. *)
       match t.targs with
-      | [ VStr p; VNum scale ] when scale >= 1e-150 && scale <= 1e150 ->
-          Ok
-            ( Texture.Image { img; scale },
-              `Assoc
-                [
-                  ("kind", `String "image"); ("file", `String p); ("scale", `Float scale);
-                ] )
+      | [ VStr _; VNum scale ] when scale >= 1e-150 && scale <= 1e150 ->
+          let* image = image_file ctx t in
+          Ok (D.Image { image; scale })
       | [ VStr _; VNum scale ] ->
           Error
             (Printf.sprintf "the scale of `image` must be in [1e-150, 1e150], got %s"
@@ -944,9 +847,7 @@ and color_map t =
       (function VPair (VNum x, VVec c) -> Some (x, Color.of_vec3 c) | _ -> None)
       t.targs
   in
-  Result.map
-    (fun m -> (m, `List (List.map (fun (x, c) -> `List [ `Float x; cjson c ]) entries)))
-    (Texture.color_map entries)
+  match D.color_map_problem entries with Some m -> Error m | None -> Ok entries
 
 and bump ctx t =
   match (t.tname, t.targs) with
@@ -957,25 +858,10 @@ and bump ctx t =
              (fmt_num scale))
       else if not (Float.abs amount <= 1e150) then
         Error "the amount of a noise bump is out of range"
-      else
-        Ok
-          ( Bump.Noise { scale; amount },
-            `Assoc
-              [
-                ("kind", `String "noise");
-                ("scale", `Float scale);
-                ("amount", `Float amount);
-              ] )
+      else Ok (D.Noise_bump { scale; amount })
   | "noise", [ _; _ ] -> Error "a noise bump map takes two numbers: noise(scale, amount)"
-  | "image", [ VStr p; VNum amount ] when Float.abs amount <= 1e150 ->
-      Result.map
-        (fun img ->
-          ( Bump.Image { img; amount },
-            `Assoc
-              [
-                ("kind", `String "image"); ("file", `String p); ("amount", `Float amount);
-              ] ))
-        (load_image ctx t)
+  | "image", [ VStr _; VNum amount ] when Float.abs amount <= 1e150 ->
+      Result.map (fun image -> D.Image_bump { image; amount }) (image_file ctx t)
   | "image", _ ->
       Error "an image bump map takes a file name and an amount: image(\"h.png\", amount)"
   | _ ->
@@ -1541,11 +1427,10 @@ and transforms b =
       | _, VPoison -> (t, js) (* its value failed, already reported *)
       | "translate", VVec v ->
           check_coords b f v;
-          ( Transform.then_ t (Transform.translate v),
-            js @ [ `Assoc [ ("translate", vjson v) ] ] )
+          (Transform.then_ t (Transform.translate v), js @ [ D.Translate v ])
       | "rotate", VVec v ->
           check_coords b f v;
-          (Transform.then_ t (Transform.rotate v), js @ [ `Assoc [ ("rotate", vjson v) ] ])
+          (Transform.then_ t (Transform.rotate v), js @ [ D.Rotate v ])
       | "scale", (VNum _ | VVec _) ->
           let v =
             match f.value with VNum s -> Vec3.v s s s | VVec v -> v | _ -> Vec3.one
@@ -1555,8 +1440,7 @@ and transforms b =
             bad b f.vloc
               "`scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
             (t, js))
-          else
-            (Transform.then_ t (Transform.scale v), js @ [ `Assoc [ ("scale", vjson v) ] ])
+          else (Transform.then_ t (Transform.scale v), js @ [ D.Scale v ])
       | ("translate" | "rotate"), v ->
           bad b f.vloc "`%s` must be a vector (x, y, z), got %s" f.name.id (type_name v);
           (t, js)
@@ -1569,7 +1453,7 @@ and transforms b =
 and object_material b =
   match live b "material" with
   | None -> None
-  | Some { value = VMat (m, d); _ } -> Some (m, d)
+  | Some { value = VMat m; _ } -> Some m
   | Some f ->
       bad b f.vloc "`material` must be a material (material { … }), got %s"
         (type_name f.value);
@@ -1580,48 +1464,39 @@ and object_ ctx env scope (k : name) items =
   check_names b (Schema.field_names k.id);
   let t, tj = transforms b in
   let mat = object_material b in
-  let fields, shape = shape b k in
+  let shape = shape b k in
   finish b;
   match shape with
   | None -> None
-  | Some p_shapes ->
+  | Some p_shape ->
       Some
         {
           p_kind = k.id;
-          p_fields = fields;
-          p_shapes;
+          p_shape;
           p_transform = t;
-          p_tjson = tj;
+          p_steps = tj;
           p_material = mat;
-          p_leaves = [||];
           p_loc = k.nloc;
         }
 
-and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list option =
-  let built fields sh = if b.failed then (lazy [], None) else (fields, Some [ sh () ]) in
+and shape b (k : name) : D.shape option =
+  let built sh = if b.failed then None else Some sh in
   match k.id with
   | "sphere" ->
       let center = point b "center" ~default:Vec3.zero ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built
-        (lazy [ ("center", vjson center); ("radius", `Float radius) ])
-        (fun () -> Shape.sphere ~center ~radius)
+      built (D.Sphere { center; radius })
   | "plane" ->
       let normal = direction b "normal" ~required:true in
       let offset = coord b "offset" ~default:0. in
-      built
-        (lazy [ ("normal", vjson normal); ("offset", `Float offset) ])
-        (fun () -> Shape.plane ~normal ~offset)
+      built (D.Plane { normal; offset })
   | "parallelogram" ->
       let origin = point b "origin" ~required:true ~default:Vec3.zero in
       let edge1 = direction b "edge1" ~required:true in
       let edge2 = direction b "edge2" ~required:true in
       if (not b.failed) && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
         bad b b.kloc "the edges of a parallelogram must not be parallel";
-      built
-        (lazy
-          [ ("origin", vjson origin); ("edge1", vjson edge1); ("edge2", vjson edge2) ])
-        (fun () -> Shape.parallelogram ~origin ~edge1 ~edge2)
+      built (D.Parallelogram { origin; edge1; edge2 })
   | "triangle" ->
       let a = point b "a" ~required:true ~default:Vec3.zero in
       let bb = point b "b" ~required:true ~default:Vec3.zero in
@@ -1629,9 +1504,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       if
         (not b.failed) && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300
       then bad b b.kloc "the corners of a triangle must not be in a line";
-      built
-        (lazy [ ("a", vjson a); ("b", vjson bb); ("c", vjson c) ])
-        (fun () -> Shape.triangle ~a ~b:bb ~c)
+      built (D.Triangle { a; b = bb; c })
   | "paraboloid" ->
       let vertex = point b "vertex" ~required:true ~default:Vec3.zero in
       let axis =
@@ -1639,23 +1512,13 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       in
       let radius = length b "radius" ~required:true ~default:1. in
       let height = length b "height" ~required:true ~default:1. in
-      built
-        (lazy
-          [
-            ("vertex", vjson vertex);
-            ("axis", vjson axis);
-            ("radius", `Float radius);
-            ("height", `Float height);
-          ])
-        (fun () -> Shape.paraboloid ~vertex ~axis ~radius ~height)
+      built (D.Paraboloid { vertex; axis; radius; height })
   | "box" ->
       let mn = point b "min" ~required:true ~default:Vec3.zero in
       let mx = point b "max" ~required:true ~default:Vec3.one in
       if (not b.failed) && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
         bad b b.kloc "a box needs min < max on every axis";
-      built
-        (lazy [ ("min", vjson mn); ("max", vjson mx) ])
-        (fun () -> Shape.box ~min:mn ~max:mx)
+      built (D.Box { min = mn; max = mx })
   | "cylinder" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
@@ -1663,15 +1526,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       let caps = boolean b "caps" ~default:true in
       if (not b.failed) && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cylinder must differ";
-      built
-        (lazy
-          [
-            ("base", vjson base);
-            ("top", vjson top);
-            ("radius", `Float radius);
-            ("caps", `Bool caps);
-          ])
-        (fun () -> Shape.cylinder ~base ~top ~radius ~caps)
+      built (D.Cylinder { base; top; radius; caps })
   | "cone" ->
       let base = point b "base" ~required:true ~default:Vec3.zero in
       let top = point b "top" ~required:true ~default:Vec3.y_axis in
@@ -1687,16 +1542,7 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
         bad b b.kloc "the base and top of a cone must differ";
       if (not b.failed) && r0 < 1e-150 && r1 < 1e-150 then
         bad b b.kloc "a cone needs a `base_radius` or a `top_radius` greater than 0";
-      built
-        (lazy
-          [
-            ("base", vjson base);
-            ("base_radius", `Float r0);
-            ("top", vjson top);
-            ("top_radius", `Float r1);
-            ("caps", `Bool caps);
-          ])
-        (fun () -> Shape.cone ~base ~top ~base_radius:r0 ~top_radius:r1 ~caps)
+      built (D.Cone { base; top; base_radius = r0; top_radius = r1; caps })
   | "torus" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let major = length b "major" ~required:true ~default:1. in
@@ -1704,79 +1550,27 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
       let axis =
         match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis"
       in
-      built
-        (lazy
-          [
-            ("center", vjson center);
-            ("major", `Float major);
-            ("minor", `Float minor);
-            ("axis", vjson axis);
-          ])
-        (fun () -> Shape.torus ~center ~axis ~major ~minor)
+      built (D.Torus { center; axis; major; minor })
   | "disk" ->
       let center = point b "center" ~required:true ~default:Vec3.zero in
       let normal = direction b "normal" ~required:true in
       let radius = length b "radius" ~required:true ~default:1. in
-      built
-        (lazy
-          [
-            ("center", vjson center); ("normal", vjson normal); ("radius", `Float radius);
-          ])
-        (fun () -> Shape.disk ~center ~normal ~radius)
-  | "mesh" -> (
+      built (D.Disk { center; normal; radius })
+  | "mesh" ->
       let file =
         get b "file" ~default:"" ~required:true "a file name string" (function
           | VStr s -> Some s
           | _ -> None)
       in
       let smooth = boolean b "smooth" ~default:true in
-      if b.failed then (lazy [], None)
+      if b.failed then None
       else
         let path = Loc.relative_to b.kloc.file file in
         Hashtbl.replace b.ctx.used path ();
-        let r =
-          match Hashtbl.find_opt b.ctx.images.meshes (path, smooth) with
-          | Some r -> r
-          | None ->
-              let r =
-                match Error.cannot_read ~what:"mesh" ~written:file path with
-                | Some msg -> Error msg
-                | None -> (
-                    try
-                      Result.map_error
-                        (Printf.sprintf "cannot load the mesh \"%s\": %s" file)
-                        (Mesh.load ~smooth path)
-                    with
-                    | Sys.Break -> raise Sys.Break
-                    | e ->
-                        Error
-                          (Printf.sprintf "cannot load the mesh \"%s\": %s" file
-                             (Printexc.to_string e)))
-              in
-              Hashtbl.replace b.ctx.images.meshes (path, smooth) r;
-              r
-        in
-        let f = Option.get (field b "file") in
-        match r with
-        | Error m ->
-            bad b f.vloc "%s" m;
-            (lazy [], None)
-        | Ok [] ->
-            bad b f.vloc "the mesh \"%s\" has no triangles" file;
-            (lazy [], None)
-        | Ok tris ->
-            let n = List.length tris in
-            b.ctx.objects <- b.ctx.objects + n - 1;
-            if b.ctx.objects > max_objects then
-              limit b.ctx b.kloc
-                (Printf.sprintf
-                   "this scene builds more than %d objects; that is the limit" max_objects);
-            ( lazy
-                [
-                  ("file", `String file); ("smooth", `Bool smooth); ("triangles", `Int n);
-                ],
-              Some tris ))
-  | "height_field" -> (
+        let at = (Option.get (field b "file")).vloc in
+        b.ctx.on_file (D.Model { file; path; smooth; at; solid_in = None });
+        Some (D.Mesh { file; path; smooth; at })
+  | "height_field" ->
       let file =
         get b "file" ~default:"" ~required:true "a file name string" (function
           | VStr s -> Some s
@@ -1789,85 +1583,13 @@ and shape b (k : name) : (string * Yojson.Safe.t) list Lazy.t * Shape.t list opt
           bad b f.vloc
             "the `size` (sx, sy, sz) of a height field must be positive on every axis"
       | _ -> ());
-      if b.failed then (lazy [], None)
+      if b.failed then None
       else
         let path = Loc.relative_to b.kloc.file file in
         Hashtbl.replace b.ctx.used path ();
-        let r =
-          match Hashtbl.find_opt b.ctx.images.heights path with
-          | Some r -> r
-          | None ->
-              let r =
-                match Error.cannot_read ~what:"image" ~written:file path with
-                | Some msg -> Error msg
-                | None -> (
-                    match Image.read_raster path with
-                    | Error m ->
-                        Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
-                    | Ok r ->
-                        (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to
-                           the largest value (255, or 65535 for 16 bits) to 1; a grey pixel is
-                           its own value; alpha is ignored. *)
-                        let w = r.width and h = r.height in
-                        let top = Float.of_int (Raster.max_value r) in
-                        let v k =
-                          let i = k mod w and j = k / w in
-                          let c n = Float.of_int (Raster.get r i j n) in
-                          if r.channels <= 2 then c 0 /. top
-                          else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
-                          else
-                            ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
-                        in
-                        Ok (w, h, Float.Array.init (w * h) v))
-              in
-              Hashtbl.replace b.ctx.images.heights path r;
-              r
-        in
-        let f = Option.get (field b "file") in
-        match r with
-        | Error m ->
-            bad b f.vloc "%s" m;
-            (lazy [], None)
-        | Ok (w, h, _) when w < 2 || h < 2 ->
-            bad b f.vloc
-              "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d" file
-              w h;
-            (lazy [], None)
-        | Ok (w, h, v) ->
-            let n = 2 * (w - 1) * (h - 1) in
-            b.ctx.objects <- b.ctx.objects + n - 1;
-            if b.ctx.objects > max_objects then
-              limit b.ctx b.kloc
-                (Printf.sprintf
-                   "this scene builds more than %d objects; that is the limit" max_objects);
-            (* Vertex (i, j) at O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)); j is the image row. *)
-            let vert i j =
-              Vec3.v
-                (origin.x +. (size.x *. Float.of_int i /. Float.of_int (w - 1)))
-                (origin.y +. (size.y *. Float.Array.get v ((j * w) + i)))
-                (origin.z +. (size.z *. Float.of_int j /. Float.of_int (h - 1)))
-            in
-            let tris = ref [] in
-            for j = h - 2 downto 0 do
-              for i = w - 2 downto 0 do
-                let a = vert i j
-                and bb = vert i (j + 1)
-                and c = vert (i + 1) j
-                and d = vert (i + 1) (j + 1) in
-                tris :=
-                  Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
-              done
-            done;
-            ( lazy
-                [
-                  ("file", `String file);
-                  ("origin", vjson origin);
-                  ("size", vjson size);
-                  ("width", `Int w);
-                  ("height", `Int h);
-                  ("triangles", `Int n);
-                ],
-              Some !tris ))
+        let at = (Option.get (field b "file")).vloc in
+        b.ctx.on_file (D.Heights { file; path; at });
+        Some (D.Height_field { file; path; origin; size; at })
   | _ -> fail k.nloc "%s is not an object" k.id
 
 and group ctx env scope (k : name) items =
@@ -1882,7 +1604,7 @@ and group ctx env scope (k : name) items =
         {
           o with
           p_transform = Transform.then_ o.p_transform t;
-          p_tjson = o.p_tjson @ tj;
+          p_steps = o.p_steps @ tj;
           p_material = (match o.p_material with Some _ -> o.p_material | None -> mat);
         }
       in
@@ -1897,7 +1619,7 @@ and csg ctx env scope (k : name) items =
   let t, tj = transforms b in
   let mat = object_material b in
   let members = List.rev !(b.members) in
-  let op : Shape.csg_op =
+  let op : D.csg_op =
     match k.id with
     | "merge" -> Merge
     | "intersection" -> Intersection
@@ -1913,31 +1635,19 @@ and csg ctx env scope (k : name) items =
     bad b k.nloc
       "a `difference` needs a solid to subtract from and at least one to subtract";
   (* A union shows every member's surface; the other operations (and a union that is
-     itself a member of one) need each member to have an inside. *)
+     itself a member of one) need each member to have an inside (a mesh's, closed, is
+     checked when its file is read). *)
   let need_solid = op <> Union || scope.in_csg in
-  let member_shape o =
-    match (o.p_kind, o.p_shapes) with
-    | "mesh", tris when need_solid -> (
-        match Mesh.open_edges tris with
-        | 0 -> Some (Shape.closed_mesh tris)
-        | n ->
-            bad b o.p_loc
-              "this mesh is open: %d edge%s not shared by exactly two faces, so it has \
-               no inside to combine in `%s`"
-              n
-              (if n = 1 then " is" else "s are")
-              k.id;
-            None)
-    | "mesh", tris -> Some (Shape.closed_mesh tris)
-    | _, [ sh ] -> Some sh
-    | _ -> None
-  in
   List.iter
     (fun o ->
-      match o.p_shapes with
-      | _ when o.p_kind = "mesh" -> ()
-      | [ sh ] when Shape.is_solid sh || not need_solid -> ()
-      | [ _ ] ->
+      match o.p_shape with
+      | D.Mesh _ -> ()
+      | D.Height_field _ ->
+          bad b o.p_loc "a %s is not a solid: `%s` combines solids"
+            (String.map (function '_' -> ' ' | c -> c) o.p_kind)
+            k.id
+      | sh when D.is_solid sh || not need_solid -> ()
+      | _ ->
           bad b o.p_loc
             "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone \
              with caps, closed mesh, plane as a half-space, CSG of solids)%s"
@@ -1948,48 +1658,38 @@ and csg ctx env scope (k : name) items =
             | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
             (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`"
-             else "")
-      | _ ->
-          bad b o.p_loc "a %s is not a solid: `%s` combines solids"
-            (String.map (function '_' -> ' ' | c -> c) o.p_kind)
-            k.id)
+             else ""))
     members;
-  let shapes = List.map member_shape members in
+  (* A mesh member must be closed: its file tells. *)
+  if need_solid then
+    List.iter
+      (fun o ->
+        match o.p_shape with
+        | D.Mesh { file; path; smooth; at } ->
+            ctx.on_file
+              (D.Model { file; path; smooth; at; solid_in = Some (k.id, o.p_loc) })
+        | _ -> ())
+      members;
   finish b;
-  let shape =
-    Shape.csg op (List.map2 (fun o sh -> (Option.get sh, o.p_transform)) members shapes)
+  let member o =
+    {
+      D.kind = o.p_kind;
+      shape = o.p_shape;
+      transform = o.p_transform;
+      steps = o.p_steps;
+      material = o.p_material;
+      loc = o.p_loc;
+      body = None;
+    }
   in
-  let leaves =
-    Array.concat
-      (List.map
-         (fun o ->
-           if o.p_kind = "mesh" then Array.make (List.length o.p_shapes) o.p_material
-           else if Array.length o.p_leaves = 0 then [| o.p_material |]
-           else Array.map (function None -> o.p_material | Some _ as m -> m) o.p_leaves)
-         members)
-  in
-  let member_json o =
-    `Assoc
-      ([
-         ("kind", `String o.p_kind);
-         ("fields", `Assoc (Lazy.force o.p_fields));
-         ("transforms", `List o.p_tjson);
-       ]
-      @
-      match o.p_material with
-      | Some (m, d) -> [ ("material", material_json m d) ]
-      | None -> [])
-  in
-  let fields = lazy [ ("members", `List (List.map member_json members)) ] in
   let o =
     {
       p_kind = (if k.id = "group" then "union" else k.id);
-      p_fields = fields;
-      p_shapes = [ shape ];
+      p_shape =
+        D.Csg { op; block = k.id; members = List.map member members; solid = need_solid };
       p_transform = t;
-      p_tjson = tj;
+      p_steps = tj;
       p_material = mat;
-      p_leaves = leaves;
       p_loc = k.nloc;
     }
   in
@@ -2007,7 +1707,7 @@ and body ctx env scope loc (n : name) items =
   finish b;
   ctx.objects <- ctx.objects - List.length !(b.members);
   match !(b.members) with
-  | [ ({ p_shapes = [ Shape.Sphere { center; radius } ]; _ } as o) ] ->
+  | [ ({ p_shape = D.Sphere { center; radius }; _ } as o) ] ->
       let c0 = Transform.point o.p_transform center in
       (* The simulated sphere is the rendered one: its radius is scaled by the length of
          the transformed axes, which must agree (a rotation keeps them; a non-uniform
@@ -2021,20 +1721,8 @@ and body ctx env scope loc (n : name) items =
            body must stay a sphere"
           n.id (fmt_num sx) (fmt_num sy) (fmt_num sz);
       let r = radius *. hi in
-      let material =
-        match o.p_material with Some (m, _) -> m | None -> Material.default
-      in
       let bd =
-        {
-          name = n.id;
-          center = c0;
-          radius = r;
-          material;
-          velocity;
-          mass;
-          restitution;
-          loc;
-        }
+        { name = n.id; center = c0; radius = r; velocity; mass; restitution; loc }
       in
       ctx.bodies <- (bd, o) :: ctx.bodies
   | _ -> fail n.nloc "a body holds exactly one sphere { … }"
@@ -2175,21 +1863,6 @@ and color b name ~default =
   | _ -> ());
   Color.of_vec3 v
 
-and material_json (m : Material.t) desc =
-  `Assoc
-    ([
-       ("color", cjson m.color);
-       ("ambient", `Float m.ambient);
-       ("diffuse", `Float m.diffuse);
-       ("specular", `Float m.specular);
-       ("shininess", `Float m.shininess);
-       ("reflection", `Float m.reflection);
-       ("transparency", `Float m.transparency);
-       ("ior", `Float m.ior);
-       ("fresnel", `Bool m.fresnel);
-     ]
-    @ desc)
-
 (* ------------------------------------------------------------------------------------ *)
 (* A whole program *)
 
@@ -2237,16 +1910,16 @@ let initial_env ~time ~frame =
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time)
   |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time ~frame
-    stmts =
+let run ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = ignore) ~file
+    ~sources ~time ~frame stmts =
   let ctx =
     {
+      on_file;
       on_objects;
       cancel;
       time;
       body_state;
       sources;
-      images;
       used = Hashtbl.create 4;
       errors = [];
       seen = Hashtbl.create 16;
@@ -2268,25 +1941,15 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
   (try ignore (exec_list ctx (initial_env ~time ~frame) scope stmts) with Abort -> ());
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
-    let finish ?transform ?body o =
-      let m, d =
-        match o.p_material with Some md -> md | None -> (Material.default, [])
-      in
-      let mj = lazy (material_json m d) in
-      let transform = Option.value transform ~default:o.p_transform in
+    let finish ?transform ?body o : D.obj =
       {
         kind = o.p_kind;
-        fields = o.p_fields;
-        transforms = o.p_tjson;
-        material_json = mj;
-        prims =
-          List.map
-            (Primitive.make ~transform
-               ~leaf_materials:(Array.map (Option.map fst) o.p_leaves)
-               m)
-            o.p_shapes;
-        body;
+        shape = o.p_shape;
+        transform = Option.value transform ~default:o.p_transform;
+        steps = o.p_steps;
+        material = o.p_material;
         loc = o.p_loc;
+        body;
       }
     in
     let statics =
@@ -2307,6 +1970,9 @@ let run ?body_state ?on_objects ?cancel ?(objects = true) ~sources ~images ~time
     in
     Ok
       {
+        D.file;
+        time;
+        frame;
         settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
         camera = (match ctx.camera with Some (c, _) -> c | None -> Camera.default);
         lights = List.rev ctx.lights;

@@ -1,5 +1,3 @@
-open Lancer
-
 let angle_vector = "Vectors are written (x, y, z), not <x, y, z>."
 
 let directive = function

@@ -13,7 +13,7 @@ val directive : string -> string
 val keyword_as_name : string -> string
 (** [keyword_as_name k] says that keyword [k] (as [step]) cannot be used as a name. *)
 
-val camera_up : Lancer.Vec3.t -> Lancer.Vec3.t -> string
+val camera_up : Vec3.t -> Vec3.t -> string
 (** [camera_up view up] is the message for a camera whose view direction [view] is along
     its [up] vector, suggesting an [up] across the view. *)
 

@@ -5,21 +5,21 @@ type program = Dsl.t
 type error = Diagnostic.t
 
 let source_problem = Dsl.source_problem
-let load ?progress ~filename text = Dsl.load_string ?progress ~filename text
+let load ?progress ~filename text = Program.load_string ?progress ~filename text
 let animation = Dsl.animation
 let inputs = Dsl.inputs
 
 let truncated_physics prog =
   if Dsl.bodies prog = [] then None
   else
-    match Dsl.simulate prog ~until:0. with
+    match Program.simulate prog ~until:0. with
     | Ok tr when Physics.truncated tr ->
         Some (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> None
 
-let scene_at prog ~time ~frame = Dsl.scene_at prog ~time ~frame
-let summary prog sc = Dsl.summary prog sc
-let to_json prog sc = Dsl.to_json prog sc
+let scene_at prog ~time ~frame = Program.scene_at prog ~time ~frame
+let summary prog sc = Program.summary prog sc
+let to_json prog sc = Program.to_json prog sc
 
 let source ~builtin prog : Lancer_job.Source.t =
   {
@@ -28,7 +28,7 @@ let source ~builtin prog : Lancer_job.Source.t =
     animation = Dsl.animation prog;
     evaluate =
       (fun ~progress ~cancel ~time ~frame ->
-        match Dsl.scene_with_files ?progress ?cancel prog ~time ~frame with
+        match Program.scene_with_files ?progress ?cancel prog ~time ~frame with
         | Ok r -> r
         | Error errors -> raise (Lancer_job.Job_error.Scene { errors; note = "" }));
     inputs = (fun () -> Dsl.inputs prog);

@@ -15,6 +15,7 @@ module Vec3 = Lancer_math.Vec3
 
 (** {1 [lancer.diag]} *)
 
+module Address_space = Lancer_diag.Address_space
 module Cancel = Lancer_diag.Cancel
 module Diagnostic = Lancer_diag.Diagnostic
 module Loc = Lancer_diag.Loc
@@ -22,8 +23,10 @@ module Loc = Lancer_diag.Loc
 (** {1 [lancer.description]} *)
 
 module Camera = Lancer_description.Camera
+module Description = Lancer_description.Description
 module Features = Lancer_description.Features
 module Light = Lancer_description.Light
+module Scene_report = Lancer_description.Scene_report
 module Settings = Lancer_description.Settings
 
 (** {1 [lancer.image]} *)
@@ -43,6 +46,7 @@ module Physics = Lancer_physics.Physics
 
 module Accel = Lancer_render.Accel
 module Bump = Lancer_render.Bump
+module Compile = Lancer_render.Compile
 module Cost = Lancer_render.Cost
 module Material = Lancer_render.Material
 module Mesh = Lancer_render.Mesh
@@ -65,6 +69,7 @@ module Frameset = Lancer_job.Frameset
 module Job_error = Lancer_job.Job_error
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
+module Program = Lancer_job.Program
 module Quality = Lancer_job.Quality
 module Source = Lancer_job.Source
 module Still = Lancer_job.Still

@@ -3,27 +3,133 @@
 
 module V = Vec3
 
-type body = {
+type body = Description.body = {
   name : string;
   center : V.t;
   radius : float;
   velocity : V.t;
   mass : float;
   restitution : float;
+  loc : Loc.t;
 }
 
-let body ?(velocity = V.zero) ?(mass = 1.) ?(restitution = 1.) ~name ~center ~radius () =
-  { name; center; radius; velocity; mass; restitution }
+let body ?(velocity = V.zero) ?(mass = 1.) ?(restitution = 1.) ?loc ~name ~center ~radius
+    () =
+  let loc = match loc with Some l -> l | None -> Loc.whole_file name in
+  { name; center; radius; velocity; mass; restitution; loc }
 
 type collider =
   | Plane of { normal : V.t; offset : float }
   | Parallelogram of { origin : V.t; edge1 : V.t; edge2 : V.t }
   | Box of { min : V.t; max : V.t }
 
-type method_ = Exact | Verlet | Euler
-type world = { gravity : V.t; method_ : method_; step : float }
+type method_ = Description.physics_method = Exact | Verlet | Euler
+type world = Description.physics = { gravity : V.t; method_ : method_; step : float }
 
-let default_world = { gravity = V.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
+let default_world = Description.default_physics
+
+(* ---------------------------------------------------------------------------------- *)
+(* Obstacles from a scene's description *)
+
+module D = Description
+
+let is_axis_aligned tr =
+  let count (v : Vec3.t) =
+    Bool.to_int (v.x <> 0.) + Bool.to_int (v.y <> 0.) + Bool.to_int (v.z <> 0.)
+  in
+  List.for_all
+    (fun v -> count (Transform.vector tr v) = 1)
+    [ Vec3.v 1. 0. 0.; Vec3.v 0. 1. 0.; Vec3.v 0. 0. 1. ]
+
+(* A shape of the description placed in the world by [tr], as an obstacle. *)
+let collider_of tr (shape : D.shape) =
+  match shape with
+  | D.Plane { normal; offset } ->
+      let normal = Vec3.normalize normal in
+      let n = Transform.normal tr normal
+      and p = Transform.point tr (Vec3.smul offset normal) in
+      [ Plane { normal = n; offset = Vec3.dot n p } ]
+  | D.Parallelogram { origin; edge1; edge2 } ->
+      [
+        Parallelogram
+          {
+            origin = Transform.point tr origin;
+            edge1 = Transform.vector tr edge1;
+            edge2 = Transform.vector tr edge2;
+          };
+      ]
+  | D.Box { min = a; max = b } when is_axis_aligned tr ->
+      let p = Transform.point tr a and q = Transform.point tr b in
+      [ Box { min = Vec3.min p q; max = Vec3.max p q } ]
+  | D.Box { min = a; max = b } ->
+      (* A rotated box: its six faces. *)
+      let pt x y z = Transform.point tr (Vec3.v x y z) in
+      let face o u v =
+        Parallelogram { origin = o; edge1 = Vec3.sub u o; edge2 = Vec3.sub v o }
+      in
+      let c000 = pt a.x a.y a.z
+      and c100 = pt b.x a.y a.z
+      and c010 = pt a.x b.y a.z
+      and c001 = pt a.x a.y b.z in
+      let c111 = pt b.x b.y b.z
+      and c011 = pt a.x b.y b.z
+      and c101 = pt b.x a.y b.z
+      and c110 = pt b.x b.y a.z in
+      [
+        face c000 c100 c010;
+        face c000 c010 c001;
+        face c000 c001 c100;
+        face c111 c011 c101;
+        face c111 c101 c110;
+        face c111 c110 c011;
+      ]
+  | _ -> []
+
+(* A CSG object collides exactly as its members only when its surface is every member's
+   surface (a union, or a merge, whose faces a body outside meets first anyway) and each
+   member is a collider (plane, parallelogram, box). *)
+let rec exact_csg (s : D.shape) =
+  match s with
+  | D.Csg { op = Union | Merge; members; _ } ->
+      List.for_all (fun (m : D.obj) -> exact_csg m.shape) members
+  | D.Csg _ -> false
+  | D.Plane _ | D.Parallelogram _ | D.Box _ -> true
+  | _ -> false
+
+(* The simple surfaces of a CSG object's members, each with the transform that places it
+   in the object's space (composed as the renderer composes its leaves). *)
+let rec leaves (s : D.shape) =
+  match s with
+  | D.Csg { members; _ } ->
+      List.concat_map
+        (fun (m : D.obj) ->
+          match m.shape with
+          | D.Csg _ ->
+              List.map
+                (fun (sh, tr) -> (sh, Transform.then_ tr m.transform))
+                (leaves m.shape)
+          | sh -> [ (sh, m.transform) ])
+        members
+  | sh -> [ (sh, Transform.identity) ]
+
+exception Not_exact of D.obj
+
+let colliders objects =
+  match
+    List.concat_map
+      (fun (o : D.obj) ->
+        match o.shape with
+        | _ when o.body <> None -> []
+        | D.Csg _ when exact_csg o.shape ->
+            List.concat_map
+              (fun (sh, tr) -> collider_of (Transform.then_ tr o.transform) sh)
+              (leaves o.shape)
+        | D.Csg _ -> raise (Not_exact o)
+        | sh -> collider_of o.transform sh)
+      objects
+  with
+  | cs -> Ok cs
+  | exception Not_exact o -> Error o
 
 type target = Collider of int | Body of string
 type kind = Bounce | Rest | Leave

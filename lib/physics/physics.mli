@@ -62,26 +62,29 @@
     Between steps, positions are interpolated by cubic Hermite (exact for constant
     acceleration), velocities linearly. *)
 
-type body = {
+type body = Description.body = {
   name : string;  (** unique among the bodies of a simulation *)
   center : Vec3.t;  (** initial centre *)
   radius : float;  (** > 0 *)
   velocity : Vec3.t;  (** initial velocity *)
   mass : float;  (** > 0 *)
   restitution : float;  (** in [0, 1]; 1 is elastic *)
+  loc : Loc.t;  (** where the scene defines it *)
 }
+(** A scene's bodies, as its description states them. *)
 
 val body :
   ?velocity:Vec3.t ->
   ?mass:float ->
   ?restitution:float ->
+  ?loc:Loc.t ->
   name:string ->
   center:Vec3.t ->
   radius:float ->
   unit ->
   body
 (** [body ~name ~center ~radius ()] is a sphere at rest (defaults: velocity 0, mass 1,
-    restitution 1). *)
+    restitution 1, defined at {!Loc.whole_file} [name]). *)
 
 type collider =
   | Plane of { normal : Vec3.t; offset : float }
@@ -91,16 +94,24 @@ type collider =
   | Box of { min : Vec3.t; max : Vec3.t }
       (** axis-aligned, solid from outside, walls from inside *)
 
-type method_ = Exact | Verlet | Euler
+type method_ = Description.physics_method = Exact | Verlet | Euler
 
-type world = {
+type world = Description.physics = {
   gravity : Vec3.t;  (** m/s², default (0, −9.81, 0) *)
   method_ : method_;  (** default [Exact] *)
   step : float;  (** s, the fixed step of [Verlet] and [Euler] (> 0), default 1/240 *)
 }
+(** A scene's [physics] block, as its description states it. *)
 
 val default_world : world
-(** Gravity (0, −9.81, 0), [Exact], step 1/240 s. *)
+(** Gravity (0, −9.81, 0), [Exact], step 1/240 s ({!Description.default_physics}). *)
+
+val colliders : Description.obj list -> (collider list, Description.obj) result
+(** The static obstacles among a description's objects (those that are not a body's
+    sphere): every plane, parallelogram and box, in world space (a rotated box as its six
+    faces), and the members of a union or merge made only of those, in order. Other shapes
+    are not obstacles. [Error o]: [o] is a CSG object that is not such a union or merge,
+    which bodies could not collide with as it is drawn. *)
 
 (** What a body hit: a collider, by its index in the list given to {!simulate}, or another
     body, by name. *)

@@ -231,22 +231,7 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene
    8.0 s with the default 256k words and 1.6 s with 2M words (16 MB) per domain (one
    domain: 1.2 s); unloaded, the two are equal. *)
 let parallel_minor_heap_words = 2 * 1024 * 1024
-
-(* The soft limit on the process's address space (ulimit -v), in bytes, from
-   /proc/self/limits ("Max address space  1536000000  1536000000  bytes"); None when
-   unlimited or unknown. The Unix library has no getrlimit. *)
-let address_space_limit () =
-  match In_channel.with_open_text "/proc/self/limits" In_channel.input_all with
-  | exception Sys_error _ -> None
-  | text ->
-      List.find_map
-        (fun line ->
-          if String.starts_with ~prefix:"Max address space" line then
-            match List.filter (( <> ) "") (String.split_on_char ' ' line) with
-            | _ :: _ :: _ :: soft :: _ -> int_of_string_opt soft
-            | _ -> None
-          else None)
-        (String.split_on_char '\n' text)
+let address_space_limit = Address_space.limit
 
 (* The runtime reserves address space for the minor heaps of every domain it could run
    (128) as soon as their size is set: 2M words would reserve 2 GiB, and under a smaller

@@ -65,9 +65,9 @@ let time_and_frame ?time ?frame prog =
 (* The program and its render: the quality preset first, then the explicit settings. *)
 let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) path =
   let ( let* ) = Result.bind in
-  let* prog = Result.map_error errs (Dsl.load_file path) in
+  let* prog = Result.map_error errs (Program.load_file path) in
   let* time, frame = time_and_frame ?time ?frame prog in
-  let* sc = Result.map_error errs (Dsl.scene_at prog ~time ~frame) in
+  let* sc = Result.map_error errs (Program.scene_at prog ~time ~frame) in
   let* sc = match quality with None -> Ok sc | Some q -> Quality.apply q sc in
   let s = sc.settings in
   let pick v d = Option.value v ~default:d in

@@ -258,7 +258,7 @@ let test_hollow_glass () =
     | Error _ -> Alcotest.fail "the scene does not load"
   in
   let sc =
-    match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+    match Lancer.Program.scene_at prog ~time:0. ~frame:0 with
     | Ok s -> s
     | Error _ -> Alcotest.fail "the scene does not evaluate"
   in
@@ -477,7 +477,7 @@ let test_height_field () =
     | Error _ -> Alcotest.fail "the scene does not load"
   in
   let sc =
-    match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+    match Lancer.Program.scene_at prog ~time:0. ~frame:0 with
     | Ok s -> s
     | Error _ -> Alcotest.fail "the scene does not evaluate"
   in
@@ -516,7 +516,7 @@ let load_scene text =
   | Error es ->
       Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
   | Ok p -> (
-      match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+      match Lancer.Program.scene_at p ~time:0. ~frame:0 with
       | Ok s -> Ok s
       | Error es ->
           Error
@@ -574,7 +574,7 @@ let test_physics_union_of_boxes () =
   match Lancer_dsl.Dsl.load_string scene with
   | Error _ -> Alcotest.fail "the scene does not load"
   | Ok p -> (
-      match Lancer_dsl.Dsl.colliders p with
+      match Lancer.Program.colliders p with
       | [ Physics.Box { max; _ }; Physics.Plane _ ] ->
           close "the box's top, moved with the union" (-1.) max.y
       | l ->
@@ -607,15 +607,15 @@ let test_check_describes_trees () =
     | Error _ -> Alcotest.fail "the scene does not load"
   in
   let sc =
-    match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+    match Lancer.Program.scene_at p ~time:0. ~frame:0 with
     | Ok s -> s
     | Error _ -> Alcotest.fail "no scene"
   in
-  let summary = Lancer_dsl.Dsl.summary p sc in
+  let summary = Lancer.Program.summary p sc in
   if not (contains summary "csg: 1 object: difference(box, union(sphere, torus))") then
     Alcotest.failf "summary:\n%s" summary;
   let open Yojson.Safe.Util in
-  let o = Lancer_dsl.Dsl.to_json p sc |> member "objects" |> index 0 in
+  let o = Lancer.Program.to_json p sc |> member "objects" |> index 0 in
   Alcotest.(check string) "kind" "difference" (o |> member "kind" |> to_string);
   let inner = o |> member "members" |> index 1 in
   Alcotest.(check string) "nested kind" "union" (inner |> member "kind" |> to_string);

@@ -5,10 +5,10 @@
 let () =
   for i = 1 to Array.length Sys.argv - 1 do
     let path = Sys.argv.(i) in
-    match Lancer_dsl.Dsl.load_file path with
+    match Lancer.Program.load_file path with
     | Error errs -> List.iter (Format.printf "%a" Lancer_dsl.Error.pp) errs
     | Ok p -> (
-        match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
-        | Ok sc -> print_string (Lancer_dsl.Dsl.summary p sc)
+        match Lancer.Program.scene_at p ~time:0. ~frame:0 with
+        | Ok sc -> print_string (Lancer.Program.summary p sc)
         | Error errs -> List.iter (Format.printf "%a" Lancer_dsl.Error.pp) errs)
   done

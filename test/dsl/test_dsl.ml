@@ -13,12 +13,12 @@ let load text =
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
 
 let scene_of ?(frame = 0) p ~time =
-  match Dsl.scene_at p ~time ~frame with
+  match Program.scene_at p ~time ~frame with
   | Ok s -> s
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
 
 let scene ?(time = 0.) ?(frame = 0) text =
-  match Dsl.scene_at (load text) ~time ~frame with
+  match Program.scene_at (load text) ~time ~frame with
   | Ok s -> s
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
 
@@ -243,7 +243,7 @@ let test_animation_time () =
     "animation"
     (Some (10., 20))
     (Dsl.animation p);
-  (match Dsl.scene_at p ~time:1.5 ~frame:15 with
+  (match Program.scene_at p ~time:1.5 ~frame:15 with
   | Ok s -> (
       match s.objects.(0).shape with
       | Shape.Sphere { center; _ } ->
@@ -289,7 +289,7 @@ let test_bodies () =
   let hook name t =
     if name = "ball" then Some (Vec3.v t 7. 0., Vec3.v 1. 0. 0.) else None
   in
-  match Dsl.scene_at ~body_state:hook p ~time:3. ~frame:0 with
+  match Program.scene_at ~body_state:hook p ~time:3. ~frame:0 with
   | Ok s ->
       veq "the camera follows the hook" (Vec3.v 3. 7. 0.) s.camera.look_at;
       let o = s.objects.(Array.length s.objects - 1) in
@@ -326,7 +326,7 @@ let test_physics_wired () =
     (0.5 +. (v_up *. dt) -. (5. *. dt *. dt))
     (centre (at (t_hit +. dt))).y;
   feq "at rest on the floor at the end" 0.5 (centre (at 3.)).y;
-  (match Dsl.colliders p with
+  (match Lancer.Program.colliders p with
   | [ Physics.Plane _ ] -> ()
   | _ -> Alcotest.fail "one plane collider");
   (* A rotated body keeps its radius; a body scaled unevenly is refused. *)
@@ -344,7 +344,7 @@ let test_physics_wired () =
     "`light` cannot be inside a group";
   (* A fixed step that would not fit in memory is refused, not attempted. *)
   (match
-     Dsl.scene_at
+     Program.scene_at
        (load
           "animation { fps: 24, duration: 2 }\n\
            physics { method: \"verlet\", step: 1e-9 }\n\
@@ -364,7 +364,7 @@ let test_physics_wired () =
        sphere { center: (0, 5, 0), radius: 1 }\n\
        body b { sphere { center: (0, 3, 0), radius: 0.2 } }"
   in
-  match Dsl.colliders q with
+  match Lancer.Program.colliders q with
   | Physics.Box { min; max } :: faces ->
       veq "translated box min" (Vec3.v 1. 0. 0.) min;
       veq "translated box max" (Vec3.v 2. 1. 1.) max;
@@ -385,7 +385,7 @@ let test_includes () =
   write "main.rts" "include \"common.rts\"\nsphere { center: (1, 0, 0), radius: r }";
   (match Dsl.load_file (Filename.concat dir "main.rts") with
   | Ok p -> (
-      match Dsl.scene_at p ~time:0. ~frame:0 with
+      match Program.scene_at p ~time:0. ~frame:0 with
       | Ok s ->
           Alcotest.(check int) "included objects and names" 2 (Array.length s.objects)
       | Error es -> Alcotest.fail (errors_text es))
@@ -482,10 +482,10 @@ let test_scenes () =
       let path = Filename.concat scenes_dir f in
       match Dsl.load_file path with
       | Ok p -> (
-          match Dsl.scene_at p ~time:0. ~frame:0 with
+          match Program.scene_at p ~time:0. ~frame:0 with
           | Ok s ->
-              ignore (Dsl.summary p s);
-              ignore (Yojson.Safe.to_string (Dsl.to_json p s))
+              ignore (Program.summary p s);
+              ignore (Yojson.Safe.to_string (Program.to_json p s))
           | Error es -> Alcotest.failf "%s:\n%s" f (errors_text es))
       | Error es -> Alcotest.failf "%s:\n%s" f (errors_text es))
     files
@@ -496,10 +496,10 @@ let test_json () =
       "sphere { center: (1, 2, 3), radius: 4, translate: (1, 0, 0) }\n\
        light { position: (0, 5, 0) }"
   in
-  match Dsl.scene_at p ~time:0. ~frame:0 with
+  match Program.scene_at p ~time:0. ~frame:0 with
   | Error es -> Alcotest.fail (errors_text es)
   | Ok s ->
-      let j = Dsl.to_json p s in
+      let j = Program.to_json p s in
       let open Yojson.Safe.Util in
       let o = List.hd (to_list (member "objects" j)) in
       Alcotest.(check string) "kind" "sphere" (to_string (member "kind" o));
@@ -521,9 +521,9 @@ let no_crash text es =
 let no_exception text =
   match Dsl.load_string ~filename:"fuzz.rts" text with
   | Ok p -> (
-      match Dsl.scene_at p ~time:0.5 ~frame:1 with
+      match Program.scene_at p ~time:0.5 ~frame:1 with
       | Ok s ->
-          ignore (Dsl.to_json p s);
+          ignore (Program.to_json p s);
           true
       | Error es -> no_crash text es)
   | Error es ->
@@ -601,6 +601,139 @@ let props =
         ~count mutated no_exception;
     ]
 
+(* ---------------------------------------------------------------------------------- *)
+(* The description between the language and the renderer *)
+
+module D = Description
+
+(* A still is evaluated once: the description at time 0, frame 0 is the load's own. *)
+let test_described_once () =
+  let p = load "sphere { center: (0, 0, 0), radius: 1 }\nlight { position: (0, 5, 0) }" in
+  (match Dsl.describe p ~time:0. ~frame:0 with
+  | Ok d -> Alcotest.(check bool) "the load's description" true (d == Dsl.first p)
+  | Error es -> Alcotest.failf "%s" (errors_text es));
+  match Dsl.describe p ~time:1. ~frame:24 with
+  | Ok d ->
+      Alcotest.(check bool) "another instant is evaluated" false (d == Dsl.first p);
+      Alcotest.(check (float 0.)) "its time" 1. d.time;
+      Alcotest.(check int) "its frame" 24 d.frame
+  | Error es -> Alcotest.failf "%s" (errors_text es)
+
+(* The language names files and reads none: a scene whose image and mesh do not exist
+   loads; the description holds the names as written and resolved, and where they were
+   written; the renderer reports them there. *)
+let test_files_by_name () =
+  let text =
+    "let m = material { texture: image(\"wood.png\", 2), bump: noise(0.5, 0.1) }\n\
+     sphere { center: (0, 0, 0), radius: 1, material: m }\n\
+     mesh { file: \"sub/teapot.obj\", smooth: false }\n"
+  in
+  let p =
+    match Dsl.load_string ~filename:"dir/test.rts" text with
+    | Ok p -> p
+    | Error es -> Alcotest.failf "the language read a file:\n%s" (errors_text es)
+  in
+  let d = Dsl.first p in
+  Alcotest.(check (list string))
+    "the files named"
+    [ "dir/sub/teapot.obj"; "dir/wood.png" ]
+    d.files;
+  (match d.objects with
+  | [
+   {
+     kind = "sphere";
+     material = Some { texture = Some (Image { image; scale }); bump; _ };
+     _;
+   };
+   { kind = "mesh"; shape = Mesh { file; path; smooth; at }; _ };
+  ] ->
+      Alcotest.(check string) "as written" "wood.png" image.written;
+      Alcotest.(check string) "resolved" "dir/wood.png" image.path;
+      Alcotest.(check (pair int int))
+        "at the image(…) call" (1, 29) (image.at.line, image.at.col);
+      Alcotest.(check (float 0.)) "scale" 2. scale;
+      Alcotest.(check bool)
+        "the noise bump" true
+        (bump = Some (D.Noise_bump { scale = 0.5; amount = 0.1 }));
+      Alcotest.(check string) "the mesh as written" "sub/teapot.obj" file;
+      Alcotest.(check string) "resolved" "dir/sub/teapot.obj" path;
+      Alcotest.(check bool) "flat" false smooth;
+      Alcotest.(check (pair int int)) "at its file field" (3, 14) (at.line, at.col)
+  | _ -> Alcotest.fail "not the sphere and the mesh");
+  match Compile.compile ~source:(Dsl.source p) (Compile.assets ()) d with
+  | Ok _ -> Alcotest.fail "compiled without the files"
+  | Error es ->
+      Alcotest.(check (list (pair int int)))
+        "the renderer reports each file where it was named"
+        [ (1, 29); (3, 14) ]
+        (List.map (fun (e : Error.t) -> (e.line, e.col)) es);
+      Alcotest.(check bool)
+        "as the language would" true
+        (String.starts_with ~prefix:"cannot read the image \"wood.png\": no such file"
+           (List.hd es).message)
+
+(* A description made by hand (no language) compiles into a scene, transforms baked. *)
+let test_compile_by_hand () =
+  let obj shape kind : D.obj =
+    {
+      kind;
+      shape;
+      transform = Transform.translate (Vec3.v 0. 1. 0.);
+      steps = [ Translate (Vec3.v 0. 1. 0.) ];
+      material = Some { D.default_material with color = Color.v 1. 0. 0. };
+      loc = Loc.whole_file "hand";
+      body = None;
+    }
+  in
+  let d : D.t =
+    {
+      file = "hand";
+      time = 0.;
+      frame = 0;
+      settings = Settings.default;
+      camera = Camera.default;
+      lights = [];
+      objects = [ obj (Sphere { center = Vec3.zero; radius = 2. }) "sphere" ];
+      animation = None;
+      physics = None;
+      physics_loc = None;
+      bodies = [];
+      warnings = [];
+      files = [];
+    }
+  in
+  match Compile.compile (Compile.assets ()) d with
+  | Error es -> Alcotest.failf "%s" (errors_text es)
+  | Ok sc ->
+      let o = sc.objects.(0) in
+      Alcotest.(check bool) "red" true (o.material.color = Color.v 1. 0. 0.);
+      Alcotest.(check bool)
+        "placed by its transform" true
+        (Vec3.equal_f (Transform.point o.transform Vec3.zero) (Vec3.v 0. 1. 0.))
+
+(* Obstacles come from the description's shapes. *)
+let test_colliders_of_description () =
+  let p =
+    load
+      "plane { normal: (0, 2, 0), offset: 0 }\n\
+       box { min: (-1, 0, -1), max: (1, 1, 1), rotate: (0, 45, 0) }\n\
+       sphere { center: (0, 3, 0), radius: 1 }\n\
+       difference { box { min: (-1, 0, -1), max: (1, 1, 1) } sphere { center: (0, 1, 0), \
+       radius: 0.5 } }"
+  in
+  let objects = (Dsl.first p).objects in
+  (match Physics.colliders (List.filteri (fun i _ -> i < 3) objects) with
+  | Ok [ Physics.Plane { normal; offset }; _; _; _; _; _; _ ] ->
+      Alcotest.(check bool)
+        "the plane's unit normal" true
+        (Vec3.equal_f normal Vec3.y_axis);
+      Alcotest.(check (float 0.)) "offset" 0. offset
+  | Ok cs -> Alcotest.failf "%d colliders" (List.length cs)
+  | Error _ -> Alcotest.fail "refused");
+  match Physics.colliders objects with
+  | Error o -> Alcotest.(check string) "the difference is refused" "difference" o.kind
+  | Ok _ -> Alcotest.fail "a difference collides"
+
 let () =
   Alcotest.run "dsl"
     [
@@ -648,6 +781,20 @@ let () =
             test_error_display;
           Alcotest.test_case "a very long line is shown as a window around the error"
             `Quick test_long_line;
+        ] );
+      ( "description",
+        [
+          Alcotest.test_case
+            "a still is evaluated once: at frame 0 the load's description" `Quick
+            test_described_once;
+          Alcotest.test_case
+            "the language names images and meshes and reads none; the renderer reports \
+             them where they were named"
+            `Quick test_files_by_name;
+          Alcotest.test_case "a description made by hand compiles" `Quick
+            test_compile_by_hand;
+          Alcotest.test_case "colliders are the description's planes and boxes" `Quick
+            test_colliders_of_description;
         ] );
       ( "scenes",
         [

@@ -18,10 +18,7 @@ let eval_errors text =
   | Ok stmts -> (
       let sources = Hashtbl.create 1 in
       Hashtbl.replace sources "test.rts" text;
-      match
-        Eval.run ~objects:false ~sources ~images:(Eval.new_images ()) ~time:0. ~frame:0
-          stmts
-      with
+      match Eval.run ~objects:false ~file:"test.rts" ~sources ~time:0. ~frame:0 stmts with
       | Ok _ -> []
       | Error es -> es)
 
@@ -152,9 +149,9 @@ let json text =
   match Dsl.load_string ~filename:"test.rts" text with
   | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
   | Ok p -> (
-      match Dsl.scene_at p ~time:0. ~frame:0 with
+      match Lancer.Program.scene_at p ~time:0. ~frame:0 with
       | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
-      | Ok sc -> Yojson.Safe.to_string (Dsl.to_json p sc))
+      | Ok sc -> Yojson.Safe.to_string (Lancer.Program.to_json p sc))
 
 let test_defaults () =
   let checked = ref 0 in

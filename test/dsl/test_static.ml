@@ -183,10 +183,7 @@ let eval_errors text =
   | Ok stmts -> (
       let sources = Hashtbl.create 1 in
       Hashtbl.replace sources "test.rts" text;
-      match
-        Eval.run ~objects:false ~sources ~images:(Eval.new_images ()) ~time:0. ~frame:0
-          stmts
-      with
+      match Eval.run ~objects:false ~file:"test.rts" ~sources ~time:0. ~frame:0 stmts with
       | Ok _ -> []
       | Error es -> es)
 

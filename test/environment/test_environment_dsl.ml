@@ -10,7 +10,7 @@ let scene text =
   match Dsl.load_string ~filename:"test.rts" text with
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
   | Ok p -> (
-      match Dsl.scene_at p ~time:0. ~frame:0 with
+      match Program.scene_at p ~time:0. ~frame:0 with
       | Ok s -> s
       | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es))
 
@@ -234,11 +234,11 @@ sphere { center: (0, 0, 0), radius: 1, material: material { texture: gradient((0
     | Error es -> Alcotest.fail (errors_text es)
   in
   let sc =
-    match Dsl.scene_at p ~time:0. ~frame:0 with
+    match Program.scene_at p ~time:0. ~frame:0 with
     | Ok s -> s
     | Error es -> Alcotest.fail (errors_text es)
   in
-  let summary = Dsl.summary p sc in
+  let summary = Program.summary p sc in
   List.iter
     (fun sub -> Alcotest.(check bool) ("summary says " ^ sub) true (contains summary sub))
     [
@@ -250,7 +250,7 @@ sphere { center: (0, 0, 0), radius: 1, material: material { texture: gradient((0
       "renderer skips: soft shadows, reflection, refraction, bump, supersampling, bvh, \
        fisheye, bodies";
     ];
-  let j = Dsl.to_json p sc in
+  let j = Program.to_json p sc in
   let open Yojson.Safe.Util in
   Alcotest.(check string)
     "camera kind" "orthographic"

@@ -11,14 +11,14 @@ let fail fmt =
 
 let () =
   let prog =
-    match Lancer_dsl.Dsl.load_file "ball.rts" with
+    match Program.load_file "ball.rts" with
     | Ok p -> p
     | Error errs ->
         List.iter (Format.eprintf "%a" Lancer_dsl.Error.pp) errs;
         exit 1
   in
   let scene =
-    match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+    match Program.scene_at prog ~time:0. ~frame:0 with
     | Ok s -> s
     | Error _ -> fail "no scene"
   in

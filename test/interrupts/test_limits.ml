@@ -186,7 +186,7 @@ let rays_tests =
         match Lancer_dsl.Dsl.load_string text with
         | Error _ -> Alcotest.fail "the scene does not load"
         | Ok prog -> (
-            match Lancer_dsl.Dsl.scene_at prog ~time:0. ~frame:0 with
+            match Lancer.Program.scene_at prog ~time:0. ~frame:0 with
             | Error _ -> Alcotest.fail "the scene does not evaluate"
             | Ok sc ->
                 let c = Lancer.Cost.estimate sc in

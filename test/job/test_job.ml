@@ -32,7 +32,7 @@ let scene () =
   match Lancer_dsl.Dsl.load_string ~filename:"small.rts" scene_text with
   | Error _ -> Alcotest.fail "the test scene does not load"
   | Ok p -> (
-      match Lancer_dsl.Dsl.scene_at p ~time:0. ~frame:0 with
+      match Lancer.Program.scene_at p ~time:0. ~frame:0 with
       | Ok sc -> sc
       | Error _ -> Alcotest.fail "the test scene does not evaluate")
 

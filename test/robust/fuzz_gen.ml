@@ -523,10 +523,10 @@ let check_scene (file, text) =
       | exception e -> Error ("printing an error raised " ^ Printexc.to_string e)
       | () -> Result.map_error (fun m -> "load " ^ m) (judge_scene_errors es))
   | Ok p -> (
-      match Dsl.scene_at p ~time:0.5 ~frame:12 with
+      match Program.scene_at p ~time:0.5 ~frame:12 with
       | exception e -> Error ("evaluation raised " ^ Printexc.to_string e)
       | Error es -> Result.map_error (fun m -> "evaluation " ^ m) (judge_scene_errors es)
       | Ok sc -> (
-          match Dsl.to_json p sc with
+          match Program.to_json p sc with
           | exception e -> Error ("to_json raised " ^ Printexc.to_string e)
           | _ -> Ok ()))

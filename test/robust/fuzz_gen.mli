@@ -51,7 +51,7 @@ val scene_case : (string * string) array -> Random.State.t -> string * string
 
 val check_scene : string * string -> (unit, string) result
 (** The language's contract: [Error] (the case fails) when loading, evaluating, printing
-    an error or {!Lancer_dsl.Dsl.to_json} raises, when loading fails with no error, or
+    an error or {!Lancer.Program.to_json} raises, when loading fails with no error, or
     when loading or evaluating reports an internal error (an exception the language's
     boundary caught: a crash). *)
 

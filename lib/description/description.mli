@@ -1,0 +1,208 @@
+(** A scene as its program states it, at one instant: plain data between the language and
+    the renderer.
+
+    The evaluator produces it; the renderer compiles it (reading the images and meshes it
+    names, building shapes, primitives and the acceleration structure); [lancer check]
+    prints it. It holds no decoded image, no mesh triangles and no function: textures,
+    bump maps, meshes and height fields are named by file, with the place that named them
+    (where a problem reading the file is reported). Shapes are in object space, as
+    written, each object with the transform that places it. *)
+
+(** {1 Materials} *)
+
+type image = {
+  written : string;  (** the file name as the scene wrote it *)
+  path : string;  (** resolved relative to the file that names it *)
+  at : Loc.t;  (** the [image(…)] call, where a problem reading it is shown *)
+}
+
+type pattern =
+  | Noise_pattern of float
+  | Marble_pattern of float
+  | Wood_pattern of float  (** each with its scale *)
+
+type texture =
+  | Solid of Color.t
+  | Checker of { c1 : Color.t; c2 : Color.t; size : float }
+  | Stripes of { c1 : Color.t; c2 : Color.t; size : float }
+  | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
+  | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
+  | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
+  | Gradient of { axis : Vec3.t; map : (float * Color.t) list }
+  | Mapped of { pattern : pattern; map : (float * Color.t) list }
+  | Image of { image : image; scale : float }  (** an image on the surface's (u, v) *)
+
+type bump =
+  | Noise_bump of { scale : float; amount : float }
+  | Image_bump of { image : image; amount : float }  (** a height map on (u, v) *)
+
+type material = {
+  color : Color.t;
+  texture : texture option;
+  ambient : float;
+  diffuse : float;
+  specular : float;
+  shininess : float;
+  reflection : float;
+  transparency : float;
+  ior : float;
+  fresnel : bool;
+  bump : bump option;
+}
+
+val default_material : material
+(** White, ambient 0.1, diffuse 0.9, no specular (shininess 50), opaque, ior 1: the
+    renderer's default material. *)
+
+val validate_material : material -> (unit, string) result
+(** The renderer's checks of a material's numbers (non-negative, finite, reflection +
+    transparency ≤ 1, ior > 0), with its messages. *)
+
+val color_map_problem : (float * Color.t) list -> string option
+(** Why these entries are not a colour map (none, a t outside [0, 1], decreasing, a colour
+    that is negative or not finite); [None] when they are one. *)
+
+(** {1 Shapes and objects} *)
+
+val max_objects : int
+(** 10 000 000: the most objects a scene may build (a mesh's triangles and a height
+    field's each count). *)
+
+type csg_op = Union | Merge | Intersection | Difference
+
+type step =
+  | Translate of Vec3.t
+  | Rotate of Vec3.t
+  | Scale of Vec3.t
+      (** A transform as written; an object's are applied in order, its groups' after. *)
+
+type shape =
+  | Sphere of { center : Vec3.t; radius : float }
+  | Plane of { normal : Vec3.t; offset : float }
+  | Parallelogram of { origin : Vec3.t; edge1 : Vec3.t; edge2 : Vec3.t }
+  | Triangle of { a : Vec3.t; b : Vec3.t; c : Vec3.t }
+  | Paraboloid of { vertex : Vec3.t; axis : Vec3.t; radius : float; height : float }
+  | Box of { min : Vec3.t; max : Vec3.t }
+  | Cylinder of { base : Vec3.t; top : Vec3.t; radius : float; caps : bool }
+  | Disk of { center : Vec3.t; normal : Vec3.t; radius : float }
+  | Cone of {
+      base : Vec3.t;
+      base_radius : float;
+      top : Vec3.t;
+      top_radius : float;
+      caps : bool;
+    }
+  | Torus of { center : Vec3.t; major : float; minor : float; axis : Vec3.t }
+  | Mesh of { file : string; path : string; smooth : bool; at : Loc.t }
+      (** an OBJ file ([file] as written, [path] resolved); [at] is the [file] field's
+          value, where a problem reading it is shown *)
+  | Height_field of {
+      file : string;
+      path : string;
+      origin : Vec3.t;
+      size : Vec3.t;
+      at : Loc.t;
+    }  (** an image's luminance as heights over [size] from [origin] *)
+  | Csg of { op : csg_op; block : string; members : obj list; solid : bool }
+      (** members in order, each with its own transform and material; [block] as written
+          ("group" for a group inside a CSG block); [solid] when the members must have an
+          inside (every operation but a union at top level) *)
+
+and obj = {
+  kind : string;
+      (** "sphere", "plane", …, "mesh", "height_field"; a CSG object's operation ("union"
+          for a group inside a CSG block) *)
+  shape : shape;
+  transform : Transform.t;  (** object space → world space, groups' transforms included *)
+  steps : step list;  (** the transforms applied, in order (groups' last) *)
+  material : material option;
+      (** [None]: the default material (or a CSG leaf's parent's) *)
+  loc : Loc.t;  (** where the object's block starts *)
+  body : string option;  (** the body this sphere is, if any *)
+}
+
+val is_solid : shape -> bool
+(** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG
+    whose members all have one, and the plane as a half-space; a mesh counts as one here
+    (whether it is closed only its file tells, which the renderer reads). *)
+
+(** {1 Physics} *)
+
+type physics_method = Exact | Verlet | Euler
+
+type physics = {
+  gravity : Vec3.t;  (** m/s²; default (0, −9.81, 0) *)
+  method_ : physics_method;  (** default [Exact] *)
+  step : float;  (** seconds, for the fixed-step methods; default 1/240 *)
+}
+
+val default_physics : physics
+(** Gravity (0, −9.81, 0), the exact method, step 1/240 s. *)
+
+type body = {
+  name : string;
+  center : Vec3.t;  (** initial world-space centre (transforms applied) *)
+  radius : float;  (** world-space radius (the sphere's radius times the largest scale) *)
+  velocity : Vec3.t;  (** initial velocity, m/s; default 0 *)
+  mass : float;  (** kg, > 0; default 1 *)
+  restitution : float;  (** in [0, 1]; default 0.9; a pair uses the product *)
+  loc : Loc.t;  (** where the body is defined *)
+}
+
+(** {1 The files a scene names} *)
+
+(** A use of a file, as the evaluator meets it: what reading it can find wrong is shown at
+    [at] (or for an open mesh where a solid is needed, at the member). *)
+type file_use =
+  | Picture of image  (** an image texture's or bump map's file *)
+  | Model of {
+      file : string;
+      path : string;
+      smooth : bool;
+      at : Loc.t;
+      solid_in : (string * Loc.t) option;
+          (** for a member of a CSG block that needs a solid: the block as written and the
+              member's own block, where an open mesh is reported *)
+    }  (** a mesh's OBJ file *)
+  | Heights of { file : string; path : string; at : Loc.t }  (** a height field's image *)
+
+(** {1 A scene} *)
+
+type t = {
+  file : string;  (** the main file of the program *)
+  time : float;  (** seconds *)
+  frame : int;
+  settings : Settings.t;
+  camera : Camera.t;
+  lights : Light.t list;
+  objects : obj list;
+      (** static objects in program order, then one sphere per body (at its position at
+          [time]) *)
+  animation : (float * int) option;  (** fps, frames *)
+  physics : physics option;
+  physics_loc : Loc.t option;  (** where the [physics] block is *)
+  bodies : body list;  (** in program order, at their initial state *)
+  warnings : Diagnostic.t list;
+      (** what is legal but likely a mistake (a loop that runs zero times), in source
+          order *)
+  files : string list;
+      (** the image and mesh files the objects name, resolved, sorted, each once *)
+}
+
+(** {1 What the renderer made of it}
+
+    For [lancer check], which prints a description beside what rendering it involves. *)
+
+type rendered = {
+  r_settings : Settings.t;  (** as rendered: command-line overrides applied *)
+  r_lights : Light.t list;
+  r_features : Features.t;
+  r_kinds : (string * int) list;
+      (** the objects by kind, in order of first appearance (a mesh's triangles each
+          count) *)
+  r_csg : string list;  (** each CSG object's tree on one line: difference(box, sphere) *)
+  r_materials : int;  (** distinct materials *)
+  r_meshes : ((string * bool) * int) list;
+      (** the triangles of each mesh file read (path, smooth) *)
+  r_rasters : (string * (int * int)) list;  (** width and height of each height field *)
+}

@@ -1,0 +1,395 @@
+module D = Description
+
+let count_by key xs =
+  let tbl = Hashtbl.create 8 and order = ref [] in
+  List.iter
+    (fun x ->
+      let k = key x in
+      match Hashtbl.find_opt tbl k with
+      | Some n -> Hashtbl.replace tbl k (n + 1)
+      | None ->
+          Hashtbl.add tbl k 1;
+          order := k :: !order)
+    xs;
+  List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
+
+let light_kind = function
+  | Light.Point { spot = Some _; _ } as l when Light.is_area l -> "soft spot"
+  | Light.Point { spot = Some _; _ } -> "spot"
+  | Light.Point _ as l when Light.is_area l -> "area"
+  | Light.Point p when p.radius > 0. -> "point (radius without samples: hard shadows)"
+  | Light.Point _ -> "point"
+  | Light.Directional _ -> "directional"
+
+let warnings ~empty (d : D.t) (r : D.rendered) =
+  let objects = List.fold_left (fun n (_, k) -> n + k) 0 r.r_kinds in
+  let file msg = Diagnostic.file_error ~kind:Diagnostic.Warning d.file msg in
+  let scene =
+    if empty then
+      [ file "the scene is empty (no statements): it renders the background only" ]
+    else
+      (if objects = 0 then
+         [ file "the scene has no objects: the image is the background only" ]
+       else [])
+      @
+      if r.r_lights = [] && objects > 0 then
+        [
+          file
+            "the scene has no lights: objects show only their ambient colour (add light \
+             { position: (x, y, z) })";
+        ]
+      else []
+  in
+  d.warnings @ scene
+
+let summary ~empty (d : D.t) (r : D.rendered) =
+  let s = r.r_settings in
+  let kinds = r.r_kinds in
+  let lights = count_by light_kind r.r_lights in
+  let list l =
+    String.concat ", " (List.map (fun (k, n) -> Printf.sprintf "%s %d" k n) l)
+  in
+  let b = Buffer.create 256 in
+  let line fmt =
+    Printf.ksprintf
+      (fun x ->
+        Buffer.add_string b x;
+        Buffer.add_char b '\n')
+      fmt
+  in
+  line "scene: %s" d.file;
+  let adaptive =
+    if s.adaptive > 0. then
+      Printf.sprintf "adaptive %g: 2×2 samples, %d×%d where they differ by more"
+        s.adaptive (max s.samples 4) (max s.samples 4)
+    else "adaptive off"
+  in
+  line "image: %d×%d, %d×%d samples per pixel (jitter %s, %s), depth %d" s.width s.height
+    s.samples s.samples
+    (if s.jitter then "on" else "off")
+    adaptive s.depth;
+  (let c = d.camera in
+   line "camera: %s%s%s" (Camera.kind_name c.kind)
+     (match c.kind with
+     | Camera.Orthographic { width } -> Printf.sprintf ", %g wide" width
+     | Perspective | Fisheye -> Printf.sprintf ", fov %g°" c.fov)
+     (if Camera.depth_of_field c then
+        Printf.sprintf ", depth of field (aperture %g, focused at %g, %d×%d lens samples)"
+          c.aperture c.focal_distance c.lens_samples c.lens_samples
+      else ""));
+  (match d.animation with
+  | Some (fps, n) ->
+      line "animation: %d frames at %g fps (%g s); this is frame %d, time %g s" n fps
+        (Float.of_int n /. fps)
+        d.frame d.time
+  | None -> line "animation: none (a still)");
+  line "objects: %d%s"
+    (List.fold_left (fun n (_, k) -> n + k) 0 kinds)
+    (if kinds = [] then "" else " (" ^ list kinds ^ ")");
+  (let trees = r.r_csg in
+   let shown = 4 in
+   match trees with
+   | [] -> ()
+   | ts ->
+       line "csg: %d object%s: %s%s" (List.length ts)
+         (if List.length ts = 1 then "" else "s")
+         (String.concat "; " (List.filteri (fun i _ -> i < shown) ts))
+         (if List.length ts > shown then
+            Printf.sprintf "; … and %d more" (List.length ts - shown)
+          else ""));
+  line "lights: %d%s" (List.length r.r_lights)
+    (if lights = [] then "" else " (" ^ list lights ^ ")");
+  line "materials: %d distinct" r.r_materials;
+  (match d.bodies with
+  | [] -> ()
+  | bs ->
+      line "bodies: %d (%s)" (List.length bs)
+        (String.concat ", " (List.map (fun (b : D.body) -> b.name) bs)));
+  let feats = Features.to_list r.r_features @ [ ("bodies", d.bodies <> []) ] in
+  let pick b =
+    List.filter_map
+      (fun (k, v) ->
+        if v = b then Some (String.map (fun c -> if c = '_' then ' ' else c) k) else None)
+      feats
+  in
+  let used = pick true and skipped = pick false in
+  line "renderer uses: %s"
+    (if used = [] then "nothing beyond direct light" else String.concat ", " used);
+  line "renderer skips: %s"
+    (if skipped = [] then "nothing" else String.concat ", " skipped);
+  List.iter (fun w -> Buffer.add_string b (Diagnostic.to_string w)) (warnings ~empty d r);
+  Buffer.contents b
+
+let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]
+let cj (c : Color.t) = `List [ `Float c.r; `Float c.g; `Float c.b ]
+
+let light_json = function
+  | Light.Point p ->
+      `Assoc
+        ([
+           ("kind", `String (if Option.is_some p.spot then "spot" else "point"));
+           ("position", vj p.position);
+           ("color", cj p.color);
+           ("intensity", `Float p.intensity);
+           ("attenuation", vj p.attenuation);
+           ("radius", `Float p.radius);
+           ("samples", `Int p.samples);
+         ]
+        @
+        match p.spot with
+        | None -> []
+        | Some sp ->
+            [
+              ("point_at", vj sp.point_at);
+              ("inner", `Float sp.inner);
+              ("outer", `Float sp.outer);
+            ])
+  | Light.Directional d ->
+      `Assoc
+        [
+          ("kind", `String "directional");
+          ("direction", vj d.direction);
+          ("color", cj d.color);
+          ("intensity", `Float d.intensity);
+        ]
+
+let fl x = `Float x
+let map_json map = `List (List.map (fun (x, c) -> `List [ `Float x; cj c ]) map)
+
+let texture_json : D.texture -> Yojson.Safe.t = function
+  | Solid c -> `Assoc [ ("kind", `String "solid"); ("color", cj c) ]
+  | Checker { c1; c2; size } ->
+      `Assoc
+        [ ("kind", `String "checker"); ("c1", cj c1); ("c2", cj c2); ("size", fl size) ]
+  | Stripes { c1; c2; size } ->
+      `Assoc
+        [ ("kind", `String "stripes"); ("c1", cj c1); ("c2", cj c2); ("size", fl size) ]
+  | Noise { c1; c2; scale } ->
+      `Assoc
+        [ ("kind", `String "noise"); ("c1", cj c1); ("c2", cj c2); ("scale", fl scale) ]
+  | Marble { c1; c2; scale } ->
+      `Assoc
+        [ ("kind", `String "marble"); ("c1", cj c1); ("c2", cj c2); ("scale", fl scale) ]
+  | Wood { c1; c2; scale } ->
+      `Assoc
+        [ ("kind", `String "wood"); ("c1", cj c1); ("c2", cj c2); ("scale", fl scale) ]
+  | Mapped { pattern; map } ->
+      let kind, scale =
+        match pattern with
+        | Noise_pattern s -> ("noise", s)
+        | Marble_pattern s -> ("marble", s)
+        | Wood_pattern s -> ("wood", s)
+      in
+      `Assoc [ ("kind", `String kind); ("map", map_json map); ("scale", fl scale) ]
+  | Gradient { axis; map } ->
+      `Assoc [ ("kind", `String "gradient"); ("axis", vj axis); ("map", map_json map) ]
+  | Image { image; scale } ->
+      `Assoc
+        [
+          ("kind", `String "image"); ("file", `String image.written); ("scale", fl scale);
+        ]
+
+let bump_json : D.bump -> Yojson.Safe.t = function
+  | Noise_bump { scale; amount } ->
+      `Assoc [ ("kind", `String "noise"); ("scale", fl scale); ("amount", fl amount) ]
+  | Image_bump { image; amount } ->
+      `Assoc
+        [
+          ("kind", `String "image"); ("file", `String image.written); ("amount", fl amount);
+        ]
+
+let material_json (m : D.material) =
+  `Assoc
+    ([
+       ("color", cj m.color);
+       ("ambient", `Float m.ambient);
+       ("diffuse", `Float m.diffuse);
+       ("specular", `Float m.specular);
+       ("shininess", `Float m.shininess);
+       ("reflection", `Float m.reflection);
+       ("transparency", `Float m.transparency);
+       ("ior", `Float m.ior);
+       ("fresnel", `Bool m.fresnel);
+     ]
+    @ (match m.texture with Some x -> [ ("texture", texture_json x) ] | None -> [])
+    @ match m.bump with Some x -> [ ("bump", bump_json x) ] | None -> [])
+
+let step_json : D.step -> Yojson.Safe.t = function
+  | Translate v -> `Assoc [ ("translate", vj v) ]
+  | Rotate v -> `Assoc [ ("rotate", vj v) ]
+  | Scale v -> `Assoc [ ("scale", vj v) ]
+
+(* An object's fields in object space, as written (and what its file held). *)
+let rec fields_json (r : D.rendered) (s : D.shape) : (string * Yojson.Safe.t) list =
+  match s with
+  | Sphere { center; radius } -> [ ("center", vj center); ("radius", fl radius) ]
+  | Plane { normal; offset } -> [ ("normal", vj normal); ("offset", fl offset) ]
+  | Parallelogram { origin; edge1; edge2 } ->
+      [ ("origin", vj origin); ("edge1", vj edge1); ("edge2", vj edge2) ]
+  | Triangle { a; b; c } -> [ ("a", vj a); ("b", vj b); ("c", vj c) ]
+  | Paraboloid { vertex; axis; radius; height } ->
+      [
+        ("vertex", vj vertex);
+        ("axis", vj axis);
+        ("radius", fl radius);
+        ("height", fl height);
+      ]
+  | Box { min; max } -> [ ("min", vj min); ("max", vj max) ]
+  | Cylinder { base; top; radius; caps } ->
+      [ ("base", vj base); ("top", vj top); ("radius", fl radius); ("caps", `Bool caps) ]
+  | Cone { base; base_radius; top; top_radius; caps } ->
+      [
+        ("base", vj base);
+        ("base_radius", fl base_radius);
+        ("top", vj top);
+        ("top_radius", fl top_radius);
+        ("caps", `Bool caps);
+      ]
+  | Torus { center; major; minor; axis } ->
+      [
+        ("center", vj center); ("major", fl major); ("minor", fl minor); ("axis", vj axis);
+      ]
+  | Disk { center; normal; radius } ->
+      [ ("center", vj center); ("normal", vj normal); ("radius", fl radius) ]
+  | Mesh { file; path; smooth; _ } -> (
+      [ ("file", `String file); ("smooth", `Bool smooth) ]
+      @
+      match List.assoc_opt (path, smooth) r.r_meshes with
+      | Some n -> [ ("triangles", `Int n) ]
+      | None -> [])
+  | Height_field { file; path; origin; size; _ } -> (
+      [ ("file", `String file); ("origin", vj origin); ("size", vj size) ]
+      @
+      match List.assoc_opt path r.r_rasters with
+      | Some (w, h) ->
+          [
+            ("width", `Int w);
+            ("height", `Int h);
+            ("triangles", `Int (2 * (w - 1) * (h - 1)));
+          ]
+      | None -> [])
+  | Csg { members; _ } ->
+      let member (o : D.obj) =
+        `Assoc
+          ([
+             ("kind", `String o.kind);
+             ("fields", `Assoc (fields_json r o.shape));
+             ("transforms", `List (List.map step_json o.steps));
+           ]
+          @
+          match o.material with Some m -> [ ("material", material_json m) ] | None -> [])
+      in
+      [ ("members", `List (List.map member members)) ]
+
+let json ?state (d : D.t) (r : D.rendered) =
+  let s = r.r_settings and c = d.camera in
+  let now (b : D.body) =
+    match Option.bind state (fun f -> f b.name d.time) with
+    | Some (p, v) -> [ ("position", vj p); ("velocity_now", vj v) ]
+    | None -> [ ("position", vj b.center); ("velocity_now", vj b.velocity) ]
+  in
+  let objects =
+    List.map
+      (fun (o : D.obj) ->
+        `Assoc
+          ([ ("kind", `String o.kind) ]
+          @ fields_json r o.shape
+          @ [
+              ("transforms", `List (List.map step_json o.steps));
+              ( "material",
+                material_json (Option.value o.material ~default:D.default_material) );
+            ]
+          @ match o.body with Some n -> [ ("body", `String n) ] | None -> []))
+      d.objects
+  in
+  let method_name : D.physics_method -> string = function
+    | Exact -> "exact"
+    | Verlet -> "verlet"
+    | Euler -> "euler"
+  in
+  `Assoc
+    [
+      ("file", `String d.file);
+      ("time", `Float d.time);
+      ("frame", `Int d.frame);
+      ( "settings",
+        `Assoc
+          [
+            ("width", `Int s.width);
+            ("height", `Int s.height);
+            ("depth", `Int s.depth);
+            ("samples", `Int s.samples);
+            ("jitter", `Bool s.jitter);
+            ("adaptive", `Float s.adaptive);
+            ("shadows", `Bool s.shadows);
+            ( "background",
+              match s.sky with
+              | None -> cj s.background
+              | Some sk ->
+                  `Assoc
+                    [
+                      ("kind", `String "gradient");
+                      ("horizon", cj sk.horizon);
+                      ("zenith", cj sk.zenith);
+                    ] );
+            ( "fog",
+              match s.fog with
+              | None -> `Null
+              | Some f ->
+                  `Assoc [ ("color", cj f.color); ("distance", `Float f.distance) ] );
+            ("ambient", cj s.ambient);
+            ( "gamma",
+              match s.gamma with
+              | Settings.Srgb -> `String "srgb"
+              | Settings.Power g -> `Float g );
+          ] );
+      ( "camera",
+        `Assoc
+          ([
+             ("kind", `String (Camera.kind_name c.kind));
+             ("position", vj c.position);
+             ("look_at", vj c.look_at);
+             ("up", vj c.up);
+           ]
+          @ (match c.kind with
+            | Camera.Orthographic { width } -> [ ("width", `Float width) ]
+            | Perspective | Fisheye -> [ ("fov", `Float c.fov) ])
+          @ [
+              ("aperture", `Float c.aperture);
+              ("focal_distance", `Float c.focal_distance);
+              ("lens_samples", `Int c.lens_samples);
+            ]) );
+      ( "animation",
+        match d.animation with
+        | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]
+        | None -> `Null );
+      ("lights", `List (List.map light_json r.r_lights));
+      ("objects", `List objects);
+      ( "bodies",
+        `List
+          (List.map
+             (fun (b : D.body) ->
+               `Assoc
+                 ([
+                    ("name", `String b.name);
+                    ("center", vj b.center);
+                    ("radius", `Float b.radius);
+                    ("velocity", vj b.velocity);
+                    ("mass", `Float b.mass);
+                    ("restitution", `Float b.restitution);
+                  ]
+                 @ now b))
+             d.bodies) );
+      ( "physics",
+        match d.physics with
+        | Some p ->
+            `Assoc
+              [
+                ("gravity", vj p.gravity);
+                ("method", `String (method_name p.method_));
+                ("step", `Float p.step);
+              ]
+        | None -> `Null );
+      ( "features",
+        `Assoc (List.map (fun (k, v) -> (k, `Bool v)) (Features.to_list r.r_features)) );
+    ]

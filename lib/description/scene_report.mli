@@ -1,0 +1,28 @@
+(** What [lancer check] prints about a scene: a summary in a few lines, or the whole
+    description as JSON ([--json]).
+
+    Both print a {!Description.t} beside what the renderer made of it
+    ({!Description.rendered}): the settings as rendered (command-line overrides show), the
+    lights, the objects by kind as built, the features the renderer uses. The
+    description's [animation], [bodies], [physics] and [warnings] are printed as they are:
+    pass those of the program (at time 0) for a scene at another time. *)
+
+val warnings : empty:bool -> Description.t -> Description.rendered -> Diagnostic.t list
+(** What is legal but likely a mistake: an empty program ([empty]), a scene without
+    objects or without lights, and the description's own warnings (a loop that runs zero
+    times). *)
+
+val summary : empty:bool -> Description.t -> Description.rendered -> string
+(** Image size, sampling (jitter, adaptive), camera, frames, objects by kind, CSG trees,
+    lights, distinct materials, bodies, and which {!Features} the renderer uses and skips;
+    then the {!warnings}. *)
+
+val json :
+  ?state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  Description.t ->
+  Description.rendered ->
+  Yojson.Safe.t
+(** The scene at its time: settings, camera, lights, every object with its kind, fields
+    (object space, as written), transforms and material, bodies (with, from
+    [state name time], their position and velocity at that time; without it, their initial
+    ones), physics, animation and features. *)

@@ -1,0 +1,97 @@
+(** A loaded scene program ({!Lancer_dsl.Dsl.t}) and the renderer: its scene at any time,
+    described by the language, its bodies moved by {!Physics}, compiled
+    ({!Compile.compile}) with one cache of images and meshes per program.
+
+    Every function returns located errors, as the language does, and raises nothing but
+    [Sys.Break]. *)
+
+module Dsl = Lancer_dsl.Dsl
+
+val assets : Dsl.t -> Compile.assets
+(** The program's cache of images and meshes (one per loaded program). *)
+
+val load_file : string -> (Dsl.t, Diagnostic.t list) result
+(** {!Dsl.load_file}, with the images and meshes the program uses read (into its
+    {!assets}) and their problems reported with the program's. *)
+
+val load_string :
+  ?progress:(string -> unit) ->
+  ?filename:string ->
+  string ->
+  (Dsl.t, Diagnostic.t list) result
+(** {!Dsl.load_string}, as {!load_file}. *)
+
+(** {1 Bodies} *)
+
+val colliders : Dsl.t -> Physics.collider list
+(** The static obstacles of the bodies ({!Physics.colliders} of the scene at time 0). A
+    CSG object that is not a union or merge of planes, parallelograms and boxes makes the
+    simulation fail with an error at its block (raised as an exception inside this
+    module's error boundary: call it through {!simulate} or {!describe} to get it as an
+    error). *)
+
+val simulate : Dsl.t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
+(** The motion of the bodies among {!colliders} under the program's [physics] block,
+    computed for [[0, max until duration]] (duration: the animation's, 0 for a still) and
+    kept, so that every frame samples the same simulation. *)
+
+(** {1 Scenes} *)
+
+val describe :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  Dsl.t ->
+  time:float ->
+  frame:int ->
+  (Description.t, Diagnostic.t list) result
+(** {!Dsl.describe} with the bodies where {!simulate} has them (unless [body_state] says
+    otherwise). At time 0, frame 0 it is the description the load made. *)
+
+val scene_and_description :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  Dsl.t ->
+  time:float ->
+  frame:int ->
+  (Scene.t * Description.t, Diagnostic.t list) result
+(** The scene at [time] and [frame] ({!describe}, then {!Compile.compile}), and its
+    description. The program is evaluated once per call, and not at all at time 0, frame
+    0. *)
+
+val scene_at :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  Dsl.t ->
+  time:float ->
+  frame:int ->
+  (Scene.t, Diagnostic.t list) result
+(** {!scene_and_description}'s scene. *)
+
+val scene_with_files :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  Dsl.t ->
+  time:float ->
+  frame:int ->
+  (Scene.t * (string * string) list, Diagnostic.t list) result
+(** {!scene_at}, and the image and mesh files that scene names, sorted: each as (its path
+    from the main file's directory, {!Dsl.input_digest} of it). *)
+
+(** {1 For [lancer check]} *)
+
+val summary : Dsl.t -> Scene.t -> string
+(** {!Scene_report.summary} of [sc] (the last scene made by {!scene_at}, whose description
+    is kept; another is described again), with the program's animation, bodies and
+    warnings. *)
+
+val to_json :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  Dsl.t ->
+  Scene.t ->
+  Yojson.Safe.t
+(** {!Scene_report.json} of [sc], as {!summary}; bodies are shown at [sc]'s time by
+    [body_state] or else the simulation. *)

@@ -1,0 +1,400 @@
+module D = Description
+
+type assets = {
+  pictures : (string, (Image.t, string) result) Hashtbl.t;
+  meshes : (string * bool, (Shape.t list, string) result) Hashtbl.t;
+  heights : (string, (int * int * Float.Array.t, string) result) Hashtbl.t;
+      (** height-field images: width, height and each pixel's luminance in [0, 1] *)
+  lock : Mutex.t;
+}
+
+let assets () =
+  {
+    pictures = Hashtbl.create 4;
+    meshes = Hashtbl.create 4;
+    heights = Hashtbl.create 4;
+    lock = Mutex.create ();
+  }
+
+let files (c : assets) =
+  Mutex.protect c.lock (fun () ->
+      List.sort_uniq compare
+        (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures []
+        @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
+        @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights []))
+
+(* Read once per cache, whatever frame or thread asks first. *)
+let cached c tbl key read =
+  match Mutex.protect c.lock (fun () -> Hashtbl.find_opt tbl key) with
+  | Some r -> r
+  | None ->
+      let r = read () in
+      Mutex.protect c.lock (fun () -> Hashtbl.replace tbl key r);
+      r
+
+let guarded what written f =
+  try f () with
+  | Sys.Break -> raise Sys.Break
+  | e -> Error (Printf.sprintf "cannot %s \"%s\": %s" what written (Printexc.to_string e))
+
+let picture c (im : D.image) =
+  cached c c.pictures im.path (fun () ->
+      match Diagnostic.cannot_read ~what:"image" ~written:im.written im.path with
+      | Some msg -> Error msg
+      | None ->
+          guarded "read the image" im.written (fun () ->
+              Result.map_error
+                (Printf.sprintf "cannot read the image \"%s\": %s" im.written)
+                (Image.read_linear im.path)))
+
+let mesh c ~file ~path ~smooth =
+  cached c c.meshes (path, smooth) (fun () ->
+      match Diagnostic.cannot_read ~what:"mesh" ~written:file path with
+      | Some msg -> Error msg
+      | None ->
+          guarded "load the mesh" file (fun () ->
+              Result.map_error
+                (Printf.sprintf "cannot load the mesh \"%s\": %s" file)
+                (Mesh.load ~smooth path)))
+
+let heights c ~file ~path =
+  cached c c.heights path (fun () ->
+      match Diagnostic.cannot_read ~what:"image" ~written:file path with
+      | Some msg -> Error msg
+      | None -> (
+          match Image.read_raster path with
+          | Error m -> Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
+          | Ok r ->
+              (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to the
+                 largest value (255, or 65535 for 16 bits) to 1; a grey pixel is its own
+                 value; alpha is ignored. *)
+              let w = r.width and h = r.height in
+              let top = Float.of_int (Raster.max_value r) in
+              let v k =
+                let i = k mod w and j = k / w in
+                let c n = Float.of_int (Raster.get r i j n) in
+                if r.channels <= 2 then c 0 /. top
+                else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
+                else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
+              in
+              Ok (w, h, Float.Array.init (w * h) v)))
+
+(* A problem found while compiling: reported at the place the description recorded. *)
+exception Problem of Loc.t * string
+
+let problem loc fmt = Printf.ksprintf (fun m -> raise (Problem (loc, m))) fmt
+let ok_or loc = function Ok x -> x | Error m -> raise (Problem (loc, m))
+
+let color_map map =
+  match Texture.color_map map with
+  | Ok m -> m
+  | Error m -> invalid_arg ("Compile: an unchecked colour map: " ^ m)
+
+let texture c : D.texture -> Texture.t = function
+  | Solid col -> Texture.Solid col
+  | Checker { c1; c2; size } -> Texture.Checker { c1; c2; size }
+  | Stripes { c1; c2; size } -> Texture.Stripes { c1; c2; size }
+  | Noise { c1; c2; scale } -> Texture.Noise { c1; c2; scale }
+  | Marble { c1; c2; scale } -> Texture.Marble { c1; c2; scale }
+  | Wood { c1; c2; scale } -> Texture.Wood { c1; c2; scale }
+  | Gradient { axis; map } -> Texture.Gradient { axis; map = color_map map }
+  | Mapped { pattern; map } ->
+      let pattern =
+        match pattern with
+        | Noise_pattern s -> Texture.Noise_pattern s
+        | Marble_pattern s -> Texture.Marble_pattern s
+        | Wood_pattern s -> Texture.Wood_pattern s
+      in
+      Texture.Mapped { pattern; map = color_map map }
+  | Image { image; scale } ->
+      Texture.Image { img = ok_or image.at (picture c image); scale }
+
+let bump c : D.bump -> Bump.t = function
+  | Noise_bump { scale; amount } -> Bump.Noise { scale; amount }
+  | Image_bump { image; amount } ->
+      Bump.Image { img = ok_or image.at (picture c image); amount }
+
+let material c (m : D.material) : Material.t =
+  {
+    color = m.color;
+    texture = Option.map (texture c) m.texture;
+    ambient = m.ambient;
+    diffuse = m.diffuse;
+    specular = m.specular;
+    shininess = m.shininess;
+    reflection = m.reflection;
+    transparency = m.transparency;
+    ior = m.ior;
+    fresnel = m.fresnel;
+    bump = Option.map (bump c) m.bump;
+  }
+
+let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~at =
+  match heights c ~file ~path with
+  | Error m -> problem at "%s" m
+  | Ok (w, h, _) when w < 2 || h < 2 ->
+      problem at "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d"
+        file w h
+  | Ok (w, h, v) ->
+      (* Vertex (i, j) at O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)); j is the image row. *)
+      let vert i j =
+        Vec3.v
+          (origin.x +. (size.x *. Float.of_int i /. Float.of_int (w - 1)))
+          (origin.y +. (size.y *. Float.Array.get v ((j * w) + i)))
+          (origin.z +. (size.z *. Float.of_int j /. Float.of_int (h - 1)))
+      in
+      let tris = ref [] in
+      for j = h - 2 downto 0 do
+        for i = w - 2 downto 0 do
+          let a = vert i j
+          and bb = vert i (j + 1)
+          and c = vert (i + 1) j
+          and d = vert (i + 1) (j + 1) in
+          tris := Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
+        done
+      done;
+      !tris
+
+(* The shapes of an object (one, or a mesh's or height field's triangles) and, for a CSG
+   object, the material of each of its leaves ([None]: the object's own). *)
+let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
+  match o.shape with
+  | Sphere { center; radius } -> ([ Shape.sphere ~center ~radius ], [||])
+  | Plane { normal; offset } -> ([ Shape.plane ~normal ~offset ], [||])
+  | Parallelogram { origin; edge1; edge2 } ->
+      ([ Shape.parallelogram ~origin ~edge1 ~edge2 ], [||])
+  | Triangle { a; b; c = cc } -> ([ Shape.triangle ~a ~b ~c:cc ], [||])
+  | Paraboloid { vertex; axis; radius; height } ->
+      ([ Shape.paraboloid ~vertex ~axis ~radius ~height ], [||])
+  | Box { min; max } -> ([ Shape.box ~min ~max ], [||])
+  | Cylinder { base; top; radius; caps } ->
+      ([ Shape.cylinder ~base ~top ~radius ~caps ], [||])
+  | Disk { center; normal; radius } -> ([ Shape.disk ~center ~normal ~radius ], [||])
+  | Cone { base; base_radius; top; top_radius; caps } ->
+      ([ Shape.cone ~base ~top ~base_radius ~top_radius ~caps ], [||])
+  | Torus { center; major; minor; axis } ->
+      ([ Shape.torus ~center ~axis ~major ~minor ], [||])
+  | Mesh { file; path; smooth; at } -> (
+      match mesh c ~file ~path ~smooth with
+      | Error m -> problem at "%s" m
+      | Ok [] -> problem at "the mesh \"%s\" has no triangles" file
+      | Ok tris -> (tris, [||]))
+  | Height_field { file; path; origin; size; at } ->
+      (height_field c ~file ~path ~origin ~size ~at, [||])
+  | Csg { op; block; members; solid } ->
+      let member (m : D.obj) =
+        let sh, leaves = shapes c m in
+        match (m.shape, sh) with
+        | Mesh _, tris ->
+            (if solid then
+               match Mesh.open_edges tris with
+               | 0 -> ()
+               | n ->
+                   problem m.loc
+                     "this mesh is open: %d edge%s not shared by exactly two faces, so \
+                      it has no inside to combine in `%s`"
+                     n
+                     (if n = 1 then " is" else "s are")
+                     block);
+            ( (Shape.closed_mesh tris, m.transform),
+              Array.make (List.length tris) m.material )
+        | _, [ s ] ->
+            ( (s, m.transform),
+              if Array.length leaves = 0 then [| m.material |]
+              else Array.map (function None -> m.material | Some _ as x -> x) leaves )
+        | _ -> problem m.loc "a %s cannot be a member of a CSG object" m.kind
+      in
+      let op : Shape.csg_op =
+        match op with
+        | Union -> Union
+        | Merge -> Merge
+        | Intersection -> Intersection
+        | Difference -> Difference
+      in
+      let ms = List.map member members in
+      ([ Shape.csg op (List.map fst ms) ], Array.concat (List.map snd ms))
+
+(* Errors in source order: files in the order they first appear, then line and column. *)
+let sort_problems ps =
+  let files =
+    List.fold_left
+      (fun acc ((l : Loc.t), _) -> if List.mem l.file acc then acc else acc @ [ l.file ])
+      [] ps
+  in
+  let rec index x i = function
+    | [] -> i
+    | y :: r -> if y = x then i else index x (i + 1) r
+  in
+  let key ((l : Loc.t), _) = (index l.file 0 files, l.line, l.col) in
+  List.stable_sort (fun a b -> compare (key a) (key b)) ps
+
+let compile ?(source = fun _ -> None) ?(progress = ignore) c (d : D.t) =
+  let problems = ref [] and seen = Hashtbl.create 4 in
+  let count = ref 0 in
+  let report loc msg =
+    if not (Hashtbl.mem seen (loc, msg)) then (
+      Hashtbl.add seen (loc, msg) ();
+      problems := (loc, msg) :: !problems)
+  in
+  (* One material record per material of the description (objects built by one `let`
+     share it), the default material the renderer's own. *)
+  let last = ref None in
+  let material_of = function
+    | None -> Material.default
+    | Some m -> (
+        match !last with
+        | Some (dm, rm) when dm == m -> rm
+        | _ ->
+            let rm = material c m in
+            last := Some (m, rm);
+            rm)
+  in
+  let prims =
+    List.concat_map
+      (fun (o : D.obj) ->
+        match
+          let m = material_of o.material in
+          let sh, leaves = shapes c o in
+          let leaf_materials =
+            Array.map (Option.map (fun lm -> material_of (Some lm))) leaves
+          in
+          List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
+        with
+        | ps ->
+            count := !count + List.length ps;
+            if !count > D.max_objects && !count - List.length ps <= D.max_objects then
+              report o.loc
+                (Printf.sprintf
+                   "this scene builds more than %d objects; that is the limit"
+                   D.max_objects);
+            ps
+        | exception Problem (loc, msg) ->
+            report loc msg;
+            [])
+      d.objects
+  in
+  if !problems <> [] then
+    Error
+      (List.map
+         (fun ((loc : Loc.t), msg) -> Diagnostic.make ?source:(source loc.file) loc msg)
+         (sort_problems (List.rev !problems)))
+  else (
+    if !count > 10_000 then
+      progress
+        (Printf.sprintf "building the acceleration structure over %d objects" !count);
+    match
+      Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
+        ~lights:d.lights prims
+    with
+    | Ok s -> Ok s
+    | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ])
+
+(* ---------------------------------------------------------------------------------- *)
+(* The files alone *)
+
+let check_files c uses =
+  let problems = ref [] and seen = Hashtbl.create 4 in
+  let report loc msg =
+    if not (Hashtbl.mem seen (loc, msg)) then (
+      Hashtbl.add seen (loc, msg) ();
+      problems := (loc, msg) :: !problems)
+  in
+  List.iter
+    (fun (u : D.file_use) ->
+      match u with
+      | Picture im -> ( match picture c im with Ok _ -> () | Error m -> report im.at m)
+      | Model { file; path; smooth; at; solid_in } -> (
+          match mesh c ~file ~path ~smooth with
+          | Error m -> report at m
+          | Ok [] -> report at (Printf.sprintf "the mesh \"%s\" has no triangles" file)
+          | Ok tris -> (
+              match solid_in with
+              | None -> ()
+              | Some (block, member) -> (
+                  match Mesh.open_edges tris with
+                  | 0 -> ()
+                  | n ->
+                      report member
+                        (Printf.sprintf
+                           "this mesh is open: %d edge%s not shared by exactly two \
+                            faces, so it has no inside to combine in `%s`"
+                           n
+                           (if n = 1 then " is" else "s are")
+                           block))))
+      | Heights { file; path; at } -> (
+          match heights c ~file ~path with
+          | Error m -> report at m
+          | Ok (w, h, _) when w < 2 || h < 2 ->
+              report at
+                (Printf.sprintf
+                   "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d"
+                   file w h)
+          | Ok _ -> ()))
+    uses;
+  List.rev !problems
+
+(* ---------------------------------------------------------------------------------- *)
+(* What was made *)
+
+let count_by key xs =
+  let tbl = Hashtbl.create 8 and order = ref [] in
+  List.iter
+    (fun x ->
+      let k = key x in
+      match Hashtbl.find_opt tbl k with
+      | Some n -> Hashtbl.replace tbl k (n + 1)
+      | None ->
+          Hashtbl.add tbl k 1;
+          order := k :: !order)
+    xs;
+  List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
+
+(* A CSG tree in one line: difference(box, sphere, union(sphere, sphere)). *)
+let rec csg_tree (s : Shape.t) =
+  match s with
+  | Shape.Csg { members; _ } ->
+      Printf.sprintf "%s(%s)" (Shape.name s)
+        (String.concat ", "
+           (Array.to_list
+              (Array.map (fun (m : Shape.csg_member) -> csg_tree m.shape) members)))
+  | s -> Shape.name s
+
+let distinct_materials (sc : Scene.t) =
+  let tbl = Hashtbl.create 16 in
+  Array.iter
+    (fun (o : Primitive.t) ->
+      List.iter
+        (fun (m : Material.t) ->
+          let h = Hashtbl.hash m in
+          let same = Hashtbl.find_all tbl h in
+          if not (List.exists (fun m' -> m' == m || try m' = m with _ -> false) same)
+          then Hashtbl.add tbl h m)
+        (Primitive.materials o))
+    sc.objects;
+  Hashtbl.length tbl
+
+let rendered c (sc : Scene.t) : D.rendered =
+  let objs = Array.to_list sc.objects in
+  Mutex.protect c.lock (fun () ->
+      {
+        D.r_settings = sc.settings;
+        r_lights = Array.to_list sc.lights;
+        r_features = sc.features;
+        r_kinds = count_by (fun (o : Primitive.t) -> Shape.name o.shape) objs;
+        r_csg =
+          List.filter_map
+            (fun (o : Primitive.t) ->
+              if Primitive.is_csg o then Some (csg_tree o.shape) else None)
+            objs;
+        r_materials = distinct_materials sc;
+        r_meshes =
+          Hashtbl.fold
+            (fun k r acc ->
+              match r with Ok tris -> (k, List.length tris) :: acc | Error _ -> acc)
+            c.meshes [];
+        r_rasters =
+          Hashtbl.fold
+            (fun k r acc ->
+              match r with Ok (w, h, _) -> (k, (w, h)) :: acc | Error _ -> acc)
+            c.heights [];
+      })

@@ -1,0 +1,38 @@
+(** The renderer's form of a scene description: reads the images and meshes it names
+    (through a cache shared between frames), builds the shapes, primitives, materials and
+    textures, and the acceleration structure ({!Scene.make}).
+
+    A file that cannot be read, a mesh without triangles or open where a solid is needed,
+    a height field too small: each is reported at the place the description recorded, in
+    source order, each once. *)
+
+type assets
+(** The images read by [image(…)] textures and bump maps, the OBJ files read by [mesh] and
+    the images of height fields, each read once, shared between frames and threads. *)
+
+val assets : unit -> assets
+(** An empty cache. *)
+
+val files : assets -> string list
+(** The paths of the images and meshes read so far (or tried), sorted. *)
+
+val compile :
+  ?source:(string -> string option) ->
+  ?progress:(string -> unit) ->
+  assets ->
+  Description.t ->
+  (Scene.t, Diagnostic.t list) result
+(** [compile assets d] is the scene [d] describes. [source file] is the text of [file],
+    for an error's caret display. [progress] is told when a long build starts its
+    acceleration structure ("building the acceleration structure over 1000000 objects").
+*)
+
+val check_files : assets -> Description.file_use list -> (Loc.t * string) list
+(** What reading these files finds wrong, each at the place its use recorded, in the order
+    of the uses, each once: what {!compile} would report about them. The files are read
+    into [assets], for the compile to come. *)
+
+val rendered : assets -> Scene.t -> Description.rendered
+(** What the renderer made of a description, for [lancer check]: the objects by kind, the
+    CSG trees, the distinct materials, features, and what the mesh and height-field files
+    held. *)
