@@ -187,12 +187,17 @@ let write_tests =
       "Ctrl-C while the PNG is written: exit 130, a whole image, no temporary file" `Slow
       (fun () ->
         let d = tmpdir () in
-        (* Nothing to hit: the render is quick and the encoder has 9 M pixels to write. *)
+        (* Nothing to hit: the render is quick and the encoder has 9 M pixels to compress
+           (for seconds) before the file's bytes are written. The last tile's progress line
+           says the render is over and the write has begun. *)
         write_file (Filename.concat d "e.rts")
           "settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n";
-        let pid, err = spawn d [ "render"; "e.rts"; "-o"; "e.png"; "--domains"; "1" ] in
-        let writing () = List.exists is_temp (files d) in
+        let pid, err =
+          spawn d [ "render"; "e.rts"; "-o"; "e.png"; "--domains"; "1"; "--progress" ]
+        in
+        let writing () = contains (read_file err) "(100%)" in
         Alcotest.(check bool) "the write starts" true (wait_until ~timeout:60. writing);
+        Unix.sleepf 0.2;
         let e = interrupted ~limit:20. ~what:"SIGINT" pid err Sys.sigint in
         Alcotest.(check bool)
           ("no Finally_raised: " ^ e) false (contains e "Finally_raised");
