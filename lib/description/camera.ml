@@ -86,41 +86,61 @@ let validate c =
             (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
         else Ok ()
 
-(* f + (sx·r + sy·u), component by component (one allocation instead of four). *)
-let[@inline] along c sx sy =
-  let f = c.f and r = c.r and u = c.u in
-  Vec3.v
-    (f.x +. ((sx *. r.x) +. (sy *. u.x)))
-    (f.y +. ((sx *. r.y) +. (sy *. u.y)))
-    (f.z +. ((sx *. r.z) +. (sy *. u.z)))
-
 (* The fisheye's normalised image coordinates (n_x, n_y): the inscribed circle is ρ ≤ 1. *)
 let[@inline] fisheye_n ~width ~height x y =
   let s = Float.of_int (Stdlib.min width height) in
   (((2. *. x) -. Float.of_int width) /. s, (Float.of_int height -. (2. *. y)) /. s)
 
-let ray c ~width ~height x y =
+(* The ray through image point (x, y), into the probe: origin and unit direction, as
+   scalars (the vector forms' operations, component by component). Inlined where it is
+   called, so that x and y stay unboxed. *)
+let[@inline] ray_into c ~width ~height x y (q : Probe.t) =
   match c.kind with
   | Perspective ->
       let a = Float.of_int width /. Float.of_int height in
       let sx = ((2. *. x /. Float.of_int width) -. 1.) *. c.h *. a in
       let sy = (1. -. (2. *. y /. Float.of_int height)) *. c.h in
-      Ray.make c.position (along c sx sy)
+      let p = c.position and f = c.f and r = c.r and u = c.u in
+      Probe.set_origin q p.x p.y p.z;
+      Probe.set_unit_dir q
+        (f.x +. ((sx *. r.x) +. (sy *. u.x)))
+        (f.y +. ((sx *. r.y) +. (sy *. u.y)))
+        (f.z +. ((sx *. r.z) +. (sy *. u.z)))
   | Orthographic { width = ow } ->
       let a = Float.of_int width /. Float.of_int height in
       let sx = ((2. *. x /. Float.of_int width) -. 1.) *. ow /. 2. in
       let sy = (1. -. (2. *. y /. Float.of_int height)) *. ow /. (2. *. a) in
-      Ray.make (Vec3.madd (Vec3.madd c.position sx c.r) sy c.u) c.f
+      let p = c.position and f = c.f and r = c.r and u = c.u in
+      Probe.set_origin q
+        (p.x +. (sx *. r.x) +. (sy *. u.x))
+        (p.y +. (sx *. r.y) +. (sy *. u.y))
+        (p.z +. (sx *. r.z) +. (sy *. u.z));
+      Probe.set_unit_dir q f.x f.y f.z
   | Fisheye ->
-      let nx, ny = fisheye_n ~width ~height x y in
+      let s = Float.of_int (Stdlib.min width height) in
+      let nx = ((2. *. x) -. Float.of_int width) /. s
+      and ny = (Float.of_int height -. (2. *. y)) /. s in
       let rho = Float.sqrt ((nx *. nx) +. (ny *. ny)) in
-      if rho > 1. then Ray.make c.position c.f
+      let p = c.position and f = c.f and r = c.r and u = c.u in
+      Probe.set_origin q p.x p.y p.z;
+      if rho > 1. then Probe.set_unit_dir q f.x f.y f.z
       else
         let theta = rho *. (c.fov *. Float.pi /. 180.) /. 2. in
         let phi = Float.atan2 ny nx in
-        let st = Float.sin theta in
-        let side = Vec3.madd (Vec3.smul (Float.cos phi) c.r) (Float.sin phi) c.u in
-        Ray.make c.position (Vec3.madd (Vec3.smul (Float.cos theta) c.f) st side)
+        let st = Float.sin theta and ct = Float.cos theta in
+        let cp = Float.cos phi and sp = Float.sin phi in
+        let sdx = (cp *. r.x) +. (sp *. u.x)
+        and sdy = (cp *. r.y) +. (sp *. u.y)
+        and sdz = (cp *. r.z) +. (sp *. u.z) in
+        Probe.set_unit_dir q
+          ((ct *. f.x) +. (st *. sdx))
+          ((ct *. f.y) +. (st *. sdy))
+          ((ct *. f.z) +. (st *. sdz))
+
+let ray c ~width ~height x y =
+  let q = Probe.create () in
+  ray_into c ~width ~height x y q;
+  Probe.to_ray q
 
 let in_view c ~width ~height x y =
   match c.kind with

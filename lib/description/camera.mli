@@ -86,6 +86,11 @@ val ray : t -> width:int -> height:int -> float -> float -> Ray.t
 (** [ray c ~width ~height x y] is the pinhole ray through image point (x, y) for the
     camera's kind (a fisheye point outside its circle gives the ray along f). *)
 
+val ray_into : t -> width:int -> height:int -> float -> float -> Probe.t -> unit
+(** [ray_into c ~width ~height x y q] writes {!ray}'s origin and unit direction into [q],
+    bit for bit, building no vector ([q]'s reciprocal direction and interval are left as
+    they were). Inlined where it is called, so that [x] and [y] are not boxed. *)
+
 val in_view : t -> width:int -> height:int -> float -> float -> bool
 (** False only for a fisheye point with ρ > 1 (outside the image circle). *)
 

@@ -46,7 +46,7 @@ let spot ~position ~point_at ~inner ~outer =
 
 (* θ ≤ inner ⇔ cos θ ≥ cos inner (cos falls on [0°, 180°]); the smooth step between is
    continuous at both ends, so comparing cosines rather than angles changes nothing. *)
-let spot_factor s cos_theta =
+let[@inline] spot_factor s cos_theta =
   if cos_theta >= s.cos_inner then 1.
   else if cos_theta <= s.cos_outer then 0.
   else

@@ -15,6 +15,12 @@ let set fb i j (c : Color.t) =
   Float.Array.set fb.data (k + 1) c.g;
   Float.Array.set fb.data (k + 2) c.b
 
+let[@inline] set_rgb fb i j r g b =
+  let k = 3 * ((j * fb.width) + i) in
+  Float.Array.set fb.data k r;
+  Float.Array.set fb.data (k + 1) g;
+  Float.Array.set fb.data (k + 2) b
+
 (* The encoding curve on a clamped value. *)
 let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)

@@ -21,6 +21,10 @@ val get : t -> int -> int -> Color.t
 val set : t -> int -> int -> Color.t -> unit
 (** [set fb i j c] stores colour [c] at column [i], row [j]. *)
 
+val set_rgb : t -> int -> int -> float -> float -> float -> unit
+(** [set_rgb fb i j r g b] is [set fb i j (Color.v r g b)] without building the colour
+    (inlined: nothing is boxed). *)
+
 val encode_channel : Settings.gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 

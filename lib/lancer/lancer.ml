@@ -9,6 +9,7 @@
 module Bbox = Lancer_math.Bbox
 module Color = Lancer_math.Color
 module Hash = Lancer_math.Hash
+module Probe = Lancer_math.Probe
 module Ray = Lancer_math.Ray
 module Transform = Lancer_math.Transform
 module Vec3 = Lancer_math.Vec3

@@ -163,3 +163,16 @@ let normal t (n : Vec3.t) =
         y = (i.a01 *. n.x) +. (i.a11 *. n.y) +. (i.a21 *. n.z);
         z = (i.a02 *. n.x) +. (i.a12 *. n.y) +. (i.a22 *. n.z);
       }
+
+(* [normal] before normalising, one coordinate at a time, the same operations. *)
+let[@inline] normal_x t x y z =
+  let i = t.inv in
+  (i.a00 *. x) +. (i.a10 *. y) +. (i.a20 *. z)
+
+let[@inline] normal_y t x y z =
+  let i = t.inv in
+  (i.a01 *. x) +. (i.a11 *. y) +. (i.a21 *. z)
+
+let[@inline] normal_z t x y z =
+  let i = t.inv in
+  (i.a02 *. x) +. (i.a12 *. y) +. (i.a22 *. z)

@@ -54,3 +54,11 @@ val inv_vx : t -> float -> float -> float -> float
 
 val inv_vy : t -> float -> float -> float -> float
 val inv_vz : t -> float -> float -> float -> float
+
+val normal_x : t -> float -> float -> float -> float
+(** [normal_x t x y z] is the x coordinate of the normal (x, y, z) taken to world space by
+    the inverse transpose, before {!normal} normalises it, for a transform that is not the
+    identity; [normal_y], [normal_z] likewise. Inlined: nothing is boxed. *)
+
+val normal_y : t -> float -> float -> float -> float
+val normal_z : t -> float -> float -> float -> float

@@ -43,6 +43,10 @@ let[@inline] length a =
   let l2 = dot a a in
   if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else length_scaled a
 
+let[@inline] length3 x y z =
+  let l2 = (x *. x) +. (y *. y) +. (z *. z) in
+  if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else length_scaled { x; y; z }
+
 let[@inline] normalize a =
   let l = length a in
   if l = 0. then zero else smul (1. /. l) a

@@ -52,6 +52,10 @@ val length : t -> float
 (** [length v] is |v|, computed with [Float.hypot]-style scaling only where needed: plain
     [sqrt (dot v v)] overflows above about 1.3e154. *)
 
+val length3 : float -> float -> float -> float
+(** [length3 x y z] is [length (v x y z)], bit for bit, without building the vector in the
+    common range: for callers that hold a vector as scalars. *)
+
 val length2 : t -> float
 (** [length2 v] is [dot v v]. *)
 

@@ -569,6 +569,96 @@ let nearest a r tmin tmax =
   let i = nearest_into a r tmin tmax h in
   (h.t, i)
 
+(* [nearest_into] for a ray held in a probe, primitive by primitive the same queries in
+   the same order: [Primitive.probe_into] computes the roots [Primitive.intersect_into]
+   does, so the answer is the same, bit for bit. The probe's interval is the query's
+   (p_tmax moves with the best hit); the scratch probe for transformed objects is the
+   domain's. *)
+let[@inline] probe_test p (q : Shape.probe) obj tmax =
+  q.p_tmax <- tmax;
+  Primitive.probe_into p q obj;
+  q.p_t
+
+let linear_nearest_probe prims (q : Shape.probe) obj =
+  let best_t = ref q.p_tmax and best_i = ref (-1) in
+  for i = 0 to Array.length prims - 1 do
+    let t = probe_test (Array.unsafe_get prims i) q obj !best_t in
+    if t < !best_t then (
+      best_t := t;
+      best_i := i)
+  done;
+  q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
+  !best_i
+
+let tree_nearest_probe a tr (q : Shape.probe) obj =
+  let tmin = q.p_tmin in
+  let best_t = ref q.p_tmax and best_i = ref (-1) and query = ref q.p_tmax in
+  let outside = a.outside and prims = a.prims in
+  for k = 0 to Array.length outside - 1 do
+    let i = outside.(k) in
+    let t = probe_test prims.(i) q obj !query in
+    if t < !best_t || (t = !best_t && i < !best_i) then (
+      best_t := t;
+      best_i := i;
+      query := Float.succ t)
+  done;
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nodes = tr.nodes and links = tr.links in
+  let st = get_stack tr.depth in
+  let sids = st.ids and sts = st.ts in
+  let sp = ref 0 and node = ref 0 and go = ref true in
+  if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
+  while !go do
+    let k = !node in
+    let count = Array.unsafe_get links ((2 * k) + 1) in
+    let next =
+      if count > 0 then (
+        let first = Array.unsafe_get links (2 * k) in
+        for j = first to first + count - 1 do
+          let t = probe_test (Array.unsafe_get tr.leaf_prims j) q obj !query in
+          if t <= !best_t then
+            let i = Array.unsafe_get tr.leaf_idx j in
+            if t < !best_t || i < !best_i then (
+              best_t := t;
+              best_i := i;
+              query := Float.succ t)
+        done;
+        -1)
+      else
+        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
+        let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
+        let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
+        if tl < Float.infinity then
+          if trr < Float.infinity then
+            if trr < tl then (
+              Array.unsafe_set sids !sp l;
+              fset sts !sp tl;
+              incr sp;
+              rr)
+            else (
+              Array.unsafe_set sids !sp rr;
+              fset sts !sp trr;
+              incr sp;
+              l)
+          else l
+        else if trr < Float.infinity then rr
+        else -1
+    in
+    if next >= 0 then node := next
+    else
+      let found = ref false in
+      while (not !found) && !sp > 0 do
+        decr sp;
+        if fget sts !sp <= !best_t then (
+          found := true;
+          node := Array.unsafe_get sids !sp)
+      done;
+      if not !found then go := false
+  done;
+  st.busy <- false;
+  q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
+  !best_i
+
 let is_black (c : Color.t) = c.r = 0. && c.g = 0. && c.b = 0.
 
 (* Every crossing of one primitive: advance tmin to the last root found; roots are
@@ -764,6 +854,13 @@ let tree_occluder a tr (q : Shape.probe) obj =
     done;
     st.busy <- false);
   !found
+
+let nearest_probe a (q : Shape.probe) =
+  let obj = (Domain.DLS.get scratch_key).obj in
+  Probe.set_inv_dir q;
+  match a.tree with
+  | None -> linear_nearest_probe a.prims q obj
+  | Some tr -> tree_nearest_probe a tr q obj
 
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in

@@ -21,6 +21,13 @@ val nearest : t -> Ray.t -> float -> float -> float * int
 val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int
 (** {!nearest} without allocating: the index is returned and t stored in the record. *)
 
+val nearest_probe : t -> Shape.probe -> int
+(** [nearest_probe a q] is {!nearest_into} for the ray that [q] holds over ([q.p_tmin],
+    [q.p_tmax]), bit for bit: the index of the primitive hit (−1 for none), its t stored
+    in [q.p_t]. It sets the probe's reciprocal direction itself and moves [q.p_tmax].
+    Allocates nothing (with the shapes that {!Shape.probe_into} tests in scalars): the
+    query of camera and secondary rays. *)
+
 val fold_hits :
   t ->
   Ray.t ->

@@ -128,6 +128,57 @@ let normal o p =
   let n = Transform.normal o.transform (Shape.normal o.shape p) in
   if o.flip then Vec3.neg n else n
 
+(* The scalar forms of [to_object], [normal], [texture_point] and [uv], on a fragment. *)
+let[@inline] to_object_into o (f : Frag.t) =
+  let tr = o.transform in
+  if not (Transform.is_identity tr) then (
+    let x = f.x and y = f.y and z = f.z in
+    f.x <- Transform.inv_px tr x y z;
+    f.y <- Transform.inv_py tr x y z;
+    f.z <- Transform.inv_pz tr x y z)
+
+let normal_into o (f : Frag.t) =
+  to_object_into o f;
+  Shape.normal_into o.shape f;
+  let tr = o.transform in
+  if not (Transform.is_identity tr) then (
+    let x = f.nx and y = f.ny and z = f.nz in
+    let x' = Transform.normal_x tr x y z
+    and y' = Transform.normal_y tr x y z
+    and z' = Transform.normal_z tr x y z in
+    let l = Vec3.length3 x' y' z' in
+    if l = 0. then (
+      f.nx <- 0.;
+      f.ny <- 0.;
+      f.nz <- 0.)
+    else
+      let k = 1. /. l in
+      f.nx <- k *. x';
+      f.ny <- k *. y';
+      f.nz <- k *. z');
+  if o.flip then (
+    f.nx <- -.f.nx;
+    f.ny <- -.f.ny;
+    f.nz <- -.f.nz)
+
+let texture_point_into o (f : Frag.t) =
+  if shifted o then (
+    let s = o.shift in
+    f.x <- f.x +. s.x;
+    f.y <- f.y +. s.y;
+    f.z <- f.z +. s.z)
+  else to_object_into o f
+
+let uv_into o (f : Frag.t) =
+  (match o.shape with
+  | Shape.Plane _ when shifted o ->
+      let s = o.shift in
+      f.x <- f.x +. s.x;
+      f.y <- f.y +. s.y;
+      f.z <- f.z +. s.z
+  | _ -> to_object_into o f);
+  Shape.uv_into o.shape f
+
 let materials o =
   if Array.length o.leaves = 0 then [ o.material ]
   else Array.to_list (Array.map (fun l -> l.material) o.leaves)

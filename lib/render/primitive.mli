@@ -62,6 +62,19 @@ val normal : t -> Vec3.t -> Vec3.t
 (** [normal o p_obj] is the unit world-space geometric normal at object-space point
     [p_obj]. *)
 
+val normal_into : t -> Frag.t -> unit
+(** [normal_into o f] is {!normal} at the world point [(f.x, f.y, f.z)], bit for bit: the
+    unit world normal goes into [(f.nx, f.ny, f.nz)] and the point is left in object
+    space. Allocates nothing where {!Shape.normal_into} does not. *)
+
+val texture_point_into : t -> Frag.t -> unit
+(** [texture_point_into o f] replaces the world point [(f.x, f.y, f.z)] by
+    {!texture_point} of it, bit for bit. *)
+
+val uv_into : t -> Frag.t -> unit
+(** [uv_into o f] is {!uv} at the world point [(f.x, f.y, f.z)], into [(f.u, f.v)]; the
+    point is left as the shape's own point. *)
+
 val translate : Vec3.t -> t -> t
 (** [translate d o] is [o] moved by [d], its textures moving with it: an untransformed
     object has its shape moved (and keeps the fast path), a transformed one gets the move

@@ -3,59 +3,75 @@ let tile_size = 32
 (* The bits of a sample's image coordinate, to hash: a sample is named by its place. *)
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
 
+(* A tile's scratch: the shading scratch, where each sample leaves its colour (in its
+   fragment), and the four samples of an adaptive pixel's first pass. Made for each tile,
+   so that no two domains share one. *)
+type scratch = { shade : Shade.scratch; coarse : Float.Array.t }
+
+let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 12 0. }
+
 (* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
    (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
    and with depth of field the average of its n×n lens rays. Lens point (a, b) lies in
    its stratum by a hash of frame, pixel, sample and (a, b), so the image does not depend
-   on which domain renders which tile. *)
-let camera_sample (sc : Scene.t) (st : Stats.t) i j x y =
+   on which domain renders which tile. Its colour goes into the fragment. *)
+let camera_sample (sc : Scene.t) (st : Stats.t) scr i j x y =
   let s = sc.settings and c = sc.view in
-  if not (Camera.in_view c ~width:s.width ~height:s.height x y) then Shade.miss sc c.f
+  let f = Shade.frag scr.shade in
+  if not (Camera.in_view c ~width:s.width ~height:s.height x y) then
+    Frag.set_color f (Shade.miss sc c.f)
+  else if not (Camera.depth_of_field c) then (
+    Camera.ray_into c ~width:s.width ~height:s.height x y (Shade.probe scr.shade);
+    st.primary <- st.primary + 1;
+    Shade.trace_into sc st scr.shade 1)
   else
     let ray = Camera.ray c ~width:s.width ~height:s.height x y in
-    if not (Camera.depth_of_field c) then (
-      st.primary <- st.primary + 1;
-      Shade.trace sc st ray 1)
-    else
-      let n = c.lens_samples in
-      let h0 =
-        Hash.combine
-          (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) (bits x))
-          (bits y)
-      in
-      let acc = ref Color.black in
-      for a = 0 to n - 1 do
-        for b = 0 to n - 1 do
-          let hk = Hash.combine h0 ((a * 4096) + b) in
-          let lx, ly =
-            Camera.lens_point c a b
-              (Hash.to_unit (Hash.combine hk 2))
-              (Hash.to_unit (Hash.combine hk 3))
-          in
-          st.primary <- st.primary + 1;
-          acc := Color.add !acc (Shade.trace sc st (Camera.lens_ray c ray lx ly) 1)
-        done
-      done;
-      Color.scale (1. /. Float.of_int (n * n)) !acc
+    let n = c.lens_samples in
+    let h0 =
+      Hash.combine
+        (Hash.combine (Hash.combine (Hash.combine (Hash.mix sc.frame) i) j) (bits x))
+        (bits y)
+    in
+    let ar = ref 0. and ag = ref 0. and ab = ref 0. in
+    for a = 0 to n - 1 do
+      for b = 0 to n - 1 do
+        let hk = Hash.combine h0 ((a * 4096) + b) in
+        let lx, ly =
+          Camera.lens_point c a b
+            (Hash.to_unit (Hash.combine hk 2))
+            (Hash.to_unit (Hash.combine hk 3))
+        in
+        st.primary <- st.primary + 1;
+        Probe.of_ray (Shade.probe scr.shade) (Camera.lens_ray c ray lx ly);
+        Shade.trace_into sc st scr.shade 1;
+        ar := !ar +. f.r;
+        ag := !ag +. f.g;
+        ab := !ab +. f.b
+      done
+    done;
+    let k = 1. /. Float.of_int (n * n) in
+    f.r <- k *. !ar;
+    f.g <- k *. !ag;
+    f.b <- k *. !ab
 
-(* One sample at image point (x, y). *)
-let sample (sc : Scene.t) (st : Stats.t) i j x y =
+(* One sample at image point (x, y), its colour into the fragment. Inlined, so that x
+   and y are not boxed on the way to the camera. *)
+let[@inline] sample (sc : Scene.t) (st : Stats.t) scr i j x y =
   let s = sc.settings in
-  let c =
-    if Camera.pinhole_perspective sc.view then (
-      st.primary <- st.primary + 1;
-      Shade.trace sc st (Camera.ray sc.view ~width:s.width ~height:s.height x y) 1)
-    else camera_sample sc st i j x y
-  in
-  if Color.is_finite c then c
-  else (
+  if Camera.pinhole_perspective sc.view then (
+    st.primary <- st.primary + 1;
+    Camera.ray_into sc.view ~width:s.width ~height:s.height x y (Shade.probe scr.shade);
+    Shade.trace_into sc st scr.shade 1)
+  else camera_sample sc st scr i j x y;
+  let f = Shade.frag scr.shade in
+  if not (Float.is_finite f.r && Float.is_finite f.g && Float.is_finite f.b) then (
     st.bad_samples <- st.bad_samples + 1;
-    if st.first_bad = None then st.first_bad <- Some (i, j);
-    s.background)
+    if Option.is_none st.first_bad then st.first_bad <- Some (i, j);
+    Frag.set_color f s.background)
 
 (* Offset of sample (p, q) of n inside pixel (i, j): the sub-cell centre, or a hashed
    point inside the sub-cell with jitter. *)
-let sub_offset (sc : Scene.t) n i j p q axis =
+let[@inline] sub_offset (sc : Scene.t) n i j p q axis =
   let nf = Float.of_int n in
   if not sc.settings.jitter then (Float.of_int p +. 0.5) /. nf
   else
@@ -68,45 +84,76 @@ let sub_offset (sc : Scene.t) n i j p q axis =
     in
     (Float.of_int p +. Hash.to_unit h) /. nf
 
-let grid sc st i j n =
-  let acc = ref Color.black in
+let grid sc st scr i j n =
+  let f = Shade.frag scr.shade in
+  let ar = ref 0. and ag = ref 0. and ab = ref 0. in
   for q = 0 to n - 1 do
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      acc := Color.add !acc (sample sc st i j x y)
+      sample sc st scr i j x y;
+      ar := !ar +. f.r;
+      ag := !ag +. f.g;
+      ab := !ab +. f.b
     done
   done;
-  Color.scale (1. /. Float.of_int (n * n)) !acc
+  let k = 1. /. Float.of_int (n * n) in
+  f.r <- k *. !ar;
+  f.g <- k *. !ag;
+  f.b <- k *. !ab
 
-let pixel (sc : Scene.t) st i j =
+(* The spread max − min of channel [k] of the four coarse samples, folded as
+   [Array.fold_left Float.max neg_infinity] and [Float.min infinity] would. *)
+let[@inline] spread c k =
+  let v0 = Float.Array.unsafe_get c k
+  and v1 = Float.Array.unsafe_get c (3 + k)
+  and v2 = Float.Array.unsafe_get c (6 + k)
+  and v3 = Float.Array.unsafe_get c (9 + k) in
+  Float.max (Float.max (Float.max (Float.max Float.neg_infinity v0) v1) v2) v3
+  -. Float.min (Float.min (Float.min (Float.min Float.infinity v0) v1) v2) v3
+
+(* Channel [k] of the four coarse samples summed from black, as
+   [Array.fold_left Color.add Color.black] would. *)
+let[@inline] sum4 c k =
+  0. +. Float.Array.unsafe_get c k
+  +. Float.Array.unsafe_get c (3 + k)
+  +. Float.Array.unsafe_get c (6 + k)
+  +. Float.Array.unsafe_get c (9 + k)
+
+(* The colour of pixel (i, j), into the fragment. *)
+let pixel_into (sc : Scene.t) st scr i j =
   let s = sc.settings in
+  let f = Shade.frag scr.shade in
   if s.adaptive > 0. then (
-    let coarse = Array.make 4 Color.black in
+    let c = scr.coarse in
     for q = 0 to 1 do
       for p = 0 to 1 do
         let x = Float.of_int i +. sub_offset sc 2 i j p q 0 in
         let y = Float.of_int j +. sub_offset sc 2 i j q p 1 in
-        coarse.((2 * q) + p) <- sample sc st i j x y
+        sample sc st scr i j x y;
+        let k = 3 * ((2 * q) + p) in
+        Float.Array.unsafe_set c k f.r;
+        Float.Array.unsafe_set c (k + 1) f.g;
+        Float.Array.unsafe_set c (k + 2) f.b
       done
     done;
-    let spread f =
-      let vs = Array.map f coarse in
-      Array.fold_left Float.max Float.neg_infinity vs
-      -. Array.fold_left Float.min Float.infinity vs
-    in
-    let contrast =
-      Float.max
-        (spread (fun (c : Color.t) -> c.r))
-        (Float.max (spread (fun c -> c.g)) (spread (fun c -> c.b)))
-    in
-    if contrast > s.adaptive then grid sc st i j (max s.samples 4)
-    else Color.scale 0.25 (Array.fold_left Color.add Color.black coarse))
+    let contrast = Float.max (spread c 0) (Float.max (spread c 1) (spread c 2)) in
+    if contrast > s.adaptive then grid sc st scr i j (max s.samples 4)
+    else (
+      f.r <- 0.25 *. sum4 c 0;
+      f.g <- 0.25 *. sum4 c 1;
+      f.b <- 0.25 *. sum4 c 2))
   else if s.samples = 1 then
-    sample sc st i j
+    sample sc st scr i j
       (Float.of_int i +. sub_offset sc 1 i j 0 0 0)
       (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
-  else grid sc st i j s.samples
+  else grid sc st scr i j s.samples
+
+let pixel sc st i j =
+  let scr = scratch () in
+  pixel_into sc st scr i j;
+  let f = Shade.frag scr.shade in
+  Color.v f.r f.g f.b
 
 (* The share of pixel (i, j)'s sample points whose primary ray hits a surface: its
    alpha. The points are those of the n×n grid (jittered as the colour's are); with
@@ -129,9 +176,12 @@ let coverage (sc : Scene.t) i j =
   Float.of_int !hits /. Float.of_int (n * n)
 
 let render_tile ?alpha sc st fb x0 y0 x1 y1 =
+  let scr = scratch () in
+  let f = Shade.frag scr.shade in
   for j = y0 to y1 - 1 do
     for i = x0 to x1 - 1 do
-      Image.set fb i j (pixel sc st i j);
+      pixel_into sc st scr i j;
+      Image.set_rgb fb i j f.r f.g f.b;
       match alpha with
       | Some a -> Float.Array.set a ((j * fb.Image.width) + i) (coverage sc i j)
       | None -> ()

@@ -1,28 +1,16 @@
-let offset (p : Vec3.t) (o : Vec3.t) =
-  1e-9 *. Float.max 1e-300 (Float.max (Vec3.max_abs p) (Vec3.max_abs o))
+(* [Vec3.max_abs] and [offset] of points held as scalars, the same operations. *)
+let[@inline] max_abs3 x y z =
+  Float.max (Float.abs x) (Float.max (Float.abs y) (Float.abs z))
 
-(* Albedo C at world point p on object o with geometric normal n: the texture is evaluated
-   in object space at p − δ·n (doc/shading.md, section 6). *)
-let albedo (o : Primitive.t) p n delta =
-  let m = o.material in
-  match m.texture with
-  | None -> m.color
-  | Some tex ->
-      (* N is the geometric normal: a smooth mesh's interpolated normal is not. *)
-      let n =
-        match o.shape with
-        | Shape.Triangle { normals = Some _; tn; _ } -> Transform.normal o.transform tn
-        | _ -> n
-      in
-      let q = Primitive.texture_point o (Vec3.madd p (-.delta) n) in
-      if Texture.needs_uv tex then
-        let u, v = Primitive.uv o p in
-        Texture.eval tex q u v
-      else Texture.eval tex q 0. 0.
+let[@inline] offset_s px py pz ox oy oz =
+  1e-9 *. Float.max 1e-300 (Float.max (max_abs3 px py pz) (max_abs3 ox oy oz))
 
-(* The diffuse and specular light of one light is summed into [acc] (ar, ag, ab); the
-   transmittance of its shadow rays is written into (tr, tg, tb) first. A record of floats
-   is flat, so neither boxes anything. *)
+let offset (p : Vec3.t) (o : Vec3.t) = offset_s p.x p.y p.z o.x o.y o.z
+
+(* The light of one shading step, as scalars in a flat record of floats (nothing boxes):
+   the diffuse and specular sum (ar, ag, ab); the transmittance of the last shadow ray
+   or area light (tr, tg, tb); the point shaded (px, py, pz) and where its shadow rays
+   start (lx, ly, lz), for the area lights. *)
 type acc = {
   mutable ar : float;
   mutable ag : float;
@@ -30,42 +18,114 @@ type acc = {
   mutable tr : float;
   mutable tg : float;
   mutable tb : float;
+  mutable px : float;
+  mutable py : float;
+  mutable pz : float;
+  mutable lx : float;
+  mutable ly : float;
+  mutable lz : float;
 }
 
-(* Where no opaque surface blocks the segment: the product over the transparent surfaces
-   crossed of transparency · albedo, into acc.(tr, tg, tb). Apart from [shadow_into], which
-   inlines (a function holding a closure would not). *)
-let transparent_into (sc : Scene.t) acc origin dir dist =
-  let r = Ray.make_raw origin dir in
+(* A domain's scratch: the ray being traced ([q]), the shadow ray ([sq]), the fragment
+   that shapes and textures answer into (and where a trace leaves its colour), and the
+   light sums. A shading step copies what it needs into locals before it traces again, so
+   one scratch serves every depth. *)
+type scratch = { q : Probe.t; sq : Probe.t; f : Frag.t; acc : acc }
+
+let scratch () =
+  {
+    q = Probe.create ();
+    sq = Probe.create ();
+    f = Frag.create ();
+    acc =
+      {
+        ar = 0.;
+        ag = 0.;
+        ab = 0.;
+        tr = 0.;
+        tg = 0.;
+        tb = 0.;
+        px = 0.;
+        py = 0.;
+        pz = 0.;
+        lx = 0.;
+        ly = 0.;
+        lz = 0.;
+      };
+  }
+
+let probe scr = scr.q
+let frag scr = scr.f
+
+(* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
+   the texture is evaluated in object space at p − δ·n (doc/shading.md, section 6). *)
+let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta =
+  let m = o.material in
+  match m.texture with
+  | None -> Frag.set_color f m.color
+  | Some tex ->
+      (* N is the geometric normal: a smooth mesh's interpolated normal is not. *)
+      (match o.shape with
+      | Shape.Triangle { normals = Some _; tn; _ } ->
+          Frag.set_normal f (Transform.normal o.transform tn)
+      | _ ->
+          f.nx <- nx;
+          f.ny <- ny;
+          f.nz <- nz);
+      let k = -.delta in
+      Frag.set_point f (px +. (k *. f.nx)) (py +. (k *. f.ny)) (pz +. (k *. f.nz));
+      Primitive.texture_point_into o f;
+      if Texture.needs_uv tex then (
+        let tx = f.x and ty = f.y and tz = f.z in
+        Frag.set_point f px py pz;
+        Primitive.uv_into o f;
+        Frag.set_point f tx ty tz)
+      else (
+        f.u <- 0.;
+        f.v <- 0.);
+      Texture.eval_into tex f
+
+(* Where no opaque surface blocks the shadow ray that [scr.sq] holds (the occlusion
+   query leaves its origin, direction and interval as they were): the product over the
+   transparent surfaces crossed of transparency · albedo, into acc.(tr, tg, tb). Apart
+   from [shadow_into], which inlines (a function holding a closure would not). *)
+let transparent_into (sc : Scene.t) scr =
+  let q = scr.sq and f = scr.f in
+  let ox = q.ox and oy = q.oy and oz = q.oz in
+  let dist = q.p_tmax in
+  let r = Ray.make_raw (Vec3.v ox oy oz) (Vec3.v q.dx q.dy q.dz) in
   let (c : Color.t) =
     Accel.fold_transparent_hits sc.accel r 0. dist
       (fun o t acc ->
         (* A CSG object's crossing shades with the leaf it lies on. *)
         let o = Primitive.surface o r t in
         let m = o.material in
-        let p = Ray.at r t in
-        let po = Primitive.to_object o p in
-        let n = Primitive.normal o po in
-        let c = albedo o p n (offset p origin) in
-        Color.mul acc (Color.scale m.transparency c))
+        let d = Ray.dir r in
+        let px = ox +. (t *. d.x) and py = oy +. (t *. d.y) and pz = oz +. (t *. d.z) in
+        Frag.set_point f px py pz;
+        Primitive.normal_into o f;
+        albedo_into o f px py pz f.nx f.ny f.nz (offset_s px py pz ox oy oz);
+        let tau = m.transparency in
+        Color.v (acc.r *. (tau *. f.r)) (acc.g *. (tau *. f.g)) (acc.b *. (tau *. f.b)))
       Color.white
   in
+  let acc = scr.acc in
   acc.tr <- c.r;
   acc.tg <- c.g;
   acc.tb <- c.b
 
-(* Transmittance from [origin] along the unit direction (dx, dy, dz) up to [dist], into
-   acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates nothing
-   and answers most shadow rays; only where none blocks and some surface is transparent
-   are the crossings of the transparent ones folded. [slot] is the light's index. *)
-let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot acc (origin : Vec3.t) dx dy dz
-    dist =
+(* Transmittance from (ox, oy, oz) along the unit direction (dx, dy, dz) up to [dist],
+   into acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates
+   nothing and answers most shadow rays; only where none blocks and some surface is
+   transparent are the crossings of the transparent ones folded. [slot] is the light's
+   index. *)
+let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot scr ox oy oz dx dy dz dist =
   st.shadow <- st.shadow + 1;
   Stats.tick st;
-  let q = Accel.shadow_probe () in
-  q.ox <- origin.x;
-  q.oy <- origin.y;
-  q.oz <- origin.z;
+  let q = scr.sq and acc = scr.acc in
+  q.ox <- ox;
+  q.oy <- oy;
+  q.oz <- oz;
   q.dx <- dx;
   q.dy <- dy;
   q.dz <- dz;
@@ -79,23 +139,22 @@ let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot acc (origin : Vec3.t
     acc.tr <- 1.;
     acc.tg <- 1.;
     acc.tb <- 1.)
-  else transparent_into sc acc origin (Vec3.v dx dy dz) dist
+  else transparent_into sc scr
 
-(* Length of (x, y, z) as [Vec3.length] computes it. *)
-let[@inline] len3 x y z =
-  let l2 = (x *. x) +. (y *. y) +. (z *. z) in
-  if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2 else Vec3.length (Vec3.v x y z)
-
-(* Stratified points on the disk of radius [radius] facing [p], centred on the light:
-   sample (a, b) of n×n sits at radius R·√((a+½)/n) and angle 2π(b+½)/n. The pattern is
-   the same for every pixel, so soft shadows are deterministic and noise-free in time.
-   The frame is w = (position − p)/|position − p|, e1 = normalize(h × w) with h the x axis
-   (the y axis when |w.x| ≥ 0.9), e2 = w × e1; everything is computed in scalars, with the
-   operations of the vector form. The mean transmittance goes into acc.(tr, tg, tb). *)
-let area_transmittance sc st slot acc (p : Vec3.t) (origin : Vec3.t) (position : Vec3.t)
-    radius n =
-  let lx = position.x -. p.x and ly = position.y -. p.y and lz = position.z -. p.z in
-  let ll = len3 lx ly lz in
+(* Stratified points on the disk of radius [radius] facing the point p = acc.(px, py, pz),
+   centred on the light: sample (a, b) of n×n sits at radius R·√((a+½)/n) and angle
+   2π(b+½)/n. The pattern is the same for every pixel, so soft shadows are deterministic
+   and noise-free in time. The frame is w = (position − p)/|position − p|, e1 =
+   normalize(h × w) with h the x axis (the y axis when |w.x| ≥ 0.9), e2 = w × e1;
+   everything is computed in scalars, with the operations of the vector form. The shadow
+   rays start at acc.(lx, ly, lz); the mean transmittance goes into acc.(tr, tg, tb). *)
+let area_transmittance sc st slot scr (position : Vec3.t) radius n =
+  let acc = scr.acc in
+  let lx = position.x -. acc.px
+  and ly = position.y -. acc.py
+  and lz = position.z -. acc.pz in
+  let ox = acc.lx and oy = acc.ly and oz = acc.lz in
+  let ll = Vec3.length3 lx ly lz in
   let k = 1. /. ll in
   let wx = if ll = 0. then 0. else k *. lx
   and wy = if ll = 0. then 0. else k *. ly
@@ -105,7 +164,7 @@ let area_transmittance sc st slot acc (p : Vec3.t) (origin : Vec3.t) (position :
   let cx = (hy *. wz) -. (hz *. wy)
   and cy = (hz *. wx) -. (hx *. wz)
   and cz = (hx *. wy) -. (hy *. wx) in
-  let cl = len3 cx cy cz in
+  let cl = Vec3.length3 cx cy cz in
   let k = 1. /. cl in
   let e1x = if cl = 0. then 0. else k *. cx
   and e1y = if cl = 0. then 0. else k *. cy
@@ -120,12 +179,12 @@ let area_transmittance sc st slot acc (p : Vec3.t) (origin : Vec3.t) (position :
       let rr = radius *. Float.sqrt ((Float.of_int a +. 0.5) /. nf) in
       let th = 2. *. Float.pi *. (Float.of_int b +. 0.5) /. nf in
       let u = rr *. Float.cos th and v = rr *. Float.sin th in
-      let dx = position.x +. (u *. e1x) +. (v *. e2x) -. origin.x
-      and dy = position.y +. (u *. e1y) +. (v *. e2y) -. origin.y
-      and dz = position.z +. (u *. e1z) +. (v *. e2z) -. origin.z in
-      let dist = len3 dx dy dz in
+      let dx = position.x +. (u *. e1x) +. (v *. e2x) -. ox
+      and dy = position.y +. (u *. e1y) +. (v *. e2y) -. oy
+      and dz = position.z +. (u *. e1z) +. (v *. e2z) -. oz in
+      let dist = Vec3.length3 dx dy dz in
       let k = 1. /. dist in
-      shadow_into sc st slot acc origin (k *. dx) (k *. dy) (k *. dz) dist;
+      shadow_into sc st slot scr ox oy oz (k *. dx) (k *. dy) (k *. dz) dist;
       sr := !sr +. acc.tr;
       sg := !sg +. acc.tg;
       sb := !sb +. acc.tb
@@ -139,31 +198,31 @@ let area_transmittance sc st slot acc (p : Vec3.t) (origin : Vec3.t) (position :
 let reflect d nf = Vec3.madd d (-2. *. Vec3.dot d nf) nf
 
 (* Snell–Descartes: with c = −D·Nf and k = 1 − η²(1 − c²) ≥ 0, T = η·D + (η·c − √k)·Nf.
-   [shade] computes c and k itself (Fresnel needs them) and shares this. *)
-let[@inline] refracted d nf eta c k =
-  Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf
-
+   [shade] computes c and k itself (Fresnel needs them) and the direction in scalars. *)
 let refract d nf eta =
   let c = -.Vec3.dot d nf in
   let k = 1. -. (eta *. eta *. (1. -. (c *. c))) in
-  if k < 0. then None else Some (refracted d nf eta c k)
+  if k < 0. then None
+  else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
-   it, added into [acc] (doc/shading.md, section 4). Inlined into [shade]: its floats stay
-   unboxed and nothing is allocated. [area_n] > 0 makes it an area light sampled n×n over
-   [radius] around [position]; [slot] is the light's index. *)
-let[@inline] light_term (sc : Scene.t) st slot (m : Material.t) (c : Color.t)
-    (nf : Vec3.t) (d : Vec3.t) p (lit_origin : Vec3.t) acc ldx ldy ldz dist att
-    (color : Color.t) intensity position radius area_n =
-  let ndl = (nf.x *. ldx) +. (nf.y *. ldy) +. (nf.z *. ldz) in
+   it, added into acc.(ar, ag, ab) (doc/shading.md, section 4), for albedo (cr, cg, cb),
+   the normal facing the ray (nfx, nfy, nfz), the ray's direction (dx, dy, dz) and shadow
+   rays from (lox, loy, loz). Inlined into [shade]: its floats stay unboxed and nothing is
+   allocated. [area_n] > 0 makes it an area light sampled n×n over [radius] around
+   [position]; [slot] is the light's index. *)
+let[@inline] light_term (sc : Scene.t) st slot scr (m : Material.t) cr cg cb nfx nfy nfz
+    dx dy dz lox loy loz ldx ldy ldz dist att (color : Color.t) intensity position radius
+    area_n =
+  let acc = scr.acc in
+  let ndl = (nfx *. ldx) +. (nfy *. ldy) +. (nfz *. ldz) in
   if ndl > 0. then (
     if not sc.features.shadows then (
       acc.tr <- 1.;
       acc.tg <- 1.;
       acc.tb <- 1.)
-    else if area_n > 0 then
-      area_transmittance sc st slot acc p lit_origin position radius area_n
-    else shadow_into sc st slot acc lit_origin ldx ldy ldz dist;
+    else if area_n > 0 then area_transmittance sc st slot scr position radius area_n
+    else shadow_into sc st slot scr lox loy loz ldx ldy ldz dist;
     let trr = acc.tr and trg = acc.tg and trb = acc.tb in
     if trr > 0. || trg > 0. || trb > 0. then (
       let ia = intensity *. att in
@@ -171,22 +230,42 @@ let[@inline] light_term (sc : Scene.t) st slot (m : Material.t) (c : Color.t)
       and eg = ia *. color.g *. trg
       and eb = ia *. color.b *. trb in
       let kd = m.diffuse *. ndl in
-      acc.ar <- acc.ar +. (kd *. (c.r *. er));
-      acc.ag <- acc.ag +. (kd *. (c.g *. eg));
-      acc.ab <- acc.ab +. (kd *. (c.b *. eb));
+      acc.ar <- acc.ar +. (kd *. (cr *. er));
+      acc.ag <- acc.ag +. (kd *. (cg *. eg));
+      acc.ab <- acc.ab +. (kd *. (cb *. eb));
       if m.specular > 0. then
         let k2 = 2. *. ndl in
-        let rx = (k2 *. nf.x) -. ldx
-        and ry = (k2 *. nf.y) -. ldy
-        and rz = (k2 *. nf.z) -. ldz in
+        let rx = (k2 *. nfx) -. ldx
+        and ry = (k2 *. nfy) -. ldy
+        and rz = (k2 *. nfz) -. ldz in
         (* R·V with V = −D *)
-        let rv = (rx *. -.d.x) +. (ry *. -.d.y) +. (rz *. -.d.z) in
+        let rv = (rx *. -.dx) +. (ry *. -.dy) +. (rz *. -.dz) in
         (* max(0, R·V)^shininess: nothing when R·V ≤ 0, except that x⁰ = 1. *)
         if rv > 0. || m.shininess = 0. then (
           let ks = m.specular *. Float.pow (if rv > 0. then rv else 0.) m.shininess in
           acc.ar <- acc.ar +. (ks *. er);
           acc.ag <- acc.ag +. (ks *. eg);
           acc.ab <- acc.ab +. (ks *. eb))))
+
+(* [Settings.background_along] for a direction whose y component is [dy], into the
+   fragment's colour. *)
+let[@inline] background_into (s : Settings.t) (f : Frag.t) dy =
+  match s.sky with
+  | None -> Frag.set_color f s.background
+  | Some { horizon = h; zenith = z } ->
+      let t = if dy > 0. then dy else 0. in
+      f.r <- h.r +. (t *. (z.r -. h.r));
+      f.g <- h.g +. (t *. (z.g -. h.g));
+      f.b <- h.b +. (t *. (z.b -. h.b))
+
+(* [Settings.fog_segment] of length [t] applied to the fragment's colour, in place. *)
+let[@inline] fog_into (fg : Settings.fog) t (f : Frag.t) =
+  let e = Float.exp (-.t /. fg.distance) in
+  let k = 1. -. e in
+  let fc = fg.color in
+  f.r <- (f.r *. e) +. (fc.r *. k);
+  f.g <- (f.g *. e) +. (fc.g *. k);
+  f.b <- (f.b *. e) +. (fc.b *. k)
 
 let miss (sc : Scene.t) d =
   let s = sc.settings in
@@ -202,131 +281,182 @@ let miss (sc : Scene.t) d =
    Pruning rays by their weight instead would move bytes of ordinary glass scenes. *)
 let max_secondary = 65536
 
-let rec trace_b (sc : Scene.t) st ray depth =
+(* The colour seen along the ray that [scr.q] holds, into (scr.f.r, scr.f.g, scr.f.b).
+   Everything a shading step needs after tracing again is in locals: a float bound by
+   [let] stays unboxed across the call. *)
+let rec trace_b (sc : Scene.t) st scr depth =
   Stats.tick st;
-  let h = { Shape.tmin = 0.; tmax = Float.infinity; t = Float.infinity } in
-  let i = Accel.nearest_into sc.accel ray 0. Float.infinity h in
+  let q = scr.q and f = scr.f in
+  q.p_tmin <- 0.;
+  q.p_tmax <- Float.infinity;
+  let i = Accel.nearest_probe sc.accel q in
   match sc.settings.fog with
   | None ->
-      if i >= 0 then shade sc st ray depth sc.objects.(i) h.t
-      else if Option.is_none sc.settings.sky then sc.settings.background
-      else Settings.background_along sc.settings (Ray.dir ray)
-  | Some f ->
+      if i >= 0 then shade sc st scr depth sc.objects.(i)
+      else background_into sc.settings f q.dy
+  | Some fg ->
       (* The segment to the hit, or an infinite one for a miss. *)
-      if i >= 0 then Settings.fog_segment f h.t (shade sc st ray depth sc.objects.(i) h.t)
-      else
-        Settings.fog_segment f Float.infinity
-          (Settings.background_along sc.settings (Ray.dir ray))
+      if i >= 0 then (
+        let t = q.p_t in
+        shade sc st scr depth sc.objects.(i);
+        fog_into fg t f)
+      else (
+        background_into sc.settings f q.dy;
+        fog_into fg Float.infinity f)
 
-and shade (sc : Scene.t) (st : Stats.t) ray depth (o : Primitive.t) t =
-  let o = Primitive.surface o ray t in
+(* The surface hit at t = scr.q.p_t by the ray [scr.q] holds. *)
+and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
+  let q = scr.q and f = scr.f and acc = scr.acc in
+  let t = q.p_t in
+  let ox = q.ox and oy = q.oy and oz = q.oz and dx = q.dx and dy = q.dy and dz = q.dz in
+  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) t else o in
   let s = sc.settings in
   let m = o.material in
-  let d = Ray.dir ray in
-  let p = Ray.at ray t in
-  let po = Primitive.to_object o p in
-  let n = Primitive.normal o po in
-  let delta = offset p (Ray.origin ray) in
-  let c = albedo o p n delta in
-  let entering = Vec3.dot d n < 0. in
-  let nf = if entering then n else Vec3.neg n in
-  let nf =
-    match m.bump with
-    | None -> nf
-    | Some b ->
-        Bump.perturb b
-          ~uv:(fun d -> Primitive.uv o (Vec3.add p d))
-          (Primitive.texture_point o p) nf
-  in
-  let lit_origin = Vec3.madd p delta nf in
-  let acc =
-    {
-      ar = m.ambient *. (c.r *. s.ambient.r);
-      ag = m.ambient *. (c.g *. s.ambient.g);
-      ab = m.ambient *. (c.b *. s.ambient.b);
-      tr = 0.;
-      tg = 0.;
-      tb = 0.;
-    }
-  in
+  let px = ox +. (t *. dx) and py = oy +. (t *. dy) and pz = oz +. (t *. dz) in
+  Frag.set_point f px py pz;
+  Primitive.normal_into o f;
+  let nx = f.nx and ny = f.ny and nz = f.nz in
+  let delta = offset_s px py pz ox oy oz in
+  albedo_into o f px py pz nx ny nz delta;
+  let cr = f.r and cg = f.g and cb = f.b in
+  let entering = (dx *. nx) +. (dy *. ny) +. (dz *. nz) < 0. in
+  (match m.bump with
+  | None ->
+      if entering then (
+        f.nx <- nx;
+        f.ny <- ny;
+        f.nz <- nz)
+      else (
+        f.nx <- -.nx;
+        f.ny <- -.ny;
+        f.nz <- -.nz)
+  | Some b ->
+      let p = Vec3.v px py pz in
+      let nf = if entering then Vec3.v nx ny nz else Vec3.v (-.nx) (-.ny) (-.nz) in
+      Frag.set_normal f
+        (Bump.perturb b
+           ~uv:(fun d -> Primitive.uv o (Vec3.add p d))
+           (Primitive.texture_point o p) nf));
+  let nfx = f.nx and nfy = f.ny and nfz = f.nz in
+  let lox = px +. (delta *. nfx)
+  and loy = py +. (delta *. nfy)
+  and loz = pz +. (delta *. nfz) in
+  acc.ar <- m.ambient *. (cr *. s.ambient.r);
+  acc.ag <- m.ambient *. (cg *. s.ambient.g);
+  acc.ab <- m.ambient *. (cb *. s.ambient.b);
+  acc.tr <- 0.;
+  acc.tg <- 0.;
+  acc.tb <- 0.;
+  acc.px <- px;
+  acc.py <- py;
+  acc.pz <- pz;
+  acc.lx <- lox;
+  acc.ly <- loy;
+  acc.lz <- loz;
   let lights = sc.view_lights in
   for li = 0 to Array.length lights - 1 do
     match lights.(li) with
     | Light.Point { position; color; intensity; attenuation = a; radius; samples; spot }
       -> (
-        let lx = position.x -. p.x
-        and ly = position.y -. p.y
-        and lz = position.z -. p.z in
-        let l2 = (lx *. lx) +. (ly *. ly) +. (lz *. lz) in
-        let dist =
-          if l2 > 1e-280 && l2 < 1e280 then Float.sqrt l2
-          else Vec3.length (Vec3.v lx ly lz)
-        in
+        let lx = position.x -. px and ly = position.y -. py and lz = position.z -. pz in
+        let dist = Vec3.length3 lx ly lz in
         let att = 1. /. (a.x +. (a.y *. dist) +. (a.z *. dist *. dist)) in
         let k = 1. /. dist in
         let area_n = if radius > 0. && samples > 1 then samples else 0 in
         match spot with
         | None ->
-            light_term sc st li m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz)
-              dist att color intensity position radius area_n
+            light_term sc st li scr m cr cg cb nfx nfy nfz dx dy dz lox loy loz (k *. lx)
+              (k *. ly) (k *. lz) dist att color intensity position radius area_n
         | Some sp ->
             (* The cone scales E; outside it the light is not even tested for shadow. cos θ
                 is axis · (P − position)/d = −axis · Ldir. *)
             let ax = sp.axis in
-            let f =
+            let fs =
               Light.spot_factor sp
                 (-.((ax.x *. k *. lx) +. (ax.y *. k *. ly) +. (ax.z *. k *. lz)))
             in
-            if f > 0. then
-              light_term sc st li m c nf d p lit_origin acc (k *. lx) (k *. ly) (k *. lz)
-                dist (att *. f) color intensity position radius area_n)
+            if fs > 0. then
+              light_term sc st li scr m cr cg cb nfx nfy nfz dx dy dz lox loy loz
+                (k *. lx) (k *. ly) (k *. lz) dist (att *. fs) color intensity position
+                radius area_n)
     | Light.Directional { direction; color; intensity } ->
-        light_term sc st li m c nf d p lit_origin acc (-.direction.x) (-.direction.y)
-          (-.direction.z) Float.infinity 1. color intensity direction 0. 0
+        light_term sc st li scr m cr cg cb nfx nfy nfz dx dy dz lox loy loz
+          (-.direction.x) (-.direction.y) (-.direction.z) Float.infinity 1. color
+          intensity direction 0. 0
   done;
-  let local = Color.v acc.ar acc.ag acc.ab in
+  let lr = acc.ar and lg = acc.ag and lb = acc.ab in
   let r = m.reflection and tau = m.transparency in
-  if r = 0. && tau = 0. then local
+  if r = 0. && tau = 0. then (
+    f.r <- lr;
+    f.g <- lg;
+    f.b <- lb)
   else
     (* Refraction geometry first: total internal reflection and Fresnel both move weight
        from τ to r. *)
-    let c_in = -.Vec3.dot d nf in
+    let c_in = -.((dx *. nfx) +. (dy *. nfy) +. (dz *. nfz)) in
     let eta = if entering then 1. /. m.ior else m.ior in
     let k = 1. -. (eta *. eta *. (1. -. (c_in *. c_in))) in
-    let r', tau' =
-      if tau = 0. then (r, 0.)
-      else if k < 0. then (r +. tau, 0.)
-      else if m.fresnel then
+    (* Schlick's F, where it applies. *)
+    let fr =
+      if tau = 0. || k < 0. || not m.fresnel then 0.
+      else
         let f0 = ((m.ior -. 1.) /. (m.ior +. 1.)) ** 2. in
         let c' = if entering then c_in else Float.sqrt k in
-        let f = f0 +. ((1. -. f0) *. ((1. -. c') ** 5.)) in
-        (r +. (tau *. f), tau *. (1. -. f))
-      else (r, tau)
+        f0 +. ((1. -. f0) *. ((1. -. c') ** 5.))
     in
-    let out = Color.scale (1. -. r -. tau) local in
-    if depth >= s.depth then out
-    else
-      let out =
-        if r' > 0. && st.budget > 0 then (
-          st.reflected <- st.reflected + 1;
-          st.budget <- st.budget - 1;
-          Color.madd out r'
-            (trace_b sc st (Ray.make lit_origin (reflect d nf)) (depth + 1)))
-        else out
-      in
+    let r' =
+      if tau = 0. then r
+      else if k < 0. then r +. tau
+      else if m.fresnel then r +. (tau *. fr)
+      else r
+    and tau' =
+      if tau = 0. then 0.
+      else if k < 0. then 0.
+      else if m.fresnel then tau *. (1. -. fr)
+      else tau
+    in
+    let w = 1. -. r -. tau in
+    let outr = ref (w *. lr) and outg = ref (w *. lg) and outb = ref (w *. lb) in
+    if depth < s.depth then (
+      if r' > 0. && st.budget > 0 then (
+        st.reflected <- st.reflected + 1;
+        st.budget <- st.budget - 1;
+        (* D − 2(D·Nf)·Nf *)
+        let kr = -2. *. ((dx *. nfx) +. (dy *. nfy) +. (dz *. nfz)) in
+        Probe.set_origin q lox loy loz;
+        Probe.set_unit_dir q (dx +. (kr *. nfx)) (dy +. (kr *. nfy)) (dz +. (kr *. nfz));
+        trace_b sc st scr (depth + 1);
+        outr := !outr +. (r' *. f.r);
+        outg := !outg +. (r' *. f.g);
+        outb := !outb +. (r' *. f.b));
       if tau' > 0. && st.budget > 0 then (
         st.refracted <- st.refracted + 1;
         st.budget <- st.budget - 1;
-        let td = refracted d nf eta c_in k in
-        Color.madd out tau'
-          (trace_b sc st (Ray.make (Vec3.madd p (-.delta) nf) td) (depth + 1)))
-      else out
+        let kt = (eta *. c_in) -. Float.sqrt k and kd = -.delta in
+        Probe.set_origin q (px +. (kd *. nfx)) (py +. (kd *. nfy)) (pz +. (kd *. nfz));
+        Probe.set_unit_dir q
+          ((eta *. dx) +. (kt *. nfx))
+          ((eta *. dy) +. (kt *. nfy))
+          ((eta *. dz) +. (kt *. nfz));
+        trace_b sc st scr (depth + 1);
+        outr := !outr +. (tau' *. f.r);
+        outg := !outg +. (tau' *. f.g);
+        outb := !outb +. (tau' *. f.b)));
+    f.r <- !outr;
+    f.g <- !outg;
+    f.b <- !outb
 
-let trace sc (st : Stats.t) ray depth =
+let trace_into sc (st : Stats.t) scr depth =
   st.budget <- max_secondary;
-  trace_b sc st ray depth
+  trace_b sc st scr depth
 
-let transmittance sc st origin (dir : Vec3.t) dist =
-  let acc = { ar = 0.; ag = 0.; ab = 0.; tr = 0.; tg = 0.; tb = 0. } in
-  shadow_into sc st 0 acc origin dir.x dir.y dir.z dist;
-  Color.v acc.tr acc.tg acc.tb
+let trace sc st ray depth =
+  let scr = scratch () in
+  Probe.of_ray scr.q ray;
+  trace_into sc st scr depth;
+  Color.v scr.f.r scr.f.g scr.f.b
+
+let transmittance sc st (origin : Vec3.t) (dir : Vec3.t) dist =
+  let scr = scratch () in
+  shadow_into sc st 0 scr origin.x origin.y origin.z dir.x dir.y dir.z dist;
+  Color.v scr.acc.tr scr.acc.tg scr.acc.tb

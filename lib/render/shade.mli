@@ -26,6 +26,28 @@ val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
     {!max_secondary} secondary rays are cast for the sample, depth first; those past it
     contribute black, as rays past the depth do. *)
 
+type scratch
+(** What tracing writes as it goes, as flat records of floats: the ray being traced, the
+    shadow ray, the fragment shapes and textures answer into, the light sums. One per
+    domain at a time: a tile makes its own. *)
+
+val scratch : unit -> scratch
+(** A fresh scratch. *)
+
+val probe : scratch -> Probe.t
+(** Where {!trace_into} reads its ray: fill its origin and (unit) direction. *)
+
+val frag : scratch -> Frag.t
+(** Where {!trace_into} leaves its colour, in [(r, g, b)]. *)
+
+val trace_into : Scene.t -> Stats.t -> scratch -> int -> unit
+(** [trace_into scene stats scr depth] is {!trace} of the ray that [probe scr] holds, bit
+    for bit, its colour written into [(frag scr).(r, g, b)]. Camera, reflected and
+    refracted rays build no ray, vector or colour on the way, with the shapes that
+    {!Shape.probe_into} and {!Shape.normal_into} handle in scalars and the textures
+    {!Texture.eval_into} does; bump maps and CSG objects still allocate. The probe and the
+    fragment are overwritten. *)
+
 val max_secondary : int
 (** 65536: the most secondary (reflected and refracted) rays one call of {!trace} casts.
 *)

@@ -806,7 +806,7 @@ and csg_crossings s r tmin =
         (let t = intersect s r tmin Float.infinity in
          if t < Float.infinity then [ t ] else [])
 
-type probe = {
+type probe = Probe.t = {
   mutable ox : float;
   mutable oy : float;
   mutable oz : float;
@@ -821,21 +821,7 @@ type probe = {
   mutable p_t : float;
 }
 
-let probe () =
-  {
-    ox = 0.;
-    oy = 0.;
-    oz = 0.;
-    dx = 0.;
-    dy = 0.;
-    dz = 0.;
-    ix = 0.;
-    iy = 0.;
-    iz = 0.;
-    p_tmin = 0.;
-    p_tmax = 0.;
-    p_t = Float.infinity;
-  }
+let probe = Probe.create
 
 (* The same tests as [intersect_into], on the probe's scalars; the quadrics with a height
    range (cylinder, paraboloid) build the ray their vector form needs. *)
@@ -981,20 +967,31 @@ let cone_part (base : Vec3.t) axis height r0 r1 caps p =
     and d1 = if r1 > 0. then Float.abs (height -. y) else Float.infinity in
     if ds <= d0 && ds <= d1 then 0 else if d0 <= d1 then 1 else 2
 
-(* The face of a box nearest to p, as 0..5 = −x, +x, −y, +y, −z, +z. *)
-let box_face (mn : Vec3.t) (mx : Vec3.t) (p : Vec3.t) =
-  let best = ref 0 and bd = ref (Float.abs (p.x -. mn.x)) in
-  let try_ i d =
-    if d < !bd then (
-      bd := d;
-      best := i)
-  in
-  try_ 1 (Float.abs (mx.x -. p.x));
-  try_ 2 (Float.abs (p.y -. mn.y));
-  try_ 3 (Float.abs (mx.y -. p.y));
-  try_ 4 (Float.abs (p.z -. mn.z));
-  try_ 5 (Float.abs (mx.z -. p.z));
+(* The face of a box nearest to (x, y, z), as 0..5 = −x, +x, −y, +y, −z, +z; the first
+   of equals wins. *)
+let[@inline] box_face_s (mn : Vec3.t) (mx : Vec3.t) x y z =
+  let best = ref 0 and bd = ref (Float.abs (x -. mn.x)) in
+  let d = Float.abs (mx.x -. x) in
+  if d < !bd then (
+    bd := d;
+    best := 1);
+  let d = Float.abs (y -. mn.y) in
+  if d < !bd then (
+    bd := d;
+    best := 2);
+  let d = Float.abs (mx.y -. y) in
+  if d < !bd then (
+    bd := d;
+    best := 3);
+  let d = Float.abs (z -. mn.z) in
+  if d < !bd then (
+    bd := d;
+    best := 4);
+  let d = Float.abs (mx.z -. z) in
+  if d < !bd then best := 5;
   !best
+
+let box_face mn mx (p : Vec3.t) = box_face_s mn mx p.x p.y p.z
 
 let normal s p =
   match s with
@@ -1055,6 +1052,45 @@ let normal s p =
       invalid_arg
         "Shape.normal: a CSG object has no surface of its own; ask its leaf \
          (Shape.csg_leaf)"
+
+(* [normal] in scalars for the shapes most scenes are made of, the same operations;
+   the others build the point and the normal. *)
+let normal_into s (f : Frag.t) =
+  match s with
+  | Sphere { center; _ } ->
+      let x = f.x -. center.x and y = f.y -. center.y and z = f.z -. center.z in
+      let l = Vec3.length3 x y z in
+      if l = 0. then (
+        f.nx <- 0.;
+        f.ny <- 0.;
+        f.nz <- 0.)
+      else
+        let k = 1. /. l in
+        f.nx <- k *. x;
+        f.ny <- k *. y;
+        f.nz <- k *. z
+  | Plane { normal; _ } | Disk { normal; _ } -> Frag.set_normal f normal
+  | Parallelogram { pn; _ } -> Frag.set_normal f pn
+  | Triangle { tn; normals = None; _ } -> Frag.set_normal f tn
+  | Box { min; max } -> (
+      match box_face_s min max f.x f.y f.z with
+      | 0 ->
+          f.nx <- -1.;
+          f.ny <- 0.;
+          f.nz <- 0.
+      | 1 -> Frag.set_normal f Vec3.x_axis
+      | 2 ->
+          f.nx <- 0.;
+          f.ny <- -1.;
+          f.nz <- 0.
+      | 3 -> Frag.set_normal f Vec3.y_axis
+      | 4 ->
+          f.nx <- 0.;
+          f.ny <- 0.;
+          f.nz <- -1.
+      | _ -> Frag.set_normal f Vec3.z_axis)
+  | Triangle _ | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
+      Frag.set_normal f (normal s (Frag.point f))
 
 let frac x = x -. Float.floor x
 let clamp01 x = if x > 0. then if x < 1. then x else 1. else 0.
@@ -1126,6 +1162,11 @@ let uv s (p : Vec3.t) =
       let v = 0.5 +. (Float.atan2 y (rho -. major) /. (2. *. Float.pi)) in
       (turn e1 e2 q, if v >= 1. then 0. else clamp01 v)
   | Closed_mesh _ | Csg _ -> (0., 0.)
+
+let uv_into s (f : Frag.t) =
+  let u, v = uv s (Frag.point f) in
+  f.u <- u;
+  f.v <- v
 
 let bbox = bbox_of
 

@@ -192,7 +192,7 @@ val intersect_into : t -> Ray.t -> hit -> unit
 (** [intersect_into s r h] is [h.t <- intersect s r h.tmin h.tmax], without boxing a
     float: the form the ray queries use. *)
 
-type probe = {
+type probe = Probe.t = {
   mutable ox : float;
   mutable oy : float;
   mutable oz : float;  (** origin *)
@@ -206,8 +206,8 @@ type probe = {
   mutable p_tmax : float;  (** the interval (p_tmin, p_tmax) *)
   mutable p_t : float;  (** the answer *)
 }
-(** A ray held as scalars in one flat, reusable record: the form of the shadow query,
-    which builds no {!Ray.t}. *)
+(** A ray held as scalars in one flat, reusable record ({!Probe.t}): the form of the
+    renderer's ray queries, which build no {!Ray.t}. *)
 
 val probe : unit -> probe
 (** A fresh probe (all zero, answer infinity). *)
@@ -223,6 +223,11 @@ val normal : t -> Vec3.t -> Vec3.t
     plane's own normal for flat shapes, and the interpolated vertex normal for smooth mesh
     triangles. Raises [Invalid_argument] on a [Csg]: ask the leaf ({!csg_leaf}). *)
 
+val normal_into : t -> Frag.t -> unit
+(** [normal_into s f] is {!normal} at the point [(f.x, f.y, f.z)], written into
+    [(f.nx, f.ny, f.nz)], bit for bit. Spheres, planes, disks, parallelograms, flat
+    triangles and boxes allocate nothing. *)
+
 val uv : t -> Vec3.t -> float * float
 (** [uv s p] is the texture coordinate of surface point [p]: spheres longitude and
     latitude; planes the in-plane coordinates modulo 1; parallelograms (a, b); triangles
@@ -230,6 +235,9 @@ val uv : t -> Vec3.t -> float * float
     paraboloids and cylinder sides the turn around the axis and y'/h; disks and cylinder
     caps (x, y)/(2r) + ½ in the disk's frame; boxes each face's own rectangle. In [0, 1]
     except for mesh (u, v), which are as the file gives them. *)
+
+val uv_into : t -> Frag.t -> unit
+(** [uv_into s f] is {!uv} at the point [(f.x, f.y, f.z)], written into [(f.u, f.v)]. *)
 
 val bbox : t -> Bbox.t option
 (** Object-space bounds; [None] for unbounded surfaces (planes). *)

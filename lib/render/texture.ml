@@ -67,7 +67,7 @@ and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of
 
 (* ⌊x⌋ as an int, clamped so that huge or non-finite coordinates cannot reach the
    unspecified cases of int_of_float; only the parity is used. *)
-let ifloor x =
+let[@inline] ifloor x =
   let f = Float.floor x in
   if f >= 4e18 || f <= -4e18 || Float.is_nan f then 0 else int_of_float f
 
@@ -161,6 +161,29 @@ let eval t (p : Vec3.t) u v =
       let f = if Float.is_finite x then x -. Float.floor x else 0. in
       lookup map f
   | Image { img; scale } -> bilinear img (u *. scale) (v *. scale)
+
+(* [mix] into the fragment's colour. *)
+let[@inline] mix_into (f : Frag.t) (c1 : Color.t) (c2 : Color.t) s =
+  let s = if s > 0. then if s < 1. then s else 1. else 0. in
+  f.r <- c1.r +. (s *. (c2.r -. c1.r));
+  f.g <- c1.g +. (s *. (c2.g -. c1.g));
+  f.b <- c1.b +. (s *. (c2.b -. c1.b))
+
+(* [eval] in scalars for the textures that pick or mix two colours; the others build the
+   point and their colour. *)
+let eval_into t (f : Frag.t) =
+  match t with
+  | Solid c -> Frag.set_color f c
+  | Checker { c1; c2; size } ->
+      let k = ifloor (f.x /. size) + ifloor (f.y /. size) + ifloor (f.z /. size) in
+      Frag.set_color f (if k land 1 = 0 then c1 else c2)
+  | Stripes { c1; c2; size } ->
+      Frag.set_color f (if ifloor (f.x /. size) land 1 = 0 then c1 else c2)
+  | Noise { c1; c2; scale } ->
+      let s = 1. /. scale in
+      mix_into f c1 c2 (0.5 *. (1. +. Noise.perlin (f.x *. s) (f.y *. s) (f.z *. s)))
+  | Marble _ | Wood _ | Mapped _ | Gradient _ | Image _ ->
+      Frag.set_color f (eval t (Frag.point f) f.u f.v)
 
 let needs_uv = function
   | Image _ -> true

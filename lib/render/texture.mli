@@ -50,6 +50,11 @@ val eval : t -> Vec3.t -> float -> float -> Color.t
 (** [eval tex p u v] is the albedo at object-space point [p] with texture coordinates
     ([u], [v]). *)
 
+val eval_into : t -> Frag.t -> unit
+(** [eval_into tex f] is {!eval} at the point [(f.x, f.y, f.z)] with texture coordinates
+    [(f.u, f.v)], written into [(f.r, f.g, f.b)], bit for bit. Solid colours, checkers,
+    stripes and two-colour noise allocate nothing. *)
+
 val bilinear : Image.t -> float -> float -> Color.t
 (** [bilinear img u v] samples [img] at (u, v) with wrapping (period 1 in both), v = 0 at
     the bottom row; non-finite coordinates sample (0, 0). *)
