@@ -49,6 +49,7 @@ module Accel = Lancer_render.Accel
 module Bump = Lancer_render.Bump
 module Compile = Lancer_render.Compile
 module Cost = Lancer_render.Cost
+module Frag = Lancer_render.Frag
 module Material = Lancer_render.Material
 module Mesh = Lancer_render.Mesh
 module Noise = Lancer_render.Noise

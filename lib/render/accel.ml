@@ -862,6 +862,86 @@ let nearest_probe a (q : Shape.probe) =
   | None -> linear_nearest_probe a.prims q obj
   | Some tr -> tree_nearest_probe a tr q obj
 
+(* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
+   the same order (the unbounded ones first, then depth first over the boxes the ray
+   meets), each one's crossings in increasing t, [visit p] called at each with the
+   crossing's t in [q.p_t], until it answers true. The interval is read once, before the
+   probe's moves with the crossings found. *)
+let[@inline] crossings_probe p (q : Shape.probe) obj tmin tmax visit =
+  q.p_tmin <- tmin;
+  let t = ref (probe_test p q obj tmax) and stop = ref false in
+  while (not !stop) && !t < tmax do
+    stop := visit p;
+    if not !stop then (
+      q.p_tmin <- !t;
+      t := probe_test p q obj tmax)
+  done;
+  !stop
+
+let[@inline] visit_transparent p q obj tmin tmax visit =
+  if p.Primitive.material.transparency = 0. then false
+  else crossings_probe p q obj tmin tmax visit
+
+let linear_transparent prims (q : Shape.probe) obj visit =
+  let tmin = q.p_tmin and tmax = q.p_tmax in
+  let stop = ref false and i = ref 0 in
+  while (not !stop) && !i < Array.length prims do
+    stop := visit_transparent (Array.unsafe_get prims !i) q obj tmin tmax visit;
+    incr i
+  done
+
+let tree_transparent a tr (q : Shape.probe) obj visit =
+  let tmin = q.p_tmin and tmax = q.p_tmax in
+  let stop = ref false in
+  let outside = a.outside in
+  let k = ref 0 in
+  while (not !stop) && !k < Array.length outside do
+    stop := visit_transparent a.prims.(outside.(!k)) q obj tmin tmax visit;
+    incr k
+  done;
+  if not !stop then (
+    let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+    let nodes = tr.nodes and links = tr.links in
+    let st = get_stack tr.depth in
+    let sids = st.ids in
+    let sp = ref 0 in
+    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+      Array.unsafe_set sids 0 0;
+      sp := 1);
+    (try
+       while (not !stop) && !sp > 0 do
+         decr sp;
+         let node = Array.unsafe_get sids !sp in
+         let count = Array.unsafe_get links ((2 * node) + 1) in
+         if count > 0 then
+           let first = Array.unsafe_get links (2 * node) in
+           let j = ref first in
+           while (not !stop) && !j < first + count do
+             stop :=
+               visit_transparent (Array.unsafe_get tr.leaf_prims !j) q obj tmin tmax visit;
+             incr j
+           done
+         else
+           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+             Array.unsafe_set sids !sp rr;
+             incr sp);
+           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+             Array.unsafe_set sids !sp l;
+             incr sp)
+       done
+     with e ->
+       st.busy <- false;
+       raise e);
+    st.busy <- false)
+
+let transparent_crossings a (q : Shape.probe) visit =
+  let obj = (Domain.DLS.get scratch_key).obj in
+  Probe.set_inv_dir q;
+  match a.tree with
+  | None -> linear_transparent a.prims q obj visit
+  | Some tr -> tree_transparent a tr q obj visit
+
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in
   let obj = sc.obj in

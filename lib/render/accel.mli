@@ -51,6 +51,15 @@ val fold_transparent_hits :
 (** {!fold_hits} over the transparent primitives only (transparency ≠ 0): the same answer
     where {!occluded} has said that no opaque surface crosses the segment. *)
 
+val transparent_crossings : t -> Shape.probe -> (Primitive.t -> bool) -> unit
+(** [transparent_crossings a q visit] is {!fold_transparent_hits} for the ray that [q]
+    holds over ([q.p_tmin], [q.p_tmax]), with the accumulator kept by the caller:
+    [visit o] is called at each crossing of a transparent primitive [o], in the fold's
+    order, with the crossing's t in [q.p_t], and answers whether to stop (the fold stops
+    where its accumulator is black). It sets the probe's reciprocal direction and moves
+    its interval; [visit] must leave the probe's ray alone. Allocates nothing itself: a
+    [visit] made once and reused makes the transmittance of a shadow ray free. *)
+
 val any_hit : t -> Ray.t -> float -> float -> bool
 (** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
     stops at the first one found: the shadow query when no surface is transparent. It

@@ -4,11 +4,12 @@ let tile_size = 32
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
 
 (* A tile's scratch: the shading scratch, where each sample leaves its colour (in its
-   fragment), and the four samples of an adaptive pixel's first pass. Made for each tile,
+   fragment), and the four samples of an adaptive pixel's first pass with room to
+   compare them. Made for each tile,
    so that no two domains share one. *)
 type scratch = { shade : Shade.scratch; coarse : Float.Array.t }
 
-let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 12 0. }
+let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 17 0. }
 
 (* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
    (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
@@ -102,15 +103,43 @@ let grid sc st scr i j n =
   f.g <- k *. !ag;
   f.b <- k *. !ab
 
-(* The spread max − min of channel [k] of the four coarse samples, folded as
-   [Array.fold_left Float.max neg_infinity] and [Float.min infinity] would. *)
+(* c.(i) <- Float.max c.(i) y and c.(i) <- Float.min c.(i) y, the stdlib's definitions
+   written as assignments: a float-valued [if] of boxed and unboxed branches would box. *)
+let[@inline] max_into c i (y : float) =
+  let x = Float.Array.unsafe_get c i in
+  if y > x || ((not (Float.sign_bit y)) && Float.sign_bit x) then (
+    if not (Float.is_nan x) then Float.Array.unsafe_set c i y)
+  else if Float.is_nan y then Float.Array.unsafe_set c i y
+
+let[@inline] min_into c i (y : float) =
+  let x = Float.Array.unsafe_get c i in
+  if y > x || ((not (Float.sign_bit y)) && Float.sign_bit x) then (
+    if Float.is_nan y then Float.Array.unsafe_set c i y)
+  else if not (Float.is_nan x) then Float.Array.unsafe_set c i y
+
+(* The spread max − min of channel [k] of the four coarse samples (at 0, 3, 6, 9), folded
+   as [Array.fold_left Float.max neg_infinity] and [Float.min infinity] would, into
+   c.(12 + k); the work in c.(15) and c.(16). *)
 let[@inline] spread c k =
-  let v0 = Float.Array.unsafe_get c k
-  and v1 = Float.Array.unsafe_get c (3 + k)
-  and v2 = Float.Array.unsafe_get c (6 + k)
-  and v3 = Float.Array.unsafe_get c (9 + k) in
-  Float.max (Float.max (Float.max (Float.max Float.neg_infinity v0) v1) v2) v3
-  -. Float.min (Float.min (Float.min (Float.min Float.infinity v0) v1) v2) v3
+  Float.Array.unsafe_set c 15 Float.neg_infinity;
+  Float.Array.unsafe_set c 16 Float.infinity;
+  for s = 0 to 3 do
+    let v = Float.Array.unsafe_get c ((3 * s) + k) in
+    max_into c 15 v;
+    min_into c 16 v
+  done;
+  Float.Array.unsafe_set c (12 + k)
+    (Float.Array.unsafe_get c 15 -. Float.Array.unsafe_get c 16)
+
+(* Float.max r (Float.max g b) of the three spreads, into c.(15). *)
+let[@inline] contrast c =
+  spread c 0;
+  spread c 1;
+  spread c 2;
+  Float.Array.unsafe_set c 16 (Float.Array.unsafe_get c 13);
+  max_into c 16 (Float.Array.unsafe_get c 14);
+  Float.Array.unsafe_set c 15 (Float.Array.unsafe_get c 12);
+  max_into c 15 (Float.Array.unsafe_get c 16)
 
 (* Channel [k] of the four coarse samples summed from black, as
    [Array.fold_left Color.add Color.black] would. *)
@@ -137,8 +166,8 @@ let pixel_into (sc : Scene.t) st scr i j =
         Float.Array.unsafe_set c (k + 2) f.b
       done
     done;
-    let contrast = Float.max (spread c 0) (Float.max (spread c 1) (spread c 2)) in
-    if contrast > s.adaptive then grid sc st scr i j (max s.samples 4)
+    contrast c;
+    if Float.Array.unsafe_get c 15 > s.adaptive then grid sc st scr i j (max s.samples 4)
     else (
       f.r <- 0.25 *. sum4 c 0;
       f.g <- 0.25 *. sum4 c 1;

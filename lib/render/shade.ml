@@ -27,35 +27,17 @@ type acc = {
 }
 
 (* A domain's scratch: the ray being traced ([q]), the shadow ray ([sq]), the fragment
-   that shapes and textures answer into (and where a trace leaves its colour), and the
-   light sums. A shading step copies what it needs into locals before it traces again, so
-   one scratch serves every depth. *)
-type scratch = { q : Probe.t; sq : Probe.t; f : Frag.t; acc : acc }
-
-let scratch () =
-  {
-    q = Probe.create ();
-    sq = Probe.create ();
-    f = Frag.create ();
-    acc =
-      {
-        ar = 0.;
-        ag = 0.;
-        ab = 0.;
-        tr = 0.;
-        tg = 0.;
-        tb = 0.;
-        px = 0.;
-        py = 0.;
-        pz = 0.;
-        lx = 0.;
-        ly = 0.;
-        lz = 0.;
-      };
-  }
-
-let probe scr = scr.q
-let frag scr = scr.f
+   that shapes and textures answer into (and where a trace leaves its colour), the light
+   sums, and the visit of a transparent crossing of the shadow ray, made once. A shading
+   step copies what it needs into locals before it traces again, so one scratch serves
+   every depth. *)
+type scratch = {
+  q : Probe.t;
+  sq : Probe.t;
+  f : Frag.t;
+  acc : acc;
+  cross : Primitive.t -> bool;
+}
 
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
    the texture is evaluated in object space at p − δ·n (doc/shading.md, section 6). *)
@@ -85,34 +67,57 @@ let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta 
         f.v <- 0.);
       Texture.eval_into tex f
 
+(* The shadow ray [q] crossing transparent object [o] at t = q.p_t: acc.(tr, tg, tb), the
+   product so far, is multiplied by transparency · albedo there; whether it is black (no
+   light gets through: stop). *)
+let crossing (q : Probe.t) (f : Frag.t) acc (o : Primitive.t) =
+  let t = q.p_t in
+  let ox = q.ox and oy = q.oy and oz = q.oz in
+  (* A CSG object's crossing shades with the leaf it lies on. *)
+  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) q.p_t else o in
+  let px = ox +. (t *. q.dx) and py = oy +. (t *. q.dy) and pz = oz +. (t *. q.dz) in
+  Frag.set_point f px py pz;
+  Primitive.normal_into o f;
+  albedo_into o f px py pz f.nx f.ny f.nz (offset_s px py pz ox oy oz);
+  let tau = o.material.transparency in
+  acc.tr <- acc.tr *. (tau *. f.r);
+  acc.tg <- acc.tg *. (tau *. f.g);
+  acc.tb <- acc.tb *. (tau *. f.b);
+  acc.tr = 0. && acc.tg = 0. && acc.tb = 0.
+
+let scratch () =
+  let sq = Probe.create () and f = Frag.create () in
+  let acc =
+    {
+      ar = 0.;
+      ag = 0.;
+      ab = 0.;
+      tr = 0.;
+      tg = 0.;
+      tb = 0.;
+      px = 0.;
+      py = 0.;
+      pz = 0.;
+      lx = 0.;
+      ly = 0.;
+      lz = 0.;
+    }
+  in
+  { q = Probe.create (); sq; f; acc; cross = crossing sq f acc }
+
+let probe scr = scr.q
+let frag scr = scr.f
+
 (* Where no opaque surface blocks the shadow ray that [scr.sq] holds (the occlusion
    query leaves its origin, direction and interval as they were): the product over the
-   transparent surfaces crossed of transparency · albedo, into acc.(tr, tg, tb). Apart
-   from [shadow_into], which inlines (a function holding a closure would not). *)
+   transparent surfaces crossed of transparency · albedo, from white, into
+   acc.(tr, tg, tb). *)
 let transparent_into (sc : Scene.t) scr =
-  let q = scr.sq and f = scr.f in
-  let ox = q.ox and oy = q.oy and oz = q.oz in
-  let dist = q.p_tmax in
-  let r = Ray.make_raw (Vec3.v ox oy oz) (Vec3.v q.dx q.dy q.dz) in
-  let (c : Color.t) =
-    Accel.fold_transparent_hits sc.accel r 0. dist
-      (fun o t acc ->
-        (* A CSG object's crossing shades with the leaf it lies on. *)
-        let o = Primitive.surface o r t in
-        let m = o.material in
-        let d = Ray.dir r in
-        let px = ox +. (t *. d.x) and py = oy +. (t *. d.y) and pz = oz +. (t *. d.z) in
-        Frag.set_point f px py pz;
-        Primitive.normal_into o f;
-        albedo_into o f px py pz f.nx f.ny f.nz (offset_s px py pz ox oy oz);
-        let tau = m.transparency in
-        Color.v (acc.r *. (tau *. f.r)) (acc.g *. (tau *. f.g)) (acc.b *. (tau *. f.b)))
-      Color.white
-  in
   let acc = scr.acc in
-  acc.tr <- c.r;
-  acc.tg <- c.g;
-  acc.tb <- c.b
+  acc.tr <- 1.;
+  acc.tg <- 1.;
+  acc.tb <- 1.;
+  Accel.transparent_crossings sc.accel scr.sq scr.cross
 
 (* Transmittance from (ox, oy, oz) along the unit direction (dx, dy, dz) up to [dist],
    into acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates
@@ -309,7 +314,7 @@ and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
   let q = scr.q and f = scr.f and acc = scr.acc in
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz and dx = q.dx and dy = q.dy and dz = q.dz in
-  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) t else o in
+  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) q.p_t else o in
   let s = sc.settings in
   let m = o.material in
   let px = ox +. (t *. dx) and py = oy +. (t *. dy) and pz = oz +. (t *. dz) in
