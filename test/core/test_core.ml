@@ -478,6 +478,52 @@ let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) (
         (Shape.sphere ~center:(v 1. 0.5 (-1.5)) ~radius:0.5);
     ]
 
+(* A scene with a bounding volume hierarchy (more than 8 bounded objects, some of them
+   transformed), a sky, fog and a spot light: the other paths of the tracer. *)
+let bvh_scene () =
+  let spot =
+    Result.get_ok
+      (Light.spot ~position:(v 0. 6. (-2.)) ~point_at:Vec3.zero ~inner:20. ~outer:35.)
+  in
+  let shapes =
+    List.init 12 (fun k ->
+        let x = Float.of_int (k mod 4) -. 1.5 and z = Float.of_int (k / 4) in
+        let c = v x 0.4 z in
+        let m =
+          match k mod 3 with
+          | 0 -> mat ~specular:0.4 ~color:(Color.v 0.8 0.3 0.2) ()
+          | 1 -> mat ~reflection:0.5 ()
+          | _ -> mat ~transparency:0.7 ~ior:1.3 ()
+        in
+        if k mod 2 = 0 then prim m (Shape.sphere ~center:c ~radius:0.35)
+        else
+          prim
+            ~transform:
+              (Transform.then_ (Transform.rotate (v 0. 30. 0.)) (Transform.translate c))
+            m
+            (Shape.box ~min:(v (-0.3) (-0.3) (-0.3)) ~max:(v 0.3 0.3 0.3)))
+  in
+  Scene.make_exn
+    ~settings:
+      {
+        Settings.default with
+        width = 96;
+        height = 72;
+        sky = Some { horizon = Color.v 0.8 0.8 0.9; zenith = Color.v 0.2 0.3 0.7 };
+        fog = Some { color = Color.v 0.5 0.5 0.5; distance = 30. };
+      }
+    ~camera:(Camera.make ~position:(v 0. 2. (-5.)) ~look_at:(v 0. 0.3 1.) ())
+    ~lights:
+      [ Light.point ~spot (v 0. 6. (-2.)); Light.point ~intensity:0.5 (v 3. 4. (-3.)) ]
+    (prim (mat ()) (Shape.plane ~normal:Vec3.y_axis ~offset:0.) :: shapes)
+
+(* Minor words per ray of a render on this domain (after one to warm the caches). *)
+let words_per_ray sc =
+  ignore (Render.render sc);
+  let w0 = Gc.minor_words () in
+  let _, st = Render.render sc in
+  (Gc.minor_words () -. w0) /. Float.of_int (Stats.total_rays st)
+
 let render_tests =
   [
     Alcotest.test_case
@@ -536,6 +582,24 @@ let render_tests =
           (st.primary > 4 * 32 * 24);
         (* 4 samples everywhere, 16 more in each refined pixel: fewer than half refine. *)
         Alcotest.(check bool) "most pixels stay at 4" true (st.primary < (4 + 8) * 32 * 24));
+    Alcotest.test_case
+      "tracing allocates next to nothing: a render's minor words are a fraction of its \
+       rays"
+      `Quick (fun () ->
+        (* Every minor collection stops all domains: what a ray allocates is what limits
+           many cores. What remains is per tile (counters, scratch), not per ray. *)
+        List.iter
+          (fun (name, sc) ->
+            let w = words_per_ray sc in
+            if not (w < 0.25) then Alcotest.failf "%s: %.2f minor words per ray" name w)
+          [
+            ( "reflection, refraction, soft shadows, adaptive sampling",
+              demo_scene
+                ~settings:
+                  { Settings.default with width = 64; height = 48; adaptive = 0.1 }
+                () );
+            ("a hierarchy, transformed boxes, sky, fog and a spot", bvh_scene ());
+          ]);
     Alcotest.test_case
       "a scene made only of opaque, matte objects casts no secondary rays" `Quick
       (fun () ->
