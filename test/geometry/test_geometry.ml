@@ -766,6 +766,74 @@ let occluded_allocation =
             Alcotest.failf "%.0f minor words for %d shadow queries" words n)
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
 
+(* The scalar forms the renderer traces with against the vector forms, bit for bit: the
+   nearest hit of a probe, the normal at it, and the transparent crossings of a shadow
+   ray in the fold's order. *)
+let same_bits a b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
+
+let scalar_forms_prop =
+  QCheck.Test.make
+    ~name:
+      "nearest_probe, normal_into and transparent_crossings answer as nearest_into, \
+       normal and fold_transparent_hits, bit for bit"
+    ~count:40
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let prims = shadow_soup st in
+      let accels =
+        [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ]
+      in
+      let q = Probe.create () and f = Frag.create () in
+      for _ = 1 to 150 do
+        let r = rand_ray st in
+        let tmax = if Random.State.int st 4 = 0 then inf else rand_in st 0.5 30. in
+        List.iter
+          (fun a ->
+            let h = { Shape.tmin = 0.; tmax; t = inf } in
+            let i = Accel.nearest_into a r 0. tmax h in
+            Probe.of_ray q r;
+            q.p_tmin <- 0.;
+            q.p_tmax <- tmax;
+            let i' = Accel.nearest_probe a q in
+            if i <> i' || not (same_bits h.t q.p_t) then
+              QCheck.Test.fail_reportf "nearest (%d, %.17g), probe (%d, %.17g)" i h.t i'
+                q.p_t;
+            if i >= 0 then (
+              let o = prims.(i) in
+              let p = Ray.at r h.t in
+              let n = Primitive.normal o (Primitive.to_object o p) in
+              Frag.set_point f p.x p.y p.z;
+              Primitive.normal_into o f;
+              if not (same_bits n.x f.nx && same_bits n.y f.ny && same_bits n.z f.nz) then
+                QCheck.Test.fail_reportf
+                  "normal (%.17g, %.17g, %.17g), scalars (%.17g, %.17g, %.17g)" n.x n.y
+                  n.z f.nx f.ny f.nz);
+            let folded = ref [] and visited = ref [] in
+            ignore
+              (Accel.fold_transparent_hits a r 0. tmax
+                 (fun o t acc ->
+                   folded := (index_of prims o, t) :: !folded;
+                   acc)
+                 Color.white);
+            Probe.of_ray q r;
+            q.p_tmin <- 0.;
+            q.p_tmax <- tmax;
+            Accel.transparent_crossings a q (fun o ->
+                visited := (index_of prims o, q.p_t) :: !visited;
+                false);
+            let same (i, t) (j, u) = i = j && same_bits t u in
+            if
+              not
+                (List.length !folded = List.length !visited
+                && List.for_all2 same !folded !visited)
+            then
+              QCheck.Test.fail_reportf "fold %d crossings, probe %d" (List.length !folded)
+                (List.length !visited))
+          accels
+      done;
+      true)
+
 let bvh_tests =
   [
     case "small scenes skip the hierarchy, larger ones build it" (fun () ->
@@ -950,5 +1018,6 @@ let () =
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
+      ("scalar forms", [ seeded scalar_forms_prop ]);
       ("textures", texture_tests);
     ]
