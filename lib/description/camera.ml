@@ -86,11 +86,6 @@ let validate c =
             (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
         else Ok ()
 
-(* The fisheye's normalised image coordinates (n_x, n_y): the inscribed circle is ρ ≤ 1. *)
-let[@inline] fisheye_n ~width ~height x y =
-  let s = Float.of_int (Stdlib.min width height) in
-  (((2. *. x) -. Float.of_int width) /. s, (Float.of_int height -. (2. *. y)) /. s)
-
 (* The ray through image point (x, y), into the probe: origin and unit direction, as
    scalars (the vector forms' operations, component by component). Inlined where it is
    called, so that x and y stay unboxed. *)
@@ -142,11 +137,15 @@ let ray c ~width ~height x y =
   ray_into c ~width ~height x y q;
   Probe.to_ray q
 
-let in_view c ~width ~height x y =
+(* Inlined: x and y stay unboxed. The fisheye's normalised image coordinates are those of
+   [ray_into]: the inscribed circle is ρ ≤ 1. *)
+let[@inline] in_view c ~width ~height x y =
   match c.kind with
   | Perspective | Orthographic _ -> true
   | Fisheye ->
-      let nx, ny = fisheye_n ~width ~height x y in
+      let s = Float.of_int (Stdlib.min width height) in
+      let nx = ((2. *. x) -. Float.of_int width) /. s
+      and ny = (Float.of_int height -. (2. *. y)) /. s in
       Float.sqrt ((nx *. nx) +. (ny *. ny)) <= 1.
 
 let lens_point c a b u1 u2 =

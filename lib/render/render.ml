@@ -4,21 +4,24 @@ let tile_size = 32
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
 
 (* A tile's scratch: the shading scratch, where each sample leaves its colour (in its
-   fragment), and the four samples of an adaptive pixel's first pass with room to
-   compare them. Made for each tile,
+   fragment), and in [coarse] the four samples of an adaptive pixel's first pass (0–11),
+   room to compare them (12–16) and the image point of a sample through a camera other
+   than the pinhole (17, 18). Made for each tile,
    so that no two domains share one. *)
 type scratch = { shade : Shade.scratch; coarse : Float.Array.t }
 
-let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 17 0. }
+let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 19 0. }
 
 (* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
    (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
    and with depth of field the average of its n×n lens rays. Lens point (a, b) lies in
    its stratum by a hash of frame, pixel, sample and (a, b), so the image does not depend
    on which domain renders which tile. Its colour goes into the fragment. *)
-let camera_sample (sc : Scene.t) (st : Stats.t) scr i j x y =
+let camera_sample (sc : Scene.t) (st : Stats.t) scr i j =
   let s = sc.settings and c = sc.view in
   let f = Shade.frag scr.shade in
+  let x = Float.Array.unsafe_get scr.coarse 17
+  and y = Float.Array.unsafe_get scr.coarse 18 in
   if not (Camera.in_view c ~width:s.width ~height:s.height x y) then
     Frag.set_color f (Shade.miss sc c.f)
   else if not (Camera.depth_of_field c) then (
@@ -63,7 +66,11 @@ let[@inline] sample (sc : Scene.t) (st : Stats.t) scr i j x y =
     st.primary <- st.primary + 1;
     Camera.ray_into sc.view ~width:s.width ~height:s.height x y (Shade.probe scr.shade);
     Shade.trace_into sc st scr.shade 1)
-  else camera_sample sc st scr i j x y;
+  else (
+    (* Through the scratch: arguments would be boxed. *)
+    Float.Array.unsafe_set scr.coarse 17 x;
+    Float.Array.unsafe_set scr.coarse 18 y;
+    camera_sample sc st scr i j);
   let f = Shade.frag scr.shade in
   if not (Float.is_finite f.r && Float.is_finite f.g && Float.is_finite f.b) then (
     st.bad_samples <- st.bad_samples + 1;
