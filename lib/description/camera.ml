@@ -148,14 +148,37 @@ let[@inline] in_view c ~width ~height x y =
       and ny = (Float.of_int height -. (2. *. y)) /. s in
       Float.sqrt ((nx *. nx) +. (ny *. ny)) <= 1.
 
+(* The polar coordinates of lens point (a, b): radius and angle. *)
+let[@inline] lens_radius c a u1 =
+  c.aperture *. Float.sqrt ((Float.of_int a +. u1) /. Float.of_int c.lens_samples)
+
+let[@inline] lens_angle c b u2 =
+  2. *. Float.pi *. (Float.of_int b +. u2) /. Float.of_int c.lens_samples
+
 let lens_point c a b u1 u2 =
-  let n = Float.of_int c.lens_samples in
-  let rr = c.aperture *. Float.sqrt ((Float.of_int a +. u1) /. n) in
-  let th = 2. *. Float.pi *. (Float.of_int b +. u2) /. n in
+  let rr = lens_radius c a u1 and th = lens_angle c b u2 in
   (rr *. Float.cos th, rr *. Float.sin th)
 
+(* The lens ray from (ox, oy, oz) + lx·r + ly·u towards (ox, oy, oz) + focal_distance·d,
+   into the probe, in scalars. *)
+let[@inline] lens_ray_s c ox oy oz dx dy dz lx ly (q : Probe.t) =
+  let fd = c.focal_distance and r = c.r and u = c.u in
+  let fx = ox +. (fd *. dx) and fy = oy +. (fd *. dy) and fz = oz +. (fd *. dz) in
+  let x = ox +. (lx *. r.x) +. (ly *. u.x)
+  and y = oy +. (lx *. r.y) +. (ly *. u.y)
+  and z = oz +. (lx *. r.z) +. (ly *. u.z) in
+  Probe.set_origin q x y z;
+  Probe.set_unit_dir q (fx -. x) (fy -. y) (fz -. z)
+
 let lens_ray c pinhole lx ly =
-  let o = Ray.origin pinhole in
-  let focus = Vec3.madd o c.focal_distance (Ray.dir pinhole) in
-  let o' = Vec3.madd (Vec3.madd o lx c.r) ly c.u in
-  Ray.make o' (Vec3.sub focus o')
+  let o = Ray.origin pinhole and d = Ray.dir pinhole in
+  let q = Probe.create () in
+  lens_ray_s c o.x o.y o.z d.x d.y d.z lx ly q;
+  Probe.to_ray q
+
+let[@inline] lens_ray_into c (pin : Probe.t) a b u1 u2 (q : Probe.t) =
+  let rr = lens_radius c a u1 and th = lens_angle c b u2 in
+  lens_ray_s c pin.ox pin.oy pin.oz pin.dx pin.dy pin.dz
+    (rr *. Float.cos th)
+    (rr *. Float.sin th)
+    q

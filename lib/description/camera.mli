@@ -102,3 +102,8 @@ val lens_point : t -> int -> int -> float -> float -> float * float
 (** [lens_point c a b u1 u2] is lens point (a, b) of the n×n stratified pattern, with
     [u1], [u2] in \[0, 1) its place inside its stratum: radius A·√((a + u1)/n) and angle
     2π(b + u2)/n, as (lx, ly). *)
+
+val lens_ray_into : t -> Probe.t -> int -> int -> float -> float -> Probe.t -> unit
+(** [lens_ray_into c pin a b u1 u2 q] writes into [q] the origin and unit direction of
+    [lens_ray c pinhole lx ly] for lens point [(lx, ly) = lens_point c a b u1 u2], the
+    pinhole ray held in [pin], bit for bit and building nothing (inlined). *)

@@ -4,13 +4,14 @@ let tile_size = 32
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
 
 (* A tile's scratch: the shading scratch, where each sample leaves its colour (in its
-   fragment), and in [coarse] the four samples of an adaptive pixel's first pass (0–11),
-   room to compare them (12–16) and the image point of a sample through a camera other
-   than the pinhole (17, 18). Made for each tile,
-   so that no two domains share one. *)
-type scratch = { shade : Shade.scratch; coarse : Float.Array.t }
+   fragment); in [coarse] the four samples of an adaptive pixel's first pass (0–11), room
+   to compare them (12–16) and the image point of a sample through a camera other than
+   the pinhole (17, 18); in [pin] the pinhole ray of a depth-of-field sample. Made for
+   each tile, so that no two domains share one. *)
+type scratch = { shade : Shade.scratch; coarse : Float.Array.t; pin : Probe.t }
 
-let scratch () = { shade = Shade.scratch (); coarse = Float.Array.make 19 0. }
+let scratch () =
+  { shade = Shade.scratch (); coarse = Float.Array.make 19 0.; pin = Probe.create () }
 
 (* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
    (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
@@ -29,7 +30,8 @@ let camera_sample (sc : Scene.t) (st : Stats.t) scr i j =
     st.primary <- st.primary + 1;
     Shade.trace_into sc st scr.shade 1)
   else
-    let ray = Camera.ray c ~width:s.width ~height:s.height x y in
+    let pin = scr.pin in
+    Camera.ray_into c ~width:s.width ~height:s.height x y pin;
     let n = c.lens_samples in
     let h0 =
       Hash.combine
@@ -40,13 +42,11 @@ let camera_sample (sc : Scene.t) (st : Stats.t) scr i j =
     for a = 0 to n - 1 do
       for b = 0 to n - 1 do
         let hk = Hash.combine h0 ((a * 4096) + b) in
-        let lx, ly =
-          Camera.lens_point c a b
-            (Hash.to_unit (Hash.combine hk 2))
-            (Hash.to_unit (Hash.combine hk 3))
-        in
         st.primary <- st.primary + 1;
-        Probe.of_ray (Shade.probe scr.shade) (Camera.lens_ray c ray lx ly);
+        Camera.lens_ray_into c pin a b
+          (Hash.to_unit (Hash.combine hk 2))
+          (Hash.to_unit (Hash.combine hk 3))
+          (Shade.probe scr.shade);
         Shade.trace_into sc st scr.shade 1;
         ar := !ar +. f.r;
         ag := !ag +. f.g;
