@@ -182,6 +182,10 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
         with (Cli.User_error _ | Job_error.Scene _) as e ->
           Error (fst (Report.describe e))
       in
+      (* A frame may read files that frame 0 does not (an image chosen by [frame]): they
+         are watched from the first version that reads them. *)
+      with_lock sh (fun () ->
+          sh.inputs <- List.sort_uniq compare (Lang.inputs p @ sh.inputs));
       match evaluated with
       | Error text -> failed text []
       | Ok (sc, coarse) ->

@@ -174,6 +174,43 @@ let includes ~poll () =
       Alcotest.(check bool) "the picture changed" true (count_diff a b > 100);
       close_events e)
 
+(* An image that only a later frame reads is watched once that frame has been shown:
+   changing it brings a new image of that frame (not the old pixels from the cache). *)
+let late_image () =
+  let d = tmpdir () in
+  let ppm r g b =
+    "P6\n2 2\n255\n"
+    ^ String.concat "" (List.init 4 (fun _ -> Printf.sprintf "%c%c%c" r g b))
+  in
+  Run_lancer.write_file (Filename.concat d "early.ppm") (ppm '\200' '\030' '\030');
+  Run_lancer.write_file (Filename.concat d "late.ppm") (ppm '\030' '\200' '\030');
+  Run_lancer.write_file (Filename.concat d "s.rts")
+    {|settings { width: 48, height: 36 }
+animation { fps: 10, frames: 4 }
+camera { position: (0, 2, -6), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+sphere { center: (0, 1, 0), radius: 1.5,
+         material: material { texture: image(if frame >= 2 then "late.ppm" else "early.ppm", 1) } }
+|};
+  with_server d (fun s ->
+      let e = events s in
+      ignore (wait_for e "frame 0" is_last);
+      let st, _ = request ~meth:"POST" s "/control?frame=3" in
+      Alcotest.(check int) "frame chosen" 204 st;
+      let _, j =
+        wait_for e "frame 3" (fun ev j -> is_last ev j && to_int (member "frame" j) = 3)
+      in
+      let _, _, a, _ = pixels s (to_int (member "seq" j)) in
+      Unix.sleepf 1.1;
+      Run_lancer.write_file (Filename.concat d "late.ppm") (ppm '\030' '\030' '\200');
+      let _, j =
+        wait_for e "frame 3 after its image changed" (fun ev j ->
+            is_last ev j && to_int (member "frame" j) = 3)
+      in
+      let _, _, b, _ = pixels s (to_int (member "seq" j)) in
+      Alcotest.(check bool) "the picture changed" true (count_diff a b > 100);
+      close_events e)
+
 (* A slow version is dropped when a newer one arrives: its full image never comes. *)
 let cancel () =
   let d = tmpdir () in
@@ -422,6 +459,8 @@ let () =
             animation;
           Alcotest.test_case "a newer version cancels the render in progress" `Quick
             cancel;
+          Alcotest.test_case "an image only a later frame reads is watched too" `Quick
+            late_image;
           Alcotest.test_case
             "a missing scene, a host name, a port in use: one line, exit 1" `Quick
             mistakes;
