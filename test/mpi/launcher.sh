@@ -196,7 +196,11 @@ stop "Ctrl-C three times (mpirun's forcible termination)" group group group
 if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev/null 2>&1; then
   mkdir -p tty
   t0=$(now_ms)
-  { ranks_running tty; printf '\003'; sleep 8; } | timeout 40 script -qec \
+  { ranks_running tty; printf '\003'
+    # the terminal stays open until the launcher has ended (script(1) hangs up on its
+    # job when its input ends: a loaded machine may take seconds to end the job)
+    for _ in $(seq 1 300); do pgrep -f "^[^ ]*lancer-mpirun .*-o tty/" >/dev/null || break; sleep 0.1; done
+    sleep 0.5; } | timeout 60 script -qec \
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
   t1=$(now_ms)
