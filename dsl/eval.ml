@@ -38,8 +38,6 @@ let memory_refusal objects =
 type physics_method = D.physics_method = Exact | Verlet | Euler
 type physics = D.physics = { gravity : Vec3.t; method_ : physics_method; step : float }
 
-let default_physics = D.default_physics
-
 type body = D.body = {
   name : string;
   center : Vec3.t;
@@ -138,6 +136,26 @@ exception Abort
 
 let fail loc fmt = Printf.ksprintf (fun m -> raise (Fail (loc, m))) fmt
 
+(* The schema made ready for evaluation, once per block kind (see [specs_of]). *)
+
+type entry = {
+  sch : Schema.field;
+  default : value;
+      (** the schema's default, read as the literal it is; for a field without one, a
+          placeholder of its type (used only once the block has failed, or where the
+          evaluator supplies the value itself) *)
+  required : bool;  (** required whatever else the block holds *)
+  must : string;  (** [Schema.must] *)
+}
+
+type spec = { entries : entry list; names : string list }
+
+type specs = {
+  by_kind : (string, spec) Hashtbl.t;
+      (** by block id, and by keyword (a [light] is a point light until its fields say) *)
+  material : D.material;  (** [material { }]: every field at its default *)
+}
+
 (* ------------------------------------------------------------------------------------ *)
 (* Context *)
 
@@ -171,6 +189,7 @@ type ctx = {
   mutable warnings : Error.t list;  (** reversed *)
   on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
   cancel : Cancel.t option;  (** polled every 4096 steps *)
+  specs : specs;  (** the block kinds' fields *)
   definitions : (string * Loc.t) list Lazy.t;
       (** every name the program defines ([let], [fn], [body]), anywhere, where it is
           defined; built only for an unknown name's message *)
@@ -227,6 +246,14 @@ let finite_vec loc (v : Vec3.t) =
 let fmt_num x =
   if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x
   else Printf.sprintf "%g" x
+
+(* A whole number with its digits in groups of three: 10 000 000. *)
+let grouped n =
+  let s = string_of_int n in
+  let len = String.length s in
+  String.concat ""
+    (List.init len (fun i ->
+         (if i > 0 && (len - i) mod 3 = 0 then " " else "") ^ String.make 1 s.[i]))
 
 (* ------------------------------------------------------------------------------------ *)
 (* Built-in functions *)
@@ -474,6 +501,94 @@ let call_builtin name loc (args : (value * Loc.t) list) =
 let material_fields = Schema.field_names "material"
 let repeatable = Schema.repeatable
 
+(* ------------------------------------------------------------------------------------ *)
+(* The schema made ready for evaluation, once per block kind: each field's default as a
+   value, and what a message says of a number out of its range. *)
+
+(* A default of the schema, a literal written as in a scene. *)
+let literal (text : string) =
+  let rec value (e : expr) =
+    match e.e with
+    | Num x -> VNum x
+    | Str s -> VStr s
+    | Bool b -> VBool b
+    | Unop (Neg, a) -> ( match value a with VNum x -> VNum (-.x) | _ -> VPoison)
+    | Binop (Div, a, b) -> (
+        match (value a, value b) with VNum x, VNum y -> VNum (x /. y) | _ -> VPoison)
+    | Vec (a, b, c) -> (
+        match (value a, value b, value c) with
+        | VNum x, VNum y, VNum z -> VVec (Vec3.v x y z)
+        | _ -> VPoison)
+    | _ -> VPoison
+  in
+  match Syntax.parse ~file:"schema" ("let default = " ^ text) with
+  | Ok [ { s = Let (_, e); _ } ] when value e <> VPoison -> value e
+  | _ ->
+      invalid_arg (Printf.sprintf "Eval: the schema's default %S is not a literal" text)
+
+let placeholder (fl : Schema.field) =
+  match fl.ty with
+  | Number | Integer -> VNum 1.
+  | Boolean -> VBool false
+  | File -> VStr ""
+  | Choice l -> VStr (match l with c :: _ -> c | [] -> "")
+  | Vector | Colour -> VVec Vec3.zero
+  | Direction -> VVec Vec3.y_axis
+  | Material | Base_material | Texture | Bump | Scale | Background | Fog | Gamma ->
+      VPoison
+
+let spec_of (b : Schema.block) =
+  {
+    entries =
+      List.map
+        (fun (fl : Schema.field) ->
+          {
+            sch = fl;
+            default =
+              (match fl.default with
+              | Value v -> literal v
+              | Required | Absent _ -> placeholder fl);
+            required = fl.default = Required && fl.condition = Always;
+            must = Schema.must fl;
+          })
+        b.fields;
+    names = Schema.names_of b;
+  }
+
+let specs_of (blocks : Schema.block list) =
+  let by_kind = Hashtbl.create 64 in
+  List.iter
+    (fun (b : Schema.block) ->
+      let sp = spec_of b in
+      Hashtbl.replace by_kind b.id sp;
+      if not (Hashtbl.mem by_kind b.keyword) then Hashtbl.replace by_kind b.keyword sp)
+    blocks;
+  let m = Hashtbl.find by_kind "material" in
+  let d name =
+    match List.find_opt (fun e -> e.sch.name = name) m.entries with
+    | Some e -> e.default
+    | None -> invalid_arg ("Eval: the schema's material has no " ^ name)
+  in
+  let num n = match d n with VNum x -> x | _ -> invalid_arg ("Eval: material " ^ n) in
+  let material : D.material =
+    {
+      color = (match d "color" with VVec v -> Color.of_vec3 v | _ -> Color.white);
+      texture = None;
+      ambient = num "ambient";
+      diffuse = num "diffuse";
+      specular = num "specular";
+      shininess = num "shininess";
+      reflection = num "reflection";
+      transparency = num "transparency";
+      ior = num "ior";
+      fresnel = (match d "fresnel" with VBool x -> x | _ -> false);
+      bump = None;
+    }
+  in
+  { by_kind; material }
+
+let schema_specs = lazy (specs_of Schema.blocks)
+
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
 
@@ -481,6 +596,7 @@ type block = {
   ctx : ctx;
   kind : string;
   kloc : Loc.t;
+  mutable spec : spec;  (** its kind's fields (a light's is settled by its fields) *)
   mutable fields : fld list;
   mutable failed : bool;
   members : pending_obj list ref;
@@ -652,28 +768,29 @@ and eval_material ctx env loc items =
       "material" loc ~holds_objects:false items
   in
   check_names b material_fields;
+  (* A field left out keeps the base's value; without a base, the schema's default. *)
   let base =
     match live b "base" with
-    | None -> D.default_material
+    | None -> ctx.specs.material
     | Some f -> (
         match f.value with
         | VMat m -> m
         | v ->
             bad b f.vloc "`base` must be a material, got %s" (type_name v);
-            D.default_material)
+            ctx.specs.material)
   in
   let d = base in
   let m : D.material =
     {
       color = color b "color" ~default:d.color;
       texture = d.texture;
-      ambient = nonneg b "ambient" ~default:d.ambient;
-      diffuse = nonneg b "diffuse" ~default:d.diffuse;
-      specular = nonneg b "specular" ~default:d.specular;
-      shininess = nonneg b "shininess" ~default:d.shininess;
-      reflection = unit_range b "reflection" ~default:d.reflection;
-      transparency = unit_range b "transparency" ~default:d.transparency;
-      ior = positive b "ior" ~default:d.ior;
+      ambient = number b "ambient" ~default:d.ambient;
+      diffuse = number b "diffuse" ~default:d.diffuse;
+      specular = number b "specular" ~default:d.specular;
+      shininess = number b "shininess" ~default:d.shininess;
+      reflection = number b "reflection" ~default:d.reflection;
+      transparency = number b "transparency" ~default:d.transparency;
+      ior = number b "ior" ~default:d.ior;
       fresnel = boolean b "fresnel" ~default:d.fresnel;
       bump = d.bump;
     }
@@ -872,7 +989,17 @@ and bump ctx t =
            t.tname)
 
 and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
-  let b = { ctx; kind; kloc; fields = []; failed = false; members = ref [] } in
+  let b =
+    {
+      ctx;
+      kind;
+      kloc;
+      spec = spec_for ctx kind;
+      fields = [];
+      failed = false;
+      members = ref [];
+    }
+  in
   let inner =
     { sink = b.members; in_group = scope.in_group || holds_objects; in_csg = csg }
   in
@@ -1129,32 +1256,42 @@ and settings ctx env scope k items =
   once ctx "settings" ctx.settings k;
   let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
   check_names b (Schema.field_names "settings");
-  let d = Settings.default in
   let gamma =
+    let e = entry b "gamma" in
+    let gamma = function
+      | VStr s when String.lowercase_ascii s = "srgb" -> Some Settings.Srgb
+      | VNum g when Schema.in_range e.sch.range g -> Some (Settings.Power g)
+      | _ -> None
+    in
+    let default = Option.get (gamma e.default) in
     match live b "gamma" with
-    | None -> d.gamma
-    | Some { value = VStr s; _ } when String.lowercase_ascii s = "srgb" -> Settings.Srgb
-    | Some { value = VNum g; _ } when g > 0. && g <= 1e3 -> Settings.Power g
-    | Some f ->
-        bad b f.vloc "`gamma` must be \"srgb\" or a number in (0, 1000]";
-        d.gamma
+    | None -> default
+    | Some f -> (
+        match gamma f.value with
+        | Some g -> g
+        | None ->
+            bad b f.vloc "`gamma` must be \"srgb\" or a number in %s"
+              (Schema.range_text e.sch.range);
+            default)
   in
   let s : Settings.t =
     {
-      width = int_range b "width" ~lo:1 ~hi:65536 ~default:d.width;
-      height = int_range b "height" ~lo:1 ~hi:65536 ~default:d.height;
-      depth = int_range b "depth" ~lo:1 ~hi:Settings.max_depth ~default:d.depth;
-      samples = int_range b "samples" ~lo:1 ~hi:64 ~default:d.samples;
-      jitter = boolean b "jitter" ~default:d.jitter;
-      adaptive = nonneg b "adaptive" ~default:d.adaptive;
-      shadows = boolean b "shadows" ~default:d.shadows;
+      width = integer b "width";
+      height = integer b "height";
+      depth = integer b "depth";
+      samples = integer b "samples";
+      jitter = boolean b "jitter";
+      adaptive = number b "adaptive";
+      shadows = boolean b "shadows";
       background =
         (match live b "background" with
-        | Some { value = VTex _; _ } -> d.background
-        | _ -> color b "background" ~default:d.background);
+        | Some { value = VTex _; _ } ->
+            (* a gradient's horizon, once [environment] has read it *)
+            Color.of_vec3 (Option.get (as_vector (entry b "background").default))
+        | _ -> color b "background");
       sky = None;
       fog = None;
-      ambient = color b "ambient" ~default:d.ambient;
+      ambient = color b "ambient";
       gamma;
     }
   in
@@ -1206,13 +1343,12 @@ and camera ctx env scope k items =
   once ctx "camera" ctx.camera k;
   let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
   check_names b (Schema.field_names "camera");
-  let d = Camera.default in
   let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
   (* An unknown kind is reported once; the fields that depend on the kind are then not
      checked against a guess. *)
   let kind_name =
     match live b "kind" with
-    | None -> "perspective"
+    | None -> ( match (entry b "kind").default with VStr s -> s | _ -> "perspective")
     | Some { value = VStr s; _ } when List.mem s kinds -> s
     | Some { value = VStr s; vloc; _ } ->
         (match suggest s kinds with
@@ -1230,19 +1366,30 @@ and camera ctx env scope k items =
           (type_name f.value);
         "unknown"
   in
-  let position = point b "position" ~default:d.position in
-  let look_at = point b "look_at" ~default:d.look_at in
-  let up = point b "up" ~default:d.up in
-  let fov = number b "fov" ~default:d.fov in
+  let position = point b "position" in
+  let look_at = point b "look_at" in
+  let up = point b "up" in
+  (* The range of `fov` depends on the kind: checked below, for the kind. *)
+  let fov = number b "fov" ~check:(fun _ x -> x) in
+  let fov_of kind =
+    List.find
+      (fun e ->
+        e.sch.name = "fov"
+        && match e.sch.condition with Kind_in ks -> List.mem kind ks | _ -> false)
+      b.spec.entries
+  in
+  let perspective = fov_of "perspective" and fisheye = fov_of "fisheye" in
   (match field b "fov" with
-  | Some f when kind_name = "fisheye" && not (fov > 0. && fov <= 360.) ->
-      bad b f.vloc "a fisheye's `fov` must be in (0, 360] degrees, got %s" (fmt_num fov)
+  | Some f when kind_name = "fisheye" && not (Schema.in_range fisheye.sch.range fov) ->
+      bad b f.vloc "a fisheye's `fov` %s, got %s" fisheye.must (fmt_num fov)
   | Some f when kind_name = "orthographic" ->
       bad b f.vloc
         "an orthographic camera has no `fov`: its `width` sets how much it sees"
-  | Some f when kind_name = "perspective" && not (fov > 0. && fov < 180.) ->
-      bad b f.vloc "`fov` must be in (0, 180) degrees, got %s%s" (fmt_num fov)
-        (if fov >= 180. && fov <= 360. then " (a wider view needs kind: \"fisheye\")"
+  | Some f
+    when kind_name = "perspective" && not (Schema.in_range perspective.sch.range fov) ->
+      bad b f.vloc "`fov` %s, got %s%s" perspective.must (fmt_num fov)
+        (if Schema.in_range fisheye.sch.range fov then
+           " (a wider view needs kind: \"fisheye\")"
          else "")
   | _ -> ());
   let width =
@@ -1254,11 +1401,12 @@ and camera ctx env scope k items =
         bad b k.nloc
           "an orthographic camera needs a `width` (world units across the image)";
         1.
-    | _ -> length b "width" ~default:1.
+    | _ -> number b "width"
   in
-  let aperture = nonneg b "aperture" ~default:d.aperture in
-  let focal_distance = length b "focal_distance" ~default:d.focal_distance in
-  let lens_samples = int_range b "lens_samples" ~lo:1 ~hi:64 ~default:d.lens_samples in
+  let aperture = number b "aperture" in
+  (* Without an aperture, the focal distance is the camera's own default (unused). *)
+  let focal_distance = number b "focal_distance" ~default:Camera.default.focal_distance in
+  let lens_samples = integer b "lens_samples" in
   (match (field b "aperture", field b "focal_distance") with
   | Some _, None when aperture > 0. ->
       bad b k.nloc
@@ -1295,24 +1443,37 @@ and animation ctx env scope k items =
   once ctx "animation" ctx.animation k;
   let b = collect ctx env scope "animation" k.nloc ~holds_objects:false items in
   check_names b (Schema.field_names "animation");
-  let fps = positive b "fps" ~default:24. in
-  (match field b "fps" with
-  | Some f when fps > 1000. -> bad b f.vloc "`fps` must be at most 1000"
-  | _ -> ());
+  (* A rate above its limit is told as such, not as a range. *)
+  let fps =
+    let e = entry b "fps" in
+    number b "fps" ~check:(fun f x ->
+        (match e.sch.range with
+        | Real (Excl lo, Incl hi) ->
+            if not (x > lo && x <= Schema.big) then
+              bad b f.vloc "`fps` must be greater than %s, got %s" (fmt_num lo)
+                (fmt_num x);
+            if x > hi then bad b f.vloc "`fps` must be at most %s" (fmt_num hi)
+        | r ->
+            if not (Schema.in_range r x) then
+              bad b f.vloc "`fps` %s, got %s" e.must (fmt_num x));
+        x)
+  in
   let frames =
     match (field b "frames", field b "duration") with
     | Some _, Some f ->
         bad b f.vloc "give `frames` or `duration`, not both";
         1
-    | Some _, None -> int_range b "frames" ~lo:1 ~hi:10_000_000 ~default:1
+    | _, None -> integer b "frames"
     | None, Some f ->
-        let d = positive b "duration" ~default:1. in
+        let d = number b "duration" in
         let n = Float.round (d *. fps) in
-        if n > 1e7 then (
-          bad b f.vloc "this animation would have more than 10 000 000 frames";
+        let most =
+          match (entry b "frames").sch.range with Whole (_, hi) -> hi | _ -> max_int
+        in
+        if n > Float.of_int most then (
+          bad b f.vloc "this animation would have more than %s frames" (grouped most);
           1)
         else max 1 (int_of_float n)
-    | None, None -> 48
   in
   finish b;
   ctx.animation <- Some ((fps, frames), k.nloc)
@@ -1321,11 +1482,16 @@ and physics ctx env scope k items =
   once ctx "physics" ctx.physics k;
   let b = collect ctx env scope "physics" k.nloc ~holds_objects:false items in
   check_names b (Schema.field_names "physics");
-  let d = default_physics in
-  let gravity = point b "gravity" ~default:d.gravity in
+  let gravity = point b "gravity" in
   let method_ =
+    let default =
+      match (entry b "method").default with
+      | VStr "verlet" -> Verlet
+      | VStr "euler" -> Euler
+      | _ -> Exact
+    in
     match live b "method" with
-    | None -> d.method_
+    | None -> default
     | Some { value = VStr "exact"; _ } -> Exact
     | Some { value = VStr "verlet"; _ } -> Verlet
     | Some { value = VStr "euler"; _ } -> Euler
@@ -1333,14 +1499,14 @@ and physics ctx env scope k items =
         bad b vloc
           "unknown physics method \"%s\"%s; use \"exact\", \"verlet\" or \"euler\"" s
           (hint s [ "exact"; "verlet"; "euler" ]);
-        d.method_
+        default
     | Some f ->
         bad b f.vloc
           "`method` must be a string (\"exact\", \"verlet\" or \"euler\"), got %s"
           (type_name f.value);
-        d.method_
+        default
   in
-  let step = length b "step" ~default:d.step in
+  let step = number b "step" in
   finish b;
   ctx.physics <- Some ({ gravity; method_; step }, k.nloc)
 
@@ -1358,18 +1524,19 @@ and light ctx env scope k items =
       finish b
   | Some _, None ->
       check_names b (Schema.field_names "point_light");
-      let position = point b "position" ~default:Vec3.zero in
-      let color = color b "color" ~default:Color.white in
-      let intensity = nonneg b "intensity" ~default:1. in
-      let attenuation = point b "attenuation" ~default:(Vec3.v 1. 0. 0.) in
+      b.spec <- spec_for ctx "point_light";
+      let position = point b "position" in
+      let color = color b "color" in
+      let intensity = number b "intensity" in
+      let attenuation = point b "attenuation" in
       (match field b "attenuation" with
       | Some f
         when attenuation.x < 0. || attenuation.y < 0. || attenuation.z < 0.
              || Vec3.max_abs attenuation = 0. ->
           bad b f.vloc "`attenuation` (a0, a1, a2) must be non-negative and not all zero"
       | _ -> ());
-      let radius = nonneg b "radius" ~default:0. in
-      let samples = int_range b "samples" ~lo:1 ~hi:64 ~default:1 in
+      let radius = number b "radius" in
+      let samples = integer b "samples" in
       let spot =
         match field b "point_at" with
         | None ->
@@ -1382,14 +1549,8 @@ and light ctx env scope k items =
               [ "inner"; "outer" ];
             None
         | Some pf -> (
-            let point_at = point b "point_at" ~default:Vec3.zero in
-            let angle n ~default =
-              check_range b n
-                (fun x -> x >= 0. && x <= 180.)
-                "must be an angle in [0, 180] degrees" (number b n ~default)
-            in
-            let inner = angle "inner" ~default:30.
-            and outer = angle "outer" ~default:45. in
+            let point_at = point b "point_at" in
+            let inner = number b "inner" and outer = number b "outer" in
             if b.failed then None
             else
               match Light.spot ~position ~point_at ~inner ~outer with
@@ -1411,11 +1572,12 @@ and light ctx env scope k items =
         :: ctx.lights
   | None, Some f ->
       check_names b (Schema.field_names "directional_light");
-      let direction = point b "direction" ~default:Vec3.y_axis in
+      b.spec <- spec_for ctx "directional_light";
+      let direction = point b "direction" in
       if Vec3.max_abs direction = 0. then
         bad b f.vloc "the `direction` of a light must not be (0, 0, 0)";
-      let color = color b "color" ~default:Color.white in
-      let intensity = nonneg b "intensity" ~default:1. in
+      let color = color b "color" in
+      let intensity = number b "intensity" in
       finish b;
       ctx.lights <- Light.directional ~color ~intensity direction :: ctx.lights
 
@@ -1483,86 +1645,72 @@ and shape b (k : name) : D.shape option =
   let built sh = if b.failed then None else Some sh in
   match k.id with
   | "sphere" ->
-      let center = point b "center" ~default:Vec3.zero ~required:true in
-      let radius = length b "radius" ~required:true ~default:1. in
+      let center = point b "center" in
+      let radius = number b "radius" in
       built (D.Sphere { center; radius })
   | "plane" ->
-      let normal = direction b "normal" ~required:true in
-      let offset = coord b "offset" ~default:0. in
+      let normal = direction b "normal" in
+      let offset = number b "offset" in
       built (D.Plane { normal; offset })
   | "parallelogram" ->
-      let origin = point b "origin" ~required:true ~default:Vec3.zero in
-      let edge1 = direction b "edge1" ~required:true in
-      let edge2 = direction b "edge2" ~required:true in
+      let origin = point b "origin" in
+      let edge1 = direction b "edge1" in
+      let edge2 = direction b "edge2" in
       if (not b.failed) && Vec3.length (Vec3.cross edge1 edge2) < 1e-300 then
         bad b b.kloc "the edges of a parallelogram must not be parallel";
       built (D.Parallelogram { origin; edge1; edge2 })
   | "triangle" ->
-      let a = point b "a" ~required:true ~default:Vec3.zero in
-      let bb = point b "b" ~required:true ~default:Vec3.zero in
-      let c = point b "c" ~required:true ~default:Vec3.zero in
+      let a = point b "a" in
+      let bb = point b "b" in
+      let c = point b "c" in
       if
         (not b.failed) && Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300
       then bad b b.kloc "the corners of a triangle must not be in a line";
       built (D.Triangle { a; b = bb; c })
   | "paraboloid" ->
-      let vertex = point b "vertex" ~required:true ~default:Vec3.zero in
-      let axis =
-        match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis"
-      in
-      let radius = length b "radius" ~required:true ~default:1. in
-      let height = length b "height" ~required:true ~default:1. in
+      let vertex = point b "vertex" in
+      let axis = direction b "axis" in
+      let radius = number b "radius" in
+      let height = number b "height" in
       built (D.Paraboloid { vertex; axis; radius; height })
   | "box" ->
-      let mn = point b "min" ~required:true ~default:Vec3.zero in
-      let mx = point b "max" ~required:true ~default:Vec3.one in
+      let mn = point b "min" in
+      let mx = point b "max" in
       if (not b.failed) && not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z) then
         bad b b.kloc "a box needs min < max on every axis";
       built (D.Box { min = mn; max = mx })
   | "cylinder" ->
-      let base = point b "base" ~required:true ~default:Vec3.zero in
-      let top = point b "top" ~required:true ~default:Vec3.y_axis in
-      let radius = length b "radius" ~required:true ~default:1. in
-      let caps = boolean b "caps" ~default:true in
+      let base = point b "base" in
+      let top = point b "top" in
+      let radius = number b "radius" in
+      let caps = boolean b "caps" in
       if (not b.failed) && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cylinder must differ";
       built (D.Cylinder { base; top; radius; caps })
   | "cone" ->
-      let base = point b "base" ~required:true ~default:Vec3.zero in
-      let top = point b "top" ~required:true ~default:Vec3.y_axis in
-      let radius n =
-        check_range b n
-          (fun x -> x >= 0. && x <= 1e150)
-          "must be a radius in [0, 1e150]"
-          (number b ~required:true n ~default:1.)
-      in
-      let r0 = radius "base_radius" and r1 = radius "top_radius" in
-      let caps = boolean b "caps" ~default:true in
+      let base = point b "base" in
+      let top = point b "top" in
+      let r0 = number b "base_radius" and r1 = number b "top_radius" in
+      let caps = boolean b "caps" in
       if (not b.failed) && Vec3.length (Vec3.sub top base) < 1e-150 then
         bad b b.kloc "the base and top of a cone must differ";
       if (not b.failed) && r0 < 1e-150 && r1 < 1e-150 then
         bad b b.kloc "a cone needs a `base_radius` or a `top_radius` greater than 0";
       built (D.Cone { base; top; base_radius = r0; top_radius = r1; caps })
   | "torus" ->
-      let center = point b "center" ~required:true ~default:Vec3.zero in
-      let major = length b "major" ~required:true ~default:1. in
-      let minor = length b "minor" ~required:true ~default:0.25 in
-      let axis =
-        match field b "axis" with None -> Vec3.y_axis | Some _ -> direction b "axis"
-      in
+      let center = point b "center" in
+      let major = number b "major" in
+      let minor = number b "minor" in
+      let axis = direction b "axis" in
       built (D.Torus { center; axis; major; minor })
   | "disk" ->
-      let center = point b "center" ~required:true ~default:Vec3.zero in
-      let normal = direction b "normal" ~required:true in
-      let radius = length b "radius" ~required:true ~default:1. in
+      let center = point b "center" in
+      let normal = direction b "normal" in
+      let radius = number b "radius" in
       built (D.Disk { center; normal; radius })
   | "mesh" ->
-      let file =
-        get b "file" ~default:"" ~required:true "a file name string" (function
-          | VStr s -> Some s
-          | _ -> None)
-      in
-      let smooth = boolean b "smooth" ~default:true in
+      let file = file b "file" in
+      let smooth = boolean b "smooth" in
       if b.failed then None
       else
         let path = Loc.relative_to b.kloc.file file in
@@ -1571,13 +1719,9 @@ and shape b (k : name) : D.shape option =
         b.ctx.on_file (D.Model { file; path; smooth; at; solid_in = None });
         Some (D.Mesh { file; path; smooth; at })
   | "height_field" ->
-      let file =
-        get b "file" ~default:"" ~required:true "a file name string" (function
-          | VStr s -> Some s
-          | _ -> None)
-      in
-      let origin = point b "origin" ~default:Vec3.zero in
-      let size = point b "size" ~required:true ~default:Vec3.one in
+      let file = file b "file" in
+      let origin = point b "origin" in
+      let size = point b "size" in
       (match field b "size" with
       | Some f when not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) ->
           bad b f.vloc
@@ -1701,9 +1845,9 @@ and body ctx env scope loc (n : name) items =
     fail n.nloc "body `%s` is defined twice" n.id;
   let b = collect ctx env scope "body" n.nloc ~holds_objects:true items in
   check_names b (Schema.field_names "body");
-  let velocity = point b "velocity" ~default:Vec3.zero in
-  let mass = positive b "mass" ~default:1. in
-  let restitution = unit_range b "restitution" ~default:0.9 in
+  let velocity = point b "velocity" in
+  let mass = number b "mass" in
+  let restitution = number b "restitution" in
   finish b;
   ctx.objects <- ctx.objects - List.length !(b.members);
   match !(b.members) with
@@ -1753,115 +1897,127 @@ and check_names b allowed =
           (hint f.name.id allowed))
     b.fields
 
+and spec_for ctx kind =
+  match Hashtbl.find_opt ctx.specs.by_kind kind with
+  | Some sp -> sp
+  | None -> invalid_arg ("Eval: no block kind " ^ kind ^ " in the schema")
+
+(* The schema's entry for a field of the block (the first, for a field listed under
+   several conditions). *)
+and entry b name =
+  let rec find = function
+    | e :: rest -> if String.equal e.sch.name name then e else find rest
+    | [] ->
+        invalid_arg (Printf.sprintf "Eval: no field %s of %s in the schema" name b.kind)
+  in
+  find b.spec.entries
+
+(* A field's value as [conv] reads it, then [check]ed; when the field is left out, its
+   default ([default], or the schema's); when it is missing although required, or its
+   value is wrong, the same after reporting it. *)
 and get :
     'a.
-    block -> string -> default:'a -> required:bool -> string -> (value -> 'a option) -> 'a
-    =
- fun b name ~default ~required what conv ->
+    ?default:'a ->
+    ?check:(fld -> 'a -> 'a) ->
+    block ->
+    string ->
+    string ->
+    (value -> 'a option) ->
+    'a =
+ fun ?default ?check b name what conv ->
+  let e = entry b name in
+  let fallback () =
+    match default with
+    | Some d -> d
+    | None -> (
+        match conv e.default with
+        | Some x -> x
+        | None -> invalid_arg ("Eval: the schema's default of " ^ name))
+  in
   match field b name with
   | None ->
       (* A misspelt field already reported as unknown, with this one as its hint, is not
          reported missing as well (a field of the block's own is not misspelt: a
          triangle's `b` does not stand for a missing `c`). *)
       let misspelt =
-        required
+        e.required
         && List.exists
              (fun f ->
-               (not (List.mem f.name.id (Schema.field_names b.kind)))
+               (not (List.mem f.name.id b.spec.names))
                && suggest f.name.id [ name ] = Some name)
              b.fields
       in
-      if required && misspelt then b.failed <- true
-      else if required then bad b b.kloc "%s needs a `%s` field" b.kind name;
-      default
-  | Some { value = VPoison; _ } -> default
+      if e.required && misspelt then b.failed <- true
+      else if e.required then bad b b.kloc "%s needs a `%s` field" b.kind name;
+      fallback ()
+  | Some { value = VPoison; _ } -> fallback ()
   | Some f -> (
       match conv f.value with
-      | Some x -> x
+      | Some x -> ( match check with Some c -> c f x | None -> x)
       | None ->
           bad b f.vloc "`%s` must be %s, got %s" name what (type_name f.value);
-          default)
+          fallback ())
 
-and number b ?(required = false) name ~default =
-  get b name ~default ~required "a number" (function VNum x -> Some x | _ -> None)
+and as_number = function VNum x -> Some x | _ -> None
+and as_vector = function VVec v -> Some v | _ -> None
 
-and boolean b name ~default =
-  get b name ~default ~required:false "true or false" (function
-    | VBool x -> Some x
-    | _ -> None)
+(* A number, refused outside the field's range; [check] instead checks it otherwise. *)
+and number ?default ?check b name =
+  let check =
+    match check with
+    | Some c -> c
+    | None ->
+        fun f x ->
+          let e = entry b name in
+          if not (Schema.in_range e.sch.range x) then
+            bad b f.vloc "`%s` %s, got %s" name e.must (fmt_num x);
+          x
+  in
+  get ?default ~check b name "a number" as_number
 
-and vector b ?(required = false) name ~default =
-  get b name ~default ~required "a vector (x, y, z)" (function
-    | VVec v -> Some v
-    | _ -> None)
+(* A whole number in the field's range. *)
+and integer b name =
+  let e = entry b name in
+  let x =
+    get b name "a number" as_number ~check:(fun f x ->
+        if Schema.in_range e.sch.range x then x
+        else (
+          bad b f.vloc "`%s` %s, got %s" name e.must (fmt_num x);
+          Option.get (as_number e.default)))
+  in
+  int_of_float x
 
-and check_range b name ok msg x =
-  (match field b name with
-  | Some f when not (ok x) -> bad b f.vloc "`%s` %s, got %s" name msg (fmt_num x)
-  | _ -> ());
-  x
+and boolean ?default b name =
+  get ?default b name "true or false" (function VBool x -> Some x | _ -> None)
 
-and nonneg b name ~default =
-  check_range b name
-    (fun x -> x >= 0. && x <= 1e150)
-    "must be in [0, 1e150]" (number b name ~default)
-
-and positive b name ~default =
-  check_range b name
-    (fun x -> x > 0. && x <= 1e150)
-    "must be greater than 0" (number b name ~default)
-
-and unit_range b name ~default =
-  check_range b name
-    (fun x -> x >= 0. && x <= 1.)
-    "must be in [0, 1]" (number b name ~default)
-
-and length b ?(required = false) name ~default =
-  check_range b name
-    (fun x -> x >= 1e-150 && x <= 1e150)
-    "must be a length in [1e-150, 1e150]"
-    (number b ~required name ~default)
-
-and coord b name ~default =
-  check_range b name
-    (fun x -> Float.abs x <= 1e150)
-    "must be within ±1e150" (number b name ~default)
-
-and int_range b name ~lo ~hi ~default =
-  let x = number b name ~default:(Float.of_int default) in
-  match field b name with
-  | Some f when not (Float.is_integer x && x >= Float.of_int lo && x <= Float.of_int hi)
-    ->
-      bad b f.vloc "`%s` must be a whole number in [%d, %d], got %s" name lo hi
-        (fmt_num x);
-      default
-  | _ -> int_of_float x
+and file b name =
+  get b name "a file name string" (function VStr s -> Some s | _ -> None)
 
 and check_coords b f (v : Vec3.t) =
-  if not (Float.abs v.x <= 1e150 && Float.abs v.y <= 1e150 && Float.abs v.z <= 1e150) then
-    bad b f.vloc "the coordinates of `%s` must be within ±1e150" f.name.id
+  let ok x = Float.abs x <= Schema.big in
+  if not (ok v.x && ok v.y && ok v.z) then
+    bad b f.vloc "the coordinates of `%s` must be %s" f.name.id
+      (Schema.range_text Schema.coordinate)
 
-and point b ?(required = false) name ~default =
-  let v = vector b ~required name ~default in
-  (match field b name with Some f -> check_coords b f v | None -> ());
-  v
+(* A vector with coordinates within ±1e150; [check] checks it further. *)
+and point ?default ?(check = fun _ v -> v) b name =
+  get ?default b name "a vector (x, y, z)" as_vector ~check:(fun f v ->
+      check_coords b f v;
+      check f v)
 
-and direction b ?(required = false) name =
-  let v = point b ~required name ~default:Vec3.y_axis in
-  (match field b name with
-  | Some f when Vec3.max_abs v < 1e-150 ->
-      bad b f.vloc "`%s` must be a non-zero vector" name
-  | _ -> ());
-  v
+and direction b name =
+  point b name ~check:(fun f v ->
+      if Vec3.max_abs v < 1e-150 then bad b f.vloc "`%s` must be a non-zero vector" name;
+      v)
 
-and color b name ~default =
-  let v = point b name ~default:(Color.to_vec3 default) in
-  (match field b name with
-  | Some f when v.x < 0. || v.y < 0. || v.z < 0. ->
-      bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name
-        (fmt_num v.x) (fmt_num v.y) (fmt_num v.z)
-  | _ -> ());
-  Color.of_vec3 v
+and color ?default b name =
+  let default = Option.map Color.to_vec3 default in
+  Color.of_vec3
+    (point ?default b name ~check:(fun f v ->
+         if v.x < 0. || v.y < 0. || v.z < 0. then
+           bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name
+             (fmt_num v.x) (fmt_num v.y) (fmt_num v.z);
+         v))
 
 (* ------------------------------------------------------------------------------------ *)
 (* A whole program *)
@@ -1910,10 +2066,14 @@ let initial_env ~time ~frame =
   env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time)
   |> Env.add "frame" (VNum (Float.of_int frame))
 
-let run ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = ignore) ~file
-    ~sources ~time ~frame stmts =
+let run ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = ignore) ?schema
+    ~file ~sources ~time ~frame stmts =
   let ctx =
     {
+      specs =
+        (match schema with
+        | None -> Lazy.force schema_specs
+        | Some blocks -> specs_of blocks);
       on_file;
       on_objects;
       cancel;

@@ -32,6 +32,7 @@ val run :
   ?cancel:Cancel.t ->
   ?objects:bool ->
   ?on_file:(Description.file_use -> unit) ->
+  ?schema:Schema.block list ->
   file:string ->
   sources:(string, string) Hashtbl.t ->
   time:float ->
@@ -47,7 +48,9 @@ val run :
     build). [on_file] is told each use of a file (image, mesh, height field) as it is met,
     also in a run that fails: what reading them finds wrong is the renderer's to report.
     [cancel] is polled every 4096 loop iterations and calls: once it is cancelled, [run]
-    raises [Sys.Break]. *)
+    raises [Sys.Break]. A block's fields, their defaults and their ranges are those of
+    [schema] ({!Schema.blocks} unless told: another is for testing that the evaluator
+    follows it). *)
 
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close

@@ -28,6 +28,8 @@ type field = {
   default : default;
   repeats : bool;
   condition : condition;
+  noun : string;
+  unit : string;
   doc : string;
 }
 
@@ -48,9 +50,10 @@ let unit_interval = Real (Incl 0., Incl 1.)
 let length = Real (Incl 1e-150, Incl big)
 let coordinate = Real (Incl (-.big), Incl big)
 
-let f ?(range = Any) ?(default = Required) ?(repeats = false) ?(condition = Always) name
-    ty doc =
-  { name; ty; range; default; repeats; condition; doc }
+(* A number in the range of a length is called a length in messages. *)
+let f ?(range = Any) ?(default = Required) ?(repeats = false) ?(condition = Always)
+    ?(noun = if range = length then "a length" else "") ?(unit = "") name ty doc =
+  { name; ty; range; default; repeats; condition; noun; unit; doc }
 
 let opt v = Value v
 
@@ -133,9 +136,10 @@ let shape_blocks =
     shape "cone" ~doc:"either radius may be 0 (a point)"
       [
         f "base" Vector "the centre of one end";
-        f "base_radius" Number ~range:(Real (Incl 0., Incl big)) "the radius at the base";
+        f "base_radius" Number ~range:non_negative ~noun:"a radius"
+          "the radius at the base";
         f "top" Vector "the centre of the other end";
-        f "top_radius" Number ~range:(Real (Incl 0., Incl big)) "the radius at the top";
+        f "top_radius" Number ~range:non_negative ~noun:"a radius" "the radius at the top";
         f "caps" Boolean ~default:(opt "true") "closed by disks (a solid)";
       ];
     shape "torus"
@@ -188,7 +192,7 @@ let blocks =
           ~range:(Whole (1, 65536))
           ~default:(opt "480") "image height in pixels";
         f "depth" Integer
-          ~range:(Whole (1, 1000))
+          ~range:(Whole (1, Settings.max_depth))
           ~default:(opt "5") "maximum ray depth (primary rays are depth 1)";
         f "samples" Integer
           ~range:(Whole (1, 64))
@@ -214,11 +218,11 @@ let blocks =
         f "up" Vector ~default:(opt "(0, 1, 0)") "the image's upright; not along the view";
         f "fov" Number
           ~range:(Real (Excl 0., Excl 180.))
-          ~default:(opt "60") ~condition:(Kind_in [ "perspective" ])
+          ~unit:"degrees" ~default:(opt "60") ~condition:(Kind_in [ "perspective" ])
           "vertical field of view, degrees";
         f "fov" Number
           ~range:(Real (Excl 0., Incl 360.))
-          ~default:(opt "60") ~condition:(Kind_in [ "fisheye" ])
+          ~unit:"degrees" ~default:(opt "60") ~condition:(Kind_in [ "fisheye" ])
           "angle across the image's inscribed circle, degrees";
         f "width" Number ~range:length ~condition:(Kind_in [ "orthographic" ])
           "width of the view in world units";
@@ -247,11 +251,12 @@ let blocks =
           "makes a spot light pointing there";
         f "inner" Number
           ~range:(Real (Incl 0., Incl 180.))
-          ~default:(opt "30") ~condition:(With "point_at")
-          "full light within this angle of the axis, degrees";
+          ~noun:"an angle" ~unit:"degrees" ~default:(opt "30")
+          ~condition:(With "point_at") "full light within this angle of the axis, degrees";
         f "outer" Number
           ~range:(Real (Incl 0., Incl 180.))
-          ~default:(opt "45") ~condition:(With "point_at")
+          ~noun:"an angle" ~unit:"degrees" ~default:(opt "45")
+          ~condition:(With "point_at")
           "no light beyond this angle, degrees; at least `inner`";
       ];
     top "directional_light" ~keyword:"light" ~chosen_by:"direction"
@@ -424,6 +429,24 @@ let value_text (fl : field) =
   if r = "" then t
   else if String.starts_with ~prefix:"within" r then t ^ " " ^ r
   else t ^ " in " ^ r
+
+let must (fl : field) =
+  let noun = if fl.ty = Integer then "a whole number" else fl.noun in
+  match fl.range with
+  | Real (Excl a, Incl b) when b = big && noun = "" ->
+      (* Every number is within ±1e150: a positive one is only said to be positive. *)
+      "must be greater than " ^ num a
+  | r ->
+      let r = range_text r in
+      String.concat " "
+        (List.filter
+           (fun w -> w <> "")
+           [
+             "must be";
+             noun;
+             (if String.starts_with ~prefix:"within" r then r else "in " ^ r);
+             fl.unit;
+           ])
 
 let condition_text = function
   | Always -> ""

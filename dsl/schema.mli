@@ -3,9 +3,10 @@
     it is required), whether it may be given more than once, when it applies and one line
     of documentation.
 
-    The evaluator takes its allowed field names from here, the static check of a program
-    ({!Static_check}) its types, and the field tables of the language reference
-    (dsl/README.md) are generated from it. *)
+    The evaluator takes from here the fields it allows, each field's default and its range
+    (and how its messages word the range), the static check of a program ({!Static_check})
+    its types, and the field tables of the language reference (dsl/README.md) are
+    generated from it. *)
 
 (** The value a field takes. *)
 type ty =
@@ -35,7 +36,10 @@ type range =
 
 type default =
   | Required
-  | Value of string  (** the default, as it would be written in a scene *)
+  | Value of string
+      (** the default, as it would be written in a scene: a literal (a number, [-x], a
+          fraction [a/b], a vector of those, a string, [true] or [false]); the evaluator
+          uses it as if it were written *)
   | Absent of string  (** no value: what leaving the field out means *)
 
 (** When a field applies. *)
@@ -52,6 +56,13 @@ type field = {
   default : default;
   repeats : bool;  (** may be given more than once, applied in order *)
   condition : condition;
+  noun : string;
+      (** what an error message calls a number of the field's range (["a length"],
+          ["an angle"]); [""] for none. A whole number is ["a whole number"] whatever this
+          says, and a field whose range is that of a length is ["a length"] unless told
+          otherwise. *)
+  unit : string;
+      (** what the number counts, after its range in a message (["degrees"]) *)
   doc : string;
 }
 
@@ -115,6 +126,24 @@ val range_text : range -> string
 
 val type_text : ty -> string
 (** The type as the reference names it: [number], [vector (x, y, z)], … *)
+
+val big : float
+(** 1e150: no number of a scene is larger in magnitude (vector coordinates included). *)
+
+val non_negative : range
+(** [[0, 1e150]]. *)
+
+val length : range
+(** [[1e-150, 1e150]]: a length, or a scale factor's magnitude. *)
+
+val coordinate : range
+(** [±1e150]: a coordinate of a vector. *)
+
+val must : field -> string
+(** What an error message says of a number out of the field's range:
+    [must be a length in [1e-150, 1e150]], [must be a whole number in [1, 64]],
+    [must be an angle in [0, 180] degrees], [must be within ±1e150], and
+    [must be greater than 0] for a positive number with no limit of its own. *)
 
 val value_text : field -> string
 (** Type and range in one: [number in [1e-150, 1e150]]. *)
