@@ -1721,12 +1721,13 @@ and shape b (k : name) : D.shape option =
   | "height_field" ->
       let file = file b "file" in
       let origin = point b "origin" in
-      let size = point b "size" in
-      (match field b "size" with
-      | Some f when not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) ->
-          bad b f.vloc
-            "the `size` (sx, sy, sz) of a height field must be positive on every axis"
-      | _ -> ());
+      let size =
+        point b "size" ~check:(fun f (size : Vec3.t) ->
+            if not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) then
+              bad b f.vloc
+                "the `size` (sx, sy, sz) of a height field must be positive on every axis";
+            size)
+      in
       if b.failed then None
       else
         let path = Loc.relative_to b.kloc.file file in
@@ -1915,27 +1916,15 @@ and entry b name =
 (* A field's value as [conv] reads it, then [check]ed; when the field is left out, its
    default ([default], or the schema's); when it is missing although required, or its
    value is wrong, the same after reporting it. *)
-and get :
-    'a.
-    ?default:'a ->
-    ?check:(fld -> 'a -> 'a) ->
-    block ->
-    string ->
-    string ->
-    (value -> 'a option) ->
-    'a =
- fun ?default ?check b name what conv ->
-  let e = entry b name in
-  let fallback () =
-    match default with
-    | Some d -> d
-    | None -> (
-        match conv e.default with
-        | Some x -> x
-        | None -> invalid_arg ("Eval: the schema's default of " ^ name))
-  in
+(* A field's value as [conv] reads it; when the field is left out, its default
+   ([default], or the schema's); when it is missing although required, or its value is
+   wrong, the same after reporting it. The accessors below read a right value at once
+   and leave the rest to this. *)
+and get : 'a. ?default:'a -> block -> string -> string -> (value -> 'a option) -> 'a =
+ fun ?default b name what conv ->
   match field b name with
   | None ->
+      let e = entry b name in
       (* A misspelt field already reported as unknown, with this one as its hint, is not
          reported missing as well (a field of the block's own is not misspelt: a
          triangle's `b` does not stand for a missing `c`). *)
@@ -1949,43 +1938,52 @@ and get :
       in
       if e.required && misspelt then b.failed <- true
       else if e.required then bad b b.kloc "%s needs a `%s` field" b.kind name;
-      fallback ()
-  | Some { value = VPoison; _ } -> fallback ()
+      fallback default e conv
+  | Some { value = VPoison; _ } -> fallback default (entry b name) conv
   | Some f -> (
       match conv f.value with
-      | Some x -> ( match check with Some c -> c f x | None -> x)
+      | Some x -> x
       | None ->
           bad b f.vloc "`%s` must be %s, got %s" name what (type_name f.value);
-          fallback ())
+          fallback default (entry b name) conv)
+
+and fallback : 'a. 'a option -> entry -> (value -> 'a option) -> 'a =
+ fun default e conv ->
+  match default with
+  | Some d -> d
+  | None -> (
+      match conv e.default with
+      | Some x -> x
+      | None -> invalid_arg ("Eval: the schema has no default of " ^ e.sch.name))
 
 and as_number = function VNum x -> Some x | _ -> None
 and as_vector = function VVec v -> Some v | _ -> None
 
+and check_range b e f x =
+  if not (Schema.in_range e.sch.range x) then
+    bad b f.vloc "`%s` %s, got %s" e.sch.name e.must (fmt_num x)
+
 (* A number, refused outside the field's range; [check] instead checks it otherwise. *)
 and number ?default ?check b name =
-  let check =
-    match check with
-    | Some c -> c
-    | None ->
-        fun f x ->
-          let e = entry b name in
-          if not (Schema.in_range e.sch.range x) then
-            bad b f.vloc "`%s` %s, got %s" name e.must (fmt_num x);
-          x
-  in
-  get ?default ~check b name "a number" as_number
+  match field b name with
+  | Some ({ value = VNum x; _ } as f) -> (
+      match check with
+      | Some c -> c f x
+      | None ->
+          check_range b (entry b name) f x;
+          x)
+  | _ -> get ?default b name "a number" as_number
 
 (* A whole number in the field's range. *)
 and integer b name =
-  let e = entry b name in
-  let x =
-    get b name "a number" as_number ~check:(fun f x ->
-        if Schema.in_range e.sch.range x then x
-        else (
-          bad b f.vloc "`%s` %s, got %s" name e.must (fmt_num x);
-          Option.get (as_number e.default)))
-  in
-  int_of_float x
+  match field b name with
+  | Some ({ value = VNum x; _ } as f) ->
+      let e = entry b name in
+      if Schema.in_range e.sch.range x then int_of_float x
+      else (
+        check_range b e f x;
+        int_of_float (fallback None e as_number))
+  | _ -> int_of_float (get b name "a number" as_number)
 
 and boolean ?default b name =
   get ?default b name "true or false" (function VBool x -> Some x | _ -> None)
@@ -1994,30 +1992,36 @@ and file b name =
   get b name "a file name string" (function VStr s -> Some s | _ -> None)
 
 and check_coords b f (v : Vec3.t) =
-  let ok x = Float.abs x <= Schema.big in
-  if not (ok v.x && ok v.y && ok v.z) then
+  let big = Schema.big in
+  if not (Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big) then
     bad b f.vloc "the coordinates of `%s` must be %s" f.name.id
       (Schema.range_text Schema.coordinate)
 
 (* A vector with coordinates within ±1e150; [check] checks it further. *)
-and point ?default ?(check = fun _ v -> v) b name =
-  get ?default b name "a vector (x, y, z)" as_vector ~check:(fun f v ->
+and point ?default ?check b name =
+  match field b name with
+  | Some ({ value = VVec v; _ } as f) -> (
       check_coords b f v;
-      check f v)
+      match check with Some c -> c f v | None -> v)
+  | _ -> get ?default b name "a vector (x, y, z)" as_vector
 
 and direction b name =
-  point b name ~check:(fun f v ->
+  match field b name with
+  | Some ({ value = VVec v; _ } as f) ->
+      check_coords b f v;
       if Vec3.max_abs v < 1e-150 then bad b f.vloc "`%s` must be a non-zero vector" name;
-      v)
+      v
+  | _ -> point b name
 
 and color ?default b name =
-  let default = Option.map Color.to_vec3 default in
-  Color.of_vec3
-    (point ?default b name ~check:(fun f v ->
-         if v.x < 0. || v.y < 0. || v.z < 0. then
-           bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name
-             (fmt_num v.x) (fmt_num v.y) (fmt_num v.z);
-         v))
+  match field b name with
+  | Some ({ value = VVec v; _ } as f) ->
+      check_coords b f v;
+      if v.x < 0. || v.y < 0. || v.z < 0. then
+        bad b f.vloc "a colour has no negative component; `%s` is (%s, %s, %s)" name
+          (fmt_num v.x) (fmt_num v.y) (fmt_num v.z);
+      Color.of_vec3 v
+  | _ -> Color.of_vec3 (point ?default:(Option.map Color.to_vec3 default) b name)
 
 (* ------------------------------------------------------------------------------------ *)
 (* A whole program *)

@@ -367,11 +367,11 @@ let choose ~keyword present =
       | _ -> None)
 
 let in_range r x =
-  let lo = function Incl a -> x >= a | Excl a -> x > a | Unbounded -> true in
-  let hi = function Incl a -> x <= a | Excl a -> x < a | Unbounded -> true in
   match r with
   | Any -> true
-  | Real (a, b) -> lo a && hi b
+  | Real (a, b) -> (
+      (match a with Incl a -> x >= a | Excl a -> x > a | Unbounded -> true)
+      && match b with Incl b -> x <= b | Excl b -> x < b | Unbounded -> true)
   | Whole (a, b) -> Float.is_integer x && x >= Float.of_int a && x <= Float.of_int b
 
 let num x =
