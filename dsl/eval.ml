@@ -1369,16 +1369,20 @@ and camera ctx env scope k items =
   let position = point b "position" in
   let look_at = point b "look_at" in
   let up = point b "up" in
-  (* The range of `fov` depends on the kind: checked below, for the kind. *)
-  let fov = number b "fov" ~check:(fun _ x -> x) in
+  (* The default and the range of `fov` depend on the kind (the range is checked below). *)
   let fov_of kind =
-    List.find
+    List.find_opt
       (fun e ->
         e.sch.name = "fov"
         && match e.sch.condition with Kind_in ks -> List.mem kind ks | _ -> false)
       b.spec.entries
   in
-  let perspective = fov_of "perspective" and fisheye = fov_of "fisheye" in
+  let fov =
+    let e = Option.value (fov_of kind_name) ~default:(entry b "fov") in
+    number b "fov" ~default:(fallback None e as_number) ~check:(fun _ x -> x)
+  in
+  let perspective = Option.get (fov_of "perspective")
+  and fisheye = Option.get (fov_of "fisheye") in
   (match field b "fov" with
   | Some f when kind_name = "fisheye" && not (Schema.in_range fisheye.sch.range fov) ->
       bad b f.vloc "a fisheye's `fov` %s, got %s" fisheye.must (fmt_num fov)

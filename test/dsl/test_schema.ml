@@ -280,6 +280,127 @@ let test_ranges () =
     Schema.blocks;
   Alcotest.(check bool) "ranges were checked" true (!checked >= 100)
 
+(* The scene a program describes, evaluated with [schema]. *)
+let described ?schema text =
+  match Syntax.parse ~file:"test.rts" text with
+  | Error e -> Alcotest.failf "syntax error: %s" (Error.to_string e)
+  | Ok stmts -> (
+      let sources = Hashtbl.create 1 in
+      Hashtbl.replace sources "test.rts" text;
+      match Eval.run ?schema ~file:"test.rts" ~sources ~time:0. ~frame:0 stmts with
+      | Ok d ->
+          (* A body is where its statement is, up to its end, which moves with its text. *)
+          let nowhere =
+            { Lancer.Loc.file = ""; line = 0; col = 0; end_line = 0; end_col = 0 }
+          in
+          {
+            d with
+            bodies =
+              List.map
+                (fun (b : Lancer.Description.body) -> { b with loc = nowhere })
+                d.bodies;
+          }
+      | Error es -> Alcotest.failf "%s\n%s" text (errors_text es))
+
+(* Another value of the field's type than its default, within its range. *)
+let other (fl : Schema.field) default =
+  let first l = List.find (fun v -> v <> default) l in
+  match fl.ty with
+  | Number | Integer | Gamma ->
+      first
+        (List.filter
+           (fun v -> Schema.in_range fl.range (float_of_string v))
+           [ "60"; "2"; "3"; "0.5" ])
+  | Boolean -> first [ "true"; "false" ]
+  | Vector | Direction | Colour | Background -> first [ "(0.25, 0.5, 0.75)"; "(1, 1, 1)" ]
+  | Choice l -> first (List.rev_map (Printf.sprintf "%S") l)
+  | _ -> Alcotest.failf "no other value of `%s` in this test" fl.name
+
+(* What a field needs beside it besides [context], for any value: a spot's angles keep
+   inner ≤ outer, an aperture needs a focal distance. *)
+let beside = function
+  | "inner" -> [ "outer: 180" ]
+  | "outer" -> [ "inner: 0" ]
+  | "aperture" -> [ "focal_distance: 1" ]
+  | _ -> []
+
+(* The schema with one field's default replaced. *)
+let with_default (b : Schema.block) (fl : Schema.field) v =
+  List.map
+    (fun (b' : Schema.block) ->
+      if b'.id <> b.id then b'
+      else
+        {
+          b' with
+          fields =
+            List.map
+              (fun fl' ->
+                if fl' == fl then { fl' with Schema.default = Value v } else fl')
+              b'.fields;
+        })
+    Schema.blocks
+
+(* The evaluator has no defaults of its own: given a schema whose default of a field is
+   another value, it evaluates a block without the field as if that value were written. *)
+let test_schema_defaults_used () =
+  let checked = ref 0 in
+  List.iter
+    (fun (b : Schema.block) ->
+      List.iter
+        (fun (fl : Schema.field) ->
+          match fl.default with
+          | Value v ->
+              let v' = other fl v in
+              let with_ items =
+                let items = beside fl.name @ items in
+                if b.id = "material" then
+                  Printf.sprintf
+                    "sphere { center: (0, 0, 0), radius: 1, material: material { %s } }"
+                    (String.concat ", " items)
+                else program b (context b fl @ items)
+              in
+              let left_out = with_ [] in
+              let written = with_ [ Printf.sprintf "%s: %s" fl.name v' ] in
+              let changed = described ~schema:(with_default b fl v') left_out in
+              incr checked;
+              if changed = described left_out then
+                Alcotest.failf
+                  "%s: a default of `%s: %s` in the schema changes nothing:\n%s" b.id
+                  fl.name v' left_out;
+              if changed <> described written then
+                Alcotest.failf
+                  "%s: with a default of `%s: %s` in the schema, leaving it out is not \
+                   writing it:\n\
+                   %s"
+                  b.id fl.name v' left_out
+          | Required | Absent _ -> ())
+        b.fields)
+    Schema.blocks;
+  Alcotest.(check bool) "defaults were changed" true (!checked >= 50)
+
+(* Where the scene description has defaults of its own (a scene without a settings block,
+   an object without a material, …), they are the schema's. *)
+let test_description_defaults () =
+  let sphere = "sphere { center: (0, 0, 0), radius: 1 }" in
+  let d = described sphere in
+  let check_same what a b =
+    if a <> b then Alcotest.failf "%s differs from the schema's defaults" what
+  in
+  check_same "Settings.default" Lancer.Settings.default
+    (described ("settings { }\n" ^ sphere)).settings;
+  check_same "Camera.default" Lancer.Camera.default
+    (described ("camera { }\n" ^ sphere)).camera;
+  check_same "Settings.default (no settings block)" Lancer.Settings.default d.settings;
+  check_same "Description.default_physics" Lancer.Description.default_physics
+    (Option.get (described ("physics { }\n" ^ sphere)).physics);
+  let material text =
+    match (described text).objects with
+    | [ o ] -> Option.value o.material ~default:Lancer.Description.default_material
+    | _ -> Alcotest.fail "one object"
+  in
+  check_same "Description.default_material" Lancer.Description.default_material
+    (material "sphere { center: (0, 0, 0), radius: 1, material: material { } }")
+
 let () =
   Alcotest.run "schema"
     [
@@ -294,5 +415,13 @@ let () =
             test_choices;
           Alcotest.test_case "numbers out of range are refused at the value" `Quick
             test_ranges;
+        ] );
+      ( "the schema is the evaluator's one source",
+        [
+          Alcotest.test_case
+            "a default changed in the schema is what a missing field means" `Quick
+            test_schema_defaults_used;
+          Alcotest.test_case "the scene description's own defaults are the schema's"
+            `Quick test_description_defaults;
         ] );
     ]
