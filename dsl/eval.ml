@@ -569,10 +569,11 @@ let specs_of (blocks : Schema.block list) =
     | Some e -> e.default
     | None -> invalid_arg ("Eval: the schema's material has no " ^ name)
   in
-  let num n = match d n with VNum x -> x | _ -> invalid_arg ("Eval: material " ^ n) in
+  let wrong n = invalid_arg ("Eval: the schema's material " ^ n) in
+  let num n = match d n with VNum x -> x | _ -> wrong n in
   let material : D.material =
     {
-      color = (match d "color" with VVec v -> Color.of_vec3 v | _ -> Color.white);
+      color = (match d "color" with VVec v -> Color.of_vec3 v | _ -> wrong "color");
       texture = None;
       ambient = num "ambient";
       diffuse = num "diffuse";
@@ -581,7 +582,7 @@ let specs_of (blocks : Schema.block list) =
       reflection = num "reflection";
       transparency = num "transparency";
       ior = num "ior";
-      fresnel = (match d "fresnel" with VBool x -> x | _ -> false);
+      fresnel = (match d "fresnel" with VBool x -> x | _ -> wrong "fresnel");
       bump = None;
     }
   in
