@@ -1,7 +1,9 @@
 (* The schema of the language (dsl/schema.ml) is what the evaluator does: every field of
    every block kind is accepted and no other, required fields are required, defaults are
    the values used when a field is left out, and numbers outside a field's range are
-   refused where they are written. *)
+   refused where they are written. The evaluator takes its defaults and ranges from the
+   schema: these tests guard how it reads them (a default as the literal it is, a range
+   with its bounds included or not), and that it has none of its own. *)
 
 module Dsl = Lancer_dsl.Dsl
 module Error = Lancer_dsl.Error
