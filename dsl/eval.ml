@@ -1904,9 +1904,9 @@ and check_names b allowed =
     b.fields
 
 and spec_for ctx kind =
-  match Hashtbl.find_opt ctx.specs.by_kind kind with
-  | Some sp -> sp
-  | None -> invalid_arg ("Eval: no block kind " ^ kind ^ " in the schema")
+  match Hashtbl.find ctx.specs.by_kind kind with
+  | sp -> sp
+  | exception Not_found -> invalid_arg ("Eval: no block kind " ^ kind ^ " in the schema")
 
 (* The schema's entry for a field of the block (the first, for a field listed under
    several conditions). *)
@@ -1921,13 +1921,16 @@ and entry b name =
 (* A field's value as [conv] reads it, then [check]ed; when the field is left out, its
    default ([default], or the schema's); when it is missing although required, or its
    value is wrong, the same after reporting it. *)
-(* A field's value as [conv] reads it; when the field is left out, its default
-   ([default], or the schema's); when it is missing although required, or its value is
-   wrong, the same after reporting it. The accessors below read a right value at once
-   and leave the rest to this. *)
-and get : 'a. ?default:'a -> block -> string -> string -> (value -> 'a option) -> 'a =
- fun ?default b name what conv ->
-  match field b name with
+(* A field's value as [conv] reads it, [given] the field as found; when the field is
+   left out, its default ([default], or the schema's); when it is missing although
+   required, or its value is wrong, the same after reporting it. The accessors below read
+   a right value, or the default of a field left out, at once and leave the rest to
+   this. *)
+and get :
+    'a. 'a option -> block -> string -> fld option -> string -> (value -> 'a option) -> 'a
+    =
+ fun default b name given what conv ->
+  match given with
   | None ->
       let e = entry b name in
       (* A misspelt field already reported as unknown, with this one as its hint, is not
@@ -1977,7 +1980,12 @@ and number ?default ?check b name =
       | None ->
           check_range b (entry b name) f x;
           x)
-  | _ -> get ?default b name "a number" as_number
+  | None as given -> (
+      match (default, entry b name) with
+      | Some d, { required = false; _ } -> d
+      | None, { required = false; default = VNum x; _ } -> x
+      | _ -> get default b name given "a number" as_number)
+  | given -> get default b name given "a number" as_number
 
 (* A whole number in the field's range. *)
 and integer b name =
@@ -1988,13 +1996,18 @@ and integer b name =
       else (
         check_range b e f x;
         int_of_float (fallback None e as_number))
-  | _ -> int_of_float (get b name "a number" as_number)
+  | given -> int_of_float (get None b name given "a number" as_number)
 
 and boolean ?default b name =
-  get ?default b name "true or false" (function VBool x -> Some x | _ -> None)
+  match field b name with
+  | Some { value = VBool x; _ } -> x
+  | given ->
+      get default b name given "true or false" (function VBool x -> Some x | _ -> None)
 
 and file b name =
-  get b name "a file name string" (function VStr s -> Some s | _ -> None)
+  get None b name (field b name) "a file name string" (function
+    | VStr s -> Some s
+    | _ -> None)
 
 and check_coords b f (v : Vec3.t) =
   let big = Schema.big in
@@ -2008,7 +2021,12 @@ and point ?default ?check b name =
   | Some ({ value = VVec v; _ } as f) -> (
       check_coords b f v;
       match check with Some c -> c f v | None -> v)
-  | _ -> get ?default b name "a vector (x, y, z)" as_vector
+  | None as given -> (
+      match (default, entry b name) with
+      | Some d, { required = false; _ } -> d
+      | None, { required = false; default = VVec v; _ } -> v
+      | _ -> get default b name given "a vector (x, y, z)" as_vector)
+  | given -> get default b name given "a vector (x, y, z)" as_vector
 
 and direction b name =
   match field b name with
