@@ -29,6 +29,21 @@ let message = function
 
 type stop = { signal : int Atomic.t (* the signal that stopped the run; 0: none *) }
 
+(* From the program's first moment (this module is initialised before any command runs:
+   before the options are parsed and MPI is started) to the command's own handler of
+   {!on_interrupt}, SIGINT and SIGTERM end the run with the interrupt's message and
+   status, as they do later; the default action would end it without a word. *)
+let () =
+  let early =
+    Sys.Signal_handle
+      (fun _ ->
+        let text, status = describe Sys.Break in
+        prerr_string text;
+        exit status)
+  in
+  Sys.set_signal Sys.sigint early;
+  Sys.set_signal Sys.sigterm early
+
 let on_interrupt stop =
   let token = Cancel.create () in
   (* Inside a pool or a write the work stops at its next poll of the token, in lancer's
