@@ -906,12 +906,32 @@ and tree_occluder a tr (q : Shape.probe) obj =
     st.busy <- false);
   !found
 
+let rec nearest_probe_in a (q : Shape.probe) obj =
+  match a.layers with
+  | Some l ->
+      (* As [nearest_into]'s two parts: the moving part up to succ(t) of the fixed
+         part's hit, the lexicographic minimum of (t, index). *)
+      let tmin = q.p_tmin and tmax = q.p_tmax in
+      let i = nearest_probe_in l.fixed q obj in
+      let t = q.p_t in
+      q.p_tmin <- tmin;
+      q.p_tmax <- (if i >= 0 then Float.succ t else tmax);
+      let j = nearest_probe_in l.moving q obj in
+      if
+        j >= 0 && (i < 0 || q.p_t < t || (q.p_t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
+      then l.moving_idx.(j)
+      else (
+        q.p_t <- (if i >= 0 then t else Float.infinity);
+        if i >= 0 then l.fixed_idx.(i) else -1)
+  | None -> (
+      match a.tree with
+      | None -> linear_nearest_probe a.prims q obj
+      | Some tr -> tree_nearest_probe a tr q obj)
+
 let nearest_probe a (q : Shape.probe) =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
-  match a.tree with
-  | None -> linear_nearest_probe a.prims q obj
-  | Some tr -> tree_nearest_probe a tr q obj
+  nearest_probe_in a q obj
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
    the same order (the unbounded ones first, then depth first over the boxes the ray
@@ -986,12 +1006,31 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
        raise e);
     st.busy <- false)
 
+let rec transparent_in a (q : Shape.probe) obj visit =
+  match a.layers with
+  | Some l ->
+      (* The fixed part's crossings, then the moving part's (see {!layered}). *)
+      let tmin = q.p_tmin and tmax = q.p_tmax in
+      let stopped = ref false in
+      let visit p =
+        let stop = visit p in
+        if stop then stopped := true;
+        stop
+      in
+      transparent_in l.fixed q obj visit;
+      if not !stopped then (
+        q.p_tmin <- tmin;
+        q.p_tmax <- tmax;
+        transparent_in l.moving q obj visit)
+  | None -> (
+      match a.tree with
+      | None -> linear_transparent a.prims q obj visit
+      | Some tr -> tree_transparent a tr q obj visit)
+
 let transparent_crossings a (q : Shape.probe) visit =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
-  match a.tree with
-  | None -> linear_transparent a.prims q obj visit
-  | Some tr -> tree_transparent a tr q obj visit
+  transparent_in a q obj visit
 
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in

@@ -21,10 +21,11 @@ val layered :
     structures built over parts of it: [fixed] over the primitives [fixed_idx] lists (in
     increasing order), [moving] over the others ([moving_idx], increasing), so that the
     part that does not change between the frames of an animation is built once. Its
-    {!nearest}, {!any_hit} and {!occluded} answer as [build prims] would, indices into
-    [prims]; {!fold_hits} folds the fixed part's crossings first, an order that [build]'s
-    need not have: where a transmittance product must be the same to the bit, no primitive
-    may be transparent. {!uses_bvh} says whether [build prims] would build a tree. *)
+    {!nearest}, {!nearest_probe}, {!any_hit} and {!occluded} answer as [build prims]
+    would, indices into [prims]; {!fold_hits} and {!transparent_crossings} visit the fixed
+    part's crossings first, an order that [build]'s need not have: where a transmittance
+    product must be the same to the bit, no primitive may be transparent. {!uses_bvh} says
+    whether [build prims] would build a tree. *)
 
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
