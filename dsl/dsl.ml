@@ -20,6 +20,7 @@ type t = {
   includes : (string, Loc.t list) Hashtbl.t;
       (** for each included file, where it was included *)
   first : D.t;  (** the evaluation at time 0, frame 0 *)
+  memo : Eval.memo;  (** what that evaluation did that later ones skip *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
@@ -270,7 +271,10 @@ let load_text ?progress ?files file text =
         in
         let uses = ref [] in
         let on_file u = uses := u :: !uses in
-        let run = Eval.run ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 stmts in
+        let memo = Eval.memo stmts in
+        let run =
+          Eval.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 stmts
+        in
         match (run, file_errors files sources !uses) with
         | Error es, fes -> Error (merged (es @ fes))
         | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
@@ -283,6 +287,7 @@ let load_text ?progress ?files file text =
                 sources;
                 includes;
                 first;
+                memo;
                 named =
                   (let h = Hashtbl.create 4 in
                    List.iter (fun f -> Hashtbl.replace h f ()) first.files;
@@ -301,12 +306,14 @@ let load_file ?files path =
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
       | Ok text -> load_text ?files path text)
 
-let eval ?body_state ?on_objects ?on_file ?cancel t ~time ~frame =
+let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel t ~time ~frame =
   if not (Float.is_finite time) then
     Error [ Error.file_error t.file "the time must be a finite number" ]
   else
-    Eval.run ?body_state ?on_objects ?on_file ?cancel ~file:t.file ~sources:t.sources
-      ~time ~frame t.stmts
+    Eval.run
+      ?memo:(if again then None else Some t.memo)
+      ?body_state ?on_objects ?on_file ?cancel ~file:t.file ~sources:t.sources ~time
+      ~frame t.stmts
 
 (* An error that only some frames have names the frame: frame 0 was checked when the
    program was loaded, so an error at another instant is one of those. *)
@@ -322,6 +329,7 @@ let at_frame ~time ~frame r =
       r
 
 let source t file = Hashtbl.find_opt t.sources file
+let fixed_objects t = Eval.fixed_objects t.memo
 
 let located t ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
@@ -331,7 +339,7 @@ let located t ~time ~frame es =
 (* The evaluation at time 0, frame 0 is the one made when the program was loaded, with
    each body placed where the simulation has it at time 0 (its initial centre): evaluated
    again only if the simulation says otherwise. *)
-let describe ?body_state ?progress ?cancel ?files t ~time ~frame =
+let describe ?again ?body_state ?progress ?cancel ?files t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
@@ -340,7 +348,7 @@ let describe ?body_state ?progress ?cancel ?files t ~time ~frame =
            let on_objects n = say "evaluating the scene: %d objects so far" n in
            let uses = ref [] in
            let on_file u = uses := u :: !uses in
-           let r = eval ?body_state ~on_objects ~on_file ?cancel t ~time ~frame in
+           let r = eval ?again ?body_state ~on_objects ~on_file ?cancel t ~time ~frame in
            let r =
              match r with
              | Error es ->

@@ -45,6 +45,7 @@ val load_string :
     objects a long check has built so far. *)
 
 val describe :
+  ?again:bool ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
@@ -63,11 +64,20 @@ val describe :
     fails, [files] (as for {!load_file}) adds what the files it used have wrong.
     [progress], when given, is told how many objects a long evaluation has built. [cancel]
     is polled as the program runs: once it is cancelled, evaluation stops with
-    [Sys.Break]. *)
+    [Sys.Break]. The top-level statements that cannot build anything else at another
+    instant are not evaluated again ({!fixed_objects}), unless [again] (default [false])
+    says to evaluate every statement: the same description, made the long way. *)
 
 val first : t -> Description.t
 (** The evaluation made when the program was loaded: time 0, frame 0, bodies at their
     initial centres. *)
+
+val fixed_objects : t -> Description.obj list
+(** The objects of {!first} built by top-level statements that cannot build anything else
+    at another instant ({!Eval.memo}), in program order. {!describe} does not evaluate
+    such statements again: each of these objects is in its descriptions as the very value
+    it is here (physically), in this order, unless the statement had to be evaluated again
+    (its objects are then new values). So a renderer can keep what it made of them. *)
 
 val source : t -> string -> string option
 (** [source p file]: the text of [file], the program's or an include's (for an error's

@@ -26,7 +26,28 @@ val bytes_per_object : int
 (** 2560: the address space one object is counted as needing (measured: 2.3 KB a sphere at
     the peak of building and rendering 200 000). *)
 
+type memo
+(** What a program's first evaluation did in the top-level statements that cannot do
+    anything else at another instant, so that later evaluations skip them. Such a
+    statement builds objects and nothing else (no settings, camera, light, animation,
+    physics or body, nor a macro that makes one), and mentions no name that may hold a
+    different value at another instant: not [time], [frame], a body, nor a name defined
+    from one of them (through a [let], a function or a macro, at the point where it is
+    defined). *)
+
+val memo : Ast.stmt list -> memo
+(** [memo prog]: which top-level statements of [prog] (includes flattened) are such
+    statements; nothing recorded yet. *)
+
+val fixed_objects : memo -> Description.obj list
+(** The objects the recorded statements built, in program order: in every later
+    description from {!run} with this memo, the very same values (physically), in this
+    order, among the others, as long as each such statement starts with the count of
+    objects it started with then (a statement that does not is evaluated again, and its
+    objects are new values). *)
+
 val run :
+  ?memo:memo ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?on_objects:(int -> unit) ->
   ?cancel:Cancel.t ->
@@ -50,7 +71,9 @@ val run :
     [cancel] is polled every 4096 loop iterations and calls: once it is cancelled, [run]
     raises [Sys.Break]. A block's fields, their defaults and their ranges are those of
     [schema] ({!Schema.blocks} unless told: another is for testing that the evaluator
-    follows it). *)
+    follows it). The first run given a [memo] evaluates every statement and records what
+    the memo's statements did (when it succeeds); later ones skip them and give the same
+    description they would have given had they evaluated them. *)
 
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close

@@ -884,6 +884,91 @@ let scaling_cmd ~repeat ~counts ~width ~height ~domains ~domain_counts ~sizes ~b
 
 open Cmdliner
 
+(* ---------------------------------------------------------------------------------- *)
+(* An animation against one still of it, whole processes *)
+
+(* Wall time of this executable run with [args], its output thrown away. *)
+let child_time what args =
+  let exe = Sys.executable_name in
+  let null = Unix.openfile "/dev/null" [ Unix.O_WRONLY ] 0 in
+  let t0 = Unix.gettimeofday () in
+  let pid =
+    Fun.protect
+      ~finally:(fun () -> Unix.close null)
+      (fun () ->
+        Unix.create_process exe (Array.of_list (exe :: args)) Unix.stdin null null)
+  in
+  let _, st = Unix.waitpid [] pid in
+  let dt = Unix.gettimeofday () -. t0 in
+  match st with
+  | Unix.WEXITED 0 -> dt
+  | Unix.WEXITED c | Unix.WSIGNALED c | Unix.WSTOPPED c ->
+      raise
+        (Cli.User_error
+           (Printf.sprintf
+              "bench animation: lancer %s failed (status %d): run it alone to see why"
+              what c))
+
+let rec remove_tree p =
+  if Sys.file_exists p then
+    if Sys.is_directory p then (
+      Array.iter (fun f -> remove_tree (Filename.concat p f)) (Sys.readdir p);
+      Sys.rmdir p)
+    else Sys.remove p
+
+let animation_cmd scene repeat domains json =
+  if repeat < 1 then raise (Cli.User_error "bench animation: --repeat must be at least 1");
+  if not (Sys.file_exists scene) then
+    raise (Cli.User_error (Printf.sprintf "bench animation: no scene %s" scene));
+  let dir =
+    Filename.concat
+      (Filename.get_temp_dir_name ())
+      (Printf.sprintf "lancer-bench-animation-%d" (Unix.getpid ()))
+  in
+  Fun.protect
+    ~finally:(fun () -> try remove_tree dir with Sys_error _ -> ())
+    (fun () ->
+      Unix.mkdir dir 0o700;
+      let common =
+        [ "-q" ]
+        @ match domains with Some d -> [ "--domains"; string_of_int d ] | None -> []
+      in
+      let frames_dir = Filename.concat dir "frames" in
+      let still = Filename.concat dir "still.png" in
+      (* Alternated, so that a change in the machine's load falls on both. *)
+      let runs =
+        List.init repeat (fun _ ->
+            remove_tree frames_dir;
+            let a =
+              child_time "animate" ([ "animate"; scene; "-o"; frames_dir ] @ common)
+            in
+            let s = child_time "render" ([ "render"; scene; "-o"; still ] @ common) in
+            (a, s))
+      in
+      let frames =
+        List.length
+          (List.filter
+             (fun f -> Filename.check_suffix f ".png")
+             (Array.to_list (Sys.readdir frames_dir)))
+      in
+      let a = median (List.map fst runs) and s = median (List.map snd runs) in
+      if json then
+        print_endline
+          (Yojson.Safe.to_string
+             (`Assoc
+                [
+                  ("scene", `String scene);
+                  ("frames", `Int frames);
+                  ("animation_s", `Float a);
+                  ("still_s", `Float s);
+                  ("ratio", `Float (a /. s));
+                ]))
+      else (
+        print_endline
+          "| scene | frames | animation (s) | one still (s) | animation / still |";
+        print_endline "|---|---:|---:|---:|---:|";
+        Printf.printf "| %s | %d | %.2f | %.2f | %.1f |\n" scene frames a s (a /. s)))
+
 let exits = Cli.exits
 
 let cmd =
@@ -1130,4 +1215,45 @@ let cmd =
         $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps
         $ in_process $ row $ repeat $ json)
   in
-  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality; physics; scaling ]
+  let animation =
+    let scene =
+      Arg.(
+        value
+        & pos 0 string "scenes/bench/field_moving.rts"
+        & info [] ~docv:"SCENE" ~doc:"The animated scene (.rts) to time.")
+    in
+    let repeat =
+      Arg.(
+        value & opt int 3
+        & info [ "repeat" ] ~docv:"R"
+            ~doc:"Runs of each command, alternated; the median time is reported.")
+    in
+    let domains =
+      Arg.(
+        value
+        & opt (some int) None
+        & info [ "domains" ] ~docv:"D" ~doc:"Domains of both commands (default: theirs).")
+    in
+    let man =
+      [
+        `S Manpage.s_description;
+        `P
+          "Times $(b,lancer animate SCENE) (every frame of its animation) and $(b,lancer \
+           render SCENE) (one still: frame 0), each a whole process from start to exit, \
+           and prints their ratio: what the frames after the first cost. What does not \
+           change between frames is evaluated, compiled and indexed once per animation.";
+        `S Manpage.s_examples;
+        `Pre "  lancer bench animation scenes/bench/field_moving.rts --repeat 3";
+      ]
+    in
+    Cmd.v
+      (Cmd.info "animation"
+         ~doc:"wall time of a whole animation against one still of it, and their ratio"
+         ~man ~exits)
+      Term.(
+        const (fun sc r d j -> Report.run (fun _ -> animation_cmd sc r d j))
+        $ scene $ repeat $ domains $ json)
+  in
+  Cmd.group
+    (Cmd.info "bench" ~doc ~exits)
+    [ domains; quality; physics; scaling; animation ]

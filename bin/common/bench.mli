@@ -14,7 +14,9 @@
       errors, and the cost (wall time, steps, events).
     - [scaling]: random spheres against the sphere count, the domain count and the image
       size: build and render times, rays per second, peak memory, each configuration in a
-      child process so that its peak memory is its own. *)
+      child process so that its peak memory is its own.
+    - [animation]: a whole [lancer animate] of a scene against one [lancer render] of it,
+      each a child process, and their ratio. *)
 
 val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
 (** [domains_cmd opts counts repeat json]. *)

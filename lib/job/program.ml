@@ -11,6 +11,10 @@ type extra = {
       (** the simulation of the bodies and the horizon it was computed for *)
   lock : Mutex.t;
   motion_lock : Mutex.t;
+  mutable fixed : Compile.fixed option option;
+      (** what the frames of an animation share, once made ([Some None]: nothing) *)
+  fixed_lock : Mutex.t;
+  made : int Atomic.t;  (** scenes begun *)
 }
 
 module Programs = Ephemeron.K1.Make (struct
@@ -35,6 +39,9 @@ let extra p =
               motion = None;
               lock = Mutex.create ();
               motion_lock = Mutex.create ();
+              fixed = None;
+              fixed_lock = Mutex.create ();
+              made = Atomic.make 0;
             }
           in
           Programs.replace table p e;
@@ -186,7 +193,7 @@ let first_at_rest p =
             Some { first with objects = List.map place first.objects }
           else None)
 
-let describe ?body_state ?progress ?cancel p ~time ~frame =
+let describe_ ?again ?body_state ?progress ?cancel p ~time ~frame =
   let reused =
     if Float.equal time 0. && frame = 0 && body_state = None then
       match guard p (fun () -> Ok (first_at_rest p)) with
@@ -204,16 +211,38 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
       with
       | Error es -> Error (Dsl.located p ~time ~frame es)
       | Ok body_state ->
-          Dsl.describe ?body_state ?progress ?cancel
+          Dsl.describe ?again ?body_state ?progress ?cancel
             ~files:(Compile.check_files (assets p))
             p ~time ~frame)
+
+let describe ?body_state ?progress ?cancel p ~time ~frame =
+  describe_ ?body_state ?progress ?cancel p ~time ~frame
 
 (* ---------------------------------------------------------------------------------- *)
 (* Scenes *)
 
-let compile ?progress p (d : D.t) =
+(* The objects no frame changes, made once for the frames of an animation (a still is
+   made once anyway). *)
+let fixed p =
+  let e = extra p in
+  Mutex.protect e.fixed_lock (fun () ->
+      match e.fixed with
+      | Some f -> f
+      | None ->
+          let f =
+            match (Dsl.animation p, Dsl.fixed_objects p) with
+            | None, _ | _, [] -> None
+            | Some _, objs -> Some (Compile.fixed e.assets objs)
+          in
+          e.fixed <- Some f;
+          f)
+
+let compile ?progress ~share p (d : D.t) =
   match
-    guard p (fun () -> Compile.compile ~source:(Dsl.source p) ?progress (assets p) d)
+    guard p (fun () ->
+        Compile.compile ~source:(Dsl.source p) ?progress
+          ?fixed:(if share then fixed p else None)
+          (assets p) d)
   with
   | Ok sc ->
       let e = extra p in
@@ -221,9 +250,14 @@ let compile ?progress p (d : D.t) =
       Ok sc
   | Error es -> Error (Dsl.located p ~time:d.time ~frame:d.frame es)
 
+(* The first scene of a program is made the long way, every statement evaluated and every
+   object compiled and indexed, as a still needs nothing else; the scenes after it share
+   what does not change: the statements that do not depend on the instant are not
+   evaluated again, and the objects they build are compiled and indexed once. *)
 let scene_and_description ?body_state ?progress ?cancel p ~time ~frame =
-  Result.bind (describe ?body_state ?progress ?cancel p ~time ~frame) (fun d ->
-      Result.map (fun sc -> (sc, d)) (compile ?progress p d))
+  let share = Atomic.fetch_and_add (extra p).made 1 > 0 in
+  Result.bind (describe_ ~again:(not share) ?body_state ?progress ?cancel p ~time ~frame)
+    (fun d -> Result.map (fun sc -> (sc, d)) (compile ?progress ~share p d))
 
 let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map

@@ -22,13 +22,29 @@ type tree = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
-type t = { prims : Primitive.t array; outside : int array; tree : tree option }
+type t = {
+  prims : Primitive.t array;
+  outside : int array;
+  tree : tree option;
+  layers : layers option;
+      (** instead of [outside] and [tree]: two structures over parts of [prims] *)
+}
+
+(* A scene's primitives in two parts, each with its own structure: [fixed] over those
+   whose index [fixed_idx] lists (increasing), [moving] over the others. *)
+and layers = {
+  fixed : t;
+  fixed_idx : int array;
+  moving : t;
+  moving_idx : int array;
+  bvh : bool;  (** whether one structure over them all would be a tree *)
+}
 
 let min_bvh = 8
 let max_leaf = 8
 let bins = 16
 let small = 32
-let uses_bvh a = Option.is_some a.tree
+let uses_bvh a = match a.layers with Some l -> l.bvh | None -> Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =
   Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z
@@ -387,7 +403,7 @@ let build prims =
   let n = Array.length prims in
   let bounded = indices prims true in
   let m = Array.length bounded in
-  if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None }
+  if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None; layers = None }
   else
     let outside = indices prims false in
     (* A tree of m primitives has at most 2m − 1 nodes; with leaves of one or two, as the
@@ -430,6 +446,7 @@ let build prims =
       prims;
       outside;
       tree = Some { nodes; links; leaf_prims; leaf_idx; depth = w.max_depth };
+      layers = None;
     }
 
 (* --- Traversal -------------------------------------------------------------------- *)
@@ -559,10 +576,23 @@ let tree_nearest a tr r tmin tmax (h : Shape.hit) =
   h.t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
-let nearest_into a r tmin tmax h =
-  match a.tree with
-  | None -> linear_nearest a.prims r tmin tmax h
-  | Some tr -> tree_nearest a tr r tmin tmax h
+let rec nearest_into a r tmin tmax (h : Shape.hit) =
+  match a.layers with
+  | Some l ->
+      (* The lexicographic minimum of (t, index) over both parts: the moving part is
+         asked up to succ(t) of the fixed part's hit, so that an equal t is seen. *)
+      let i = nearest_into l.fixed r tmin tmax h in
+      let t = h.t in
+      let j = nearest_into l.moving r tmin (if i >= 0 then Float.succ t else tmax) h in
+      if j >= 0 && (i < 0 || h.t < t || (h.t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
+      then l.moving_idx.(j)
+      else (
+        h.t <- (if i >= 0 then t else Float.infinity);
+        if i >= 0 then l.fixed_idx.(i) else -1)
+  | None -> (
+      match a.tree with
+      | None -> linear_nearest a.prims r tmin tmax h
+      | Some tr -> tree_nearest a tr r tmin tmax h)
 
 let nearest a r tmin tmax =
   let h = { Shape.tmin; tmax; t = Float.infinity } in
@@ -752,10 +782,15 @@ let tree_fold ~only_transparent a tr r tmin tmax f acc =
            is_black !acc));
   !acc
 
-let fold ~only_transparent a r tmin tmax f acc =
-  match a.tree with
-  | None -> linear_fold ~only_transparent a.prims r tmin tmax f acc
-  | Some tr -> tree_fold ~only_transparent a tr r tmin tmax f acc
+let rec fold ~only_transparent a r tmin tmax f acc =
+  match a.layers with
+  | Some l ->
+      let acc = fold ~only_transparent l.fixed r tmin tmax f acc in
+      if is_black acc then acc else fold ~only_transparent l.moving r tmin tmax f acc
+  | None -> (
+      match a.tree with
+      | None -> linear_fold ~only_transparent a.prims r tmin tmax f acc
+      | Some tr -> tree_fold ~only_transparent a tr r tmin tmax f acc)
 
 let fold_hits a r tmin tmax f acc = fold ~only_transparent:false a r tmin tmax f acc
 
@@ -778,10 +813,13 @@ let tree_any a tr r tmin tmax =
   let h = { Shape.tmin; tmax; t = Float.infinity } in
   tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
 
-let any_hit a r tmin tmax =
-  match a.tree with
-  | None -> linear_any a.prims r tmin tmax
-  | Some tr -> tree_any a tr r tmin tmax
+let rec any_hit a r tmin tmax =
+  match a.layers with
+  | Some l -> any_hit l.fixed r tmin tmax || any_hit l.moving r tmin tmax
+  | None -> (
+      match a.tree with
+      | None -> linear_any a.prims r tmin tmax
+      | Some tr -> tree_any a tr r tmin tmax)
 
 (* --- Occlusion ---------------------------------------------------------------------- *)
 
@@ -812,7 +850,20 @@ let linear_occluder prims q obj =
   done;
   !found
 
-let tree_occluder a tr (q : Shape.probe) obj =
+let rec occluder a q obj =
+  match a.layers with
+  | Some l ->
+      let i = occluder l.fixed q obj in
+      if i >= 0 then l.fixed_idx.(i)
+      else
+        let j = occluder l.moving q obj in
+        if j >= 0 then l.moving_idx.(j) else -1
+  | None -> (
+      match a.tree with
+      | None -> linear_occluder a.prims q obj
+      | Some tr -> tree_occluder a tr q obj)
+
+and tree_occluder a tr (q : Shape.probe) obj =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims in
   let k = ref 0 in
@@ -855,12 +906,32 @@ let tree_occluder a tr (q : Shape.probe) obj =
     st.busy <- false);
   !found
 
+let rec nearest_probe_in a (q : Shape.probe) obj =
+  match a.layers with
+  | Some l ->
+      (* As [nearest_into]'s two parts: the moving part up to succ(t) of the fixed
+         part's hit, the lexicographic minimum of (t, index). *)
+      let tmin = q.p_tmin and tmax = q.p_tmax in
+      let i = nearest_probe_in l.fixed q obj in
+      let t = q.p_t in
+      q.p_tmin <- tmin;
+      q.p_tmax <- (if i >= 0 then Float.succ t else tmax);
+      let j = nearest_probe_in l.moving q obj in
+      if
+        j >= 0 && (i < 0 || q.p_t < t || (q.p_t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
+      then l.moving_idx.(j)
+      else (
+        q.p_t <- (if i >= 0 then t else Float.infinity);
+        if i >= 0 then l.fixed_idx.(i) else -1)
+  | None -> (
+      match a.tree with
+      | None -> linear_nearest_probe a.prims q obj
+      | Some tr -> tree_nearest_probe a tr q obj)
+
 let nearest_probe a (q : Shape.probe) =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
-  match a.tree with
-  | None -> linear_nearest_probe a.prims q obj
-  | Some tr -> tree_nearest_probe a tr q obj
+  nearest_probe_in a q obj
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
    the same order (the unbounded ones first, then depth first over the boxes the ray
@@ -935,12 +1006,31 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
        raise e);
     st.busy <- false)
 
+let rec transparent_in a (q : Shape.probe) obj visit =
+  match a.layers with
+  | Some l ->
+      (* The fixed part's crossings, then the moving part's (see {!layered}). *)
+      let tmin = q.p_tmin and tmax = q.p_tmax in
+      let stopped = ref false in
+      let visit p =
+        let stop = visit p in
+        if stop then stopped := true;
+        stop
+      in
+      transparent_in l.fixed q obj visit;
+      if not !stopped then (
+        q.p_tmin <- tmin;
+        q.p_tmax <- tmax;
+        transparent_in l.moving q obj visit)
+  | None -> (
+      match a.tree with
+      | None -> linear_transparent a.prims q obj visit
+      | Some tr -> tree_transparent a tr q obj visit)
+
 let transparent_crossings a (q : Shape.probe) visit =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
-  match a.tree with
-  | None -> linear_transparent a.prims q obj visit
-  | Some tr -> tree_transparent a tr q obj visit
+  transparent_in a q obj visit
 
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in
@@ -956,10 +1046,21 @@ let occluded a (q : Shape.probe) ~slot =
   let c = Array.unsafe_get sc.last slot in
   if c >= 0 && c < Array.length prims && blocks (Array.unsafe_get prims c) q obj then true
   else
-    let found =
-      match a.tree with
-      | None -> linear_occluder prims q obj
-      | Some tr -> tree_occluder a tr q obj
-    in
+    let found = occluder a q obj in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
+
+(* --- Two parts ------------------------------------------------------------------------ *)
+
+let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
+  let n = Array.length prims in
+  if Array.length fixed_idx + Array.length moving_idx <> n then
+    invalid_arg "Accel.layered: the parts do not cover the primitives";
+  let bounded = ref 0 in
+  Array.iter (fun p -> if is_bounded p then incr bounded) prims;
+  {
+    prims;
+    outside = [||];
+    tree = None;
+    layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = !bounded >= min_bvh };
+  }

@@ -10,6 +10,23 @@ val build : Primitive.t array -> t
 (** [build prims] indexes [prims] for ray queries: a binned-SAH bounding volume hierarchy
     over the bounded ones when there are enough of them, a linear scan otherwise. *)
 
+val layered :
+  Primitive.t array ->
+  fixed:t ->
+  fixed_idx:int array ->
+  moving:t ->
+  moving_idx:int array ->
+  t
+(** [layered prims ~fixed ~fixed_idx ~moving ~moving_idx] indexes [prims] by two
+    structures built over parts of it: [fixed] over the primitives [fixed_idx] lists (in
+    increasing order), [moving] over the others ([moving_idx], increasing), so that the
+    part that does not change between the frames of an animation is built once. Its
+    {!nearest}, {!nearest_probe}, {!any_hit} and {!occluded} answer as [build prims]
+    would, indices into [prims]; {!fold_hits} and {!transparent_crossings} visit the fixed
+    part's crossings first, an order that [build]'s need not have: where a transmittance
+    product must be the same to the bit, no primitive may be transparent. {!uses_bvh} says
+    whether [build prims] would build a tree. *)
+
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
 

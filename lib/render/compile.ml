@@ -228,7 +228,87 @@ let sort_problems ps =
   let key ((l : Loc.t), _) = (index l.file 0 files, l.line, l.col) in
   List.stable_sort (fun a b -> compare (key a) (key b)) ps
 
-let compile ?(source = fun _ -> None) ?(progress = ignore) c (d : D.t) =
+(* One material record per material of the description (objects built by one `let`
+   share it), the default material the renderer's own. *)
+let materials c =
+  let last = ref None in
+  function
+  | None -> Material.default
+  | Some m -> (
+      match !last with
+      | Some (dm, rm) when dm == m -> rm
+      | _ ->
+          let rm = material c m in
+          last := Some (m, rm);
+          rm)
+
+(* The primitives of one object. *)
+let primitives c material_of (o : D.obj) =
+  let m = material_of o.material in
+  let sh, leaves = shapes c o in
+  let leaf_materials = Array.map (Option.map (fun lm -> material_of (Some lm))) leaves in
+  List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
+
+type fixed = {
+  objs : D.obj array;
+  start : int array;  (** where each object's primitives start in [flat] *)
+  flat : Primitive.t array;
+  ok : bool;  (** whether every object compiled *)
+  part_lock : Mutex.t;
+  mutable part : Scene.fixed option;  (** for the last origin asked *)
+}
+
+let fixed c objs =
+  let objs = Array.of_list objs in
+  let material_of = materials c in
+  match Array.map (primitives c material_of) objs with
+  | prims ->
+      let start = Array.make (Array.length objs) 0 in
+      let n = ref 0 in
+      Array.iteri
+        (fun i ps ->
+          start.(i) <- !n;
+          n := !n + List.length ps)
+        prims;
+      let flat = Array.of_list (List.concat (Array.to_list prims)) in
+      { objs; start; flat; ok = true; part_lock = Mutex.create (); part = None }
+  | exception Problem _ ->
+      {
+        objs;
+        start = [||];
+        flat = [||];
+        ok = false;
+        part_lock = Mutex.create ();
+        part = None;
+      }
+
+let fixed_part fx (origin : Vec3.t) =
+  Mutex.protect fx.part_lock (fun () ->
+      match fx.part with
+      | Some f
+        when let bits = Int64.bits_of_float and (o : Vec3.t) = Scene.fixed_origin f in
+             bits o.x = bits origin.x
+             && bits o.y = bits origin.y
+             && bits o.z = bits origin.z ->
+          f
+      | _ ->
+          fx.part <- None;
+          let f = Scene.fixed ~origin fx.flat in
+          fx.part <- Some f;
+          f)
+
+let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
+  let fx = match fixed with Some fx when fx.ok -> Some fx | _ -> None in
+  (* The objects of the fixed part, met in their order: the next one is [!next]. *)
+  let next = ref 0 in
+  let fixed_index (o : D.obj) =
+    match fx with
+    | Some fx when !next < Array.length fx.objs && fx.objs.(!next) == o ->
+        incr next;
+        Some (!next - 1)
+    | _ -> None
+  in
+  let pieces = ref [] in
   let problems = ref [] and seen = Hashtbl.create 4 in
   let count = ref 0 in
   let report loc msg =
@@ -236,43 +316,38 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) c (d : D.t) =
       Hashtbl.add seen (loc, msg) ();
       problems := (loc, msg) :: !problems)
   in
-  (* One material record per material of the description (objects built by one `let`
-     share it), the default material the renderer's own. *)
-  let last = ref None in
-  let material_of = function
-    | None -> Material.default
-    | Some m -> (
-        match !last with
-        | Some (dm, rm) when dm == m -> rm
+  let material_of = materials c in
+  List.iter
+    (fun (o : D.obj) ->
+      match
+        match (fixed_index o, fx) with
+        | Some i, Some fx ->
+            let first = fx.start.(i) in
+            let n =
+              (if i + 1 < Array.length fx.start then fx.start.(i + 1)
+               else Array.length fx.flat)
+              - first
+            in
+            (* Consecutive objects of the fixed part make one run of it. *)
+            (match !pieces with
+            | Scene.Fixed (f, m) :: rest when f + m = first ->
+                pieces := Scene.Fixed (f, m + n) :: rest
+            | ps -> pieces := Scene.Fixed (first, n) :: ps);
+            n
         | _ ->
-            let rm = material c m in
-            last := Some (m, rm);
-            rm)
-  in
-  let prims =
-    List.concat_map
-      (fun (o : D.obj) ->
-        match
-          let m = material_of o.material in
-          let sh, leaves = shapes c o in
-          let leaf_materials =
-            Array.map (Option.map (fun lm -> material_of (Some lm))) leaves
-          in
-          List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
-        with
-        | ps ->
-            count := !count + List.length ps;
-            if !count > D.max_objects && !count - List.length ps <= D.max_objects then
-              report o.loc
-                (Printf.sprintf
-                   "this scene builds more than %d objects; that is the limit"
-                   D.max_objects);
-            ps
-        | exception Problem (loc, msg) ->
-            report loc msg;
-            [])
-      d.objects
-  in
+            let ps = primitives c material_of o in
+            pieces := Scene.Moving ps :: !pieces;
+            List.length ps
+      with
+      | n ->
+          count := !count + n;
+          if !count > D.max_objects && !count - n <= D.max_objects then
+            report o.loc
+              (Printf.sprintf "this scene builds more than %d objects; that is the limit"
+                 D.max_objects);
+          ()
+      | exception Problem (loc, msg) -> report loc msg)
+    d.objects;
   if !problems <> [] then
     Error
       (List.map
@@ -283,8 +358,22 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) c (d : D.t) =
       progress
         (Printf.sprintf "building the acceleration structure over %d objects" !count);
     match
-      Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
-        ~lights:d.lights prims
+      match fx with
+      | Some fx when !next = Array.length fx.objs ->
+          (* Every object of the fixed part is here: its structure is reused. *)
+          Scene.make_layered ~settings:d.settings ~camera:d.camera ~time:d.time
+            ~frame:d.frame ~lights:d.lights
+            ~fixed:(fixed_part fx (Scene.origin_of d.camera))
+            (List.rev !pieces)
+      | _ ->
+          Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
+            ~lights:d.lights
+            (List.concat_map
+               (function
+                 | Scene.Moving ps -> ps
+                 | Scene.Fixed (first, n) ->
+                     List.init n (fun m -> (Option.get fx).flat.(first + m)))
+               (List.rev !pieces))
     with
     | Ok s -> Ok s
     | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ])

@@ -16,16 +16,28 @@ val assets : unit -> assets
 val files : assets -> string list
 (** The paths of the images and meshes read so far (or tried), sorted. *)
 
+type fixed
+(** The primitives of objects that do not change between the frames of an animation, made
+    once, and the acceleration structure over them (for the last origin asked). *)
+
+val fixed : assets -> Description.obj list -> fixed
+(** [fixed assets objs]: the primitives of [objs] (in order), as {!compile} makes them. An
+    object that does not compile leaves the fixed part unused (each compile then makes and
+    reports everything itself). *)
+
 val compile :
   ?source:(string -> string option) ->
   ?progress:(string -> unit) ->
+  ?fixed:fixed ->
   assets ->
   Description.t ->
   (Scene.t, Diagnostic.t list) result
 (** [compile assets d] is the scene [d] describes. [source file] is the text of [file],
     for an error's caret display. [progress] is told when a long build starts its
     acceleration structure ("building the acceleration structure over 1000000 objects").
-*)
+    With [fixed], the objects of [d] that are the fixed part's, physically and in its
+    order, are not made again; when all of them are there, the scene reuses their
+    acceleration structure ({!Scene.make_layered}): the same scene, made faster. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order

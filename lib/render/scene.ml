@@ -40,22 +40,61 @@ let view_camera origin c =
 let view_lights origin lights =
   if is_zero origin then lights else Array.map (Light.translate (Vec3.neg origin)) lights
 
-let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
+(* What the materials of some primitives use, for their features. *)
+type uses = {
+  u_reflection : bool;
+  u_refraction : bool;
+  u_textures : bool;
+  u_bump : bool;
+  u_color_maps : bool;
+}
+
+let uses_of objects =
   (* Over the objects themselves: no list or array of a million materials beside them. *)
-  let any f =
-    Array.exists
-      (fun (o : Primitive.t) ->
-        if Primitive.is_csg o then List.exists f (Primitive.materials o) else f o.material)
-      objects
+  let r = ref false
+  and t = ref false
+  and x = ref false
+  and b = ref false
+  and c = ref false in
+  let see (m : Material.t) =
+    if m.reflection > 0. || (m.fresnel && m.transparency > 0.) then r := true;
+    if m.transparency > 0. then t := true;
+    (match m.texture with
+    | Some tex -> (
+        x := true;
+        match tex with Texture.Gradient _ | Texture.Mapped _ -> c := true | _ -> ())
+    | None -> ());
+    if Option.is_some m.bump then b := true
   in
+  Array.iter
+    (fun (o : Primitive.t) ->
+      if Primitive.is_csg o then List.iter see (Primitive.materials o) else see o.material)
+    objects;
+  {
+    u_reflection = !r;
+    u_refraction = !t;
+    u_textures = !x;
+    u_bump = !b;
+    u_color_maps = !c;
+  }
+
+let either a b =
+  {
+    u_reflection = a.u_reflection || b.u_reflection;
+    u_refraction = a.u_refraction || b.u_refraction;
+    u_textures = a.u_textures || b.u_textures;
+    u_bump = a.u_bump || b.u_bump;
+    u_color_maps = a.u_color_maps || b.u_color_maps;
+  }
+
+let features_of (s : Settings.t) (c : Camera.t) lights u accel =
   {
     Features.shadows = s.shadows && Array.length lights > 0;
     soft_shadows = s.shadows && Array.exists Light.is_area lights;
-    reflection =
-      any (fun m -> m.Material.reflection > 0. || (m.fresnel && m.transparency > 0.));
-    refraction = any (fun m -> m.Material.transparency > 0.);
-    textures = any (fun m -> Option.is_some m.Material.texture);
-    bump = any (fun m -> Option.is_some m.Material.bump);
+    reflection = u.u_reflection;
+    refraction = u.u_refraction;
+    textures = u.u_textures;
+    bump = u.u_bump;
     supersampling = s.samples > 1 || s.adaptive > 0.;
     bvh = Accel.uses_bvh accel;
     orthographic =
@@ -66,12 +105,11 @@ let derive_features (s : Settings.t) (c : Camera.t) lights objects accel =
     spot_lights = Array.exists Light.is_spot lights;
     sky = Option.is_some s.sky;
     fog = Option.is_some s.fog;
-    color_maps =
-      any (fun m ->
-          match m.Material.texture with
-          | Some (Texture.Gradient _ | Texture.Mapped _) -> true
-          | _ -> false);
+    color_maps = u.u_color_maps;
   }
+
+let derive_features s c lights objects accel =
+  features_of s c lights (uses_of objects) accel
 
 let ( let* ) = Result.bind
 
@@ -100,6 +138,124 @@ let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
   in
   let accel = Accel.build objects in
   let features = derive_features settings camera lights objects accel in
+  let view = view_camera origin camera and view_lights = view_lights origin lights in
+  Ok
+    {
+      settings;
+      camera;
+      lights;
+      objects;
+      accel;
+      features;
+      time;
+      frame;
+      origin;
+      view;
+      view_lights;
+    }
+
+(* ---------------------------------------------------------------------------------- *)
+(* A part that does not change between frames *)
+
+type fixed = {
+  f_origin : Vec3.t;
+  f_prims : Primitive.t array;  (** moved by −[f_origin] *)
+  f_accel : Accel.t;
+  f_valid : bool;  (** whether every material of them is valid *)
+  f_uses : uses;
+}
+
+let materials_valid prims =
+  Array.for_all
+    (fun o -> List.for_all (fun m -> Material.validate m = Ok ()) (Primitive.materials o))
+    prims
+
+let fixed ~origin prims =
+  let prims =
+    if is_zero origin then Array.copy prims
+    else Array.map (Primitive.translate (Vec3.neg origin)) prims
+  in
+  {
+    f_origin = origin;
+    f_prims = prims;
+    f_accel = Accel.build prims;
+    f_valid = materials_valid prims;
+    f_uses = uses_of prims;
+  }
+
+let fixed_origin f = f.f_origin
+
+let same_point (a : Vec3.t) (b : Vec3.t) =
+  let bits = Int64.bits_of_float in
+  bits a.x = bits b.x && bits a.y = bits b.y && bits a.z = bits b.z
+
+type piece = Fixed of int * int | Moving of Primitive.t list
+
+let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
+    ?(frame = 0) ~lights ~fixed:f pieces =
+  let origin = origin_of camera in
+  if not (same_point origin f.f_origin) then
+    invalid_arg "Scene.make_layered: the fixed part is for another origin";
+  let nf = Array.length f.f_prims in
+  let moving =
+    Array.of_list (List.concat_map (function Moving ps -> ps | Fixed _ -> []) pieces)
+  in
+  let moving =
+    if is_zero origin then moving
+    else Array.map (Primitive.translate (Vec3.neg origin)) moving
+  in
+  let nm = Array.length moving in
+  let objects =
+    if nf > 0 then Array.make (nf + nm) f.f_prims.(0)
+    else if nm > 0 then Array.make nm moving.(0)
+    else [||]
+  in
+  let fixed_idx = Array.make nf (-1) and moving_idx = Array.make nm 0 in
+  let at = ref 0 and j = ref 0 in
+  List.iter
+    (function
+      | Fixed (first, n) ->
+          Array.blit f.f_prims first objects !at n;
+          for m = 0 to n - 1 do
+            fixed_idx.(first + m) <- !at + m
+          done;
+          at := !at + n
+      | Moving ps ->
+          List.iter
+            (fun _ ->
+              objects.(!at) <- moving.(!j);
+              moving_idx.(!j) <- !at;
+              incr j;
+              incr at)
+            ps)
+    pieces;
+  (* Each fixed primitive once, in their order: the parts' ties then go as in one. *)
+  let increasing = ref (nf = 0 || fixed_idx.(0) >= 0) in
+  for k = 1 to nf - 1 do
+    if fixed_idx.(k) <= fixed_idx.(k - 1) then increasing := false
+  done;
+  if (not !increasing) || !at <> nf + nm then
+    invalid_arg "Scene.make_layered: the pieces do not place every fixed primitive once";
+  let* () = Settings.validate settings in
+  let* () = Camera.validate camera in
+  let* () =
+    first_error
+      (Array.to_seq (if f.f_valid then moving else objects)
+      |> Seq.concat_map (fun o -> List.to_seq (Primitive.materials o))
+      |> Seq.map Material.validate)
+  in
+  let lights = Array.of_list lights in
+  (* A shadow ray's transmittance multiplies its crossings in the order of the structure
+     it walks: with a transparent material anywhere, one structure over them all, as
+     {!make} builds it. *)
+  let uses = either f.f_uses (uses_of moving) in
+  let accel =
+    if uses.u_refraction then Accel.build objects
+    else
+      Accel.layered objects ~fixed:f.f_accel ~fixed_idx ~moving:(Accel.build moving)
+        ~moving_idx
+  in
+  let features = features_of settings camera lights uses accel in
   let view = view_camera origin camera and view_lights = view_lights origin lights in
   Ok
     {

@@ -35,6 +35,42 @@ val make :
 (** [make ~lights objects] validates settings, camera and materials and builds the scene.
 *)
 
+val origin_of : Camera.t -> Vec3.t
+(** The [origin] of a scene seen through this camera. *)
+
+(** {1 A part built once for many frames} *)
+
+type fixed
+(** Primitives that do not change between the frames of an animation, moved into the
+    render coordinates of one origin, with their acceleration structure. *)
+
+val fixed : origin:Vec3.t -> Primitive.t array -> fixed
+(** [fixed ~origin prims] moves [prims] (in world coordinates) by −[origin] and builds
+    their structure. *)
+
+val fixed_origin : fixed -> Vec3.t
+
+type piece =
+  | Fixed of int * int
+      (** [Fixed (first, n)]: the fixed part's primitives first … first+n−1 *)
+  | Moving of Primitive.t list  (** primitives of this frame, in world coordinates *)
+
+val make_layered :
+  ?settings:Settings.t ->
+  ?camera:Camera.t ->
+  ?time:float ->
+  ?frame:int ->
+  lights:Light.t list ->
+  fixed:fixed ->
+  piece list ->
+  (t, string) result
+(** [make_layered ~lights ~fixed pieces] is {!make} of the primitives the pieces list, in
+    order; every primitive of [fixed] must be among them once, in its order. The same
+    scene as {!make} gives, object for object and answer for answer, but for the work: the
+    fixed part's structure is reused ({!Accel.layered}) and only the moving primitives' is
+    built; with a transparent material anywhere, one structure is built over them all, as
+    {!make} does. [fixed] must be for [origin_of camera]. *)
+
 val make_exn :
   ?settings:Settings.t ->
   ?camera:Camera.t ->

@@ -306,6 +306,37 @@ let scaling_errors () =
       [ "--sweeps"; "colours" ];
     ]
 
+(* An animation timed against its still: every frame written, both times and their ratio
+   reported; a scene that fails is a one-line error. *)
+let animation_json () =
+  let d = tmpdir () in
+  let scene = Filename.concat d "a.rts" in
+  write_file scene
+    {|settings { width: 16, height: 12 }
+animation { fps: 10, frames: 3 }
+camera { position: (0, 1, -5), look_at: (0, 1, 0) }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+for i in 0 to 9 { sphere { center: (i - 4.5, 0.3, 1), radius: 0.3 } }
+sphere { center: (time, 1, 0), radius: 0.5 }
+|};
+  let st, out, e = lancer [ "bench"; "animation"; scene; "--repeat"; "1"; "--json" ] in
+  Alcotest.(check int) ("status\n" ^ e) 0 st;
+  let j = Yojson.Safe.from_string out in
+  Alcotest.(check int) "frames" 3 (j |> member "frames" |> to_int);
+  let a = j |> member "animation_s" |> to_number
+  and s = j |> member "still_s" |> to_number
+  and r = j |> member "ratio" |> to_number in
+  Alcotest.(check bool) "positive times" true (a > 0. && s > 0.);
+  Alcotest.(check (float 1e-9)) "ratio" (a /. s) r;
+  write_file scene "sphere { radius: -1 }\n";
+  let st, _, e = lancer [ "bench"; "animation"; scene; "--repeat"; "1" ] in
+  Alcotest.(check int) ("a failing scene\n" ^ e) 1 st;
+  Alcotest.(check bool)
+    ("one line, no backtrace\n" ^ e)
+    true
+    (contains e "bench animation: lancer animate failed" && not (contains e "Raised at"))
+
 let () =
   Alcotest.run "bench_cli"
     [
@@ -322,4 +353,5 @@ let () =
           Alcotest.test_case "scaling --json rows" `Quick scaling_json;
           Alcotest.test_case "bad options exit 1" `Quick scaling_errors;
         ] );
+      ("animation", [ Alcotest.test_case "animation --json" `Quick animation_json ]);
     ]

@@ -40,8 +40,61 @@ body ball { sphere { center: (0, 2, 0), radius: 0.4 } restitution: 0.8 }
 
 let mtime p = (Unix.stat p).Unix.st_mtime
 
+(* Still parts (a plane, rows of spheres from a macro, a group, a CSG object, spheres
+   after the moving ones) among moving ones (a sphere that follows [time], one that
+   follows [frame] through a name defined from it, a body): an animation shares the still
+   parts between its frames. [glass] makes a still sphere transparent. *)
+let mixed_scene ~glass =
+  Printf.sprintf
+    {|settings { width: 40, height: 30, samples: 2 }
+animation { fps: 10, frames: 5 }
+camera { position: (0, 3, -8), look_at: (0, 0.5, 0) }
+light { position: (-3, 6, -4) }
+light { position: (3, 4, -6), radius: 0.3, samples: 2 }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((1,1,1), (0.2,0.2,0.2), 1) } }
+let m = material { color: (0.3, 0.6, 0.9), specular: 0.4 }
+fn row(z) { for i in 0 to 5 { sphere { center: (i - 2.5, 0.3, z), radius: 0.3, material: m } } }
+row(0)
+row(1)
+group { translate: (0, 0, 2), box { min: (-1, 0, 0), max: (1, 1, 0.5) } sphere { center: (2, 0.5, 0), radius: 0.5 } }
+merge { box { min: (-3, 0, -1), max: (-2, 1, 0) } box { min: (-2.8, 0, -0.8), max: (-2.2, 1.4, -0.2) } }
+sphere { center: (-2 + time * 4, 1, -1), radius: 0.5, material: material { reflection: 0.5 } }
+let lift = frame / 10
+sphere { center: (2.5, 0.3 + lift, -1.5), radius: 0.3 }
+body ball { sphere { center: (1, 2, -1), radius: 0.4 } restitution: 0.8 }
+for i in 0 to 3 { sphere { center: (i - 1.5, 0.2, -2.5), radius: 0.2%s } }
+|}
+    (if glass then ", material: material { transparency: 0.8, ior: 1.3 }" else "")
+
 let animate_tests =
   [
+    Alcotest.test_case
+      "every frame of an animation is the still of that frame, byte for byte, though the \
+       frames share what does not move"
+      `Quick (fun () ->
+        let d = tmpdir () in
+        List.iter
+          (fun glass ->
+            write_file (Filename.concat d "m.rts") (mixed_scene ~glass);
+            check_status "animate" 0
+              (lancer ~dir:d [ "animate"; "m.rts"; "-o"; "out"; "-q"; "--domains"; "1" ]);
+            for k = 0 to 4 do
+              let still = Printf.sprintf "still_%d.png" k in
+              check_status still 0
+                (lancer ~dir:d
+                   [ "render"; "m.rts"; "--frame"; string_of_int k; "-o"; still; "-q" ]);
+              Alcotest.(check bool)
+                (Printf.sprintf "frame %d (glass: %b)" k glass)
+                true
+                (read_file (Filename.concat d (Printf.sprintf "out/frame_%04d.png" k))
+                = read_file (Filename.concat d still))
+            done;
+            (* The frames differ: something moves. *)
+            Alcotest.(check bool)
+              "frames 1 and 4 differ" false
+              (read_file (Filename.concat d "out/frame_0001.png")
+              = read_file (Filename.concat d "out/frame_0004.png")))
+          [ false; true ]);
     Alcotest.test_case
       "animate writes every frame and a manifest; --resume renders only what is missing \
        or stale"
