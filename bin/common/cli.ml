@@ -352,6 +352,14 @@ let building o what =
 
 let built o = if (not o.quiet) && Unix.isatty Unix.stderr then Printf.eprintf "\r\027[K%!"
 
+let writing o path f =
+  let path = if path = "-" then "the image to standard output" else path in
+  (match (o.quiet, Unix.isatty Unix.stderr, o.progress) with
+  | true, _, _ | false, false, false -> ()
+  | false, true, _ -> Printf.eprintf "\r\027[Kwriting %s…%!" path
+  | false, false, true -> Printf.eprintf "writing %s\n%!" path);
+  Fun.protect ~finally:(fun () -> built o) f
+
 let build o f =
   let t0 = Unix.gettimeofday () in
   let r = Fun.protect ~finally:(fun () -> built o) (fun () -> f (building o)) in

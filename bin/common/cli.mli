@@ -52,6 +52,11 @@ val opts_term : opts Cmdliner.Term.t
 val resume_still : bool Cmdliner.Term.t
 (** [--resume] of [render]: keep and reuse a checkpoint of finished tiles. *)
 
+val writing : opts -> string -> (unit -> 'a) -> 'a
+(** [writing o path f] runs [f] (the write of [path]) under a progress note,
+    [writing PATH]: redrawn in place on a terminal and cleared after, a line with
+    [--progress], nothing otherwise. A large PNG takes seconds to compress. *)
+
 val progress : opts -> label:string -> total:int -> Progress.t
 (** The progress report the options ask for: redrawn in place on a terminal, lines with
     [--progress] otherwise, nothing with [--quiet]. *)

@@ -57,7 +57,7 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  Cli.write_image ~cancel ~encoding:enc ?alpha out sc fb;
+  Cli.writing o out (fun () -> Cli.write_image ~cancel ~encoding:enc ?alpha out sc fb);
   Option.iter Checkpoint.remove checkpoint;
   Cli.warn_bad_samples st;
   Option.iter

@@ -191,7 +191,7 @@ let render_cmd (o : Cli.opts) ~resume =
        was still writing made mpirun kill rank 0 too, and the image was lost. *)
     let ranks = Mpi.size () and workers = ranks_text domains in
     Mpi.finalize ();
-    Cli.write_image ~cancel out sc fb;
+    Cli.writing o out (fun () -> Cli.write_image ~cancel out sc fb);
     Option.iter Ck.remove ck;
     Cli.warn_bad_samples st;
     Option.iter

@@ -194,13 +194,21 @@ rank_pid() { # OUTPUT RANK: the pid of that rank of the job writing OUTPUT, once
   done
 }
 
+# Waits (30 s at most) for the job's first tiles line in its stderr FILE, then 0.5 s:
+# the job is rendering (on a loaded machine a job may take seconds to start).
+rendering() {
+  local i
+  for i in $(seq 1 600); do grep -aq '^tiles ' "$1" && break; sleep 0.05; done
+  sleep 0.5
+}
+
 # Ctrl-C reaches the ranks (the terminal signals its whole foreground group): one rank
 # rendering on two domains stops at once, exit 130, no image.
 mkdir -p stop1
-"${mpirun[@]}" -np 1 lancer-mpi render branching.rts -o stop1/b.png --domains 2 >stop1.out 2>stop1.err &
+"${mpirun[@]}" -np 1 lancer-mpi render branching.rts -o stop1/b.png --domains 2 --progress >stop1.out 2>stop1.err &
 job=$!
 r=$(rank_pid stop1/b.png 0)
-sleep 1
+rendering stop1.err
 [ -n "$r" ] && kill -INT "$r"
 for i in $(seq 1 100); do kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
 if kill -0 "$job" 2>/dev/null; then
@@ -214,10 +222,10 @@ else fail "Ctrl-C on one rank: status $status, files: $(ls -A stop1)"; cat stop1
 # A worker killed with kill -9: mpirun stops rank 0 with SIGTERM, and rank 0 does not
 # call that an interruption by the user.
 mkdir -p stop2
-"${mpirun[@]}" -np 2 lancer-mpi render branching.rts -o stop2/b.png --domains 1 >stop2.out 2>stop2.err &
+"${mpirun[@]}" -np 2 lancer-mpi render branching.rts -o stop2/b.png --domains 1 --progress >stop2.out 2>stop2.err &
 job=$!
 w=$(rank_pid stop2/b.png 1)
-sleep 1
+rendering stop2.err
 [ -n "$w" ] && kill -9 "$w"
 for i in $(seq 1 200); do kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
 kill -0 "$job" 2>/dev/null && { kill -9 "$job"; pkill -9 -P "$job"; }
@@ -227,14 +235,14 @@ if [ "$status" != 0 ] && grep -q "another rank has died" stop2.err && ! grep -q 
 else fail "a killed worker: status $status, files: $(ls -A stop2)"; cat stop2.err; fi
 
 # A worker killed while rank 0 writes the finished image: the image is kept. (The scene
-# renders at once and its 9 M pixels take seconds to compress; the last tile's progress
-# line says the write has begun.)
+# renders at once and its 9 M pixels take seconds to compress; the progress line
+# "writing …" comes once the job is over and the write has begun.)
 printf 'settings { width: 3000, height: 3000, background: (0.2, 0.4, 0.6) }\n' >plain.rts
 mkdir -p stop3
 "${mpirun[@]}" -np 2 lancer-mpi render plain.rts -o stop3/p.png --domains 1 --progress >stop3.out 2>stop3.err &
 job=$!
 w=$(rank_pid stop3/p.png 1)
-for i in $(seq 1 1200); do tr '\r' '\n' <stop3.err | grep -aq '(100%)' && break; kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
+for i in $(seq 1 1200); do grep -aq '^writing stop3/p.png' stop3.err && break; kill -0 "$job" 2>/dev/null || break; sleep 0.05; done
 writing=no; kill -0 "$job" 2>/dev/null && [ ! -e stop3/p.png ] && writing=yes
 [ -n "$w" ] && kill -9 "$w" 2>/dev/null
 wait "$job"; status=$?
