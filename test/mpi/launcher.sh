@@ -192,7 +192,9 @@ stop "SIGINT to lancer-mpirun alone" alone
 stop "Ctrl-C three times (mpirun's forcible termination)" group group group
 
 # A real terminal, where util-linux's script(1) is there to give one: ^C typed into it
-# reaches the terminal's foreground process group, lancer-mpirun and mpirun.
+# reaches the terminal's foreground process group, lancer-mpirun and mpirun. script(1)
+# runs the command with $SHELL: bash, which goes on after a child that handled the ^C
+# (dash, /bin/sh, dies of it before printing the status).
 if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev/null 2>&1; then
   mkdir -p tty
   t0=$(now_ms)
@@ -200,7 +202,7 @@ if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev
     # the terminal stays open until the launcher has ended (script(1) hangs up on its
     # job when its input ends: a loaded machine may take seconds to end the job)
     for _ in $(seq 1 300); do pgrep -f "^[^ ]*lancer-mpirun .*-o tty/" >/dev/null || break; sleep 0.1; done
-    sleep 0.5; } | timeout 60 script -qec \
+    sleep 0.5; } | SHELL=/bin/bash timeout 60 script -qec \
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
   t1=$(now_ms)
