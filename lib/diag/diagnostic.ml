@@ -65,24 +65,23 @@ let file_error ?(kind = Error) file message =
 let with_includes chain e =
   if e.included_from <> [] then e else { e with included_from = chain e.file }
 
+let unreadable path =
+  if not (Sys.file_exists path) then Some "no such file"
+  else if Sys.is_directory path then Some "it is a directory"
+  else
+    match open_in_bin path with
+    | ic ->
+        close_in_noerr ic;
+        None
+    | exception Sys_error _ -> Some "it cannot be opened (permissions?)"
+
+let cannot_read_because ~what ~written path r =
+  if String.equal written path then
+    Printf.sprintf "cannot read the %s \"%s\": %s" what written r
+  else Printf.sprintf "cannot read the %s \"%s\": %s (looked for %s)" what written r path
+
 let cannot_read ~what ~written path =
-  let reason =
-    if not (Sys.file_exists path) then Some "no such file"
-    else if Sys.is_directory path then Some "it is a directory"
-    else
-      match open_in_bin path with
-      | ic ->
-          close_in_noerr ic;
-          None
-      | exception Sys_error _ -> Some "it cannot be opened (permissions?)"
-  in
-  Option.map
-    (fun r ->
-      if String.equal written path then
-        Printf.sprintf "cannot read the %s \"%s\": %s" what written r
-      else
-        Printf.sprintf "cannot read the %s \"%s\": %s (looked for %s)" what written r path)
-    reason
+  Option.map (cannot_read_because ~what ~written path) (unreadable path)
 
 (* Display width of the first [n] bytes of [s]: UTF-8 continuation bytes take no
    column, tabs are kept so the caret lines up under them. *)

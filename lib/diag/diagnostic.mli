@@ -42,6 +42,15 @@ val cannot_read : what:string -> written:string -> string -> string option
     [cannot read the WHAT "WRITTEN": REASON (looked for PATH)]; [None] when [path] is a
     readable file. Includes, images and meshes all say it this way. *)
 
+val unreadable : string -> string option
+(** Why the file at a path cannot be read (missing, a directory, not readable), the reason
+    {!cannot_read} words; [None] when it is a readable file. *)
+
+val cannot_read_because : what:string -> written:string -> string -> string -> string
+(** [cannot_read_because ~what ~written path reason] is {!cannot_read}'s message for
+    [reason] (from {!unreadable}): for a cache that keeps the reason and names the file as
+    each place wrote it. *)
+
 val pp : Format.formatter -> t -> unit
 (** [file:line:col: message] ([warning: message] for a warning), then (when known) the
     source line and a caret line, then one [  included from FILE:LINE:COL] line per

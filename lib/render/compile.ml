@@ -1,9 +1,14 @@
 module D = Description
 
+(* A file's problem is kept as its message for any spelling of its name: the same file
+   named two ways ("gone.obj" from an include, "sub/gone.obj" from the main file) is
+   read once, and each place is told of it as it wrote it. *)
+type 'a read = ('a, string -> string) result
+
 type assets = {
-  pictures : (string, (Image.t, string) result) Hashtbl.t;
-  meshes : (string * bool, (Shape.t list, string) result) Hashtbl.t;
-  heights : (string, (int * int * Float.Array.t, string) result) Hashtbl.t;
+  pictures : (string, Image.t read) Hashtbl.t;
+  meshes : (string * bool, Shape.t list read) Hashtbl.t;
+  heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
   lock : Mutex.t;
 }
@@ -32,52 +37,67 @@ let cached c tbl key read =
       Mutex.protect c.lock (fun () -> Hashtbl.replace tbl key r);
       r
 
-let guarded what written f =
+let guarded what f =
   try f () with
   | Sys.Break -> raise Sys.Break
-  | e -> Error (Printf.sprintf "cannot %s \"%s\": %s" what written (Printexc.to_string e))
+  | e ->
+      let m = Printexc.to_string e in
+      Error (fun written -> Printf.sprintf "cannot %s \"%s\": %s" what written m)
+
+let unreadable ~what path =
+  Option.map
+    (fun r -> Error (fun written -> Diagnostic.cannot_read_because ~what ~written path r))
+    (Diagnostic.unreadable path)
+
+let failed what m =
+  Error (fun written -> Printf.sprintf "cannot %s \"%s\": %s" what written m)
+
+let spelled written r = Result.map_error (fun f -> f written) r
 
 let picture c (im : D.image) =
-  cached c c.pictures im.path (fun () ->
-      match Diagnostic.cannot_read ~what:"image" ~written:im.written im.path with
-      | Some msg -> Error msg
-      | None ->
-          guarded "read the image" im.written (fun () ->
-              Result.map_error
-                (Printf.sprintf "cannot read the image \"%s\": %s" im.written)
-                (Image.read_linear im.path)))
+  spelled im.written
+  @@ cached c c.pictures im.path (fun () ->
+         match unreadable ~what:"image" im.path with
+         | Some e -> e
+         | None ->
+             guarded "read the image" (fun () ->
+                 match Image.read_linear im.path with
+                 | Ok img -> Ok img
+                 | Error m -> failed "read the image" m))
 
 let mesh c ~file ~path ~smooth =
-  cached c c.meshes (path, smooth) (fun () ->
-      match Diagnostic.cannot_read ~what:"mesh" ~written:file path with
-      | Some msg -> Error msg
-      | None ->
-          guarded "load the mesh" file (fun () ->
-              Result.map_error
-                (Printf.sprintf "cannot load the mesh \"%s\": %s" file)
-                (Mesh.load ~smooth path)))
+  spelled file
+  @@ cached c c.meshes (path, smooth) (fun () ->
+         match unreadable ~what:"mesh" path with
+         | Some e -> e
+         | None ->
+             guarded "load the mesh" (fun () ->
+                 match Mesh.load ~smooth path with
+                 | Ok m -> Ok m
+                 | Error m -> failed "load the mesh" m))
 
 let heights c ~file ~path =
-  cached c c.heights path (fun () ->
-      match Diagnostic.cannot_read ~what:"image" ~written:file path with
-      | Some msg -> Error msg
-      | None -> (
-          match Image.read_raster path with
-          | Error m -> Error (Printf.sprintf "cannot read the image \"%s\": %s" file m)
-          | Ok r ->
-              (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to the
+  spelled file
+  @@ cached c c.heights path (fun () ->
+         match unreadable ~what:"image" path with
+         | Some e -> e
+         | None -> (
+             match Image.read_raster path with
+             | Error m -> failed "read the image" m
+             | Ok r ->
+                 (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to the
                  largest value (255, or 65535 for 16 bits) to 1; a grey pixel is its own
                  value; alpha is ignored. *)
-              let w = r.width and h = r.height in
-              let top = Float.of_int (Raster.max_value r) in
-              let v k =
-                let i = k mod w and j = k / w in
-                let c n = Float.of_int (Raster.get r i j n) in
-                if r.channels <= 2 then c 0 /. top
-                else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
-                else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
-              in
-              Ok (w, h, Float.Array.init (w * h) v)))
+                 let w = r.width and h = r.height in
+                 let top = Float.of_int (Raster.max_value r) in
+                 let v k =
+                   let i = k mod w and j = k / w in
+                   let c n = Float.of_int (Raster.get r i j n) in
+                   if r.channels <= 2 then c 0 /. top
+                   else if c 0 = c 1 && c 1 = c 2 then c 0 /. top
+                   else ((0.2126 *. c 0) +. (0.7152 *. c 1) +. (0.0722 *. c 2)) /. top
+                 in
+                 Ok (w, h, Float.Array.init (w * h) v)))
 
 (* A problem found while compiling: reported at the place the description recorded. *)
 exception Problem of Loc.t * string

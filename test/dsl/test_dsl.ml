@@ -711,6 +711,49 @@ let test_compile_by_hand () =
         "placed by its transform" true
         (Vec3.equal_f (Transform.point o.transform Vec3.zero) (Vec3.v 0. 1. 0.))
 
+(* One missing file named two ways (from an include and from the main file): each place
+   is told of it as it wrote it, though the file is looked for once. *)
+let test_file_spellings () =
+  let at line = { (Loc.whole_file "main.rts") with line; col = 1 } in
+  let mesh file line : D.obj =
+    {
+      kind = "mesh";
+      shape = Mesh { file; path = "sub/gone.obj"; smooth = false; at = at line };
+      transform = Transform.identity;
+      steps = [];
+      material = None;
+      loc = at line;
+      body = None;
+    }
+  in
+  let d : D.t =
+    {
+      file = "main.rts";
+      time = 0.;
+      frame = 0;
+      settings = Settings.default;
+      camera = Camera.default;
+      lights = [];
+      objects = [ mesh "gone.obj" 1; mesh "sub/gone.obj" 2 ];
+      animation = None;
+      physics = None;
+      physics_loc = None;
+      bodies = [];
+      warnings = [];
+      files = [];
+    }
+  in
+  match Compile.compile (Compile.assets ()) d with
+  | Ok _ -> Alcotest.fail "compiled without the file"
+  | Error es ->
+      Alcotest.(check (list string))
+        "each as written"
+        [
+          "cannot read the mesh \"gone.obj\": no such file (looked for sub/gone.obj)";
+          "cannot read the mesh \"sub/gone.obj\": no such file";
+        ]
+        (List.map (fun (e : Error.t) -> e.message) es)
+
 (* Obstacles come from the description's shapes. *)
 let test_colliders_of_description () =
   let p =
@@ -793,6 +836,8 @@ let () =
             `Quick test_files_by_name;
           Alcotest.test_case "a description made by hand compiles" `Quick
             test_compile_by_hand;
+          Alcotest.test_case "a file named two ways is reported as each place wrote it"
+            `Quick test_file_spellings;
           Alcotest.test_case "colliders are the description's planes and boxes" `Quick
             test_colliders_of_description;
         ] );
