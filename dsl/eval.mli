@@ -75,6 +75,9 @@ val run :
     the memo's statements did (when it succeeds); later ones skip them and give the same
     description they would have given had they evaluated them. *)
 
+val builtin_names : string list
+(** The built-in functions every program starts with ([sin], [mix], [checker], …). *)
+
 val suggest : string -> string list -> string option
 (** [suggest x candidates] is the candidate closest to [x] by edit distance, when close
     enough to be a likely typo. *)

@@ -77,11 +77,10 @@ let textures =
     "fog";
   ]
 
+(* The names bound at the start are the evaluator's own built-ins; the lists above only
+   say what some of them return (any other built-in's result is not known). *)
 let initial_env =
-  List.fold_left
-    (fun env n -> Env.add n (Builtin n) env)
-    Env.empty
-    (numeric @ vectorial @ textures @ [ "mix" ])
+  List.fold_left (fun env n -> Env.add n (Builtin n) env) Env.empty Eval.builtin_names
   |> Env.add "pi" Num |> Env.add "time" Num |> Env.add "frame" Num
 
 let builtin name args =
