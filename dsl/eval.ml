@@ -92,6 +92,18 @@ let hint x candidates =
 (* ------------------------------------------------------------------------------------ *)
 (* Values *)
 
+type pending_obj = {
+  p_kind : string;
+  p_shape : D.shape;
+  p_transform : Transform.t;
+  p_steps : D.step list;
+  p_material : D.material option;
+  p_loc : Loc.t;  (** where the object's block starts *)
+}
+
+(* A scope: where objects go (the program, or a group or body being built). *)
+type scope = { sink : pending_obj list ref; in_group : bool; in_csg : bool }
+
 type value =
   | VNum of float
   | VBool of bool
@@ -107,11 +119,29 @@ type value =
   | VPoison  (** the value of a name whose definition failed (already reported) *)
 
 and tex = { tname : string; targs : value list; tloc : Loc.t }
-and closure = { fname : string; params : name list; fbody : expr; mutable fenv : env }
-and macro = { mname : string; mparams : name list; mbody : stmt list; mutable menv : env }
-and env = value Map.Make(String).t
 
-module Env = Map.Make (String)
+(* A function or macro made of compiled code: its parameters are the first slots of the
+   frame a call makes ([fslots] in all), the names it reads from around its definition
+   are copied into [fcaps] when it is defined (so a function defined in a loop's body
+   keeps that iteration's values). *)
+and closure = {
+  fname : string;
+  nparams : int;
+  fbody : frame -> value;
+  fslots : int;
+  mutable fcaps : value array;
+}
+
+and macro = {
+  mname : string;
+  mnparams : int;
+  mbody : frame -> scope -> unit;
+  mslots : int;
+  mutable mcaps : value array;
+}
+
+(* The values of one activation: its own names by slot, and those its function captured. *)
+and frame = { l : value array; c : value array }
 
 let type_name = function
   | VNum _ -> "a number"
@@ -158,15 +188,6 @@ type specs = {
 
 (* ------------------------------------------------------------------------------------ *)
 (* Context *)
-
-type pending_obj = {
-  p_kind : string;
-  p_shape : D.shape;
-  p_transform : Transform.t;
-  p_steps : D.step list;
-  p_material : D.material option;
-  p_loc : Loc.t;  (** where the object's block starts *)
-}
 
 type ctx = {
   time : float;
@@ -225,9 +246,6 @@ let step ctx loc =
          "this scene takes more than %d evaluation steps (loop iterations and calls); \
           that is the limit"
          max_steps)
-
-(* A scope: where objects go (the program, or a group or body being built). *)
-type scope = { sink : pending_obj list ref; in_group : bool; in_csg : bool }
 
 (* ------------------------------------------------------------------------------------ *)
 (* Numbers *)
@@ -606,126 +624,35 @@ type block = {
 (* ------------------------------------------------------------------------------------ *)
 (* Expressions *)
 
-let rec eval ctx env (e : expr) : value =
-  match e.e with
-  | Num x -> VNum x
-  | Str s -> VStr s
-  | Bool b -> VBool b
-  | Var x -> lookup ctx env x e.loc
-  | Vec (a, b, c) ->
-      let n (e : expr) =
-        match eval ctx env e with
-        | VNum x -> x
-        | v -> fail e.loc "a vector component must be a number, got %s" (type_name v)
-      in
-      let x = n a in
-      let y = n b in
-      let z = n c in
-      VVec (Vec3.v x y z)
-  | Pair (a, b) ->
-      let x = eval ctx env a in
-      let y = eval ctx env b in
-      VPair (x, y)
-  | Unop (Neg, a) -> (
-      match eval ctx env a with
-      | VNum x -> VNum (-.x)
-      | VVec v -> VVec (Vec3.neg v)
-      | v -> fail e.loc "`-` needs a number or a vector, got %s" (type_name v))
-  | Unop (Not, a) -> (
-      match eval ctx env a with
-      | VBool b -> VBool (not b)
-      | v -> fail e.loc "`not` needs a boolean, got %s" (type_name v))
-  | Binop (((And | Or) as op), a, b) -> (
-      let bool (x : expr) =
-        match eval ctx env x with
-        | VBool b -> b
-        | v -> fail x.loc "`%s` needs booleans, got %s" (binop_name op) (type_name v)
-      in
-      match op with And -> VBool (bool a && bool b) | _ -> VBool (bool a || bool b))
-  | Binop (op, a, b) ->
-      let va = eval ctx env a in
-      let vb = eval ctx env b in
-      binop e.loc op va vb b.loc
-  | Dot (a, f) -> (
-      match (eval ctx env a, f.id) with
-      | VVec v, "x" -> VNum v.x
-      | VVec v, "y" -> VNum v.y
-      | VVec v, "z" -> VNum v.z
-      | VVec _, x -> fail f.nloc "a vector has components `x`, `y` and `z`, not `%s`" x
-      | VBody name, ("position" | "velocity") ->
-          let b, _ = List.find (fun ((b : body), _) -> b.name = name) ctx.bodies in
-          let pos, vel =
-            match Option.bind ctx.body_state (fun f -> f name ctx.time) with
-            | Some pv -> pv
-            | None -> (b.center, b.velocity)
-          in
-          VVec (if f.id = "position" then pos else vel)
-      | VBody _, x ->
-          fail f.nloc "a body has `position` and `velocity`, not `%s`%s" x
-            (hint x [ "position"; "velocity" ])
-      | v, x -> fail f.nloc "`.%s` needs a vector or a body, got %s" x (type_name v))
-  | If (c, a, b) -> (
-      match eval ctx env c with
-      | VBool true -> eval ctx env a
-      | VBool false -> eval ctx env b
-      | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
-  | Call (f, args) -> (
-      match lookup ctx env f.id f.nloc with
-      | VBuiltin name ->
-          let args = List.map (fun (a : expr) -> (eval ctx env a, a.loc)) args in
-          List.iter (fun (v, _) -> if v = VPoison then raise Poisoned) args;
-          call_builtin name e.loc args
-      | VFun c ->
-          let env' = bind_params ctx env c.fname c.params c.fenv args e.loc in
-          nested ctx e.loc (fun () -> eval ctx env' c.fbody)
-      | VMacro m ->
-          fail f.nloc
-            "`%s` is a scene macro (fn %s(…) { … }): call it as a statement, not in an \
-             expression"
-            m.mname m.mname
-      | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v))
-  | Material items -> eval_material ctx env e.loc items
+(* ------------------------------------------------------------------------------------ *)
+(* Expressions: what does not depend on the program's structure (the code that runs it is
+   compiled from it further down) *)
 
-and lookup ctx env x (loc : Loc.t) =
-  match Env.find_opt x env with
-  | Some VPoison -> raise Poisoned
-  | Some v -> v
-  | None -> (
-      (* A name defined further down the same file was most likely meant. *)
-      let later (d : Loc.t) =
-        d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col))
-      in
-      match
-        List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force ctx.definitions)
-      with
-      | Some (_, d) -> fail loc "unknown name `%s`: %s" x (Hints.defined_later x d)
-      | None ->
-          let names = Env.fold (fun k _ acc -> k :: acc) env [] in
-          fail loc "unknown name `%s`%s" x (hint x names))
+(* A statement as compiled: it runs in a frame, putting objects in a scope. *)
+type code = frame -> value
+type scode = frame -> scope -> unit
 
-and bind_params ctx env fname params cenv args loc =
-  let np = List.length params and na = List.length args in
-  if np <> na then
-    fail loc "`%s` takes %d argument%s, got %d" fname np (if np = 1 then "" else "s") na;
-  List.fold_left2
-    (fun acc (p : name) (a : expr) -> Env.add p.id (eval ctx env a) acc)
-    cenv params args
+(* A block's items as compiled. What the items say of themselves is settled once: a field
+   given twice, a statement a block does not hold. *)
+type citem =
+  | CField of name * code * Loc.t  (** the field, its value, where the value is written *)
+  | CDup of name * int  (** a field given twice (the first at that line) *)
+  | CStmt of scode
+  | CRefused of Loc.t  (** a statement this block does not hold *)
 
-and nested : 'a. ctx -> Loc.t -> (unit -> 'a) -> 'a =
- fun ctx loc f ->
+let enter ctx loc =
   step ctx loc;
   if ctx.depth >= max_depth then
     limit ctx loc
       (Printf.sprintf "calls are nested more than %d deep (runaway recursion?)" max_depth);
-  ctx.depth <- ctx.depth + 1;
-  Fun.protect ~finally:(fun () -> ctx.depth <- ctx.depth - 1) f
+  ctx.depth <- ctx.depth + 1
 
-and binop loc op a b bloc =
+let binop loc op a b bloc =
   let num x = VNum (finite loc x) and vec v = VVec (finite_vec loc v) in
   let bad () =
     fail loc "`%s` cannot combine %s and %s" (binop_name op) (type_name a) (type_name b)
   in
-  if a = VPoison || b = VPoison then raise Poisoned;
+  (match (a, b) with VPoison, _ | _, VPoison -> raise Poisoned | _ -> ());
   match (op, a, b) with
   | Add, VNum x, VNum y -> num (x +. y)
   | Add, VVec x, VVec y -> vec (Vec3.add x y)
@@ -754,7 +681,7 @@ and binop loc op a b bloc =
             Float.equal x.x y.x && Float.equal x.y y.y && Float.equal x.z y.z
         | _ -> bad ()
       in
-      VBool (if op = Eq then eq else not eq)
+      VBool (match op with Eq -> eq | _ -> not eq)
   | (Lt | Le | Gt | Ge), VNum x, VNum y ->
       VBool (match op with Lt -> x < y | Le -> x <= y | Gt -> x > y | _ -> x >= y)
   | _ -> bad ()
@@ -762,7 +689,7 @@ and binop loc op a b bloc =
 (* ------------------------------------------------------------------------------------ *)
 (* Blocks: fields, their types and ranges *)
 
-and eval_material ctx env loc items =
+let rec eval_material ctx env loc items =
   let b =
     collect ctx env
       { sink = ref []; in_group = false; in_csg = false }
@@ -989,7 +916,7 @@ and bump ctx t =
             amount)"
            t.tname)
 
-and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
+and collect ?(csg = false) ctx fr scope kind kloc ~holds_objects (items : citem list) =
   let b =
     {
       ctx;
@@ -1004,184 +931,36 @@ and collect ?(csg = false) ctx env scope kind kloc ~holds_objects items =
   let inner =
     { sink = b.members; in_group = scope.in_group || holds_objects; in_csg = csg }
   in
-  let _env =
-    List.fold_left
-      (fun env item ->
-        match item with
-        | Field (n, e) -> (
-            match List.find_opt (fun f -> f.name.id = n.id) b.fields with
-            | Some prev when not (List.mem n.id repeatable) ->
-                bad b n.nloc "`%s` is given twice in this %s (first at line %d)" n.id kind
-                  prev.name.nloc.line;
-                env
-            | _ -> (
-                match eval ctx env e with
-                | v ->
-                    b.fields <- b.fields @ [ { name = n; value = v; vloc = e.loc } ];
-                    env
-                | exception Fail (l, m) ->
-                    report ctx l m;
-                    poisoned_field b n e;
-                    env
-                | exception Poisoned ->
-                    poisoned_field b n e;
-                    env))
-        | Stmt s -> (
-            match s.s with
-            | Let _ | Fn _ | Macro _ -> exec ctx env inner s
-            | _ when holds_objects -> exec ctx env inner s
-            | _ ->
-                bad b s.sloc
-                  "a %s holds only `field: value` pairs (and `let`); objects go in a \
-                   `group`"
-                  kind;
-                env))
-      env items
-  in
+  List.iter
+    (function
+      | CField (n, code, vloc) -> (
+          match code fr with
+          | v -> b.fields <- { name = n; value = v; vloc } :: b.fields
+          | exception Fail (l, m) ->
+              report ctx l m;
+              poisoned_field b n vloc
+          | exception Poisoned -> poisoned_field b n vloc)
+      | CDup (n, line) ->
+          bad b n.nloc "`%s` is given twice in this %s (first at line %d)" n.id kind line
+      | CStmt code -> code fr inner
+      | CRefused loc ->
+          bad b loc
+            "a %s holds only `field: value` pairs (and `let`); objects go in a `group`"
+            kind)
+    items;
+  b.fields <- List.rev b.fields;
   b
 
 (* A field whose value failed (already reported) is kept as poisoned, so that it is
    neither unknown nor missing, and the block is not built. *)
-and poisoned_field b n e =
+and poisoned_field b n vloc =
   b.failed <- true;
-  b.fields <- b.fields @ [ { name = n; value = VPoison; vloc = e.loc } ]
-
-and exec_list ctx env scope stmts =
-  List.fold_left (fun env s -> exec ctx env scope s) env stmts
-
-and exec ctx env scope (s : stmt) : env =
-  try exec_ ctx env scope s with
-  | Fail (loc, msg) ->
-      report ctx loc msg;
-      poison env s
-  | Poisoned -> poison env s
-
-and poison env s =
-  match s.s with
-  | Let (x, _) | Fn (x, _, _) | Macro (x, _, _) -> Env.add x.id VPoison env
-  | _ -> env
-
-and exec_ ctx env scope (s : stmt) : env =
-  match s.s with
-  | Let (x, e) -> Env.add x.id (eval ctx env e) env
-  | Fn (f, params, body) ->
-      check_params params;
-      let c = { fname = f.id; params; fbody = body; fenv = env } in
-      let env = Env.add f.id (VFun c) env in
-      c.fenv <- env;
-      env
-  | Macro (f, params, body) ->
-      check_params params;
-      let m = { mname = f.id; mparams = params; mbody = body; menv = env } in
-      let env = Env.add f.id (VMacro m) env in
-      m.menv <- env;
-      env
-  | For (x, a, b, st, body) ->
-      let num (e : expr) what =
-        match eval ctx env e with
-        | VNum v -> v
-        | v ->
-            fail e.loc "the %s of a `for` loop must be a number, got %s" what
-              (type_name v)
-      in
-      let a' = num a "start" in
-      let b' = num b "end" in
-      let st' = match st with None -> 1. | Some e -> num e "step" in
-      if st' = 0. then fail (Option.get st).loc "the step of a `for` loop must not be 0";
-      let count = Float.floor (((b' -. a') /. st') +. 1e-9) +. 1. in
-      (* Refused before it starts when this loop, run inside the loops around it, would
-         go past the step limit: nested loops fail at once instead of after minutes. *)
-      let total = Float.max 0. count *. ctx.loops in
-      if count > 1e15 || total +. Float.of_int ctx.steps > Float.of_int max_steps then
-        limit ctx s.sloc
-          (Printf.sprintf
-             "this loop would run %s times%s; a scene may take at most %d loop \
-              iterations and calls, and build at most %d objects"
-             (fmt_num count)
-             (if ctx.loops > 1. then
-                Printf.sprintf " inside loops that have %s iterations left (%s in all)"
-                  (fmt_num ctx.loops) (fmt_num total)
-              else "")
-             max_steps max_objects);
-      (* The same for the object limit: each iteration builds at least the objects
-         written in the loop's body. *)
-      let per_iteration = Float.of_int (objects_written body) in
-      if
-        per_iteration > 0.
-        && (total *. per_iteration) +. Float.of_int ctx.objects > Float.of_int max_objects
-      then
-        limit ctx s.sloc
-          (Printf.sprintf
-             "this loop would build %s objects (%s an iteration, %s iterations%s)%s; a \
-              scene may build at most %d objects"
-             (fmt_num (total *. per_iteration))
-             (fmt_num per_iteration) (fmt_num count)
-             (if ctx.loops > 1. then
-                Printf.sprintf " inside loops that have %s iterations left"
-                  (fmt_num ctx.loops)
-              else "")
-             (if ctx.objects > 0 then
-                Printf.sprintf ", after the %d already built" ctx.objects
-              else "")
-             max_objects);
-      if count <= 0. then
-        warn ctx s.sloc
-          (Printf.sprintf
-             "this loop runs zero times: it counts from %s to %s in steps of %s%s"
-             (fmt_num a') (fmt_num b') (fmt_num st')
-             (if st' > 0. then " (to count down, give a negative step: `step -1`)"
-              else " (to count up, give a positive step)"));
-      (* And for memory: objects that would not fit under the process's limit are refused
-         before they are built (the runtime would abort, not raise, once it runs out). *)
-      if per_iteration > 0. && total < 1e15 then
-        Option.iter (limit ctx s.sloc)
-          (memory_refusal (ctx.objects + int_of_float (total *. per_iteration)));
-      let count = if count < 0. then 0 else int_of_float count in
-      let outer = ctx.loops in
-      Fun.protect
-        ~finally:(fun () -> ctx.loops <- outer)
-        (fun () ->
-          for k = 0 to count - 1 do
-            step ctx s.sloc;
-            ctx.loops <- outer *. Float.of_int (count - k);
-            let i = a' +. (Float.of_int k *. st') in
-            ignore (exec_list ctx (Env.add x.id (VNum i) env) scope body)
-          done);
-      env
-  | If_stmt (c, t, e) -> (
-      match eval ctx env c with
-      | VBool true ->
-          ignore (exec_list ctx env scope t);
-          env
-      | VBool false ->
-          ignore (exec_list ctx env scope e);
-          env
-      | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
-  | Include (p, loc) -> fail loc "internal error: include \"%s\" was not resolved" p
-  | Included (_, stmts) -> exec_list ctx env scope stmts
-  | Call_stmt (f, args) -> (
-      match lookup ctx env f.id f.nloc with
-      | VMacro m ->
-          let env' = bind_params ctx env m.mname m.mparams m.menv args s.sloc in
-          nested ctx s.sloc (fun () -> ignore (exec_list ctx env' scope m.mbody));
-          env
-      | VFun c ->
-          fail f.nloc
-            "`%s` is an expression function (fn %s(…) = …): use it in an expression, \
-             e.g. let x = %s(…)"
-            c.fname c.fname c.fname
-      | VBuiltin n -> fail f.nloc "`%s` is a built-in function: use it in an expression" n
-      | v -> fail f.nloc "`%s` is %s, not a scene macro" f.id (type_name v))
-  | Block (k, items) ->
-      block ctx env scope k items;
-      env
-  | Body (n, items) ->
-      body ctx env scope s.sloc n items;
-      Env.add n.id (VBody n.id) env
+  b.fields <- { name = n; value = VPoison; vloc } :: b.fields
 
 (* The objects a list of statements surely builds each time it runs: object blocks, and
    those of groups; not those behind a condition (the smaller branch), a macro call or an
    inner loop (which checks its own). *)
+
 and objects_written stmts =
   List.fold_left
     (fun n (s : stmt) ->
@@ -1209,30 +988,8 @@ and check_params params =
   in
   go params
 
-and block ctx env scope (k : name) items =
-  match k.id with
-  | ("settings" | "camera" | "animation" | "physics" | "light") when scope.in_group ->
-      fail k.nloc
-        "`%s` cannot be inside a group: a group's transforms and material apply to \
-         objects only; write it at top level"
-        k.id
-  | "settings" -> settings ctx env scope k items
-  | "camera" -> camera ctx env scope k items
-  | "animation" -> animation ctx env scope k items
-  | "physics" -> physics ctx env scope k items
-  | "light" -> light ctx env scope k items
-  | "group" when scope.in_csg -> csg ctx env scope k items
-  | "group" -> group ctx env scope k items
-  | "union" | "merge" | "intersection" | "difference" -> csg ctx env scope k items
-  | kind when Schema.is_shape kind -> (
-      match object_ ctx env scope k items with
-      | Some o -> add_object ctx scope k.nloc o
-      | None -> ())
-  | "material" ->
-      fail k.nloc
-        "a material is a value: write `material: material { … }` inside an object, or \
-         `let m = material { … }`"
-  | x -> fail k.nloc "unknown block `%s`%s" x (hint x Schema.keywords)
+and dup_params params =
+  match check_params params with () -> false | exception Fail _ -> true
 
 and add_object ctx scope loc o =
   ctx.objects <- ctx.objects + 1;
@@ -2047,6 +1804,638 @@ and color ?default b name =
   | _ -> Color.of_vec3 (point ?default:(Option.map Color.to_vec3 default) b name)
 
 (* ------------------------------------------------------------------------------------ *)
+(* Compiling a program: names resolved to frame slots once, built-ins to their code *)
+
+(* Where a name's value is, seen from the code being compiled: a slot of the frame, a
+   value its function captured, or a constant (the built-ins, pi, time, frame). [true]:
+   the slot may hold [unbound] (the name of a body that failed is not defined). *)
+type binding = Slot of int * bool | Cap of int * bool | Const of value
+
+(* The function (or the program) being compiled: its slots, and the names it captures
+   from around its definition ([parent]), newest first with their index. *)
+type fstate = {
+  mutable nslots : int;
+  mutable caps : (string * int * binding) list;
+  mutable ncaps : int;
+  parent : cenv option;
+}
+
+and cenv = { names : (string * binding) list; fs : fstate }
+
+(* Physically unique: no program makes this very value. *)
+let unbound = VStr "(unbound)"
+let flagged = function Slot (_, f) | Cap (_, f) -> f | Const _ -> false
+
+let rec resolve ce x =
+  match List.assoc_opt x ce.names with
+  | Some b -> Some b
+  | None -> (
+      match List.find_opt (fun (n, _, _) -> String.equal n x) ce.fs.caps with
+      | Some (_, i, pb) -> Some (Cap (i, flagged pb))
+      | None -> (
+          match ce.fs.parent with
+          | None -> None
+          | Some p -> (
+              match resolve p x with
+              | None -> None
+              | Some (Const v) -> Some (Const v)
+              | Some pb ->
+                  let i = ce.fs.ncaps in
+                  ce.fs.caps <- (x, i, pb) :: ce.fs.caps;
+                  ce.fs.ncaps <- i + 1;
+                  Some (Cap (i, flagged pb)))))
+
+let new_slot ce =
+  let i = ce.fs.nslots in
+  ce.fs.nslots <- i + 1;
+  i
+
+let bind ce x b = { ce with names = (x, b) :: ce.names }
+
+(* Every name in scope (as an environment would list them: sorted, once each). *)
+let scope_names ce =
+  let rec go ce acc =
+    let acc = List.fold_left (fun acc (n, _) -> n :: acc) acc ce.names in
+    match ce.fs.parent with None -> acc | Some p -> go p acc
+  in
+  List.sort_uniq String.compare (go ce [])
+
+let raw = function
+  | Slot (i, _) -> fun fr -> fr.l.(i)
+  | Cap (i, _) -> fun fr -> fr.c.(i)
+  | Const v -> fun _ -> v
+
+let unknown_name ctx ce x (loc : Loc.t) =
+  (* A name defined further down the same file was most likely meant. *)
+  let later (d : Loc.t) =
+    d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col))
+  in
+  match List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force ctx.definitions) with
+  | Some (_, d) -> fail loc "unknown name `%s`: %s" x (Hints.defined_later x d)
+  | None -> fail loc "unknown name `%s`%s" x (hint x (scope_names ce))
+
+(* The code that reads a name: a poisoned value is not read (already reported). *)
+let access ctx ce x loc : code =
+  match resolve ce x with
+  | Some (Slot (i, false)) -> (
+      fun fr -> match fr.l.(i) with VPoison -> raise Poisoned | v -> v)
+  | Some (Cap (i, false)) -> (
+      fun fr -> match fr.c.(i) with VPoison -> raise Poisoned | v -> v)
+  | Some (Const v) -> fun _ -> v
+  | Some b -> (
+      let get = raw b in
+      fun fr ->
+        match get fr with
+        | VPoison -> raise Poisoned
+        | v when v == unbound -> unknown_name ctx ce x loc
+        | v -> v)
+  | None -> fun _ -> unknown_name ctx ce x loc
+
+let[@inline] num loc r = if r -. r = 0. then VNum r else VNum (finite loc r)
+let vtrue = VBool true
+let vfalse = VBool false
+let[@inline] vbool b = if b then vtrue else vfalse
+
+let call_fun ctx c (args : code array) loc fr =
+  let na = Array.length args in
+  if c.nparams <> na then
+    fail loc "`%s` takes %d argument%s, got %d" c.fname c.nparams
+      (if c.nparams = 1 then "" else "s")
+      na;
+  let l = Array.make c.fslots VPoison in
+  for k = 0 to na - 1 do
+    l.(k) <- args.(k) fr
+  done;
+  enter ctx loc;
+  match c.fbody { l; c = c.fcaps } with
+  | v ->
+      ctx.depth <- ctx.depth - 1;
+      v
+  | exception e ->
+      ctx.depth <- ctx.depth - 1;
+      raise e
+
+let call_macro ctx m (args : code array) loc fr sc =
+  let na = Array.length args in
+  if m.mnparams <> na then
+    fail loc "`%s` takes %d argument%s, got %d" m.mname m.mnparams
+      (if m.mnparams = 1 then "" else "s")
+      na;
+  let l = Array.make m.mslots VPoison in
+  for k = 0 to na - 1 do
+    l.(k) <- args.(k) fr
+  done;
+  enter ctx loc;
+  match m.mbody { l; c = m.mcaps } sc with
+  | () -> ctx.depth <- ctx.depth - 1
+  | exception e ->
+      ctx.depth <- ctx.depth - 1;
+      raise e
+
+(* A built-in called with arguments evaluated in order; a poisoned one is not passed. *)
+let generic_builtin name loc (cargs : (code * Loc.t) list) : code =
+ fun fr ->
+  let args = List.map (fun (c, l) -> (c fr, l)) cargs in
+  List.iter (fun (v, _) -> match v with VPoison -> raise Poisoned | _ -> ()) args;
+  call_builtin name loc args
+
+(* A built-in resolved once: the common numeric ones with their arguments straight from
+   the frame; any other case (or a wrong argument, for its message) through
+   [call_builtin]. *)
+let builtin_call name loc (cargs : (code * Loc.t) list) : code =
+  match cargs with
+  | [ (a, al) ] -> (
+      let slow v =
+        match v with VPoison -> raise Poisoned | _ -> call_builtin name loc [ (v, al) ]
+      in
+      match name with
+      | "sin" -> ( fun fr -> match a fr with VNum x -> num loc (sin x) | v -> slow v)
+      | "cos" -> ( fun fr -> match a fr with VNum x -> num loc (cos x) | v -> slow v)
+      | "tan" -> ( fun fr -> match a fr with VNum x -> num loc (tan x) | v -> slow v)
+      | "atan" -> ( fun fr -> match a fr with VNum x -> num loc (atan x) | v -> slow v)
+      | "exp" -> ( fun fr -> match a fr with VNum x -> num loc (exp x) | v -> slow v)
+      | "abs" -> (
+          fun fr -> match a fr with VNum x -> num loc (Float.abs x) | v -> slow v)
+      | "floor" -> (
+          fun fr -> match a fr with VNum x -> num loc (Float.floor x) | v -> slow v)
+      | "ceil" -> (
+          fun fr -> match a fr with VNum x -> num loc (Float.ceil x) | v -> slow v)
+      | "round" -> (
+          fun fr -> match a fr with VNum x -> num loc (Float.round x) | v -> slow v)
+      | "sqrt" -> (
+          fun fr ->
+            match a fr with VNum x when x >= 0. -> num loc (sqrt x) | v -> slow v)
+      | "log" -> (
+          fun fr -> match a fr with VNum x when x > 0. -> num loc (log x) | v -> slow v)
+      | "rand" -> (
+          fun fr -> match a fr with VNum x -> VNum (Hash.of_float x) | v -> slow v)
+      | _ -> generic_builtin name loc cargs)
+  | [ (a, al); (b, bl) ] -> (
+      let slow va vb =
+        (match (va, vb) with VPoison, _ | _, VPoison -> raise Poisoned | _ -> ());
+        call_builtin name loc [ (va, al); (vb, bl) ]
+      in
+      match name with
+      | "min" -> (
+          fun fr ->
+            let va = a fr in
+            let vb = b fr in
+            match (va, vb) with VNum x, VNum y -> VNum (Float.min x y) | _ -> slow va vb)
+      | "max" -> (
+          fun fr ->
+            let va = a fr in
+            let vb = b fr in
+            match (va, vb) with VNum x, VNum y -> VNum (Float.max x y) | _ -> slow va vb)
+      | "pow" -> (
+          fun fr ->
+            let va = a fr in
+            let vb = b fr in
+            match (va, vb) with
+            | VNum x, VNum y -> num loc (Float.pow x y)
+            | _ -> slow va vb)
+      | "atan2" -> (
+          fun fr ->
+            let va = a fr in
+            let vb = b fr in
+            match (va, vb) with
+            | VNum x, VNum y -> num loc (Float.atan2 x y)
+            | _ -> slow va vb)
+      | _ -> generic_builtin name loc cargs)
+  | _ -> generic_builtin name loc cargs
+
+let dot_value ctx (f : name) v =
+  match (v, f.id) with
+  | VVec v, "x" -> VNum v.x
+  | VVec v, "y" -> VNum v.y
+  | VVec v, "z" -> VNum v.z
+  | VVec _, x -> fail f.nloc "a vector has components `x`, `y` and `z`, not `%s`" x
+  | VBody name, ("position" | "velocity") ->
+      let b, _ = List.find (fun ((b : body), _) -> b.name = name) ctx.bodies in
+      let pos, vel =
+        match Option.bind ctx.body_state (fun f -> f name ctx.time) with
+        | Some pv -> pv
+        | None -> (b.center, b.velocity)
+      in
+      VVec (if f.id = "position" then pos else vel)
+  | VBody _, x ->
+      fail f.nloc "a body has `position` and `velocity`, not `%s`%s" x
+        (hint x [ "position"; "velocity" ])
+  | v, x -> fail f.nloc "`.%s` needs a vector or a body, got %s" x (type_name v)
+
+let component (e : expr) v =
+  match v with
+  | VNum x -> x
+  | v -> fail e.loc "a vector component must be a number, got %s" (type_name v)
+
+let rec cexpr ctx ce (e : expr) : code =
+  match e.e with
+  | Num x ->
+      let v = VNum x in
+      fun _ -> v
+  | Str s ->
+      let v = VStr s in
+      fun _ -> v
+  | Bool b ->
+      let v = vbool b in
+      fun _ -> v
+  | Var x -> access ctx ce x e.loc
+  | Vec (a, b, c) ->
+      let ca = cexpr ctx ce a and cb = cexpr ctx ce b and cc = cexpr ctx ce c in
+      fun fr ->
+        let x = match ca fr with VNum x -> x | v -> component a v in
+        let y = match cb fr with VNum y -> y | v -> component b v in
+        let z = match cc fr with VNum z -> z | v -> component c v in
+        VVec { x; y; z }
+  | Pair (a, b) ->
+      let ca = cexpr ctx ce a and cb = cexpr ctx ce b in
+      fun fr ->
+        let x = ca fr in
+        let y = cb fr in
+        VPair (x, y)
+  | Unop (Neg, a) -> (
+      let ca = cexpr ctx ce a and loc = e.loc in
+      fun fr ->
+        match ca fr with
+        | VNum x -> VNum (-.x)
+        | VVec v -> VVec (Vec3.neg v)
+        | v -> fail loc "`-` needs a number or a vector, got %s" (type_name v))
+  | Unop (Not, a) -> (
+      let ca = cexpr ctx ce a and loc = e.loc in
+      fun fr ->
+        match ca fr with
+        | VBool b -> vbool (not b)
+        | v -> fail loc "`not` needs a boolean, got %s" (type_name v))
+  | Binop (((And | Or) as op), a, b) -> (
+      let ca = cexpr ctx ce a and cb = cexpr ctx ce b in
+      let bool (x : expr) v =
+        match v with
+        | VBool b -> b
+        | v -> fail x.loc "`%s` needs booleans, got %s" (binop_name op) (type_name v)
+      in
+      match op with
+      | And -> fun fr -> vbool (bool a (ca fr) && bool b (cb fr))
+      | _ -> fun fr -> vbool (bool a (ca fr) || bool b (cb fr)))
+  | Binop (op, a, b) -> (
+      let ca = cexpr ctx ce a and cb = cexpr ctx ce b in
+      let loc = e.loc and bloc = b.loc in
+      let slow va vb = binop loc op va vb bloc in
+      match op with
+      | Add -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> num loc (x +. y) | _ -> slow va vb)
+      | Sub -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> num loc (x -. y) | _ -> slow va vb)
+      | Mul -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> num loc (x *. y) | _ -> slow va vb)
+      | Div -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with
+            | VNum x, VNum y when y <> 0. -> num loc (x /. y)
+            | _ -> slow va vb)
+      | Lt -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> vbool (x < y) | _ -> slow va vb)
+      | Le -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> vbool (x <= y) | _ -> slow va vb)
+      | Gt -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> vbool (x > y) | _ -> slow va vb)
+      | Ge -> (
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            match (va, vb) with VNum x, VNum y -> vbool (x >= y) | _ -> slow va vb)
+      | _ ->
+          fun fr ->
+            let va = ca fr in
+            let vb = cb fr in
+            slow va vb)
+  | Dot (a, f) -> (
+      let ca = cexpr ctx ce a in
+      match f.id with
+      | "x" -> ( fun fr -> match ca fr with VVec v -> VNum v.x | v -> dot_value ctx f v)
+      | "y" -> ( fun fr -> match ca fr with VVec v -> VNum v.y | v -> dot_value ctx f v)
+      | "z" -> ( fun fr -> match ca fr with VVec v -> VNum v.z | v -> dot_value ctx f v)
+      | _ -> fun fr -> dot_value ctx f (ca fr))
+  | If (c, a, b) -> (
+      let cc = cexpr ctx ce c and ca = cexpr ctx ce a and cb = cexpr ctx ce b in
+      fun fr ->
+        match cc fr with
+        | VBool true -> ca fr
+        | VBool false -> cb fr
+        | v -> fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
+  | Call (f, args) -> (
+      let cargs = List.map (fun (a : expr) -> (cexpr ctx ce a, a.loc)) args in
+      let loc = e.loc in
+      match resolve ce f.id with
+      | Some (Const (VBuiltin name)) -> builtin_call name loc cargs
+      | _ -> (
+          let get = access ctx ce f.id f.nloc in
+          let codes = Array.of_list (List.map fst cargs) in
+          fun fr ->
+            match get fr with
+            | VBuiltin name -> generic_builtin name loc cargs fr
+            | VFun c -> call_fun ctx c codes loc fr
+            | VMacro m ->
+                fail f.nloc
+                  "`%s` is a scene macro (fn %s(…) { … }): call it as a statement, not \
+                   in an expression"
+                  m.mname m.mname
+            | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v)))
+  | Material items ->
+      let its = citems ctx ce ~holds_objects:false items and loc = e.loc in
+      fun fr -> eval_material ctx fr loc its
+
+(* A block's items: a field given twice is told as such (its value not evaluated), a
+   statement the block does not hold is refused (not run); the names its `let`s define
+   are seen by the items after them, not outside it. *)
+and citems ctx ce ~holds_objects items =
+  let rec go ce firsts acc = function
+    | [] -> List.rev acc
+    | Field (n, e) :: rest -> (
+        match List.assoc_opt n.id firsts with
+        | Some line when not (List.mem n.id repeatable) ->
+            go ce firsts (CDup (n, line) :: acc) rest
+        | first ->
+            let c = cexpr ctx ce e in
+            let firsts = if first = None then (n.id, n.nloc.line) :: firsts else firsts in
+            go ce firsts (CField (n, c, e.loc) :: acc) rest)
+    | Stmt s :: rest -> (
+        match s.s with
+        | Let _ | Fn _ | Macro _ ->
+            let ce, c = cstmt ctx ce s in
+            go ce firsts (CStmt c :: acc) rest
+        | _ when holds_objects ->
+            let ce, c = cstmt ctx ce s in
+            go ce firsts (CStmt c :: acc) rest
+        | _ -> go ce firsts (CRefused s.sloc :: acc) rest)
+  in
+  go ce [] [] items
+
+and clist ctx ce stmts : cenv * scode =
+  let ce, codes =
+    List.fold_left
+      (fun (ce, acc) s ->
+        let ce, c = cstmt ctx ce s in
+        (ce, c :: acc))
+      (ce, []) stmts
+  in
+  let a = Array.of_list (List.rev codes) in
+  ( ce,
+    match a with
+    | [||] -> fun _ _ -> ()
+    | [| c |] -> c
+    | _ ->
+        fun fr sc ->
+          for k = 0 to Array.length a - 1 do
+            a.(k) fr sc
+          done )
+
+(* A statement that fails is reported and skipped; a name it defines is then poisoned. *)
+and cstmt ctx ce (s : stmt) : cenv * scode =
+  let guard code : scode =
+   fun fr sc -> try code fr sc with Fail (l, m) -> report ctx l m | Poisoned -> ()
+  in
+  let guard_slot i code : scode =
+   fun fr sc ->
+    try code fr sc with
+    | Fail (l, m) ->
+        report ctx l m;
+        fr.l.(i) <- VPoison
+    | Poisoned -> fr.l.(i) <- VPoison
+  in
+  match s.s with
+  | Let (x, e) ->
+      let c = cexpr ctx ce e in
+      let i = new_slot ce in
+      (bind ce x.id (Slot (i, false)), guard_slot i (fun fr _ -> fr.l.(i) <- c fr))
+  | Fn (f, params, body) ->
+      let i = new_slot ce in
+      let ce' = bind ce f.id (Slot (i, false)) in
+      if dup_params params then (ce', guard_slot i (fun _ _ -> check_params params))
+      else
+        let fs =
+          { nslots = List.length params; caps = []; ncaps = 0; parent = Some ce' }
+        in
+        let names = List.mapi (fun k (p : name) -> (p.id, Slot (k, false))) params in
+        let fbody = cexpr ctx { names; fs } body in
+        let getters = Array.of_list (List.rev_map (fun (_, _, pb) -> raw pb) fs.caps) in
+        let fname = f.id and nparams = List.length params in
+        ( ce',
+          guard_slot i (fun fr _ ->
+              let c = { fname; nparams; fbody; fslots = fs.nslots; fcaps = [||] } in
+              fr.l.(i) <- VFun c;
+              c.fcaps <- Array.map (fun g -> g fr) getters) )
+  | Macro (f, params, body) ->
+      let i = new_slot ce in
+      let ce' = bind ce f.id (Slot (i, false)) in
+      if dup_params params then (ce', guard_slot i (fun _ _ -> check_params params))
+      else
+        let fs =
+          { nslots = List.length params; caps = []; ncaps = 0; parent = Some ce' }
+        in
+        let names = List.mapi (fun k (p : name) -> (p.id, Slot (k, false))) params in
+        let _, mbody = clist ctx { names; fs } body in
+        let getters = Array.of_list (List.rev_map (fun (_, _, pb) -> raw pb) fs.caps) in
+        let mname = f.id and mnparams = List.length params in
+        ( ce',
+          guard_slot i (fun fr _ ->
+              let m = { mname; mnparams; mbody; mslots = fs.nslots; mcaps = [||] } in
+              fr.l.(i) <- VMacro m;
+              m.mcaps <- Array.map (fun g -> g fr) getters) )
+  | For (x, a, b, st, body) ->
+      let ca = cexpr ctx ce a and cb = cexpr ctx ce b in
+      let cst = Option.map (cexpr ctx ce) st in
+      let i = new_slot ce in
+      let _, cbody = clist ctx (bind ce x.id (Slot (i, false))) body in
+      let per_iteration = Float.of_int (objects_written body) in
+      ( ce,
+        guard (fun fr sc -> for_loop ctx s a b st ca cb cst per_iteration i cbody fr sc)
+      )
+  | If_stmt (c, t, e) ->
+      let cc = cexpr ctx ce c in
+      let _, ct = clist ctx ce t in
+      let _, cf = clist ctx ce e in
+      ( ce,
+        guard (fun fr sc ->
+            match cc fr with
+            | VBool true -> ct fr sc
+            | VBool false -> cf fr sc
+            | v ->
+                fail c.loc "the condition of `if` must be a boolean, got %s" (type_name v))
+      )
+  | Include (p, loc) ->
+      (ce, guard (fun _ _ -> fail loc "internal error: include \"%s\" was not resolved" p))
+  | Included (_, stmts) -> clist ctx ce stmts
+  | Call_stmt (f, args) ->
+      let get = access ctx ce f.id f.nloc in
+      let codes = Array.of_list (List.map (cexpr ctx ce) args) in
+      ( ce,
+        guard (fun fr sc ->
+            match get fr with
+            | VMacro m -> call_macro ctx m codes s.sloc fr sc
+            | VFun c ->
+                fail f.nloc
+                  "`%s` is an expression function (fn %s(…) = …): use it in an \
+                   expression, e.g. let x = %s(…)"
+                  c.fname c.fname c.fname
+            | VBuiltin n ->
+                fail f.nloc "`%s` is a built-in function: use it in an expression" n
+            | v -> fail f.nloc "`%s` is %s, not a scene macro" f.id (type_name v)) )
+  | Block (k, items) -> (ce, guard (cblock ctx ce k items))
+  | Body (n, items) -> (
+      let its = citems ctx ce ~holds_objects:true items in
+      (* A body that fails defines nothing: its name keeps what it named before. *)
+      let before =
+        match resolve ce n.id with Some b -> raw b | None -> fun _ -> unbound
+      in
+      let i = new_slot ce in
+      let v = VBody n.id in
+      ( bind ce n.id (Slot (i, true)),
+        fun fr sc ->
+          try
+            body ctx fr sc s.sloc n its;
+            fr.l.(i) <- v
+          with
+          | Fail (l, m) ->
+              report ctx l m;
+              fr.l.(i) <- before fr
+          | Poisoned -> fr.l.(i) <- before fr ))
+
+and cblock ctx ce (k : name) items : scode =
+  let top_level f : scode =
+   fun fr sc ->
+    if sc.in_group then
+      fail k.nloc
+        "`%s` cannot be inside a group: a group's transforms and material apply to \
+         objects only; write it at top level"
+        k.id;
+    f fr sc
+  in
+  match k.id with
+  | "settings" ->
+      let its = citems ctx ce ~holds_objects:false items in
+      top_level (fun fr sc -> settings ctx fr sc k its)
+  | "camera" ->
+      let its = citems ctx ce ~holds_objects:false items in
+      top_level (fun fr sc -> camera ctx fr sc k its)
+  | "animation" ->
+      let its = citems ctx ce ~holds_objects:false items in
+      top_level (fun fr sc -> animation ctx fr sc k its)
+  | "physics" ->
+      let its = citems ctx ce ~holds_objects:false items in
+      top_level (fun fr sc -> physics ctx fr sc k its)
+  | "light" ->
+      let its = citems ctx ce ~holds_objects:false items in
+      top_level (fun fr sc -> light ctx fr sc k its)
+  | "group" ->
+      let its = citems ctx ce ~holds_objects:true items in
+      fun fr sc -> if sc.in_csg then csg ctx fr sc k its else group ctx fr sc k its
+  | "union" | "merge" | "intersection" | "difference" ->
+      let its = citems ctx ce ~holds_objects:true items in
+      fun fr sc -> csg ctx fr sc k its
+  | kind when Schema.is_shape kind -> (
+      let its = citems ctx ce ~holds_objects:false items in
+      fun fr sc ->
+        match object_ ctx fr sc k its with
+        | Some o -> add_object ctx sc k.nloc o
+        | None -> ())
+  | "material" ->
+      fun _ _ ->
+        fail k.nloc
+          "a material is a value: write `material: material { … }` inside an object, or \
+           `let m = material { … }`"
+  | x -> fun _ _ -> fail k.nloc "unknown block `%s`%s" x (hint x Schema.keywords)
+
+(* The checks before a loop runs, then its iterations. *)
+and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration slot cbody fr
+    sc =
+  let num c (e : expr) what =
+    match c fr with
+    | VNum v -> v
+    | v -> fail e.loc "the %s of a `for` loop must be a number, got %s" what (type_name v)
+  in
+  let a' = num ca a "start" in
+  let b' = num cb b "end" in
+  let st' = match (st, cst) with Some e, Some c -> num c e "step" | _ -> 1. in
+  if st' = 0. then fail (Option.get st).loc "the step of a `for` loop must not be 0";
+  let count = Float.floor (((b' -. a') /. st') +. 1e-9) +. 1. in
+  (* Refused before it starts when this loop, run inside the loops around it, would
+     go past the step limit: nested loops fail at once instead of after minutes. *)
+  let total = Float.max 0. count *. ctx.loops in
+  if count > 1e15 || total +. Float.of_int ctx.steps > Float.of_int max_steps then
+    limit ctx s.sloc
+      (Printf.sprintf
+         "this loop would run %s times%s; a scene may take at most %d loop iterations \
+          and calls, and build at most %d objects"
+         (fmt_num count)
+         (if ctx.loops > 1. then
+            Printf.sprintf " inside loops that have %s iterations left (%s in all)"
+              (fmt_num ctx.loops) (fmt_num total)
+          else "")
+         max_steps max_objects);
+  (* The same for the object limit: each iteration builds at least the objects
+     written in the loop's body. *)
+  if
+    per_iteration > 0.
+    && (total *. per_iteration) +. Float.of_int ctx.objects > Float.of_int max_objects
+  then
+    limit ctx s.sloc
+      (Printf.sprintf
+         "this loop would build %s objects (%s an iteration, %s iterations%s)%s; a scene \
+          may build at most %d objects"
+         (fmt_num (total *. per_iteration))
+         (fmt_num per_iteration) (fmt_num count)
+         (if ctx.loops > 1. then
+            Printf.sprintf " inside loops that have %s iterations left"
+              (fmt_num ctx.loops)
+          else "")
+         (if ctx.objects > 0 then
+            Printf.sprintf ", after the %d already built" ctx.objects
+          else "")
+         max_objects);
+  if count <= 0. then
+    warn ctx s.sloc
+      (Printf.sprintf
+         "this loop runs zero times: it counts from %s to %s in steps of %s%s"
+         (fmt_num a') (fmt_num b') (fmt_num st')
+         (if st' > 0. then " (to count down, give a negative step: `step -1`)"
+          else " (to count up, give a positive step)"));
+  (* And for memory: objects that would not fit under the process's limit are refused
+     before they are built (the runtime would abort, not raise, once it runs out). *)
+  if per_iteration > 0. && total < 1e15 then
+    Option.iter (limit ctx s.sloc)
+      (memory_refusal (ctx.objects + int_of_float (total *. per_iteration)));
+  let count = if count < 0. then 0 else int_of_float count in
+  let outer = ctx.loops in
+  Fun.protect
+    ~finally:(fun () -> ctx.loops <- outer)
+    (fun () ->
+      for k = 0 to count - 1 do
+        step ctx s.sloc;
+        ctx.loops <- outer *. Float.of_int (count - k);
+        fr.l.(slot) <- VNum (a' +. (Float.of_int k *. st'));
+        cbody fr sc
+      done)
+
+(* ------------------------------------------------------------------------------------ *)
 (* A whole program *)
 
 (* Errors in source order: files in the order they first appear, then line and column. *)
@@ -2240,12 +2629,14 @@ let fixed_objects m =
     [] m.entries
   |> List.rev
 
-let initial_env ~time ~frame =
-  let env =
-    List.fold_left (fun env n -> Env.add n (VBuiltin n) env) Env.empty builtin_names
+(* The names every program starts with. *)
+let top_cenv ~time ~frame =
+  let names = List.map (fun n -> (n, Const (VBuiltin n))) builtin_names in
+  let names =
+    ("frame", Const (VNum (Float.of_int frame)))
+    :: ("time", Const (VNum time)) :: ("pi", Const (VNum Float.pi)) :: names
   in
-  env |> Env.add "pi" (VNum Float.pi) |> Env.add "time" (VNum time)
-  |> Env.add "frame" (VNum (Float.of_int frame))
+  { names; fs = { nslots = 0; caps = []; ncaps = 0; parent = None } }
 
 let use_path : D.file_use -> string = function
   | Picture im -> im.path
@@ -2314,7 +2705,20 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
       pieces := List.rev_map (fun o -> finish o) !(scope.sink) :: !pieces;
       scope.sink := [])
   in
-  let top m env i (s : stmt) =
+  (* The program's top-level statements (includes flattened), compiled. *)
+  let stmts = match memo with Some m -> m.top | None -> Array.of_list (flatten stmts) in
+  let top_ce = top_cenv ~time ~frame in
+  let code =
+    let ce = ref top_ce in
+    Array.map
+      (fun s ->
+        let ce', c = cstmt ctx !ce s in
+        ce := ce';
+        c)
+      stmts
+  in
+  let fr = { l = Array.make top_ce.fs.nslots VPoison; c = [||] } in
+  let top m i =
     match m.entries.(i) with
     | Some e
       when m.recorded && ctx.objects = e.objects_before && ctx.steps <= e.steps_before ->
@@ -2338,13 +2742,12 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
           e.warned;
         if ctx.objects lsr 16 > before lsr 16 then
           Option.iter (fun f -> f ctx.objects) ctx.on_objects;
-        Option.iter Cancel.check ctx.cancel;
-        env
+        Option.iter Cancel.check ctx.cancel
     | _ when m.fixed.(i) && not m.recorded ->
         cut ();
         let objects_before = ctx.objects and steps_before = ctx.steps in
         let uses0 = !uses and warnings0 = ctx.warnings and errors0 = ctx.errors in
-        let env = exec ctx env scope s in
+        code.(i) fr scope;
         let built = List.rev_map (fun o -> finish o) !(scope.sink) in
         scope.sink := [];
         pieces := built :: !pieces;
@@ -2359,17 +2762,14 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
                 built;
                 file_uses = grown !uses uses0;
                 warned = grown ctx.warnings warnings0;
-              };
-        env
-    | _ -> exec ctx env scope s
+              }
+    | _ -> code.(i) fr scope
   in
   (try
-     let env = initial_env ~time ~frame in
      match memo with
-     | None -> ignore (exec_list ctx env scope stmts)
+     | None -> Array.iter (fun c -> c fr scope) code
      | Some m ->
-         let env = ref env in
-         Array.iteri (fun i s -> env := top m !env i s) m.top;
+         Array.iteri (fun i _ -> top m i) m.top;
          if ctx.errors = [] then m.recorded <- true
    with Abort -> ());
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
