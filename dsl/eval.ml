@@ -92,14 +92,7 @@ let hint x candidates =
 (* ------------------------------------------------------------------------------------ *)
 (* Values *)
 
-type pending_obj = {
-  p_kind : string;
-  p_shape : D.shape;
-  p_transform : Transform.t;
-  p_steps : D.step list;
-  p_material : D.material option;
-  p_loc : Loc.t;  (** where the object's block starts *)
-}
+type pending_obj = D.obj
 
 (* A scope: where objects go (the program, or a group or body being built). *)
 type scope = { sink : pending_obj list ref; in_group : bool; in_csg : bool }
@@ -608,6 +601,14 @@ let specs_of (blocks : Schema.block list) =
 
 let schema_specs = lazy (specs_of Schema.blocks)
 
+(* The fields each block kind allows, listed once. *)
+let field_names_of =
+  let t = Hashtbl.create 64 in
+  List.iter
+    (fun (b : Schema.block) -> Hashtbl.replace t b.id (Schema.field_names b.id))
+    Schema.blocks;
+  fun id -> match Hashtbl.find_opt t id with Some l -> l | None -> Schema.field_names id
+
 (* A block being evaluated: its fields in order, and the objects its statements built. *)
 type fld = { name : name; value : value; vloc : Loc.t }
 
@@ -620,6 +621,10 @@ type block = {
   mutable failed : bool;
   members : pending_obj list ref;
 }
+
+let rec find_field name = function
+  | [] -> None
+  | f :: rest -> if String.equal f.name.id name then Some f else find_field name rest
 
 (* ------------------------------------------------------------------------------------ *)
 (* Expressions *)
@@ -1013,7 +1018,7 @@ and once : 'a. ctx -> string -> ('a * Loc.t) option -> name -> unit =
 and settings ctx env scope k items =
   once ctx "settings" ctx.settings k;
   let b = collect ctx env scope "settings" k.nloc ~holds_objects:false items in
-  check_names b (Schema.field_names "settings");
+  check_names b (field_names_of "settings");
   let gamma =
     let e = entry b "gamma" in
     let gamma = function
@@ -1100,7 +1105,7 @@ and environment b (s : Settings.t) =
 and camera ctx env scope k items =
   once ctx "camera" ctx.camera k;
   let b = collect ctx env scope "camera" k.nloc ~holds_objects:false items in
-  check_names b (Schema.field_names "camera");
+  check_names b (field_names_of "camera");
   let kinds = [ "perspective"; "orthographic"; "fisheye" ] in
   (* An unknown kind is reported once; the fields that depend on the kind are then not
      checked against a guess. *)
@@ -1204,7 +1209,7 @@ and camera ctx env scope k items =
 and animation ctx env scope k items =
   once ctx "animation" ctx.animation k;
   let b = collect ctx env scope "animation" k.nloc ~holds_objects:false items in
-  check_names b (Schema.field_names "animation");
+  check_names b (field_names_of "animation");
   (* A rate above its limit is told as such, not as a range. *)
   let fps =
     let e = entry b "fps" in
@@ -1243,7 +1248,7 @@ and animation ctx env scope k items =
 and physics ctx env scope k items =
   once ctx "physics" ctx.physics k;
   let b = collect ctx env scope "physics" k.nloc ~holds_objects:false items in
-  check_names b (Schema.field_names "physics");
+  check_names b (field_names_of "physics");
   let gravity = point b "gravity" in
   let method_ =
     let default =
@@ -1285,7 +1290,7 @@ and light ctx env scope k items =
         "a light needs a `position` (point light) or a `direction` (directional light)";
       finish b
   | Some _, None ->
-      check_names b (Schema.field_names "point_light");
+      check_names b (field_names_of "point_light");
       b.spec <- spec_for ctx "point_light";
       let position = point b "position" in
       let color = color b "color" in
@@ -1333,7 +1338,7 @@ and light ctx env scope k items =
         Light.point ~color ~intensity ~attenuation ~radius ~samples ?spot position
         :: ctx.lights
   | None, Some f ->
-      check_names b (Schema.field_names "directional_light");
+      check_names b (field_names_of "directional_light");
       b.spec <- spec_for ctx "directional_light";
       let direction = point b "direction" in
       if Vec3.max_abs direction = 0. then
@@ -1384,23 +1389,27 @@ and object_material b =
       None
 
 and object_ ctx env scope (k : name) items =
-  let b = collect ctx env scope k.id k.nloc ~holds_objects:false items in
-  check_names b (Schema.field_names k.id);
+  object_of (collect ctx env scope k.id k.nloc ~holds_objects:false items) k
+
+(* The object a shape block states, once its fields are evaluated. *)
+and object_of b (k : name) =
+  check_names b (field_names_of k.id);
   let t, tj = transforms b in
   let mat = object_material b in
   let shape = shape b k in
   finish b;
   match shape with
   | None -> None
-  | Some p_shape ->
+  | Some shape ->
       Some
         {
-          p_kind = k.id;
-          p_shape;
-          p_transform = t;
-          p_steps = tj;
-          p_material = mat;
-          p_loc = k.nloc;
+          D.kind = k.id;
+          shape;
+          transform = t;
+          steps = tj;
+          material = mat;
+          loc = k.nloc;
+          body = None;
         }
 
 and shape b (k : name) : D.shape option =
@@ -1501,7 +1510,7 @@ and shape b (k : name) : D.shape option =
 
 and group ctx env scope (k : name) items =
   let b = collect ctx env scope "group" k.nloc ~holds_objects:true items in
-  check_names b (Schema.field_names "group");
+  check_names b (field_names_of "group");
   let t, tj = transforms b in
   let mat = object_material b in
   finish b;
@@ -1510,9 +1519,9 @@ and group ctx env scope (k : name) items =
       let o =
         {
           o with
-          p_transform = Transform.then_ o.p_transform t;
-          p_steps = o.p_steps @ tj;
-          p_material = (match o.p_material with Some _ -> o.p_material | None -> mat);
+          D.transform = Transform.then_ o.D.transform t;
+          steps = o.D.steps @ tj;
+          material = (match o.D.material with Some _ -> o.D.material | None -> mat);
         }
       in
       scope.sink := o :: !(scope.sink))
@@ -1522,7 +1531,7 @@ and group ctx env scope (k : name) items =
    one member, the union of its own. *)
 and csg ctx env scope (k : name) items =
   let b = collect ~csg:true ctx env scope k.id k.nloc ~holds_objects:true items in
-  check_names b (Schema.field_names k.id);
+  check_names b (field_names_of k.id);
   let t, tj = transforms b in
   let mat = object_material b in
   let members = List.rev !(b.members) in
@@ -1547,57 +1556,58 @@ and csg ctx env scope (k : name) items =
   let need_solid = op <> Union || scope.in_csg in
   List.iter
     (fun o ->
-      match o.p_shape with
+      match o.D.shape with
       | D.Mesh _ -> ()
       | D.Height_field _ ->
-          bad b o.p_loc "a %s is not a solid: `%s` combines solids"
-            (String.map (function '_' -> ' ' | c -> c) o.p_kind)
+          bad b o.D.loc "a %s is not a solid: `%s` combines solids"
+            (String.map (function '_' -> ' ' | c -> c) o.D.kind)
             k.id
       | sh when D.is_solid sh || not need_solid -> ()
       | _ ->
-          bad b o.p_loc
+          bad b o.D.loc
             "%s is not a solid: %s combines solids (sphere, box, torus, cylinder or cone \
              with caps, closed mesh, plane as a half-space, CSG of solids)%s"
-            (match o.p_kind with
+            (match o.D.kind with
             | "mesh" -> "this mesh"
             | "cylinder" -> "a cylinder without caps"
             | "cone" -> "a cone without caps"
             | kd -> Printf.sprintf "a %s" kd)
             (if k.id = "group" then "a CSG block" else Printf.sprintf "`%s`" k.id)
-            (if o.p_kind = "cylinder" || o.p_kind = "cone" then "; give it `caps: true`"
+            (if o.D.kind = "cylinder" || o.D.kind = "cone" then "; give it `caps: true`"
              else ""))
     members;
   (* A mesh member must be closed: its file tells. *)
   if need_solid then
     List.iter
       (fun o ->
-        match o.p_shape with
+        match o.D.shape with
         | D.Mesh { file; path; smooth; at } ->
             ctx.on_file
-              (D.Model { file; path; smooth; at; solid_in = Some (k.id, o.p_loc) })
+              (D.Model { file; path; smooth; at; solid_in = Some (k.id, o.D.loc) })
         | _ -> ())
       members;
   finish b;
   let member o =
     {
-      D.kind = o.p_kind;
-      shape = o.p_shape;
-      transform = o.p_transform;
-      steps = o.p_steps;
-      material = o.p_material;
-      loc = o.p_loc;
+      D.kind = o.D.kind;
+      shape = o.D.shape;
+      transform = o.D.transform;
+      steps = o.D.steps;
+      material = o.D.material;
+      loc = o.D.loc;
       body = None;
     }
   in
   let o =
     {
-      p_kind = (if k.id = "group" then "union" else k.id);
-      p_shape =
+      D.kind = (if k.id = "group" then "union" else k.id);
+      shape =
         D.Csg { op; block = k.id; members = List.map member members; solid = need_solid };
-      p_transform = t;
-      p_steps = tj;
-      p_material = mat;
-      p_loc = k.nloc;
+      transform = t;
+      steps = tj;
+      material = mat;
+      loc = k.nloc;
+      body = None;
     }
   in
   add_object ctx scope k.nloc o
@@ -1607,19 +1617,19 @@ and body ctx env scope loc (n : name) items =
   if List.exists (fun ((b : body), _) -> b.name = n.id) ctx.bodies then
     fail n.nloc "body `%s` is defined twice" n.id;
   let b = collect ctx env scope "body" n.nloc ~holds_objects:true items in
-  check_names b (Schema.field_names "body");
+  check_names b (field_names_of "body");
   let velocity = point b "velocity" in
   let mass = number b "mass" in
   let restitution = number b "restitution" in
   finish b;
   ctx.objects <- ctx.objects - List.length !(b.members);
   match !(b.members) with
-  | [ ({ p_shape = D.Sphere { center; radius }; _ } as o) ] ->
-      let c0 = Transform.point o.p_transform center in
+  | [ ({ D.shape = D.Sphere { center; radius }; _ } as o) ] ->
+      let c0 = Transform.point o.D.transform center in
       (* The simulated sphere is the rendered one: its radius is scaled by the length of
          the transformed axes, which must agree (a rotation keeps them; a non-uniform
          scale would draw an ellipsoid that the physics cannot follow). *)
-      let axis a = Vec3.length (Transform.vector o.p_transform a) in
+      let axis a = Vec3.length (Transform.vector o.D.transform a) in
       let sx = axis Vec3.x_axis and sy = axis Vec3.y_axis and sz = axis Vec3.z_axis in
       let lo = Float.min sx (Float.min sy sz) and hi = Float.max sx (Float.max sy sz) in
       if hi > lo *. (1. +. 1e-9) then
@@ -1637,7 +1647,7 @@ and body ctx env scope loc (n : name) items =
 (* Field access on a block being evaluated. Each accessor reports a wrong type or an
    out-of-range value at the value's location, marks the block failed and returns the
    default, so that every mistake of a block is reported at once. *)
-and field b name = List.find_opt (fun f -> f.name.id = name) b.fields
+and field b name = find_field name b.fields
 
 (* A field whose value is usable: [None] also when its value failed (already reported). *)
 and live b name = match field b name with Some { value = VPoison; _ } -> None | f -> f
@@ -2353,16 +2363,105 @@ and cblock ctx ce (k : name) items : scode =
       fun fr sc -> csg ctx fr sc k its
   | kind when Schema.is_shape kind -> (
       let its = citems ctx ce ~holds_objects:false items in
-      fun fr sc ->
-        match object_ ctx fr sc k its with
-        | Some o -> add_object ctx sc k.nloc o
-        | None -> ())
+      match fast_object ctx k its with
+      | Some code -> code
+      | None -> (
+          fun fr sc ->
+            match object_ ctx fr sc k its with
+            | Some o -> add_object ctx sc k.nloc o
+            | None -> ()))
   | "material" ->
       fun _ _ ->
         fail k.nloc
           "a material is a value: write `material: material { … }` inside an object, or \
            `let m = material { … }`"
   | x -> fun _ _ -> fail k.nloc "unknown block `%s`%s" x (hint x Schema.keywords)
+
+(* A sphere block that gives its centre and radius, and perhaps its material, once each
+   and nothing else (the common case of a scene of many objects): its values are read by
+   position, and when they are right the object is built at once; otherwise the block is
+   read field by field, as any other, for its messages. *)
+and fast_object ctx (k : name) (its : citem list) : scode option =
+  let fields =
+    List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
+  in
+  let ids = List.map (fun ((n : name), _, _) -> n.id) fields in
+  let index id =
+    let rec go i = function
+      | [] -> None
+      | x :: rest -> if String.equal x id then Some i else go (i + 1) rest
+    in
+    go 0 ids
+  in
+  let spec = spec_for ctx k.id in
+  let range name =
+    List.find_map
+      (fun e -> if String.equal e.sch.name name then Some e.sch.range else None)
+      spec.entries
+  in
+  let allowed = field_names_of k.id in
+  let simple =
+    List.length fields = List.length its
+    && List.for_all (fun id -> List.mem id allowed) ids
+    && List.length (List.sort_uniq String.compare ids) = List.length ids
+    && List.for_all (fun id -> id = "center" || id = "radius" || id = "material") ids
+  in
+  match (k.id, simple, index "center", index "radius", range "radius") with
+  | "sphere", true, Some ci, Some ri, Some radius_range ->
+      let codes = Array.of_list (List.map (fun (_, c, _) -> c) fields) in
+      let mi = index "material" in
+      let n = Array.length codes in
+      let kind = k.id and loc = k.nloc and big = Schema.big in
+      Some
+        (fun fr sc ->
+          let vals = Array.make n VPoison in
+          for i = 0 to n - 1 do
+            vals.(i) <-
+              (match codes.(i) fr with
+              | v -> v
+              | exception Fail (l, m) ->
+                  report ctx l m;
+                  VPoison
+              | exception Poisoned -> VPoison)
+          done;
+          let material =
+            match mi with
+            | None -> Some None
+            | Some i -> ( match vals.(i) with VMat m -> Some (Some m) | _ -> None)
+          in
+          match (vals.(ci), vals.(ri), material) with
+          | VVec c, VNum r, Some material
+            when Float.abs c.x <= big
+                 && Float.abs c.y <= big
+                 && Float.abs c.z <= big
+                 && Schema.in_range radius_range r ->
+              add_object ctx sc loc
+                {
+                  D.kind;
+                  shape = D.Sphere { center = c; radius = r };
+                  transform = Transform.identity;
+                  steps = [];
+                  material;
+                  loc;
+                  body = None;
+                }
+          | _ -> (
+              let b =
+                {
+                  ctx;
+                  kind;
+                  kloc = loc;
+                  spec;
+                  fields =
+                    List.mapi
+                      (fun i ((name : name), _, vloc) -> { name; value = vals.(i); vloc })
+                      fields;
+                  failed = Array.exists (fun v -> v == VPoison) vals;
+                  members = ref [];
+                }
+              in
+              match object_of b k with Some o -> add_object ctx sc loc o | None -> ()))
+  | _ -> None
 
 (* The checks before a loop runs, then its iterations. *)
 and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration slot cbody fr
@@ -2686,23 +2785,13 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
     }
   in
   let scope = { sink = ref []; in_group = false; in_csg = false } in
-  let finish ?transform ?body o : D.obj =
-    {
-      kind = o.p_kind;
-      shape = o.p_shape;
-      transform = Option.value transform ~default:o.p_transform;
-      steps = o.p_steps;
-      material = o.p_material;
-      loc = o.p_loc;
-      body;
-    }
-  in
+  let finish ~transform ~body (o : D.obj) = { o with transform; body = Some body } in
   (* The objects built so far, newest piece first: those of statements the memo records
      or replays, and between them those of the others (finished when a piece follows). *)
   let pieces = ref [] in
   let cut () =
     if !(scope.sink) <> [] then (
-      pieces := List.rev_map (fun o -> finish o) !(scope.sink) :: !pieces;
+      pieces := List.rev !(scope.sink) :: !pieces;
       scope.sink := [])
   in
   (* The program's top-level statements (includes flattened), compiled. *)
@@ -2748,7 +2837,7 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
         let objects_before = ctx.objects and steps_before = ctx.steps in
         let uses0 = !uses and warnings0 = ctx.warnings and errors0 = ctx.errors in
         code.(i) fr scope;
-        let built = List.rev_map (fun o -> finish o) !(scope.sink) in
+        let built = List.rev !(scope.sink) in
         scope.sink := [];
         pieces := built :: !pieces;
         if ctx.errors == errors0 then
@@ -2777,7 +2866,7 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
     let statics =
       if objects then (
         cut ();
-        List.concat (List.rev !pieces))
+        match !pieces with [ p ] -> p | ps -> List.concat (List.rev ps))
       else []
     in
     let bodies = List.rev ctx.bodies in
@@ -2787,8 +2876,8 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
           let transform =
             match Option.bind body_state (fun f -> f b.name time) with
             | Some (p, _) ->
-                Transform.then_ o.p_transform (Transform.translate (Vec3.sub p b.center))
-            | None -> o.p_transform
+                Transform.then_ o.D.transform (Transform.translate (Vec3.sub p b.center))
+            | None -> o.D.transform
           in
           finish ~transform ~body:b.name o)
         (if objects then bodies else [])
@@ -2801,7 +2890,7 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
         settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
         camera = (match ctx.camera with Some (c, _) -> c | None -> Camera.default);
         lights = List.rev ctx.lights;
-        objects = statics @ body_objs;
+        objects = (match body_objs with [] -> statics | _ -> statics @ body_objs);
         animation = Option.map fst ctx.animation;
         physics = Option.map fst ctx.physics;
         physics_loc = Option.map snd ctx.physics;

@@ -971,6 +971,120 @@ let animation_cmd scene repeat domains json =
 
 let exits = Cli.exits
 
+(* ---- language ---- *)
+
+let language_loop = "for i in 0 to 3000000 { let x = sin(i) * cos(i) }\n"
+
+let language_python =
+  "import math\nfor i in range(3000001):\n    x = math.sin(i) * math.cos(i)\n"
+
+let language_grid n =
+  Printf.sprintf
+    "let n = %d\n\
+     settings { width: 64, height: 48 }\n\
+     camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
+     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
+     for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
+     / 2), radius: 0.4 } } }\n"
+    n
+
+(* One whole check of a program in this process (parse, static check, evaluation): its
+   wall time and the words it allocated. *)
+let language_eval text =
+  Gc.full_major ();
+  let w0 = Gc.minor_words () in
+  let t0 = Unix.gettimeofday () in
+  (match Lancer_dsl.Dsl.load_string ~filename:"bench.rts" text with
+  | Ok p -> ignore (Sys.opaque_identity p)
+  | Error es ->
+      raise
+        (Cli.User_error
+           ("the benchmark's program failed: "
+           ^ String.concat "" (List.map Lancer_dsl.Error.to_string es))));
+  let t = Unix.gettimeofday () -. t0 in
+  (t, Gc.minor_words () -. w0)
+
+let on_path exe =
+  let path = Option.value (Sys.getenv_opt "PATH") ~default:"" in
+  List.find_map
+    (fun d ->
+      let f = Filename.concat (if d = "" then "." else d) exe in
+      if Sys.file_exists f && not (Sys.is_directory f) then Some f else None)
+    (String.split_on_char ':' path)
+
+(* The wall time of a whole python3 process running [code]. *)
+let python_time python code =
+  let t0 = Unix.gettimeofday () in
+  let pid =
+    Unix.create_process python [| python; "-c"; code |] Unix.stdin Unix.stdout Unix.stderr
+  in
+  match snd (Unix.waitpid [] pid) with
+  | Unix.WEXITED 0 -> Some (Unix.gettimeofday () -. t0)
+  | _ -> None
+
+let language_cmd repeat grid json =
+  if repeat < 1 then raise (Cli.User_error "--repeat must be at least 1");
+  if grid < 1 then raise (Cli.User_error "--grid must be at least 1");
+  let python = on_path "python3" in
+  let runs f = List.init repeat (fun _ -> f ()) in
+  (* Alternated, so that a change in the machine's load falls on both. *)
+  let loop, py =
+    List.split
+      (runs (fun () ->
+           let t, _ = language_eval language_loop in
+           (t, Option.bind python (fun p -> python_time p language_python))))
+  in
+  let loop_t = median loop in
+  let py_t = match List.filter_map Fun.id py with [] -> None | ts -> Some (median ts) in
+  let grid_runs = runs (fun () -> language_eval (language_grid grid)) in
+  let grid_t = median (List.map fst grid_runs) in
+  let objects = grid * grid in
+  let words = snd (List.hd grid_runs) /. Float.of_int objects in
+  if json then
+    print_endline
+      (Yojson.Safe.pretty_to_string
+         (`Assoc
+            [
+              ("repeat", `Int repeat);
+              ("loop_iterations", `Int 3_000_001);
+              ("loop_seconds", `Float loop_t);
+              ( "python3_loop_seconds",
+                match py_t with Some t -> `Float t | None -> `Null );
+              ( "ratio_to_python3",
+                match py_t with Some t -> `Float (loop_t /. t) | None -> `Null );
+              ("objects", `Int objects);
+              ("objects_seconds", `Float grid_t);
+              ("minor_words_per_object", `Float words);
+            ]))
+  else (
+    Printf.printf
+      "The scene language, a whole check in this process (parse, static check, \
+       evaluation), median of %d run%s\n\n"
+      repeat
+      (if repeat = 1 then "" else "s");
+    print_endline "| program | lancer (s) | python3 (s) | lancer / python3 |";
+    print_endline "|---|---:|---:|---:|";
+    (match py_t with
+    | Some p ->
+        Printf.printf
+          "| `for i in 0 to 3000000 { let x = sin(i) * cos(i) }` | %.3f | %.3f | %.2f |\n"
+          loop_t p (loop_t /. p)
+    | None ->
+        Printf.printf
+          "| `for i in 0 to 3000000 { let x = sin(i) * cos(i) }` | %.3f | — | — |\n"
+          loop_t);
+    Printf.printf "| %s sphere blocks from two loops (%d × %d) | %.3f | — | — |\n"
+      (if objects >= 1_000_000 && objects mod 1_000_000 = 0 then
+         Printf.sprintf "%d million" (objects / 1_000_000)
+       else string_of_int objects)
+      grid grid grid_t;
+    Printf.printf "\n%.0f minor words allocated per sphere block.\n" words;
+    if python = None then
+      print_endline
+        "python3 is not on the PATH: the CPython row (the same loop with math.sin and \
+         math.cos) was skipped."
+    else if py_t = None then print_endline "python3 failed: the CPython row was skipped.")
+
 let cmd =
   let doc = "measure speed and the speed/accuracy trade" in
   let json =
@@ -1254,6 +1368,41 @@ let cmd =
         const (fun sc r d j -> Report.run (fun _ -> animation_cmd sc r d j))
         $ scene $ repeat $ domains $ json)
   in
+  let language =
+    let repeat =
+      Arg.(
+        value & opt int 3
+        & info [ "repeat" ] ~docv:"N" ~doc:"Runs of each program (the median is shown).")
+    in
+    let grid =
+      Arg.(
+        value & opt int 1000
+        & info [ "grid" ] ~docv:"N"
+            ~doc:"The object program builds N × N spheres (1000: a million).")
+    in
+    let man =
+      [
+        `S Manpage.s_description;
+        `P
+          "Times the scene language on two programs, each a whole check in this \
+           process            (parse, static check, evaluation): a loop of 3 000 001 \
+           iterations computing            sin(i) * cos(i), and a million sphere blocks \
+           built by two nested loops (the            objects' evaluation, without the \
+           renderer's build). When $(b,python3) is on            the PATH, the same loop \
+           in CPython (math.sin, math.cos) is timed as a whole            process, \
+           alternating with lancer's runs, and the ratio is shown.";
+        `S Manpage.s_examples;
+        `Pre "  lancer bench language --repeat 5";
+      ]
+    in
+    Cmd.v
+      (Cmd.info "language"
+         ~doc:"speed of the scene language's evaluator, beside CPython on the same loop"
+         ~man ~exits)
+      Term.(
+        const (fun r g j -> Report.run (fun _ -> language_cmd r g j))
+        $ repeat $ grid $ json)
+  in
   Cmd.group
     (Cmd.info "bench" ~doc ~exits)
-    [ domains; quality; physics; scaling; animation ]
+    [ domains; quality; physics; scaling; animation; language ]
