@@ -71,6 +71,7 @@ bench: build
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains scenes/bench/three_spheres.rts --counts 1 --repeat 1
 	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
 	$(RUN) $(DUNE) exec --no-build -- lancer bench animation scenes/bench/field_moving.rts
+	$(RUN) $(DUNE) exec --no-build -- lancer bench language
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
 bench-watch: build

@@ -989,20 +989,25 @@ let language_grid n =
     n
 
 (* One whole check of a program in this process (parse, static check, evaluation): its
-   wall time and the words it allocated. *)
+   wall time, the words it allocated and the words its result holds. *)
 let language_eval text =
   Gc.full_major ();
+  let live0 = (Gc.stat ()).live_words in
   let w0 = Gc.minor_words () in
   let t0 = Unix.gettimeofday () in
-  (match Lancer_dsl.Dsl.load_string ~filename:"bench.rts" text with
-  | Ok p -> ignore (Sys.opaque_identity p)
+  match Lancer_dsl.Dsl.load_string ~filename:"bench.rts" text with
+  | Ok p ->
+      let t = Unix.gettimeofday () -. t0 in
+      let words = Gc.minor_words () -. w0 in
+      Gc.full_major ();
+      let live = (Gc.stat ()).live_words - live0 in
+      ignore (Sys.opaque_identity p);
+      (t, words, live)
   | Error es ->
       raise
         (Cli.User_error
            ("the benchmark's program failed: "
-           ^ String.concat "" (List.map Lancer_dsl.Error.to_string es))));
-  let t = Unix.gettimeofday () -. t0 in
-  (t, Gc.minor_words () -. w0)
+           ^ String.concat "" (List.map Lancer_dsl.Error.to_string es)))
 
 let on_path exe =
   let path = Option.value (Sys.getenv_opt "PATH") ~default:"" in
@@ -1031,15 +1036,17 @@ let language_cmd repeat grid json =
   let loop, py =
     List.split
       (runs (fun () ->
-           let t, _ = language_eval language_loop in
+           let t, _, _ = language_eval language_loop in
            (t, Option.bind python (fun p -> python_time p language_python))))
   in
   let loop_t = median loop in
   let py_t = match List.filter_map Fun.id py with [] -> None | ts -> Some (median ts) in
   let grid_runs = runs (fun () -> language_eval (language_grid grid)) in
-  let grid_t = median (List.map fst grid_runs) in
+  let grid_t = median (List.map (fun (t, _, _) -> t) grid_runs) in
   let objects = grid * grid in
-  let words = snd (List.hd grid_runs) /. Float.of_int objects in
+  let _, words, live = List.hd grid_runs in
+  let words = words /. Float.of_int objects
+  and live = Float.of_int live /. Float.of_int objects in
   if json then
     print_endline
       (Yojson.Safe.pretty_to_string
@@ -1055,6 +1062,7 @@ let language_cmd repeat grid json =
               ("objects", `Int objects);
               ("objects_seconds", `Float grid_t);
               ("minor_words_per_object", `Float words);
+              ("live_words_per_object", `Float live);
             ]))
   else (
     Printf.printf
@@ -1078,7 +1086,9 @@ let language_cmd repeat grid json =
          Printf.sprintf "%d million" (objects / 1_000_000)
        else string_of_int objects)
       grid grid grid_t;
-    Printf.printf "\n%.0f minor words allocated per sphere block.\n" words;
+    Printf.printf
+      "\nPer sphere block: %.0f words allocated, %.0f words held by the description.\n"
+      words live;
     if python = None then
       print_endline
         "python3 is not on the PATH: the CPython row (the same loop with math.sin and \
