@@ -1392,9 +1392,9 @@ and object_ ctx env scope (k : name) items =
   object_of (collect ctx env scope k.id k.nloc ~holds_objects:false items) k
 
 (* The object a shape block states, once its fields are evaluated. *)
-and object_of b (k : name) =
-  check_names b (field_names_of k.id);
-  let t, tj = transforms b in
+and object_of ?(known = false) ?(plain = false) b (k : name) =
+  if not known then check_names b (field_names_of k.id);
+  let t, tj = if plain then (Transform.identity, []) else transforms b in
   let mat = object_material b in
   let shape = shape b k in
   finish b;
@@ -2377,10 +2377,12 @@ and cblock ctx ce (k : name) items : scode =
            `let m = material { … }`"
   | x -> fun _ _ -> fail k.nloc "unknown block `%s`%s" x (hint x Schema.keywords)
 
-(* A sphere block that gives its centre and radius, and perhaps its material, once each
-   and nothing else (the common case of a scene of many objects): its values are read by
-   position, and when they are right the object is built at once; otherwise the block is
-   read field by field, as any other, for its messages. *)
+(* A shape block of fields only, each a field of its kind (the common case of a scene of
+   many objects): what the fields are is settled here, once, not per object; their values
+   are evaluated in order, as [collect] would, and read by position. A sphere that gives
+   its centre and radius (and perhaps its material), right, is built at once; any other
+   block is read field by field (its transforms only when it has some), for its
+   messages. *)
 and fast_object ctx (k : name) (its : citem list) : scode option =
   let fields =
     List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
@@ -2400,68 +2402,85 @@ and fast_object ctx (k : name) (its : citem list) : scode option =
       spec.entries
   in
   let allowed = field_names_of k.id in
-  let simple =
-    List.length fields = List.length its
-    && List.for_all (fun id -> List.mem id allowed) ids
-    && List.length (List.sort_uniq String.compare ids) = List.length ids
+  let codes = Array.of_list (List.map (fun (_, c, _) -> c) fields) in
+  let n = Array.length codes in
+  let kind = k.id and loc = k.nloc in
+  let plain =
+    not (List.exists (fun id -> List.mem id [ "translate"; "rotate"; "scale" ]) ids)
+  in
+  let evaluate fr =
+    let vals = Array.make n VPoison in
+    for i = 0 to n - 1 do
+      vals.(i) <-
+        (match codes.(i) fr with
+        | v -> v
+        | exception Fail (l, m) ->
+            report ctx l m;
+            VPoison
+        | exception Poisoned -> VPoison)
+    done;
+    vals
+  in
+  let slow vals sc =
+    let b =
+      {
+        ctx;
+        kind;
+        kloc = loc;
+        spec;
+        fields =
+          List.mapi
+            (fun i ((name : name), _, vloc) -> { name; value = vals.(i); vloc })
+            fields;
+        failed = Array.exists (fun v -> v == VPoison) vals;
+        members = ref [];
+      }
+    in
+    match object_of ~known:true ~plain b k with
+    | Some o -> add_object ctx sc loc o
+    | None -> ()
+  in
+  let sphere =
+    plain
+    && List.length (List.sort_uniq String.compare ids) = n
     && List.for_all (fun id -> id = "center" || id = "radius" || id = "material") ids
   in
-  match (k.id, simple, index "center", index "radius", range "radius") with
-  | "sphere", true, Some ci, Some ri, Some radius_range ->
-      let codes = Array.of_list (List.map (fun (_, c, _) -> c) fields) in
-      let mi = index "material" in
-      let n = Array.length codes in
-      let kind = k.id and loc = k.nloc and big = Schema.big in
-      Some
-        (fun fr sc ->
-          let vals = Array.make n VPoison in
-          for i = 0 to n - 1 do
-            vals.(i) <-
-              (match codes.(i) fr with
-              | v -> v
-              | exception Fail (l, m) ->
-                  report ctx l m;
-                  VPoison
-              | exception Poisoned -> VPoison)
-          done;
-          let material =
-            match mi with
-            | None -> Some None
-            | Some i -> ( match vals.(i) with VMat m -> Some (Some m) | _ -> None)
-          in
-          match (vals.(ci), vals.(ri), material) with
-          | VVec c, VNum r, Some material
-            when Float.abs c.x <= big
-                 && Float.abs c.y <= big
-                 && Float.abs c.z <= big
-                 && Schema.in_range radius_range r ->
-              add_object ctx sc loc
-                {
-                  D.kind;
-                  shape = D.Sphere { center = c; radius = r };
-                  transform = Transform.identity;
-                  steps = [];
-                  material;
-                  loc;
-                  body = None;
-                }
-          | _ -> (
-              let b =
-                {
-                  ctx;
-                  kind;
-                  kloc = loc;
-                  spec;
-                  fields =
-                    List.mapi
-                      (fun i ((name : name), _, vloc) -> { name; value = vals.(i); vloc })
-                      fields;
-                  failed = Array.exists (fun v -> v == VPoison) vals;
-                  members = ref [];
-                }
-              in
-              match object_of b k with Some o -> add_object ctx sc loc o | None -> ()))
-  | _ -> None
+  if
+    not
+      (List.length fields = List.length its
+      && List.for_all (fun id -> List.mem id allowed) ids)
+  then None
+  else
+    match (k.id, sphere, index "center", index "radius", range "radius") with
+    | "sphere", true, Some ci, Some ri, Some radius_range ->
+        let mi = index "material" in
+        let big = Schema.big in
+        Some
+          (fun fr sc ->
+            let vals = evaluate fr in
+            let material =
+              match mi with
+              | None -> Some None
+              | Some i -> ( match vals.(i) with VMat m -> Some (Some m) | _ -> None)
+            in
+            match (vals.(ci), vals.(ri), material) with
+            | VVec c, VNum r, Some material
+              when Float.abs c.x <= big
+                   && Float.abs c.y <= big
+                   && Float.abs c.z <= big
+                   && Schema.in_range radius_range r ->
+                add_object ctx sc loc
+                  {
+                    D.kind;
+                    shape = D.Sphere { center = c; radius = r };
+                    transform = Transform.identity;
+                    steps = [];
+                    material;
+                    loc;
+                    body = None;
+                  }
+            | _ -> slow vals sc)
+    | _ -> Some (fun fr sc -> slow (evaluate fr) sc)
 
 (* The checks before a loop runs, then its iterations. *)
 and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration slot cbody fr

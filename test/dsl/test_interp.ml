@@ -280,6 +280,36 @@ let test_sphere_blocks () =
         [ center.x; center.y; center.z; radius; m.color.r ]
   | _ -> Alcotest.fail "one sphere with its material"
 
+let test_other_blocks () =
+  check_errors "other shapes' mistakes"
+    "box { min: (1,1,1), max: (0,0,0) }\n\
+     box { min: (0,0,0), max: (1,1,1), translate: 3 }\n\
+     box { min: (0,0,0), max: (1,1,1), scale: 0 }\n\
+     box { min: (0,0,0) }\n\
+     triangle { a: (0,0,0), b: (1,1,1), c: (2,2,2) }\n\
+     torus { center: (0,0,0), major: 1, minor: 0.2, axis: (0,0,0) }\n\
+     plane { normal: (0,1,0), offset: true }\n\
+     box { min: (0,0,0), max: (1,1,1), mass: 1 }"
+    [
+      "1:1: a box needs min < max on every axis";
+      "2:46: `translate` must be a vector (x, y, z), got a number";
+      "3:42: `scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+      "4:1: box needs a `max` field";
+      "5:1: the corners of a triangle must not be in a line";
+      "6:54: `axis` must be a non-zero vector";
+      "7:34: `offset` must be a number, got a boolean";
+      "8:35: unknown field `mass` in box";
+    ];
+  match
+    objects
+      "box { min: (0, 0, 0), max: (1, 1, 1), translate: (1, 0, 0), rotate: (0, 90, 0), \
+       translate: (0, 2, 0) }"
+  with
+  | [ { shape = D.Box _; steps = [ Translate a; Rotate _; Translate b ]; _ } ] ->
+      Alcotest.(check (list (float 0.)))
+        "transforms in the order written" [ 1.; 2. ] [ a.x; b.y ]
+  | _ -> Alcotest.fail "one box with three steps"
+
 let test_includes () =
   let dir =
     Filename.concat
@@ -336,5 +366,7 @@ let () =
           Alcotest.test_case "calls of what is not a function or not a macro" `Quick
             test_calls;
           Alcotest.test_case "sphere blocks, right and wrong" `Quick test_sphere_blocks;
+          Alcotest.test_case "other object blocks, right and wrong" `Quick
+            test_other_blocks;
         ] );
     ]
