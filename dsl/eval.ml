@@ -325,188 +325,212 @@ let hsv h s v =
   | 4 -> Vec3.v t p v
   | _ -> Vec3.v v p q
 
-let call_builtin name loc (args : (value * Loc.t) list) =
-  let n = List.length args in
-  let arity k =
-    if n <> k then
-      fail loc "`%s` takes %d argument%s, got %d" name k (if k = 1 then "" else "s") n
-  in
-  let num i =
-    let v, l = List.nth args i in
-    match v with
-    | VNum x -> x
-    | v ->
-        fail l "argument %d of `%s` must be a number, got %s" (i + 1) name (type_name v)
-  in
-  let vec i =
-    let v, l = List.nth args i in
-    match v with
-    | VVec x -> x
-    | v ->
-        fail l "argument %d of `%s` must be a vector (x, y, z), got %s" (i + 1) name
-          (type_name v)
-  in
-  let f1 f =
-    arity 1;
-    VNum (finite loc (f (num 0)))
-  in
-  let domain ok what f =
-    arity 1;
-    let x = num 0 in
-    if not (ok x) then fail loc "`%s` needs %s, got %s" name what (fmt_num x);
-    VNum (finite loc (f x))
-  in
-  let tex k =
-    arity k;
-    VTex { tname = name; targs = List.map fst args; tloc = loc }
-  in
+(* A call of a built-in: its name, where, its arguments (values, where each is written). *)
+type bcall = { bname : string; bloc : Loc.t; bargs : (value * Loc.t) list; bn : int }
+
+let arity c k =
+  if c.bn <> k then
+    fail c.bloc "`%s` takes %d argument%s, got %d" c.bname k
+      (if k = 1 then "" else "s")
+      c.bn
+
+let num c i =
+  let v, l = List.nth c.bargs i in
+  match v with
+  | VNum x -> x
+  | v ->
+      fail l "argument %d of `%s` must be a number, got %s" (i + 1) c.bname (type_name v)
+
+let vec c i =
+  let v, l = List.nth c.bargs i in
+  match v with
+  | VVec x -> x
+  | v ->
+      fail l "argument %d of `%s` must be a vector (x, y, z), got %s" (i + 1) c.bname
+        (type_name v)
+
+let f1 c f =
+  arity c 1;
+  VNum (finite c.bloc (f (num c 0)))
+
+let domain c ok what f =
+  arity c 1;
+  let x = num c 0 in
+  if not (ok x) then fail c.bloc "`%s` needs %s, got %s" c.bname what (fmt_num x);
+  VNum (finite c.bloc (f x))
+
+let tex c k =
+  arity c k;
+  VTex { tname = c.bname; targs = List.map fst c.bargs; tloc = c.bloc }
+
+(* A built-in's code, found once from its name. *)
+let builtin_code name : bcall -> value =
   match name with
-  | "sin" -> f1 sin
-  | "cos" -> f1 cos
-  | "tan" -> f1 tan
-  | "asin" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" asin
-  | "acos" -> domain (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" acos
-  | "atan" -> f1 atan
+  | "sin" -> fun c -> f1 c sin
+  | "cos" -> fun c -> f1 c cos
+  | "tan" -> fun c -> f1 c tan
+  | "asin" -> fun c -> domain c (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" asin
+  | "acos" -> fun c -> domain c (fun x -> x >= -1. && x <= 1.) "a value in [-1, 1]" acos
+  | "atan" -> fun c -> f1 c atan
   | "atan2" ->
-      arity 2;
-      VNum (finite loc (Float.atan2 (num 0) (num 1)))
-  | "radians" -> f1 (fun d -> d *. Float.pi /. 180.)
-  | "degrees" -> f1 (fun r -> r *. 180. /. Float.pi)
-  | "sqrt" -> domain (fun x -> x >= 0.) "a value ≥ 0" sqrt
-  | "abs" -> f1 Float.abs
-  | "floor" -> f1 Float.floor
-  | "ceil" -> f1 Float.ceil
-  | "round" -> f1 Float.round
-  | "exp" -> f1 exp
-  | "log" -> domain (fun x -> x > 0.) "a value > 0" log
+      fun c ->
+        arity c 2;
+        VNum (finite c.bloc (Float.atan2 (num c 0) (num c 1)))
+  | "radians" -> fun c -> f1 c (fun d -> d *. Float.pi /. 180.)
+  | "degrees" -> fun c -> f1 c (fun r -> r *. 180. /. Float.pi)
+  | "sqrt" -> fun c -> domain c (fun x -> x >= 0.) "a value ≥ 0" sqrt
+  | "abs" -> fun c -> f1 c Float.abs
+  | "floor" -> fun c -> f1 c Float.floor
+  | "ceil" -> fun c -> f1 c Float.ceil
+  | "round" -> fun c -> f1 c Float.round
+  | "exp" -> fun c -> f1 c exp
+  | "log" -> fun c -> domain c (fun x -> x > 0.) "a value > 0" log
   | "pow" ->
-      arity 2;
-      VNum (finite loc (Float.pow (num 0) (num 1)))
+      fun c ->
+        arity c 2;
+        VNum (finite c.bloc (Float.pow (num c 0) (num c 1)))
   | "min" | "max" ->
-      if n < 2 then fail loc "`%s` takes at least 2 arguments, got %d" name n;
-      let xs = List.mapi (fun i _ -> num i) args in
-      let f = if name = "min" then Float.min else Float.max in
-      VNum (List.fold_left f (List.hd xs) (List.tl xs))
+      fun c ->
+        if c.bn < 2 then
+          fail c.bloc "`%s` takes at least 2 arguments, got %d" c.bname c.bn;
+        let xs = List.mapi (fun i _ -> num c i) c.bargs in
+        let f = if c.bname = "min" then Float.min else Float.max in
+        VNum (List.fold_left f (List.hd xs) (List.tl xs))
   | "clamp" ->
-      arity 3;
-      let x = num 0 and lo = num 1 and hi = num 2 in
-      if lo > hi then
-        fail loc "`clamp` needs lo ≤ hi, got %s > %s" (fmt_num lo) (fmt_num hi);
-      VNum (Float.min hi (Float.max lo x))
+      fun c ->
+        arity c 3;
+        let x = num c 0 and lo = num c 1 and hi = num c 2 in
+        if lo > hi then
+          fail c.bloc "`clamp` needs lo ≤ hi, got %s > %s" (fmt_num lo) (fmt_num hi);
+        VNum (Float.min hi (Float.max lo x))
   | "mix" -> (
-      arity 3;
-      let t = num 2 in
-      match (fst (List.nth args 0), fst (List.nth args 1)) with
-      | VNum a, VNum b -> VNum (finite loc (a +. (t *. (b -. a))))
-      | VVec a, VVec b -> VVec (finite_vec loc (Vec3.madd a t (Vec3.sub b a)))
-      | a, b ->
-          fail loc "`mix` mixes two numbers or two vectors, got %s and %s" (type_name a)
-            (type_name b))
+      fun c ->
+        arity c 3;
+        let t = num c 2 in
+        match (fst (List.nth c.bargs 0), fst (List.nth c.bargs 1)) with
+        | VNum a, VNum b -> VNum (finite c.bloc (a +. (t *. (b -. a))))
+        | VVec a, VVec b -> VVec (finite_vec c.bloc (Vec3.madd a t (Vec3.sub b a)))
+        | a, b ->
+            fail c.bloc "`mix` mixes two numbers or two vectors, got %s and %s"
+              (type_name a) (type_name b))
   | "dot" ->
-      arity 2;
-      VNum (finite loc (Vec3.dot (vec 0) (vec 1)))
+      fun c ->
+        arity c 2;
+        VNum (finite c.bloc (Vec3.dot (vec c 0) (vec c 1)))
   | "cross" ->
-      arity 2;
-      VVec (finite_vec loc (Vec3.cross (vec 0) (vec 1)))
+      fun c ->
+        arity c 2;
+        VVec (finite_vec c.bloc (Vec3.cross (vec c 0) (vec c 1)))
   | "length" ->
-      arity 1;
-      VNum (finite loc (Vec3.length (vec 0)))
+      fun c ->
+        arity c 1;
+        VNum (finite c.bloc (Vec3.length (vec c 0)))
   | "normalize" ->
-      arity 1;
-      let v = vec 0 in
-      if Vec3.max_abs v = 0. then fail loc "`normalize` of the zero vector";
-      VVec (finite_vec loc (Vec3.normalize v))
+      fun c ->
+        arity c 1;
+        let v = vec c 0 in
+        if Vec3.max_abs v = 0. then fail c.bloc "`normalize` of the zero vector";
+        VVec (finite_vec c.bloc (Vec3.normalize v))
   | "rgb" ->
-      arity 3;
-      VVec (Vec3.v (num 0) (num 1) (num 2))
+      fun c ->
+        arity c 3;
+        VVec (Vec3.v (num c 0) (num c 1) (num c 2))
   | "hsv" ->
-      arity 3;
-      VVec (finite_vec loc (hsv (num 0) (num 1) (num 2)))
+      fun c ->
+        arity c 3;
+        VVec (finite_vec c.bloc (hsv (num c 0) (num c 1) (num c 2)))
   | "rand" ->
-      arity 1;
-      VNum (Hash.of_float (num 0))
-  | "checker" | "stripes" -> tex 3
+      fun c ->
+        arity c 1;
+        VNum (Hash.of_float (num c 0))
+  | "checker" | "stripes" -> fun c -> tex c 3
   | "marble" | "wood" ->
-      if n <> 2 && n <> 3 then
-        fail loc
-          "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d"
-          name n;
-      tex n
+      fun c ->
+        if c.bn <> 2 && c.bn <> 3 then
+          fail c.bloc
+            "`%s` takes 3 arguments (c1, c2, scale), or 2 (color_map(…), scale); got %d"
+            c.bname c.bn;
+        tex c c.bn
   | "noise" ->
-      if n <> 2 && n <> 3 then
-        fail loc
-          "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a \
-           texture, or 2 (scale, amount) as a bump map; got %d"
-          n;
-      tex n
+      fun c ->
+        if c.bn <> 2 && c.bn <> 3 then
+          fail c.bloc
+            "`noise` takes 3 arguments (c1, c2, scale) or 2 (color_map(…), scale) as a \
+             texture, or 2 (scale, amount) as a bump map; got %d"
+            c.bn;
+        tex c c.bn
   | "gradient" -> (
-      (* gradient(AXIS, MAP) is a texture; gradient(HORIZON, ZENITH) a background. *)
-      arity 2;
-      ignore (vec 0);
-      match List.nth args 1 with
-      | VTex { tname = "color_map"; _ }, _ | VVec _, _ -> tex 2
-      | v, l ->
-          fail l
-            "argument 2 of `gradient` must be a color_map(…) (a texture along an axis) \
-             or a colour (a background from horizon to zenith), got %s"
-            (type_name v))
+      fun c ->
+        (* gradient(AXIS, MAP) is a texture; gradient(HORIZON, ZENITH) a background. *)
+        arity c 2;
+        ignore (vec c 0);
+        match List.nth c.bargs 1 with
+        | VTex { tname = "color_map"; _ }, _ | VVec _, _ -> tex c 2
+        | v, l ->
+            fail l
+              "argument 2 of `gradient` must be a color_map(…) (a texture along an axis) \
+               or a colour (a background from horizon to zenith), got %s"
+              (type_name v))
   | "color_map" ->
-      if n = 0 then fail loc "`color_map` needs at least one entry (t, colour)";
-      ignore
-        (List.fold_left
-           (fun (i, prev) (v, l) ->
-             (match v with
-             | VPair (VNum t, VVec c) ->
-                 if not (t >= 0. && t <= 1.) then
-                   fail l "entry %d of `color_map` has t = %s; t must be in [0, 1]" i
-                     (fmt_num t);
-                 if t < prev then
-                   fail l
-                     "entry %d of `color_map` has t = %s, below the %s before it: \
-                      entries go in increasing t"
-                     i (fmt_num t) (fmt_num prev);
-                 if c.x < 0. || c.y < 0. || c.z < 0. then
-                   fail l "entry %d of `color_map` has a colour with a negative component"
-                     i
-             | _ -> ());
-             (i + 1, match v with VPair (VNum t, _) -> t | _ -> prev))
-           (1, 0.) args);
-      List.iteri
-        (fun i (v, l) ->
-          match v with
-          | VPair (VNum _, VVec _) -> ()
-          | VPair (a, b) ->
-              fail l
-                "entry %d of `color_map` must be (t, colour) with t a number and colour \
-                 (r, g, b), got (%s, %s)"
-                (i + 1) (type_name a) (type_name b)
-          | v ->
-              fail l
-                "entry %d of `color_map` must be a pair (t, colour), e.g. (0.5, (1, 0, \
-                 0)), got %s"
-                (i + 1) (type_name v))
-        args;
-      tex n
+      fun c ->
+        if c.bn = 0 then fail c.bloc "`color_map` needs at least one entry (t, colour)";
+        ignore
+          (List.fold_left
+             (fun (i, prev) (v, l) ->
+               (match v with
+               | VPair (VNum t, VVec c) ->
+                   if not (t >= 0. && t <= 1.) then
+                     fail l "entry %d of `color_map` has t = %s; t must be in [0, 1]" i
+                       (fmt_num t);
+                   if t < prev then
+                     fail l
+                       "entry %d of `color_map` has t = %s, below the %s before it: \
+                        entries go in increasing t"
+                       i (fmt_num t) (fmt_num prev);
+                   if c.x < 0. || c.y < 0. || c.z < 0. then
+                     fail l
+                       "entry %d of `color_map` has a colour with a negative component" i
+               | _ -> ());
+               (i + 1, match v with VPair (VNum t, _) -> t | _ -> prev))
+             (1, 0.) c.bargs);
+        List.iteri
+          (fun i (v, l) ->
+            match v with
+            | VPair (VNum _, VVec _) -> ()
+            | VPair (a, b) ->
+                fail l
+                  "entry %d of `color_map` must be (t, colour) with t a number and \
+                   colour (r, g, b), got (%s, %s)"
+                  (i + 1) (type_name a) (type_name b)
+            | v ->
+                fail l
+                  "entry %d of `color_map` must be a pair (t, colour), e.g. (0.5, (1, 0, \
+                   0)), got %s"
+                  (i + 1) (type_name v))
+          c.bargs;
+        tex c c.bn
   | "fog" ->
-      arity 2;
-      ignore (vec 0);
-      let d = num 1 in
-      if not (d > 0. && d <= 1e150) then
-        fail
-          (snd (List.nth args 1))
-          "the distance of `fog` must be in (0, 1e150], got %s" (fmt_num d);
-      tex 2
-  | "image" ->
-      arity 2;
-      (match fst (List.nth args 0) with
-      | VStr _ -> ()
-      | v ->
+      fun c ->
+        arity c 2;
+        ignore (vec c 0);
+        let d = num c 1 in
+        if not (d > 0. && d <= 1e150) then
           fail
-            (snd (List.nth args 0))
-            "argument 1 of `image` must be a file name string, got %s" (type_name v));
-      ignore (num 1);
-      tex 2
-  | _ -> fail loc "internal error: unknown built-in `%s`" name
+            (snd (List.nth c.bargs 1))
+            "the distance of `fog` must be in (0, 1e150], got %s" (fmt_num d);
+        tex c 2
+  | "image" ->
+      fun c ->
+        arity c 2;
+        (match fst (List.nth c.bargs 0) with
+        | VStr _ -> ()
+        | v ->
+            fail
+              (snd (List.nth c.bargs 0))
+              "argument 1 of `image` must be a file name string, got %s" (type_name v));
+        ignore (num c 1);
+        tex c 2
+  | _ -> fun c -> fail c.bloc "internal error: unknown built-in `%s`" c.bname
 
 (* The allowed fields of each block kind come from the language's schema. *)
 let material_fields = Schema.field_names "material"
@@ -1944,19 +1968,23 @@ let call_macro ctx m (args : code array) loc fr sc =
 
 (* A built-in called with arguments evaluated in order; a poisoned one is not passed. *)
 let generic_builtin name loc (cargs : (code * Loc.t) list) : code =
- fun fr ->
-  let args = List.map (fun (c, l) -> (c fr, l)) cargs in
-  List.iter (fun (v, _) -> match v with VPoison -> raise Poisoned | _ -> ()) args;
-  call_builtin name loc args
+  let code = builtin_code name and bn = List.length cargs in
+  fun fr ->
+    let args = List.map (fun (c, l) -> (c fr, l)) cargs in
+    List.iter (fun (v, _) -> match v with VPoison -> raise Poisoned | _ -> ()) args;
+    code { bname = name; bloc = loc; bargs = args; bn }
 
 (* A built-in resolved once: the common numeric ones with their arguments straight from
    the frame; any other case (or a wrong argument, for its message) through
-   [call_builtin]. *)
+   [builtin_code]. *)
 let builtin_call name loc (cargs : (code * Loc.t) list) : code =
   match cargs with
   | [ (a, al) ] -> (
+      let code = builtin_code name in
       let slow v =
-        match v with VPoison -> raise Poisoned | _ -> call_builtin name loc [ (v, al) ]
+        match v with
+        | VPoison -> raise Poisoned
+        | _ -> code { bname = name; bloc = loc; bargs = [ (v, al) ]; bn = 1 }
       in
       match name with
       | "sin" -> ( fun fr -> match a fr with VNum x -> num loc (sin x) | v -> slow v)
@@ -1981,9 +2009,10 @@ let builtin_call name loc (cargs : (code * Loc.t) list) : code =
           fun fr -> match a fr with VNum x -> VNum (Hash.of_float x) | v -> slow v)
       | _ -> generic_builtin name loc cargs)
   | [ (a, al); (b, bl) ] -> (
+      let code = builtin_code name in
       let slow va vb =
         (match (va, vb) with VPoison, _ | _, VPoison -> raise Poisoned | _ -> ());
-        call_builtin name loc [ (va, al); (vb, bl) ]
+        code { bname = name; bloc = loc; bargs = [ (va, al); (vb, bl) ]; bn = 2 }
       in
       match name with
       | "min" -> (
