@@ -2202,6 +2202,17 @@ let rec cexpr ctx ce (e : expr) : code =
       let its = citems ctx ce ~holds_objects:false items and loc = e.loc in
       fun fr -> eval_material ctx fr loc its
 
+(* Whether a statement may start a loop (its own, or a macro's): only then do the loops
+   around it keep count of the iterations they have left. *)
+and may_loop (s : stmt) =
+  match s.s with
+  | For _ | Call_stmt _ -> true
+  | If_stmt (_, t, e) -> List.exists may_loop t || List.exists may_loop e
+  | Included (_, b) -> List.exists may_loop b
+  | Block (_, its) | Body (_, its) ->
+      List.exists (function Stmt s -> may_loop s | Field _ -> false) its
+  | Let _ | Fn _ | Macro _ | Include _ -> false
+
 (* A block's items: a field given twice is told as such (its value not evaluated), a
    statement the block does not hold is refused (not run); the names its `let`s define
    are seen by the items after them, not outside it. *)
@@ -2305,9 +2316,10 @@ and cstmt ctx ce (s : stmt) : cenv * scode =
       let i = new_slot ce in
       let _, cbody = clist ctx (bind ce x.id (Slot (i, false))) body in
       let per_iteration = Float.of_int (objects_written body) in
+      let nests = List.exists may_loop body in
       ( ce,
-        guard (fun fr sc -> for_loop ctx s a b st ca cb cst per_iteration i cbody fr sc)
-      )
+        guard (fun fr sc ->
+            for_loop ctx s a b st ca cb cst per_iteration nests i cbody fr sc) )
   | If_stmt (c, t, e) ->
       let cc = cexpr ctx ce c in
       let _, ct = clist ctx ce t in
@@ -2512,8 +2524,8 @@ and fast_object ctx (k : name) (its : citem list) : scode option =
     | _ -> Some (fun fr sc -> slow (evaluate fr) sc)
 
 (* The checks before a loop runs, then its iterations. *)
-and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration slot cbody fr
-    sc =
+and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration nests slot
+    cbody fr sc =
   let num c (e : expr) what =
     match c fr with
     | VNum v -> v
@@ -2577,7 +2589,7 @@ and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration slo
     (fun () ->
       for k = 0 to count - 1 do
         step ctx s.sloc;
-        ctx.loops <- outer *. Float.of_int (count - k);
+        if nests then ctx.loops <- outer *. Float.of_int (count - k);
         fr.l.(slot) <- VNum (a' +. (Float.of_int k *. st'));
         cbody fr sc
       done)

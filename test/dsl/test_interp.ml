@@ -122,6 +122,13 @@ let test_limits () =
     (radii
        "fn f(n) = if n <= 0 then 0 else 1 + f(n - 1)\n\
         sphere { center: (0, 0, 0), radius: f(899) }");
+  check_errors "a loop in a macro called in a loop counts the loops around it"
+    "fn row() { for j in 1 to 5000 { } }\nfor i in 1 to 5000 { row() }"
+    [
+      "1:12: this loop would run 5000 times inside loops that have 5000 iterations left \
+       (25000000 in all); a scene may take at most 20000000 loop iterations and calls, \
+       and build at most 10000000 objects";
+    ];
   check_errors "calls count as steps"
     "fn f(n) = if n <= 0 then 0 else 1 + f(n - 1)\nfor i in 1 to 5000000 { let x = f(3) }"
     [
