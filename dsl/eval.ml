@@ -2496,17 +2496,30 @@ and fast_object ctx (k : name) (its : citem list) : scode option =
     | "sphere", true, Some ci, Some ri, Some radius_range ->
         let mi = index "material" in
         let big = Schema.big in
+        let last = ref None and wrong = Some ctx.specs.material in
         Some
           (fun fr sc ->
             let vals = evaluate fr in
             let material =
               match mi with
-              | None -> Some None
-              | Some i -> ( match vals.(i) with VMat m -> Some (Some m) | _ -> None)
+              | None -> None
+              | Some i -> (
+                  match vals.(i) with
+                  | VMat m -> (
+                      (* The spheres of a site mostly share one material: so do their
+                         options. *)
+                      match !last with
+                      | Some m' as o when m' == m -> o
+                      | _ ->
+                          let o = Some m in
+                          last := o;
+                          o)
+                  | _ -> wrong)
             in
-            match (vals.(ci), vals.(ri), material) with
-            | VVec c, VNum r, Some material
-              when Float.abs c.x <= big
+            match (vals.(ci), vals.(ri)) with
+            | VVec c, VNum r
+              when material != wrong
+                   && Float.abs c.x <= big
                    && Float.abs c.y <= big
                    && Float.abs c.z <= big
                    && Schema.in_range radius_range r ->
