@@ -2424,7 +2424,12 @@ and cblock ctx ce (k : name) items : scode =
    its centre and radius (and perhaps its material), right, is built at once; any other
    block is read field by field (its transforms only when it has some), for its
    messages. *)
-and fast_object ctx (k : name) (its : citem list) : scode option =
+and fast_object ctx (k : name) its =
+  match Hashtbl.find_opt ctx.specs.by_kind k.id with
+  | None -> None (* not a kind of this schema: the block says so when it runs *)
+  | Some spec -> fast_object_of ctx spec k its
+
+and fast_object_of ctx spec (k : name) (its : citem list) : scode option =
   let fields =
     List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
   in
@@ -2436,7 +2441,6 @@ and fast_object ctx (k : name) (its : citem list) : scode option =
     in
     go 0 ids
   in
-  let spec = spec_for ctx k.id in
   let range name =
     List.find_map
       (fun e -> if String.equal e.sch.name name then Some e.sch.range else None)
