@@ -119,7 +119,8 @@ let tests =
           let d = tmpdir () in
           write_file
             (Filename.concat d "loop.rts")
-            "for i in 0 to 15000000 { let x = i * 2 }\n\
+            "for i in 0 to 15000000 { let x = sin(i) + cos(i) + sin(i + 1) + cos(i + 1) \
+             + sin(i + 2) + cos(i + 2) }\n\
              sphere { center: (0, 0, 0), radius: 1 }\n";
           List.iter
             (fun args ->
@@ -133,12 +134,14 @@ let tests =
         "Ctrl-C while animate evaluates a frame's scene stops it within 2 s" `Slow
         (fun () ->
           let d = tmpdir () in
-          (* Frame 0 (what loading checks) is instant; frame 1 takes 4 M loop iterations,
-             evaluated once the pool of domains is running. *)
+          (* Frame 0 (what loading checks) is instant; frame 1 takes 15 M loop iterations
+             of six calls of sin and cos each (seconds), evaluated once the pool of domains
+             is running. *)
           write_file (Filename.concat d "a.rts")
             "animation { fps: 10, frames: 3 }\n\
              settings { width: 8, height: 6 }\n\
-             for i in 1 to frame * 4000000 { let x = i * 2 }\n\
+             for i in 1 to frame * 15000000 { let x = sin(i) + cos(i) + sin(i + 1) + \
+             cos(i + 1) + sin(i + 2) + cos(i + 2) }\n\
              sphere { center: (0, 0, 0), radius: 1 }\n";
           let pid, err =
             spawn d
