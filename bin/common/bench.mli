@@ -16,7 +16,10 @@
       size: build and render times, rays per second, peak memory, each configuration in a
       child process so that its peak memory is its own.
     - [animation]: a whole [lancer animate] of a scene against one [lancer render] of it,
-      each a child process, and their ratio. *)
+      each a child process, and their ratio.
+    - [language]: the scene language's evaluation of a 3-million-iteration loop, beside
+      the same loop in CPython when [python3] is on the PATH, and of a million sphere
+      blocks (in this process: time, words allocated and held per block). *)
 
 val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
 (** [domains_cmd opts counts repeat json]. *)
