@@ -125,10 +125,13 @@ clean:
 clean-toolchain:
 	bash .ci/toolchain clean
 
-# lancer against Embree (an own harness, test/embree/) on the scenes of the speed table;
-# installs libembree-dev and GNU time where missing, skips with a message where it cannot.
+# Every speed target side by side (test/embree/bench.sh): lancer against Embree (an own
+# harness, test/embree/) on the scenes of the speed table, an animation against one still,
+# the scene language against CPython; installs libembree-dev, GNU time and python3 where
+# missing, and skips a row with a message where its tool cannot be had.
 bench-limit: build
 	-@bash .ci/toolchain install libembree-dev time || echo "bench-limit: could not install libembree-dev"
+	-@bash .ci/toolchain install python3-minimal || echo "bench-limit: could not install python3"
 	$(RUN) bash test/embree/bench.sh
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
