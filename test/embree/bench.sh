@@ -44,9 +44,9 @@ med() { cut -d' ' -f"$2" "$1" | median; }
 # A row: work, lancer, reference, ratio, target, met, note.
 out() { printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$@"; }
 # "yes" or "no": VALUE below or at LIMIT (below LIMIT with STRICT=1).
-met() { case "$1" in [0-9]*) awk -v v="$1" -v l="$2" -v s="${3:-0}" 'BEGIN { print ((s ? v < l : v <= l) ? "yes" : "no") }' ;; *) echo "—" ;; esac; }
+met() { case "$1" in [0-9]*) awk -v v="${1%×}" -v l="$2" -v s="${3:-0}" 'BEGIN { print ((s ? v < l : v <= l) ? "yes" : "no") }' ;; *) echo "—" ;; esac; }
 # A / B to two decimals; "n/a" where B was too short to measure.
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b > 0) printf "%.2f", a / b; else printf "n/a" }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b > 0) printf "%.2f×", a / b; else printf "n/a" }'; }
 secs() { awk -v s="$1" 'BEGIN { printf "%.2f s", s }'; }
 mib() { awk -v k="$1" 'BEGIN { printf "%.0f MiB", k / 1024 }'; }
 
@@ -71,7 +71,7 @@ against() {
   case "$work" in *memory*) show=mib ;; *) show=secs ;; esac
   if [ "$embree" = yes ]; then
     local r; r=$(ratio "$l" "$e")
-    out "$work" "$($show "$l")" "Embree $($show "$e")" "${r}×" "≤ ${target}×" "$(met "$r" "$target")" "$note"
+    out "$work" "$($show "$l")" "Embree $($show "$e")" "$r" "≤ ${target}×" "$(met "$r" "$target")" "$note"
   else
     out "$work" "$($show "$l")" "Embree: skipped" "—" "≤ ${target}×" "—" "$embree"
   fi
@@ -112,7 +112,7 @@ gl=$(med "$tmp/l" 1); gm=$(med "$tmp/l" 2)
 against "$grid" "$gl" "$(med "$tmp/e" 1)" 5 "$(cat "$tmp/same")"
 out "$grid: lancer's whole render" "$(secs "$gl")" "" "" "≤ 2 s" "$(met "$gl" 2)" ""
 if [ "$embree" = yes ]; then
-  out "$grid: peak memory" "$(mib "$gm")" "Embree $(mib "$(med "$tmp/e" 2)")" "$(ratio "$gm" "$(med "$tmp/e" 2)")×" "< 300 MiB" "$(met "$gm" $((300 * 1024)) 1)" ""
+  out "$grid: peak memory" "$(mib "$gm")" "Embree $(mib "$(med "$tmp/e" 2)")" "$(ratio "$gm" "$(med "$tmp/e" 2)")" "< 300 MiB" "$(met "$gm" $((300 * 1024)) 1)" ""
 else
   out "$grid: peak memory" "$(mib "$gm")" "" "" "< 300 MiB" "$(met "$gm" $((300 * 1024)) 1)" ""
 fi
@@ -126,7 +126,7 @@ anim=$("$lancer" bench animation scenes/bench/field_moving.rts --repeat "$REPEAT
 field() { echo "$anim" | sed -n "s/.*\"$1\":\([-0-9.e+]*\).*/\1/p"; }
 ar=$(ratio "$(field animation_s)" "$(field still_s)")
 out "$(field frames) frames of scenes/bench/field_moving.rts at 480×270 (lancer animate)" \
-  "$(secs "$(field animation_s)")" "one still $(secs "$(field still_s)")" "${ar}×" \
+  "$(secs "$(field animation_s)")" "one still $(secs "$(field still_s)")" "$ar" \
   "≤ ${ANIMATION_TARGET}×" "$(met "$ar" "$ANIMATION_TARGET")" "lancer bench animation"
 
 loop="for i in 0 to $LOOP { let x = sin(i) * cos(i) } (lancer check)"
@@ -140,7 +140,7 @@ for i in range($((LOOP + 1))): x = math.sin(i) * math.cos(i)" >>"$tmp/p"
 done
 if [ -n "$python" ]; then
   pr=$(ratio "$(med "$tmp/l" 1)" "$(med "$tmp/p" 1)")
-  out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython $(secs "$(med "$tmp/p" 1)")" "${pr}×" "≤ 0.5×" "$(met "$pr" 0.5)" \
+  out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython $(secs "$(med "$tmp/p" 1)")" "$pr" "≤ 0.5×" "$(met "$pr" 0.5)" \
     "$("$python" -c 'import platform; print("Python", platform.python_version())')"
 else
   out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython: skipped" "—" "≤ 0.5×" "—" "python3 is not on the PATH (make bench-limit installs it)"
