@@ -30,7 +30,60 @@ let curve gamma v =
       if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
   | Settings.Power g -> Float.pow v (1. /. g)
 
-let encode_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
+let exact_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
+
+(* The 8-bit sRGB code without a pow per sample, the same byte as [exact_channel Srgb].
+   The code steps from k − 1 to k where the curve reaches (k − 0.5)/255, at the value
+   [srgb_edge k] (the curve's inverse there). [0, 1] is cut into 4096 bins, narrower than
+   the closest two steps (1/3295 apart, where the curve is steepest): each bin holds the
+   code at its start and the first step after its start, so a value's code is one
+   comparison. A value within [near] of a step is encoded the exact way: the steps
+   computed here and the rounding of the exact formula are each a few ulps off, far below
+   [near], so every other value gets the exact formula's code. *)
+let srgb_edge k =
+  let c = (Float.of_int k -. 0.5) /. 255. in
+  if c <= 0.04045 then c /. 12.92 else Float.pow ((c +. 0.055) /. 1.055) 2.4
+
+let bins = 4096
+let near = 1e-9
+
+(* Per bin: the code at its start, the last step at or before its start and the first
+   after it (the infinities where there is none). A bin that would hold two steps gets
+   +∞ as its last step, so that every value in it is encoded the exact way. *)
+let srgb_base, srgb_before, srgb_after =
+  let edge k =
+    if k <= 0 then Float.neg_infinity
+    else if k >= 256 then Float.infinity
+    else srgb_edge k
+  in
+  let base = Bytes.create (bins + 1)
+  and before = Float.Array.make (bins + 1) 0.
+  and after = Float.Array.make (bins + 1) 0. in
+  let k = ref 0 in
+  for b = 0 to bins do
+    let start = Float.of_int b /. Float.of_int bins
+    and stop = Float.of_int (b + 1) /. Float.of_int bins in
+    while edge (!k + 1) <= start do
+      incr k
+    done;
+    Bytes.set_uint8 base b !k;
+    Float.Array.set before b (if edge (!k + 2) < stop then Float.infinity else edge !k);
+    Float.Array.set after b (edge (!k + 1))
+  done;
+  (base, before, after)
+
+let srgb_channel v =
+  let v = if v > 0. then if v < 1. then v else 1. else 0. in
+  let b = int_of_float (v *. 4096.) in
+  let after = Float.Array.unsafe_get srgb_after b in
+  if v -. Float.Array.unsafe_get srgb_before b < near || Float.abs (after -. v) < near
+  then exact_channel Settings.Srgb v
+  else
+    let k = Char.code (Bytes.unsafe_get srgb_base b) in
+    if v >= after then k + 1 else k
+
+let encode_channel gamma v =
+  match gamma with Settings.Srgb -> srgb_channel v | g -> exact_channel g v
 
 let encode_channel16 gamma v =
   int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
@@ -42,8 +95,18 @@ let quantise maxv a =
 
 let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
-  Bytes.init n (fun k ->
-      Char.unsafe_chr (encode_channel gamma (Float.Array.get fb.data k)))
+  let b = Bytes.create n in
+  (match gamma with
+  | Settings.Srgb ->
+      for k = 0 to n - 1 do
+        Bytes.unsafe_set b k (Char.unsafe_chr (srgb_channel (Float.Array.get fb.data k)))
+      done
+  | g ->
+      for k = 0 to n - 1 do
+        Bytes.unsafe_set b k
+          (Char.unsafe_chr (exact_channel g (Float.Array.get fb.data k)))
+      done);
+  b
 
 type format = Png | Ppm
 
@@ -99,25 +162,28 @@ let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
     || r.y0 >= r.y1
   then invalid_arg "Image.encode: the crop region is not inside the image";
   let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
-  let channels = if alpha = None then 3 else 4 in
-  let b = Bytes.create (w * h * channels * (bits / 8)) in
-  let put k v =
-    if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v
-  in
-  let enc = if bits = 8 then encode_channel gamma else encode_channel16 gamma in
-  let maxv = if bits = 8 then 255 else 65535 in
-  for j = 0 to h - 1 do
-    for i = 0 to w - 1 do
-      let src = ((r.y0 + j) * fb.width) + r.x0 + i and dst = ((j * w) + i) * channels in
-      for c = 0 to 2 do
-        put (dst + c) (enc (Float.Array.get fb.data ((3 * src) + c)))
-      done;
-      match alpha with
-      | Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src))
-      | None -> ()
-    done
-  done;
-  Raster.make ~width:w ~height:h ~channels ~depth:bits b
+  if bits = 8 && Option.is_none alpha && w = fb.width && h = fb.height then
+    Raster.make ~width:w ~height:h ~channels:3 ~depth:8 (to_bytes gamma fb)
+  else
+    let channels = if alpha = None then 3 else 4 in
+    let b = Bytes.create (w * h * channels * (bits / 8)) in
+    let put k v =
+      if bits = 8 then Bytes.set_uint8 b k v else Bytes.set_uint16_be b (2 * k) v
+    in
+    let enc = if bits = 8 then encode_channel gamma else encode_channel16 gamma in
+    let maxv = if bits = 8 then 255 else 65535 in
+    for j = 0 to h - 1 do
+      for i = 0 to w - 1 do
+        let src = ((r.y0 + j) * fb.width) + r.x0 + i and dst = ((j * w) + i) * channels in
+        for c = 0 to 2 do
+          put (dst + c) (enc (Float.Array.get fb.data ((3 * src) + c)))
+        done;
+        match alpha with
+        | Some a -> put (dst + 3) (quantise maxv (Float.Array.get a src))
+        | None -> ()
+      done
+    done;
+    Raster.make ~width:w ~height:h ~channels ~depth:bits b
 
 let write_ppm_raster oc (r : Raster.t) =
   Printf.fprintf oc "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r);

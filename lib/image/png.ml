@@ -48,33 +48,45 @@ let filtered ft x a b c =
   | _ -> x - paeth a b c)
   land 255
 
-(* Row [j] filtered with the filter that minimises the sum of absolute (signed) values,
-   into [out] (filter byte first). [prev] is the row above (zeros for the first). *)
+(* The cost of a filtered byte: the absolute value of the byte read as signed. *)
+let[@inline] cost v = if v < 128 then v else 256 - v
+
+(* [row] filtered with the filter that minimises the sum of absolute (signed) values, the
+   first of the cheapest on a tie, into [out] (filter byte first). [prev] is the row above
+   (zeros for the first). The five sums are taken in one pass over the row, then the row is
+   filtered once with the winner. *)
 let filter_row ~bpp row prev out =
   let n = Bytes.length row in
-  let cost ft =
-    let s = ref 0 in
-    for k = 0 to n - 1 do
-      let a = if k >= bpp then Bytes.get_uint8 row (k - bpp) else 0 in
-      let c = if k >= bpp then Bytes.get_uint8 prev (k - bpp) else 0 in
-      let v = filtered ft (Bytes.get_uint8 row k) a (Bytes.get_uint8 prev k) c in
-      s := !s + if v < 128 then v else 256 - v
-    done;
-    !s
-  in
-  let best = ref 0 and best_cost = ref (cost 0) in
-  for ft = 1 to 4 do
-    let c = cost ft in
+  let c0 = ref 0 and c1 = ref 0 and c2 = ref 0 and c3 = ref 0 and c4 = ref 0 in
+  for k = 0 to n - 1 do
+    let x = Char.code (Bytes.unsafe_get row k)
+    and b = Char.code (Bytes.unsafe_get prev k) in
+    let a = if k >= bpp then Char.code (Bytes.unsafe_get row (k - bpp)) else 0 in
+    let c = if k >= bpp then Char.code (Bytes.unsafe_get prev (k - bpp)) else 0 in
+    c0 := !c0 + cost x;
+    c1 := !c1 + cost ((x - a) land 255);
+    c2 := !c2 + cost ((x - b) land 255);
+    c3 := !c3 + cost ((x - ((a + b) lsr 1)) land 255);
+    c4 := !c4 + cost ((x - paeth a b c) land 255)
+  done;
+  let best = ref 0 and best_cost = ref !c0 in
+  let consider ft c =
     if c < !best_cost then (
       best := ft;
       best_cost := c)
-  done;
-  Bytes.set_uint8 out 0 !best;
+  in
+  consider 1 !c1;
+  consider 2 !c2;
+  consider 3 !c3;
+  consider 4 !c4;
+  let ft = !best in
+  Bytes.set_uint8 out 0 ft;
   for k = 0 to n - 1 do
-    let a = if k >= bpp then Bytes.get_uint8 row (k - bpp) else 0 in
-    let c = if k >= bpp then Bytes.get_uint8 prev (k - bpp) else 0 in
-    Bytes.set_uint8 out (k + 1)
-      (filtered !best (Bytes.get_uint8 row k) a (Bytes.get_uint8 prev k) c)
+    let x = Char.code (Bytes.unsafe_get row k)
+    and b = Char.code (Bytes.unsafe_get prev k) in
+    let a = if k >= bpp then Char.code (Bytes.unsafe_get row (k - bpp)) else 0 in
+    let c = if k >= bpp then Char.code (Bytes.unsafe_get prev (k - bpp)) else 0 in
+    Bytes.unsafe_set out (k + 1) (Char.unsafe_chr (filtered ft x a b c))
   done
 
 let colour_type channels = match channels with 1 -> 0 | 2 -> 4 | 3 -> 2 | _ -> 6
@@ -112,14 +124,16 @@ let encode ?(level = 6) (r : Raster.t) write =
     | Zlib.Z_FINISH -> if not finished then feed src pos len flush
     | _ -> if len > 0 then feed src pos len flush
   in
-  let row = Bytes.create stride
+  let row = ref (Bytes.create stride)
   and prev = ref (Bytes.make stride '\000')
   and line = Bytes.create (stride + 1) in
   for j = 0 to r.height - 1 do
-    Bytes.blit r.samples (j * stride) row 0 stride;
-    filter_row ~bpp row !prev line;
+    Bytes.blit r.samples (j * stride) !row 0 stride;
+    filter_row ~bpp !row !prev line;
     feed line 0 (stride + 1) Zlib.Z_NO_FLUSH;
-    prev := Bytes.copy row
+    let t = !prev in
+    prev := !row;
+    row := t
   done;
   feed line 0 0 Zlib.Z_FINISH;
   emit !filled;

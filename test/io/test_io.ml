@@ -494,6 +494,181 @@ let sixteen_tests =
         done);
   ]
 
+(* The byte doc/shading.md gives for a linear value, written out here as the reference. *)
+let srgb_byte v =
+  let v = if Float.is_nan v then 0. else Float.min 1. (Float.max 0. v) in
+  let e =
+    if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
+  in
+  int_of_float (Float.floor ((255. *. e) +. 0.5))
+
+(* The linear value where the sRGB byte becomes k, near enough for a start. *)
+let srgb_step k =
+  let c = (Float.of_int k -. 0.5) /. 255. in
+  if c <= 0.04045 then c /. 12.92 else Float.pow ((c +. 0.055) /. 1.055) 2.4
+
+(* The filter type the PNG specification's heuristic picks for each row: the least sum of
+   the filtered bytes read as signed, the first on a tie. *)
+let cheapest_filters (r : Raster.t) =
+  let bpp = r.channels * (r.depth / 8) in
+  let stride = r.width * bpp in
+  let get j k =
+    if j < 0 || k < 0 then 0 else Bytes.get_uint8 r.samples ((j * stride) + k)
+  in
+  let paeth a b c =
+    let p = a + b - c in
+    let pa = abs (p - a) and pb = abs (p - b) and pc = abs (p - c) in
+    if pa <= pb && pa <= pc then a else if pb <= pc then b else c
+  in
+  List.init r.height (fun j ->
+      let sum ft =
+        let s = ref 0 in
+        for k = 0 to stride - 1 do
+          let x = get j k and a = get j (k - bpp) and b = get (j - 1) k in
+          let c = get (j - 1) (k - bpp) in
+          let p =
+            match ft with 0 -> 0 | 1 -> a | 2 -> b | 3 -> (a + b) / 2 | _ -> paeth a b c
+          in
+          let v = (x - p) land 255 in
+          s := !s + min v (256 - v)
+        done;
+        !s
+      in
+      let best = ref 0 in
+      for ft = 1 to 4 do
+        if sum ft < sum !best then best := ft
+      done;
+      !best)
+
+(* The filter byte of each row of a PNG file (one IDAT stream, no interlace). *)
+let filter_bytes png (r : Raster.t) =
+  let idat = Buffer.create 1024 in
+  let rec chunks pos =
+    if pos + 8 <= String.length png then (
+      let len = Int32.to_int (String.get_int32_be png pos) in
+      if String.sub png (pos + 4) 4 = "IDAT" then
+        Buffer.add_string idat (String.sub png (pos + 8) len);
+      chunks (pos + 12 + len))
+  in
+  chunks 8;
+  let stride = r.width * r.channels * (r.depth / 8) in
+  let raw = Buffer.create (r.height * (stride + 1)) in
+  let data = Buffer.contents idat and pos = ref 0 in
+  Zlib.uncompress
+    (fun buf ->
+      let n = min (Bytes.length buf) (String.length data - !pos) in
+      Bytes.blit_string data !pos buf 0 n;
+      pos := !pos + n;
+      n)
+    (fun buf n -> Buffer.add_subbytes raw buf 0 n);
+  let raw = Buffer.contents raw in
+  List.init r.height (fun j -> Char.code raw.[j * (stride + 1)])
+
+let encoder_tests =
+  [
+    Alcotest.test_case
+      "the 8-bit sRGB byte is the formula's at every step, beside it and across [0, 1]"
+      `Quick (fun () ->
+        let bad = ref [] in
+        let try_ v =
+          let got = Image.encode_channel Settings.Srgb v and want = srgb_byte v in
+          if got <> want && List.length !bad < 5 then bad := (v, got, want) :: !bad
+        in
+        for k = 1 to 255 do
+          (* 200 floats either side of each step, then wider offsets *)
+          let v = ref (srgb_step k) in
+          for _ = 1 to 200 do
+            v := Float.pred !v
+          done;
+          for _ = 1 to 400 do
+            try_ !v;
+            v := Float.succ !v
+          done;
+          List.iter
+            (fun d ->
+              try_ (srgb_step k +. d);
+              try_ (srgb_step k -. d))
+            [ 1e-12; 1e-10; 1e-9; 1.5e-9; 1e-8; 1e-6; 1e-4 ]
+        done;
+        for i = 0 to 2_000_000 do
+          try_ (Float.of_int i /. 2_000_000.)
+        done;
+        (* every bin's start and the floats around it *)
+        for b = 0 to 4096 do
+          let s = Float.of_int b /. 4096. in
+          List.iter try_ [ Float.pred s; s; Float.succ s ]
+        done;
+        List.iter try_
+          [
+            0.;
+            -0.;
+            -1.;
+            1.;
+            2.;
+            Float.nan;
+            Float.infinity;
+            Float.neg_infinity;
+            Float.min_float;
+            0.0031308;
+            Float.pred 0.0031308;
+            Float.succ 0.0031308;
+            Float.pred 1.;
+            1e-300;
+          ];
+        match !bad with
+        | [] -> ()
+        | l ->
+            Alcotest.failf "%s"
+              (String.concat "; "
+                 (List.map
+                    (fun (v, g, w) -> Printf.sprintf "%h (%.17g): %d, not %d" v v g w)
+                    l)));
+    Alcotest.test_case "an encoded framebuffer is encode_channel of each value" `Quick
+      (fun () ->
+        let fb = Image.create 37 11 in
+        Float.Array.iteri
+          (fun k _ ->
+            Float.Array.set fb.data k
+              (if k mod 13 = 0 then Float.nan
+               else if k mod 11 = 0 then 1.5
+               else Float.of_int (k * 7919 mod 1000) /. 999.))
+          fb.data;
+        List.iter
+          (fun gamma ->
+            let want =
+              Bytes.init (Float.Array.length fb.data) (fun k ->
+                  Char.chr (Image.encode_channel gamma (Float.Array.get fb.data k)))
+            in
+            Alcotest.(check bool)
+              "to_bytes" true
+              (Bytes.equal want (Image.to_bytes gamma fb));
+            Alcotest.(check bool)
+              "encode" true
+              (Bytes.equal want (Image.encode ~gamma fb).samples))
+          [ Settings.Srgb; Settings.Power 2.2 ];
+        Alcotest.(check int)
+          "a byte of 0.5 under gamma 2.2" 186
+          (Image.encode_channel (Settings.Power 2.2) 0.5));
+    Alcotest.test_case "each row of a written PNG has the cheapest filter, first on a tie"
+      `Quick (fun () ->
+        List.iter
+          (fun (channels, depth, w, h) ->
+            let r = sample_raster ~width:w ~height:h ~channels ~depth in
+            (* and a gradient, where the filters that predict win *)
+            let g =
+              Raster.make ~width:w ~height:h ~channels ~depth:8
+                (Bytes.init (w * h * channels) (fun k -> Char.chr (k / channels mod w)))
+            in
+            List.iter
+              (fun (what, r) ->
+                Alcotest.(check (list int))
+                  (Printf.sprintf "%s, %d channels, %d bits" what channels depth)
+                  (cheapest_filters r)
+                  (filter_bytes (encode r) r))
+              [ ("noise", r); ("gradient", g) ])
+          [ (3, 8, 31, 9); (4, 8, 17, 5); (1, 8, 40, 6); (3, 16, 13, 7); (2, 16, 9, 4) ]);
+  ]
+
 let () =
   Alcotest.run "io"
     [
@@ -502,4 +677,5 @@ let () =
       ("corrupt", corrupt_tests);
       ("textures", texture_tests);
       ("16 bits, alpha, crop", sixteen_tests);
+      ("encoder", encoder_tests);
     ]
