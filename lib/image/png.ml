@@ -38,16 +38,6 @@ let[@inline] paeth a b c =
   let pa = abs (p - a) and pb = abs (p - b) and pc = abs (p - c) in
   if pa <= pb && pa <= pc then a else if pb <= pc then b else c
 
-(* The filtered value of byte x with left neighbour a, upper b and upper-left c. *)
-let filtered ft x a b c =
-  (match ft with
-  | 0 -> x
-  | 1 -> x - a
-  | 2 -> x - b
-  | 3 -> x - ((a + b) lsr 1)
-  | _ -> x - paeth a b c)
-  land 255
-
 (* The cost of a filtered byte: the absolute value of the byte read as signed, from a
    table (a branch on random bytes is mispredicted half the time). *)
 let costs = String.init 256 (fun v -> Char.chr (if v < 128 then v else 256 - v))
@@ -83,13 +73,30 @@ let filter_row ~bpp row prev out =
   consider 4 !c4;
   let ft = !best in
   Bytes.set_uint8 out 0 ft;
-  for k = 0 to n - 1 do
-    let x = Char.code (Bytes.unsafe_get row k)
-    and b = Char.code (Bytes.unsafe_get prev k) in
-    let a = if k >= bpp then Char.code (Bytes.unsafe_get row (k - bpp)) else 0 in
-    let c = if k >= bpp then Char.code (Bytes.unsafe_get prev (k - bpp)) else 0 in
-    Bytes.unsafe_set out (k + 1) (Char.unsafe_chr (filtered ft x a b c))
-  done
+  (* One loop per filter type: the type is the same along the row. *)
+  let get b k = Char.code (Bytes.unsafe_get b k) in
+  let put k v = Bytes.unsafe_set out (k + 1) (Char.unsafe_chr (v land 255)) in
+  match ft with
+  | 0 -> Bytes.blit row 0 out 1 n
+  | 1 ->
+      for k = 0 to n - 1 do
+        put k (get row k - if k >= bpp then get row (k - bpp) else 0)
+      done
+  | 2 ->
+      for k = 0 to n - 1 do
+        put k (get row k - get prev k)
+      done
+  | 3 ->
+      for k = 0 to n - 1 do
+        let a = if k >= bpp then get row (k - bpp) else 0 in
+        put k (get row k - ((a + get prev k) lsr 1))
+      done
+  | _ ->
+      for k = 0 to n - 1 do
+        let a = if k >= bpp then get row (k - bpp) else 0 in
+        let c = if k >= bpp then get prev (k - bpp) else 0 in
+        put k (get row k - paeth a (get prev k) c)
+      done
 
 let colour_type channels = match channels with 1 -> 0 | 2 -> 4 | 3 -> 2 | _ -> 6
 
