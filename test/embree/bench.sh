@@ -146,5 +146,11 @@ else
   out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython: skipped" "—" "≤ 0.5×" "—" "python3 is not on the PATH (make bench-limit installs it)"
 fi
 
+# The evaluation of the spheres alone, in one process (lancer bench language, its JSON).
+lang=$("$lancer" bench language --grid "$GRID" --repeat "$REPEAT" --json 2>/dev/null || true)
+jget() { echo "$lang" | sed -n "s/.*\"$1\": *\([-0-9.e+]*\).*/\1/p" | head -n 1; }
 echo
-echo "The $((GRID * GRID)) spheres' evaluation alone (lancer check of the same scene): $grid_check."
+if [ -n "$(jget objects_seconds)" ]; then
+  echo "The $((GRID * GRID)) spheres' evaluation alone (lancer bench language --grid $GRID): $(secs "$(jget objects_seconds)"), $(jget minor_words_per_object | awk '{printf "%.0f", $1}') words allocated a sphere."
+fi
+echo "lancer check of the same scene (parse, evaluation, checks, estimates): $grid_check."
