@@ -15,7 +15,7 @@
 # Whole processes, the two sides alternated REPEAT times (default 3), medians. A row whose
 # tool is missing (Embree, GNU time, python3) says so and is skipped. Knobs: W, H (default
 # 1920×1080), GRID (default 1000), NU, NV (default 1000×500), REPEAT, LOOP (iterations - 1,
-# default 3000000), ANIMATION_TARGET (default 3).
+# default 3000000), ANIMATION_TARGET (default 4).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -24,7 +24,7 @@ command -v /usr/bin/time >/dev/null 2>&1 || { echo "bench-limit: GNU time is mis
 dune build @install 2>&1 | tail -n 5
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 W=${W:-1920}; H=${H:-1080}; GRID=${GRID:-1000}; NU=${NU:-1000}; NV=${NV:-500}
-REPEAT=${REPEAT:-3}; LOOP=${LOOP:-3000000}; ANIMATION_TARGET=${ANIMATION_TARGET:-3}
+REPEAT=${REPEAT:-3}; LOOP=${LOOP:-3000000}; ANIMATION_TARGET=${ANIMATION_TARGET:-4}
 mkdir -p "$root/_build"
 tmp=$(mktemp -d -p "$root/_build"); trap 'rm -rf "$tmp"' EXIT
 
