@@ -33,13 +33,16 @@ type stop = { signal : int Atomic.t (* the signal that stopped the run; 0: none 
    before the options are parsed and MPI is started) to the command's own handler of
    {!on_interrupt}, SIGINT and SIGTERM end the run with the interrupt's message and
    status, as they do later; the default action would end it without a word. *)
+let early_exit = ref exit
+
 let () =
   let early =
     Sys.Signal_handle
       (fun _ ->
         let text, status = describe Sys.Break in
         prerr_string text;
-        exit status)
+        flush stderr;
+        !early_exit status)
   in
   Sys.set_signal Sys.sigint early;
   Sys.set_signal Sys.sigterm early

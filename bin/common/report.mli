@@ -27,6 +27,11 @@ val message : exn -> string
 type stop
 (** This run's interrupts: the token SIGINT and SIGTERM cancel, and which one came. *)
 
+val early_exit : (int -> unit) ref
+(** How a run interrupted before its command's own handler ({!on_interrupt}) is installed
+    ends, once its message is printed: [exit] by default. Under MPI that would wait in
+    [MPI_Finalize] for ranks that wait for this one; lancer-mpi makes it abort the job. *)
+
 val on_interrupt : stop -> Lancer.Cancel.t
 (** Make SIGINT and SIGTERM cancel the returned token ({!Lancer.Cancel.signal}): work that
     polls it stops with [Sys.Break], and outside pools and writes [Sys.Break] is raised at

@@ -301,6 +301,10 @@ let animate =
     Term.(const animate_cmd $ Cli.(term Animate) $ Animate.options_term)
 
 let () =
+  (* Interrupted before the command's own handler is in place (while MPI starts, or the
+     options are read), rank 0 would otherwise exit into MPI_Finalize and wait there for
+     the other ranks, which wait for it: the job would hang. Aborting ends every rank. *)
+  (Report.early_exit := fun status -> Mpi.abort status);
   Mpi.init ();
   at_exit Mpi.finalize;
   let info =

@@ -108,7 +108,11 @@ value lancer_mpi_barrier(value unit)
 
 value lancer_mpi_abort(value code)
 {
-  MPI_Abort(MPI_COMM_WORLD, Int_val(code));
+  int init = 0, fin = 0;
+  MPI_Initialized(&init);
+  MPI_Finalized(&fin);
+  /* Before MPI_Init or after MPI_Finalize, MPI_Abort may not be called: just exit. */
+  if (init && !fin) MPI_Abort(MPI_COMM_WORLD, Int_val(code));
   exit(Int_val(code)); /* not reached: MPI_Abort does not return */
 }
 

@@ -99,7 +99,11 @@ for d in 1 2 resume; do
     for p in $(pgrep -x lancer-mpi); do
       [ "$(readlink "/proc/$p/cwd" 2>/dev/null)" = "$here" ] || continue
       [ "$(cat "/proc/$p/stat" 2>/dev/null | awk '{print $3}')" = Z ] && continue
-      tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=0' && rank0=$p
+      tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=0' || continue
+      # Once it catches SIGINT (SigCgt bit 1): on a loaded machine a process may not have
+      # started its runtime yet a second after it was found, and would die of the signal.
+      cgt=$(awk '/^SigCgt:/ {print $2}' "/proc/$p/status" 2>/dev/null)
+      [ -n "$cgt" ] && [ $(( 0x$cgt & 2 )) -ne 0 ] && rank0=$p
     done
     [ -n "$rank0" ] && break
     sleep 0.1
