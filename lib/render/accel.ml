@@ -70,7 +70,10 @@ let build prims =
   let n = Array.length prims in
   let bounded = indices prims true in
   let m = Array.length bounded in
-  if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None; layers = None }
+  (* A mesh counts as its faces, which one object each would have been. *)
+  let weight = Array.fold_left (fun w i -> w + Primitive.faces prims.(i)) 0 bounded in
+  if weight < min_bvh then
+    { prims; outside = Array.init n Fun.id; tree = None; layers = None }
   else
     let outside = indices prims false in
     let pbox = Float.Array.create (6 * m) in
@@ -688,7 +691,7 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
   if Array.length fixed_idx + Array.length moving_idx <> n then
     invalid_arg "Accel.layered: the parts do not cover the primitives";
   let bounded = ref 0 in
-  Array.iter (fun p -> if is_bounded p then incr bounded) prims;
+  Array.iter (fun p -> if is_bounded p then bounded := !bounded + Primitive.faces p) prims;
   {
     prims;
     outside = [||];

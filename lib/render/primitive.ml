@@ -107,12 +107,22 @@ let intersect o r tmin tmax =
   else Shape.intersect o.shape (object_ray o r) tmin tmax
 
 let surface o r t =
-  if Array.length o.leaves = 0 then o
-  else
-    let r' = if Transform.is_identity o.transform then r else object_ray o r in
-    o.leaves.(Shape.csg_leaf o.shape r' t)
+  match o.shape with
+  | Shape.Mesh _ ->
+      let r' = if Transform.is_identity o.transform then r else object_ray o r in
+      { o with shape = Shape.mesh_face o.shape r' t }
+  | _ ->
+      if Array.length o.leaves = 0 then o
+      else
+        let r' = if Transform.is_identity o.transform then r else object_ray o r in
+        o.leaves.(Shape.csg_leaf o.shape r' t)
 
 let is_csg o = Array.length o.leaves > 0
+
+let is_composite o =
+  Array.length o.leaves > 0 || match o.shape with Shape.Mesh _ -> true | _ -> false
+
+let faces o = match o.shape with Shape.Mesh m -> Trimesh.count m | _ -> 1
 let to_object o p = Transform.inv_point o.transform p
 let shifted o = not (o.shift.x = 0. && o.shift.y = 0. && o.shift.z = 0.)
 let texture_point o p = if shifted o then Vec3.add p o.shift else to_object o p

@@ -33,11 +33,19 @@ val make :
 
 val surface : t -> Ray.t -> float -> t
 (** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
-    or later): [o] itself, or for a CSG object the leaf the crossing lies on, with its
-    material and orientation. Shading and shadows ask it before anything else. *)
+    or later): [o] itself, for a CSG object the leaf the crossing lies on, with its
+    material and orientation, for a mesh the face hit (the lowest of those hit at [t]).
+    Shading and shadows ask it before anything else. *)
 
 val is_csg : t -> bool
 (** Whether [o] is a CSG object (its normal and material are those of its {!surface}). *)
+
+val is_composite : t -> bool
+(** Whether [o] is a CSG object or a mesh: its normal and material are those of its
+    {!surface} (a CSG leaf, a mesh's face). *)
+
+val faces : t -> int
+(** How many surfaces [o] stands for: a mesh's triangles, 1 for any other object. *)
 
 val materials : t -> Material.t list
 (** The materials the object can shade with: its own, or its leaves' for a CSG object. *)

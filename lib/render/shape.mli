@@ -79,6 +79,10 @@ type t = private
     }  (** points at distance r from the ring of radius R around [axis] *)
   | Closed_mesh of { tris : t array;  (** triangles *) mbounds : Bbox.t option }
       (** a mesh whose every edge is shared by exactly two faces: a solid, for CSG *)
+  | Mesh of Trimesh.t
+      (** an indexed triangle mesh (an OBJ file's): one shape for all its faces, hit
+          through its own bounding volume hierarchy; shading asks {!mesh_face} for the
+          face hit *)
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
@@ -247,3 +251,18 @@ val translate : Vec3.t -> t -> t
 
 val name : t -> string
 (** The kind, as written in a scene ("sphere", "plane", …; "mesh" for mesh faces). *)
+
+val mesh : Trimesh.t -> t
+(** The mesh whose faces are the triangles of an indexed mesh. *)
+
+val face : Trimesh.t -> int -> t
+(** [face m k] is triangle [k] of [m] as {!mesh_triangle} makes it of its corners, normals
+    and (u, v): the same bits as a triangle read on its own. *)
+
+val faces : Trimesh.t -> t list
+(** Every face, in order. *)
+
+val mesh_face : t -> Ray.t -> float -> t
+(** [mesh_face s r t] is, for a {!Mesh}, the face that ray [r] hit at [t] (a root that
+    {!intersect} found): among the faces whose root is [t], the lowest. Any other shape is
+    its own face. *)
