@@ -19,6 +19,9 @@ type tree = {
           (right child, 0), its left child being the next node *)
   leaf_prims : Primitive.t array;  (** bounded primitives in leaf order *)
   leaf_idx : int array;  (** their indices in the scene's array *)
+  sph : Float.Array.t;
+      (** 4 per leaf slot: the centre and radius of an untransformed sphere, tested from
+          here without reading its primitive; radius −1 for any other primitive *)
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
@@ -89,10 +92,21 @@ let build prims =
     let leaf_idx = order in
     Array.iteri (fun j k -> leaf_idx.(j) <- bounded.(k)) leaf_idx;
     let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
+    let sph = Float.Array.make (4 * m) (-1.) in
+    Array.iteri
+      (fun j (p : Primitive.t) ->
+        match p.shape with
+        | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
+            fset sph (4 * j) center.x;
+            fset sph ((4 * j) + 1) center.y;
+            fset sph ((4 * j) + 2) center.z;
+            fset sph ((4 * j) + 3) radius
+        | _ -> ())
+      leaf_prims;
     {
       prims;
       outside;
-      tree = Some { nodes; links; leaf_prims; leaf_idx; depth };
+      tree = Some { nodes; links; leaf_prims; leaf_idx; sph; depth };
       layers = None;
     }
 
@@ -243,6 +257,19 @@ let[@inline] probe_test p (q : Shape.probe) obj tmax =
   Primitive.probe_into p q obj;
   q.p_t
 
+(* [probe_test] of leaf slot [j]: a flat sphere's test on its scalars, the same roots. *)
+let[@inline] slot_test tr j (q : Shape.probe) obj tmax =
+  let sph = tr.sph in
+  let r = fget sph ((4 * j) + 3) in
+  if r >= 0. then (
+    q.p_tmax <- tmax;
+    Shape.sphere_sc
+      (fget sph (4 * j))
+      (fget sph ((4 * j) + 1))
+      (fget sph ((4 * j) + 2))
+      r q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin tmax)
+  else probe_test (Array.unsafe_get tr.leaf_prims j) q obj tmax
+
 let linear_nearest_probe prims (q : Shape.probe) obj =
   let best_t = ref q.p_tmax and best_i = ref (-1) in
   for i = 0 to Array.length prims - 1 do
@@ -279,7 +306,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
       if count > 0 then (
         let first = Array.unsafe_get links (2 * k) in
         for j = first to first + count - 1 do
-          let t = probe_test (Array.unsafe_get tr.leaf_prims j) q obj !query in
+          let t = slot_test tr j q obj !query in
           if t <= !best_t then
             let i = Array.unsafe_get tr.leaf_idx j in
             if t < !best_t || i < !best_i then (
@@ -476,6 +503,20 @@ let[@inline] blocks (p : Primitive.t) (q : Shape.probe) obj =
     Primitive.probe_into p q obj;
     q.p_t < q.p_tmax)
 
+(* [blocks] of leaf slot [j]. *)
+let[@inline] slot_blocks tr j (q : Shape.probe) obj =
+  let sph = tr.sph in
+  let r = fget sph ((4 * j) + 3) in
+  if r >= 0. then
+    Shape.sphere_sc
+      (fget sph (4 * j))
+      (fget sph ((4 * j) + 1))
+      (fget sph ((4 * j) + 2))
+      r q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin q.p_tmax
+    < q.p_tmax
+    && (Array.unsafe_get tr.leaf_prims j).material.transparency = 0.
+  else blocks (Array.unsafe_get tr.leaf_prims j) q obj
+
 let linear_occluder prims q obj =
   let found = ref (-1) and i = ref 0 in
   while !found < 0 && !i < Array.length prims do
@@ -524,8 +565,7 @@ and tree_occluder a tr (q : Shape.probe) obj =
         let first = Array.unsafe_get links (2 * node) in
         let j = ref first in
         while !found < 0 && !j < first + count do
-          if blocks (Array.unsafe_get tr.leaf_prims !j) q obj then
-            found := Array.unsafe_get tr.leaf_idx !j;
+          if slot_blocks tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
           incr j
         done
       else

@@ -142,12 +142,12 @@ let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
      test would say the same. *)
-  let fx = ox -. center.x and fy = oy -. center.y and fz = oz -. center.z in
+  let fx = ox -. cx and fy = oy -. cy and fz = oz -. cz in
   let a = (dx *. dx) +. (dy *. dy) +. (dz *. dz) in
   let b = (fx *. dx) +. (fy *. dy) +. (fz *. dz) in
   let k = -.b /. a in
@@ -179,6 +179,9 @@ let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
         if in_range lo tmin tmax then lo
         else if in_range hi tmin tmax then hi
         else Float.infinity
+
+let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+  sphere_sc center.x center.y center.z radius ox oy oz dx dy dz tmin tmax
 
 let[@inline] intersect_sphere center radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in

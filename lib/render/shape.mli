@@ -266,3 +266,21 @@ val mesh_face : t -> Ray.t -> float -> t
 (** [mesh_face s r t] is, for a {!Mesh}, the face that ray [r] hit at [t] (a root that
     {!intersect} found): among the faces whose root is [t], the lowest. Any other shape is
     its own face. *)
+
+val sphere_sc :
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float
+(** [sphere_sc cx cy cz r ox oy oz dx dy dz tmin tmax] is the sphere's root in (tmin,
+    tmax) along the ray, or infinity: {!probe_into} of a {!Sphere}, bit for bit, on
+    scalars (for structures that keep spheres in flat arrays). *)
