@@ -54,7 +54,7 @@ let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 
 let is_bounded (p : Primitive.t) =
-  match p.bounds with Some b -> finite_box b | None -> false
+  match Primitive.bounds p with Some b -> finite_box b | None -> false
 
 (* The indices of the bounded primitives ([want]) or of the others, in order. *)
 let indices prims want =
@@ -82,7 +82,7 @@ let build prims =
     let pbox = Float.Array.create (6 * m) in
     Array.iteri
       (fun k i ->
-        match prims.(i).Primitive.bounds with
+        match Primitive.bounds prims.(i) with
         | Some { Bbox.min; max } ->
             Bvh.pad_into pbox k min.x min.y min.z max.x max.y max.z
         | None -> ())

@@ -8,9 +8,21 @@ type t = {
   leaves : t array;
 }
 
+(* The bounds of a bounded untransformed shape are its own: rather than a box per
+   primitive (13 words of 30 for a sphere), [bounds] holds this one shared marker, and
+   {!bounds} asks the shape. *)
+let own = Some { Bbox.min = Vec3.zero; max = Vec3.zero }
+
+let world_bounds transform shape =
+  if Transform.is_identity transform then
+    match Shape.bbox shape with Some _ -> own | None -> None
+  else Option.map (Bbox.transform transform) (Shape.bbox shape)
+
+let bounds o = if o.bounds == own then Shape.bbox o.shape else o.bounds
+
 let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material
     shape =
-  let bounds = Option.map (Bbox.transform transform) (Shape.bbox shape) in
+  let bounds = world_bounds transform shape in
   let leaves =
     match shape with
     | Shape.Csg { leaves; _ } ->
@@ -50,12 +62,17 @@ let rec translate (d : Vec3.t) o =
       {
         o with
         transform;
-        bounds = Option.map (Bbox.transform transform) (Shape.bbox o.shape);
+        bounds = world_bounds transform o.shape;
         leaves = Array.map (translate d) o.leaves;
       }
     else if Transform.is_identity o.transform then
       let shape = Shape.translate d o.shape in
-      { o with shape; bounds = Shape.bbox shape; shift = Vec3.sub o.shift d }
+      {
+        o with
+        shape;
+        bounds = world_bounds Transform.identity shape;
+        shift = Vec3.sub o.shift d;
+      }
     else
       {
         (make

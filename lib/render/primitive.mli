@@ -9,7 +9,10 @@ type t = private {
   material : Material.t;
       (** for a CSG object, which shades with its leaves' materials, a transparent leaf's
           when there is one (else its first leaf's): what shadow queries look at *)
-  bounds : Bbox.t option;  (** world-space bounds; [None] when unbounded *)
+  bounds : Bbox.t option;
+      (** [None] when unbounded; otherwise read the bounds with {!bounds}: an
+          untransformed shape's are its own, and this field holds a marker shared by all
+          of them instead of a box each *)
   shift : Vec3.t;
       (** what a world point adds to become a texture-space point, for an untransformed
           object that {!translate} moved; zero otherwise *)
@@ -30,6 +33,9 @@ val make :
     the identity) and computes its world bounds. [flip] reverses its normal. For a CSG
     shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None].
 *)
+
+val bounds : t -> Bbox.t option
+(** The world-space bounds; [None] when unbounded. *)
 
 val surface : t -> Ray.t -> float -> t
 (** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
