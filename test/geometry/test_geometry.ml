@@ -611,6 +611,23 @@ let indexed_tests =
         Alcotest.(check (list string))
           "names" [ "triangle"; "mesh" ]
           (List.map Shape.name (Shape.faces m)));
+    case "an untransformed sphere's object keeps no box of its own" (fun () ->
+        let s i = Shape.sphere ~center:(v (Float.of_int i) 0. 0.) ~radius:0.4 in
+        let prims = Array.init 1000 (fun i -> Primitive.make Material.default (s i)) in
+        (* The array slot, the record (8), the shape (3) and its centre (4); a box per
+           sphere would add 13. *)
+        let per = Obj.reachable_words (Obj.repr prims) / 1000 in
+        if per > 18 then Alcotest.failf "%d words per sphere" per;
+        let b = Option.get (Primitive.bounds prims.(3)) in
+        check_vec "min" (v 2.6 (-0.4) (-0.4)) b.min;
+        check_vec "max" (v 3.4 0.4 0.4) b.max;
+        let moved =
+          Primitive.make
+            ~transform:(Transform.translate (v 0. 1. 0.))
+            Material.default (s 0)
+        in
+        let b = Option.get (Primitive.bounds moved) in
+        check_vec "moved min" (v (-0.4) 0.6 (-0.4)) b.min);
     case "a scene of one mesh still builds a tree when it has eight faces or more"
       (fun () ->
         let m = mesh_ok (sphere_obj ()) in
