@@ -139,119 +139,11 @@ let[@inline] test p r tmax (h : Shape.hit) =
   Primitive.intersect_into p r h;
   h.t
 
-let linear_nearest prims r tmin tmax (h : Shape.hit) =
-  let best_t = ref tmax and best_i = ref (-1) in
-  h.tmin <- tmin;
-  for i = 0 to Array.length prims - 1 do
-    let t = test prims.(i) r !best_t h in
-    if t < !best_t then (
-      best_t := t;
-      best_i := i)
-  done;
-  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
-  !best_i
-
-let tree_nearest a tr r tmin tmax (h : Shape.hit) =
-  let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
-  h.tmin <- tmin;
-  (* Unbounded primitives first, in index order. *)
-  let outside = a.outside and prims = a.prims in
-  for k = 0 to Array.length outside - 1 do
-    let i = outside.(k) in
-    let t = test prims.(i) r !query h in
-    if t < !best_t || (t = !best_t && i < !best_i) then (
-      best_t := t;
-      best_i := i;
-      query := Float.succ t)
-  done;
-  let o = Ray.origin r and inv = Ray.inv_dir r in
-  let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-  let nodes = tr.nodes and links = tr.links in
-  let st = get_stack tr.depth in
-  let sids = st.ids and sts = st.ts in
-  let sp = ref 0 and node = ref 0 and go = ref true in
-  if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
-  while !go do
-    let k = !node in
-    let count = Array.unsafe_get links ((2 * k) + 1) in
-    let next =
-      if count > 0 then (
-        let first = Array.unsafe_get links (2 * k) in
-        for j = first to first + count - 1 do
-          let t = test (Array.unsafe_get tr.leaf_prims j) r !query h in
-          if t <= !best_t then
-            let i = Array.unsafe_get tr.leaf_idx j in
-            if t < !best_t || i < !best_i then (
-              best_t := t;
-              best_i := i;
-              query := Float.succ t)
-        done;
-        -1)
-      else
-        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
-        let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
-        let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
-        if tl < Float.infinity then
-          if trr < Float.infinity then
-            (* Nearest child first; the other waits on the stack with its entry t. *)
-            if trr < tl then (
-              Array.unsafe_set sids !sp l;
-              fset sts !sp tl;
-              incr sp;
-              rr)
-            else (
-              Array.unsafe_set sids !sp rr;
-              fset sts !sp trr;
-              incr sp;
-              l)
-          else l
-        else if trr < Float.infinity then rr
-        else -1
-    in
-    if next >= 0 then node := next
-    else
-      (* Pop the next node whose entry is not beyond the best hit. *)
-      let found = ref false in
-      while (not !found) && !sp > 0 do
-        decr sp;
-        if fget sts !sp <= !best_t then (
-          found := true;
-          node := Array.unsafe_get sids !sp)
-      done;
-      if not !found then go := false
-  done;
-  st.busy <- false;
-  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
-  !best_i
-
-let rec nearest_into a r tmin tmax (h : Shape.hit) =
-  match a.layers with
-  | Some l ->
-      (* The lexicographic minimum of (t, index) over both parts: the moving part is
-         asked up to succ(t) of the fixed part's hit, so that an equal t is seen. *)
-      let i = nearest_into l.fixed r tmin tmax h in
-      let t = h.t in
-      let j = nearest_into l.moving r tmin (if i >= 0 then Float.succ t else tmax) h in
-      if j >= 0 && (i < 0 || h.t < t || (h.t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
-      then l.moving_idx.(j)
-      else (
-        h.t <- (if i >= 0 then t else Float.infinity);
-        if i >= 0 then l.fixed_idx.(i) else -1)
-  | None -> (
-      match a.tree with
-      | None -> linear_nearest a.prims r tmin tmax h
-      | Some tr -> tree_nearest a tr r tmin tmax h)
-
-let nearest a r tmin tmax =
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  let i = nearest_into a r tmin tmax h in
-  (h.t, i)
-
-(* [nearest_into] for a ray held in a probe, primitive by primitive the same queries in
-   the same order: [Primitive.probe_into] computes the roots [Primitive.intersect_into]
-   does, so the answer is the same, bit for bit. The probe's interval is the query's
-   (p_tmax moves with the best hit); the scratch probe for transformed objects is the
-   domain's. *)
+(* The nearest hit: every query with a ray goes through a probe, [Primitive.probe_into]
+   computing the roots [Primitive.intersect_into] does, bit for bit. The traversal keeps
+   the lexicographic minimum of (t, index): each primitive is queried up to succ(best t)
+   (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
+   the scratch probe for transformed objects is the domain's. *)
 let[@inline] probe_test p (q : Shape.probe) obj tmax =
   q.p_tmax <- tmax;
   Primitive.probe_into p q obj;
@@ -458,30 +350,6 @@ let fold_hits a r tmin tmax f acc = fold ~only_transparent:false a r tmin tmax f
 let fold_transparent_hits a r tmin tmax f acc =
   fold ~only_transparent:true a r tmin tmax f acc
 
-(* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
-   first surface met makes the shadow black. Exits on the first hit, in no particular
-   order. Each query allocates its hit record, and with a tree the visiting closure. *)
-let linear_any prims r tmin tmax =
-  let hit = ref false and i = ref 0 in
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  while (not !hit) && !i < Array.length prims do
-    if test (Array.unsafe_get prims !i) r tmax h < tmax then hit := true;
-    incr i
-  done;
-  !hit
-
-let tree_any a tr r tmin tmax =
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
-
-let rec any_hit a r tmin tmax =
-  match a.layers with
-  | Some l -> any_hit l.fixed r tmin tmax || any_hit l.moving r tmin tmax
-  | None -> (
-      match a.tree with
-      | None -> linear_any a.prims r tmin tmax
-      | Some tr -> tree_any a tr r tmin tmax)
-
 (* --- Occlusion ---------------------------------------------------------------------- *)
 
 (* The shadow query proper: no ray, no hit record, no closure. Per domain, a probe that
@@ -497,14 +365,14 @@ let scratch_key =
 
 let shadow_probe () = (Domain.DLS.get scratch_key).q
 
-let[@inline] blocks (p : Primitive.t) (q : Shape.probe) obj =
-  if p.material.transparency <> 0. then false
+let[@inline] blocks ~any (p : Primitive.t) (q : Shape.probe) obj =
+  if (not any) && p.material.transparency <> 0. then false
   else (
     Primitive.probe_into p q obj;
     q.p_t < q.p_tmax)
 
 (* [blocks] of leaf slot [j]. *)
-let[@inline] slot_blocks tr j (q : Shape.probe) obj =
+let[@inline] slot_blocks ~any tr j (q : Shape.probe) obj =
   let sph = tr.sph in
   let r = fget sph ((4 * j) + 3) in
   if r >= 0. then
@@ -514,37 +382,39 @@ let[@inline] slot_blocks tr j (q : Shape.probe) obj =
       (fget sph ((4 * j) + 2))
       r q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin q.p_tmax
     < q.p_tmax
-    && (Array.unsafe_get tr.leaf_prims j).material.transparency = 0.
-  else blocks (Array.unsafe_get tr.leaf_prims j) q obj
+    && (any || (Array.unsafe_get tr.leaf_prims j).material.transparency = 0.)
+  else blocks ~any (Array.unsafe_get tr.leaf_prims j) q obj
 
-let linear_occluder prims q obj =
+let linear_occluder ~any prims q obj =
   let found = ref (-1) and i = ref 0 in
   while !found < 0 && !i < Array.length prims do
-    if blocks (Array.unsafe_get prims !i) q obj then found := !i;
+    if blocks ~any (Array.unsafe_get prims !i) q obj then found := !i;
     incr i
   done;
   !found
 
-let rec occluder a q obj =
+(* The first primitive found crossing the probe's segment: an opaque one, or with [any]
+   any one. *)
+let rec occluder ~any a q obj =
   match a.layers with
   | Some l ->
-      let i = occluder l.fixed q obj in
+      let i = occluder ~any l.fixed q obj in
       if i >= 0 then l.fixed_idx.(i)
       else
-        let j = occluder l.moving q obj in
+        let j = occluder ~any l.moving q obj in
         if j >= 0 then l.moving_idx.(j) else -1
   | None -> (
       match a.tree with
-      | None -> linear_occluder a.prims q obj
-      | Some tr -> tree_occluder a tr q obj)
+      | None -> linear_occluder ~any a.prims q obj
+      | Some tr -> tree_occluder ~any a tr q obj)
 
-and tree_occluder a tr (q : Shape.probe) obj =
+and tree_occluder ~any a tr (q : Shape.probe) obj =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims in
   let k = ref 0 in
   while !found < 0 && !k < Array.length outside do
     let i = Array.unsafe_get outside !k in
-    if blocks (Array.unsafe_get prims i) q obj then found := i;
+    if blocks ~any (Array.unsafe_get prims i) q obj then found := i;
     incr k
   done;
   if !found < 0 then (
@@ -565,7 +435,7 @@ and tree_occluder a tr (q : Shape.probe) obj =
         let first = Array.unsafe_get links (2 * node) in
         let j = ref first in
         while !found < 0 && !j < first + count do
-          if slot_blocks tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
+          if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
           incr j
         done
       else
@@ -606,6 +476,31 @@ let nearest_probe a (q : Shape.probe) =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
   nearest_probe_in a q obj
+
+(* A ray's query through a probe of its own, and a scratch probe of its own, since such
+   a query may run inside a fold's callback. *)
+let ray_probe r tmin tmax =
+  let q = Shape.probe () in
+  Probe.of_ray q r;
+  q.p_tmin <- tmin;
+  q.p_tmax <- tmax;
+  q
+
+let nearest_into a r tmin tmax (h : Shape.hit) =
+  let q = ray_probe r tmin tmax in
+  let i = nearest_probe_in a q (Shape.probe ()) in
+  h.t <- q.p_t;
+  i
+
+let nearest a r tmin tmax =
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
+  let i = nearest_into a r tmin tmax h in
+  (h.t, i)
+
+(* Any crossing at all, opaque or not: where the first surface met settles the answer.
+   The shadow query's walk, every primitive counting. *)
+let any_hit a r tmin tmax =
+  occluder ~any:true a (ray_probe r tmin tmax) (Shape.probe ()) >= 0
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
    the same order (the unbounded ones first, then depth first over the boxes the ray
@@ -718,9 +613,11 @@ let occluded a (q : Shape.probe) ~slot =
     sc.last <- last);
   let prims = a.prims in
   let c = Array.unsafe_get sc.last slot in
-  if c >= 0 && c < Array.length prims && blocks (Array.unsafe_get prims c) q obj then true
+  if
+    c >= 0 && c < Array.length prims && blocks ~any:false (Array.unsafe_get prims c) q obj
+  then true
   else
-    let found = occluder a q obj in
+    let found = occluder ~any:false a q obj in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
 
