@@ -13,10 +13,7 @@
    entry is strictly beyond the best t. *)
 
 type tree = {
-  nodes : Float.Array.t;  (** 6 per node: min x y z, max x y z (padded) *)
-  links : int array;
-      (** 2 per node: a leaf holds (first, count > 0) into [leaf_prims]; an interior node
-          (right child, 0), its left child being the next node *)
+  nodes : Float.Array.t;  (** the hierarchy's nodes, as {!Bvh.t}'s *)
   leaf_prims : Primitive.t array;  (** bounded primitives in leaf order *)
   leaf_idx : int array;  (** their indices in the scene's array *)
   sph : Float.Array.t;
@@ -87,7 +84,7 @@ let build prims =
             Bvh.pad_into pbox k min.x min.y min.z max.x max.y max.z
         | None -> ())
       bounded;
-    let { Bvh.nodes; links; order; depth } = Bvh.build pbox in
+    let { Bvh.nodes; order; depth } = Bvh.build pbox in
     (* The leaf order as indices into [prims], in place. *)
     let leaf_idx = order in
     Array.iteri (fun j k -> leaf_idx.(j) <- bounded.(k)) leaf_idx;
@@ -106,7 +103,7 @@ let build prims =
     {
       prims;
       outside;
-      tree = Some { nodes; links; leaf_prims; leaf_idx; sph; depth };
+      tree = Some { nodes; leaf_prims; leaf_idx; sph; depth };
       layers = None;
     }
 
@@ -186,17 +183,17 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
       query := Float.succ t)
   done;
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nodes = tr.nodes and links = tr.links in
+  let nodes = tr.nodes in
   let st = get_stack tr.depth in
   let sids = st.ids and sts = st.ts in
   let sp = ref 0 and node = ref 0 and go = ref true in
   if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
   while !go do
     let k = !node in
-    let count = Array.unsafe_get links ((2 * k) + 1) in
+    let count = Bvh.count nodes k in
     let next =
       if count > 0 then (
-        let first = Array.unsafe_get links (2 * k) in
+        let first = Bvh.link nodes k in
         for j = first to first + count - 1 do
           let t = slot_test tr j q obj !query in
           if t <= !best_t then
@@ -208,7 +205,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
         done;
         -1)
       else
-        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
+        let l = k + 1 and rr = Bvh.link nodes k in
         let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
         let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
         if tl < Float.infinity then
@@ -290,7 +287,7 @@ let tree_visit a tr r tmin tmax visit =
   if not !stop then (
     let o = Ray.origin r and inv = Ray.inv_dir r in
     let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -301,16 +298,16 @@ let tree_visit a tr r tmin tmax visit =
        while (not !stop) && !sp > 0 do
          decr sp;
          let node = Array.unsafe_get sids !sp in
-         let count = Array.unsafe_get links ((2 * node) + 1) in
+         let count = Bvh.count nodes node in
          if count > 0 then
-           let first = Array.unsafe_get links (2 * node) in
+           let first = Bvh.link nodes node in
            let j = ref first in
            while (not !stop) && !j < first + count do
              stop := visit (Array.unsafe_get tr.leaf_prims !j);
              incr j
            done
          else
-           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           let l = node + 1 and rr = Bvh.link nodes node in
            if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp rr;
              incr sp);
@@ -420,7 +417,7 @@ and tree_occluder ~any a tr (q : Shape.probe) obj =
   if !found < 0 then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -430,16 +427,16 @@ and tree_occluder ~any a tr (q : Shape.probe) obj =
     while !found < 0 && !sp > 0 do
       decr sp;
       let node = Array.unsafe_get sids !sp in
-      let count = Array.unsafe_get links ((2 * node) + 1) in
+      let count = Bvh.count nodes node in
       if count > 0 then
-        let first = Array.unsafe_get links (2 * node) in
+        let first = Bvh.link nodes node in
         let j = ref first in
         while !found < 0 && !j < first + count do
           if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
           incr j
         done
       else
-        let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+        let l = node + 1 and rr = Bvh.link nodes node in
         if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
           Array.unsafe_set sids !sp rr;
           incr sp);
@@ -541,7 +538,7 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
   done;
   if not !stop then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -552,9 +549,9 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
        while (not !stop) && !sp > 0 do
          decr sp;
          let node = Array.unsafe_get sids !sp in
-         let count = Array.unsafe_get links ((2 * node) + 1) in
+         let count = Bvh.count nodes node in
          if count > 0 then
-           let first = Array.unsafe_get links (2 * node) in
+           let first = Bvh.link nodes node in
            let j = ref first in
            while (not !stop) && !j < first + count do
              stop :=
@@ -562,7 +559,7 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
              incr j
            done
          else
-           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           let l = node + 1 and rr = Bvh.link nodes node in
            if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp rr;
              incr sp);

@@ -18,8 +18,7 @@ type work = {
       (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
           every pass over a node reads memory in sequence *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
-  mutable nodes_b : Float.Array.t;  (** 6 per node *)
-  mutable links_b : int array;  (** 2 per node *)
+  mutable nodes_b : Float.Array.t;  (** 8 per node (see [t]) *)
   mutable count : int;
   mutable max_depth : int;
   (* Bin scratch, reused at every node: counts and bounds per bin, the areas and counts
@@ -40,13 +39,11 @@ type work = {
 
 let new_node w =
   let k = w.count in
-  if 2 * (k + 1) > Array.length w.links_b then (
+  if 8 * (k + 1) > Float.Array.length w.nodes_b then (
     let cap = k + (k / 2) + 16 in
-    let nodes = Float.Array.create (6 * cap) and links = Array.make (2 * cap) 0 in
-    Float.Array.blit w.nodes_b 0 nodes 0 (6 * k);
-    Array.blit w.links_b 0 links 0 (2 * k);
-    w.nodes_b <- nodes;
-    w.links_b <- links);
+    let nodes = Float.Array.create (8 * cap) in
+    Float.Array.blit w.nodes_b 0 nodes 0 (8 * k);
+    w.nodes_b <- nodes);
   w.count <- k + 1;
   k
 
@@ -344,7 +341,7 @@ let rec build_node w split lo hi depth =
   let node = new_node w in
   if depth > w.max_depth then w.max_depth <- depth;
   reserve w depth;
-  let off = 6 * node and here = 12 * depth in
+  let off = 8 * node and here = 12 * depth in
   let pend = w.pend in
   Float.Array.blit pend here w.nodes_b off 6;
   Float.Array.blit pend (here + 6) w.cbox 0 6;
@@ -375,15 +372,16 @@ let rec build_node w split lo hi depth =
         else mid
   in
   if mid < 0 then (
-    w.links_b.(2 * node) <- lo;
-    w.links_b.((2 * node) + 1) <- n)
+    fset w.nodes_b (off + 6) (Float.of_int lo);
+    fset w.nodes_b (off + 7) (Float.of_int n))
   else (
     ignore (build_node w split lo mid (depth + 1));
     (* The left subtree may have grown the scratch: read it again. *)
     Float.Array.blit w.pend_right here w.pend below 12;
     let right = build_node w split mid hi (depth + 1) in
-    w.links_b.(2 * node) <- right;
-    w.links_b.((2 * node) + 1) <- 0);
+    (* The node arrays may have moved while the subtrees were built. *)
+    fset w.nodes_b (off + 6) (Float.of_int right);
+    fset w.nodes_b (off + 7) 0.);
   node
 
 (* The box min (x0, y0, z0), max (x1, y1, z1) padded by a relative 1e-9 of its
@@ -405,10 +403,10 @@ let[@inline] pad_into pb k x0 y0 z0 x1 y1 z1 =
   fset pb (q + 5) (z1 +. e)
 
 type t = {
-  nodes : Float.Array.t;  (** 6 per node: min x y z, max x y z (padded) *)
-  links : int array;
-      (** 2 per node: a leaf holds (first, count > 0) into [order]; an interior node
-          (right child, 0), its left child being the next node *)
+  nodes : Float.Array.t;
+      (** 8 per node, one cache line: min x y z, max x y z (padded), then a leaf's (first,
+          count > 0) into [order], an interior node's (right child, 0), its left child
+          being the next node; the two integers are stored as floats (exact) *)
   order : int array;  (** the items in leaf order *)
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
@@ -422,8 +420,7 @@ let build pbox =
     {
       pbox;
       ids = Array.init m Fun.id;
-      nodes_b = Float.Array.create (6 * cap);
-      links_b = Array.make (2 * cap) 0;
+      nodes_b = Float.Array.create (8 * cap);
       count = 0;
       max_depth = 0;
       bin_n = Array.make (3 * bins) 0;
@@ -442,17 +439,22 @@ let build pbox =
   ignore (build_node w [| -1; 0 |] 0 m 1);
   (* The node arrays as they are when little of them is unused, rather than a copy
      beside them at the peak of memory. *)
-  let nodes, links =
-    if 8 * w.count >= 7 * (Array.length w.links_b / 2) then (w.nodes_b, w.links_b)
-    else (Float.Array.sub w.nodes_b 0 (6 * w.count), Array.sub w.links_b 0 (2 * w.count))
+  let nodes =
+    if 8 * w.count >= 7 * (Float.Array.length w.nodes_b / 8) then w.nodes_b
+    else Float.Array.sub w.nodes_b 0 (8 * w.count)
   in
-  { nodes; links; order = w.ids; depth = w.max_depth }
+  { nodes; order = w.ids; depth = w.max_depth }
+
+(* Node [k]'s two integers: a leaf's first slot and its count (> 0), an interior node's
+   right child and 0. *)
+let[@inline] link nodes k = int_of_float (fget nodes ((8 * k) + 6))
+let[@inline] count nodes k = int_of_float (fget nodes ((8 * k) + 7))
 
 (* Entry t of the ray (origin o, reciprocal direction i) into node [k]'s box within
    [tmin, tmax], or infinity for a miss. The slab comparisons are written so that a NaN
    from 0·inf (origin on a slab plane, ray parallel to it) leaves the interval open. *)
 let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
-  let off = 6 * k in
+  let off = 8 * k in
   let a = (fget nodes off -. ox) *. ix and c = (fget nodes (off + 3) -. ox) *. ix in
   let t0 = if a < c then if a > tmin then a else tmin else if c > tmin then c else tmin in
   let t1 = if a < c then if c < tmax then c else tmax else if a < tmax then a else tmax in

@@ -200,7 +200,7 @@ let nearest m (q : Probe.t) =
       and ix = q.ix
       and iy = q.iy
       and iz = q.iz in
-      let nodes = tr.nodes and links = tr.links and order = tr.order in
+      let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
       let sids = st.ids and sts = st.ts in
       let sp = ref 0 and node = ref 0 and go = ref true in
@@ -208,10 +208,10 @@ let nearest m (q : Probe.t) =
         go := false;
       while !go do
         let k = !node in
-        let count = Array.unsafe_get links ((2 * k) + 1) in
+        let count = Bvh.count nodes k in
         let next =
           if count > 0 then (
-            let first = Array.unsafe_get links (2 * k) in
+            let first = Bvh.link nodes k in
             for j = first to first + count - 1 do
               let i = Array.unsafe_get order j in
               let t = test m i q !query in
@@ -223,7 +223,7 @@ let nearest m (q : Probe.t) =
             done;
             -1)
           else
-            let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
+            let l = k + 1 and rr = Bvh.link nodes k in
             let tl = Bvh.box_entry nodes l ox oy oz ix iy iz tmin !best_t in
             let trr = Bvh.box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
             if tl < Float.infinity then
