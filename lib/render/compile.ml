@@ -330,6 +330,9 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
     | _ -> None
   in
   let pieces = ref [] in
+  (* Without a fixed part, the objects go straight into one array: no list cell or piece
+     per object beside them while the structure is built. *)
+  let flat = Dynarray.create () in
   let problems = ref [] and seen = Hashtbl.create 4 in
   let count = ref 0 in
   let report loc msg =
@@ -361,7 +364,9 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
             !w
         | _ ->
             let ps = primitives c material_of o in
-            pieces := Scene.Moving ps :: !pieces;
+            (match fx with
+            | None -> List.iter (Dynarray.add_last flat) ps
+            | Some _ -> pieces := Scene.Moving ps :: !pieces);
             List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
       with
       | n ->
@@ -390,7 +395,10 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
             ~frame:d.frame ~lights:d.lights
             ~fixed:(fixed_part fx (Scene.origin_of d.camera))
             (List.rev !pieces)
-      | _ ->
+      | None ->
+          Scene.of_array ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
+            ~lights:d.lights (Dynarray.to_array flat)
+      | Some _ ->
           Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
             ~lights:d.lights
             (List.concat_map
