@@ -365,7 +365,7 @@ let shadow_probe () = (Domain.DLS.get scratch_key).q
 let[@inline] blocks ~any (p : Primitive.t) (q : Shape.probe) obj =
   if (not any) && p.material.transparency <> 0. then false
   else (
-    Primitive.probe_into p q obj;
+    Primitive.probe_first_into p q obj;
     q.p_t < q.p_tmax)
 
 (* [blocks] of leaf slot [j]. *)

@@ -96,9 +96,10 @@ let intersect_into o r h =
 
 (* The world probe [q] in object space, written into [obj]: the object-space ray of
    [intersect_into], coordinate by coordinate, its reciprocal direction recomputed. *)
-let probe_into o (q : Shape.probe) (obj : Shape.probe) =
+let[@inline] probe_gen ~first o (q : Shape.probe) (obj : Shape.probe) =
   let tr = o.transform in
-  if Transform.is_identity tr then Shape.probe_into o.shape q
+  if Transform.is_identity tr then
+    if first then Shape.probe_first_into o.shape q else Shape.probe_into o.shape q
   else
     let x = q.ox and y = q.oy and z = q.oz in
     obj.ox <- Transform.inv_px tr x y z;
@@ -116,8 +117,11 @@ let probe_into o (q : Shape.probe) (obj : Shape.probe) =
     obj.iz <- 1. /. dz;
     obj.p_tmin <- q.p_tmin;
     obj.p_tmax <- q.p_tmax;
-    Shape.probe_into o.shape obj;
+    if first then Shape.probe_first_into o.shape obj else Shape.probe_into o.shape obj;
     q.p_t <- obj.p_t
+
+let probe_into o q obj = probe_gen ~first:false o q obj
+let probe_first_into o q obj = probe_gen ~first:true o q obj
 
 let intersect o r tmin tmax =
   if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax

@@ -69,6 +69,10 @@ val probe_into : t -> Shape.probe -> Shape.probe -> unit
     in [q.p_t]; a transformed object writes its object-space ray into the scratch probe
     [obj]. Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
 
+val probe_first_into : t -> Shape.probe -> Shape.probe -> unit
+(** {!probe_into} where any root in the interval will do ({!Shape.probe_first_into}): the
+    answer in [q.p_t] is below [q.p_tmax] exactly when {!probe_into}'s is. *)
+
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)
 

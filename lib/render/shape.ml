@@ -821,6 +821,9 @@ let probe_into s (q : probe) =
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
       q.p_t <- h.t
 
+let probe_first_into s (q : probe) =
+  match s with Mesh m -> ignore (Trimesh.first m q) | s -> probe_into s q
+
 let csg op (ms : (t * Transform.t) list) =
   let leaves = ref [] and n = ref 0 in
   let add l =

@@ -221,6 +221,11 @@ val probe_into : t -> probe -> unit
     [q] holds: the same root, bit for bit, computed without allocating (except for
     cylinders and paraboloids, which build the ray). *)
 
+val probe_first_into : t -> probe -> unit
+(** {!probe_into} where any root in the interval will do: a mesh stops at the first face
+    it finds crossed (its t in [q.p_t]), other shapes answer as {!probe_into}. The shadow
+    query's test. *)
+
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the

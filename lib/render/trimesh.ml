@@ -256,3 +256,61 @@ let nearest m (q : Probe.t) =
       st.busy <- false;
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
       !best_i
+
+(* Any triangle the probe's ray crosses in (p_tmin, p_tmax): the first one the walk meets
+   (−1 for none), its t in [q.p_t]. *)
+let first m (q : Probe.t) =
+  let tmax = q.p_tmax in
+  let found = ref (-1) and ft = ref Float.infinity in
+  (match m.bvh with
+  | None ->
+      let k = ref 0 in
+      while !found < 0 && !k < m.count do
+        let t = test m !k q tmax in
+        if t < tmax then (
+          found := !k;
+          ft := t);
+        incr k
+      done
+  | Some tr ->
+      let tmin = q.p_tmin in
+      let ox = q.ox
+      and oy = q.oy
+      and oz = q.oz
+      and ix = q.ix
+      and iy = q.iy
+      and iz = q.iz in
+      let nodes = tr.nodes and order = tr.order in
+      let st = get_stack tr.depth in
+      let sids = st.ids in
+      let sp = ref 0 in
+      if Bvh.box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+        Array.unsafe_set sids 0 0;
+        sp := 1);
+      while !found < 0 && !sp > 0 do
+        decr sp;
+        let node = Array.unsafe_get sids !sp in
+        let count = Bvh.count nodes node in
+        if count > 0 then
+          let first = Bvh.link nodes node in
+          let j = ref first in
+          while !found < 0 && !j < first + count do
+            let i = Array.unsafe_get order !j in
+            let t = test m i q tmax in
+            if t < tmax then (
+              found := i;
+              ft := t);
+            incr j
+          done
+        else
+          let l = node + 1 and rr = Bvh.link nodes node in
+          if Bvh.box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+            Array.unsafe_set sids !sp rr;
+            incr sp);
+          if Bvh.box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+            Array.unsafe_set sids !sp l;
+            incr sp)
+      done;
+      st.busy <- false);
+  q.p_t <- !ft;
+  !found

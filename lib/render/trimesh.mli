@@ -72,3 +72,8 @@ val nearest : t -> Probe.t -> int
     [q.p_tmax]), ties to the lower index (what a scan of the triangles in order finds):
     its index or −1; its t goes into [q.p_t] (infinity for none). The probe's reciprocal
     direction must be set. Allocates nothing. *)
+
+val first : t -> Probe.t -> int
+(** [first m q] is a triangle the probe's ray crosses in ([q.p_tmin], [q.p_tmax]), the
+    first the walk meets, or −1: its t goes into [q.p_t] (infinity for none). For shadow
+    rays, where any crossing answers. Allocates nothing. *)

@@ -538,7 +538,8 @@ let same_face (x : Shape.t) (y : Shape.t) =
 let mesh_nearest_prop =
   QCheck.Test.make
     ~name:
-      "an indexed mesh's nearest hit and face are a scan of its faces', ties to the lower"
+      "an indexed mesh's nearest hit and face are a scan of its faces' (ties to the \
+       lower), its first crossing one of them"
     ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
@@ -581,7 +582,21 @@ let mesh_nearest_prop =
         if !best >= 0 && not (same_face (Shape.mesh_face shape r t) faces.(!best)) then (
           ok := false;
           QCheck.Test.fail_reportf "the face hit at %.17g is not the scan's face %d" t
-            !best)
+            !best);
+        (* The shadow query's test: some face is crossed exactly when the nearest is. *)
+        let tmax = if Random.State.bool st then inf else rand_in st 1. 6. in
+        let q = Probe.create () in
+        Probe.of_ray q r;
+        q.p_tmin <- 0.;
+        q.p_tmax <- tmax;
+        let k = Trimesh.first m q in
+        let nearest = Shape.intersect shape r 0. tmax in
+        if k >= 0 <> (nearest < tmax) then (
+          ok := false;
+          QCheck.Test.fail_reportf "first %d, nearest %.17g below %g" k nearest tmax);
+        if k >= 0 && Shape.intersect faces.(k) r 0. tmax <> q.p_t then (
+          ok := false;
+          QCheck.Test.fail_reportf "first face %d's t %.17g is not its root" k q.p_t)
       done;
       !ok)
 
