@@ -307,3 +307,5 @@ let map_lights t f =
     view_lights = view_lights t.origin lights;
     features = derive_features t.settings t.camera lights t.objects t.accel;
   }
+
+let object_count t = Array.fold_left (fun n o -> n + Primitive.faces o) 0 t.objects

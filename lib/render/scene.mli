@@ -102,3 +102,7 @@ val with_camera : t -> Camera.t -> (t, string) result
 val map_lights : t -> (Light.t -> Light.t) -> t
 (** The same scene with each light replaced (quality presets change area-light samples),
     features re-derived. *)
+
+val object_count : t -> int
+(** How many objects the scene has, a mesh counting as its faces: what [lancer check] and
+    the statistics report. *)
