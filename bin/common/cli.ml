@@ -656,7 +656,7 @@ let stats_json o (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t) =
       ("rays_per_second", `Float (if wall > 0. then Float.of_int rays /. wall else 0.));
       ("bad_samples", `Int st.bad_samples);
       ("peak_memory_kib", opt_int (peak_memory_kib ()));
-      ("objects", `Int (Array.length sc.objects));
+      ("objects", `Int (Scene.object_count sc));
       ("lights", `Int (Array.length sc.lights));
       ( "features",
         `Assoc (List.map (fun (k, b) -> (k, `Bool b)) (Features.to_list sc.features)) );

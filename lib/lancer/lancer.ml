@@ -47,6 +47,7 @@ module Physics = Lancer_physics.Physics
 
 module Accel = Lancer_render.Accel
 module Bump = Lancer_render.Bump
+module Bvh = Lancer_render.Bvh
 module Compile = Lancer_render.Compile
 module Cost = Lancer_render.Cost
 module Frag = Lancer_render.Frag
@@ -61,6 +62,7 @@ module Shade = Lancer_render.Shade
 module Shape = Lancer_render.Shape
 module Stats = Lancer_render.Stats
 module Texture = Lancer_render.Texture
+module Trimesh = Lancer_render.Trimesh
 
 (** {1 [lancer.job]} *)
 

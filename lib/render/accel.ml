@@ -13,12 +13,12 @@
    entry is strictly beyond the best t. *)
 
 type tree = {
-  nodes : Float.Array.t;  (** 6 per node: min x y z, max x y z (padded) *)
-  links : int array;
-      (** 2 per node: a leaf holds (first, count > 0) into [leaf_prims]; an interior node
-          (right child, 0), its left child being the next node *)
+  nodes : Float.Array.t;  (** the hierarchy's nodes, as {!Bvh.t}'s *)
   leaf_prims : Primitive.t array;  (** bounded primitives in leaf order *)
   leaf_idx : int array;  (** their indices in the scene's array *)
+  sph : Float.Array.t;
+      (** 4 per leaf slot: the centre and radius of an untransformed sphere, tested from
+          here without reading its primitive; radius −1 for any other primitive *)
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
@@ -41,350 +41,17 @@ and layers = {
 }
 
 let min_bvh = 8
-let max_leaf = 8
-let bins = 16
-let small = 32
 let uses_bvh a = match a.layers with Some l -> l.bvh | None -> Option.is_some a.tree
 
 let finite_box (b : Bbox.t) =
   Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z
   && Float.is_finite b.max.x && Float.is_finite b.max.y && Float.is_finite b.max.z
 
-(* --- Construction ----------------------------------------------------------------- *)
-
-(* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
-   data is one Float.Array of padded bounds (centroids are their midpoints), moved with
-   the primitives' order as nodes are partitioned, nodes are written
-   into arrays grown by half, and the binning scratch is reused at every node. Floats
-   stay in local mutable variables and inlined functions, so that none is boxed. *)
-type work = {
-  pbox : Float.Array.t;
-      (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
-          every pass over a node reads memory in sequence *)
-  ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
-  mutable nodes_b : Float.Array.t;  (** 6 per node *)
-  mutable links_b : int array;  (** 2 per node *)
-  mutable count : int;
-  mutable max_depth : int;
-  (* Bin scratch, reused at every node: counts and bounds per bin, the areas and counts
-     of the bins from b to the last, and the node's centroid bounds. *)
-  bin_n : int array;
-  bin_b : Float.Array.t;
-  right_area : Float.Array.t;
-  right_n : int array;
-  cbox : Float.Array.t;
-  (* Small nodes: each primitive's bin, the primitives (3 × index) sorted by bin, and the
-     area of the boxes from each position to the last. *)
-  small_bin : int array;
-  small_p : int array;
-  small_area : Float.Array.t;
-}
-
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 
-let new_node w =
-  let k = w.count in
-  if 2 * (k + 1) > Array.length w.links_b then (
-    let cap = k + (k / 2) + 16 in
-    let nodes = Float.Array.create (6 * cap) and links = Array.make (2 * cap) 0 in
-    Float.Array.blit w.nodes_b 0 nodes 0 (6 * k);
-    Array.blit w.links_b 0 links 0 (2 * k);
-    w.nodes_b <- nodes;
-    w.links_b <- links);
-  w.count <- k + 1;
-  k
-
-(* Typed comparisons rather than Float.min/max: the bounds are finite (checked at
-   entry), and Float.min's NaN and signed-zero handling costs a C call per use. *)
-let[@inline] fmin (a : float) b = if a < b then a else b
-let[@inline] fmax (a : float) b = if a > b then a else b
-
-(* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
-let[@inline] area a off =
-  let dx = fget a (off + 3) -. fget a off
-  and dy = fget a (off + 4) -. fget a (off + 1)
-  and dz = fget a (off + 5) -. fget a (off + 2) in
-  if dx < 0. || dy < 0. || dz < 0. then 0.
-  else 2. *. ((dx *. dy) +. (dy *. dz) +. (dz *. dx))
-
-let box_empty a off =
-  for k = 0 to 2 do
-    fset a (off + k) Float.infinity;
-    fset a (off + 3 + k) Float.neg_infinity
-  done
-
-let box_merge a off b boff =
-  for k = 0 to 2 do
-    fset a (off + k) (fmin (fget a (off + k)) (fget b (boff + k)));
-    fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
-  done
-
-(* The centroid's coordinate [k] of the padded box at [q] in [pb]. *)
-let[@inline] cen pb q k = 0.5 *. (fget pb (q + k) +. fget pb (q + 3 + k))
-
-let[@inline] bin_of cmin scale c =
-  let b = int_of_float ((c -. cmin) *. scale) in
-  if b < 0 then 0 else if b >= bins then bins - 1 else b
-
-(* Add the primitive at [q] (3 × index) to bin [b] of the bin scratch. *)
-let[@inline] bin_add w b q =
-  let bin_n = w.bin_n and bb = w.bin_b and pb = w.pbox in
-  Array.unsafe_set bin_n b (Array.unsafe_get bin_n b + 1);
-  let o = 6 * b in
-  fset bb o (fmin (fget bb o) (fget pb q));
-  fset bb (o + 1) (fmin (fget bb (o + 1)) (fget pb (q + 1)));
-  fset bb (o + 2) (fmin (fget bb (o + 2)) (fget pb (q + 2)));
-  fset bb (o + 3) (fmax (fget bb (o + 3)) (fget pb (q + 3)));
-  fset bb (o + 4) (fmax (fget bb (o + 4)) (fget pb (q + 4)));
-  fset bb (o + 5) (fmax (fget bb (o + 5)) (fget pb (q + 5)))
-
-(* Bin ids[lo, hi) into the bin scratch, in one pass, along each axis k whose [use_k]
-   holds (bins k·bins to k·bins + bins − 1): counts and bounds. *)
-let bin_axes w lo hi use_x use_y use_z =
-  let cb = w.cbox and pb = w.pbox in
-  let scale k =
-    let e = fget cb (3 + k) -. fget cb k in
-    if e > 0. then Float.of_int bins /. e else 0.
-  in
-  let x0 = fget cb 0 and y0 = fget cb 1 and z0 = fget cb 2 in
-  let sx = scale 0 and sy = scale 1 and sz = scale 2 in
-  for b = 0 to (3 * bins) - 1 do
-    Array.unsafe_set w.bin_n b 0;
-    box_empty w.bin_b (6 * b)
-  done;
-  for i = lo to hi - 1 do
-    let q = 6 * i in
-    if use_x then bin_add w (bin_of x0 sx (cen pb q 0)) q;
-    if use_y then bin_add w (bins + bin_of y0 sy (cen pb q 1)) q;
-    if use_z then bin_add w ((2 * bins) + bin_of z0 sz (cen pb q 2)) q
-  done
-
-(* The node's box and its centroids' bounds (into [cbox]) over ids[lo, hi). *)
-let bound_node w off lo hi =
-  let pb = w.pbox in
-  let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
-  let x1 = ref Float.neg_infinity
-  and y1 = ref Float.neg_infinity
-  and z1 = ref Float.neg_infinity in
-  let cx0 = ref Float.infinity
-  and cy0 = ref Float.infinity
-  and cz0 = ref Float.infinity in
-  let cx1 = ref Float.neg_infinity
-  and cy1 = ref Float.neg_infinity
-  and cz1 = ref Float.neg_infinity in
-  for i = lo to hi - 1 do
-    let q = 6 * i in
-    x0 := fmin !x0 (fget pb q);
-    y0 := fmin !y0 (fget pb (q + 1));
-    z0 := fmin !z0 (fget pb (q + 2));
-    x1 := fmax !x1 (fget pb (q + 3));
-    y1 := fmax !y1 (fget pb (q + 4));
-    z1 := fmax !z1 (fget pb (q + 5));
-    let cx = cen pb q 0 and cy = cen pb q 1 and cz = cen pb q 2 in
-    cx0 := fmin !cx0 cx;
-    cy0 := fmin !cy0 cy;
-    cz0 := fmin !cz0 cz;
-    cx1 := fmax !cx1 cx;
-    cy1 := fmax !cy1 cy;
-    cz1 := fmax !cz1 cz
-  done;
-  let nb = w.nodes_b and cb = w.cbox in
-  fset nb off !x0;
-  fset nb (off + 1) !y0;
-  fset nb (off + 2) !z0;
-  fset nb (off + 3) !x1;
-  fset nb (off + 4) !y1;
-  fset nb (off + 5) !z1;
-  fset cb 0 !cx0;
-  fset cb 1 !cy0;
-  fset cb 2 !cz0;
-  fset cb 3 !cx1;
-  fset cb 4 !cy1;
-  fset cb 5 !cz1
-
-(* [best_split] for a node of at most [small] primitives, with the same answer: the
-   primitives sorted by bin, the cost is evaluated only between two occupied bins. A split
-   b among empty bins has the cost of the split just after the occupied bin below it, and
-   sends the same primitives to each side, so the full sweep keeps that one (the first of
-   equal costs); its boxes are unions of the same boxes, which min and max compute exactly
-   in any order. *)
-let best_split_small w lo hi split =
-  let n = hi - lo and cb = w.cbox in
-  let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
-  let pb = w.pbox in
-  let box = w.bin_b in
-  let best_cost = ref Float.infinity in
-  split.(0) <- -1;
-  for axis = 0 to 2 do
-    let cmin = fget cb axis in
-    let ext = fget cb (3 + axis) -. cmin in
-    if ext > 0. then (
-      let scale = Float.of_int bins /. ext in
-      (* Insertion sort by bin. *)
-      for i = 0 to n - 1 do
-        let q = 6 * (lo + i) in
-        let b = bin_of cmin scale (cen pb q axis) in
-        let j = ref i in
-        while !j > 0 && Array.unsafe_get sb (!j - 1) > b do
-          Array.unsafe_set sb !j (Array.unsafe_get sb (!j - 1));
-          Array.unsafe_set sp !j (Array.unsafe_get sp (!j - 1));
-          decr j
-        done;
-        Array.unsafe_set sb !j b;
-        Array.unsafe_set sp !j q
-      done;
-      (* sa.(j): the area of the boxes of positions j..n−1, where j starts a bin. *)
-      box_empty box 0;
-      for j = n - 1 downto 1 do
-        let q = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget pb q));
-        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
-        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
-        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
-        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
-        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
-        if Array.unsafe_get sb j <> Array.unsafe_get sb (j - 1) then
-          fset sa j (area box 0)
-      done;
-      box_empty box 0;
-      for j = 0 to n - 2 do
-        let q = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget pb q));
-        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
-        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
-        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
-        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
-        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
-        let b = Array.unsafe_get sb j in
-        if b <> Array.unsafe_get sb (j + 1) then
-          let cost =
-            (area box 0 *. Float.of_int (j + 1))
-            +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
-          in
-          if cost < !best_cost then (
-            best_cost := cost;
-            split.(0) <- axis;
-            split.(1) <- b + 1)
-      done)
-  done;
-  !best_cost
-
-(* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and keep
-   the cheapest split cost SA(L)·nL + SA(R)·nR. The split (axis, first bin of the right
-   side) is stored in [split] and its cost returned; infinity when no axis splits. Nodes
-   of more than [small] primitives, the only ones that come here, bin only along their
-   widest centroid axis: a million-triangle mesh's tree builds a quarter faster than
-   with three axes down to 4096 primitives, for an SAH cost 2% higher. *)
-let best_split w lo hi split =
-  let cb = w.cbox in
-  let best_cost = ref Float.infinity in
-  split.(0) <- -1;
-  let e k = fget cb (3 + k) -. fget cb k in
-  let widest = if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2 in
-  let use k = k = widest && fget cb (3 + k) -. fget cb k > 0. in
-  let use_x = use 0 and use_y = use 1 and use_z = use 2 in
-  bin_axes w lo hi use_x use_y use_z;
-  let left_a = w.bin_b and la = 6 * 3 * bins in
-  for axis = 0 to 2 do
-    if (axis = 0 && use_x) || (axis = 1 && use_y) || (axis = 2 && use_z) then (
-      let b0 = axis * bins in
-      (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
-      box_empty left_a la;
-      let acc_n = ref 0 in
-      for b = bins - 1 downto 1 do
-        box_merge left_a la w.bin_b (6 * (b0 + b));
-        acc_n := !acc_n + w.bin_n.(b0 + b);
-        fset w.right_area b (area left_a la);
-        w.right_n.(b) <- !acc_n
-      done;
-      box_empty left_a la;
-      let acc_n = ref 0 in
-      for b = 0 to bins - 2 do
-        box_merge left_a la w.bin_b (6 * (b0 + b));
-        acc_n := !acc_n + w.bin_n.(b0 + b);
-        let nl = !acc_n and nr = w.right_n.(b + 1) in
-        if nl > 0 && nr > 0 then
-          let cost =
-            (area left_a la *. Float.of_int nl)
-            +. (fget w.right_area (b + 1) *. Float.of_int nr)
-          in
-          if cost < !best_cost then (
-            best_cost := cost;
-            split.(0) <- axis;
-            split.(1) <- b + 1)
-      done)
-  done;
-  !best_cost
-
-(* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
-   first; the index of the first of the others. *)
-let partition w lo hi axis split =
-  let cb = w.cbox and ids = w.ids and pb = w.pbox in
-  let cmin = fget cb axis in
-  let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
-  let i = ref lo and j = ref (hi - 1) in
-  while !i <= !j do
-    if bin_of cmin scale (cen pb (6 * !i) axis) < split then incr i
-    else
-      let p = Array.unsafe_get ids !i in
-      Array.unsafe_set ids !i (Array.unsafe_get ids !j);
-      Array.unsafe_set ids !j p;
-      let a = 6 * !i and b = 6 * !j in
-      for k = 0 to 5 do
-        let t = fget pb (a + k) in
-        fset pb (a + k) (fget pb (b + k));
-        fset pb (b + k) t
-      done;
-      decr j
-  done;
-  !i
-
-let rec build_node w split lo hi depth =
-  let node = new_node w in
-  if depth > w.max_depth then w.max_depth <- depth;
-  let off = 6 * node in
-  bound_node w off lo hi;
-  let n = hi - lo in
-  let mid =
-    if n <= 2 then -1
-    else
-      let best_cost =
-        if n <= small then best_split_small w lo hi split else best_split w lo hi split
-      in
-      let node_area = area w.nodes_b off in
-      (* Cost model: one box test per child against one intersection per primitive. *)
-      let leaf_cost = Float.of_int n *. node_area in
-      if split.(0) < 0 then if n <= max_leaf then -1 else lo + (n / 2)
-      else if n <= max_leaf && leaf_cost <= node_area +. best_cost then -1
-      else
-        let mid = partition w lo hi split.(0) split.(1) in
-        if mid = lo || mid = hi then lo + (n / 2) else mid
-  in
-  if mid < 0 then (
-    w.links_b.(2 * node) <- lo;
-    w.links_b.((2 * node) + 1) <- n)
-  else (
-    ignore (build_node w split lo mid (depth + 1));
-    let right = build_node w split mid hi (depth + 1) in
-    w.links_b.(2 * node) <- right;
-    w.links_b.((2 * node) + 1) <- 0);
-  node
-
-(* Bounds padded by a relative 1e-9 of their magnitude (see the header). *)
-let pad_into w k (b : Bbox.t) =
-  let m = Float.max (Vec3.max_abs b.min) (Vec3.max_abs b.max) in
-  let e = (1e-9 *. m) +. 1e-300 in
-  let pb = w.pbox and q = 6 * k in
-  fset pb q (b.min.x -. e);
-  fset pb (q + 1) (b.min.y -. e);
-  fset pb (q + 2) (b.min.z -. e);
-  fset pb (q + 3) (b.max.x +. e);
-  fset pb (q + 4) (b.max.y +. e);
-  fset pb (q + 5) (b.max.z +. e)
-
 let is_bounded (p : Primitive.t) =
-  match p.bounds with Some b -> finite_box b | None -> false
+  match Primitive.bounds p with Some b -> finite_box b | None -> false
 
 (* The indices of the bounded primitives ([want]) or of the others, in order. *)
 let indices prims want =
@@ -403,69 +70,47 @@ let build prims =
   let n = Array.length prims in
   let bounded = indices prims true in
   let m = Array.length bounded in
-  if m < min_bvh then { prims; outside = Array.init n Fun.id; tree = None; layers = None }
+  (* A mesh counts as its faces, which one object each would have been. *)
+  let weight = Array.fold_left (fun w i -> w + Primitive.faces prims.(i)) 0 bounded in
+  if weight < min_bvh then
+    { prims; outside = Array.init n Fun.id; tree = None; layers = None }
   else
     let outside = indices prims false in
-    (* A tree of m primitives has at most 2m − 1 nodes; with leaves of one or two, as the
-       cost model makes them, a little more than m. *)
-    let cap = m + (m / 8) + 16 in
-    let w =
-      {
-        pbox = Float.Array.create (6 * m);
-        ids = Array.init m Fun.id;
-        nodes_b = Float.Array.create (6 * cap);
-        links_b = Array.make (2 * cap) 0;
-        count = 0;
-        max_depth = 0;
-        bin_n = Array.make (3 * bins) 0;
-        bin_b = Float.Array.create (6 * ((3 * bins) + 1));
-        right_area = Float.Array.make bins 0.;
-        right_n = Array.make bins 0;
-        cbox = Float.Array.create 6;
-        small_bin = Array.make small 0;
-        small_p = Array.make small 0;
-        small_area = Float.Array.make small 0.;
-      }
-    in
+    let pbox = Float.Array.create (6 * m) in
     Array.iteri
       (fun k i ->
-        match prims.(i).Primitive.bounds with Some b -> pad_into w k b | None -> ())
+        match Primitive.bounds prims.(i) with
+        | Some { Bbox.min; max } ->
+            Bvh.pad_into pbox k min.x min.y min.z max.x max.y max.z
+        | None -> ())
       bounded;
-    ignore (build_node w [| -1; 0 |] 0 m 1);
-    (* The node arrays as they are when little of them is unused, rather than a copy
-       beside them at the peak of memory. *)
-    let nodes, links =
-      if 8 * w.count >= 7 * (Array.length w.links_b / 2) then (w.nodes_b, w.links_b)
-      else (Float.Array.sub w.nodes_b 0 (6 * w.count), Array.sub w.links_b 0 (2 * w.count))
-    in
+    let { Bvh.nodes; order; depth } = Bvh.build pbox in
     (* The leaf order as indices into [prims], in place. *)
-    let leaf_idx = w.ids in
+    let leaf_idx = order in
     Array.iteri (fun j k -> leaf_idx.(j) <- bounded.(k)) leaf_idx;
     let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
+    let sph = Float.Array.make (4 * m) (-1.) in
+    Array.iteri
+      (fun j (p : Primitive.t) ->
+        match p.shape with
+        | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
+            fset sph (4 * j) center.x;
+            fset sph ((4 * j) + 1) center.y;
+            fset sph ((4 * j) + 2) center.z;
+            fset sph ((4 * j) + 3) radius
+        | _ -> ())
+      leaf_prims;
     {
       prims;
       outside;
-      tree = Some { nodes; links; leaf_prims; leaf_idx; depth = w.max_depth };
+      tree = Some { nodes; leaf_prims; leaf_idx; sph; depth };
       layers = None;
     }
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
-(* Entry t of [r] into node [k]'s box within [tmin, tmax], or infinity for a miss. The
-   slab comparisons are written so that a NaN from 0·inf (origin on a slab plane, ray
-   parallel to it) leaves the interval open. *)
 let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
-  let off = 6 * k in
-  let a = (fget nodes off -. ox) *. ix and c = (fget nodes (off + 3) -. ox) *. ix in
-  let t0 = if a < c then if a > tmin then a else tmin else if c > tmin then c else tmin in
-  let t1 = if a < c then if c < tmax then c else tmax else if a < tmax then a else tmax in
-  let a = (fget nodes (off + 1) -. oy) *. iy and c = (fget nodes (off + 4) -. oy) *. iy in
-  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
-  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
-  let a = (fget nodes (off + 2) -. oz) *. iz and c = (fget nodes (off + 5) -. oz) *. iz in
-  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
-  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
-  if t0 <= t1 then t0 else Float.infinity
+  Bvh.box_entry nodes k ox oy oz ix iy iz tmin tmax
 
 (* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
    finds them busy (a fold callback that queries again) allocates its own. *)
@@ -491,123 +136,28 @@ let[@inline] test p r tmax (h : Shape.hit) =
   Primitive.intersect_into p r h;
   h.t
 
-let linear_nearest prims r tmin tmax (h : Shape.hit) =
-  let best_t = ref tmax and best_i = ref (-1) in
-  h.tmin <- tmin;
-  for i = 0 to Array.length prims - 1 do
-    let t = test prims.(i) r !best_t h in
-    if t < !best_t then (
-      best_t := t;
-      best_i := i)
-  done;
-  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
-  !best_i
-
-let tree_nearest a tr r tmin tmax (h : Shape.hit) =
-  let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
-  h.tmin <- tmin;
-  (* Unbounded primitives first, in index order. *)
-  let outside = a.outside and prims = a.prims in
-  for k = 0 to Array.length outside - 1 do
-    let i = outside.(k) in
-    let t = test prims.(i) r !query h in
-    if t < !best_t || (t = !best_t && i < !best_i) then (
-      best_t := t;
-      best_i := i;
-      query := Float.succ t)
-  done;
-  let o = Ray.origin r and inv = Ray.inv_dir r in
-  let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-  let nodes = tr.nodes and links = tr.links in
-  let st = get_stack tr.depth in
-  let sids = st.ids and sts = st.ts in
-  let sp = ref 0 and node = ref 0 and go = ref true in
-  if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
-  while !go do
-    let k = !node in
-    let count = Array.unsafe_get links ((2 * k) + 1) in
-    let next =
-      if count > 0 then (
-        let first = Array.unsafe_get links (2 * k) in
-        for j = first to first + count - 1 do
-          let t = test (Array.unsafe_get tr.leaf_prims j) r !query h in
-          if t <= !best_t then
-            let i = Array.unsafe_get tr.leaf_idx j in
-            if t < !best_t || i < !best_i then (
-              best_t := t;
-              best_i := i;
-              query := Float.succ t)
-        done;
-        -1)
-      else
-        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
-        let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
-        let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
-        if tl < Float.infinity then
-          if trr < Float.infinity then
-            (* Nearest child first; the other waits on the stack with its entry t. *)
-            if trr < tl then (
-              Array.unsafe_set sids !sp l;
-              fset sts !sp tl;
-              incr sp;
-              rr)
-            else (
-              Array.unsafe_set sids !sp rr;
-              fset sts !sp trr;
-              incr sp;
-              l)
-          else l
-        else if trr < Float.infinity then rr
-        else -1
-    in
-    if next >= 0 then node := next
-    else
-      (* Pop the next node whose entry is not beyond the best hit. *)
-      let found = ref false in
-      while (not !found) && !sp > 0 do
-        decr sp;
-        if fget sts !sp <= !best_t then (
-          found := true;
-          node := Array.unsafe_get sids !sp)
-      done;
-      if not !found then go := false
-  done;
-  st.busy <- false;
-  h.t <- (if !best_i < 0 then Float.infinity else !best_t);
-  !best_i
-
-let rec nearest_into a r tmin tmax (h : Shape.hit) =
-  match a.layers with
-  | Some l ->
-      (* The lexicographic minimum of (t, index) over both parts: the moving part is
-         asked up to succ(t) of the fixed part's hit, so that an equal t is seen. *)
-      let i = nearest_into l.fixed r tmin tmax h in
-      let t = h.t in
-      let j = nearest_into l.moving r tmin (if i >= 0 then Float.succ t else tmax) h in
-      if j >= 0 && (i < 0 || h.t < t || (h.t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
-      then l.moving_idx.(j)
-      else (
-        h.t <- (if i >= 0 then t else Float.infinity);
-        if i >= 0 then l.fixed_idx.(i) else -1)
-  | None -> (
-      match a.tree with
-      | None -> linear_nearest a.prims r tmin tmax h
-      | Some tr -> tree_nearest a tr r tmin tmax h)
-
-let nearest a r tmin tmax =
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  let i = nearest_into a r tmin tmax h in
-  (h.t, i)
-
-(* [nearest_into] for a ray held in a probe, primitive by primitive the same queries in
-   the same order: [Primitive.probe_into] computes the roots [Primitive.intersect_into]
-   does, so the answer is the same, bit for bit. The probe's interval is the query's
-   (p_tmax moves with the best hit); the scratch probe for transformed objects is the
-   domain's. *)
+(* The nearest hit: every query with a ray goes through a probe, [Primitive.probe_into]
+   computing the roots [Primitive.intersect_into] does, bit for bit. The traversal keeps
+   the lexicographic minimum of (t, index): each primitive is queried up to succ(best t)
+   (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
+   the scratch probe for transformed objects is the domain's. *)
 let[@inline] probe_test p (q : Shape.probe) obj tmax =
   q.p_tmax <- tmax;
   Primitive.probe_into p q obj;
   q.p_t
+
+(* [probe_test] of leaf slot [j]: a flat sphere's test on its scalars, the same roots. *)
+let[@inline] slot_test tr j (q : Shape.probe) obj tmax =
+  let sph = tr.sph in
+  let r = fget sph ((4 * j) + 3) in
+  if r >= 0. then (
+    q.p_tmax <- tmax;
+    Shape.sphere_sc
+      (fget sph (4 * j))
+      (fget sph ((4 * j) + 1))
+      (fget sph ((4 * j) + 2))
+      r q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin tmax)
+  else probe_test (Array.unsafe_get tr.leaf_prims j) q obj tmax
 
 let linear_nearest_probe prims (q : Shape.probe) obj =
   let best_t = ref q.p_tmax and best_i = ref (-1) in
@@ -633,19 +183,19 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
       query := Float.succ t)
   done;
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nodes = tr.nodes and links = tr.links in
+  let nodes = tr.nodes in
   let st = get_stack tr.depth in
   let sids = st.ids and sts = st.ts in
   let sp = ref 0 and node = ref 0 and go = ref true in
   if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
   while !go do
     let k = !node in
-    let count = Array.unsafe_get links ((2 * k) + 1) in
+    let count = Bvh.count nodes k in
     let next =
       if count > 0 then (
-        let first = Array.unsafe_get links (2 * k) in
+        let first = Bvh.link nodes k in
         for j = first to first + count - 1 do
-          let t = probe_test (Array.unsafe_get tr.leaf_prims j) q obj !query in
+          let t = slot_test tr j q obj !query in
           if t <= !best_t then
             let i = Array.unsafe_get tr.leaf_idx j in
             if t < !best_t || i < !best_i then (
@@ -655,7 +205,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
         done;
         -1)
       else
-        let l = k + 1 and rr = Array.unsafe_get links (2 * k) in
+        let l = k + 1 and rr = Bvh.link nodes k in
         let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
         let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
         if tl < Float.infinity then
@@ -737,7 +287,7 @@ let tree_visit a tr r tmin tmax visit =
   if not !stop then (
     let o = Ray.origin r and inv = Ray.inv_dir r in
     let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -748,16 +298,16 @@ let tree_visit a tr r tmin tmax visit =
        while (not !stop) && !sp > 0 do
          decr sp;
          let node = Array.unsafe_get sids !sp in
-         let count = Array.unsafe_get links ((2 * node) + 1) in
+         let count = Bvh.count nodes node in
          if count > 0 then
-           let first = Array.unsafe_get links (2 * node) in
+           let first = Bvh.link nodes node in
            let j = ref first in
            while (not !stop) && !j < first + count do
              stop := visit (Array.unsafe_get tr.leaf_prims !j);
              incr j
            done
          else
-           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           let l = node + 1 and rr = Bvh.link nodes node in
            if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp rr;
              incr sp);
@@ -797,30 +347,6 @@ let fold_hits a r tmin tmax f acc = fold ~only_transparent:false a r tmin tmax f
 let fold_transparent_hits a r tmin tmax f acc =
   fold ~only_transparent:true a r tmin tmax f acc
 
-(* Any crossing at all: the shadow query of a scene without transparent surfaces, where the
-   first surface met makes the shadow black. Exits on the first hit, in no particular
-   order. Each query allocates its hit record, and with a tree the visiting closure. *)
-let linear_any prims r tmin tmax =
-  let hit = ref false and i = ref 0 in
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  while (not !hit) && !i < Array.length prims do
-    if test (Array.unsafe_get prims !i) r tmax h < tmax then hit := true;
-    incr i
-  done;
-  !hit
-
-let tree_any a tr r tmin tmax =
-  let h = { Shape.tmin; tmax; t = Float.infinity } in
-  tree_visit a tr r tmin tmax (fun p -> test p r tmax h < tmax)
-
-let rec any_hit a r tmin tmax =
-  match a.layers with
-  | Some l -> any_hit l.fixed r tmin tmax || any_hit l.moving r tmin tmax
-  | None -> (
-      match a.tree with
-      | None -> linear_any a.prims r tmin tmax
-      | Some tr -> tree_any a tr r tmin tmax)
-
 (* --- Occlusion ---------------------------------------------------------------------- *)
 
 (* The shadow query proper: no ray, no hit record, no closure. Per domain, a probe that
@@ -836,46 +362,62 @@ let scratch_key =
 
 let shadow_probe () = (Domain.DLS.get scratch_key).q
 
-let[@inline] blocks (p : Primitive.t) (q : Shape.probe) obj =
-  if p.material.transparency <> 0. then false
+let[@inline] blocks ~any (p : Primitive.t) (q : Shape.probe) obj =
+  if (not any) && p.material.transparency <> 0. then false
   else (
-    Primitive.probe_into p q obj;
+    Primitive.probe_first_into p q obj;
     q.p_t < q.p_tmax)
 
-let linear_occluder prims q obj =
+(* [blocks] of leaf slot [j]. *)
+let[@inline] slot_blocks ~any tr j (q : Shape.probe) obj =
+  let sph = tr.sph in
+  let r = fget sph ((4 * j) + 3) in
+  if r >= 0. then
+    Shape.sphere_sc
+      (fget sph (4 * j))
+      (fget sph ((4 * j) + 1))
+      (fget sph ((4 * j) + 2))
+      r q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin q.p_tmax
+    < q.p_tmax
+    && (any || (Array.unsafe_get tr.leaf_prims j).material.transparency = 0.)
+  else blocks ~any (Array.unsafe_get tr.leaf_prims j) q obj
+
+let linear_occluder ~any prims q obj =
   let found = ref (-1) and i = ref 0 in
   while !found < 0 && !i < Array.length prims do
-    if blocks (Array.unsafe_get prims !i) q obj then found := !i;
+    if blocks ~any (Array.unsafe_get prims !i) q obj then found := !i;
     incr i
   done;
   !found
 
-let rec occluder a q obj =
+(* The first primitive found crossing the probe's segment: an opaque one, or with [any]
+   any one. *)
+let rec occluder ~any a q obj =
   match a.layers with
   | Some l ->
-      let i = occluder l.fixed q obj in
+      let i = occluder ~any l.fixed q obj in
       if i >= 0 then l.fixed_idx.(i)
       else
-        let j = occluder l.moving q obj in
+        let j = occluder ~any l.moving q obj in
         if j >= 0 then l.moving_idx.(j) else -1
   | None -> (
       match a.tree with
-      | None -> linear_occluder a.prims q obj
-      | Some tr -> tree_occluder a tr q obj)
+      | None -> linear_occluder ~any a.prims q obj
+      | Some tr -> tree_occluder ~any a tr q obj)
 
-and tree_occluder a tr (q : Shape.probe) obj =
+and tree_occluder ~any a tr (q : Shape.probe) obj =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims in
   let k = ref 0 in
   while !found < 0 && !k < Array.length outside do
     let i = Array.unsafe_get outside !k in
-    if blocks (Array.unsafe_get prims i) q obj then found := i;
+    if blocks ~any (Array.unsafe_get prims i) q obj then found := i;
     incr k
   done;
   if !found < 0 then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -885,17 +427,16 @@ and tree_occluder a tr (q : Shape.probe) obj =
     while !found < 0 && !sp > 0 do
       decr sp;
       let node = Array.unsafe_get sids !sp in
-      let count = Array.unsafe_get links ((2 * node) + 1) in
+      let count = Bvh.count nodes node in
       if count > 0 then
-        let first = Array.unsafe_get links (2 * node) in
+        let first = Bvh.link nodes node in
         let j = ref first in
         while !found < 0 && !j < first + count do
-          if blocks (Array.unsafe_get tr.leaf_prims !j) q obj then
-            found := Array.unsafe_get tr.leaf_idx !j;
+          if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
           incr j
         done
       else
-        let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+        let l = node + 1 and rr = Bvh.link nodes node in
         if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
           Array.unsafe_set sids !sp rr;
           incr sp);
@@ -932,6 +473,31 @@ let nearest_probe a (q : Shape.probe) =
   let obj = (Domain.DLS.get scratch_key).obj in
   Probe.set_inv_dir q;
   nearest_probe_in a q obj
+
+(* A ray's query through a probe of its own, and a scratch probe of its own, since such
+   a query may run inside a fold's callback. *)
+let ray_probe r tmin tmax =
+  let q = Shape.probe () in
+  Probe.of_ray q r;
+  q.p_tmin <- tmin;
+  q.p_tmax <- tmax;
+  q
+
+let nearest_into a r tmin tmax (h : Shape.hit) =
+  let q = ray_probe r tmin tmax in
+  let i = nearest_probe_in a q (Shape.probe ()) in
+  h.t <- q.p_t;
+  i
+
+let nearest a r tmin tmax =
+  let h = { Shape.tmin; tmax; t = Float.infinity } in
+  let i = nearest_into a r tmin tmax h in
+  (h.t, i)
+
+(* Any crossing at all, opaque or not: where the first surface met settles the answer.
+   The shadow query's walk, every primitive counting. *)
+let any_hit a r tmin tmax =
+  occluder ~any:true a (ray_probe r tmin tmax) (Shape.probe ()) >= 0
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
    the same order (the unbounded ones first, then depth first over the boxes the ray
@@ -972,7 +538,7 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
   done;
   if not !stop then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-    let nodes = tr.nodes and links = tr.links in
+    let nodes = tr.nodes in
     let st = get_stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
@@ -983,9 +549,9 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
        while (not !stop) && !sp > 0 do
          decr sp;
          let node = Array.unsafe_get sids !sp in
-         let count = Array.unsafe_get links ((2 * node) + 1) in
+         let count = Bvh.count nodes node in
          if count > 0 then
-           let first = Array.unsafe_get links (2 * node) in
+           let first = Bvh.link nodes node in
            let j = ref first in
            while (not !stop) && !j < first + count do
              stop :=
@@ -993,7 +559,7 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
              incr j
            done
          else
-           let l = node + 1 and rr = Array.unsafe_get links (2 * node) in
+           let l = node + 1 and rr = Bvh.link nodes node in
            if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
              Array.unsafe_set sids !sp rr;
              incr sp);
@@ -1044,9 +610,11 @@ let occluded a (q : Shape.probe) ~slot =
     sc.last <- last);
   let prims = a.prims in
   let c = Array.unsafe_get sc.last slot in
-  if c >= 0 && c < Array.length prims && blocks (Array.unsafe_get prims c) q obj then true
+  if
+    c >= 0 && c < Array.length prims && blocks ~any:false (Array.unsafe_get prims c) q obj
+  then true
   else
-    let found = occluder a q obj in
+    let found = occluder ~any:false a q obj in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
 
@@ -1057,7 +625,7 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
   if Array.length fixed_idx + Array.length moving_idx <> n then
     invalid_arg "Accel.layered: the parts do not cover the primitives";
   let bounded = ref 0 in
-  Array.iter (fun p -> if is_bounded p then incr bounded) prims;
+  Array.iter (fun p -> if is_bounded p then bounded := !bounded + Primitive.faces p) prims;
   {
     prims;
     outside = [||];

@@ -36,7 +36,8 @@ val nearest : t -> Ray.t -> float -> float -> float * int
     index, so the answer never depends on the traversal order. *)
 
 val nearest_into : t -> Ray.t -> float -> float -> Shape.hit -> int
-(** {!nearest} without allocating: the index is returned and t stored in the record. *)
+(** {!nearest} with t stored in the record: {!nearest_probe} on a probe made for the ray
+    (two small records per query). *)
 
 val nearest_probe : t -> Shape.probe -> int
 (** [nearest_probe a q] is {!nearest_into} for the ray that [q] holds over ([q.p_tmin],
@@ -79,8 +80,8 @@ val transparent_crossings : t -> Shape.probe -> (Primitive.t -> bool) -> unit
 
 val any_hit : t -> Ray.t -> float -> float -> bool
 (** [any_hit a r tmin tmax] is whether [r] crosses any surface with tmin < t < tmax. It
-    stops at the first one found: the shadow query when no surface is transparent. It
-    allocates a small hit record per query (and, with a tree, the visiting closure). *)
+    stops at the first one found: the walk of {!occluded} with every primitive counting,
+    on a probe made for the ray (two small records per query). *)
 
 val shadow_probe : unit -> Shape.probe
 (** This domain's shadow probe: fill its origin, direction and interval, then ask

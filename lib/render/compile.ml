@@ -7,7 +7,7 @@ type 'a read = ('a, string -> string) result
 
 type assets = {
   pictures : (string, Image.t read) Hashtbl.t;
-  meshes : (string * bool, Shape.t list read) Hashtbl.t;
+  meshes : (string * bool, Trimesh.t read) Hashtbl.t;
   heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
   lock : Mutex.t;
@@ -72,7 +72,7 @@ let mesh c ~file ~path ~smooth =
          | Some e -> e
          | None ->
              guarded "load the mesh" (fun () ->
-                 match Mesh.load ~smooth path with
+                 match Mesh.load_mesh ~smooth path with
                  | Ok m -> Ok m
                  | Error m -> failed "load the mesh" m))
 
@@ -197,17 +197,18 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
   | Mesh { file; path; smooth; at } -> (
       match mesh c ~file ~path ~smooth with
       | Error m -> problem at "%s" m
-      | Ok [] -> problem at "the mesh \"%s\" has no triangles" file
-      | Ok tris -> (tris, [||]))
+      | Ok m when Trimesh.count m = 0 ->
+          problem at "the mesh \"%s\" has no triangles" file
+      | Ok m -> ([ Shape.mesh m ], [||]))
   | Height_field { file; path; origin; size; at } ->
       (height_field c ~file ~path ~origin ~size ~at, [||])
   | Csg { op; block; members; solid } ->
       let member (m : D.obj) =
         let sh, leaves = shapes c m in
         match (m.shape, sh) with
-        | Mesh _, tris ->
+        | Mesh _, [ Shape.Mesh mesh ] ->
             (if solid then
-               match Mesh.open_edges tris with
+               match Mesh.open_edges_mesh mesh with
                | 0 -> ()
                | n ->
                    problem m.loc
@@ -216,8 +217,8 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
                      n
                      (if n = 1 then " is" else "s are")
                      block);
-            ( (Shape.closed_mesh tris, m.transform),
-              Array.make (List.length tris) m.material )
+            ( (Shape.closed_mesh (Shape.faces mesh), m.transform),
+              Array.make (Trimesh.count mesh) m.material )
         | _, [ s ] ->
             ( (s, m.transform),
               if Array.length leaves = 0 then [| m.material |]
@@ -329,6 +330,9 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
     | _ -> None
   in
   let pieces = ref [] in
+  (* Without a fixed part, the objects go straight into one array: no list cell or piece
+     per object beside them while the structure is built. *)
+  let flat = Dynarray.create () in
   let problems = ref [] and seen = Hashtbl.create 4 in
   let count = ref 0 in
   let report loc msg =
@@ -353,11 +357,17 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
             | Scene.Fixed (f, m) :: rest when f + m = first ->
                 pieces := Scene.Fixed (f, m + n) :: rest
             | ps -> pieces := Scene.Fixed (first, n) :: ps);
-            n
+            let w = ref 0 in
+            for k = first to first + n - 1 do
+              w := !w + Primitive.faces fx.flat.(k)
+            done;
+            !w
         | _ ->
             let ps = primitives c material_of o in
-            pieces := Scene.Moving ps :: !pieces;
-            List.length ps
+            (match fx with
+            | None -> List.iter (Dynarray.add_last flat) ps
+            | Some _ -> pieces := Scene.Moving ps :: !pieces);
+            List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
       with
       | n ->
           count := !count + n;
@@ -385,7 +395,10 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
             ~frame:d.frame ~lights:d.lights
             ~fixed:(fixed_part fx (Scene.origin_of d.camera))
             (List.rev !pieces)
-      | _ ->
+      | None ->
+          Scene.of_array ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
+            ~lights:d.lights (Dynarray.to_array flat)
+      | Some _ ->
           Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
             ~lights:d.lights
             (List.concat_map
@@ -415,12 +428,13 @@ let check_files c uses =
       | Model { file; path; smooth; at; solid_in } -> (
           match mesh c ~file ~path ~smooth with
           | Error m -> report at m
-          | Ok [] -> report at (Printf.sprintf "the mesh \"%s\" has no triangles" file)
-          | Ok tris -> (
+          | Ok m when Trimesh.count m = 0 ->
+              report at (Printf.sprintf "the mesh \"%s\" has no triangles" file)
+          | Ok m -> (
               match solid_in with
               | None -> ()
               | Some (block, member) -> (
-                  match Mesh.open_edges tris with
+                  match Mesh.open_edges_mesh m with
                   | 0 -> ()
                   | n ->
                       report member
@@ -445,17 +459,37 @@ let check_files c uses =
 (* ---------------------------------------------------------------------------------- *)
 (* What was made *)
 
-let count_by key xs =
+(* How many objects of each kind, a mesh counting each of its faces. *)
+let kinds objs =
   let tbl = Hashtbl.create 8 and order = ref [] in
+  let add k n =
+    match Hashtbl.find_opt tbl k with
+    | Some m -> Hashtbl.replace tbl k (m + n)
+    | None ->
+        Hashtbl.add tbl k n;
+        order := k :: !order
+  in
   List.iter
-    (fun x ->
-      let k = key x in
-      match Hashtbl.find_opt tbl k with
-      | Some n -> Hashtbl.replace tbl k (n + 1)
-      | None ->
-          Hashtbl.add tbl k 1;
-          order := k :: !order)
-    xs;
+    (fun (o : Primitive.t) ->
+      match o.shape with
+      | Shape.Mesh m ->
+          let plain = ref 0 in
+          for k = 0 to Trimesh.count m - 1 do
+            if not (Trimesh.has_normals m k || Trimesh.has_uvs m k) then incr plain
+          done;
+          (* The kinds in the order the faces meet them, as one object per face would. *)
+          let first_plain =
+            Trimesh.count m > 0 && not (Trimesh.has_normals m 0 || Trimesh.has_uvs m 0)
+          in
+          let some = Trimesh.count m - !plain in
+          if first_plain then (
+            add "triangle" !plain;
+            if some > 0 then add "mesh" some)
+          else (
+            if some > 0 then add "mesh" some;
+            if !plain > 0 then add "triangle" !plain)
+      | _ -> add (Shape.name o.shape) 1)
+    objs;
   List.rev_map (fun k -> (k, Hashtbl.find tbl k)) !order
 
 (* A CSG tree in one line: difference(box, sphere, union(sphere, sphere)). *)
@@ -489,7 +523,7 @@ let rendered c (sc : Scene.t) : D.rendered =
         D.r_settings = sc.settings;
         r_lights = Array.to_list sc.lights;
         r_features = sc.features;
-        r_kinds = count_by (fun (o : Primitive.t) -> Shape.name o.shape) objs;
+        r_kinds = kinds objs;
         r_csg =
           List.filter_map
             (fun (o : Primitive.t) ->
@@ -499,7 +533,7 @@ let rendered c (sc : Scene.t) : D.rendered =
         r_meshes =
           Hashtbl.fold
             (fun k r acc ->
-              match r with Ok tris -> (k, List.length tris) :: acc | Error _ -> acc)
+              match r with Ok m -> (k, Trimesh.count m) :: acc | Error _ -> acc)
             c.meshes [];
         r_rasters =
           Hashtbl.fold

@@ -2,18 +2,64 @@ exception Bad of int * string
 
 let bad line fmt = Printf.ksprintf (fun m -> raise (Bad (line, m))) fmt
 
-(* Growable arrays of the elements read so far. *)
-type 'a store = { mutable data : 'a array; mutable len : int }
+(* Growable flat arrays of what was read so far: [len] elements of [width] floats. *)
+type floats = { mutable fl : Float.Array.t; mutable len : int; width : int }
 
-let store () = { data = [||]; len = 0 }
+let floats width = { fl = Float.Array.create 0; len = 0; width }
 
-let push s x =
-  if s.len = Array.length s.data then (
-    let d = Array.make (max 16 (2 * s.len)) x in
-    Array.blit s.data 0 d 0 s.len;
-    s.data <- d);
-  s.data.(s.len) <- x;
+let grow_floats s =
+  if s.width * (s.len + 1) > Float.Array.length s.fl then (
+    let d = Float.Array.create (s.width * max 16 (2 * s.len)) in
+    Float.Array.blit s.fl 0 d 0 (s.width * s.len);
+    s.fl <- d)
+
+let push3 s x y z =
+  grow_floats s;
+  let k = 3 * s.len in
+  Float.Array.unsafe_set s.fl k x;
+  Float.Array.unsafe_set s.fl (k + 1) y;
+  Float.Array.unsafe_set s.fl (k + 2) z;
   s.len <- s.len + 1
+
+let push2 s u v =
+  grow_floats s;
+  let k = 2 * s.len in
+  Float.Array.unsafe_set s.fl k u;
+  Float.Array.unsafe_set s.fl (k + 1) v;
+  s.len <- s.len + 1
+
+let vec s i =
+  let k = 3 * i in
+  Vec3.v (Float.Array.get s.fl k)
+    (Float.Array.get s.fl (k + 1))
+    (Float.Array.get s.fl (k + 2))
+
+(* Triangles' corner indices, three 32-bit ints each. *)
+type corners = { mutable ix : Trimesh.ints; mutable n : int }
+
+let corners () = { ix = Trimesh.ints 0; n = 0 }
+
+let push_corners s a b c =
+  if 3 * (s.n + 1) > Bigarray.Array1.dim s.ix then (
+    let d = Trimesh.ints (3 * max 16 (2 * s.n)) in
+    Bigarray.Array1.blit s.ix (Bigarray.Array1.sub d 0 (3 * s.n));
+    s.ix <- d);
+  let k = 3 * s.n in
+  Bigarray.Array1.unsafe_set s.ix k (Int32.of_int a);
+  Bigarray.Array1.unsafe_set s.ix (k + 1) (Int32.of_int b);
+  Bigarray.Array1.unsafe_set s.ix (k + 2) (Int32.of_int c);
+  s.n <- s.n + 1
+
+let trimmed s =
+  if 3 * s.n = Bigarray.Array1.dim s.ix then s.ix
+  else
+    let d = Trimesh.ints (3 * s.n) in
+    Bigarray.Array1.blit (Bigarray.Array1.sub s.ix 0 (3 * s.n)) d;
+    d
+
+let trimmed_floats s =
+  if s.width * s.len = Float.Array.length s.fl then s.fl
+  else Float.Array.sub s.fl 0 (s.width * s.len)
 
 let ignored =
   [
@@ -111,9 +157,11 @@ let int_at text s e =
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let max_coordinate = 1e150
 
-let parse ?(smooth = true) ~file text =
-  let vs = store () and vts = store () and vns = store () in
-  let tris = store () and faces = ref 0 in
+let parse_mesh ?(smooth = true) ~file text =
+  let vs = floats 3 and vts = floats 2 and vns = floats 3 in
+  let tv = corners () and tn = corners () and tt = corners () in
+  let with_normals = ref false and with_uvs = ref false in
+  let faces = ref 0 in
   let len = String.length text in
   (* The words of the current line, as (start, end) byte offsets. *)
   let ws = ref (Array.make 64 0) and nw = ref 0 in
@@ -201,20 +249,18 @@ let parse ?(smooth = true) ~file text =
   in
   let face i j k =
     let cv = !cv and ct = !ct and cn = !cn in
-    let pa = vs.data.(cv.(i)) and pb = vs.data.(cv.(j)) and pc = vs.data.(cv.(k)) in
+    let pa = vec vs cv.(i) and pb = vec vs cv.(j) and pc = vec vs cv.(k) in
     let area = Vec3.length (Vec3.cross (Vec3.sub pb pa) (Vec3.sub pc pa)) in
-    if area > 0. && Float.is_finite area then
-      let normals =
-        if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then
-          Some (vns.data.(cn.(i)), vns.data.(cn.(j)), vns.data.(cn.(k)))
-        else None
-      in
-      let uvs =
-        if ct.(i) >= 0 && ct.(j) >= 0 && ct.(k) >= 0 then
-          Some (vts.data.(ct.(i)), vts.data.(ct.(j)), vts.data.(ct.(k)))
-        else None
-      in
-      push tris (Shape.mesh_triangle ?normals ?uvs ~a:pa ~b:pb ~c:pc ())
+    if area > 0. && Float.is_finite area then (
+      push_corners tv cv.(i) cv.(j) cv.(k);
+      if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then (
+        with_normals := true;
+        push_corners tn cn.(i) cn.(j) cn.(k))
+      else push_corners tn (-1) (-1) (-1);
+      if ct.(i) >= 0 && ct.(j) >= 0 && ct.(k) >= 0 then (
+        with_uvs := true;
+        push_corners tt ct.(i) ct.(j) ct.(k))
+      else push_corners tt (-1) (-1) (-1))
   in
   (* One line's words: a statement. Within a statement, components are checked from the
      last to the first. *)
@@ -227,7 +273,7 @@ let parse ?(smooth = true) ~file text =
       let z = coordinate line 3 in
       let y = coordinate line 2 in
       let x = coordinate line 1 in
-      push vs (Vec3.v x y z))
+      push3 vs x y z)
     else if is_word 0 "f" then (
       for j = 0 to nw - 2 do
         corner line j (j + 1)
@@ -242,12 +288,13 @@ let parse ?(smooth = true) ~file text =
       let z = number line "normal" 3 in
       let y = number line "normal" 2 in
       let x = number line "normal" 1 in
-      push vns (Vec3.v x y z))
+      push3 vns x y z)
     else if is_word 0 "vt" then (
       if nw < 2 then bad line "a texture coordinate needs at least 1 component";
       let v = if nw >= 3 then number line "texture coordinate" 2 else 0. in
       if nw > 4 then bad line "a texture coordinate has at most 3 components";
-      push vts (number line "texture coordinate" 1, v))
+      let u = number line "texture coordinate" 1 in
+      push2 vts u v)
     else
       let kw = word 0 in
       if not (List.mem kw ignored) then
@@ -281,28 +328,30 @@ let parse ?(smooth = true) ~file text =
       incr i
     done;
     let lines = !line in
-    if tris.len = 0 && !faces > 0 then
+    if tv.n = 0 && !faces > 0 then
       Error
         (Printf.sprintf "%s:%d: all %d faces of the file have zero area" file lines !faces)
-    else if tris.len = 0 then
-      Error (Printf.sprintf "%s:%d: the file has no faces" file lines)
+    else if tv.n = 0 then Error (Printf.sprintf "%s:%d: the file has no faces" file lines)
     else
-      let l = ref [] in
-      for k = tris.len - 1 downto 0 do
-        l := tris.data.(k) :: !l
-      done;
-      Ok !l
+      Ok
+        (Trimesh.make ~pos:(trimmed_floats vs) ~nrm:(trimmed_floats vns)
+           ~tex:(trimmed_floats vts) ~tv:(trimmed tv)
+           ~tn:(if !with_normals then trimmed tn else Trimesh.no_ints)
+           ~tt:(if !with_uvs then trimmed tt else Trimesh.no_ints))
   with Bad (line, m) ->
     let line, m =
       if String.contains text '\000' then (1, "not a text file") else (line, m)
     in
     Error (Printf.sprintf "%s:%d: %s" file line m)
 
-let load ?smooth path =
+let load_mesh ?smooth path =
   match In_channel.with_open_bin path In_channel.input_all with
-  | text -> parse ?smooth ~file:path text
+  | text -> parse_mesh ?smooth ~file:path text
   | exception Sys_error m ->
       Error (Printf.sprintf "%s:0: cannot read the file (%s)" path m)
+
+let parse ?smooth ~file text = Result.map Shape.faces (parse_mesh ?smooth ~file text)
+let load ?smooth path = Result.map Shape.faces (load_mesh ?smooth path)
 
 let open_edges tris =
   let uses = Hashtbl.create 1024 in
@@ -321,4 +370,22 @@ let open_edges tris =
             [ (a, b); (b, c); (c, a) ]
       | _ -> ())
     tris;
+  Hashtbl.fold (fun _ n acc -> if n = 2 then acc else acc + 1) uses 0
+
+let open_edges_mesh m =
+  let uses = Hashtbl.create 1024 in
+  let key (a : Vec3.t) (b : Vec3.t) =
+    let k (v : Vec3.t) = (v.x, v.y, v.z) in
+    if compare (k a) (k b) <= 0 then (k a, k b) else (k b, k a)
+  in
+  for t = 0 to Trimesh.count m - 1 do
+    let a = Trimesh.vertex m t 0
+    and b = Trimesh.vertex m t 1
+    and c = Trimesh.vertex m t 2 in
+    List.iter
+      (fun (p, q) ->
+        let e = key p q in
+        Hashtbl.replace uses e (1 + Option.value (Hashtbl.find_opt uses e) ~default:0))
+      [ (a, b); (b, c); (c, a) ]
+  done;
   Hashtbl.fold (fun _ n acc -> if n = 2 then acc else acc + 1) uses 0

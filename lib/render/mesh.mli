@@ -6,13 +6,23 @@
     are accepted and ignored. Triangles of zero area are dropped. A malformed file never
     raises: every problem is an [Error "file:line: message"]. *)
 
+val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
+(** [parse_mesh ~file text] reads OBJ [text] into one indexed mesh, straight into its
+    arrays; [file] names it in messages. With [smooth] (default true) faces whose corners
+    all carry a [vn] interpolate those normals. *)
+
+val load_mesh : ?smooth:bool -> string -> (Trimesh.t, string) result
+(** [load_mesh path] reads and parses the file at [path]. *)
+
 val parse : ?smooth:bool -> file:string -> string -> (Shape.t list, string) result
-(** [parse ~file text] reads OBJ [text]; [file] names it in messages. With [smooth]
-    (default true) faces whose corners all carry a [vn] interpolate those normals. *)
+(** {!parse_mesh}, its faces as triangles ({!Shape.faces}). *)
 
 val load : ?smooth:bool -> string -> (Shape.t list, string) result
-(** [load path] reads and parses the file at [path]. *)
+(** {!load_mesh}, its faces as triangles. *)
 
 val open_edges : Shape.t list -> int
 (** [open_edges triangles] is how many edges (pairs of corner positions) are not shared by
     exactly two of the triangles: 0 for a closed mesh. *)
+
+val open_edges_mesh : Trimesh.t -> int
+(** {!open_edges} of the mesh's faces. *)

@@ -8,9 +8,21 @@ type t = {
   leaves : t array;
 }
 
+(* The bounds of a bounded untransformed shape are its own: rather than a box per
+   primitive (13 words of 30 for a sphere), [bounds] holds this one shared marker, and
+   {!bounds} asks the shape. *)
+let own = Some { Bbox.min = Vec3.zero; max = Vec3.zero }
+
+let world_bounds transform shape =
+  if Transform.is_identity transform then
+    match Shape.bbox shape with Some _ -> own | None -> None
+  else Option.map (Bbox.transform transform) (Shape.bbox shape)
+
+let bounds o = if o.bounds == own then Shape.bbox o.shape else o.bounds
+
 let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material
     shape =
-  let bounds = Option.map (Bbox.transform transform) (Shape.bbox shape) in
+  let bounds = world_bounds transform shape in
   let leaves =
     match shape with
     | Shape.Csg { leaves; _ } ->
@@ -50,12 +62,17 @@ let rec translate (d : Vec3.t) o =
       {
         o with
         transform;
-        bounds = Option.map (Bbox.transform transform) (Shape.bbox o.shape);
+        bounds = world_bounds transform o.shape;
         leaves = Array.map (translate d) o.leaves;
       }
     else if Transform.is_identity o.transform then
       let shape = Shape.translate d o.shape in
-      { o with shape; bounds = Shape.bbox shape; shift = Vec3.sub o.shift d }
+      {
+        o with
+        shape;
+        bounds = world_bounds Transform.identity shape;
+        shift = Vec3.sub o.shift d;
+      }
     else
       {
         (make
@@ -79,9 +96,10 @@ let intersect_into o r h =
 
 (* The world probe [q] in object space, written into [obj]: the object-space ray of
    [intersect_into], coordinate by coordinate, its reciprocal direction recomputed. *)
-let probe_into o (q : Shape.probe) (obj : Shape.probe) =
+let[@inline] probe_gen ~first o (q : Shape.probe) (obj : Shape.probe) =
   let tr = o.transform in
-  if Transform.is_identity tr then Shape.probe_into o.shape q
+  if Transform.is_identity tr then
+    if first then Shape.probe_first_into o.shape q else Shape.probe_into o.shape q
   else
     let x = q.ox and y = q.oy and z = q.oz in
     obj.ox <- Transform.inv_px tr x y z;
@@ -99,20 +117,33 @@ let probe_into o (q : Shape.probe) (obj : Shape.probe) =
     obj.iz <- 1. /. dz;
     obj.p_tmin <- q.p_tmin;
     obj.p_tmax <- q.p_tmax;
-    Shape.probe_into o.shape obj;
+    if first then Shape.probe_first_into o.shape obj else Shape.probe_into o.shape obj;
     q.p_t <- obj.p_t
+
+let probe_into o q obj = probe_gen ~first:false o q obj
+let probe_first_into o q obj = probe_gen ~first:true o q obj
 
 let intersect o r tmin tmax =
   if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax
   else Shape.intersect o.shape (object_ray o r) tmin tmax
 
 let surface o r t =
-  if Array.length o.leaves = 0 then o
-  else
-    let r' = if Transform.is_identity o.transform then r else object_ray o r in
-    o.leaves.(Shape.csg_leaf o.shape r' t)
+  match o.shape with
+  | Shape.Mesh _ ->
+      let r' = if Transform.is_identity o.transform then r else object_ray o r in
+      { o with shape = Shape.mesh_face o.shape r' t }
+  | _ ->
+      if Array.length o.leaves = 0 then o
+      else
+        let r' = if Transform.is_identity o.transform then r else object_ray o r in
+        o.leaves.(Shape.csg_leaf o.shape r' t)
 
 let is_csg o = Array.length o.leaves > 0
+
+let is_composite o =
+  Array.length o.leaves > 0 || match o.shape with Shape.Mesh _ -> true | _ -> false
+
+let faces o = match o.shape with Shape.Mesh m -> Trimesh.count m | _ -> 1
 let to_object o p = Transform.inv_point o.transform p
 let shifted o = not (o.shift.x = 0. && o.shift.y = 0. && o.shift.z = 0.)
 let texture_point o p = if shifted o then Vec3.add p o.shift else to_object o p

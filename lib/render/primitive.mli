@@ -9,7 +9,10 @@ type t = private {
   material : Material.t;
       (** for a CSG object, which shades with its leaves' materials, a transparent leaf's
           when there is one (else its first leaf's): what shadow queries look at *)
-  bounds : Bbox.t option;  (** world-space bounds; [None] when unbounded *)
+  bounds : Bbox.t option;
+      (** [None] when unbounded; otherwise read the bounds with {!bounds}: an
+          untransformed shape's are its own, and this field holds a marker shared by all
+          of them instead of a box each *)
   shift : Vec3.t;
       (** what a world point adds to become a texture-space point, for an untransformed
           object that {!translate} moved; zero otherwise *)
@@ -31,13 +34,24 @@ val make :
     shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None].
 *)
 
+val bounds : t -> Bbox.t option
+(** The world-space bounds; [None] when unbounded. *)
+
 val surface : t -> Ray.t -> float -> t
 (** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
-    or later): [o] itself, or for a CSG object the leaf the crossing lies on, with its
-    material and orientation. Shading and shadows ask it before anything else. *)
+    or later): [o] itself, for a CSG object the leaf the crossing lies on, with its
+    material and orientation, for a mesh the face hit (the lowest of those hit at [t]).
+    Shading and shadows ask it before anything else. *)
 
 val is_csg : t -> bool
 (** Whether [o] is a CSG object (its normal and material are those of its {!surface}). *)
+
+val is_composite : t -> bool
+(** Whether [o] is a CSG object or a mesh: its normal and material are those of its
+    {!surface} (a CSG leaf, a mesh's face). *)
+
+val faces : t -> int
+(** How many surfaces [o] stands for: a mesh's triangles, 1 for any other object. *)
 
 val materials : t -> Material.t list
 (** The materials the object can shade with: its own, or its leaves' for a CSG object. *)
@@ -54,6 +68,10 @@ val probe_into : t -> Shape.probe -> Shape.probe -> unit
 (** [probe_into o q obj] is {!intersect_into} for the ray that the probe [q] holds, answer
     in [q.p_t]; a transformed object writes its object-space ray into the scratch probe
     [obj]. Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
+
+val probe_first_into : t -> Shape.probe -> Shape.probe -> unit
+(** {!probe_into} where any root in the interval will do ({!Shape.probe_first_into}): the
+    answer in [q.p_t] is below [q.p_tmax] exactly when {!probe_into}'s is. *)
 
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)

@@ -120,17 +120,17 @@ let rec first_error s =
   | Seq.Cons (Ok (), rest) -> first_error rest
   | Seq.Cons ((Error _ as e), _) -> e
 
-let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
+let of_array ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
     ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
   let* () =
     first_error
-      (List.to_seq objects
+      (Array.to_seq objects
       |> Seq.concat_map (fun o -> List.to_seq (Primitive.materials o))
       |> Seq.map Material.validate)
   in
-  let lights = Array.of_list lights and objects = Array.of_list objects in
+  let lights = Array.of_list lights in
   let origin = origin_of camera in
   let objects =
     if is_zero origin then objects
@@ -153,6 +153,9 @@ let make ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
       view;
       view_lights;
     }
+
+let make ?settings ?camera ?time ?frame ~lights objects =
+  of_array ?settings ?camera ?time ?frame ~lights (Array.of_list objects)
 
 (* ---------------------------------------------------------------------------------- *)
 (* A part that does not change between frames *)
@@ -304,3 +307,5 @@ let map_lights t f =
     view_lights = view_lights t.origin lights;
     features = derive_features t.settings t.camera lights t.objects t.accel;
   }
+
+let object_count t = Array.fold_left (fun n o -> n + Primitive.faces o) 0 t.objects

@@ -35,6 +35,17 @@ val make :
 (** [make ~lights objects] validates settings, camera and materials and builds the scene.
 *)
 
+val of_array :
+  ?settings:Settings.t ->
+  ?camera:Camera.t ->
+  ?time:float ->
+  ?frame:int ->
+  lights:Light.t list ->
+  Primitive.t array ->
+  (t, string) result
+(** {!make} of an array of objects, which the scene keeps (the caller must not change it).
+*)
+
 val origin_of : Camera.t -> Vec3.t
 (** The [origin] of a scene seen through this camera. *)
 
@@ -91,3 +102,7 @@ val with_camera : t -> Camera.t -> (t, string) result
 val map_lights : t -> (Light.t -> Light.t) -> t
 (** The same scene with each light replaced (quality presets change area-light samples),
     features re-derived. *)
+
+val object_count : t -> int
+(** How many objects the scene has, a mesh counting as its faces: what [lancer check] and
+    the statistics report. *)

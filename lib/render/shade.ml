@@ -73,8 +73,10 @@ let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta 
 let crossing (q : Probe.t) (f : Frag.t) acc (o : Primitive.t) =
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz in
-  (* A CSG object's crossing shades with the leaf it lies on. *)
-  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) q.p_t else o in
+  (* A CSG object's crossing shades with the leaf it lies on, a mesh's with its face. *)
+  let o =
+    if Primitive.is_composite o then Primitive.surface o (Probe.to_ray q) q.p_t else o
+  in
   let px = ox +. (t *. q.dx) and py = oy +. (t *. q.dy) and pz = oz +. (t *. q.dz) in
   Frag.set_point f px py pz;
   Primitive.normal_into o f;
@@ -314,7 +316,9 @@ and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
   let q = scr.q and f = scr.f and acc = scr.acc in
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz and dx = q.dx and dy = q.dy and dz = q.dz in
-  let o = if Primitive.is_csg o then Primitive.surface o (Probe.to_ray q) q.p_t else o in
+  let o =
+    if Primitive.is_composite o then Primitive.surface o (Probe.to_ray q) q.p_t else o
+  in
   let s = sc.settings in
   let m = o.material in
   let px = ox +. (t *. dx) and py = oy +. (t *. dy) and pz = oz +. (t *. dz) in

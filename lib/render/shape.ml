@@ -58,6 +58,7 @@ type t =
       e2 : Vec3.t;
     }
   | Closed_mesh of { tris : t array; mbounds : Bbox.t option }
+  | Mesh of Trimesh.t
   | Csg of {
       op : csg_op;
       members : csg_member array;
@@ -141,12 +142,12 @@ let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
      test would say the same. *)
-  let fx = ox -. center.x and fy = oy -. center.y and fz = oz -. center.z in
+  let fx = ox -. cx and fy = oy -. cy and fz = oz -. cz in
   let a = (dx *. dx) +. (dy *. dy) +. (dz *. dz) in
   let b = (fx *. dx) +. (fy *. dy) +. (fz *. dz) in
   let k = -.b /. a in
@@ -178,6 +179,9 @@ let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
         if in_range lo tmin tmax then lo
         else if in_range hi tmin tmax then hi
         else Float.infinity
+
+let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
+  sphere_sc center.x center.y center.z radius ox oy oz dx dy dz tmin tmax
 
 let[@inline] intersect_sphere center radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
@@ -232,48 +236,11 @@ let[@inline] intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   parallelogram_s origin edge1 edge2 pn w pd o.x o.y o.z d.x d.y d.z tmin tmax
 
-(* Watertight ray–triangle test (Woop, Benthin, Wald, JCGT 2013; pbrt-v4 Triangle::Intersect).
-   Translate the vertices to the ray origin, permute axes so that the largest direction
-   component is z, shear so that the ray becomes +z, and evaluate the three 2-D edge
-   functions. A shared edge is evaluated from the same two transformed vertices in both
-   triangles, and x0·y1 − y0·x1 is exactly antisymmetric in floating point, so the two
-   triangles agree on the sign: no ray passes between them. *)
-(* Coordinate k of a vector, of three scalars: toplevel, so that the test inlines. *)
-let[@inline] pick (v : Vec3.t) k = if k = 0 then v.x else if k = 1 then v.y else v.z
-let[@inline] pick3 (x : float) y z k = if k = 0 then x else if k = 1 then y else z
-
+(* The watertight ray–triangle test of Trimesh, on a triangle's corners. *)
 let[@inline] triangle_s (p0 : Vec3.t) (p1 : Vec3.t) (p2 : Vec3.t) rox roy roz rdx rdy rdz
     tmin tmax =
-  let ax = Float.abs rdx and ay = Float.abs rdy and az = Float.abs rdz in
-  (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
-  let kz = if ax > ay then if ax > az then 0 else 2 else if ay > az then 1 else 2 in
-  let kx = if kz = 2 then 0 else kz + 1 in
-  let ky = if kx = 2 then 0 else kx + 1 in
-  let dx = pick3 rdx rdy rdz kx
-  and dy = pick3 rdx rdy rdz ky
-  and dz = pick3 rdx rdy rdz kz in
-  if dz = 0. then Float.infinity (* zero direction *)
-  else
-    let sx = -.dx /. dz and sy = -.dy /. dz and sz = 1. /. dz in
-    let ox = pick3 rox roy roz kx
-    and oy = pick3 rox roy roz ky
-    and oz = pick3 rox roy roz kz in
-    let z0 = pick p0 kz -. oz and z1 = pick p1 kz -. oz and z2 = pick p2 kz -. oz in
-    let x0 = pick p0 kx -. ox +. (sx *. z0) and y0 = pick p0 ky -. oy +. (sy *. z0) in
-    let x1 = pick p1 kx -. ox +. (sx *. z1) and y1 = pick p1 ky -. oy +. (sy *. z1) in
-    let x2 = pick p2 kx -. ox +. (sx *. z2) and y2 = pick p2 ky -. oy +. (sy *. z2) in
-    let e0 = (x1 *. y2) -. (y1 *. x2) in
-    let e1 = (x2 *. y0) -. (y2 *. x0) in
-    let e2 = (x0 *. y1) -. (y0 *. x1) in
-    if (e0 < 0. || e1 < 0. || e2 < 0.) && (e0 > 0. || e1 > 0. || e2 > 0.) then
-      Float.infinity
-    else
-      let det = e0 +. e1 +. e2 in
-      if det = 0. || Float.is_nan det then Float.infinity
-      else
-        let t_scaled = (e0 *. (z0 *. sz)) +. (e1 *. (z1 *. sz)) +. (e2 *. (z2 *. sz)) in
-        let t = t_scaled /. det in
-        if in_range t tmin tmax then t else Float.infinity
+  Trimesh.triangle_s p0.x p0.y p0.z p1.x p1.y p1.z p2.x p2.y p2.z rox roy roz rdx rdy rdz
+    tmin tmax
 
 let[@inline] intersect_triangle p0 p1 p2 r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
@@ -615,6 +582,7 @@ let bbox_of = function
       let h = Vec3.v (e axis.x) (e axis.y) (e axis.z) in
       Some { Bbox.min = Vec3.sub center h; max = Vec3.add center h }
   | Closed_mesh { mbounds; _ } -> mbounds
+  | Mesh m -> Some (Trimesh.bounds m)
   | Csg { cbounds; _ } -> cbounds
 
 (* --- Solids and CSG ------------------------------------------------------------------ *)
@@ -679,7 +647,7 @@ let rec inside s (p : Vec3.t) =
           none 1)
   | Cylinder { caps = false; _ }
   | Cone { caps = false; _ }
-  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ ->
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ | Mesh _ ->
       false
 
 let rec is_solid = function
@@ -687,7 +655,7 @@ let rec is_solid = function
   | Cone { caps; _ } -> caps
   | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
   | Cylinder { caps; _ } -> caps
-  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ | Mesh _ -> false
 
 (* A member's crossings are found by asking again past the last root; a shape has few
    roots, and this bound only guards against a surface that would never stop. *)
@@ -728,6 +696,13 @@ let rec intersect_into s r (h : hit) =
           if t < !best then best := t)
         tris;
       h.t <- (if !best < tmax then !best else Float.infinity)
+  | Mesh m ->
+      let q = Probe.create () in
+      Probe.of_ray q r;
+      q.p_tmin <- tmin;
+      q.p_tmax <- tmax;
+      ignore (Trimesh.nearest m q);
+      h.t <- q.p_t
   | Csg _ ->
       h.t <-
         (match csg_crossings s r tmin with
@@ -840,10 +815,14 @@ let probe_into s (q : probe) =
   | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
   | Disk { center; normal; radius; _ } ->
       q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Mesh m -> ignore (Trimesh.nearest m q)
   | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
       let h = { tmin; tmax; t = Float.infinity } in
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
       q.p_t <- h.t
+
+let probe_first_into s (q : probe) =
+  match s with Mesh m -> ignore (Trimesh.first m q) | s -> probe_into s q
 
 let csg op (ms : (t * Transform.t) list) =
   let leaves = ref [] and n = ref 0 in
@@ -1047,7 +1026,8 @@ let normal s p =
       let l = Vec3.length xp in
       if l = 0. then if Vec3.dot q axis >= 0. then axis else Vec3.neg axis
       else Vec3.normalize (Vec3.madd q (-.major /. l) xp)
-  | Closed_mesh _ -> invalid_arg "Shape.normal: a closed mesh's surface is its triangles"
+  | Closed_mesh _ | Mesh _ ->
+      invalid_arg "Shape.normal: a mesh's surface is its triangles (Shape.mesh_face)"
   | Csg _ ->
       invalid_arg
         "Shape.normal: a CSG object has no surface of its own; ask its leaf \
@@ -1089,7 +1069,8 @@ let normal_into s (f : Frag.t) =
           f.ny <- 0.;
           f.nz <- -1.
       | _ -> Frag.set_normal f Vec3.z_axis)
-  | Triangle _ | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
+  | Triangle _ | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Mesh _
+  | Csg _ ->
       Frag.set_normal f (normal s (Frag.point f))
 
 let frac x = x -. Float.floor x
@@ -1161,7 +1142,7 @@ let uv s (p : Vec3.t) =
       let rho = Vec3.length (Vec3.madd q (-.y) axis) in
       let v = 0.5 +. (Float.atan2 y (rho -. major) /. (2. *. Float.pi)) in
       (turn e1 e2 q, if v >= 1. then 0. else clamp01 v)
-  | Closed_mesh _ | Csg _ -> (0., 0.)
+  | Closed_mesh _ | Mesh _ | Csg _ -> (0., 0.)
 
 let uv_into s (f : Frag.t) =
   let u, v = uv s (Frag.point f) in
@@ -1187,6 +1168,7 @@ let rec translate (d : Vec3.t) = function
   | Cone c -> Cone { c with base = Vec3.add c.base d }
   | Torus t -> Torus { t with center = Vec3.add t.center d }
   | Closed_mesh { tris; _ } -> closed_mesh (Array.to_list (Array.map (translate d) tris))
+  | Mesh m -> Mesh (Trimesh.translate d m)
   | Csg { op; members; _ } ->
       csg op
         (Array.to_list
@@ -1206,9 +1188,41 @@ let name = function
   | Cylinder _ -> "cylinder"
   | Disk _ -> "disk"
   | Cone _ -> "cone"
-  | Closed_mesh _ -> "mesh"
+  | Closed_mesh _ | Mesh _ -> "mesh"
   | Torus _ -> "torus"
   | Csg { op = Union; _ } -> "union"
   | Csg { op = Merge; _ } -> "merge"
   | Csg { op = Intersection; _ } -> "intersection"
   | Csg { op = Difference; _ } -> "difference"
+
+let mesh m = Mesh m
+
+(* Face [k] of a mesh as the triangle that [mesh_triangle] makes of its corners. *)
+let face m k =
+  let normals =
+    if Trimesh.has_normals m k then
+      Some (Trimesh.normal m k 0, Trimesh.normal m k 1, Trimesh.normal m k 2)
+    else None
+  in
+  let uvs =
+    if Trimesh.has_uvs m k then Some (Trimesh.uv m k 0, Trimesh.uv m k 1, Trimesh.uv m k 2)
+    else None
+  in
+  triangle_gen ?normals ?uvs (Trimesh.vertex m k 0) (Trimesh.vertex m k 1)
+    (Trimesh.vertex m k 2)
+
+let faces m = List.init (Trimesh.count m) (face m)
+
+let mesh_face s r t =
+  match s with
+  | Mesh m ->
+      (* The triangles whose root is t are those hit in (pred t, succ t): roots do not
+         depend on the interval, and the lowest index among them is the one the query
+         that found t kept. *)
+      let q = Probe.create () in
+      Probe.of_ray q r;
+      q.p_tmin <- Float.pred t;
+      q.p_tmax <- Float.succ t;
+      let k = Trimesh.nearest m q in
+      face m (if k < 0 then 0 else k)
+  | s -> s

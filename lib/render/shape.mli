@@ -79,6 +79,10 @@ type t = private
     }  (** points at distance r from the ring of radius R around [axis] *)
   | Closed_mesh of { tris : t array;  (** triangles *) mbounds : Bbox.t option }
       (** a mesh whose every edge is shared by exactly two faces: a solid, for CSG *)
+  | Mesh of Trimesh.t
+      (** an indexed triangle mesh (an OBJ file's): one shape for all its faces, hit
+          through its own bounding volume hierarchy; shading asks {!mesh_face} for the
+          face hit *)
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
@@ -217,6 +221,11 @@ val probe_into : t -> probe -> unit
     [q] holds: the same root, bit for bit, computed without allocating (except for
     cylinders and paraboloids, which build the ray). *)
 
+val probe_first_into : t -> probe -> unit
+(** {!probe_into} where any root in the interval will do: a mesh stops at the first face
+    it finds crossed (its t in [q.p_t]), other shapes answer as {!probe_into}. The shadow
+    query's test. *)
+
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the
@@ -247,3 +256,36 @@ val translate : Vec3.t -> t -> t
 
 val name : t -> string
 (** The kind, as written in a scene ("sphere", "plane", …; "mesh" for mesh faces). *)
+
+val mesh : Trimesh.t -> t
+(** The mesh whose faces are the triangles of an indexed mesh. *)
+
+val face : Trimesh.t -> int -> t
+(** [face m k] is triangle [k] of [m] as {!mesh_triangle} makes it of its corners, normals
+    and (u, v): the same bits as a triangle read on its own. *)
+
+val faces : Trimesh.t -> t list
+(** Every face, in order. *)
+
+val mesh_face : t -> Ray.t -> float -> t
+(** [mesh_face s r t] is, for a {!Mesh}, the face that ray [r] hit at [t] (a root that
+    {!intersect} found): among the faces whose root is [t], the lowest. Any other shape is
+    its own face. *)
+
+val sphere_sc :
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float
+(** [sphere_sc cx cy cz r ox oy oz dx dy dz tmin tmax] is the sphere's root in (tmin,
+    tmax) along the ray, or infinity: {!probe_into} of a {!Sphere}, bit for bit, on
+    scalars (for structures that keep spheres in flat arrays). *)

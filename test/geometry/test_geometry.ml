@@ -494,6 +494,165 @@ let watertight_tiles =
       let _, i = Accel.nearest accel r 0. inf in
       i >= 0)
 
+(* ---- indexed meshes ---- *)
+
+let mesh_ok ?smooth text =
+  match Mesh.parse_mesh ?smooth ~file:"t.obj" text with
+  | Ok m -> m
+  | Error e -> Alcotest.failf "unexpected error: %s" e
+
+(* A wavy grid of quads (shared edges and vertices, rays through them tie), every face
+   given twice in places (exact ties between faces), some faces with normals and (u, v). *)
+let wavy_obj st =
+  let n = 3 + Random.State.int st 12 in
+  let b = Buffer.create 4096 in
+  for j = 0 to n do
+    for i = 0 to n do
+      Printf.bprintf b "v %d %.17g %d\n" i (rand_in st (-0.5) 0.5) j
+    done
+  done;
+  Buffer.add_string b "vn 0 1 0\nvn 0.2 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+  let id i j = (j * (n + 1)) + i + 1 in
+  for j = 0 to n - 1 do
+    for i = 0 to n - 1 do
+      let a = id i j
+      and bb = id (i + 1) j
+      and c = id (i + 1) (j + 1)
+      and d = id i (j + 1) in
+      (match Random.State.int st 3 with
+      | 0 -> Printf.bprintf b "f %d %d %d %d\n" a bb c d
+      | 1 -> Printf.bprintf b "f %d/1/1 %d/2/2 %d/3/1\nf %d %d %d\n" a bb c a c d
+      | _ -> Printf.bprintf b "f %d %d %d\nf %d/3 %d/2 %d/1\n" a bb d bb c d);
+      if Random.State.int st 8 = 0 then Printf.bprintf b "f %d %d %d\n" a bb c
+    done
+  done;
+  (n, Buffer.contents b)
+
+let same_face (x : Shape.t) (y : Shape.t) =
+  match (x, y) with
+  | Shape.Triangle a, Shape.Triangle b ->
+      a.a = b.a && a.b = b.b && a.c = b.c && a.tn = b.tn && a.normals = b.normals
+      && a.uvs = b.uvs
+  | _ -> false
+
+let mesh_nearest_prop =
+  QCheck.Test.make
+    ~name:
+      "an indexed mesh's nearest hit and face are a scan of its faces' (ties to the \
+       lower), its first crossing one of them"
+    ~count:40
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let n, text = wavy_obj st in
+      let m = mesh_ok text in
+      let faces = Array.of_list (Shape.faces m) in
+      let shape = Shape.mesh m in
+      let ok = ref true in
+      for _ = 1 to 300 do
+        let o = v (rand_in st (-1.) (Float.of_int n +. 1.)) 3. (rand_in st (-1.) 5.) in
+        (* At a vertex, along an edge, or anywhere over the grid. *)
+        let target =
+          match Random.State.int st 3 with
+          | 0 ->
+              v
+                (Float.of_int (Random.State.int st (n + 1)))
+                0.
+                (Float.of_int (Random.State.int st (n + 1)))
+          | 1 -> v (Float.of_int (Random.State.int st (n + 1))) 0. (rand_in st 0. 1.)
+          | _ -> v (rand_in st 0. (Float.of_int n)) 0. (rand_in st 0. (Float.of_int n))
+        in
+        let target =
+          (* Onto the surface's height there: aim at a vertex of the file. *)
+          if Random.State.bool st then target else Vec3.add target (v 0. (-0.1) 0.)
+        in
+        let r = ray o (Vec3.sub target o) in
+        let best_t = ref inf and best = ref (-1) in
+        Array.iteri
+          (fun k f ->
+            let t = Shape.intersect f r 0. !best_t in
+            if t < !best_t then (
+              best_t := t;
+              best := k))
+          faces;
+        let t = Shape.intersect shape r 0. inf in
+        if not (Int64.equal (Int64.bits_of_float t) (Int64.bits_of_float !best_t)) then (
+          ok := false;
+          QCheck.Test.fail_reportf "mesh t %.17g vs scan %.17g" t !best_t);
+        if !best >= 0 && not (same_face (Shape.mesh_face shape r t) faces.(!best)) then (
+          ok := false;
+          QCheck.Test.fail_reportf "the face hit at %.17g is not the scan's face %d" t
+            !best);
+        (* The shadow query's test: some face is crossed exactly when the nearest is. *)
+        let tmax = if Random.State.bool st then inf else rand_in st 1. 6. in
+        let q = Probe.create () in
+        Probe.of_ray q r;
+        q.p_tmin <- 0.;
+        q.p_tmax <- tmax;
+        let k = Trimesh.first m q in
+        let nearest = Shape.intersect shape r 0. tmax in
+        if k >= 0 <> (nearest < tmax) then (
+          ok := false;
+          QCheck.Test.fail_reportf "first %d, nearest %.17g below %g" k nearest tmax);
+        if k >= 0 && Shape.intersect faces.(k) r 0. tmax <> q.p_t then (
+          ok := false;
+          QCheck.Test.fail_reportf "first face %d's t %.17g is not its root" k q.p_t)
+      done;
+      !ok)
+
+let indexed_tests =
+  [
+    case "an OBJ mesh is one object, its faces shared arrays" (fun () ->
+        let m = mesh_ok (sphere_obj ()) in
+        Alcotest.(check int) "faces" (2 * 16 * 11) (Trimesh.count m);
+        let p = Primitive.make Material.default (Shape.mesh m) in
+        Alcotest.(check int) "faces of the object" (2 * 16 * 11) (Primitive.faces p);
+        Alcotest.(check bool) "shades through its faces" true (Primitive.is_composite p);
+        (* Nothing per face beyond three 32-bit indices and its place in the tree: well
+           under the 30-odd words a record per face took. *)
+        let words = Obj.reachable_words (Obj.repr m) in
+        if words > 16 * Trimesh.count m then
+          Alcotest.failf "%d words for %d faces" words (Trimesh.count m));
+    case "a mesh's faces are the triangles the list parse gives" (fun () ->
+        let text =
+          quad
+          ^ "vt 0 0\nvt 1 0\nvn 0 0 1\nvn 1 0 1\nf 1/1/1 2/2/2 3/1/2 4/2/1\nf 1 3 4\n"
+        in
+        let a = Shape.faces (mesh_ok text) and b = parse_ok text in
+        Alcotest.(check int) "count" (List.length b) (List.length a);
+        List.iter2 (fun x y -> Alcotest.(check bool) "same face" true (same_face x y)) a b);
+    case "a mesh's kinds count its faces" (fun () ->
+        let m = mesh_ok (quad ^ "vn 0 0 1\nf 1 2 3\nf 1//1 3//1 4//1\n") in
+        Alcotest.(check (list string))
+          "names" [ "triangle"; "mesh" ]
+          (List.map Shape.name (Shape.faces m)));
+    case "an untransformed sphere's object keeps no box of its own" (fun () ->
+        let s i = Shape.sphere ~center:(v (Float.of_int i) 0. 0.) ~radius:0.4 in
+        let prims = Array.init 1000 (fun i -> Primitive.make Material.default (s i)) in
+        (* The array slot, the record (8), the shape (3) and its centre (4); a box per
+           sphere would add 13. *)
+        let per = Obj.reachable_words (Obj.repr prims) / 1000 in
+        if per > 18 then Alcotest.failf "%d words per sphere" per;
+        let b = Option.get (Primitive.bounds prims.(3)) in
+        check_vec "min" (v 2.6 (-0.4) (-0.4)) b.min;
+        check_vec "max" (v 3.4 0.4 0.4) b.max;
+        let moved =
+          Primitive.make
+            ~transform:(Transform.translate (v 0. 1. 0.))
+            Material.default (s 0)
+        in
+        let b = Option.get (Primitive.bounds moved) in
+        check_vec "moved min" (v (-0.4) 0.6 (-0.4)) b.min);
+    case "a scene of one mesh still builds a tree when it has eight faces or more"
+      (fun () ->
+        let m = mesh_ok (sphere_obj ()) in
+        let a = Accel.build [| Primitive.make Material.default (Shape.mesh m) |] in
+        Alcotest.(check bool) "bvh" true (Accel.uses_bvh a);
+        let t, i = Accel.nearest a (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
+        Alcotest.(check int) "index" 0 i;
+        if not (t > 3.9 && t < 4.1) then Alcotest.failf "t = %.17g" t);
+  ]
+
 (* ---- the hierarchy against brute force ---- *)
 
 let brute_nearest prims r tmin tmax =
@@ -1015,6 +1174,7 @@ let () =
       ("quadrics and box", quadric_tests);
       ("convexity", [ seeded convex_prop ]);
       ("obj", mesh_tests @ [ seeded obj_number_prop ]);
+      ("indexed mesh", indexed_tests @ [ seeded mesh_nearest_prop ]);
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);

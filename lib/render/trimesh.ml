@@ -1,0 +1,316 @@
+(* An indexed triangle mesh: shared vertex arrays, three indices per triangle, and a
+   bounding volume hierarchy over the triangles whose leaves hold triangle indices. *)
+
+type ints = (int32, Bigarray.int32_elt, Bigarray.c_layout) Bigarray.Array1.t
+
+type t = {
+  pos : Float.Array.t;
+  nrm : Float.Array.t;
+  tex : Float.Array.t;
+  tv : ints;
+  tn : ints;
+  tt : ints;
+  count : int;
+  bvh : Bvh.t option;
+  bounds : Bbox.t;
+}
+
+let fget = Float.Array.unsafe_get
+let[@inline] iget (a : ints) i = Int32.to_int (Bigarray.Array1.unsafe_get a i)
+let ints n = Bigarray.Array1.create Bigarray.int32 Bigarray.c_layout n
+let no_ints = ints 0
+
+(* Coordinate k of three scalars. *)
+let[@inline] pick3 (x : float) y z k = if k = 0 then x else if k = 1 then y else z
+
+(* Watertight ray–triangle test (Woop, Benthin, Wald, JCGT 2013; pbrt-v4 Triangle::Intersect).
+   Translate the vertices to the ray origin, permute axes so that the largest direction
+   component is z, shear so that the ray becomes +z, and evaluate the three 2-D edge
+   functions. A shared edge is evaluated from the same two transformed vertices in both
+   triangles, and x0·y1 − y0·x1 is exactly antisymmetric in floating point, so the two
+   triangles agree on the sign: no ray passes between them. *)
+let[@inline] triangle_s p0x p0y p0z p1x p1y p1z p2x p2y p2z rox roy roz rdx rdy rdz tmin
+    tmax =
+  let ax = Float.abs rdx and ay = Float.abs rdy and az = Float.abs rdz in
+  (* kz is the axis of the largest |d| component; kx, ky follow it cyclically. *)
+  let kz = if ax > ay then if ax > az then 0 else 2 else if ay > az then 1 else 2 in
+  let kx = if kz = 2 then 0 else kz + 1 in
+  let ky = if kx = 2 then 0 else kx + 1 in
+  let dx = pick3 rdx rdy rdz kx
+  and dy = pick3 rdx rdy rdz ky
+  and dz = pick3 rdx rdy rdz kz in
+  if dz = 0. then Float.infinity (* zero direction *)
+  else
+    let sx = -.dx /. dz and sy = -.dy /. dz and sz = 1. /. dz in
+    let ox = pick3 rox roy roz kx
+    and oy = pick3 rox roy roz ky
+    and oz = pick3 rox roy roz kz in
+    let z0 = pick3 p0x p0y p0z kz -. oz
+    and z1 = pick3 p1x p1y p1z kz -. oz
+    and z2 = pick3 p2x p2y p2z kz -. oz in
+    let x0 = pick3 p0x p0y p0z kx -. ox +. (sx *. z0)
+    and y0 = pick3 p0x p0y p0z ky -. oy +. (sy *. z0) in
+    let x1 = pick3 p1x p1y p1z kx -. ox +. (sx *. z1)
+    and y1 = pick3 p1x p1y p1z ky -. oy +. (sy *. z1) in
+    let x2 = pick3 p2x p2y p2z kx -. ox +. (sx *. z2)
+    and y2 = pick3 p2x p2y p2z ky -. oy +. (sy *. z2) in
+    let e0 = (x1 *. y2) -. (y1 *. x2) in
+    let e1 = (x2 *. y0) -. (y2 *. x0) in
+    let e2 = (x0 *. y1) -. (y0 *. x1) in
+    if (e0 < 0. || e1 < 0. || e2 < 0.) && (e0 > 0. || e1 > 0. || e2 > 0.) then
+      Float.infinity
+    else
+      let det = e0 +. e1 +. e2 in
+      if det = 0. || Float.is_nan det then Float.infinity
+      else
+        let t_scaled = (e0 *. (z0 *. sz)) +. (e1 *. (z1 *. sz)) +. (e2 *. (z2 *. sz)) in
+        let t = t_scaled /. det in
+        if t > tmin && t < tmax then t else Float.infinity
+
+(* Triangle [k] against the probe's ray over (p_tmin, tmax). *)
+let[@inline] test m k (q : Probe.t) tmax =
+  let pos = m.pos and tv = m.tv in
+  let a = 3 * iget tv (3 * k)
+  and b = 3 * iget tv ((3 * k) + 1)
+  and c = 3 * iget tv ((3 * k) + 2) in
+  triangle_s (fget pos a)
+    (fget pos (a + 1))
+    (fget pos (a + 2))
+    (fget pos b)
+    (fget pos (b + 1))
+    (fget pos (b + 2))
+    (fget pos c)
+    (fget pos (c + 1))
+    (fget pos (c + 2))
+    q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin tmax
+
+let min_bvh = 8
+
+let make ~pos ~nrm ~tex ~tv ~tn ~tt =
+  let count = Bigarray.Array1.dim tv / 3 in
+  let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+  let x1 = ref Float.neg_infinity
+  and y1 = ref Float.neg_infinity
+  and z1 = ref Float.neg_infinity in
+  let pbox = Float.Array.create (if count >= min_bvh then 6 * count else 0) in
+  for k = 0 to count - 1 do
+    let a = 3 * iget tv (3 * k)
+    and b = 3 * iget tv ((3 * k) + 1)
+    and c = 3 * iget tv ((3 * k) + 2) in
+    (* The triangle's box as Vec3.min (Vec3.min a b) c and Vec3.max of the same. *)
+    let mn j =
+      Float.min (Float.min (fget pos (a + j)) (fget pos (b + j))) (fget pos (c + j))
+    and mx j =
+      Float.max (Float.max (fget pos (a + j)) (fget pos (b + j))) (fget pos (c + j))
+    in
+    let ax = mn 0 and ay = mn 1 and az = mn 2 in
+    let bx = mx 0 and by = mx 1 and bz = mx 2 in
+    x0 := Float.min !x0 ax;
+    y0 := Float.min !y0 ay;
+    z0 := Float.min !z0 az;
+    x1 := Float.max !x1 bx;
+    y1 := Float.max !y1 by;
+    z1 := Float.max !z1 bz;
+    if count >= min_bvh then Bvh.pad_into pbox k ax ay az bx by bz
+  done;
+  let finite =
+    Float.is_finite !x0 && Float.is_finite !y0 && Float.is_finite !z0
+    && Float.is_finite !x1 && Float.is_finite !y1 && Float.is_finite !z1
+  in
+  let bvh = if count >= min_bvh && finite then Some (Bvh.build pbox) else None in
+  {
+    pos;
+    nrm;
+    tex;
+    tv;
+    tn;
+    tt;
+    count;
+    bvh;
+    bounds = { Bbox.min = Vec3.v !x0 !y0 !z0; max = Vec3.v !x1 !y1 !z1 };
+  }
+
+let count m = m.count
+let bounds m = m.bounds
+let[@inline] has_normals m k = Bigarray.Array1.dim m.tn > 0 && iget m.tn (3 * k) >= 0
+let[@inline] has_uvs m k = Bigarray.Array1.dim m.tt > 0 && iget m.tt (3 * k) >= 0
+
+let vertex m k j =
+  let a = 3 * iget m.tv ((3 * k) + j) in
+  Vec3.v (fget m.pos a) (fget m.pos (a + 1)) (fget m.pos (a + 2))
+
+let normal m k j =
+  let a = 3 * iget m.tn ((3 * k) + j) in
+  Vec3.v (fget m.nrm a) (fget m.nrm (a + 1)) (fget m.nrm (a + 2))
+
+let uv m k j =
+  let a = 2 * iget m.tt ((3 * k) + j) in
+  (fget m.tex a, fget m.tex (a + 1))
+
+let translate (d : Vec3.t) m =
+  let pos =
+    Float.Array.init (Float.Array.length m.pos) (fun i ->
+        let x = fget m.pos i in
+        match i mod 3 with 0 -> x +. d.x | 1 -> x +. d.y | _ -> x +. d.z)
+  in
+  make ~pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt
+
+(* Traversal stacks, one per domain, as the scene's: a query that finds it busy
+   allocates its own. *)
+type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
+
+let stack_key =
+  Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
+
+let get_stack depth =
+  let s = Domain.DLS.get stack_key in
+  if s.busy then
+    { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
+  else (
+    if Array.length s.ids <= depth then (
+      s.ids <- Array.make (depth + 1) 0;
+      s.ts <- Float.Array.create (depth + 1));
+    s.busy <- true;
+    s)
+
+(* The nearest triangle the probe's ray crosses in (p_tmin, p_tmax), ties to the lower
+   index, as a scan of the triangles in order finds it: its index (−1 for none), its t in
+   [q.p_t]. The probe's reciprocal direction must be set. The tree queries each triangle
+   up to succ(best t), so that an equal t is seen and the index decides; its boxes are
+   padded (see Bvh), and one is culled only when its entry is beyond the best t. *)
+let nearest m (q : Probe.t) =
+  let tmax = q.p_tmax in
+  match m.bvh with
+  | None ->
+      let best_t = ref tmax and best_i = ref (-1) in
+      for k = 0 to m.count - 1 do
+        let t = test m k q !best_t in
+        if t < !best_t then (
+          best_t := t;
+          best_i := k)
+      done;
+      q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
+      !best_i
+  | Some tr ->
+      let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
+      let tmin = q.p_tmin in
+      let ox = q.ox
+      and oy = q.oy
+      and oz = q.oz
+      and ix = q.ix
+      and iy = q.iy
+      and iz = q.iz in
+      let nodes = tr.nodes and order = tr.order in
+      let st = get_stack tr.depth in
+      let sids = st.ids and sts = st.ts in
+      let sp = ref 0 and node = ref 0 and go = ref true in
+      if Bvh.box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then
+        go := false;
+      while !go do
+        let k = !node in
+        let count = Bvh.count nodes k in
+        let next =
+          if count > 0 then (
+            let first = Bvh.link nodes k in
+            for j = first to first + count - 1 do
+              let i = Array.unsafe_get order j in
+              let t = test m i q !query in
+              if t <= !best_t then
+                if t < !best_t || i < !best_i then (
+                  best_t := t;
+                  best_i := i;
+                  query := Float.succ t)
+            done;
+            -1)
+          else
+            let l = k + 1 and rr = Bvh.link nodes k in
+            let tl = Bvh.box_entry nodes l ox oy oz ix iy iz tmin !best_t in
+            let trr = Bvh.box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
+            if tl < Float.infinity then
+              if trr < Float.infinity then
+                if trr < tl then (
+                  Array.unsafe_set sids !sp l;
+                  Float.Array.unsafe_set sts !sp tl;
+                  incr sp;
+                  rr)
+                else (
+                  Array.unsafe_set sids !sp rr;
+                  Float.Array.unsafe_set sts !sp trr;
+                  incr sp;
+                  l)
+              else l
+            else if trr < Float.infinity then rr
+            else -1
+        in
+        if next >= 0 then node := next
+        else
+          let found = ref false in
+          while (not !found) && !sp > 0 do
+            decr sp;
+            if fget sts !sp <= !best_t then (
+              found := true;
+              node := Array.unsafe_get sids !sp)
+          done;
+          if not !found then go := false
+      done;
+      st.busy <- false;
+      q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
+      !best_i
+
+(* Any triangle the probe's ray crosses in (p_tmin, p_tmax): the first one the walk meets
+   (−1 for none), its t in [q.p_t]. *)
+let first m (q : Probe.t) =
+  let tmax = q.p_tmax in
+  let found = ref (-1) and ft = ref Float.infinity in
+  (match m.bvh with
+  | None ->
+      let k = ref 0 in
+      while !found < 0 && !k < m.count do
+        let t = test m !k q tmax in
+        if t < tmax then (
+          found := !k;
+          ft := t);
+        incr k
+      done
+  | Some tr ->
+      let tmin = q.p_tmin in
+      let ox = q.ox
+      and oy = q.oy
+      and oz = q.oz
+      and ix = q.ix
+      and iy = q.iy
+      and iz = q.iz in
+      let nodes = tr.nodes and order = tr.order in
+      let st = get_stack tr.depth in
+      let sids = st.ids in
+      let sp = ref 0 in
+      if Bvh.box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+        Array.unsafe_set sids 0 0;
+        sp := 1);
+      while !found < 0 && !sp > 0 do
+        decr sp;
+        let node = Array.unsafe_get sids !sp in
+        let count = Bvh.count nodes node in
+        if count > 0 then
+          let first = Bvh.link nodes node in
+          let j = ref first in
+          while !found < 0 && !j < first + count do
+            let i = Array.unsafe_get order !j in
+            let t = test m i q tmax in
+            if t < tmax then (
+              found := i;
+              ft := t);
+            incr j
+          done
+        else
+          let l = node + 1 and rr = Bvh.link nodes node in
+          if Bvh.box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+            Array.unsafe_set sids !sp rr;
+            incr sp);
+          if Bvh.box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+            Array.unsafe_set sids !sp l;
+            incr sp)
+      done;
+      st.busy <- false);
+  q.p_t <- !ft;
+  !found
