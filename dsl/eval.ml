@@ -719,11 +719,13 @@ let binop loc op a b bloc =
 (* Blocks: fields, their types and ranges *)
 
 let rec eval_material ctx env loc items =
-  let b =
-    collect ctx env
-      { sink = ref []; in_group = false; in_csg = false }
-      "material" loc ~holds_objects:false items
-  in
+  material_of ctx loc
+    (collect ctx env
+       { sink = ref []; in_group = false; in_csg = false }
+       "material" loc ~holds_objects:false items)
+
+(* The material a material block states, once its fields are evaluated. *)
+and material_of ctx loc b =
   check_names b material_fields;
   (* A field left out keeps the base's value; without a base, the schema's default. *)
   let base =
@@ -2066,6 +2068,150 @@ let component (e : expr) v =
   | VNum x -> x
   | v -> fail e.loc "a vector component must be a number, got %s" (type_name v)
 
+(* A material block of plain fields only (colour, numbers, fresnel; no base, texture or
+   bump), each once: where each field is is settled here, once per site; its values are
+   evaluated in order, as [collect] would, and a right set of them is the material at
+   once. Anything else (a wrong type, a value out of range, a failed value) is read by
+   [material_of], for its messages. The same values as the site's last material give
+   that material again (a site whose fields are constants builds one). *)
+exception Slow
+
+let plain_material_fields =
+  [
+    "color";
+    "ambient";
+    "diffuse";
+    "specular";
+    "shininess";
+    "reflection";
+    "transparency";
+    "ior";
+    "fresnel";
+  ]
+
+let fast_material ctx loc (its : citem list) : code option =
+  let fields =
+    List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
+  in
+  let ids = List.map (fun ((n : name), _, _) -> n.id) fields in
+  if
+    not
+      (List.length fields = List.length its
+      && List.length (List.sort_uniq String.compare ids) = List.length ids
+      && List.for_all (fun id -> List.mem id plain_material_fields) ids)
+  then None
+  else
+    let spec = spec_for ctx "material" in
+    let index id =
+      let rec go i = function
+        | [] -> -1
+        | x :: rest -> if String.equal x id then i else go (i + 1) rest
+      in
+      go 0 ids
+    in
+    let range name =
+      match List.find_opt (fun e -> String.equal e.sch.name name) spec.entries with
+      | Some e -> e.sch.range
+      | None -> invalid_arg ("Eval: the schema's material has no " ^ name)
+    in
+    let codes = Array.of_list (List.map (fun (_, c, _) -> c) fields) in
+    let n = Array.length codes in
+    let d = ctx.specs.material and big = Schema.big in
+    let ci = index "color" and fi = index "fresnel" in
+    let num name =
+      let i = index name and r = range name in
+      fun (vals : value array) default ->
+        if i < 0 then default
+        else
+          match vals.(i) with
+          | VNum x when Schema.in_range r x -> x
+          | _ -> raise_notrace Slow
+    in
+    let ambient = num "ambient" and diffuse = num "diffuse" in
+    let specular = num "specular" and shininess = num "shininess" in
+    let reflection = num "reflection" and transparency = num "transparency" in
+    let ior = num "ior" in
+    let build vals : D.material =
+      let color =
+        if ci < 0 then d.color
+        else
+          match vals.(ci) with
+          | VVec v
+            when Float.abs v.x <= big
+                 && Float.abs v.y <= big
+                 && Float.abs v.z <= big
+                 && v.x >= 0. && v.y >= 0. && v.z >= 0. ->
+              Color.of_vec3 v
+          | _ -> raise_notrace Slow
+      in
+      let fresnel =
+        if fi < 0 then d.fresnel
+        else match vals.(fi) with VBool x -> x | _ -> raise_notrace Slow
+      in
+      let m : D.material =
+        {
+          color;
+          texture = None;
+          ambient = ambient vals d.ambient;
+          diffuse = diffuse vals d.diffuse;
+          specular = specular vals d.specular;
+          shininess = shininess vals d.shininess;
+          reflection = reflection vals d.reflection;
+          transparency = transparency vals d.transparency;
+          ior = ior vals d.ior;
+          fresnel;
+          bump = None;
+        }
+      in
+      (* What [D.validate_material] refuses (the ranges above keep the rest out). *)
+      if m.reflection +. m.transparency <= 1. then m else raise_notrace Slow
+    in
+    let slow vals failed =
+      let b =
+        {
+          ctx;
+          kind = "material";
+          kloc = loc;
+          spec;
+          fields =
+            List.mapi
+              (fun i ((name : name), _, vloc) -> { name; value = vals.(i); vloc })
+              fields;
+          failed;
+          members = ref [];
+        }
+      in
+      material_of ctx loc b
+    in
+    let last = ref None in
+    let same vals p =
+      let rec go i = i >= n || (vals.(i) == p.(i) && go (i + 1)) in
+      go 0
+    in
+    Some
+      (fun fr ->
+        let vals = Array.make n VPoison in
+        let failed = ref false in
+        for i = 0 to n - 1 do
+          match codes.(i) fr with
+          | v -> vals.(i) <- v
+          | exception Fail (l, m) ->
+              report ctx l m;
+              failed := true
+          | exception Poisoned -> failed := true
+        done;
+        if !failed then slow vals true
+        else
+          match !last with
+          | Some (p, v) when same vals p -> v
+          | _ -> (
+              match build vals with
+              | m ->
+                  let v = VMat m in
+                  last := Some (vals, v);
+                  v
+              | exception Slow -> slow vals false))
+
 let rec cexpr ctx ce (e : expr) : code =
   match e.e with
   | Num x ->
@@ -2078,13 +2224,26 @@ let rec cexpr ctx ce (e : expr) : code =
       let v = vbool b in
       fun _ -> v
   | Var x -> access ctx ce x e.loc
-  | Vec (a, b, c) ->
-      let ca = cexpr ctx ce a and cb = cexpr ctx ce b and cc = cexpr ctx ce c in
-      fun fr ->
-        let x = match ca fr with VNum x -> x | v -> component a v in
-        let y = match cb fr with VNum y -> y | v -> component b v in
-        let z = match cc fr with VNum z -> z | v -> component c v in
-        VVec { x; y; z }
+  | Vec (a, b, c) -> (
+      (* A vector of literal numbers is one value (a material of constants is then the
+         same material each time). *)
+      let lit (e : expr) =
+        match e.e with
+        | Num x -> Some x
+        | Unop (Neg, { e = Num x; _ }) -> Some (-.x)
+        | _ -> None
+      in
+      match (lit a, lit b, lit c) with
+      | Some x, Some y, Some z ->
+          let v = VVec { x; y; z } in
+          fun _ -> v
+      | _ ->
+          let ca = cexpr ctx ce a and cb = cexpr ctx ce b and cc = cexpr ctx ce c in
+          fun fr ->
+            let x = match ca fr with VNum x -> x | v -> component a v in
+            let y = match cb fr with VNum y -> y | v -> component b v in
+            let z = match cc fr with VNum z -> z | v -> component c v in
+            VVec { x; y; z })
   | Pair (a, b) ->
       let ca = cexpr ctx ce a and cb = cexpr ctx ce b in
       fun fr ->
@@ -2198,9 +2357,11 @@ let rec cexpr ctx ce (e : expr) : code =
                    in an expression"
                   m.mname m.mname
             | v -> fail f.nloc "`%s` is %s, not a function" f.id (type_name v)))
-  | Material items ->
+  | Material items -> (
       let its = citems ctx ce ~holds_objects:false items and loc = e.loc in
-      fun fr -> eval_material ctx fr loc its
+      match fast_material ctx loc its with
+      | Some code -> code
+      | None -> fun fr -> eval_material ctx fr loc its)
 
 (* Whether a statement may start a loop (its own, or a macro's): only then do the loops
    around it keep count of the iterations they have left. *)

@@ -988,6 +988,31 @@ let language_grid n =
      / 2), radius: 0.4 } } }\n"
     n
 
+(* The same grid, each sphere with its own material expression (the field of
+   scenes/bench/field_100000.rts), and one of transformed boxes in groups. *)
+let language_field n =
+  Printf.sprintf
+    "let n = %d\n\
+     settings { width: 64, height: 48 }\n\
+     camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
+     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
+     for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
+     / 2), radius: 0.4, material: material { color: (0.5 + 0.5 * sin(i), 0.5 + 0.5 * \
+     cos(j), 0.6) } } } }\n"
+    n
+
+let language_transformed n =
+  Printf.sprintf
+    "let n = %d\n\
+     settings { width: 64, height: 48 }\n\
+     camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
+     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
+     for i in 0 to n - 1 { group { translate: (i - n / 2, 0, 0), for j in 0 to n - 1 { \
+     box { min: (-0.4, 0, -0.4), max: (0.4, 0.8, 0.4), rotate: (0, 3 * j, 0), translate: \
+     (0, 0, j - n / 2), material: material { color: (0.9, 0.5, 0.2), specular: 0.5 } } } \
+     } }\n"
+    n
+
 (* One whole check of a program in this process (parse, static check, evaluation): its
    wall time, the words it allocated and the words its result holds. *)
 let language_eval text =
@@ -1044,9 +1069,17 @@ let language_cmd repeat grid json =
   let grid_runs = runs (fun () -> language_eval (language_grid grid)) in
   let grid_t = median (List.map (fun (t, _, _) -> t) grid_runs) in
   let objects = grid * grid in
-  let _, words, live = List.hd grid_runs in
-  let words = words /. Float.of_int objects
-  and live = Float.of_int live /. Float.of_int objects in
+  let per (_, words, live) =
+    (words /. Float.of_int objects, Float.of_int live /. Float.of_int objects)
+  in
+  let words, live = per (List.hd grid_runs) in
+  let other prog =
+    let rs = runs (fun () -> language_eval (prog grid)) in
+    let w, l = per (List.hd rs) in
+    (median (List.map (fun (t, _, _) -> t) rs), w, l)
+  in
+  let field_t, field_words, field_live = other language_field in
+  let tr_t, tr_words, tr_live = other language_transformed in
   if json then
     print_endline
       (Yojson.Safe.pretty_to_string
@@ -1063,6 +1096,12 @@ let language_cmd repeat grid json =
               ("objects_seconds", `Float grid_t);
               ("minor_words_per_object", `Float words);
               ("live_words_per_object", `Float live);
+              ("material_objects_seconds", `Float field_t);
+              ("material_minor_words_per_object", `Float field_words);
+              ("material_live_words_per_object", `Float field_live);
+              ("transformed_objects_seconds", `Float tr_t);
+              ("transformed_minor_words_per_object", `Float tr_words);
+              ("transformed_live_words_per_object", `Float tr_live);
             ]))
   else (
     Printf.printf
@@ -1087,8 +1126,17 @@ let language_cmd repeat grid json =
        else string_of_int objects)
       grid grid grid_t;
     Printf.printf
-      "\nPer sphere block: %.0f words allocated, %.0f words held by the description.\n"
-      words live;
+      "| the same spheres, each with a material { color: … } of its own | %.3f | — | — |\n"
+      field_t;
+    Printf.printf
+      "| as many rotated boxes with a material, in translated groups | %.3f | — | — |\n"
+      tr_t;
+    Printf.printf
+      "\n\
+       Per object, words allocated and words held by the description: %.0f and %.0f \
+       (spheres), %.0f and %.0f (spheres with a material each), %.0f and %.0f (boxes in \
+       groups).\n"
+      words live field_words field_live tr_words tr_live;
     if python = None then
       print_endline
         "python3 is not on the PATH: the CPython row (the same loop with math.sin and \

@@ -317,6 +317,88 @@ let test_other_blocks () =
         "transforms in the order written" [ 1.; 2. ] [ a.x; b.y ]
   | _ -> Alcotest.fail "one box with three steps"
 
+(* A material block in a loop: each iteration's mistakes read as any material's, once
+   each; right values make the material they say, and a site whose values do not change
+   makes one material. *)
+let test_material_blocks () =
+  check_errors "a material's mistakes, in a loop"
+    "for i in 0 to 3 {\n\
+     sphere { center: (i, 0, 0), radius: 1, material: material {\n\
+     color: if i == 1 then 3 else (1, 1, 1), ambient: if i == 2 then -1 else 0.1,\n\
+     color: (1, 1, 1) } }\n\
+     sphere { center: (i, 0, 0), radius: 1, material: material { color: (1, 1 - i, 0),\n\
+     reflection: i / 2, transparency: 0.6 } }\n\
+     sphere { center: (i, 0, 0), radius: 1, material: material { colr: (1, 1, 1),\n\
+     ior: i, specular: 1 / (i - 2), fresnel: i } }\n\
+     }"
+    [
+      "3:8: `color` must be a vector (x, y, z), got a number";
+      "3:50: `ambient` must be in [0, 1e150], got -1";
+      "4:1: `color` is given twice in this material (first at line 3)";
+      "5:68: a colour has no negative component; `color` is (1, -1, 0)";
+      "5:68: a colour has no negative component; `color` is (1, -2, 0)";
+      "6:13: `reflection` must be in [0, 1], got 1.5";
+      "6:34: reflection + transparency must be at most 1, got 0.5 + 0.6 = 1.1";
+      "7:61: unknown field `colr` in material; did you mean `color`?";
+      "8:6: `ior` must be greater than 0, got 0";
+      "8:19: `specular` must be in [0, 1e150], got -0.5";
+      "8:19: `specular` must be in [0, 1e150], got -1";
+      "8:23: division by zero";
+      "8:41: `fresnel` must be true or false, got a number";
+    ];
+  let materials text =
+    List.map
+      (fun (o : D.obj) ->
+        match o.material with Some m -> m | None -> Alcotest.fail "no material")
+      (objects text)
+  in
+  let ms =
+    materials
+      "let a = (1, 0, 0)\n\
+       let b = (0, 0, 1)\n\
+       for i in 0 to 3 {\n\
+       sphere { center: (i, 0, 0), radius: 1,\n\
+       material: material { color: if i % 2 == 0 then a else b, specular: i / 2,\n\
+       fresnel: i >= 2, ior: 1.5 } }\n\
+       }"
+  in
+  Alcotest.(check (list (list (float 0.))))
+    "each iteration's values"
+    [
+      [ 1.; 0.; 0.; 0.; 0.; 1.5; 0.1; 0.9 ];
+      [ 0.; 0.; 1.; 0.5; 0.; 1.5; 0.1; 0.9 ];
+      [ 1.; 0.; 0.; 1.; 1.; 1.5; 0.1; 0.9 ];
+      [ 0.; 0.; 1.; 1.5; 1.; 1.5; 0.1; 0.9 ];
+    ]
+    (List.map
+       (fun (m : D.material) ->
+         [
+           m.color.r;
+           m.color.g;
+           m.color.b;
+           m.specular;
+           (if m.fresnel then 1. else 0.);
+           m.ior;
+           m.ambient;
+           m.diffuse;
+         ])
+       ms);
+  match
+    materials
+      "for i in 0 to 2 {\n\
+       sphere { center: (i, 0, 0), radius: 1,\n\
+       material: material { color: (0.9, 0.5, 0.2), specular: 0.5, shininess: 40 } }\n\
+       }"
+  with
+  | [ m0; m1; m2 ] ->
+      Alcotest.(check bool)
+        "one material for a site of constants" true
+        (m0 == m1 && m1 == m2);
+      Alcotest.(check (list (float 0.)))
+        "its values" [ 0.9; 0.5; 0.2; 0.5; 40. ]
+        [ m0.color.r; m0.color.g; m0.color.b; m0.specular; m0.shininess ]
+  | _ -> Alcotest.fail "three spheres"
+
 let test_includes () =
   let dir =
     Filename.concat
@@ -375,5 +457,7 @@ let () =
           Alcotest.test_case "sphere blocks, right and wrong" `Quick test_sphere_blocks;
           Alcotest.test_case "other object blocks, right and wrong" `Quick
             test_other_blocks;
+          Alcotest.test_case "material blocks in a loop, right and wrong" `Quick
+            test_material_blocks;
         ] );
     ]
