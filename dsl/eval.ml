@@ -1535,23 +1535,34 @@ and shape b (k : name) : D.shape option =
   | _ -> fail k.nloc "%s is not an object" k.id
 
 and group ctx env scope (k : name) items =
-  let b = collect ctx env scope "group" k.nloc ~holds_objects:true items in
+  group_of scope (collect ctx env scope "group" k.nloc ~holds_objects:true items)
+
+(* A group's objects, once its items have run: each with the group's transform after its
+   own, and its material unless it has one. *)
+and group_of scope b =
   check_names b (field_names_of "group");
   let t, tj = transforms b in
   let mat = object_material b in
   finish b;
-  List.iter
-    (fun o ->
-      let o =
-        {
-          o with
-          D.transform = Transform.then_ o.D.transform t;
-          steps = o.D.steps @ tj;
-          material = (match o.D.material with Some _ -> o.D.material | None -> mat);
-        }
-      in
-      scope.sink := o :: !(scope.sink))
-    (List.rev !(b.members))
+  group_members scope t tj mat !(b.members)
+
+and group_members scope t tj mat members =
+  if Transform.is_identity t && match (tj, mat) with [], None -> true | _ -> false then
+    (* Each object would be itself again. *)
+    List.iter (fun o -> scope.sink := o :: !(scope.sink)) (List.rev members)
+  else
+    List.iter
+      (fun o ->
+        let o =
+          {
+            o with
+            D.transform = Transform.then_ o.D.transform t;
+            steps = o.D.steps @ tj;
+            material = (match o.D.material with Some _ -> o.D.material | None -> mat);
+          }
+        in
+        scope.sink := o :: !(scope.sink))
+      (List.rev members)
 
 (* A CSG block: its members are combined into one object. A group inside a CSG block is
    one member, the union of its own. *)
@@ -2089,6 +2100,57 @@ let plain_material_fields =
     "fresnel";
   ]
 
+(* The transforms of a block (translate, rotate, scale in the order written) read by
+   position: where each is is settled once per site. The reading raises [Slow] when one
+   is wrong (the block's own reading then tells what is wrong). *)
+let fast_transforms ids =
+  let big = Schema.big in
+  let coords (v : Vec3.t) =
+    Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big
+  in
+  let steps =
+    Array.of_list
+      (List.filter_map Fun.id
+         (List.mapi
+            (fun i id ->
+              match id with
+              | "translate" -> Some (i, 0)
+              | "rotate" -> Some (i, 1)
+              | "scale" -> Some (i, 2)
+              | _ -> None)
+            ids))
+  in
+  let nsteps = Array.length steps in
+  let factor x = Float.abs x >= 1e-150 && Float.abs x <= 1e150 in
+  let transform vals =
+    let t = ref Transform.identity in
+    for s = 0 to nsteps - 1 do
+      let i, what = steps.(s) in
+      t :=
+        Transform.then_ !t
+          (match (what, vals.(i)) with
+          | 0, VVec v when coords v -> Transform.translate v
+          | 1, VVec v when coords v -> Transform.rotate v
+          | 2, VNum x when factor x -> Transform.scale (Vec3.v x x x)
+          | 2, VVec v when factor v.x && factor v.y && factor v.z -> Transform.scale v
+          | _ -> raise_notrace Slow)
+    done;
+    let js = ref [] in
+    for s = nsteps - 1 downto 0 do
+      let i, what = steps.(s) in
+      js :=
+        (match (what, vals.(i)) with
+        | 0, VVec v -> D.Translate v
+        | 1, VVec v -> D.Rotate v
+        | 2, VNum x -> D.Scale (Vec3.v x x x)
+        | 2, VVec v -> D.Scale v
+        | _ -> raise_notrace Slow)
+        :: !js
+    done;
+    (!t, !js)
+  in
+  (nsteps, transform)
+
 let fast_material ctx loc (its : citem list) : code option =
   let fields =
     List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
@@ -2557,9 +2619,12 @@ and cblock ctx ce (k : name) items : scode =
   | "light" ->
       let its = citems ctx ce ~holds_objects:false items in
       top_level (fun fr sc -> light ctx fr sc k its)
-  | "group" ->
+  | "group" -> (
       let its = citems ctx ce ~holds_objects:true items in
-      fun fr sc -> if sc.in_csg then csg ctx fr sc k its else group ctx fr sc k its
+      match fast_group ctx k its with
+      | Some fast -> fun fr sc -> if sc.in_csg then csg ctx fr sc k its else fast fr sc
+      | None ->
+          fun fr sc -> if sc.in_csg then csg ctx fr sc k its else group ctx fr sc k its)
   | "union" | "merge" | "intersection" | "difference" ->
       let its = citems ctx ce ~holds_objects:true items in
       fun fr sc -> csg ctx fr sc k its
@@ -2646,60 +2711,150 @@ and fast_object_of ctx spec (k : name) (its : citem list) : scode option =
     | Some o -> add_object ctx sc loc o
     | None -> ()
   in
-  let sphere =
-    plain
-    && List.length (List.sort_uniq String.compare ids) = n
-    && List.for_all (fun id -> id = "center" || id = "radius" || id = "material") ids
-  in
   if
     not
       (List.length fields = List.length its
       && List.for_all (fun id -> List.mem id allowed) ids)
   then None
   else
-    match (k.id, sphere, index "center", index "radius", range "radius") with
-    | "sphere", true, Some ci, Some ri, Some radius_range ->
-        let mi = index "material" in
-        let big = Schema.big in
-        let last = ref None and wrong = Some ctx.specs.material in
+    let big = Schema.big in
+    let coords (v : Vec3.t) =
+      Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big
+    in
+    let nsteps, transform = fast_transforms ids in
+    let untransformed = (Transform.identity, []) in
+    let mi = index "material" in
+    let last = ref None and wrong = Some ctx.specs.material in
+    let material vals =
+      match mi with
+      | None -> None
+      | Some i -> (
+          match vals.(i) with
+          | VMat m -> (
+              (* The objects of a site mostly share one material: so do their
+                 options. *)
+              match !last with
+              | Some m' as o when m' == m -> o
+              | _ ->
+                  let o = Some m in
+                  last := o;
+                  o)
+          | _ -> wrong)
+    in
+    (* The shape, read by position, for the kinds of many objects; [None]: read by the
+       block. *)
+    let shape : (value array -> D.shape) option =
+      match
+        (k.id, index "center", index "radius", range "radius", index "min", index "max")
+      with
+      | "sphere", Some ci, Some ri, Some radius_range, _, _ ->
+          Some
+            (fun vals ->
+              match (vals.(ci), vals.(ri)) with
+              | VVec c, VNum r when coords c && Schema.in_range radius_range r ->
+                  D.Sphere { center = c; radius = r }
+              | _ -> raise_notrace Slow)
+      | "box", _, _, _, Some ni, Some xi ->
+          Some
+            (fun vals ->
+              match (vals.(ni), vals.(xi)) with
+              | VVec mn, VVec mx
+                when coords mn && coords mx && mn.x < mx.x && mn.y < mx.y && mn.z < mx.z
+                ->
+                  D.Box { min = mn; max = mx }
+              | _ -> raise_notrace Slow)
+      | _ -> None
+    in
+    match shape with
+    | Some shape ->
         Some
           (fun fr sc ->
             let vals = evaluate fr in
-            let material =
-              match mi with
-              | None -> None
-              | Some i -> (
-                  match vals.(i) with
-                  | VMat m -> (
-                      (* The spheres of a site mostly share one material: so do their
-                         options. *)
-                      match !last with
-                      | Some m' as o when m' == m -> o
-                      | _ ->
-                          let o = Some m in
-                          last := o;
-                          o)
-                  | _ -> wrong)
+            match
+              let material = material vals in
+              if material == wrong then raise_notrace Slow;
+              let shape = shape vals in
+              let transform, steps =
+                if nsteps = 0 then untransformed else transform vals
+              in
+              { D.kind; shape; transform; steps; material; loc; body = None }
+            with
+            | o -> add_object ctx sc loc o
+            | exception Slow -> slow vals sc)
+    | None -> Some (fun fr sc -> slow (evaluate fr) sc)
+
+(* A group (not in a CSG block) whose fields are all a group's, each given once: its items
+   run in order, as [collect] would run them; right transforms and material are read by
+   position, anything else by the group's own reading. *)
+and fast_group ctx (k : name) (its : citem list) : scode option =
+  let allowed = field_names_of "group" in
+  if
+    not
+      (List.for_all
+         (function
+           | CField (n, _, _) -> List.mem n.id allowed
+           | CStmt _ -> true
+           | CDup _ | CRefused _ -> false)
+         its)
+  then None
+  else
+    let fields =
+      List.filter_map (function CField (n, _, l) -> Some (n, l) | _ -> None) its
+    in
+    let ids = List.map (fun ((n : name), _) -> n.id) fields in
+    let n = List.length fields in
+    let mi =
+      let rec go i = function
+        | [] -> -1
+        | x :: rest -> if String.equal x "material" then i else go (i + 1) rest
+      in
+      go 0 ids
+    in
+    let _, transform = fast_transforms ids in
+    let items = Array.of_list its and spec = spec_for ctx "group" in
+    Some
+      (fun fr sc ->
+        let vals = Array.make n VPoison in
+        let members = ref [] in
+        let inner = { sink = members; in_group = true; in_csg = false } in
+        let failed = ref false and f = ref 0 in
+        for i = 0 to Array.length items - 1 do
+          match items.(i) with
+          | CField (_, code, _) ->
+              (match code fr with
+              | v -> vals.(!f) <- v
+              | exception Fail (l, m) ->
+                  report ctx l m;
+                  failed := true
+              | exception Poisoned -> failed := true);
+              incr f
+          | CStmt code -> code fr inner
+          | CDup _ | CRefused _ -> ()
+        done;
+        let slow () =
+          group_of sc
+            {
+              ctx;
+              kind = "group";
+              kloc = k.nloc;
+              spec;
+              fields =
+                List.mapi (fun i (name, vloc) -> { name; value = vals.(i); vloc }) fields;
+              failed = !failed;
+              members;
+            }
+        in
+        if !failed then slow ()
+        else
+          match
+            let mat =
+              if mi < 0 then None
+              else match vals.(mi) with VMat m -> Some m | _ -> raise_notrace Slow
             in
-            match (vals.(ci), vals.(ri)) with
-            | VVec c, VNum r
-              when material != wrong
-                   && Float.abs c.x <= big
-                   && Float.abs c.y <= big
-                   && Float.abs c.z <= big
-                   && Schema.in_range radius_range r ->
-                add_object ctx sc loc
-                  {
-                    D.kind;
-                    shape = D.Sphere { center = c; radius = r };
-                    transform = Transform.identity;
-                    steps = [];
-                    material;
-                    loc;
-                    body = None;
-                  }
-            | _ -> slow vals sc)
-    | _ -> Some (fun fr sc -> slow (evaluate fr) sc)
+            (transform vals, mat)
+          with
+          | (t, tj), mat -> group_members sc t tj mat !members
+          | exception Slow -> slow ())
 
 (* The checks before a loop runs, then its iterations. *)
 and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration nests slot

@@ -399,6 +399,66 @@ let test_material_blocks () =
         [ m0.color.r; m0.color.g; m0.color.b; m0.specular; m0.shininess ]
   | _ -> Alcotest.fail "three spheres"
 
+(* Transformed objects and groups in a loop: each iteration's mistakes read as any
+   block's; right ones give the transforms written, in order, groups' after. *)
+let test_transformed_blocks () =
+  check_errors "transforms' mistakes, in a loop"
+    "for i in 0 to 2 {\n\
+     sphere { center: (0, 0, 0), radius: 1, translate: if i == 1 then 2 else (i, 0, 0),\n\
+     scale: i }\n\
+     box { min: (0, 0, 0), max: (1, 1, i), rotate: (0, 1e200 * i, 0) }\n\
+     group { rotate: (0, 90, 1 / (i - 1)), sphere { center: (0, 0, 0), radius: 1 } }\n\
+     group { sphere { center: (0, 0, 0), radius: 1 }, material: i, scale: (1, 0, i) }\n\
+     torus { center: (0, 0, 0), major: 1, minor: 0.2, axis: (0, 1, 0), scale: (1, i, 1) }\n\
+     }"
+    [
+      "2:51: `translate` must be a vector (x, y, z), got a number";
+      "3:8: `scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+      "4:1: a box needs min < max on every axis";
+      "4:47: the coordinates of `rotate` must be within ±1e150";
+      "5:29: division by zero";
+      "6:60: `material` must be a material (material { … }), got a number";
+      "6:70: `scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+      "7:74: `scale` factors must be non-zero, with magnitudes in [1e-150, 1e150]";
+    ];
+  let objs =
+    objects
+      "let m = material { color: (1, 0, 0) }\n\
+       for i in 0 to 1 {\n\
+       group { translate: (10 * i, 0, 0), material: m,\n\
+       sphere { center: (1, 0, 0), radius: 1, scale: 2, translate: (0, i, 0) }\n\
+       box { min: (0, 0, 0), max: (1, 1, 1), rotate: (0, 90, 0),\n\
+       material: material { ambient: 0.5 } }\n\
+       group { torus { center: (0, 0, 0), major: 1, minor: 0.2, axis: (0, 1, 0) } }\n\
+       }\n\
+       }"
+  in
+  let step = function
+    | D.Translate v -> Printf.sprintf "t(%g,%g,%g)" v.x v.y v.z
+    | D.Rotate v -> Printf.sprintf "r(%g,%g,%g)" v.x v.y v.z
+    | D.Scale v -> Printf.sprintf "s(%g,%g,%g)" v.x v.y v.z
+  in
+  Alcotest.(check (list string))
+    "each object's steps, where its origin goes, its material"
+    [
+      "sphere s(2,2,2) t(0,0,0) t(0,0,0) (0,0,0) 1";
+      "box r(0,90,0) t(0,0,0) (0,0,0) 0.5";
+      "torus t(0,0,0) (0,0,0) 1";
+      "sphere s(2,2,2) t(0,1,0) t(10,0,0) (10,1,0) 1";
+      "box r(0,90,0) t(10,0,0) (10,0,0) 0.5";
+      "torus t(10,0,0) (10,0,0) 1";
+    ]
+    (List.map
+       (fun (o : D.obj) ->
+         let p = Lancer_math.Transform.point o.transform (Lancer_math.Vec3.v 0. 0. 0.) in
+         Printf.sprintf "%s %s (%g,%g,%g) %g" o.kind
+           (String.concat " " (List.map step o.steps))
+           p.x p.y p.z
+           (match o.material with
+           | Some m -> if m.ambient = 0.5 then 0.5 else m.color.r
+           | None -> -1.))
+       objs)
+
 let test_includes () =
   let dir =
     Filename.concat
@@ -459,5 +519,7 @@ let () =
             test_other_blocks;
           Alcotest.test_case "material blocks in a loop, right and wrong" `Quick
             test_material_blocks;
+          Alcotest.test_case "transformed blocks and groups in a loop, right and wrong"
+            `Quick test_transformed_blocks;
         ] );
     ]
