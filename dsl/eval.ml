@@ -2151,6 +2151,9 @@ let fast_transforms ids =
   in
   (nsteps, transform)
 
+(* A site's last material and the values it was made of. *)
+type last_material = { mutable pvals : value array; mutable pmat : value }
+
 let fast_material ctx loc (its : citem list) : code option =
   let fields =
     List.filter_map (function CField (n, c, l) -> Some (n, c, l) | _ -> None) its
@@ -2245,7 +2248,7 @@ let fast_material ctx loc (its : citem list) : code option =
       in
       material_of ctx loc b
     in
-    let last = ref None in
+    let last = { pvals = [||]; pmat = VPoison } in
     let same vals p =
       let rec go i = i >= n || (vals.(i) == p.(i) && go (i + 1)) in
       go 0
@@ -2263,16 +2266,15 @@ let fast_material ctx loc (its : citem list) : code option =
           | exception Poisoned -> failed := true
         done;
         if !failed then slow vals true
+        else if last.pmat != VPoison && same vals last.pvals then last.pmat
         else
-          match !last with
-          | Some (p, v) when same vals p -> v
-          | _ -> (
-              match build vals with
-              | m ->
-                  let v = VMat m in
-                  last := Some (vals, v);
-                  v
-              | exception Slow -> slow vals false))
+          match build vals with
+          | m ->
+              let v = VMat m in
+              last.pvals <- vals;
+              last.pmat <- v;
+              v
+          | exception Slow -> slow vals false)
 
 let rec cexpr ctx ce (e : expr) : code =
   match e.e with
@@ -2743,10 +2745,22 @@ and fast_object_of ctx spec (k : name) (its : citem list) : scode option =
     in
     (* The shape, read by position, for the kinds of many objects; [None]: read by the
        block. *)
+    let only own =
+      List.for_all
+        (fun id ->
+          List.mem id own || List.mem id [ "material"; "translate"; "rotate"; "scale" ])
+        ids
+    in
     let shape : (value array -> D.shape) option =
       match
         (k.id, index "center", index "radius", range "radius", index "min", index "max")
       with
+      | ("sphere" | "box"), _, _, _, _, _
+        when not
+               (only
+                  (if k.id = "sphere" then [ "center"; "radius" ] else [ "min"; "max" ]))
+        ->
+          None (* a field these lines do not read: the block reads it *)
       | "sphere", Some ci, Some ri, Some radius_range, _, _ ->
           Some
             (fun vals ->
@@ -2792,7 +2806,9 @@ and fast_group ctx (k : name) (its : citem list) : scode option =
     not
       (List.for_all
          (function
-           | CField (n, _, _) -> List.mem n.id allowed
+           | CField (n, _, _) ->
+               List.mem n.id allowed
+               && List.mem n.id [ "material"; "translate"; "rotate"; "scale" ]
            | CStmt _ -> true
            | CDup _ | CRefused _ -> false)
          its)

@@ -1442,13 +1442,14 @@ let cmd =
       [
         `S Manpage.s_description;
         `P
-          "Times the scene language on two programs, each a whole check in this \
-           process            (parse, static check, evaluation): a loop of 3 000 001 \
-           iterations computing            sin(i) * cos(i), and a million sphere blocks \
-           built by two nested loops (the            objects' evaluation, without the \
-           renderer's build). When $(b,python3) is on            the PATH, the same loop \
-           in CPython (math.sin, math.cos) is timed as a whole            process, \
-           alternating with lancer's runs, and the ratio is shown.";
+          "Times the scene language on four programs, each a whole check in this process \
+           (parse, static check, evaluation): a loop of 3 000 001 iterations computing \
+           sin(i) * cos(i); a million sphere blocks built by two nested loops (the \
+           objects' evaluation, without the renderer's build); as many spheres, each \
+           with a material { color: … } of its own; and as many rotated boxes with a \
+           material, in translated groups. When $(b,python3) is on the PATH, the same \
+           loop in CPython (math.sin, math.cos) is timed as a whole process, alternating \
+           with lancer's runs, and the ratio is shown.";
         `S Manpage.s_examples;
         `Pre "  lancer bench language --repeat 5";
       ]
