@@ -2828,6 +2828,19 @@ and fast_group ctx (k : name) (its : citem list) : scode option =
     in
     let _, transform = fast_transforms ids in
     let items = Array.of_list its and spec = spec_for ctx "group" in
+    let slow sc vals failed members =
+      group_of sc
+        {
+          ctx;
+          kind = "group";
+          kloc = k.nloc;
+          spec;
+          fields =
+            List.mapi (fun i (name, vloc) -> { name; value = vals.(i); vloc }) fields;
+          failed;
+          members;
+        }
+    in
     Some
       (fun fr sc ->
         let vals = Array.make n VPoison in
@@ -2847,20 +2860,7 @@ and fast_group ctx (k : name) (its : citem list) : scode option =
           | CStmt code -> code fr inner
           | CDup _ | CRefused _ -> ()
         done;
-        let slow () =
-          group_of sc
-            {
-              ctx;
-              kind = "group";
-              kloc = k.nloc;
-              spec;
-              fields =
-                List.mapi (fun i (name, vloc) -> { name; value = vals.(i); vloc }) fields;
-              failed = !failed;
-              members;
-            }
-        in
-        if !failed then slow ()
+        if !failed then slow sc vals true members
         else
           match
             let mat =
@@ -2870,7 +2870,7 @@ and fast_group ctx (k : name) (its : citem list) : scode option =
             (transform vals, mat)
           with
           | (t, tj), mat -> group_members sc t tj mat !members
-          | exception Slow -> slow ())
+          | exception Slow -> slow sc vals false members)
 
 (* The checks before a loop runs, then its iterations. *)
 and for_loop ctx (s : stmt) (a : expr) (b : expr) st ca cb cst per_iteration nests slot
