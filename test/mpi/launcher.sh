@@ -194,7 +194,8 @@ stop "Ctrl-C three times (mpirun's forcible termination)" group group group
 # A real terminal, where util-linux's script(1) is there to give one: ^C typed into it
 # reaches the terminal's foreground process group, lancer-mpirun and mpirun. script(1)
 # runs the command with $SHELL: bash, which goes on after a child that handled the ^C
-# (dash, /bin/sh, dies of it before printing the status).
+# (dash, /bin/sh, dies of it before printing the status). The terminal echoes the ^C as
+# the two characters "^C", which may come first on the message's line.
 if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev/null 2>&1; then
   mkdir -p tty
   t0=$(now_ms)
@@ -206,7 +207,7 @@ if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
   t1=$(now_ms)
-  if grep -aq '^status=130' tty.log && tr -d '\0' <tty.log | grep -aq '^lancer-mpirun: interrupted'  \
+  if grep -aq '^status=130' tty.log && tr -d '\0' <tty.log | grep -aq '^\(\^C\)\?lancer-mpirun: interrupted'  \
      && ! grep -aq 'hit ctrl-c again' tty.log && [ -z "$(ls -A tty)" ]; then
     ok "Ctrl-C typed at a terminal: status 130, the message, mpirun signalled once"
   else fail "Ctrl-C at a terminal ($((t1 - t0)) ms):"; cat -v tty.log; fi
