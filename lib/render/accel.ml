@@ -53,37 +53,53 @@ let fset = Float.Array.unsafe_set
 let is_bounded (p : Primitive.t) =
   match Primitive.bounds p with Some b -> finite_box b | None -> false
 
-(* The indices of the bounded primitives ([want]) or of the others, in order. *)
-let indices prims want =
-  let n = Array.length prims in
-  let k = ref 0 in
-  Array.iter (fun p -> if is_bounded p = want then incr k) prims;
-  let r = Array.make !k 0 and j = ref 0 in
-  for i = 0 to n - 1 do
-    if is_bounded prims.(i) = want then (
-      r.(!j) <- i;
-      incr j)
-  done;
-  r
-
 let build prims =
   let n = Array.length prims in
-  let bounded = indices prims true in
+  (* Every primitive's bounds in one pass, then the bounded ones' (all six finite) moved
+     down in place and padded: one box per primitive, none allocated for a sphere. *)
+  let pbox = Float.Array.create (6 * n) in
+  Array.iteri (fun i p -> Primitive.bounds_into p pbox (6 * i)) prims;
+  let bounded_at i =
+    let q = 6 * i and ok = ref true in
+    for k = 0 to 5 do
+      if not (Float.is_finite (fget pbox (q + k))) then ok := false
+    done;
+    !ok
+  in
+  let flags = Bytes.init n (fun i -> if bounded_at i then '\001' else '\000') in
+  let is_b i = Bytes.unsafe_get flags i = '\001' in
+  let pick want =
+    let k = ref 0 in
+    for i = 0 to n - 1 do
+      if is_b i = want then incr k
+    done;
+    let r = Array.make !k 0 and j = ref 0 in
+    for i = 0 to n - 1 do
+      if is_b i = want then (
+        r.(!j) <- i;
+        incr j)
+    done;
+    r
+  in
+  let bounded = pick true in
   let m = Array.length bounded in
   (* A mesh counts as its faces, which one object each would have been. *)
   let weight = Array.fold_left (fun w i -> w + Primitive.faces prims.(i)) 0 bounded in
   if weight < min_bvh then
     { prims; outside = Array.init n Fun.id; tree = None; layers = None }
   else
-    let outside = indices prims false in
-    let pbox = Float.Array.create (6 * m) in
+    let outside = pick false in
     Array.iteri
       (fun k i ->
-        match Primitive.bounds prims.(i) with
-        | Some { Bbox.min; max } ->
-            Bvh.pad_into pbox k min.x min.y min.z max.x max.y max.z
-        | None -> ())
+        let q = 6 * i in
+        Bvh.pad_into pbox k (fget pbox q)
+          (fget pbox (q + 1))
+          (fget pbox (q + 2))
+          (fget pbox (q + 3))
+          (fget pbox (q + 4))
+          (fget pbox (q + 5)))
       bounded;
+    let pbox = if m = n then pbox else Float.Array.sub pbox 0 (6 * m) in
     let { Bvh.nodes; order; depth } = Bvh.build pbox in
     (* The leaf order as indices into [prims], in place. *)
     let leaf_idx = order in

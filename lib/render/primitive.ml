@@ -20,6 +20,28 @@ let world_bounds transform shape =
 
 let bounds o = if o.bounds == own then Shape.bbox o.shape else o.bounds
 
+let bounds_into o b off =
+  let set = Float.Array.unsafe_set in
+  match o.shape with
+  | Shape.Sphere { center; radius } when o.bounds == own ->
+      (* Shape.bbox's own arithmetic (centre ∓ radius), without its box. *)
+      set b off (center.x -. radius);
+      set b (off + 1) (center.y -. radius);
+      set b (off + 2) (center.z -. radius);
+      set b (off + 3) (center.x +. radius);
+      set b (off + 4) (center.y +. radius);
+      set b (off + 5) (center.z +. radius)
+  | _ -> (
+      match bounds o with
+      | Some { Bbox.min; max } ->
+          set b off min.x;
+          set b (off + 1) min.y;
+          set b (off + 2) min.z;
+          set b (off + 3) max.x;
+          set b (off + 4) max.y;
+          set b (off + 5) max.z
+      | None -> Float.Array.fill b off 6 Float.nan)
+
 let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material
     shape =
   let bounds = world_bounds transform shape in

@@ -37,6 +37,10 @@ val make :
 val bounds : t -> Bbox.t option
 (** The world-space bounds; [None] when unbounded. *)
 
+val bounds_into : t -> Float.Array.t -> int -> unit
+(** [bounds_into p b off] writes {!bounds} into [b] at [off] (min x y z, max x y z, the
+    same floats), NaN when unbounded; an untransformed sphere's without allocating. *)
+
 val surface : t -> Ray.t -> float -> t
 (** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
     or later): [o] itself, for a CSG object the leaf the crossing lies on, with its

@@ -1009,6 +1009,44 @@ let bvh_tests =
                 (Array.init 20 (fun i ->
                      Primitive.make Material.default
                        (Shape.plane ~normal:Vec3.y_axis ~offset:(Float.of_int i)))))));
+    case
+      "building over spheres allocates no box per sphere, and bounds_into writes bounds"
+      (fun () ->
+        let n = 20_000 in
+        let prims =
+          Array.init n (fun i ->
+              Primitive.make Material.default
+                (Shape.sphere
+                   ~center:(v (Float.of_int (i mod 200)) 0.5 (Float.of_int (i / 200)))
+                   ~radius:0.4))
+        in
+        Gc.full_major ();
+        let w0 = Gc.minor_words () in
+        let a = Accel.build prims in
+        let words = (Gc.minor_words () -. w0) /. Float.of_int n in
+        Alcotest.(check bool) "a tree" true (Accel.uses_bvh a);
+        if words > 4. then Alcotest.failf "%.1f words allocated a sphere" words;
+        let b = Float.Array.make 6 0. in
+        let same p =
+          Primitive.bounds_into p b 0;
+          match Primitive.bounds p with
+          | Some { Bbox.min; max } ->
+              List.iteri
+                (fun k x -> Alcotest.(check (float 0.)) "bound" x (Float.Array.get b k))
+                [ min.x; min.y; min.z; max.x; max.y; max.z ]
+          | None -> Alcotest.(check bool) "NaN" true (Float.is_nan (Float.Array.get b 0))
+        in
+        same prims.(7);
+        same
+          (Primitive.make
+             ~transform:(Transform.scale (v 2. 3. 4.))
+             Material.default
+             (Shape.sphere ~center:(v 1. 2. 3.) ~radius:0.7));
+        same
+          (Primitive.make Material.default
+             (Shape.box ~min:(v 0. 1. 2.) ~max:(v 3. 4. 5.)));
+        same
+          (Primitive.make Material.default (Shape.plane ~normal:Vec3.y_axis ~offset:1.)));
     case "a thousand identical spheres give the lowest index" (fun () ->
         let prims =
           Array.init 1000 (fun _ ->
