@@ -1943,16 +1943,22 @@ let vtrue = VBool true
 let vfalse = VBool false
 let[@inline] vbool b = if b then vtrue else vfalse
 
-let call_fun ctx c (args : code array) loc fr =
+(* The locals of a call of [name] (its [nparams] parameters first, [nslots] in all), its
+   arguments evaluated in the caller's frame, in order. *)
+let call_frame name nparams nslots (args : code array) loc fr =
   let na = Array.length args in
-  if c.nparams <> na then
-    fail loc "`%s` takes %d argument%s, got %d" c.fname c.nparams
-      (if c.nparams = 1 then "" else "s")
+  if nparams <> na then
+    fail loc "`%s` takes %d argument%s, got %d" name nparams
+      (if nparams = 1 then "" else "s")
       na;
-  let l = Array.make c.fslots VPoison in
+  let l = Array.make nslots VPoison in
   for k = 0 to na - 1 do
     l.(k) <- args.(k) fr
   done;
+  l
+
+let call_fun ctx c (args : code array) loc fr =
+  let l = call_frame c.fname c.nparams c.fslots args loc fr in
   enter ctx loc;
   match c.fbody { l; c = c.fcaps } with
   | v ->
@@ -1963,15 +1969,7 @@ let call_fun ctx c (args : code array) loc fr =
       raise e
 
 let call_macro ctx m (args : code array) loc fr sc =
-  let na = Array.length args in
-  if m.mnparams <> na then
-    fail loc "`%s` takes %d argument%s, got %d" m.mname m.mnparams
-      (if m.mnparams = 1 then "" else "s")
-      na;
-  let l = Array.make m.mslots VPoison in
-  for k = 0 to na - 1 do
-    l.(k) <- args.(k) fr
-  done;
+  let l = call_frame m.mname m.mnparams m.mslots args loc fr in
   enter ctx loc;
   match m.mbody { l; c = m.mcaps } sc with
   | () -> ctx.depth <- ctx.depth - 1

@@ -120,6 +120,22 @@ let rec first_error s =
   | Seq.Cons (Ok (), rest) -> first_error rest
   | Seq.Cons ((Error _ as e), _) -> e
 
+(* The scene of these parts, with the camera and lights as seen from [origin]. *)
+let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features =
+  {
+    settings;
+    camera;
+    lights;
+    objects;
+    accel;
+    features;
+    time;
+    frame;
+    origin;
+    view = view_camera origin camera;
+    view_lights = view_lights origin lights;
+  }
+
 let of_array ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
     ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
@@ -138,21 +154,7 @@ let of_array ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 
   in
   let accel = Accel.build objects in
   let features = derive_features settings camera lights objects accel in
-  let view = view_camera origin camera and view_lights = view_lights origin lights in
-  Ok
-    {
-      settings;
-      camera;
-      lights;
-      objects;
-      accel;
-      features;
-      time;
-      frame;
-      origin;
-      view;
-      view_lights;
-    }
+  Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)
 
 let make ?settings ?camera ?time ?frame ~lights objects =
   of_array ?settings ?camera ?time ?frame ~lights (Array.of_list objects)
@@ -259,21 +261,7 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
         ~moving_idx
   in
   let features = features_of settings camera lights uses accel in
-  let view = view_camera origin camera and view_lights = view_lights origin lights in
-  Ok
-    {
-      settings;
-      camera;
-      lights;
-      objects;
-      accel;
-      features;
-      time;
-      frame;
-      origin;
-      view;
-      view_lights;
-    }
+  Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)
 
 let make_exn ?settings ?camera ?time ?frame ~lights objects =
   match make ?settings ?camera ?time ?frame ~lights objects with

@@ -781,20 +781,7 @@ and csg_crossings s r tmin =
         (let t = intersect s r tmin Float.infinity in
          if t < Float.infinity then [ t ] else [])
 
-type probe = Probe.t = {
-  mutable ox : float;
-  mutable oy : float;
-  mutable oz : float;
-  mutable dx : float;
-  mutable dy : float;
-  mutable dz : float;
-  mutable ix : float;
-  mutable iy : float;
-  mutable iz : float;
-  mutable p_tmin : float;
-  mutable p_tmax : float;
-  mutable p_t : float;
-}
+type probe = Probe.t
 
 let probe = Probe.create
 

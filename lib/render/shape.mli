@@ -196,20 +196,7 @@ val intersect_into : t -> Ray.t -> hit -> unit
 (** [intersect_into s r h] is [h.t <- intersect s r h.tmin h.tmax], without boxing a
     float: the form the ray queries use. *)
 
-type probe = Probe.t = {
-  mutable ox : float;
-  mutable oy : float;
-  mutable oz : float;  (** origin *)
-  mutable dx : float;
-  mutable dy : float;
-  mutable dz : float;  (** direction, not necessarily unit *)
-  mutable ix : float;
-  mutable iy : float;
-  mutable iz : float;  (** 1/direction, component-wise *)
-  mutable p_tmin : float;
-  mutable p_tmax : float;  (** the interval (p_tmin, p_tmax) *)
-  mutable p_t : float;  (** the answer *)
-}
+type probe = Probe.t
 (** A ray held as scalars in one flat, reusable record ({!Probe.t}): the form of the
     renderer's ray queries, which build no {!Ray.t}. *)
 
