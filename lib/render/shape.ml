@@ -248,8 +248,7 @@ let[@inline] intersect_triangle p0 p1 p2 r tmin tmax =
 
 (* Both roots of a·t² + b·t + c in increasing order, by the stable formula; the linear and
    the rootless cases give infinities. Used by the quadrics with a height range, where the
-   nearer root may be cut away and the farther one kept. [lo_root] and [hi_root] avoid a
-   tuple: each recomputes the (cheap) discriminant. *)
+   nearer root may be cut away and the farther one kept. *)
 let roots a b c =
   if a = 0. then
     if b = 0. then (Float.infinity, Float.infinity)
@@ -272,22 +271,50 @@ let roots a b c =
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
    formula keeps the finite root (9.4999999905 in doc/numerics.md) where the naive one gives 0. *)
+let[@inline] paraboloid_root t fy dy height tmin tmax =
+  in_range t tmin tmax
+  &&
+  let y = fy +. (t *. dy) in
+  y >= 0. && y <= height
+
+(* The same test on scalars, with [roots] written out: no vector, tuple or ray is made. *)
+let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx dy dz
+    tmin tmax =
+  let ex = ox -. vertex.x and ey = oy -. vertex.y and ez = oz -. vertex.z in
+  let f_y = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+  and d_y = (dx *. axis.x) +. (dy *. axis.y) +. (dz *. axis.z) in
+  let fpx = ex +. (-.f_y *. axis.x)
+  and fpy = ey +. (-.f_y *. axis.y)
+  and fpz = ez +. (-.f_y *. axis.z) in
+  let dpx = dx +. (-.d_y *. axis.x)
+  and dpy = dy +. (-.d_y *. axis.y)
+  and dpz = dz +. (-.d_y *. axis.z) in
+  let a = (dpx *. dpx) +. (dpy *. dpy) +. (dpz *. dpz)
+  and b = (2. *. ((fpx *. dpx) +. (fpy *. dpy) +. (fpz *. dpz))) -. (k *. d_y)
+  and c = (fpx *. fpx) +. (fpy *. fpy) +. (fpz *. fpz) -. (k *. f_y) in
+  if a = 0. then
+    if b = 0. then Float.infinity
+    else
+      let t = -.c /. b in
+      if paraboloid_root t f_y d_y height tmin tmax then t else Float.infinity
+  else
+    let disc = (b *. b) -. (4. *. a *. c) in
+    if disc < 0. || Float.is_nan disc then Float.infinity
+    else
+      let s = Float.sqrt disc in
+      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
+      if q = 0. then
+        if paraboloid_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
+      else
+        let u = q /. a and v = c /. q in
+        let t0 = Float.min u v and t1 = Float.max u v in
+        if paraboloid_root t0 f_y d_y height tmin tmax then t0
+        else if paraboloid_root t1 f_y d_y height tmin tmax then t1
+        else Float.infinity
+
 let intersect_paraboloid vertex axis height k r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o vertex in
-  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
-  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
-  let a = Vec3.dot dp dp
-  and b = (2. *. Vec3.dot fp dp) -. (k *. dy)
-  and c = Vec3.dot fp fp -. (k *. fy) in
-  let t0, t1 = roots a b c in
-  let ok t =
-    in_range t tmin tmax
-    &&
-    let y = fy +. (t *. dy) in
-    y >= 0. && y <= height
-  in
-  if ok t0 then t0 else if ok t1 then t1 else Float.infinity
+  paraboloid_s vertex axis height k o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Slab test for an axis-aligned box: the entry t if it lies in (tmin, tmax), else the
    exit t (origin inside). Zero direction components give ±inf bounds; 0·inf (origin on
@@ -803,7 +830,9 @@ let probe_into s (q : probe) =
   | Disk { center; normal; radius; _ } ->
       q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Mesh m -> ignore (Trimesh.nearest m q)
-  | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
+  | Paraboloid { vertex; axis; height; k; _ } ->
+      q.p_t <- paraboloid_s vertex axis height k q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
       let h = { tmin; tmax; t = Float.infinity } in
       intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
       q.p_t <- h.t

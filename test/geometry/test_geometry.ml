@@ -786,14 +786,14 @@ let bvh_fold_prop =
 (* ---- the shadow query ---- *)
 
 (* A soup of every shape the occlusion query tests in scalars (and, with [quadrics], the
-   two that build a ray), some transformed, some transparent. *)
+   one that builds a ray), some transformed, some transparent. *)
 let shadow_soup ?(quadrics = true) st =
   let n = 1 + Random.State.int st 60 in
   let one () =
     let c = rand_point st (-10.) 10. in
     let e () = rand_point st (-2.) 2. in
     let s =
-      match Random.State.int st (if quadrics then 8 else 6) with
+      match Random.State.int st (if quadrics then 8 else 7) with
       | 0 -> Shape.sphere ~center:c ~radius:(rand_in st 0.1 2.)
       | 1 -> Shape.triangle ~a:c ~b:(Vec3.add c (e ())) ~c:(Vec3.add c (e ()))
       | 2 -> Shape.box ~min:c ~max:(Vec3.add c (rand_point st 0.1 3.))
@@ -801,12 +801,12 @@ let shadow_soup ?(quadrics = true) st =
       | 4 -> Shape.parallelogram ~origin:c ~edge1:(e ()) ~edge2:(e ())
       | 5 -> Shape.plane ~normal:(rand_dir st) ~offset:(rand_in st (-12.) 12.)
       | 6 ->
+          Shape.paraboloid ~vertex:c ~axis:(rand_dir st) ~radius:(rand_in st 0.2 2.)
+            ~height:(rand_in st 0.2 2.)
+      | _ ->
           Shape.cylinder ~base:c
             ~top:(Vec3.add c (e ()))
             ~radius:(rand_in st 0.1 1.) ~caps:true
-      | _ ->
-          Shape.paraboloid ~vertex:c ~axis:(rand_dir st) ~radius:(rand_in st 0.2 2.)
-            ~height:(rand_in st 0.2 2.)
     in
     let transform =
       if Random.State.int st 3 = 0 then
