@@ -24,6 +24,7 @@ type tree = {
 
 type t = {
   prims : Primitive.t array;
+  weight : int;  (** the bounded primitives, a mesh counted as its faces *)
   outside : int array;
   tree : tree option;
   layers : layers option;
@@ -42,16 +43,9 @@ and layers = {
 
 let min_bvh = 8
 let uses_bvh a = match a.layers with Some l -> l.bvh | None -> Option.is_some a.tree
-
-let finite_box (b : Bbox.t) =
-  Float.is_finite b.min.x && Float.is_finite b.min.y && Float.is_finite b.min.z
-  && Float.is_finite b.max.x && Float.is_finite b.max.y && Float.is_finite b.max.z
-
+let fixed_part a = Option.map (fun l -> l.fixed) a.layers
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
-
-let is_bounded (p : Primitive.t) =
-  match Primitive.bounds p with Some b -> finite_box b | None -> false
 
 let build prims =
   let n = Array.length prims in
@@ -86,7 +80,7 @@ let build prims =
   (* A mesh counts as its faces, which one object each would have been. *)
   let weight = Array.fold_left (fun w i -> w + Primitive.faces prims.(i)) 0 bounded in
   if weight < min_bvh then
-    { prims; outside = Array.init n Fun.id; tree = None; layers = None }
+    { prims; weight; outside = Array.init n Fun.id; tree = None; layers = None }
   else
     let outside = pick false in
     Array.iteri
@@ -118,6 +112,7 @@ let build prims =
       leaf_prims;
     {
       prims;
+      weight;
       outside;
       tree = Some { nodes; leaf_prims; leaf_idx; sph; depth };
       layers = None;
@@ -640,11 +635,13 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
   let n = Array.length prims in
   if Array.length fixed_idx + Array.length moving_idx <> n then
     invalid_arg "Accel.layered: the parts do not cover the primitives";
-  let bounded = ref 0 in
-  Array.iter (fun p -> if is_bounded p then bounded := !bounded + Primitive.faces p) prims;
+  (* The parts counted their bounded primitives when they were built: nothing here is
+     proportional to the fixed part, which a frame of an animation does not change. *)
+  let weight = fixed.weight + moving.weight in
   {
     prims;
+    weight;
     outside = [||];
     tree = None;
-    layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = !bounded >= min_bvh };
+    layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
   }

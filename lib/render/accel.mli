@@ -30,6 +30,10 @@ val layered :
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it). *)
 
+val fixed_part : t -> t option
+(** The structure over the fixed part of a {!layered} one (physically the one given), or
+    [None] for one made by {!build}. *)
+
 val nearest : t -> Ray.t -> float -> float -> float * int
 (** [nearest a r tmin tmax] is (t, index) of the primitive hit nearest in (tmin, tmax), or
     (infinity, −1); the index is into the array given to {!build}. Ties go to the lower

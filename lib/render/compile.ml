@@ -273,6 +273,9 @@ let primitives c material_of (o : D.obj) =
 type fixed = {
   objs : D.obj array;
   start : int array;  (** where each object's primitives start in [flat] *)
+  faces : int array;
+      (** the faces of the objects before each (one more entry: all of them), a mesh
+          counting as its faces *)
   flat : Primitive.t array;
   ok : bool;  (** whether every object compiled *)
   part_lock : Mutex.t;
@@ -292,11 +295,17 @@ let fixed c objs =
           n := !n + List.length ps)
         prims;
       let flat = Array.of_list (List.concat (Array.to_list prims)) in
-      { objs; start; flat; ok = true; part_lock = Mutex.create (); part = None }
+      let faces = Array.make (Array.length objs + 1) 0 in
+      Array.iteri
+        (fun i ps ->
+          faces.(i + 1) <- List.fold_left (fun w p -> w + Primitive.faces p) faces.(i) ps)
+        prims;
+      { objs; start; faces; flat; ok = true; part_lock = Mutex.create (); part = None }
   | exception Problem _ ->
       {
         objs;
         start = [||];
+        faces = [||];
         flat = [||];
         ok = false;
         part_lock = Mutex.create ();
@@ -326,10 +335,18 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
     match fx with
     | Some fx when !next < Array.length fx.objs && fx.objs.(!next) == o ->
         incr next;
-        Some (!next - 1)
-    | _ -> None
+        !next - 1
+    | _ -> -1
   in
   let pieces = ref [] in
+  (* The run of the fixed part met last, not yet in [pieces]: consecutive objects of the
+     fixed part make one piece, with nothing allocated for each. *)
+  let run_first = ref 0 and run_n = ref 0 in
+  let end_run () =
+    if !run_n > 0 then (
+      pieces := Scene.Fixed (!run_first, !run_n) :: !pieces;
+      run_n := 0)
+  in
   (* Without a fixed part, the objects go straight into one array: no list cell or piece
      per object beside them while the structure is built. *)
   let flat = Dynarray.create () in
@@ -344,29 +361,28 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
   List.iter
     (fun (o : D.obj) ->
       match
-        match (fixed_index o, fx) with
-        | Some i, Some fx ->
+        match fx with
+        | Some fx when fixed_index o >= 0 ->
+            let i = !next - 1 in
             let first = fx.start.(i) in
             let n =
               (if i + 1 < Array.length fx.start then fx.start.(i + 1)
                else Array.length fx.flat)
               - first
             in
-            (* Consecutive objects of the fixed part make one run of it. *)
-            (match !pieces with
-            | Scene.Fixed (f, m) :: rest when f + m = first ->
-                pieces := Scene.Fixed (f, m + n) :: rest
-            | ps -> pieces := Scene.Fixed (first, n) :: ps);
-            let w = ref 0 in
-            for k = first to first + n - 1 do
-              w := !w + Primitive.faces fx.flat.(k)
-            done;
-            !w
+            if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
+            else (
+              end_run ();
+              run_first := first;
+              run_n := n);
+            fx.faces.(i + 1) - fx.faces.(i)
         | _ ->
             let ps = primitives c material_of o in
             (match fx with
             | None -> List.iter (Dynarray.add_last flat) ps
-            | Some _ -> pieces := Scene.Moving ps :: !pieces);
+            | Some _ ->
+                end_run ();
+                pieces := Scene.Moving ps :: !pieces);
             List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
       with
       | n ->
@@ -378,6 +394,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
           ()
       | exception Problem (loc, msg) -> report loc msg)
     d.objects;
+  end_run ();
   if !problems <> [] then
     Error
       (List.map

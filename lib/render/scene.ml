@@ -111,6 +111,17 @@ let features_of (s : Settings.t) (c : Camera.t) lights u accel =
 let derive_features s c lights objects accel =
   features_of s c lights (uses_of objects) accel
 
+(* What the materials use, as a scene's features already say: a new camera, lights or
+   settings do not look at the objects again. *)
+let uses_in (f : Features.t) =
+  {
+    u_reflection = f.reflection;
+    u_refraction = f.refraction;
+    u_textures = f.textures;
+    u_bump = f.bump;
+    u_color_maps = f.color_maps;
+  }
+
 let ( let* ) = Result.bind
 
 (* The first error of a sequence of checks, running none after it. *)
@@ -274,7 +285,7 @@ let with_settings t settings =
     {
       t with
       settings;
-      features = derive_features settings t.camera t.lights t.objects t.accel;
+      features = features_of settings t.camera t.lights (uses_in t.features) t.accel;
     }
 
 let with_camera t camera =
@@ -284,7 +295,7 @@ let with_camera t camera =
       t with
       camera;
       view = view_camera t.origin camera;
-      features = derive_features t.settings camera t.lights t.objects t.accel;
+      features = features_of t.settings camera t.lights (uses_in t.features) t.accel;
     }
 
 let map_lights t f =
@@ -293,7 +304,7 @@ let map_lights t f =
     t with
     lights;
     view_lights = view_lights t.origin lights;
-    features = derive_features t.settings t.camera lights t.objects t.accel;
+    features = features_of t.settings t.camera lights (uses_in t.features) t.accel;
   }
 
 let object_count t = Array.fold_left (fun n o -> n + Primitive.faces o) 0 t.objects
