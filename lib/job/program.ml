@@ -250,12 +250,15 @@ let compile ?progress ~share p (d : D.t) =
       Ok sc
   | Error es -> Error (Dsl.located p ~time:d.time ~frame:d.frame es)
 
-(* The first scene of a program is made the long way, every statement evaluated and every
-   object compiled and indexed, as a still needs nothing else; the scenes after it share
-   what does not change: the statements that do not depend on the instant are not
-   evaluated again, and the objects they build are compiled and indexed once. *)
+(* The scenes of an animated program share what does not change, from the first one on:
+   the statements that do not depend on the instant are not evaluated again, and the
+   objects they build are compiled and indexed once, as a part of their own (the first
+   scene made the long way would build that index twice: once over every object, once
+   over the fixed ones). A program without an animation has no such part: its first
+   scene is made the long way, every statement evaluated. *)
 let scene_and_description ?body_state ?progress ?cancel p ~time ~frame =
-  let share = Atomic.fetch_and_add (extra p).made 1 > 0 in
+  let later = Atomic.fetch_and_add (extra p).made 1 > 0 in
+  let share = later || Option.is_some (Dsl.animation p) in
   Result.bind (describe_ ~again:(not share) ?body_state ?progress ?cancel p ~time ~frame)
     (fun d -> Result.map (fun sc -> (sc, d)) (compile ?progress ~share p d))
 

@@ -45,6 +45,46 @@ let floats_equal a b =
     a;
   !ok
 
+(* ---- The frames of an animation ---- *)
+
+(* The objects that do not move are compiled and indexed once for every frame, the first
+   one included: no frame builds a structure over them again. *)
+let frames_share_the_fixed_part () =
+  let text =
+    {|settings { width: 16, height: 12 }
+animation { fps: 10, frames: 5 }
+light { position: (-3, 5, -4) }
+plane { normal: (0, 1, 0), offset: 0 }
+for i in 0 to 40 { sphere { center: (i / 10, 0.2, 1), radius: 0.1 } }
+sphere { center: (-1 + time, 1, 0), radius: 0.5 }
+|}
+  in
+  let p =
+    match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
+    | Error _ -> Alcotest.fail "the animated scene does not load"
+    | Ok p -> p
+  in
+  let fixed k =
+    match Lancer.Program.scene_at p ~time:(Float.of_int k /. 10.) ~frame:k with
+    | Error _ -> Alcotest.fail "the animated scene does not evaluate"
+    | Ok sc -> (
+        match Lancer_render.Accel.fixed_part sc.accel with
+        | Some f -> f
+        | None -> Alcotest.failf "frame %d has no fixed part" k)
+  in
+  let f0 = fixed 0 in
+  List.iter
+    (fun k ->
+      Alcotest.(check bool)
+        (Printf.sprintf "frame %d shares frame 0's structure" k)
+        true
+        (fixed k == f0))
+    [ 1; 3; 4 ];
+  (* A still has no such part. *)
+  Alcotest.(check bool)
+    "a still is indexed whole" true
+    (Option.is_none (Lancer_render.Accel.fixed_part (scene ()).accel))
+
 (* ---- Plan ---- *)
 
 let frames_syntax () =
@@ -434,6 +474,11 @@ let () =
             checkpoint_roundtrip;
           Alcotest.test_case "an animation's plan: shards, resume, stale frames" `Quick
             animation_plan;
+        ] );
+      ( "frames",
+        [
+          Alcotest.test_case "every frame shares one index of what does not move" `Quick
+            frames_share_the_fixed_part;
         ] );
       ( "work",
         [
