@@ -1,0 +1,107 @@
+(* Bvh.build against Bvh_ref.build, the same binned-SAH build written plainly: the same
+   node array (every reachable node's 8 floats, bit for bit), the same leaf order and the
+   same depth, over random item sets of many sizes and shapes. Random inputs use fixed
+   seeds. *)
+module Bvh = Lancer_render.Bvh
+
+(* The nodes of a tree over [m] items: those up to its last in preorder, found by following
+   right children from the root (a tree over none is one empty leaf). *)
+let reachable m nodes =
+  let rec walk k = if Bvh.count nodes k > 0 then k + 1 else walk (Bvh.link nodes k) in
+  if m = 0 then 1 else walk 0
+
+let same_tree what pbox =
+  let a = Bvh.build (Float.Array.copy pbox) in
+  let b = Bvh_ref.build (Float.Array.copy pbox) in
+  if a.depth <> b.depth then
+    Alcotest.failf "%s: depth %d, reference %d" what a.depth b.depth;
+  if a.order <> b.order then Alcotest.failf "%s: the leaf order differs" what;
+  let m = Float.Array.length pbox / 6 in
+  let n = reachable m b.nodes in
+  if reachable m a.nodes <> n then Alcotest.failf "%s: the node count differs" what;
+  for i = 0 to (8 * n) - 1 do
+    let x = Float.Array.get a.nodes i and y = Float.Array.get b.nodes i in
+    if Int64.bits_of_float x <> Int64.bits_of_float y then
+      Alcotest.failf "%s: node %d float %d is %h, reference %h" what (i / 8) (i mod 8) x y
+  done
+
+(* [m] items from [gen], which gives a box's min and extent. *)
+let items m gen =
+  let pb = Float.Array.create (6 * m) in
+  for k = 0 to m - 1 do
+    let x, y, z, dx, dy, dz = gen k in
+    Bvh.pad_into pb k x y z (x +. dx) (y +. dy) (z +. dz)
+  done;
+  pb
+
+let shapes rs =
+  let f s = Random.State.float rs s in
+  let i n = Float.of_int (Random.State.int rs n) in
+  [
+    ("uniform", fun _ -> (f 100., f 100., f 100., f 3., f 3., f 3.));
+    ("points", fun _ -> (f 10., f 10., f 10., 0., 0., 0.));
+    ("flat", fun _ -> (f 50., 2., f 50., f 1., 0., f 1.));
+    ("a line", fun _ -> (f 1000., 0., 0., f 2., 0., 0.));
+    ("grid ties", fun _ -> (i 8, i 8, i 8, 1., 1., 1.));
+    ("few distinct", fun _ -> (i 3, 0., i 2, 0.5, 0.5, 0.5));
+    ("all equal", fun _ -> (1., 2., 3., 1., 1., 1.));
+    ("mixed sizes", fun _ -> (f 100., f 100., f 100., f 50. ** 2., f 0.1, f 5.));
+    ( "clusters",
+      fun k -> (Float.of_int (k mod 4 * 1000) +. f 1., f 1., f 1., f 0.1, f 0.1, f 0.1) );
+    ( "large magnitudes",
+      fun _ -> (1e12 +. f 1e6, -1e9 -. f 1e3, f 1e-6, f 1e3, f 1e3, f 1e-9) );
+    ("sorted", fun k -> (Float.of_int k, 0., 0., 1., 1., 1.));
+    ("reversed", fun k -> (Float.of_int (-k), Float.of_int (k mod 7), 0., 1., 1., 1.));
+  ]
+
+let sizes =
+  [ 0; 1; 2; 3; 5; 8; 9; 16; 31; 32; 33; 34; 40; 63; 64; 65; 100; 257; 1000; 4099 ]
+
+let random_sets () =
+  let rs = Random.State.make [| 20261202 |] in
+  List.iter
+    (fun (name, gen) ->
+      List.iter
+        (fun m -> same_tree (Printf.sprintf "%s, %d items" name m) (items m gen))
+        sizes)
+    (shapes rs)
+
+(* Duplicates among distinct boxes, in random order: ties at every level. *)
+let duplicates () =
+  let rs = Random.State.make [| 7 |] in
+  for round = 1 to 20 do
+    let m = 50 + Random.State.int rs 3000 in
+    let distinct = 1 + Random.State.int rs 40 in
+    let base =
+      Array.init distinct (fun _ ->
+          let f s = Random.State.float rs s in
+          (f 20., f 20., f 20., f 2., f 2., f 2.))
+    in
+    let pb = items m (fun _ -> base.(Random.State.int rs distinct)) in
+    same_tree (Printf.sprintf "duplicates, round %d, %d items" round m) pb
+  done
+
+let large () =
+  let rs = Random.State.make [| 99 |] in
+  let f s = Random.State.float rs s in
+  same_tree "50000 uniform"
+    (items 50000 (fun _ -> (f 1000., f 1000., f 1000., f 4., f 4., f 4.)));
+  same_tree "a 200 × 200 grid"
+    (items 40000 (fun k ->
+         ( Float.of_int (k / 200) -. 0.4,
+           0.,
+           Float.of_int (k mod 200) -. 0.4,
+           0.8,
+           0.8,
+           0.8 )))
+
+let () =
+  Alcotest.run "bvh"
+    [
+      ( "build",
+        [
+          Alcotest.test_case "random sets of every shape and size" `Quick random_sets;
+          Alcotest.test_case "duplicate boxes" `Quick duplicates;
+          Alcotest.test_case "large sets" `Quick large;
+        ] );
+    ]
