@@ -10,30 +10,46 @@ let small = 32
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
    data is one Float.Array of padded bounds (centroids are their midpoints), moved with
-   the primitives' order as nodes are partitioned, nodes are written
-   into arrays grown by half, and the binning scratch is reused at every node. Floats
-   stay in local mutable variables and inlined functions, so that none is boxed. *)
+   the primitives' order as nodes are partitioned, nodes are written into arrays grown by
+   half, and the binning scratch is reused at every node. Floats stay in local mutable
+   variables, inlined functions and float arrays, so that none is boxed.
+
+   A large node is read once: its partition also bins its children (their bounds are
+   unions of its bins, known before it starts), and a primitive's bin waits in a byte by
+   its position for the partition of the node it is in. Min and max being exact on finite
+   floats, bounds gathered bin by bin are those a pass in any order computes, so the tree
+   is the one a bin pass and a partition pass per node make. *)
 type work = {
   pbox : Float.Array.t;
       (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
           every pass over a node reads memory in sequence *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
+  tag : Bytes.t;
+      (** by position: the primitive's bin in the binning of the node it is in, written by
+          that binning and read by the node's partition *)
   mutable nodes_b : Float.Array.t;  (** 8 per node (see [t]) *)
   mutable count : int;
   mutable max_depth : int;
-  (* Bin scratch, reused at every node: counts and bounds per bin, the areas and counts
-     of the bins from b to the last, and the node's centroid bounds. *)
-  bin_n : int array;
+  (* Bin scratch, reused at every node: the areas and counts of the bins from b to the
+     last, a box, and the node's centroid bounds. *)
   bin_b : Float.Array.t;
   right_area : Float.Array.t;
   right_n : int array;
   cbox : Float.Array.t;
+  cost : Float.Array.t;  (** the split cost the last split search found (not boxed) *)
   mutable pend : Float.Array.t;
   mutable pend_right : Float.Array.t;
-  (* Small nodes: each primitive's bin, the primitives (3 × index) sorted by bin, and the
-     area of the boxes from each position to the last. *)
-  small_bin : int array;
-  small_p : int array;
+  (* The bins of large nodes, [slot_f] floats and [slot_i] integers per depth, like
+     [pend] and [pend_right]: at d those of the node being built there and those of its
+     right child. The integers are the binning axis (−1: not binned yet), then the counts;
+     the floats 12 per bin: box, then centroid bounds. *)
+  mutable pbins : Float.Array.t;
+  mutable pbins_right : Float.Array.t;
+  mutable pcount : int array;
+  mutable pcount_right : int array;
+  (* Small nodes: the primitives' keys (bin · small + position in the node) sorted, and
+     the area of the boxes from each sorted position to the last. *)
+  small_key : int array;
   small_area : Float.Array.t;
 }
 
@@ -52,13 +68,20 @@ let new_node w =
 let[@inline] fmin (a : float) b = if a < b then a else b
 let[@inline] fmax (a : float) b = if a > b then a else b
 
-(* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
-let[@inline] area a off =
-  let dx = fget a (off + 3) -. fget a off
-  and dy = fget a (off + 4) -. fget a (off + 1)
-  and dz = fget a (off + 5) -. fget a (off + 2) in
+(* Surface area of the box min (x0, y0, z0), max (x1, y1, z1), 0 when empty. *)
+let[@inline] area6 x0 y0 z0 x1 y1 z1 =
+  let dx = x1 -. x0 and dy = y1 -. y0 and dz = z1 -. z0 in
   if dx < 0. || dy < 0. || dz < 0. then 0.
   else 2. *. ((dx *. dy) +. (dy *. dz) +. (dz *. dx))
+
+(* Surface area of the box stored at [off] in [a] (6 floats), 0 when empty. *)
+let[@inline] area a off =
+  area6 (fget a off)
+    (fget a (off + 1))
+    (fget a (off + 2))
+    (fget a (off + 3))
+    (fget a (off + 4))
+    (fget a (off + 5))
 
 let box_empty a off =
   for k = 0 to 2 do
@@ -78,42 +101,6 @@ let[@inline] cen pb q k = 0.5 *. (fget pb (q + k) +. fget pb (q + 3 + k))
 let[@inline] bin_of cmin scale c =
   let b = int_of_float ((c -. cmin) *. scale) in
   if b < 0 then 0 else if b >= bins then bins - 1 else b
-
-(* Add the primitive at [q] (3 × index) to bin [b] of the bin scratch. *)
-let[@inline] bin_add w b q =
-  let bin_n = w.bin_n and bb = w.bin_b and pb = w.pbox in
-  Array.unsafe_set bin_n b (Array.unsafe_get bin_n b + 1);
-  let o = 6 * b in
-  fset bb o (fmin (fget bb o) (fget pb q));
-  fset bb (o + 1) (fmin (fget bb (o + 1)) (fget pb (q + 1)));
-  fset bb (o + 2) (fmin (fget bb (o + 2)) (fget pb (q + 2)));
-  fset bb (o + 3) (fmax (fget bb (o + 3)) (fget pb (q + 3)));
-  fset bb (o + 4) (fmax (fget bb (o + 4)) (fget pb (q + 4)));
-  fset bb (o + 5) (fmax (fget bb (o + 5)) (fget pb (q + 5)))
-
-(* Bin ids[lo, hi) into the bin scratch, in one pass, along each axis k whose [use_k]
-   holds (bins k·bins to k·bins + bins − 1): counts and bounds. *)
-let bin_axes w lo hi use_x use_y use_z =
-  let cb = w.cbox and pb = w.pbox in
-  let scale k =
-    let e = fget cb (3 + k) -. fget cb k in
-    if e > 0. then Float.of_int bins /. e else 0.
-  in
-  let x0 = fget cb 0 and y0 = fget cb 1 and z0 = fget cb 2 in
-  let sx = scale 0 and sy = scale 1 and sz = scale 2 in
-  for axis = 0 to 2 do
-    if (axis = 0 && use_x) || (axis = 1 && use_y) || (axis = 2 && use_z) then
-      for b = axis * bins to (axis * bins) + bins - 1 do
-        Array.unsafe_set w.bin_n b 0;
-        box_empty w.bin_b (6 * b)
-      done
-  done;
-  for i = lo to hi - 1 do
-    let q = 6 * i in
-    if use_x then bin_add w (bin_of x0 sx (cen pb q 0)) q;
-    if use_y then bin_add w (bins + bin_of y0 sy (cen pb q 1)) q;
-    if use_z then bin_add w ((2 * bins) + bin_of z0 sz (cen pb q 2)) q
-  done
 
 (* The box of ids[lo, hi) and its centroids' bounds, 12 floats into [dst] at [doff]. *)
 let bound_range w lo hi dst doff =
@@ -157,25 +144,88 @@ let bound_range w lo hi dst doff =
   fset dst (doff + 10) !cy1;
   fset dst (doff + 11) !cz1
 
+(* [fset a o (fmin (fget a o) v)] and the same with fmax, for any floats, but storing
+   only when the bound may change. *)
+let[@inline] lower a o (v : float) = if not (fget a o < v) then fset a o v
+let[@inline] raise_to a o (v : float) = if not (fget a o > v) then fset a o v
+
 (* Add the box at [q] in [pb] and its centroid to the 12 bounds at [doff] in [dst]. *)
 let[@inline] bound_add dst doff pb q =
-  fset dst doff (fmin (fget dst doff) (fget pb q));
-  fset dst (doff + 1) (fmin (fget dst (doff + 1)) (fget pb (q + 1)));
-  fset dst (doff + 2) (fmin (fget dst (doff + 2)) (fget pb (q + 2)));
-  fset dst (doff + 3) (fmax (fget dst (doff + 3)) (fget pb (q + 3)));
-  fset dst (doff + 4) (fmax (fget dst (doff + 4)) (fget pb (q + 4)));
-  fset dst (doff + 5) (fmax (fget dst (doff + 5)) (fget pb (q + 5)));
-  let cx = cen pb q 0 and cy = cen pb q 1 and cz = cen pb q 2 in
-  fset dst (doff + 6) (fmin (fget dst (doff + 6)) cx);
-  fset dst (doff + 7) (fmin (fget dst (doff + 7)) cy);
-  fset dst (doff + 8) (fmin (fget dst (doff + 8)) cz);
-  fset dst (doff + 9) (fmax (fget dst (doff + 9)) cx);
-  fset dst (doff + 10) (fmax (fget dst (doff + 10)) cy);
-  fset dst (doff + 11) (fmax (fget dst (doff + 11)) cz)
+  let x0 = fget pb q and y0 = fget pb (q + 1) and z0 = fget pb (q + 2) in
+  let x1 = fget pb (q + 3) and y1 = fget pb (q + 4) and z1 = fget pb (q + 5) in
+  lower dst doff x0;
+  lower dst (doff + 1) y0;
+  lower dst (doff + 2) z0;
+  raise_to dst (doff + 3) x1;
+  raise_to dst (doff + 4) y1;
+  raise_to dst (doff + 5) z1;
+  let cx = 0.5 *. (x0 +. x1) and cy = 0.5 *. (y0 +. y1) and cz = 0.5 *. (z0 +. z1) in
+  lower dst (doff + 6) cx;
+  lower dst (doff + 7) cy;
+  lower dst (doff + 8) cz;
+  raise_to dst (doff + 9) cx;
+  raise_to dst (doff + 10) cy;
+  raise_to dst (doff + 11) cz
 
 let bound_empty dst doff =
   box_empty dst doff;
   box_empty dst (doff + 6)
+
+(* The 12 bounds at [boff] in [b] added to those at [doff] in [dst]. *)
+let bound_merge dst doff b boff =
+  box_merge dst doff b boff;
+  box_merge dst (doff + 6) b (boff + 6)
+
+let slot_f = 12 * bins
+let slot_i = bins + 1
+
+(* The axis [best_split] bins a node of [n] primitives along, whose centroid bounds are
+   at [coff] in [c]: its widest, or −1 when the node is small or its centroids coincide. *)
+let bin_axis_of c coff n =
+  if n <= small then -1
+  else
+    let ex = fget c (coff + 3) -. fget c coff
+    and ey = fget c (coff + 4) -. fget c (coff + 1)
+    and ez = fget c (coff + 5) -. fget c (coff + 2) in
+    if ex >= ey && ex >= ez then if ex > 0. then 0 else -1
+    else if ey >= ez then if ey > 0. then 1 else -1
+    else if ez > 0. then 2
+    else -1
+
+(* Empty the bins of the slot at [fo] in [f], [io] in [c], for binning along [axis]. *)
+let bins_clear f fo c io axis =
+  Array.unsafe_set c io axis;
+  for b = 0 to bins - 1 do
+    Array.unsafe_set c (io + 1 + b) 0;
+    bound_empty f (fo + (12 * b))
+  done
+
+(* Put the primitive at position [i] into its bin of the slot at [fo] in [f], [io] in
+   [c] (bin of its centroid along [axis], from [cmin] at [scale] bins a unit), and that
+   bin into [tag]. *)
+let[@inline] bin_put w f fo c io axis cmin scale i =
+  let pb = w.pbox and q = 6 * i in
+  let b = bin_of cmin scale (cen pb q axis) in
+  Bytes.unsafe_set w.tag i (Char.unsafe_chr b);
+  let k = io + 1 + b in
+  Array.unsafe_set c k (Array.unsafe_get c k + 1);
+  bound_add f (fo + (12 * b)) pb q
+
+(* The binning's origin and scale along [axis] for centroid bounds at [coff] in [c]. *)
+let[@inline] bin_min c coff axis = if axis < 0 then 0. else fget c (coff + axis)
+
+let[@inline] bin_scale c coff axis =
+  if axis < 0 then 0.
+  else Float.of_int bins /. (fget c (coff + 3 + axis) -. fget c (coff + axis))
+
+(* Bin ids[lo, hi) along [axis] into the slot of [depth], in one pass. *)
+let bin_range w lo hi depth axis =
+  let f = w.pbins and fo = slot_f * depth and c = w.pcount and io = slot_i * depth in
+  bins_clear f fo c io axis;
+  let cmin = bin_min w.cbox 0 axis and scale = bin_scale w.cbox 0 axis in
+  for i = lo to hi - 1 do
+    bin_put w f fo c io axis cmin scale i
+  done
 
 (* [best_split] for a node of at most [small] primitives, with the same answer: the
    primitives sorted by bin, the cost is evaluated only between two occupied bins. A split
@@ -185,9 +235,8 @@ let bound_empty dst doff =
    in any order. *)
 let best_split_small w lo hi split =
   let n = hi - lo and cb = w.cbox in
-  let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
+  let sk = w.small_key and sa = w.small_area in
   let pb = w.pbox in
-  let box = w.bin_b in
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
   for axis = 0 to 2 do
@@ -195,45 +244,56 @@ let best_split_small w lo hi split =
     let ext = fget cb (3 + axis) -. cmin in
     if ext > 0. then (
       let scale = Float.of_int bins /. ext in
-      (* Insertion sort by bin. *)
+      (* Insertion sort by bin, then position: keys bin·small + position, which sort as a
+         stable sort by bin does. *)
       for i = 0 to n - 1 do
         let q = 6 * (lo + i) in
-        let b = bin_of cmin scale (cen pb q axis) in
+        let key = (bin_of cmin scale (cen pb q axis) * small) + i in
         let j = ref i in
-        while !j > 0 && Array.unsafe_get sb (!j - 1) > b do
-          Array.unsafe_set sb !j (Array.unsafe_get sb (!j - 1));
-          Array.unsafe_set sp !j (Array.unsafe_get sp (!j - 1));
+        while !j > 0 && Array.unsafe_get sk (!j - 1) > key do
+          Array.unsafe_set sk !j (Array.unsafe_get sk (!j - 1));
           decr j
         done;
-        Array.unsafe_set sb !j b;
-        Array.unsafe_set sp !j q
+        Array.unsafe_set sk !j key
       done;
       (* sa.(j): the area of the boxes of positions j..n−1, where j starts a bin. *)
-      box_empty box 0;
+      let x0 = ref Float.infinity
+      and y0 = ref Float.infinity
+      and z0 = ref Float.infinity in
+      let x1 = ref Float.neg_infinity
+      and y1 = ref Float.neg_infinity
+      and z1 = ref Float.neg_infinity in
       for j = n - 1 downto 1 do
-        let q = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget pb q));
-        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
-        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
-        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
-        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
-        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
-        if Array.unsafe_get sb j <> Array.unsafe_get sb (j - 1) then
-          fset sa j (area box 0)
+        let key = Array.unsafe_get sk j in
+        let q = 6 * (lo + (key land (small - 1))) in
+        x0 := fmin !x0 (fget pb q);
+        y0 := fmin !y0 (fget pb (q + 1));
+        z0 := fmin !z0 (fget pb (q + 2));
+        x1 := fmax !x1 (fget pb (q + 3));
+        y1 := fmax !y1 (fget pb (q + 4));
+        z1 := fmax !z1 (fget pb (q + 5));
+        if key / small <> Array.unsafe_get sk (j - 1) / small then
+          fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1)
       done;
-      box_empty box 0;
+      let x0 = ref Float.infinity
+      and y0 = ref Float.infinity
+      and z0 = ref Float.infinity in
+      let x1 = ref Float.neg_infinity
+      and y1 = ref Float.neg_infinity
+      and z1 = ref Float.neg_infinity in
       for j = 0 to n - 2 do
-        let q = Array.unsafe_get sp j in
-        fset box 0 (fmin (fget box 0) (fget pb q));
-        fset box 1 (fmin (fget box 1) (fget pb (q + 1)));
-        fset box 2 (fmin (fget box 2) (fget pb (q + 2)));
-        fset box 3 (fmax (fget box 3) (fget pb (q + 3)));
-        fset box 4 (fmax (fget box 4) (fget pb (q + 4)));
-        fset box 5 (fmax (fget box 5) (fget pb (q + 5)));
-        let b = Array.unsafe_get sb j in
-        if b <> Array.unsafe_get sb (j + 1) then
+        let key = Array.unsafe_get sk j in
+        let q = 6 * (lo + (key land (small - 1))) in
+        x0 := fmin !x0 (fget pb q);
+        y0 := fmin !y0 (fget pb (q + 1));
+        z0 := fmin !z0 (fget pb (q + 2));
+        x1 := fmax !x1 (fget pb (q + 3));
+        y1 := fmax !y1 (fget pb (q + 4));
+        z1 := fmax !z1 (fget pb (q + 5));
+        let b = key / small in
+        if b <> Array.unsafe_get sk (j + 1) / small then
           let cost =
-            (area box 0 *. Float.of_int (j + 1))
+            (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
             +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
           in
           if cost < !best_cost then (
@@ -242,99 +302,162 @@ let best_split_small w lo hi split =
             split.(1) <- b + 1)
       done)
   done;
-  !best_cost
+  fset w.cost 0 !best_cost
 
-(* Binned SAH: for each axis, bin the centroids, sweep the bins from both ends, and keep
-   the cheapest split cost SA(L)·nL + SA(R)·nR. The split (axis, first bin of the right
-   side) is stored in [split] and its cost returned; infinity when no axis splits. Nodes
-   of more than [small] primitives, the only ones that come here, bin only along their
-   widest centroid axis: a million-triangle mesh's tree builds a quarter faster than
-   with three axes down to 4096 primitives, for an SAH cost 2% higher. *)
-let best_split w lo hi split =
-  let cb = w.cbox in
+(* Binned SAH: bin the centroids, sweep the bins from both ends, and keep the cheapest
+   split cost SA(L)·nL + SA(R)·nR. The split (axis, first bin of the right side) is stored
+   in [split] and its cost in [cost]; infinity when no axis splits. Nodes of more than
+   [small] primitives, the only ones that come here, bin only along their widest centroid
+   axis: a million-triangle mesh's tree builds a quarter faster than with three axes down
+   to 4096 primitives, for an SAH cost 2% higher. The node's bins are in the slot of
+   [depth] when its parent's partition made them, else made here. *)
+let best_split w lo hi depth split =
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
-  let e k = fget cb (3 + k) -. fget cb k in
-  let widest = if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2 in
-  let use k = k = widest && fget cb (3 + k) -. fget cb k > 0. in
-  let use_x = use 0 and use_y = use 1 and use_z = use 2 in
-  bin_axes w lo hi use_x use_y use_z;
-  let left_a = w.bin_b and la = 6 * 3 * bins in
-  for axis = 0 to 2 do
-    if (axis = 0 && use_x) || (axis = 1 && use_y) || (axis = 2 && use_z) then (
-      let b0 = axis * bins in
-      (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
-      box_empty left_a la;
-      let acc_n = ref 0 in
-      for b = bins - 1 downto 1 do
-        box_merge left_a la w.bin_b (6 * (b0 + b));
-        acc_n := !acc_n + w.bin_n.(b0 + b);
-        fset w.right_area b (area left_a la);
-        w.right_n.(b) <- !acc_n
-      done;
-      box_empty left_a la;
-      let acc_n = ref 0 in
-      for b = 0 to bins - 2 do
-        box_merge left_a la w.bin_b (6 * (b0 + b));
-        acc_n := !acc_n + w.bin_n.(b0 + b);
-        let nl = !acc_n and nr = w.right_n.(b + 1) in
-        if nl > 0 && nr > 0 then
-          let cost =
-            (area left_a la *. Float.of_int nl)
-            +. (fget w.right_area (b + 1) *. Float.of_int nr)
-          in
-          if cost < !best_cost then (
-            best_cost := cost;
-            split.(0) <- axis;
-            split.(1) <- b + 1)
-      done)
-  done;
-  !best_cost
+  let io = slot_i * depth in
+  (if Array.unsafe_get w.pcount io < 0 then
+     let axis = bin_axis_of w.cbox 0 (hi - lo) in
+     if axis >= 0 then bin_range w lo hi depth axis);
+  let axis = Array.unsafe_get w.pcount io in
+  if axis >= 0 then (
+    let f = w.pbins and fo = slot_f * depth and c = w.pcount in
+    let bb = w.bin_b and la = 0 in
+    (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
+    box_empty bb la;
+    let acc_n = ref 0 in
+    for b = bins - 1 downto 1 do
+      box_merge bb la f (fo + (12 * b));
+      acc_n := !acc_n + Array.unsafe_get c (io + 1 + b);
+      fset w.right_area b (area bb la);
+      w.right_n.(b) <- !acc_n
+    done;
+    box_empty bb la;
+    let acc_n = ref 0 in
+    for b = 0 to bins - 2 do
+      box_merge bb la f (fo + (12 * b));
+      acc_n := !acc_n + Array.unsafe_get c (io + 1 + b);
+      let nl = !acc_n and nr = w.right_n.(b + 1) in
+      if nl > 0 && nr > 0 then
+        let cost =
+          (area bb la *. Float.of_int nl) +. (fget w.right_area (b + 1) *. Float.of_int nr)
+        in
+        if cost < !best_cost then (
+          best_cost := cost;
+          split.(0) <- axis;
+          split.(1) <- b + 1)
+    done);
+  fset w.cost 0 !best_cost
+
+(* Swap the primitives at positions [a] and [b]: ids and boxes. *)
+let[@inline] swap (ids : int array) pb a b =
+  let p = Array.unsafe_get ids a in
+  Array.unsafe_set ids a (Array.unsafe_get ids b);
+  Array.unsafe_set ids b p;
+  let a = 6 * a and b = 6 * b in
+  let t0 = fget pb a and t1 = fget pb (a + 1) and t2 = fget pb (a + 2) in
+  let t3 = fget pb (a + 3) and t4 = fget pb (a + 4) and t5 = fget pb (a + 5) in
+  fset pb a (fget pb b);
+  fset pb (a + 1) (fget pb (b + 1));
+  fset pb (a + 2) (fget pb (b + 2));
+  fset pb (a + 3) (fget pb (b + 3));
+  fset pb (a + 4) (fget pb (b + 4));
+  fset pb (a + 5) (fget pb (b + 5));
+  fset pb b t0;
+  fset pb (b + 1) t1;
+  fset pb (b + 2) t2;
+  fset pb (b + 3) t3;
+  fset pb (b + 4) t4;
+  fset pb (b + 5) t5
 
 (* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
-   first; the index of the first of the others. Each primitive is classified once, and its
-   box goes into the bounds of its side (12 floats: box, then centroid bounds), at [loff]
-   in [dl] or at [roff] in [dr]: the children's bounds come out of this pass. Min and max are exact,
-   so these are the bounds a pass over each side would compute. *)
-let partition w lo hi axis split dl loff dr roff =
+   first; the index of the first of the others. A primitive that belongs to the right is
+   swapped with the last unclassified one, which is classified next. The children's bounds
+   (12 floats: box, then centroid bounds) go at [loff] in [dl] and at [roff] in [dr], from
+   a pass over each side with the bounds in registers. *)
+let partition_small w lo hi axis split dl loff dr roff =
   let cb = w.cbox and ids = w.ids and pb = w.pbox in
   let cmin = fget cb axis in
   let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
-  bound_empty dl loff;
-  bound_empty dr roff;
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
-    if bin_of cmin scale (cen pb (6 * !i) axis) < split then (
-      bound_add dl loff pb (6 * !i);
+    if bin_of cmin scale (cen pb (6 * !i) axis) < split then incr i
+    else (
+      swap ids pb !i !j;
+      decr j)
+  done;
+  bound_range w lo !i dl loff;
+  bound_range w !i hi dr roff;
+  !i
+
+(* [partition_small] for the binned node at [depth], in the same order: each primitive's
+   bin is read from [tag], the children's bounds are unions of bins, and the children
+   that [best_split] will bin are binned here, as each primitive reaches its place, into
+   the slots of the left child (depth + 1) and of the right child (the right slot of
+   [depth]). *)
+let partition_binned w lo hi depth split =
+  let f = w.pbins and fo = slot_f * depth and c = w.pcount and io = slot_i * depth in
+  let dl = w.pend and loff = 12 * (depth + 1) in
+  let dr = w.pend_right and roff = 12 * depth in
+  bound_empty dl loff;
+  bound_empty dr roff;
+  let nl = ref 0 and nr = ref 0 in
+  for b = 0 to bins - 1 do
+    let n = Array.unsafe_get c (io + 1 + b) in
+    if b < split then (
+      bound_merge dl loff f (fo + (12 * b));
+      nl := !nl + n)
+    else (
+      bound_merge dr roff f (fo + (12 * b));
+      nr := !nr + n)
+  done;
+  let la = bin_axis_of dl (loff + 6) !nl and ra = bin_axis_of dr (roff + 6) !nr in
+  let lf = f and lfo = slot_f * (depth + 1) and lc = c and lio = slot_i * (depth + 1) in
+  let rf = w.pbins_right and rfo = fo and rc = w.pcount_right and rio = io in
+  bins_clear lf lfo lc lio la;
+  bins_clear rf rfo rc rio ra;
+  let lmin = bin_min dl (loff + 6) la and lscale = bin_scale dl (loff + 6) la in
+  let rmin = bin_min dr (roff + 6) ra and rscale = bin_scale dr (roff + 6) ra in
+  let ids = w.ids and pb = w.pbox and tag = w.tag in
+  let i = ref lo and j = ref (hi - 1) in
+  while !i <= !j do
+    if Char.code (Bytes.unsafe_get tag !i) < split then (
+      if la >= 0 then bin_put w lf lfo lc lio la lmin lscale !i;
       incr i)
-    else
-      let p = Array.unsafe_get ids !i in
-      Array.unsafe_set ids !i (Array.unsafe_get ids !j);
-      Array.unsafe_set ids !j p;
-      let a = 6 * !i and b = 6 * !j in
-      for k = 0 to 5 do
-        let t = fget pb (a + k) in
-        fset pb (a + k) (fget pb (b + k));
-        fset pb (b + k) t
-      done;
-      bound_add dr roff pb b;
-      decr j
+    else (
+      swap ids pb !i !j;
+      Bytes.unsafe_set tag !i (Bytes.unsafe_get tag !j);
+      if ra >= 0 then bin_put w rf rfo rc rio ra rmin rscale !j;
+      decr j)
   done;
   !i
 
 (* Bounds waiting for their node, 12 floats per depth: [pend] at depth d those of the
    node being built there, [pend_right] at d those of its right child while its left
-   subtree is built. *)
+   subtree is built; the bins likewise. *)
 let reserve w depth =
   if 12 * (depth + 2) > Float.Array.length w.pend then (
-    let cap = 12 * (2 * (depth + 2)) in
-    let grow a =
-      let b = Float.Array.create cap in
+    let d = 2 * (depth + 2) in
+    let grow a n =
+      let b = Float.Array.create (n * d) in
       Float.Array.blit a 0 b 0 (Float.Array.length a);
       b
     in
-    w.pend <- grow w.pend;
-    w.pend_right <- grow w.pend_right)
+    let grow_i a =
+      let b = Array.make (slot_i * d) (-1) in
+      Array.blit a 0 b 0 (Array.length a);
+      b
+    in
+    w.pend <- grow w.pend 12;
+    w.pend_right <- grow w.pend_right 12;
+    w.pbins <- grow w.pbins slot_f;
+    w.pbins_right <- grow w.pbins_right slot_f;
+    w.pcount <- grow_i w.pcount;
+    w.pcount_right <- grow_i w.pcount_right)
+
+(* The children of the node at [depth] are not binned yet. *)
+let unbinned w depth =
+  w.pcount.(slot_i * (depth + 1)) <- -1;
+  w.pcount_right.(slot_i * depth) <- -1
 
 (* The node over ids[lo, hi), whose bounds are at [pend] for [depth]. *)
 let rec build_node w split lo hi depth =
@@ -349,27 +472,34 @@ let rec build_node w split lo hi depth =
   let below = here + 12 in
   let mid =
     if n <= 2 then -1
-    else
-      let best_cost =
-        if n <= small then best_split_small w lo hi split else best_split w lo hi split
-      in
+    else (
+      if n <= small then best_split_small w lo hi split
+      else best_split w lo hi depth split;
+      let best_cost = fget w.cost 0 in
       let node_area = area w.nodes_b off in
       (* Cost model: one box test per child against one intersection per primitive. *)
       let leaf_cost = Float.of_int n *. node_area in
       if split.(0) < 0 then
         if n <= max_leaf then -1
         else (
+          unbinned w depth;
           bound_range w lo (lo + (n / 2)) pend below;
           bound_range w (lo + (n / 2)) hi w.pend_right here;
           lo + (n / 2))
       else if n <= max_leaf && leaf_cost <= node_area +. best_cost then -1
       else
-        let mid = partition w lo hi split.(0) split.(1) pend below w.pend_right here in
+        let mid =
+          if n <= small then (
+            unbinned w depth;
+            partition_small w lo hi split.(0) split.(1) pend below w.pend_right here)
+          else partition_binned w lo hi depth split.(1)
+        in
         if mid = lo || mid = hi then (
+          unbinned w depth;
           bound_range w lo (lo + (n / 2)) pend below;
           bound_range w (lo + (n / 2)) hi w.pend_right here;
           lo + (n / 2))
-        else mid
+        else mid)
   in
   if mid < 0 then (
     fset w.nodes_b (off + 6) (Float.of_int lo);
@@ -378,6 +508,14 @@ let rec build_node w split lo hi depth =
     ignore (build_node w split lo mid (depth + 1));
     (* The left subtree may have grown the scratch: read it again. *)
     Float.Array.blit w.pend_right here w.pend below 12;
+    let io = slot_i * depth in
+    let axis = w.pcount_right.(io) in
+    w.pcount.(io + slot_i) <- axis;
+    if axis >= 0 then (
+      Array.blit w.pcount_right io w.pcount (io + slot_i) slot_i;
+      Float.Array.blit w.pbins_right (slot_f * depth) w.pbins
+        (slot_f * (depth + 1))
+        slot_f);
     let right = build_node w split mid hi (depth + 1) in
     (* The node arrays may have moved while the subtrees were built. *)
     fset w.nodes_b (off + 6) (Float.of_int right);
@@ -420,18 +558,22 @@ let build pbox =
     {
       pbox;
       ids = Array.init m Fun.id;
+      tag = Bytes.create m;
       nodes_b = Float.Array.create (8 * cap);
       count = 0;
       max_depth = 0;
-      bin_n = Array.make (3 * bins) 0;
-      bin_b = Float.Array.create (6 * ((3 * bins) + 1));
+      bin_b = Float.Array.create 6;
       right_area = Float.Array.make bins 0.;
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;
+      cost = Float.Array.create 1;
       pend = Float.Array.create (12 * 64);
       pend_right = Float.Array.create (12 * 64);
-      small_bin = Array.make small 0;
-      small_p = Array.make small 0;
+      pbins = Float.Array.create (slot_f * 64);
+      pbins_right = Float.Array.create (slot_f * 64);
+      pcount = Array.make (slot_i * 64) (-1);
+      pcount_right = Array.make (slot_i * 64) (-1);
+      small_key = Array.make small 0;
       small_area = Float.Array.make small 0.;
     }
   in
