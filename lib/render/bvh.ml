@@ -6,6 +6,9 @@ let fset = Float.Array.unsafe_set
 let max_leaf = 8
 let bins = 16
 let small = 32
+let small_bits = 5
+
+(* small = 2^small_bits *)
 (* --- Construction ----------------------------------------------------------------- *)
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
@@ -19,6 +22,40 @@ let small = 32
    its position for the partition of the node it is in. Min and max being exact on finite
    floats, bounds gathered bin by bin are those a pass in any order computes, so the tree
    is the one a bin pass and a partition pass per node make. *)
+(* A bin's bounds, a flat record of floats: box, then centroid bounds. *)
+type bin = {
+  mutable x0 : float;
+  mutable y0 : float;
+  mutable z0 : float;
+  mutable x1 : float;
+  mutable y1 : float;
+  mutable z1 : float;
+  mutable cx0 : float;
+  mutable cy0 : float;
+  mutable cz0 : float;
+  mutable cx1 : float;
+  mutable cy1 : float;
+  mutable cz1 : float;
+}
+
+let new_bin () =
+  {
+    x0 = 0.;
+    y0 = 0.;
+    z0 = 0.;
+    x1 = 0.;
+    y1 = 0.;
+    z1 = 0.;
+    cx0 = 0.;
+    cy0 = 0.;
+    cz0 = 0.;
+    cx1 = 0.;
+    cy1 = 0.;
+    cz1 = 0.;
+  }
+
+let new_slot () = Array.init bins (fun _ -> new_bin ())
+
 type work = {
   pbox : Float.Array.t;
       (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
@@ -31,20 +68,19 @@ type work = {
   mutable count : int;
   mutable max_depth : int;
   (* Bin scratch, reused at every node: the areas and counts of the bins from b to the
-     last, a box, and the node's centroid bounds. *)
-  bin_b : Float.Array.t;
+     last, and the node's centroid bounds. *)
   right_area : Float.Array.t;
   right_n : int array;
   cbox : Float.Array.t;
   cost : Float.Array.t;  (** the split cost the last split search found (not boxed) *)
   mutable pend : Float.Array.t;
   mutable pend_right : Float.Array.t;
-  (* The bins of large nodes, [slot_f] floats and [slot_i] integers per depth, like
+  (* The bins of large nodes, a slot of [bins] bins and [slot_i] integers per depth, like
      [pend] and [pend_right]: at d those of the node being built there and those of its
-     right child. The integers are the binning axis (−1: not binned yet), then the counts;
-     the floats 12 per bin: box, then centroid bounds. *)
-  mutable pbins : Float.Array.t;
-  mutable pbins_right : Float.Array.t;
+     right child. The integers are the binning axis (−1: not binned yet), then the
+     counts. *)
+  mutable pbins : bin array array;
+  mutable pbins_right : bin array array;
   mutable pcount : int array;
   mutable pcount_right : int array;
   (* Small nodes: the primitives' keys (bin · small + position in the node) sorted, and
@@ -83,17 +119,13 @@ let[@inline] area a off =
     (fget a (off + 4))
     (fget a (off + 5))
 
-let box_empty a off =
-  for k = 0 to 2 do
-    fset a (off + k) Float.infinity;
-    fset a (off + 3 + k) Float.neg_infinity
-  done
-
-let box_merge a off b boff =
-  for k = 0 to 2 do
-    fset a (off + k) (fmin (fget a (off + k)) (fget b (boff + k)));
-    fset a (off + 3 + k) (fmax (fget a (off + 3 + k)) (fget b (boff + 3 + k)))
-  done
+let[@inline] box_empty a off =
+  fset a off Float.infinity;
+  fset a (off + 1) Float.infinity;
+  fset a (off + 2) Float.infinity;
+  fset a (off + 3) Float.neg_infinity;
+  fset a (off + 4) Float.neg_infinity;
+  fset a (off + 5) Float.neg_infinity
 
 (* The centroid's coordinate [k] of the padded box at [q] in [pb]. *)
 let[@inline] cen pb q k = 0.5 *. (fget pb (q + k) +. fget pb (q + 3 + k))
@@ -144,39 +176,10 @@ let bound_range w lo hi dst doff =
   fset dst (doff + 10) !cy1;
   fset dst (doff + 11) !cz1
 
-(* [fset a o (fmin (fget a o) v)] and the same with fmax, for any floats, but storing
-   only when the bound may change. *)
-let[@inline] lower a o (v : float) = if not (fget a o < v) then fset a o v
-let[@inline] raise_to a o (v : float) = if not (fget a o > v) then fset a o v
-
-(* Add the box at [q] in [pb] and its centroid to the 12 bounds at [doff] in [dst]. *)
-let[@inline] bound_add dst doff pb q =
-  let x0 = fget pb q and y0 = fget pb (q + 1) and z0 = fget pb (q + 2) in
-  let x1 = fget pb (q + 3) and y1 = fget pb (q + 4) and z1 = fget pb (q + 5) in
-  lower dst doff x0;
-  lower dst (doff + 1) y0;
-  lower dst (doff + 2) z0;
-  raise_to dst (doff + 3) x1;
-  raise_to dst (doff + 4) y1;
-  raise_to dst (doff + 5) z1;
-  let cx = 0.5 *. (x0 +. x1) and cy = 0.5 *. (y0 +. y1) and cz = 0.5 *. (z0 +. z1) in
-  lower dst (doff + 6) cx;
-  lower dst (doff + 7) cy;
-  lower dst (doff + 8) cz;
-  raise_to dst (doff + 9) cx;
-  raise_to dst (doff + 10) cy;
-  raise_to dst (doff + 11) cz
-
 let bound_empty dst doff =
   box_empty dst doff;
   box_empty dst (doff + 6)
 
-(* The 12 bounds at [boff] in [b] added to those at [doff] in [dst]. *)
-let bound_merge dst doff b boff =
-  box_merge dst doff b boff;
-  box_merge dst (doff + 6) b (boff + 6)
-
-let slot_f = 12 * bins
 let slot_i = bins + 1
 
 (* The axis [best_split] bins a node of [n] primitives along, whose centroid bounds are
@@ -192,24 +195,67 @@ let bin_axis_of c coff n =
     else if ez > 0. then 2
     else -1
 
-(* Empty the bins of the slot at [fo] in [f], [io] in [c], for binning along [axis]. *)
-let bins_clear f fo c io axis =
+(* Empty the bins of [slot], counts at [io] in [c], for binning along [axis]. *)
+let bins_clear (slot : bin array) c io axis =
   Array.unsafe_set c io axis;
   for b = 0 to bins - 1 do
     Array.unsafe_set c (io + 1 + b) 0;
-    bound_empty f (fo + (12 * b))
+    let r = Array.unsafe_get slot b in
+    r.x0 <- Float.infinity;
+    r.y0 <- Float.infinity;
+    r.z0 <- Float.infinity;
+    r.x1 <- Float.neg_infinity;
+    r.y1 <- Float.neg_infinity;
+    r.z1 <- Float.neg_infinity;
+    r.cx0 <- Float.infinity;
+    r.cy0 <- Float.infinity;
+    r.cz0 <- Float.infinity;
+    r.cx1 <- Float.neg_infinity;
+    r.cy1 <- Float.neg_infinity;
+    r.cz1 <- Float.neg_infinity
   done
 
-(* Put the primitive at position [i] into its bin of the slot at [fo] in [f], [io] in
-   [c] (bin of its centroid along [axis], from [cmin] at [scale] bins a unit), and that
-   bin into [tag]. *)
-let[@inline] bin_put w f fo c io axis cmin scale i =
-  let pb = w.pbox and q = 6 * i in
-  let b = bin_of cmin scale (cen pb q axis) in
-  Bytes.unsafe_set w.tag i (Char.unsafe_chr b);
+(* Put the primitive at position [i] of [pb] into its bin of [slot], counts at [io] in
+   [c] (the bin of its centroid along [axis], from [cmin] at [scale] bins a unit), and
+   that bin into [tag]. Each bound is stored only when it may change: [not (r.x0 < v)]
+   is when [fmin r.x0 v] is [v], for any floats. *)
+let[@inline] bin_put pb tag (slot : bin array) c io axis cmin scale i =
+  let q = 6 * i in
+  let x0 = fget pb q and y0 = fget pb (q + 1) and z0 = fget pb (q + 2) in
+  let x1 = fget pb (q + 3) and y1 = fget pb (q + 4) and z1 = fget pb (q + 5) in
+  let cx = 0.5 *. (x0 +. x1) and cy = 0.5 *. (y0 +. y1) and cz = 0.5 *. (z0 +. z1) in
+  let b = bin_of cmin scale (if axis = 0 then cx else if axis = 1 then cy else cz) in
+  Bytes.unsafe_set tag i (Char.unsafe_chr b);
   let k = io + 1 + b in
   Array.unsafe_set c k (Array.unsafe_get c k + 1);
-  bound_add f (fo + (12 * b)) pb q
+  let r = Array.unsafe_get slot b in
+  if not (r.x0 < x0) then r.x0 <- x0;
+  if not (r.y0 < y0) then r.y0 <- y0;
+  if not (r.z0 < z0) then r.z0 <- z0;
+  if not (r.x1 > x1) then r.x1 <- x1;
+  if not (r.y1 > y1) then r.y1 <- y1;
+  if not (r.z1 > z1) then r.z1 <- z1;
+  if not (r.cx0 < cx) then r.cx0 <- cx;
+  if not (r.cy0 < cy) then r.cy0 <- cy;
+  if not (r.cz0 < cz) then r.cz0 <- cz;
+  if not (r.cx1 > cx) then r.cx1 <- cx;
+  if not (r.cy1 > cy) then r.cy1 <- cy;
+  if not (r.cz1 > cz) then r.cz1 <- cz
+
+(* Bin [r]'s bounds added to the 12 at [doff] in [dst]. *)
+let bound_merge_bin dst doff r =
+  fset dst doff (fmin (fget dst doff) r.x0);
+  fset dst (doff + 1) (fmin (fget dst (doff + 1)) r.y0);
+  fset dst (doff + 2) (fmin (fget dst (doff + 2)) r.z0);
+  fset dst (doff + 3) (fmax (fget dst (doff + 3)) r.x1);
+  fset dst (doff + 4) (fmax (fget dst (doff + 4)) r.y1);
+  fset dst (doff + 5) (fmax (fget dst (doff + 5)) r.z1);
+  fset dst (doff + 6) (fmin (fget dst (doff + 6)) r.cx0);
+  fset dst (doff + 7) (fmin (fget dst (doff + 7)) r.cy0);
+  fset dst (doff + 8) (fmin (fget dst (doff + 8)) r.cz0);
+  fset dst (doff + 9) (fmax (fget dst (doff + 9)) r.cx1);
+  fset dst (doff + 10) (fmax (fget dst (doff + 10)) r.cy1);
+  fset dst (doff + 11) (fmax (fget dst (doff + 11)) r.cz1)
 
 (* The binning's origin and scale along [axis] for centroid bounds at [coff] in [c]. *)
 let[@inline] bin_min c coff axis = if axis < 0 then 0. else fget c (coff + axis)
@@ -220,11 +266,12 @@ let[@inline] bin_scale c coff axis =
 
 (* Bin ids[lo, hi) along [axis] into the slot of [depth], in one pass. *)
 let bin_range w lo hi depth axis =
-  let f = w.pbins and fo = slot_f * depth and c = w.pcount and io = slot_i * depth in
-  bins_clear f fo c io axis;
+  let slot = w.pbins.(depth) and c = w.pcount and io = slot_i * depth in
+  bins_clear slot c io axis;
   let cmin = bin_min w.cbox 0 axis and scale = bin_scale w.cbox 0 axis in
+  let pb = w.pbox and tag = w.tag in
   for i = lo to hi - 1 do
-    bin_put w f fo c io axis cmin scale i
+    bin_put pb tag slot c io axis cmin scale i
   done
 
 (* [best_split] for a node of at most [small] primitives, with the same answer: the
@@ -272,7 +319,7 @@ let best_split_small w lo hi split =
         x1 := fmax !x1 (fget pb (q + 3));
         y1 := fmax !y1 (fget pb (q + 4));
         z1 := fmax !z1 (fget pb (q + 5));
-        if key / small <> Array.unsafe_get sk (j - 1) / small then
+        if key lsr small_bits <> Array.unsafe_get sk (j - 1) lsr small_bits then
           fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1)
       done;
       let x0 = ref Float.infinity
@@ -290,8 +337,8 @@ let best_split_small w lo hi split =
         x1 := fmax !x1 (fget pb (q + 3));
         y1 := fmax !y1 (fget pb (q + 4));
         z1 := fmax !z1 (fget pb (q + 5));
-        let b = key / small in
-        if b <> Array.unsafe_get sk (j + 1) / small then
+        let b = key lsr small_bits in
+        if b <> Array.unsafe_get sk (j + 1) lsr small_bits then
           let cost =
             (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
             +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
@@ -320,31 +367,54 @@ let best_split w lo hi depth split =
      if axis >= 0 then bin_range w lo hi depth axis);
   let axis = Array.unsafe_get w.pcount io in
   if axis >= 0 then (
-    let f = w.pbins and fo = slot_f * depth and c = w.pcount in
-    let bb = w.bin_b and la = 0 in
-    (* right_area.(b): area of bins b..bins−1; right_n likewise. *)
-    box_empty bb la;
+    let slot = w.pbins.(depth) and c = w.pcount in
+    (* right_area.(b): area of bins b..bins−1; right_n likewise. An empty bin changes
+       neither, and a split just after one costs what the split before it does. *)
+    let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+    let x1 = ref Float.neg_infinity
+    and y1 = ref Float.neg_infinity
+    and z1 = ref Float.neg_infinity in
     let acc_n = ref 0 in
     for b = bins - 1 downto 1 do
-      box_merge bb la f (fo + (12 * b));
-      acc_n := !acc_n + Array.unsafe_get c (io + 1 + b);
-      fset w.right_area b (area bb la);
-      w.right_n.(b) <- !acc_n
+      let k = Array.unsafe_get c (io + 1 + b) in
+      if k > 0 then (
+        let r = Array.unsafe_get slot b in
+        x0 := fmin !x0 r.x0;
+        y0 := fmin !y0 r.y0;
+        z0 := fmin !z0 r.z0;
+        x1 := fmax !x1 r.x1;
+        y1 := fmax !y1 r.y1;
+        z1 := fmax !z1 r.z1;
+        acc_n := !acc_n + k);
+      fset w.right_area b (area6 !x0 !y0 !z0 !x1 !y1 !z1);
+      Array.unsafe_set w.right_n b !acc_n
     done;
-    box_empty bb la;
+    let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+    let x1 = ref Float.neg_infinity
+    and y1 = ref Float.neg_infinity
+    and z1 = ref Float.neg_infinity in
     let acc_n = ref 0 in
     for b = 0 to bins - 2 do
-      box_merge bb la f (fo + (12 * b));
-      acc_n := !acc_n + Array.unsafe_get c (io + 1 + b);
-      let nl = !acc_n and nr = w.right_n.(b + 1) in
-      if nl > 0 && nr > 0 then
-        let cost =
-          (area bb la *. Float.of_int nl) +. (fget w.right_area (b + 1) *. Float.of_int nr)
-        in
-        if cost < !best_cost then (
-          best_cost := cost;
-          split.(0) <- axis;
-          split.(1) <- b + 1)
+      let k = Array.unsafe_get c (io + 1 + b) in
+      if k > 0 then (
+        let r = Array.unsafe_get slot b in
+        x0 := fmin !x0 r.x0;
+        y0 := fmin !y0 r.y0;
+        z0 := fmin !z0 r.z0;
+        x1 := fmax !x1 r.x1;
+        y1 := fmax !y1 r.y1;
+        z1 := fmax !z1 r.z1;
+        acc_n := !acc_n + k;
+        let nl = !acc_n and nr = Array.unsafe_get w.right_n (b + 1) in
+        if nr > 0 then
+          let cost =
+            (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int nl)
+            +. (fget w.right_area (b + 1) *. Float.of_int nr)
+          in
+          if cost < !best_cost then (
+            best_cost := cost;
+            split.(0) <- axis;
+            split.(1) <- b + 1))
     done);
   fset w.cost 0 !best_cost
 
@@ -395,7 +465,7 @@ let partition_small w lo hi axis split dl loff dr roff =
    the slots of the left child (depth + 1) and of the right child (the right slot of
    [depth]). *)
 let partition_binned w lo hi depth split =
-  let f = w.pbins and fo = slot_f * depth and c = w.pcount and io = slot_i * depth in
+  let slot = w.pbins.(depth) and c = w.pcount and io = slot_i * depth in
   let dl = w.pend and loff = 12 * (depth + 1) in
   let dr = w.pend_right and roff = 12 * depth in
   bound_empty dl loff;
@@ -403,30 +473,31 @@ let partition_binned w lo hi depth split =
   let nl = ref 0 and nr = ref 0 in
   for b = 0 to bins - 1 do
     let n = Array.unsafe_get c (io + 1 + b) in
-    if b < split then (
-      bound_merge dl loff f (fo + (12 * b));
+    if n = 0 then ()
+    else if b < split then (
+      bound_merge_bin dl loff (Array.unsafe_get slot b);
       nl := !nl + n)
     else (
-      bound_merge dr roff f (fo + (12 * b));
+      bound_merge_bin dr roff (Array.unsafe_get slot b);
       nr := !nr + n)
   done;
   let la = bin_axis_of dl (loff + 6) !nl and ra = bin_axis_of dr (roff + 6) !nr in
-  let lf = f and lfo = slot_f * (depth + 1) and lc = c and lio = slot_i * (depth + 1) in
-  let rf = w.pbins_right and rfo = fo and rc = w.pcount_right and rio = io in
-  bins_clear lf lfo lc lio la;
-  bins_clear rf rfo rc rio ra;
+  let ls = w.pbins.(depth + 1) and lc = c and lio = slot_i * (depth + 1) in
+  let rs = w.pbins_right.(depth) and rc = w.pcount_right and rio = io in
+  bins_clear ls lc lio la;
+  bins_clear rs rc rio ra;
   let lmin = bin_min dl (loff + 6) la and lscale = bin_scale dl (loff + 6) la in
   let rmin = bin_min dr (roff + 6) ra and rscale = bin_scale dr (roff + 6) ra in
   let ids = w.ids and pb = w.pbox and tag = w.tag in
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
     if Char.code (Bytes.unsafe_get tag !i) < split then (
-      if la >= 0 then bin_put w lf lfo lc lio la lmin lscale !i;
+      if la >= 0 then bin_put pb tag ls lc lio la lmin lscale !i;
       incr i)
     else (
       swap ids pb !i !j;
       Bytes.unsafe_set tag !i (Bytes.unsafe_get tag !j);
-      if ra >= 0 then bin_put w rf rfo rc rio ra rmin rscale !j;
+      if ra >= 0 then bin_put pb tag rs rc rio ra rmin rscale !j;
       decr j)
   done;
   !i
@@ -449,10 +520,18 @@ let reserve w depth =
     in
     w.pend <- grow w.pend 12;
     w.pend_right <- grow w.pend_right 12;
-    w.pbins <- grow w.pbins slot_f;
-    w.pbins_right <- grow w.pbins_right slot_f;
     w.pcount <- grow_i w.pcount;
     w.pcount_right <- grow_i w.pcount_right)
+
+(* Bins for a large node at [depth] and its children, made as deep as large nodes go. *)
+let reserve_bins w depth =
+  if depth + 2 > Array.length w.pbins then (
+    let d = 2 * (depth + 2) in
+    let grow_s a =
+      Array.init d (fun k -> if k < Array.length a then a.(k) else new_slot ())
+    in
+    w.pbins <- grow_s w.pbins;
+    w.pbins_right <- grow_s w.pbins_right)
 
 (* The children of the node at [depth] are not binned yet. *)
 let unbinned w depth =
@@ -464,6 +543,7 @@ let rec build_node w split lo hi depth =
   let node = new_node w in
   if depth > w.max_depth then w.max_depth <- depth;
   reserve w depth;
+  if hi - lo > small then reserve_bins w depth;
   let off = 8 * node and here = 12 * depth in
   let pend = w.pend in
   Float.Array.blit pend here w.nodes_b off 6;
@@ -513,9 +593,10 @@ let rec build_node w split lo hi depth =
     w.pcount.(io + slot_i) <- axis;
     if axis >= 0 then (
       Array.blit w.pcount_right io w.pcount (io + slot_i) slot_i;
-      Float.Array.blit w.pbins_right (slot_f * depth) w.pbins
-        (slot_f * (depth + 1))
-        slot_f);
+      (* The right child's bins become those at depth + 1, whose slot is free now. *)
+      let free = w.pbins.(depth + 1) in
+      w.pbins.(depth + 1) <- w.pbins_right.(depth);
+      w.pbins_right.(depth) <- free);
     let right = build_node w split mid hi (depth + 1) in
     (* The node arrays may have moved while the subtrees were built. *)
     fset w.nodes_b (off + 6) (Float.of_int right);
@@ -562,15 +643,14 @@ let build pbox =
       nodes_b = Float.Array.create (8 * cap);
       count = 0;
       max_depth = 0;
-      bin_b = Float.Array.create 6;
       right_area = Float.Array.make bins 0.;
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;
       cost = Float.Array.create 1;
       pend = Float.Array.create (12 * 64);
       pend_right = Float.Array.create (12 * 64);
-      pbins = Float.Array.create (slot_f * 64);
-      pbins_right = Float.Array.create (slot_f * 64);
+      pbins = [||];
+      pbins_right = [||];
       pcount = Array.make (slot_i * 64) (-1);
       pcount_right = Array.make (slot_i * 64) (-1);
       small_key = Array.make small 0;

@@ -52,6 +52,8 @@ let shapes rs =
       fun _ -> (1e12 +. f 1e6, -1e9 -. f 1e3, f 1e-6, f 1e3, f 1e3, f 1e-9) );
     ("sorted", fun k -> (Float.of_int k, 0., 0., 1., 1., 1.));
     ("reversed", fun k -> (Float.of_int (-k), Float.of_int (k mod 7), 0., 1., 1., 1.));
+    (* Split off a few at a time: trees deeper (73) than the scratch first made (64). *)
+    ("exponential", fun k -> (1.5 ** Float.of_int (k mod 400), f 1., 0., 1., 1., 1.));
   ]
 
 let sizes =
