@@ -99,7 +99,9 @@ let new_node w =
   w.count <- k + 1;
   k
 
-(* Typed comparisons rather than Float.min/max: the bounds are finite (checked at
+(* Running bounds in registers are updated as [if not (!x0 < v) then x0 := v], which is
+   [x0 := fmin !x0 v] for any floats with one branch and no jump on the common path.
+   Typed comparisons rather than Float.min/max: the bounds are finite (checked at
    entry), and Float.min's NaN and signed-zero handling costs a C call per use. *)
 let[@inline] fmin (a : float) b = if a < b then a else b
 let[@inline] fmax (a : float) b = if a > b then a else b
@@ -149,19 +151,21 @@ let bound_range w lo hi dst doff =
   and cz1 = ref Float.neg_infinity in
   for i = lo to hi - 1 do
     let q = 6 * i in
-    x0 := fmin !x0 (fget pb q);
-    y0 := fmin !y0 (fget pb (q + 1));
-    z0 := fmin !z0 (fget pb (q + 2));
-    x1 := fmax !x1 (fget pb (q + 3));
-    y1 := fmax !y1 (fget pb (q + 4));
-    z1 := fmax !z1 (fget pb (q + 5));
+    let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+    let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+    if not (!x0 < v0) then x0 := v0;
+    if not (!y0 < v1) then y0 := v1;
+    if not (!z0 < v2) then z0 := v2;
+    if not (!x1 > v3) then x1 := v3;
+    if not (!y1 > v4) then y1 := v4;
+    if not (!z1 > v5) then z1 := v5;
     let cx = cen pb q 0 and cy = cen pb q 1 and cz = cen pb q 2 in
-    cx0 := fmin !cx0 cx;
-    cy0 := fmin !cy0 cy;
-    cz0 := fmin !cz0 cz;
-    cx1 := fmax !cx1 cx;
-    cy1 := fmax !cy1 cy;
-    cz1 := fmax !cz1 cz
+    if not (!cx0 < cx) then cx0 := cx;
+    if not (!cy0 < cy) then cy0 := cy;
+    if not (!cz0 < cz) then cz0 := cz;
+    if not (!cx1 > cx) then cx1 := cx;
+    if not (!cy1 > cy) then cy1 := cy;
+    if not (!cz1 > cz) then cz1 := cz
   done;
   fset dst doff !x0;
   fset dst (doff + 1) !y0;
@@ -313,12 +317,14 @@ let best_split_small w lo hi split =
       for j = n - 1 downto 1 do
         let key = Array.unsafe_get sk j in
         let q = 6 * (lo + (key land (small - 1))) in
-        x0 := fmin !x0 (fget pb q);
-        y0 := fmin !y0 (fget pb (q + 1));
-        z0 := fmin !z0 (fget pb (q + 2));
-        x1 := fmax !x1 (fget pb (q + 3));
-        y1 := fmax !y1 (fget pb (q + 4));
-        z1 := fmax !z1 (fget pb (q + 5));
+        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+        if not (!x0 < v0) then x0 := v0;
+        if not (!y0 < v1) then y0 := v1;
+        if not (!z0 < v2) then z0 := v2;
+        if not (!x1 > v3) then x1 := v3;
+        if not (!y1 > v4) then y1 := v4;
+        if not (!z1 > v5) then z1 := v5;
         if key lsr small_bits <> Array.unsafe_get sk (j - 1) lsr small_bits then
           fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1)
       done;
@@ -331,12 +337,14 @@ let best_split_small w lo hi split =
       for j = 0 to n - 2 do
         let key = Array.unsafe_get sk j in
         let q = 6 * (lo + (key land (small - 1))) in
-        x0 := fmin !x0 (fget pb q);
-        y0 := fmin !y0 (fget pb (q + 1));
-        z0 := fmin !z0 (fget pb (q + 2));
-        x1 := fmax !x1 (fget pb (q + 3));
-        y1 := fmax !y1 (fget pb (q + 4));
-        z1 := fmax !z1 (fget pb (q + 5));
+        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+        if not (!x0 < v0) then x0 := v0;
+        if not (!y0 < v1) then y0 := v1;
+        if not (!z0 < v2) then z0 := v2;
+        if not (!x1 > v3) then x1 := v3;
+        if not (!y1 > v4) then y1 := v4;
+        if not (!z1 > v5) then z1 := v5;
         let b = key lsr small_bits in
         if b <> Array.unsafe_get sk (j + 1) lsr small_bits then
           let cost =
@@ -379,12 +387,12 @@ let best_split w lo hi depth split =
       let k = Array.unsafe_get c (io + 1 + b) in
       if k > 0 then (
         let r = Array.unsafe_get slot b in
-        x0 := fmin !x0 r.x0;
-        y0 := fmin !y0 r.y0;
-        z0 := fmin !z0 r.z0;
-        x1 := fmax !x1 r.x1;
-        y1 := fmax !y1 r.y1;
-        z1 := fmax !z1 r.z1;
+        if not (!x0 < r.x0) then x0 := r.x0;
+        if not (!y0 < r.y0) then y0 := r.y0;
+        if not (!z0 < r.z0) then z0 := r.z0;
+        if not (!x1 > r.x1) then x1 := r.x1;
+        if not (!y1 > r.y1) then y1 := r.y1;
+        if not (!z1 > r.z1) then z1 := r.z1;
         acc_n := !acc_n + k);
       fset w.right_area b (area6 !x0 !y0 !z0 !x1 !y1 !z1);
       Array.unsafe_set w.right_n b !acc_n
@@ -398,12 +406,12 @@ let best_split w lo hi depth split =
       let k = Array.unsafe_get c (io + 1 + b) in
       if k > 0 then (
         let r = Array.unsafe_get slot b in
-        x0 := fmin !x0 r.x0;
-        y0 := fmin !y0 r.y0;
-        z0 := fmin !z0 r.z0;
-        x1 := fmax !x1 r.x1;
-        y1 := fmax !y1 r.y1;
-        z1 := fmax !z1 r.z1;
+        if not (!x0 < r.x0) then x0 := r.x0;
+        if not (!y0 < r.y0) then y0 := r.y0;
+        if not (!z0 < r.z0) then z0 := r.z0;
+        if not (!x1 > r.x1) then x1 := r.x1;
+        if not (!y1 > r.y1) then y1 := r.y1;
+        if not (!z1 > r.z1) then z1 := r.z1;
         acc_n := !acc_n + k;
         let nl = !acc_n and nr = Array.unsafe_get w.right_n (b + 1) in
         if nr > 0 then
