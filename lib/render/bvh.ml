@@ -534,9 +534,8 @@ let reserve w depth =
 (* Bins for a large node at [depth] and its children, made as deep as large nodes go. *)
 let reserve_bins w depth =
   if depth + 2 > Array.length w.pbins then (
-    let d = 2 * (depth + 2) in
     let grow_s a =
-      Array.init d (fun k -> if k < Array.length a then a.(k) else new_slot ())
+      Array.init (depth + 2) (fun k -> if k < Array.length a then a.(k) else new_slot ())
     in
     w.pbins <- grow_s w.pbins;
     w.pbins_right <- grow_s w.pbins_right)
