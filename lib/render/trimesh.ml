@@ -86,6 +86,11 @@ let[@inline] test m k (q : Probe.t) tmax =
 
 let min_bvh = 8
 
+(* Float.min and Float.max, bit for bit (NaN, and −0 below +0), with the C call for the
+   sign only where the two are equal or one is NaN. *)
+let[@inline] fmin (x : float) y = if x < y then x else if y < x then y else Float.min x y
+let[@inline] fmax (x : float) y = if x > y then x else if y > x then y else Float.max x y
+
 let make ~pos ~nrm ~tex ~tv ~tn ~tt =
   let count = Bigarray.Array1.dim tv / 3 in
   let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
@@ -98,19 +103,21 @@ let make ~pos ~nrm ~tex ~tv ~tn ~tt =
     and b = 3 * iget tv ((3 * k) + 1)
     and c = 3 * iget tv ((3 * k) + 2) in
     (* The triangle's box as Vec3.min (Vec3.min a b) c and Vec3.max of the same. *)
-    let mn j =
-      Float.min (Float.min (fget pos (a + j)) (fget pos (b + j))) (fget pos (c + j))
-    and mx j =
-      Float.max (Float.max (fget pos (a + j)) (fget pos (b + j))) (fget pos (c + j))
-    in
-    let ax = mn 0 and ay = mn 1 and az = mn 2 in
-    let bx = mx 0 and by = mx 1 and bz = mx 2 in
-    x0 := Float.min !x0 ax;
-    y0 := Float.min !y0 ay;
-    z0 := Float.min !z0 az;
-    x1 := Float.max !x1 bx;
-    y1 := Float.max !y1 by;
-    z1 := Float.max !z1 bz;
+    let pax = fget pos a and pay = fget pos (a + 1) and paz = fget pos (a + 2) in
+    let pbx = fget pos b and pby = fget pos (b + 1) and pbz = fget pos (b + 2) in
+    let pcx = fget pos c and pcy = fget pos (c + 1) and pcz = fget pos (c + 2) in
+    let ax = fmin (fmin pax pbx) pcx
+    and ay = fmin (fmin pay pby) pcy
+    and az = fmin (fmin paz pbz) pcz in
+    let bx = fmax (fmax pax pbx) pcx
+    and by = fmax (fmax pay pby) pcy
+    and bz = fmax (fmax paz pbz) pcz in
+    x0 := fmin !x0 ax;
+    y0 := fmin !y0 ay;
+    z0 := fmin !z0 az;
+    x1 := fmax !x1 bx;
+    y1 := fmax !y1 by;
+    z1 := fmax !z1 bz;
     if count >= min_bvh then Bvh.pad_into pbox k ax ay az bx by bz
   done;
   let finite =
