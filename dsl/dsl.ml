@@ -19,8 +19,10 @@ type t = {
   sources : (string, string) Hashtbl.t;
   includes : (string, Loc.t list) Hashtbl.t;
       (** for each included file, where it was included *)
-  first : D.t;  (** the evaluation at time 0, frame 0 *)
-  memo : Eval.memo;  (** what that evaluation did that later ones skip *)
+  mutable first : D.t;
+      (** the evaluation at time 0, frame 0 (without its objects once {!release}d) *)
+  mutable released : bool;
+  mutable memo : Eval.memo;  (** what that evaluation did that later ones skip *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
@@ -78,6 +80,17 @@ let input_digest t rel =
 
 let file t = t.file
 let first t = t.first
+let released t = t.released
+
+(* The objects are let go from the program: what the load recorded of them (in the memo
+   as in [first]) is forgotten, and the next description at time 0 is evaluated again. *)
+let release t =
+  let d = t.first in
+  t.first <- { d with objects = [] };
+  t.released <- true;
+  t.memo <- Eval.memo t.stmts;
+  d
+
 let animation t = t.first.animation
 let bodies t = t.first.bodies
 let physics t = t.first.physics
@@ -287,6 +300,7 @@ let load_text ?progress ?files file text =
                 sources;
                 includes;
                 first;
+                released = false;
                 memo;
                 named =
                   (let h = Hashtbl.create 4 in
@@ -343,7 +357,8 @@ let describe ?again ?body_state ?progress ?cancel ?files t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
-         if Float.equal time 0. && frame = 0 && body_state = None then Ok t.first
+         if Float.equal time 0. && frame = 0 && body_state = None && not t.released then
+           Ok t.first
          else
            let on_objects n = say "evaluating the scene: %d objects so far" n in
            let uses = ref [] in

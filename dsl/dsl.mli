@@ -59,18 +59,27 @@ val describe :
     simulation's); without it, or where it answers [None], a body sits at its initial
     centre with its initial velocity. A body's sphere is placed at its position. At time
     0, frame 0 without [body_state] it is the evaluation {!load_file} made ({!first}), not
-    a new one. The warnings of a description carry their chain of includes. Errors at any
-    instant but time 0, frame 0 end with [(at frame K, time T s)]. When the evaluation
-    fails, [files] (as for {!load_file}) adds what the files it used have wrong.
-    [progress], when given, is told how many objects a long evaluation has built. [cancel]
-    is polled as the program runs: once it is cancelled, evaluation stops with
-    [Sys.Break]. The top-level statements that cannot build anything else at another
+    a new one, until it is {!release}d. The warnings of a description carry their chain of
+    includes. Errors at any instant but time 0, frame 0 end with [(at frame K, time T s)].
+    When the evaluation fails, [files] (as for {!load_file}) adds what the files it used
+    have wrong. [progress], when given, is told how many objects a long evaluation has
+    built. [cancel] is polled as the program runs: once it is cancelled, evaluation stops
+    with [Sys.Break]. The top-level statements that cannot build anything else at another
     instant are not evaluated again ({!fixed_objects}), unless [again] (default [false])
     says to evaluate every statement: the same description, made the long way. *)
 
 val first : t -> Description.t
 (** The evaluation made when the program was loaded: time 0, frame 0, bodies at their
-    initial centres. *)
+    initial centres; without its objects once {!release}d. *)
+
+val release : t -> Description.t
+(** [release p] is {!first} [p] as it was, and [p] keeps none of its objects from now on
+    (neither in {!first} nor for {!fixed_objects}), so that a caller that compiles them
+    once can let each go as soon as it is compiled. {!describe} at time 0, frame 0 then
+    evaluates the program again: the same description, as new values. *)
+
+val released : t -> bool
+(** Whether {!release} was called. *)
 
 val fixed_objects : t -> Description.obj list
 (** The objects of {!first} built by top-level statements that cannot build anything else

@@ -122,7 +122,9 @@ let check_cmd stop scene json time frames =
   match frames with
   | None -> (
       let time, frame = Cli.time_of o (Cli.scene_source o prog) in
-      match Lang.scene_at prog ~time ~frame with
+      (* Check reads the scene's objects, features and estimates, and traces no ray: no
+         acceleration structure. *)
+      match Lang.scene_at ~index:false prog ~time ~frame with
       | Error errors -> raise (Job_error.Scene { errors; note = "" })
       | Ok sc ->
           if json then print_endline (Yojson.Safe.pretty_to_string (Lang.to_json prog sc))
@@ -138,7 +140,7 @@ let check_cmd stop scene json time frames =
          others that fail are listed. *)
       let first_scene = ref None and failed = ref [] and first_errors = ref [] in
       for k = first to last do
-        match Lang.scene_at prog ~time:(Float.of_int k /. fps) ~frame:k with
+        match Lang.scene_at ~index:false prog ~time:(Float.of_int k /. fps) ~frame:k with
         | Ok sc -> if Option.is_none !first_scene then first_scene := Some sc
         | Error errs ->
             if !failed = [] then first_errors := errs;

@@ -17,7 +17,7 @@ let truncated_physics prog =
         Some (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> None
 
-let scene_at prog ~time ~frame = Program.scene_at prog ~time ~frame
+let scene_at ?index prog ~time ~frame = Program.scene_at ?index prog ~time ~frame
 let summary prog sc = Program.summary prog sc
 let to_json prog sc = Program.to_json prog sc
 

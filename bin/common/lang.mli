@@ -25,7 +25,8 @@ val truncated_physics : program -> float option
 (** When the exact physics simulation stopped handling collisions after
     {!Lancer.Physics.max_events} events: the time of its last event. *)
 
-val scene_at : program -> time:float -> frame:int -> (Lancer.Scene.t, error list) result
+val scene_at :
+  ?index:bool -> program -> time:float -> frame:int -> (Lancer.Scene.t, error list) result
 (** The scene as the file sets it (no overrides). *)
 
 val summary : program -> Lancer.Scene.t -> string

@@ -6,7 +6,9 @@ module D = Description
    check's printers). *)
 type extra = {
   assets : Compile.assets;
-  mutable last : (Scene.t * D.t) option;
+  mutable last : (Scene.t * D.t * bool) option;
+      (** and whether the description has its objects (they are let go as they are
+          compiled when a still is made from the load's description) *)
   mutable motion : (float * Physics.trajectory) option;
       (** the simulation of the bodies and the horizon it was computed for *)
   lock : Mutex.t;
@@ -160,6 +162,7 @@ let physics_state p ~time =
 let first_at_rest p =
   let first = Dsl.first p in
   match first.bodies with
+  | _ when Dsl.released p -> None
   | [] -> Some first
   | bodies -> (
       match physics_state p ~time:0. with
@@ -237,18 +240,29 @@ let fixed p =
           e.fixed <- Some f;
           f)
 
-let compile ?progress ~share p (d : D.t) =
+let compile ?progress ?index ?objects ~share p (d : D.t) =
+  (* [objects] is not used after the compile, which lets each go as it is compiled. *)
+  let whole = Option.is_none objects in
   match
     guard p (fun () ->
         Compile.compile ~source:(Dsl.source p) ?progress
-          ?fixed:(if share then fixed p else None)
-          (assets p) d)
+          ?fixed:(if share && index <> Some false then fixed p else None)
+          ?index ?objects (assets p) d)
   with
   | Ok sc ->
       let e = extra p in
-      Mutex.protect e.lock (fun () -> e.last <- Some (sc, d));
+      Mutex.protect e.lock (fun () -> e.last <- Some (sc, d, whole));
       Ok sc
   | Error es -> Error (Dsl.located p ~time:d.time ~frame:d.frame es)
+
+(* A still's one scene is the load's description compiled once: the program lets its
+   objects go ({!Dsl.release}), and the compile lets each go as it is made into
+   primitives, so that a large scene is not held twice. *)
+let releasable ?body_state p ~share ~time ~frame =
+  (not share) && body_state = None && Float.equal time 0. && frame = 0
+  && Dsl.animation p = None
+  && Dsl.bodies p = []
+  && not (Dsl.released p)
 
 (* The scenes of an animated program share what does not change, from the first one on:
    the statements that do not depend on the instant are not evaluated again, and the
@@ -256,11 +270,17 @@ let compile ?progress ~share p (d : D.t) =
    scene made the long way would build that index twice: once over every object, once
    over the fixed ones). A program without an animation has no such part: its first
    scene is made the long way, every statement evaluated. *)
-let scene_and_description ?body_state ?progress ?cancel p ~time ~frame =
+let scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame =
   let later = Atomic.fetch_and_add (extra p).made 1 > 0 in
   let share = later || Option.is_some (Dsl.animation p) in
-  Result.bind (describe_ ~again:(not share) ?body_state ?progress ?cancel p ~time ~frame)
-    (fun d -> Result.map (fun sc -> (sc, d)) (compile ?progress ~share p d))
+  if releasable ?body_state p ~share ~time ~frame then
+    let d = Dsl.release p in
+    let objects = d.objects and d = { d with objects = [] } in
+    Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~objects ~share p d)
+  else
+    Result.bind
+      (describe_ ~again:(not share) ?body_state ?progress ?cancel p ~time ~frame)
+      (fun d -> Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~share p d))
 
 let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map
@@ -269,17 +289,19 @@ let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
       (sc, List.map (fun f -> (f, Dsl.input_digest p f)) files))
     (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
 
-let scene_at ?body_state ?progress ?cancel p ~time ~frame =
-  Result.map fst (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
+let scene_at ?body_state ?progress ?cancel ?index p ~time ~frame =
+  Result.map fst
+    (scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame)
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)
 
-(* The description [sc] was made from: the last one compiled, or made again. *)
-let description p (sc : Scene.t) =
+(* The description [sc] was made from: the last one compiled, or made again (for
+   [objects], when the one compiled let its objects go). *)
+let description ?(objects = false) p (sc : Scene.t) =
   let e = extra p in
   match Mutex.protect e.lock (fun () -> e.last) with
-  | Some (s, d) when s == sc -> Some d
+  | Some (s, d, whole) when s == sc && (whole || not objects) -> Some d
   | _ -> (
       match describe p ~time:sc.time ~frame:sc.frame with
       | Ok d -> Some d
@@ -306,7 +328,7 @@ let summary p (sc : Scene.t) =
 
 let to_json ?body_state p (sc : Scene.t) =
   let d =
-    match description p sc with
+    match description ~objects:true p sc with
     | Some d -> d
     | None -> { (Dsl.first p) with objects = []; time = sc.time; frame = sc.frame }
   in

@@ -52,18 +52,23 @@ val scene_and_description :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
+  ?index:bool ->
   Dsl.t ->
   time:float ->
   frame:int ->
   (Scene.t * Description.t, Diagnostic.t list) result
 (** The scene at [time] and [frame] ({!describe}, then {!Compile.compile}), and its
-    description. The program is evaluated once per call, and not at all at time 0, frame
-    0. *)
+    description. The program is evaluated once per call, and not at all for the first
+    scene at time 0, frame 0 of a still without bodies: that one is the load's
+    description, which the program then lets go ({!Dsl.release}) and the compile lets go
+    object by object, and which is returned without its objects. [index] is
+    {!Compile.compile}'s. *)
 
 val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
+  ?index:bool ->
   Dsl.t ->
   time:float ->
   frame:int ->

@@ -42,7 +42,7 @@ and layers = {
 }
 
 let min_bvh = 8
-let uses_bvh a = match a.layers with Some l -> l.bvh | None -> Option.is_some a.tree
+let uses_bvh a = match a.layers with Some l -> l.bvh | None -> a.weight >= min_bvh
 let fixed_part a = Option.map (fun l -> l.fixed) a.layers
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
@@ -117,6 +117,27 @@ let build prims =
       tree = Some { nodes; leaf_prims; leaf_idx; sph; depth };
       layers = None;
     }
+
+(* What [build] would decide, from each primitive's bounds as it reads them, without the
+   tree: the weight of the bounded primitives (all six bounds finite). *)
+let unindexed prims =
+  let b = Float.Array.create 6 and weight = ref 0 in
+  Array.iter
+    (fun p ->
+      Primitive.bounds_into p b 0;
+      let ok = ref true in
+      for k = 0 to 5 do
+        if not (Float.is_finite (fget b k)) then ok := false
+      done;
+      if !ok then weight := !weight + Primitive.faces p)
+    prims;
+  {
+    prims;
+    weight = !weight;
+    outside = Array.init (Array.length prims) Fun.id;
+    tree = None;
+    layers = None;
+  }
 
 (* --- Traversal -------------------------------------------------------------------- *)
 

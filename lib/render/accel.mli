@@ -10,6 +10,11 @@ val build : Primitive.t array -> t
 (** [build prims] indexes [prims] for ray queries: a binned-SAH bounding volume hierarchy
     over the bounded ones when there are enough of them, a linear scan otherwise. *)
 
+val unindexed : Primitive.t array -> t
+(** [unindexed prims] answers every query by a linear scan, the answers {!build}'s would
+    give, without building anything: for a caller that only asks {!uses_bvh}, which says
+    whether [build prims] would build a tree. *)
+
 val layered :
   Primitive.t array ->
   fixed:t ->
@@ -28,7 +33,8 @@ val layered :
     whether [build prims] would build a tree. *)
 
 val uses_bvh : t -> bool
-(** Whether a bounding volume hierarchy was built (small scenes skip it). *)
+(** Whether a bounding volume hierarchy was built (small scenes skip it), or for
+    {!unindexed} would have been. *)
 
 val fixed_part : t -> t option
 (** The structure over the fixed part of a {!layered} one (physically the one given), or

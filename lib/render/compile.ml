@@ -327,7 +327,9 @@ let fixed_part fx (origin : Vec3.t) =
           fx.part <- Some f;
           f)
 
-let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
+let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixed ?objects
+    c (d : D.t) =
+  let objects = Option.value objects ~default:d.objects in
   let fx = match fixed with Some fx when fx.ok -> Some fx | _ -> None in
   (* The objects of the fixed part, met in their order: the next one is [!next]. *)
   let next = ref 0 in
@@ -358,6 +360,9 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
       problems := (loc, msg) :: !problems)
   in
   let material_of = materials c in
+  (* Each primitive moved into render coordinates as it is made: the unmoved one dies
+     young, instead of a second copy of them all made beside the first. *)
+  let move = Scene.mover d.camera in
   List.iter
     (fun (o : D.obj) ->
       match
@@ -379,7 +384,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
         | _ ->
             let ps = primitives c material_of o in
             (match fx with
-            | None -> List.iter (Dynarray.add_last flat) ps
+            | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
             | Some _ ->
                 end_run ();
                 pieces := Scene.Moving ps :: !pieces);
@@ -393,7 +398,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
                  D.max_objects);
           ()
       | exception Problem (loc, msg) -> report loc msg)
-    d.objects;
+    objects;
   end_run ();
   if !problems <> [] then
     Error
@@ -401,7 +406,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
          (fun ((loc : Loc.t), msg) -> Diagnostic.make ?source:(source loc.file) loc msg)
          (sort_problems (List.rev !problems)))
   else (
-    if !count > 10_000 then
+    if index && !count > 10_000 then
       progress
         (Printf.sprintf "building the acceleration structure over %d objects" !count);
     match
@@ -413,8 +418,8 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?fixed c (d : D.t) =
             ~fixed:(fixed_part fx (Scene.origin_of d.camera))
             (List.rev !pieces)
       | None ->
-          Scene.of_array ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
-            ~lights:d.lights (Dynarray.to_array flat)
+          Scene.of_moved ~index ~settings:d.settings ~camera:d.camera ~time:d.time
+            ~frame:d.frame ~lights:d.lights (Dynarray.to_array flat)
       | Some _ ->
           Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
             ~lights:d.lights

@@ -28,7 +28,9 @@ val fixed : assets -> Description.obj list -> fixed
 val compile :
   ?source:(string -> string option) ->
   ?progress:(string -> unit) ->
+  ?index:bool ->
   ?fixed:fixed ->
+  ?objects:Description.obj list ->
   assets ->
   Description.t ->
   (Scene.t, Diagnostic.t list) result
@@ -37,7 +39,12 @@ val compile :
     acceleration structure ("building the acceleration structure over 1000000 objects").
     With [fixed], the objects of [d] that are the fixed part's, physically and in its
     order, are not made again; when all of them are there, the scene reuses their
-    acceleration structure ({!Scene.make_layered}): the same scene, made faster. *)
+    acceleration structure ({!Scene.make_layered}): the same scene, made faster. With
+    [objects], those are compiled in place of [d]'s: a caller that keeps no other
+    reference to them (passing [d] without them) lets each go as it is compiled, so that a
+    large scene is not held twice. With [~index:false] (default [true]) and no [fixed],
+    the scene has no acceleration structure to query it fast ({!Scene.of_moved}): for
+    [lancer check], which reads what the scene holds but traces no ray. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order

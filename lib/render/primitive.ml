@@ -77,7 +77,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
    its texture space is the world before the move, [shift] away. A transformed one gets the
    move appended to its transform, and its object space is its texture space as before. A
    CSG object takes the move in its transform and moves each of its leaves. *)
-let rec translate (d : Vec3.t) o =
+let rec moved_by ~shift (d : Vec3.t) o =
   let moved =
     if Array.length o.leaves > 0 then
       let transform = Transform.then_ o.transform (Transform.translate d) in
@@ -85,7 +85,7 @@ let rec translate (d : Vec3.t) o =
         o with
         transform;
         bounds = world_bounds transform o.shape;
-        leaves = Array.map (translate d) o.leaves;
+        leaves = Array.map (moved_by ~shift d) o.leaves;
       }
     else if Transform.is_identity o.transform then
       let shape = Shape.translate d o.shape in
@@ -93,7 +93,7 @@ let rec translate (d : Vec3.t) o =
         o with
         shape;
         bounds = world_bounds Transform.identity shape;
-        shift = Vec3.sub o.shift d;
+        shift = shift o.shift;
       }
     else
       {
@@ -106,6 +106,14 @@ let rec translate (d : Vec3.t) o =
   in
   (* One kept out of the hierarchy (see [without_bounds]) stays out. *)
   if Option.is_none o.bounds then { moved with bounds = None } else moved
+
+let translate d o = moved_by ~shift:(fun s -> Vec3.sub s d) d o
+
+(* Primitives made without a shift (by {!make}, whose [shift] is [Vec3.zero] itself) share
+   the one that the move gives them all. *)
+let mover d =
+  let common = Vec3.sub Vec3.zero d in
+  moved_by ~shift:(fun s -> if s == Vec3.zero then common else Vec3.sub s d) d
 
 let object_ray o r =
   Ray.make_raw

@@ -102,6 +102,10 @@ val translate : Vec3.t -> t -> t
     object has its shape moved (and keeps the fast path), a transformed one gets the move
     after its transform. *)
 
+val mover : Vec3.t -> t -> t
+(** [mover d] is {!translate} [d], the same bits, for many primitives: those {!make} made
+    share the one shift vector the move gives them instead of a copy each. *)
+
 val texture_point : t -> Vec3.t -> Vec3.t
 (** The point of texture space at a world point: object space, or for a moved
     untransformed object the world point before the move. *)

@@ -147,8 +147,12 @@ let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel featur
     view_lights = view_lights origin lights;
   }
 
-let of_array ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
-    ?(frame = 0) ~lights objects =
+let mover camera =
+  let origin = origin_of camera in
+  if is_zero origin then Fun.id else Primitive.mover (Vec3.neg origin)
+
+let of_gen ~moved ?(index = true) ?(settings = Settings.default)
+    ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
   let* () =
@@ -159,13 +163,15 @@ let of_array ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 
   in
   let lights = Array.of_list lights in
   let origin = origin_of camera in
-  let objects =
-    if is_zero origin then objects
-    else Array.map (Primitive.translate (Vec3.neg origin)) objects
-  in
-  let accel = Accel.build objects in
+  let objects = if moved then objects else Array.map (mover camera) objects in
+  let accel = if index then Accel.build objects else Accel.unindexed objects in
   let features = derive_features settings camera lights objects accel in
   Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)
+
+let of_array ?settings ?camera ?time ?frame ~lights objects =
+  of_gen ~moved:false ?settings ?camera ?time ?frame ~lights objects
+
+let of_moved = of_gen ~moved:true
 
 let make ?settings ?camera ?time ?frame ~lights objects =
   of_array ?settings ?camera ?time ?frame ~lights (Array.of_list objects)

@@ -46,6 +46,27 @@ val of_array :
 (** {!make} of an array of objects, which the scene keeps (the caller must not change it).
 *)
 
+val mover : Camera.t -> Primitive.t -> Primitive.t
+(** What {!of_array} does to each object before it builds the scene seen through this
+    camera: moves it by −[origin_of camera] ({!Primitive.translate}), or nothing when that
+    is zero. A primitive's move made by one [mover] shares the vectors that are the same
+    for all of them. *)
+
+val of_moved :
+  ?index:bool ->
+  ?settings:Settings.t ->
+  ?camera:Camera.t ->
+  ?time:float ->
+  ?frame:int ->
+  lights:Light.t list ->
+  Primitive.t array ->
+  (t, string) result
+(** {!of_array} of objects already moved by [mover camera] (each one as it was made, so
+    that a large scene never holds both copies): the same scene. With [~index:false] its
+    queries scan every object ({!Accel.unindexed}): the same answers and features, without
+    the time and memory of the hierarchy, for a caller that reads the scene but traces few
+    rays or none. *)
+
 val origin_of : Camera.t -> Vec3.t
 (** The [origin] of a scene seen through this camera. *)
 

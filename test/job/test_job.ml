@@ -456,6 +456,93 @@ let guarded_files () =
   | exception Job_error.Interrupted what ->
       Alcotest.(check string) "said once written" "b.png was written in full first" what
 
+(* ---- A still's scene from its program ---- *)
+
+let grid_text n =
+  Printf.sprintf
+    {|let n = %d
+settings { width: 8, height: 6 }
+camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0) }
+light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }
+for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n / 2), radius: 0.4 } } }
+|}
+    n
+
+let load text =
+  match Lancer_dsl.Dsl.load_string ~filename:"grid.rts" text with
+  | Ok p -> p
+  | Error _ -> Alcotest.fail "the grid does not load"
+
+let made = function Ok sc -> sc | Error _ -> Alcotest.fail "the grid does not compile"
+
+(* Compiling a still's one scene lets the load's objects go: nothing keeps them once they
+   are primitives, and what check prints of them is made again. *)
+let still_lets_objects_go () =
+  let module Dsl = Lancer_dsl.Dsl in
+  let p = load (grid_text 40) in
+  let json_before =
+    let q = load (grid_text 40) in
+    Yojson.Safe.to_string
+      (Program.to_json q (made (Program.scene_at ~index:false q ~time:0. ~frame:0)))
+  in
+  let w = Weak.create 1 in
+  (match (Dsl.first p).objects with
+  | o :: _ -> Weak.set w 0 (Some o)
+  | [] -> Alcotest.fail "no objects");
+  let sc = made (Program.scene_at p ~time:0. ~frame:0) in
+  Gc.full_major ();
+  Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
+  Alcotest.(check int) "the program keeps none" 0 (List.length (Dsl.first p).objects);
+  Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
+  Alcotest.(check string)
+    "check's objects, made again" json_before
+    (Yojson.Safe.to_string (Program.to_json p sc));
+  (match Dsl.describe p ~time:0. ~frame:0 with
+  | Ok d -> Alcotest.(check int) "time 0 evaluated again" 1600 (List.length d.objects)
+  | Error _ -> Alcotest.fail "time 0 does not evaluate again");
+  let again = made (Program.scene_at p ~time:0. ~frame:0) in
+  Alcotest.(check int) "a second scene" 1600 (Array.length again.objects)
+
+(* Without its hierarchy a scene answers and reports as with it: the same nearest hits,
+   features and estimates. *)
+let scene_without_index () =
+  let p = load (grid_text 12) and q = load (grid_text 12) in
+  let built = made (Program.scene_at p ~time:0. ~frame:0)
+  and scan = made (Program.scene_at ~index:false q ~time:0. ~frame:0) in
+  Alcotest.(check bool) "a tree built" true (Accel.uses_bvh built.accel);
+  Alcotest.(check bool) "reported without one" true (Accel.uses_bvh scan.accel);
+  Alcotest.(check bool) "the same features" true (built.features = scan.features);
+  Alcotest.(check bool) "the same estimate" true (Cost.estimate built = Cost.estimate scan);
+  Alcotest.(check string)
+    "the same summary" (Program.summary p built) (Program.summary q scan);
+  let rng = Random.State.make [| 7 |] in
+  for _ = 1 to 200 do
+    let f () = Random.State.float rng 2. -. 1. in
+    let o = Vec3.v (f () *. 8.) (2. +. f ()) (f () *. 8.)
+    and d = Vec3.v (f ()) (-1.) (f ()) in
+    let r = Ray.make o d in
+    let t1, i1 = Accel.nearest built.accel r 0. infinity
+    and t2, i2 = Accel.nearest scan.accel r 0. infinity in
+    Alcotest.(check bool) "the same hit" true (Float.equal t1 t2 && i1 = i2)
+  done;
+  let few = Array.sub built.objects 0 5 in
+  Alcotest.(check bool) "too few for a tree" false (Accel.uses_bvh (Accel.unindexed few))
+
+(* Moving many primitives at once is moving each, and those made without a shift share
+   the one the move gives them. *)
+let mover_shares_shift () =
+  let d = Vec3.v (-1024.) 0. 2048. in
+  let a =
+    Primitive.make Material.default (Shape.sphere ~center:(Vec3.v 1. 2. 3.) ~radius:0.5)
+  and b =
+    Primitive.make Material.default (Shape.sphere ~center:(Vec3.v 4. 5. 6.) ~radius:1.)
+  in
+  let move = Primitive.mover d in
+  let ma = move a and mb = move b in
+  Alcotest.(check bool) "as translate" true (ma = Primitive.translate d a);
+  Alcotest.(check bool) "as translate" true (mb = Primitive.translate d b);
+  Alcotest.(check bool) "one shift" true (ma.shift == mb.shift)
+
 let () =
   Alcotest.run "job"
     [
@@ -484,6 +571,13 @@ let () =
         [
           Alcotest.test_case "units as planned, pixels as rendered" `Quick
             units_cut_and_render;
+        ] );
+      ( "scenes",
+        [
+          Alcotest.test_case "a still lets its objects go as they compile" `Quick
+            still_lets_objects_go;
+          Alcotest.test_case "a scene without its hierarchy" `Quick scene_without_index;
+          Alcotest.test_case "moving many primitives" `Quick mover_shares_shift;
         ] );
       ( "options",
         [
