@@ -5,6 +5,11 @@ open Cmdliner
 
 let resumed_interrupt = Report.resumed_interrupt
 
+(* What rendering an image allocates beside the scene, at most, per pixel: the
+   framebuffer's three floats, as many for its encoding, an alpha channel, the samples'
+   bytes and a compressed copy. *)
+let image_bytes (sc : Scene.t) = 64 * sc.settings.width * sc.settings.height
+
 let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
   let cancel = Report.on_interrupt stop in
   let out = Cli.default_output o in
@@ -21,10 +26,14 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
         let time, frame = Cli.time_of o src in
         say "evaluating the scene and building its acceleration structure";
         let sc, files = Cli.scene_with_files ~progress:say o src ~time ~frame in
-        (* Evaluating a large scene leaves garbage (the evaluator's values): give it back
-           before the framebuffer is allocated, so that peak memory is the scene plus the
-           image. *)
-        Gc.compact ();
+        (* Evaluating a large scene leaves garbage (the evaluator's values, the objects
+           compiled): it is given back before the framebuffer is allocated, so that peak
+           memory is the scene plus the image, unless the heap as it is and the image's
+           buffers fit in the most the heap has already been (compacting a million
+           objects takes a tenth of the build). *)
+        let g = Gc.quick_stat () in
+        let bytes w = w * (Sys.word_size / 8) in
+        if bytes g.heap_words + image_bytes sc > bytes g.top_heap_words then Gc.compact ();
         (sc, files, src, time, frame))
   in
   Cli.guard_render o src ~out;

@@ -17,8 +17,9 @@ type tree = {
   leaf_prims : Primitive.t array;  (** bounded primitives in leaf order *)
   leaf_idx : int array;  (** their indices in the scene's array *)
   sph : Float.Array.t;
-      (** 4 per leaf slot: the centre and radius of an untransformed sphere, tested from
-          here without reading its primitive; radius −1 for any other primitive *)
+      (** 4 per leaf slot (from the start; it may be longer): the centre and radius of an
+          untransformed sphere, tested from here without reading its primitive; radius −1
+          for any other primitive *)
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
@@ -75,31 +76,47 @@ let build prims =
     done;
     r
   in
-  let bounded = pick true in
-  let m = Array.length bounded in
+  let m =
+    let k = ref 0 in
+    for i = 0 to n - 1 do
+      if is_b i then incr k
+    done;
+    !k
+  in
+  (* The bounded primitives' indices; when all are, the k-th is k, with no array. *)
+  let bounded = if m = n then [||] else pick true in
+  let[@inline] at k = if m = n then k else Array.unsafe_get bounded k in
   (* A mesh counts as its faces, which one object each would have been. *)
-  let weight = Array.fold_left (fun w i -> w + Primitive.faces prims.(i)) 0 bounded in
+  let weight =
+    let w = ref 0 in
+    for k = 0 to m - 1 do
+      w := !w + Primitive.faces prims.(at k)
+    done;
+    !w
+  in
   if weight < min_bvh then
     { prims; weight; outside = Array.init n Fun.id; tree = None; layers = None }
   else
     let outside = pick false in
-    Array.iteri
-      (fun k i ->
-        let q = 6 * i in
-        Bvh.pad_into pbox k (fget pbox q)
-          (fget pbox (q + 1))
-          (fget pbox (q + 2))
-          (fget pbox (q + 3))
-          (fget pbox (q + 4))
-          (fget pbox (q + 5)))
-      bounded;
+    for k = 0 to m - 1 do
+      let q = 6 * at k in
+      Bvh.pad_into pbox k (fget pbox q)
+        (fget pbox (q + 1))
+        (fget pbox (q + 2))
+        (fget pbox (q + 3))
+        (fget pbox (q + 4))
+        (fget pbox (q + 5))
+    done;
     let pbox = if m = n then pbox else Float.Array.sub pbox 0 (6 * m) in
     let { Bvh.nodes; order; depth } = Bvh.build pbox in
     (* The leaf order as indices into [prims], in place. *)
     let leaf_idx = order in
-    Array.iteri (fun j k -> leaf_idx.(j) <- bounded.(k)) leaf_idx;
+    if m < n then Array.iteri (fun j k -> leaf_idx.(j) <- at k) leaf_idx;
     let leaf_prims = Array.map (fun i -> prims.(i)) leaf_idx in
-    let sph = Float.Array.make (4 * m) (-1.) in
+    (* The tree does not keep the boxes: their array holds the spheres from here (its
+       first 4m floats), rather than a new one beside it at the peak of memory. *)
+    let sph = pbox in
+    Float.Array.fill sph 0 (4 * m) (-1.);
     Array.iteri
       (fun j (p : Primitive.t) ->
         match p.shape with

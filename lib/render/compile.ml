@@ -327,8 +327,14 @@ let fixed_part fx (origin : Vec3.t) =
           fx.part <- Some f;
           f)
 
+(* The GC's space overhead while objects handed over are compiled (over a million
+   spheres, the default 120 let the heap grow by 100 MB beside the dying objects, 20 by
+   a third of that). *)
+let handed_over_overhead = 20
+
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixed ?objects
     c (d : D.t) =
+  let handed_over = Option.is_some objects in
   let objects = Option.value objects ~default:d.objects in
   let fx = match fixed with Some fx when fx.ok -> Some fx | _ -> None in
   (* The objects of the fixed part, met in their order: the next one is [!next]. *)
@@ -363,42 +369,55 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
   (* Each primitive moved into render coordinates as it is made: the unmoved one dies
      young, instead of a second copy of them all made beside the first. *)
   let move = Scene.mover d.camera in
-  List.iter
-    (fun (o : D.obj) ->
-      match
-        match fx with
-        | Some fx when fixed_index o >= 0 ->
-            let i = !next - 1 in
-            let first = fx.start.(i) in
-            let n =
-              (if i + 1 < Array.length fx.start then fx.start.(i + 1)
-               else Array.length fx.flat)
-              - first
-            in
-            if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
-            else (
-              end_run ();
-              run_first := first;
-              run_n := n);
-            fx.faces.(i + 1) - fx.faces.(i)
-        | _ ->
-            let ps = primitives c material_of o in
-            (match fx with
-            | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
-            | Some _ ->
-                end_run ();
-                pieces := Scene.Moving ps :: !pieces);
-            List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
-      with
-      | n ->
-          count := !count + n;
-          if !count > D.max_objects && !count - n <= D.max_objects then
-            report o.loc
-              (Printf.sprintf "this scene builds more than %d objects; that is the limit"
-                 D.max_objects);
-          ()
-      | exception Problem (loc, msg) -> report loc msg)
-    objects;
+  (* Objects handed over die as they are compiled: the major GC keeps pace with them, so
+     that the space they leave holds their primitives rather than a heap grown beside.
+     (No closure here holds the list: each object goes once it is compiled.) *)
+  let overhead = (Gc.get ()).space_overhead in
+  let pace o = if handed_over then Gc.set { (Gc.get ()) with space_overhead = o } in
+  pace (min overhead handed_over_overhead);
+  (try
+     List.iter
+       (fun (o : D.obj) ->
+         match
+           match fx with
+           | Some fx when fixed_index o >= 0 ->
+               let i = !next - 1 in
+               let first = fx.start.(i) in
+               let n =
+                 (if i + 1 < Array.length fx.start then fx.start.(i + 1)
+                  else Array.length fx.flat)
+                 - first
+               in
+               if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
+               else (
+                 end_run ();
+                 run_first := first;
+                 run_n := n);
+               fx.faces.(i + 1) - fx.faces.(i)
+           | _ ->
+               let ps = primitives c material_of o in
+               (match fx with
+               | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
+               | Some _ ->
+                   end_run ();
+                   pieces := Scene.Moving ps :: !pieces);
+               List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
+         with
+         | n ->
+             count := !count + n;
+             if !count > D.max_objects && !count - n <= D.max_objects then
+               report o.loc
+                 (Printf.sprintf
+                    "this scene builds more than %d objects; that is the limit"
+                    D.max_objects);
+             ()
+         | exception Problem (loc, msg) -> report loc msg)
+       objects
+   with e ->
+     let bt = Printexc.get_raw_backtrace () in
+     pace overhead;
+     Printexc.raise_with_backtrace e bt);
+  pace overhead;
   end_run ();
   if !problems <> [] then
     Error

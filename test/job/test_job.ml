@@ -489,7 +489,9 @@ let still_lets_objects_go () =
   (match (Dsl.first p).objects with
   | o :: _ -> Weak.set w 0 (Some o)
   | [] -> Alcotest.fail "no objects");
+  let overhead = (Gc.get ()).space_overhead in
   let sc = made (Program.scene_at p ~time:0. ~frame:0) in
+  Alcotest.(check int) "the GC as it was" overhead (Gc.get ()).space_overhead;
   Gc.full_major ();
   Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
   Alcotest.(check int) "the program keeps none" 0 (List.length (Dsl.first p).objects);
