@@ -48,6 +48,38 @@ let fixed_part a = Option.map (fun l -> l.fixed) a.layers
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 
+(* The most flat spheres a leaf is made of by [collapse]. *)
+let collapse_max = 4
+
+(* Interior nodes over at most [collapse_max] flat spheres become leaves over their
+   slots: a sphere's early miss costs less than a box test, and below such a node the
+   walk would test about as many boxes as there are spheres. A subtree's slots are
+   consecutive, its left subtree's first; a leaf's are visited in order, so a walk meets
+   the same primitives in the same order, and those under boxes it would have culled
+   are missed by the ray. *)
+let collapse nodes sph =
+  (* The subtree's slot count if all are flat spheres, else −1. *)
+  let rec go k =
+    let count = Bvh.count nodes k in
+    if count > 0 then (
+      let first = Bvh.link nodes k and flat = ref true in
+      for j = first to first + count - 1 do
+        if fget sph ((4 * j) + 3) < 0. then flat := false
+      done;
+      if !flat then count else -1)
+    else
+      let l = go (k + 1) in
+      let r = go (Bvh.link nodes k) in
+      if l < 0 || r < 0 then -1
+      else if l + r <= collapse_max then (
+        (* The left child is a leaf by now: its first slot is the subtree's. *)
+        fset nodes ((8 * k) + 6) (fget nodes ((8 * (k + 1)) + 6));
+        fset nodes ((8 * k) + 7) (Float.of_int (l + r));
+        l + r)
+      else l + r
+  in
+  ignore (go 0)
+
 let build prims =
   let n = Array.length prims in
   (* Every primitive's bounds in one pass, then the bounded ones' (all six finite) moved
@@ -127,6 +159,7 @@ let build prims =
             fset sph ((4 * j) + 3) radius
         | _ -> ())
       leaf_prims;
+    collapse nodes sph;
     {
       prims;
       weight;
@@ -158,18 +191,83 @@ let unindexed prims =
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
-let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
-  Bvh.box_entry nodes k ox oy oz ix iy iz tmin tmax
+(* The entry t of the ray into node [k]'s box within [tmin, tmax], or infinity for a
+   miss: {!Bvh.box_entry}'s slabs with each axis's near plane chosen once per ray by the
+   sign of its reciprocal direction, so that a slab costs two comparisons instead of
+   three. [nx], [ny], [nz] are the offsets of the near planes' coordinates in the node (0
+   for the min plane, 3 for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf
+   (origin on a slab plane, ray parallel to it) leaves the interval open. *)
+let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf =
+  let off = 8 * k in
+  let a = (fget nodes (off + nx) -. ox) *. ix in
+  let t0 = if a > tmin then a else tmin in
+  let c = (fget nodes (off + fx) -. ox) *. ix in
+  let t1 = if c < tmax then c else tmax in
+  let a = (fget nodes (off + ny) -. oy) *. iy in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fy) -. oy) *. iy in
+  let t1 = if c < t1 then c else t1 in
+  let a = (fget nodes (off + nz) -. oz) *. iz in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fz) -. oz) *. iz in
+  let t1 = if c < t1 then c else t1 in
+  if t0 <= t1 then t0 else inf
+
+(* Whether the ray meets node [k]'s box within [tmin, tmax]: [box_entry]'s slabs, and
+   the same answer except where both the entry and the exit are infinite (a ray parallel
+   to a slab it lies beyond), which it lets through. *)
+let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
+  let off = 8 * k in
+  let a = (fget nodes (off + nx) -. ox) *. ix in
+  let t0 = if a > tmin then a else tmin in
+  let c = (fget nodes (off + fx) -. ox) *. ix in
+  let t1 = if c < tmax then c else tmax in
+  let a = (fget nodes (off + ny) -. oy) *. iy in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fy) -. oy) *. iy in
+  let t1 = if c < t1 then c else t1 in
+  let a = (fget nodes (off + nz) -. oz) *. iz in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fz) -. oz) *. iz in
+  let t1 = if c < t1 then c else t1 in
+  t0 <= t1
+
+(* The offset of the near plane's coordinate for reciprocal direction [i]. *)
+let[@inline] near i = if i < 0. then 3 else 0
 
 (* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
    finds them busy (a fold callback that queries again) allocates its own. *)
 type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
 
-let stack_key =
-  Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
+(* What a domain's queries reuse, found by one look-up per query. The shadow query's: a
+   probe that the caller fills, and for each light slot the scene index of the primitive
+   that last blocked it (-1: none), tested before the walk. Shadow rays of neighbouring
+   pixels tend to be blocked by the same object; since the answer is a boolean (is there
+   any opaque crossing?), trying one first changes only how soon it is found, never what
+   is found. Every query's: a scratch probe for transformed objects ([obj]), and the
+   traversal stacks. *)
+type scratch = {
+  q : Shape.probe;
+  obj : Shape.probe;
+  mutable last : int array;
+  stack : stack;
+}
 
-let get_stack depth =
-  let s = Domain.DLS.get stack_key in
+let scratch_key =
+  Domain.DLS.new_key (fun () ->
+      {
+        q = Shape.probe ();
+        obj = Shape.probe ();
+        last = [||];
+        stack = { ids = [||]; ts = Float.Array.create 0; busy = false };
+      })
+
+(* [sc] with a scratch probe of its own, for a query that may run inside a fold's
+   callback. *)
+let fresh_obj sc = { sc with obj = Shape.probe () }
+
+let get_stack sc depth =
+  let s = sc.stack in
   if s.busy then
     { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
   else (
@@ -219,7 +317,8 @@ let linear_nearest_probe prims (q : Shape.probe) obj =
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
-let tree_nearest_probe a tr (q : Shape.probe) obj =
+let tree_nearest_probe a tr (q : Shape.probe) sc =
+  let obj = sc.obj and inf = Float.infinity in
   let tmin = q.p_tmin in
   let best_t = ref q.p_tmax and best_i = ref (-1) and query = ref q.p_tmax in
   let outside = a.outside and prims = a.prims in
@@ -232,11 +331,14 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
       query := Float.succ t)
   done;
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
   let nodes = tr.nodes in
-  let st = get_stack tr.depth in
+  let st = get_stack sc tr.depth in
   let sids = st.ids and sts = st.ts in
   let sp = ref 0 and node = ref 0 and go = ref true in
-  if box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then go := false;
+  if box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf then
+    go := false;
   while !go do
     let k = !node in
     let count = Bvh.count nodes k in
@@ -255,10 +357,12 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
         -1)
       else
         let l = k + 1 and rr = Bvh.link nodes k in
-        let tl = box_entry nodes l ox oy oz ix iy iz tmin !best_t in
-        let trr = box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
-        if tl < Float.infinity then
-          if trr < Float.infinity then
+        let tl = box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf in
+        let trr =
+          box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
+        in
+        if tl < inf then
+          if trr < inf then
             if trr < tl then (
               Array.unsafe_set sids !sp l;
               fset sts !sp tl;
@@ -270,7 +374,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj =
               incr sp;
               l)
           else l
-        else if trr < Float.infinity then rr
+        else if trr < inf then rr
         else -1
     in
     if next >= 0 then node := next
@@ -326,6 +430,7 @@ let linear_fold ~only_transparent prims r tmin tmax f acc =
    Each bounded primitive sits in exactly one leaf, so each is visited once. Whether a
    visit stopped the walk. *)
 let tree_visit a tr r tmin tmax visit =
+  let sc = Domain.DLS.get scratch_key in
   let stop = ref false in
   let outside = a.outside in
   let k = ref 0 in
@@ -336,11 +441,13 @@ let tree_visit a tr r tmin tmax visit =
   if not !stop then (
     let o = Ray.origin r and inv = Ray.inv_dir r in
     let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
+    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
-    let st = get_stack tr.depth in
+    let st = get_stack sc tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     (try
@@ -357,10 +464,10 @@ let tree_visit a tr r tmin tmax visit =
            done
          else
            let l = node + 1 and rr = Bvh.link nodes node in
-           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+           if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp rr;
              incr sp);
-           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+           if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp l;
              incr sp)
        done
@@ -398,17 +505,7 @@ let fold_transparent_hits a r tmin tmax f acc =
 
 (* --- Occlusion ---------------------------------------------------------------------- *)
 
-(* The shadow query proper: no ray, no hit record, no closure. Per domain, a probe that
-   the caller fills, a scratch probe for transformed objects, and for each light slot the
-   scene index of the primitive that last blocked it (-1: none), tested before the walk.
-   Shadow rays of neighbouring pixels tend to be blocked by the same object; since the
-   answer is a boolean (is there any opaque crossing?), trying one first changes only how
-   soon it is found, never what is found. *)
-type scratch = { q : Shape.probe; obj : Shape.probe; mutable last : int array }
-
-let scratch_key =
-  Domain.DLS.new_key (fun () -> { q = Shape.probe (); obj = Shape.probe (); last = [||] })
-
+(* The shadow query proper: no ray, no hit record, no closure (see {!scratch}). *)
 let shadow_probe () = (Domain.DLS.get scratch_key).q
 
 let[@inline] blocks ~any (p : Primitive.t) (q : Shape.probe) obj =
@@ -441,20 +538,21 @@ let linear_occluder ~any prims q obj =
 
 (* The first primitive found crossing the probe's segment: an opaque one, or with [any]
    any one. *)
-let rec occluder ~any a q obj =
+let rec occluder ~any a q sc =
   match a.layers with
   | Some l ->
-      let i = occluder ~any l.fixed q obj in
+      let i = occluder ~any l.fixed q sc in
       if i >= 0 then l.fixed_idx.(i)
       else
-        let j = occluder ~any l.moving q obj in
+        let j = occluder ~any l.moving q sc in
         if j >= 0 then l.moving_idx.(j) else -1
   | None -> (
       match a.tree with
-      | None -> linear_occluder ~any a.prims q obj
-      | Some tr -> tree_occluder ~any a tr q obj)
+      | None -> linear_occluder ~any a.prims q sc.obj
+      | Some tr -> tree_occluder ~any a tr q sc)
 
-and tree_occluder ~any a tr (q : Shape.probe) obj =
+and tree_occluder ~any a tr (q : Shape.probe) sc =
+  let obj = sc.obj in
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims in
   let k = ref 0 in
@@ -465,12 +563,14 @@ and tree_occluder ~any a tr (q : Shape.probe) obj =
   done;
   if !found < 0 then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
-    let st = get_stack tr.depth in
+    let st = get_stack sc tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     while !found < 0 && !sp > 0 do
@@ -486,27 +586,27 @@ and tree_occluder ~any a tr (q : Shape.probe) obj =
         done
       else
         let l = node + 1 and rr = Bvh.link nodes node in
-        if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+        if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
           Array.unsafe_set sids !sp rr;
           incr sp);
-        if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+        if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
           Array.unsafe_set sids !sp l;
           incr sp)
     done;
     st.busy <- false);
   !found
 
-let rec nearest_probe_in a (q : Shape.probe) obj =
+let rec nearest_probe_in a (q : Shape.probe) sc =
   match a.layers with
   | Some l ->
       (* As [nearest_into]'s two parts: the moving part up to succ(t) of the fixed
          part's hit, the lexicographic minimum of (t, index). *)
       let tmin = q.p_tmin and tmax = q.p_tmax in
-      let i = nearest_probe_in l.fixed q obj in
+      let i = nearest_probe_in l.fixed q sc in
       let t = q.p_t in
       q.p_tmin <- tmin;
       q.p_tmax <- (if i >= 0 then Float.succ t else tmax);
-      let j = nearest_probe_in l.moving q obj in
+      let j = nearest_probe_in l.moving q sc in
       if
         j >= 0 && (i < 0 || q.p_t < t || (q.p_t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
       then l.moving_idx.(j)
@@ -515,13 +615,13 @@ let rec nearest_probe_in a (q : Shape.probe) obj =
         if i >= 0 then l.fixed_idx.(i) else -1)
   | None -> (
       match a.tree with
-      | None -> linear_nearest_probe a.prims q obj
-      | Some tr -> tree_nearest_probe a tr q obj)
+      | None -> linear_nearest_probe a.prims q sc.obj
+      | Some tr -> tree_nearest_probe a tr q sc)
 
 let nearest_probe a (q : Shape.probe) =
-  let obj = (Domain.DLS.get scratch_key).obj in
+  let sc = Domain.DLS.get scratch_key in
   Probe.set_inv_dir q;
-  nearest_probe_in a q obj
+  nearest_probe_in a q sc
 
 (* A ray's query through a probe of its own, and a scratch probe of its own, since such
    a query may run inside a fold's callback. *)
@@ -534,7 +634,7 @@ let ray_probe r tmin tmax =
 
 let nearest_into a r tmin tmax (h : Shape.hit) =
   let q = ray_probe r tmin tmax in
-  let i = nearest_probe_in a q (Shape.probe ()) in
+  let i = nearest_probe_in a q (fresh_obj (Domain.DLS.get scratch_key)) in
   h.t <- q.p_t;
   i
 
@@ -546,7 +646,8 @@ let nearest a r tmin tmax =
 (* Any crossing at all, opaque or not: where the first surface met settles the answer.
    The shadow query's walk, every primitive counting. *)
 let any_hit a r tmin tmax =
-  occluder ~any:true a (ray_probe r tmin tmax) (Shape.probe ()) >= 0
+  occluder ~any:true a (ray_probe r tmin tmax) (fresh_obj (Domain.DLS.get scratch_key))
+  >= 0
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
    the same order (the unbounded ones first, then depth first over the boxes the ray
@@ -576,7 +677,8 @@ let linear_transparent prims (q : Shape.probe) obj visit =
     incr i
   done
 
-let tree_transparent a tr (q : Shape.probe) obj visit =
+let tree_transparent a tr (q : Shape.probe) sc visit =
+  let obj = sc.obj in
   let tmin = q.p_tmin and tmax = q.p_tmax in
   let stop = ref false in
   let outside = a.outside in
@@ -587,11 +689,13 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
   done;
   if not !stop then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
-    let st = get_stack tr.depth in
+    let st = get_stack sc tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     (try
@@ -609,10 +713,10 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
            done
          else
            let l = node + 1 and rr = Bvh.link nodes node in
-           if box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+           if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp rr;
              incr sp);
-           if box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+           if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp l;
              incr sp)
        done
@@ -621,7 +725,7 @@ let tree_transparent a tr (q : Shape.probe) obj visit =
        raise e);
     st.busy <- false)
 
-let rec transparent_in a (q : Shape.probe) obj visit =
+let rec transparent_in a (q : Shape.probe) sc visit =
   match a.layers with
   | Some l ->
       (* The fixed part's crossings, then the moving part's (see {!layered}). *)
@@ -632,20 +736,20 @@ let rec transparent_in a (q : Shape.probe) obj visit =
         if stop then stopped := true;
         stop
       in
-      transparent_in l.fixed q obj visit;
+      transparent_in l.fixed q sc visit;
       if not !stopped then (
         q.p_tmin <- tmin;
         q.p_tmax <- tmax;
-        transparent_in l.moving q obj visit)
+        transparent_in l.moving q sc visit)
   | None -> (
       match a.tree with
-      | None -> linear_transparent a.prims q obj visit
-      | Some tr -> tree_transparent a tr q obj visit)
+      | None -> linear_transparent a.prims q sc.obj visit
+      | Some tr -> tree_transparent a tr q sc visit)
 
 let transparent_crossings a (q : Shape.probe) visit =
-  let obj = (Domain.DLS.get scratch_key).obj in
+  let sc = Domain.DLS.get scratch_key in
   Probe.set_inv_dir q;
-  transparent_in a q obj visit
+  transparent_in a q sc visit
 
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in
@@ -663,7 +767,7 @@ let occluded a (q : Shape.probe) ~slot =
     c >= 0 && c < Array.length prims && blocks ~any:false (Array.unsafe_get prims c) q obj
   then true
   else
-    let found = occluder ~any:false a q obj in
+    let found = occluder ~any:false a q sc in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
 
