@@ -27,6 +27,10 @@ type t = {
   prims : Primitive.t array;
   weight : int;  (** the bounded primitives, a mesh counted as its faces *)
   outside : int array;
+  planes : Float.Array.t;
+      (** 4 per entry of [outside]: the normal and offset of an untransformed plane,
+          tested from here without reading its primitive; a NaN normal for any other
+          primitive *)
   tree : tree option;
   layers : layers option;
       (** instead of [outside] and [tree]: two structures over parts of [prims] *)
@@ -80,6 +84,21 @@ let collapse nodes sph =
   in
   ignore (go 0)
 
+let plane_data prims outside =
+  let planes = Float.Array.make (4 * Array.length outside) Float.nan in
+  Array.iteri
+    (fun k i ->
+      let p : Primitive.t = prims.(i) in
+      match p.shape with
+      | Shape.Plane { normal; offset } when Transform.is_identity p.transform ->
+          fset planes (4 * k) normal.x;
+          fset planes ((4 * k) + 1) normal.y;
+          fset planes ((4 * k) + 2) normal.z;
+          fset planes ((4 * k) + 3) offset
+      | _ -> ())
+    outside;
+  planes
+
 let build prims =
   let n = Array.length prims in
   (* Every primitive's bounds in one pass, then the bounded ones' (all six finite) moved
@@ -127,7 +146,15 @@ let build prims =
     !w
   in
   if weight < min_bvh then
-    { prims; weight; outside = Array.init n Fun.id; tree = None; layers = None }
+    let outside = Array.init n Fun.id in
+    {
+      prims;
+      weight;
+      outside;
+      planes = plane_data prims outside;
+      tree = None;
+      layers = None;
+    }
   else
     let outside = pick false in
     for k = 0 to m - 1 do
@@ -164,6 +191,7 @@ let build prims =
       prims;
       weight;
       outside;
+      planes = plane_data prims outside;
       tree = Some { nodes; leaf_prims; leaf_idx; sph; depth };
       layers = None;
     }
@@ -321,10 +349,20 @@ let tree_nearest_probe a tr (q : Shape.probe) sc =
   let obj = sc.obj and inf = Float.infinity in
   let tmin = q.p_tmin in
   let best_t = ref q.p_tmax and best_i = ref (-1) and query = ref q.p_tmax in
-  let outside = a.outside and prims = a.prims in
+  let outside = a.outside and prims = a.prims and planes = a.planes in
   for k = 0 to Array.length outside - 1 do
     let i = outside.(k) in
-    let t = probe_test prims.(i) q obj !query in
+    let nx = fget planes (4 * k) in
+    let t =
+      if Float.is_nan nx then probe_test prims.(i) q obj !query
+      else (
+        q.p_tmax <- !query;
+        Shape.plane_sc nx
+          (fget planes ((4 * k) + 1))
+          (fget planes ((4 * k) + 2))
+          (fget planes ((4 * k) + 3))
+          q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin !query)
+    in
     if t < !best_t || (t = !best_t && i < !best_i) then (
       best_t := t;
       best_i := i;
@@ -510,9 +548,16 @@ let shadow_probe () = (Domain.DLS.get scratch_key).q
 
 let[@inline] blocks ~any (p : Primitive.t) (q : Shape.probe) obj =
   if (not any) && p.material.transparency <> 0. then false
-  else (
-    Primitive.probe_first_into p q obj;
-    q.p_t < q.p_tmax)
+  else
+    match p.shape with
+    | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
+        (* {!Primitive.probe_first_into}'s test of it, without the dispatch. *)
+        Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz
+          q.p_tmin q.p_tmax
+        < q.p_tmax
+    | _ ->
+        Primitive.probe_first_into p q obj;
+        q.p_t < q.p_tmax
 
 (* [blocks] of leaf slot [j]. *)
 let[@inline] slot_blocks ~any tr j (q : Shape.probe) obj =
@@ -554,11 +599,22 @@ let rec occluder ~any a q sc =
 and tree_occluder ~any a tr (q : Shape.probe) sc =
   let obj = sc.obj in
   let found = ref (-1) in
-  let outside = a.outside and prims = a.prims in
+  let outside = a.outside and prims = a.prims and planes = a.planes in
   let k = ref 0 in
   while !found < 0 && !k < Array.length outside do
     let i = Array.unsafe_get outside !k in
-    if blocks ~any (Array.unsafe_get prims i) q obj then found := i;
+    let p = Array.unsafe_get prims i and nx = fget planes (4 * !k) in
+    if
+      if Float.is_nan nx then blocks ~any p q obj
+      else
+        (any || p.material.transparency = 0.)
+        && Shape.plane_sc nx
+             (fget planes ((4 * !k) + 1))
+             (fget planes ((4 * !k) + 2))
+             (fget planes ((4 * !k) + 3))
+             q.ox q.oy q.oz q.dx q.dy q.dz q.p_tmin q.p_tmax
+           < q.p_tmax
+    then found := i;
     incr k
   done;
   if !found < 0 then (
@@ -784,6 +840,7 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
     prims;
     weight;
     outside = [||];
+    planes = Float.Array.create 0;
     tree = None;
     layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
   }

@@ -188,12 +188,15 @@ let[@inline] intersect_sphere center radius r tmin tmax =
   sphere_s center radius o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Plane: d·n = 0 is a miss even when the origin lies on the plane (0/0 must not escape). *)
-let[@inline] plane_s (n : Vec3.t) offset ox oy oz dx dy dz tmin tmax =
-  let denom = (dx *. n.x) +. (dy *. n.y) +. (dz *. n.z) in
+let[@inline] plane_sc nx ny nz offset ox oy oz dx dy dz tmin tmax =
+  let denom = (dx *. nx) +. (dy *. ny) +. (dz *. nz) in
   if denom = 0. then Float.infinity
   else
-    let t = (offset -. ((ox *. n.x) +. (oy *. n.y) +. (oz *. n.z))) /. denom in
+    let t = (offset -. ((ox *. nx) +. (oy *. ny) +. (oz *. nz))) /. denom in
     if in_range t tmin tmax then t else Float.infinity
+
+let[@inline] plane_s (n : Vec3.t) offset ox oy oz dx dy dz tmin tmax =
+  plane_sc n.x n.y n.z offset ox oy oz dx dy dz tmin tmax
 
 let[@inline] intersect_plane n offset r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in

@@ -276,3 +276,20 @@ val sphere_sc :
 (** [sphere_sc cx cy cz r ox oy oz dx dy dz tmin tmax] is the sphere's root in (tmin,
     tmax) along the ray, or infinity: {!probe_into} of a {!Sphere}, bit for bit, on
     scalars (for structures that keep spheres in flat arrays). *)
+
+val plane_sc :
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float
+(** [plane_sc nx ny nz offset ox oy oz dx dy dz tmin tmax]: {!probe_into} of a {!Plane},
+    bit for bit, on scalars. *)
