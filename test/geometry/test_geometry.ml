@@ -993,6 +993,156 @@ let scalar_forms_prop =
       done;
       true)
 
+(* ---- sphere fields ---- *)
+
+(* A grid of untransformed spheres (the flat leaves the hierarchy tests without reading
+   a primitive), some duplicated or touching their neighbours (ties), a few of them
+   transformed, boxes and transparent spheres among them, on an untransformed floor
+   and sometimes a tilted, transformed plane: the leaves of flat spheres that are walked
+   as one and the ones that are not, and the planes tested from flat scalars and the
+   ones that are not. *)
+let sphere_field st =
+  let n = 4 + Random.State.int st 9 in
+  let s = 1. in
+  let r = if Random.State.bool st then 0.5 else rand_in st 0.2 0.5 in
+  let m = Material.default and glass = { Material.default with transparency = 0.5 } in
+  let l = ref [] in
+  for i = 0 to n - 1 do
+    for j = 0 to n - 1 do
+      let c = v (Float.of_int i *. s) r (Float.of_int j *. s) in
+      let k = Random.State.int st 20 in
+      let p =
+        if k = 0 then
+          Primitive.make
+            ~transform:(Transform.translate (v 0. 0.25 0.))
+            m
+            (Shape.sphere ~center:c ~radius:r)
+        else if k = 1 then
+          Primitive.make m
+            (Shape.box ~min:(Vec3.sub c (v r r r)) ~max:(Vec3.add c (v r r r)))
+        else
+          Primitive.make (if k = 2 then glass else m) (Shape.sphere ~center:c ~radius:r)
+      in
+      l := p :: !l;
+      if Random.State.int st 8 = 0 then l := p :: !l
+    done
+  done;
+  l := Primitive.make m (Shape.plane ~normal:Vec3.y_axis ~offset:0.) :: !l;
+  if Random.State.bool st then
+    l :=
+      Primitive.make
+        ~transform:(Transform.rotate (v 10. 0. 20.))
+        glass
+        (Shape.plane ~normal:Vec3.y_axis ~offset:(-0.5))
+      :: !l;
+  Array.of_list (List.rev !l)
+
+(* Rays over the field: from above at random, along the axes (reciprocals ±inf) at a
+   sphere's height or through the centres' planes, and from points on the floor or on
+   a sphere towards a light, as shadow rays start. *)
+let field_ray st n =
+  let extent = Float.of_int n in
+  let grid () = Float.of_int (Random.State.int st n) in
+  match Random.State.int st 4 with
+  | 0 ->
+      ray
+        (v (rand_in st (-2.) (extent +. 2.)) (rand_in st 1. 6.) (rand_in st (-2.) extent))
+        (rand_dir st)
+  | 1 ->
+      let axes = [| Vec3.x_axis; Vec3.z_axis; v (-1.) 0. 0.; v 0. 0. (-1.) |] in
+      let y = if Random.State.bool st then 0.5 else rand_in st 0. 1. in
+      ray (v (grid ()) y (grid ())) axes.(Random.State.int st 4)
+  | 2 ->
+      ray
+        (v (rand_in st 0. extent) 0. (rand_in st 0. extent))
+        (Vec3.normalize
+           (v (rand_in st (-1.) 1.) (rand_in st 0.2 1.) (rand_in st (-1.) 1.)))
+  | _ ->
+      let c = v (grid ()) 0.5 (grid ()) in
+      let d = rand_dir st in
+      ray (Vec3.add c (Vec3.smul 0.5 d)) (Vec3.normalize (v (-0.4) 0.8 (-0.5)))
+
+let brute_any prims r tmax =
+  Array.exists (fun p -> Primitive.intersect p r 0. tmax < tmax) prims
+
+(* Every query of a sphere field against the scan over its primitives, through one
+   structure over them all and through two parts (a moving one picked at random). *)
+let sphere_field_prop =
+  QCheck.Test.make
+    ~name:
+      "over a sphere field, one structure or two parts answer every query as the scan, \
+       ties and axis-parallel rays included"
+    ~count:40
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let prims = sphere_field st in
+      let n = Array.length prims in
+      let moving = Array.init n (fun _ -> Random.State.int st 5 = 0) in
+      let part want =
+        Array.of_list (List.filter (fun i -> moving.(i) = want) (List.init n Fun.id))
+      in
+      let fixed_idx = part false and moving_idx = part true in
+      let sub idx = Array.map (fun i -> prims.(i)) idx in
+      let layered =
+        Accel.layered prims
+          ~fixed:(Accel.build (sub fixed_idx))
+          ~fixed_idx
+          ~moving:(Accel.build (sub moving_idx))
+          ~moving_idx
+      in
+      let whole = Accel.build prims in
+      if not (Accel.uses_bvh whole) then QCheck.Test.fail_report "no BVH built";
+      let side = int_of_float (Float.sqrt (Float.of_int n)) in
+      let q = Probe.create () and sq = Accel.shadow_probe () in
+      for _ = 1 to 300 do
+        let r = field_ray st side in
+        let tmax = if Random.State.int st 3 = 0 then rand_in st 0.5 8. else inf in
+        let t0, i0 = brute_nearest prims r 0. tmax in
+        let blocked = brute_occluded prims r tmax and any = brute_any prims r tmax in
+        List.iter
+          (fun (name, a) ->
+            let t, i = Accel.nearest a r 0. tmax in
+            if i <> i0 || not (same_bits t t0) then
+              QCheck.Test.fail_reportf "%s: nearest (%.17g, %d), scan (%.17g, %d)" name t
+                i t0 i0;
+            Probe.of_ray q r;
+            q.p_tmin <- 0.;
+            q.p_tmax <- tmax;
+            let i' = Accel.nearest_probe a q in
+            if i' <> i0 || not (same_bits q.p_t t0) then
+              QCheck.Test.fail_reportf "%s: nearest_probe (%.17g, %d), scan (%.17g, %d)"
+                name q.p_t i' t0 i0;
+            fill_probe sq r tmax;
+            let got = Accel.occluded a sq ~slot:(Random.State.int st 2) in
+            if got <> blocked then
+              QCheck.Test.fail_reportf "%s: occluded %b, scan %b" name got blocked;
+            let hit = Accel.any_hit a r 0. tmax in
+            if hit <> any then
+              QCheck.Test.fail_reportf "%s: any_hit %b, scan %b" name hit any)
+          [ ("one structure", whole); ("two parts", layered) ];
+        (* One structure's transparent crossings are those of the scan. *)
+        let seen = ref [] in
+        Probe.of_ray q r;
+        q.p_tmin <- 0.;
+        q.p_tmax <- tmax;
+        Accel.transparent_crossings whole q (fun o ->
+            seen := (index_of prims o, q.p_t) :: !seen;
+            false);
+        let expected =
+          List.filter
+            (fun (i, _) -> prims.(i).Primitive.material.transparency <> 0.)
+            (brute_crossings prims r 0. tmax)
+        in
+        let norm l =
+          List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l)
+        in
+        if norm !seen <> norm expected then
+          QCheck.Test.fail_reportf "%d transparent crossings, scan %d" (List.length !seen)
+            (List.length expected)
+      done;
+      true)
+
 let bvh_tests =
   [
     case "small scenes skip the hierarchy, larger ones build it" (fun () ->
@@ -1217,5 +1367,6 @@ let () =
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("scalar forms", [ seeded scalar_forms_prop ]);
+      ("sphere fields", [ seeded sphere_field_prop ]);
       ("textures", texture_tests);
     ]
