@@ -243,7 +243,8 @@ let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf
 
 (* Whether the ray meets node [k]'s box within [tmin, tmax]: [box_entry]'s slabs, and
    the same answer except where both the entry and the exit are infinite (a ray parallel
-   to a slab it lies beyond), which it lets through. *)
+   to a slab it lies beyond), which it lets through. One comparison fewer than
+   [box_entry] < infinity: the walks that need no entry t. *)
 let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
   let off = 8 * k in
   let a = (fget nodes (off + nx) -. ox) *. ix in
@@ -290,12 +291,7 @@ let scratch_key =
         stack = { ids = [||]; ts = Float.Array.create 0; busy = false };
       })
 
-(* [sc] with a scratch probe of its own, for a query that may run inside a fold's
-   callback. *)
-let fresh_obj sc = { sc with obj = Shape.probe () }
-
-let get_stack sc depth =
-  let s = sc.stack in
+let get_stack (s : stack) depth =
   if s.busy then
     { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
   else (
@@ -345,8 +341,8 @@ let linear_nearest_probe prims (q : Shape.probe) obj =
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
-let tree_nearest_probe a tr (q : Shape.probe) sc =
-  let obj = sc.obj and inf = Float.infinity in
+let tree_nearest_probe a tr (q : Shape.probe) obj stack =
+  let inf = Float.infinity in
   let tmin = q.p_tmin in
   let best_t = ref q.p_tmax and best_i = ref (-1) and query = ref q.p_tmax in
   let outside = a.outside and prims = a.prims and planes = a.planes in
@@ -372,7 +368,7 @@ let tree_nearest_probe a tr (q : Shape.probe) sc =
   let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
   let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
   let nodes = tr.nodes in
-  let st = get_stack sc tr.depth in
+  let st = get_stack stack tr.depth in
   let sids = st.ids and sts = st.ts in
   let sp = ref 0 and node = ref 0 and go = ref true in
   if box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf then
@@ -468,7 +464,7 @@ let linear_fold ~only_transparent prims r tmin tmax f acc =
    Each bounded primitive sits in exactly one leaf, so each is visited once. Whether a
    visit stopped the walk. *)
 let tree_visit a tr r tmin tmax visit =
-  let sc = Domain.DLS.get scratch_key in
+  let stack = (Domain.DLS.get scratch_key).stack in
   let stop = ref false in
   let outside = a.outside in
   let k = ref 0 in
@@ -482,7 +478,7 @@ let tree_visit a tr r tmin tmax visit =
     let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
-    let st = get_stack sc tr.depth in
+    let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
     if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
@@ -583,21 +579,20 @@ let linear_occluder ~any prims q obj =
 
 (* The first primitive found crossing the probe's segment: an opaque one, or with [any]
    any one. *)
-let rec occluder ~any a q sc =
+let rec occluder ~any a q obj stack =
   match a.layers with
   | Some l ->
-      let i = occluder ~any l.fixed q sc in
+      let i = occluder ~any l.fixed q obj stack in
       if i >= 0 then l.fixed_idx.(i)
       else
-        let j = occluder ~any l.moving q sc in
+        let j = occluder ~any l.moving q obj stack in
         if j >= 0 then l.moving_idx.(j) else -1
   | None -> (
       match a.tree with
-      | None -> linear_occluder ~any a.prims q sc.obj
-      | Some tr -> tree_occluder ~any a tr q sc)
+      | None -> linear_occluder ~any a.prims q obj
+      | Some tr -> tree_occluder ~any a tr q obj stack)
 
-and tree_occluder ~any a tr (q : Shape.probe) sc =
-  let obj = sc.obj in
+and tree_occluder ~any a tr (q : Shape.probe) obj stack =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims and planes = a.planes in
   let k = ref 0 in
@@ -623,7 +618,7 @@ and tree_occluder ~any a tr (q : Shape.probe) sc =
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
-    let st = get_stack sc tr.depth in
+    let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
     if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
@@ -652,17 +647,17 @@ and tree_occluder ~any a tr (q : Shape.probe) sc =
     st.busy <- false);
   !found
 
-let rec nearest_probe_in a (q : Shape.probe) sc =
+let rec nearest_probe_in a (q : Shape.probe) obj stack =
   match a.layers with
   | Some l ->
       (* As [nearest_into]'s two parts: the moving part up to succ(t) of the fixed
          part's hit, the lexicographic minimum of (t, index). *)
       let tmin = q.p_tmin and tmax = q.p_tmax in
-      let i = nearest_probe_in l.fixed q sc in
+      let i = nearest_probe_in l.fixed q obj stack in
       let t = q.p_t in
       q.p_tmin <- tmin;
       q.p_tmax <- (if i >= 0 then Float.succ t else tmax);
-      let j = nearest_probe_in l.moving q sc in
+      let j = nearest_probe_in l.moving q obj stack in
       if
         j >= 0 && (i < 0 || q.p_t < t || (q.p_t = t && l.moving_idx.(j) < l.fixed_idx.(i)))
       then l.moving_idx.(j)
@@ -671,13 +666,13 @@ let rec nearest_probe_in a (q : Shape.probe) sc =
         if i >= 0 then l.fixed_idx.(i) else -1)
   | None -> (
       match a.tree with
-      | None -> linear_nearest_probe a.prims q sc.obj
-      | Some tr -> tree_nearest_probe a tr q sc)
+      | None -> linear_nearest_probe a.prims q obj
+      | Some tr -> tree_nearest_probe a tr q obj stack)
 
 let nearest_probe a (q : Shape.probe) =
   let sc = Domain.DLS.get scratch_key in
   Probe.set_inv_dir q;
-  nearest_probe_in a q sc
+  nearest_probe_in a q sc.obj sc.stack
 
 (* A ray's query through a probe of its own, and a scratch probe of its own, since such
    a query may run inside a fold's callback. *)
@@ -690,7 +685,7 @@ let ray_probe r tmin tmax =
 
 let nearest_into a r tmin tmax (h : Shape.hit) =
   let q = ray_probe r tmin tmax in
-  let i = nearest_probe_in a q (fresh_obj (Domain.DLS.get scratch_key)) in
+  let i = nearest_probe_in a q (Shape.probe ()) (Domain.DLS.get scratch_key).stack in
   h.t <- q.p_t;
   i
 
@@ -702,7 +697,8 @@ let nearest a r tmin tmax =
 (* Any crossing at all, opaque or not: where the first surface met settles the answer.
    The shadow query's walk, every primitive counting. *)
 let any_hit a r tmin tmax =
-  occluder ~any:true a (ray_probe r tmin tmax) (fresh_obj (Domain.DLS.get scratch_key))
+  occluder ~any:true a (ray_probe r tmin tmax) (Shape.probe ())
+    (Domain.DLS.get scratch_key).stack
   >= 0
 
 (* [fold_transparent_hits] for a ray held in a probe: the same transparent primitives in
@@ -733,8 +729,7 @@ let linear_transparent prims (q : Shape.probe) obj visit =
     incr i
   done
 
-let tree_transparent a tr (q : Shape.probe) sc visit =
-  let obj = sc.obj in
+let tree_transparent a tr (q : Shape.probe) obj stack visit =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   let stop = ref false in
   let outside = a.outside in
@@ -748,7 +743,7 @@ let tree_transparent a tr (q : Shape.probe) sc visit =
     let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
-    let st = get_stack sc tr.depth in
+    let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
     if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
@@ -781,7 +776,7 @@ let tree_transparent a tr (q : Shape.probe) sc visit =
        raise e);
     st.busy <- false)
 
-let rec transparent_in a (q : Shape.probe) sc visit =
+let rec transparent_in a (q : Shape.probe) obj stack visit =
   match a.layers with
   | Some l ->
       (* The fixed part's crossings, then the moving part's (see {!layered}). *)
@@ -792,20 +787,20 @@ let rec transparent_in a (q : Shape.probe) sc visit =
         if stop then stopped := true;
         stop
       in
-      transparent_in l.fixed q sc visit;
+      transparent_in l.fixed q obj stack visit;
       if not !stopped then (
         q.p_tmin <- tmin;
         q.p_tmax <- tmax;
-        transparent_in l.moving q sc visit)
+        transparent_in l.moving q obj stack visit)
   | None -> (
       match a.tree with
-      | None -> linear_transparent a.prims q sc.obj visit
-      | Some tr -> tree_transparent a tr q sc visit)
+      | None -> linear_transparent a.prims q obj visit
+      | Some tr -> tree_transparent a tr q obj stack visit)
 
 let transparent_crossings a (q : Shape.probe) visit =
   let sc = Domain.DLS.get scratch_key in
   Probe.set_inv_dir q;
-  transparent_in a q sc visit
+  transparent_in a q sc.obj sc.stack visit
 
 let occluded a (q : Shape.probe) ~slot =
   let sc = Domain.DLS.get scratch_key in
@@ -823,7 +818,7 @@ let occluded a (q : Shape.probe) ~slot =
     c >= 0 && c < Array.length prims && blocks ~any:false (Array.unsafe_get prims c) q obj
   then true
   else
-    let found = occluder ~any:false a q sc in
+    let found = occluder ~any:false a q obj sc.stack in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
 
