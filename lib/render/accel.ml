@@ -209,10 +209,12 @@ let unindexed prims =
       done;
       if !ok then weight := !weight + Primitive.faces p)
     prims;
+  let outside = Array.init (Array.length prims) Fun.id in
   {
     prims;
     weight = !weight;
-    outside = Array.init (Array.length prims) Fun.id;
+    outside;
+    planes = plane_data prims outside;
     tree = None;
     layers = None;
   }
