@@ -21,7 +21,7 @@ type t = {
       (** for each included file, where it was included *)
   mutable first : D.t;
       (** the evaluation at time 0, frame 0 (without its objects once {!release}d) *)
-  mutable released : bool;
+  released : bool Atomic.t;
   mutable memo : Eval.memo;  (** what that evaluation did that later ones skip *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
@@ -80,14 +80,16 @@ let input_digest t rel =
 
 let file t = t.file
 let first t = t.first
-let released t = t.released
+let released t = Atomic.get t.released
 
 (* The objects are let go from the program: what the load recorded of them (in the memo
    as in [first]) is forgotten, and the next description at time 0 is evaluated again. *)
 let release t =
   let d = t.first in
+  (* Marked first: a reader takes [first], then asks [released] (an atomic, set before
+     [first] changes), so that it never uses the emptied [first] as the scene. *)
+  Atomic.set t.released true;
   t.first <- { d with objects = [] };
-  t.released <- true;
   t.memo <- Eval.memo t.stmts;
   d
 
@@ -300,7 +302,7 @@ let load_text ?progress ?files file text =
                 sources;
                 includes;
                 first;
-                released = false;
+                released = Atomic.make false;
                 memo;
                 named =
                   (let h = Hashtbl.create 4 in
@@ -357,8 +359,11 @@ let describe ?again ?body_state ?progress ?cancel ?files t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
-         if Float.equal time 0. && frame = 0 && body_state = None && not t.released then
-           Ok t.first
+         let first = t.first in
+         if
+           Float.equal time 0. && frame = 0 && body_state = None
+           && not (Atomic.get t.released)
+         then Ok first
          else
            let on_objects n = say "evaluating the scene: %d objects so far" n in
            let uses = ref [] in

@@ -22,7 +22,10 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
         say
           (Printf.sprintf "reading and checking %s"
              (Option.value o.scene ~default:"the showcase"));
-        let src = Cli.scene_source o (Cli.load ~progress:say o.scene) in
+        let prog = Cli.load ~progress:say o.scene in
+        (* One scene of it: a still's description may go as it is compiled. *)
+        Lang.single_scene prog;
+        let src = Cli.scene_source o prog in
         let time, frame = Cli.time_of o src in
         say "evaluating the scene and building its acceleration structure";
         let sc, files = Cli.scene_with_files ~progress:say o src ~time ~frame in
@@ -132,7 +135,9 @@ let check_cmd stop scene json time frames =
   | None -> (
       let time, frame = Cli.time_of o (Cli.scene_source o prog) in
       (* Check reads the scene's objects, features and estimates, and traces no ray: no
-         acceleration structure. *)
+         acceleration structure. Its summary needs one scene and not the description's
+         objects, which may go as they are compiled; the JSON lists them. *)
+      if not json then Lang.single_scene prog;
       match Lang.scene_at ~index:false prog ~time ~frame with
       | Error errors -> raise (Job_error.Scene { errors; note = "" })
       | Ok sc ->

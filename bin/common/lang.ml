@@ -18,6 +18,7 @@ let truncated_physics prog =
     | _ -> None
 
 let scene_at ?index prog ~time ~frame = Program.scene_at ?index prog ~time ~frame
+let single_scene = Program.single_scene
 let summary prog sc = Program.summary prog sc
 let to_json prog sc = Program.to_json prog sc
 

@@ -29,6 +29,10 @@ val scene_at :
   ?index:bool -> program -> time:float -> frame:int -> (Lancer.Scene.t, error list) result
 (** The scene as the file sets it (no overrides). *)
 
+val single_scene : program -> unit
+(** The program is loaded for one scene only (a still's render): the load's description
+    may be let go as that scene is compiled. *)
+
 val summary : program -> Lancer.Scene.t -> string
 (** What [lancer check] prints about a scene. *)
 

@@ -17,6 +17,7 @@ type extra = {
       (** what the frames of an animation share, once made ([Some None]: nothing) *)
   fixed_lock : Mutex.t;
   made : int Atomic.t;  (** scenes begun *)
+  mutable single : bool;  (** asked for one scene only ({!single_scene}) *)
 }
 
 module Programs = Ephemeron.K1.Make (struct
@@ -44,6 +45,7 @@ let extra p =
               fixed = None;
               fixed_lock = Mutex.create ();
               made = Atomic.make 0;
+              single = false;
             }
           in
           Programs.replace table p e;
@@ -255,11 +257,15 @@ let compile ?progress ?index ?objects ~share p (d : D.t) =
       Ok sc
   | Error es -> Error (Dsl.located p ~time:d.time ~frame:d.frame es)
 
-(* A still's one scene is the load's description compiled once: the program lets its
-   objects go ({!Dsl.release}), and the compile lets each go as it is made into
-   primitives, so that a large scene is not held twice. *)
+let single_scene p = (extra p).single <- true
+
+(* A still's one scene, where its caller asked for one only ({!single_scene}), is the
+   load's description compiled once: the program lets its objects go ({!Dsl.release}),
+   and the compile lets each go as it is made into primitives, so that a large scene is
+   not held twice. A caller that asks for more scenes of a still (the live preview, the
+   benchmarks) keeps the load's description for them. *)
 let releasable ?body_state p ~share ~time ~frame =
-  (not share) && body_state = None && Float.equal time 0. && frame = 0
+  (extra p).single && (not share) && body_state = None && Float.equal time 0. && frame = 0
   && Dsl.animation p = None
   && Dsl.bodies p = []
   && not (Dsl.released p)

@@ -58,11 +58,16 @@ val scene_and_description :
   frame:int ->
   (Scene.t * Description.t, Diagnostic.t list) result
 (** The scene at [time] and [frame] ({!describe}, then {!Compile.compile}), and its
-    description. The program is evaluated once per call, and not at all for the first
-    scene at time 0, frame 0 of a still without bodies: that one is the load's
-    description, which the program then lets go ({!Dsl.release}) and the compile lets go
-    object by object, and which is returned without its objects. [index] is
-    {!Compile.compile}'s. *)
+    description. The program is evaluated once per call, and not at all for a scene at
+    time 0, frame 0 of a still without bodies: that one is the load's description. After
+    {!single_scene}, the first such scene lets it go ({!Dsl.release}) as the compile goes
+    through it, object by object, and is returned without its objects; a later one
+    evaluates the program again. [index] is {!Compile.compile}'s. *)
+
+val single_scene : Dsl.t -> unit
+(** [single_scene p] says that [p] is loaded for one scene only (a still's render): its
+    first scene at time 0 may let the load's description go as it is compiled, so that a
+    large scene is not held twice. *)
 
 val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->

@@ -475,15 +475,23 @@ let load text =
 
 let made = function Ok sc -> sc | Error _ -> Alcotest.fail "the grid does not compile"
 
-(* Compiling a still's one scene lets the load's objects go: nothing keeps them once they
-   are primitives, and what check prints of them is made again. *)
+(* Compiling a still's one scene (a program loaded for one only) lets the load's objects
+   go: nothing keeps them once they are primitives, and what check prints of them is made
+   again. A program asked for several scenes keeps the load's description for them. *)
 let still_lets_objects_go () =
   let module Dsl = Lancer_dsl.Dsl in
   let p = load (grid_text 40) in
+  Program.single_scene p;
   let json_before =
     let q = load (grid_text 40) in
-    Yojson.Safe.to_string
-      (Program.to_json q (made (Program.scene_at ~index:false q ~time:0. ~frame:0)))
+    let j =
+      Yojson.Safe.to_string
+        (Program.to_json q (made (Program.scene_at ~index:false q ~time:0. ~frame:0)))
+    in
+    Alcotest.(check int)
+      "not asked for one scene: the program keeps the objects" 1600
+      (List.length (Dsl.first q).objects);
+    j
   in
   let w = Weak.create 1 in
   (match (Dsl.first p).objects with
