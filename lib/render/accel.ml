@@ -221,51 +221,6 @@ let unindexed prims =
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
-(* The entry t of the ray into node [k]'s box within [tmin, tmax], or infinity for a
-   miss: {!Bvh.box_entry}'s slabs with each axis's near plane chosen once per ray by the
-   sign of its reciprocal direction, so that a slab costs two comparisons instead of
-   three. [nx], [ny], [nz] are the offsets of the near planes' coordinates in the node (0
-   for the min plane, 3 for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf
-   (origin on a slab plane, ray parallel to it) leaves the interval open. *)
-let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf =
-  let off = 8 * k in
-  let a = (fget nodes (off + nx) -. ox) *. ix in
-  let t0 = if a > tmin then a else tmin in
-  let c = (fget nodes (off + fx) -. ox) *. ix in
-  let t1 = if c < tmax then c else tmax in
-  let a = (fget nodes (off + ny) -. oy) *. iy in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fy) -. oy) *. iy in
-  let t1 = if c < t1 then c else t1 in
-  let a = (fget nodes (off + nz) -. oz) *. iz in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fz) -. oz) *. iz in
-  let t1 = if c < t1 then c else t1 in
-  if t0 <= t1 then t0 else inf
-
-(* Whether the ray meets node [k]'s box within [tmin, tmax]: [box_entry]'s slabs, and
-   the same answer except where both the entry and the exit are infinite (a ray parallel
-   to a slab it lies beyond), which it lets through. One comparison fewer than
-   [box_entry] < infinity: the walks that need no entry t. *)
-let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
-  let off = 8 * k in
-  let a = (fget nodes (off + nx) -. ox) *. ix in
-  let t0 = if a > tmin then a else tmin in
-  let c = (fget nodes (off + fx) -. ox) *. ix in
-  let t1 = if c < tmax then c else tmax in
-  let a = (fget nodes (off + ny) -. oy) *. iy in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fy) -. oy) *. iy in
-  let t1 = if c < t1 then c else t1 in
-  let a = (fget nodes (off + nz) -. oz) *. iz in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fz) -. oz) *. iz in
-  let t1 = if c < t1 then c else t1 in
-  t0 <= t1
-
-(* The offset of the near plane's coordinate for reciprocal direction [i]. *)
-let[@inline] near i = if i < 0. then 3 else 0
-
 (* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
    finds them busy (a fold callback that queries again) allocates its own. *)
 type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
@@ -367,13 +322,13 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
       query := Float.succ t)
   done;
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
   let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
   let nodes = tr.nodes in
   let st = get_stack stack tr.depth in
   let sids = st.ids and sts = st.ts in
   let sp = ref 0 and node = ref 0 and go = ref true in
-  if box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf then
+  if Bvh.box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf then
     go := false;
   while !go do
     let k = !node in
@@ -393,9 +348,11 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
         -1)
       else
         let l = k + 1 and rr = Bvh.link nodes k in
-        let tl = box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf in
+        let tl =
+          Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
+        in
         let trr =
-          box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
+          Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
         in
         if tl < inf then
           if trr < inf then
@@ -477,13 +434,13 @@ let tree_visit a tr r tmin tmax visit =
   if not !stop then (
     let o = Ray.origin r and inv = Ray.inv_dir r in
     let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     (try
@@ -500,10 +457,10 @@ let tree_visit a tr r tmin tmax visit =
            done
          else
            let l = node + 1 and rr = Bvh.link nodes node in
-           if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+           if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp rr;
              incr sp);
-           if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+           if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp l;
              incr sp)
        done
@@ -616,14 +573,14 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
   done;
   if !found < 0 then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     while !found < 0 && !sp > 0 do
@@ -639,10 +596,10 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
         done
       else
         let l = node + 1 and rr = Bvh.link nodes node in
-        if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
           Array.unsafe_set sids !sp rr;
           incr sp);
-        if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
           Array.unsafe_set sids !sp l;
           incr sp)
     done;
@@ -742,13 +699,13 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
   done;
   if not !stop then (
     let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-    let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
     let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
     let sids = st.ids in
     let sp = ref 0 in
-    if box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set sids 0 0;
       sp := 1);
     (try
@@ -766,10 +723,10 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
            done
          else
            let l = node + 1 and rr = Bvh.link nodes node in
-           if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+           if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp rr;
              incr sp);
-           if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+           if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
              Array.unsafe_set sids !sp l;
              incr sp)
        done

@@ -679,18 +679,46 @@ let build pbox =
 let[@inline] link nodes k = int_of_float (fget nodes ((8 * k) + 6))
 let[@inline] count nodes k = int_of_float (fget nodes ((8 * k) + 7))
 
-(* Entry t of the ray (origin o, reciprocal direction i) into node [k]'s box within
-   [tmin, tmax], or infinity for a miss. The slab comparisons are written so that a NaN
-   from 0·inf (origin on a slab plane, ray parallel to it) leaves the interval open. *)
-let[@inline] box_entry nodes k ox oy oz ix iy iz tmin tmax =
+(* The entry t of the ray into node [k]'s box within [tmin, tmax], or infinity for a
+   miss, with each axis's near plane chosen once per ray by the sign of its reciprocal
+   direction ({!near}), so that a slab costs two comparisons. [nx], [ny], [nz] are the offsets of the near planes' coordinates in the node (0
+   for the min plane, 3 for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf
+   (origin on a slab plane, ray parallel to it) leaves the interval open. *)
+let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf =
   let off = 8 * k in
-  let a = (fget nodes off -. ox) *. ix and c = (fget nodes (off + 3) -. ox) *. ix in
-  let t0 = if a < c then if a > tmin then a else tmin else if c > tmin then c else tmin in
-  let t1 = if a < c then if c < tmax then c else tmax else if a < tmax then a else tmax in
-  let a = (fget nodes (off + 1) -. oy) *. iy and c = (fget nodes (off + 4) -. oy) *. iy in
-  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
-  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
-  let a = (fget nodes (off + 2) -. oz) *. iz and c = (fget nodes (off + 5) -. oz) *. iz in
-  let t0 = if a < c then if a > t0 then a else t0 else if c > t0 then c else t0 in
-  let t1 = if a < c then if c < t1 then c else t1 else if a < t1 then a else t1 in
-  if t0 <= t1 then t0 else Float.infinity
+  let a = (fget nodes (off + nx) -. ox) *. ix in
+  let t0 = if a > tmin then a else tmin in
+  let c = (fget nodes (off + fx) -. ox) *. ix in
+  let t1 = if c < tmax then c else tmax in
+  let a = (fget nodes (off + ny) -. oy) *. iy in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fy) -. oy) *. iy in
+  let t1 = if c < t1 then c else t1 in
+  let a = (fget nodes (off + nz) -. oz) *. iz in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fz) -. oz) *. iz in
+  let t1 = if c < t1 then c else t1 in
+  if t0 <= t1 then t0 else inf
+
+(* Whether the ray meets node [k]'s box within [tmin, tmax]: [box_entry]'s slabs, and
+   the same answer except where both the entry and the exit are infinite (a ray parallel
+   to a slab it lies beyond), which it lets through. One comparison fewer than
+   [box_entry] < infinity: the walks that need no entry t. *)
+let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
+  let off = 8 * k in
+  let a = (fget nodes (off + nx) -. ox) *. ix in
+  let t0 = if a > tmin then a else tmin in
+  let c = (fget nodes (off + fx) -. ox) *. ix in
+  let t1 = if c < tmax then c else tmax in
+  let a = (fget nodes (off + ny) -. oy) *. iy in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fy) -. oy) *. iy in
+  let t1 = if c < t1 then c else t1 in
+  let a = (fget nodes (off + nz) -. oz) *. iz in
+  let t0 = if a > t0 then a else t0 in
+  let c = (fget nodes (off + fz) -. oz) *. iz in
+  let t1 = if c < t1 then c else t1 in
+  t0 <= t1
+
+(* The offset of the near plane's coordinate for reciprocal direction [i]. *)
+let[@inline] near i = if i < 0. then 3 else 0

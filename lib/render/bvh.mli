@@ -30,6 +30,13 @@ val link : Float.Array.t -> int -> int
 val count : Float.Array.t -> int -> int
 (** Node [k]'s second integer: a leaf's item count (> 0), 0 for an interior node. *)
 
+val near : float -> int
+(** [near i]: the offset in a node of the near plane's coordinate along an axis of
+    reciprocal direction [i] (0, the min plane, unless [i] < 0: 3, the max plane). A ray
+    computes it once per axis for {!box_entry} and {!box_hit}: [nx = near ix],
+    [ny = 1 + near iy], [nz = 2 + near iz], and the far offsets [3 - nx], [5 - ny],
+    [7 - nz]. *)
+
 val box_entry :
   Float.Array.t ->
   int ->
@@ -39,10 +46,41 @@ val box_entry :
   float ->
   float ->
   float ->
+  int ->
+  int ->
+  int ->
+  int ->
+  int ->
+  int ->
+  float ->
   float ->
   float ->
   float
-(** [box_entry nodes k ox oy oz ix iy iz tmin tmax]: the entry t of the ray (origin o,
-    reciprocal direction i) into node [k]'s box within [tmin, tmax], or infinity for a
-    miss. A NaN from 0·inf (origin on a slab plane, ray parallel to it) leaves the
-    interval open. *)
+(** [box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf]: the entry t of
+    the ray (origin o, reciprocal direction i) into node [k]'s box within [tmin, tmax], or
+    [inf] (infinity) for a miss, the near and far planes given by their offsets ({!near}).
+    A NaN from 0·inf (origin on a slab plane, ray parallel to it) leaves the interval
+    open. *)
+
+val box_hit :
+  Float.Array.t ->
+  int ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  float ->
+  int ->
+  int ->
+  int ->
+  int ->
+  int ->
+  int ->
+  float ->
+  float ->
+  bool
+(** Whether the ray meets node [k]'s box within [tmin, tmax]: {!box_entry}'s answer,
+    except where both the entry and the exit are infinite (a ray parallel to a slab it
+    lies beyond), which it lets through; one comparison fewer, for the walks that need no
+    entry t. *)

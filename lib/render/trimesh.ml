@@ -199,6 +199,7 @@ let nearest m (q : Probe.t) =
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
       !best_i
   | Some tr ->
+      let inf = Float.infinity in
       let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
       let tmin = q.p_tmin in
       let ox = q.ox
@@ -207,12 +208,14 @@ let nearest m (q : Probe.t) =
       and ix = q.ix
       and iy = q.iy
       and iz = q.iz in
+      let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+      let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
       let sids = st.ids and sts = st.ts in
       let sp = ref 0 and node = ref 0 and go = ref true in
-      if Bvh.box_entry nodes 0 ox oy oz ix iy iz tmin !best_t = Float.infinity then
-        go := false;
+      if Bvh.box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf
+      then go := false;
       while !go do
         let k = !node in
         let count = Bvh.count nodes k in
@@ -231,8 +234,12 @@ let nearest m (q : Probe.t) =
             -1)
           else
             let l = k + 1 and rr = Bvh.link nodes k in
-            let tl = Bvh.box_entry nodes l ox oy oz ix iy iz tmin !best_t in
-            let trr = Bvh.box_entry nodes rr ox oy oz ix iy iz tmin !best_t in
+            let tl =
+              Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
+            in
+            let trr =
+              Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
+            in
             if tl < Float.infinity then
               if trr < Float.infinity then
                 if trr < tl then (
@@ -287,11 +294,13 @@ let first m (q : Probe.t) =
       and ix = q.ix
       and iy = q.iy
       and iz = q.iz in
+      let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+      let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
       let sids = st.ids in
       let sp = ref 0 in
-      if Bvh.box_entry nodes 0 ox oy oz ix iy iz tmin tmax < Float.infinity then (
+      if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
         Array.unsafe_set sids 0 0;
         sp := 1);
       while !found < 0 && !sp > 0 do
@@ -311,10 +320,10 @@ let first m (q : Probe.t) =
           done
         else
           let l = node + 1 and rr = Bvh.link nodes node in
-          if Bvh.box_entry nodes rr ox oy oz ix iy iz tmin tmax < Float.infinity then (
+          if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
             Array.unsafe_set sids !sp rr;
             incr sp);
-          if Bvh.box_entry nodes l ox oy oz ix iy iz tmin tmax < Float.infinity then (
+          if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
             Array.unsafe_set sids !sp l;
             incr sp)
       done;
