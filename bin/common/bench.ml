@@ -978,40 +978,34 @@ let language_loop = "for i in 0 to 3000000 { let x = sin(i) * cos(i) }\n"
 let language_python =
   "import math\nfor i in range(3000001):\n    x = math.sin(i) * math.cos(i)\n"
 
-let language_grid n =
+(* The camera, light and size the grids below share, for n×n objects. *)
+let grid_header n =
   Printf.sprintf
     "let n = %d\n\
      settings { width: 64, height: 48 }\n\
      camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
-     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
-     for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
-     / 2), radius: 0.4 } } }\n"
+     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n"
     n
+
+let language_grid n =
+  grid_header n
+  ^ "for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
+     / 2), radius: 0.4 } } }\n"
 
 (* The same grid, each sphere with its own material expression (the field of
    scenes/bench/field_100000.rts), and one of transformed boxes in groups. *)
 let language_field n =
-  Printf.sprintf
-    "let n = %d\n\
-     settings { width: 64, height: 48 }\n\
-     camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
-     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
-     for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
+  grid_header n
+  ^ "for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n \
      / 2), radius: 0.4, material: material { color: (0.5 + 0.5 * sin(i), 0.5 + 0.5 * \
      cos(j), 0.6) } } } }\n"
-    n
 
 let language_transformed n =
-  Printf.sprintf
-    "let n = %d\n\
-     settings { width: 64, height: 48 }\n\
-     camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }\n\
-     light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }\n\
-     for i in 0 to n - 1 { group { translate: (i - n / 2, 0, 0), for j in 0 to n - 1 { \
+  grid_header n
+  ^ "for i in 0 to n - 1 { group { translate: (i - n / 2, 0, 0), for j in 0 to n - 1 { \
      box { min: (-0.4, 0, -0.4), max: (0.4, 0.8, 0.4), rotate: (0, 3 * j, 0), translate: \
      (0, 0, j - n / 2), material: material { color: (0.9, 0.5, 0.2), specular: 0.5 } } } \
      } }\n"
-    n
 
 (* One whole check of a program in this process (parse, static check, evaluation): its
    wall time, the words it allocated and the words its result holds. *)
