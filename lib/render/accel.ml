@@ -628,10 +628,13 @@ let rec nearest_probe_in a (q : Shape.probe) obj stack =
       | None -> linear_nearest_probe a.prims q obj
       | Some tr -> tree_nearest_probe a tr q obj stack)
 
-let nearest_probe a (q : Shape.probe) =
-  let sc = Domain.DLS.get scratch_key in
+let domain_scratch () = Domain.DLS.get scratch_key
+
+let nearest_probe_with sc a (q : Shape.probe) =
   Probe.set_inv_dir q;
   nearest_probe_in a q sc.obj sc.stack
+
+let nearest_probe a q = nearest_probe_with (domain_scratch ()) a q
 
 (* A ray's query through a probe of its own, and a scratch probe of its own, since such
    a query may run inside a fold's callback. *)
@@ -756,13 +759,14 @@ let rec transparent_in a (q : Shape.probe) obj stack visit =
       | None -> linear_transparent a.prims q obj visit
       | Some tr -> tree_transparent a tr q obj stack visit)
 
-let transparent_crossings a (q : Shape.probe) visit =
-  let sc = Domain.DLS.get scratch_key in
+let transparent_crossings_with sc a (q : Shape.probe) visit =
   Probe.set_inv_dir q;
   transparent_in a q sc.obj sc.stack visit
 
-let occluded a (q : Shape.probe) ~slot =
-  let sc = Domain.DLS.get scratch_key in
+let transparent_crossings a q visit =
+  transparent_crossings_with (domain_scratch ()) a q visit
+
+let occluded_with sc a (q : Shape.probe) ~slot =
   let obj = sc.obj in
   q.ix <- 1. /. q.dx;
   q.iy <- 1. /. q.dy;
@@ -780,6 +784,8 @@ let occluded a (q : Shape.probe) ~slot =
     let found = occluder ~any:false a q obj sc.stack in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0
+
+let occluded a q ~slot = occluded_with (domain_scratch ()) a q ~slot
 
 (* --- Two parts ------------------------------------------------------------------------ *)
 

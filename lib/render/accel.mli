@@ -104,3 +104,27 @@ val occluded : t -> Shape.probe -> slot:int -> bool
     the last query of the same [slot] (a light's index) in this domain: the answer does
     not depend on it. Allocates nothing (with the shapes that {!Shape.probe_into} tests in
     scalars). *)
+
+(** {2 With the domain's scratch in hand}
+
+    Each query above finds what it reuses (traversal stacks, a scratch probe, the shadow
+    query's last occluders) in a domain-local slot, a look-up per query; a glass scene
+    asks some twenty queries a pixel. A renderer that keeps the scratch of its domain
+    passes it instead: the same answers, found with the same scratch. *)
+
+type scratch
+(** What the queries of one domain reuse. *)
+
+val domain_scratch : unit -> scratch
+(** The calling domain's scratch. It must be used by that domain only. *)
+
+val nearest_probe_with : scratch -> t -> Shape.probe -> int
+(** [nearest_probe_with (domain_scratch ()) a q] is [nearest_probe a q]. *)
+
+val occluded_with : scratch -> t -> Shape.probe -> slot:int -> bool
+(** [occluded_with (domain_scratch ()) a q ~slot] is [occluded a q ~slot]. *)
+
+val transparent_crossings_with :
+  scratch -> t -> Shape.probe -> (Primitive.t -> bool) -> unit
+(** [transparent_crossings_with (domain_scratch ()) a q visit] is
+    [transparent_crossings a q visit]. *)

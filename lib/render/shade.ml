@@ -1,16 +1,21 @@
-(* [Vec3.max_abs] and [offset] of points held as scalars, the same operations. *)
-let[@inline] max_abs3 x y z =
-  Float.max (Float.abs x) (Float.max (Float.abs y) (Float.abs z))
+(* Float.max of two floats that are not negative (absolute values, positive constants) or
+   NaN, the same result without its C calls: for those, only NaN needs care. *)
+let[@inline] max_nn (a : float) b = if a > b then a else if a <> a then a else b
+
+(* [Vec3.max_abs] and [offset] of points held as scalars, the same results. *)
+let[@inline] max_abs3 x y z = max_nn (Float.abs x) (max_nn (Float.abs y) (Float.abs z))
 
 let[@inline] offset_s px py pz ox oy oz =
-  1e-9 *. Float.max 1e-300 (Float.max (max_abs3 px py pz) (max_abs3 ox oy oz))
+  1e-9 *. max_nn 1e-300 (max_nn (max_abs3 px py pz) (max_abs3 ox oy oz))
 
 let offset (p : Vec3.t) (o : Vec3.t) = offset_s p.x p.y p.z o.x o.y o.z
 
 (* The light of one shading step, as scalars in a flat record of floats (nothing boxes):
    the diffuse and specular sum (ar, ag, ab); the transmittance of the last shadow ray
    or area light (tr, tg, tb); the point shaded (px, py, pz) and where its shadow rays
-   start (lx, ly, lz), for the area lights. *)
+   start (lx, ly, lz), for the area lights; Schlick's F0 (f0) of the last index of
+   refraction it was computed for (f0_ior), since a glass scene asks it again at every
+   crossing. *)
 type acc = {
   mutable ar : float;
   mutable ag : float;
@@ -24,11 +29,14 @@ type acc = {
   mutable lx : float;
   mutable ly : float;
   mutable lz : float;
+  mutable f0_ior : float;
+  mutable f0 : float;
 }
 
 (* A domain's scratch: the ray being traced ([q]), the shadow ray ([sq]), the fragment
    that shapes and textures answer into (and where a trace leaves its colour), the light
-   sums, and the visit of a transparent crossing of the shadow ray, made once. A shading
+   sums, the visit of a transparent crossing of the shadow ray, made once, and the
+   queries' scratch of the domain it is made on ([ax]: no look-up per query). A shading
    step copies what it needs into locals before it traces again, so one scratch serves
    every depth. *)
 type scratch = {
@@ -37,6 +45,7 @@ type scratch = {
   f : Frag.t;
   acc : acc;
   cross : Primitive.t -> bool;
+  ax : Accel.scratch;
 }
 
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
@@ -103,9 +112,18 @@ let scratch () =
       lx = 0.;
       ly = 0.;
       lz = 0.;
+      f0_ior = Float.nan;
+      f0 = 0.;
     }
   in
-  { q = Probe.create (); sq; f; acc; cross = crossing sq f acc }
+  {
+    q = Probe.create ();
+    sq;
+    f;
+    acc;
+    cross = crossing sq f acc;
+    ax = Accel.domain_scratch ();
+  }
 
 let probe scr = scr.q
 let frag scr = scr.f
@@ -119,7 +137,7 @@ let transparent_into (sc : Scene.t) scr =
   acc.tr <- 1.;
   acc.tg <- 1.;
   acc.tb <- 1.;
-  Accel.transparent_crossings sc.accel scr.sq scr.cross
+  Accel.transparent_crossings_with scr.ax sc.accel scr.sq scr.cross
 
 (* Transmittance from (ox, oy, oz) along the unit direction (dx, dy, dz) up to [dist],
    into acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates
@@ -138,7 +156,7 @@ let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot scr ox oy oz dx dy d
   q.dz <- dz;
   q.p_tmin <- 0.;
   q.p_tmax <- dist;
-  if Accel.occluded sc.accel q ~slot then (
+  if Accel.occluded_with scr.ax sc.accel q ~slot then (
     acc.tr <- 0.;
     acc.tg <- 0.;
     acc.tb <- 0.)
@@ -296,7 +314,7 @@ let rec trace_b (sc : Scene.t) st scr depth =
   let q = scr.q and f = scr.f in
   q.p_tmin <- 0.;
   q.p_tmax <- Float.infinity;
-  let i = Accel.nearest_probe sc.accel q in
+  let i = Accel.nearest_probe_with scr.ax sc.accel q in
   match sc.settings.fog with
   | None ->
       if i >= 0 then shade sc st scr depth sc.objects.(i)
@@ -409,7 +427,14 @@ and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
     let fr =
       if tau = 0. || k < 0. || not m.fresnel then 0.
       else
-        let f0 = ((m.ior -. 1.) /. (m.ior +. 1.)) ** 2. in
+        let f0 =
+          if m.ior = acc.f0_ior then acc.f0
+          else
+            let f0 = ((m.ior -. 1.) /. (m.ior +. 1.)) ** 2. in
+            acc.f0_ior <- m.ior;
+            acc.f0 <- f0;
+            f0
+        in
         let c' = if entering then c_in else Float.sqrt k in
         f0 +. ((1. -. f0) *. ((1. -. c') ** 5.))
     in

@@ -32,7 +32,8 @@ type scratch
     domain at a time: a tile makes its own. *)
 
 val scratch : unit -> scratch
-(** A fresh scratch. *)
+(** A fresh scratch, for the calling domain only: it holds that domain's query scratch
+    ({!Accel.domain_scratch}). *)
 
 val probe : scratch -> Probe.t
 (** Where {!trace_into} reads its ray: fill its origin and (unit) direction. *)
