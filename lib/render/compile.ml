@@ -333,6 +333,15 @@ let fixed_part fx (origin : Vec3.t) =
    30 MB, for a tenth more processor time. *)
 let handed_over_overhead = 40
 
+(* From this many objects handed over, the heap is compacted once they are all compiled,
+   before the acceleration structure is built: the space the dead description leaves in
+   the heap is not given back to the system otherwise, and the structure's arrays would
+   be allocated beside it. Over a million spheres that is 367 MB at the peak instead of
+   284 MB, for about a tenth of a second; below, the space given back is not worth the
+   time, and the GC's pace keeps the heap down. Without a structure to build (lancer
+   check), nothing is allocated after the objects. *)
+let compact_objects = 250_000
+
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixed ?objects
     c (d : D.t) =
   let handed_over = Option.is_some objects in
@@ -373,8 +382,13 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
   (* Objects handed over die as they are compiled: the major GC keeps pace with them, so
      that the space they leave holds their primitives rather than a heap grown beside.
      (No closure here holds the list: each object goes once it is compiled.) *)
+  let compacting =
+    index && handed_over && List.compare_length_with objects compact_objects >= 0
+  in
   let overhead = (Gc.get ()).space_overhead in
-  let pace o = if handed_over then Gc.set { (Gc.get ()) with space_overhead = o } in
+  let pace o =
+    if handed_over && not compacting then Gc.set { (Gc.get ()) with space_overhead = o }
+  in
   pace (min overhead handed_over_overhead);
   (try
      List.iter
@@ -426,6 +440,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
          (fun ((loc : Loc.t), msg) -> Diagnostic.make ?source:(source loc.file) loc msg)
          (sort_problems (List.rev !problems)))
   else (
+    if compacting then Gc.compact ();
     if index && !count > 10_000 then
       progress
         (Printf.sprintf "building the acceleration structure over %d objects" !count);
