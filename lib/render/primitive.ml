@@ -15,7 +15,11 @@ let own = Some { Bbox.min = Vec3.zero; max = Vec3.zero }
 
 let world_bounds transform shape =
   if Transform.is_identity transform then
-    match Shape.bbox shape with Some _ -> own | None -> None
+    (* A sphere is bounded: no box is made to learn it (a million spheres make two each,
+       their own and the moved one's). *)
+    match shape with
+    | Shape.Sphere _ -> own
+    | _ -> ( match Shape.bbox shape with Some _ -> own | None -> None)
   else Option.map (Bbox.transform transform) (Shape.bbox shape)
 
 let bounds o = if o.bounds == own then Shape.bbox o.shape else o.bounds
