@@ -124,12 +124,30 @@ let uses_in (f : Features.t) =
 
 let ( let* ) = Result.bind
 
-(* The first error of a sequence of checks, running none after it. *)
-let rec first_error s =
-  match s () with
-  | Seq.Nil -> Ok ()
-  | Seq.Cons (Ok (), rest) -> first_error rest
-  | Seq.Cons ((Error _ as e), _) -> e
+(* The first invalid material of the objects' in their order (a CSG object's leaves', in
+   order), as [Material.validate] says it; none is checked after it. A material that is
+   physically the last one found valid is not checked again: a million spheres of one
+   material check it once, with nothing allocated for each. *)
+let first_error objects =
+  let exception Invalid of string in
+  let last = ref None in
+  let check m =
+    match !last with
+    | Some l when l == m -> ()
+    | _ -> (
+        match Material.validate m with
+        | Ok () -> last := Some m
+        | Error e -> raise (Invalid e))
+  in
+  match
+    Array.iter
+      (fun (o : Primitive.t) ->
+        if Primitive.is_csg o then List.iter check (Primitive.materials o)
+        else check o.material)
+      objects
+  with
+  | () -> Ok ()
+  | exception Invalid e -> Error e
 
 (* The scene of these parts, with the camera and lights as seen from [origin]. *)
 let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features =
@@ -155,12 +173,7 @@ let of_gen ~moved ?(index = true) ?(settings = Settings.default)
     ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () =
-    first_error
-      (Array.to_seq objects
-      |> Seq.concat_map (fun o -> List.to_seq (Primitive.materials o))
-      |> Seq.map Material.validate)
-  in
+  let* () = first_error objects in
   let lights = Array.of_list lights in
   let origin = origin_of camera in
   let objects = if moved then objects else Array.map (mover camera) objects in
@@ -187,10 +200,7 @@ type fixed = {
   f_uses : uses;
 }
 
-let materials_valid prims =
-  Array.for_all
-    (fun o -> List.for_all (fun m -> Material.validate m = Ok ()) (Primitive.materials o))
-    prims
+let materials_valid prims = Result.is_ok (first_error prims)
 
 let fixed ~origin prims =
   let prims =
@@ -260,12 +270,7 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
     invalid_arg "Scene.make_layered: the pieces do not place every fixed primitive once";
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () =
-    first_error
-      (Array.to_seq (if f.f_valid then moving else objects)
-      |> Seq.concat_map (fun o -> List.to_seq (Primitive.materials o))
-      |> Seq.map Material.validate)
-  in
+  let* () = first_error (if f.f_valid then moving else objects) in
   let lights = Array.of_list lights in
   (* A shadow ray's transmittance multiplies its crossings in the order of the structure
      it walks: with a transparent material anywhere, one structure over them all, as

@@ -623,6 +623,41 @@ let validation_tests =
           (Result.is_error
              (Scene.make ~lights:[]
                 [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ])));
+    Alcotest.test_case
+      "the first invalid material is reported, after many sharing a valid one, and a CSG \
+       leaf's too"
+      `Quick (fun () ->
+        let ok = mat () and bad_ior = mat ~ior:(-1.) () in
+        let bad_sum = mat ~reflection:0.6 ~transparency:0.6 () in
+        let ball m = prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) in
+        let error objs =
+          match Scene.make ~lights:[] objs with Ok _ -> None | Error e -> Some e
+        in
+        let message m = match Material.validate m with Ok () -> "" | Error e -> e in
+        Alcotest.(check (option string))
+          "all valid" None
+          (error (List.init 1000 (fun _ -> ball ok)));
+        Alcotest.(check (option string))
+          "the first of two invalid ones, after a thousand valid ones"
+          (Some (message bad_ior))
+          (error (List.init 1000 (fun _ -> ball ok) @ [ ball bad_ior; ball bad_sum ]));
+        Alcotest.(check (option string))
+          "a valid one equal to an invalid one is still checked"
+          (Some (message bad_sum))
+          (error [ ball ok; ball { ok with ior = 2. }; ball ok; ball bad_sum ]);
+        let lens =
+          Primitive.make ~leaf_materials:[| None; Some bad_sum |] ok
+            (Shape.csg Intersection
+               [
+                 ( Shape.sphere ~center:(Vec3.v 0. 0. (-0.5)) ~radius:1.,
+                   Transform.identity );
+                 (Shape.sphere ~center:(Vec3.v 0. 0. 0.5) ~radius:1., Transform.identity);
+               ])
+        in
+        Alcotest.(check (option string))
+          "a CSG leaf's"
+          (Some (message bad_sum))
+          (error [ ball ok; lens; ball bad_ior ]));
     Alcotest.test_case "a camera looking at itself is refused" `Quick (fun () ->
         Alcotest.(check bool)
           "error" true
