@@ -124,10 +124,10 @@ let uses_in (f : Features.t) =
 
 let ( let* ) = Result.bind
 
-(* The first invalid material of the objects' in their order (a CSG object's leaves', in
-   order), as [Material.validate] says it; none is checked after it. A material that is
-   physically the last one found valid is not checked again: a million spheres of one
-   material check it once, with nothing allocated for each. *)
+(* The error of the first invalid material, the objects taken in order (a CSG object's
+   leaves in theirs), as [Material.validate] says it; none is checked after it. A material
+   that is physically the last one found valid is not checked again: a million spheres of
+   one material check it once, with nothing allocated for each. *)
 let first_error objects =
   let exception Invalid of string in
   let last = ref None in
