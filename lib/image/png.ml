@@ -96,9 +96,12 @@ module Wide = struct
     let s = (s land even) + ((s lsr 8) land even) in
     Int64.to_int ((s * ones16) lsr 48)
 
+  (* 1 in each 16-bit lane where p <= q (both below 1024): bit 10 of 1024 + q - p. *)
+  let[@inline] le p q = (((q lor 0x0400040004000400L) - p) lsr 10) land ones16
+
   (* The Paeth predictor of four bytes held in 16-bit lanes. A difference d is taken
      biased by 2^s (its sign is then bit s), |d| is its low s bits, complemented and
-     plus one where d < 0; p <= q is bit 10 of 1024 + q - p. *)
+     plus one where d < 0. *)
   let[@inline] paeth4 a b c =
     let d = (b lor 0x0100010001000100L) - c in
     let n = (d lsr 8) land ones16 lxor ones16 in
@@ -109,7 +112,6 @@ module Wide = struct
     let d = a + b + 0x0200020002000200L - (c + c) in
     let n = (d lsr 9) land ones16 lxor ones16 in
     let pc = (d lxor ((n lsl 9) - n) land 0x01FF01FF01FF01FFL) + n in
-    let le p q = (((q lor 0x0400040004000400L) - p) lsr 10) land ones16 in
     let pick_a = le pa pb land le pa pc and pick_b = le pb pc in
     let bc = c lxor (b lxor c land ((pick_b lsl 8) - pick_b)) in
     bc lxor (a lxor bc land ((pick_a lsl 8) - pick_a))
