@@ -269,9 +269,21 @@ let[@inline] test p r tmax (h : Shape.hit) =
    the lexicographic minimum of (t, index): each primitive is queried up to succ(best t)
    (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
    the scratch probe for transformed objects is the domain's. *)
-let[@inline] probe_test p (q : Shape.probe) obj tmax =
+let[@inline] probe_test (p : Primitive.t) (q : Shape.probe) obj tmax =
   q.p_tmax <- tmax;
-  Primitive.probe_into p q obj;
+  (* An untransformed sphere or plane, tested here without the two dispatches of
+     {!Primitive.probe_into}: the same root, left in [q.p_t] as it leaves it (the linear
+     scans of small scenes and an animation's moving part are mostly these). *)
+  (match p.shape with
+  | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
+      q.p_t <-
+        Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz
+          q.p_tmin tmax
+  | Shape.Plane { normal; offset } when Transform.is_identity p.transform ->
+      q.p_t <-
+        Shape.plane_sc normal.x normal.y normal.z offset q.ox q.oy q.oz q.dx q.dy q.dz
+          q.p_tmin tmax
+  | _ -> Primitive.probe_into p q obj);
   q.p_t
 
 (* [probe_test] of leaf slot [j]: a flat sphere's test on its scalars, the same roots. *)
