@@ -107,6 +107,17 @@ let then_ a b =
 
 let is_identity t = t.id
 
+let linear_identity m =
+  m.a00 = 1. && m.a01 = 0. && m.a02 = 0. && m.a10 = 0. && m.a11 = 1. && m.a12 = 0.
+  && m.a20 = 0. && m.a21 = 0. && m.a22 = 1.
+
+let translation t =
+  if (not t.id) && linear_identity t.m && linear_identity t.inv then
+    Some
+      ( { Vec3.x = t.m.a03; y = t.m.a13; z = t.m.a23 },
+        { Vec3.x = t.inv.a03; y = t.inv.a13; z = t.inv.a23 } )
+  else None
+
 let apply_point m (p : Vec3.t) : Vec3.t =
   {
     x = (m.a00 *. p.x) +. (m.a01 *. p.y) +. (m.a02 *. p.z) +. m.a03;

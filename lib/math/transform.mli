@@ -26,6 +26,11 @@ val then_ : t -> t -> t
 val is_identity : t -> bool
 (** Whether the transform is the identity (so callers can skip it). *)
 
+val translation : t -> (Vec3.t * Vec3.t) option
+(** [Some (d, e)] when [t] is not the identity and only moves points, its linear part and
+    its inverse's exactly the identity: [t] adds [d] to a point and its inverse adds [e]
+    (−d, up to the rounding of the transforms composed). [None] otherwise. *)
+
 val point : t -> Vec3.t -> Vec3.t
 (** Object-space point to world space. *)
 

@@ -77,6 +77,36 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
   in
   { shape; transform; material; bounds; shift = Vec3.zero; flip; leaves }
 
+(* A simple shape whose transform only moves it (a group's or a body's translation) is
+   that shape moved, untransformed: the fast path of untransformed shapes (flat sphere
+   leaves, scalar plane tests, no ray moved into object space) for the same surface, up
+   to the last bits of the arithmetic done in world space instead. Its texture space,
+   object space before, is [shift] away: the inverse's translation. Meshes stay as they
+   are (a move would copy their vertices, shared by every placement of the mesh), and so
+   do CSG objects, whose leaves carry the transform. *)
+let bakeable = function
+  | Shape.Mesh _ | Shape.Closed_mesh _ | Shape.Csg _ -> false
+  | Shape.Sphere _ | Plane _ | Parallelogram _ | Triangle _ | Paraboloid _ | Box _
+  | Cylinder _ | Disk _ | Cone _ | Torus _ ->
+      true
+
+let baked o =
+  if Array.length o.leaves > 0 || not (bakeable o.shape) then o
+  else
+    match Transform.translation o.transform with
+    | None -> o
+    | Some (d, e) ->
+        let shape = Shape.translate d o.shape in
+        {
+          o with
+          shape;
+          transform = Transform.identity;
+          bounds =
+            (if Option.is_none o.bounds then None
+             else world_bounds Transform.identity shape);
+          shift = e;
+        }
+
 (* A shape placed without a transform is moved itself, so that it stays on the fast path;
    its texture space is the world before the move, [shift] away. A transformed one gets the
    move appended to its transform, and its object space is its texture space as before. A
@@ -100,13 +130,14 @@ let rec moved_by ~shift (d : Vec3.t) o =
         shift = shift o.shift;
       }
     else
-      {
-        (make
-           ~transform:(Transform.then_ o.transform (Transform.translate d))
-           ~flip:o.flip o.material o.shape)
-        with
-        shift = o.shift;
-      }
+      baked
+        {
+          (make
+             ~transform:(Transform.then_ o.transform (Transform.translate d))
+             ~flip:o.flip o.material o.shape)
+          with
+          shift = o.shift;
+        }
   in
   (* One kept out of the hierarchy (see [without_bounds]) stays out. *)
   if Option.is_none o.bounds then { moved with bounds = None } else moved

@@ -100,7 +100,14 @@ val uv_into : t -> Frag.t -> unit
 val translate : Vec3.t -> t -> t
 (** [translate d o] is [o] moved by [d], its textures moving with it: an untransformed
     object has its shape moved (and keeps the fast path), a transformed one gets the move
-    after its transform. *)
+    after its transform ({!baked} when that is then only a move). *)
+
+val baked : t -> t
+(** [baked o] is [o] when its transform does more than move it (or it has none), or it is
+    a mesh or a CSG object; otherwise the shape moved by the transform's translation,
+    untransformed, its texture space kept by its shift: the same surface on the fast path
+    of untransformed shapes, up to the last bits of the arithmetic. {!translate} gives a
+    transformed object its move and then this. *)
 
 val mover : Vec3.t -> t -> t
 (** [mover d] is {!translate} [d], the same bits, for many primitives: those {!make} made

@@ -167,7 +167,7 @@ let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel featur
 
 let mover camera =
   let origin = origin_of camera in
-  if is_zero origin then Fun.id else Primitive.mover (Vec3.neg origin)
+  if is_zero origin then Primitive.baked else Primitive.mover (Vec3.neg origin)
 
 let of_gen ~moved ?(index = true) ?(settings = Settings.default)
     ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
@@ -204,7 +204,7 @@ let materials_valid prims = Result.is_ok (first_error prims)
 
 let fixed ~origin prims =
   let prims =
-    if is_zero origin then Array.copy prims
+    if is_zero origin then Array.map Primitive.baked prims
     else Array.map (Primitive.translate (Vec3.neg origin)) prims
   in
   {
@@ -233,7 +233,7 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
     Array.of_list (List.concat_map (function Moving ps -> ps | Fixed _ -> []) pieces)
   in
   let moving =
-    if is_zero origin then moving
+    if is_zero origin then Array.map Primitive.baked moving
     else Array.map (Primitive.translate (Vec3.neg origin)) moving
   in
   let nm = Array.length moving in

@@ -48,8 +48,9 @@ val of_array :
 
 val mover : Camera.t -> Primitive.t -> Primitive.t
 (** What {!of_array} does to each object before it builds the scene seen through this
-    camera: moves it by −[origin_of camera] ({!Primitive.translate}), or nothing when that
-    is zero. A primitive's move made by one [mover] shares the vectors that are the same
+    camera: moves it by −[origin_of camera] ({!Primitive.translate}), or when that is zero
+    only {!Primitive.baked} (a shape that its transform only moves becomes that shape
+    moved). A primitive's move made by one [mover] shares the vectors that are the same
     for all of them. *)
 
 val of_moved :

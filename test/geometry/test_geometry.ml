@@ -993,6 +993,138 @@ let scalar_forms_prop =
       done;
       true)
 
+(* ---- shapes placed by a translation ---- *)
+
+(* A shape whose transform only moves it is compiled as the shape moved, untransformed
+   (the fast path); what a user sees of it must not change: the same roots, normals,
+   texture points and (u, v) as the object-space primitive's, to rounding. Rays are aimed
+   at a point inside each shape (never grazing); the translation is one move or two
+   composed, near the origin or 1e6 away. *)
+let placed_prop =
+  QCheck.Test.make
+    ~name:
+      "a shape placed by a translation is untransformed, with the object-space \
+       primitive's roots, normals, texture points and (u, v)"
+    ~count:60
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let far = if Random.State.bool st then 1e6 else 1. in
+      let rv k = v (rand_in st (-.k) k) (rand_in st (-.k) k) (rand_in st (-.k) k) in
+      let d1 = Vec3.smul far (rv 5.) and d2 = rv 3. in
+      let tr =
+        if Random.State.bool st then Transform.translate d1
+        else Transform.then_ (Transform.translate d1) (Transform.translate d2)
+      in
+      let c = rv 2. in
+      (* The shape, in object space, and a point inside it to aim at. *)
+      let shape, inside =
+        match Random.State.int st 5 with
+        | 0 -> (Shape.sphere ~center:c ~radius:(rand_in st 0.3 2.), c)
+        | 1 ->
+            ( Shape.box ~min:c ~max:(Vec3.add c (v 1. 0.7 1.3)),
+              Vec3.add c (v 0.5 0.35 0.65) )
+        | 2 ->
+            let a = c
+            and b = Vec3.add c (v 1.2 0.1 0.)
+            and c' = Vec3.add c (v 0.2 1. 0.3) in
+            (Shape.triangle ~a ~b ~c:c', Vec3.smul (1. /. 3.) (Vec3.add a (Vec3.add b c')))
+        | 3 ->
+            ( Shape.torus ~center:c ~axis:(v 0. 1. 0.) ~major:1. ~minor:0.3,
+              Vec3.add c (v 1. 0. 0.) )
+        | _ ->
+            (Shape.plane ~normal:(Vec3.normalize (rv 1.)) ~offset:(rand_in st (-1.) 1.), c)
+      in
+      let m =
+        {
+          Material.default with
+          texture =
+            Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.3 });
+        }
+      in
+      let o = Primitive.make ~transform:tr m shape in
+      let b = Primitive.baked o in
+      if not (Transform.is_identity b.transform) then
+        QCheck.Test.fail_reportf "still transformed";
+      let aim =
+        match shape with
+        | Shape.Plane _ -> Transform.point tr (rv 3.)
+        | _ -> Transform.point tr inside
+      in
+      (* The arithmetic of either path rounds coordinates of the size of [far]: a
+         millionth of a unit at 1e6, a billionth near the origin. *)
+      let scale = far *. 10. and tol = if far > 1. then 1e-6 else 1e-9 in
+      let near a b' = Float.abs (a -. b') <= tol *. Float.max 1. (Float.abs a) in
+      let near_v (a : Vec3.t) (b' : Vec3.t) k =
+        Float.abs (a.x -. b'.x) <= k
+        && Float.abs (a.y -. b'.y) <= k
+        && Float.abs (a.z -. b'.z) <= k
+      in
+      for _ = 1 to 20 do
+        let origin =
+          Vec3.add aim (Vec3.smul (rand_in st 4. 12.) (Vec3.normalize (rv 1.)))
+        in
+        let r = Ray.make origin (Vec3.sub aim origin) in
+        let t = Primitive.intersect o r 0. inf and t' = Primitive.intersect b r 0. inf in
+        if not ((t = inf && t' = inf) || near t t') then
+          QCheck.Test.fail_reportf "root %.17g, baked %.17g" t t';
+        if t < inf then (
+          let p = Ray.at r t in
+          let n = Primitive.normal o (Primitive.to_object o p)
+          and n' = Primitive.normal b (Primitive.to_object b p) in
+          if not (near_v n n' tol) then
+            QCheck.Test.fail_reportf "normal (%g, %g, %g), baked (%g, %g, %g)" n.x n.y n.z
+              n'.x n'.y n'.z;
+          let tp = Primitive.texture_point o p and tp' = Primitive.texture_point b p in
+          if not (near_v tp tp' (1e-12 *. scale)) then
+            QCheck.Test.fail_reportf
+              "texture point (%.17g, %.17g, %.17g), baked (%.17g, %.17g, %.17g)" tp.x tp.y
+              tp.z tp'.x tp'.y tp'.z;
+          let u, w = Primitive.uv o p and u', w' = Primitive.uv b p in
+          let wrap a = Float.min (Float.abs a) (Float.abs (1. -. Float.abs a)) in
+          if wrap (u -. u') > 1e3 *. tol || wrap (w -. w') > 1e3 *. tol then
+            QCheck.Test.fail_reportf "uv (%.17g, %.17g), baked (%.17g, %.17g)" u w u' w')
+      done;
+      true)
+
+let placed_tests =
+  [
+    case "what a translation cannot carry is left as it is" (fun () ->
+        let m = Material.default in
+        let s = Shape.sphere ~center:Vec3.zero ~radius:1. in
+        let same msg o = Alcotest.(check bool) msg true (Primitive.baked o == o) in
+        same "a rotated sphere"
+          (Primitive.make ~transform:(Transform.rotate (v 0. 30. 0.)) m s);
+        same "a scaled sphere"
+          (Primitive.make ~transform:(Transform.scale (v 2. 2. 2.)) m s);
+        same "an untransformed sphere" (Primitive.make m s);
+        same "a translated CSG object"
+          (Primitive.make
+             ~transform:(Transform.translate (v 1. 2. 3.))
+             m
+             (Shape.csg Union
+                [ (s, Transform.identity); (s, Transform.translate (v 1. 0. 0.)) ])));
+    case "a scene's translated spheres are untransformed, whatever the camera" (fun () ->
+        let prims =
+          List.init 20 (fun k ->
+              Primitive.make
+                ~transform:(Transform.translate (v (Float.of_int k) 0. 5.))
+                Material.default
+                (Shape.sphere ~center:Vec3.zero ~radius:0.4))
+        in
+        List.iter
+          (fun position ->
+            let camera = Camera.make ~position ~look_at:(v 0. 0. 5.) () in
+            let sc = Scene.make_exn ~camera ~lights:[] prims in
+            Array.iter
+              (fun (o : Primitive.t) ->
+                Alcotest.(check bool)
+                  "untransformed" true
+                  (Transform.is_identity o.transform))
+              sc.objects)
+          [ Vec3.zero; v 0. 1. (-4.); v 1e6 1e6 (-1e6) ]);
+  ]
+
 (* ---- sphere fields ---- *)
 
 (* A grid of untransformed spheres (the flat leaves the hierarchy tests without reading
@@ -1368,5 +1500,6 @@ let () =
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("scalar forms", [ seeded scalar_forms_prop ]);
       ("sphere fields", [ seeded sphere_field_prop ]);
+      ("placed by a translation", placed_tests @ [ seeded placed_prop ]);
       ("textures", texture_tests);
     ]
