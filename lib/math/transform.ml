@@ -111,6 +111,27 @@ let linear_identity m =
   m.a00 = 1. && m.a01 = 0. && m.a02 = 0. && m.a10 = 0. && m.a11 = 1. && m.a12 = 0.
   && m.a20 = 0. && m.a21 = 0. && m.a22 = 1.
 
+let similarity t =
+  if t.id then None
+  else
+    let m = t.m in
+    let n0 = (m.a00 *. m.a00) +. (m.a10 *. m.a10) +. (m.a20 *. m.a20)
+    and n1 = (m.a01 *. m.a01) +. (m.a11 *. m.a11) +. (m.a21 *. m.a21)
+    and n2 = (m.a02 *. m.a02) +. (m.a12 *. m.a12) +. (m.a22 *. m.a22)
+    and d01 = (m.a00 *. m.a01) +. (m.a10 *. m.a11) +. (m.a20 *. m.a21)
+    and d02 = (m.a00 *. m.a02) +. (m.a10 *. m.a12) +. (m.a20 *. m.a22)
+    and d12 = (m.a01 *. m.a02) +. (m.a11 *. m.a12) +. (m.a21 *. m.a22) in
+    let e = 1e-12 *. n0 in
+    if
+      n0 > 0. && Float.is_finite n0
+      && Float.abs (n1 -. n0) <= e
+      && Float.abs (n2 -. n0) <= e
+      && Float.abs d01 <= e
+      && Float.abs d02 <= e
+      && Float.abs d12 <= e
+    then Some (Float.sqrt n0)
+    else None
+
 let translation t =
   if (not t.id) && linear_identity t.m && linear_identity t.inv then
     Some

@@ -26,6 +26,11 @@ val then_ : t -> t -> t
 val is_identity : t -> bool
 (** Whether the transform is the identity (so callers can skip it). *)
 
+val similarity : t -> float option
+(** [Some s] when [t] is not the identity and scales every length by [s] (rotations,
+    mirrors, one scale on the three axes, moves): its linear part's columns have the same
+    length [s] and are orthogonal, to 1e-12 of their squared length. [None] otherwise. *)
+
 val translation : t -> (Vec3.t * Vec3.t) option
 (** [Some (d, e)] when [t] is not the identity and only moves points, its linear part and
     its inverse's exactly the identity: [t] adds [d] to a point and its inverse adds [e]

@@ -94,7 +94,27 @@ let baked o =
   if Array.length o.leaves > 0 || not (bakeable o.shape) then o
   else
     match Transform.translation o.transform with
-    | None -> o
+    | None -> (
+        (* A sphere that its transform turns, mirrors or scales alike on every axis is a
+           sphere: its centre placed, its radius scaled. Without a texture or a bump map
+           nothing reads its object space, which only its transform could give. *)
+        match (o.shape, Transform.similarity o.transform) with
+        | Shape.Sphere { center; radius }, Some s
+          when Option.is_none o.material.texture && Option.is_none o.material.bump ->
+            let shape =
+              Shape.sphere
+                ~center:(Transform.point o.transform center)
+                ~radius:(s *. radius)
+            in
+            {
+              o with
+              shape;
+              transform = Transform.identity;
+              bounds =
+                (if Option.is_none o.bounds then None
+                 else world_bounds Transform.identity shape);
+            }
+        | _ -> o)
     | Some (d, e) ->
         let shape = Shape.translate d o.shape in
         {

@@ -103,11 +103,13 @@ val translate : Vec3.t -> t -> t
     after its transform ({!baked} when that is then only a move). *)
 
 val baked : t -> t
-(** [baked o] is [o] when its transform does more than move it (or it has none), or it is
-    a mesh or a CSG object; otherwise the shape moved by the transform's translation,
-    untransformed, its texture space kept by its shift: the same surface on the fast path
-    of untransformed shapes, up to the last bits of the arithmetic. {!translate} gives a
-    transformed object its move and then this. *)
+(** [baked o] is [o] untransformed where that is the same surface: a shape (not a mesh or
+    a CSG object) whose transform only moves it becomes the shape moved, its texture space
+    kept by its shift; a sphere without a texture or a bump map whose transform turns,
+    mirrors or scales it alike on every axis becomes the sphere placed and scaled. Either
+    is then on the fast path of untransformed shapes, the same up to the last bits of the
+    arithmetic. Any other [o] is itself. {!translate} gives a transformed object its move
+    and then this. *)
 
 val mover : Vec3.t -> t -> t
 (** [mover d] is {!translate} [d], the same bits, for many primitives: those {!make} made

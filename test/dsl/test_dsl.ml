@@ -54,10 +54,17 @@ let check_err text sub =
 let feq = Alcotest.(check (float 1e-9))
 let veq msg a b = Alcotest.(check bool) msg true (Vec3.equal_f ~eps:1e-9 a b)
 
-(* Where an object-space point of a compiled object is in the world: through its
-   transform, less its shift (a shape that its transform only moved is compiled as that
-   shape moved, its object space [shift] away). *)
-let placed (o : Primitive.t) p = Vec3.sub (Transform.point o.transform p) o.shift
+(* The world centre and radius of a compiled sphere, whether it kept its transform or
+   was compiled as the sphere its transform makes of it (moved, turned, scaled alike on
+   every axis). *)
+let sphere_placed (o : Primitive.t) =
+  match o.shape with
+  | Shape.Sphere { center; radius } ->
+      ( Transform.point o.transform center,
+        radius *. Option.value ~default:1. (Transform.similarity o.transform) )
+  | _ -> Alcotest.fail "not a sphere"
+
+let centre o = fst (sphere_placed o)
 
 let test_precedence () =
   feq "* before +" 7. (num "1 + 2 * 3");
@@ -182,22 +189,20 @@ let test_groups_and_transforms () =
   Alcotest.(check bool)
     "a member with its own keeps it" true
     (o1.material.color = Color.v 0. 0. 1.);
-  veq "the group's transform applies" (Vec3.v 10. 0. 0.) (placed o0 Vec3.zero);
+  veq "the group's transform applies" (Vec3.v 10. 0. 0.) (centre o0);
   let s =
     scene
       "sphere { center: (0,0,0), radius: 1, translate: (1, 0, 0), rotate: (0, 0, 90) }"
   in
-  veq "translate then rotate" (Vec3.v 0. 1. 0.)
-    (Transform.point s.objects.(0).transform Vec3.zero);
+  veq "translate then rotate" (Vec3.v 0. 1. 0.) (centre s.objects.(0));
   let s =
     scene
       "sphere { center: (0,0,0), radius: 1, rotate: (0, 0, 90), translate: (1, 0, 0) }"
   in
-  veq "rotate then translate" (Vec3.v 1. 0. 0.)
-    (Transform.point s.objects.(0).transform Vec3.zero);
+  veq "rotate then translate" (Vec3.v 1. 0. 0.) (centre s.objects.(0));
   let s = scene "sphere { center: (0,0,0), radius: 1, scale: 2, translate: (1, 0, 0) }" in
-  veq "scale then translate" (Vec3.v 3. 0. 0.)
-    (Transform.point s.objects.(0).transform (Vec3.v 1. 0. 0.))
+  let c, r = sphere_placed s.objects.(0) in
+  veq "scale then translate" (Vec3.v 3. 0. 0.) (Vec3.add c (Vec3.v r 0. 0.))
 
 let test_materials () =
   let s =
@@ -713,7 +718,7 @@ let test_compile_by_hand () =
       Alcotest.(check bool) "red" true (o.material.color = Color.v 1. 0. 0.);
       Alcotest.(check bool)
         "placed by its transform" true
-        (Vec3.equal_f (placed o Vec3.zero) (Vec3.v 0. 1. 0.))
+        (Vec3.equal_f (centre o) (Vec3.v 0. 1. 0.))
 
 (* One missing file named two ways (from an include and from the main file): each place
    is told of it as it wrote it, though the file is looked for once. *)

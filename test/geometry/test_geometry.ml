@@ -1087,16 +1087,81 @@ let placed_prop =
       done;
       true)
 
+(* An untextured sphere that its transform turns, mirrors or scales alike on all axes is
+   compiled as the sphere it is: the same roots and normals as the object-space one. *)
+let similar_prop =
+  QCheck.Test.make
+    ~name:
+      "an untextured sphere turned, mirrored and scaled alike on every axis is a sphere, \
+       with the object-space primitive's roots and normals"
+    ~count:60
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let rv k = v (rand_in st (-.k) k) (rand_in st (-.k) k) (rand_in st (-.k) k) in
+      let k = rand_in st 0.2 3. in
+      let mirror = if Random.State.bool st then -1. else 1. in
+      let tr =
+        Transform.then_
+          (Transform.then_
+             (Transform.rotate (rv 180.))
+             (Transform.scale (v (mirror *. k) k k)))
+          (Transform.translate (rv 5.))
+      in
+      let c = rv 1. and radius = rand_in st 0.3 2. in
+      let o =
+        Primitive.make ~transform:tr Material.default (Shape.sphere ~center:c ~radius)
+      in
+      let b = Primitive.baked o in
+      (match b.shape with
+      | Shape.Sphere _ when Transform.is_identity b.transform -> ()
+      | _ -> QCheck.Test.fail_reportf "not an untransformed sphere");
+      let aim = Transform.point tr c in
+      for _ = 1 to 20 do
+        let origin =
+          Vec3.add aim (Vec3.smul (rand_in st 8. 20.) (Vec3.normalize (rv 1.)))
+        in
+        let r =
+          Ray.make origin (Vec3.add (Vec3.sub aim origin) (rv (0.5 *. k *. radius)))
+        in
+        let t = Primitive.intersect o r 0. inf and t' = Primitive.intersect b r 0. inf in
+        let close a b' = Float.abs (a -. b') <= 1e-9 *. Float.max 1. (Float.abs a) in
+        if not ((t = inf && t' = inf) || close t t') then
+          QCheck.Test.fail_reportf "root %.17g, baked %.17g" t t';
+        if t < inf then
+          let p = Ray.at r t in
+          let n = Primitive.normal o (Primitive.to_object o p)
+          and n' = Primitive.normal b (Primitive.to_object b p) in
+          if Vec3.max_abs (Vec3.sub n n') > 1e-9 then
+            QCheck.Test.fail_reportf "normal (%g, %g, %g), baked (%g, %g, %g)" n.x n.y n.z
+              n'.x n'.y n'.z
+      done;
+      true)
+
 let placed_tests =
   [
     case "what a translation cannot carry is left as it is" (fun () ->
         let m = Material.default in
+        let textured =
+          {
+            m with
+            texture =
+              Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 1. });
+          }
+        in
         let s = Shape.sphere ~center:Vec3.zero ~radius:1. in
         let same msg o = Alcotest.(check bool) msg true (Primitive.baked o == o) in
-        same "a rotated sphere"
-          (Primitive.make ~transform:(Transform.rotate (v 0. 30. 0.)) m s);
-        same "a scaled sphere"
-          (Primitive.make ~transform:(Transform.scale (v 2. 2. 2.)) m s);
+        same "a textured rotated sphere"
+          (Primitive.make ~transform:(Transform.rotate (v 0. 30. 0.)) textured s);
+        same "a textured scaled sphere"
+          (Primitive.make ~transform:(Transform.scale (v 2. 2. 2.)) textured s);
+        same "a sphere scaled unevenly"
+          (Primitive.make ~transform:(Transform.scale (v 2. 1. 2.)) m s);
+        same "a rotated box"
+          (Primitive.make
+             ~transform:(Transform.rotate (v 0. 30. 0.))
+             m
+             (Shape.box ~min:Vec3.zero ~max:(v 1. 1. 1.)));
         same "an untransformed sphere" (Primitive.make m s);
         same "a translated CSG object"
           (Primitive.make
@@ -1500,6 +1565,7 @@ let () =
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("scalar forms", [ seeded scalar_forms_prop ]);
       ("sphere fields", [ seeded sphere_field_prop ]);
-      ("placed by a translation", placed_tests @ [ seeded placed_prop ]);
+      ( "placed by a translation",
+        placed_tests @ [ seeded placed_prop; seeded similar_prop ] );
       ("textures", texture_tests);
     ]
