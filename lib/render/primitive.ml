@@ -78,7 +78,8 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
   { shape; transform; material; bounds; shift = Vec3.zero; flip; leaves }
 
 (* A simple shape whose transform only moves it (a group's or a body's translation) is
-   that shape moved, untransformed: the fast path of untransformed shapes (flat sphere
+   that shape moved, untransformed; one without a texture or a bump map whose transform
+   scales every length alike is the shape [similar_shape] makes of it: the fast path of untransformed shapes (flat sphere
    leaves, scalar plane tests, no ray moved into object space) for the same surface, up
    to the last bits of the arithmetic done in world space instead. Its texture space,
    object space before, is [shift] away: the inverse's translation. Meshes stay as they
@@ -90,30 +91,73 @@ let bakeable = function
   | Cylinder _ | Disk _ | Cone _ | Torus _ ->
       true
 
+(* The shape that a transform scaling every length by [k] (turns, mirrors, one scale)
+   makes of [shape], in world space: points placed, axes and normals turned, lengths
+   scaled. A box stays one only where the transform keeps the axes (no turn). Triangles
+   and parallelograms are left to their transform: a mirror would reverse the normal
+   their edges give. Only for shapes without a texture or a bump map, whose object space
+   nothing reads. *)
+let similar_shape tr k shape =
+  let p = Transform.point tr and dir v = Vec3.normalize (Transform.vector tr v) in
+  match shape with
+  | Shape.Sphere { center; radius } ->
+      Some (Shape.sphere ~center:(p center) ~radius:(k *. radius))
+  | Shape.Plane { normal; offset } ->
+      let n = Transform.normal tr normal in
+      Some (Shape.plane ~normal:n ~offset:(Vec3.dot n (p (Vec3.smul offset normal))))
+  | Shape.Disk { center; normal; radius; _ } ->
+      Some
+        (Shape.disk ~center:(p center) ~normal:(Transform.normal tr normal)
+           ~radius:(k *. radius))
+  | Shape.Cylinder { base; axis; height; radius; caps; _ } ->
+      Some
+        (Shape.cylinder ~base:(p base)
+           ~top:(p (Vec3.madd base height axis))
+           ~radius:(k *. radius) ~caps)
+  | Shape.Cone { base; axis; height; r0; r1; caps; _ } ->
+      Some
+        (Shape.cone ~base:(p base)
+           ~top:(p (Vec3.madd base height axis))
+           ~base_radius:(k *. r0) ~top_radius:(k *. r1) ~caps)
+  | Shape.Torus { center; axis; major; minor; _ } ->
+      Some
+        (Shape.torus ~center:(p center) ~axis:(dir axis) ~major:(k *. major)
+           ~minor:(k *. minor))
+  | Shape.Paraboloid { vertex; axis; radius; height; _ } ->
+      Some
+        (Shape.paraboloid ~vertex:(p vertex) ~axis:(dir axis) ~radius:(k *. radius)
+           ~height:(k *. height))
+  | Shape.Box { min; max } ->
+      let off a b = Float.abs a <= 1e-12 *. k && Float.abs b <= 1e-12 *. k in
+      let x = Transform.vector tr Vec3.x_axis
+      and y = Transform.vector tr Vec3.y_axis
+      and z = Transform.vector tr Vec3.z_axis in
+      if off x.y x.z && off y.x y.z && off z.x z.y then
+        Some (Shape.box ~min:(p min) ~max:(p max))
+      else None
+  | Shape.Parallelogram _ | Shape.Triangle _ | Shape.Closed_mesh _ | Shape.Mesh _
+  | Shape.Csg _ ->
+      None
+
 let baked o =
   if Array.length o.leaves > 0 || not (bakeable o.shape) then o
   else
     match Transform.translation o.transform with
     | None -> (
-        (* A sphere that its transform turns, mirrors or scales alike on every axis is a
-           sphere: its centre placed, its radius scaled. Without a texture or a bump map
-           nothing reads its object space, which only its transform could give. *)
-        match (o.shape, Transform.similarity o.transform) with
-        | Shape.Sphere { center; radius }, Some s
-          when Option.is_none o.material.texture && Option.is_none o.material.bump ->
-            let shape =
-              Shape.sphere
-                ~center:(Transform.point o.transform center)
-                ~radius:(s *. radius)
-            in
-            {
-              o with
-              shape;
-              transform = Transform.identity;
-              bounds =
-                (if Option.is_none o.bounds then None
-                 else world_bounds Transform.identity shape);
-            }
+        match Transform.similarity o.transform with
+        | Some k when Option.is_none o.material.texture && Option.is_none o.material.bump
+          -> (
+            match similar_shape o.transform k o.shape with
+            | Some shape ->
+                {
+                  o with
+                  shape;
+                  transform = Transform.identity;
+                  bounds =
+                    (if Option.is_none o.bounds then None
+                     else world_bounds Transform.identity shape);
+                }
+            | None -> o)
         | _ -> o)
     | Some (d, e) ->
         let shape = Shape.translate d o.shape in

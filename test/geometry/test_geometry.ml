@@ -1087,54 +1087,70 @@ let placed_prop =
       done;
       true)
 
-(* An untextured sphere that its transform turns, mirrors or scales alike on all axes is
-   compiled as the sphere it is: the same roots and normals as the object-space one. *)
+(* An untextured shape that its transform turns, mirrors or scales alike on all axes is
+   compiled as the shape it makes of it (a box only where nothing turns): the same roots
+   and normals as the object-space primitive's. Rays are aimed near a point inside. *)
 let similar_prop =
   QCheck.Test.make
     ~name:
-      "an untextured sphere turned, mirrored and scaled alike on every axis is a sphere, \
-       with the object-space primitive's roots and normals"
-    ~count:60
+      "an untextured shape turned, mirrored and scaled alike on every axis is that shape \
+       in world space, with the object-space primitive's roots and normals"
+    ~count:120
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let rv k = v (rand_in st (-.k) k) (rand_in st (-.k) k) (rand_in st (-.k) k) in
       let k = rand_in st 0.2 3. in
       let mirror = if Random.State.bool st then -1. else 1. in
+      let kind = Random.State.int st 8 in
+      let turn = if kind = 7 then Transform.identity else Transform.rotate (rv 180.) in
       let tr =
         Transform.then_
-          (Transform.then_
-             (Transform.rotate (rv 180.))
-             (Transform.scale (v (mirror *. k) k k)))
+          (Transform.then_ turn (Transform.scale (v (mirror *. k) k k)))
           (Transform.translate (rv 5.))
       in
-      let c = rv 1. and radius = rand_in st 0.3 2. in
-      let o =
-        Primitive.make ~transform:tr Material.default (Shape.sphere ~center:c ~radius)
+      let c = rv 1. and axis = Vec3.normalize (rv 1.) in
+      let shape, inside =
+        match kind with
+        | 0 -> (Shape.sphere ~center:c ~radius:(rand_in st 0.3 2.), c)
+        | 1 ->
+            ( Shape.cylinder ~base:c ~top:(Vec3.madd c 1.5 axis) ~radius:0.4
+                ~caps:(Random.State.bool st),
+              Vec3.madd c 0.75 axis )
+        | 2 ->
+            ( Shape.cone ~base:c ~top:(Vec3.madd c 1.5 axis) ~base_radius:0.6
+                ~top_radius:0.2 ~caps:(Random.State.bool st),
+              Vec3.madd c 0.5 axis )
+        | 3 -> (Shape.torus ~center:c ~axis ~major:1. ~minor:0.3, c)
+        | 4 -> (Shape.disk ~center:c ~normal:axis ~radius:0.8, c)
+        | 5 ->
+            ( Shape.paraboloid ~vertex:c ~axis ~radius:0.8 ~height:1.2,
+              Vec3.madd c 0.9 axis )
+        | 6 -> (Shape.plane ~normal:axis ~offset:(rand_in st (-1.) 1.), c)
+        | _ ->
+            (Shape.box ~min:c ~max:(Vec3.add c (v 1. 0.6 1.4)), Vec3.add c (v 0.5 0.3 0.7))
       in
+      let o = Primitive.make ~transform:tr Material.default shape in
       let b = Primitive.baked o in
-      (match b.shape with
-      | Shape.Sphere _ when Transform.is_identity b.transform -> ()
-      | _ -> QCheck.Test.fail_reportf "not an untransformed sphere");
-      let aim = Transform.point tr c in
+      if not (Transform.is_identity b.transform) then
+        QCheck.Test.fail_reportf "shape %d still transformed" kind;
+      let aim = Transform.point tr inside in
       for _ = 1 to 20 do
         let origin =
           Vec3.add aim (Vec3.smul (rand_in st 8. 20.) (Vec3.normalize (rv 1.)))
         in
-        let r =
-          Ray.make origin (Vec3.add (Vec3.sub aim origin) (rv (0.5 *. k *. radius)))
-        in
+        let r = Ray.make origin (Vec3.add (Vec3.sub aim origin) (rv (0.3 *. k))) in
         let t = Primitive.intersect o r 0. inf and t' = Primitive.intersect b r 0. inf in
         let close a b' = Float.abs (a -. b') <= 1e-9 *. Float.max 1. (Float.abs a) in
         if not ((t = inf && t' = inf) || close t t') then
-          QCheck.Test.fail_reportf "root %.17g, baked %.17g" t t';
+          QCheck.Test.fail_reportf "shape %d: root %.17g, baked %.17g" kind t t';
         if t < inf then
           let p = Ray.at r t in
           let n = Primitive.normal o (Primitive.to_object o p)
           and n' = Primitive.normal b (Primitive.to_object b p) in
           if Vec3.max_abs (Vec3.sub n n') > 1e-9 then
-            QCheck.Test.fail_reportf "normal (%g, %g, %g), baked (%g, %g, %g)" n.x n.y n.z
-              n'.x n'.y n'.z
+            QCheck.Test.fail_reportf "shape %d: normal (%g, %g, %g), baked (%g, %g, %g)"
+              kind n.x n.y n.z n'.x n'.y n'.z
       done;
       true)
 
@@ -1162,6 +1178,16 @@ let placed_tests =
              ~transform:(Transform.rotate (v 0. 30. 0.))
              m
              (Shape.box ~min:Vec3.zero ~max:(v 1. 1. 1.)));
+        same "a rotated triangle"
+          (Primitive.make
+             ~transform:(Transform.rotate (v 0. 30. 0.))
+             m
+             (Shape.triangle ~a:Vec3.zero ~b:(v 1. 0. 0.) ~c:(v 0. 1. 0.)));
+        same "a cylinder scaled unevenly"
+          (Primitive.make
+             ~transform:(Transform.scale (v 1. 2. 1.))
+             m
+             (Shape.cylinder ~base:Vec3.zero ~top:(v 0. 1. 0.) ~radius:0.5 ~caps:true));
         same "an untransformed sphere" (Primitive.make m s);
         same "a translated CSG object"
           (Primitive.make
