@@ -6,9 +6,7 @@ let fset = Float.Array.unsafe_set
 let max_leaf = 8
 let bins = 16
 let small = 32
-let small_bits = 5
 
-(* small = 2^small_bits *)
 (* --- Construction ----------------------------------------------------------------- *)
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
@@ -58,8 +56,9 @@ let new_slot () = Array.init bins (fun _ -> new_bin ())
 
 type work = {
   pbox : Float.Array.t;
-      (** 6 per primitive: padded min x y z, max x y z, in the order of [ids], so that
-          every pass over a node reads memory in sequence *)
+      (** 6 per primitive: padded min x y z, max x y z, in the order of [ids] (but within
+          a small subtree, see [build_small]), so that every pass over a large node reads
+          memory in sequence *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
   tag : Bytes.t;
       (** by position: the primitive's bin in the binning of the node it is in, written by
@@ -83,10 +82,23 @@ type work = {
   mutable pbins_right : bin array array;
   mutable pcount : int array;
   mutable pcount_right : int array;
-  (* Small nodes: the primitives' keys (bin · small + position in the node) sorted, and
-     the area of the boxes from each sorted position to the last. *)
-  small_key : int array;
-  small_area : Float.Array.t;
+  (* A subtree of at most [small] primitives, all of its nodes small (see
+     [build_small]): its primitives are named by their position in it when it starts,
+     their identity; positions below are relative to its first, [s_lo]. *)
+  mutable s_lo : int;
+  s_cen : Float.Array.t;  (** by identity: its centroid, 3 floats *)
+  s_pos : int array;  (** by position: the identity there, moved as [ids] would be *)
+  s_sorted : int array;
+      (** [small] per axis, by position: identities, those of a node's range sorted by
+          their centroid along the axis *)
+  s_tmp : int array;
+  s_left : Bytes.t;  (** by identity: whether it goes left in the partition under way *)
+  s_bin : int array;  (** by rank along the axis searched: the primitive's bin *)
+  s_area : Float.Array.t;
+      (** by rank, where a bin starts: the area of the boxes of that rank and above *)
+  s_rbox : Float.Array.t;  (** by rank likewise, their box, 6 floats *)
+  s_best : Float.Array.t;
+      (** the boxes of the two sides of the best split found, 6 floats each *)
 }
 
 let new_node w =
@@ -278,87 +290,6 @@ let bin_range w lo hi depth axis =
     bin_put pb tag slot c io axis cmin scale i
   done
 
-(* [best_split] for a node of at most [small] primitives, with the same answer: the
-   primitives sorted by bin, the cost is evaluated only between two occupied bins. A split
-   b among empty bins has the cost of the split just after the occupied bin below it, and
-   sends the same primitives to each side, so the full sweep keeps that one (the first of
-   equal costs); its boxes are unions of the same boxes, which min and max compute exactly
-   in any order. *)
-let best_split_small w lo hi split =
-  let n = hi - lo and cb = w.cbox in
-  let sk = w.small_key and sa = w.small_area in
-  let pb = w.pbox in
-  let best_cost = ref Float.infinity in
-  split.(0) <- -1;
-  for axis = 0 to 2 do
-    let cmin = fget cb axis in
-    let ext = fget cb (3 + axis) -. cmin in
-    if ext > 0. then (
-      let scale = Float.of_int bins /. ext in
-      (* Insertion sort by bin, then position: keys bin·small + position, which sort as a
-         stable sort by bin does. *)
-      for i = 0 to n - 1 do
-        let q = 6 * (lo + i) in
-        let key = (bin_of cmin scale (cen pb q axis) * small) + i in
-        let j = ref i in
-        while !j > 0 && Array.unsafe_get sk (!j - 1) > key do
-          Array.unsafe_set sk !j (Array.unsafe_get sk (!j - 1));
-          decr j
-        done;
-        Array.unsafe_set sk !j key
-      done;
-      (* sa.(j): the area of the boxes of positions j..n−1, where j starts a bin. *)
-      let x0 = ref Float.infinity
-      and y0 = ref Float.infinity
-      and z0 = ref Float.infinity in
-      let x1 = ref Float.neg_infinity
-      and y1 = ref Float.neg_infinity
-      and z1 = ref Float.neg_infinity in
-      for j = n - 1 downto 1 do
-        let key = Array.unsafe_get sk j in
-        let q = 6 * (lo + (key land (small - 1))) in
-        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
-        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
-        if not (!x0 < v0) then x0 := v0;
-        if not (!y0 < v1) then y0 := v1;
-        if not (!z0 < v2) then z0 := v2;
-        if not (!x1 > v3) then x1 := v3;
-        if not (!y1 > v4) then y1 := v4;
-        if not (!z1 > v5) then z1 := v5;
-        if key lsr small_bits <> Array.unsafe_get sk (j - 1) lsr small_bits then
-          fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1)
-      done;
-      let x0 = ref Float.infinity
-      and y0 = ref Float.infinity
-      and z0 = ref Float.infinity in
-      let x1 = ref Float.neg_infinity
-      and y1 = ref Float.neg_infinity
-      and z1 = ref Float.neg_infinity in
-      for j = 0 to n - 2 do
-        let key = Array.unsafe_get sk j in
-        let q = 6 * (lo + (key land (small - 1))) in
-        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
-        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
-        if not (!x0 < v0) then x0 := v0;
-        if not (!y0 < v1) then y0 := v1;
-        if not (!z0 < v2) then z0 := v2;
-        if not (!x1 > v3) then x1 := v3;
-        if not (!y1 > v4) then y1 := v4;
-        if not (!z1 > v5) then z1 := v5;
-        let b = key lsr small_bits in
-        if b <> Array.unsafe_get sk (j + 1) lsr small_bits then
-          let cost =
-            (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
-            +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
-          in
-          if cost < !best_cost then (
-            best_cost := cost;
-            split.(0) <- axis;
-            split.(1) <- b + 1)
-      done)
-  done;
-  fset w.cost 0 !best_cost
-
 (* Binned SAH: bin the centroids, sweep the bins from both ends, and keep the cheapest
    split cost SA(L)·nL + SA(R)·nR. The split (axis, first bin of the right side) is stored
    in [split] and its cost in [cost]; infinity when no axis splits. Nodes of more than
@@ -447,31 +378,13 @@ let[@inline] swap (ids : int array) pb a b =
   fset pb (b + 4) t4;
   fset pb (b + 5) t5
 
-(* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
-   first; the index of the first of the others. A primitive that belongs to the right is
-   swapped with the last unclassified one, which is classified next. The children's bounds
-   (12 floats: box, then centroid bounds) go at [loff] in [dl] and at [roff] in [dr], from
-   a pass over each side with the bounds in registers. *)
-let partition_small w lo hi axis split dl loff dr roff =
-  let cb = w.cbox and ids = w.ids and pb = w.pbox in
-  let cmin = fget cb axis in
-  let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
-  let i = ref lo and j = ref (hi - 1) in
-  while !i <= !j do
-    if bin_of cmin scale (cen pb (6 * !i) axis) < split then incr i
-    else (
-      swap ids pb !i !j;
-      decr j)
-  done;
-  bound_range w lo !i dl loff;
-  bound_range w !i hi dr roff;
-  !i
-
-(* [partition_small] for the binned node at [depth], in the same order: each primitive's
-   bin is read from [tag], the children's bounds are unions of bins, and the children
-   that [best_split] will bin are binned here, as each primitive reaches its place, into
-   the slots of the left child (depth + 1) and of the right child (the right slot of
-   [depth]). *)
+(* Partition ids[lo, hi) of the binned node at [depth] so that the primitives in bins
+   below [split] come first; the index of the first of the others. A primitive that
+   belongs to the right is swapped with the last unclassified one, which is classified
+   next. Each primitive's bin is read from [tag], the children's bounds are unions of
+   bins, and the children that [best_split] will bin are binned here, as each primitive
+   reaches its place, into the slots of the left child (depth + 1) and of the right child
+   (the right slot of [depth]). *)
 let partition_binned w lo hi depth split =
   let slot = w.pbins.(depth) and c = w.pcount and io = slot_i * depth in
   let dl = w.pend and loff = 12 * (depth + 1) in
@@ -545,69 +458,355 @@ let unbinned w depth =
   w.pcount.(slot_i * (depth + 1)) <- -1;
   w.pcount_right.(slot_i * depth) <- -1
 
-(* The node over ids[lo, hi), whose bounds are at [pend] for [depth]. *)
-let rec build_node w split lo hi depth =
+(* --- Small subtrees ----------------------------------------------------------------- *)
+
+(* A subtree of at most [small] primitives is searched with each axis's order of its
+   centroids made once, by a sort when it starts, rather than by a sort of every node
+   along every axis: a node's bins along an axis are a monotone function of the centroid
+   there, so its primitives in centroid order are in bin order, and a partition that
+   keeps each axis's order (a stable split of each list) hands the children theirs.
+   Primitives move as identities only ([s_pos], swapped as [ids] would be, which are
+   written once at the end): [pbox] is not moved within the subtree, and a primitive's box
+   is read at its identity's place there, its centroid from [s_cen]. The children's
+   bounds come from the split search (the boxes of its two sides) and from the lists (the
+   first and last centroid along each axis): min and max are exact on finite floats, and
+   padded bounds and their midpoints are never −0, so bounds gathered in any order are
+   those a pass over the children computes, bit for bit. *)
+
+(* Start the subtree ids[lo, lo + n), whose centroid bounds are at [coff] in [c]: the
+   centroids by identity, and each axis's list of identities sorted by centroid (by
+   insertion: at most [small] of them), or left in any order along an axis where they
+   all coincide, as they then do in every node below. *)
+let small_setup w lo n c coff =
+  let pb = w.pbox and sc = w.s_cen and ss = w.s_sorted in
+  w.s_lo <- lo;
+  for i = 0 to n - 1 do
+    Array.unsafe_set w.s_pos i i;
+    let q = 6 * (lo + i) in
+    fset sc (3 * i) (cen pb q 0);
+    fset sc ((3 * i) + 1) (cen pb q 1);
+    fset sc ((3 * i) + 2) (cen pb q 2)
+  done;
+  for axis = 0 to 2 do
+    let base = small * axis in
+    if fget c (coff + 3 + axis) > fget c (coff + axis) then
+      for i = 0 to n - 1 do
+        let x = fget sc ((3 * i) + axis) in
+        let j = ref i in
+        while !j > 0 && fget sc ((3 * Array.unsafe_get ss (base + !j - 1)) + axis) > x do
+          Array.unsafe_set ss (base + !j) (Array.unsafe_get ss (base + !j - 1));
+          decr j
+        done;
+        Array.unsafe_set ss (base + !j) i
+      done
+    else
+      for i = 0 to n - 1 do
+        Array.unsafe_set ss (base + i) i
+      done
+  done
+
+(* [best_split] for the small node at positions [a, b), with the same answer: along each
+   axis its primitives in centroid order are in bin order, and the cost is evaluated only
+   between two occupied bins. A split among empty bins has the cost of the split just
+   after the occupied bin below it, and sends the same primitives to each side, so the
+   full sweep keeps that one (the first of equal costs). The axis goes in [split], the
+   size of the left side in [split.(1)] (its first in that axis's order), the sides'
+   boxes in [s_best] and the cost in [cost]. *)
+let small_split w a b split =
+  let n = b - a and cb = w.cbox in
+  let pb = w.pbox and sc = w.s_cen and ss = w.s_sorted and bin = w.s_bin in
+  let q0 = 6 * w.s_lo in
+  let sa = w.s_area and rb = w.s_rbox and best = w.s_best in
+  let best_cost = ref Float.infinity in
+  split.(0) <- -1;
+  for axis = 0 to 2 do
+    let cmin = fget cb axis in
+    let ext = fget cb (3 + axis) -. cmin in
+    if ext > 0. then (
+      let scale = Float.of_int bins /. ext in
+      let base = (small * axis) + a in
+      for j = 0 to n - 1 do
+        let c = fget sc ((3 * Array.unsafe_get ss (base + j)) + axis) in
+        Array.unsafe_set bin j (bin_of cmin scale c)
+      done;
+      (* sa.(j) and rb at j: the area and box of ranks j..n−1, where j starts a bin. *)
+      let x0 = ref Float.infinity
+      and y0 = ref Float.infinity
+      and z0 = ref Float.infinity in
+      let x1 = ref Float.neg_infinity
+      and y1 = ref Float.neg_infinity
+      and z1 = ref Float.neg_infinity in
+      for j = n - 1 downto 1 do
+        let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
+        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+        if not (!x0 < v0) then x0 := v0;
+        if not (!y0 < v1) then y0 := v1;
+        if not (!z0 < v2) then z0 := v2;
+        if not (!x1 > v3) then x1 := v3;
+        if not (!y1 > v4) then y1 := v4;
+        if not (!z1 > v5) then z1 := v5;
+        if Array.unsafe_get bin j <> Array.unsafe_get bin (j - 1) then (
+          fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1);
+          let r = 6 * j in
+          fset rb r !x0;
+          fset rb (r + 1) !y0;
+          fset rb (r + 2) !z0;
+          fset rb (r + 3) !x1;
+          fset rb (r + 4) !y1;
+          fset rb (r + 5) !z1)
+      done;
+      let x0 = ref Float.infinity
+      and y0 = ref Float.infinity
+      and z0 = ref Float.infinity in
+      let x1 = ref Float.neg_infinity
+      and y1 = ref Float.neg_infinity
+      and z1 = ref Float.neg_infinity in
+      for j = 0 to n - 2 do
+        let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
+        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+        if not (!x0 < v0) then x0 := v0;
+        if not (!y0 < v1) then y0 := v1;
+        if not (!z0 < v2) then z0 := v2;
+        if not (!x1 > v3) then x1 := v3;
+        if not (!y1 > v4) then y1 := v4;
+        if not (!z1 > v5) then z1 := v5;
+        if Array.unsafe_get bin j <> Array.unsafe_get bin (j + 1) then
+          let cost =
+            (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
+            +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
+          in
+          if cost < !best_cost then (
+            best_cost := cost;
+            split.(0) <- axis;
+            split.(1) <- j + 1;
+            fset best 0 !x0;
+            fset best 1 !y0;
+            fset best 2 !z0;
+            fset best 3 !x1;
+            fset best 4 !y1;
+            fset best 5 !z1;
+            let r = 6 * (j + 1) in
+            for k = 0 to 5 do
+              fset best (6 + k) (fget rb (r + k))
+            done)
+      done)
+  done;
+  fset w.cost 0 !best_cost
+
+(* Split each axis's list of the node at [a, b) by [s_left], keeping its order: the left
+   side's first, from [a], the right's after them. Not that of [axis], split already,
+   nor those of axes along which the node's centroids coincide. *)
+let small_split_lists w a b axis =
+  let ss = w.s_sorted and left = w.s_left and tmp = w.s_tmp and cb = w.cbox in
+  for t = 0 to 2 do
+    if t <> axis && fget cb (3 + t) > fget cb t then (
+      let base = small * t in
+      let k = ref (base + a) and r = ref 0 in
+      for p = base + a to base + b - 1 do
+        let id = Array.unsafe_get ss p in
+        if Bytes.unsafe_get left id = '\001' then (
+          Array.unsafe_set ss !k id;
+          incr k)
+        else (
+          Array.unsafe_set tmp !r id;
+          incr r)
+      done;
+      for p = 0 to !r - 1 do
+        Array.unsafe_set ss (!k + p) (Array.unsafe_get tmp p)
+      done)
+  done
+
+(* Swap the positions of the node at [a, b) as [ids] are partitioned by [s_left]: a
+   primitive that belongs to the right is swapped with the last unclassified one, which
+   is classified next. *)
+let small_swap w a b =
+  let pos = w.s_pos and left = w.s_left in
+  let i = ref a and j = ref (b - 1) in
+  while !i <= !j do
+    let id = Array.unsafe_get pos !i in
+    if Bytes.unsafe_get left id = '\001' then incr i
+    else (
+      Array.unsafe_set pos !i (Array.unsafe_get pos !j);
+      Array.unsafe_set pos !j id;
+      decr j)
+  done
+
+(* The centroid bounds of the node whose lists are at [a, b), into [dst] at [doff]: the
+   first and last of each axis's order. *)
+let small_cen_bounds w a b dst doff =
+  let ss = w.s_sorted and sc = w.s_cen in
+  for axis = 0 to 2 do
+    let base = small * axis in
+    fset dst (doff + axis) (fget sc ((3 * Array.unsafe_get ss (base + a)) + axis));
+    fset dst (doff + 3 + axis) (fget sc ((3 * Array.unsafe_get ss (base + b - 1)) + axis))
+  done
+
+(* Partition the node at [a, b) by the split [small_split] found along [axis], whose left
+   side is the first [k] of that axis's order; the children's bounds go at [loff] in [dl]
+   and at [roff] in [dr]. The middle position. *)
+let small_partition w a b axis k dl loff dr roff =
+  let ss = w.s_sorted and left = w.s_left in
+  let base = small * axis in
+  for p = base + a to base + a + k - 1 do
+    Bytes.unsafe_set left (Array.unsafe_get ss p) '\001'
+  done;
+  for p = base + a + k to base + b - 1 do
+    Bytes.unsafe_set left (Array.unsafe_get ss p) '\000'
+  done;
+  small_swap w a b;
+  small_split_lists w a b axis;
+  let best = w.s_best in
+  for k = 0 to 5 do
+    fset dl (loff + k) (fget best k);
+    fset dr (roff + k) (fget best (6 + k))
+  done;
+  small_cen_bounds w a (a + k) dl (loff + 6);
+  small_cen_bounds w (a + k) b dr (roff + 6);
+  a + k
+
+(* The box of the positions [a, b), into [dst] at [doff]. *)
+let small_box w a b dst doff =
+  let pos = w.s_pos and pb = w.pbox and q0 = 6 * w.s_lo in
+  let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+  let x1 = ref Float.neg_infinity
+  and y1 = ref Float.neg_infinity
+  and z1 = ref Float.neg_infinity in
+  for i = a to b - 1 do
+    let q = q0 + (6 * Array.unsafe_get pos i) in
+    let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+    let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+    if not (!x0 < v0) then x0 := v0;
+    if not (!y0 < v1) then y0 := v1;
+    if not (!z0 < v2) then z0 := v2;
+    if not (!x1 > v3) then x1 := v3;
+    if not (!y1 > v4) then y1 := v4;
+    if not (!z1 > v5) then z1 := v5
+  done;
+  fset dst doff !x0;
+  fset dst (doff + 1) !y0;
+  fset dst (doff + 2) !z0;
+  fset dst (doff + 3) !x1;
+  fset dst (doff + 4) !y1;
+  fset dst (doff + 5) !z1
+
+(* Split the node at [a, b) into its halves by position, when no split divides it; the
+   children's bounds as in [small_partition]. The middle position. *)
+let small_halves w a b dl loff dr roff =
+  let pos = w.s_pos and left = w.s_left in
+  let mid = a + ((b - a) / 2) in
+  for p = a to b - 1 do
+    Bytes.unsafe_set left (Array.unsafe_get pos p) (if p < mid then '\001' else '\000')
+  done;
+  small_split_lists w a b (-1);
+  small_box w a mid dl loff;
+  small_box w mid b dr roff;
+  small_cen_bounds w a mid dl (loff + 6);
+  small_cen_bounds w mid b dr (roff + 6);
+  mid
+
+(* The node over the positions [a, b) of the small subtree, whose bounds are at [pend]
+   for [depth]: [build_node]'s, with [small_split] and [small_partition]. *)
+let rec build_small w split a b depth =
   let node = new_node w in
   if depth > w.max_depth then w.max_depth <- depth;
   reserve w depth;
-  if hi - lo > small then reserve_bins w depth;
+  let off = 8 * node and here = 12 * depth in
+  let pend = w.pend in
+  Float.Array.blit pend here w.nodes_b off 6;
+  Float.Array.blit pend (here + 6) w.cbox 0 6;
+  let n = b - a in
+  let below = here + 12 in
+  let mid =
+    if n <= 2 then -1
+    else (
+      small_split w a b split;
+      let best_cost = fget w.cost 0 in
+      let node_area = area w.nodes_b off in
+      (* Cost model: one box test per child against one intersection per primitive. *)
+      let leaf_cost = Float.of_int n *. node_area in
+      if split.(0) < 0 then
+        if n <= max_leaf then -1 else small_halves w a b pend below w.pend_right here
+      else if n <= max_leaf && leaf_cost <= node_area +. best_cost then -1
+      else
+        (* Both sides of a split the search found have primitives. *)
+        small_partition w a b split.(0) split.(1) pend below w.pend_right here)
+  in
+  if mid < 0 then (
+    fset w.nodes_b (off + 6) (Float.of_int (w.s_lo + a));
+    fset w.nodes_b (off + 7) (Float.of_int n))
+  else (
+    ignore (build_small w split a mid (depth + 1));
+    (* The left subtree may have grown the scratch: read it again. *)
+    Float.Array.blit w.pend_right here w.pend below 12;
+    let right = build_small w split mid b (depth + 1) in
+    (* The node arrays may have moved while the subtrees were built. *)
+    fset w.nodes_b (off + 6) (Float.of_int right);
+    fset w.nodes_b (off + 7) 0.);
+  node
+
+(* The small subtree over ids[lo, hi): its primitives in their final order at the end. *)
+let build_small_root w split lo hi depth =
+  let n = hi - lo in
+  if n <= 2 then (
+    w.s_lo <- lo;
+    build_small w split 0 n depth)
+  else (
+    small_setup w lo n w.pend ((12 * depth) + 6);
+    let node = build_small w split 0 n depth in
+    let ids = w.ids and tmp = w.s_tmp and pos = w.s_pos in
+    for p = 0 to n - 1 do
+      Array.unsafe_set tmp p (Array.unsafe_get ids (lo + p))
+    done;
+    for p = 0 to n - 1 do
+      Array.unsafe_set ids (lo + p) (Array.unsafe_get tmp (Array.unsafe_get pos p))
+    done;
+    node)
+
+(* The node over ids[lo, hi), whose bounds are at [pend] for [depth]. *)
+let rec build_node w split lo hi depth =
+  if hi - lo <= small then build_small_root w split lo hi depth
+  else build_large w split lo hi depth
+
+(* A node of more than [small] > [max_leaf] primitives: never a leaf. *)
+and build_large w split lo hi depth =
+  let node = new_node w in
+  if depth > w.max_depth then w.max_depth <- depth;
+  reserve w depth;
+  reserve_bins w depth;
   let off = 8 * node and here = 12 * depth in
   let pend = w.pend in
   Float.Array.blit pend here w.nodes_b off 6;
   Float.Array.blit pend (here + 6) w.cbox 0 6;
   let n = hi - lo in
   let below = here + 12 in
+  best_split w lo hi depth split;
   let mid =
-    if n <= 2 then -1
-    else (
-      if n <= small then best_split_small w lo hi split
-      else best_split w lo hi depth split;
-      let best_cost = fget w.cost 0 in
-      let node_area = area w.nodes_b off in
-      (* Cost model: one box test per child against one intersection per primitive. *)
-      let leaf_cost = Float.of_int n *. node_area in
-      if split.(0) < 0 then
-        if n <= max_leaf then -1
-        else (
-          unbinned w depth;
-          bound_range w lo (lo + (n / 2)) pend below;
-          bound_range w (lo + (n / 2)) hi w.pend_right here;
-          lo + (n / 2))
-      else if n <= max_leaf && leaf_cost <= node_area +. best_cost then -1
-      else
-        let mid =
-          if n <= small then (
-            unbinned w depth;
-            partition_small w lo hi split.(0) split.(1) pend below w.pend_right here)
-          else partition_binned w lo hi depth split.(1)
-        in
-        if mid = lo || mid = hi then (
-          unbinned w depth;
-          bound_range w lo (lo + (n / 2)) pend below;
-          bound_range w (lo + (n / 2)) hi w.pend_right here;
-          lo + (n / 2))
-        else mid)
+    let mid = if split.(0) < 0 then lo else partition_binned w lo hi depth split.(1) in
+    if mid = lo || mid = hi then (
+      unbinned w depth;
+      bound_range w lo (lo + (n / 2)) pend below;
+      bound_range w (lo + (n / 2)) hi w.pend_right here;
+      lo + (n / 2))
+    else mid
   in
-  if mid < 0 then (
-    fset w.nodes_b (off + 6) (Float.of_int lo);
-    fset w.nodes_b (off + 7) (Float.of_int n))
-  else (
-    ignore (build_node w split lo mid (depth + 1));
-    (* The left subtree may have grown the scratch: read it again. *)
-    Float.Array.blit w.pend_right here w.pend below 12;
-    let io = slot_i * depth in
-    let axis = w.pcount_right.(io) in
-    w.pcount.(io + slot_i) <- axis;
-    if axis >= 0 then (
-      Array.blit w.pcount_right io w.pcount (io + slot_i) slot_i;
-      (* The right child's bins become those at depth + 1, whose slot is free now. *)
-      let free = w.pbins.(depth + 1) in
-      w.pbins.(depth + 1) <- w.pbins_right.(depth);
-      w.pbins_right.(depth) <- free);
-    let right = build_node w split mid hi (depth + 1) in
-    (* The node arrays may have moved while the subtrees were built. *)
-    fset w.nodes_b (off + 6) (Float.of_int right);
-    fset w.nodes_b (off + 7) 0.);
+  ignore (build_node w split lo mid (depth + 1));
+  (* The left subtree may have grown the scratch: read it again. *)
+  Float.Array.blit w.pend_right here w.pend below 12;
+  let io = slot_i * depth in
+  let axis = w.pcount_right.(io) in
+  w.pcount.(io + slot_i) <- axis;
+  if axis >= 0 then (
+    Array.blit w.pcount_right io w.pcount (io + slot_i) slot_i;
+    (* The right child's bins become those at depth + 1, whose slot is free now. *)
+    let free = w.pbins.(depth + 1) in
+    w.pbins.(depth + 1) <- w.pbins_right.(depth);
+    w.pbins_right.(depth) <- free);
+  let right = build_node w split mid hi (depth + 1) in
+  (* The node arrays may have moved while the subtrees were built. *)
+  fset w.nodes_b (off + 6) (Float.of_int right);
+  fset w.nodes_b (off + 7) 0.;
   node
 
 (* The box min (x0, y0, z0), max (x1, y1, z1) padded by a relative 1e-9 of its
@@ -660,8 +859,16 @@ let build pbox =
       pbins_right = [||];
       pcount = Array.make (slot_i * 64) (-1);
       pcount_right = Array.make (slot_i * 64) (-1);
-      small_key = Array.make small 0;
-      small_area = Float.Array.make small 0.;
+      s_lo = 0;
+      s_cen = Float.Array.make (3 * small) 0.;
+      s_pos = Array.make small 0;
+      s_sorted = Array.make (3 * small) 0;
+      s_tmp = Array.make small 0;
+      s_left = Bytes.make small '\000';
+      s_bin = Array.make small 0;
+      s_area = Float.Array.make small 0.;
+      s_rbox = Float.Array.make (6 * small) 0.;
+      s_best = Float.Array.make 12 0.;
     }
   in
   bound_range w 0 m w.pend 12;
