@@ -231,14 +231,11 @@ let bins_clear (slot : bin array) c io axis =
     r.cz1 <- Float.neg_infinity
   done
 
-(* Put the primitive at position [i] of [pb] into its bin of [slot], counts at [io] in
-   [c] (the bin of its centroid along [axis], from [cmin] at [scale] bins a unit), and
-   that bin into [tag]. Each bound is stored only when it may change: [not (r.x0 < v)]
-   is when [fmin r.x0 v] is [v], for any floats. *)
-let[@inline] bin_put pb tag (slot : bin array) c io axis cmin scale i =
-  let q = 6 * i in
-  let x0 = fget pb q and y0 = fget pb (q + 1) and z0 = fget pb (q + 2) in
-  let x1 = fget pb (q + 3) and y1 = fget pb (q + 4) and z1 = fget pb (q + 5) in
+(* Put the primitive at position [i], of box min (x0, y0, z0), max (x1, y1, z1), into
+   its bin of [slot], counts at [io] in [c] (the bin of its centroid along [axis], from
+   [cmin] at [scale] bins a unit), and that bin into [tag]. Each bound is stored only
+   when it may change: [not (r.x0 < v)] is when [fmin r.x0 v] is [v], for any floats. *)
+let[@inline] bin_put_box tag (slot : bin array) c io axis cmin scale i x0 y0 z0 x1 y1 z1 =
   let cx = 0.5 *. (x0 +. x1) and cy = 0.5 *. (y0 +. y1) and cz = 0.5 *. (z0 +. z1) in
   let b = bin_of cmin scale (if axis = 0 then cx else if axis = 1 then cy else cz) in
   Bytes.unsafe_set tag i (Char.unsafe_chr b);
@@ -257,6 +254,16 @@ let[@inline] bin_put pb tag (slot : bin array) c io axis cmin scale i =
   if not (r.cx1 > cx) then r.cx1 <- cx;
   if not (r.cy1 > cy) then r.cy1 <- cy;
   if not (r.cz1 > cz) then r.cz1 <- cz
+
+(* [bin_put_box] of the box at position [i] of [pb]. *)
+let[@inline] bin_put pb tag slot c io axis cmin scale i =
+  let q = 6 * i in
+  bin_put_box tag slot c io axis cmin scale i (fget pb q)
+    (fget pb (q + 1))
+    (fget pb (q + 2))
+    (fget pb (q + 3))
+    (fget pb (q + 4))
+    (fget pb (q + 5))
 
 (* Bin [r]'s bounds added to the 12 at [doff] in [dst]. *)
 let bound_merge_bin dst doff r =
@@ -357,27 +364,6 @@ let best_split w lo hi depth split =
     done);
   fset w.cost 0 !best_cost
 
-(* Swap the primitives at positions [a] and [b]: ids and boxes. *)
-let[@inline] swap (ids : int array) pb a b =
-  let p = Array.unsafe_get ids a in
-  Array.unsafe_set ids a (Array.unsafe_get ids b);
-  Array.unsafe_set ids b p;
-  let a = 6 * a and b = 6 * b in
-  let t0 = fget pb a and t1 = fget pb (a + 1) and t2 = fget pb (a + 2) in
-  let t3 = fget pb (a + 3) and t4 = fget pb (a + 4) and t5 = fget pb (a + 5) in
-  fset pb a (fget pb b);
-  fset pb (a + 1) (fget pb (b + 1));
-  fset pb (a + 2) (fget pb (b + 2));
-  fset pb (a + 3) (fget pb (b + 3));
-  fset pb (a + 4) (fget pb (b + 4));
-  fset pb (a + 5) (fget pb (b + 5));
-  fset pb b t0;
-  fset pb (b + 1) t1;
-  fset pb (b + 2) t2;
-  fset pb (b + 3) t3;
-  fset pb (b + 4) t4;
-  fset pb (b + 5) t5
-
 (* Partition ids[lo, hi) of the binned node at [depth] so that the primitives in bins
    below [split] come first; the index of the first of the others. A primitive that
    belongs to the right is swapped with the last unclassified one, which is classified
@@ -412,14 +398,59 @@ let partition_binned w lo hi depth split =
   let ids = w.ids and pb = w.pbox and tag = w.tag in
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
-    if Char.code (Bytes.unsafe_get tag !i) < split then (
-      if la >= 0 then bin_put pb tag ls lc lio la lmin lscale !i;
-      incr i)
-    else (
-      swap ids pb !i !j;
-      Bytes.unsafe_set tag !i (Bytes.unsafe_get tag !j);
-      if ra >= 0 then bin_put pb tag rs rc rio ra rmin rscale !j;
-      decr j)
+    let i0 = !i in
+    if Char.code (Bytes.unsafe_get tag i0) < split then (
+      if la >= 0 then bin_put pb tag ls lc lio la lmin lscale i0;
+      i := i0 + 1)
+    else
+      (* The swaps with the last unclassified primitive, each primitive moved once rather
+         than twice a swap: the one going right is held while it is written at j, after
+         what was there is read; that one, now at i0, is written there if it goes left,
+         else held in turn. When j reaches i0, the one held is written back there. *)
+      let q = 6 * i0 in
+      let p = ref (Array.unsafe_get ids i0) in
+      let x0 = ref (fget pb q) and y0 = ref (fget pb (q + 1)) in
+      let z0 = ref (fget pb (q + 2)) and x1 = ref (fget pb (q + 3)) in
+      let y1 = ref (fget pb (q + 4)) and z1 = ref (fget pb (q + 5)) in
+      let go = ref true in
+      while !go do
+        let jj = !j in
+        let r = 6 * jj in
+        let pj = Array.unsafe_get ids jj and tj = Bytes.unsafe_get tag jj in
+        let u0 = fget pb r and v0 = fget pb (r + 1) and w0 = fget pb (r + 2) in
+        let u1 = fget pb (r + 3) and v1 = fget pb (r + 4) and w1 = fget pb (r + 5) in
+        Array.unsafe_set ids jj !p;
+        fset pb r !x0;
+        fset pb (r + 1) !y0;
+        fset pb (r + 2) !z0;
+        fset pb (r + 3) !x1;
+        fset pb (r + 4) !y1;
+        fset pb (r + 5) !z1;
+        if ra >= 0 then
+          bin_put_box tag rs rc rio ra rmin rscale jj !x0 !y0 !z0 !x1 !y1 !z1;
+        j := jj - 1;
+        if jj = i0 then go := false
+        else if Char.code tj < split then (
+          Array.unsafe_set ids i0 pj;
+          fset pb q u0;
+          fset pb (q + 1) v0;
+          fset pb (q + 2) w0;
+          fset pb (q + 3) u1;
+          fset pb (q + 4) v1;
+          fset pb (q + 5) w1;
+          Bytes.unsafe_set tag i0 tj;
+          if la >= 0 then bin_put_box tag ls lc lio la lmin lscale i0 u0 v0 w0 u1 v1 w1;
+          i := i0 + 1;
+          go := false)
+        else (
+          p := pj;
+          x0 := u0;
+          y0 := v0;
+          z0 := w0;
+          x1 := u1;
+          y1 := v1;
+          z1 := w1)
+      done
   done;
   !i
 
