@@ -57,8 +57,8 @@ let new_slot () = Array.init bins (fun _ -> new_bin ())
 type work = {
   pbox : Float.Array.t;
       (** 6 per primitive: padded min x y z, max x y z, in the order of [ids] (but within
-          a small subtree, see [build_small]), so that every pass over a large node reads
-          memory in sequence *)
+          a small subtree: see Small subtrees below), so that every pass over a large node
+          reads memory in sequence *)
   ids : int array;  (** a permutation of 0..m−1, partitioned in place *)
   tag : Bytes.t;
       (** by position: the primitive's bin in the binning of the node it is in, written by
@@ -82,8 +82,8 @@ type work = {
   mutable pbins_right : bin array array;
   mutable pcount : int array;
   mutable pcount_right : int array;
-  (* A subtree of at most [small] primitives, all of its nodes small (see
-     [build_small]): its primitives are named by their position in it when it starts,
+  (* A subtree of at most [small] primitives, all of its nodes small (see Small
+     subtrees below): its primitives are named by their position in it when it starts,
      their identity; positions below are relative to its first, [s_lo]. *)
   mutable s_lo : int;
   s_cen : Float.Array.t;  (** by identity: its centroid, 3 floats *)
@@ -737,6 +737,12 @@ let small_halves w a b dl loff dr roff =
   small_cen_bounds w mid b dr (roff + 6);
   mid
 
+(* [Float.Array.blit] for the few floats of a node's bounds, without its checks. *)
+let[@inline] copy src soff dst doff n =
+  for k = 0 to n - 1 do
+    fset dst (doff + k) (fget src (soff + k))
+  done
+
 (* The node over the positions [a, b) of the small subtree, whose bounds are at [pend]
    for [depth]: [build_node]'s, with [small_split] and [small_partition]. *)
 let rec build_small w split a b depth =
@@ -745,8 +751,8 @@ let rec build_small w split a b depth =
   reserve w depth;
   let off = 8 * node and here = 12 * depth in
   let pend = w.pend in
-  Float.Array.blit pend here w.nodes_b off 6;
-  Float.Array.blit pend (here + 6) w.cbox 0 6;
+  copy pend here w.nodes_b off 6;
+  copy pend (here + 6) w.cbox 0 6;
   let n = b - a in
   let below = here + 12 in
   let mid =
@@ -770,7 +776,7 @@ let rec build_small w split a b depth =
   else (
     ignore (build_small w split a mid (depth + 1));
     (* The left subtree may have grown the scratch: read it again. *)
-    Float.Array.blit w.pend_right here w.pend below 12;
+    copy w.pend_right here w.pend below 12;
     let right = build_small w split mid b (depth + 1) in
     (* The node arrays may have moved while the subtrees were built. *)
     fset w.nodes_b (off + 6) (Float.of_int right);
