@@ -92,6 +92,7 @@ type work = {
       (** [small] per axis, by position: identities, those of a node's range sorted by
           their centroid along the axis *)
   s_tmp : int array;
+  s_key : Float.Array.t;  (** the centroids of a list being sorted, in its order *)
   s_left : Bytes.t;  (** by identity: whether it goes left in the partition under way *)
   s_bin : int array;  (** by rank along the axis searched: the primitive's bin *)
   s_area : Float.Array.t;
@@ -509,7 +510,7 @@ let unbinned w depth =
    insertion: at most [small] of them), or left in any order along an axis where they
    all coincide, as they then do in every node below. *)
 let small_setup w lo n c coff =
-  let pb = w.pbox and sc = w.s_cen and ss = w.s_sorted in
+  let pb = w.pbox and sc = w.s_cen and ss = w.s_sorted and key = w.s_key in
   w.s_lo <- lo;
   for i = 0 to n - 1 do
     Array.unsafe_set w.s_pos i i;
@@ -524,10 +525,12 @@ let small_setup w lo n c coff =
       for i = 0 to n - 1 do
         let x = fget sc ((3 * i) + axis) in
         let j = ref i in
-        while !j > 0 && fget sc ((3 * Array.unsafe_get ss (base + !j - 1)) + axis) > x do
+        while !j > 0 && fget key (!j - 1) > x do
+          fset key !j (fget key (!j - 1));
           Array.unsafe_set ss (base + !j) (Array.unsafe_get ss (base + !j - 1));
           decr j
         done;
+        fset key !j x;
         Array.unsafe_set ss (base + !j) i
       done
     else
@@ -901,6 +904,7 @@ let build pbox =
       s_pos = Array.make small 0;
       s_sorted = Array.make (3 * small) 0;
       s_tmp = Array.make small 0;
+      s_key = Float.Array.make small 0.;
       s_left = Bytes.make small '\000';
       s_bin = Array.make small 0;
       s_area = Float.Array.make small 0.;
