@@ -140,36 +140,29 @@ let similar_shape tr k shape =
       None
 
 let baked o =
+  (* [o] as [shape], untransformed, its texture space [shift] away. *)
+  let placed shape shift =
+    {
+      o with
+      shape;
+      transform = Transform.identity;
+      bounds =
+        (if Option.is_none o.bounds then None else world_bounds Transform.identity shape);
+      shift;
+    }
+  in
   if Array.length o.leaves > 0 || not (bakeable o.shape) then o
   else
     match Transform.translation o.transform with
+    | Some (d, e) -> placed (Shape.translate d o.shape) e
     | None -> (
         match Transform.similarity o.transform with
         | Some k when Option.is_none o.material.texture && Option.is_none o.material.bump
           -> (
             match similar_shape o.transform k o.shape with
-            | Some shape ->
-                {
-                  o with
-                  shape;
-                  transform = Transform.identity;
-                  bounds =
-                    (if Option.is_none o.bounds then None
-                     else world_bounds Transform.identity shape);
-                }
+            | Some shape -> placed shape o.shift
             | None -> o)
         | _ -> o)
-    | Some (d, e) ->
-        let shape = Shape.translate d o.shape in
-        {
-          o with
-          shape;
-          transform = Transform.identity;
-          bounds =
-            (if Option.is_none o.bounds then None
-             else world_bounds Transform.identity shape);
-          shift = e;
-        }
 
 (* A shape placed without a transform is moved itself, so that it stays on the fast path;
    its texture space is the world before the move, [shift] away. A transformed one gets the
