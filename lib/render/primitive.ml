@@ -78,13 +78,14 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
   { shape; transform; material; bounds; shift = Vec3.zero; flip; leaves }
 
 (* A simple shape whose transform only moves it (a group's or a body's translation) is
-   that shape moved, untransformed; one without a texture or a bump map whose transform
-   scales every length alike is the shape [similar_shape] makes of it: the fast path of untransformed shapes (flat sphere
-   leaves, scalar plane tests, no ray moved into object space) for the same surface, up
-   to the last bits of the arithmetic done in world space instead. Its texture space,
-   object space before, is [shift] away: the inverse's translation. Meshes stay as they
-   are (a move would copy their vertices, shared by every placement of the mesh), and so
-   do CSG objects, whose leaves carry the transform. *)
+   that shape moved, untransformed, its texture space (object space before) [shift]
+   away: the inverse's translation. One without a texture or a bump map whose transform
+   scales every length alike is the shape [similar_shape] makes of it. Either takes the
+   fast path of untransformed shapes (flat sphere leaves, scalar plane tests, no ray
+   moved into object space) for the same surface, up to the last bits of the arithmetic
+   done in world space instead. Meshes stay as they are (a move would copy their
+   vertices, shared by every placement of the mesh), and so do CSG objects, whose leaves
+   carry the transform. *)
 let bakeable = function
   | Shape.Mesh _ | Shape.Closed_mesh _ | Shape.Csg _ -> false
   | Shape.Sphere _ | Plane _ | Parallelogram _ | Triangle _ | Paraboloid _ | Box _
