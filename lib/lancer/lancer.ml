@@ -11,6 +11,7 @@ module Color = Lancer_math.Color
 module Hash = Lancer_math.Hash
 module Probe = Lancer_math.Probe
 module Ray = Lancer_math.Ray
+module Floats = Lancer_math.Floats
 module Transform = Lancer_math.Transform
 module Vec3 = Lancer_math.Vec3
 

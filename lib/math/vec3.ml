@@ -27,7 +27,7 @@ let[@inline] cross a b =
 let[@inline] length2 a = dot a a
 
 let[@inline] max_abs a =
-  Float.max (Float.abs a.x) (Float.max (Float.abs a.y) (Float.abs a.z))
+  Floats.max (Float.abs a.x) (Floats.max (Float.abs a.y) (Float.abs a.z))
 
 (* Plain sqrt(dot) in the common range; rescale by the largest component only when the
    squares would overflow or underflow, so lengths stay exact to 1 ulp over the whole

@@ -817,8 +817,8 @@ and build_large w split lo hi depth =
   reserve_bins w depth;
   let off = 8 * node and here = 12 * depth in
   let pend = w.pend in
-  Float.Array.blit pend here w.nodes_b off 6;
-  Float.Array.blit pend (here + 6) w.cbox 0 6;
+  copy pend here w.nodes_b off 6;
+  copy pend (here + 6) w.cbox 0 6;
   let n = hi - lo in
   let below = here + 12 in
   best_split w lo hi depth split;
@@ -833,7 +833,7 @@ and build_large w split lo hi depth =
   in
   ignore (build_node w split lo mid (depth + 1));
   (* The left subtree may have grown the scratch: read it again. *)
-  Float.Array.blit w.pend_right here w.pend below 12;
+  copy w.pend_right here w.pend below 12;
   let io = slot_i * depth in
   let axis = w.pcount_right.(io) in
   w.pcount.(io + slot_i) <- axis;

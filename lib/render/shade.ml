@@ -1,12 +1,10 @@
-(* Float.max of two floats that are not negative (absolute values, positive constants) or
-   NaN, the same result without its C calls: for those, only NaN needs care. *)
-let[@inline] max_nn (a : float) b = if a > b then a else if a <> a then a else b
-
-(* [Vec3.max_abs] and [offset] of points held as scalars, the same results. *)
-let[@inline] max_abs3 x y z = max_nn (Float.abs x) (max_nn (Float.abs y) (Float.abs z))
+(* [Vec3.max_abs] and [offset] of points held as scalars, the same results without the
+   stdlib's C calls ({!Floats}). *)
+let[@inline] max_abs3 x y z =
+  Floats.max (Float.abs x) (Floats.max (Float.abs y) (Float.abs z))
 
 let[@inline] offset_s px py pz ox oy oz =
-  1e-9 *. max_nn 1e-300 (max_nn (max_abs3 px py pz) (max_abs3 ox oy oz))
+  1e-9 *. Floats.max 1e-300 (Floats.max (max_abs3 px py pz) (max_abs3 ox oy oz))
 
 let offset (p : Vec3.t) (o : Vec3.t) = offset_s p.x p.y p.z o.x o.y o.z
 

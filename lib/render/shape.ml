@@ -138,11 +138,6 @@ let disk ~center ~normal ~radius =
 
 let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
 
-(* Float.min and Float.max, the same results for every pair (NaN, signed zeros), with the
-   C calls of their sign tests only where the two compare equal or one is NaN. *)
-let[@inline] fmin (x : float) y = if x < y then x else if y < x then y else Float.min x y
-let[@inline] fmax (x : float) y = if x > y then x else if y > x then y else Float.max x y
-
 (* Sphere (doc/numerics.md): with f = O − C and half-b' = f·d, the discriminant
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
@@ -272,7 +267,7 @@ let roots a b c =
       if q = 0. then (0., 0.)
       else
         let t0 = q /. a and t1 = c /. q in
-        (fmin t0 t1, fmax t0 t1)
+        (Floats.min t0 t1, Floats.max t0 t1)
 
 (* Paraboloid in its frame: y' = (P − V)·axis, x⊥ = (P − V) − y'·axis, surface
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
@@ -315,7 +310,7 @@ let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx
         if paraboloid_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
       else
         let u = q /. a and v = c /. q in
-        let t0 = fmin u v and t1 = fmax u v in
+        let t0 = Floats.min u v and t1 = Floats.max u v in
         if paraboloid_root t0 f_y d_y height tmin tmax then t0
         else if paraboloid_root t1 f_y d_y height tmin tmax then t1
         else Float.infinity
@@ -394,7 +389,7 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
         let q = if b < 0. then s -. b else -.(b +. s) in
         let t0, t1 =
           if q = 0. then (-.b /. a, Float.infinity)
-          else (fmin (q /. a) (c /. q), fmax (q /. a) (c /. q))
+          else (Floats.min (q /. a) (c /. q), Floats.max (q /. a) (c /. q))
         in
         let ok t =
           in_range t tmin tmax
@@ -406,11 +401,11 @@ let intersect_cylinder base axis height radius caps r tmin tmax =
   in
   if not caps then side
   else
-    let tmax' = fmin side tmax in
+    let tmax' = Floats.min side tmax in
     let t_lo = disk_hit base axis radius r tmin tmax' in
-    let tmax' = fmin t_lo tmax' in
+    let tmax' = Floats.min t_lo tmax' in
     let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
-    fmin side (fmin t_lo t_hi)
+    Floats.min side (Floats.min t_lo t_hi)
 
 (* Cone side: |x⊥| = r(y') with r linear from r0 at y' = 0 to r1 at y' = h, kept for
    0 ≤ y' ≤ h (where r ≥ 0, so the other nappe of the double cone is cut away). With
@@ -437,14 +432,14 @@ let intersect_cone base axis height r0 r1 caps r tmin tmax =
   let side = if ok t0 then t0 else if ok t1 then t1 else Float.infinity in
   if not caps then side
   else
-    let tmax' = fmin side tmax in
+    let tmax' = Floats.min side tmax in
     let t_lo = if r0 > 0. then disk_hit base axis r0 r tmin tmax' else Float.infinity in
-    let tmax' = fmin t_lo tmax' in
+    let tmax' = Floats.min t_lo tmax' in
     let t_hi =
       if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax'
       else Float.infinity
     in
-    fmin side (fmin t_lo t_hi)
+    Floats.min side (Floats.min t_lo t_hi)
 
 (* Torus: with q = P − C, y = q·axis, the surface is (|q|² + R² − r²)² = 4R²(|q|² − y²),
    a quartic along the ray. To keep it well scaled whatever the distance, the ray is

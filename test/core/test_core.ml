@@ -49,6 +49,43 @@ let prim ?transform m s = Primitive.make ?transform m s
 
 let vec_tests =
   [
+    Alcotest.test_case
+      "Floats.min and Floats.max are Float.min and Float.max, bit for bit" `Quick
+      (fun () ->
+        let st = Random.State.make [| 7 |] in
+        let special =
+          [
+            0.;
+            -0.;
+            1.;
+            -1.;
+            Float.nan;
+            -.Float.nan;
+            Float.infinity;
+            Float.neg_infinity;
+            Float.min_float;
+            Float.epsilon;
+            1e-300;
+            5e-324;
+          ]
+        in
+        let randoms = List.init 200 (fun _ -> Random.State.float st 4. -. 2.) in
+        let values = special @ randoms in
+        let bits = Int64.bits_of_float in
+        List.iter
+          (fun x ->
+            List.iter
+              (fun y ->
+                let same a b =
+                  Int64.equal (bits a) (bits b) || (Float.is_nan a && Float.is_nan b)
+                in
+                if
+                  not
+                    (same (Floats.min x y) (Float.min x y)
+                    && same (Floats.max x y) (Float.max x y))
+                then Alcotest.failf "min/max of %h and %h" x y)
+              values)
+          values);
     Alcotest.test_case "cross product follows x × y = z" `Quick (fun () ->
         check_vec "x×y" (Vec3.cross Vec3.x_axis Vec3.y_axis) Vec3.z_axis);
     Alcotest.test_case "normalize keeps the zero vector zero, never NaN" `Quick (fun () ->
