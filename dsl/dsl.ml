@@ -322,14 +322,14 @@ let load_file ?files path =
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
       | Ok text -> load_text ?files path text)
 
-let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel t ~time ~frame =
+let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts t ~time ~frame =
   if not (Float.is_finite time) then
     Error [ Error.file_error t.file "the time must be a finite number" ]
   else
     Eval.run
       ?memo:(if again then None else Some t.memo)
-      ?body_state ?on_objects ?on_file ?cancel ~file:t.file ~sources:t.sources ~time
-      ~frame t.stmts
+      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
+      ~time ~frame t.stmts
 
 (* An error that only some frames have names the frame: frame 0 was checked when the
    program was loaded, so an error at another instant is one of those. *)
@@ -346,6 +346,7 @@ let at_frame ~time ~frame r =
 
 let source t file = Hashtbl.find_opt t.sources file
 let fixed_objects t = Eval.fixed_objects t.memo
+let fixed_pieces t = Eval.fixed_pieces t.memo
 
 let located t ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
@@ -355,7 +356,7 @@ let located t ~time ~frame es =
 (* The evaluation at time 0, frame 0 is the one made when the program was loaded, with
    each body placed where the simulation has it at time 0 (its initial centre): evaluated
    again only if the simulation says otherwise. *)
-let describe ?again ?body_state ?progress ?cancel ?files t ~time ~frame =
+let describe ?again ?body_state ?progress ?cancel ?files ?parts t ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
@@ -368,7 +369,9 @@ let describe ?again ?body_state ?progress ?cancel ?files t ~time ~frame =
            let on_objects n = say "evaluating the scene: %d objects so far" n in
            let uses = ref [] in
            let on_file u = uses := u :: !uses in
-           let r = eval ?again ?body_state ~on_objects ~on_file ?cancel t ~time ~frame in
+           let r =
+             eval ?again ?body_state ~on_objects ~on_file ?cancel ?parts t ~time ~frame
+           in
            let r =
              match r with
              | Error es ->

@@ -50,6 +50,7 @@ val describe :
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
+  ?parts:(Description.obj list list -> unit) ->
   t ->
   time:float ->
   frame:int ->
@@ -66,7 +67,10 @@ val describe :
     built. [cancel] is polled as the program runs: once it is cancelled, evaluation stops
     with [Sys.Break]. The top-level statements that cannot build anything else at another
     instant are not evaluated again ({!fixed_objects}), unless [again] (default [false])
-    says to evaluate every statement: the same description, made the long way. *)
+    says to evaluate every statement: the same description, made the long way. When a new
+    evaluation succeeds, [parts] (as for {!Eval.run}) is given its objects in pieces and
+    the description has none: a piece of the objects {!fixed_pieces} lists is that very
+    list. The load's own evaluation (time 0, frame 0) is given whole, [parts] untold. *)
 
 val first : t -> Description.t
 (** The evaluation made when the program was loaded: time 0, frame 0, bodies at their
@@ -87,6 +91,10 @@ val fixed_objects : t -> Description.obj list
     such statements again: each of these objects is in its descriptions as the very value
     it is here (physically), in this order, unless the statement had to be evaluated again
     (its objects are then new values). So a renderer can keep what it made of them. *)
+
+val fixed_pieces : t -> Description.obj list list
+(** {!fixed_objects} by the statement that built them, in program order: the lists a
+    description's [parts] shares. *)
 
 val source : t -> string -> string option
 (** [source p file]: the text of [file], the program's or an include's (for an error's

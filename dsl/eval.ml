@@ -3135,6 +3135,12 @@ let fixed_objects m =
     [] m.entries
   |> List.rev
 
+let fixed_pieces m =
+  Array.fold_left
+    (fun acc e -> match e with Some e -> e.built :: acc | None -> acc)
+    [] m.entries
+  |> List.rev
+
 (* The names every program starts with. *)
 let top_cenv ~time ~frame =
   let names = List.map (fun n -> (n, Const (VBuiltin n))) builtin_names in
@@ -3155,7 +3161,7 @@ let grown now before =
   in
   go [] now
 
-let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = ignore)
+let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file = ignore)
     ?schema ~file ~sources ~time ~frame stmts =
   let uses = ref [] in
   let on_file u =
@@ -3270,8 +3276,11 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
    with Abort -> ());
   if ctx.errors <> [] then Error (sort_errors (List.rev ctx.errors))
   else
+    (* With [parts], the pieces themselves, not one list copied from them: a piece the
+       memo replayed is the very list it recorded. *)
+    let in_parts = objects && Option.is_some parts in
     let statics =
-      if objects then (
+      if objects && not in_parts then (
         cut ();
         match !pieces with [ p ] -> p | ps -> List.concat (List.rev ps))
       else []
@@ -3289,6 +3298,11 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
           finish ~transform ~body:b.name o)
         (if objects then bodies else [])
     in
+    (match parts with
+    | Some f when in_parts ->
+        cut ();
+        f (List.rev (match body_objs with [] -> !pieces | b -> b :: !pieces))
+    | _ -> ());
     Ok
       {
         D.file;
@@ -3297,7 +3311,9 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?(on_file = igno
         settings = (match ctx.settings with Some (s, _) -> s | None -> Settings.default);
         camera = (match ctx.camera with Some (c, _) -> c | None -> Camera.default);
         lights = List.rev ctx.lights;
-        objects = (match body_objs with [] -> statics | _ -> statics @ body_objs);
+        objects =
+          (if in_parts then []
+           else match body_objs with [] -> statics | _ -> statics @ body_objs);
         animation = Option.map fst ctx.animation;
         physics = Option.map fst ctx.physics;
         physics_loc = Option.map snd ctx.physics;

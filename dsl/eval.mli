@@ -46,12 +46,17 @@ val fixed_objects : memo -> Description.obj list
     objects it started with then (a statement that does not is evaluated again, and its
     objects are new values). *)
 
+val fixed_pieces : memo -> Description.obj list list
+(** {!fixed_objects} by recorded statement, in program order: with [parts], {!run} gives a
+    replayed statement's objects as the very list here. *)
+
 val run :
   ?memo:memo ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?on_objects:(int -> unit) ->
   ?cancel:Cancel.t ->
   ?objects:bool ->
+  ?parts:(Description.obj list list -> unit) ->
   ?on_file:(Description.file_use -> unit) ->
   ?schema:Schema.block list ->
   file:string ->
@@ -64,7 +69,11 @@ val run :
     [time] and [frame] bound. [sources] maps each file name to its text (for error
     display). [body_state name t] is (position, velocity) of body [name] at time [t];
     without it (or when it answers [None]) a body stays at its initial centre with its
-    initial velocity. With [~objects:false] [objects] is left empty. [on_objects n] is
+    initial velocity. With [~objects:false] [objects] is left empty. With [parts],
+    [objects] is left empty too and [parts] is given them in pieces, in order (their
+    concatenation is what [objects] would have been, body spheres last): each piece a
+    memo's statement replayed is the very list its first run recorded, not a copy, so that
+    a caller that kept what it made of those can tell them at a glance. [on_objects n] is
     called every 65 536 objects built, with their count (for progress during a long
     build). [on_file] is told each use of a file (image, mesh, height field) as it is met,
     also in a run that fails: what reading them finds wrong is the renderer's to report.

@@ -198,7 +198,7 @@ let first_at_rest p =
             Some { first with objects = List.map place first.objects }
           else None)
 
-let describe_ ?again ?body_state ?progress ?cancel p ~time ~frame =
+let describe_ ?again ?body_state ?progress ?cancel ?parts p ~time ~frame =
   let reused =
     if Float.equal time 0. && frame = 0 && body_state = None then
       match guard p (fun () -> Ok (first_at_rest p)) with
@@ -216,7 +216,7 @@ let describe_ ?again ?body_state ?progress ?cancel p ~time ~frame =
       with
       | Error es -> Error (Dsl.located p ~time ~frame es)
       | Ok body_state ->
-          Dsl.describe ?again ?body_state ?progress ?cancel
+          Dsl.describe ?again ?body_state ?progress ?cancel ?parts
             ~files:(Compile.check_files (assets p))
             p ~time ~frame)
 
@@ -235,21 +235,24 @@ let fixed p =
       | Some f -> f
       | None ->
           let f =
-            match (Dsl.animation p, Dsl.fixed_objects p) with
+            match
+              ( Dsl.animation p,
+                List.filter (fun l -> not (List.is_empty l)) (Dsl.fixed_pieces p) )
+            with
             | None, _ | _, [] -> None
-            | Some _, objs -> Some (Compile.fixed e.assets objs)
+            | Some _, pieces -> Some (Compile.fixed e.assets pieces)
           in
           e.fixed <- Some f;
           f)
 
-let compile ?progress ?index ?objects ~share p (d : D.t) =
+let compile ?progress ?index ?objects ?parts ~share p (d : D.t) =
   (* [objects] is not used after the compile, which lets each go as it is compiled. *)
-  let whole = Option.is_none objects in
+  let whole = Option.is_none objects && Option.is_none parts in
   match
     guard p (fun () ->
         Compile.compile ~source:(Dsl.source p) ?progress
           ?fixed:(if share && index <> Some false then fixed p else None)
-          ?index ?objects (assets p) d)
+          ?index ?objects ?parts (assets p) d)
   with
   | Ok sc ->
       let e = extra p in
@@ -284,9 +287,14 @@ let scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame =
     let objects = d.objects and d = { d with objects = [] } in
     Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~objects ~share p d)
   else
+    (* Shared statements replayed: their objects come as the lists the fixed part was
+       made from, not copied into one list per scene. *)
+    let parts = ref None in
+    let on_parts = if share then Some (fun ps -> parts := Some ps) else None in
     Result.bind
-      (describe_ ~again:(not share) ?body_state ?progress ?cancel p ~time ~frame)
-      (fun d -> Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~share p d))
+      (describe_ ~again:(not share) ?body_state ?progress ?cancel ?parts:on_parts p ~time
+         ~frame) (fun d ->
+        Result.map (fun sc -> (sc, d)) (compile ?progress ?index ?parts:!parts ~share p d))
 
 let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map

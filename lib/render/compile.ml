@@ -272,6 +272,9 @@ let primitives c material_of (o : D.obj) =
 
 type fixed = {
   objs : D.obj array;
+  lists : D.obj list array;  (** the non-empty pieces it was made from, in order *)
+  firsts : int array;  (** the index in [objs] of each one's first object *)
+  counts : int array;  (** and its count of objects *)
   start : int array;  (** where each object's primitives start in [flat] *)
   faces : int array;
       (** the faces of the objects before each (one more entry: all of them), a mesh
@@ -282,8 +285,15 @@ type fixed = {
   mutable part : Scene.fixed option;  (** for the last origin asked *)
 }
 
-let fixed c objs =
-  let objs = Array.of_list objs in
+let fixed c pieces =
+  let pieces = List.filter (fun p -> not (List.is_empty p)) pieces in
+  let lists = Array.of_list pieces in
+  let counts = Array.map List.length lists in
+  let firsts = Array.make (Array.length lists) 0 in
+  for k = 1 to Array.length lists - 1 do
+    firsts.(k) <- firsts.(k - 1) + counts.(k - 1)
+  done;
+  let objs = Array.of_list (List.concat pieces) in
   let material_of = materials c in
   match Array.map (primitives c material_of) objs with
   | prims ->
@@ -300,10 +310,24 @@ let fixed c objs =
         (fun i ps ->
           faces.(i + 1) <- List.fold_left (fun w p -> w + Primitive.faces p) faces.(i) ps)
         prims;
-      { objs; start; faces; flat; ok = true; part_lock = Mutex.create (); part = None }
+      {
+        objs;
+        lists;
+        firsts;
+        counts;
+        start;
+        faces;
+        flat;
+        ok = true;
+        part_lock = Mutex.create ();
+        part = None;
+      }
   | exception Problem _ ->
       {
         objs;
+        lists;
+        firsts;
+        counts;
         start = [||];
         faces = [||];
         flat = [||];
@@ -345,7 +369,7 @@ let handed_over_overhead = 40
 let compact_objects = 250_000
 
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixed ?objects
-    c (d : D.t) =
+    ?parts c (d : D.t) =
   let handed_over = Option.is_some objects in
   let objects = Option.value objects ~default:d.objects in
   let fx = match fixed with Some fx when fx.ok -> Some fx | _ -> None in
@@ -392,44 +416,71 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
     if handed_over && not compacting then Gc.set { (Gc.get ()) with space_overhead = o }
   in
   pace (min overhead handed_over_overhead);
+  (* Primitives [first] to [first + n − 1] of the fixed part, after what came before. *)
+  let add_run first n =
+    if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
+    else (
+      end_run ();
+      run_first := first;
+      run_n := n)
+  in
+  (* Where the fixed part's primitives of object [j] start (all of them at the end). *)
+  let prim_end (fx : fixed) j =
+    if j < Array.length fx.start then fx.start.(j) else Array.length fx.flat
+  in
+  let one (o : D.obj) =
+    match
+      match fx with
+      | Some fx when fixed_index o >= 0 ->
+          let i = !next - 1 in
+          add_run fx.start.(i) (prim_end fx (i + 1) - fx.start.(i));
+          fx.faces.(i + 1) - fx.faces.(i)
+      | _ ->
+          let ps = primitives c material_of o in
+          (match fx with
+          | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
+          | Some _ ->
+              end_run ();
+              pieces := Scene.Moving ps :: !pieces);
+          List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
+    with
+    | n ->
+        count := !count + n;
+        if !count > D.max_objects && !count - n <= D.max_objects then
+          report o.loc
+            (Printf.sprintf "this scene builds more than %d objects; that is the limit"
+               D.max_objects)
+    | exception Problem (loc, msg) -> report loc msg
+  in
+  (* A piece that is a recorded statement's list itself, met where its objects come next
+     in the fixed part: all of them at once, nothing done per object. *)
+  let entry = ref 0 in
+  let whole piece =
+    match fx with
+    | Some fx when not (List.is_empty piece) ->
+        while !entry < Array.length fx.firsts && fx.firsts.(!entry) < !next do
+          incr entry
+        done;
+        let e = !entry in
+        if e < Array.length fx.firsts && fx.firsts.(e) = !next && fx.lists.(e) == piece
+        then
+          let i = !next and j = !next + fx.counts.(e) in
+          let n = fx.faces.(j) - fx.faces.(i) in
+          if !count + n > D.max_objects then false
+          else (
+            add_run fx.start.(i) (prim_end fx j - fx.start.(i));
+            count := !count + n;
+            next := j;
+            incr entry;
+            true)
+        else false
+    | _ -> false
+  in
   (try
-     List.iter
-       (fun (o : D.obj) ->
-         match
-           match fx with
-           | Some fx when fixed_index o >= 0 ->
-               let i = !next - 1 in
-               let first = fx.start.(i) in
-               let n =
-                 (if i + 1 < Array.length fx.start then fx.start.(i + 1)
-                  else Array.length fx.flat)
-                 - first
-               in
-               if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
-               else (
-                 end_run ();
-                 run_first := first;
-                 run_n := n);
-               fx.faces.(i + 1) - fx.faces.(i)
-           | _ ->
-               let ps = primitives c material_of o in
-               (match fx with
-               | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
-               | Some _ ->
-                   end_run ();
-                   pieces := Scene.Moving ps :: !pieces);
-               List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
-         with
-         | n ->
-             count := !count + n;
-             if !count > D.max_objects && !count - n <= D.max_objects then
-               report o.loc
-                 (Printf.sprintf
-                    "this scene builds more than %d objects; that is the limit"
-                    D.max_objects);
-             ()
-         | exception Problem (loc, msg) -> report loc msg)
-       objects
+     match parts with
+     | None -> List.iter one objects
+     | Some ps ->
+         List.iter (fun piece -> if not (whole piece) then List.iter one piece) ps
    with e ->
      let bt = Printexc.get_raw_backtrace () in
      pace overhead;

@@ -20,10 +20,10 @@ type fixed
 (** The primitives of objects that do not change between the frames of an animation, made
     once, and the acceleration structure over them (for the last origin asked). *)
 
-val fixed : assets -> Description.obj list -> fixed
-(** [fixed assets objs]: the primitives of [objs] (in order), as {!compile} makes them. An
-    object that does not compile leaves the fixed part unused (each compile then makes and
-    reports everything itself). *)
+val fixed : assets -> Description.obj list list -> fixed
+(** [fixed assets pieces]: the primitives of the objects of [pieces] (in order), as
+    {!compile} makes them. An object that does not compile leaves the fixed part unused
+    (each compile then makes and reports everything itself). *)
 
 val compile :
   ?source:(string -> string option) ->
@@ -31,6 +31,7 @@ val compile :
   ?index:bool ->
   ?fixed:fixed ->
   ?objects:Description.obj list ->
+  ?parts:Description.obj list list ->
   assets ->
   Description.t ->
   (Scene.t, Diagnostic.t list) result
@@ -42,9 +43,12 @@ val compile :
     acceleration structure ({!Scene.make_layered}): the same scene, made faster. With
     [objects], those are compiled in place of [d]'s: a caller that keeps no other
     reference to them (passing [d] without them) lets each go as it is compiled, so that a
-    large scene is not held twice. With [~index:false] (default [true]) and no [fixed],
-    the scene has no acceleration structure to query it fast ({!Scene.of_moved}): for
-    [lancer check], which reads what the scene holds but traces no ray. *)
+    large scene is not held twice. With [parts], the objects are theirs, in order, in
+    place of [d]'s: a piece that is one of the fixed part's pieces itself, met where its
+    objects come next, is taken whole, with no work per object (a frame of an animation
+    then costs what its moving objects cost). With [~index:false] (default [true]) and no
+    [fixed], the scene has no acceleration structure to query it fast ({!Scene.of_moved}):
+    for [lancer check], which reads what the scene holds but traces no ray. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order

@@ -198,6 +198,9 @@ type fixed = {
   f_accel : Accel.t;
   f_valid : bool;  (** whether every material of them is valid *)
   f_uses : uses;
+  f_placed : (int * int array) option Atomic.t;
+      (** the last [fixed_idx] of the part placed whole after that many moving objects (k
+          ↦ that count + k), which the frames of an animation share *)
 }
 
 let materials_valid prims = Result.is_ok (first_error prims)
@@ -213,6 +216,7 @@ let fixed ~origin prims =
     f_accel = Accel.build prims;
     f_valid = materials_valid prims;
     f_uses = uses_of prims;
+    f_placed = Atomic.make None;
   }
 
 let fixed_origin f = f.f_origin
@@ -237,37 +241,79 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
     else Array.map (Primitive.translate (Vec3.neg origin)) moving
   in
   let nm = Array.length moving in
-  let objects =
-    if nf > 0 then Array.make (nf + nm) f.f_prims.(0)
-    else if nm > 0 then Array.make nm moving.(0)
-    else [||]
+  (* The moving objects before the fixed part when it is placed whole, in one piece (an
+     animation's usual frame), else −1. *)
+  let whole_at =
+    let rec go before = function
+      | Fixed (0, n) :: rest
+        when n = nf && List.for_all (function Moving _ -> true | Fixed _ -> false) rest ->
+          before
+      | Moving ps :: rest -> go (before + List.length ps) rest
+      | _ -> -1
+    in
+    if nf > 0 then go 0 pieces else -1
   in
-  let fixed_idx = Array.make nf (-1) and moving_idx = Array.make nm 0 in
-  let at = ref 0 and j = ref 0 in
-  List.iter
-    (function
-      | Fixed (first, n) ->
-          Array.blit f.f_prims first objects !at n;
-          for m = 0 to n - 1 do
-            fixed_idx.(first + m) <- !at + m
-          done;
-          at := !at + n
-      | Moving ps ->
-          List.iter
-            (fun _ ->
-              objects.(!at) <- moving.(!j);
-              moving_idx.(!j) <- !at;
-              incr j;
-              incr at)
-            ps)
-    pieces;
-  (* Each fixed primitive once, in their order: the parts' ties then go as in one. *)
-  let increasing = ref (nf = 0 || fixed_idx.(0) >= 0) in
-  for k = 1 to nf - 1 do
-    if fixed_idx.(k) <= fixed_idx.(k - 1) then increasing := false
-  done;
-  if (not !increasing) || !at <> nf + nm then
-    invalid_arg "Scene.make_layered: the pieces do not place every fixed primitive once";
+  let moving_idx = Array.make nm 0 in
+  let fixed_idx =
+    if whole_at >= 0 then (
+      (* Every fixed primitive once, in order, by construction. *)
+      Array.iteri
+        (fun j _ -> moving_idx.(j) <- (if j < whole_at then j else j + nf))
+        moving_idx;
+      match Atomic.get f.f_placed with
+      | Some (a, idx) when a = whole_at -> idx
+      | _ ->
+          let idx = Array.init nf (fun k -> whole_at + k) in
+          Atomic.set f.f_placed (Some (whole_at, idx));
+          idx)
+    else
+      let fixed_idx = Array.make nf (-1) in
+      let at = ref 0 and j = ref 0 in
+      let place = function
+        | Fixed (first, n) ->
+            for m = 0 to n - 1 do
+              fixed_idx.(first + m) <- !at + m
+            done;
+            at := !at + n
+        | Moving ps ->
+            List.iter
+              (fun _ ->
+                moving_idx.(!j) <- !at;
+                incr j;
+                incr at)
+              ps
+      in
+      List.iter place pieces;
+      (* Each fixed primitive once, in their order: the parts' ties then go as in one. *)
+      let increasing = ref (nf = 0 || fixed_idx.(0) >= 0) in
+      for k = 1 to nf - 1 do
+        if fixed_idx.(k) <= fixed_idx.(k - 1) then increasing := false
+      done;
+      if (not !increasing) || !at <> nf + nm then
+        invalid_arg
+          "Scene.make_layered: the pieces do not place every fixed primitive once";
+      fixed_idx
+  in
+  let objects =
+    if whole_at >= 0 then
+      (* Put together from the fixed part's array and the moving objects around it,
+         with no write barrier per fixed primitive. *)
+      let m0 = whole_at in
+      Array.concat [ Array.sub moving 0 m0; f.f_prims; Array.sub moving m0 (nm - m0) ]
+    else
+      let objects =
+        if nf > 0 then Array.make (nf + nm) f.f_prims.(0)
+        else if nm > 0 then Array.make nm moving.(0)
+        else [||]
+      in
+      List.iter
+        (function
+          | Fixed (first, n) -> Array.blit f.f_prims first objects fixed_idx.(first) n
+          | Moving _ -> ())
+        pieces;
+      Array.iteri (fun j i -> objects.(i) <- moving.(j)) moving_idx;
+      objects
+  in
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
   let* () = first_error (if f.f_valid then moving else objects) in

@@ -85,6 +85,66 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
     "a still is indexed whole" true
     (Option.is_none (Lancer_render.Accel.fixed_part (scene ()).accel))
 
+(* A frame evaluates, compiles and places only what moves: the objects of the statements
+   that do not are handed over as the lists they were first built as, and taken whole,
+   so that what a frame allocates does not grow with them (a word a fixed object for the
+   frame's array of every primitive, where a copy of their list alone took three). *)
+let frames_cost_what_moves () =
+  let n = 20_000 in
+  let text =
+    Printf.sprintf
+      {|settings { width: 8, height: 6 }
+animation { fps: 10, frames: 5 }
+light { position: (-3, 5, -4) }
+for i in 0 to %d { sphere { center: (i / 1000, 0.2, 1), radius: 0.01 } }
+sphere { center: (-1 + time, 1, 0), radius: 0.5 }
+|}
+      (n - 1)
+  in
+  let p =
+    match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
+    | Error _ -> Alcotest.fail "the animated scene does not load"
+    | Ok p -> p
+  in
+  let frame k =
+    match Lancer.Program.scene_at p ~time:(Float.of_int k /. 10.) ~frame:k with
+    | Error _ -> Alcotest.fail "the animated scene does not evaluate"
+    | Ok sc -> sc
+  in
+  let s0 = frame 0 and s1 = frame 1 in
+  let words () =
+    let minor, promoted, major = Gc.counters () in
+    minor +. major -. promoted
+  in
+  let before = words () in
+  let s2 = frame 2 in
+  let used = words () -. before in
+  Alcotest.(check int) "every object is there" (n + 1) (Array.length s2.objects);
+  (* The fixed primitives are the same values in every frame, the moving one is new. *)
+  Alcotest.(check bool)
+    "the fixed primitives are shared" true
+    (s0.objects.(0) == s2.objects.(0) && s1.objects.(n - 1) == s2.objects.(n - 1));
+  Alcotest.(check bool)
+    "the moving one is made again" false
+    (s1.objects.(n) == s2.objects.(n));
+  if used > 2. *. Float.of_int n then
+    Alcotest.failf "a frame allocated %.0f words for %d objects that do not move" used n;
+  (* The same scene as evaluating and compiling every statement again. *)
+  let again =
+    match Lancer_dsl.Dsl.describe ~again:true p ~time:0.2 ~frame:2 with
+    | Error _ -> Alcotest.fail "the frame does not evaluate again"
+    | Ok d -> (
+        match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
+        | Ok sc -> sc
+        | Error _ -> Alcotest.fail "the frame does not compile again")
+  in
+  Alcotest.(check int)
+    "as many primitives" (Array.length again.objects) (Array.length s2.objects);
+  Array.iteri
+    (fun k (o : Lancer_render.Primitive.t) ->
+      if o.shape <> again.objects.(k).shape then Alcotest.failf "primitive %d differs" k)
+    s2.objects
+
 (* ---- Plan ---- *)
 
 let frames_syntax () =
@@ -576,6 +636,8 @@ let () =
         [
           Alcotest.test_case "every frame shares one index of what does not move" `Quick
             frames_share_the_fixed_part;
+          Alcotest.test_case "a frame allocates for what moves, not for what does not"
+            `Quick frames_cost_what_moves;
         ] );
       ( "work",
         [
