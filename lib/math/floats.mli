@@ -9,3 +9,10 @@ val min : float -> float -> float
 
 val max : float -> float -> float
 (** The same as [Float.max]. *)
+
+val above : float -> float
+(** [above t] is a float at or above [Float.succ t], and for a positive finite [t] at most
+    [Float.succ (Float.succ t)] (or infinity, past the largest float): a bound that keeps
+    every value [<= t] strictly below it, without [Float.succ]'s C call in the common
+    case. [Float.succ t] itself where [t] is zero, negative, subnormal, infinite or NaN.
+*)

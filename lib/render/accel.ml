@@ -7,8 +7,9 @@
    lower index. Shape intersections compute the same roots whatever tmin and tmax are
    (Shape.mli), so the scan's answer is the lexicographic minimum of (t, index) over the
    primitives' nearest roots in (tmin, tmax). The traversal computes the same minimum:
-   each primitive is queried up to succ(best t), so an equal t is seen and the index
-   decides; boxes are padded by a relative 1e-9 so that rounding in the slab test never
+   each primitive is queried up to just past the best t (at or one float above its
+   successor, {!Floats.above}), so an equal t is seen and the index decides, and a root
+   beyond it that the bound lets through loses to the best; boxes are padded by a relative 1e-9 so that rounding in the slab test never
    culls a primitive whose hit lies on its own bounds; and a box is culled only when its
    entry is strictly beyond the best t. *)
 
@@ -266,8 +267,8 @@ let[@inline] test p r tmax (h : Shape.hit) =
 
 (* The nearest hit: every query with a ray goes through a probe, [Primitive.probe_into]
    computing the roots [Primitive.intersect_into] does, bit for bit. The traversal keeps
-   the lexicographic minimum of (t, index): each primitive is queried up to succ(best t)
-   (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
+   the lexicographic minimum of (t, index): each primitive is queried up to just past the
+   best t (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
    the scratch probe for transformed objects is the domain's. *)
 let[@inline] probe_test (p : Primitive.t) (q : Shape.probe) obj tmax =
   q.p_tmax <- tmax;
@@ -331,7 +332,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
     if t < !best_t || (t = !best_t && i < !best_i) then (
       best_t := t;
       best_i := i;
-      query := Float.succ t)
+      query := Floats.above t)
   done;
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
   let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
@@ -355,7 +356,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
             if t < !best_t || i < !best_i then (
               best_t := t;
               best_i := i;
-              query := Float.succ t)
+              query := Floats.above t)
         done;
         -1)
       else
@@ -621,13 +622,13 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
 let rec nearest_probe_in a (q : Shape.probe) obj stack =
   match a.layers with
   | Some l ->
-      (* As [nearest_into]'s two parts: the moving part up to succ(t) of the fixed
-         part's hit, the lexicographic minimum of (t, index). *)
+      (* As [nearest_into]'s two parts: the moving part up to just past the fixed part's
+         hit t, the lexicographic minimum of (t, index). *)
       let tmin = q.p_tmin and tmax = q.p_tmax in
       let i = nearest_probe_in l.fixed q obj stack in
       let t = q.p_t in
       q.p_tmin <- tmin;
-      q.p_tmax <- (if i >= 0 then Float.succ t else tmax);
+      q.p_tmax <- (if i >= 0 then Floats.above t else tmax);
       let j = nearest_probe_in l.moving q obj stack in
       if
         j >= 0 && (i < 0 || q.p_t < t || (q.p_t = t && l.moving_idx.(j) < l.fixed_idx.(i)))

@@ -183,7 +183,8 @@ let get_stack depth =
 (* The nearest triangle the probe's ray crosses in (p_tmin, p_tmax), ties to the lower
    index, as a scan of the triangles in order finds it: its index (−1 for none), its t in
    [q.p_t]. The probe's reciprocal direction must be set. The tree queries each triangle
-   up to succ(best t), so that an equal t is seen and the index decides; its boxes are
+   up to just past the best t ({!Floats.above}), so that an equal t is seen and the index
+   decides; its boxes are
    padded (see Bvh), and one is culled only when its entry is beyond the best t. *)
 let nearest m (q : Probe.t) =
   let tmax = q.p_tmax in
@@ -229,7 +230,7 @@ let nearest m (q : Probe.t) =
                 if t < !best_t || i < !best_i then (
                   best_t := t;
                   best_i := i;
-                  query := Float.succ t)
+                  query := Floats.above t)
             done;
             -1)
           else

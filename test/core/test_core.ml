@@ -86,6 +86,48 @@ let vec_tests =
                 then Alcotest.failf "min/max of %h and %h" x y)
               values)
           values);
+    Alcotest.test_case "Floats.above is succ or the float after it" `Quick (fun () ->
+        let st = Random.State.make [| 11 |] in
+        let bits = Int64.bits_of_float in
+        let same a b =
+          Int64.equal (bits a) (bits b) || (Float.is_nan a && Float.is_nan b)
+        in
+        let special =
+          [
+            0.;
+            -0.;
+            1.;
+            2.;
+            0.5;
+            -1.;
+            Float.nan;
+            Float.infinity;
+            Float.neg_infinity;
+            Float.min_float;
+            Float.pred Float.min_float;
+            5e-324;
+            Float.max_float;
+            Float.pred Float.max_float;
+            Float.pred 2.;
+            Float.succ 1.;
+          ]
+        in
+        let randoms =
+          List.init 2000 (fun _ ->
+              Float.ldexp
+                (1. +. Random.State.float st 1.)
+                (Random.State.int st 2000 - 1000))
+        in
+        List.iter
+          (fun t ->
+            let a = Floats.above t in
+            let ok =
+              if t > 0. && t >= Float.min_float && t < Float.infinity then
+                a >= Float.succ t && (a <= Float.succ (Float.succ t) || a = Float.infinity)
+              else same a (Float.succ t)
+            in
+            if not ok then Alcotest.failf "above %h is %h" t a)
+          (special @ randoms));
     Alcotest.test_case "cross product follows x × y = z" `Quick (fun () ->
         check_vec "x×y" (Vec3.cross Vec3.x_axis Vec3.y_axis) Vec3.z_axis);
     Alcotest.test_case "normalize keeps the zero vector zero, never NaN" `Quick (fun () ->
