@@ -72,7 +72,7 @@ let srgb_base, srgb_before, srgb_after =
   done;
   (base, before, after)
 
-let srgb_channel v =
+let[@inline] srgb_channel v =
   let v = if v > 0. then if v < 1. then v else 1. else 0. in
   let b = int_of_float (v *. 4096.) in
   let after = Float.Array.unsafe_get srgb_after b in
@@ -98,8 +98,11 @@ let to_bytes gamma fb =
   let b = Bytes.create n in
   (match gamma with
   | Settings.Srgb ->
+      let data = fb.data in
+      if Float.Array.length data < n then invalid_arg "Image.to_bytes";
       for k = 0 to n - 1 do
-        Bytes.unsafe_set b k (Char.unsafe_chr (srgb_channel (Float.Array.get fb.data k)))
+        Bytes.unsafe_set b k
+          (Char.unsafe_chr (srgb_channel (Float.Array.unsafe_get data k)))
       done
   | g ->
       for k = 0 to n - 1 do
