@@ -419,7 +419,65 @@ let watch_files ~poll inputs changed =
 (* ---------------------------------------------------------------------------------- *)
 (* The server *)
 
-module Server = Cohttp_lwt_unix.Server
+(* cohttp's server over Lwt's channels, on connections the watch accepts itself. cohttp's
+   Unix binding would accept them through conduit, whose TLS module opens the system's
+   certificate store as the program starts: some 50 M instructions (15 ms) in every
+   lancer command, for a server that speaks plain HTTP to one machine. *)
+module Io = struct
+  type 'a t = 'a Lwt.t
+
+  let ( >>= ) = Lwt.bind
+  let return = Lwt.return
+
+  type ic = Lwt_io.input_channel
+  type oc = Lwt_io.output_channel
+  type conn = Unix.sockaddr
+  type error = exn
+
+  (* A peer gone or a channel closed under a read is the end of its input. *)
+  let gone = function Lwt_io.Channel_closed _ | Unix.Unix_error _ -> true | _ -> false
+
+  let read_line ic =
+    Lwt.catch
+      (fun () -> Lwt_io.read_line_opt ic)
+      (fun e -> if gone e then Lwt.return_none else Lwt.reraise e)
+
+  let read ic n =
+    Lwt.catch
+      (fun () -> Lwt_io.read ~count:(min n Sys.max_string_length) ic)
+      (fun e -> if gone e then Lwt.return "" else Lwt.reraise e)
+
+  let write = Lwt_io.write
+  let flush = Lwt_io.flush
+
+  (* What the server is told a failed write was: it then drops the connection. *)
+  let catch f =
+    Lwt.try_bind f Lwt.return_ok (fun e ->
+        if gone e then Lwt.return_error e else Lwt.reraise e)
+
+  let pp_error ppf e = Format.pp_print_string ppf (Printexc.to_string e)
+end
+
+module Server = Cohttp_lwt.Make_server (Io)
+
+(* Each connection accepted on [sock], served by [spec] until either side ends it, then
+   closed; what goes wrong with one of them ends only that one. *)
+let serve sock spec =
+  let close ch = Lwt.catch (fun () -> Lwt_io.close ch) (fun _ -> Lwt.return_unit) in
+  let rec accept () =
+    Lwt_unix.accept ~cloexec:true sock >>= fun (fd, peer) ->
+    let ic = Lwt_io.of_fd ~mode:Lwt_io.input fd
+    and oc = Lwt_io.of_fd ~mode:Lwt_io.output fd in
+    Lwt.async (fun () ->
+        Lwt.finalize
+          (fun () ->
+            Lwt.catch
+              (fun () -> Server.callback spec peer ic oc)
+              (fun _ -> Lwt.return_unit))
+          (fun () -> close oc >>= fun () -> close ic));
+    accept ()
+  in
+  accept ()
 
 (* Open event streams are bounded: past this many, the oldest is closed (a page that is
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
@@ -643,13 +701,7 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
   let changed () = request sh ~reload:true Fun.id in
   let inputs () = with_lock sh (fun () -> sh.inputs) in
   Printf.printf "lancer watch: http://%s/ shows %s (Ctrl-C to stop)\n%!" authority path;
-  let server =
-    Server.create
-      ~on_exn:(fun _ -> ())
-      ~stop
-      ~mode:(`TCP (`Socket sock))
-      (Server.make ~conn_closed ~callback ())
-  in
+  let server = serve sock (Server.make ~conn_closed ~callback ()) in
   Fun.protect
     ~finally:(fun () ->
       List.iter Lwt_unix.disable_signal_handler sigs;
