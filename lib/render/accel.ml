@@ -224,7 +224,13 @@ let unindexed prims =
 
 (* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
    finds them busy (a fold callback that queries again) allocates its own. *)
-type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
+type stack = {
+  mutable ids : int array;
+  mutable ts : Float.Array.t;
+  mutable busy : bool;
+  mutable sp : int;  (** the depth of [ids] between two calls of a descent *)
+  best : Float.Array.t;  (** the nearest walk's best t, for its descent (one float) *)
+}
 
 (* What a domain's queries reuse, found by one look-up per query. The shadow query's: a
    probe that the caller fills, and for each light slot the scene index of the primitive
@@ -246,12 +252,25 @@ let scratch_key =
         q = Shape.probe ();
         obj = Shape.probe ();
         last = [||];
-        stack = { ids = [||]; ts = Float.Array.create 0; busy = false };
+        stack =
+          {
+            ids = [||];
+            ts = Float.Array.create 0;
+            busy = false;
+            sp = 0;
+            best = Float.Array.create 1;
+          };
       })
 
 let get_stack (s : stack) depth =
   if s.busy then
-    { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
+    {
+      ids = Array.make (depth + 1) 0;
+      ts = Float.Array.create (depth + 1);
+      busy = true;
+      sp = 0;
+      best = Float.Array.create 1;
+    }
   else (
     if Array.length s.ids <= depth then (
       s.ids <- Array.make (depth + 1) 0;
@@ -311,6 +330,59 @@ let linear_nearest_probe prims (q : Shape.probe) obj =
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
+(* The nearest walk's descent to the next leaf to test (−1: none is left), from [start]
+   (−1: from the top of [st]'s stack, past the entries beyond the best t, [st.best]): at
+   an interior node, the nearer child whose box the ray enters before the best t next,
+   the farther one pushed with its entry t. It calls nothing, so that the ray's floats
+   stay in registers (see [next_leaf]). *)
+let[@inline never] next_near_leaf nodes (q : Shape.probe) (st : stack) start =
+  let inf = Float.infinity in
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+  let tmin = q.p_tmin and best = fget st.best 0 in
+  let sids = st.ids and sts = st.ts in
+  let sp = ref st.sp and node = ref start and leaf = ref (-1) and go = ref true in
+  while !go do
+    if !node < 0 then (
+      while !node < 0 && !sp > 0 do
+        decr sp;
+        if fget sts !sp <= best then node := Array.unsafe_get sids !sp
+      done;
+      if !node < 0 then go := false)
+    else
+      let k = !node in
+      if Bvh.count nodes k > 0 then (
+        leaf := k;
+        go := false)
+      else
+        let l = k + 1 and rr = Bvh.link nodes k in
+        let tl =
+          Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf
+        in
+        let trr =
+          Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf
+        in
+        node :=
+          if tl < inf then
+            if trr < inf then
+              if trr < tl then (
+                Array.unsafe_set sids !sp l;
+                fset sts !sp tl;
+                incr sp;
+                rr)
+              else (
+                Array.unsafe_set sids !sp rr;
+                fset sts !sp trr;
+                incr sp;
+                l)
+            else l
+          else if trr < inf then rr
+          else -1
+  done;
+  st.sp <- !sp;
+  !leaf
+
 let tree_nearest_probe a tr (q : Shape.probe) obj stack =
   let inf = Float.infinity in
   let tmin = q.p_tmin in
@@ -334,66 +406,32 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
       best_i := i;
       query := Floats.above t)
   done;
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
   let nodes = tr.nodes in
   let st = get_stack stack tr.depth in
-  let sids = st.ids and sts = st.ts in
-  let sp = ref 0 and node = ref 0 and go = ref true in
-  if Bvh.box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf then
-    go := false;
-  while !go do
-    let k = !node in
-    let count = Bvh.count nodes k in
-    let next =
-      if count > 0 then (
-        let first = Bvh.link nodes k in
-        for j = first to first + count - 1 do
-          let t = slot_test tr j q obj !query in
-          if t <= !best_t then
-            let i = Array.unsafe_get tr.leaf_idx j in
-            if t < !best_t || i < !best_i then (
-              best_t := t;
-              best_i := i;
-              query := Floats.above t)
-        done;
-        -1)
-      else
-        let l = k + 1 and rr = Bvh.link nodes k in
-        let tl =
-          Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
-        in
-        let trr =
-          Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
-        in
-        if tl < inf then
-          if trr < inf then
-            if trr < tl then (
-              Array.unsafe_set sids !sp l;
-              fset sts !sp tl;
-              incr sp;
-              rr)
-            else (
-              Array.unsafe_set sids !sp rr;
-              fset sts !sp trr;
-              incr sp;
-              l)
-          else l
-        else if trr < inf then rr
-        else -1
-    in
-    if next >= 0 then node := next
-    else
-      let found = ref false in
-      while (not !found) && !sp > 0 do
-        decr sp;
-        if fget sts !sp <= !best_t then (
-          found := true;
-          node := Array.unsafe_get sids !sp)
+  st.sp <- 0;
+  let ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+  if
+    Bvh.box_entry nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
+      !best_t inf
+    < inf
+  then (
+    fset st.best 0 !best_t;
+    let leaf = ref (next_near_leaf nodes q st 0) in
+    while !leaf >= 0 do
+      let first = Bvh.link nodes !leaf in
+      for j = first to first + Bvh.count nodes !leaf - 1 do
+        let t = slot_test tr j q obj !query in
+        if t <= !best_t then
+          let i = Array.unsafe_get tr.leaf_idx j in
+          if t < !best_t || i < !best_i then (
+            best_t := t;
+            best_i := i;
+            query := Floats.above t)
       done;
-      if not !found then go := false
-  done;
+      fset st.best 0 !best_t;
+      leaf := next_near_leaf nodes q st (-1)
+    done);
   st.busy <- false;
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
@@ -564,6 +602,34 @@ let rec occluder ~any a q obj stack =
       | None -> linear_occluder ~any a.prims q obj
       | Some tr -> tree_occluder ~any a tr q obj stack)
 
+(* The occlusion walk's descent, from the nodes on [st]'s stack to the next leaf whose box
+   the probe's segment crosses (−1: none is left), pushing the crossed children of the
+   interior nodes it passes, the right one below the left. It calls nothing, so that the
+   ray's floats stay in registers: in a loop that also tests primitives they would be
+   reloaded from the stack at every box. *)
+and[@inline never] next_leaf nodes (q : Shape.probe) (st : stack) =
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+  let tmin = q.p_tmin and tmax = q.p_tmax in
+  let sids = st.ids in
+  let sp = ref st.sp and leaf = ref (-1) in
+  while !leaf < 0 && !sp > 0 do
+    decr sp;
+    let node = Array.unsafe_get sids !sp in
+    if Bvh.count nodes node > 0 then leaf := node
+    else
+      let l = node + 1 and rr = Bvh.link nodes node in
+      if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp rr;
+        incr sp);
+      if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp l;
+        incr sp)
+  done;
+  st.sp <- !sp;
+  !leaf
+
 and tree_occluder ~any a tr (q : Shape.probe) obj stack =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims and planes = a.planes in
@@ -591,30 +657,20 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
-    let sids = st.ids in
-    let sp = ref 0 in
+    st.sp <- 0;
     if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-      Array.unsafe_set sids 0 0;
-      sp := 1);
-    while !found < 0 && !sp > 0 do
-      decr sp;
-      let node = Array.unsafe_get sids !sp in
-      let count = Bvh.count nodes node in
-      if count > 0 then
-        let first = Bvh.link nodes node in
-        let j = ref first in
-        while !found < 0 && !j < first + count do
-          if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
-          incr j
-        done
-      else
-        let l = node + 1 and rr = Bvh.link nodes node in
-        if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-          Array.unsafe_set sids !sp rr;
-          incr sp);
-        if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-          Array.unsafe_set sids !sp l;
-          incr sp)
+      Array.unsafe_set st.ids 0 0;
+      st.sp <- 1);
+    let node = ref (next_leaf nodes q st) in
+    while !node >= 0 do
+      let count = Bvh.count nodes !node in
+      let first = Bvh.link nodes !node in
+      let j = ref first in
+      while !found < 0 && !j < first + count do
+        if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
+        incr j
+      done;
+      node := if !found < 0 then next_leaf nodes q st else -1
     done;
     st.busy <- false);
   !found
