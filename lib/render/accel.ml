@@ -229,7 +229,9 @@ type stack = {
   mutable ts : Float.Array.t;
   mutable busy : bool;
   mutable sp : int;  (** the depth of [ids] between two calls of a descent *)
-  best : Float.Array.t;  (** the nearest walk's best t, for its descent (one float) *)
+  span : Float.Array.t;
+      (** the interval a descent culls boxes by: tmin, then tmax (the nearest walk's best
+          t), set by its walk *)
 }
 
 (* What a domain's queries reuse, found by one look-up per query. The shadow query's: a
@@ -258,7 +260,7 @@ let scratch_key =
             ts = Float.Array.create 0;
             busy = false;
             sp = 0;
-            best = Float.Array.create 1;
+            span = Float.Array.create 2;
           };
       })
 
@@ -269,7 +271,7 @@ let get_stack (s : stack) depth =
       ts = Float.Array.create (depth + 1);
       busy = true;
       sp = 0;
-      best = Float.Array.create 1;
+      span = Float.Array.create 2;
     }
   else (
     if Array.length s.ids <= depth then (
@@ -340,7 +342,7 @@ let[@inline never] next_near_leaf nodes (q : Shape.probe) (st : stack) start =
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
   let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
   let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = q.p_tmin and best = fget st.best 0 in
+  let tmin = fget st.span 0 and best = fget st.span 1 in
   let sids = st.ids and sts = st.ts in
   let sp = ref st.sp and node = ref start and leaf = ref (-1) and go = ref true in
   while !go do
@@ -416,7 +418,8 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
       !best_t inf
     < inf
   then (
-    fset st.best 0 !best_t;
+    fset st.span 0 tmin;
+    fset st.span 1 !best_t;
     let leaf = ref (next_near_leaf nodes q st 0) in
     while !leaf >= 0 do
       let first = Bvh.link nodes !leaf in
@@ -429,7 +432,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
             best_i := i;
             query := Floats.above t)
       done;
-      fset st.best 0 !best_t;
+      fset st.span 1 !best_t;
       leaf := next_near_leaf nodes q st (-1)
     done);
   st.busy <- false;
@@ -467,6 +470,34 @@ let linear_fold ~only_transparent prims r tmin tmax f acc =
   done;
   !acc
 
+(* The depth-first walks' descent, from the nodes on [st]'s stack to the next leaf whose
+   box the probe's ray crosses within [st.span] (−1: none is left), pushing the crossed
+   children of the interior nodes it passes, the right one below the left. It calls
+   nothing, so that the ray's floats stay in registers: in a loop that also tests
+   primitives they would be reloaded from the stack at every box. *)
+let[@inline never] next_leaf nodes (q : Shape.probe) (st : stack) =
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+  let tmin = fget st.span 0 and tmax = fget st.span 1 in
+  let sids = st.ids in
+  let sp = ref st.sp and leaf = ref (-1) in
+  while !leaf < 0 && !sp > 0 do
+    decr sp;
+    let node = Array.unsafe_get sids !sp in
+    if Bvh.count nodes node > 0 then leaf := node
+    else
+      let l = node + 1 and rr = Bvh.link nodes node in
+      if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp rr;
+        incr sp);
+      if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp l;
+        incr sp)
+  done;
+  st.sp <- !sp;
+  !leaf
+
 (* Each bounded primitive sits in exactly one leaf, so the depth-first walk over the boxes
    the ray meets visits each primitive's crossings once. *)
 (* Every primitive that the ray may cross in [tmin, tmax], unordered: the unbounded ones
@@ -483,37 +514,30 @@ let tree_visit a tr r tmin tmax visit =
     incr k
   done;
   if not !stop then (
-    let o = Ray.origin r and inv = Ray.inv_dir r in
-    let ox = o.x and oy = o.y and oz = o.z and ix = inv.x and iy = inv.y and iz = inv.z in
-    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+    let q = Shape.probe () in
+    Probe.of_ray q r;
+    let nx = Bvh.near q.ix and ny = 1 + Bvh.near q.iy and nz = 2 + Bvh.near q.iz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
-    let sids = st.ids in
-    let sp = ref 0 in
-    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-      Array.unsafe_set sids 0 0;
-      sp := 1);
+    st.sp <- 0;
+    fset st.span 0 tmin;
+    fset st.span 1 tmax;
+    if
+      Bvh.box_hit nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny)
+        (7 - nz) tmin tmax
+    then (
+      Array.unsafe_set st.ids 0 0;
+      st.sp <- 1);
     (try
-       while (not !stop) && !sp > 0 do
-         decr sp;
-         let node = Array.unsafe_get sids !sp in
-         let count = Bvh.count nodes node in
-         if count > 0 then
-           let first = Bvh.link nodes node in
-           let j = ref first in
-           while (not !stop) && !j < first + count do
-             stop := visit (Array.unsafe_get tr.leaf_prims !j);
-             incr j
-           done
-         else
-           let l = node + 1 and rr = Bvh.link nodes node in
-           if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-             Array.unsafe_set sids !sp rr;
-             incr sp);
-           if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-             Array.unsafe_set sids !sp l;
-             incr sp)
+       let node = ref (next_leaf nodes q st) in
+       while !node >= 0 do
+         let first = Bvh.link nodes !node in
+         let j = ref first in
+         while (not !stop) && !j < first + Bvh.count nodes !node do
+           stop := visit (Array.unsafe_get tr.leaf_prims !j);
+           incr j
+         done;
+         node := if !stop then -1 else next_leaf nodes q st
        done
      with e ->
        st.busy <- false;
@@ -602,34 +626,6 @@ let rec occluder ~any a q obj stack =
       | None -> linear_occluder ~any a.prims q obj
       | Some tr -> tree_occluder ~any a tr q obj stack)
 
-(* The occlusion walk's descent, from the nodes on [st]'s stack to the next leaf whose box
-   the probe's segment crosses (−1: none is left), pushing the crossed children of the
-   interior nodes it passes, the right one below the left. It calls nothing, so that the
-   ray's floats stay in registers: in a loop that also tests primitives they would be
-   reloaded from the stack at every box. *)
-and[@inline never] next_leaf nodes (q : Shape.probe) (st : stack) =
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = q.p_tmin and tmax = q.p_tmax in
-  let sids = st.ids in
-  let sp = ref st.sp and leaf = ref (-1) in
-  while !leaf < 0 && !sp > 0 do
-    decr sp;
-    let node = Array.unsafe_get sids !sp in
-    if Bvh.count nodes node > 0 then leaf := node
-    else
-      let l = node + 1 and rr = Bvh.link nodes node in
-      if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp rr;
-        incr sp);
-      if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp l;
-        incr sp)
-  done;
-  st.sp <- !sp;
-  !leaf
-
 and tree_occluder ~any a tr (q : Shape.probe) obj stack =
   let found = ref (-1) in
   let outside = a.outside and prims = a.prims and planes = a.planes in
@@ -658,6 +654,8 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
     st.sp <- 0;
+    fset st.span 0 tmin;
+    fset st.span 1 tmax;
     if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set st.ids 0 0;
       st.sp <- 1);
@@ -770,37 +768,31 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
     incr k
   done;
   if not !stop then (
-    let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+    let ix = q.ix and iy = q.iy and iz = q.iz in
     let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
-    let sids = st.ids in
-    let sp = ref 0 in
-    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-      Array.unsafe_set sids 0 0;
-      sp := 1);
+    (* The interval as it was: the visits move the probe's with the crossings found. *)
+    st.sp <- 0;
+    fset st.span 0 tmin;
+    fset st.span 1 tmax;
+    if
+      Bvh.box_hit nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
+        tmax
+    then (
+      Array.unsafe_set st.ids 0 0;
+      st.sp <- 1);
     (try
-       while (not !stop) && !sp > 0 do
-         decr sp;
-         let node = Array.unsafe_get sids !sp in
-         let count = Bvh.count nodes node in
-         if count > 0 then
-           let first = Bvh.link nodes node in
-           let j = ref first in
-           while (not !stop) && !j < first + count do
-             stop :=
-               visit_transparent (Array.unsafe_get tr.leaf_prims !j) q obj tmin tmax visit;
-             incr j
-           done
-         else
-           let l = node + 1 and rr = Bvh.link nodes node in
-           if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-             Array.unsafe_set sids !sp rr;
-             incr sp);
-           if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-             Array.unsafe_set sids !sp l;
-             incr sp)
+       let node = ref (next_leaf nodes q st) in
+       while !node >= 0 do
+         let first = Bvh.link nodes !node in
+         let j = ref first in
+         while (not !stop) && !j < first + Bvh.count nodes !node do
+           stop :=
+             visit_transparent (Array.unsafe_get tr.leaf_prims !j) q obj tmin tmax visit;
+           incr j
+         done;
+         node := if !stop then -1 else next_leaf nodes q st
        done
      with e ->
        st.busy <- false;
