@@ -47,6 +47,19 @@ let floats_equal a b =
 
 (* ---- The frames of an animation ---- *)
 
+(* An animated scene's program, and its frame k at 10 frames a second. *)
+let load_anim text =
+  match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
+  | Error _ -> Alcotest.fail "the animated scene does not load"
+  | Ok p -> p
+
+let frames_of ?p text =
+  let p = match p with Some p -> p | None -> load_anim text in
+  fun k ->
+    match Lancer.Program.scene_at p ~time:(Float.of_int k /. 10.) ~frame:k with
+    | Error _ -> Alcotest.fail "the animated scene does not evaluate"
+    | Ok sc -> sc
+
 (* The objects that do not move are compiled and indexed once for every frame, the first
    one included: no frame builds a structure over them again. *)
 let frames_share_the_fixed_part () =
@@ -59,18 +72,11 @@ for i in 0 to 40 { sphere { center: (i / 10, 0.2, 1), radius: 0.1 } }
 sphere { center: (-1 + time, 1, 0), radius: 0.5 }
 |}
   in
-  let p =
-    match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
-    | Error _ -> Alcotest.fail "the animated scene does not load"
-    | Ok p -> p
-  in
+  let frame = frames_of text in
   let fixed k =
-    match Lancer.Program.scene_at p ~time:(Float.of_int k /. 10.) ~frame:k with
-    | Error _ -> Alcotest.fail "the animated scene does not evaluate"
-    | Ok sc -> (
-        match Lancer_render.Accel.fixed_part sc.accel with
-        | Some f -> f
-        | None -> Alcotest.failf "frame %d has no fixed part" k)
+    match Lancer_render.Accel.fixed_part (frame k).accel with
+    | Some f -> f
+    | None -> Alcotest.failf "frame %d has no fixed part" k
   in
   let f0 = fixed 0 in
   List.iter
@@ -101,16 +107,8 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
 |}
       (n - 1)
   in
-  let p =
-    match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
-    | Error _ -> Alcotest.fail "the animated scene does not load"
-    | Ok p -> p
-  in
-  let frame k =
-    match Lancer.Program.scene_at p ~time:(Float.of_int k /. 10.) ~frame:k with
-    | Error _ -> Alcotest.fail "the animated scene does not evaluate"
-    | Ok sc -> sc
-  in
+  let p = load_anim text in
+  let frame = frames_of ~p text in
   let s0 = frame 0 and s1 = frame 1 in
   let words () =
     let minor, promoted, major = Gc.counters () in
