@@ -222,17 +222,8 @@ let unindexed prims =
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
-(* Traversal stacks, one pair per domain, sized for the deepest tree seen; a query that
-   finds them busy (a fold callback that queries again) allocates its own. *)
-type stack = {
-  mutable ids : int array;
-  mutable ts : Float.Array.t;
-  mutable busy : bool;
-  mutable sp : int;  (** the depth of [ids] between two calls of a descent *)
-  span : Float.Array.t;
-      (** the interval a descent culls boxes by: tmin, then tmax (the nearest walk's best
-          t), set by its walk *)
-}
+(* Traversal stacks, one per domain ({!Bvh.walk}). *)
+type stack = Bvh.walk
 
 (* What a domain's queries reuse, found by one look-up per query. The shadow query's: a
    probe that the caller fills, and for each light slot the scene index of the primitive
@@ -250,35 +241,9 @@ type scratch = {
 
 let scratch_key =
   Domain.DLS.new_key (fun () ->
-      {
-        q = Shape.probe ();
-        obj = Shape.probe ();
-        last = [||];
-        stack =
-          {
-            ids = [||];
-            ts = Float.Array.create 0;
-            busy = false;
-            sp = 0;
-            span = Float.Array.create 2;
-          };
-      })
+      { q = Shape.probe (); obj = Shape.probe (); last = [||]; stack = Bvh.new_walk () })
 
-let get_stack (s : stack) depth =
-  if s.busy then
-    {
-      ids = Array.make (depth + 1) 0;
-      ts = Float.Array.create (depth + 1);
-      busy = true;
-      sp = 0;
-      span = Float.Array.create 2;
-    }
-  else (
-    if Array.length s.ids <= depth then (
-      s.ids <- Array.make (depth + 1) 0;
-      s.ts <- Float.Array.create (depth + 1));
-    s.busy <- true;
-    s)
+let get_stack (s : stack) depth = Bvh.take s depth
 
 (* One primitive over (h.tmin, tmax): the root, unboxed. *)
 let[@inline] test p r tmax (h : Shape.hit) =
@@ -332,59 +297,6 @@ let linear_nearest_probe prims (q : Shape.probe) obj =
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
-(* The nearest walk's descent to the next leaf to test (−1: none is left), from [start]
-   (−1: from the top of [st]'s stack, past the entries beyond the best t, [st.best]): at
-   an interior node, the nearer child whose box the ray enters before the best t next,
-   the farther one pushed with its entry t. It calls nothing, so that the ray's floats
-   stay in registers (see [next_leaf]). *)
-let[@inline never] next_near_leaf nodes (q : Shape.probe) (st : stack) start =
-  let inf = Float.infinity in
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = fget st.span 0 and best = fget st.span 1 in
-  let sids = st.ids and sts = st.ts in
-  let sp = ref st.sp and node = ref start and leaf = ref (-1) and go = ref true in
-  while !go do
-    if !node < 0 then (
-      while !node < 0 && !sp > 0 do
-        decr sp;
-        if fget sts !sp <= best then node := Array.unsafe_get sids !sp
-      done;
-      if !node < 0 then go := false)
-    else
-      let k = !node in
-      if Bvh.count nodes k > 0 then (
-        leaf := k;
-        go := false)
-      else
-        let l = k + 1 and rr = Bvh.link nodes k in
-        let tl =
-          Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf
-        in
-        let trr =
-          Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf
-        in
-        node :=
-          if tl < inf then
-            if trr < inf then
-              if trr < tl then (
-                Array.unsafe_set sids !sp l;
-                fset sts !sp tl;
-                incr sp;
-                rr)
-              else (
-                Array.unsafe_set sids !sp rr;
-                fset sts !sp trr;
-                incr sp;
-                l)
-            else l
-          else if trr < inf then rr
-          else -1
-  done;
-  st.sp <- !sp;
-  !leaf
-
 let tree_nearest_probe a tr (q : Shape.probe) obj stack =
   let inf = Float.infinity in
   let tmin = q.p_tmin in
@@ -420,7 +332,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
   then (
     fset st.span 0 tmin;
     fset st.span 1 !best_t;
-    let leaf = ref (next_near_leaf nodes q st 0) in
+    let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
     while !leaf >= 0 do
       let first = Bvh.link nodes !leaf in
       for j = first to first + Bvh.count nodes !leaf - 1 do
@@ -433,7 +345,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
             query := Floats.above t)
       done;
       fset st.span 1 !best_t;
-      leaf := next_near_leaf nodes q st (-1)
+      leaf := Bvh.next_near_leaf nodes q st (-1)
     done);
   st.busy <- false;
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
@@ -470,34 +382,6 @@ let linear_fold ~only_transparent prims r tmin tmax f acc =
   done;
   !acc
 
-(* The depth-first walks' descent, from the nodes on [st]'s stack to the next leaf whose
-   box the probe's ray crosses within [st.span] (−1: none is left), pushing the crossed
-   children of the interior nodes it passes, the right one below the left. It calls
-   nothing, so that the ray's floats stay in registers: in a loop that also tests
-   primitives they would be reloaded from the stack at every box. *)
-let[@inline never] next_leaf nodes (q : Shape.probe) (st : stack) =
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = fget st.span 0 and tmax = fget st.span 1 in
-  let sids = st.ids in
-  let sp = ref st.sp and leaf = ref (-1) in
-  while !leaf < 0 && !sp > 0 do
-    decr sp;
-    let node = Array.unsafe_get sids !sp in
-    if Bvh.count nodes node > 0 then leaf := node
-    else
-      let l = node + 1 and rr = Bvh.link nodes node in
-      if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp rr;
-        incr sp);
-      if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp l;
-        incr sp)
-  done;
-  st.sp <- !sp;
-  !leaf
-
 (* Each bounded primitive sits in exactly one leaf, so the depth-first walk over the boxes
    the ray meets visits each primitive's crossings once. *)
 (* Every primitive that the ray may cross in [tmin, tmax], unordered: the unbounded ones
@@ -529,7 +413,7 @@ let tree_visit a tr r tmin tmax visit =
       Array.unsafe_set st.ids 0 0;
       st.sp <- 1);
     (try
-       let node = ref (next_leaf nodes q st) in
+       let node = ref (Bvh.next_leaf nodes q st) in
        while !node >= 0 do
          let first = Bvh.link nodes !node in
          let j = ref first in
@@ -537,7 +421,7 @@ let tree_visit a tr r tmin tmax visit =
            stop := visit (Array.unsafe_get tr.leaf_prims !j);
            incr j
          done;
-         node := if !stop then -1 else next_leaf nodes q st
+         node := if !stop then -1 else Bvh.next_leaf nodes q st
        done
      with e ->
        st.busy <- false;
@@ -659,7 +543,7 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
     if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
       Array.unsafe_set st.ids 0 0;
       st.sp <- 1);
-    let node = ref (next_leaf nodes q st) in
+    let node = ref (Bvh.next_leaf nodes q st) in
     while !node >= 0 do
       let count = Bvh.count nodes !node in
       let first = Bvh.link nodes !node in
@@ -668,7 +552,7 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
         if slot_blocks ~any tr !j q obj then found := Array.unsafe_get tr.leaf_idx !j;
         incr j
       done;
-      node := if !found < 0 then next_leaf nodes q st else -1
+      node := if !found < 0 then Bvh.next_leaf nodes q st else -1
     done;
     st.busy <- false);
   !found
@@ -783,7 +667,7 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
       Array.unsafe_set st.ids 0 0;
       st.sp <- 1);
     (try
-       let node = ref (next_leaf nodes q st) in
+       let node = ref (Bvh.next_leaf nodes q st) in
        while !node >= 0 do
          let first = Bvh.link nodes !node in
          let j = ref first in
@@ -792,7 +676,7 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
              visit_transparent (Array.unsafe_get tr.leaf_prims !j) q obj tmin tmax visit;
            incr j
          done;
-         node := if !stop then -1 else next_leaf nodes q st
+         node := if !stop then -1 else Bvh.next_leaf nodes q st
        done
      with e ->
        st.busy <- false;

@@ -970,3 +970,123 @@ let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
 
 (* The offset of the near plane's coordinate for reciprocal direction [i]. *)
 let[@inline] near i = if i < 0. then 3 else 0
+
+(* --- Walks ------------------------------------------------------------------------ *)
+
+(* A depth-first walk's stack, kept from one query to the next (one per domain): the nodes
+   still to visit in [ids] (with their entry t in [ts] for the nearest walk), their count
+   [sp] between two descents, and the interval [span] (tmin, then tmax or the best t so
+   far) the descents cull boxes by, which the walk sets. [busy] while a walk holds it. *)
+type walk = {
+  mutable ids : int array;
+  mutable ts : Float.Array.t;
+  mutable busy : bool;
+  mutable sp : int;
+  span : Float.Array.t;
+}
+
+let new_walk () =
+  {
+    ids = [||];
+    ts = Float.Array.create 0;
+    busy = false;
+    sp = 0;
+    span = Float.Array.create 2;
+  }
+
+(* [w] made ready for a tree of depth [depth], and marked busy; a fresh walk where [w] is
+   busy (a query inside another's visit). *)
+let take w depth =
+  if w.busy then
+    {
+      ids = Array.make (depth + 1) 0;
+      ts = Float.Array.create (depth + 1);
+      busy = true;
+      sp = 0;
+      span = Float.Array.create 2;
+    }
+  else (
+    if Array.length w.ids <= depth then (
+      w.ids <- Array.make (depth + 1) 0;
+      w.ts <- Float.Array.create (depth + 1));
+    w.busy <- true;
+    w)
+
+(* The depth-first walks' descent, from the nodes on [st]'s stack to the next leaf whose
+   box the probe's ray crosses within [st.span] (−1: none is left), pushing the crossed
+   children of the interior nodes it passes, the right one below the left. It calls
+   nothing, so that the ray's floats stay in registers: in a loop that also tests
+   primitives they would be reloaded from the stack at every box. *)
+let[@inline never] next_leaf nodes (q : Probe.t) (st : walk) =
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+  let tmin = fget st.span 0 and tmax = fget st.span 1 in
+  let sids = st.ids in
+  let sp = ref st.sp and leaf = ref (-1) in
+  while !leaf < 0 && !sp > 0 do
+    decr sp;
+    let node = Array.unsafe_get sids !sp in
+    if count nodes node > 0 then leaf := node
+    else
+      let l = node + 1 and rr = link nodes node in
+      if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp rr;
+        incr sp);
+      if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
+        Array.unsafe_set sids !sp l;
+        incr sp)
+  done;
+  st.sp <- !sp;
+  !leaf
+
+(* The nearest walk's descent to the next leaf to test (−1: none is left), from [start]
+   (−1: from the top of [st]'s stack, past the entries beyond the best t, [st.span]'s
+   second): at
+   an interior node, the nearer child whose box the ray enters before the best t next,
+   the farther one pushed with its entry t. It calls nothing, so that the ray's floats
+   stay in registers (see [next_leaf]). *)
+let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
+  let inf = Float.infinity in
+  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
+  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
+  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
+  let tmin = Float.Array.unsafe_get st.span 0
+  and best = Float.Array.unsafe_get st.span 1 in
+  let sids = st.ids and sts = st.ts in
+  let sp = ref st.sp and node = ref start and leaf = ref (-1) and go = ref true in
+  while !go do
+    if !node < 0 then (
+      while !node < 0 && !sp > 0 do
+        decr sp;
+        if Float.Array.unsafe_get sts !sp <= best then node := Array.unsafe_get sids !sp
+      done;
+      if !node < 0 then go := false)
+    else
+      let k = !node in
+      if count nodes k > 0 then (
+        leaf := k;
+        go := false)
+      else
+        let l = k + 1 and rr = link nodes k in
+        let tl = box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf in
+        let trr = box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf in
+        node :=
+          if tl < inf then
+            if trr < inf then
+              if trr < tl then (
+                Array.unsafe_set sids !sp l;
+                fset sts !sp tl;
+                incr sp;
+                rr)
+              else (
+                Array.unsafe_set sids !sp rr;
+                fset sts !sp trr;
+                incr sp;
+                l)
+            else l
+          else if trr < inf then rr
+          else -1
+  done;
+  st.sp <- !sp;
+  !leaf

@@ -84,3 +84,36 @@ val box_hit :
     except where both the entry and the exit are infinite (a ray parallel to a slab it
     lies beyond), which it lets through; one comparison fewer, for the walks that need no
     entry t. *)
+
+(** {1 Walks} *)
+
+type walk = {
+  mutable ids : int array;  (** the nodes still to visit *)
+  mutable ts : Float.Array.t;  (** their entry t, for the nearest walk *)
+  mutable busy : bool;  (** whether a walk holds it *)
+  mutable sp : int;  (** how many of [ids] are on the stack between two descents *)
+  span : Float.Array.t;
+      (** the interval the descents cull boxes by (tmin, then tmax or the best t so far),
+          set by the walk *)
+}
+(** A depth-first walk's stack, kept from one query to the next (one per domain). *)
+
+val new_walk : unit -> walk
+
+val take : walk -> int -> walk
+(** [take w depth]: [w] made ready for a tree of depth [depth] and marked busy, or a fresh
+    walk where [w] is busy (a query inside another's visit). The walk clears [busy]. *)
+
+val next_leaf : Float.Array.t -> Probe.t -> walk -> int
+(** [next_leaf nodes q w]: from the nodes on [w]'s stack, the next leaf whose box [q]'s
+    ray crosses within [w.span] (−1: none is left), depth first, the crossed children of
+    the interior nodes passed pushed right below left. It calls nothing, so that the ray's
+    floats stay in registers: in a loop that also tests primitives, OCaml would reload
+    them from the stack at every box. *)
+
+val next_near_leaf : Float.Array.t -> Probe.t -> walk -> int -> int
+(** [next_near_leaf nodes q w start]: the nearest walk's next leaf (−1: none is left),
+    from node [start], or with [start] = −1 from the top of the stack past the entries
+    whose entry t is beyond the best t ([w.span]'s second). At an interior node the nearer
+    child whose box the ray enters by the best t comes next, the farther one is pushed
+    with its entry t. Calls nothing, as {!next_leaf}. *)

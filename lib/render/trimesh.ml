@@ -162,23 +162,10 @@ let translate (d : Vec3.t) m =
   in
   make ~pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt
 
-(* Traversal stacks, one per domain, as the scene's: a query that finds it busy
-   allocates its own. *)
-type stack = { mutable ids : int array; mutable ts : Float.Array.t; mutable busy : bool }
-
-let stack_key =
-  Domain.DLS.new_key (fun () -> { ids = [||]; ts = Float.Array.create 0; busy = false })
-
-let get_stack depth =
-  let s = Domain.DLS.get stack_key in
-  if s.busy then
-    { ids = Array.make (depth + 1) 0; ts = Float.Array.create (depth + 1); busy = true }
-  else (
-    if Array.length s.ids <= depth then (
-      s.ids <- Array.make (depth + 1) 0;
-      s.ts <- Float.Array.create (depth + 1));
-    s.busy <- true;
-    s)
+(* Traversal stacks, one per domain, as the scene's ({!Bvh.walk}): a query that finds it
+   busy allocates its own. *)
+let stack_key = Domain.DLS.new_key Bvh.new_walk
+let get_stack depth = Bvh.take (Domain.DLS.get stack_key) depth
 
 (* The nearest triangle the probe's ray crosses in (p_tmin, p_tmax), ties to the lower
    index, as a scan of the triangles in order finds it: its index (−1 for none), its t in
@@ -200,74 +187,34 @@ let nearest m (q : Probe.t) =
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
       !best_i
   | Some tr ->
-      let inf = Float.infinity in
       let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
-      let tmin = q.p_tmin in
-      let ox = q.ox
-      and oy = q.oy
-      and oz = q.oz
-      and ix = q.ix
-      and iy = q.iy
-      and iz = q.iz in
+      let tmin = q.p_tmin and ix = q.ix and iy = q.iy and iz = q.iz in
       let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-      let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      let sids = st.ids and sts = st.ts in
-      let sp = ref 0 and node = ref 0 and go = ref true in
-      if Bvh.box_entry nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf = inf
-      then go := false;
-      while !go do
-        let k = !node in
-        let count = Bvh.count nodes k in
-        let next =
-          if count > 0 then (
-            let first = Bvh.link nodes k in
-            for j = first to first + count - 1 do
-              let i = Array.unsafe_get order j in
-              let t = test m i q !query in
-              if t <= !best_t then
-                if t < !best_t || i < !best_i then (
-                  best_t := t;
-                  best_i := i;
-                  query := Floats.above t)
-            done;
-            -1)
-          else
-            let l = k + 1 and rr = Bvh.link nodes k in
-            let tl =
-              Bvh.box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
-            in
-            let trr =
-              Bvh.box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin !best_t inf
-            in
-            if tl < Float.infinity then
-              if trr < Float.infinity then
-                if trr < tl then (
-                  Array.unsafe_set sids !sp l;
-                  Float.Array.unsafe_set sts !sp tl;
-                  incr sp;
-                  rr)
-                else (
-                  Array.unsafe_set sids !sp rr;
-                  Float.Array.unsafe_set sts !sp trr;
-                  incr sp;
-                  l)
-              else l
-            else if trr < Float.infinity then rr
-            else -1
-        in
-        if next >= 0 then node := next
-        else
-          let found = ref false in
-          while (not !found) && !sp > 0 do
-            decr sp;
-            if fget sts !sp <= !best_t then (
-              found := true;
-              node := Array.unsafe_get sids !sp)
+      st.sp <- 0;
+      if
+        Bvh.box_entry nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
+          tmin !best_t Float.infinity
+        < Float.infinity
+      then (
+        Float.Array.unsafe_set st.span 0 tmin;
+        Float.Array.unsafe_set st.span 1 !best_t;
+        let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
+        while !leaf >= 0 do
+          let first = Bvh.link nodes !leaf in
+          for j = first to first + Bvh.count nodes !leaf - 1 do
+            let i = Array.unsafe_get order j in
+            let t = test m i q !query in
+            if t <= !best_t then
+              if t < !best_t || i < !best_i then (
+                best_t := t;
+                best_i := i;
+                query := Floats.above t)
           done;
-          if not !found then go := false
-      done;
+          Float.Array.unsafe_set st.span 1 !best_t;
+          leaf := Bvh.next_near_leaf nodes q st (-1)
+        done);
       st.busy <- false;
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
       !best_i
@@ -288,45 +235,32 @@ let first m (q : Probe.t) =
         incr k
       done
   | Some tr ->
-      let tmin = q.p_tmin in
-      let ox = q.ox
-      and oy = q.oy
-      and oz = q.oz
-      and ix = q.ix
-      and iy = q.iy
-      and iz = q.iz in
+      let tmin = q.p_tmin and ix = q.ix and iy = q.iy and iz = q.iz in
       let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-      let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      let sids = st.ids in
-      let sp = ref 0 in
-      if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids 0 0;
-        sp := 1);
-      while !found < 0 && !sp > 0 do
-        decr sp;
-        let node = Array.unsafe_get sids !sp in
-        let count = Bvh.count nodes node in
-        if count > 0 then
-          let first = Bvh.link nodes node in
-          let j = ref first in
-          while !found < 0 && !j < first + count do
-            let i = Array.unsafe_get order !j in
-            let t = test m i q tmax in
-            if t < tmax then (
-              found := i;
-              ft := t);
-            incr j
-          done
-        else
-          let l = node + 1 and rr = Bvh.link nodes node in
-          if Bvh.box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-            Array.unsafe_set sids !sp rr;
-            incr sp);
-          if Bvh.box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-            Array.unsafe_set sids !sp l;
-            incr sp)
+      st.sp <- 0;
+      Float.Array.unsafe_set st.span 0 tmin;
+      Float.Array.unsafe_set st.span 1 tmax;
+      if
+        Bvh.box_hit nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
+          tmin tmax
+      then (
+        Array.unsafe_set st.ids 0 0;
+        st.sp <- 1);
+      let node = ref (Bvh.next_leaf nodes q st) in
+      while !node >= 0 do
+        let first = Bvh.link nodes !node in
+        let j = ref first in
+        while !found < 0 && !j < first + Bvh.count nodes !node do
+          let i = Array.unsafe_get order !j in
+          let t = test m i q tmax in
+          if t < tmax then (
+            found := i;
+            ft := t);
+          incr j
+        done;
+        node := if !found < 0 then Bvh.next_leaf nodes q st else -1
       done;
       st.busy <- false);
   q.p_t <- !ft;
