@@ -9,9 +9,10 @@
    primitives' nearest roots in (tmin, tmax). The traversal computes the same minimum:
    each primitive is queried up to just past the best t (at or one float above its
    successor, {!Floats.above}), so an equal t is seen and the index decides, and a root
-   beyond it that the bound lets through loses to the best; boxes are padded by a relative 1e-9 so that rounding in the slab test never
-   culls a primitive whose hit lies on its own bounds; and a box is culled only when its
-   entry is strictly beyond the best t. *)
+   beyond it that the bound lets through loses to the best; boxes are padded by a
+   relative 1e-9 so that rounding in the slab test never culls a primitive whose hit lies
+   on its own bounds; and a box is culled only when its entry is strictly beyond the best
+   t. *)
 
 type tree = {
   nodes : Float.Array.t;  (** the hierarchy's nodes, as {!Bvh.t}'s *)
@@ -254,8 +255,8 @@ let[@inline] test p r tmax (h : Shape.hit) =
 (* The nearest hit: every query with a ray goes through a probe, [Primitive.probe_into]
    computing the roots [Primitive.intersect_into] does, bit for bit. The traversal keeps
    the lexicographic minimum of (t, index): each primitive is queried up to just past the
-   best t (p_tmax moves with the best hit), so that an equal t is seen and the index decides;
-   the scratch probe for transformed objects is the domain's. *)
+   best t (p_tmax moves with the best hit), so that an equal t is seen and the index
+   decides; the scratch probe for transformed objects is the domain's. *)
 let[@inline] probe_test (p : Primitive.t) (q : Shape.probe) obj tmax =
   q.p_tmax <- tmax;
   (* An untransformed sphere or plane, tested here without the two dispatches of

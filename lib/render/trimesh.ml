@@ -171,8 +171,8 @@ let get_stack depth = Bvh.take (Domain.DLS.get stack_key) depth
    index, as a scan of the triangles in order finds it: its index (−1 for none), its t in
    [q.p_t]. The probe's reciprocal direction must be set. The tree queries each triangle
    up to just past the best t ({!Floats.above}), so that an equal t is seen and the index
-   decides; its boxes are
-   padded (see Bvh), and one is culled only when its entry is beyond the best t. *)
+   decides; its boxes are padded (see Bvh), and one is culled only when its entry is
+   beyond the best t. *)
 let nearest m (q : Probe.t) =
   let tmax = q.p_tmax in
   match m.bvh with
