@@ -461,21 +461,30 @@ end
 module Server = Cohttp_lwt.Make_server (Io)
 
 (* Each connection accepted on [sock], served by [spec] until either side ends it, then
-   closed; what goes wrong with one of them ends only that one. *)
+   closed; what goes wrong with one of them ends only that one. A connection that went
+   away before it was accepted is skipped; out of descriptors or memory, the server waits
+   a tenth of a second for some to be given back, rather than stop. *)
 let serve sock spec =
   let close ch = Lwt.catch (fun () -> Lwt_io.close ch) (fun _ -> Lwt.return_unit) in
   let rec accept () =
-    Lwt_unix.accept ~cloexec:true sock >>= fun (fd, peer) ->
-    let ic = Lwt_io.of_fd ~mode:Lwt_io.input fd
-    and oc = Lwt_io.of_fd ~mode:Lwt_io.output fd in
-    Lwt.async (fun () ->
-        Lwt.finalize
-          (fun () ->
-            Lwt.catch
-              (fun () -> Server.callback spec peer ic oc)
-              (fun _ -> Lwt.return_unit))
-          (fun () -> close oc >>= fun () -> close ic));
-    accept ()
+    Lwt.try_bind
+      (fun () -> Lwt_unix.accept ~cloexec:true sock)
+      (fun (fd, peer) ->
+        let ic = Lwt_io.of_fd ~mode:Lwt_io.input fd
+        and oc = Lwt_io.of_fd ~mode:Lwt_io.output fd in
+        Lwt.async (fun () ->
+            Lwt.finalize
+              (fun () ->
+                Lwt.catch
+                  (fun () -> Server.callback spec peer ic oc)
+                  (fun _ -> Lwt.return_unit))
+              (fun () -> close oc >>= fun () -> close ic));
+        accept ())
+      (function
+        | Unix.Unix_error ((ECONNABORTED | EINTR | EAGAIN), _, _) -> accept ()
+        | Unix.Unix_error ((EMFILE | ENFILE | ENOBUFS | ENOMEM), _, _) ->
+            Lwt_unix.sleep 0.1 >>= accept
+        | e -> Lwt.reraise e)
   in
   accept ()
 

@@ -441,6 +441,48 @@ let mistakes () =
     (Printf.sprintf "cannot listen on 127.0.0.1:%d" port);
   Unix.close sock
 
+(* Out of file descriptors: with a limit of 40, more connections than it can accept wait
+   in the listening queue; the server waits for some to close instead of stopping, and
+   serves again once they have. *)
+let out_of_descriptors () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  let wrapper = Filename.concat d "lancer-40" in
+  Run_lancer.write_file wrapper
+    (Printf.sprintf "#!/bin/sh\nulimit -n 40 || exit 3\nexec %s \"$@\"\n"
+       (Filename.quote exe));
+  Unix.chmod wrapper 0o755;
+  let s = start ~exe:wrapper ~dir:d [ "s.rts" ] in
+  let result =
+    try
+      let e = events s in
+      ignore (wait_for e "the first full image" is_last);
+      let held =
+        List.init 60 (fun _ ->
+            let fd = Unix.socket PF_INET SOCK_STREAM 0 in
+            Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, s.port));
+            fd)
+      in
+      Unix.sleepf 1.;
+      List.iter Unix.close held;
+      let st, _ = request s "/" in
+      Alcotest.(check int) "the page loads once they are closed" 200 st;
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image of the edit" is_last);
+      close_events e;
+      Ok ()
+    with e -> Error (e, Printexc.get_raw_backtrace ())
+  in
+  let st = stop s in
+  match result with
+  | Error (e, bt) ->
+      Printf.eprintf "server stderr:\n%s\n" (stderr_text s);
+      Printexc.raise_with_backtrace e bt
+  | Ok () ->
+      Alcotest.(check bool)
+        ("still there, and exits with 130 on Ctrl-C\n" ^ stderr_text s)
+        true (st = Unix.WEXITED 130)
+
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
@@ -467,5 +509,7 @@ let () =
           Alcotest.test_case
             "paths, foreign hosts and a flood read nothing and stall nothing" `Quick
             hostile;
+          Alcotest.test_case "out of file descriptors, it waits and serves again" `Quick
+            out_of_descriptors;
         ] );
     ]
