@@ -461,9 +461,10 @@ end
 module Server = Cohttp_lwt.Make_server (Io)
 
 (* Each connection accepted on [sock], served by [spec] until either side ends it, then
-   closed; what goes wrong with one of them ends only that one. A connection that went
-   away before it was accepted is skipped; out of descriptors or memory, the server waits
-   a tenth of a second for some to be given back, rather than stop. *)
+   closed; what goes wrong with one of them ends only that one. A connection that failed
+   before it was accepted is skipped; out of descriptors or memory, the server waits a
+   tenth of a second for some to be given back, rather than stop. Only a listening socket
+   that is no longer one ends it; the socket is closed when the server ends. *)
 let serve sock spec =
   let close ch = Lwt.catch (fun () -> Lwt_io.close ch) (fun _ -> Lwt.return_unit) in
   let rec accept () =
@@ -481,12 +482,17 @@ let serve sock spec =
               (fun () -> close oc >>= fun () -> close ic));
         accept ())
       (function
-        | Unix.Unix_error ((ECONNABORTED | EINTR | EAGAIN), _, _) -> accept ()
+        | Lwt.Canceled as e -> Lwt.reraise e
+        | Unix.Unix_error ((EBADF | EINVAL | ENOTSOCK), _, _) as e -> Lwt.reraise e
         | Unix.Unix_error ((EMFILE | ENFILE | ENOBUFS | ENOMEM), _, _) ->
             Lwt_unix.sleep 0.1 >>= accept
-        | e -> Lwt.reraise e)
+        | _ ->
+            (* A connection that failed before it was accepted (the network errors
+               accept(2) passes on) or a signal: the next one. *)
+            Lwt.pause () >>= accept)
   in
-  accept ()
+  Lwt.finalize accept (fun () ->
+      Lwt.catch (fun () -> Lwt_unix.close sock) (fun _ -> Lwt.return_unit))
 
 (* Open event streams are bounded: past this many, the oldest is closed (a page that is
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
