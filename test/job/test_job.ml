@@ -95,7 +95,7 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
    that do not are handed over as the lists they were first built as, and taken whole,
    so that what a frame allocates does not grow with them (a word a fixed object for the
    frame's array of every primitive, where a copy of their list alone took three). *)
-let frames_cost_what_moves () =
+let rec frames_cost_what_moves () =
   let n = 20_000 in
   let text =
     Printf.sprintf
@@ -127,9 +127,15 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
     (s1.objects.(n) == s2.objects.(n));
   if used > 2. *. Float.of_int n then
     Alcotest.failf "a frame allocated %.0f words for %d objects that do not move" used n;
-  (* The same scene as evaluating and compiling every statement again. *)
+  same_as_again p 2 s2
+
+(* Frame [k] of [p] is the scene every statement evaluated and compiled again makes: the
+   same primitives, in the same order. *)
+and same_as_again p k (sc : Lancer_render.Scene.t) =
   let again =
-    match Lancer_dsl.Dsl.describe ~again:true p ~time:0.2 ~frame:2 with
+    match
+      Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k
+    with
     | Error _ -> Alcotest.fail "the frame does not evaluate again"
     | Ok d -> (
         match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
@@ -137,11 +143,33 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
         | Error _ -> Alcotest.fail "the frame does not compile again")
   in
   Alcotest.(check int)
-    "as many primitives" (Array.length again.objects) (Array.length s2.objects);
+    (Printf.sprintf "frame %d: as many primitives" k)
+    (Array.length again.objects) (Array.length sc.objects);
   Array.iteri
-    (fun k (o : Lancer_render.Primitive.t) ->
-      if o.shape <> again.objects.(k).shape then Alcotest.failf "primitive %d differs" k)
-    s2.objects
+    (fun i (o : Lancer_render.Primitive.t) ->
+      if o.shape <> again.objects.(i).shape then
+        Alcotest.failf "frame %d: primitive %d differs" k i)
+    sc.objects
+
+(* The pieces a frame is made of in other orders: a moving object between two still
+   statements, and a still statement after one whose count of objects changes with time
+   (it is evaluated again then, its objects new). Each frame is the scene made the long
+   way. *)
+let frames_in_pieces () =
+  let text =
+    {|settings { width: 8, height: 6 }
+animation { fps: 10, frames: 5 }
+light { position: (-3, 5, -4) }
+for i in 0 to 30 { sphere { center: (i / 10, 0.2, 1), radius: 0.05 } }
+sphere { center: (-1 + time, 1, 0), radius: 0.5 }
+for i in 0 to 20 { box { min: (i / 10, 0, 2), max: (i / 10 + 0.05, 0.05, 2.05) } }
+for i in 0 to floor(time * 20) { sphere { center: (i / 10, 2, 1), radius: 0.05 } }
+for i in 0 to 15 { sphere { center: (i / 10, 3, 1), radius: 0.05 } }
+|}
+  in
+  let p = load_anim text in
+  let frame = frames_of ~p text in
+  List.iter (fun k -> same_as_again p k (frame k)) [ 0; 1; 3; 4; 2 ]
 
 (* ---- Plan ---- *)
 
@@ -636,6 +664,8 @@ let () =
             frames_share_the_fixed_part;
           Alcotest.test_case "a frame allocates for what moves, not for what does not"
             `Quick frames_cost_what_moves;
+          Alcotest.test_case "frames of still and moving pieces in any order" `Quick
+            frames_in_pieces;
         ] );
       ( "work",
         [
