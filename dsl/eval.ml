@@ -3129,17 +3129,13 @@ let memo stmts =
   in
   { top; fixed; entries = Array.make (Array.length top) None; recorded = false }
 
-let fixed_objects m =
-  Array.fold_left
-    (fun acc e -> match e with Some e -> List.rev_append e.built acc | None -> acc)
-    [] m.entries
-  |> List.rev
-
 let fixed_pieces m =
   Array.fold_left
     (fun acc e -> match e with Some e -> e.built :: acc | None -> acc)
     [] m.entries
   |> List.rev
+
+let fixed_objects m = List.concat (fixed_pieces m)
 
 (* The names every program starts with. *)
 let top_cenv ~time ~frame =

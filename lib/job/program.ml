@@ -235,11 +235,9 @@ let fixed p =
       | Some f -> f
       | None ->
           let f =
-            match
-              ( Dsl.animation p,
-                List.filter (fun l -> not (List.is_empty l)) (Dsl.fixed_pieces p) )
-            with
-            | None, _ | _, [] -> None
+            match (Dsl.animation p, Dsl.fixed_pieces p) with
+            | None, _ -> None
+            | Some _, pieces when List.for_all List.is_empty pieces -> None
             | Some _, pieces -> Some (Compile.fixed e.assets pieces)
           in
           e.fixed <- Some f;

@@ -299,7 +299,6 @@ let linear_nearest_probe prims (q : Shape.probe) obj =
   !best_i
 
 let tree_nearest_probe a tr (q : Shape.probe) obj stack =
-  let inf = Float.infinity in
   let tmin = q.p_tmin in
   let best_t = ref q.p_tmax and best_i = ref (-1) and query = ref q.p_tmax in
   let outside = a.outside and prims = a.prims and planes = a.planes in
@@ -323,31 +322,22 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
   done;
   let nodes = tr.nodes in
   let st = get_stack stack tr.depth in
-  st.sp <- 0;
-  let ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-  if
-    Bvh.box_entry nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
-      !best_t inf
-    < inf
-  then (
-    fset st.span 0 tmin;
-    fset st.span 1 !best_t;
-    let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
-    while !leaf >= 0 do
-      let first = Bvh.link nodes !leaf in
-      for j = first to first + Bvh.count nodes !leaf - 1 do
-        let t = slot_test tr j q obj !query in
-        if t <= !best_t then
-          let i = Array.unsafe_get tr.leaf_idx j in
-          if t < !best_t || i < !best_i then (
-            best_t := t;
-            best_i := i;
-            query := Floats.above t)
-      done;
-      fset st.span 1 !best_t;
-      leaf := Bvh.next_near_leaf nodes q st (-1)
-    done);
+  (if Bvh.start_near nodes q st tmin !best_t then
+     let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
+     while !leaf >= 0 do
+       let first = Bvh.link nodes !leaf in
+       for j = first to first + Bvh.count nodes !leaf - 1 do
+         let t = slot_test tr j q obj !query in
+         if t <= !best_t then
+           let i = Array.unsafe_get tr.leaf_idx j in
+           if t < !best_t || i < !best_i then (
+             best_t := t;
+             best_i := i;
+             query := Floats.above t)
+       done;
+       fset st.span 1 !best_t;
+       leaf := Bvh.next_near_leaf nodes q st (-1)
+     done);
   st.busy <- false;
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
@@ -401,18 +391,9 @@ let tree_visit a tr r tmin tmax visit =
   if not !stop then (
     let q = Shape.probe () in
     Probe.of_ray q r;
-    let nx = Bvh.near q.ix and ny = 1 + Bvh.near q.iy and nz = 2 + Bvh.near q.iz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
-    st.sp <- 0;
-    fset st.span 0 tmin;
-    fset st.span 1 tmax;
-    if
-      Bvh.box_hit nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny)
-        (7 - nz) tmin tmax
-    then (
-      Array.unsafe_set st.ids 0 0;
-      st.sp <- 1);
+    Bvh.start nodes q st tmin tmax;
     (try
        let node = ref (Bvh.next_leaf nodes q st) in
        while !node >= 0 do
@@ -532,18 +513,10 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
     incr k
   done;
   if !found < 0 then (
-    let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
-    let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
-    st.sp <- 0;
-    fset st.span 0 tmin;
-    fset st.span 1 tmax;
-    if Bvh.box_hit nodes 0 ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-      Array.unsafe_set st.ids 0 0;
-      st.sp <- 1);
+    Bvh.start nodes q st tmin tmax;
     let node = ref (Bvh.next_leaf nodes q st) in
     while !node >= 0 do
       let count = Bvh.count nodes !node in
@@ -653,20 +626,10 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
     incr k
   done;
   if not !stop then (
-    let ix = q.ix and iy = q.iy and iz = q.iz in
-    let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
     let nodes = tr.nodes in
     let st = get_stack stack tr.depth in
     (* The interval as it was: the visits move the probe's with the crossings found. *)
-    st.sp <- 0;
-    fset st.span 0 tmin;
-    fset st.span 1 tmax;
-    if
-      Bvh.box_hit nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
-        tmax
-    then (
-      Array.unsafe_set st.ids 0 0;
-      st.sp <- 1);
+    Bvh.start nodes q st tmin tmax;
     (try
        let node = ref (Bvh.next_leaf nodes q st) in
        while !node >= 0 do

@@ -1042,10 +1042,9 @@ let[@inline never] next_leaf nodes (q : Probe.t) (st : walk) =
 
 (* The nearest walk's descent to the next leaf to test (−1: none is left), from [start]
    (−1: from the top of [st]'s stack, past the entries beyond the best t, [st.span]'s
-   second): at
-   an interior node, the nearer child whose box the ray enters before the best t next,
-   the farther one pushed with its entry t. It calls nothing, so that the ray's floats
-   stay in registers (see [next_leaf]). *)
+   second): at an interior node, the nearer child whose box the ray enters before the
+   best t next, the farther one pushed with its entry t. It calls nothing, so that the
+   ray's floats stay in registers (see [next_leaf]). *)
 let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   let inf = Float.infinity in
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
@@ -1090,3 +1089,28 @@ let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   done;
   st.sp <- !sp;
   !leaf
+
+(* A depth-first walk begun over [tmin, tmax]: the interval kept, and the root on the
+   stack if the ray crosses its box. *)
+let[@inline] start nodes (q : Probe.t) w tmin tmax =
+  w.sp <- 0;
+  fset w.span 0 tmin;
+  fset w.span 1 tmax;
+  let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
+  if
+    box_hit nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
+      tmax
+  then (
+    Array.unsafe_set w.ids 0 0;
+    w.sp <- 1)
+
+(* The nearest walk begun over [tmin, best]: whether the ray enters the root's box, the
+   walk then to go on with [next_near_leaf] from node 0. *)
+let[@inline] start_near nodes (q : Probe.t) w tmin best =
+  w.sp <- 0;
+  fset w.span 0 tmin;
+  fset w.span 1 best;
+  let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
+  box_entry nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
+    best Float.infinity
+  < Float.infinity

@@ -117,3 +117,13 @@ val next_near_leaf : Float.Array.t -> Probe.t -> walk -> int -> int
     whose entry t is beyond the best t ([w.span]'s second). At an interior node the nearer
     child whose box the ray enters by the best t comes next, the farther one is pushed
     with its entry t. Calls nothing, as {!next_leaf}. *)
+
+val start : Float.Array.t -> Probe.t -> walk -> float -> float -> unit
+(** [start nodes q w tmin tmax] begins a depth-first walk over [tmin, tmax] for
+    {!next_leaf}: the interval kept in [w.span], and the root on the stack if [q]'s ray
+    crosses its box. *)
+
+val start_near : Float.Array.t -> Probe.t -> walk -> float -> float -> bool
+(** [start_near nodes q w tmin best] begins the nearest walk over [tmin, best] for
+    {!next_near_leaf} (from node 0): whether the ray enters the root's box. The walk
+    updates [w.span]'s second as its best t improves. *)

@@ -188,33 +188,25 @@ let nearest m (q : Probe.t) =
       !best_i
   | Some tr ->
       let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
-      let tmin = q.p_tmin and ix = q.ix and iy = q.iy and iz = q.iz in
-      let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+      let tmin = q.p_tmin in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      st.sp <- 0;
-      if
-        Bvh.box_entry nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
-          tmin !best_t Float.infinity
-        < Float.infinity
-      then (
-        Float.Array.unsafe_set st.span 0 tmin;
-        Float.Array.unsafe_set st.span 1 !best_t;
-        let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
-        while !leaf >= 0 do
-          let first = Bvh.link nodes !leaf in
-          for j = first to first + Bvh.count nodes !leaf - 1 do
-            let i = Array.unsafe_get order j in
-            let t = test m i q !query in
-            if t <= !best_t then
-              if t < !best_t || i < !best_i then (
-                best_t := t;
-                best_i := i;
-                query := Floats.above t)
-          done;
-          Float.Array.unsafe_set st.span 1 !best_t;
-          leaf := Bvh.next_near_leaf nodes q st (-1)
-        done);
+      (if Bvh.start_near nodes q st tmin !best_t then
+         let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
+         while !leaf >= 0 do
+           let first = Bvh.link nodes !leaf in
+           for j = first to first + Bvh.count nodes !leaf - 1 do
+             let i = Array.unsafe_get order j in
+             let t = test m i q !query in
+             if t <= !best_t then
+               if t < !best_t || i < !best_i then (
+                 best_t := t;
+                 best_i := i;
+                 query := Floats.above t)
+           done;
+           Float.Array.unsafe_set st.span 1 !best_t;
+           leaf := Bvh.next_near_leaf nodes q st (-1)
+         done);
       st.busy <- false;
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
       !best_i
@@ -235,19 +227,10 @@ let first m (q : Probe.t) =
         incr k
       done
   | Some tr ->
-      let tmin = q.p_tmin and ix = q.ix and iy = q.iy and iz = q.iz in
-      let nx = Bvh.near ix and ny = 1 + Bvh.near iy and nz = 2 + Bvh.near iz in
+      let tmin = q.p_tmin in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      st.sp <- 0;
-      Float.Array.unsafe_set st.span 0 tmin;
-      Float.Array.unsafe_set st.span 1 tmax;
-      if
-        Bvh.box_hit nodes 0 q.ox q.oy q.oz ix iy iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
-          tmin tmax
-      then (
-        Array.unsafe_set st.ids 0 0;
-        st.sp <- 1);
+      Bvh.start nodes q st tmin tmax;
       let node = ref (Bvh.next_leaf nodes q st) in
       while !node >= 0 do
         let first = Bvh.link nodes !node in
