@@ -223,9 +223,6 @@ let unindexed prims =
 
 (* --- Traversal -------------------------------------------------------------------- *)
 
-(* Traversal stacks, one per domain ({!Bvh.walk}). *)
-type stack = Bvh.walk
-
 (* What a domain's queries reuse, found by one look-up per query. The shadow query's: a
    probe that the caller fills, and for each light slot the scene index of the primitive
    that last blocked it (-1: none), tested before the walk. Shadow rays of neighbouring
@@ -237,14 +234,12 @@ type scratch = {
   q : Shape.probe;
   obj : Shape.probe;
   mutable last : int array;
-  stack : stack;
+  stack : Bvh.walk;  (** the domain's traversal stack *)
 }
 
 let scratch_key =
   Domain.DLS.new_key (fun () ->
       { q = Shape.probe (); obj = Shape.probe (); last = [||]; stack = Bvh.new_walk () })
-
-let get_stack (s : stack) depth = Bvh.take s depth
 
 (* One primitive over (h.tmin, tmax): the root, unboxed. *)
 let[@inline] test p r tmax (h : Shape.hit) =
@@ -321,7 +316,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
       query := Floats.above t)
   done;
   let nodes = tr.nodes in
-  let st = get_stack stack tr.depth in
+  let st = Bvh.take stack tr.depth in
   (if Bvh.start_near nodes q st tmin !best_t then
      let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
      while !leaf >= 0 do
@@ -392,7 +387,7 @@ let tree_visit a tr r tmin tmax visit =
     let q = Shape.probe () in
     Probe.of_ray q r;
     let nodes = tr.nodes in
-    let st = get_stack stack tr.depth in
+    let st = Bvh.take stack tr.depth in
     Bvh.start nodes q st tmin tmax;
     (try
        let node = ref (Bvh.next_leaf nodes q st) in
@@ -515,7 +510,7 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
   if !found < 0 then (
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
-    let st = get_stack stack tr.depth in
+    let st = Bvh.take stack tr.depth in
     Bvh.start nodes q st tmin tmax;
     let node = ref (Bvh.next_leaf nodes q st) in
     while !node >= 0 do
@@ -627,7 +622,7 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
   done;
   if not !stop then (
     let nodes = tr.nodes in
-    let st = get_stack stack tr.depth in
+    let st = Bvh.take stack tr.depth in
     (* The interval as it was: the visits move the probe's with the crossings found. *)
     Bvh.start nodes q st tmin tmax;
     (try
