@@ -54,37 +54,18 @@ let fixed_part a = Option.map (fun l -> l.fixed) a.layers
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 
-(* The most flat spheres a leaf is made of by [collapse]. *)
-let collapse_max = 4
+(* The most flat spheres a leaf is made of without a split search: a sphere's early miss
+   costs less than a box test, and below a node of so few the walk would test about as
+   many boxes as there are spheres. A leaf's slots are visited in order and the nearest
+   hit is the least (t, index) whatever the order (see above), so the hit does not depend
+   on how the spheres of such a leaf would have been split. *)
+let flat_leaf_max = 4
 
-(* Interior nodes over at most [collapse_max] flat spheres become leaves over their
-   slots: a sphere's early miss costs less than a box test, and below such a node the
-   walk would test about as many boxes as there are spheres. A subtree's slots are
-   consecutive, its left subtree's first; a leaf's are visited in order, so a walk meets
-   the same primitives in the same order, and those under boxes it would have culled
-   are missed by the ray. *)
-let collapse nodes sph =
-  (* The subtree's slot count if all are flat spheres, else −1. *)
-  let rec go k =
-    let count = Bvh.count nodes k in
-    if count > 0 then (
-      let first = Bvh.link nodes k and flat = ref true in
-      for j = first to first + count - 1 do
-        if fget sph ((4 * j) + 3) < 0. then flat := false
-      done;
-      if !flat then count else -1)
-    else
-      let l = go (k + 1) in
-      let r = go (Bvh.link nodes k) in
-      if l < 0 || r < 0 then -1
-      else if l + r <= collapse_max then (
-        (* The left child is a leaf by now: its first slot is the subtree's. *)
-        fset nodes ((8 * k) + 6) (fget nodes ((8 * (k + 1)) + 6));
-        fset nodes ((8 * k) + 7) (Float.of_int (l + r));
-        l + r)
-      else l + r
-  in
-  ignore (go 0)
+(* Whether [p] is tested from [sph] (a sphere in world space), not through its primitive. *)
+let is_flat_sphere (p : Primitive.t) =
+  match p.shape with
+  | Shape.Sphere _ -> Transform.is_identity p.transform
+  | _ -> false
 
 let plane_data prims outside =
   let planes = Float.Array.make (4 * Array.length outside) Float.nan in
@@ -169,7 +150,8 @@ let build prims =
         (fget pbox (q + 5))
     done;
     let pbox = if m = n then pbox else Float.Array.sub pbox 0 (6 * m) in
-    let { Bvh.nodes; order; depth } = Bvh.build pbox in
+    let flat = Bytes.init m (fun k -> if is_flat_sphere prims.(at k) then '\001' else '\000') in
+    let { Bvh.nodes; order; depth } = Bvh.build ~cheap:(flat, flat_leaf_max) pbox in
     (* The leaf order as indices into [prims], in place. *)
     let leaf_idx = order in
     if m < n then Array.iteri (fun j k -> leaf_idx.(j) <- at k) leaf_idx;
@@ -188,7 +170,6 @@ let build prims =
             fset sph ((4 * j) + 3) radius
         | _ -> ())
       leaf_prims;
-    collapse nodes sph;
     {
       prims;
       weight;

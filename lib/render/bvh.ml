@@ -5,6 +5,7 @@ let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 let max_leaf = 8
 let bins = 16
+
 let small = 32
 
 (* --- Construction ----------------------------------------------------------------- *)
@@ -66,6 +67,10 @@ type work = {
   mutable nodes_b : Float.Array.t;  (** 8 per node (see [t]) *)
   mutable count : int;
   mutable max_depth : int;
+  cheap : Bytes.t;
+      (** by item: whether a leaf of at most [cheap_max] such items is made without a
+          split search (empty: none is) *)
+  cheap_max : int;
   (* Bin scratch, reused at every node: the areas and counts of the bins from b to the
      last, and the node's centroid bounds. *)
   right_area : Float.Array.t;
@@ -746,6 +751,16 @@ let[@inline] copy src soff dst doff n =
     fset dst (doff + k) (fget src (soff + k))
   done
 
+(* Whether every item at the positions [a, b) of the small subtree is flagged cheap. *)
+let all_cheap w a b =
+  let ok = ref true and p = ref a in
+  while !ok && !p < b do
+    let id = Array.unsafe_get w.ids (w.s_lo + Array.unsafe_get w.s_pos !p) in
+    if Bytes.unsafe_get w.cheap id <> '\001' then ok := false;
+    incr p
+  done;
+  !ok
+
 (* The node over the positions [a, b) of the small subtree, whose bounds are at [pend]
    for [depth]: [build_node]'s, with [small_split] and [small_partition]. *)
 let rec build_small w split a b depth =
@@ -759,7 +774,7 @@ let rec build_small w split a b depth =
   let n = b - a in
   let below = here + 12 in
   let mid =
-    if n <= 2 then -1
+    if n <= 2 || (n <= w.cheap_max && all_cheap w a b) then -1
     else (
       small_split w a b split;
       let best_cost = fget w.cost 0 in
@@ -876,7 +891,10 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
-let build pbox =
+let build ?(cheap = (Bytes.empty, 0)) pbox =
+  let cheap, cheap_max = cheap in
+  if Bytes.length cheap > 0 && Bytes.length cheap <> Float.Array.length pbox / 6 then
+    invalid_arg "Bvh.build: cheap does not flag every item";
   let m = Float.Array.length pbox / 6 in
   (* A tree of m items has at most 2m − 1 nodes; with leaves of one or two, as the cost
      model makes them, a little more than m. *)
@@ -889,6 +907,8 @@ let build pbox =
       nodes_b = Float.Array.create (8 * cap);
       count = 0;
       max_depth = 0;
+      cheap;
+      cheap_max;
       right_area = Float.Array.make bins 0.;
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;

@@ -18,10 +18,12 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
-val build : Float.Array.t -> t
+val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
 (** [build pb] builds the tree over the items of [pb] (as {!pad_into} writes them; their
     centroids are the boxes' midpoints). It allocates nothing per item or node beyond its
-    arrays. *)
+    arrays. With [~cheap:(flags, k)], a node of at most [k] items whose flags (by item,
+    ['\001']) all say cheap is a leaf, with no split searched: for items whose test costs
+    less than a box's. *)
 
 val link : Float.Array.t -> int -> int
 (** Node [k]'s first integer: a leaf's first slot in [order], an interior node's right

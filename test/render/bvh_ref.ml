@@ -36,6 +36,8 @@ type work = {
   small_bin : int array;
   small_p : int array;
   small_area : Float.Array.t;
+  cheap : Bytes.t;  (** by item: whether it may end a split search (see [cheap_max]) *)
+  cheap_max : int;  (** a node of at most this many cheap items is a leaf *)
 }
 
 let new_node w =
@@ -348,8 +350,15 @@ let rec build_node w split lo hi depth =
   Float.Array.blit pend (here + 6) w.cbox 0 6;
   let n = hi - lo in
   let below = here + 12 in
+  let all_cheap () =
+    let ok = ref true in
+    for i = lo to hi - 1 do
+      if Bytes.get w.cheap w.ids.(i) <> '\001' then ok := false
+    done;
+    !ok
+  in
   let mid =
-    if n <= 2 then -1
+    if n <= 2 || (n <= w.cheap_max && all_cheap ()) then -1
     else
       let best_cost =
         if n <= small then best_split_small w lo hi split else best_split w lo hi split
@@ -394,7 +403,8 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
-let build pbox =
+let build ?(cheap = (Bytes.empty, 0)) pbox =
+  let cheap, cheap_max = cheap in
   let m = Float.Array.length pbox / 6 in
   (* A tree of m items has at most 2m − 1 nodes; with leaves of one or two, as the cost
      model makes them, a little more than m. *)
@@ -416,6 +426,8 @@ let build pbox =
       small_bin = Array.make small 0;
       small_p = Array.make small 0;
       small_area = Float.Array.make small 0.;
+      cheap;
+      cheap_max;
     }
   in
   bound_range w 0 m w.pend 12;

@@ -8,5 +8,6 @@ type t = {
   depth : int;  (** the tree's depth *)
 }
 
-val build : Float.Array.t -> t
-(** [build pbox] over the padded item boxes of [pbox], as {!Lancer_render.Bvh.build}. *)
+val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
+(** [build pbox] over the padded item boxes of [pbox], as {!Lancer_render.Bvh.build}
+    (with [cheap] as there). *)

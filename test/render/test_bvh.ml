@@ -10,9 +10,9 @@ let reachable m nodes =
   let rec walk k = if Bvh.count nodes k > 0 then k + 1 else walk (Bvh.link nodes k) in
   if m = 0 then 1 else walk 0
 
-let same_tree what pbox =
-  let a = Bvh.build (Float.Array.copy pbox) in
-  let b = Bvh_ref.build (Float.Array.copy pbox) in
+let same_tree ?cheap what pbox =
+  let a = Bvh.build ?cheap (Float.Array.copy pbox) in
+  let b = Bvh_ref.build ?cheap (Float.Array.copy pbox) in
   if a.depth <> b.depth then
     Alcotest.failf "%s: depth %d, reference %d" what a.depth b.depth;
   if a.order <> b.order then Alcotest.failf "%s: the leaf order differs" what;
@@ -97,6 +97,41 @@ let large () =
            0.8,
            0.8 )))
 
+(* Items flagged cheap: a node of at most four of them is a leaf, with no split searched,
+   as in the reference; where some are not flagged the node is searched as before. *)
+let cheap_leaves () =
+  let rs = Random.State.make [| 4 |] in
+  let count_leaves nodes m =
+    (* Leaves of 3 or 4 items, reached from the root. *)
+    let rec go k acc =
+      let c = Bvh.count nodes k in
+      if c > 0 then if c >= 3 then acc + 1 else acc
+      else go (Bvh.link nodes k) (go (k + 1) acc)
+    in
+    if m = 0 then 0 else go 0 0
+  in
+  List.iter
+    (fun (name, gen) ->
+      List.iter
+        (fun m ->
+          let pb = items m gen in
+          let all = Bytes.make m '\001' in
+          let some = Bytes.init m (fun _ -> if Random.State.int rs 4 = 0 then '\000' else '\001') in
+          same_tree ~cheap:(all, 4) (Printf.sprintf "%s, %d items, all cheap" name m) pb;
+          same_tree ~cheap:(some, 4) (Printf.sprintf "%s, %d items, some cheap" name m) pb;
+          same_tree ~cheap:(Bytes.make m '\000', 4) (Printf.sprintf "%s, %d items, none cheap" name m) pb)
+        sizes)
+    (shapes rs);
+  (* Over a grid of separate boxes, the search alone splits down to one or two items a
+     leaf; cheap items stop at four. *)
+  let grid = items 4096 (fun k -> (Float.of_int (k / 64), 0., Float.of_int (k mod 64), 0.8, 0.8, 0.8)) in
+  let plain = Bvh.build (Float.Array.copy grid) in
+  let cheap = Bvh.build ~cheap:(Bytes.make 4096 '\001', 4) (Float.Array.copy grid) in
+  Alcotest.(check int) "no leaf of 3 or 4 without flags" 0 (count_leaves plain.nodes 4096);
+  if count_leaves cheap.nodes 4096 < 512 then
+    Alcotest.failf "cheap items: %d leaves of 3 or 4, expected at least 512"
+      (count_leaves cheap.nodes 4096)
+
 let () =
   Alcotest.run "bvh"
     [
@@ -105,5 +140,6 @@ let () =
           Alcotest.test_case "random sets of every shape and size" `Quick random_sets;
           Alcotest.test_case "duplicate boxes" `Quick duplicates;
           Alcotest.test_case "large sets" `Quick large;
+          Alcotest.test_case "leaves of cheap items" `Quick cheap_leaves;
         ] );
     ]
