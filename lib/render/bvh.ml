@@ -6,7 +6,12 @@ let fset = Float.Array.unsafe_set
 let max_leaf = 8
 let bins = 16
 
-let small = 32
+(* Nodes of at most [small] items are split by the sorted search of Small subtrees below
+   (three axes), larger ones by binning along their widest axis. Per item and level the
+   search costs about three times the binning: over a million spheres in a grid, 16
+   rather than 32 builds with 1.5 % fewer instructions in the whole render, and the
+   100 000-sphere field's render takes the same (within 0.2 %). *)
+let small = 16
 
 (* --- Construction ----------------------------------------------------------------- *)
 

@@ -6,7 +6,7 @@ let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 let max_leaf = 8
 let bins = 16
-let small = 32
+let small = 16
 (* --- Construction ----------------------------------------------------------------- *)
 
 (* The build allocates nothing per primitive or per node beyond its arrays: per-primitive
