@@ -58,8 +58,11 @@ let fset = Float.Array.unsafe_set
    costs less than a box test, and below a node of so few the walk would test about as
    many boxes as there are spheres. A leaf's slots are visited in order and the nearest
    hit is the least (t, index) whatever the order (see above), so the hit does not depend
-   on how the spheres of such a leaf would have been split. *)
-let flat_leaf_max = 4
+   on how the spheres of such a leaf would have been split. Measured against 4 (in
+   instructions): a million spheres in a grid build with 4.4 % fewer in the whole render
+   at 64×48, field_100000 renders at 960×540 with 0.4 % fewer and field_10000 at 480×270
+   with 0.4 % more; 6 saves less in the build (0.7 %). *)
+let flat_leaf_max = 8
 
 (* Whether [p] is tested from [sph] (a sphere in world space), not through its primitive. *)
 let is_flat_sphere (p : Primitive.t) =
