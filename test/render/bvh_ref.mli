@@ -9,5 +9,5 @@ type t = {
 }
 
 val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
-(** [build pbox] over the padded item boxes of [pbox], as {!Lancer_render.Bvh.build}
-    (with [cheap] as there). *)
+(** [build pbox] over the padded item boxes of [pbox], as {!Lancer_render.Bvh.build} (with
+    [cheap] as there). *)

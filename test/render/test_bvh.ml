@@ -116,15 +116,23 @@ let cheap_leaves () =
         (fun m ->
           let pb = items m gen in
           let all = Bytes.make m '\001' in
-          let some = Bytes.init m (fun _ -> if Random.State.int rs 4 = 0 then '\000' else '\001') in
+          let some =
+            Bytes.init m (fun _ -> if Random.State.int rs 4 = 0 then '\000' else '\001')
+          in
           same_tree ~cheap:(all, 4) (Printf.sprintf "%s, %d items, all cheap" name m) pb;
           same_tree ~cheap:(some, 4) (Printf.sprintf "%s, %d items, some cheap" name m) pb;
-          same_tree ~cheap:(Bytes.make m '\000', 4) (Printf.sprintf "%s, %d items, none cheap" name m) pb)
+          same_tree
+            ~cheap:(Bytes.make m '\000', 4)
+            (Printf.sprintf "%s, %d items, none cheap" name m)
+            pb)
         sizes)
     (shapes rs);
   (* Over a grid of separate boxes, the search alone splits down to one or two items a
      leaf; cheap items stop at four. *)
-  let grid = items 4096 (fun k -> (Float.of_int (k / 64), 0., Float.of_int (k mod 64), 0.8, 0.8, 0.8)) in
+  let grid =
+    items 4096 (fun k ->
+        (Float.of_int (k / 64), 0., Float.of_int (k mod 64), 0.8, 0.8, 0.8))
+  in
   let plain = Bvh.build (Float.Array.copy grid) in
   let cheap = Bvh.build ~cheap:(Bytes.make 4096 '\001', 4) (Float.Array.copy grid) in
   Alcotest.(check int) "no leaf of 3 or 4 without flags" 0 (count_leaves plain.nodes 4096);
