@@ -106,6 +106,62 @@ let write_frame p k sc fb =
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~inputs
 
+(* How many frames a window holds (see [render]): their scenes are all evaluated before
+   the first is rendered, so at most about 64 MB of their object arrays (8 bytes an
+   object), and at least two. Over the 24 frames of scenes/bench/field_moving.rts (100 000
+   still spheres, one moving across a tenth of the picture in eight frames), windows of 4,
+   8, 12 and 24 frames render 832 000, 479 000, 382 000 and 348 000 of the frames' 3.1 M
+   pixels: the box grows more slowly than the frames it covers. *)
+let window (sc : Scene.t) = max 2 (min 24 (8_000_000 / max 1 (Array.length sc.objects)))
+
+(* Whether a frame's pixels may be shared with other frames': none of its pixels is drawn
+   at random by frame (jitter, a lens), and what its moving part holds is bounded. *)
+let reusable (sc : Scene.t) =
+  (not sc.settings.jitter)
+  && (not (Camera.depth_of_field sc.view))
+  && Option.is_some (Accel.moving_bounds sc.accel)
+
+(* Whether two frames' scenes differ only in their moving parts: the same settings,
+   camera, lights and features, and physically the same fixed part. A pixel none of
+   whose queries meets either moving part then has the same colour in both, bit for
+   bit: every query's answer is the fixed part's, and every other input is equal. *)
+let shares_pixels (a : Scene.t) (b : Scene.t) =
+  (match (Accel.fixed_part a.accel, Accel.fixed_part b.accel) with
+  | Some x, Some y -> x == y
+  | _ -> false)
+  &&
+  try
+    a.settings = b.settings && a.camera = b.camera && a.lights = b.lights
+    && a.features = b.features
+  with Invalid_argument _ -> false
+
+(* The box around the moving parts of [scenes] (all {!reusable}), padded by a millionth
+   of its magnitude: what a window's first frame watches its queries for. *)
+let reach scenes =
+  let u =
+    Float.Array.of_list
+      [ infinity; infinity; infinity; neg_infinity; neg_infinity; neg_infinity ]
+  in
+  List.iter
+    (fun (sc : Scene.t) ->
+      match Accel.moving_bounds sc.accel with
+      | Some b ->
+          for k = 0 to 2 do
+            Float.Array.set u k (Float.min (Float.Array.get u k) (Float.Array.get b k));
+            Float.Array.set u (k + 3)
+              (Float.max (Float.Array.get u (k + 3)) (Float.Array.get b (k + 3)))
+          done
+      | None -> invalid_arg "Animation.reach: an unbounded moving part")
+    scenes;
+  let m = ref 0. in
+  Float.Array.iter (fun v -> if Float.is_finite v then m := Float.max !m (Float.abs v)) u;
+  let e = (1e-6 *. !m) +. 1e-9 in
+  for k = 0 to 2 do
+    Float.Array.set u k (Float.Array.get u k -. e);
+    Float.Array.set u (k + 3) (Float.Array.get u (k + 3) +. e)
+  done;
+  u
+
 let render ?cancel ~domains ~on_frame p =
   Render.with_pool ?cancel domains (fun pool ->
       (* The first frame's scene tells how large the scenes are; it is evaluated once and
@@ -132,34 +188,73 @@ let render ?cancel ~domains ~on_frame p =
             in
             Float.of_int (2 * domains) *. bytes < 2e9
       in
-      match pool with
-      | Some pool when List.length p.todo >= 2 * domains && small ->
-          (* Whole frames in parallel, one domain each: small frames keep every core busy,
-             and their encoding and writing run in parallel too. Scenes are evaluated in
-             order on this domain, a batch at a time; a frame's bytes are the same either
-             way. *)
-          let todo = Array.of_list p.todo in
-          let n = Array.length todo and batch = 2 * domains in
-          let rec go start =
-            if start < n then (
-              let ks = Array.sub todo start (min batch (n - start)) in
-              let scenes = Array.map scene ks in
-              Pool.parallel_for pool (Array.length ks) (fun i ->
-                  let fb, st = Render.render ?cancel scenes.(i) in
-                  write_frame p ks.(i) scenes.(i) fb;
-                  on_frame ks.(i) st);
-              go (start + batch))
+      (* Whole frames in parallel, one domain each, where there are enough of them and
+         they are small: small frames keep every core busy, and their encoding and
+         writing run in parallel too. Otherwise one after the other, each over every
+         domain in tiles. Scenes are evaluated in order on this domain; a frame's bytes
+         are the same either way. *)
+      let parallel =
+        match pool with
+        | Some pool when List.length p.todo >= 2 * domains && small -> Some pool
+        | _ -> None
+      in
+      (* Frames [fs] (with their scenes), each rendered with [reuse] over the pool's
+         domains in tiles, or in parallel one domain each. *)
+      let frames ?reuse fs =
+        let render_one (k, sc) =
+          let fb, st =
+            Render.render ?cancel ?pool:(if parallel = None then pool else None) ?reuse sc
           in
-          go 0
-      | _ ->
-          (* Few frames: one after the other, each over every domain in tiles. *)
-          List.iter
-            (fun k ->
-              let sc = scene k in
-              let fb, st = Render.render ?cancel ?pool sc in
-              write_frame p k sc fb;
-              on_frame k st)
-            p.todo)
+          write_frame p k sc fb;
+          on_frame k st
+        in
+        match parallel with
+        | Some pool when List.compare_length_with fs 1 > 0 ->
+            let fs = Array.of_list fs in
+            Pool.parallel_for pool (Array.length fs) (fun i -> render_one fs.(i))
+        | _ -> List.iter render_one fs
+      in
+      (* The frames after [head] that [keep] accepts, at most [n], evaluated now: those
+         taken, the first refused (which starts the next turn), and the rest. *)
+      let rec take keep n acc = function
+        | k :: rest when n > 0 ->
+            let sc = scene k in
+            if keep sc then take keep (n - 1) ((k, sc) :: acc) rest
+            else (List.rev acc, Some (k, sc), rest)
+        | rest -> (List.rev acc, None, rest)
+      in
+      let rec go head todo =
+        match (head, todo) with
+        | None, [] -> ()
+        | None, k :: rest -> go (Some (k, scene k)) rest
+        | Some (k, sc), rest when reusable sc ->
+            (* A window: the frames after [k] that share its pixels. Frame k is
+               rendered watching where the window's moving parts reach, over every
+               domain; the others render only the pixels that met it. *)
+            let later, next, rest =
+              take
+                (fun sc' -> reusable sc' && shares_pixels sc sc')
+                (window sc - 1)
+                [] rest
+            in
+            (if later = [] then frames [ (k, sc) ]
+             else
+               let box = reach (sc :: List.map snd later) in
+               let mask = Bytes.make (sc.settings.width * sc.settings.height) '\001' in
+               let base, st =
+                 Render.render ?cancel ?pool ~reuse:(Watch { box; mask }) sc
+               in
+               write_frame p k sc base;
+               on_frame k st;
+               frames ~reuse:(Only { mask; base }) later);
+            go next rest
+        | Some (k, sc), rest ->
+            let batch = if parallel = None then 1 else 2 * domains in
+            let more, next, rest = take (fun _ -> true) (batch - 1) [] rest in
+            frames ((k, sc) :: more);
+            go next rest
+      in
+      go None p.todo)
 
 let finish p = ignore (Frameset.finish p.set ~input_digest:p.source.input_digest)
 

@@ -66,9 +66,7 @@ let flat_leaf_max = 8
 
 (* Whether [p] is tested from [sph] (a sphere in world space), not through its primitive. *)
 let is_flat_sphere (p : Primitive.t) =
-  match p.shape with
-  | Shape.Sphere _ -> Transform.is_identity p.transform
-  | _ -> false
+  match p.shape with Shape.Sphere _ -> Transform.is_identity p.transform | _ -> false
 
 let plane_data prims outside =
   let planes = Float.Array.make (4 * Array.length outside) Float.nan in
@@ -153,7 +151,9 @@ let build prims =
         (fget pbox (q + 5))
     done;
     let pbox = if m = n then pbox else Float.Array.sub pbox 0 (6 * m) in
-    let flat = Bytes.init m (fun k -> if is_flat_sphere prims.(at k) then '\001' else '\000') in
+    let flat =
+      Bytes.init m (fun k -> if is_flat_sphere prims.(at k) then '\001' else '\000')
+    in
     let { Bvh.nodes; order; depth } = Bvh.build ~cheap:(flat, flat_leaf_max) pbox in
     (* The leaf order as indices into [prims], in place. *)
     let leaf_idx = order in
@@ -219,11 +219,60 @@ type scratch = {
   obj : Shape.probe;
   mutable last : int array;
   stack : Bvh.walk;  (** the domain's traversal stack *)
+  watched : Float.Array.t;  (** the watched box (min x y z, max x y z) *)
+  mutable watching : bool;
+  mutable touched : bool;
+      (** whether a query since {!untouch} may have met the watched box *)
 }
 
 let scratch_key =
   Domain.DLS.new_key (fun () ->
-      { q = Shape.probe (); obj = Shape.probe (); last = [||]; stack = Bvh.new_walk () })
+      {
+        q = Shape.probe ();
+        obj = Shape.probe ();
+        last = [||];
+        stack = Bvh.new_walk ();
+        watched = Float.Array.make 6 0.;
+        watching = false;
+        touched = false;
+      })
+
+let watch sc box =
+  match box with
+  | None -> sc.watching <- false
+  | Some b ->
+      if Float.Array.length b <> 6 then invalid_arg "Accel.watch: a box is 6 floats";
+      Float.Array.blit b 0 sc.watched 0 6;
+      sc.watching <- true
+
+let untouch sc = sc.touched <- false
+let touched sc = sc.touched
+
+(* Whether the segment (t0, t1) of the probe's ray may meet the watched box: false only
+   where every axis's slab is missed for certain (a NaN, from an origin on a slab plane
+   with a direction along it, or an infinite t1, leaves it met). Divisions, not the
+   probe's reciprocal, which a query may not have set yet. *)
+let meets sc (q : Shape.probe) t0 t1 =
+  let b = sc.watched in
+  let lo = ref t0 and hi = ref t1 and miss = ref false in
+  let axis o d k =
+    let a = fget b k and c = fget b (k + 3) in
+    if a > c || (d = 0. && (o < a || o > c)) then miss := true
+    else if d = 0. then ()
+    else
+      let u = (a -. o) /. d and v = (c -. o) /. d in
+      let near = if u < v then u else v and far = if u < v then v else u in
+      if near > !lo then lo := near;
+      if far < !hi then hi := far
+  in
+  axis q.ox q.dx 0;
+  axis q.oy q.dy 1;
+  axis q.oz q.dz 2;
+  not (!miss || !lo > !hi)
+
+(* A query over (t0, t1) seen by a watch: marks it touched where it may meet the box. *)
+let[@inline] seen sc q t0 t1 =
+  if sc.watching && (not sc.touched) && meets sc q t0 t1 then sc.touched <- true
 
 (* One primitive over (h.tmin, tmax): the root, unboxed. *)
 let[@inline] test p r tmax (h : Shape.hit) =
@@ -536,7 +585,15 @@ let domain_scratch () = Domain.DLS.get scratch_key
 
 let nearest_probe_with sc a (q : Shape.probe) =
   Probe.set_inv_dir q;
-  nearest_probe_in a q sc.obj sc.stack
+  if sc.watching then (
+    (* The segment up to the answer: no moving surface nearer than it means none of the
+       watched box's crosses the ray before the answer. *)
+    let t0 = q.p_tmin
+    and t1 = q.p_tmax in
+    let i = nearest_probe_in a q sc.obj sc.stack in
+    seen sc q t0 (if i >= 0 && q.p_t < t1 then q.p_t else t1);
+    i)
+  else nearest_probe_in a q sc.obj sc.stack
 
 let nearest_probe a q = nearest_probe_with (domain_scratch ()) a q
 
@@ -649,12 +706,14 @@ let rec transparent_in a (q : Shape.probe) obj stack visit =
 
 let transparent_crossings_with sc a (q : Shape.probe) visit =
   Probe.set_inv_dir q;
+  seen sc q q.p_tmin q.p_tmax;
   transparent_in a q sc.obj sc.stack visit
 
 let transparent_crossings a q visit =
   transparent_crossings_with (domain_scratch ()) a q visit
 
 let occluded_with sc a (q : Shape.probe) ~slot =
+  seen sc q q.p_tmin q.p_tmax;
   let obj = sc.obj in
   q.ix <- 1. /. q.dx;
   q.iy <- 1. /. q.dy;
@@ -692,3 +751,28 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
     tree = None;
     layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
   }
+
+let moving_bounds a =
+  match a.layers with
+  | None -> None
+  | Some l -> (
+      let u =
+        Float.Array.of_list
+          [ infinity; infinity; infinity; neg_infinity; neg_infinity; neg_infinity ]
+      in
+      let b = Float.Array.create 6 in
+      let exception Unbounded in
+      try
+        Array.iter
+          (fun p ->
+            Primitive.bounds_into p b 0;
+            for k = 0 to 5 do
+              if not (Float.is_finite (fget b k)) then raise Unbounded
+            done;
+            for k = 0 to 2 do
+              fset u k (Float.min (fget u k) (fget b k));
+              fset u (k + 3) (Float.max (fget u (k + 3)) (fget b (k + 3)))
+            done)
+          l.moving.prims;
+        Some u
+      with Unbounded -> None)

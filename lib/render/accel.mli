@@ -118,6 +118,23 @@ type scratch
 val domain_scratch : unit -> scratch
 (** The calling domain's scratch. It must be used by that domain only. *)
 
+val watch : scratch -> Float.Array.t option -> unit
+(** [watch sc (Some box)] makes the queries below, with [sc], mark [sc] {!touched} when
+    the segment they search may meet [box] (min x y z, max x y z): a nearest query its
+    segment up to its answer, an occlusion or a fold of crossings all of it. It errs only
+    towards touched. [watch sc None] stops it. *)
+
+val untouch : scratch -> unit
+(** Clear {!touched}. *)
+
+val touched : scratch -> bool
+(** Whether a query watched since {!untouch} may have met the box. *)
+
+val moving_bounds : t -> Float.Array.t option
+(** For a {!layered} structure, the box (6 floats: min x y z, max x y z) around the
+    primitives of its moving part (empty, min +∞ and max −∞, when there are none), or
+    [None] where one of them is unbounded or the structure is not layered. *)
+
 val nearest_probe_with : scratch -> t -> Shape.probe -> int
 (** [nearest_probe_with (domain_scratch ()) a q] is [nearest_probe a q]. *)
 

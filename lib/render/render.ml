@@ -211,18 +211,57 @@ let coverage (sc : Scene.t) i j =
   done;
   Float.of_int !hits /. Float.of_int (n * n)
 
-let render_tile ?alpha sc st fb x0 y0 x1 y1 =
+type reuse =
+  | Watch of { box : Float.Array.t; mask : Bytes.t }
+  | Only of { mask : Bytes.t; base : Image.t }
+
+let check_reuse (fb : Image.t) = function
+  | None -> ()
+  | Some (Watch { box; mask }) ->
+      if Float.Array.length box <> 6 || Bytes.length mask <> fb.width * fb.height then
+        invalid_arg "Render: a watch's box or mask has the wrong size"
+  | Some (Only { mask; base }) ->
+      if
+        Bytes.length mask <> fb.width * fb.height
+        || base.width <> fb.width || base.height <> fb.height
+      then invalid_arg "Render: a reuse's mask or image has the wrong size"
+
+let render_tile ?alpha ?reuse sc st fb x0 y0 x1 y1 =
+  check_reuse fb reuse;
+  if Option.is_some alpha && Option.is_some reuse then
+    invalid_arg "Render: alpha with a reuse (coverage is not watched)";
   let scr = scratch () in
   let f = Shade.frag scr.shade in
-  for j = y0 to y1 - 1 do
-    for i = x0 to x1 - 1 do
-      pixel_into sc st scr i j;
-      Image.set_rgb fb i j f.r f.g f.b;
-      match alpha with
-      | Some a -> Float.Array.set a ((j * fb.Image.width) + i) (coverage sc i j)
-      | None -> ()
-    done
-  done
+  let ax = Shade.accel_scratch scr.shade in
+  let w = fb.Image.width in
+  (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
+  Fun.protect
+    ~finally:(fun () -> Accel.watch ax None)
+    (fun () ->
+      for j = y0 to y1 - 1 do
+        for i = x0 to x1 - 1 do
+          let p = (j * w) + i in
+          match reuse with
+          | Some (Only { mask; base }) when Bytes.get mask p = '\000' ->
+              (* Untouched by what changes: the base's pixel, as it would be again. *)
+              for c = 0 to 2 do
+                Float.Array.set fb.data
+                  ((3 * p) + c)
+                  (Float.Array.get base.data ((3 * p) + c))
+              done
+          | _ -> (
+              Accel.untouch ax;
+              pixel_into sc st scr i j;
+              Image.set_rgb fb i j f.r f.g f.b;
+              (match reuse with
+              | Some (Watch { mask; _ }) ->
+                  Bytes.set mask p (if Accel.touched ax then '\001' else '\000')
+              | _ -> ());
+              match alpha with
+              | Some a -> Float.Array.set a p (coverage sc i j)
+              | None -> ())
+        done
+      done)
 
 let tiles ?region (sc : Scene.t) =
   let w = sc.settings.width and h = sc.settings.height in
@@ -269,7 +308,7 @@ let cached_tiles ?region (sc : Scene.t) =
       all
 
 let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region
-    ?alpha (sc : Scene.t) fb idxs =
+    ?alpha ?reuse (sc : Scene.t) fb idxs =
   let all = cached_tiles ?region sc in
   let n = Array.length idxs in
   let stats = Array.init n (fun _ -> Stats.create ~cancel ()) in
@@ -277,7 +316,7 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
   let work k =
     Cancel.check cancel;
     let x0, y0, x1, y1 = all.(idxs.(k)) in
-    render_tile ?alpha sc stats.(k) fb x0 y0 x1 y1;
+    render_tile ?alpha ?reuse sc stats.(k) fb x0 y0 x1 y1;
     on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) stats.(k)
   in
   (match pool with
@@ -292,7 +331,8 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
   Array.iter (Stats.add_into total) stats;
   total
 
-let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene.t) =
+let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse (sc : Scene.t)
+    =
   let fb = Image.create sc.settings.width sc.settings.height in
   (* Outside a region: the background, and alpha 0. *)
   if region <> None then
@@ -304,7 +344,7 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha (sc : Scene
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
   let n = Array.length (tiles ?region sc) in
   let st =
-    render_tiles ?cancel ?pool ?region ?alpha
+    render_tiles ?cancel ?pool ?region ?alpha ?reuse
       ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st))
       sc fb (Array.init n Fun.id)
   in

@@ -22,8 +22,21 @@ val coverage : Scene.t -> int -> int -> float
     primary ray hits a surface: the n×n points of [samples] (jittered like the colour's);
     with adaptive sampling the refined max(n, 4)×max(n, 4) points, in every pixel. *)
 
+(** What a render may take from another: a scene whose pixels untouched by a box are the
+    same as another's (an animation's frames where only what lies in the box moves)
+    renders those pixels once ({!Watch}) and copies them into the others ({!Only}). *)
+type reuse =
+  | Watch of { box : Float.Array.t; mask : Bytes.t }
+      (** render every pixel, and set [mask]'s byte of pixel (i, j) (at j·width + i) to
+          ['\001'] where one of its queries may have met [box] (min x y z, max x y z; see
+          {!Accel.watch}), ['\000'] elsewhere *)
+  | Only of { mask : Bytes.t; base : Image.t }
+      (** render the pixels whose [mask] byte is ['\001'] and take the others from [base]
+      *)
+
 val render_tile :
   ?alpha:Float.Array.t ->
+  ?reuse:reuse ->
   Scene.t ->
   Stats.t ->
   Image.t ->
@@ -33,7 +46,8 @@ val render_tile :
   int ->
   unit
 (** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
-    with [alpha] it also stores each pixel's {!coverage} there (row-major). *)
+    with [alpha] it also stores each pixel's {!coverage} there (row-major); with [reuse]
+    as {!reuse} says. *)
 
 val tiles : ?region:Image.region -> Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major; with [region] only those
@@ -45,6 +59,7 @@ val render_tiles :
   ?on_tile:(int -> int -> Stats.t -> unit) ->
   ?region:Image.region ->
   ?alpha:Float.Array.t ->
+  ?reuse:reuse ->
   Scene.t ->
   Image.t ->
   int array ->
@@ -65,6 +80,7 @@ val render :
   ?on_tile:(int -> int -> int -> unit) ->
   ?region:Image.region ->
   ?alpha:Float.Array.t ->
+  ?reuse:reuse ->
   Scene.t ->
   Image.t * Stats.t
 (** [render scene] renders the whole image through {!render_tiles}.

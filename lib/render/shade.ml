@@ -125,6 +125,7 @@ let scratch () =
 
 let probe scr = scr.q
 let frag scr = scr.f
+let accel_scratch scr = scr.ax
 
 (* Where no opaque surface blocks the shadow ray that [scr.sq] holds (the occlusion
    query leaves its origin, direction and interval as they were): the product over the

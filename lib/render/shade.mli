@@ -41,6 +41,10 @@ val probe : scratch -> Probe.t
 val frag : scratch -> Frag.t
 (** Where {!trace_into} leaves its colour, in [(r, g, b)]. *)
 
+val accel_scratch : scratch -> Accel.scratch
+(** The domain's query scratch the shading steps pass to their queries (what a watch of
+    {!Accel.watch} is set on). *)
+
 val trace_into : Scene.t -> Stats.t -> scratch -> int -> unit
 (** [trace_into scene stats scr depth] is {!trace} of the ray that [probe scr] holds, bit
     for bit, its colour written into [(frag scr).(r, g, b)]. Camera, reflected and

@@ -639,6 +639,133 @@ let mover_shares_shift () =
   Alcotest.(check bool) "as translate" true (mb = Primitive.translate d b);
   Alcotest.(check bool) "one shift" true (ma.shift == mb.shift)
 
+(* ---- Frames that share their pixels ---- *)
+
+(* The frames of an animation as [Animation.render] writes them (one domain, so one frame
+   after the other, windows of frames sharing what does not move), each against a render
+   of its own scene from scratch: the same bytes. Returns the primary rays of each frame
+   as rendered there. *)
+let frames_as_rendered ?(domains = 1) name text =
+  let p = load_anim text in
+  let fps, count =
+    match Lancer_dsl.Dsl.animation p with
+    | Some a -> a
+    | None -> Alcotest.fail "not animated"
+  in
+  let source : Source.t =
+    {
+      file = "anim.rts";
+      builtin = false;
+      animation = Some (fps, count);
+      evaluate =
+        (fun ~progress:_ ~cancel:_ ~time ~frame ->
+          match Lancer.Program.scene_at p ~time ~frame with
+          | Ok sc -> (sc, [])
+          | Error _ -> Alcotest.fail "the animated scene does not evaluate");
+      inputs = (fun () -> [ "anim.rts" ]);
+      text_digest = (fun () -> text);
+      input_digest = (fun _ -> "");
+    }
+  in
+  let dir = Filename.concat (tmpdir ()) "frames" in
+  let plan =
+    Animation.plan ~dir:(Some dir) ~frames:None ~shard:None ~resume:false
+      ~overrides:Overrides.none (fun () -> source)
+  in
+  let primary = Array.make count 0 in
+  Animation.render ~domains plan ~on_frame:(fun k st -> primary.(k) <- st.primary);
+  Animation.finish plan;
+  let fresh = load_anim text in
+  for k = 0 to count - 1 do
+    let sc =
+      match Lancer.Program.scene_at fresh ~time:(Float.of_int k /. fps) ~frame:k with
+      | Ok sc -> sc
+      | Error _ -> Alcotest.fail "a frame does not evaluate"
+    in
+    let fb, _ = Render.render sc in
+    let expected = Image.to_bytes sc.settings.gamma fb in
+    match Image.read_rgb8 (Filename.concat dir (Frameset.frame_name k)) with
+    | Error m -> Alcotest.fail m
+    | Ok (_, _, bytes) ->
+        if not (Bytes.equal expected bytes) then
+          Alcotest.failf "%s: frame %d differs from its own render" name k
+  done;
+  primary
+
+(* A field of still spheres, a mirror, a shiny sphere, a soft light, a spot light, a
+   textured floor, fog and a sky, and one sphere moving across: what the moving sphere's
+   queries can reach in any frame is rendered in every frame, the rest once a window. *)
+let shared_scene =
+  {|settings { width: 48, height: 32, samples: 2, depth: 6,
+           background: gradient((0.9, 0.8, 0.7), (0.2, 0.3, 0.8)), fog: fog((0.6, 0.6, 0.7), 30) }
+animation { fps: 10, frames: 7 }
+camera { position: (0, 4, -9), look_at: (0, 0.5, 0), fov: 55 }
+light { position: (-3, 6, -4), radius: 0.4, samples: 2 }
+light { position: (3, 5, -2), point_at: (1, 0, 1), inner: 10, outer: 30 }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((1, 1, 1), (0.2, 0.2, 0.2), 1) } }
+plane { normal: (0, 0, 1), offset: 6, material: material { reflection: 0.6 } }
+sphere { center: (2, 0.8, 0), radius: 0.8, material: material { specular: 0.8, shininess: 80, reflection: 0.5 } }
+for i in 0 to 9 { for j in 0 to 3 {
+  sphere { center: (i - 5, 0.25, j - 1), radius: 0.25, material: material { color: (0.3 + i / 15, 0.5, 0.6) } }
+} }
+sphere { center: (-4 + 1.2 * time * 10, 1, -1), radius: 0.6,
+         material: material { color: (0.9, 0.2, 0.1), reflection: 0.3, specular: 0.5 } }
+|}
+
+let frames_share_pixels () =
+  (* On one domain the frames of a window one after the other; on two, its first over
+     both in tiles, the others in parallel. *)
+  List.iter
+    (fun domains ->
+      let primary =
+        frames_as_rendered ~domains
+          (Printf.sprintf "a sphere moving, %d domains" domains)
+          shared_scene
+      in
+      (* 48×32 pixels, 2×2 samples: 6144 primary rays where every pixel is rendered. *)
+      Alcotest.(check int) "the first frame renders every pixel" 6144 primary.(0);
+      Array.iteri
+        (fun k n ->
+          if k > 0 && not (n > 0 && n < 6144 / 2) then
+            Alcotest.failf "frame %d cast %d primary rays: expected under half of 6144" k
+              n)
+        primary)
+    [ 1; 2 ];
+  (* What changes more than the moving part: nothing is shared, and the frames are the
+     same as their own renders. *)
+  let variant what by =
+    let n = String.length what in
+    let rec at i =
+      if i + n > String.length shared_scene then Alcotest.failf "no %S in the scene" what
+      else if String.sub shared_scene i n = what then i
+      else at (i + 1)
+    in
+    let i = at 0 in
+    String.sub shared_scene 0 i ^ by
+    ^ String.sub shared_scene (i + n) (String.length shared_scene - i - n)
+  in
+  List.iter
+    (fun (name, text) ->
+      let primary = frames_as_rendered name text in
+      Array.iteri
+        (fun k n ->
+          if n <> 6144 then
+            Alcotest.failf "%s: frame %d cast %d primary rays, not 6144" name k n)
+        primary)
+    [
+      ( "a moving light",
+        variant "light { position: (-3, 6, -4)" "light { position: (-3 + time, 6, -4)" );
+      ( "a moving camera",
+        variant "camera { position: (0, 4, -9)" "camera { position: (time, 4, -9)" );
+      ( "jittered samples",
+        variant "samples: 2, depth: 6" "samples: 2, jitter: true, depth: 6" );
+      ( "a glass sphere (one structure over all, for the order of its crossings)",
+        variant "reflection: 0.5 }" "transparency: 0.9, ior: 1.5, fresnel: true }" );
+      ( "a moving plane",
+        variant "plane { normal: (0, 0, 1), offset: 6"
+          "plane { normal: (0, 0, 1), offset: 6 + time" );
+    ]
+
 let () =
   Alcotest.run "job"
     [
@@ -666,6 +793,8 @@ let () =
             `Quick frames_cost_what_moves;
           Alcotest.test_case "frames of still and moving pieces in any order" `Quick
             frames_in_pieces;
+          Alcotest.test_case "frames share the pixels that nothing moving reaches" `Quick
+            frames_share_pixels;
         ] );
       ( "work",
         [
