@@ -119,7 +119,7 @@ let window (sc : Scene.t) = max 2 (min 24 (8_000_000 / max 1 (Array.length sc.ob
 let reusable (sc : Scene.t) =
   (not sc.settings.jitter)
   && (not (Camera.depth_of_field sc.view))
-  && Option.is_some (Accel.moving_bounds sc.accel)
+  && Option.is_some (Accel.moving_bounds [ sc.accel ])
 
 (* Whether two frames' scenes differ only in their moving parts: the same settings,
    camera, lights and features, and physically the same fixed part. A pixel none of
@@ -134,33 +134,6 @@ let shares_pixels (a : Scene.t) (b : Scene.t) =
     a.settings = b.settings && a.camera = b.camera && a.lights = b.lights
     && a.features = b.features
   with Invalid_argument _ -> false
-
-(* The box around the moving parts of [scenes] (all {!reusable}), padded by a millionth
-   of its magnitude: what a window's first frame watches its queries for. *)
-let reach scenes =
-  let u =
-    Float.Array.of_list
-      [ infinity; infinity; infinity; neg_infinity; neg_infinity; neg_infinity ]
-  in
-  List.iter
-    (fun (sc : Scene.t) ->
-      match Accel.moving_bounds sc.accel with
-      | Some b ->
-          for k = 0 to 2 do
-            Float.Array.set u k (Float.min (Float.Array.get u k) (Float.Array.get b k));
-            Float.Array.set u (k + 3)
-              (Float.max (Float.Array.get u (k + 3)) (Float.Array.get b (k + 3)))
-          done
-      | None -> invalid_arg "Animation.reach: an unbounded moving part")
-    scenes;
-  let m = ref 0. in
-  Float.Array.iter (fun v -> if Float.is_finite v then m := Float.max !m (Float.abs v)) u;
-  let e = (1e-6 *. !m) +. 1e-9 in
-  for k = 0 to 2 do
-    Float.Array.set u k (Float.Array.get u k -. e);
-    Float.Array.set u (k + 3) (Float.Array.get u (k + 3) +. e)
-  done;
-  u
 
 let render ?cancel ~domains ~on_frame p =
   Render.with_pool ?cancel domains (fun pool ->
@@ -239,7 +212,14 @@ let render ?cancel ~domains ~on_frame p =
             in
             (if later = [] then frames [ (k, sc) ]
              else
-               let box = reach (sc :: List.map snd later) in
+               let box =
+                 match
+                   Accel.moving_bounds
+                     (List.map (fun (_, (s : Scene.t)) -> s.accel) ((k, sc) :: later))
+                 with
+                 | Some b -> b
+                 | None -> invalid_arg "Animation.render: an unbounded moving part"
+               in
                let mask = Bytes.make (sc.settings.width * sc.settings.height) '\001' in
                let base, st =
                  Render.render ?cancel ?pool ~reuse:(Watch { box; mask }) sc

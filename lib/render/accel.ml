@@ -752,27 +752,41 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
     layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
   }
 
-let moving_bounds a =
-  match a.layers with
-  | None -> None
-  | Some l -> (
-      let u =
-        Float.Array.of_list
-          [ infinity; infinity; infinity; neg_infinity; neg_infinity; neg_infinity ]
-      in
-      let b = Float.Array.create 6 in
-      let exception Unbounded in
-      try
-        Array.iter
-          (fun p ->
-            Primitive.bounds_into p b 0;
-            for k = 0 to 5 do
-              if not (Float.is_finite (fget b k)) then raise Unbounded
-            done;
-            for k = 0 to 2 do
-              fset u k (Float.min (fget u k) (fget b k));
-              fset u (k + 3) (Float.max (fget u (k + 3)) (fget b (k + 3)))
-            done)
-          l.moving.prims;
-        Some u
-      with Unbounded -> None)
+let moving_bounds accels =
+  let u =
+    Float.Array.of_list
+      [ infinity; infinity; infinity; neg_infinity; neg_infinity; neg_infinity ]
+  in
+  let b = Float.Array.create 6 in
+  let exception Unbounded in
+  let add p =
+    Primitive.bounds_into p b 0;
+    for k = 0 to 5 do
+      if not (Float.is_finite (fget b k)) then raise Unbounded
+    done;
+    for k = 0 to 2 do
+      fset u k (Float.min (fget u k) (fget b k));
+      fset u (k + 3) (Float.max (fget u (k + 3)) (fget b (k + 3)))
+    done
+  in
+  match
+    List.iter
+      (fun a ->
+        match a.layers with
+        | None -> raise Unbounded
+        | Some l -> Array.iter add l.moving.prims)
+      accels
+  with
+  | exception Unbounded -> None
+  | () ->
+      (* Padded by a millionth of its magnitude: {!meets} then errs towards met. *)
+      let m = ref 0. in
+      Float.Array.iter
+        (fun v -> if Float.is_finite v then m := Float.max !m (Float.abs v))
+        u;
+      let e = (1e-6 *. !m) +. 1e-9 in
+      for k = 0 to 2 do
+        fset u k (fget u k -. e);
+        fset u (k + 3) (fget u (k + 3) +. e)
+      done;
+      Some u

@@ -130,10 +130,11 @@ val untouch : scratch -> unit
 val touched : scratch -> bool
 (** Whether a query watched since {!untouch} may have met the box. *)
 
-val moving_bounds : t -> Float.Array.t option
-(** For a {!layered} structure, the box (6 floats: min x y z, max x y z) around the
-    primitives of its moving part (empty, min +∞ and max −∞, when there are none), or
-    [None] where one of them is unbounded or the structure is not layered. *)
+val moving_bounds : t list -> Float.Array.t option
+(** The box (6 floats: min x y z, max x y z) around the primitives of the moving parts of
+    these {!layered} structures, padded by a millionth of its magnitude (empty, min +∞ and
+    max −∞, when there are none), or [None] where one of them is unbounded or one
+    structure is not layered. *)
 
 val nearest_probe_with : scratch -> t -> Shape.probe -> int
 (** [nearest_probe_with (domain_scratch ()) a q] is [nearest_probe a q]. *)

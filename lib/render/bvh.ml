@@ -1115,12 +1115,16 @@ let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   st.sp <- !sp;
   !leaf
 
+(* An empty stack, and the interval the descents cull by. *)
+let[@inline] begin_span w t0 t1 =
+  w.sp <- 0;
+  fset w.span 0 t0;
+  fset w.span 1 t1
+
 (* A depth-first walk begun over [tmin, tmax]: the interval kept, and the root on the
    stack if the ray crosses its box. *)
 let[@inline] start nodes (q : Probe.t) w tmin tmax =
-  w.sp <- 0;
-  fset w.span 0 tmin;
-  fset w.span 1 tmax;
+  begin_span w tmin tmax;
   let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
   if
     box_hit nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
@@ -1132,9 +1136,7 @@ let[@inline] start nodes (q : Probe.t) w tmin tmax =
 (* The nearest walk begun over [tmin, best]: whether the ray enters the root's box, the
    walk then to go on with [next_near_leaf] from node 0. *)
 let[@inline] start_near nodes (q : Probe.t) w tmin best =
-  w.sp <- 0;
-  fset w.span 0 tmin;
-  fset w.span 1 best;
+  begin_span w tmin best;
   let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
   box_entry nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
     best Float.infinity
