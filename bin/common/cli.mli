@@ -135,8 +135,9 @@ val scene_with_files :
   Lancer_job.Source.t ->
   time:float ->
   frame:int ->
-  Lancer.Scene.t * (string * string) list
-(** [scene_at], and the image and mesh files it read with their digests. *)
+  Lancer.Scene.t * string list
+(** [scene_at], and the image and mesh files it read (paths; their digests are taken where
+    a checkpoint records them). *)
 
 val checkpoint :
   opts ->
@@ -144,7 +145,7 @@ val checkpoint :
   out:string ->
   time:float ->
   frame:int ->
-  files:(string * string) list ->
+  files:string list ->
   Lancer.Scene.t ->
   Lancer_job.Checkpoint.t
 (** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),

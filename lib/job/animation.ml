@@ -93,6 +93,7 @@ let evaluate ?cancel p k =
 
 let frame_scene ?cancel p k =
   let sc, files = evaluate ?cancel p k in
+  let files = List.map (fun f -> (f, p.source.input_digest f)) files in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);
   sc
 
@@ -101,7 +102,7 @@ let write_frame p k sc fb =
   let inputs =
     match Mutex.protect p.inputs_lock (fun () -> Hashtbl.find_opt p.inputs k) with
     | Some i -> i
-    | None -> snd (evaluate p k)
+    | None -> List.map (fun f -> (f, p.source.input_digest f)) (snd (evaluate p k))
   in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~inputs

@@ -36,7 +36,7 @@ let key (src : Source.t) overrides ~time ~frame ~files =
           ([
              "lancer-still-v1";
              src.text_digest ();
-             String.concat "," (List.map (fun (f, d) -> f ^ "=" ^ d) files);
+             String.concat "," (List.map (fun f -> f ^ "=" ^ src.input_digest f) files);
              Printf.sprintf "%h" time;
              string_of_int frame;
            ]

@@ -21,7 +21,7 @@ val key :
   Overrides.t ->
   time:float ->
   frame:int ->
-  files:(string * string) list ->
+  files:string list ->
   string
 (** The key of a still: what its pixels depend on (the scene's text digest, the files it
     read, the time and frame, the overrides). *)

@@ -298,7 +298,7 @@ let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map
     (fun (sc, (d : D.t)) ->
       let files = List.sort_uniq compare (List.map (Dsl.scene_relative p) d.files) in
-      (sc, List.map (fun f -> (f, Dsl.input_digest p f)) files))
+      (sc, files))
     (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
 
 let scene_at ?body_state ?progress ?cancel ?index p ~time ~frame =

@@ -87,9 +87,10 @@ val scene_with_files :
   Dsl.t ->
   time:float ->
   frame:int ->
-  (Scene.t * (string * string) list, Diagnostic.t list) result
-(** {!scene_at}, and the image and mesh files that scene names, sorted: each as (its path
-    from the main file's directory, {!Dsl.input_digest} of it). *)
+  (Scene.t * string list, Diagnostic.t list) result
+(** {!scene_at}, and the image and mesh files that scene names, sorted, as paths from the
+    main file's directory. Their digests ({!Dsl.input_digest}) are left to the callers
+    that record them: a still without a checkpoint never reads a mesh twice. *)
 
 (** {1 For [lancer check]} *)
 

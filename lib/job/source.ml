@@ -7,7 +7,7 @@ type t = {
     cancel:Cancel.t option ->
     time:float ->
     frame:int ->
-    Scene.t * (string * string) list;
+    Scene.t * string list;
   inputs : unit -> string list;
   text_digest : unit -> string;
   input_digest : string -> string;

@@ -14,9 +14,9 @@ type t = {
     cancel:Cancel.t option ->
     time:float ->
     frame:int ->
-    Scene.t * (string * string) list;
+    Scene.t * string list;
       (** the scene at a time, as the file sets it, and the image and mesh files it read
-          with their MD5s; raises {!Job_error.Scene} for its located errors *)
+          (their MD5s come from [input_digest] where they are recorded); raises {!Job_error.Scene} for its located errors *)
   inputs : unit -> string list;
       (** the files read so far: the scene, its includes, images and meshes *)
   text_digest : unit -> string;  (** a digest of the scene's text and includes *)
@@ -30,7 +30,7 @@ val scene :
   Overrides.t ->
   time:float ->
   frame:int ->
-  Scene.t * (string * string) list
+  Scene.t * string list
 (** [evaluate], then the overrides ({!Overrides.apply}). *)
 
 val reads : t -> (string * string) list

@@ -353,7 +353,7 @@ let animation_source ?(text = "text") input : Source.t =
     builtin = false;
     animation = Some (4., 4);
     evaluate =
-      (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ ("tex.ppm", !input) ]));
+      (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ "tex.ppm" ]));
     inputs = (fun () -> [ "anim.rts"; "tex.ppm" ]);
     text_digest = (fun () -> text);
     input_digest = (fun _ -> !input);
@@ -450,6 +450,23 @@ let checkpoint_roundtrip () =
     (Checkpoint.resumed (Checkpoint.start ~out ~key:"k1" sc));
   Checkpoint.remove back;
   Alcotest.(check bool) "removed" false (Sys.file_exists (Checkpoint.path_for out))
+
+(* A still's key names the files it read and their digests as the source gives them when
+   the key is made: an edited texture is another key, the same one is the same key. *)
+let checkpoint_key_follows_inputs () =
+  let input = ref "d1" in
+  let key () =
+    Checkpoint.key (animation_source input) Overrides.none ~time:0. ~frame:0
+      ~files:[ "tex.ppm" ]
+  in
+  let k1 = key () in
+  Alcotest.(check string) "the same inputs, the same key" k1 (key ());
+  input := "d2";
+  Alcotest.(check bool) "an edited input, another key" false (String.equal k1 (key ()));
+  Alcotest.(check bool)
+    "no input file, another key" false
+    (String.equal k1
+       (Checkpoint.key (animation_source input) Overrides.none ~time:0. ~frame:0 ~files:[]))
 
 (* ---- Work units ---- *)
 
@@ -782,6 +799,8 @@ let () =
             frames_record;
           Alcotest.test_case "a checkpoint comes back bit for bit" `Quick
             checkpoint_roundtrip;
+          Alcotest.test_case "a still's checkpoint key follows its inputs' digests" `Quick
+            checkpoint_key_follows_inputs;
           Alcotest.test_case "an animation's plan: shards, resume, stale frames" `Quick
             animation_plan;
         ] );
