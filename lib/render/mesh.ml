@@ -28,12 +28,6 @@ let push2 s u v =
   Float.Array.unsafe_set s.fl (k + 1) v;
   s.len <- s.len + 1
 
-let vec s i =
-  let k = 3 * i in
-  Vec3.v (Float.Array.get s.fl k)
-    (Float.Array.get s.fl (k + 1))
-    (Float.Array.get s.fl (k + 2))
-
 (* Triangles' corner indices, three 32-bit ints each. *)
 type corners = { mutable ix : Trimesh.ints; mutable n : int }
 
@@ -49,6 +43,19 @@ let push_corners s a b c =
   Bigarray.Array1.unsafe_set s.ix (k + 1) (Int32.of_int b);
   Bigarray.Array1.unsafe_set s.ix (k + 2) (Int32.of_int c);
   s.n <- s.n + 1
+
+(* The normals' and texture coordinates' corners of a mesh that has none are only
+   counted: the array is made, its first faces marked absent, at the first face that has
+   them (a million faces without them would write 24 MB of −1 that are dropped). *)
+let push_absent s =
+  if Bigarray.Array1.dim s.ix = 0 then s.n <- s.n + 1 else push_corners s (-1) (-1) (-1)
+
+let push_present s a b c =
+  if Bigarray.Array1.dim s.ix = 0 && s.n > 0 then (
+    let d = Trimesh.ints (3 * 2 * (s.n + 1)) in
+    Bigarray.Array1.fill (Bigarray.Array1.sub d 0 (3 * s.n)) (-1l);
+    s.ix <- d);
+  push_corners s a b c
 
 let trimmed s =
   if 3 * s.n = Bigarray.Array1.dim s.ix then s.ix
@@ -249,18 +256,33 @@ let parse_mesh ?(smooth = true) ~file text =
   in
   let face i j k =
     let cv = !cv and ct = !ct and cn = !cn in
-    let pa = vec vs cv.(i) and pb = vec vs cv.(j) and pc = vec vs cv.(k) in
-    let area = Vec3.length (Vec3.cross (Vec3.sub pb pa) (Vec3.sub pc pa)) in
+    (* |(b − a) × (c − a)|, in floats (as Vec3.length of Vec3.cross would compute it). *)
+    let p = vs.fl and a = 3 * cv.(i) and b = 3 * cv.(j) and c = 3 * cv.(k) in
+    let ax = Float.Array.get p a
+    and ay = Float.Array.get p (a + 1)
+    and az = Float.Array.get p (a + 2) in
+    let ux = Float.Array.get p b -. ax
+    and uy = Float.Array.get p (b + 1) -. ay
+    and uz = Float.Array.get p (b + 2) -. az in
+    let wx = Float.Array.get p c -. ax
+    and wy = Float.Array.get p (c + 1) -. ay
+    and wz = Float.Array.get p (c + 2) -. az in
+    let area =
+      Vec3.length3
+        ((uy *. wz) -. (uz *. wy))
+        ((uz *. wx) -. (ux *. wz))
+        ((ux *. wy) -. (uy *. wx))
+    in
     if area > 0. && Float.is_finite area then (
       push_corners tv cv.(i) cv.(j) cv.(k);
       if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then (
         with_normals := true;
-        push_corners tn cn.(i) cn.(j) cn.(k))
-      else push_corners tn (-1) (-1) (-1);
+        push_present tn cn.(i) cn.(j) cn.(k))
+      else push_absent tn;
       if ct.(i) >= 0 && ct.(j) >= 0 && ct.(k) >= 0 then (
         with_uvs := true;
-        push_corners tt ct.(i) ct.(j) ct.(k))
-      else push_corners tt (-1) (-1) (-1))
+        push_present tt ct.(i) ct.(j) ct.(k))
+      else push_absent tt)
   in
   (* One line's words: a statement. Within a statement, components are checked from the
      last to the first. *)

@@ -325,6 +325,26 @@ let mesh_tests =
             Alcotest.(check string) "kind" "mesh" (Shape.name t2);
             check_vec "flat without normals" (v 0. 0. 1.) (Shape.normal t3 (v 0.5 0.7 0.))
         | l -> Alcotest.failf "3 triangles expected, got %d" (List.length l));
+    case "faces without normals or (u, v) before and after one with them" (fun () ->
+        let text =
+          quad
+          ^ "vt 0.25 0.5\nvn 1 0 1\nf 1 2 3\nf 1 2 3\nf 1/1/1 2/1/1 3/1/1\nf 1 3 4\n"
+        in
+        match parse_ok text with
+        | [ t1; t2; t3; t4 ] ->
+            let p = v 0.9 0.1 0. in
+            check_vec "first: flat" Vec3.z_axis (Shape.normal t1 p);
+            check_vec "second: flat" Vec3.z_axis (Shape.normal t2 p);
+            check_vec "third: its normals" (Vec3.normalize (v 1. 0. 1.)) (Shape.normal t3 p);
+            let u, w = Shape.uv t3 p in
+            close "its u" 0.25 u;
+            close "its v" 0.5 w;
+            check_vec "fourth: flat" Vec3.z_axis (Shape.normal t4 (v 0.1 0.9 0.));
+            let u, w = Shape.uv t1 p and u', w' = Shape.uv t4 (v 0.1 0.9 0.) in
+            Alcotest.(check bool)
+              "the others: no (u, v) of the file" true
+              ((u, w) <> (0.25, 0.5) && (u', w') <> (0.25, 0.5))
+        | l -> Alcotest.failf "4 triangles expected, got %d" (List.length l));
     case "smooth:false keeps the flat normal" (fun () ->
         match parse_ok ~smooth:false (quad ^ "vn 1 0 1\nf 1//1 2//1 3//1\n") with
         | [ t ] -> check_vec "flat" Vec3.z_axis (Shape.normal t (v 0.9 0.1 0.))
