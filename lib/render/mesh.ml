@@ -160,6 +160,80 @@ let int_at text s e =
   if !ok then Some (if neg then - !m else !m)
   else int_of_string_opt (String.sub text s (e - s))
 
+(* --- Lines read in one pass -----------------------------------------------------------
+
+   Most lines of a large file are "v x y z" and "f a b c" (or a/b/c, a//c, a/b corners)
+   in the plain forms above. Such a line is read as it is scanned, without first being cut
+   into words: a number is the bytes [float_at] would read the same way (at most 15
+   digits, an optional point and minus sign), a corner's indices positive and among those
+   read so far. Any other byte, form or count leaves the line to the general reading,
+   from its start, which also gives every error its message. *)
+
+let[@inline] blank c = c = ' ' || c = '\t' || c = '\r'
+let[@inline] ends_word c = blank c || c = '\n'
+
+(* Past the blanks from [i]. *)
+let skip_blanks text len i =
+  let j = ref i in
+  while !j < len && blank (String.unsafe_get text !j) do
+    incr j
+  done;
+  !j
+
+(* The plain decimal at [i], ended by a blank, a newline or the end: its value in
+   [out.(0)] and the position after it, or −1. *)
+let scan_decimal text len i out =
+  let j = ref i in
+  let neg = !j < len && String.unsafe_get text !j = '-' in
+  if neg then incr j;
+  let m = ref 0 and nd = ref 0 and frac = ref (-1) and go = ref true in
+  while !go && !j < len do
+    let c = String.unsafe_get text !j in
+    if c >= '0' && c <= '9' then (
+      m := (10 * !m) + digit c;
+      incr nd;
+      if !frac >= 0 then incr frac;
+      incr j)
+    else if c = '.' && !frac < 0 && !nd > 0 then (
+      frac := 0;
+      incr j)
+    else go := false
+  done;
+  if !nd = 0 || !nd > 15 || (!j < len && not (ends_word (String.unsafe_get text !j)))
+  then -1
+  else
+    let f = Float.of_int !m in
+    let f = if !frac > 0 then f /. Float.Array.unsafe_get pow10 !frac else f in
+    Float.Array.unsafe_set out 0 (if neg then -.f else f);
+    !j
+
+(* The positive index at [i] into [n] elements, ended by a slash, a blank, a newline or
+   the end: as a 0-based index in [out.(0)] and the position after it, or −1. *)
+let scan_index text len n i out =
+  let j = ref i and m = ref 0 in
+  while
+    !j < len
+    &&
+    let c = String.unsafe_get text !j in
+    c >= '0' && c <= '9'
+  do
+    m := (10 * !m) + digit (String.unsafe_get text !j);
+    incr j
+  done;
+  if
+    !j = i
+    || !j - i > 18
+    || !m < 1
+    || !m > n
+    || (!j < len
+       &&
+       let c = String.unsafe_get text !j in
+       not (c = '/' || ends_word c))
+  then -1
+  else (
+    Array.unsafe_set out 0 (!m - 1);
+    !j)
+
 (* The coordinate range of the whole renderer (doc/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let max_coordinate = 1e150
@@ -284,6 +358,102 @@ let parse_mesh ?(smooth = true) ~file text =
         push_present tt ct.(i) ct.(j) ct.(k))
       else push_absent tt)
   in
+  (* The line starting at [i] read in one pass (see Lines read in one pass): the
+     position after its newline (after the end for the last line), or −1 to read it word
+     by word. *)
+  let num = Float.Array.make 3 0. and one = Float.Array.make 1 0. and ix = Array.make 1 0 in
+  let fast_vertex i =
+    let j = ref (i + 1) and k = ref 0 in
+    while !k < 3 && !j >= 0 do
+      let j0 = skip_blanks text len !j in
+      if j0 = !j then j := -1
+      else (
+        let e = scan_decimal text len j0 one in
+        if e >= 0 then Float.Array.unsafe_set num !k (Float.Array.unsafe_get one 0);
+        j := e;
+        incr k)
+    done;
+    if !j < 0 then -1
+    else
+      let e = skip_blanks text len !j in
+      if e < len && String.unsafe_get text e <> '\n' then -1
+      else (
+        push3 vs (Float.Array.unsafe_get num 0) (Float.Array.unsafe_get num 1)
+          (Float.Array.unsafe_get num 2);
+        e + 1)
+  in
+  (* One corner at [i]: its indices into the corner arrays at [c], the position after it
+     or −1. *)
+  let fast_corner c i =
+    let e = scan_index text len vs.len i ix in
+    if e < 0 then -1
+    else
+      let v = Array.unsafe_get ix 0 in
+      let e, t, n =
+        if e < len && String.unsafe_get text e = '/' then
+          if e + 1 < len && String.unsafe_get text (e + 1) = '/' then
+            let e2 = scan_index text len vns.len (e + 2) ix in
+            (e2, -1, Array.unsafe_get ix 0)
+          else
+            let e1 = scan_index text len vts.len (e + 1) ix in
+            let t = Array.unsafe_get ix 0 in
+            if e1 >= 0 && e1 < len && String.unsafe_get text e1 = '/' then
+              let e2 = scan_index text len vns.len (e1 + 1) ix in
+              (e2, t, Array.unsafe_get ix 0)
+            else (e1, t, -1)
+        else (e, -1, -1)
+      in
+      if e < 0 || (e < len && String.unsafe_get text e = '/') then -1
+      else (
+        if c >= Array.length !cv then (
+          let grow a =
+            let d = Array.make (2 * c) 0 in
+            Array.blit !a 0 d 0 c;
+            a := d
+          in
+          grow cv;
+          grow ct;
+          grow cn);
+        !cv.(c) <- v;
+        !ct.(c) <- t;
+        !cn.(c) <- n;
+        e)
+  in
+  let fast_face i =
+    let j = ref (i + 1) and k = ref 0 and go = ref true in
+    while !go do
+      let j0 = skip_blanks text len !j in
+      if j0 >= len || String.unsafe_get text j0 = '\n' then (
+        j := j0;
+        go := false)
+      else if j0 = !j then (
+        j := -1;
+        go := false)
+      else
+        let e = fast_corner !k j0 in
+        if e < 0 then (
+          j := -1;
+          go := false)
+        else (
+          j := e;
+          incr k)
+    done;
+    if !j < 0 || !k < 3 then -1
+    else (
+      incr faces;
+      for c = 1 to !k - 2 do
+        face 0 c (c + 1)
+      done;
+      !j + 1)
+  in
+  let fast_line i =
+    if i + 1 >= len then -1
+    else
+      match String.unsafe_get text i with
+      | 'v' -> fast_vertex i
+      | 'f' -> fast_face i
+      | _ -> -1
+  in
   (* One line's words: a statement. Within a statement, components are checked from the
      last to the first. *)
   let statement line =
@@ -329,25 +499,33 @@ let parse_mesh ?(smooth = true) ~file text =
        anywhere makes the whole file not text, whatever else is wrong with it: the scan
        stops at one, and the first error found before one is checked against the rest. *)
     let line = ref 1 and i = ref 0 and start = ref (-1) and comment = ref false in
+    let bol = ref true in
     nw := 0;
     while !i <= len do
-      let c = if !i = len then '\n' else String.unsafe_get text !i in
-      if c = '\000' then bad 1 "not a text file"
-      else if c = '\n' then (
-        if !start >= 0 then add_word !start !i;
-        statement !line;
-        nw := 0;
-        start := -1;
-        comment := false;
-        if !i < len then incr line)
-      else if !comment then ()
-      else if c = ' ' || c = '\t' || c = '\r' || c = '#' then (
-        if !start >= 0 then (
-          add_word !start !i;
-          start := -1);
-        if c = '#' then comment := true)
-      else if !start < 0 then start := !i;
-      incr i
+      let e = if !bol then fast_line !i else -1 in
+      if e >= 0 then (
+        (* A whole line read in one pass, its newline too unless it was the last. *)
+        if e <= len then incr line;
+        i := e)
+      else
+        let c = if !i = len then '\n' else String.unsafe_get text !i in
+        bol := c = '\n';
+        if c = '\000' then bad 1 "not a text file"
+        else if c = '\n' then (
+          if !start >= 0 then add_word !start !i;
+          statement !line;
+          nw := 0;
+          start := -1;
+          comment := false;
+          if !i < len then incr line)
+        else if !comment then ()
+        else if c = ' ' || c = '\t' || c = '\r' || c = '#' then (
+          if !start >= 0 then (
+            add_word !start !i;
+            start := -1);
+          if c = '#' then comment := true)
+        else if !start < 0 then start := !i;
+        incr i
     done;
     let lines = !line in
     if tv.n = 0 && !faces > 0 then

@@ -71,7 +71,8 @@ let () =
         case =
           (fun st ->
             (".obj", if Random.State.bool st then G.random_obj st else G.mutated_obj st));
-        check = (fun (_, text) -> G.check_obj text);
+        check =
+          (fun (_, text) -> Result.bind (G.check_obj text) (fun () -> G.check_obj_lines text));
         tried = 0;
         failed = 0;
       };

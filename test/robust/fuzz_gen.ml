@@ -240,6 +240,35 @@ let check_obj text =
       then Ok ()
       else Error "a triangle with non-finite bounds"
 
+let indented text =
+  " " ^ String.concat "\n " (String.split_on_char '\n' text)
+
+let describe_faces = function
+  | Error m -> "Error " ^ m
+  | Ok tris ->
+      let b = Buffer.create 256 in
+      let v (p : Vec3.t) = Printf.bprintf b "%h %h %h " p.x p.y p.z in
+      List.iter
+        (function
+          | Shape.Triangle { a; b = pb; c; tn; normals; uvs } ->
+              List.iter v [ a; pb; c; tn ];
+              Option.iter (fun (x, y, z) -> List.iter v [ x; y; z ]) normals;
+              Option.iter
+                (fun ((u0, v0), (u1, v1), (u2, v2)) ->
+                  List.iter (Printf.bprintf b "%h ") [ u0; v0; u1; v1; u2; v2 ])
+                uvs;
+              Buffer.add_char b '\n'
+          | s -> Buffer.add_string b (Shape.name s ^ "\n"))
+        tris;
+      Buffer.contents b
+
+let check_obj_lines text =
+  let parse t = try Mesh.parse ~file:"fuzz.obj" t with e -> Error (Printexc.to_string e) in
+  let direct = describe_faces (parse text)
+  and by_words = describe_faces (parse (indented text)) in
+  if String.equal direct by_words then Ok ()
+  else Error (Printf.sprintf "one pass:\n%s\nword by word:\n%s" direct by_words)
+
 (* ---- images ---- *)
 
 let tmp_counter = ref 0

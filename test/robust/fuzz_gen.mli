@@ -16,6 +16,11 @@ val check_obj : string -> (unit, string) result
     answers a message without the file name or on several lines, or returns no triangle or
     one with non-finite bounds. *)
 
+val check_obj_lines : string -> (unit, string) result
+(** The loader's one-pass reading of plain lines against its word-by-word reading: the
+    text and the same text with every line indented by a blank (which no line's one-pass
+    reading takes) must give the same triangles, bit for bit, or the same message. *)
+
 val with_temp_file : string -> string -> (string -> 'a) -> 'a
 (** [with_temp_file ext contents f] is [f path] for a temporary file holding [contents],
     removed afterwards. *)

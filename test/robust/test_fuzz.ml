@@ -24,6 +24,10 @@ let obj_props =
       G.random_obj G.check_obj;
     prop ~name:"mutated OBJ files give triangles or a located one-line error" ~count:4000
       G.mutated_obj G.check_obj;
+    prop ~name:"random OBJ text reads the same in one pass as word by word" ~count:3000
+      G.random_obj G.check_obj_lines;
+    prop ~name:"mutated OBJ files read the same in one pass as word by word" ~count:3000
+      G.mutated_obj G.check_obj_lines;
   ]
 
 let image_props =
