@@ -162,8 +162,8 @@ let int_at text s e =
 
 (* --- Lines read in one pass -----------------------------------------------------------
 
-   Most lines of a large file are "v x y z" and "f a b c" (or a/b/c, a//c, a/b corners)
-   in the plain forms above. Such a line is read as it is scanned, without first being cut
+   Most lines of a large file are "v x y z", "vn x y z", "vt u v" and "f a b c" (or
+   a/b/c, a//c, a/b corners) in the plain forms above. Such a line is read as it is scanned, without first being cut
    into words: a number is the bytes [float_at] would read the same way (at most 15
    digits, an optional point and minus sign), a corner's indices positive and among those
    read so far. Any other byte, form or count leaves the line to the general reading,
@@ -362,9 +362,11 @@ let parse_mesh ?(smooth = true) ~file text =
      position after its newline (after the end for the last line), or −1 to read it word
      by word. *)
   let num = Float.Array.make 3 0. and one = Float.Array.make 1 0. and ix = Array.make 1 0 in
-  let fast_vertex i =
-    let j = ref (i + 1) and k = ref 0 in
-    while !k < 3 && !j >= 0 do
+  (* [count] numbers after the keyword, which ends at [i]: pushed (a vertex, normal or
+     texture coordinate) by [push]. *)
+  let fast_numbers i count push =
+    let j = ref i and k = ref 0 in
+    while !k < count && !j >= 0 do
       let j0 = skip_blanks text len !j in
       if j0 = !j then j := -1
       else (
@@ -378,10 +380,13 @@ let parse_mesh ?(smooth = true) ~file text =
       let e = skip_blanks text len !j in
       if e < len && String.unsafe_get text e <> '\n' then -1
       else (
-        push3 vs (Float.Array.unsafe_get num 0) (Float.Array.unsafe_get num 1)
-          (Float.Array.unsafe_get num 2);
+        push ();
         e + 1)
   in
+  let get k = Float.Array.unsafe_get num k in
+  let push_v () = push3 vs (get 0) (get 1) (get 2)
+  and push_vn () = push3 vns (get 0) (get 1) (get 2)
+  and push_vt () = push2 vts (get 0) (get 1) in
   (* One corner at [i]: its indices into the corner arrays at [c], the position after it
      or −1. *)
   let fast_corner c i =
@@ -450,7 +455,11 @@ let parse_mesh ?(smooth = true) ~file text =
     if i + 1 >= len then -1
     else
       match String.unsafe_get text i with
-      | 'v' -> fast_vertex i
+      | 'v' -> (
+          match String.unsafe_get text (i + 1) with
+          | 'n' -> fast_numbers (i + 2) 3 push_vn
+          | 't' -> fast_numbers (i + 2) 2 push_vt
+          | _ -> fast_numbers (i + 1) 3 push_v)
       | 'f' -> fast_face i
       | _ -> -1
   in
