@@ -874,9 +874,9 @@ and build_large w split lo hi depth =
    whose hit lies on its own bounds. *)
 let[@inline] pad_into pb k x0 y0 z0 x1 y1 z1 =
   let m =
-    Float.max
-      (Float.max (Float.abs x0) (Float.max (Float.abs y0) (Float.abs z0)))
-      (Float.max (Float.abs x1) (Float.max (Float.abs y1) (Float.abs z1)))
+    Floats.max
+      (Floats.max (Float.abs x0) (Floats.max (Float.abs y0) (Float.abs z0)))
+      (Floats.max (Float.abs x1) (Floats.max (Float.abs y1) (Float.abs z1)))
   in
   let e = (1e-9 *. m) +. 1e-300 in
   let q = 6 * k in

@@ -86,10 +86,9 @@ let[@inline] test m k (q : Probe.t) tmax =
 
 let min_bvh = 8
 
-(* Float.min and Float.max, bit for bit (NaN, and −0 below +0), with the C call for the
-   sign only where the two are equal or one is NaN. *)
-let[@inline] fmin (x : float) y = if x < y then x else if y < x then y else Float.min x y
-let[@inline] fmax (x : float) y = if x > y then x else if y > x then y else Float.max x y
+(* Float.min and Float.max, bit for bit (NaN, and −0 below +0): Floats.min and max. *)
+let[@inline] fmin (x : float) y = Floats.min x y
+let[@inline] fmax (x : float) y = Floats.max x y
 
 let make ~pos ~nrm ~tex ~tv ~tn ~tt =
   let count = Bigarray.Array1.dim tv / 3 in
