@@ -8,6 +8,14 @@ type t = {
   cancel : Cancel.t;
   mutable until_poll : int;
   mutable budget : int;
+  _p0 : int;
+  _p1 : int;
+  _p2 : int;
+  _p3 : int;
+  _p4 : int;
+  _p5 : int;
+  _p6 : int;
+  _p7 : int;
 }
 
 let create ?(cancel = Cancel.create ()) () =
@@ -21,6 +29,14 @@ let create ?(cancel = Cancel.create ()) () =
     cancel;
     until_poll = Cancel.check_every;
     budget = 0;
+    _p0 = 0;
+    _p1 = 0;
+    _p2 = 0;
+    _p3 = 0;
+    _p4 = 0;
+    _p5 = 0;
+    _p6 = 0;
+    _p7 = 0;
   }
 
 let[@inline] tick s =

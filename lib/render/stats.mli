@@ -12,6 +12,18 @@ type t = {
   cancel : Cancel.t;  (** polled by {!tick} *)
   mutable until_poll : int;  (** rays left before {!tick} polls [cancel] again *)
   mutable budget : int;  (** secondary rays the current camera sample may still cast *)
+  _p0 : int;
+  _p1 : int;
+  _p2 : int;
+  _p3 : int;
+  _p4 : int;
+  _p5 : int;
+  _p6 : int;
+  _p7 : int;
+      (** a cache line of nothing after the counters: the counters of tasks made one
+          after the other (so side by side in memory) that two domains run are never in
+          one cache line, which every ray's count would otherwise pass between the
+          cores *)
 }
 
 val create : ?cancel:Cancel.t -> unit -> t
