@@ -58,10 +58,11 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
     if enc.alpha then Some (Float.Array.make (sc.settings.width * sc.settings.height) 0.)
     else None
   in
-  let t0 = Unix.gettimeofday () in
+  (* Before the clock starts: the checkpoint's key reads the files' digests. *)
   let checkpoint =
     if resume then Some (Cli.checkpoint o src ~out ~time ~frame ~files sc) else None
   in
+  let t0 = Unix.gettimeofday () in
   let fb, st =
     Still.render ~cancel ?checkpoint ?region ?alpha ~domains
       ~on_tile:(fun d rays -> Progress.update ~rays progress d)

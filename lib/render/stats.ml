@@ -16,6 +16,14 @@ type t = {
   _p5 : int;
   _p6 : int;
   _p7 : int;
+  _p8 : int;
+  _p9 : int;
+  _p10 : int;
+  _p11 : int;
+  _p12 : int;
+  _p13 : int;
+  _p14 : int;
+  _p15 : int;
 }
 
 let create ?(cancel = Cancel.create ()) () =
@@ -37,6 +45,14 @@ let create ?(cancel = Cancel.create ()) () =
     _p5 = 0;
     _p6 = 0;
     _p7 = 0;
+    _p8 = 0;
+    _p9 = 0;
+    _p10 = 0;
+    _p11 = 0;
+    _p12 = 0;
+    _p13 = 0;
+    _p14 = 0;
+    _p15 = 0;
   }
 
 let[@inline] tick s =

@@ -20,10 +20,18 @@ type t = {
   _p5 : int;
   _p6 : int;
   _p7 : int;
-      (** a cache line of nothing after the counters: the counters of tasks made one
-          after the other (so side by side in memory) that two domains run are never in
-          one cache line, which every ray's count would otherwise pass between the
-          cores *)
+  _p8 : int;
+  _p9 : int;
+  _p10 : int;
+  _p11 : int;
+  _p12 : int;
+  _p13 : int;
+  _p14 : int;
+  _p15 : int;
+      (** two cache lines of nothing after the counters (processors fetch lines in
+          pairs): the counters of tasks made one after the other (so side by side in
+          memory) that two domains run are never in one cache line, which every ray's
+          count would otherwise pass between the cores *)
 }
 
 val create : ?cancel:Cancel.t -> unit -> t
