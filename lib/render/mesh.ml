@@ -290,6 +290,21 @@ let parse_mesh ?(smooth = true) ~file text =
   let cv = ref (Array.make 16 0)
   and ct = ref (Array.make 16 0)
   and cn = ref (Array.make 16 0) in
+  (* Corner [j] of the current face. *)
+  let set_corner j v t n =
+    if j >= Array.length !cv then (
+      let grow a =
+        let d = Array.make (2 * j) 0 in
+        Array.blit !a 0 d 0 j;
+        a := d
+      in
+      grow cv;
+      grow ct;
+      grow cn);
+    !cv.(j) <- v;
+    !ct.(j) <- t;
+    !cn.(j) <- n
+  in
   let corner line j k =
     let s = ws0 k and e = ws1 k in
     let slash from =
@@ -315,18 +330,7 @@ let parse_mesh ?(smooth = true) ~file text =
         let t = if p2 = p1 + 1 then -1 else index line "texture" vts.len (p1 + 1) p2 in
         (index line "vertex" vs.len s p1, t, n)
     in
-    if j >= Array.length !cv then (
-      let grow a =
-        let d = Array.make (2 * j) 0 in
-        Array.blit !a 0 d 0 j;
-        a := d
-      in
-      grow cv;
-      grow ct;
-      grow cn);
-    !cv.(j) <- v;
-    !ct.(j) <- t;
-    !cn.(j) <- n
+    set_corner j v t n
   in
   let face i j k =
     let cv = !cv and ct = !ct and cn = !cn in
@@ -410,18 +414,7 @@ let parse_mesh ?(smooth = true) ~file text =
       in
       if e < 0 || (e < len && String.unsafe_get text e = '/') then -1
       else (
-        if c >= Array.length !cv then (
-          let grow a =
-            let d = Array.make (2 * c) 0 in
-            Array.blit !a 0 d 0 c;
-            a := d
-          in
-          grow cv;
-          grow ct;
-          grow cn);
-        !cv.(c) <- v;
-        !ct.(c) <- t;
-        !cn.(c) <- n;
+        set_corner c v t n;
         e)
   in
   let fast_face i =
