@@ -28,9 +28,9 @@ val layered :
     part that does not change between the frames of an animation is built once. Its
     {!nearest}, {!nearest_probe}, {!any_hit} and {!occluded} answer as [build prims]
     would, indices into [prims]; {!fold_hits} and {!transparent_crossings} visit the fixed
-    part's crossings first, an order that [build]'s need not have: where a transmittance
-    product must be the same to the bit, no primitive may be transparent. {!uses_bvh} says
-    whether [build prims] would build a tree. *)
+    part's crossings first, an order that [build]'s need not have (the shading multiplies
+    a shadow ray's crossings in the order of their values, whatever order they come in).
+    {!uses_bvh} says whether [build prims] would build a tree. *)
 
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it), or for

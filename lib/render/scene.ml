@@ -318,15 +318,13 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
   let* () = Camera.validate camera in
   let* () = first_error (if f.f_valid then moving else objects) in
   let lights = Array.of_list lights in
-  (* A shadow ray's transmittance multiplies its crossings in the order of the structure
-     it walks: with a transparent material anywhere, one structure over them all, as
-     {!make} builds it. *)
+  (* A shadow ray's transmittance multiplies its crossings in the order of their values,
+     not of the structure's walk (Shade.transparent_into), so transparent objects are
+     layered like the others. *)
   let uses = either f.f_uses (uses_of moving) in
   let accel =
-    if uses.u_refraction then Accel.build objects
-    else
-      Accel.layered objects ~fixed:f.f_accel ~fixed_idx ~moving:(Accel.build moving)
-        ~moving_idx
+    Accel.layered objects ~fixed:f.f_accel ~fixed_idx ~moving:(Accel.build moving)
+      ~moving_idx
   in
   let features = features_of settings camera lights uses accel in
   Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)

@@ -42,8 +42,18 @@ type scratch = {
   sq : Probe.t;
   f : Frag.t;
   acc : acc;
+  xs : crossings;
   cross : Primitive.t -> bool;
   ax : Accel.scratch;
+}
+
+(* The factors of a shadow ray's transparent crossings, 4 floats each (t, then
+   transparency · albedo in r, g, b), in the order the structure visits them, and the
+   channels (bits 1, 2, 4) in which some factor is zero. *)
+and crossings = {
+  mutable fs : Float.Array.t;
+  mutable n : int;
+  mutable zero : int;
 }
 
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
@@ -74,10 +84,10 @@ let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta 
         f.v <- 0.);
       Texture.eval_into tex f
 
-(* The shadow ray [q] crossing transparent object [o] at t = q.p_t: acc.(tr, tg, tb), the
-   product so far, is multiplied by transparency · albedo there; whether it is black (no
-   light gets through: stop). *)
-let crossing (q : Probe.t) (f : Frag.t) acc (o : Primitive.t) =
+(* The shadow ray [q] crossing transparent object [o] at t = q.p_t: its factor,
+   transparency · albedo there, recorded in [xs]; whether the product is black whatever
+   the other factors (a zero in every channel: stop). *)
+let crossing (q : Probe.t) (f : Frag.t) xs (o : Primitive.t) =
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz in
   (* A CSG object's crossing shades with the leaf it lies on, a mesh's with its face. *)
@@ -89,10 +99,50 @@ let crossing (q : Probe.t) (f : Frag.t) acc (o : Primitive.t) =
   Primitive.normal_into o f;
   albedo_into o f px py pz f.nx f.ny f.nz (offset_s px py pz ox oy oz);
   let tau = o.material.transparency in
-  acc.tr <- acc.tr *. (tau *. f.r);
-  acc.tg <- acc.tg *. (tau *. f.g);
-  acc.tb <- acc.tb *. (tau *. f.b);
-  acc.tr = 0. && acc.tg = 0. && acc.tb = 0.
+  let fr = tau *. f.r and fg = tau *. f.g and fb = tau *. f.b in
+  if 4 * (xs.n + 1) > Float.Array.length xs.fs then (
+    let d = Float.Array.make (8 * (xs.n + 1)) 0. in
+    Float.Array.blit xs.fs 0 d 0 (4 * xs.n);
+    xs.fs <- d);
+  let k = 4 * xs.n in
+  Float.Array.unsafe_set xs.fs k t;
+  Float.Array.unsafe_set xs.fs (k + 1) fr;
+  Float.Array.unsafe_set xs.fs (k + 2) fg;
+  Float.Array.unsafe_set xs.fs (k + 3) fb;
+  xs.n <- xs.n + 1;
+  if fr = 0. then xs.zero <- xs.zero lor 1;
+  if fg = 0. then xs.zero <- xs.zero lor 2;
+  if fb = 0. then xs.zero <- xs.zero lor 4;
+  xs.zero = 7
+
+(* Factor [i] of [xs] before factor [j] in the product: by t, then by the factors
+   themselves, so that the order is that of the crossings' values alone. *)
+let[@inline] before (fs : Float.Array.t) i j =
+  let c = ref 0 and k = ref 0 in
+  while !c = 0 && !k < 4 do
+    c :=
+      Float.compare
+        (Float.Array.unsafe_get fs ((4 * i) + !k))
+        (Float.Array.unsafe_get fs ((4 * j) + !k));
+    incr k
+  done;
+  !c < 0
+
+(* Sort the factors of [xs] into that order (insertion: a shadow ray crosses a few). *)
+let sort_crossings xs =
+  let fs = xs.fs in
+  for i = 1 to xs.n - 1 do
+    let j = ref i in
+    while !j > 0 && before fs !j (!j - 1) do
+      for k = 0 to 3 do
+        let a = (4 * !j) + k and b = (4 * (!j - 1)) + k in
+        let x = Float.Array.unsafe_get fs a in
+        Float.Array.unsafe_set fs a (Float.Array.unsafe_get fs b);
+        Float.Array.unsafe_set fs b x
+      done;
+      decr j
+    done
+  done
 
 let scratch () =
   let sq = Probe.create () and f = Frag.create () in
@@ -114,12 +164,14 @@ let scratch () =
       f0 = 0.;
     }
   in
+  let xs = { fs = Float.Array.make 32 0.; n = 0; zero = 0 } in
   {
     q = Probe.create ();
     sq;
     f;
     acc;
-    cross = crossing sq f acc;
+    xs;
+    cross = crossing sq f xs;
     ax = Accel.domain_scratch ();
   }
 
@@ -130,13 +182,31 @@ let accel_scratch scr = scr.ax
 (* Where no opaque surface blocks the shadow ray that [scr.sq] holds (the occlusion
    query leaves its origin, direction and interval as they were): the product over the
    transparent surfaces crossed of transparency · albedo, from white, into
-   acc.(tr, tg, tb). *)
+   acc.(tr, tg, tb). The factors are multiplied in the order of their values (t first),
+   not in the order a structure visits them: floating-point products depend on their
+   order in the last bit, and a frame of an animation walks its still and moving parts
+   in two structures where a still walks one. *)
 let transparent_into (sc : Scene.t) scr =
-  let acc = scr.acc in
-  acc.tr <- 1.;
-  acc.tg <- 1.;
-  acc.tb <- 1.;
-  Accel.transparent_crossings_with scr.ax sc.accel scr.sq scr.cross
+  let acc = scr.acc and xs = scr.xs in
+  xs.n <- 0;
+  xs.zero <- 0;
+  Accel.transparent_crossings_with scr.ax sc.accel scr.sq scr.cross;
+  if xs.zero = 7 then (
+    acc.tr <- 0.;
+    acc.tg <- 0.;
+    acc.tb <- 0.)
+  else (
+    sort_crossings xs;
+    let fs = xs.fs in
+    let tr = ref 1. and tg = ref 1. and tb = ref 1. in
+    for i = 0 to xs.n - 1 do
+      tr := !tr *. Float.Array.unsafe_get fs ((4 * i) + 1);
+      tg := !tg *. Float.Array.unsafe_get fs ((4 * i) + 2);
+      tb := !tb *. Float.Array.unsafe_get fs ((4 * i) + 3)
+    done;
+    acc.tr <- !tr;
+    acc.tg <- !tg;
+    acc.tb <- !tb)
 
 (* Transmittance from (ox, oy, oz) along the unit direction (dx, dy, dz) up to [dist],
    into acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates
