@@ -128,10 +128,9 @@ let[@inline] before (fs : Float.Array.t) i j =
   done;
   !c < 0
 
-(* Sort the factors of [xs] into that order (insertion: a shadow ray crosses a few). *)
-let sort_crossings xs =
-  let fs = xs.fs in
-  for i = 1 to xs.n - 1 do
+(* Sort the [n] factors of [fs] into that order by insertion (nothing allocated). *)
+let insertion_sort fs n =
+  for i = 1 to n - 1 do
     let j = ref i in
     while !j > 0 && before fs !j (!j - 1) do
       for k = 0 to 3 do
@@ -143,6 +142,20 @@ let sort_crossings xs =
       decr j
     done
   done
+
+(* Sort the factors of [xs] into that order: by insertion where a shadow ray crosses a
+   few, else by a merge sort of their indices. *)
+let sort_crossings xs =
+  let fs = xs.fs in
+  if xs.n <= 32 then insertion_sort fs xs.n
+  else
+    let order = Array.init xs.n Fun.id in
+    Array.stable_sort
+      (fun i j -> if before fs i j then -1 else if before fs j i then 1 else 0)
+      order;
+    let sorted = Float.Array.make (4 * xs.n) 0. in
+    Array.iteri (fun r i -> Float.Array.blit fs (4 * i) sorted (4 * r) 4) order;
+    Float.Array.blit sorted 0 fs 0 (4 * xs.n)
 
 let scratch () =
   let sq = Probe.create () and f = Frag.create () in

@@ -605,6 +605,63 @@ let words_per_ray sc =
 
 let render_tests =
   [
+    (* Glass spheres along a shadow ray, given in a shuffled order so that the hierarchy
+       visits them in another: the product is that of their factors in the order of t,
+       to the bit (floating-point products depend on their order), whether the ray
+       crosses a few (20 crossings) or many (80). *)
+    Alcotest.test_case "a shadow ray's transmittance multiplies its crossings in t order"
+      `Quick (fun () ->
+        List.iter
+          (fun n ->
+            let st = Random.State.make [| n |] in
+            let spheres =
+              List.init n (fun k ->
+                  let c =
+                    Color.v
+                      (0.5 +. Random.State.float st 0.5)
+                      (0.5 +. Random.State.float st 0.5)
+                      (0.5 +. Random.State.float st 0.5)
+                  in
+                  (k, c, 0.6 +. Random.State.float st 0.4))
+            in
+            let shuffled =
+              List.map snd
+                (List.sort compare
+                   (List.map (fun x -> (Random.State.bits st, x)) spheres))
+            in
+            let prims =
+              List.map
+                (fun (k, color, transparency) ->
+                  prim (mat ~color ~transparency ~ior:1.2 ())
+                    (Shape.sphere
+                       ~center:(Vec3.v 0. 0. (2. *. Float.of_int k))
+                       ~radius:0.5))
+                shuffled
+            in
+            let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 1e3) ] prims in
+            let t =
+              Shade.transmittance sc (Stats.create ()) (Vec3.v 0. 0. (-5.)) Vec3.z_axis
+                1e3
+            in
+            (* Two crossings a sphere, the spheres in order of z. *)
+            let expected =
+              List.fold_left
+                (fun (r, g, b) (_, (c : Color.t), tau) ->
+                  let fr = tau *. c.r and fg = tau *. c.g and fb = tau *. c.b in
+                  (r *. fr *. fr, g *. fg *. fg, b *. fb *. fb))
+                (1., 1., 1.) spheres
+            in
+            let er, eg, eb = expected in
+            let bits = Int64.bits_of_float in
+            if
+              not
+                (Int64.equal (bits t.r) (bits er)
+                && Int64.equal (bits t.g) (bits eg)
+                && Int64.equal (bits t.b) (bits eb))
+            then
+              Alcotest.failf "%d spheres: (%h, %h, %h), expected (%h, %h, %h)" n t.r t.g
+                t.b er eg eb)
+          [ 10; 40 ]);
     (* The counters of the tiles are made side by side and two domains render neighbouring
        tiles: a record shorter than its counters plus two cache lines (128 bytes: processors fetch
        lines in pairs) would put
