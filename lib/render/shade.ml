@@ -116,17 +116,20 @@ let crossing (q : Probe.t) (f : Frag.t) xs (o : Primitive.t) =
   xs.zero = 7
 
 (* Factor [i] of [xs] before factor [j] in the product: by t, then by the factors
-   themselves, so that the order is that of the crossings' values alone. *)
+   themselves, so that the order is that of the crossings' values alone (a NaN, which
+   makes the product NaN in any order, counts as equal to anything). *)
 let[@inline] before (fs : Float.Array.t) i j =
-  let c = ref 0 and k = ref 0 in
-  while !c = 0 && !k < 4 do
-    c :=
-      Float.compare
-        (Float.Array.unsafe_get fs ((4 * i) + !k))
-        (Float.Array.unsafe_get fs ((4 * j) + !k));
-    incr k
+  let r = ref false and go = ref true and k = ref 0 in
+  while !go && !k < 4 do
+    let x = Float.Array.unsafe_get fs ((4 * i) + !k)
+    and y = Float.Array.unsafe_get fs ((4 * j) + !k) in
+    if x < y then (
+      r := true;
+      go := false)
+    else if x > y then go := false
+    else incr k
   done;
-  !c < 0
+  !r
 
 (* Sort the [n] factors of [fs] into that order by insertion (nothing allocated). *)
 let insertion_sort fs n =
@@ -147,7 +150,9 @@ let insertion_sort fs n =
    few, else by a merge sort of their indices. *)
 let sort_crossings xs =
   let fs = xs.fs in
-  if xs.n <= 32 then insertion_sort fs xs.n
+  (* Two factors multiply to the same bits in either order, one or none trivially. *)
+  if xs.n <= 2 then ()
+  else if xs.n <= 32 then insertion_sort fs xs.n
   else
     let order = Array.init xs.n Fun.id in
     Array.stable_sort
@@ -211,15 +216,15 @@ let transparent_into (sc : Scene.t) scr =
   else (
     sort_crossings xs;
     let fs = xs.fs in
-    let tr = ref 1. and tg = ref 1. and tb = ref 1. in
+    acc.tr <- 1.;
+    acc.tg <- 1.;
+    acc.tb <- 1.;
     for i = 0 to xs.n - 1 do
-      tr := !tr *. Float.Array.unsafe_get fs ((4 * i) + 1);
-      tg := !tg *. Float.Array.unsafe_get fs ((4 * i) + 2);
-      tb := !tb *. Float.Array.unsafe_get fs ((4 * i) + 3)
-    done;
-    acc.tr <- !tr;
-    acc.tg <- !tg;
-    acc.tb <- !tb)
+      let k = 4 * i in
+      acc.tr <- acc.tr *. Float.Array.unsafe_get fs (k + 1);
+      acc.tg <- acc.tg *. Float.Array.unsafe_get fs (k + 2);
+      acc.tb <- acc.tb *. Float.Array.unsafe_get fs (k + 3)
+    done)
 
 (* Transmittance from (ox, oy, oz) along the unit direction (dx, dy, dz) up to [dist],
    into acc.(tr, tg, tb). Opaque surfaces first, by the occlusion query, which allocates
