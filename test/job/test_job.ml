@@ -60,6 +60,16 @@ let frames_of ?p text =
     | Error _ -> Alcotest.fail "the animated scene does not evaluate"
     | Ok sc -> sc
 
+(* The scene of frame [k] of [p] with every statement evaluated and compiled again: a
+   still of that instant, indexed whole. *)
+let compiled_again p k =
+  match Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k with
+  | Error _ -> Alcotest.fail "the frame does not evaluate again"
+  | Ok d -> (
+      match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
+      | Ok sc -> sc
+      | Error _ -> Alcotest.fail "the frame does not compile again")
+
 (* The objects that do not move are compiled and indexed once for every frame, the first
    one included: no frame builds a structure over them again. *)
 let frames_share_the_fixed_part () =
@@ -132,16 +142,7 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
 (* Frame [k] of [p] is the scene every statement evaluated and compiled again makes: the
    same primitives, in the same order. *)
 and same_as_again p k (sc : Lancer_render.Scene.t) =
-  let again =
-    match
-      Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k
-    with
-    | Error _ -> Alcotest.fail "the frame does not evaluate again"
-    | Ok d -> (
-        match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
-        | Ok sc -> sc
-        | Error _ -> Alcotest.fail "the frame does not compile again")
-  in
+  let again = compiled_again p k in
   Alcotest.(check int)
     (Printf.sprintf "frame %d: as many primitives" k)
     (Array.length again.objects) (Array.length sc.objects);
@@ -181,16 +182,7 @@ sphere { center: (-2 + time * 10, 1.2, -0.5), radius: 0.7,
         (Printf.sprintf "frame %d is layered" k)
         true
         (Option.is_some (Lancer_render.Accel.fixed_part layered.accel));
-      let whole =
-        match
-          Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k
-        with
-        | Error _ -> Alcotest.fail "the instant does not evaluate again"
-        | Ok d -> (
-            match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
-            | Ok sc -> sc
-            | Error _ -> Alcotest.fail "the instant does not compile again")
-      in
+      let whole = compiled_again p k in
       Alcotest.(check bool)
         (Printf.sprintf "the still of instant %d is not" k)
         true
