@@ -163,11 +163,12 @@ let int_at text s e =
 (* --- Lines read in one pass -----------------------------------------------------------
 
    Most lines of a large file are "v x y z", "vn x y z", "vt u v" and "f a b c" (or
-   a/b/c, a//c, a/b corners) in the plain forms above. Such a line is read as it is scanned, without first being cut
-   into words: a number is the bytes [float_at] would read the same way (at most 15
-   digits, an optional point and minus sign), a corner's indices positive and among those
-   read so far. Any other byte, form or count leaves the line to the general reading,
-   from its start, which also gives every error its message. *)
+   a/b/c, a//c, a/b corners) in the plain forms above. Such a line is read as it is
+   scanned, without first being cut into words: a number is the bytes [float_at] would
+   read the same way (at most 15 digits, an optional point and minus sign), a corner's
+   indices positive and among those read so far. Any other byte, form or count leaves
+   the line to the general reading, from its start, which also gives every error its
+   message. *)
 
 let[@inline] blank c = c = ' ' || c = '\t' || c = '\r'
 let[@inline] ends_word c = blank c || c = '\n'
