@@ -91,9 +91,12 @@ let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load 
 let evaluate ?cancel p k =
   Source.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
 
+(* The files a frame read, each with its digest now: what its record keeps. *)
+let with_digests p files = List.map (fun f -> (f, p.source.input_digest f)) files
+
 let frame_scene ?cancel p k =
   let sc, files = evaluate ?cancel p k in
-  let files = List.map (fun f -> (f, p.source.input_digest f)) files in
+  let files = with_digests p files in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);
   sc
 
@@ -102,7 +105,7 @@ let write_frame p k sc fb =
   let inputs =
     match Mutex.protect p.inputs_lock (fun () -> Hashtbl.find_opt p.inputs k) with
     | Some i -> i
-    | None -> List.map (fun f -> (f, p.source.input_digest f)) (snd (evaluate p k))
+    | None -> with_digests p (snd (evaluate p k))
   in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~inputs

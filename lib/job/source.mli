@@ -16,7 +16,8 @@ type t = {
     frame:int ->
     Scene.t * string list;
       (** the scene at a time, as the file sets it, and the image and mesh files it read
-          (their MD5s come from [input_digest] where they are recorded); raises {!Job_error.Scene} for its located errors *)
+          (their MD5s come from [input_digest] where they are recorded); raises
+          {!Job_error.Scene} for its located errors *)
   inputs : unit -> string list;
       (** the files read so far: the scene, its includes, images and meshes *)
   text_digest : unit -> string;  (** a digest of the scene's text and includes *)

@@ -182,8 +182,8 @@ let skip_blanks text len i =
   !j
 
 (* The plain decimal at [i], ended by a blank, a newline or the end: its value in
-   [out.(0)] and the position after it, or −1. *)
-let scan_decimal text len i out =
+   [out.(k)] and the position after it, or −1. *)
+let scan_decimal text len i out k =
   let j = ref i in
   let neg = !j < len && String.unsafe_get text !j = '-' in
   if neg then incr j;
@@ -205,7 +205,7 @@ let scan_decimal text len i out =
   else
     let f = Float.of_int !m in
     let f = if !frac > 0 then f /. Float.Array.unsafe_get pow10 !frac else f in
-    Float.Array.unsafe_set out 0 (if neg then -.f else f);
+    Float.Array.unsafe_set out k (if neg then -.f else f);
     !j
 
 (* The positive index at [i] into [n] elements, ended by a slash, a blank, a newline or
@@ -363,10 +363,7 @@ let parse_mesh ?(smooth = true) ~file text =
         push_present tt ct.(i) ct.(j) ct.(k))
       else push_absent tt)
   in
-  (* The line starting at [i] read in one pass (see Lines read in one pass): the
-     position after its newline (after the end for the last line), or −1 to read it word
-     by word. *)
-  let num = Float.Array.make 3 0. and one = Float.Array.make 1 0. and ix = Array.make 1 0 in
+  let num = Float.Array.make 3 0. and ix = Array.make 1 0 in
   (* [count] numbers after the keyword, which ends at [i]: pushed (a vertex, normal or
      texture coordinate) by [push]. *)
   let fast_numbers i count push =
@@ -375,9 +372,7 @@ let parse_mesh ?(smooth = true) ~file text =
       let j0 = skip_blanks text len !j in
       if j0 = !j then j := -1
       else (
-        let e = scan_decimal text len j0 one in
-        if e >= 0 then Float.Array.unsafe_set num !k (Float.Array.unsafe_get one 0);
-        j := e;
+        j := scan_decimal text len j0 num !k;
         incr k)
     done;
     if !j < 0 then -1
@@ -445,6 +440,9 @@ let parse_mesh ?(smooth = true) ~file text =
       done;
       !j + 1)
   in
+  (* The line starting at [i] read in one pass (see Lines read in one pass): the
+     position after its newline (after the end for the last line), or −1 to read it word
+     by word. *)
   let fast_line i =
     if i + 1 >= len then -1
     else
