@@ -26,9 +26,6 @@ type t = {
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
-  digests : (string, string) Hashtbl.t;
-      (** image and mesh file (as the scene names it) → MD5, once read *)
-  digest_lock : Mutex.t;
 }
 
 let default_physics = D.default_physics
@@ -65,18 +62,6 @@ let text_digest t =
       (Hashtbl.fold (fun f text acc -> entry f text :: acc) t.sources [])
   in
   Digest.to_hex (Digest.string (String.concat "\n" lines))
-
-let input_digest t rel =
-  Mutex.protect t.digest_lock (fun () ->
-      match Hashtbl.find_opt t.digests rel with
-      | Some d -> d
-      | None ->
-          let d =
-            try Digest.to_hex (Digest.file (Loc.relative_to t.file rel))
-            with Sys_error _ -> "-"
-          in
-          Hashtbl.replace t.digests rel d;
-          d)
 
 let file t = t.file
 let first t = t.first
@@ -309,8 +294,6 @@ let load_text ?progress ?files file text =
                    List.iter (fun f -> Hashtbl.replace h f ()) first.files;
                    h);
                 named_lock = Mutex.create ();
-                digests = Hashtbl.create 4;
-                digest_lock = Mutex.create ();
               })
 
 let load_string ?progress ?files ?(filename = "<string>") text =
@@ -343,6 +326,53 @@ let at_frame ~time ~frame r =
              message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time;
            }))
       r
+
+(* Every string the program writes, in any statement, branch, function or macro, run or
+   not. The language builds no string from others, so a file any frame can read is named
+   by one of these. *)
+let strings stmts =
+  let acc = ref [] in
+  let rec expr (e : Ast.expr) =
+    match e.e with
+    | Str s -> if s <> "" then acc := s :: !acc
+    | Num _ | Bool _ | Var _ -> ()
+    | Vec (a, b, c) | If (a, b, c) ->
+        expr a;
+        expr b;
+        expr c
+    | Pair (a, b) | Binop (_, a, b) ->
+        expr a;
+        expr b
+    | Unop (_, a) | Dot (a, _) -> expr a
+    | Call (_, es) -> List.iter expr es
+    | Material its -> List.iter item its
+  and item = function Ast.Field (_, e) -> expr e | Ast.Stmt s -> stmt s
+  and stmt (s : Ast.stmt) =
+    match s.s with
+    | Let (_, e) | Fn (_, _, e) -> expr e
+    | Macro (_, _, b) | Included (_, b) -> List.iter stmt b
+    | For (_, a, b, st, body) ->
+        expr a;
+        expr b;
+        Option.iter expr st;
+        List.iter stmt body
+    | If_stmt (c, th, el) ->
+        expr c;
+        List.iter stmt th;
+        List.iter stmt el
+    | Include _ -> ()
+    | Block (_, its) | Body (_, its) -> List.iter item its
+    | Call_stmt (_, es) -> List.iter expr es
+  in
+  List.iter stmt stmts;
+  !acc
+
+let named_files t =
+  let files = Hashtbl.fold (fun f _ acc -> f :: acc) t.sources [] in
+  List.sort_uniq String.compare
+    (List.concat_map
+       (fun s -> List.map (fun f -> Loc.relative_to f s) files)
+       (List.sort_uniq String.compare (strings t.stmts)))
 
 let source t file = Hashtbl.find_opt t.sources file
 let fixed_objects t = Eval.fixed_objects t.memo

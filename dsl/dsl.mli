@@ -96,6 +96,13 @@ val fixed_pieces : t -> Description.obj list list
 (** {!fixed_objects} by the statement that built them, in program order: the lists a
     description's [parts] shares. *)
 
+val named_files : t -> string list
+(** Every file any scene of the program may read, at any time or frame: each string the
+    program writes (in any statement, branch, function or macro body, run or not),
+    resolved against the directory of each of the program's files, sorted. A superset: the
+    language builds no string from others, so every image or mesh a frame reads is among
+    these. *)
+
 val source : t -> string -> string option
 (** [source p file]: the text of [file], the program's or an include's (for an error's
     caret display). *)
@@ -125,13 +132,6 @@ val text_digest : t -> string
 (** A digest of the program's text and its included files' (each include known by its path
     from the main file's directory), but not of the path the program was loaded as:
     [./a.rts] and [a.rts] have the same digest. *)
-
-val input_digest : t -> string -> string
-(** [input_digest p f]: the MD5 (hex) of file [f], named as {!scene_relative} names it;
-    ["-"] when it cannot be read. Computed once per program and file. Two evaluations at
-    the same time and frame of programs with the same {!text_digest} name the same files,
-    so these digests are what else a frame depends on ([lancer animate --resume] relies on
-    it). *)
 
 (** {1 For the physics engine} *)
 

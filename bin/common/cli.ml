@@ -492,8 +492,8 @@ let warn_truncated prog =
         Physics.max_events time)
     (Lang.truncated_physics prog)
 
-let load_source ?progress (filename, text) =
-  match Lang.load ?progress ~filename text with
+let load_source ?progress ?digests (filename, text) =
+  match Lang.load ?progress ?digests ~filename text with
   | Ok p ->
       warn_truncated p;
       p
@@ -501,7 +501,8 @@ let load_source ?progress (filename, text) =
       user "the built-in showcase does not load:\n%s" (Report.errors_text errs)
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
-let load ?progress scene = load_source ?progress (source { (default_opts ()) with scene })
+let load ?progress ?digests scene =
+  load_source ?progress ?digests (source { (default_opts ()) with scene })
 let scene_source (o : opts) prog = Lang.source ~builtin:(o.scene = None) prog
 
 let default_output o =
@@ -528,7 +529,7 @@ let check_output ?format path =
 (* ---- What a run reads and what it writes ---- *)
 
 let reads = Source.reads
-let guard_writes = Files.guard_writes
+let guard_writes ?distinct ~reads writes = Files.guard_writes ?distinct ~reads writes
 
 (* --stats takes a value: [lancer render --stats scene.rts] means the scene was taken as
    its value. A statistics file is JSON; lancer's own kinds of files are refused. *)
@@ -612,7 +613,7 @@ let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t
         write_stdout
           (format_of ?format:encoding.format path)
           (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
-  else Files.write_image ?cancel ~bits:encoding.bits ?alpha ?crop path sc fb
+  else ignore (Files.write_image ?cancel ~bits:encoding.bits ?alpha ?crop path sc fb)
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with

@@ -80,11 +80,13 @@ val source : opts -> string * string
     ["<stdin>"], read once, its includes found from the current directory), or the
     embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
-val load_source : ?progress:(string -> unit) -> string * string -> Lang.program
+val load_source :
+  ?progress:(string -> unit) -> ?digests:bool -> string * string -> Lang.program
 (** Parse and check a scene's text; raises {!Lancer_job.Job_error.Scene} with every
-    located error. Includes are found relative to the file name. *)
+    located error. Includes are found relative to the file name. [digests] is
+    {!Lang.load}'s. *)
 
-val load : ?progress:(string -> unit) -> string option -> Lang.program
+val load : ?progress:(string -> unit) -> ?digests:bool -> string option -> Lang.program
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)
 
 val scene_source : opts -> Lang.program -> Lancer_job.Source.t

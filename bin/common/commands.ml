@@ -22,7 +22,8 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
         say
           (Printf.sprintf "reading and checking %s"
              (Option.value o.scene ~default:"the showcase"));
-        let prog = Cli.load ~progress:say o.scene in
+        (* Only a checkpoint's key needs the digests of the files the scene reads. *)
+        let prog = Cli.load ~progress:say ~digests:resume o.scene in
         (* One scene of it: a still's description may go as it is compiled. *)
         Lang.single_scene prog;
         let src = Cli.scene_source o prog in

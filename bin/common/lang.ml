@@ -5,7 +5,8 @@ type program = Dsl.t
 type error = Diagnostic.t
 
 let source_problem = Dsl.source_problem
-let load ?progress ~filename text = Program.load_string ?progress ~filename text
+let load ?progress ?digests ~filename text =
+  Program.load_string ?progress ?digests ~filename text
 let animation = Dsl.animation
 let inputs = Dsl.inputs
 
@@ -33,6 +34,7 @@ let source ~builtin prog : Lancer_job.Source.t =
         | Ok r -> r
         | Error errors -> raise (Lancer_job.Job_error.Scene { errors; note = "" }));
     inputs = (fun () -> Dsl.inputs prog);
+    names = (fun () -> Dsl.named_files prog);
     text_digest = (fun () -> Dsl.text_digest prog);
-    input_digest = Dsl.input_digest prog;
+    input_digest = Program.input_digest prog;
   }

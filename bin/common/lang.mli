@@ -12,8 +12,14 @@ val source_problem : string -> string option
 (** Why a path cannot be read as a scene file, from its status alone; [None] if it can. *)
 
 val load :
-  ?progress:(string -> unit) -> filename:string -> string -> (program, error list) result
-(** Parse and check a scene's text; includes are found relative to [filename]. *)
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  filename:string ->
+  string ->
+  (program, error list) result
+(** Parse and check a scene's text; includes are found relative to [filename]. With
+    [digests] (default [true]) the program keeps the MD5 of every image and mesh it decodes,
+    for the records of frames and checkpoints ({!Lancer.Program.load_string}). *)
 
 val animation : program -> (float * int) option
 (** (fps, frames) of the animation block. *)

@@ -199,7 +199,11 @@ let output_raster fmt oc (r : Raster.t) =
   | Ppm -> write_ppm_raster oc r
   | Png -> write_png oc r
 
-let write_raster path (r : Raster.t) =
+(* A file's bytes in memory first, so that the temporary file exists only while its
+   bytes are written: a process killed while it compresses (as mpirun kills its ranks
+   half a second after it asks them to stop) leaves nothing behind; and what is recorded
+   of the file is digested from these very bytes. *)
+let file_bytes path (r : Raster.t) =
   match format_of_path path with
   | Error e -> Error e
   | Ok Ppm when r.channels <> 3 ->
@@ -207,33 +211,53 @@ let write_raster path (r : Raster.t) =
         (Printf.sprintf
            "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png"
            path)
-  | Ok Ppm -> write_atomic path (fun oc -> write_ppm_raster oc r)
-  | Ok Png ->
-      (* The file is compressed in memory first, so that the temporary file exists only
-         while its bytes are written: a process killed while it compresses (as mpirun
-         kills its ranks half a second after it asks them to stop) leaves nothing behind. *)
-      let png = png_bytes r in
-      write_atomic path (fun oc -> output_string oc png)
+  | Ok Ppm ->
+      let header = Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r) in
+      Ok (header ^ Bytes.unsafe_to_string r.samples)
+  | Ok Png -> Ok (png_bytes r)
+
+type written = { size : int; md5 : string }
+
+let write_file path bytes =
+  Result.map
+    (fun () -> { size = String.length bytes; md5 = Digest.to_hex (Digest.string bytes) })
+    (write_atomic path (fun oc -> output_string oc bytes))
+
+let write_raster path (r : Raster.t) =
+  Result.map ignore (Result.bind (file_bytes path r) (write_file path))
+
+let save_written ?gamma ?bits ?alpha ?crop path fb =
+  Result.bind (file_bytes path (encode ?gamma ?bits ?alpha ?crop fb)) (write_file path)
 
 let save ?gamma ?bits ?alpha ?crop path fb =
-  write_raster path (encode ?gamma ?bits ?alpha ?crop fb)
+  Result.map ignore (save_written ?gamma ?bits ?alpha ?crop path fb)
 
-let read_ppm path =
-  let ic = open_in_bin path in
-  Png.finally (fun () -> close_in_noerr ic) @@ fun () ->
-  let rec token () =
+(* A binary PPM's header (magic, width, height, maximum value, each after white space or
+   comments) and its samples, from the file's bytes. *)
+let ppm_of_string text =
+  let len = String.length text in
+  let pos = ref 0 in
+  let next () =
+    if !pos >= len then raise End_of_file;
+    let c = text.[!pos] in
+    incr pos;
+    c
+  in
+  let token () =
     let b = Buffer.create 8 in
     let rec skip () =
-      match input_char ic with
+      match next () with
       | '#' ->
-          ignore (input_line ic);
+          while next () <> '\n' do
+            ()
+          done;
           skip ()
       | ' ' | '\n' | '\r' | '\t' -> skip ()
       | c -> Buffer.add_char b c
     in
     skip ();
     let rec more () =
-      match input_char ic with
+      match next () with
       | ' ' | '\n' | '\r' | '\t' -> ()
       | c ->
           Buffer.add_char b c;
@@ -241,7 +265,8 @@ let read_ppm path =
     in
     more ();
     Buffer.contents b
-  and int_token () =
+  in
+  let int_token () =
     match int_of_string_opt (token ()) with
     | Some n -> n
     | None -> failwith "not a PPM file"
@@ -256,36 +281,61 @@ let read_ppm path =
     failwith
       (Printf.sprintf "unsupported PPM maximum value %d (lancer reads 255 and 65535)" maxv);
   let depth = if maxv = 255 then 8 else 16 in
-  let bytes = Bytes.create (3 * w * h * (depth / 8)) in
-  really_input ic bytes 0 (Bytes.length bytes);
-  Raster.make ~width:w ~height:h ~channels:3 ~depth bytes
+  let n = 3 * w * h * (depth / 8) in
+  if len - !pos < n then raise End_of_file;
+  Raster.make ~width:w ~height:h ~channels:3 ~depth (Bytes.of_string (String.sub text !pos n))
 
-let read_png path =
-  let size = (Unix.stat path).st_size in
-  (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
-  if size > 4 * 8 * Settings.max_pixels then
-    failwith (Printf.sprintf "the file is too large for an image (%d bytes)" size);
-  match Png.decode (In_channel.with_open_bin path In_channel.input_all) with
-  | Ok r -> r
-  | Error m -> failwith m
+let png_of_string text =
+  match Png.decode text with Ok r -> r | Error m -> failwith m
 
-let read_raster path =
+(* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
+let max_png_bytes = 4 * 8 * Settings.max_pixels
+
+let raster_of_string ~path text =
+  match format_of_path path with
+  | Error e -> Error e
+  | Ok fmt -> (
+      match
+        match fmt with
+        | Png ->
+            if String.length text > max_png_bytes then
+              failwith
+                (Printf.sprintf "the file is too large for an image (%d bytes)"
+                   (String.length text));
+            png_of_string text
+        | Ppm -> ppm_of_string text
+      with
+      | r -> Ok r
+      | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
+      | exception e -> Error (Printf.sprintf "%s: %s" path (describe_exn e)))
+
+let read_bytes path =
   match format_of_path path with
   | Error e -> Error e
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
       else if Sys.is_directory path then
         Error (Printf.sprintf "%s: is a directory, not an image" path)
-      else if try (Unix.stat path).st_kind <> Unix.S_REG with Unix.Unix_error _ -> true
-      then
-        (* A device or a pipe could be endless (/dev/zero) or block forever (a FIFO). *)
-        Error
-          (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image" path)
       else
-        match match fmt with Png -> read_png path | Ppm -> read_ppm path with
-        | r -> Ok r
-        | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
-        | exception e -> Error (Printf.sprintf "%s: %s" path (describe_exn e)))
+        match Unix.stat path with
+        | exception Unix.Unix_error (e, _, _) ->
+            Error (Printf.sprintf "%s: %s" path (Unix.error_message e))
+        | { st_kind = Unix.S_REG; st_size; _ } -> (
+            if fmt = Png && st_size > max_png_bytes then
+              Error
+                (Printf.sprintf "%s: the file is too large for an image (%d bytes)" path
+                   st_size)
+            else
+              match In_channel.with_open_bin path In_channel.input_all with
+              | text -> Ok text
+              | exception e -> Error (Printf.sprintf "%s: %s" path (describe_exn e)))
+        | _ ->
+            (* A device or a pipe could be endless (/dev/zero) or block forever (a FIFO). *)
+            Error
+              (Printf.sprintf "%s: not a regular file (a device or a pipe), not an image"
+                 path))
+
+let read_raster path = Result.bind (read_bytes path) (raster_of_string ~path)
 
 let read_rgb8 path =
   Result.map
@@ -316,3 +366,4 @@ let of_raster (r : Raster.t) =
   { width = r.width; height = r.height; data }
 
 let read_linear path = Result.map of_raster (read_raster path)
+let linear_of_string ~path text = Result.map of_raster (raster_of_string ~path text)

@@ -93,6 +93,31 @@ val read_raster : string -> (Raster.t, string) result
     before its pixels are allocated: larger than {!Settings.max_pixels} is an error. Never
     raises; the message starts with [path]. *)
 
+type written = { size : int; md5 : string }
+(** What was written to a file: its size in bytes and the MD5 (hex) of those bytes. *)
+
+val save_written :
+  ?gamma:Settings.gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  string ->
+  t ->
+  (written, string) result
+(** {!save}, and the size and MD5 of the bytes it wrote, digested before the file was
+    renamed into place: what the file held when this write ended, even if another process
+    replaces it right after. *)
+
+val read_bytes : string -> (string, string) result
+(** [read_bytes path] is the whole content of the image file at [path], read once, after
+    the checks {!read_raster} makes from its name and status (a known extension, a regular
+    file, not larger than the largest PNG lancer decodes). Never raises; the message
+    starts with [path]. *)
+
+val raster_of_string : path:string -> string -> (Raster.t, string) result
+(** [raster_of_string ~path bytes] decodes [bytes], the content of the file [path] (whose
+    extension gives the format), as {!read_raster} does. Never raises. *)
+
 val read_rgb8 : string -> (int * int * Bytes.t, string) result
 (** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file converted to 8-bit RGB
     as {!Raster.to_rgb8} does. Never raises. *)
@@ -104,3 +129,7 @@ val of_raster : Raster.t -> t
 val read_linear : string -> (t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
     textures and bump maps). *)
+
+val linear_of_string : path:string -> string -> (t, string) result
+(** [linear_of_string ~path bytes] is {!read_linear} of the file [path] whose content is
+    [bytes]. *)

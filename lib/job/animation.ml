@@ -51,8 +51,9 @@ let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load 
          () (* another shard made it *)
      | Unix.Unix_error (e, _, _) -> user "cannot create %s: %s" dir (Unix.error_message e));
   let mine = Plan.shard_frames ~first ~last shard in
-  (* Before anything is written into the directory. *)
-  Files.guard_writes ~distinct:false ~reads:(Source.reads source)
+  (* Before anything is written into the directory: no frame replaces a file that this
+     run has read, nor one that the scene names, which a later frame may read. *)
+  Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Source.reads source)
     ((Filename.concat dir Frameset.view_name, "the frames record")
     :: List.map (fun k -> (Filename.concat dir (Frameset.frame_name k), "a frame")) mine);
   let set =
@@ -101,14 +102,18 @@ let frame_scene ?cancel p k =
   sc
 
 let write_frame p k sc fb =
-  Files.write_image (Filename.concat p.dir (Frameset.frame_name k)) sc fb;
   let inputs =
     match Mutex.protect p.inputs_lock (fun () -> Hashtbl.find_opt p.inputs k) with
     | Some i -> i
     | None -> with_digests p (snd (evaluate p k))
   in
+  let path = Filename.concat p.dir (Frameset.frame_name k) in
+  (* The plan refused every file the scene names; this is checked again against what the
+     frames evaluated so far have read, by any name, before each frame is written. *)
+  Files.refuse_overwrite ~reads:(Source.reads p.source) path "a frame";
+  let written = Files.write_image path sc fb in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
-  Frameset.record p.set k ~inputs
+  Frameset.record p.set k ~written ~inputs
 
 (* How many frames a window holds (see [render]): their scenes are all evaluated before
    the first is rendered, so at most about 64 MB of their object arrays (8 bytes an

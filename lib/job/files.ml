@@ -61,26 +61,38 @@ let same a b =
   a.resolved = b.resolved
   || match (a.inode, b.inode) with Some x, Some y -> x = y | _ -> false
 
-let guard_writes ?(distinct = true) ~reads writes =
+let refuse ~reads ~names (w, what) =
+  List.iter
+    (fun (r, rwhat) ->
+      if same w r then
+        if r.path = w.path then
+          user
+            "refusing to write %s to %s: that file is %s, read by this run; choose another \
+             name"
+            what w.path rwhat
+        else
+          user
+            "refusing to write %s to %s: that file is %s (%s), read by this run; choose \
+             another name"
+            what w.path r.path rwhat)
+    reads;
+  List.iter
+    (fun n ->
+      if same w n then
+        user
+          "refusing to write %s to %s: the scene names that file (\"%s\"), so some frame \
+           may read it; choose another name"
+          what w.path n.path)
+    names
+
+let guard_writes ?(distinct = true) ?(names = []) ~reads writes =
   let reads = List.map (fun (p, what) -> (identity p, what)) reads in
+  let names = List.map identity names in
   let writes = List.map (fun (p, what) -> (identity p, what)) writes in
   List.iter
-    (fun (w, what) ->
+    (fun ((w, _) as write) ->
       check_writable w.path;
-      List.iter
-        (fun (r, rwhat) ->
-          if same w r then
-            if r.path = w.path then
-              user
-                "refusing to write %s to %s: that file is %s, read by this run; choose \
-                 another name"
-                what w.path rwhat
-            else
-              user
-                "refusing to write %s to %s: that file is %s (%s), read by this run; \
-                 choose another name"
-                what w.path r.path rwhat)
-        reads)
+      refuse ~reads ~names write)
     writes;
   if distinct then
     let rec pairs = function
@@ -96,6 +108,11 @@ let guard_writes ?(distinct = true) ~reads writes =
     in
     pairs writes
 
+let refuse_overwrite ~reads path what =
+  refuse
+    ~reads:(List.map (fun (p, what) -> (identity p, what)) reads)
+    ~names:[] (identity path, what)
+
 (* A write is not cut short by an interrupt: an exception raised half-way through the
    encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt
    is answered once the file is whole. *)
@@ -104,14 +121,15 @@ let uninterrupted ?cancel what write =
   | None -> write ()
   | Some c ->
       Cancel.check c;
-      Cancel.deferring c write;
+      let r = Cancel.deferring c write in
       if Cancel.cancelled c then
-        raise (Job_error.Interrupted (what ^ " was written in full first"))
+        raise (Job_error.Interrupted (what ^ " was written in full first"));
+      r
 
 let write_image ?cancel ?(bits = 8) ?alpha ?crop path (sc : Scene.t) fb =
   uninterrupted ?cancel path (fun () ->
-      match Image.save ~gamma:sc.settings.gamma ~bits ?alpha ?crop path fb with
-      | Ok () -> ()
+      match Image.save_written ~gamma:sc.settings.gamma ~bits ?alpha ?crop path fb with
+      | Ok w -> w
       | Error m -> raise (Job_error.User m))
 
 let write_json ?cancel path j =

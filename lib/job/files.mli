@@ -8,13 +8,22 @@ val check_writable : string -> unit
     (tried with an empty file, removed at once); raises {!Job_error.User}. *)
 
 val guard_writes :
-  ?distinct:bool -> reads:(string * string) list -> (string * string) list -> unit
+  ?distinct:bool ->
+  ?names:string list ->
+  reads:(string * string) list ->
+  (string * string) list ->
+  unit
 (** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
     that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
-    link, a hard link, ./a.png for a.png), or, with [distinct] (default), that is the same
-    file as another write. Raises {!Job_error.User} naming both. *)
+    link, a hard link, ./a.png for a.png), that is one of [names] (files the scene may read
+    later, at another frame), or, with [distinct] (default), that is the same file as
+    another write. Raises {!Job_error.User} naming both. *)
 
-val uninterrupted : ?cancel:Cancel.t -> string -> (unit -> unit) -> unit
+val refuse_overwrite : reads:(string * string) list -> string -> string -> unit
+(** [refuse_overwrite ~reads path what]: {!guard_writes}' test of one write against the
+    files read, without probing the directory: for each frame as it is written. *)
+
+val uninterrupted : ?cancel:Cancel.t -> string -> (unit -> 'a) -> 'a
 (** [uninterrupted ~cancel what write] runs [write] so that an interrupt does not cut it
     short: a token already cancelled raises [Sys.Break] and writes nothing; one cancelled
     during the write lets it finish, then raises {!Job_error.Interrupted} saying [what]
@@ -28,10 +37,10 @@ val write_image :
   string ->
   Scene.t ->
   Image.t ->
-  unit
+  Image.written
 (** Encode with the scene's gamma ([bits] 8 by default; the coverage [alpha] as a fourth
-    channel; only [crop] when given) and write the file atomically, {!uninterrupted};
-    raises {!Job_error.User}. *)
+    channel; only [crop] when given) and write the file atomically, {!uninterrupted}; the
+    size and MD5 of the bytes written. Raises {!Job_error.User}. *)
 
 val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

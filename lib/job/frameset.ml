@@ -267,14 +267,8 @@ let journal_fd t =
       | exception Unix.Unix_error (e, _, _) ->
           Job_error.user "cannot record frames in %s: %s" t.journal (unix_msg e))
 
-let record t k ~inputs =
-  let path = Filename.concat t.dir (frame_name k) in
-  let size, md5 =
-    try ((Unix.stat path).st_size, Digest.to_hex (Digest.file path)) with
-    | Unix.Unix_error (e, _, _) ->
-        Job_error.user "cannot read back %s: %s" path (unix_msg e)
-    | Sys_error m -> Job_error.user "cannot read back %s: %s" path m
-  in
+let record t k ~(written : Image.written) ~inputs =
+  let size = written.size and md5 = written.md5 in
   let e = { frame = k; job = t.job; size; md5; inputs } in
   let line = Yojson.Safe.to_string (entry_json e) ^ "\n" in
   Mutex.protect t.lock (fun () ->

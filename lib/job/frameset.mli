@@ -38,10 +38,11 @@ val is_done : t -> int -> input_digest:(string -> string) -> bool
 (** Whether frame k is on disk as an entry of this job recorded it, with every input it
     read still having the recorded MD5 ([input_digest f] is the MD5 of input [f] now). *)
 
-val record : t -> int -> inputs:(string * string) list -> unit
-(** Record frame k, just written, in this run's journal (its size and MD5 are read from
-    the file). Safe to call from several domains. Raises {!Job_error.User} if the journal
-    cannot be written. *)
+val record : t -> int -> written:Image.written -> inputs:(string * string) list -> unit
+(** Record frame k, just written, in this run's journal, with the size and MD5 of the bytes
+    this run wrote ([written], digested before the rename): a run that replaced the file
+    since is not taken for this one. Safe to call from several domains. Raises
+    {!Job_error.User} if the journal cannot be written. *)
 
 val drop_view : t -> unit
 (** Remove the merged view: frames are about to change. *)

@@ -18,6 +18,9 @@ type extra = {
   fixed_lock : Mutex.t;
   made : int Atomic.t;  (** scenes begun *)
   mutable single : bool;  (** asked for one scene only ({!single_scene}) *)
+  on_disk : (string, string) Hashtbl.t;
+      (** the MD5 of input files this run has not decoded, as they were when asked *)
+  disk_lock : Mutex.t;
 }
 
 module Programs = Ephemeron.K1.Make (struct
@@ -46,6 +49,8 @@ let extra p =
               fixed_lock = Mutex.create ();
               made = Atomic.make 0;
               single = false;
+              on_disk = Hashtbl.create 4;
+              disk_lock = Mutex.create ();
             }
           in
           Programs.replace table p e;
@@ -62,13 +67,31 @@ let adopt assets r =
     r;
   r
 
-let load_file path =
-  let a = Compile.assets () in
+let load_file ?(digests = true) ?after_read path =
+  let a = Compile.assets ~digests ?after_read () in
   adopt a (Dsl.load_file ~files:(Compile.check_files a) path)
 
-let load_string ?progress ?filename text =
-  let a = Compile.assets () in
+let load_string ?progress ?(digests = true) ?after_read ?filename text =
+  let a = Compile.assets ~digests ?after_read () in
   adopt a (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
+
+(* What a record says of an input: the digest of the bytes this run decoded, or, for a
+   file it has not decoded (yet), of the file on disk, once. *)
+let input_digest p rel =
+  let path = Loc.relative_to (Dsl.file p) rel in
+  let e = extra p in
+  match Compile.digest e.assets path with
+  | Some d -> d
+  | None ->
+      Mutex.protect e.disk_lock (fun () ->
+          match Hashtbl.find_opt e.on_disk path with
+          | Some d -> d
+          | None ->
+              let d =
+                try Digest.to_hex (Digest.file path) with Sys_error _ -> "-"
+              in
+              Hashtbl.replace e.on_disk path d;
+              d)
 
 exception Refused of Diagnostic.t
 

@@ -10,16 +10,32 @@ module Dsl = Lancer_dsl.Dsl
 val assets : Dsl.t -> Compile.assets
 (** The program's cache of images and meshes (one per loaded program). *)
 
-val load_file : string -> (Dsl.t, Diagnostic.t list) result
+val load_file :
+  ?digests:bool ->
+  ?after_read:(string -> unit) ->
+  string ->
+  (Dsl.t, Diagnostic.t list) result
 (** {!Dsl.load_file}, with the images and meshes the program uses read (into its
-    {!assets}) and their problems reported with the program's. *)
+    {!assets}) and their problems reported with the program's. [digests] (default [true])
+    and [after_read] are {!Compile.assets}': a run that records what its pixels were made
+    of (an animation's frames, a checkpoint) keeps the digest of every file it decodes. *)
 
 val load_string :
   ?progress:(string -> unit) ->
+  ?digests:bool ->
+  ?after_read:(string -> unit) ->
   ?filename:string ->
   string ->
   (Dsl.t, Diagnostic.t list) result
 (** {!Dsl.load_string}, as {!load_file}. *)
+
+val input_digest : Dsl.t -> string -> string
+(** [input_digest p f]: the MD5 (hex) of image or mesh file [f] (named as
+    {!Dsl.scene_relative} names it) as this program's scenes see it: the digest of the very
+    bytes its {!assets} decoded, when they kept it; otherwise of the file on disk when
+    first asked ("-" when it cannot be read). Two evaluations at the same time and frame of
+    programs with the same {!Dsl.text_digest} name the same files, so these digests are
+    what else a frame depends on ([lancer animate --resume] and checkpoints rely on it). *)
 
 (** {1 Bodies} *)
 
@@ -89,7 +105,7 @@ val scene_with_files :
   frame:int ->
   (Scene.t * string list, Diagnostic.t list) result
 (** {!scene_at}, and the image and mesh files that scene names, sorted, as paths from the
-    main file's directory. Their digests ({!Dsl.input_digest}) are left to the callers
+    main file's directory. Their digests ({!input_digest}) are left to the callers
     that record them: a still without a checkpoint never reads a mesh twice. *)
 
 (** {1 For [lancer check]} *)

@@ -9,6 +9,7 @@ type t = {
     frame:int ->
     Scene.t * string list;
   inputs : unit -> string list;
+  names : unit -> string list;
   text_digest : unit -> string;
   input_digest : string -> string;
 }

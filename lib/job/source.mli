@@ -20,8 +20,13 @@ type t = {
           {!Job_error.Scene} for its located errors *)
   inputs : unit -> string list;
       (** the files read so far: the scene, its includes, images and meshes *)
+  names : unit -> string list;
+      (** every file some scene of the program may read, at any time: a superset of what
+          any frame reads, known before any frame is made *)
   text_digest : unit -> string;  (** a digest of the scene's text and includes *)
-  input_digest : string -> string;  (** the MD5 of an input file now *)
+  input_digest : string -> string;
+      (** the MD5 of an input file as this run's scenes read it (see
+          {!Program.input_digest}) *)
 }
 
 val scene :

@@ -10,14 +10,19 @@ type assets = {
   meshes : (string * bool, Trimesh.t read) Hashtbl.t;
   heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
+  digests : (string, string) Hashtbl.t option;
+      (** with [~digests:true]: each file's MD5 (hex), of the very bytes decoded *)
+  after_read : string -> unit;
   lock : Mutex.t;
 }
 
-let assets () =
+let assets ?(digests = false) ?(after_read = ignore) () =
   {
     pictures = Hashtbl.create 4;
     meshes = Hashtbl.create 4;
     heights = Hashtbl.create 4;
+    digests = (if digests then Some (Hashtbl.create 4) else None);
+    after_read;
     lock = Mutex.create ();
   }
 
@@ -27,6 +32,9 @@ let files (c : assets) =
         (Hashtbl.fold (fun p _ acc -> p :: acc) c.pictures []
         @ Hashtbl.fold (fun (p, _) _ acc -> p :: acc) c.meshes []
         @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights []))
+
+let digest (c : assets) path =
+  Option.bind c.digests (fun t -> Mutex.protect c.lock (fun () -> Hashtbl.find_opt t path))
 
 (* Read once per cache, whatever frame or thread asks first. *)
 let cached c tbl key read =
@@ -54,6 +62,30 @@ let failed what m =
 
 let spelled written r = Result.map_error (fun f -> f written) r
 
+(* A file's bytes, as they are decoded: read once, and digested from those very bytes
+   where the cache keeps digests, so that what a record says of a file is what the
+   picture was made of, even if the file is replaced meanwhile. A file read twice (a mesh
+   smooth and faceted, a picture also a height field) must give the same bytes both times:
+   otherwise it changed while the scene was being made, and which version a frame shows
+   would be a matter of timing. *)
+let took c path bytes =
+  c.after_read path;
+  match c.digests with
+  | None -> Ok bytes
+  | Some t -> (
+      let d = Digest.to_hex (Digest.string bytes) in
+      match
+        Mutex.protect c.lock (fun () ->
+            match Hashtbl.find_opt t path with
+            | Some d' when not (String.equal d d') -> Some d'
+            | Some _ -> None
+            | None ->
+                Hashtbl.replace t path d;
+                None)
+      with
+      | None -> Ok bytes
+      | Some _ -> Error "the file changed while the scene was being made; run again")
+
 let picture c (im : D.image) =
   spelled im.written
   @@ cached c c.pictures im.path (fun () ->
@@ -61,9 +93,29 @@ let picture c (im : D.image) =
          | Some e -> e
          | None ->
              guarded "read the image" (fun () ->
-                 match Image.read_linear im.path with
-                 | Ok img -> Ok img
-                 | Error m -> failed "read the image" m))
+                 match Image.read_bytes im.path with
+                 | Error m -> failed "read the image" m
+                 | Ok bytes -> (
+                     match took c im.path bytes with
+                     | Error m -> failed "read the image" m
+                     | Ok bytes -> (
+                         match Image.linear_of_string ~path:im.path bytes with
+                         | Ok img -> Ok img
+                         | Error m -> failed "read the image" m))))
+
+(* A mesh file's text: a regular file only (a FIFO would block, a device never end). *)
+let mesh_text path =
+  match Unix.stat path with
+  | exception Unix.Unix_error (e, _, _) ->
+      Error (Printf.sprintf "%s:0: cannot read the file (%s)" path (Unix.error_message e))
+  | { st_kind = Unix.S_REG; _ } -> (
+      match In_channel.with_open_bin path In_channel.input_all with
+      | text -> Ok text
+      | exception Sys_error m ->
+          Error (Printf.sprintf "%s:0: cannot read the file (%s)" path m))
+  | _ ->
+      Error
+        (Printf.sprintf "%s:0: not a regular file (a device or a pipe), not a mesh" path)
 
 let mesh c ~file ~path ~smooth =
   spelled file
@@ -72,9 +124,15 @@ let mesh c ~file ~path ~smooth =
          | Some e -> e
          | None ->
              guarded "load the mesh" (fun () ->
-                 match Mesh.load_mesh ~smooth path with
-                 | Ok m -> Ok m
-                 | Error m -> failed "load the mesh" m))
+                 match mesh_text path with
+                 | Error m -> failed "load the mesh" m
+                 | Ok text -> (
+                     match took c path text with
+                     | Error m -> failed "load the mesh" m
+                     | Ok text -> (
+                         match Mesh.parse_mesh ~smooth ~file:path text with
+                         | Ok m -> Ok m
+                         | Error m -> failed "load the mesh" m))))
 
 let heights c ~file ~path =
   spelled file
@@ -82,7 +140,10 @@ let heights c ~file ~path =
          match unreadable ~what:"image" path with
          | Some e -> e
          | None -> (
-             match Image.read_raster path with
+             match
+               Result.bind (Image.read_bytes path) (fun bytes ->
+                   Result.bind (took c path bytes) (Image.raster_of_string ~path))
+             with
              | Error m -> failed "read the image" m
              | Ok r ->
                  (* Luminance (Rec. 709 weights) of the stored samples, linear from 0 to the

@@ -10,11 +10,21 @@ type assets
 (** The images read by [image(…)] textures and bump maps, the OBJ files read by [mesh] and
     the images of height fields, each read once, shared between frames and threads. *)
 
-val assets : unit -> assets
-(** An empty cache. *)
+val assets : ?digests:bool -> ?after_read:(string -> unit) -> unit -> assets
+(** An empty cache. Each file is read once, whole, and decoded from those bytes. With
+    [~digests:true] the cache also keeps the MD5 of the very bytes it decoded ({!digest}),
+    for the records of a job that must say what its pictures were made of; a file read a
+    second time (a mesh smooth and faceted) must then give the same bytes, or the use is
+    an error ("the file changed while the scene was being made"). [after_read path] is
+    called as soon as a file's bytes are read, before they are decoded or digested (a test
+    replaces the file there). *)
 
 val files : assets -> string list
 (** The paths of the images and meshes read so far (or tried), sorted. *)
+
+val digest : assets -> string -> string option
+(** [digest assets path] is the MD5 (hex) of the bytes of [path] that the cache decoded,
+    when it keeps digests and has read that file. *)
 
 type fixed
 (** The primitives of objects that do not change between the frames of an animation, made

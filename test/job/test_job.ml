@@ -304,6 +304,7 @@ let source ?animation () : Source.t =
     animation;
     evaluate = (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), []));
     inputs = (fun () -> []);
+    names = (fun () -> []);
     text_digest = (fun () -> "text");
     input_digest = (fun _ -> "-");
   }
@@ -327,6 +328,10 @@ let still_time () =
 
 (* ---- The frames record ---- *)
 
+(* What a run that wrote [text] records of it. *)
+let written text : Image.written =
+  { size = String.length text; md5 = Digest.to_hex (Digest.string text) }
+
 let frames_record () =
   let dir = tmpdir () in
   let frame k = Filename.concat dir (Frameset.frame_name k) in
@@ -336,7 +341,7 @@ let frames_record () =
     "nothing done yet" false
     (Frameset.is_done set 0 ~input_digest:current);
   write (frame 0) "frame zero";
-  Frameset.record set 0 ~inputs:[ ("tex.ppm", "d1") ];
+  Frameset.record set 0 ~written:(written "frame zero") ~inputs:[ ("tex.ppm", "d1") ];
   Alcotest.(check bool) "frame 0 done" true (Frameset.is_done set 0 ~input_digest:current);
   Alcotest.(check bool)
     "not once its input changed" false
@@ -353,7 +358,7 @@ let frames_record () =
     "a second run sees frame 0" true
     (Frameset.is_done again 0 ~input_digest:current);
   write (frame 1) "frame one";
-  Frameset.record again 1 ~inputs:[];
+  Frameset.record again 1 ~written:(written "frame one") ~inputs:[];
   Alcotest.(check bool)
     "every frame done: the view is written" true
     (Frameset.finish again ~input_digest:current);
@@ -386,6 +391,23 @@ let frames_record () =
   user_error "a directory of another scene" (fun () ->
       Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2)
 
+(* Another run may replace a frame between this run's write and its record: the record
+   says what this run wrote, so the other run's bytes are not taken for this job's. *)
+let frame_replaced_before_record () =
+  let dir = tmpdir () in
+  let frame0 = Filename.concat dir (Frameset.frame_name 0) in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:1 in
+  write frame0 "this job's frame";
+  write frame0 "another job's frame";
+  Frameset.record set 0 ~written:(written "this job's frame") ~inputs:[];
+  Alcotest.(check bool)
+    "the other run's frame is not done for this job" false
+    (Frameset.is_done set 0 ~input_digest:(fun _ -> "-"));
+  write frame0 "this job's frame";
+  Alcotest.(check bool)
+    "the frame as written is" true
+    (Frameset.is_done set 0 ~input_digest:(fun _ -> "-"))
+
 (* ---- An animation's plan, through a source of the test's own ---- *)
 
 (* Four frames of the small scene, each reading one input whose digest [input] says. *)
@@ -397,6 +419,7 @@ let animation_source ?(text = "text") input : Source.t =
     evaluate =
       (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ "tex.ppm" ]));
     inputs = (fun () -> [ "anim.rts"; "tex.ppm" ]);
+    names = (fun () -> [ "tex.ppm" ]);
     text_digest = (fun () -> text);
     input_digest = (fun _ -> !input);
   }
@@ -722,6 +745,7 @@ let frames_as_rendered ?(domains = 1) name text =
           | Ok sc -> (sc, [])
           | Error _ -> Alcotest.fail "the animated scene does not evaluate");
       inputs = (fun () -> [ "anim.rts" ]);
+      names = (fun () -> []);
       text_digest = (fun () -> text);
       input_digest = (fun _ -> "");
     }
@@ -854,6 +878,8 @@ let () =
         [
           Alcotest.test_case "the frames record: journals, view, damage" `Quick
             frames_record;
+          Alcotest.test_case "a frame replaced before its record is not this job's" `Quick
+            frame_replaced_before_record;
           Alcotest.test_case "a checkpoint comes back bit for bit" `Quick
             checkpoint_roundtrip;
           Alcotest.test_case "a still's checkpoint key follows its inputs' digests" `Quick
