@@ -17,6 +17,8 @@ type t = {
   file : string;
   stmts : Ast.stmt list;
   sources : (string, string) Hashtbl.t;
+  resolved : (string * string, string) Hashtbl.t;
+      (** for each (including file, name written), the path the include was found at *)
   includes : (string, Loc.t list) Hashtbl.t;
       (** for each included file, where it was included *)
   mutable first : D.t;
@@ -136,11 +138,34 @@ let canonical path = try Unix.realpath path with _ -> path
 
 (* Replace every [include] by the parsed statements of the file it names, relative to the
    including file. [stack] holds the files being included, outermost last. *)
-let resolve sources includes errors main stmts =
+(* From the disk, or lancer's own library: a file's status is checked before it is opened
+   (a device or a FIFO would be read for ever or block, a huge file read in full). *)
+let from_disk ~including p =
+  let path = Library.locate ~including p in
+  let text () =
+    match
+      Option.bind (if Sys.file_exists path then Some path else None) source_problem
+    with
+    | Some m -> Error (`Status m)
+    | None -> ( match Library.read path with Ok t -> Ok t | Error m -> Error (`Read m))
+  in
+  (path, text)
+
+(* The most included files a program may expand to, counting every inclusion: a file
+   included twice by each of 22 others in a chain would otherwise expand 4 million
+   times. *)
+let max_inclusions = 10_000
+
+(* Replace every [include] by the parsed statements of the file it names, relative to the
+   including file. [stack] holds the files being included, outermost last. Each file is
+   read and parsed once, however often it is included; [resolved] keeps, for each
+   (including file, name written), the path it was found at. *)
+let resolve ~read sources resolved includes errors main stmts =
   let err loc msg =
     errors :=
       Error.make ?source:(Hashtbl.find_opt sources loc.Loc.file) loc msg :: !errors
   in
+  let parsed = Hashtbl.create 4 and inclusions = ref 0 in
   let chain file = Option.value (Hashtbl.find_opt includes file) ~default:[] in
   let rec stmts_ stack file ss = List.map (stmt stack file) ss
   and items stack file its =
@@ -151,8 +176,19 @@ let resolve sources includes errors main stmts =
     let d =
       match s.s with
       | Include (p, loc) -> (
-          let path = Library.locate ~including:file p in
+          let path, read_text =
+            match Hashtbl.find_opt resolved (file, p) with
+            | Some path -> (path, fun () -> Ok (Hashtbl.find sources path))
+            | None -> read ~including:file p
+          in
+          (* Each file is read once: the text the program keeps is the one it parsed. *)
+          let text () =
+            match Hashtbl.find_opt sources path with
+            | Some t -> Ok t
+            | None -> read_text ()
+          in
           let key = canonical path in
+          incr inclusions;
           match List.find_opt (fun (k, _) -> k = key) stack with
           | Some _ ->
               let chain = List.rev_map snd stack @ [ path ] in
@@ -167,41 +203,48 @@ let resolve sources includes errors main stmts =
           | None when List.length stack > 64 ->
               err loc "includes are nested more than 64 deep";
               Ast.Included (path, [])
+          | None when !inclusions > max_inclusions ->
+              if !inclusions = max_inclusions + 1 then
+                err s.sloc
+                  (Printf.sprintf
+                     "the includes expand to more than %d files (\"%s\" and the files it \
+                      includes are included over and over): include each file once, \
+                      from one place"
+                     max_inclusions p);
+              Ast.Included (path, [])
           | None -> (
-              let unreadable m =
-                let msg =
-                  match Error.cannot_read ~what:"included file" ~written:p path with
-                  | Some msg -> msg
-                  | None -> Printf.sprintf "cannot read the included file \"%s\": %s" p m
-                in
-                err s.sloc msg;
-                Ast.Included (path, [])
-              in
-              (* A file's status is checked before it is opened: a device or a FIFO would be
-                 read for ever or block, a huge file read in full. *)
-              match
-                Option.bind
-                  (if Sys.file_exists path then Some path else None)
-                  source_problem
-              with
-              | Some m ->
+              match text () with
+              | Error (`Status m) ->
                   err s.sloc
                     (Printf.sprintf "cannot read the included file \"%s\": %s" p m);
                   Ast.Included (path, [])
-              | None -> (
-                  match Library.read path with
-                  | Error m -> unreadable m
-                  | Ok text -> (
-                      Hashtbl.replace sources path text;
-                      (* The first include of a file gives the chain its errors show. *)
-                      if key <> canonical main && not (Hashtbl.mem includes path) then
-                        Hashtbl.replace includes path (s.sloc :: chain file);
-                      match Syntax.parse ~file:path text with
-                      | Error e ->
-                          errors := e :: !errors;
-                          Ast.Included (path, [])
-                      | Ok ss -> Ast.Included (path, stmts_ ((key, path) :: stack) path ss)
-                      ))))
+              | Error (`Read m) ->
+                  let msg =
+                    match Error.cannot_read ~what:"included file" ~written:p path with
+                    | Some msg -> msg
+                    | None ->
+                        Printf.sprintf "cannot read the included file \"%s\": %s" p m
+                  in
+                  err s.sloc msg;
+                  Ast.Included (path, [])
+              | Ok text -> (
+                  Hashtbl.replace resolved (file, p) path;
+                  Hashtbl.replace sources path text;
+                  (* The first include of a file gives the chain its errors show. *)
+                  if key <> canonical main && not (Hashtbl.mem includes path) then
+                    Hashtbl.replace includes path (s.sloc :: chain file);
+                  let ss =
+                    match Hashtbl.find_opt parsed path with
+                    | Some r -> r
+                    | None ->
+                        let r = Syntax.parse ~file:path text in
+                        Result.iter_error (fun e -> errors := e :: !errors) r;
+                        Hashtbl.replace parsed path r;
+                        r
+                  in
+                  match ss with
+                  | Error _ -> Ast.Included (path, [])
+                  | Ok ss -> Ast.Included (path, stmts_ ((key, path) :: stack) path ss))))
       | Macro (f, ps, b) -> Macro (f, ps, stmts_ stack file b)
       | For (x, a, b, st, body) -> For (x, a, b, st, stmts_ stack file body)
       | If_stmt (c, t, e) -> If_stmt (c, stmts_ stack file t, stmts_ stack file e)
@@ -234,8 +277,9 @@ let file_errors files sources uses =
           Error.make ?source:(Hashtbl.find_opt sources loc.file) loc msg)
         (f (List.rev uses))
 
-let load_text ?progress ?files file text =
+let load_text ?progress ?files ?(read = from_disk) file text =
   let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
+  let resolved = Hashtbl.create 4 in
   Hashtbl.replace sources file text;
   chained includes
   @@
@@ -243,7 +287,7 @@ let load_text ?progress ?files file text =
   | Error e -> Error [ e ]
   | Ok stmts -> (
       let errors = ref [] in
-      let stmts = resolve sources includes errors file stmts in
+      let stmts = resolve ~read sources resolved includes errors file stmts in
       if !errors <> [] then Error (List.rev !errors)
       else
         let on_objects n =
@@ -285,6 +329,7 @@ let load_text ?progress ?files file text =
                 file;
                 stmts;
                 sources;
+                resolved;
                 includes;
                 first;
                 released = Atomic.make false;
@@ -298,6 +343,34 @@ let load_text ?progress ?files file text =
 
 let load_string ?progress ?files ?(filename = "<string>") text =
   guard filename (fun () -> load_text ?progress ?files filename text)
+
+type bundle = {
+  b_file : string;
+  b_text : string;
+  b_includes : ((string * string) * (string * string)) list;
+}
+
+let bundle t =
+  {
+    b_file = t.file;
+    b_text = Hashtbl.find t.sources t.file;
+    b_includes =
+      List.sort compare
+        (Hashtbl.fold
+           (fun key path acc -> (key, (path, Hashtbl.find t.sources path)) :: acc)
+           t.resolved []);
+  }
+
+(* Includes from the bundle alone: none is looked for on this machine's disk. *)
+let load_bundle ?progress ?files b =
+  let read ~including p =
+    match List.assoc_opt (including, p) b.b_includes with
+    | Some (path, text) -> (path, fun () -> Ok text)
+    | None ->
+        ( Loc.relative_to including p,
+          fun () -> Error (`Status "it is not among the files the program was sent with") )
+  in
+  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
 
 let load_file ?files path =
   guard path (fun () ->

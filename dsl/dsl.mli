@@ -44,6 +44,22 @@ val load_string :
     ["<string>"]; includes are relative to its directory). [progress] is told how many
     objects a long check has built so far. *)
 
+type bundle
+(** A program's files as it read them: its own text and each include's, with where each
+    include was found. Plain data, to send to another process (an MPI rank). *)
+
+val bundle : t -> bundle
+(** The texts [t] was loaded from. *)
+
+val load_bundle :
+  ?progress:(string -> unit) ->
+  ?files:(Description.file_use list -> (Loc.t * string) list) ->
+  bundle ->
+  (t, Error.t list) result
+(** The program of a bundle, as {!load_string}, with every include taken from the bundle:
+    no file is read, so the program is the one whose texts were bundled, whatever the
+    files on this machine's disk say now. *)
+
 val describe :
   ?again:bool ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->

@@ -14,20 +14,20 @@ type options = {
 let default_options = { frames = None; resume = false; video = None; shard = None }
 
 let plan ?getenv (o : Cli.opts) (a : options) =
-  let text = ref None in
+  let program = ref None in
   (* The options first, as every command checks them: then the shard and the scene. *)
   ignore (Cli.domains o);
   let p =
     Animation.plan ?getenv ~dir:o.output ~frames:a.frames ~shard:a.shard ~resume:a.resume
       ~overrides:(Cli.overrides o) (fun () ->
-        let source = Cli.source o in
-        text := Some source;
-        Cli.scene_source o (Cli.load_source source))
+        let prog = Cli.load_source (Cli.source o) in
+        program := Some prog;
+        Cli.scene_source o prog)
   in
   if p.resumed > 0 && not o.quiet then
     Printf.printf "resuming: %d frames already rendered, %d to go\n%!" p.resumed
       (List.length p.todo);
-  (Option.get !text, p)
+  (Option.get !program, p)
 
 let write_frame p k sc fb st =
   Cli.warn_bad_samples st;

@@ -22,10 +22,10 @@ val plan :
   ?getenv:(string -> string option) ->
   Cli.opts ->
   options ->
-  (string * string) * Lancer_job.Animation.plan
+  Lang.program * Lancer_job.Animation.plan
 (** {!Lancer_job.Animation.plan} for these options, the scene loaded as {!Cli.source}
-    says, saying how many frames a resumed run skips; with the scene's (file name, text)
-    it was loaded from. Raises [Cli.User_error]. *)
+    says, saying how many frames a resumed run skips; with the program it loaded. Raises
+    [Cli.User_error]. *)
 
 val write_frame :
   Lancer_job.Animation.plan ->

@@ -501,6 +501,11 @@ let load_source ?progress ?digests (filename, text) =
       user "the built-in showcase does not load:\n%s" (Report.errors_text errs)
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
+let load_bundle b =
+  match Lang.load_bundle b with
+  | Ok p -> p
+  | Error errors -> raise (Job_error.Scene { errors; note = "" })
+
 let load ?progress ?digests scene =
   load_source ?progress ?digests (source { (default_opts ()) with scene })
 let scene_source (o : opts) prog = Lang.source ~builtin:(o.scene = None) prog

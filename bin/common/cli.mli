@@ -86,6 +86,9 @@ val load_source :
     located error. Includes are found relative to the file name. [digests] is
     {!Lang.load}'s. *)
 
+val load_bundle : Lang.bundle -> Lang.program
+(** The program of a bundle ({!Lang.load_bundle}); raises {!Lancer_job.Job_error.Scene}. *)
+
 val load : ?progress:(string -> unit) -> ?digests:bool -> string option -> Lang.program
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)
 

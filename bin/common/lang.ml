@@ -7,6 +7,10 @@ type error = Diagnostic.t
 let source_problem = Dsl.source_problem
 let load ?progress ?digests ~filename text =
   Program.load_string ?progress ?digests ~filename text
+type bundle = Dsl.bundle
+
+let bundle = Dsl.bundle
+let load_bundle ?progress b = Program.load_bundle ?progress b
 let animation = Dsl.animation
 let inputs = Dsl.inputs
 

@@ -21,6 +21,17 @@ val load :
     [digests] (default [true]) the program keeps the MD5 of every image and mesh it decodes,
     for the records of frames and checkpoints ({!Lancer.Program.load_string}). *)
 
+type bundle = Lancer_dsl.Dsl.bundle
+(** A program's texts as it read them: its file and every include (plain data, sent to
+    the other MPI ranks). *)
+
+val bundle : program -> bundle
+(** The texts a program was loaded from. *)
+
+val load_bundle : ?progress:(string -> unit) -> bundle -> (program, error list) result
+(** The program of a bundle, reading no scene file: the same program whatever the files
+    on this machine say now. *)
+
 val animation : program -> (float * int) option
 (** (fps, frames) of the animation block. *)
 

@@ -3,7 +3,8 @@
      worker                         rank 0
      Ready domains          ───▶
                             ◀───    Work { key; tiles } | Stop
-     Done (unit, stats, wait) ───▶  (wait: seconds between its last request and the answer)
+     Done (unit, stats, wait, inputs) ───▶  (wait: seconds between its last request and
+                                    the answer; inputs: the files its scene was made of)
      pixels (doubles)       ───▶    (same source, next message on its tag)
                             ◀───    Work … | Stop
      Failed message         ───▶    (instead of Done; rank 0 answers Stop from then on)
@@ -15,7 +16,10 @@ open Lancer
 open Lancer_job
 open Work
 
-type request = Ready of int | Done of work_unit * Stats.t * float | Failed of string
+type request =
+  | Ready of int
+  | Done of work_unit * Stats.t * float * (string * string) list
+  | Failed of string
 type reply = Work of work_unit | Stop
 
 let tag_request = 1
@@ -108,7 +112,17 @@ let local_worker ~render l () =
 
 type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
 
-let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
+(* The first file whose digest differs between a worker's scene and rank 0's, or that
+   one of them read and the other did not. *)
+let differing mine theirs =
+  let differs b (f, d) =
+    match List.assoc_opt f b with Some d' -> not (String.equal d d') | None -> true
+  in
+  match List.find_opt (differs theirs) mine with
+  | Some (f, _) -> Some f
+  | None -> Option.map fst (List.find_opt (differs mine) theirs)
+
+let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(inputs = fun _ -> None)
     ?(render : renderer option) ?(local = true) ?cancel ~fatal ~pool ~domains ~on_tiles
     ~on_frame frames =
   let ranks = Mpi.size () in
@@ -234,7 +248,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
        | Ready d ->
            rank_domains.(src) <- max 1 d;
            reply src
-       | Done (u, st, waited) ->
+       | Done (u, st, waited, theirs) -> (
            let f = Work.frame c u.key in
            let n = pixel_count f.all u.tiles in
            if Bigarray.Array1.dim !buf < n then buf := floats n;
@@ -242,11 +256,25 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ())
            if count <> n then
              failwith
                (Printf.sprintf "rank %d sent %d floats for a unit of %d" src count n);
-           transfer ~to_buf:false f.fb f.all u.tiles !buf;
            report.waits.(src) <- waited :: report.waits.(src);
-           deposit src u.key u.tiles st;
-           on_tiles !total_tiles;
-           reply src
+           (* Pixels made of other bytes than rank 0's scene are refused, not mixed in. *)
+           match Option.bind (inputs u.key) (fun mine -> differing mine theirs) with
+           | Some file ->
+               if !failure = None then
+                 failure :=
+                   Some
+                     (Worker_failed
+                        ( src,
+                          Printf.sprintf
+                            "it read %s with other contents than rank 0 did: the file \
+                             changed while the job ran; run again"
+                            file ));
+               reply src
+           | None ->
+               transfer ~to_buf:false f.fb f.all u.tiles !buf;
+               deposit src u.key u.tiles st;
+               on_tiles !total_tiles;
+               reply src)
        | Failed m ->
            if !failure = None then failure := Some (Worker_failed (src, m));
            reply src
@@ -287,19 +315,19 @@ let work ?cancel ?render ~describe ~pool ~domains scene_of =
   let cache = ref None in
   let scene key =
     match !cache with
-    | Some (k, sc, all, fb) when k = key -> (sc, all, fb)
+    | Some (k, sc, inputs, all, fb) when k = key -> (sc, inputs, all, fb)
     | _ ->
-        let (sc : Scene.t) = scene_of key in
+        let (sc : Scene.t), inputs = scene_of key in
         let fb =
           match !cache with
-          | Some (_, _, _, (fb : Image.t))
+          | Some (_, _, _, _, (fb : Image.t))
             when fb.width = sc.settings.width && fb.height = sc.settings.height ->
               fb
           | _ -> Image.create sc.settings.width sc.settings.height
         in
         let all = Render.tiles sc in
-        cache := Some (key, sc, all, fb);
-        (sc, all, fb)
+        cache := Some (key, sc, inputs, all, fb);
+        (sc, inputs, all, fb)
   in
   let buf = ref (floats 0) in
   (* [asked]: when this rank last handed in a request; the wait until the answer goes
@@ -310,16 +338,16 @@ let work ?cancel ?render ~describe ~pool ~domains scene_of =
     | Work u, _, _ -> (
         let waited = Unix.gettimeofday () -. asked in
         match
-          let sc, all, fb = scene u.key in
+          let sc, inputs, all, fb = scene u.key in
           let st = render ~pool sc fb u.tiles in
           let n = pixel_count all u.tiles in
           if Bigarray.Array1.dim !buf < n then buf := floats n;
           transfer ~to_buf:true fb all u.tiles !buf;
-          (st, n)
+          (st, n, inputs)
         with
-        | st, n ->
+        | st, n, inputs ->
             let asked = Unix.gettimeofday () in
-            Mpi.send (Done (u, st, waited)) ~dest:0 ~tag:tag_request;
+            Mpi.send (Done (u, st, waited, inputs)) ~dest:0 ~tag:tag_request;
             Mpi.send_floats !buf ~len:n ~dest:0 ~tag:tag_pixels;
             loop asked
         | exception (Sys.Break as e) -> raise e

@@ -49,6 +49,7 @@ val plan : ranks:int -> domains:int -> int list -> (int * int) list
 val serve :
   ?start:(int -> (Image.t * int array) option) ->
   ?on_unit:(int -> int array -> Stats.t -> unit) ->
+  ?inputs:(int -> (string * string) list option) ->
   ?render:renderer ->
   ?local:bool ->
   ?cancel:Cancel.t ->
@@ -62,7 +63,11 @@ val serve :
 (** [serve ~fatal ~pool ~domains ~on_tiles ~on_frame frames] runs on rank 0 and is what it
     saw. [start key], when it answers, gives a frame's framebuffer with some tiles already
     in it and the tiles still to render (a resumed still); [on_unit key tiles stats] is
-    called as each unit's pixels are in the framebuffer (to keep a checkpoint). [frames]
+    called as each unit's pixels are in the framebuffer (to keep a checkpoint). [inputs key],
+    when it answers, is the files (with their digests) rank 0's scene of that frame was
+    made of: a worker whose scene was made of other bytes (a texture or mesh replaced
+    while the job ran) has its unit refused and the job fails with {!Worker_failed},
+    instead of mixing two versions in one image. [frames]
     lists the keys to render in order, with the scene of each (asked for once, when its
     first unit is cut). [on_tiles n] is called as tiles finish, with the count so far over
     all frames, from any domain; [on_frame key scene fb stats] as each frame is complete
@@ -81,9 +86,10 @@ val work :
   describe:(exn -> string) ->
   pool:Pool.t option ->
   domains:int ->
-  (int -> Scene.t) ->
+  (int -> Scene.t * (string * string) list) ->
   unit
 (** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0 says
-    stop; [scene_of key] evaluates the scene of a frame. An exception from it or from
+    stop; [scene_of key] evaluates the scene of a frame, and the files it was made of with
+    their digests (sent back with each unit, see [serve]'s [inputs]). An exception from it or from
     rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
     [Sys.Break], which ends the job. *)

@@ -1,22 +1,26 @@
 (* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks
    (README.md here), with the same options and the same bytes. Every rank parses the same command
-   line; rank 0 alone reads the scene file, checks everything, reports errors and
-   writes files. It broadcasts the scene's text (or that the job is over, when there is
-   an error) before any work starts, so that the other ranks need no file and every rank
-   leaves with the same status. The work itself is Farm's. *)
+   line; rank 0 alone reads the scene file and its includes, checks everything, reports
+   errors and writes files. It broadcasts the texts it read (or that the job is over,
+   when there is an error) before any work starts, so that the other ranks read no scene
+   file (one edited meanwhile cannot make an image of two versions) and every rank
+   leaves with the same status. Images and meshes are read by each rank; each unit comes
+   back with their digests, and rank 0 refuses pixels made of other bytes than its own
+   scene. The work itself is Farm's. *)
 
 open Lancer
 open Lancer_job
 open Cmdliner
 module Cli = Lancer_cli.Cli
 module Report = Lancer_cli.Report
+module Lang = Lancer_cli.Lang
 module Progress = Lancer_cli.Progress
 module Animate = Lancer_cli.Animate
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
 
 (* What rank 0 broadcasts once its checks are done. *)
-type setup = Go of { filename : string; text : string } | Quit
+type setup = Go of Lang.bundle | Quit
 
 let user = Cli.user
 
@@ -41,9 +45,10 @@ let fatal ~resume stop e =
     ?interrupted:(if resume then Some Report.resumed_interrupt else None)
     ~terminated:(terminated ~resume) stop e
 
-(* The skeleton of both commands. [prepare] runs on rank 0 only and is (scene source,
-   state); [lead] runs on rank 0 with the pool its own units are rendered over;
-   [scene_of prog key] is the scene of a frame on the other ranks. *)
+(* The skeleton of both commands. [prepare] runs on rank 0 only and is (the program's
+   texts, state); [lead] runs on rank 0 with the pool its own units are rendered over;
+   [scene_of prog key] is the scene of a frame on the other ranks, with the files it was
+   made of and their digests. *)
 let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
     Report.run
@@ -57,7 +62,7 @@ let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
             ignore (Mpi.bcast Quit ~root:0);
             raise e
         in
-        ignore (Mpi.bcast (Go { filename = fst source; text = snd source }) ~root:0);
+        ignore (Mpi.bcast (Go source) ~root:0);
         let domains = Cli.domains o in
         try
           Render.with_pool ~cancel domains (fun pool ->
@@ -66,11 +71,10 @@ let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
   else
     match Mpi.bcast Quit ~root:0 with
     | Quit -> 1
-    | Go { filename; text } ->
-        (* Rank 0 has loaded the same text, so errors here are unexpected (an included
-           file missing on this node): they reach rank 0 through Farm and are reported
-           there. *)
-        let prog = lazy (Cli.load_source (filename, text)) in
+    | Go bundle ->
+        (* Rank 0 has loaded the same texts, so errors here are unexpected: they reach
+           rank 0 through Farm and are reported there. *)
+        let prog = lazy (Cli.load_bundle bundle) in
         let domains =
           match o.domains with
           | Some n when n >= 1 -> n
@@ -115,6 +119,9 @@ let report_json (r : Farm.report) =
       ("ranks", `List (List.init (Array.length r.units) rank));
     ]
 
+(* The files a scene was made of, each with its digest: what a unit is checked by. *)
+let with_digests (src : Source.t) files = List.map (fun f -> (f, src.input_digest f)) files
+
 (* ---- render ---- *)
 
 let render_cmd (o : Cli.opts) ~resume =
@@ -133,12 +140,13 @@ let render_cmd (o : Cli.opts) ~resume =
     Option.iter Cli.check_writable o.stats;
     ignore (Cli.domains o);
     let source = Cli.source o in
-    let (sc, files, src), build =
+    let (sc, files, src, prog), build =
       Cli.build o (fun say ->
           say "loading and evaluating the scene";
-          let src = Cli.scene_source o (Cli.load_source ~progress:say source) in
+          let prog = Cli.load_source ~progress:say source in
+          let src = Cli.scene_source o prog in
           let sc, files = still ~progress:say src in
-          (sc, files, src))
+          (sc, files, src, prog))
     in
     Cli.guard_render o src ~out;
     (* With --resume rank 0 keeps the finished tiles in a checkpoint beside the output. *)
@@ -148,9 +156,10 @@ let render_cmd (o : Cli.opts) ~resume =
         let time, frame = Cli.time_of o src in
         Some (Cli.checkpoint o src ~out ~time ~frame ~files sc)
     in
-    (source, (out, sc, build, ck))
+    let inputs = with_digests src files in
+    (Lang.bundle prog, (out, sc, build, ck, inputs))
   in
-  let lead (out, sc, build, ck) ~fatal ~cancel ~pool ~domains =
+  let lead (out, sc, build, ck, inputs) ~fatal ~cancel ~pool ~domains =
     let module Ck = Checkpoint in
     let total =
       match ck with
@@ -176,6 +185,7 @@ let render_cmd (o : Cli.opts) ~resume =
       Farm.serve
         ~start:(fun _ -> Option.map (fun ck -> (Ck.framebuffer ck, Ck.todo ck)) ck)
         ~on_unit:(fun _ tiles st -> Option.iter (fun ck -> Ck.tiles_done ck tiles st) ck)
+        ~inputs:(fun _ -> Some inputs)
         ~cancel ~fatal ~pool ~domains ~on_tiles:(Progress.update progress)
         ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
         [ (0, fun () -> sc) ]
@@ -207,7 +217,9 @@ let render_cmd (o : Cli.opts) ~resume =
       print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
   in
   distributed ~resume o ~prepare ~lead ~scene_of:(fun prog _ ->
-      fst (still (Cli.scene_source o prog)))
+      let src = Cli.scene_source o prog in
+      let sc, files = still src in
+      (sc, with_digests src files))
 
 (* ---- animate ---- *)
 
@@ -216,7 +228,8 @@ let render_cmd (o : Cli.opts) ~resume =
 let animate_cmd (o : Cli.opts) (a : Animate.options) =
   let prepare () =
     Animate.check_video a;
-    Animate.plan o a
+    let prog, p = Animate.plan o a in
+    (Lang.bundle prog, p)
   in
   let lead (p : Animation.plan) ~fatal ~cancel ~pool ~domains =
     let progress = Animate.progress o p in
@@ -231,6 +244,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
     in
     ignore
       (Farm.serve ~cancel ~fatal ~pool ~domains ~on_tiles:ignore ~on_frame
+         ~inputs:(Animation.frame_inputs p)
          (List.map (fun k -> (k, fun () -> Animation.frame_scene ~cancel p k)) p.todo));
     Progress.finish progress;
     Animation.finish p;
@@ -248,7 +262,10 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
       let src = Cli.scene_source o prog in
-      Cli.scene_at o src ~time:(Float.of_int k /. animation src) ~frame:k)
+      let sc, files =
+        Cli.scene_with_files o src ~time:(Float.of_int k /. animation src) ~frame:k
+      in
+      (sc, with_digests src files))
 
 (* ---- command line ---- *)
 

@@ -101,6 +101,8 @@ let frame_scene ?cancel p k =
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);
   sc
 
+let frame_inputs p k = Mutex.protect p.inputs_lock (fun () -> Hashtbl.find_opt p.inputs k)
+
 let write_frame p k sc fb =
   let inputs =
     match Mutex.protect p.inputs_lock (fun () -> Hashtbl.find_opt p.inputs k) with

@@ -49,6 +49,10 @@ val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it
     read are kept for {!write_frame}. [cancel] stops the evaluation with [Sys.Break]. *)
 
+val frame_inputs : plan -> int -> (string * string) list option
+(** The files (with their digests) frame k was made of, from {!frame_scene} until the
+    frame is written. *)
+
 val write_frame : plan -> int -> Scene.t -> Image.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)

@@ -75,6 +75,10 @@ let load_string ?progress ?(digests = true) ?after_read ?filename text =
   let a = Compile.assets ~digests ?after_read () in
   adopt a (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
 
+let load_bundle ?progress ?(digests = true) b =
+  let a = Compile.assets ~digests () in
+  adopt a (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
+
 (* What a record says of an input: the digest of the bytes this run decoded, or, for a
    file it has not decoded (yet), of the file on disk, once. *)
 let input_digest p rel =

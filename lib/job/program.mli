@@ -29,6 +29,14 @@ val load_string :
   (Dsl.t, Diagnostic.t list) result
 (** {!Dsl.load_string}, as {!load_file}. *)
 
+val load_bundle :
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  Dsl.bundle ->
+  (Dsl.t, Diagnostic.t list) result
+(** {!Dsl.load_bundle}, as {!load_file}: the program another process loaded, from the
+    texts it read (an MPI rank's copy of rank 0's program). *)
+
 val input_digest : Dsl.t -> string -> string
 (** [input_digest p f]: the MD5 (hex) of image or mesh file [f] (named as
     {!Dsl.scene_relative} names it) as this program's scenes see it: the digest of the very

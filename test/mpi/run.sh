@@ -157,16 +157,46 @@ count=$(grep -c 'needs a `radius` field' bad.err)
 if [ "$status" = 1 ] && [ "$count" = 1 ] && [ ! -e bad.png ]; then ok "a scene error is reported once and the job exits with status 1"
 else fail "scene error: status $status, $count messages"; cat bad.err; fi
 
-# A worker that cannot do its part stops the job with a clear message and no image: here
-# the scene includes a file that only rank 0 can see (the others run in a directory
-# without it, as on a node of a cluster without the file).
-mkdir -p inc elsewhere && printf 'sphere { center: (0, 1, 0), radius: 1 }\n' >inc/part.rts
-printf 'include "inc/part.rts"\nlight { position: (0, 5, -5) }\n' >withinc.rts
-run -np 2 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd elsewhere; exec lancer-mpi render withinc.rts -o inc.png -q' \
+# The other ranks take the scene and its includes from rank 0, never from their own disk:
+# an include edited while a job starts (here: another version of it where the other
+# ranks run, as on a node that sees the file change a moment later) cannot make one
+# image of two versions. The image is the one rank 0's files give.
+mkdir -p inc elsewhere/inc
+printf 'sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.2) } }\n' >inc/part.rts
+printf 'sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.2, 0.2, 0.9) } }\n' >elsewhere/inc/part.rts
+printf 'settings { width: 256, height: 192, samples: 2 }\ncamera { position: (0, 1, -5), look_at: (0, 1, 0) }\ninclude "inc/part.rts"\nlight { position: (0, 5, -5) }\n' >withinc.rts
+cp withinc.rts elsewhere/withinc.rts
+lancer render withinc.rts -o inc_ref.png -q >/dev/null 2>&1 || fail "lancer render withinc.rts"
+run -np 3 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd elsewhere; exec lancer-mpi render withinc.rts -o inc.png -q --domains 1' \
   >inc.out 2>inc.err
 status=$?
-if [ "$status" = 1 ] && grep -q "rank 1: " inc.err && [ ! -e inc.png ]; then ok "a worker's failure stops the job with a message and no image"
-else fail "worker failure: status $status"; cat inc.err; fi
+if [ "$status" = 0 ] && cmp -s inc_ref.png inc.png; then ok "the other ranks render rank 0's includes, not the versions on their own disk"
+else fail "an include that differs on the other ranks: status $status"; cat inc.err; fi
+
+# Images and meshes are read by every rank, and each unit comes back with their digests:
+# pixels made of another version of a texture than rank 0's are refused, with a message
+# and no image.
+printf 'P6\n1 1\n255\n\310\40\40' >tex.ppm
+printf 'P6\n1 1\n255\n\40\40\310' >elsewhere/tex.ppm
+printf 'settings { width: 256, height: 192, samples: 2 }\nlight { position: (0, 5, -5) }\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: image("tex.ppm", 1) } }\n' >withtex.rts
+cp withtex.rts elsewhere/withtex.rts
+run -np 2 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd elsewhere; exec lancer-mpi render withtex.rts -o tex.png -q --domains 1' \
+  >tex.out 2>tex.err
+status=$?
+if [ "$status" = 1 ] && grep -q "rank 1: it read tex.ppm with other contents than rank 0 did" tex.err && [ ! -e tex.png ]; then
+  ok "a texture that differs on another rank stops the job with a message and no image"
+else fail "a texture that differs on another rank: status $status"; cat tex.err; fi
+
+# A worker that cannot do its part stops the job with a clear message and no image: here
+# the scene's texture is one that only rank 0 can see (the others run in a directory
+# without it, as on a node of a cluster without the file).
+mkdir -p bare
+cp withtex.rts bare/withtex.rts
+run -np 2 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd bare; exec lancer-mpi render withtex.rts -o bare.png -q' \
+  >bare.out 2>bare.err
+status=$?
+if [ "$status" = 1 ] && grep -q "rank 1: " bare.err && [ ! -e bare.png ]; then ok "a worker's failure stops the job with a message and no image"
+else fail "worker failure: status $status"; cat bare.err; fi
 # The 16-core run's script, at a tiny size on 1 and 2 ranks: it finds the commands, prints
 # the table and checks every output against lancer's.
 if LANCER=$(command -v lancer) LANCER_MPI=$(command -v lancer-mpi) SCENE_DIR=$(dirname "$showcase") CURVE="1 2" MAX=2 \

@@ -69,5 +69,5 @@ let () =
       (1e3 *. Farm.percentile 0.5 waits)
   else
     Farm.work ~render:empty ~describe:Printexc.to_string ~pool:None ~domains:1 (fun _ ->
-        scene);
+        (scene, []));
   Mpi.finalize ()

@@ -113,6 +113,25 @@ let scene_tests =
         write_file (Filename.concat d "s.rts") "include \"s.rts\"\n";
         refused ~lines:4 ~dir:d ~where:"s.rts:1:9: include cycle" ~left:[ "s.rts" ]
           (render d []));
+    case "an include tree that doubles at each of 30 levels is refused at once" (fun () ->
+        (* f0 includes f1 twice, f1 includes f2 twice, …: 2^30 inclusions if expanded. *)
+        let d = tmpdir () in
+        let depth = 30 in
+        for k = 0 to depth - 1 do
+          write_file
+            (Filename.concat d (Printf.sprintf "f%d.rts" k))
+            (Printf.sprintf "include \"f%d.rts\"\ninclude \"f%d.rts\"\n" (k + 1) (k + 1))
+        done;
+        write_file
+          (Filename.concat d (Printf.sprintf "f%d.rts" depth))
+          "sphere { center: (0, 0, 0), radius: 1 }\n";
+        (* The unbounded expansion ran for minutes and gigabytes: bounded here. *)
+        let ((st, _, e) as r) =
+          lancer ~prefix:"ulimit -v 2000000; timeout 120" ~dir:d [ "check"; "f0.rts" ]
+        in
+        if st <> 1 || not (G.contains e "the includes expand to more than 10000 files")
+        then fail_with r;
+        if not (G.contains e ".rts:1:1: the includes expand") then fail_with ~msg:"unlocated" r);
     case "an image 60000×60000 is refused up front with the limit" (fun () ->
         let d = tmpdir () in
         scene d "";
