@@ -151,6 +151,20 @@ let from_disk ~including p =
   in
   (path, text)
 
+(* An error in a file that did not parse shows its line only if the file is named as a
+   scene: an include that names any other file ("../../etc/shadow") must not print that
+   file's lines. *)
+let unquoted path (e : Error.t) =
+  if String.lowercase_ascii (Filename.extension path) = ".rts" then e
+  else
+    {
+      e with
+      source_line = None;
+      message =
+        "this file does not parse as a scene (a syntax error here); it is not named .rts, \
+         so nothing of it is shown";
+    }
+
 (* The most included files a program may expand to, counting every inclusion: a file
    included twice by each of 22 others in a chain would otherwise expand 4 million
    times. *)
@@ -238,7 +252,7 @@ let resolve ~read sources resolved includes errors main stmts =
                     | Some r -> r
                     | None ->
                         let r = Syntax.parse ~file:path text in
-                        Result.iter_error (fun e -> errors := e :: !errors) r;
+                        Result.iter_error (fun e -> errors := unquoted path e :: !errors) r;
                         Hashtbl.replace parsed path r;
                         r
                   in

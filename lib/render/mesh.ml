@@ -541,7 +541,12 @@ let parse_mesh ?(smooth = true) ~file text =
            ~tt:(if !with_uvs then trimmed tt else Trimesh.no_ints))
   with Bad (line, m) ->
     let line, m =
-      if String.contains text '\000' then (1, "not a text file") else (line, m)
+      if String.contains text '\000' then (1, "not a text file")
+      else if vs.len = 0 && vns.len = 0 && vts.len = 0 && !faces = 0 then
+        (* Nothing read yet is OBJ: the file is something else, whose words are not
+           quoted (a scene may name any file as a mesh). *)
+        (line, "not an OBJ file: no vertex, normal, texture coordinate or face before this line")
+      else (line, m)
     in
     Error (Printf.sprintf "%s:%d: %s" file line m)
 

@@ -113,6 +113,25 @@ let scene_tests =
         write_file (Filename.concat d "s.rts") "include \"s.rts\"\n";
         refused ~lines:4 ~dir:d ~where:"s.rts:1:9: include cycle" ~left:[ "s.rts" ]
           (render d []));
+    case "an error never shows the lines of a file that is not a scene or a mesh"
+      (fun () ->
+        (* A scene may name any file: a password file, as an include or as a mesh. *)
+        let d = tmpdir () in
+        let secret = "root:$6$SECRET-HASH:19000:0:99999:7:::" in
+        write_file (Filename.concat d "shadow") (secret ^ "\ndaemon:*:19000\n");
+        write_file (Filename.concat d "shadow.obj") (secret ^ "\n");
+        List.iter
+          (fun (name, text, where) ->
+            write_file (Filename.concat d name) text;
+            let ((st, out, e) as r) = lancer ~dir:d [ "check"; name ] in
+            if st <> 1 || not (names e where) then fail_with r;
+            if G.contains (out ^ e) "SECRET" || G.contains (out ^ e) "root" then
+              fail_with ~msg:"a line of the file is shown" r)
+          [
+            ("i.rts", "include \"shadow\"\n", "shadow:1:");
+            ("m.rts", "mesh { file: \"shadow\" }\n", "m.rts:1:");
+            ("o.rts", "mesh { file: \"shadow.obj\" }\n", "o.rts:1:");
+          ]);
     case "an include tree that doubles at each of 30 levels is refused at once" (fun () ->
         (* f0 includes f1 twice, f1 includes f2 twice, …: 2^30 inclusions if expanded. *)
         let d = tmpdir () in
