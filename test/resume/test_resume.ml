@@ -450,4 +450,37 @@ let still_tests =
           (contains out "already rendered"));
   ]
 
-let () = Alcotest.run "resume" [ ("animate", animate_tests); ("render", still_tests) ]
+(* A checkpoint of the layout lancer wrote before (version 2: its first line, the MD5 of
+   the rest, a marshalled record), crafted so that its bytes unmarshal into a value of
+   another shape: a pair of integers where a record of a string, numbers and arrays was
+   read. *)
+let crafted_checkpoint =
+  let body = Marshal.to_string (0, 0) [] in
+  "lancer-checkpoint-2\n" ^ Digest.string body ^ body
+
+let crafted_tests =
+  [
+    Alcotest.test_case
+      "a crafted checkpoint of the former marshalled layout is ignored: the render \
+       neither crashes nor resumes, and makes the uninterrupted image"
+      `Quick (fun () ->
+        let d = setup () in
+        check_status "uninterrupted" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "-o"; "ref.png"; "-q" ]);
+        write_file (path d "a.png.checkpoint") crafted_checkpoint;
+        let ((_, out, err) as r) =
+          lancer ~dir:d [ "render"; "a.rts"; "-o"; "a.png"; "--resume" ]
+        in
+        check_status "rendered" 0 r;
+        Alcotest.(check bool)
+          ("starts over: " ^ out) false
+          (contains out "already rendered");
+        Alcotest.(check string) "nothing on stderr" "" err;
+        Alcotest.(check bool)
+          "the uninterrupted image" true
+          (read_file (path d "ref.png") = read_file (path d "a.png")));
+  ]
+
+let () =
+  Alcotest.run "resume"
+    [ ("animate", animate_tests); ("render", still_tests); ("crafted", crafted_tests) ]
