@@ -498,7 +498,66 @@ let serve sock spec =
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
 let max_streams = 32
 
-let run stop (o : Cli.opts) ~host ~port ~poll =
+(* Where an address listens: every address of the machine (a wildcard, however it is
+   written, IPv4-mapped included), the loopback interface only (127.0.0.0/8, ::1, and
+   127.x.y.z mapped into IPv6), or beyond it. *)
+type reach = Everywhere | Loopback | Beyond
+
+(* The eight 16-bit groups of an IPv6 address written as inet_ntop writes it ("::" for
+   a run of zeros, a dotted IPv4 address at the end). *)
+let ipv6_groups s =
+  let groups part =
+    if part = "" then []
+    else
+      List.concat_map
+        (fun g ->
+          if String.contains g '.' then
+            match
+              Scanf.sscanf_opt g "%u.%u.%u.%u%!" (fun a b c d ->
+                  [ (a lsl 8) lor b; (c lsl 8) lor d ])
+            with
+            | Some l -> l
+            | None -> invalid_arg g
+          else [ int_of_string ("0x" ^ g) ])
+        (String.split_on_char ':' part)
+  in
+  let n = String.length s in
+  let rec double i =
+    if i + 1 >= n then None else if String.sub s i 2 = "::" then Some i else double (i + 1)
+  in
+  match double 0 with
+  | None -> groups s
+  | Some i ->
+      let a = groups (String.sub s 0 i)
+      and b = groups (String.sub s (i + 2) (n - i - 2)) in
+      a @ List.init (8 - List.length a - List.length b) (fun _ -> 0) @ b
+
+(* An address to listen on and where it listens. An IPv4 address mapped into IPv6 is
+   given as the IPv4 address itself: a socket bound to either takes the same
+   connections, and a browser names it by its IPv4 form (its Host header). *)
+let listen_address addr =
+  let v4 s =
+    match Scanf.sscanf_opt s "%u.%u.%u.%u%!" (fun a b c d -> (a, b, c, d)) with
+    | Some (0, 0, 0, 0) -> Everywhere
+    | Some (127, _, _, _) -> Loopback
+    | _ -> Beyond
+  in
+  let s = Unix.string_of_inet_addr addr in
+  match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
+  | Unix.PF_INET -> (addr, v4 s)
+  | _ -> (
+      match ipv6_groups s with
+      | [ 0; 0; 0; 0; 0; 0; 0; 0 ] -> (addr, Everywhere)
+      | [ 0; 0; 0; 0; 0; 0; 0; 1 ] -> (addr, Loopback)
+      | [ 0; 0; 0; 0; 0; 0xffff; hi; lo ] ->
+          let s =
+            Printf.sprintf "%d.%d.%d.%d" (hi lsr 8) (hi land 255) (lo lsr 8) (lo land 255)
+          in
+          (Unix.inet_addr_of_string s, v4 s)
+      | _ -> (addr, Beyond)
+      | exception (Invalid_argument _ | Failure _) -> (addr, Beyond))
+
+let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback =
   ignore (Report.on_interrupt stop);
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
@@ -514,16 +573,23 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
   let domains = Cli.domains o in
   Option.iter (fun d -> if d < 1 then Cli.user "--width must be at least 1") o.width;
   Option.iter (fun d -> if d < 1 then Cli.user "--height must be at least 1") o.height;
-  let addr =
+  let addr, reach =
     match Unix.inet_addr_of_string host with
-    | a -> a
+    | a -> listen_address a
     | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
   in
-  if addr = Unix.inet_addr_any || addr = Unix.inet6_addr_any then
-    Cli.user
-      "--host must be one address of this machine, not %s: the server answers only \
-       requests addressed to it"
-      host;
+  (match reach with
+  | Everywhere ->
+      Cli.user
+        "--host must be one address of this machine, not %s (every address): the server \
+         answers only requests addressed to it"
+        host
+  | Beyond when not beyond_loopback ->
+      Cli.user
+        "--host %s is not a loopback address: the preview, which asks for no password, \
+         would be open to other machines; add --listen-beyond-loopback to mean that"
+        host
+  | Loopback | Beyond -> ());
   let sock =
     Lwt_unix.socket
       (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)))
@@ -539,10 +605,12 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
     | Unix.ADDR_INET (_, p) -> p
     | _ -> port
   in
+  (* The address as a browser writes it in the Host header: its canonical form. *)
   let authority =
+    let a = Unix.string_of_inet_addr addr in
     match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
-    | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" host port
-    | _ -> Printf.sprintf "%s:%d" host port
+    | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" a port
+    | _ -> Printf.sprintf "%s:%d" a port
   in
   let tmp = Filename.temp_dir "lancer-watch" "" in
   let wake_r, wake_w = Unix.pipe ~cloexec:true () in
@@ -750,9 +818,21 @@ let cmd =
       value & opt string "127.0.0.1"
       & info [ "host" ] ~docv:"ADDR"
           ~doc:
-            "The address to listen on. The server answers only requests addressed to it \
-             (their Host header), so a foreign web page cannot reach it by a renamed \
-             domain.")
+            "The address to listen on: one IP address, never a wildcard such as \
+             $(b,0.0.0.0), $(b,::) or $(b,::ffff:0.0.0.0). Without \
+             $(b,--listen-beyond-loopback) it must be a loopback address \
+             ($(b,127.0.0.0/8), $(b,::1), or $(b,::ffff:127.x.y.z)). The server answers \
+             only requests addressed to it (their Host header), so a foreign web page \
+             cannot reach it by a renamed domain.")
+  in
+  let beyond_loopback =
+    Arg.(
+      value & flag
+      & info [ "listen-beyond-loopback" ]
+          ~doc:
+            "Allow a $(b,--host) that is not a loopback address. The preview asks for no \
+             password: anyone who can reach that address can watch the scene, its \
+             errors, and switch its quality.")
   in
   let poll =
     Arg.(
@@ -804,7 +884,21 @@ let cmd =
   in
   let term =
     Term.(
-      const (fun scene port host poll width height samples depth domains quality quiet ->
+      const
+        (fun
+          scene
+          port
+          host
+          beyond_loopback
+          poll
+          width
+          height
+          samples
+          depth
+          domains
+          quality
+          quiet
+        ->
           let o =
             {
               (Cli.default_opts ()) with
@@ -819,8 +913,8 @@ let cmd =
             }
           in
           Report.run ~interrupted:"the preview server stopped" (fun stop ->
-              run stop o ~host ~port ~poll))
-      $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality
-      $ quiet)
+              run stop o ~host ~port ~poll ~beyond_loopback))
+      $ scene $ port $ host $ beyond_loopback $ poll $ width $ height $ samples $ depth
+      $ domains $ quality $ quiet)
   in
   Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term

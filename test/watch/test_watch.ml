@@ -469,6 +469,44 @@ let out_of_descriptors () =
       ignore (wait_for e "a full image of the edit" is_last);
       close_events e)
 
+(* Where it may listen: one loopback address unless told otherwise, never every one. *)
+let hosts () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  let refused what args expect =
+    let st, _, e =
+      Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d
+        ("watch" :: "s.rts" :: "--port" :: "0" :: args)
+    in
+    Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
+    Alcotest.(check bool) (what ^ ": " ^ e) true (Run_lancer.contains e expect);
+    Alcotest.(check bool)
+      (what ^ ": no backtrace") false
+      (Run_lancer.contains e "Raised at")
+  in
+  List.iter
+    (fun h ->
+      refused ("every address as " ^ h) [ "--host"; h ]
+        "lancer: --host must be one address of this machine";
+      refused
+        ("every address as " ^ h ^ ", even beyond loopback")
+        [ "--host"; h; "--listen-beyond-loopback" ]
+        "lancer: --host must be one address of this machine")
+    [ "::ffff:0.0.0.0"; "0:0:0:0:0:ffff:0:0"; "::"; "0:0::0"; "::0.0.0.0"; "0.0.0.0" ];
+  List.iter
+    (fun h ->
+      refused (h ^ " without the option") [ "--host"; h ]
+        (Printf.sprintf "lancer: --host %s is not a loopback address" h))
+    [ "192.0.2.1"; "::ffff:192.0.2.1"; "2001:db8::1"; "::127.0.0.1" ];
+  (* With the option the address is tried (this machine has not got it). *)
+  refused "192.0.2.1 with the option"
+    [ "--host"; "192.0.2.1"; "--listen-beyond-loopback" ]
+    "lancer: cannot listen on 192.0.2.1";
+  (* A loopback address written as IPv4-mapped is served as the IPv4 address. *)
+  with_server ~args:[ "--host"; "::ffff:127.0.0.1" ] d (fun s ->
+      let st, _ = request s "/" in
+      Alcotest.(check int) "::ffff:127.0.0.1 is 127.0.0.1" 200 st)
+
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
@@ -497,5 +535,9 @@ let () =
             hostile;
           Alcotest.test_case "out of file descriptors, it waits and serves again" `Quick
             out_of_descriptors;
+          Alcotest.test_case
+            "a wildcard host in any spelling is refused, and one beyond loopback without \
+             --listen-beyond-loopback"
+            `Quick hosts;
         ] );
     ]
