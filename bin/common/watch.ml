@@ -109,17 +109,45 @@ let knobs (o : Cli.opts) (sc : Scene.t) =
 
 let quality_name = function Some q -> Quality.to_string q | None -> "scene"
 
+(* What watch shows of an error located in a file: all of it for a file in the scene's
+   directory tree, and only its file, line, column and message for a file outside it
+   (unless [any_line]), so that a scene that includes any file the user may read cannot
+   have its lines shown on the page. The tree and the file are taken as the system
+   resolves them (symbolic links followed); a file that cannot be resolved is outside. *)
+let shown_errors ~any_line scene =
+  let root =
+    try Some (Unix.realpath (Filename.dirname scene)) with Unix.Unix_error _ -> None
+  in
+  let inside file =
+    match (root, Unix.realpath file) with
+    | Some r, p -> p = r || String.starts_with ~prefix:(if r = "/" then r else r ^ "/") p
+    | None, _ -> false
+    | exception Unix.Unix_error _ -> false
+  in
+  fun (e : Diagnostic.t) ->
+    if any_line || inside e.file then e else { e with source_line = None }
+
+(* The text of an error that ends a version, each located error through [show_error]. *)
+let describe show_error e =
+  fst
+    (Report.describe
+       (match e with
+       | Job_error.Scene { errors; note } ->
+           Job_error.Scene { errors = List.map show_error errors; note }
+       | e -> e))
+
 (* Load the scene: the program, or the text lancer prints for its errors and the files
    they name (to be watched too). *)
-let load path =
+let load show_error path =
   match Cli.source { (Cli.default_opts ()) with scene = Some path } with
-  | exception (Cli.User_error _ as e) -> Error (fst (Report.describe e), [])
+  | exception (Cli.User_error _ as e) -> Error (describe show_error e, [])
   | filename, text -> (
       match Lang.load ~filename text with
       | Ok p -> Ok p
       | Error errs ->
-          Error (Report.errors_text errs, List.map (fun (e : Diagnostic.t) -> e.file) errs)
-      )
+          Error
+            ( Report.errors_text (List.map show_error errs),
+              List.map (fun (e : Diagnostic.t) -> e.file) errs ))
 
 type version = {
   gen : int;
@@ -131,7 +159,7 @@ type version = {
 
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
-let render_version sh (o : Cli.opts) pool tmp prog seq v =
+let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
   let cancelled () = Cancel.cancelled v.cancel in
   let path = Option.get o.scene in
   let failed text files =
@@ -146,7 +174,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
     match !prog with
     | Some p when not v.reload -> Ok p
     | _ -> (
-        match load path with
+        match load show_error path with
         | Ok p ->
             prog := Some p;
             with_lock sh (fun () -> sh.inputs <- Lang.inputs p);
@@ -180,7 +208,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
           in
           Ok (sc, coarse)
         with (Cli.User_error _ | Job_error.Scene _) as e ->
-          Error (fst (Report.describe e))
+          Error (describe show_error e)
       in
       (* A frame may read files that frame 0 does not (an image chosen by [frame]): they
          are watched from the first version that reads them. *)
@@ -298,7 +326,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                   (Unix.gettimeofday () -. v.t0)))
             passes)
 
-let renderer sh (o : Cli.opts) domains tmp () =
+let renderer sh show_error (o : Cli.opts) domains tmp () =
   Render.with_pool domains (fun pool ->
       let prog = ref None and seq = ref 0 in
       let rec loop () =
@@ -320,10 +348,9 @@ let renderer sh (o : Cli.opts) domains tmp () =
                 cancel = sh.current;
               })
         in
-        (try render_version sh o pool tmp prog seq v with
+        (try render_version sh show_error o pool tmp prog seq v with
         | Cancelled -> ()
-        | e ->
-            publish sh "failure" (`Assoc [ ("text", `String (fst (Report.describe e))) ]));
+        | e -> publish sh "failure" (`Assoc [ ("text", `String (describe show_error e)) ]));
         loop ()
       in
       loop ())
@@ -709,7 +736,7 @@ let listen_address addr =
       | _ -> (addr, Beyond)
       | exception (Invalid_argument _ | Failure _) -> (addr, Beyond))
 
-let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback =
+let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback ~any_source_line =
   ignore (Report.on_interrupt stop);
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
@@ -782,7 +809,8 @@ let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback =
       wake_w;
     }
   in
-  let worker = Domain.spawn (renderer sh o domains tmp) in
+  let show_error = shown_errors ~any_line:any_source_line path in
+  let worker = Domain.spawn (renderer sh show_error o domains tmp) in
   ignore worker;
   (* What a newly connected page is sent first: the last event of each kind. *)
   let current = Hashtbl.create 8 in
@@ -1040,6 +1068,16 @@ let cmd =
              password: anyone who can reach that address can watch the scene, its \
              errors, and switch its quality.")
   in
+  let any_source_line =
+    Arg.(
+      value & flag
+      & info [ "show-lines-outside" ]
+          ~doc:
+            "Show the source line of an error in any file. By default, an error in a \
+             file outside the scene's directory tree (reached by $(b,..), an absolute \
+             path or a symbolic link) is shown as its file, line, column and message \
+             only, without the line's text, on the page and in the terminal.")
+  in
   let poll =
     Arg.(
       value & flag
@@ -1103,6 +1141,7 @@ let cmd =
           port
           host
           beyond_loopback
+          any_source_line
           poll
           width
           height
@@ -1126,8 +1165,8 @@ let cmd =
             }
           in
           Report.run ~interrupted:"the preview server stopped" (fun stop ->
-              run stop o ~host ~port ~poll ~beyond_loopback))
-      $ scene $ port $ host $ beyond_loopback $ poll $ width $ height $ samples $ depth
-      $ domains $ quality $ quiet)
+              run stop o ~host ~port ~poll ~beyond_loopback ~any_source_line))
+      $ scene $ port $ host $ beyond_loopback $ any_source_line $ poll $ width $ height
+      $ samples $ depth $ domains $ quality $ quiet)
   in
   Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term

@@ -835,6 +835,54 @@ let duplicate_headers () =
       in
       Alcotest.(check int) "two Content-Lengths" 400 st)
 
+(* A scene that includes a file outside its directory: the error says where, not what
+   the line is (on the page and in the terminal), a symbolic link in the directory
+   leading out included; --show-lines-outside shows it. *)
+let outside_lines () =
+  let top = tmpdir () in
+  let d = Filename.concat top "scene" in
+  Unix.mkdir d 0o755;
+  let secret = "root:x:0:0:the-secret-line:/root:/bin/bash\n" in
+  Run_lancer.write_file (Filename.concat top "secret.rts") secret;
+  Unix.symlink "../secret.rts" (Filename.concat d "link.rts");
+  let including f = Printf.sprintf "include \"%s\"\n" f ^ scene "(0.9, 0.1, 0.1)" in
+  Run_lancer.write_file (Filename.concat d "s.rts") (including "../secret.rts");
+  let no_line what ~file s text =
+    Alcotest.(check bool)
+      (what ^ ": where, in " ^ text)
+      true
+      (Run_lancer.contains text (file ^ ":1:"));
+    Alcotest.(check bool)
+      (what ^ ": not the line, in " ^ text)
+      false
+      (Run_lancer.contains text "the-secret-line");
+    Alcotest.(check bool)
+      (what ^ ": nor in the terminal")
+      false
+      (Run_lancer.contains (stderr_text s) "the-secret-line")
+  in
+  with_server d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
+      no_line "an include by ../" ~file:"secret.rts" s (to_string (member "text" j));
+      atomic_write (Filename.concat d "s.rts") (including "link.rts");
+      let _, j =
+        wait_for e "the error through the link" (fun ev j ->
+            ev = "failure" && Run_lancer.contains (to_string (member "text" j)) "link.rts")
+      in
+      no_line "a link leading out" ~file:"link.rts" s (to_string (member "text" j));
+      close_events e);
+  Run_lancer.write_file (Filename.concat d "s.rts") (including "../secret.rts");
+  with_server ~args:[ "--show-lines-outside" ] d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
+      let text = to_string (member "text" j) in
+      Alcotest.(check bool)
+        ("--show-lines-outside shows the line: " ^ text)
+        true
+        (Run_lancer.contains text "the-secret-line");
+      close_events e)
+
 (* Where it may listen: one loopback address unless told otherwise, never every one. *)
 let hosts () =
   let d = tmpdir () in
@@ -921,5 +969,9 @@ let () =
             `Quick origins;
           Alcotest.test_case "two Host, Origin or Content-Length headers are refused"
             `Quick duplicate_headers;
+          Alcotest.test_case
+            "an error in a file outside the scene's directory shows its place, not its \
+             line"
+            `Quick outside_lines;
         ] );
     ]
