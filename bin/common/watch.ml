@@ -109,17 +109,45 @@ let knobs (o : Cli.opts) (sc : Scene.t) =
 
 let quality_name = function Some q -> Quality.to_string q | None -> "scene"
 
+(* What watch shows of an error located in a file: all of it for a file in the scene's
+   directory tree, and only its file, line, column and message for a file outside it
+   (unless [any_line]), so that a scene that includes any file the user may read cannot
+   have its lines shown on the page. The tree and the file are taken as the system
+   resolves them (symbolic links followed); a file that cannot be resolved is outside. *)
+let shown_errors ~any_line scene =
+  let root =
+    try Some (Unix.realpath (Filename.dirname scene)) with Unix.Unix_error _ -> None
+  in
+  let inside file =
+    match (root, Unix.realpath file) with
+    | Some r, p -> p = r || String.starts_with ~prefix:(if r = "/" then r else r ^ "/") p
+    | None, _ -> false
+    | exception Unix.Unix_error _ -> false
+  in
+  fun (e : Diagnostic.t) ->
+    if any_line || inside e.file then e else { e with source_line = None }
+
+(* The text of an error that ends a version, each located error through [show_error]. *)
+let describe show_error e =
+  fst
+    (Report.describe
+       (match e with
+       | Job_error.Scene { errors; note } ->
+           Job_error.Scene { errors = List.map show_error errors; note }
+       | e -> e))
+
 (* Load the scene: the program, or the text lancer prints for its errors and the files
    they name (to be watched too). *)
-let load path =
+let load show_error path =
   match Cli.source { (Cli.default_opts ()) with scene = Some path } with
-  | exception (Cli.User_error _ as e) -> Error (fst (Report.describe e), [])
+  | exception (Cli.User_error _ as e) -> Error (describe show_error e, [])
   | filename, text -> (
       match Lang.load ~filename text with
       | Ok p -> Ok p
       | Error errs ->
-          Error (Report.errors_text errs, List.map (fun (e : Diagnostic.t) -> e.file) errs)
-      )
+          Error
+            ( Report.errors_text (List.map show_error errs),
+              List.map (fun (e : Diagnostic.t) -> e.file) errs ))
 
 type version = {
   gen : int;
@@ -131,7 +159,7 @@ type version = {
 
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
-let render_version sh (o : Cli.opts) pool tmp prog seq v =
+let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
   let cancelled () = Cancel.cancelled v.cancel in
   let path = Option.get o.scene in
   let failed text files =
@@ -146,7 +174,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
     match !prog with
     | Some p when not v.reload -> Ok p
     | _ -> (
-        match load path with
+        match load show_error path with
         | Ok p ->
             prog := Some p;
             with_lock sh (fun () -> sh.inputs <- Lang.inputs p);
@@ -180,7 +208,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
           in
           Ok (sc, coarse)
         with (Cli.User_error _ | Job_error.Scene _) as e ->
-          Error (fst (Report.describe e))
+          Error (describe show_error e)
       in
       (* A frame may read files that frame 0 does not (an image chosen by [frame]): they
          are watched from the first version that reads them. *)
@@ -298,7 +326,7 @@ let render_version sh (o : Cli.opts) pool tmp prog seq v =
                   (Unix.gettimeofday () -. v.t0)))
             passes)
 
-let renderer sh (o : Cli.opts) domains tmp () =
+let renderer sh show_error (o : Cli.opts) domains tmp () =
   Render.with_pool domains (fun pool ->
       let prog = ref None and seq = ref 0 in
       let rec loop () =
@@ -320,10 +348,9 @@ let renderer sh (o : Cli.opts) domains tmp () =
                 cancel = sh.current;
               })
         in
-        (try render_version sh o pool tmp prog seq v with
+        (try render_version sh show_error o pool tmp prog seq v with
         | Cancelled -> ()
-        | e ->
-            publish sh "failure" (`Assoc [ ("text", `String (fst (Report.describe e))) ]));
+        | e -> publish sh "failure" (`Assoc [ ("text", `String (describe show_error e)) ]));
         loop ()
       in
       loop ())
@@ -419,36 +446,123 @@ let watch_files ~poll inputs changed =
 (* ---------------------------------------------------------------------------------- *)
 (* The server *)
 
+(* What one connection may cost the server. The page's own requests are a few hundred
+   bytes of headers and no body (the controls carry their arguments in the query). *)
+
+(* The request line and headers of one request, together: past this, 431. *)
+let max_head_bytes = 16 * 1024
+
+(* A request body: past this, 413 before any of it is read. *)
+let max_body_bytes = 4096
+
+(* Seconds a connection may take to send a complete request (from its first byte, or from
+   the end of the last answer on a kept-alive connection), and a write of an answer may
+   wait for the client to read: then the connection is closed. An open event stream is
+   not idle: it waits for the server, not for the client. *)
+let idle_timeout = 10.
+
+(* Connections served at once. A new one past this closes the one that has waited
+   longest for its request; when none is waiting, the next is accepted only once one
+   ends (the open answers are bounded by [idle_timeout] or are event streams, bounded by
+   [max_streams]). *)
+let max_connections = 64
+
+(* One accepted connection, and where its current request is. *)
+type link = {
+  fd : Lwt_unix.file_descr;
+  ic : Lwt_io.input_channel;
+  oc : Lwt_io.output_channel;
+  order : int;  (** accepted n-th *)
+  mutable in_head : bool;
+      (** reading a request line and headers: waiting for the client *)
+  mutable head_left : int;  (** the bytes this request's head may still take *)
+  mutable too_large : bool;  (** this request's head went past [max_head_bytes] *)
+  mutable done_reading : bool;  (** refused or cut: nothing more is read from it *)
+  mutable deadline : float;
+      (** closed when this passes; [infinity] while the server works *)
+}
+
+(* Close a connection now, both ways: a read or a write in progress on it ends. *)
+let cut l =
+  l.done_reading <- true;
+  l.deadline <- infinity;
+  try Lwt_unix.shutdown l.fd Unix.SHUTDOWN_ALL with Unix.Unix_error _ -> ()
+
 (* cohttp's server over Lwt's channels, on connections the watch accepts itself. cohttp's
    Unix binding would accept them through conduit, whose TLS module opens the system's
    certificate store as the program starts: some 50 M instructions (15 ms) in every
-   lancer command, for a server that speaks plain HTTP to one machine. *)
+   lancer command, for a server that speaks plain HTTP to one machine. Reading a line
+   here is bounded by what is left of the request's head, and reading stops for good on
+   a connection refused or cut. *)
 module Io = struct
   type 'a t = 'a Lwt.t
 
   let ( >>= ) = Lwt.bind
   let return = Lwt.return
 
-  type ic = Lwt_io.input_channel
-  type oc = Lwt_io.output_channel
-  type conn = Unix.sockaddr
+  type ic = link
+  type oc = link
+  type conn = link
   type error = exn
 
   (* A peer gone or a channel closed under a read is the end of its input. *)
-  let gone = function Lwt_io.Channel_closed _ | Unix.Unix_error _ -> true | _ -> false
+  let gone = function
+    | Lwt_io.Channel_closed _ | Unix.Unix_error _ | End_of_file -> true
+    | _ -> false
 
-  let read_line ic =
-    Lwt.catch
-      (fun () -> Lwt_io.read_line_opt ic)
-      (fun e -> if gone e then Lwt.return_none else Lwt.reraise e)
+  (* A request's head starts with its first line: its budget and its deadline. *)
+  let start_head l =
+    if not l.in_head then (
+      l.in_head <- true;
+      l.head_left <- max_head_bytes;
+      l.deadline <- Unix.gettimeofday () +. idle_timeout)
 
-  let read ic n =
-    Lwt.catch
-      (fun () -> Lwt_io.read ~count:(min n Sys.max_string_length) ic)
-      (fun e -> if gone e then Lwt.return "" else Lwt.reraise e)
+  (* A line without its "\n" (nor a "\r" before it), as [Lwt_io.read_line_opt] reads it,
+     but one byte at a time against the head's budget: past it, the end of the input. *)
+  let read_line l =
+    if l.done_reading then Lwt.return_none
+    else (
+      start_head l;
+      let buf = Buffer.create 128 in
+      let line () =
+        let n = Buffer.length buf in
+        if n > 0 && Buffer.nth buf (n - 1) = '\r' then Buffer.sub buf 0 (n - 1)
+        else Buffer.contents buf
+      in
+      let rec go () =
+        Lwt_io.read_char l.ic >>= fun c ->
+        l.head_left <- l.head_left - 1;
+        if l.head_left < 0 then (
+          l.too_large <- true;
+          l.done_reading <- true;
+          Lwt.return_none)
+        else if c = '\n' then Lwt.return_some (line ())
+        else (
+          Buffer.add_char buf c;
+          go ())
+      in
+      Lwt.catch go (fun e ->
+          if gone e then
+            Lwt.return (if Buffer.length buf = 0 then None else Some (line ()))
+          else Lwt.reraise e))
 
-  let write = Lwt_io.write
-  let flush = Lwt_io.flush
+  let read l n =
+    if l.done_reading then Lwt.return ""
+    else
+      Lwt.catch
+        (fun () -> Lwt_io.read ~count:(min n max_body_bytes) l.ic)
+        (fun e -> if gone e then Lwt.return "" else Lwt.reraise e)
+
+  (* A write may wait [idle_timeout] for the client to take it. *)
+  let timed l f =
+    let before = l.deadline in
+    l.deadline <- Float.min before (Unix.gettimeofday () +. idle_timeout);
+    Lwt.finalize f (fun () ->
+        if not l.done_reading then l.deadline <- before;
+        Lwt.return_unit)
+
+  let write l s = timed l (fun () -> Lwt_io.write l.oc s)
+  let flush l = timed l (fun () -> Lwt_io.flush l.oc)
 
   (* What the server is told a failed write was: it then drops the connection. *)
   let catch f =
@@ -460,45 +574,169 @@ end
 
 module Server = Cohttp_lwt.Make_server (Io)
 
+(* The answer to a request line past [max_head_bytes], which cohttp never sees. *)
+let head_too_large =
+  let body = "request headers too large\n" in
+  Printf.sprintf
+    "HTTP/1.1 431 Request Header Fields Too Large\r\n\
+     content-type: text/plain; charset=utf-8\r\n\
+     content-length: %d\r\n\
+     connection: close\r\n\
+     \r\n\
+     %s"
+    (String.length body) body
+
 (* Each connection accepted on [sock], served by [spec] until either side ends it, then
-   closed; what goes wrong with one of them ends only that one. A connection that failed
-   before it was accepted is skipped; out of descriptors or memory, the server waits a
-   tenth of a second for some to be given back, rather than stop. Only a listening socket
-   that is no longer one ends it; the socket is closed when the server ends. *)
+   closed; what goes wrong with one of them ends only that one. Past [max_connections],
+   or out of descriptors, the connection that has waited longest for its request is
+   closed to make room. A connection that failed before it was accepted is skipped; out
+   of descriptors or memory, the server waits a tenth of a second for some to be given
+   back, rather than stop. Every half second the connections past their deadline are
+   closed. Only a listening socket that is no longer one ends it; the socket is closed
+   when the server ends. *)
 let serve sock spec =
   let close ch = Lwt.catch (fun () -> Lwt_io.close ch) (fun _ -> Lwt.return_unit) in
-  let rec accept () =
-    Lwt.try_bind
-      (fun () -> Lwt_unix.accept ~cloexec:true sock)
-      (fun (fd, peer) ->
-        let ic = Lwt_io.of_fd ~mode:Lwt_io.input fd
-        and oc = Lwt_io.of_fd ~mode:Lwt_io.output fd in
-        Lwt.async (fun () ->
-            Lwt.finalize
-              (fun () ->
-                Lwt.catch
-                  (fun () -> Server.callback spec peer ic oc)
-                  (fun _ -> Lwt.return_unit))
-              (fun () -> close oc >>= fun () -> close ic));
-        accept ())
-      (function
-        | Lwt.Canceled as e -> Lwt.reraise e
-        | Unix.Unix_error ((EBADF | EINVAL | ENOTSOCK), _, _) as e -> Lwt.reraise e
-        | Unix.Unix_error ((EMFILE | ENFILE | ENOBUFS | ENOMEM), _, _) ->
-            Lwt_unix.sleep 0.1 >>= accept
-        | _ ->
-            (* A connection that failed before it was accepted (the network errors
-               accept(2) passes on) or a signal: the next one. *)
-            Lwt.pause () >>= accept)
+  let links : (int, link) Hashtbl.t = Hashtbl.create 64 in
+  let accepted = ref 0 in
+  let live () = Hashtbl.fold (fun _ l n -> if l.done_reading then n else n + 1) links 0 in
+  let longest_waiting () =
+    Hashtbl.fold
+      (fun _ l acc ->
+        if l.in_head && not l.done_reading then
+          match acc with Some m when m.order < l.order -> acc | _ -> Some l
+        else acc)
+      links None
   in
-  Lwt.finalize accept (fun () ->
-      Lwt.catch (fun () -> Lwt_unix.close sock) (fun _ -> Lwt.return_unit))
+  let make_room () = Option.iter cut (longest_waiting ()) in
+  let connection (fd, _peer) =
+    incr accepted;
+    let l =
+      {
+        fd;
+        ic = Lwt_io.of_fd ~mode:Lwt_io.input fd;
+        oc = Lwt_io.of_fd ~mode:Lwt_io.output fd;
+        order = !accepted;
+        in_head = false;
+        head_left = max_head_bytes;
+        too_large = false;
+        done_reading = false;
+        deadline = infinity;
+      }
+    in
+    Io.start_head l;
+    Hashtbl.replace links l.order l;
+    if live () > max_connections then make_room ();
+    Lwt.async (fun () ->
+        Lwt.finalize
+          (fun () ->
+            Lwt.catch
+              (fun () ->
+                Server.callback spec l l l >>= fun () ->
+                if l.too_large then
+                  Io.catch (fun () -> Io.write l head_too_large >>= fun () -> Io.flush l)
+                  >|= ignore
+                else Lwt.return_unit)
+              (fun _ -> Lwt.return_unit))
+          (fun () ->
+            (* Closing flushes what is left to send: within the deadline too. *)
+            l.deadline <- Float.min l.deadline (Unix.gettimeofday () +. idle_timeout);
+            close l.oc >>= fun () ->
+            close l.ic >|= fun () -> Hashtbl.remove links l.order))
+  in
+  let rec accept () =
+    if live () >= max_connections && longest_waiting () = None then
+      Lwt_unix.sleep 0.1 >>= accept
+    else
+      Lwt.try_bind
+        (fun () -> Lwt_unix.accept ~cloexec:true sock)
+        (fun c ->
+          connection c;
+          accept ())
+        (function
+          | Lwt.Canceled as e -> Lwt.reraise e
+          | Unix.Unix_error ((EBADF | EINVAL | ENOTSOCK), _, _) as e -> Lwt.reraise e
+          | Unix.Unix_error ((EMFILE | ENFILE | ENOBUFS | ENOMEM), _, _) ->
+              make_room ();
+              Lwt_unix.sleep 0.1 >>= accept
+          | _ ->
+              (* A connection that failed before it was accepted (the network errors
+                 accept(2) passes on) or a signal: the next one. *)
+              Lwt.pause () >>= accept)
+  in
+  let rec expire () =
+    Lwt_unix.sleep 0.5 >>= fun () ->
+    let now = Unix.gettimeofday () in
+    Hashtbl.iter (fun _ l -> if l.deadline < now then cut l) links;
+    expire ()
+  in
+  Lwt.finalize
+    (fun () -> Lwt.pick [ accept (); expire () ])
+    (fun () -> Lwt.catch (fun () -> Lwt_unix.close sock) (fun _ -> Lwt.return_unit))
 
 (* Open event streams are bounded: past this many, the oldest is closed (a page that is
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
 let max_streams = 32
 
-let run stop (o : Cli.opts) ~host ~port ~poll =
+(* Where an address listens: every address of the machine (a wildcard, however it is
+   written, IPv4-mapped included), the loopback interface only (127.0.0.0/8, ::1, and
+   127.x.y.z mapped into IPv6), or beyond it. *)
+type reach = Everywhere | Loopback | Beyond
+
+(* The eight 16-bit groups of an IPv6 address written as inet_ntop writes it ("::" for
+   a run of zeros, a dotted IPv4 address at the end). *)
+let ipv6_groups s =
+  let groups part =
+    if part = "" then []
+    else
+      List.concat_map
+        (fun g ->
+          if String.contains g '.' then
+            match
+              Scanf.sscanf_opt g "%u.%u.%u.%u%!" (fun a b c d ->
+                  [ (a lsl 8) lor b; (c lsl 8) lor d ])
+            with
+            | Some l -> l
+            | None -> invalid_arg g
+          else [ int_of_string ("0x" ^ g) ])
+        (String.split_on_char ':' part)
+  in
+  let n = String.length s in
+  let rec double i =
+    if i + 1 >= n then None else if String.sub s i 2 = "::" then Some i else double (i + 1)
+  in
+  match double 0 with
+  | None -> groups s
+  | Some i ->
+      let a = groups (String.sub s 0 i)
+      and b = groups (String.sub s (i + 2) (n - i - 2)) in
+      a @ List.init (8 - List.length a - List.length b) (fun _ -> 0) @ b
+
+(* An address to listen on and where it listens. An IPv4 address mapped into IPv6 is
+   given as the IPv4 address itself: a socket bound to either takes the same
+   connections, and a browser names it by its IPv4 form (its Host header). *)
+let listen_address addr =
+  let v4 s =
+    match Scanf.sscanf_opt s "%u.%u.%u.%u%!" (fun a b c d -> (a, b, c, d)) with
+    | Some (0, 0, 0, 0) -> Everywhere
+    | Some (127, _, _, _) -> Loopback
+    | _ -> Beyond
+  in
+  let s = Unix.string_of_inet_addr addr in
+  match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
+  | Unix.PF_INET -> (addr, v4 s)
+  | _ -> (
+      match ipv6_groups s with
+      | [ 0; 0; 0; 0; 0; 0; 0; 0 ] -> (addr, Everywhere)
+      | [ 0; 0; 0; 0; 0; 0; 0; 1 ] -> (addr, Loopback)
+      | [ 0; 0; 0; 0; 0; 0xffff; hi; lo ] ->
+          let s =
+            Printf.sprintf "%d.%d.%d.%d" (hi lsr 8) (hi land 255) (lo lsr 8) (lo land 255)
+          in
+          (Unix.inet_addr_of_string s, v4 s)
+      | _ -> (addr, Beyond)
+      | exception (Invalid_argument _ | Failure _) -> (addr, Beyond))
+
+let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback ~any_source_line =
   ignore (Report.on_interrupt stop);
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
@@ -514,16 +752,23 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
   let domains = Cli.domains o in
   Option.iter (fun d -> if d < 1 then Cli.user "--width must be at least 1") o.width;
   Option.iter (fun d -> if d < 1 then Cli.user "--height must be at least 1") o.height;
-  let addr =
+  let addr, reach =
     match Unix.inet_addr_of_string host with
-    | a -> a
+    | a -> listen_address a
     | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
   in
-  if addr = Unix.inet_addr_any || addr = Unix.inet6_addr_any then
-    Cli.user
-      "--host must be one address of this machine, not %s: the server answers only \
-       requests addressed to it"
-      host;
+  (match reach with
+  | Everywhere ->
+      Cli.user
+        "--host must be one address of this machine, not %s (every address): the server \
+         answers only requests addressed to it"
+        host
+  | Beyond when not beyond_loopback ->
+      Cli.user
+        "--host %s is not a loopback address: the preview, which asks for no password, \
+         would be open to other machines; add --listen-beyond-loopback to mean that"
+        host
+  | Loopback | Beyond -> ());
   let sock =
     Lwt_unix.socket
       (Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)))
@@ -539,10 +784,12 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
     | Unix.ADDR_INET (_, p) -> p
     | _ -> port
   in
+  (* The address as a browser writes it in the Host header: its canonical form. *)
   let authority =
+    let a = Unix.string_of_inet_addr addr in
     match Unix.domain_of_sockaddr (Unix.ADDR_INET (addr, 0)) with
-    | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" host port
-    | _ -> Printf.sprintf "%s:%d" host port
+    | Unix.PF_INET6 -> Printf.sprintf "[%s]:%d" a port
+    | _ -> Printf.sprintf "%s:%d" a port
   in
   let tmp = Filename.temp_dir "lancer-watch" "" in
   let wake_r, wake_w = Unix.pipe ~cloexec:true () in
@@ -562,7 +809,8 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
       wake_w;
     }
   in
-  let worker = Domain.spawn (renderer sh o domains tmp) in
+  let show_error = shown_errors ~any_line:any_source_line path in
+  let worker = Domain.spawn (renderer sh show_error o domains tmp) in
   ignore worker;
   (* What a newly connected page is sent first: the last event of each kind. *)
   let current = Hashtbl.create 8 in
@@ -599,106 +847,160 @@ let run stop (o : Cli.opts) ~host ~port ~poll =
       streams;
     keepalive ()
   in
-  let text status s =
+  let text ?(close = false) status s =
     Server.respond_string
-      ~headers:(Cohttp.Header.of_list [ ("content-type", "text/plain; charset=utf-8") ])
+      ~headers:
+        (Cohttp.Header.of_list
+           (("content-type", "text/plain; charset=utf-8")
+           :: (if close then [ ("connection", "close") ] else [])))
       ~status ~body:s ()
   in
-  let callback (_, conn) (req : Cohttp.Request.t) body =
-    Cohttp_lwt.Body.drain_body body >>= fun () ->
+  (* A request refused is answered before its body is read, and its connection closed
+     after the answer: nothing more is read from it. *)
+  let refuse (l : link) status s =
+    l.done_reading <- true;
+    text ~close:true status s
+  in
+  (* Who may ask what, checked on every request in this order:
+     - its head within [max_head_bytes], or 431;
+     - exactly one Host header (400 for more), and it is this server's own address
+       (403), so that a page elsewhere cannot reach the server through a domain
+       renamed to 127.0.0.1;
+     - a browser says where a request comes from. An Origin header (at most one, 400
+       for more) must be this server's own, on every path (403). A Sec-Fetch-Site
+       header must be "same-origin" (403), except for the page itself at "/", which a
+       link or a typed address may open: it holds nothing, and may not be framed. A
+       request with neither comes from a program on this machine, not from a page, and
+       is answered;
+     - a body of at most [max_body_bytes] with its length given (413, or 411 for one
+       without), though no path takes one;
+     all of it before any byte of the body is read. *)
+  let admit (l : link) (req : Cohttp.Request.t) =
     let headers = Cohttp.Request.headers req in
+    let all k = Cohttp.Header.get_multi headers k in
+    let own = "http://" ^ authority in
+    let page =
+      Cohttp.Request.meth req = `GET && Uri.path (Cohttp.Request.uri req) = "/"
+    in
+    if l.too_large then (
+      l.too_large <- false;
+      Some (`Request_header_fields_too_large, "request headers too large\n"))
+    else
+      match (all "host", all "origin", all "sec-fetch-site") with
+      | _ :: _ :: _, _, _ | _, _ :: _ :: _, _ ->
+          Some (`Bad_request, "one Host and at most one Origin header, please\n")
+      | h, _, _ when h <> [ authority ] ->
+          Some (`Forbidden, "this server answers only to its own address\n")
+      | _, [ org ], _ when org <> own -> Some (`Forbidden, "foreign origin\n")
+      | _, _, sites when (not page) && List.exists (fun s -> s <> "same-origin") sites ->
+          Some (`Forbidden, "only the page of this server may ask for this\n")
+      | _ -> (
+          match (all "transfer-encoding", all "content-length") with
+          | _ :: _, _ -> Some (`Length_required, "a body needs its length\n")
+          | [], [] -> None
+          | [], [ n ]
+            when n <> ""
+                 && String.length n <= 9
+                 && String.for_all (fun c -> c >= '0' && c <= '9') n ->
+              if int_of_string n > max_body_bytes then
+                Some (`Request_entity_too_large, "request body too large\n")
+              else None
+          | [], _ -> Some (`Bad_request, "one Content-Length, a number, please\n"))
+  in
+  (* The answer to a request admitted. *)
+  let route conn (req : Cohttp.Request.t) =
     let meth = Cohttp.Request.meth req in
     let target = Uri.path (Cohttp.Request.uri req) in
-    if Cohttp.Header.get headers "host" <> Some authority then
-      text `Forbidden "this server answers only to its own address\n"
-    else if
-      meth = `POST
-      &&
-      match Cohttp.Header.get headers "origin" with
-      | Some org -> org <> "http://" ^ authority
-      | None -> false
-    then text `Forbidden "foreign origin\n"
-    else
-      match (meth, target) with
-      | `GET, "/" ->
-          Server.respond_string
-            ~headers:
-              (Cohttp.Header.of_list
-                 [
-                   ("content-type", "text/html; charset=utf-8");
-                   ("cache-control", "no-store");
-                 ])
-            ~status:`OK ~body:Watch_page.html ()
-      | `GET, "/events" ->
-          (if Hashtbl.length streams >= max_streams then
-             let oldest =
-               Hashtbl.fold
-                 (fun k (n, _) acc ->
-                   match acc with Some (_, m) when m <= n -> acc | _ -> Some (k, n))
-                 streams None
-             in
-             Option.iter
-               (fun (k, _) ->
-                 (try (snd (Hashtbl.find streams k)) None with Lwt_stream.Closed -> ());
-                 Hashtbl.remove streams k)
-               oldest);
-          let stream, push = Lwt_stream.create () in
-          let key = Cohttp.Connection.to_string conn in
-          incr opened;
-          Hashtbl.replace streams key (!opened, push);
-          List.iter
-            (fun ev ->
-              Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
-            [ "scene"; "image"; "stats"; "failure" ];
-          Server.respond ~flush:true
-            ~headers:
-              (Cohttp.Header.of_list
-                 [ ("content-type", "text/event-stream"); ("cache-control", "no-store") ])
-            ~status:`OK
-            ~body:(Cohttp_lwt.Body.of_stream stream)
-            ()
-      | `GET, p
-        when String.length p > 11
-             && String.sub p 0 7 = "/image/"
-             && Filename.check_suffix p ".png" -> (
-          let n = String.sub p 7 (String.length p - 11) in
-          match int_of_string_opt n with
-          | Some k when String.for_all (fun c -> c >= '0' && c <= '9') n -> (
-              match with_lock sh (fun () -> List.assoc_opt k sh.images) with
-              | Some bytes ->
-                  Server.respond_string
-                    ~headers:
-                      (Cohttp.Header.of_list
-                         [ ("content-type", "image/png"); ("cache-control", "no-store") ])
-                    ~status:`OK ~body:bytes ()
-              | None -> text `Not_found "no such image (a newer one replaced it)\n")
-          | _ -> text `Not_found "not found\n")
-      | `POST, "/control" -> (
-          let uri = Cohttp.Request.uri req in
-          let quality =
-            match Uri.get_query_param uri "quality" with
-            | None -> Ok None
-            | Some "scene" -> Ok (Some None)
-            | Some q -> (
-                match List.assoc_opt q Quality.all with
-                | Some q -> Ok (Some (Some q))
-                | None -> Error q)
-          in
-          let frame = Option.map int_of_string_opt (Uri.get_query_param uri "frame") in
-          match (quality, frame) with
-          | Error q, _ -> text `Bad_request (Printf.sprintf "unknown quality %S\n" q)
-          | _, Some None -> text `Bad_request "frame must be a whole number\n"
-          | Ok q, f ->
-              let play = Uri.get_query_param uri "play" = Some "1" in
-              request sh (fun p ->
-                  {
-                    quality = Option.value q ~default:p.quality;
-                    frame = (match f with Some (Some k) -> max 0 k | _ -> p.frame);
-                    play;
-                  });
-              text `No_content "")
-      | (`GET | `POST), _ -> text `Not_found "not found\n"
-      | _ -> text `Method_not_allowed "method not allowed\n"
+    match (meth, target) with
+    | `GET, "/" ->
+        Server.respond_string
+          ~headers:
+            (Cohttp.Header.of_list
+               [
+                 ("content-type", "text/html; charset=utf-8");
+                 ("cache-control", "no-store");
+                 ("content-security-policy", "frame-ancestors 'none'");
+                 ("x-frame-options", "DENY");
+               ])
+          ~status:`OK ~body:Watch_page.html ()
+    | `GET, "/events" ->
+        (if Hashtbl.length streams >= max_streams then
+           let oldest =
+             Hashtbl.fold
+               (fun k (n, _) acc ->
+                 match acc with Some (_, m) when m <= n -> acc | _ -> Some (k, n))
+               streams None
+           in
+           Option.iter
+             (fun (k, _) ->
+               (try (snd (Hashtbl.find streams k)) None with Lwt_stream.Closed -> ());
+               Hashtbl.remove streams k)
+             oldest);
+        let stream, push = Lwt_stream.create () in
+        let key = Cohttp.Connection.to_string conn in
+        incr opened;
+        Hashtbl.replace streams key (!opened, push);
+        List.iter
+          (fun ev ->
+            Option.iter (fun d -> push (Some (sse ev d))) (Hashtbl.find_opt current ev))
+          [ "scene"; "image"; "stats"; "failure" ];
+        Server.respond ~flush:true
+          ~headers:
+            (Cohttp.Header.of_list
+               [ ("content-type", "text/event-stream"); ("cache-control", "no-store") ])
+          ~status:`OK
+          ~body:(Cohttp_lwt.Body.of_stream stream)
+          ()
+    | `GET, p
+      when String.length p > 11
+           && String.sub p 0 7 = "/image/"
+           && Filename.check_suffix p ".png" -> (
+        let n = String.sub p 7 (String.length p - 11) in
+        match int_of_string_opt n with
+        | Some k when String.for_all (fun c -> c >= '0' && c <= '9') n -> (
+            match with_lock sh (fun () -> List.assoc_opt k sh.images) with
+            | Some bytes ->
+                Server.respond_string
+                  ~headers:
+                    (Cohttp.Header.of_list
+                       [ ("content-type", "image/png"); ("cache-control", "no-store") ])
+                  ~status:`OK ~body:bytes ()
+            | None -> text `Not_found "no such image (a newer one replaced it)\n")
+        | _ -> text `Not_found "not found\n")
+    | `POST, "/control" -> (
+        let uri = Cohttp.Request.uri req in
+        let quality =
+          match Uri.get_query_param uri "quality" with
+          | None -> Ok None
+          | Some "scene" -> Ok (Some None)
+          | Some q -> (
+              match List.assoc_opt q Quality.all with
+              | Some q -> Ok (Some (Some q))
+              | None -> Error q)
+        in
+        let frame = Option.map int_of_string_opt (Uri.get_query_param uri "frame") in
+        match (quality, frame) with
+        | Error q, _ -> text `Bad_request (Printf.sprintf "unknown quality %S\n" q)
+        | _, Some None -> text `Bad_request "frame must be a whole number\n"
+        | Ok q, f ->
+            let play = Uri.get_query_param uri "play" = Some "1" in
+            request sh (fun p ->
+                {
+                  quality = Option.value q ~default:p.quality;
+                  frame = (match f with Some (Some k) -> max 0 k | _ -> p.frame);
+                  play;
+                });
+            text `No_content "")
+    | (`GET | `POST), _ -> text `Not_found "not found\n"
+    | _ -> text `Method_not_allowed "method not allowed\n"
+  in
+  let callback ((l : link), conn) (req : Cohttp.Request.t) body =
+    (* A complete head: from now on the server is the one working. *)
+    l.in_head <- false;
+    l.deadline <- infinity;
+    match admit l req with
+    | Some (status, why) -> refuse l status why
+    | None -> Cohttp_lwt.Body.drain_body body >>= fun () -> route conn req
   in
   let conn_closed (_, conn) =
     let key = Cohttp.Connection.to_string conn in
@@ -750,9 +1052,31 @@ let cmd =
       value & opt string "127.0.0.1"
       & info [ "host" ] ~docv:"ADDR"
           ~doc:
-            "The address to listen on. The server answers only requests addressed to it \
-             (their Host header), so a foreign web page cannot reach it by a renamed \
-             domain.")
+            "The address to listen on: one IP address, never a wildcard such as \
+             $(b,0.0.0.0), $(b,::) or $(b,::ffff:0.0.0.0). Without \
+             $(b,--listen-beyond-loopback) it must be a loopback address \
+             ($(b,127.0.0.0/8), $(b,::1), or $(b,::ffff:127.x.y.z)). The server answers \
+             only requests addressed to it (their Host header), so a foreign web page \
+             cannot reach it by a renamed domain.")
+  in
+  let beyond_loopback =
+    Arg.(
+      value & flag
+      & info [ "listen-beyond-loopback" ]
+          ~doc:
+            "Allow a $(b,--host) that is not a loopback address. The preview asks for no \
+             password: anyone who can reach that address can watch the scene, its \
+             errors, and switch its quality.")
+  in
+  let any_source_line =
+    Arg.(
+      value & flag
+      & info [ "show-lines-outside" ]
+          ~doc:
+            "Show the source line of an error in any file. By default, an error in a \
+             file outside the scene's directory tree (reached by $(b,..), an absolute \
+             path or a symbolic link) is shown as its file, line, column and message \
+             only, without the line's text, on the page and in the terminal.")
   in
   let poll =
     Arg.(
@@ -797,6 +1121,13 @@ let cmd =
          what the render cost and can switch the quality preset. It writes no output \
          file (frames are the job of $(b,animate)); the page has a button that saves the \
          current view as a PNG.";
+      `P
+        "The server listens on one loopback address unless $(b,--listen-beyond-loopback) \
+         says otherwise, answers only requests addressed to it and, from a browser, only \
+         those of its own page, and bounds what a client may cost: 16 KiB of request \
+         headers, 4 KiB of body, 10 seconds to send a complete request (or to take an \
+         answer being written), 64 connections at once (past them, the one that has \
+         waited longest for its request is closed).";
       `S Manpage.s_examples;
       `Pre "  lancer watch scenes/showcase.rts";
       `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480";
@@ -804,7 +1135,22 @@ let cmd =
   in
   let term =
     Term.(
-      const (fun scene port host poll width height samples depth domains quality quiet ->
+      const
+        (fun
+          scene
+          port
+          host
+          beyond_loopback
+          any_source_line
+          poll
+          width
+          height
+          samples
+          depth
+          domains
+          quality
+          quiet
+        ->
           let o =
             {
               (Cli.default_opts ()) with
@@ -819,8 +1165,8 @@ let cmd =
             }
           in
           Report.run ~interrupted:"the preview server stopped" (fun stop ->
-              run stop o ~host ~port ~poll))
-      $ scene $ port $ host $ poll $ width $ height $ samples $ depth $ domains $ quality
-      $ quiet)
+              run stop o ~host ~port ~poll ~beyond_loopback ~any_source_line))
+      $ scene $ port $ host $ beyond_loopback $ any_source_line $ poll $ width $ height
+      $ samples $ depth $ domains $ quality $ quiet)
   in
   Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term

@@ -469,6 +469,458 @@ let out_of_descriptors () =
       ignore (wait_for e "a full image of the edit" is_last);
       close_events e)
 
+(* ---- The server's bounds: what one request, one connection, one address may cost. ---- *)
+
+(* A connection to the server, with reads and writes bounded in time. *)
+let socket ?(timeout = 30.) port =
+  let fd = Unix.socket PF_INET SOCK_STREAM 0 in
+  Unix.connect fd (ADDR_INET (Unix.inet_addr_loopback, port));
+  Unix.setsockopt_float fd SO_RCVTIMEO timeout;
+  Unix.setsockopt_float fd SO_SNDTIMEO timeout;
+  fd
+
+let status_of resp =
+  match Scanf.sscanf_opt resp "HTTP/1.%d %d" (fun _ c -> c) with Some c -> c | None -> 0
+
+(* Send [head], then [size] more bytes (a body, or the rest of a header), in pieces,
+   as long as the server takes them; then read its answer: (status, whether the server
+   stopped taking them before the end). *)
+let send_large port head size filler =
+  let fd = socket port in
+  Fun.protect
+    ~finally:(fun () -> Unix.close fd)
+    (fun () ->
+      let piece = String.make 65536 filler in
+      let stopped =
+        try
+          ignore (Unix.write_substring fd head 0 (String.length head));
+          let rec go left =
+            if left > 0 then
+              let n = min left (String.length piece) in
+              let w = Unix.write_substring fd piece 0 n in
+              go (left - w)
+          in
+          go size;
+          false
+        with Unix.Unix_error ((EPIPE | ECONNRESET | EAGAIN | EWOULDBLOCK), _, _) -> true
+      in
+      let buf = Buffer.create 1024 and b = Bytes.create 4096 in
+      let rec read () =
+        match Unix.read fd b 0 4096 with
+        | 0 -> ()
+        | n ->
+            Buffer.add_subbytes buf b 0 n;
+            read ()
+        | exception Unix.Unix_error _ -> ()
+      in
+      read ();
+      (status_of (Buffer.contents buf), stopped))
+
+(* The status of the answer to [request], read no further than its head (an event
+   stream does not end). *)
+let status_only port request =
+  let fd = socket port in
+  Fun.protect
+    ~finally:(fun () -> Unix.close fd)
+    (fun () ->
+      ignore (Unix.write_substring fd request 0 (String.length request));
+      let buf = Buffer.create 1024 and b = Bytes.create 4096 in
+      let rec read () =
+        if find (Buffer.contents buf) "\r\n\r\n" = None then
+          match Unix.read fd b 0 4096 with
+          | 0 -> ()
+          | n ->
+              Buffer.add_subbytes buf b 0 n;
+              read ()
+          | exception Unix.Unix_error _ -> ()
+      in
+      read ();
+      status_of (Buffer.contents buf))
+
+(* The server's resident memory, in kB. *)
+let rss pid =
+  let text = Run_lancer.read_file (Printf.sprintf "/proc/%d/status" pid) in
+  List.find_map
+    (fun l -> Scanf.sscanf_opt l "VmRSS: %d kB" Fun.id)
+    (String.split_on_char '\n' text)
+  |> Option.get
+
+let own s = Printf.sprintf "127.0.0.1:%d" s.port
+let mb = 1024 * 1024
+
+let large_requests () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server d (fun s ->
+      let e = events s in
+      ignore (wait_for e "first full image" is_last);
+      let before = rss s.pid in
+      let grew what =
+        let after = rss s.pid in
+        Alcotest.(check bool)
+          (Printf.sprintf
+             "%s: memory grew by %d kB (from %d kB), not by the request's size" what
+             (after - before) before)
+          true
+          (after - before < 32 * 1024)
+      in
+      let body ?(extra = "") n =
+        Printf.sprintf
+          "POST /control?quality=draft HTTP/1.1\r\n\
+           Host: %s\r\n\
+           %sContent-Length: %d\r\n\
+           \r\n"
+          (own s) extra n
+      in
+      let st, _ =
+        send_large s.port
+          (body ~extra:"Origin: http://evil.example\r\n" (64 * mb))
+          (64 * mb) 'x'
+      in
+      Alcotest.(check int) "a foreign page's 64 MB body is refused" 403 st;
+      grew "after a foreign 64 MB body";
+      let st, stopped = send_large s.port (body (64 * mb)) (64 * mb) 'x' in
+      Alcotest.(check int) "a 64 MB body is too large" 413 st;
+      Alcotest.(check bool) "and is not read to its end" true stopped;
+      grew "after a 64 MB body";
+      let st, _ = send_large s.port (body 5000) 5000 'x' in
+      Alcotest.(check int) "past 4 KiB is too large" 413 st;
+      let st, _ =
+        send_large s.port
+          (Printf.sprintf
+             "POST /control?quality=draft HTTP/1.1\r\n\
+              Host: %s\r\n\
+              Transfer-Encoding: chunked\r\n\
+              \r\n"
+             (own s))
+          0 'x'
+      in
+      Alcotest.(check int) "a body without its length is refused" 411 st;
+      let st, _ =
+        raw s.port
+          (Printf.sprintf
+             "POST /control?quality=draft HTTP/1.1\r\n\
+              Host: %s\r\n\
+              Content-Length: 12\r\n\
+              Connection: close\r\n\
+              \r\n\
+              quality=none"
+             (own s))
+      in
+      Alcotest.(check int) "a small body is read (and ignored)" 204 st;
+      (* Headers: one huge one, many small ones, a huge request line. *)
+      let st, stopped =
+        send_large s.port
+          (Printf.sprintf "GET / HTTP/1.1\r\nHost: %s\r\nX-Filler: " (own s))
+          (64 * mb) 'a'
+      in
+      Alcotest.(check int) "a 64 MB header is too large" 431 st;
+      Alcotest.(check bool) "and is not read to its end" true stopped;
+      grew "after a 64 MB header";
+      let many =
+        String.concat ""
+          (List.init 400 (fun i -> Printf.sprintf "X-H%d: %s\r\n" i (String.make 60 'b')))
+      in
+      let st, _ =
+        raw s.port (Printf.sprintf "GET / HTTP/1.1\r\nHost: %s\r\n%s\r\n" (own s) many)
+      in
+      Alcotest.(check int) "400 headers of 70 bytes are too large" 431 st;
+      let st, _ =
+        raw s.port
+          (Printf.sprintf "GET /%s HTTP/1.1\r\nHost: %s\r\n\r\n" (String.make 20000 'p')
+             (own s))
+      in
+      Alcotest.(check int) "a 20 kB request line is too large" 431 st;
+      let st, _ =
+        raw s.port
+          (Printf.sprintf
+             "GET / HTTP/1.1\r\nHost: %s\r\nX-Filler: %s\r\nConnection: close\r\n\r\n"
+             (own s) (String.make 8000 'c'))
+      in
+      Alcotest.(check int) "an 8 kB header is fine" 200 st;
+      (* Still serving, still rendering. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image after the large requests" is_last);
+      close_events e)
+
+(* Whether the server has closed [fd]: its end of the stream, or a reset. *)
+let closed fd =
+  match Unix.select [ fd ] [] [] 0. with
+  | [], _, _ -> false
+  | _ -> (
+      let b = Bytes.create 4096 in
+      match Unix.read fd b 0 4096 with
+      | 0 -> true
+      | _ -> false
+      | exception Unix.Unix_error ((ECONNRESET | EPIPE), _, _) -> true)
+
+let idle_connections () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server d (fun s ->
+      let e = events s in
+      ignore (wait_for e "first full image" is_last);
+      let silent = socket s.port in
+      let partial = socket s.port in
+      ignore (Unix.write_substring partial "GET / HTTP/1.1\r\nHo" 0 18);
+      (* A client that sends a byte of its headers every second. *)
+      let slow = socket s.port in
+      let slow_head = Printf.sprintf "GET / HTTP/1.1\r\nHost: %s\r\nX-Slow: " (own s) in
+      ignore (Unix.write_substring slow slow_head 0 (String.length slow_head));
+      (* One that takes a second to send its request is answered. *)
+      let prompt = socket s.port in
+      Unix.sleepf 1.;
+      let req = Printf.sprintf "GET / HTTP/1.0\r\nHost: %s\r\n\r\n" (own s) in
+      ignore (Unix.write_substring prompt req 0 (String.length req));
+      let b = Bytes.create 64 in
+      let n = Unix.read prompt b 0 64 in
+      Alcotest.(check int)
+        "a request sent after a second is answered" 200
+        (status_of (Bytes.sub_string b 0 n));
+      Unix.close prompt;
+      let fds = [ ("silent", silent); ("partial", partial); ("slow", slow) ] in
+      let gone = Hashtbl.create 3 in
+      let rec wait k =
+        if k > 0 && Hashtbl.length gone < List.length fds then (
+          Unix.sleepf 1.;
+          (try ignore (Unix.write_substring slow "s" 0 1) with Unix.Unix_error _ -> ());
+          List.iter (fun (w, fd) -> if closed fd then Hashtbl.replace gone w ()) fds;
+          wait (k - 1))
+      in
+      wait 40;
+      List.iter
+        (fun (w, fd) ->
+          Alcotest.(check bool)
+            (w ^ ": closed within 40 s, no request having come")
+            true (Hashtbl.mem gone w);
+          Unix.close fd)
+        fds;
+      (* The page's event stream waits for the server, not the other way round: it is
+         still open, and brings the next image. *)
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image on the event stream opened before" is_last);
+      close_events e)
+
+(* With 256 descriptors, 250 idle connections: the page still loads at once (well
+   before they time out by themselves), and its event stream still works. *)
+let idle_flood () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  let wrapper = Filename.concat d "lancer-256" in
+  Run_lancer.write_file wrapper
+    (Printf.sprintf "#!/bin/sh\nulimit -n 256 || exit 3\nexec %s \"$@\"\n"
+       (Filename.quote exe));
+  Unix.chmod wrapper 0o755;
+  with_server ~exe:wrapper d (fun s ->
+      let e = events s in
+      ignore (wait_for e "the first full image" is_last);
+      let idle =
+        List.init 250 (fun i ->
+            let fd = socket s.port in
+            if i mod 2 = 0 then ignore (Unix.write_substring fd "GET / HTTP/1.1\r\n" 0 16);
+            fd)
+      in
+      let fd = socket ~timeout:8. s.port in
+      let req = Printf.sprintf "GET / HTTP/1.0\r\nHost: %s\r\n\r\n" (own s) in
+      ignore (Unix.write_substring fd req 0 (String.length req));
+      let b = Bytes.create 64 in
+      let n = try Unix.read fd b 0 64 with Unix.Unix_error _ -> 0 in
+      Unix.close fd;
+      Alcotest.(check int)
+        "the page loads within 8 s, past 250 idle connections" 200
+        (status_of (Bytes.sub_string b 0 n));
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image after the flood" is_last);
+      List.iter Unix.close idle;
+      close_events e)
+
+let origins () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "first full image" is_last in
+      let image = Printf.sprintf "/image/%d.png" (to_int (member "seq" j)) in
+      let ask ?(extra = "") ?(meth = "GET") path =
+        status_only s.port
+          (Printf.sprintf "%s %s HTTP/1.1\r\nHost: %s\r\n%sConnection: close\r\n\r\n" meth
+             path (own s) extra)
+      in
+      let foreign = "Origin: http://evil.example\r\n" in
+      List.iter
+        (fun (what, path, extra, meth, expect) ->
+          Alcotest.(check int) what expect (ask ~extra ~meth path))
+        [
+          ("the events for a foreign page", "/events", foreign, "GET", 403);
+          ("an image for a foreign page", image, foreign, "GET", 403);
+          ("the page for a foreign script", "/", foreign, "GET", 403);
+          ("a control for a foreign page", "/control?quality=draft", foreign, "POST", 403);
+          ("a missing path for a foreign page", "/nope", foreign, "GET", 403);
+          ( "the events for another site",
+            "/events",
+            "Sec-Fetch-Site: cross-site\r\n",
+            "GET",
+            403 );
+          ( "an image embedded by another site",
+            image,
+            "Sec-Fetch-Site: cross-site\r\n",
+            "GET",
+            403 );
+          ( "an image for a sibling site",
+            image,
+            "Sec-Fetch-Site: same-site\r\n",
+            "GET",
+            403 );
+          ( "the page, from a link elsewhere",
+            "/",
+            "Sec-Fetch-Site: cross-site\r\n",
+            "GET",
+            200 );
+          ("the page, typed in", "/", "Sec-Fetch-Site: none\r\n", "GET", 200);
+          ( "an image for the page itself",
+            image,
+            "Sec-Fetch-Site: same-origin\r\n",
+            "GET",
+            200 );
+          ( "an image with the page's own origin",
+            image,
+            Printf.sprintf "Origin: http://%s\r\n" (own s),
+            "GET",
+            200 );
+          ("an image for a program (no Origin)", image, "", "GET", 200);
+          ( "a control from the page",
+            "/control?quality=draft",
+            Printf.sprintf "Origin: http://%s\r\nContent-Length: 0\r\n" (own s),
+            "POST",
+            204 );
+        ];
+      (* Foreign pages opening many event streams do not close the page's own. *)
+      for _ = 1 to 40 do
+        Alcotest.(check int) "a foreign event stream" 403 (ask ~extra:foreign "/events")
+      done;
+      atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.9, 0.1)");
+      ignore (wait_for e "a full image on the page's own stream" is_last);
+      close_events e)
+
+let duplicate_headers () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server d (fun s ->
+      let ask what headers expect =
+        let st, _ =
+          raw s.port
+            (Printf.sprintf "GET / HTTP/1.1\r\n%sConnection: close\r\n\r\n"
+               (String.concat "" (List.map (fun h -> h ^ "\r\n") headers)))
+        in
+        Alcotest.(check int) what expect st
+      in
+      let host = "Host: " ^ own s in
+      ask "one Host" [ host ] 200;
+      ask "the same Host twice" [ host; host ] 400;
+      ask "a foreign Host, then its own" [ "Host: evil.example"; host ] 400;
+      ask "its own Host, then a foreign one" [ host; "Host: evil.example" ] 400;
+      ask "two Origins"
+        [ host; "Origin: http://" ^ own s; "Origin: http://evil.example" ]
+        400;
+      let st, _ =
+        raw s.port
+          (Printf.sprintf
+             "POST /control?quality=draft HTTP/1.1\r\n\
+              %s\r\n\
+              Content-Length: 0\r\n\
+              Content-Length: 100\r\n\
+              Connection: close\r\n\
+              \r\n"
+             host)
+      in
+      Alcotest.(check int) "two Content-Lengths" 400 st)
+
+(* A scene that includes a file outside its directory: the error says where, not what
+   the line is (on the page and in the terminal), a symbolic link in the directory
+   leading out included; --show-lines-outside shows it. *)
+let outside_lines () =
+  let top = tmpdir () in
+  let d = Filename.concat top "scene" in
+  Unix.mkdir d 0o755;
+  let secret = "root:x:0:0:the-secret-line:/root:/bin/bash\n" in
+  Run_lancer.write_file (Filename.concat top "secret.rts") secret;
+  Unix.symlink "../secret.rts" (Filename.concat d "link.rts");
+  let including f = Printf.sprintf "include \"%s\"\n" f ^ scene "(0.9, 0.1, 0.1)" in
+  Run_lancer.write_file (Filename.concat d "s.rts") (including "../secret.rts");
+  let no_line what ~file s text =
+    Alcotest.(check bool)
+      (what ^ ": where, in " ^ text)
+      true
+      (Run_lancer.contains text (file ^ ":1:"));
+    Alcotest.(check bool)
+      (what ^ ": not the line, in " ^ text)
+      false
+      (Run_lancer.contains text "the-secret-line");
+    Alcotest.(check bool)
+      (what ^ ": nor in the terminal")
+      false
+      (Run_lancer.contains (stderr_text s) "the-secret-line")
+  in
+  with_server d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
+      no_line "an include by ../" ~file:"secret.rts" s (to_string (member "text" j));
+      atomic_write (Filename.concat d "s.rts") (including "link.rts");
+      let _, j =
+        wait_for e "the error through the link" (fun ev j ->
+            ev = "failure" && Run_lancer.contains (to_string (member "text" j)) "link.rts")
+      in
+      no_line "a link leading out" ~file:"link.rts" s (to_string (member "text" j));
+      close_events e);
+  Run_lancer.write_file (Filename.concat d "s.rts") (including "../secret.rts");
+  with_server ~args:[ "--show-lines-outside" ] d (fun s ->
+      let e = events s in
+      let _, j = wait_for e "the error" (fun ev _ -> ev = "failure") in
+      let text = to_string (member "text" j) in
+      Alcotest.(check bool)
+        ("--show-lines-outside shows the line: " ^ text)
+        true
+        (Run_lancer.contains text "the-secret-line");
+      close_events e)
+
+(* Where it may listen: one loopback address unless told otherwise, never every one. *)
+let hosts () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  let refused what args expect =
+    let st, _, e =
+      Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d
+        ("watch" :: "s.rts" :: "--port" :: "0" :: args)
+    in
+    Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
+    Alcotest.(check bool) (what ^ ": " ^ e) true (Run_lancer.contains e expect);
+    Alcotest.(check bool)
+      (what ^ ": no backtrace") false
+      (Run_lancer.contains e "Raised at")
+  in
+  List.iter
+    (fun h ->
+      refused ("every address as " ^ h) [ "--host"; h ]
+        "lancer: --host must be one address of this machine";
+      refused
+        ("every address as " ^ h ^ ", even beyond loopback")
+        [ "--host"; h; "--listen-beyond-loopback" ]
+        "lancer: --host must be one address of this machine")
+    [ "::ffff:0.0.0.0"; "0:0:0:0:0:ffff:0:0"; "::"; "0:0::0"; "::0.0.0.0"; "0.0.0.0" ];
+  List.iter
+    (fun h ->
+      refused (h ^ " without the option") [ "--host"; h ]
+        (Printf.sprintf "lancer: --host %s is not a loopback address" h))
+    [ "192.0.2.1"; "::ffff:192.0.2.1"; "2001:db8::1"; "::127.0.0.1" ];
+  (* With the option the address is tried (this machine has not got it). *)
+  refused "192.0.2.1 with the option"
+    [ "--host"; "192.0.2.1"; "--listen-beyond-loopback" ]
+    "lancer: cannot listen on 192.0.2.1";
+  (* A loopback address written as IPv4-mapped is served as the IPv4 address. *)
+  with_server ~args:[ "--host"; "::ffff:127.0.0.1" ] d (fun s ->
+      let st, _ = request s "/" in
+      Alcotest.(check int) "::ffff:127.0.0.1 is 127.0.0.1" 200 st)
+
 let () =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   Alcotest.run "watch"
@@ -497,5 +949,29 @@ let () =
             hostile;
           Alcotest.test_case "out of file descriptors, it waits and serves again" `Quick
             out_of_descriptors;
+          Alcotest.test_case
+            "a wildcard host in any spelling is refused, and one beyond loopback without \
+             --listen-beyond-loopback"
+            `Quick hosts;
+          Alcotest.test_case
+            "bodies past 4 KiB and headers past 16 KiB are refused unread, and the \
+             memory does not grow by them"
+            `Quick large_requests;
+          Alcotest.test_case
+            "a connection with no complete request is closed after the idle timeout; the \
+             event stream stays"
+            `Quick idle_connections;
+          Alcotest.test_case "250 idle connections do not keep the page from loading"
+            `Quick idle_flood;
+          Alcotest.test_case
+            "the events, the images and the controls refuse other sites and foreign \
+             origins"
+            `Quick origins;
+          Alcotest.test_case "two Host, Origin or Content-Length headers are refused"
+            `Quick duplicate_headers;
+          Alcotest.test_case
+            "an error in a file outside the scene's directory shows its place, not its \
+             line"
+            `Quick outside_lines;
         ] );
     ]
