@@ -735,7 +735,7 @@ let rec intersect_into s r (h : hit) =
       h.t <- q.p_t
   | Csg _ ->
       h.t <-
-        (match csg_crossings s r tmin with
+        (match crossings_in (Stats.current ()) s r tmin with
         | (t, _) :: _ when t < tmax -> t
         | _ -> Float.infinity)
 
@@ -745,11 +745,12 @@ and intersect s r tmin tmax =
   h.t
 
 (* Every root of member [m] after [tmin], each paired with the leaf whose surface it lies
-   on, prepended to [acc]. *)
-and member_crossings (m : csg_member) r tmin acc =
+   on, prepended to [acc]; each surface's root sought is one unit of work for [w]. *)
+and member_crossings w (m : csg_member) r tmin acc =
   let r' = member_ray m r in
   match m.shape with
   | Closed_mesh { tris; _ } ->
+      Stats.spend w (Array.length tris);
       let acc = ref acc in
       Array.iteri
         (fun k tr ->
@@ -761,9 +762,10 @@ and member_crossings (m : csg_member) r tmin acc =
       List.fold_left
         (fun acc (t, l) -> (t, m.first_leaf + l) :: acc)
         acc
-        (csg_crossings m.shape r' tmin)
+        (crossings_in w m.shape r' tmin)
   | s ->
       let rec go acc tmin k =
+        Stats.spend w 1;
         let t = intersect s r' tmin Float.infinity in
         if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1)
         else acc
@@ -776,18 +778,25 @@ and member_crossings (m : csg_member) r tmin acc =
    gap, at its middle, and a root where it changes is a crossing. The answer does not
    depend on tmin (only which roots are kept): the first gap's state is sampled within
    the same gap whatever tmin is. Roots are computed up to infinity, so tmax plays no
-   part at all. *)
-and csg_crossings s r tmin =
+   part at all. Each test of the inside counts as the tests of surfaces it may make (the
+   object's leaves), for [w]. *)
+and crossings_in w s r tmin =
   match s with
-  | Csg { op; members; _ } -> (
-      let ev = Array.fold_left (fun acc m -> member_crossings m r tmin acc) [] members in
+  | Csg { op; members; leaves; _ } -> (
+      let ev =
+        Array.fold_left (fun acc m -> member_crossings w m r tmin acc) [] members
+      in
       let ev =
         List.stable_sort
           (fun ((a : float), (i : int)) (b, j) ->
             if a < b then -1 else if a > b then 1 else Int.compare i j)
           ev
       in
-      let state t = inside s (Ray.at r t) in
+      let cost = max 1 (Array.length leaves) in
+      let state t =
+        Stats.spend w cost;
+        inside s (Ray.at r t)
+      in
       let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
       let rec walk before = function
         | [] -> []
@@ -810,6 +819,8 @@ and csg_crossings s r tmin =
         (fun t -> (t, 0))
         (let t = intersect s r tmin Float.infinity in
          if t < Float.infinity then [ t ] else [])
+
+let csg_crossings s r tmin = crossings_in (Stats.current ()) s r tmin
 
 type probe = Probe.t
 
