@@ -698,6 +698,56 @@ let[@inline] member_ray (m : csg_member) r =
       (Transform.inv_point m.transform (Ray.origin r))
       (Transform.inv_vector m.transform (Ray.dir r))
 
+(* How a CSG object knows a member's inside at one of its gaps (see [crossings_in]): a
+   [tested] member is tested there; a followed one is [followed_out] or [followed_in],
+   its state along the ray, known from its own crossings. *)
+let tested = -1
+let followed_out = 0
+let followed_in = 1
+
+(* The tests of simple surfaces that [inside] makes on a member, at most: what a tested
+   member's test at one gap counts as (Stats.spend). *)
+let inside_cost = function
+  | Closed_mesh { tris; _ } -> max 1 (Array.length tris)
+  | Csg { leaves; _ } -> max 1 (Array.length leaves)
+  | _ -> 1
+
+(* The member whose leaves include [leaf]: the last one whose first leaf is at most it
+   (members list their leaves in order, and one without any is never the answer). *)
+let member_of (members : csg_member array) leaf =
+  let rec go lo hi =
+    if hi - lo <= 1 then lo
+    else
+      let mid = (lo + hi) / 2 in
+      if members.(mid).first_leaf <= leaf then go mid hi else go lo mid
+  in
+  go 0 (Array.length members)
+
+(* The inside of member [i] at [p] (a point of the CSG object's space): its followed state,
+   or its own test. *)
+let[@inline] member_inside (members : csg_member array) states i p =
+  let st = Array.unsafe_get states i in
+  if st <> tested then st = followed_in
+  else
+    let m = Array.unsafe_get members i in
+    inside m.shape (Transform.inv_point m.transform p)
+
+(* [inside] of a CSG object at [p], each member's inside as [member_inside] has it. *)
+let combined op (members : csg_member array) states p =
+  let n = Array.length members in
+  match op with
+  | Union | Merge ->
+      let rec any i = i < n && (member_inside members states i p || any (i + 1)) in
+      any 0
+  | Intersection ->
+      let rec all i = i >= n || (member_inside members states i p && all (i + 1)) in
+      all 0
+  | Difference ->
+      let rec none i =
+        i >= n || ((not (member_inside members states i p)) && none (i + 1))
+      in
+      member_inside members states 0 p && none 1
+
 (* The common shapes' tests are inlined here, reading the interval from and storing the
    root into the caller's record (a float record is flat): no float is boxed. *)
 let rec intersect_into s r (h : hit) =
@@ -735,8 +785,8 @@ let rec intersect_into s r (h : hit) =
       h.t <- q.p_t
   | Csg _ ->
       h.t <-
-        (match crossings_in (Stats.current ()) s r tmin with
-        | (t, _) :: _ when t < tmax -> t
+        (match crossings_in (Stats.current ()) s r tmin false with
+        | (t, _) :: _, _ when t < tmax -> t
         | _ -> Float.infinity)
 
 and intersect s r tmin tmax =
@@ -744,9 +794,11 @@ and intersect s r tmin tmax =
   intersect_into s r h;
   h.t
 
-(* Every root of member [m] after [tmin], each paired with the leaf whose surface it lies
-   on, prepended to [acc]; each surface's root sought is one unit of work for [w]. *)
-and member_crossings w (m : csg_member) r tmin acc =
+(* Every root of member [m] (number [i]) after [tmin], each paired with the leaf whose
+   surface it lies on, prepended to [acc]; each surface's root sought is one unit of
+   work for [w]. For a CSG member followed along the ray (see [crossings_in]), its state
+   just after [tmin] goes into [states.(i)]. *)
+and member_crossings w (m : csg_member) r tmin acc states i =
   let r' = member_ray m r in
   match m.shape with
   | Closed_mesh { tris; _ } ->
@@ -758,11 +810,11 @@ and member_crossings w (m : csg_member) r tmin acc =
           if t < Float.infinity then acc := (t, m.first_leaf + k) :: !acc)
         tris;
       !acc
-  | Csg _ ->
-      List.fold_left
-        (fun acc (t, l) -> (t, m.first_leaf + l) :: acc)
-        acc
-        (crossings_in w m.shape r' tmin)
+  | Csg { op; _ } ->
+      let followed = op <> Union in
+      let crossings, state = crossings_in w m.shape r' tmin followed in
+      if followed then states.(i) <- (if state then followed_in else followed_out);
+      List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc crossings
   | s ->
       let rec go acc tmin k =
         Stats.spend w 1;
@@ -778,49 +830,82 @@ and member_crossings w (m : csg_member) r tmin acc =
    gap, at its middle, and a root where it changes is a crossing. The answer does not
    depend on tmin (only which roots are kept): the first gap's state is sampled within
    the same gap whatever tmin is. Roots are computed up to infinity, so tmax plays no
-   part at all. Each test of the inside counts as the tests of surfaces it may make (the
-   object's leaves), for [w]. *)
-and crossings_in w s r tmin =
+   part at all.
+
+   A member that is itself a CSG object (but a union, whose list keeps every surface) is
+   not tested again at each gap: its crossings are where its own state changes, so its
+   state is followed along the ray from the one it had just after [tmin], flipped at each
+   of its crossings. Testing it would walk its whole tree at every gap of every level, and
+   a difference nested n deep would cost n² tests per ray; followed, each level costs its
+   gaps. The other members (surfaces, meshes, unions) are tested as the object's inside
+   tests them. With [state], the second result is the object's inside just after [tmin]
+   (for the object it is a member of); otherwise [false]. Each gap counts as the tests
+   it makes, for [w]. *)
+and crossings_in w s r tmin state =
   match s with
-  | Csg { op; members; leaves; _ } -> (
-      let ev =
-        Array.fold_left (fun acc m -> member_crossings w m r tmin acc) [] members
-      in
+  | Csg { op; members; _ } -> (
+      let n = Array.length members in
+      let states = Array.make n tested in
+      let ev = ref [] in
+      for i = 0 to n - 1 do
+        ev := member_crossings w members.(i) r tmin !ev states i
+      done;
+      let gap_cost = ref 1 and followed = ref false in
+      for i = 0 to n - 1 do
+        if states.(i) = tested then gap_cost := !gap_cost + inside_cost members.(i).shape
+        else followed := true
+      done;
+      let gap_cost = !gap_cost and followed = !followed in
       let ev =
         List.stable_sort
           (fun ((a : float), (i : int)) (b, j) ->
             if a < b then -1 else if a > b then 1 else Int.compare i j)
-          ev
+          !ev
       in
-      let cost = max 1 (Array.length leaves) in
-      let state t =
-        Stats.spend w cost;
-        inside s (Ray.at r t)
+      let state_at t =
+        Stats.spend w gap_cost;
+        combined op members states (Ray.at r t)
       in
-      let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
+      (* A crossing of a followed member flips its state. *)
+      let pass leaf =
+        if followed then
+          let i = member_of members leaf in
+          let st = states.(i) in
+          if st <> tested then states.(i) <- followed_in - st
+      in
+      let rec skip t = function
+        | (t', l) :: rest when t' = t ->
+            pass l;
+            skip t rest
+        | l -> l
+      in
       let rec walk before = function
         | [] -> []
         | (t, leaf) :: rest ->
+            pass leaf;
             let rest = skip t rest in
             let probe =
               match rest with
               | (t', _) :: _ -> 0.5 *. (t +. t')
               | [] -> t +. Float.max 1. (Float.abs t)
             in
-            let after = state probe in
+            let after = state_at probe in
             if after <> before then (t, leaf) :: walk after rest else walk before rest
       in
       match ev with
-      | [] -> []
-      | _ when op = Union -> ev (* every member's surface, as a group *)
-      | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) ev)
+      | [] -> ([], state && state_at (tmin +. Float.max 1. (Float.abs tmin)))
+      | _ when op = Union -> (ev, false) (* every member's surface, as a group *)
+      | (t0, _) :: _ ->
+          let first = state_at (0.5 *. (tmin +. t0)) in
+          (walk first ev, first))
   | _ ->
-      List.map
-        (fun t -> (t, 0))
-        (let t = intersect s r tmin Float.infinity in
-         if t < Float.infinity then [ t ] else [])
+      ( List.map
+          (fun t -> (t, 0))
+          (let t = intersect s r tmin Float.infinity in
+           if t < Float.infinity then [ t ] else []),
+        false )
 
-let csg_crossings s r tmin = crossings_in (Stats.current ()) s r tmin
+let csg_crossings s r tmin = fst (crossings_in (Stats.current ()) s r tmin false)
 
 type probe = Probe.t
 

@@ -178,10 +178,13 @@ val inside : t -> Vec3.t -> bool
 val csg_crossings : t -> Ray.t -> float -> (float * int) list
 (** [csg_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
     nearest first, with the index of the leaf the crossing lies on (0 for a simple shape).
-    It allocates: CSG objects are not on the allocation-free path. Each test of a surface
-    counts as a unit of work into the calling domain's {!Stats.current}: this and every
-    query that meets a CSG object ({!intersect}, {!csg_leaf}, ...) raises [Sys.Break]
-    where a poll finds that render cancelled. *)
+    It allocates: CSG objects are not on the allocation-free path. Each level of the tree
+    costs in proportion to what its members meet along [r]: a nested object counts as its
+    crossings (its inside is followed from them, not tested again at every gap), so a
+    difference nested n deep costs n levels, not n². Each test of a surface counts as a
+    unit of work into the calling domain's {!Stats.current}: this and every query that
+    meets a CSG object ({!intersect}, {!csg_leaf}, ...) raises [Sys.Break] where a poll
+    finds that render cancelled. *)
 
 val csg_leaf : t -> Ray.t -> float -> int
 (** [csg_leaf s r t] is the index in [leaves] of the surface that the crossing of [r] at
