@@ -62,7 +62,7 @@ type t =
   | Csg of {
       op : csg_op;
       members : csg_member array;
-      leaves : csg_leaf array;
+      leaf_count : int;
       cbounds : Bbox.t option;
     }
 
@@ -709,7 +709,7 @@ let followed_in = 1
    member's test at one gap counts as (Stats.spend). *)
 let inside_cost = function
   | Closed_mesh { tris; _ } -> max 1 (Array.length tris)
-  | Csg { leaves; _ } -> max 1 (Array.length leaves)
+  | Csg { leaf_count; _ } -> max 1 leaf_count
   | _ -> 1
 
 (* The member whose leaves include [leaf]: the last one whose first leaf is at most it
@@ -939,34 +939,22 @@ let probe_into s (q : probe) =
 let probe_first_into s (q : probe) =
   match s with Mesh m -> ignore (Trimesh.first m q) | s -> probe_into s q
 
+(* The simple surfaces of a shape as a CSG member: a closed mesh's triangles, a CSG
+   object's leaves, or the shape itself. *)
+let leaf_count = function
+  | Csg { leaf_count; _ } -> leaf_count
+  | Closed_mesh { tris; _ } -> Array.length tris
+  | _ -> 1
+
+(* A CSG object counts its leaves but does not list them: each level of a difference
+   nested n deep would hold a copy of the ones below, n²/2 records in all. *)
 let csg op (ms : (t * Transform.t) list) =
-  let leaves = ref [] and n = ref 0 in
-  let add l =
-    leaves := l :: !leaves;
-    incr n
-  in
+  let n = ref 0 in
   let members =
-    List.mapi
-      (fun i (shape, transform) ->
+    List.map
+      (fun (shape, transform) ->
         let first_leaf = !n in
-        let subtracted = op = Difference && i > 0 in
-        (match shape with
-        | Csg { leaves = ls; _ } ->
-            Array.iter
-              (fun l ->
-                add
-                  {
-                    l with
-                    leaf_transform = Transform.then_ l.leaf_transform transform;
-                    flipped = l.flipped <> subtracted;
-                  })
-              ls
-        | Closed_mesh { tris; _ } ->
-            Array.iter
-              (fun s ->
-                add { leaf_shape = s; leaf_transform = transform; flipped = subtracted })
-              tris
-        | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
+        n := !n + leaf_count shape;
         { shape; transform; first_leaf })
       ms
     |> Array.of_list
@@ -994,7 +982,41 @@ let csg op (ms : (t * Transform.t) list) =
                    { Bbox.min = Vec3.max a.min b.min; max = Vec3.min a.max b.max })
                  b rest))
   in
-  Csg { op; members; leaves = Array.of_list (List.rev !leaves); cbounds }
+  Csg { op; members; leaf_count = !n; cbounds }
+
+(* Each leaf's transform is its member's composed with those of the members above it,
+   innermost first, as one level at a time would compose them; it is flipped where an
+   odd number of them subtract it. [path] holds those above, innermost first. *)
+let csg_leaves s =
+  let acc = ref [] in
+  let rec up tr flipped = function
+    | [] -> (tr, flipped)
+    | (t, subtracted) :: rest -> up (Transform.then_ tr t) (flipped <> subtracted) rest
+  in
+  let add leaf_shape transform subtracted path =
+    let leaf_transform, flipped = up transform subtracted path in
+    acc := { leaf_shape; leaf_transform; flipped } :: !acc
+  in
+  let rec walk s path =
+    match s with
+    | Csg { op; members; _ } ->
+        Array.iteri
+          (fun i (m : csg_member) ->
+            let subtracted = op = Difference && i > 0 in
+            match m.shape with
+            | Csg _ when Transform.is_identity m.transform && not subtracted ->
+                (* A step that changes nothing (then_ keeps its left side as it is): a
+                   difference nested n deep walks n levels, not n²/2. *)
+                walk m.shape path
+            | Csg _ -> walk m.shape ((m.transform, subtracted) :: path)
+            | Closed_mesh { tris; _ } ->
+                Array.iter (fun tr -> add tr m.transform subtracted path) tris
+            | shape -> add shape m.transform subtracted path)
+          members
+    | _ -> ()
+  in
+  walk s [];
+  Array.of_list (List.rev !acc)
 
 let closed_mesh tris =
   let tris = Array.of_list tris in

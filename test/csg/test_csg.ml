@@ -924,6 +924,62 @@ let test_deep_chains () =
       ("operations nested 150 deep at random", None);
     ]
 
+(* The leaves as the levels would list them one at a time: each member's own (a nested
+   object's composed with the member's transform, and flipped where this level subtracts
+   it), as (surface, transform, flipped). *)
+let rec reference_leaves (s : Shape.t) =
+  match s with
+  | Shape.Csg { op; members; _ } ->
+      List.concat
+        (List.mapi
+           (fun i (m : Shape.csg_member) ->
+             let subtracted = op = Difference && i > 0 in
+             match m.shape with
+             | Shape.Csg _ ->
+                 List.map
+                   (fun (sh, tr, flipped) ->
+                     (sh, Transform.then_ tr m.transform, flipped <> subtracted))
+                   (reference_leaves m.shape)
+             | Shape.Closed_mesh { tris; _ } ->
+                 List.map (fun sh -> (sh, m.transform, subtracted)) (Array.to_list tris)
+             | sh -> [ (sh, m.transform, subtracted) ])
+           (Array.to_list members))
+  | _ -> []
+
+(* Two transforms that move three points, and back, to the same bits. *)
+let same_transform a b =
+  List.for_all
+    (fun p ->
+      let same (u : Vec3.t) (v : Vec3.t) =
+        same_bits u.x v.x && same_bits u.y v.y && same_bits u.z v.z
+      in
+      same (Transform.point a p) (Transform.point b p)
+      && same (Transform.inv_point a p) (Transform.inv_point b p))
+    [ Vec3.v 0.3 (-1.7) 2.9; Vec3.v (-5.) 0.1 0.7; Vec3.v 1e3 2e-3 (-7.) ]
+
+let same_leaves s =
+  let want = reference_leaves s and got = Array.to_list (Shape.csg_leaves s) in
+  List.length want = List.length got
+  && List.for_all2
+       (fun (sh, tr, flipped) (l : Shape.csg_leaf) ->
+         sh == l.leaf_shape && flipped = l.flipped && same_transform tr l.leaf_transform)
+       want got
+
+let test_leaves_by_level =
+  QCheck.Test.make
+    ~name:"a random CSG tree's leaves are placed as its levels compose them, bit for bit"
+    ~count:300
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed -> same_leaves (random_tree (Random.State.make [| seed |]) 4))
+
+let test_deep_leaves () =
+  let st = Random.State.make [| 20270102 |] in
+  let s = chain st 150 in
+  Alcotest.(check int)
+    "one leaf per level and the base" 151
+    (Array.length (Shape.csg_leaves s));
+  Alcotest.(check bool) "placed as the levels compose them" true (same_leaves s)
+
 (* A sphere with [n] small red and blue ones taken out of its front one level at a time
    on a spiral, each level turned a little: a difference nested [n] deep whose leaves are
    placed through up to [n] transforms. *)
@@ -1039,6 +1095,10 @@ let () =
       ( "nesting",
         [
           seeded test_crossings_by_definition;
+          seeded test_leaves_by_level;
+          Alcotest.test_case
+            "the leaves of operations nested 150 deep are placed through every level"
+            `Quick test_deep_leaves;
           Alcotest.test_case
             "differences, intersections, merges nested 150 deep cross by their definition"
             `Quick test_deep_chains;
