@@ -20,5 +20,6 @@ let deferring t f =
       raise e
 
 (* At about 10 M rays a second per domain, a poll every 0.4 ms: a stop is felt at once,
-   and the cost is one decrement and one comparison a ray. *)
+   and the cost is one decrement and one comparison a ray. A test of one surface inside
+   a CSG object, which counts as a ray does, is quicker still. *)
 let check_every = 4096

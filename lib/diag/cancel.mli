@@ -1,12 +1,13 @@
 (** Cancellation tokens: how a render (or any long job) is asked to stop.
 
     A token is a value passed down to the work it may stop. The work polls it at safe
-    points — before each tile, and every {!check_every} rays inside a tile — and raises
-    [Sys.Break] there, in lancer's own code, once the token is cancelled. A signal handler
-    cancels the token with {!signal}, which also raises [Sys.Break] at once unless the
-    program is inside a {!deferring} region (a pool of domains, a file being written),
-    where an exception arriving at an arbitrary point could leave a lock held or a write
-    half done. Cancellation is final: a token is never reset. *)
+    points — before each tile, and every {!check_every} units of work inside a tile (a
+    ray, or a test of one surface inside a CSG object) — and raises [Sys.Break] there, in
+    lancer's own code, once the token is cancelled. A signal handler cancels the token
+    with {!signal}, which also raises [Sys.Break] at once unless the program is inside a
+    {!deferring} region (a pool of domains, a file being written), where an exception
+    arriving at an arbitrary point could leave a lock held or a write half done.
+    Cancellation is final: a token is never reset. *)
 
 type t
 
@@ -33,4 +34,5 @@ val deferring : t -> (unit -> 'a) -> 'a
     [t] afterwards: the caller says what an interruption at that point means. *)
 
 val check_every : int
-(** Rays traced between two polls of the token inside a tile (4096). *)
+(** Units of work between two polls of the token inside a tile (4096): rays traced, and
+    tests of a surface inside a CSG object, where one ray may make millions. *)

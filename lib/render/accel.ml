@@ -246,6 +246,10 @@ let watch sc box =
       sc.watching <- true
 
 let untouch sc = sc.touched <- false
+
+(* A query that an exception leaves (Sys.Break from a poll inside a CSG object's test)
+   leaves its stack marked busy; every later query of the domain would make a new one. *)
+let release sc = sc.stack.busy <- false
 let touched sc = sc.touched
 
 (* Whether the segment (t0, t1) of the probe's ray may meet the watched box: false only

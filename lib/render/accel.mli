@@ -130,6 +130,11 @@ val untouch : scratch -> unit
 val touched : scratch -> bool
 (** Whether a query watched since {!untouch} may have met the box. *)
 
+val release : scratch -> unit
+(** Marks [sc]'s traversal stack free, as a query that an exception left half done (a
+    cancellation polled inside a CSG object's test, {!Stats.spend}) did not. Only where
+    none of [sc]'s queries is running. *)
+
 val moving_bounds : t list -> Float.Array.t option
 (** The box (6 floats: min x y z, max x y z) around the primitives of the moving parts of
     these {!layered} structures, padded by a millionth of its magnitude (empty, min +∞ and

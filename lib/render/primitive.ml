@@ -51,7 +51,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
   let bounds = world_bounds transform shape in
   let leaves =
     match shape with
-    | Shape.Csg { leaves; _ } ->
+    | Shape.Csg _ ->
         Array.mapi
           (fun i (l : Shape.csg_leaf) ->
             let m =
@@ -62,7 +62,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
             make
               ~transform:(Transform.then_ l.leaf_transform transform)
               ~flip:l.flipped m l.leaf_shape)
-          leaves
+          (Shape.csg_leaves shape)
     | _ -> [||]
   in
   (* A CSG object never shades with its own material (its leaves do); shadow queries read

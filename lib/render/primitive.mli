@@ -19,7 +19,8 @@ type t = private {
   flip : bool;  (** the normal is reversed (a surface subtracted by a CSG difference) *)
   leaves : t array;
       (** for a CSG shape, each of its simple surfaces placed in the world with its own
-          material and orientation (the shape's [leaves], in order); empty otherwise *)
+          material and orientation (the shape's {!Shape.csg_leaves}, in order); empty
+          otherwise *)
 }
 
 val make :

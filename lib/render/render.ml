@@ -235,9 +235,14 @@ let render_tile ?alpha ?reuse sc st fb x0 y0 x1 y1 =
   let ax = Shade.accel_scratch scr.shade in
   let w = fb.Image.width in
   (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
+  (* The work deep in queries that is not handed [st] (a CSG object's crossings) counts
+     into it, and so polls its token too; a poll there may leave a query half done. *)
   Fun.protect
-    ~finally:(fun () -> Accel.watch ax None)
+    ~finally:(fun () ->
+      Accel.watch ax None;
+      Accel.release ax)
     (fun () ->
+      Stats.with_current st @@ fun () ->
       for j = y0 to y1 - 1 do
         for i = x0 to x1 - 1 do
           let p = (j * w) + i in

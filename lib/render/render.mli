@@ -47,7 +47,8 @@ val render_tile :
   unit
 (** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
     with [alpha] it also stores each pixel's {!coverage} there (row-major); with [reuse]
-    as {!reuse} says. *)
+    as {!reuse} says. Its rays and the tests inside CSG objects that they make count into
+    [stats] ({!Stats.with_current}), polling its token. *)
 
 val tiles : ?region:Image.region -> Scene.t -> (int * int * int * int) array
 (** The tiles (x0, y0, x1, y1) of the scene's image, row-major; with [region] only those
@@ -70,9 +71,10 @@ val render_tiles :
     calling domain. [on_tile done_ k stats] is called after each tile, from whichever
     domain rendered it: [done_] of the tiles are finished, the last being tile [k] with
     its own counters [stats]. [cancel] is polled before each tile, every
-    {!Cancel.check_every} rays inside one, and once all are done: when it is cancelled the
-    call raises [Sys.Break] within a few thousand rays per domain, and [fb] is not to be
-    used. [alpha] as for {!render_tile}. *)
+    {!Cancel.check_every} units of work inside one (rays, tests inside CSG objects:
+    {!Stats.spend}), and once all are done: when it is cancelled the call raises
+    [Sys.Break] within a few thousand units per domain, and [fb] is not to be used.
+    [alpha] as for {!render_tile}. *)
 
 val render :
   ?cancel:Cancel.t ->

@@ -62,7 +62,7 @@ type t =
   | Csg of {
       op : csg_op;
       members : csg_member array;
-      leaves : csg_leaf array;
+      leaf_count : int;
       cbounds : Bbox.t option;
     }
 
@@ -698,6 +698,56 @@ let[@inline] member_ray (m : csg_member) r =
       (Transform.inv_point m.transform (Ray.origin r))
       (Transform.inv_vector m.transform (Ray.dir r))
 
+(* How a CSG object knows a member's inside at one of its gaps (see [crossings_in]): a
+   [tested] member is tested there; a followed one is [followed_out] or [followed_in],
+   its state along the ray, known from its own crossings. *)
+let tested = -1
+let followed_out = 0
+let followed_in = 1
+
+(* The tests of simple surfaces that [inside] makes on a member, at most: what a tested
+   member's test at one gap counts as (Stats.spend). *)
+let inside_cost = function
+  | Closed_mesh { tris; _ } -> max 1 (Array.length tris)
+  | Csg { leaf_count; _ } -> max 1 leaf_count
+  | _ -> 1
+
+(* The member whose leaves include [leaf]: the last one whose first leaf is at most it
+   (members list their leaves in order, and one without any is never the answer). *)
+let member_of (members : csg_member array) leaf =
+  let rec go lo hi =
+    if hi - lo <= 1 then lo
+    else
+      let mid = (lo + hi) / 2 in
+      if members.(mid).first_leaf <= leaf then go mid hi else go lo mid
+  in
+  go 0 (Array.length members)
+
+(* The inside of member [i] at [p] (a point of the CSG object's space): its followed state,
+   or its own test. *)
+let[@inline] member_inside (members : csg_member array) states i p =
+  let st = Array.unsafe_get states i in
+  if st <> tested then st = followed_in
+  else
+    let m = Array.unsafe_get members i in
+    inside m.shape (Transform.inv_point m.transform p)
+
+(* [inside] of a CSG object at [p], each member's inside as [member_inside] has it. *)
+let combined op (members : csg_member array) states p =
+  let n = Array.length members in
+  match op with
+  | Union | Merge ->
+      let rec any i = i < n && (member_inside members states i p || any (i + 1)) in
+      any 0
+  | Intersection ->
+      let rec all i = i >= n || (member_inside members states i p && all (i + 1)) in
+      all 0
+  | Difference ->
+      let rec none i =
+        i >= n || ((not (member_inside members states i p)) && none (i + 1))
+      in
+      member_inside members states 0 p && none 1
+
 (* The common shapes' tests are inlined here, reading the interval from and storing the
    root into the caller's record (a float record is flat): no float is boxed. *)
 let rec intersect_into s r (h : hit) =
@@ -735,8 +785,8 @@ let rec intersect_into s r (h : hit) =
       h.t <- q.p_t
   | Csg _ ->
       h.t <-
-        (match csg_crossings s r tmin with
-        | (t, _) :: _ when t < tmax -> t
+        (match crossings_in (Stats.current ()) s r tmin false with
+        | (t, _) :: _, _ when t < tmax -> t
         | _ -> Float.infinity)
 
 and intersect s r tmin tmax =
@@ -744,12 +794,15 @@ and intersect s r tmin tmax =
   intersect_into s r h;
   h.t
 
-(* Every root of member [m] after [tmin], each paired with the leaf whose surface it lies
-   on, prepended to [acc]. *)
-and member_crossings (m : csg_member) r tmin acc =
+(* Every root of member [m] (number [i]) after [tmin], each paired with the leaf whose
+   surface it lies on, prepended to [acc]; each surface's root sought is one unit of
+   work for [w]. For a CSG member followed along the ray (see [crossings_in]), its state
+   just after [tmin] goes into [states.(i)]. *)
+and member_crossings w (m : csg_member) r tmin acc states i =
   let r' = member_ray m r in
   match m.shape with
   | Closed_mesh { tris; _ } ->
+      Stats.spend w (Array.length tris);
       let acc = ref acc in
       Array.iteri
         (fun k tr ->
@@ -757,13 +810,14 @@ and member_crossings (m : csg_member) r tmin acc =
           if t < Float.infinity then acc := (t, m.first_leaf + k) :: !acc)
         tris;
       !acc
-  | Csg _ ->
-      List.fold_left
-        (fun acc (t, l) -> (t, m.first_leaf + l) :: acc)
-        acc
-        (csg_crossings m.shape r' tmin)
+  | Csg { op; _ } ->
+      let followed = op <> Union in
+      let crossings, state = crossings_in w m.shape r' tmin followed in
+      if followed then states.(i) <- (if state then followed_in else followed_out);
+      List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc crossings
   | s ->
       let rec go acc tmin k =
+        Stats.spend w 1;
         let t = intersect s r' tmin Float.infinity in
         if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1)
         else acc
@@ -776,40 +830,82 @@ and member_crossings (m : csg_member) r tmin acc =
    gap, at its middle, and a root where it changes is a crossing. The answer does not
    depend on tmin (only which roots are kept): the first gap's state is sampled within
    the same gap whatever tmin is. Roots are computed up to infinity, so tmax plays no
-   part at all. *)
-and csg_crossings s r tmin =
+   part at all.
+
+   A member that is itself a CSG object (but a union, whose list keeps every surface) is
+   not tested again at each gap: its crossings are where its own state changes, so its
+   state is followed along the ray from the one it had just after [tmin], flipped at each
+   of its crossings. Testing it would walk its whole tree at every gap of every level, and
+   a difference nested n deep would cost n² tests per ray; followed, each level costs its
+   gaps. The other members (surfaces, meshes, unions) are tested as the object's inside
+   tests them. With [state], the second result is the object's inside just after [tmin]
+   (for the object it is a member of); otherwise [false]. Each gap counts as the tests
+   it makes, for [w]. *)
+and crossings_in w s r tmin state =
   match s with
   | Csg { op; members; _ } -> (
-      let ev = Array.fold_left (fun acc m -> member_crossings m r tmin acc) [] members in
+      let n = Array.length members in
+      let states = Array.make n tested in
+      let ev = ref [] in
+      for i = 0 to n - 1 do
+        ev := member_crossings w members.(i) r tmin !ev states i
+      done;
+      let gap_cost = ref 1 and followed = ref false in
+      for i = 0 to n - 1 do
+        if states.(i) = tested then gap_cost := !gap_cost + inside_cost members.(i).shape
+        else followed := true
+      done;
+      let gap_cost = !gap_cost and followed = !followed in
       let ev =
         List.stable_sort
           (fun ((a : float), (i : int)) (b, j) ->
             if a < b then -1 else if a > b then 1 else Int.compare i j)
-          ev
+          !ev
       in
-      let state t = inside s (Ray.at r t) in
-      let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
+      let state_at t =
+        Stats.spend w gap_cost;
+        combined op members states (Ray.at r t)
+      in
+      (* A crossing of a followed member flips its state. *)
+      let pass leaf =
+        if followed then
+          let i = member_of members leaf in
+          let st = states.(i) in
+          if st <> tested then states.(i) <- followed_in - st
+      in
+      let rec skip t = function
+        | (t', l) :: rest when t' = t ->
+            pass l;
+            skip t rest
+        | l -> l
+      in
       let rec walk before = function
         | [] -> []
         | (t, leaf) :: rest ->
+            pass leaf;
             let rest = skip t rest in
             let probe =
               match rest with
               | (t', _) :: _ -> 0.5 *. (t +. t')
               | [] -> t +. Float.max 1. (Float.abs t)
             in
-            let after = state probe in
+            let after = state_at probe in
             if after <> before then (t, leaf) :: walk after rest else walk before rest
       in
       match ev with
-      | [] -> []
-      | _ when op = Union -> ev (* every member's surface, as a group *)
-      | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) ev)
+      | [] -> ([], state && state_at (tmin +. Float.max 1. (Float.abs tmin)))
+      | _ when op = Union -> (ev, false) (* every member's surface, as a group *)
+      | (t0, _) :: _ ->
+          let first = state_at (0.5 *. (tmin +. t0)) in
+          (walk first ev, first))
   | _ ->
-      List.map
-        (fun t -> (t, 0))
-        (let t = intersect s r tmin Float.infinity in
-         if t < Float.infinity then [ t ] else [])
+      ( List.map
+          (fun t -> (t, 0))
+          (let t = intersect s r tmin Float.infinity in
+           if t < Float.infinity then [ t ] else []),
+        false )
+
+let csg_crossings s r tmin = fst (crossings_in (Stats.current ()) s r tmin false)
 
 type probe = Probe.t
 
@@ -843,34 +939,22 @@ let probe_into s (q : probe) =
 let probe_first_into s (q : probe) =
   match s with Mesh m -> ignore (Trimesh.first m q) | s -> probe_into s q
 
+(* The simple surfaces of a shape as a CSG member: a closed mesh's triangles, a CSG
+   object's leaves, or the shape itself. *)
+let leaf_count = function
+  | Csg { leaf_count; _ } -> leaf_count
+  | Closed_mesh { tris; _ } -> Array.length tris
+  | _ -> 1
+
+(* A CSG object counts its leaves but does not list them: each level of a difference
+   nested n deep would hold a copy of the ones below, n²/2 records in all. *)
 let csg op (ms : (t * Transform.t) list) =
-  let leaves = ref [] and n = ref 0 in
-  let add l =
-    leaves := l :: !leaves;
-    incr n
-  in
+  let n = ref 0 in
   let members =
-    List.mapi
-      (fun i (shape, transform) ->
+    List.map
+      (fun (shape, transform) ->
         let first_leaf = !n in
-        let subtracted = op = Difference && i > 0 in
-        (match shape with
-        | Csg { leaves = ls; _ } ->
-            Array.iter
-              (fun l ->
-                add
-                  {
-                    l with
-                    leaf_transform = Transform.then_ l.leaf_transform transform;
-                    flipped = l.flipped <> subtracted;
-                  })
-              ls
-        | Closed_mesh { tris; _ } ->
-            Array.iter
-              (fun s ->
-                add { leaf_shape = s; leaf_transform = transform; flipped = subtracted })
-              tris
-        | s -> add { leaf_shape = s; leaf_transform = transform; flipped = subtracted });
+        n := !n + leaf_count shape;
         { shape; transform; first_leaf })
       ms
     |> Array.of_list
@@ -898,7 +982,41 @@ let csg op (ms : (t * Transform.t) list) =
                    { Bbox.min = Vec3.max a.min b.min; max = Vec3.min a.max b.max })
                  b rest))
   in
-  Csg { op; members; leaves = Array.of_list (List.rev !leaves); cbounds }
+  Csg { op; members; leaf_count = !n; cbounds }
+
+(* Each leaf's transform is its member's composed with those of the members above it,
+   innermost first, as one level at a time would compose them; it is flipped where an
+   odd number of them subtract it. [path] holds those above, innermost first. *)
+let csg_leaves s =
+  let acc = ref [] in
+  let rec up tr flipped = function
+    | [] -> (tr, flipped)
+    | (t, subtracted) :: rest -> up (Transform.then_ tr t) (flipped <> subtracted) rest
+  in
+  let add leaf_shape transform subtracted path =
+    let leaf_transform, flipped = up transform subtracted path in
+    acc := { leaf_shape; leaf_transform; flipped } :: !acc
+  in
+  let rec walk s path =
+    match s with
+    | Csg { op; members; _ } ->
+        Array.iteri
+          (fun i (m : csg_member) ->
+            let subtracted = op = Difference && i > 0 in
+            match m.shape with
+            | Csg _ when Transform.is_identity m.transform && not subtracted ->
+                (* A step that changes nothing (then_ keeps its left side as it is): a
+                   difference nested n deep walks n levels, not n²/2. *)
+                walk m.shape path
+            | Csg _ -> walk m.shape ((m.transform, subtracted) :: path)
+            | Closed_mesh { tris; _ } ->
+                Array.iter (fun tr -> add tr m.transform subtracted path) tris
+            | shape -> add shape m.transform subtracted path)
+          members
+    | _ -> ()
+  in
+  walk s [];
+  Array.of_list (List.rev !acc)
 
 let closed_mesh tris =
   let tris = Array.of_list tris in

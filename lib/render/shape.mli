@@ -86,7 +86,7 @@ type t = private
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
-      leaves : csg_leaf array;  (** every simple surface of the tree, depth first *)
+      leaf_count : int;  (** how many simple surfaces the tree has ({!csg_leaves}) *)
       cbounds : Bbox.t option;
           (** the intersection's overlap, the difference's first member's *)
     }  (** constructive solid geometry over solids placed by their own transforms *)
@@ -94,7 +94,9 @@ type t = private
 and csg_member = {
   shape : t;
   transform : Transform.t;  (** member space → the CSG's space *)
-  first_leaf : int;  (** index in [leaves] of this member's first simple surface *)
+  first_leaf : int;
+      (** index in {!csg_leaves} of this member's first simple surface (its leaves follow
+          it, depth first) *)
 }
 
 and csg_leaf = {
@@ -162,6 +164,12 @@ val csg : csg_op -> (t * Transform.t) list -> t
     [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
     solids ({!is_solid}); at least one member. *)
 
+val csg_leaves : t -> csg_leaf array
+(** [csg_leaves s] is every simple surface of CSG tree [s], depth first (a closed mesh's
+    triangles one by one), placed in the outermost object's space: the leaves that
+    [first_leaf], {!csg_crossings} and {!csg_leaf} number. Made anew at each call (the
+    tree holds only their count); [[||]] for a shape that is not a [Csg]. *)
+
 val closed_mesh : t list -> t
 (** [closed_mesh triangles] is the solid those triangles bound; the caller has checked
     that they are closed ({!Mesh.open_edges} is 0). Inside is decided by the parity of a
@@ -178,10 +186,16 @@ val inside : t -> Vec3.t -> bool
 val csg_crossings : t -> Ray.t -> float -> (float * int) list
 (** [csg_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
     nearest first, with the index of the leaf the crossing lies on (0 for a simple shape).
-    It allocates: CSG objects are not on the allocation-free path. *)
+    It allocates: CSG objects are not on the allocation-free path. Each level of the tree
+    costs in proportion to what its members meet along [r]: a nested object counts as its
+    crossings (its inside is followed from them, not tested again at every gap), so a
+    difference nested n deep costs n levels, not n². Each test of a surface counts as a
+    unit of work into the calling domain's {!Stats.current}: this and every query that
+    meets a CSG object ({!intersect}, {!csg_leaf}, ...) raises [Sys.Break] where a poll
+    finds that render cancelled. *)
 
 val csg_leaf : t -> Ray.t -> float -> int
-(** [csg_leaf s r t] is the index in [leaves] of the surface that the crossing of [r] at
+(** [csg_leaf s r t] is the index in {!csg_leaves} of the surface that [r]'s crossing at
     [t] (found by {!intersect} from tmin = 0 or later) lies on; 0 for a simple shape. *)
 
 val intersect : t -> Ray.t -> float -> float -> float

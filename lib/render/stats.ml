@@ -55,11 +55,32 @@ let create ?(cancel = Cancel.create ()) () =
     _p15 = 0;
   }
 
-let[@inline] tick s =
-  s.until_poll <- s.until_poll - 1;
+let[@inline] spend s n =
+  s.until_poll <- s.until_poll - n;
   if s.until_poll <= 0 then (
     s.until_poll <- Cancel.check_every;
     Cancel.check s.cancel)
+
+let[@inline] tick s = spend s 1
+
+(* The counters of the task a domain runs, found by one look-up by work that is not
+   handed them (a CSG object's crossings); outside a task, counters nobody cancels. *)
+type slot = { mutable task : t }
+
+let slot_key = Domain.DLS.new_key (fun () -> { task = create () })
+let current () = (Domain.DLS.get slot_key).task
+
+let with_current s f =
+  let slot = Domain.DLS.get slot_key in
+  let before = slot.task in
+  slot.task <- s;
+  match f () with
+  | v ->
+      slot.task <- before;
+      v
+  | exception e ->
+      slot.task <- before;
+      raise e
 
 let add_into acc s =
   acc.primary <- acc.primary + s.primary;

@@ -10,7 +10,8 @@ type t = {
   mutable bad_samples : int;  (** samples that came out NaN or infinite *)
   mutable first_bad : (int * int) option;  (** a pixel (column, row) with a bad sample *)
   cancel : Cancel.t;  (** polled by {!tick} *)
-  mutable until_poll : int;  (** rays left before {!tick} polls [cancel] again *)
+  mutable until_poll : int;
+      (** units of work (a ray, a CSG test) left before {!spend} polls [cancel] again *)
   mutable budget : int;  (** secondary rays the current camera sample may still cast *)
   _p0 : int;
   _p1 : int;
@@ -38,8 +39,23 @@ val create : ?cancel:Cancel.t -> unit -> t
 (** Counters at zero, polling [cancel] (default: a token nobody cancels). *)
 
 val tick : t -> unit
-(** Called once per ray traced: every {!Cancel.check_every} calls it polls the token and
-    raises [Sys.Break] if it is cancelled. Allocates nothing. *)
+(** Called once per ray traced: [spend s 1]. *)
+
+val spend : t -> int -> unit
+(** [spend s n] counts [n] units of work done: once every {!Cancel.check_every} units it
+    polls the token and raises [Sys.Break] if it is cancelled. A ray is one unit; so is
+    each test of a simple surface inside a CSG object (a root sought, a point tested
+    against its inside), which is how a ray that costs seconds (through a CSG object of
+    thousands of members) still stops within milliseconds. Allocates nothing. *)
+
+val current : unit -> t
+(** The counters of the task that the calling domain runs inside {!with_current}, for the
+    work that is not handed them (a CSG object's crossings, deep in a query); outside any,
+    counters whose token nobody cancels. *)
+
+val with_current : t -> (unit -> 'a) -> 'a
+(** [with_current s f] runs [f] with [s] as the calling domain's {!current} counters, and
+    puts back the ones before when it returns or raises. *)
 
 val add_into : t -> t -> unit
 (** [add_into acc s] adds [s]'s counts to [acc]. *)

@@ -785,6 +785,249 @@ let test_mixed_shadow () =
   close ~eps:1e-12 "through a shell of glass members: four walls" (0.9 ** 4.)
     through_shell.r
 
+(* --- Nested CSG objects --------------------------------------------------------- *)
+
+(* The crossings by their definition: every member's roots (a nested object's own
+   crossings), merged in order of (t, leaf); the object's whole inside tested at the
+   middle of each gap and past the last root; a root where it changes is a crossing (a
+   union keeps them all). [Shape.csg_crossings] follows a nested object's inside from its
+   crossings instead of testing it at every gap, and must give the same list, bit for
+   bit. Members are simple shapes or CSG objects (no meshes); a simple shape itself has
+   its nearest root. *)
+let rec reference_crossings (s : Shape.t) r tmin =
+  match s with
+  | Shape.Csg { op; members; _ } -> (
+      let member (m : Shape.csg_member) =
+        let r' =
+          if Transform.is_identity m.transform then r
+          else
+            Ray.make_raw
+              (Transform.inv_point m.transform (Ray.origin r))
+              (Transform.inv_vector m.transform (Ray.dir r))
+        in
+        match m.shape with
+        | Shape.Csg _ ->
+            List.map
+              (fun (t, l) -> (t, m.first_leaf + l))
+              (reference_crossings m.shape r' tmin)
+        | sh ->
+            let rec go tmin k =
+              let t = Shape.intersect sh r' tmin Float.infinity in
+              if t < Float.infinity && k < 64 then (t, m.first_leaf) :: go t (k + 1)
+              else []
+            in
+            go tmin 0
+      in
+      let roots =
+        List.stable_sort
+          (fun ((a : float), (i : int)) (b, j) ->
+            if a < b then -1 else if a > b then 1 else Int.compare i j)
+          (List.concat_map member (Array.to_list members))
+      in
+      let state t = Shape.inside s (Ray.at r t) in
+      let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
+      let rec walk before = function
+        | [] -> []
+        | (t, leaf) :: rest ->
+            let rest = skip t rest in
+            let probe =
+              match rest with
+              | (t', _) :: _ -> 0.5 *. (t +. t')
+              | [] -> t +. Float.max 1. (Float.abs t)
+            in
+            let after = state probe in
+            if after <> before then (t, leaf) :: walk after rest else walk before rest
+      in
+      match roots with
+      | [] -> []
+      | _ when op = Union -> roots
+      | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) roots)
+  | _ ->
+      (* A simple shape: its nearest root, on leaf 0. *)
+      let t = Shape.intersect s r tmin Float.infinity in
+      if t < Float.infinity then [ (t, 0) ] else []
+
+let same_bits (a : float) b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
+
+let same_crossings want got =
+  List.length want = List.length got
+  && List.for_all2 (fun (t, l) (t', l') -> same_bits t t' && l = l') want got
+
+let show_crossings l =
+  String.concat ", " (List.map (fun (t, l) -> Printf.sprintf "%.17g@%d" t l) l)
+
+let check_crossings what s r tmin =
+  let want = reference_crossings s r tmin and got = Shape.csg_crossings s r tmin in
+  same_crossings want got
+  || QCheck.Test.fail_reportf "%s: by definition [%s], got [%s]" what
+       (show_crossings want) (show_crossings got)
+
+let test_crossings_by_definition =
+  QCheck.Test.make ~name:"a random CSG tree's crossings are its definition's, bit for bit"
+    ~count:500
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let s = random_tree st 4 in
+      List.for_all
+        (fun tmin -> check_crossings "random tree" s (random_ray st) tmin)
+        [ 0.; rnd st 2. 6. ])
+
+(* A tree [n] deep in which each level combines the one below with a random sphere or
+   box, by [op] or, without it, a random operation; some levels placed by a turn and a
+   move. *)
+let chain ?op st n =
+  let leaf () =
+    let c = Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) in
+    if Random.State.bool st then Shape.sphere ~center:c ~radius:(rnd st 0.1 0.6)
+    else
+      let h = Vec3.v (rnd st 0.1 0.5) (rnd st 0.1 0.5) (rnd st 0.1 0.5) in
+      Shape.box ~min:(Vec3.sub c h) ~max:(Vec3.add c h)
+  in
+  let rec go k below =
+    if k = 0 then below
+    else
+      let op : Shape.csg_op =
+        match op with
+        | Some op -> op
+        | None -> (
+            match Random.State.int st 4 with
+            | 0 -> Union
+            | 1 -> Merge
+            | 2 -> Intersection
+            | _ -> Difference)
+      in
+      let tf =
+        if Random.State.int st 4 > 0 then id
+        else
+          Transform.then_
+            (Transform.rotate (Vec3.v (rnd st 0. 10.) (rnd st 0. 10.) (rnd st 0. 10.)))
+            (Transform.translate
+               (Vec3.v (rnd st (-0.1) 0.1) (rnd st (-0.1) 0.1) (rnd st (-0.1) 0.1)))
+      in
+      go (k - 1) (Shape.csg op [ (below, tf); (leaf (), id) ])
+  in
+  go n (Shape.sphere ~center:Vec3.zero ~radius:1.5)
+
+let test_deep_chains () =
+  let st = Random.State.make [| 20270101 |] in
+  List.iter
+    (fun (what, op) ->
+      let s = chain ?op st 150 in
+      for _ = 1 to 300 do
+        ignore (check_crossings what s (random_ray st) 0.)
+      done)
+    [
+      ("a difference nested 150 deep", Some Shape.Difference);
+      ("an intersection nested 150 deep", Some Shape.Intersection);
+      ("a merge nested 150 deep", Some Shape.Merge);
+      ("operations nested 150 deep at random", None);
+    ]
+
+(* The leaves as the levels would list them one at a time: each member's own (a nested
+   object's composed with the member's transform, and flipped where this level subtracts
+   it), as (surface, transform, flipped). *)
+let rec reference_leaves (s : Shape.t) =
+  match s with
+  | Shape.Csg { op; members; _ } ->
+      List.concat
+        (List.mapi
+           (fun i (m : Shape.csg_member) ->
+             let subtracted = op = Difference && i > 0 in
+             match m.shape with
+             | Shape.Csg _ ->
+                 List.map
+                   (fun (sh, tr, flipped) ->
+                     (sh, Transform.then_ tr m.transform, flipped <> subtracted))
+                   (reference_leaves m.shape)
+             | Shape.Closed_mesh { tris; _ } ->
+                 List.map (fun sh -> (sh, m.transform, subtracted)) (Array.to_list tris)
+             | sh -> [ (sh, m.transform, subtracted) ])
+           (Array.to_list members))
+  | _ -> []
+
+(* Two transforms that move three points, and back, to the same bits. *)
+let same_transform a b =
+  List.for_all
+    (fun p ->
+      let same (u : Vec3.t) (v : Vec3.t) =
+        same_bits u.x v.x && same_bits u.y v.y && same_bits u.z v.z
+      in
+      same (Transform.point a p) (Transform.point b p)
+      && same (Transform.inv_point a p) (Transform.inv_point b p))
+    [ Vec3.v 0.3 (-1.7) 2.9; Vec3.v (-5.) 0.1 0.7; Vec3.v 1e3 2e-3 (-7.) ]
+
+let same_leaves s =
+  let want = reference_leaves s and got = Array.to_list (Shape.csg_leaves s) in
+  List.length want = List.length got
+  && List.for_all2
+       (fun (sh, tr, flipped) (l : Shape.csg_leaf) ->
+         sh == l.leaf_shape && flipped = l.flipped && same_transform tr l.leaf_transform)
+       want got
+
+let test_leaves_by_level =
+  QCheck.Test.make
+    ~name:"a random CSG tree's leaves are placed as its levels compose them, bit for bit"
+    ~count:300
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed -> same_leaves (random_tree (Random.State.make [| seed |]) 4))
+
+let test_deep_leaves () =
+  let st = Random.State.make [| 20270102 |] in
+  let s = chain st 150 in
+  Alcotest.(check int)
+    "one leaf per level and the base" 151
+    (Array.length (Shape.csg_leaves s));
+  Alcotest.(check bool) "placed as the levels compose them" true (same_leaves s)
+
+(* A sphere with [n] small red and blue ones taken out of its front one level at a time
+   on a spiral, each level turned a little: a difference nested [n] deep whose leaves are
+   placed through up to [n] transforms. *)
+let nested_difference n =
+  let b = Buffer.create (n * 96) in
+  Buffer.add_string b
+    "settings { width: 64, height: 48 }\n\
+     camera { position: (0, 0, -3.4), look_at: (0, 0, 0) }\n\
+     light { position: (-3, 5, -5) }\n\
+     let red = material { color: (0.9, 0.2, 0.1) }\n\
+     let blue = material { color: (0.1, 0.3, 0.9) }\n";
+  for _ = 1 to n do
+    Buffer.add_string b "difference {\n"
+  done;
+  Buffer.add_string b "sphere { center: (0, 0, 0), radius: 1.5 }\n";
+  for k = 1 to n do
+    let a = 2.399963 *. Float.of_int k
+    and r = 1.4 *. Float.sqrt (Float.of_int k /. Float.of_int n) in
+    Printf.bprintf b
+      "sphere { center: (%.6f, %.6f, -1.3), radius: 0.09, material: %s }\n\
+       rotate: (0, 0, 0.7)\n\
+       }\n"
+      (r *. Float.cos a)
+      (r *. Float.sin a)
+      (if k mod 2 = 1 then "red" else "blue")
+  done;
+  Buffer.contents b
+
+(* The picture of a difference nested 300 deep is the one rendered (and stored) when each
+   level tested the inside of everything below it at every gap. *)
+let test_nested_picture () =
+  let file = Filename.temp_file "lancer_nested" ".rts" in
+  Out_channel.with_open_bin file (fun oc -> output_string oc (nested_difference 300));
+  let img = Lancer_alcotest.render_scene file in
+  Sys.remove file;
+  match img with
+  | Error m -> Alcotest.fail m
+  | Ok img -> (
+      match
+        Lancer_alcotest.compare_golden ~tolerance:0 ~golden:"nested_difference.png" img
+      with
+      | Error m -> Alcotest.fail m
+      | Ok (Same _ | Updated _) -> ()
+      | Ok (Missing { actual }) ->
+          Alcotest.failf "no golden image; the render is in %s" actual
+      | Ok (Different { actual; diff; _ }) ->
+          Alcotest.failf "the picture changed: %s (differences in %s)" actual diff)
+
 let () =
   Alcotest.run "csg"
     [
@@ -849,6 +1092,21 @@ let () =
             `Quick test_check_describes_trees;
         ] );
       ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
+      ( "nesting",
+        [
+          seeded test_crossings_by_definition;
+          seeded test_leaves_by_level;
+          Alcotest.test_case
+            "the leaves of operations nested 150 deep are placed through every level"
+            `Quick test_deep_leaves;
+          Alcotest.test_case
+            "differences, intersections, merges nested 150 deep cross by their definition"
+            `Quick test_deep_chains;
+          Alcotest.test_case
+            "a difference nested 300 deep renders the picture it always has, byte for \
+             byte"
+            `Quick test_nested_picture;
+        ] );
       ( "rendering",
         [
           Alcotest.test_case "a hollow glass sphere is its two surfaces, pixel for pixel"

@@ -105,6 +105,70 @@ let branching_case (name, signal, domains) =
       ignore (interrupted ~what:name pid err signal);
       Alcotest.(check (list string)) "no output, no temporary file" [ "b.rts" ] (files d))
 
+(* Rays that cost up to seconds each, through CSG objects that fill the picture: polled
+   every 4096 rays, such a render would not look at its token again for minutes. The
+   intersection of 10 000 spheres a hair apart: a ray through it meets 20 000 surfaces
+   and may test the inside of thousands of members between each two. *)
+let csg_intersection =
+  "camera { position: (0, 0, -6), look_at: (0, 0, 0) }\n\
+   light { position: (-3, 5, -5) }\n\
+   intersection {\n\
+  \  for i in 0 to 9999 { sphere { center: (i * 0.000001, 0, 0), radius: 4.5 } }\n\
+   }\n"
+
+(* A slab with [n] small spheres taken out of its front one level at a time, on a
+   spiral: a difference nested [n] deep, at 4×4 samples a pixel. *)
+let csg_nested n =
+  let b = Buffer.create (n * 64) in
+  Buffer.add_string b
+    "settings { samples: 4 }\n\
+     camera { position: (0, 0, -6), look_at: (0, 0, 0) }\n\
+     light { position: (-3, 5, -5) }\n";
+  for _ = 1 to n do
+    Buffer.add_string b "difference {\n"
+  done;
+  Buffer.add_string b "box { min: (-5, -4, -1), max: (5, 4, 1) }\n";
+  for k = 1 to n do
+    let a = 2.399963 *. Float.of_int k
+    and r = 3.2 *. Float.sqrt (Float.of_int k /. Float.of_int n) in
+    Printf.bprintf b "sphere { center: (%.6f, %.6f, -1), radius: 0.15 } }\n"
+      (r *. Float.cos a)
+      (r *. Float.sin a)
+  done;
+  Buffer.contents b
+
+(* Whether process [pid] is running (neither gone nor a zombie). *)
+let running pid =
+  match read_file (Printf.sprintf "/proc/%d/stat" pid) with
+  | exception Sys_error _ -> false
+  | s -> (
+      match String.rindex_opt s ')' with
+      | Some i -> i + 2 < String.length s && s.[i + 2] <> 'Z'
+      | None -> false)
+
+(* On one domain the signal handler raises at once, wherever the render is; with a pool
+   of domains it only cancels the token (see Render.with_pool), and the render stops where
+   it next polls it. *)
+let csg_case (what, scene) =
+  Alcotest.test_case
+    (Printf.sprintf "Ctrl-C stops a render through %s within 2 s (2 domains)" what) `Slow
+    (fun () ->
+      let d = tmpdir () in
+      write_file (Filename.concat d "c.rts") scene;
+      let pid, err =
+        spawn d
+          (String.split_on_char ' '
+             "render c.rts -o c.png --width 48 --height 36 --domains 2")
+      in
+      (* Into the render (the pool's domains have started), which takes seconds more. *)
+      Alcotest.(check bool)
+        "the render starts" true
+        (wait_until (fun () -> threads pid > 1));
+      Unix.sleepf 0.3;
+      Alcotest.(check bool) "still rendering when interrupted" true (running pid);
+      ignore (interrupted ~what pid err Sys.sigint);
+      Alcotest.(check (list string)) "no output" [ "c.rts" ] (files d))
+
 let tests =
   List.map branching_case
     [
@@ -112,6 +176,11 @@ let tests =
       ("SIGTERM", Sys.sigterm, "2");
       ("SIGINT", Sys.sigint, "1");
     ]
+  @ List.map csg_case
+      [
+        ("an intersection of 10 000 spheres", csg_intersection);
+        ("a difference nested 2000 deep", csg_nested 2000);
+      ]
   @ [
       Alcotest.test_case
         "Ctrl-C while a scene is evaluated exits 130, not with an internal error" `Slow
