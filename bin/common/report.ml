@@ -1,6 +1,9 @@
 open Lancer
 module Job_error = Lancer_job.Job_error
 
+(* Ends what the start-up stub (startup_stubs.c) began before the runtime started. *)
+external startup_done : unit -> unit = "lancer_startup_done"
+
 let errors_text errs =
   String.concat "\n" (List.map (Format.asprintf "%a" Diagnostic.pp) errs)
 
@@ -29,10 +32,12 @@ let message = function
 
 type stop = { signal : int Atomic.t (* the signal that stopped the run; 0: none *) }
 
-(* From the program's first moment (this module is initialised before any command runs:
-   before the options are parsed and MPI is started) to the command's own handler of
-   {!on_interrupt}, SIGINT and SIGTERM end the run with the interrupt's message and
-   status, as they do later; the default action would end it without a word. *)
+(* From the program's first moment (the start-up stub blocks SIGINT and SIGTERM before the
+   runtime starts, and this module's initialisation, before any command runs, before the
+   options are parsed and MPI is started, installs these handlers and lets the signals
+   through) to the command's own handler of {!on_interrupt}, SIGINT and SIGTERM end the
+   run with the interrupt's message and status, as they do later; the default action
+   would end it without a word. *)
 let early_exit = ref exit
 
 let () =
@@ -45,7 +50,8 @@ let () =
         !early_exit status)
   in
   Sys.set_signal Sys.sigint early;
-  Sys.set_signal Sys.sigterm early
+  Sys.set_signal Sys.sigterm early;
+  startup_done ()
 
 let on_interrupt stop =
   let token = Cancel.create () in

@@ -22,6 +22,13 @@ val message : exn -> string
     errors of a scene, ["internal error: …"] for anything else (a worker's failure, shown
     by rank 0). *)
 
+(** {1 The process}
+
+    This module's initialisation ends what the start-up stub ([startup_stubs.c], run
+    before the OCaml runtime starts) began: SIGINT and SIGTERM, blocked from the first
+    moment, get the handlers below and are let through (one that came in the meantime is
+    then delivered to them). *)
+
 (** {1 Running a command} *)
 
 type stop

@@ -182,6 +182,75 @@ let tests =
           Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png"));
     ]
 
+(* The address space of a running process in KiB; None once it has ended. *)
+let vm_kib pid =
+  match
+    In_channel.with_open_text (Printf.sprintf "/proc/%d/status" pid) In_channel.input_all
+  with
+  | exception Sys_error _ -> None
+  | text ->
+      List.find_map
+        (fun l -> Scanf.sscanf_opt l "VmSize: %d kB" Fun.id)
+        (String.split_on_char '\n' text)
+
+let showcase = Filename.concat (Sys.getcwd ()) "../../scenes/showcase.rts"
+
+let early_tests =
+  [
+    Alcotest.test_case
+      "SIGINT or SIGTERM within 5 ms of start-up (300 runs): exit 130, or 0 when done \
+       first; never the signal's death"
+      `Slow (fun () ->
+        let rng = Random.State.make [| 13 |] in
+        let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+        let interrupted = ref 0 and wrong = ref [] in
+        for k = 1 to 300 do
+          let args = if k mod 2 = 0 then [ "--version" ] else [ "check"; showcase ] in
+          let signal, name =
+            if Random.State.bool rng then (Sys.sigint, "SIGINT")
+            else (Sys.sigterm, "SIGTERM")
+          in
+          let delay = Random.State.float rng 0.005 in
+          let pid =
+            Unix.create_process exe (Array.of_list (exe :: args)) null null null
+          in
+          (* The delay counts from the moment the OCaml runtime has started (it reserves
+             256 MiB for the domains' minor heaps when no ulimit -v is set): before
+             lancer's own code runs, the kernel and the dynamic loader are still loading
+             it, and there no program can handle a signal. The libraries' initialisation,
+             then lancer's, follow within these milliseconds. *)
+          let t0 = Unix.gettimeofday () in
+          let rec started () =
+            match vm_kib pid with
+            | Some kib when kib < 131072 && Unix.gettimeofday () -. t0 < 5. -> started ()
+            | _ -> ()
+          in
+          started ();
+          Unix.sleepf delay;
+          Unix.kill pid signal;
+          match snd (Unix.waitpid [] pid) with
+          | Unix.WEXITED 130 -> incr interrupted
+          | Unix.WEXITED 0 -> ()
+          | st ->
+              let how =
+                match st with
+                | Unix.WEXITED n -> Printf.sprintf "exit %d" n
+                | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
+                | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
+              in
+              wrong :=
+                Printf.sprintf "%s %s after %.2f ms: %s" (String.concat " " args) name
+                  (delay *. 1000.) how
+                :: !wrong
+        done;
+        Unix.close null;
+        Alcotest.(check (list string)) "every run exits 130 or 0" [] (List.rev !wrong);
+        (* Signals that came while lancer ran, not only after it had finished. *)
+        Alcotest.(check bool)
+          (Printf.sprintf "some runs interrupted (%d)" !interrupted)
+          true (!interrupted >= 10));
+  ]
+
 let is_temp f = String.length f > 0 && f.[0] = '.' && contains f ".tmp"
 
 let write_tests =
@@ -243,4 +312,9 @@ let stdout_tests =
 
 let () =
   Alcotest.run "interrupts"
-    [ ("stopping", tests); ("writing", write_tests); ("stdout", stdout_tests) ]
+    [
+      ("stopping", tests);
+      ("starting", early_tests);
+      ("writing", write_tests);
+      ("stdout", stdout_tests);
+    ]
