@@ -1,12 +1,15 @@
 /* What lancer settles before the OCaml runtime starts.
 
    [lancer_startup] is a constructor: it runs before main, so before the runtime starts
-   and before any library's initialisation installs a handler. Report's initialisation
-   ([lancer_startup_done]) ends what it begins, once lancer's own signal handlers are
-   installed. */
+   and before any library's initialisation opens a file or installs a handler. Report's
+   initialisation ([lancer_startup_done]) ends what it begins, once lancer's own signal
+   handlers are installed. */
 
 #define _GNU_SOURCE
+#include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <caml/mlvalues.h>
 
@@ -34,15 +37,41 @@ static void block_stop_signals(void)
   sigprocmask(SIG_BLOCK, &stop, &mask_at_start);
 }
 
+/* ---- Standard descriptors ----
+
+   A descriptor among 0, 1 and 2 that is closed when lancer starts (lancer >&-) is opened
+   on /dev/null in the direction that cannot be used: standard input write-only, standard
+   output and error read-only. Every file lancer opens then gets a higher descriptor (a
+   free 1 would be the next file's, and what is printed would go into it), and reading or
+   writing them still fails as on a closed descriptor (EBADF), so that output lancer
+   cannot deliver is reported, not lost. */
+
+static int closed_at_start = 0; /* bit i: descriptor i was closed */
+
+static void open_standard_descriptors(void)
+{
+  for (int fd = 0; fd <= 2; fd++) {
+    if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+    closed_at_start |= 1 << fd;
+    int null = open("/dev/null", fd == 0 ? O_WRONLY : O_RDONLY);
+    if (null >= 0 && null != fd) {
+      dup2(null, fd);
+      close(null);
+    }
+  }
+}
+
 __attribute__((constructor)) static void lancer_startup(void)
 {
   block_stop_signals();
+  open_standard_descriptors();
 }
 
-/* Report's handlers are in place: the signals held so far delivered to them. */
+/* Report's handlers are in place: the signals held so far delivered to them. Returns
+   which standard descriptors were closed at start (bit i for descriptor i). */
 value lancer_startup_done(value unit)
 {
   (void)unit;
   sigprocmask(SIG_SETMASK, &mask_at_start, NULL);
-  return Val_unit;
+  return Val_int(closed_at_start);
 }

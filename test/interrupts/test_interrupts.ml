@@ -310,11 +310,113 @@ let stdout_tests =
           ]);
   ]
 
+(* lancer in [d] through the shell, with [redirect] (">/dev/full", ">&-") on its standard
+   output and stderr in a file: the status as [Sys.command] gives it (255 for a death by
+   signal, 2 for OCaml's "Fatal error") and stderr. *)
+let shell d redirect args =
+  let err = Filename.concat d "err.txt" in
+  let st =
+    Sys.command
+      (Printf.sprintf "cd %s && TERM=dumb %s %s %s 2>%s" (Filename.quote d)
+         (Filename.quote exe)
+         (String.concat " " (List.map Filename.quote args))
+         redirect (Filename.quote err))
+  in
+  let e = read_file err in
+  Sys.remove err;
+  (st, e)
+
+let stdout_refused ~what (st, e) =
+  Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
+  Alcotest.(check bool)
+    (what ^ ": says that standard output cannot be written\n" ^ e)
+    true
+    (String.starts_with ~prefix:"lancer: cannot write" e && contains e "standard output");
+  Alcotest.(check bool)
+    (what ^ ": one message, no Fatal error\n" ^ e)
+    false
+    (contains e "Fatal error" || contains e "internal error" || contains e "exception")
+
+let closed_stdout_tests =
+  let scene d =
+    write_file (Filename.concat d "s.rts") "sphere { center: (0, 0, 0), radius: 1 }\n"
+  in
+  [
+    Alcotest.test_case
+      "--help, --version and -o - on a full or closed standard output: exit 1, one line"
+      `Quick (fun () ->
+        let d = tmpdir () in
+        scene d;
+        List.iter
+          (fun redirect ->
+            List.iter
+              (fun args ->
+                stdout_refused
+                  ~what:(String.concat " " args ^ " " ^ redirect)
+                  (shell d redirect args))
+              [
+                [ "--version" ];
+                [ "--help" ];
+                [ "--help=plain" ];
+                [ "render"; "--help=plain" ];
+                [ "check"; "s.rts" ];
+                [ "render"; "s.rts"; "-o"; "-"; "--width"; "8"; "--height"; "6" ];
+              ])
+          [ ">/dev/full"; ">&-" ]);
+    Alcotest.test_case
+      "with standard output closed, descriptor 1 stays unused and the summary is refused"
+      `Slow (fun () ->
+        let d = tmpdir () in
+        let err = Filename.concat d "err.txt" in
+        let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_TRUNC ] 0o644 in
+        let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+        let pid =
+          Unix.create_process "/bin/sh"
+            [|
+              "/bin/sh";
+              "-c";
+              "exec \"$0\" \"$@\" >&-";
+              exe;
+              "render";
+              "-o";
+              Filename.concat d "s.png";
+              "--width";
+              "320";
+              "--height";
+              "240";
+              "--domains";
+              "2";
+            |]
+            null null fd
+        in
+        Unix.close fd;
+        Unix.close null;
+        (* Once the render runs, every library has started and opened what it keeps
+           open: a descriptor it took while 1 was free would be 1. *)
+        Alcotest.(check bool)
+          "the render starts" true
+          (wait_until (fun () -> threads pid > 1));
+        let one =
+          try Unix.readlink (Printf.sprintf "/proc/%d/fd/1" pid) with _ -> "?"
+        in
+        let _, st = Unix.waitpid [] pid in
+        let e = read_file err in
+        Alcotest.(check string) "descriptor 1 is /dev/null" "/dev/null" one;
+        Alcotest.(check bool) ("exit 1\n" ^ e) true (st = Unix.WEXITED 1);
+        Alcotest.(check string)
+          "the message" "lancer: cannot write to standard output: it is closed\n" e;
+        (match Lancer.Image.read_rgb8 (Filename.concat d "s.png") with
+        | Ok (w, h, _) ->
+            Alcotest.(check (pair int int)) "the whole image" (320, 240) (w, h)
+        | Error m -> Alcotest.fail ("s.png: " ^ m));
+        Alcotest.(check (list string)) "no other file" [ "err.txt"; "s.png" ] (files d));
+  ]
+
 let () =
   Alcotest.run "interrupts"
     [
       ("stopping", tests);
       ("starting", early_tests);
       ("writing", write_tests);
-      ("stdout", stdout_tests);
+      ("stdout", stdout_tests @ closed_stdout_tests);
     ]
