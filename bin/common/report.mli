@@ -14,8 +14,9 @@ val describe : ?interrupted:string -> exn -> string * int
     note for {!Lancer_job.Job_error.Scene} (1), [lancer: interrupted; …] for an interrupt
     (130: [interrupted] says what became of the output, default "no output was written",
     and {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
-    system's reason for [Sys_error] (1), out of memory (1), and anything else as an
-    internal error (2). *)
+    system's reason for [Sys_error] (1), [lancer: out of memory …] with what to try (the
+    address-space limit when there is one) for [Out_of_memory] and for a domain that could
+    not be started (1), and anything else as an internal error (2). *)
 
 val message : exn -> string
 (** What went wrong, without the program's name: the message of a user error, the located
@@ -28,8 +29,9 @@ val message : exn -> string
     before the OCaml runtime starts) began: SIGINT and SIGTERM, blocked from the first
     moment, get the handlers below and are let through (one that came in the meantime is
     then delivered to them); standard descriptors closed at start were opened on /dev/null
-    so that no file takes their number, and writing to them fails as it would; and an
-    exception no command caught is said as {!describe} says it. *)
+    so that no file takes their number, and writing to them fails as it would; the
+    runtime's fatal errors are said as lancer's out of memory (1) or internal error (2);
+    and an exception no command caught is said as {!describe} says it. *)
 
 val main : (unit -> int) -> 'a
 (** [main eval] runs the command line ([eval] gives the exit status) and ends the process
