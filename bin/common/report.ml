@@ -104,7 +104,10 @@ let exit status =
   (try flush stderr with Sys_error _ -> silence Unix.stderr);
   Stdlib.exit status
 
-type stop = { signal : int Atomic.t (* the signal that stopped the run; 0: none *) }
+type stop = {
+  signal : int Atomic.t;  (** the signal that stopped the run; 0: none *)
+  over : bool Atomic.t;  (** the command's body has returned or raised *)
+}
 
 (* From the program's first moment (the start-up stub blocks SIGINT and SIGTERM before the
    runtime starts, and this module's initialisation, before any command runs, before the
@@ -139,12 +142,16 @@ let () =
 let on_interrupt stop =
   let token = Cancel.create () in
   (* Inside a pool or a write the work stops at its next poll of the token, in lancer's
-     own code; elsewhere (loading, evaluating) at once. *)
+     own code; elsewhere (loading, evaluating) at once. Once the command's body is over,
+     there is nothing left to stop: a signal that comes while the run ends (its message
+     printed, standard output flushed, the process exiting) is let go, and the run ends
+     with its own status, instead of raising Sys.Break where nothing catches it. *)
   let h =
     Sys.Signal_handle
       (fun signal ->
-        Atomic.set stop.signal signal;
-        Cancel.signal token)
+        if not (Atomic.get stop.over) then (
+          Atomic.set stop.signal signal;
+          Cancel.signal token))
   in
   Sys.set_signal Sys.sigint h;
   Sys.set_signal Sys.sigterm h;
@@ -168,9 +175,16 @@ let fail ?(interrupted = "no output was written") ?terminated stop e =
       status
 
 let run ?interrupted ?terminated f =
-  let stop = { signal = Atomic.make 0 } in
+  let stop = { signal = Atomic.make 0; over = Atomic.make false } in
+  (* [over] is set before anything that can poll for a signal (an allocation, a call). *)
   let outcome =
-    match f stop with () -> 0 | exception e -> fail ?interrupted ?terminated stop e
+    match f stop with
+    | () ->
+        Atomic.set stop.over true;
+        0
+    | exception e ->
+        Atomic.set stop.over true;
+        fail ?interrupted ?terminated stop e
   in
   flush_stdout outcome
 
