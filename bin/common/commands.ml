@@ -472,10 +472,13 @@ let main () =
     ]
   in
   let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
-  let code =
-    Cmd.eval'
-      (Cmd.group info [ render; animate; check; diff; golden; Watch.cmd; Bench.cmd ])
-  in
-  if code = Cmd.Exit.cli_error then
-    Option.iter (Report.say ~program:"lancer") (Cli.negative_value_hint Sys.argv);
-  exit (Cli.status_of_eval code)
+  (* Report.main ends the process: what help, --version or a command printed that
+     standard output cannot take is reported there, not at exit. *)
+  Report.main (fun () ->
+      let code =
+        Cmd.eval'
+          (Cmd.group info [ render; animate; check; diff; golden; Watch.cmd; Bench.cmd ])
+      in
+      if code = Cmd.Exit.cli_error then
+        Option.iter (Report.say ~program:"lancer") (Cli.negative_value_hint Sys.argv);
+      Cli.status_of_eval code)

@@ -14,13 +14,36 @@ val describe : ?interrupted:string -> exn -> string * int
     note for {!Lancer_job.Job_error.Scene} (1), [lancer: interrupted; …] for an interrupt
     (130: [interrupted] says what became of the output, default "no output was written",
     and {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
-    system's reason for [Sys_error] (1), out of memory (1), and anything else as an
-    internal error (2). *)
+    system's reason for [Sys_error] (1), [lancer: out of memory …] with what to try (the
+    address-space limit when there is one) for [Out_of_memory] and for a domain that could
+    not be started (1), and anything else as an internal error (2). *)
 
 val message : exn -> string
 (** What went wrong, without the program's name: the message of a user error, the located
     errors of a scene, ["internal error: …"] for anything else (a worker's failure, shown
     by rank 0). *)
+
+(** {1 The process}
+
+    This module's initialisation ends what the start-up stub ([startup_stubs.c], run
+    before the OCaml runtime starts) began: SIGINT and SIGTERM, blocked from the first
+    moment, get the handlers below and are let through (one that came in the meantime is
+    then delivered to them); standard descriptors closed at start were opened on /dev/null
+    so that no file takes their number, and writing to them fails as it would; the
+    runtime's fatal errors are said as lancer's out of memory (1) or internal error (2);
+    and an exception no command caught is said as {!describe} says it. *)
+
+val main : (unit -> int) -> 'a
+(** [main eval] runs the command line ([eval] gives the exit status) and ends the process
+    with {!exit}: output that standard output cannot take, from help, [--version] or a
+    command, is a user error (1) with the system's reason; an exception [eval] raises is
+    said as {!describe} says it. *)
+
+val exit : int -> 'a
+(** [exit status] flushes standard output (what Printf and Format still hold) and ends the
+    process: a status of 0 becomes 1 with "lancer: cannot write to standard output: …"
+    when standard output cannot take it; standard output or error that fails is pointed at
+    /dev/null, so that the flush at exit cannot fail again. *)
 
 (** {1 Running a command} *)
 
@@ -29,7 +52,7 @@ type stop
 
 val early_exit : (int -> unit) ref
 (** How a run interrupted before its command's own handler ({!on_interrupt}) is installed
-    ends, once its message is printed: [exit] by default. Under MPI that would wait in
+    ends, once its message is printed: {!exit} by default. Under MPI that would wait in
     [MPI_Finalize] for ranks that wait for this one; lancer-mpi makes it abort the job. *)
 
 val on_interrupt : stop -> Lancer.Cancel.t

@@ -330,12 +330,13 @@ let () =
   in
   let cmd = Cmd.group info [ render; animate ] in
   (* Every rank parses the same command line; only rank 0 speaks. *)
-  let code =
-    if Mpi.rank () = 0 then Cmd.eval' cmd
-    else
-      let null = Format.make_formatter (fun _ _ _ -> ()) ignore in
-      Cmd.eval' ~help:null ~err:null cmd
-  in
-  if code = Cmd.Exit.cli_error && Mpi.rank () = 0 then
-    Option.iter (Report.say ~program:"lancer-mpi") (Cli.negative_value_hint Sys.argv);
-  exit (Cli.status_of_eval code)
+  Report.main (fun () ->
+      let code =
+        if Mpi.rank () = 0 then Cmd.eval' cmd
+        else
+          let null = Format.make_formatter (fun _ _ _ -> ()) ignore in
+          Cmd.eval' ~help:null ~err:null cmd
+      in
+      if code = Cmd.Exit.cli_error && Mpi.rank () = 0 then
+        Option.iter (Report.say ~program:"lancer-mpi") (Cli.negative_value_hint Sys.argv);
+      Cli.status_of_eval code)

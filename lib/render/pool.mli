@@ -14,10 +14,13 @@ type t
 
 val create : int -> t
 (** [create n] starts a pool of [n] domains in all, the caller counting as one ([n - 1]
-    new domains; none when [n <= 1]). *)
+    new domains; none when [n <= 1]), or fewer when the system has no room for more: under
+    a limit on the address space (ulimit -v), a domain is started only while what starting
+    it takes fits under the limit, and a domain that cannot be started ends the spawning.
+    The pool then works with the domains it has, the caller at least. *)
 
 val size : t -> int
-(** The number of domains that run a loop, the caller's included. *)
+(** The number of domains that run a loop, the caller's included: at most [n]. *)
 
 val parallel_for : t -> int -> (int -> unit) -> unit
 (** [parallel_for t n body] runs [body i] for i = 0 .. n - 1 over the pool and returns

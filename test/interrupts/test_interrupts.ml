@@ -251,6 +251,88 @@ let tests =
           Alcotest.(check bool) "nothing written" false (Sys.file_exists "x.png"));
     ]
 
+(* The address space of a running process in KiB; None once it has ended. *)
+let vm_kib pid =
+  match
+    In_channel.with_open_text (Printf.sprintf "/proc/%d/status" pid) In_channel.input_all
+  with
+  | exception Sys_error _ -> None
+  | text ->
+      List.find_map
+        (fun l -> Scanf.sscanf_opt l "VmSize: %d kB" Fun.id)
+        (String.split_on_char '\n' text)
+
+let showcase = Filename.concat (Sys.getcwd ()) "../../scenes/showcase.rts"
+
+let early_tests =
+  [
+    Alcotest.test_case
+      "SIGINT or SIGTERM within 5 ms of start-up (300 runs): exit 130, or 0 when done \
+       first; never the signal's death"
+      `Slow (fun () ->
+        let d = tmpdir () in
+        (* Evaluated for some 40 ms: a signal within 5 ms of start-up comes while it runs,
+           however busy the machine, where --version or the showcase may be over. *)
+        let slow = Filename.concat d "slow.rts" in
+        write_file slow
+          "for i in 0 to 400000 { let x = sin(i) + cos(i) }\n\
+           sphere { center: (0, 0, 0), radius: 1 }\n";
+        let rng = Random.State.make [| 13 |] in
+        let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+        let slow_interrupted = ref 0 and wrong = ref [] in
+        for k = 1 to 300 do
+          let args =
+            match k mod 3 with
+            | 0 -> [ "--version" ]
+            | 1 -> [ "check"; showcase ]
+            | _ -> [ "check"; slow ]
+          in
+          let signal, name =
+            if Random.State.bool rng then (Sys.sigint, "SIGINT")
+            else (Sys.sigterm, "SIGTERM")
+          in
+          let delay = Random.State.float rng 0.005 in
+          let pid =
+            Unix.create_process exe (Array.of_list (exe :: args)) null null null
+          in
+          (* The delay counts from the moment the OCaml runtime has started (it reserves
+             256 MiB for the domains' minor heaps when no ulimit -v is set): before
+             lancer's own code runs, the kernel and the dynamic loader are still loading
+             it, and there no program can handle a signal. The libraries' initialisation,
+             then lancer's, follow within these milliseconds. *)
+          let t0 = Unix.gettimeofday () in
+          let rec started () =
+            match vm_kib pid with
+            | Some kib when kib < 131072 && Unix.gettimeofday () -. t0 < 5. -> started ()
+            | _ -> ()
+          in
+          started ();
+          Unix.sleepf delay;
+          Unix.kill pid signal;
+          match snd (Unix.waitpid [] pid) with
+          | Unix.WEXITED 130 -> if k mod 3 = 2 then incr slow_interrupted
+          | Unix.WEXITED 0 -> ()
+          | st ->
+              let how =
+                match st with
+                | Unix.WEXITED n -> Printf.sprintf "exit %d" n
+                | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
+                | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
+              in
+              wrong :=
+                Printf.sprintf "%s %s after %.2f ms: %s" (String.concat " " args) name
+                  (delay *. 1000.) how
+                :: !wrong
+        done;
+        Unix.close null;
+        Alcotest.(check (list string)) "every run exits 130 or 0" [] (List.rev !wrong);
+        (* Signals that came while lancer ran, not only after it had finished. *)
+        Alcotest.(check bool)
+          (Printf.sprintf "most of the slow scene's 100 runs interrupted (%d)"
+             !slow_interrupted)
+          true (!slow_interrupted >= 50));
+  ]
+
 let is_temp f = String.length f > 0 && f.[0] = '.' && contains f ".tmp"
 
 let write_tests =
@@ -310,6 +392,113 @@ let stdout_tests =
           ]);
   ]
 
+(* lancer in [d] through the shell, with [redirect] (">/dev/full", ">&-") on its standard
+   output and stderr in a file: the status as [Sys.command] gives it (255 for a death by
+   signal, 2 for OCaml's "Fatal error") and stderr. *)
+let shell d redirect args =
+  let err = Filename.concat d "err.txt" in
+  let st =
+    Sys.command
+      (Printf.sprintf "cd %s && TERM=dumb %s %s %s 2>%s" (Filename.quote d)
+         (Filename.quote exe)
+         (String.concat " " (List.map Filename.quote args))
+         redirect (Filename.quote err))
+  in
+  let e = read_file err in
+  Sys.remove err;
+  (st, e)
+
+let stdout_refused ~what (st, e) =
+  Alcotest.(check int) (what ^ ": exit 1\n" ^ e) 1 st;
+  Alcotest.(check bool)
+    (what ^ ": says that standard output cannot be written\n" ^ e)
+    true
+    (String.starts_with ~prefix:"lancer: cannot write" e && contains e "standard output");
+  Alcotest.(check bool)
+    (what ^ ": one message, no Fatal error\n" ^ e)
+    false
+    (contains e "Fatal error" || contains e "internal error" || contains e "exception")
+
+let closed_stdout_tests =
+  let scene d =
+    write_file (Filename.concat d "s.rts") "sphere { center: (0, 0, 0), radius: 1 }\n"
+  in
+  [
+    Alcotest.test_case
+      "--help, --version and -o - on a full or closed standard output: exit 1, one line"
+      `Quick (fun () ->
+        let d = tmpdir () in
+        scene d;
+        List.iter
+          (fun redirect ->
+            List.iter
+              (fun args ->
+                stdout_refused
+                  ~what:(String.concat " " args ^ " " ^ redirect)
+                  (shell d redirect args))
+              [
+                [ "--version" ];
+                [ "--help" ];
+                [ "--help=plain" ];
+                [ "render"; "--help=plain" ];
+                [ "check"; "s.rts" ];
+                [ "render"; "s.rts"; "-o"; "-"; "--width"; "8"; "--height"; "6" ];
+              ])
+          [ ">/dev/full"; ">&-" ]);
+    Alcotest.test_case
+      "with standard output closed, descriptor 1 stays unused and the summary is refused"
+      `Slow (fun () ->
+        let d = tmpdir () in
+        let err = Filename.concat d "err.txt" in
+        let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_TRUNC ] 0o644 in
+        let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+        let pid =
+          Unix.create_process "/bin/sh"
+            [|
+              "/bin/sh";
+              "-c";
+              "exec \"$0\" \"$@\" >&-";
+              exe;
+              "render";
+              "-o";
+              Filename.concat d "s.png";
+              "--width";
+              "320";
+              "--height";
+              "240";
+              "--domains";
+              "2";
+            |]
+            null null fd
+        in
+        Unix.close fd;
+        Unix.close null;
+        (* Once the render runs, every library has started and opened what it keeps
+           open: a descriptor it took while 1 was free would be 1. *)
+        Alcotest.(check bool)
+          "the render starts" true
+          (wait_until (fun () -> threads pid > 1));
+        let one =
+          try Unix.readlink (Printf.sprintf "/proc/%d/fd/1" pid) with _ -> "?"
+        in
+        let _, st = Unix.waitpid [] pid in
+        let e = read_file err in
+        Alcotest.(check string) "descriptor 1 is /dev/null" "/dev/null" one;
+        Alcotest.(check bool) ("exit 1\n" ^ e) true (st = Unix.WEXITED 1);
+        Alcotest.(check string)
+          "the message" "lancer: cannot write to standard output: it is closed\n" e;
+        (match Lancer.Image.read_rgb8 (Filename.concat d "s.png") with
+        | Ok (w, h, _) ->
+            Alcotest.(check (pair int int)) "the whole image" (320, 240) (w, h)
+        | Error m -> Alcotest.fail ("s.png: " ^ m));
+        Alcotest.(check (list string)) "no other file" [ "err.txt"; "s.png" ] (files d));
+  ]
+
 let () =
   Alcotest.run "interrupts"
-    [ ("stopping", tests); ("writing", write_tests); ("stdout", stdout_tests) ]
+    [
+      ("stopping", tests);
+      ("starting", early_tests);
+      ("writing", write_tests);
+      ("stdout", stdout_tests @ closed_stdout_tests);
+    ]

@@ -66,6 +66,127 @@ let memory_tests =
         Alcotest.(check (list string)) "no output" [ "macro.rts"; "many.rts" ] (files d));
   ]
 
+(* lancer [args] in [d] under ulimit -v [kib], its standard output thrown away: how it
+   ended, and stderr. *)
+let limited d kib args =
+  let err = Filename.concat d "err.txt" in
+  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+  let fd = Unix.openfile err [ Unix.O_WRONLY; Unix.O_CREAT; Unix.O_TRUNC ] 0o644 in
+  let cwd = Sys.getcwd () in
+  Sys.chdir d;
+  let script = Printf.sprintf "ulimit -v %d; exec \"$0\" \"$@\"" kib in
+  let pid =
+    Unix.create_process "/bin/sh"
+      (Array.of_list ("/bin/sh" :: "-c" :: script :: exe :: args))
+      null null fd
+  in
+  Sys.chdir cwd;
+  Unix.close fd;
+  Unix.close null;
+  let _, st = Unix.waitpid [] pid in
+  let e = read_file err in
+  Sys.remove err;
+  (st, e)
+
+let showcase = Filename.concat (Sys.getcwd ()) "../../scenes/showcase.rts"
+
+let sweep_tests =
+  [
+    Alcotest.test_case
+      "from 250 MB to 1 GB of ulimit -v, lancer works or says it is out of memory (exit \
+       1), from start-up on"
+      `Slow (fun () ->
+        let d = tmpdir () in
+        let commands =
+          [
+            [ "--version" ];
+            [ "check"; showcase ];
+            (* The built-in showcase. *)
+            [
+              "render";
+              "--width";
+              "640";
+              "--height";
+              "480";
+              "--quality";
+              "draft";
+              "-o";
+              "s.png";
+            ];
+            [
+              "render";
+              "--width";
+              "8000";
+              "--height";
+              "8000";
+              "--quality";
+              "draft";
+              "-o";
+              "big.png";
+            ];
+            (* More domains than the limit has room for. *)
+            [
+              "render";
+              "--width";
+              "64";
+              "--height";
+              "48";
+              "--domains";
+              "64";
+              "-o";
+              "d.png";
+            ];
+          ]
+        in
+        let wrong = ref [] in
+        for step = 0 to 15 do
+          let kib = 250_000 + (step * 50_000) in
+          List.iter
+            (fun args ->
+              let st, e = limited d kib args in
+              let ok =
+                match st with
+                | Unix.WEXITED 0 -> not (contains e "Fatal error")
+                | Unix.WEXITED 1 ->
+                    String.starts_with ~prefix:"lancer: out of memory" e
+                    && List.length (String.split_on_char '\n' (String.trim e)) = 1
+                | _ -> false
+              in
+              if not ok then
+                let how =
+                  match st with
+                  | Unix.WEXITED n -> Printf.sprintf "exit %d" n
+                  | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
+                  | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
+                in
+                wrong :=
+                  Printf.sprintf "ulimit -v %d; lancer %s: %s\n%s" kib
+                    (String.concat " " args) how e
+                  :: !wrong)
+            commands
+        done;
+        Alcotest.(check (list string))
+          "exit 0, or exit 1 with one line \"lancer: out of memory …\"" []
+          (List.rev !wrong));
+    Alcotest.test_case
+      "under ulimit -v 250000 lancer starts; under 300000 a render asked for 8 domains \
+       works"
+      `Quick (fun () ->
+        let d = tmpdir () in
+        let st, e = limited d 250_000 [ "--version" ] in
+        Alcotest.(check bool) ("--version: exit 0\n" ^ e) true (st = Unix.WEXITED 0);
+        let st, e =
+          limited d 300_000
+            [
+              "render"; "--width"; "64"; "--height"; "48"; "--domains"; "8"; "-o"; "s.png";
+            ]
+        in
+        Alcotest.(check bool) ("render: exit 0\n" ^ e) true (st = Unix.WEXITED 0);
+        match Lancer.Image.read_rgb8 (Filename.concat d "s.png") with
+        | Ok (w, h, _) -> Alcotest.(check (pair int int)) "the image" (64, 48) (w, h)
+        | Error m -> Alcotest.fail m);
+  ]
+
 let options_tests =
   [
     Alcotest.test_case
@@ -203,6 +324,7 @@ let () =
     [
       ("rays", rays_tests);
       ("memory", memory_tests);
+      ("memory from start-up", sweep_tests);
       ("options", options_tests);
       ("inputs and outputs", input_tests);
     ]
