@@ -8,9 +8,6 @@ open Run_lancer
 
 let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
 
-let check_status msg expected (st, _, e) =
-  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-
 let has msg text sub =
   Alcotest.(check bool)
     (Printf.sprintf "%s: %S in\n%s" msg sub text)

@@ -10,9 +10,6 @@ let tmpdir () = tmpdir "lancer-cli"
 (* Run lancer with [args] in [dir]; (status, stdout, stderr). *)
 let lancer ?(dir = Sys.getcwd ()) args = run ~exe ~dir args
 
-let check_status msg expected (st, _, e) =
-  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-
 let small_scene =
   {|// A small scene with jitter and a soft shadow.
 settings { width: 48, height: 36, samples: 2, jitter: true }

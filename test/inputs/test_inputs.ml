@@ -8,17 +8,9 @@ open Run_lancer
 
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
+let spawn ~dir args = spawn ~exe ~dir args
 let path d f = Filename.concat d f
 let frame k = Printf.sprintf "frame_%04d.png" k
-
-let check_status msg expected (st, _, e) =
-  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-
-let says msg (_, out, err) sub =
-  Alcotest.(check bool)
-    (Printf.sprintf "%s: %S in\n%s%s" msg sub out err)
-    true
-    (contains (out ^ err) sub)
 
 let write_ppm p (r, g, b) =
   write_file p
@@ -178,20 +170,6 @@ light { position: (-3, 5, -4) }
 sphere { center: (sin(time), 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.2) } }
 |}
 
-let spawn ~dir args =
-  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
-  let cwd = Sys.getcwd () in
-  Sys.chdir dir;
-  let pid = Unix.create_process exe (Array.of_list (exe :: args)) null null null in
-  Sys.chdir cwd;
-  Unix.close null;
-  pid
-
-let wait pid =
-  match snd (Unix.waitpid [] pid) with
-  | Unix.WEXITED n -> n
-  | _ -> Alcotest.fail "a run was killed"
-
 (* Two runs with other samples at once into one directory replace each other's frames;
    whatever the interleaving, a resumed run with the first one's options keeps only the
    frames those options made, and ends with exactly the frames of a run alone. *)
@@ -206,8 +184,8 @@ let other_options_at_once () =
       spawn ~dir:d
         [ "animate"; "c.rts"; "-o"; out; "-q"; "--domains"; "1"; "--samples"; "2" ]
     in
-    Alcotest.(check int) "first run" 0 (wait a);
-    Alcotest.(check int) "second run" 0 (wait b);
+    Alcotest.(check int) "first run" 0 (wait_status a);
+    Alcotest.(check int) "second run" 0 (wait_status b);
     check_status "resumed" 0 (lancer ~dir:d [ "animate"; "c.rts"; "-o"; out; "-q"; "--resume" ]);
     for k = 0 to 39 do
       if not (String.equal (read_file (path (path d "ref") (frame k)))

@@ -313,12 +313,7 @@ let early_tests =
           | Unix.WEXITED 130 -> if k mod 3 = 2 then incr slow_interrupted
           | Unix.WEXITED 0 -> ()
           | st ->
-              let how =
-                match st with
-                | Unix.WEXITED n -> Printf.sprintf "exit %d" n
-                | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
-                | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
-              in
+              let how = status_text st in
               wrong :=
                 Printf.sprintf "%s %s after %.2f ms: %s" (String.concat " " args) name
                   (delay *. 1000.) how

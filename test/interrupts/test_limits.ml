@@ -153,12 +153,7 @@ let sweep_tests =
                 | _ -> false
               in
               if not ok then
-                let how =
-                  match st with
-                  | Unix.WEXITED n -> Printf.sprintf "exit %d" n
-                  | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
-                  | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
-                in
+                let how = status_text st in
                 wrong :=
                   Printf.sprintf "ulimit -v %d; lancer %s: %s\n%s" kib
                     (String.concat " " args) how e

@@ -4,9 +4,6 @@ open Run_lancer
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
 
-let check_status msg expected (st, _, e) =
-  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-
 let tmpdir () = tmpdir "lancer-output"
 let ( // ) = Filename.concat
 

@@ -6,15 +6,7 @@ let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 open Run_lancer
 
 let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
-
-let check_status msg expected (st, _, e) =
-  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
-
-let says msg (_, out, err) sub =
-  Alcotest.(check bool)
-    (Printf.sprintf "%s: %S in\n%s%s" msg sub out err)
-    true
-    (contains (out ^ err) sub)
+let spawn ~dir args = spawn ~exe ~dir args
 
 let path d f = Filename.concat d f
 let frame k = Printf.sprintf "frame_%04d.png" k
@@ -47,18 +39,6 @@ let setup ?color ?frames () =
 
 let frames_of d n = List.init n (fun k -> read_file (path d (frame k)))
 
-(* Start lancer in [dir] in the background; its pid. *)
-
-let spawn ~dir args =
-  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
-  let cwd = Sys.getcwd () in
-  Sys.chdir dir;
-  let pid = Unix.create_process exe (Array.of_list (exe :: args)) null null null in
-  Sys.chdir cwd;
-  Unix.close null;
-  pid
-
-let wait_status pid = match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
 
 let rec wait_for ?(tries = 3000) p =
   if tries > 0 && not (p ()) then (

@@ -29,3 +29,29 @@ let run ?(prefix = "") ~exe ~dir args =
   Sys.remove out;
   Sys.remove err;
   (status, o, e)
+
+let check_status msg expected (st, _, e) =
+  Alcotest.(check int) (msg ^ "\n" ^ e) expected st
+
+let says msg (_, out, err) sub =
+  Alcotest.(check bool)
+    (Printf.sprintf "%s: %S in\n%s%s" msg sub out err)
+    true
+    (contains (out ^ err) sub)
+
+let spawn ~exe ~dir args =
+  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+  let cwd = Sys.getcwd () in
+  Sys.chdir dir;
+  let pid = Unix.create_process exe (Array.of_list (exe :: args)) null null null in
+  Sys.chdir cwd;
+  Unix.close null;
+  pid
+
+let wait_status pid =
+  match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
+
+let status_text = function
+  | Unix.WEXITED n -> Printf.sprintf "exit %d" n
+  | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
+  | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n

@@ -18,3 +18,20 @@ val run :
 (** [run ~exe ~dir args] runs [exe args] through the shell in [dir], with [prefix] (shell
     words such as [ulimit -f 10;]) before it and stdin closed: (exit status, stdout,
     stderr). *)
+
+val check_status : string -> int -> int * string * string -> unit
+(** [check_status msg expected r]: the exit status of [r] (from {!run}) is [expected];
+    the failure shows its stderr. *)
+
+val says : string -> int * string * string -> string -> unit
+(** [says msg r sub]: [r]'s stdout or stderr contains [sub]. *)
+
+val spawn : exe:string -> dir:string -> string list -> int
+(** [spawn ~exe ~dir args] starts [exe args] in [dir] in the background, its standard
+    streams on /dev/null; its pid. *)
+
+val wait_status : int -> int
+(** The exit status of a spawned process, −1 if a signal ended it. *)
+
+val status_text : Unix.process_status -> string
+(** ["exit 1"], ["killed by signal 9"], … *)
