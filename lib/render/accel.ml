@@ -354,8 +354,8 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
   done;
   let nodes = tr.nodes in
   let st = Bvh.take stack tr.depth in
-  (if Bvh.start_near nodes q st tmin !best_t then
-     let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
+  (if Bvh.start nodes q st tmin !best_t then
+     let leaf = ref (Bvh.next_leaf nodes q st) in
      while !leaf >= 0 do
        let first = Bvh.link nodes !leaf in
        for j = first to first + Bvh.count nodes !leaf - 1 do
@@ -368,7 +368,7 @@ let tree_nearest_probe a tr (q : Shape.probe) obj stack =
              query := Floats.above t)
        done;
        fset st.span 1 !best_t;
-       leaf := Bvh.next_near_leaf nodes q st (-1)
+       leaf := Bvh.next_leaf nodes q st
      done);
   st.busy <- false;
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
@@ -425,9 +425,10 @@ let tree_visit a tr r tmin tmax visit =
     Probe.of_ray q r;
     let nodes = tr.nodes in
     let st = Bvh.take stack tr.depth in
-    Bvh.start nodes q st tmin tmax;
     (try
-       let node = ref (Bvh.next_leaf nodes q st) in
+       let node =
+         ref (if Bvh.start nodes q st tmin tmax then Bvh.next_leaf nodes q st else -1)
+       in
        while !node >= 0 do
          let first = Bvh.link nodes !node in
          let j = ref first in
@@ -548,8 +549,9 @@ and tree_occluder ~any a tr (q : Shape.probe) obj stack =
     let tmin = q.p_tmin and tmax = q.p_tmax in
     let nodes = tr.nodes in
     let st = Bvh.take stack tr.depth in
-    Bvh.start nodes q st tmin tmax;
-    let node = ref (Bvh.next_leaf nodes q st) in
+    let node =
+      ref (if Bvh.start nodes q st tmin tmax then Bvh.next_leaf nodes q st else -1)
+    in
     while !node >= 0 do
       let count = Bvh.count nodes !node in
       let first = Bvh.link nodes !node in
@@ -669,9 +671,10 @@ let tree_transparent a tr (q : Shape.probe) obj stack visit =
     let nodes = tr.nodes in
     let st = Bvh.take stack tr.depth in
     (* The interval as it was: the visits move the probe's with the crossings found. *)
-    Bvh.start nodes q st tmin tmax;
     (try
-       let node = ref (Bvh.next_leaf nodes q st) in
+       let node =
+         ref (if Bvh.start nodes q st tmin tmax then Bvh.next_leaf nodes q st else -1)
+       in
        while !node >= 0 do
          let first = Bvh.link nodes !node in
          let j = ref first in

@@ -190,8 +190,8 @@ let nearest m (q : Probe.t) =
       let tmin = q.p_tmin in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      (if Bvh.start_near nodes q st tmin !best_t then
-         let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
+      (if Bvh.start nodes q st tmin !best_t then
+         let leaf = ref (Bvh.next_leaf nodes q st) in
          while !leaf >= 0 do
            let first = Bvh.link nodes !leaf in
            for j = first to first + Bvh.count nodes !leaf - 1 do
@@ -204,7 +204,7 @@ let nearest m (q : Probe.t) =
                  query := Floats.above t)
            done;
            Float.Array.unsafe_set st.span 1 !best_t;
-           leaf := Bvh.next_near_leaf nodes q st (-1)
+           leaf := Bvh.next_leaf nodes q st
          done);
       st.busy <- false;
       q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
@@ -229,8 +229,9 @@ let first m (q : Probe.t) =
       let tmin = q.p_tmin in
       let nodes = tr.nodes and order = tr.order in
       let st = get_stack tr.depth in
-      Bvh.start nodes q st tmin tmax;
-      let node = ref (Bvh.next_leaf nodes q st) in
+      let node =
+        ref (if Bvh.start nodes q st tmin tmax then Bvh.next_leaf nodes q st else -1)
+      in
       while !node >= 0 do
         let first = Bvh.link nodes !node in
         let j = ref first in
