@@ -979,44 +979,25 @@ let[@inline] near i = if i < 0. then 3 else 0
 
 (* --- Walks ------------------------------------------------------------------------ *)
 
-(* A depth-first walk's stack, kept from one query to the next (one per domain): the nodes
-   still to visit in [ids] with their entry t in [ts], their count [sp] between two
-   descents, and the interval [span] (tmin, then tmax or the best t so far) the descents
-   cull boxes by, which the walk sets. [busy] while a walk holds it. *)
+(* A depth-first walk's stack, kept from one query to the next: the nodes still to visit
+   in [ids] with their entry t in [ts], their count [sp] between two descents, and the
+   interval [span] (tmin, then tmax or the best t so far) the descents cull boxes by,
+   which the walk sets. *)
 type walk = {
   mutable ids : int array;
   mutable ts : Float.Array.t;
-  mutable busy : bool;
   mutable sp : int;
   span : Float.Array.t;
 }
 
 let new_walk () =
-  {
-    ids = [||];
-    ts = Float.Array.create 0;
-    busy = false;
-    sp = 0;
-    span = Float.Array.create 2;
-  }
+  { ids = [||]; ts = Float.Array.create 0; sp = 0; span = Float.Array.create 2 }
 
-(* [w] made ready for a tree of depth [depth], and marked busy; a fresh walk where [w] is
-   busy (a query inside another's visit). *)
-let take w depth =
-  if w.busy then
-    {
-      ids = Array.make (depth + 1) 0;
-      ts = Float.Array.create (depth + 1);
-      busy = true;
-      sp = 0;
-      span = Float.Array.create 2;
-    }
-  else (
-    if Array.length w.ids <= depth then (
-      w.ids <- Array.make (depth + 1) 0;
-      w.ts <- Float.Array.create (depth + 1));
-    w.busy <- true;
-    w)
+(* [w] made ready for a tree of depth [depth]. *)
+let[@inline] ready w depth =
+  if Array.length w.ids <= depth then (
+    w.ids <- Array.make (depth + 1) 0;
+    w.ts <- Float.Array.create (depth + 1))
 
 (* The descent of every walk: from the top of [st]'s stack, past the entries whose entry t
    is beyond [st.span]'s second (the best t of a nearest walk, the end of the interval of

@@ -68,19 +68,17 @@ val box_entry :
 type walk = {
   mutable ids : int array;  (** the nodes still to visit *)
   mutable ts : Float.Array.t;  (** their entry t *)
-  mutable busy : bool;  (** whether a walk holds it *)
   mutable sp : int;  (** how many of [ids] are on the stack between two descents *)
   span : Float.Array.t;
       (** the interval the descents cull boxes by (tmin, then tmax or the best t so far),
           set by the walk *)
 }
-(** A depth-first walk's stack, kept from one query to the next (one per domain). *)
+(** A depth-first walk's stack, kept from one query to the next. *)
 
 val new_walk : unit -> walk
 
-val take : walk -> int -> walk
-(** [take w depth]: [w] made ready for a tree of depth [depth] and marked busy, or a fresh
-    walk where [w] is busy (a query inside another's visit). The walk clears [busy]. *)
+val ready : walk -> int -> unit
+(** [ready w depth] makes [w] hold the stack of a walk over a tree of depth [depth]. *)
 
 val next_leaf : Float.Array.t -> Probe.t -> walk -> int
 (** [next_leaf nodes q w]: the next leaf of the walk (−1: none is left), from the top of
