@@ -141,7 +141,15 @@ let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
+(* The tests below are written once for two uses, which [~all] chooses where they are
+   inlined (the compiler drops the branches it rules out): with [~all:false] the nearest
+   root in (tmin, tmax); with [~all:true], for a CSG object that needs every root, each
+   candidate root (valid in (tmin, tmax), else infinity) into a slot of [out] (from 0, in
+   no order), which {!roots} sorts. The candidates are computed the same whatever tmin and
+   tmax are, so they are the roots that asking again past each one finds. *)
+let no_out = Float.Array.create 0
+
+let[@inline] sphere_gen ~all cx cy cz radius ox oy oz dx dy dz tmin tmax out =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
@@ -168,16 +176,27 @@ let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
       let c = (fl -. radius) *. (fl +. radius) in
       let s = Float.sqrt disc in
       let q = if b < 0. then s -. b else -.(b +. s) in
-      if q = 0. then
+      if q = 0. then (
         let t = -.b /. a in
-        if in_range t tmin tmax then t else Float.infinity
+        if all then
+          Float.Array.unsafe_set out 0
+            (if in_range t tmin tmax then t else Float.infinity);
+        if in_range t tmin tmax then t else Float.infinity)
       else
         let t0 = q /. a and t1 = c /. q in
         (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
         let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
+        if all then (
+          Float.Array.unsafe_set out 0
+            (if in_range lo tmin tmax then lo else Float.infinity);
+          Float.Array.unsafe_set out 1
+            (if in_range hi tmin tmax then hi else Float.infinity));
         if in_range lo tmin tmax then lo
         else if in_range hi tmin tmax then hi
         else Float.infinity
+
+let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
+  sphere_gen ~all:false cx cy cz radius ox oy oz dx dy dz tmin tmax no_out
 
 let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   sphere_sc center.x center.y center.z radius ox oy oz dx dy dz tmin tmax
@@ -248,32 +267,12 @@ let[@inline] intersect_triangle p0 p1 p2 r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   triangle_s p0 p1 p2 o.x o.y o.z d.x d.y d.z tmin tmax
 
-(* Both roots of a·t² + b·t + c in increasing order, by the stable formula; the linear and
-   the rootless cases give infinities. Used by the quadrics with a height range, where the
-   nearer root may be cut away and the farther one kept. *)
-let roots a b c =
-  if a = 0. then
-    if b = 0. then (Float.infinity, Float.infinity)
-    else
-      let t = -.c /. b in
-      (t, Float.infinity)
-  else
-    let disc = (b *. b) -. (4. *. a *. c) in
-    if disc < 0. || Float.is_nan disc then (Float.infinity, Float.infinity)
-    else
-      let s = Float.sqrt disc in
-      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
-      if q = 0. then (0., 0.)
-      else
-        let t0 = q /. a and t1 = c /. q in
-        (Floats.min t0 t1, Floats.max t0 t1)
-
 (* Paraboloid in its frame: y' = (P − V)·axis, x⊥ = (P − V) − y'·axis, surface
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
    formula keeps the finite root (9.4999999905 in doc/numerics.md) where the naive one gives 0. *)
-let[@inline] paraboloid_root t fy dy height tmin tmax =
+let[@inline] height_root t fy dy height tmin tmax =
   in_range t tmin tmax
   &&
   let y = fy +. (t *. dy) in
@@ -298,7 +297,7 @@ let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx
     if b = 0. then Float.infinity
     else
       let t = -.c /. b in
-      if paraboloid_root t f_y d_y height tmin tmax then t else Float.infinity
+      if height_root t f_y d_y height tmin tmax then t else Float.infinity
   else
     let disc = (b *. b) -. (4. *. a *. c) in
     if disc < 0. || Float.is_nan disc then Float.infinity
@@ -306,12 +305,12 @@ let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx
       let s = Float.sqrt disc in
       let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
       if q = 0. then
-        if paraboloid_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
+        if height_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
       else
         let u = q /. a and v = c /. q in
         let t0 = Floats.min u v and t1 = Floats.max u v in
-        if paraboloid_root t0 f_y d_y height tmin tmax then t0
-        else if paraboloid_root t1 f_y d_y height tmin tmax then t1
+        if height_root t0 f_y d_y height tmin tmax then t0
+        else if height_root t1 f_y d_y height tmin tmax then t1
         else Float.infinity
 
 let intersect_paraboloid vertex axis height k r tmin tmax =
@@ -321,7 +320,7 @@ let intersect_paraboloid vertex axis height k r tmin tmax =
 (* Slab test for an axis-aligned box: the entry t if it lies in (tmin, tmax), else the
    exit t (origin inside). Zero direction components give ±inf bounds; 0·inf (origin on
    a face plane) gives NaN, which the comparisons ignore. *)
-let[@inline] box_s (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax =
+let[@inline] box_gen ~all (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax out =
   let a = (mn.x -. ox) *. ix and c = (mx.x -. ox) *. ix in
   let near = if a < c then a else c and far = if a < c then c else a in
   let t0 = if near > Float.neg_infinity then near else Float.neg_infinity in
@@ -333,33 +332,40 @@ let[@inline] box_s (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax =
   let near = if a < c then a else c and far = if a < c then c else a in
   let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
   if not (t0 <= t1) then Float.infinity
-  else if in_range t0 tmin tmax then t0
-  else if in_range t1 tmin tmax then t1
-  else Float.infinity
+  else (
+    if all then (
+      Float.Array.unsafe_set out 0 (if in_range t0 tmin tmax then t0 else Float.infinity);
+      Float.Array.unsafe_set out 1 (if in_range t1 tmin tmax then t1 else Float.infinity));
+    if in_range t0 tmin tmax then t0
+    else if in_range t1 tmin tmax then t1
+    else Float.infinity)
+
+let[@inline] box_s mn mx ox oy oz ix iy iz tmin tmax =
+  box_gen ~all:false mn mx ox oy oz ix iy iz tmin tmax no_out
 
 let intersect_box mn mx r tmin tmax =
   let o = Ray.origin r and inv = Ray.inv_dir r in
   box_s mn mx o.x o.y o.z inv.x inv.y inv.z tmin tmax
 
 (* A disk of radius r at [center] in the plane of [normal], t from the plane test. *)
-let[@inline] disk_s (center : Vec3.t) (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax
-    =
+let[@inline] disk_sc cx cy cz (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   let denom = (dx *. normal.x) +. (dy *. normal.y) +. (dz *. normal.z) in
   if denom = 0. then Float.infinity
   else
     let t =
-      (((center.x -. ox) *. normal.x)
-      +. ((center.y -. oy) *. normal.y)
-      +. ((center.z -. oz) *. normal.z))
+      (((cx -. ox) *. normal.x) +. ((cy -. oy) *. normal.y) +. ((cz -. oz) *. normal.z))
       /. denom
     in
     if in_range t tmin tmax then
-      let qx = ox +. (t *. dx) -. center.x
-      and qy = oy +. (t *. dy) -. center.y
-      and qz = oz +. (t *. dz) -. center.z in
+      let qx = ox +. (t *. dx) -. cx
+      and qy = oy +. (t *. dy) -. cy
+      and qz = oz +. (t *. dz) -. cz in
       if (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius then t
       else Float.infinity
     else Float.infinity
+
+let[@inline] disk_s (center : Vec3.t) normal radius ox oy oz dx dy dz tmin tmax =
+  disk_sc center.x center.y center.z normal radius ox oy oz dx dy dz tmin tmax
 
 let disk_hit center normal radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
@@ -367,78 +373,154 @@ let disk_hit center normal radius r tmin tmax =
 
 (* Cylinder side: the 2-D circle version of the sphere's stable discriminant, in the plane
    perpendicular to the axis (f⊥ and d⊥); kept for 0 ≤ y' ≤ h. Caps are disks. A ray
-   parallel to the axis has a = 0 and misses the side (the caps catch it). *)
-let intersect_cylinder base axis height radius caps r tmin tmax =
-  let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o base in
-  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
-  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
-  let a = Vec3.dot dp dp in
+   parallel to the axis has a = 0 and misses the side (the caps catch it). The vector
+   form's operations (f = O − base, f⊥ = f − f_y·axis, …), on scalars. *)
+let[@inline] cylinder_gen ~all (base : Vec3.t) (axis : Vec3.t) height radius caps ox oy oz
+    dx dy dz tmin tmax out =
+  let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
+  let f_y = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+  and d_y = (dx *. axis.x) +. (dy *. axis.y) +. (dz *. axis.z) in
+  let fpx = ex +. (-.f_y *. axis.x)
+  and fpy = ey +. (-.f_y *. axis.y)
+  and fpz = ez +. (-.f_y *. axis.z) in
+  let dpx = dx +. (-.d_y *. axis.x)
+  and dpy = dy +. (-.d_y *. axis.y)
+  and dpz = dz +. (-.d_y *. axis.z) in
+  let a = (dpx *. dpx) +. (dpy *. dpy) +. (dpz *. dpz) in
   let side =
     if a = 0. then Float.infinity
     else
-      let b = Vec3.dot fp dp in
-      let l = Vec3.length (Vec3.madd fp (-.b /. a) dp) in
+      let b = (fpx *. dpx) +. (fpy *. dpy) +. (fpz *. dpz) in
+      let m = -.b /. a in
+      let l = Vec3.length3 (fpx +. (m *. dpx)) (fpy +. (m *. dpy)) (fpz +. (m *. dpz)) in
       let disc = a *. (radius -. l) *. (radius +. l) in
       if disc < 0. || Float.is_nan disc then Float.infinity
       else
-        let fl = Vec3.length fp in
+        let fl = Vec3.length3 fpx fpy fpz in
         let c = (fl -. radius) *. (fl +. radius) in
         let s = Float.sqrt disc in
         let q = if b < 0. then s -. b else -.(b +. s) in
-        let t0, t1 =
-          if q = 0. then (-.b /. a, Float.infinity)
-          else (Floats.min (q /. a) (c /. q), Floats.max (q /. a) (c /. q))
-        in
-        let ok t =
-          in_range t tmin tmax
-          &&
-          let y = fy +. (t *. dy) in
-          y >= 0. && y <= height
-        in
-        if ok t0 then t0 else if ok t1 then t1 else Float.infinity
+        let t0 = if q = 0. then -.b /. a else Floats.min (q /. a) (c /. q)
+        and t1 = if q = 0. then Float.infinity else Floats.max (q /. a) (c /. q) in
+        if all then (
+          Float.Array.unsafe_set out 0
+            (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
+          Float.Array.unsafe_set out 1
+            (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
+        if height_root t0 f_y d_y height tmin tmax then t0
+        else if height_root t1 f_y d_y height tmin tmax then t1
+        else Float.infinity
   in
-  if not caps then side
+  let tx = base.x +. (height *. axis.x)
+  and ty = base.y +. (height *. axis.y)
+  and tz = base.z +. (height *. axis.z) in
+  if all then (
+    Float.Array.unsafe_set out 2
+      (if caps then disk_s base axis radius ox oy oz dx dy dz tmin tmax
+       else Float.infinity);
+    Float.Array.unsafe_set out 3
+      (if caps then disk_sc tx ty tz axis radius ox oy oz dx dy dz tmin tmax
+       else Float.infinity);
+    side)
+  else if not caps then side
   else
     let tmax' = Floats.min side tmax in
-    let t_lo = disk_hit base axis radius r tmin tmax' in
+    let t_lo = disk_s base axis radius ox oy oz dx dy dz tmin tmax' in
     let tmax' = Floats.min t_lo tmax' in
-    let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
+    let t_hi = disk_sc tx ty tz axis radius ox oy oz dx dy dz tmin tmax' in
     Floats.min side (Floats.min t_lo t_hi)
+
+let cylinder_s base axis height radius caps ox oy oz dx dy dz tmin tmax =
+  cylinder_gen ~all:false base axis height radius caps ox oy oz dx dy dz tmin tmax no_out
+
+let intersect_cylinder base axis height radius caps r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  cylinder_s base axis height radius caps o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Cone side: |x⊥| = r(y') with r linear from r0 at y' = 0 to r1 at y' = h, kept for
    0 ≤ y' ≤ h (where r ≥ 0, so the other nappe of the double cone is cut away). With
    k = (r1 − r0)/h and ρ(t) = r0 + k·(f_y + t·d_y): a = |d⊥|² − k²·d_y²,
-   b = 2·(f⊥·d⊥ − k·d_y·ρ₀), c = |f⊥|² − ρ₀², solved by the stable formula. Caps are
-   disks (none at a point end). *)
-let intersect_cone base axis height r0 r1 caps r tmin tmax =
-  let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o base in
-  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
-  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
+   b = 2·(f⊥·d⊥ − k·d_y·ρ₀), c = |f⊥|² − ρ₀², solved by the stable formula ([roots],
+   written out). Caps are disks (none at a point end). On scalars, as the cylinder. *)
+let[@inline] cone_gen ~all (base : Vec3.t) (axis : Vec3.t) height r0 r1 caps ox oy oz dx
+    dy dz tmin tmax out =
+  let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
+  let f_y = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+  and d_y = (dx *. axis.x) +. (dy *. axis.y) +. (dz *. axis.z) in
+  let fpx = ex +. (-.f_y *. axis.x)
+  and fpy = ey +. (-.f_y *. axis.y)
+  and fpz = ez +. (-.f_y *. axis.z) in
+  let dpx = dx +. (-.d_y *. axis.x)
+  and dpy = dy +. (-.d_y *. axis.y)
+  and dpz = dz +. (-.d_y *. axis.z) in
   let k = (r1 -. r0) /. height in
-  let rho0 = r0 +. (k *. fy) in
-  let a = Vec3.dot dp dp -. (k *. k *. dy *. dy) in
-  let b = 2. *. (Vec3.dot fp dp -. (k *. dy *. rho0)) in
-  let c = Vec3.dot fp fp -. (rho0 *. rho0) in
-  let t0, t1 = roots a b c in
-  let ok t =
-    in_range t tmin tmax
-    &&
-    let y = fy +. (t *. dy) in
-    y >= 0. && y <= height
+  let rho0 = r0 +. (k *. f_y) in
+  let a = (dpx *. dpx) +. (dpy *. dpy) +. (dpz *. dpz) -. (k *. k *. d_y *. d_y) in
+  let b = 2. *. ((fpx *. dpx) +. (fpy *. dpy) +. (fpz *. dpz) -. (k *. d_y *. rho0)) in
+  let c = (fpx *. fpx) +. (fpy *. fpy) +. (fpz *. fpz) -. (rho0 *. rho0) in
+  let side =
+    if a = 0. then (
+      if b = 0. then Float.infinity
+      else
+        (* One root (the linear case). *)
+        let t = -.c /. b in
+        let t = if height_root t f_y d_y height tmin tmax then t else Float.infinity in
+        if all then Float.Array.unsafe_set out 0 t;
+        t)
+    else
+      let disc = (b *. b) -. (4. *. a *. c) in
+      if disc < 0. || Float.is_nan disc then Float.infinity
+      else
+        let s = Float.sqrt disc in
+        let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
+        if q = 0. then (
+          (* A double root. *)
+          let t =
+            if height_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
+          in
+          if all then Float.Array.unsafe_set out 0 t;
+          t)
+        else
+          let t0 = Floats.min (q /. a) (c /. q) and t1 = Floats.max (q /. a) (c /. q) in
+          if all then (
+            Float.Array.unsafe_set out 0
+              (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
+            Float.Array.unsafe_set out 1
+              (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
+          if height_root t0 f_y d_y height tmin tmax then t0
+          else if height_root t1 f_y d_y height tmin tmax then t1
+          else Float.infinity
   in
-  let side = if ok t0 then t0 else if ok t1 then t1 else Float.infinity in
-  if not caps then side
+  let tx = base.x +. (height *. axis.x)
+  and ty = base.y +. (height *. axis.y)
+  and tz = base.z +. (height *. axis.z) in
+  if all then (
+    Float.Array.unsafe_set out 2
+      (if caps && r0 > 0. then disk_s base axis r0 ox oy oz dx dy dz tmin tmax
+       else Float.infinity);
+    Float.Array.unsafe_set out 3
+      (if caps && r1 > 0. then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax
+       else Float.infinity);
+    side)
+  else if not caps then side
   else
     let tmax' = Floats.min side tmax in
-    let t_lo = if r0 > 0. then disk_hit base axis r0 r tmin tmax' else Float.infinity in
+    let t_lo =
+      if r0 > 0. then disk_s base axis r0 ox oy oz dx dy dz tmin tmax' else Float.infinity
+    in
     let tmax' = Floats.min t_lo tmax' in
     let t_hi =
-      if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax'
+      if r1 > 0. then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax'
       else Float.infinity
     in
     Floats.min side (Floats.min t_lo t_hi)
+
+let cone_s base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax =
+  cone_gen ~all:false base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax no_out
+
+let intersect_cone base axis height r0 r1 caps r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  cone_s base axis height r0 r1 caps o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Torus: with q = P − C, y = q·axis, the surface is (|q|² + R² − r²)² = 4R²(|q|² − y²),
    a quartic along the ray. To keep it well scaled whatever the distance, the ray is
@@ -700,8 +782,8 @@ let intersect s r tmin tmax =
       torus_roots center axis major minor r tmin tmax
   | Mesh _ | Csg _ -> composite "intersect"
 
-(* The same roots on the probe's scalars; the quadrics with a height range and the torus
-   build the ray their vector form needs. *)
+(* The same roots on the probe's scalars; the torus builds the ray its vector form
+   needs. *)
 let root s (q : Probe.t) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   match s with
@@ -719,12 +801,86 @@ let root s (q : Probe.t) =
       q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
   | Paraboloid { vertex; axis; height; k; _ } ->
       q.p_t <- paraboloid_s vertex axis height k q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Cylinder _ | Cone _ | Torus _ ->
+  | Cylinder { base; axis; height; radius; caps; _ } ->
+      q.p_t <-
+        cylinder_s base axis height radius caps q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Cone { base; axis; height; r0; r1; caps; _ } ->
+      q.p_t <- cone_s base axis height r0 r1 caps q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Torus _ ->
       q.p_t <-
         intersect s
           (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz))
           tmin tmax
   | Mesh _ | Csg _ -> composite "root"
+
+(* The candidates in [out]'s first [n] slots, sorted, each value once, the infinite ones
+   dropped: how many are left. *)
+let sorted_distinct out n =
+  for i = 1 to n - 1 do
+    let x = Float.Array.unsafe_get out i in
+    let j = ref i in
+    while !j > 0 && Float.Array.unsafe_get out (!j - 1) > x do
+      Float.Array.unsafe_set out !j (Float.Array.unsafe_get out (!j - 1));
+      decr j
+    done;
+    Float.Array.unsafe_set out !j x
+  done;
+  let m = ref 0 in
+  for i = 0 to n - 1 do
+    let x = Float.Array.unsafe_get out i in
+    if x < Float.infinity && (!m = 0 || x <> Float.Array.unsafe_get out (!m - 1)) then (
+      Float.Array.unsafe_set out !m x;
+      incr m)
+  done;
+  !m
+
+(* [n] slots of [out] emptied: [n]. *)
+let[@inline] put out n =
+  for i = 0 to n - 1 do
+    Float.Array.unsafe_set out i Float.infinity
+  done;
+  n
+
+let roots s (q : Probe.t) out =
+  let tmin = q.p_tmin and inf = Float.infinity in
+  match s with
+  | Sphere { center; radius } when Float.Array.length out >= 2 ->
+      let n = put out 2 in
+      ignore
+        (sphere_gen ~all:true center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy
+           q.dz tmin inf out);
+      sorted_distinct out n
+  | Box { min; max } when Float.Array.length out >= 2 ->
+      let n = put out 2 in
+      ignore (box_gen ~all:true min max q.ox q.oy q.oz q.ix q.iy q.iz tmin inf out);
+      sorted_distinct out n
+  | Cylinder { base; axis; height; radius; caps; _ } when Float.Array.length out >= 4 ->
+      let n = put out 4 in
+      ignore
+        (cylinder_gen ~all:true base axis height radius caps q.ox q.oy q.oz q.dx q.dy q.dz
+           tmin inf out);
+      sorted_distinct out n
+  | Cone { base; axis; height; r0; r1; caps; _ } when Float.Array.length out >= 4 ->
+      let n = put out 4 in
+      ignore
+        (cone_gen ~all:true base axis height r0 r1 caps q.ox q.oy q.oz q.dx q.dy q.dz tmin
+           inf out);
+      sorted_distinct out n
+  | Mesh _ | Csg _ -> composite "roots"
+  | s ->
+      (* Asked again past each root. *)
+      let n = ref 0 and go = ref true in
+      q.p_tmax <- inf;
+      while !go && !n < Float.Array.length out do
+        root s q;
+        if q.p_t < inf then (
+          Float.Array.unsafe_set out !n q.p_t;
+          incr n;
+          q.p_tmin <- q.p_t)
+        else go := false
+      done;
+      q.p_tmin <- tmin;
+      !n
 
 (* --- CSG trees ------------------------------------------------------------------------ *)
 

@@ -197,6 +197,14 @@ val root : t -> Probe.t -> unit
     cylinders, cones and tori, whose test builds the ray. Raises [Invalid_argument] on a
     mesh or a CSG object (see {!Walk}). *)
 
+val roots : t -> Probe.t -> Float.Array.t -> int
+(** [roots s q out] writes into [out] every root of the simple shape [s] along [q]'s ray
+    after [q.p_tmin], in increasing order, each value once, at most as many as [out]
+    holds: how many. They are the roots {!root} finds asked again past each one (up to
+    infinity), bit for bit; a sphere's, a box's, a cylinder's and a cone's come from one
+    test (there [out] must hold 2 or 4 floats at least, else they are asked one by one).
+    Raises [Invalid_argument] on a mesh or a CSG object. *)
+
 val intersect : t -> Ray.t -> float -> float -> float
 (** [intersect s r tmin tmax] is {!root} for the ray [r] over (tmin, tmax): the same root,
     bit for bit. *)

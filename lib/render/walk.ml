@@ -160,6 +160,10 @@ let sort_from (c : crossings) from =
 
 let sort c = sort_from c 0
 
+(* A simple member's roots are at most this many (Shape.roots); a shape has few, and this
+   bound only guards against a surface that would never stop. *)
+let max_roots = 64
+
 (* --- Levels ---------------------------------------------------------------------------- *)
 
 (* What one query holds while it runs: its stack, the object-space probe of the items it
@@ -178,6 +182,7 @@ type level = {
   buf : crossings;
   aux : crossings;
   mutable states : int array;
+  rs : Float.Array.t;  (** a simple member's roots *)
   mutable leaf : int;
   mutable face : int;  (** the part of the nearest item's root, once a query returns *)
   mutable cand_leaf : int;
@@ -201,6 +206,7 @@ let new_level () =
     buf = crossings ();
     aux = crossings ();
     states = [||];
+    rs = Float.Array.create max_roots;
     leaf = -1;
     face = -1;
     cand_leaf = -1;
@@ -594,10 +600,6 @@ let tested = -1
 let followed_out = 0
 let followed_in = 1
 
-(* A member's crossings are found by asking again past the last root; a shape has few
-   roots, and this bound only guards against a surface that would never stop. *)
-let max_roots = 64
-
 (* The member whose leaves include [leaf]: the last one whose first leaf is at most it. *)
 let member_of (members : Shape.csg_member array) leaf =
   let lo = ref 0 and hi = ref (Array.length members) in
@@ -688,7 +690,9 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
       let n = Array.length members in
       if Array.length lv.states < n then lv.states <- Array.make n tested;
       let states = lv.states in
-      Array.fill states 0 n tested;
+      for i = 0 to n - 1 do
+        Array.unsafe_set states i tested
+      done;
       let ev = lv.buf in
       ev.n <- 0;
       for i = 0 to n - 1 do
@@ -764,16 +768,11 @@ and member_roots lv w (m : Shape.csg_member) i (q : Probe.t) ev =
       in
       if followed then lv.states.(i) <- (if st then followed_in else followed_out)
   | s ->
-      let k = ref 0 and go = ref true in
-      while !go do
-        Stats.spend w 1;
-        Shape.root s mq;
-        let t = mq.p_t in
-        if t < Float.infinity && !k < max_roots then (
-          push ev t 0 m.first_leaf (-1);
-          mq.p_tmin <- t;
-          incr k)
-        else go := false
+      let rs = lv.rs in
+      let n = Shape.roots s mq rs in
+      Stats.spend w (n + 1);
+      for k = 0 to n - 1 do
+        push ev (Float.Array.unsafe_get rs k) 0 m.first_leaf (-1)
       done
 
 (* The inside of a CSG object at the point [lv.pt] holds (in its space), each member's
