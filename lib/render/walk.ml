@@ -183,6 +183,7 @@ type level = {
   aux : crossings;
   mutable states : int array;
   rs : Float.Array.t;  (** a simple member's roots *)
+  box : Float.Array.t;  (** an object's box *)
   mutable leaf : int;
   mutable face : int;  (** the part of the nearest item's root, once a query returns *)
   mutable cand_leaf : int;
@@ -207,6 +208,7 @@ let new_level () =
     aux = crossings ();
     states = [||];
     rs = Float.Array.create max_roots;
+    box = Float.Array.create 6;
     leaf = -1;
     face = -1;
     cand_leaf = -1;
@@ -255,6 +257,10 @@ type items = {
   flat : Float.Array.t;
   kind : Bytes.t;
   parts : bool;  (** whether a slot holds a mesh or a CSG object *)
+  boxes : Float.Array.t;
+      (** where [parts]: 6 per slot, a mesh's or a CSG object's world box (min x y z, max
+          x y z), padded as the tree's are (Bvh.pad_into); infinite for an unbounded one
+      *)
 }
 
 (* A slot's kind: how it is tested, plus [see_through] for a transparent material, which
@@ -301,10 +307,49 @@ let items ?flat prims =
     prims;
   let parts = ref false in
   Bytes.iter (fun c -> if Char.code c land 3 = composite then parts := true) kind;
-  { prims; flat; kind; parts = !parts }
+  let boxes = Float.Array.make (if !parts then 6 * n else 0) Float.nan in
+  if !parts then
+    Array.iteri
+      (fun j (p : Primitive.t) ->
+        if Char.code (Bytes.get kind j) land 3 = composite then (
+          Primitive.bounds_into p boxes (6 * j);
+          let g k = Float.Array.get boxes ((6 * j) + k) in
+          if Float.is_nan (g 0) then
+            for k = 0 to 5 do
+              Float.Array.set boxes
+                ((6 * j) + k)
+                (if k < 3 then Float.neg_infinity else Float.infinity)
+            done
+          else Bvh.pad_into boxes j (g 0) (g 1) (g 2) (g 3) (g 4) (g 5)))
+      prims;
+  { prims; flat; kind; parts = !parts; boxes }
 
 let no_items =
-  { prims = [||]; flat = Float.Array.create 0; kind = Bytes.empty; parts = false }
+  {
+    prims = [||];
+    flat = Float.Array.create 0;
+    kind = Bytes.empty;
+    parts = false;
+    boxes = Float.Array.create 0;
+  }
+
+(* Whether [q]'s ray meets, within [tmin, tmax], the box at [6 * j] of [b]: each slab's
+   near and far planes chosen by the sign of the reciprocal direction, as Bvh.box_entry
+   does (a NaN from 0·∞, an origin on a slab plane with the ray along it, leaves the
+   interval open). *)
+let[@inline] box_met b j (q : Probe.t) tmin tmax =
+  let o = 6 * j in
+  let ix = q.ix and iy = q.iy and iz = q.iz in
+  let n = if ix < 0. then o + 3 else o in
+  let t0 = (fget b n -. q.ox) *. ix and t1 = (fget b ((2 * o) + 3 - n) -. q.ox) *. ix in
+  let t0 = if t0 > tmin then t0 else tmin and t1 = if t1 < tmax then t1 else tmax in
+  let n = if iy < 0. then o + 4 else o + 1 in
+  let a = (fget b n -. q.oy) *. iy and c = (fget b ((2 * o) + 5 - n) -. q.oy) *. iy in
+  let t0 = if a > t0 then a else t0 and t1 = if c < t1 then c else t1 in
+  let n = if iz < 0. then o + 5 else o + 2 in
+  let a = (fget b n -. q.oz) *. iz and c = (fget b ((2 * o) + 7 - n) -. q.oz) *. iz in
+  let t0 = if a > t0 then a else t0 and t1 = if c < t1 then c else t1 in
+  t0 <= t1
 
 let no_mesh =
   Trimesh.make ~pos:(Float.Array.create 0) ~nrm:(Float.Array.create 0)
@@ -362,7 +407,8 @@ let[@inline] item_root ~tree ~nested (lv : level) (it : items) j (q : Probe.t) t
   else (
     q.p_tmax <- tmax;
     let p = Array.unsafe_get it.prims j in
-    if k = composite then nested lv p q
+    if k = composite then
+      if box_met it.boxes j q tmin tmax then nested lv p q else q.p_t <- Float.infinity
     else if c land moved = 0 then Shape.root p.shape q
     else Primitive.root p q lv.obj;
     q.p_t)
@@ -389,7 +435,7 @@ let[@inline] item_hits ~tree ~nested (lv : level) (it : items) j (q : Probe.t) t
     let p = Array.unsafe_get it.prims j in
     q.p_tmin <- tmin;
     q.p_tmax <- tmax;
-    if k = composite then nested lv p q
+    if k = composite then box_met it.boxes j q tmin tmax && nested lv p q
     else (
       if c land moved = 0 then Shape.root p.shape q else Primitive.root p q lv.obj;
       q.p_t < tmax)
@@ -402,9 +448,10 @@ let[@inline] item_crossings ~tree ~nested (lv : level) (it : items) j id (q : Pr
   if c land want = want then
     let k = c land 3 and p = Array.unsafe_get it.prims j in
     if k = composite then (
-      q.p_tmin <- tmin;
-      q.p_tmax <- tmax;
-      nested lv p q out id)
+      if box_met it.boxes j q tmin tmax then (
+        q.p_tmin <- tmin;
+        q.p_tmax <- tmax;
+        nested lv p q out id))
     else
       (* Each root in turn, from the last one: roots are computed the same whatever the
          interval, so the strict bound never returns one twice. *)
@@ -939,58 +986,31 @@ let crossings_in lv (x : index) q ~transparent out =
          x.ids x.first q ~transparent out 0 0)
   else scan_every ~nested:composite_crossings lv x.items x.first q ~transparent out
 
-(* Whether the segment (q.p_tmin, q.p_tmax) of [q]'s ray may meet box [b], padded as the
-   hierarchy's boxes are (twice Bvh.pad_into's margin): false only where it surely does
-   not. A NaN from 0·∞ (origin on a slab plane, ray along it) leaves the interval open. *)
-let meets (b : Bbox.t) (q : Probe.t) =
-  let m =
-    Floats.max
-      (Floats.max (Float.abs b.min.x)
-         (Floats.max (Float.abs b.min.y) (Float.abs b.min.z)))
-      (Floats.max (Float.abs b.max.x)
-         (Floats.max (Float.abs b.max.y) (Float.abs b.max.z)))
-  in
-  let e = (2e-9 *. m) +. 1e-300 in
-  let a = (b.min.x -. e -. q.ox) *. q.ix and c = (b.max.x +. e -. q.ox) *. q.ix in
-  let t0 = if a < c then a else c and t1 = if a < c then c else a in
-  let t0 = if t0 > q.p_tmin then t0 else q.p_tmin
-  and t1 = if t1 < q.p_tmax then t1 else q.p_tmax in
-  let a = (b.min.y -. e -. q.oy) *. q.iy and c = (b.max.y +. e -. q.oy) *. q.iy in
-  let near = if a < c then a else c and far = if a < c then c else a in
-  let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
-  let a = (b.min.z -. e -. q.oz) *. q.iz and c = (b.max.z +. e -. q.oz) *. q.iz in
-  let near = if a < c then a else c and far = if a < c then c else a in
-  let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
-  t0 <= t1
-
-(* The box of a mesh or a CSG object, as stored (none is made). *)
-let stored_box (p : Primitive.t) =
-  if Transform.is_identity p.transform then
-    match p.shape with
-    | Shape.Mesh { mesh; _ } -> Some (Trimesh.bounds mesh)
-    | Shape.Csg { cbounds; _ } -> cbounds
-    | _ -> None
-  else p.bounds
-
+(* A mesh is tried first only where the ray meets its box (its bounds, padded as the
+   tree's are). A CSG object is not tried first: where its crossings let the ray through,
+   the walk would gather them a second time, which costs more than the walk it spares. *)
 let blocks lv (p : Primitive.t) (q : Probe.t) ~opaque =
   (not (opaque && p.material.transparency <> 0.))
   &&
-  let tmin = q.p_tmin and tmax = q.p_tmax in
   match p.shape with
   | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
-      Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz tmin
-        tmax
-      < tmax
-  | Shape.Mesh _ | Shape.Csg _ ->
-      let r =
-        match stored_box p with
-        | Some b when not (meets b q) -> false
-        | _ -> composite_any lv p q
-      in
+      Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz
+        q.p_tmin q.p_tmax
+      < q.p_tmax
+  | Shape.Csg _ -> false
+  | Shape.Mesh _ ->
+      let b = lv.box in
+      Primitive.bounds_into p b 0;
+      Bvh.pad_into b 0 (fget b 0) (fget b 1) (fget b 2) (fget b 3) (fget b 4) (fget b 5);
+      box_met b 0 q q.p_tmin q.p_tmax
+      &&
+      let tmin = q.p_tmin and tmax = q.p_tmax in
+      let r = composite_any lv p q in
       q.p_tmin <- tmin;
       q.p_tmax <- tmax;
       r
   | _ ->
+      let tmax = q.p_tmax in
       Primitive.root p q lv.obj;
       q.p_t < tmax
 

@@ -108,8 +108,10 @@ val crossings_in : scratch -> index -> Probe.t -> transparent:bool -> crossings 
     material. *)
 
 val blocks : scratch -> Primitive.t -> Probe.t -> opaque:bool -> bool
-(** [blocks sc p q ~opaque] is whether [p] alone crosses ([q.p_tmin], [q.p_tmax]), as
-    {!any_in} would count it; a mesh or a CSG object is first culled by its box. *)
+(** [blocks sc p q ~opaque] is true only where [p] alone crosses ([q.p_tmin], [q.p_tmax]),
+    as {!any_in} would count it: a cheap first try for the slot that blocked last. It
+    answers for a simple shape and a mesh (first culled by its box); for a CSG object it
+    is false, and the caller walks. *)
 
 (** {1 One shape, for a ray}
 
