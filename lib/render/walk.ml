@@ -702,14 +702,24 @@ let[@inline] set_point (pt : Probe.t) (q : Probe.t) t =
 
 (* The parity ray of a solid mesh: from the point [pt] holds along a fixed direction that
    no axis-aligned feature lies along, over (0, ∞). *)
+let parity_direction = Vec3.v 0.5773502691896258 0.5773502691896257 0.5773502691896259
+
 let parity_probe (pq : Probe.t) (pt : Probe.t) =
   Probe.set_origin pq pt.ox pt.oy pt.oz;
-  pq.dx <- 0.5773502691896258;
-  pq.dy <- 0.5773502691896257;
-  pq.dz <- 0.5773502691896259;
+  pq.dx <- parity_direction.x;
+  pq.dy <- parity_direction.y;
+  pq.dz <- parity_direction.z;
   Probe.set_inv_dir pq;
   pq.p_tmin <- 0.;
   pq.p_tmax <- Float.infinity
+
+(* Whether member [i]'s inside costs little: followed, or a simple surface's test. *)
+let[@inline] cheap (members : Shape.csg_member array) states i =
+  Array.unsafe_get states i <> tested
+  ||
+  match (Array.unsafe_get members i).shape with
+  | Shape.Mesh _ | Shape.Csg _ -> false
+  | _ -> true
 
 (* The crossings of CSG object [s]'s boundary along the ray [q] holds in (q.p_tmin,
    q.p_tmax), nearest first, pushed into [out] as (t, [item], [leaf0] + the leaf, the
@@ -745,12 +755,17 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
       for i = 0 to n - 1 do
         member_roots lv w members.(i) i q ev
       done;
-      let gap_cost = ref 1 and followed = ref false in
+      let gap_cost = ref 1 and followed = ref false and costly = ref 0 in
       for i = 0 to n - 1 do
-        if states.(i) = tested then gap_cost := !gap_cost + inside_cost members.(i).shape
+        if states.(i) = tested then (
+          gap_cost := !gap_cost + inside_cost members.(i).shape;
+          match members.(i).shape with
+          | Shape.Mesh _ | Shape.Csg _ -> incr costly
+          | _ -> ())
         else followed := true
       done;
       let gap_cost = !gap_cost and followed = !followed in
+      let reorder = !costly > 0 && !costly < n in
       sort ev;
       let ne = ev.n and ts = ev.ts and ps = ev.parts and pt = lv.pt in
       if ne = 0 then
@@ -758,7 +773,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
         &&
         (Stats.spend w gap_cost;
          set_point pt q (tmin +. Float.max 1. (Float.abs tmin));
-         combined lv w op members states)
+         combined lv w op members states ~reorder)
       else if op = Shape.Union then (
         (* every member's surface, as a group *)
         let k = ref 0 in
@@ -770,7 +785,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
       else (
         Stats.spend w gap_cost;
         set_point pt q (0.5 *. (tmin +. fget ts 0));
-        let first_state = combined lv w op members states in
+        let first_state = combined lv w op members states ~reorder in
         let before = ref first_state and k = ref 0 and stop = ref false in
         while (not !stop) && !k < ne do
           let t = fget ts !k in
@@ -787,7 +802,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
             set_point pt q
               (if !k < ne then 0.5 *. (t +. fget ts !k)
                else t +. Float.max 1. (Float.abs t));
-            let after = combined lv w op members states in
+            let after = combined lv w op members states ~reorder in
             if after <> !before then (
               push out t item (leaf0 + leaf) face;
               before := after;
@@ -823,33 +838,52 @@ and member_roots lv w (m : Shape.csg_member) i (q : Probe.t) ev =
       done
 
 (* The inside of a CSG object at the point [lv.pt] holds (in its space), each member's
-   inside its followed state or its own test. *)
-and combined lv w op (members : Shape.csg_member array) states =
+   inside its followed state or its own test. The members that decide the answer alone (in
+   a union, one inside; in an intersection, one outside; in a difference, the first
+   outside or another inside) are sought among the cheap ones first (followed, or simple
+   surfaces), and only then, with [reorder], among the meshes and CSG objects that must be
+   tested: the answer is the same whatever the order. *)
+and combined lv w op (members : Shape.csg_member array) states ~reorder =
   let n = Array.length members in
-  match op with
-  | Shape.Union | Shape.Merge ->
-      let r = ref false and i = ref 0 in
-      while (not !r) && !i < n do
-        r := member_inside lv w members states !i;
+  if reorder then (
+    let union = match op with Shape.Union | Shape.Merge -> true | _ -> false
+    and diff = match op with Shape.Difference -> true | _ -> false in
+    let decided = ref false and i = ref 0 in
+    for pass = 0 to 1 do
+      i := 0;
+      while (not !decided) && !i < n do
+        let k = !i in
+        if cheap members states k = (pass = 0) then
+          decided := member_inside lv w members states k = (union || (diff && k > 0));
         incr i
-      done;
-      !r
-  | Shape.Intersection ->
-      let r = ref true and i = ref 0 in
-      while !r && !i < n do
-        r := member_inside lv w members states !i;
-        incr i
-      done;
-      !r
-  | Shape.Difference ->
-      member_inside lv w members states 0
-      &&
-      let r = ref true and i = ref 1 in
-      while !r && !i < n do
-        r := not (member_inside lv w members states !i);
-        incr i
-      done;
-      !r
+      done
+    done;
+    if !decided then union else not union)
+  else
+    match op with
+    | Shape.Union | Shape.Merge ->
+        let r = ref false and i = ref 0 in
+        while (not !r) && !i < n do
+          r := member_inside lv w members states !i;
+          incr i
+        done;
+        !r
+    | Shape.Intersection ->
+        let r = ref true and i = ref 0 in
+        while !r && !i < n do
+          r := member_inside lv w members states !i;
+          incr i
+        done;
+        !r
+    | Shape.Difference ->
+        member_inside lv w members states 0
+        &&
+        let r = ref true and i = ref 1 in
+        while !r && !i < n do
+          r := not (member_inside lv w members states !i);
+          incr i
+        done;
+        !r
 
 and member_inside lv w (members : Shape.csg_member array) states i =
   let st = Array.unsafe_get states i in
@@ -1058,5 +1092,8 @@ let shape_crossings s r tmin =
           q.p_tmin <- q.p_t)
         else go := false
       done);
+  let csg = match s with Shape.Csg _ -> true | _ -> false in
   List.init out.n (fun k ->
-      (fget out.ts k, out.parts.((3 * k) + 1), out.parts.((3 * k) + 2)))
+      ( fget out.ts k,
+        (if csg then out.parts.((3 * k) + 1) else 0),
+        out.parts.((3 * k) + 2) ))

@@ -127,6 +127,10 @@ val inside : Shape.t -> Vec3.t -> bool
     solid mesh's inside is the parity of its crossings along a fixed direction, a CSG
     object's its members' combined. *)
 
+val parity_direction : Vec3.t
+(** The direction of the ray along which a solid mesh's crossings are counted for its
+    inside ({!inside}): none of a mesh's axis-aligned features lies along it. *)
+
 val shape_crossings : Shape.t -> Ray.t -> float -> (float * int * int) list
 (** [shape_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
     nearest first, with the leaf (0 for a shape that is not a CSG object) and the face (−1

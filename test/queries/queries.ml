@@ -28,15 +28,15 @@ let crossings a r tmin tmax ~transparent =
         out.parts.((3 * k) + 1),
         out.parts.((3 * k) + 2) ))
 
+let object_ray (o : Primitive.t) r =
+  if Transform.is_identity o.transform then r
+  else
+    Ray.make_raw
+      (Transform.inv_point o.transform (Ray.origin r))
+      (Transform.inv_vector o.transform (Ray.dir r))
+
 let intersect (o : Primitive.t) r tmin tmax =
-  let r =
-    if Transform.is_identity o.transform then r
-    else
-      Ray.make_raw
-        (Transform.inv_point o.transform (Ray.origin r))
-        (Transform.inv_vector o.transform (Ray.dir r))
-  in
-  Walk.intersect o.shape r tmin tmax
+  Walk.intersect o.shape (object_ray o r) tmin tmax
 
 let surface o r tmin tmax =
   let t, i, leaf, face = hit (Accel.build [| o |]) r tmin tmax in

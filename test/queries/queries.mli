@@ -23,6 +23,10 @@ val crossings :
 (** Every crossing in (tmin, tmax) as (t, index, leaf, face), in {!Accel.crossings}'
     order. *)
 
+val object_ray : Primitive.t -> Ray.t -> Ray.t
+(** [object_ray o r] is world ray [r] in [o]'s object space, not renormalised (t is the
+    same in both spaces). *)
+
 val intersect : Primitive.t -> Ray.t -> float -> float -> float
 (** [intersect o r tmin tmax] is the nearest root of world ray [r] on [o] in (tmin, tmax),
     or infinity: {!Walk.intersect} of its shape for the ray in its object space (not
