@@ -371,6 +371,46 @@ let disk_hit center normal radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   disk_s center normal radius o.x o.y o.z d.x d.y d.z tmin tmax
 
+(* Of an axial side's roots [t0] ≤ [t1], the nearer that lies between the ends (0 ≤ y' ≤
+   [height], y' = [f_y] + t·[d_y]) in (tmin, tmax), or infinity; with [all], each of the
+   two kept (or infinity) into [out] at 0 and 1. *)
+let[@inline] side_roots ~all t0 t1 f_y d_y height tmin tmax out =
+  if all then (
+    Float.Array.unsafe_set out 0
+      (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
+    Float.Array.unsafe_set out 1
+      (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
+  if height_root t0 f_y d_y height tmin tmax then t0
+  else if height_root t1 f_y d_y height tmin tmax then t1
+  else Float.infinity
+
+(* An axial solid's nearest root in (tmin, tmax): its side's ([side]) or a cap's, the disk
+   of radius [r0] at [base] where [lo], of [r1] at the top where [hi]; each cap searched
+   only below the nearest root so far. With [all], the caps' roots (or infinity) into
+   [out] at 2 and 3, and the side's root. *)
+let[@inline] with_caps ~all (base : Vec3.t) (axis : Vec3.t) height r0 r1 ~lo ~hi side ox
+    oy oz dx dy dz tmin tmax out =
+  let tx = base.x +. (height *. axis.x)
+  and ty = base.y +. (height *. axis.y)
+  and tz = base.z +. (height *. axis.z) in
+  if all then (
+    Float.Array.unsafe_set out 2
+      (if lo then disk_s base axis r0 ox oy oz dx dy dz tmin tmax else Float.infinity);
+    Float.Array.unsafe_set out 3
+      (if hi then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax else Float.infinity);
+    side)
+  else if not (lo || hi) then side
+  else
+    let tmax' = Floats.min side tmax in
+    let t_lo =
+      if lo then disk_s base axis r0 ox oy oz dx dy dz tmin tmax' else Float.infinity
+    in
+    let tmax' = Floats.min t_lo tmax' in
+    let t_hi =
+      if hi then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax' else Float.infinity
+    in
+    Floats.min side (Floats.min t_lo t_hi)
+
 (* Cylinder side: the 2-D circle version of the sphere's stable discriminant, in the plane
    perpendicular to the axis (f⊥ and d⊥); kept for 0 ≤ y' ≤ h. Caps are disks. A ray
    parallel to the axis has a = 0 and misses the side (the caps catch it). The vector
@@ -402,33 +442,10 @@ let[@inline] cylinder_gen ~all (base : Vec3.t) (axis : Vec3.t) height radius cap
         let q = if b < 0. then s -. b else -.(b +. s) in
         let t0 = if q = 0. then -.b /. a else Floats.min (q /. a) (c /. q)
         and t1 = if q = 0. then Float.infinity else Floats.max (q /. a) (c /. q) in
-        if all then (
-          Float.Array.unsafe_set out 0
-            (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
-          Float.Array.unsafe_set out 1
-            (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
-        if height_root t0 f_y d_y height tmin tmax then t0
-        else if height_root t1 f_y d_y height tmin tmax then t1
-        else Float.infinity
+        side_roots ~all t0 t1 f_y d_y height tmin tmax out
   in
-  let tx = base.x +. (height *. axis.x)
-  and ty = base.y +. (height *. axis.y)
-  and tz = base.z +. (height *. axis.z) in
-  if all then (
-    Float.Array.unsafe_set out 2
-      (if caps then disk_s base axis radius ox oy oz dx dy dz tmin tmax
-       else Float.infinity);
-    Float.Array.unsafe_set out 3
-      (if caps then disk_sc tx ty tz axis radius ox oy oz dx dy dz tmin tmax
-       else Float.infinity);
-    side)
-  else if not caps then side
-  else
-    let tmax' = Floats.min side tmax in
-    let t_lo = disk_s base axis radius ox oy oz dx dy dz tmin tmax' in
-    let tmax' = Floats.min t_lo tmax' in
-    let t_hi = disk_sc tx ty tz axis radius ox oy oz dx dy dz tmin tmax' in
-    Floats.min side (Floats.min t_lo t_hi)
+  with_caps ~all base axis height radius radius ~lo:caps ~hi:caps side ox oy oz dx dy dz
+    tmin tmax out
 
 let cylinder_s base axis height radius caps ox oy oz dx dy dz tmin tmax =
   cylinder_gen ~all:false base axis height radius caps ox oy oz dx dy dz tmin tmax no_out
@@ -482,38 +499,12 @@ let[@inline] cone_gen ~all (base : Vec3.t) (axis : Vec3.t) height r0 r1 caps ox 
           t)
         else
           let t0 = Floats.min (q /. a) (c /. q) and t1 = Floats.max (q /. a) (c /. q) in
-          if all then (
-            Float.Array.unsafe_set out 0
-              (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
-            Float.Array.unsafe_set out 1
-              (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
-          if height_root t0 f_y d_y height tmin tmax then t0
-          else if height_root t1 f_y d_y height tmin tmax then t1
-          else Float.infinity
+          side_roots ~all t0 t1 f_y d_y height tmin tmax out
   in
-  let tx = base.x +. (height *. axis.x)
-  and ty = base.y +. (height *. axis.y)
-  and tz = base.z +. (height *. axis.z) in
-  if all then (
-    Float.Array.unsafe_set out 2
-      (if caps && r0 > 0. then disk_s base axis r0 ox oy oz dx dy dz tmin tmax
-       else Float.infinity);
-    Float.Array.unsafe_set out 3
-      (if caps && r1 > 0. then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax
-       else Float.infinity);
-    side)
-  else if not caps then side
-  else
-    let tmax' = Floats.min side tmax in
-    let t_lo =
-      if r0 > 0. then disk_s base axis r0 ox oy oz dx dy dz tmin tmax' else Float.infinity
-    in
-    let tmax' = Floats.min t_lo tmax' in
-    let t_hi =
-      if r1 > 0. then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax'
-      else Float.infinity
-    in
-    Floats.min side (Floats.min t_lo t_hi)
+  with_caps ~all base axis height r0 r1
+    ~lo:(caps && r0 > 0.)
+    ~hi:(caps && r1 > 0.)
+    side ox oy oz dx dy dz tmin tmax out
 
 let cone_s base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax =
   cone_gen ~all:false base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax no_out
