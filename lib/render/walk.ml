@@ -273,12 +273,13 @@ let see_through = 4
 let moved = 8
 
 let kind_of (p : Primitive.t) =
+  let fixed = Transform.is_identity p.transform in
   (if p.material.transparency <> 0. then see_through else 0)
-  + (if Transform.is_identity p.transform then 0 else moved)
+  + (if fixed then 0 else moved)
   +
   match p.shape with
-  | Shape.Sphere _ when Transform.is_identity p.transform -> sphere
-  | Shape.Plane _ when Transform.is_identity p.transform -> plane
+  | Shape.Sphere _ when fixed -> sphere
+  | Shape.Plane _ when fixed -> plane
   | Shape.Mesh _ | Shape.Csg _ -> composite
   | _ -> simple
 
@@ -289,24 +290,21 @@ let items ?flat prims =
     | Some f when Float.Array.length f >= 4 * n -> f
     | _ -> Float.Array.create (4 * n)
   in
-  let kind = Bytes.create n in
-  Array.iteri
-    (fun j (p : Primitive.t) ->
-      let k = kind_of p in
-      Bytes.unsafe_set kind j (Char.chr k);
-      let set a b c d =
-        fset flat (4 * j) a;
-        fset flat ((4 * j) + 1) b;
-        fset flat ((4 * j) + 2) c;
-        fset flat ((4 * j) + 3) d
-      in
-      match p.shape with
-      | Shape.Sphere { center; radius } when k land 3 = sphere ->
-          set center.x center.y center.z radius
-      | _ -> set Float.nan Float.nan Float.nan Float.nan)
-    prims;
-  let parts = ref false in
-  Bytes.iter (fun c -> if Char.code c land 3 = composite then parts := true) kind;
+  let kind = Bytes.create n and parts = ref false in
+  for j = 0 to n - 1 do
+    let p = Array.unsafe_get prims j in
+    let k = kind_of p in
+    Bytes.unsafe_set kind j (Char.unsafe_chr k);
+    if k land 3 = composite then parts := true;
+    let o = 4 * j in
+    match p.shape with
+    | Shape.Sphere { center; radius } when k land 3 = sphere ->
+        fset flat o center.x;
+        fset flat (o + 1) center.y;
+        fset flat (o + 2) center.z;
+        fset flat (o + 3) radius
+    | _ -> Float.Array.fill flat o 4 Float.nan
+  done;
   let boxes = Float.Array.make (if !parts then 6 * n else 0) Float.nan in
   if !parts then
     Array.iteri
@@ -510,7 +508,7 @@ let[@inline] nearest ~tris ~nested (lv : level) (it : items) m nodes depth
           best_t := t;
           best_i := i;
           query := Floats.above t;
-          if not tris then keep_part lv it j)
+          if (not tris) && it.parts then keep_part lv it j)
     done;
     at := next_leaf lv !at nodes depth q tmin !best_t
   done;
