@@ -244,7 +244,10 @@ let nearest sc a (q : Probe.t) h =
     and t1 = q.p_tmax in
     nearest_in sc a q h;
     seen sc q t0 (if h.Walk.item >= 0 && q.p_t < t1 then q.p_t else t1))
-  else nearest_in sc a q h
+  else
+    match a.layers with
+    | None -> Walk.nearest_in sc.w a.index q h
+    | Some _ -> nearest_in sc a q h
 
 let rec any_in sc a q ~opaque =
   match a.layers with
@@ -256,10 +259,16 @@ let rec any_in sc a q ~opaque =
         let j = any_in sc l.moving q ~opaque in
         if j >= 0 then l.moving_idx.(j) else -1
 
+(* [any_in] with the index of a structure without parts asked directly. *)
+let[@inline] any_top sc a q ~opaque =
+  match a.layers with
+  | None -> Walk.any_in sc.w a.index q ~opaque
+  | Some _ -> any_in sc a q ~opaque
+
 let any sc a (q : Probe.t) ~opaque ~slot =
   seen sc q q.p_tmin q.p_tmax;
   Probe.set_inv_dir q;
-  if slot < 0 then any_in sc a q ~opaque >= 0
+  if slot < 0 then any_top sc a q ~opaque >= 0
   else (
     if slot >= Array.length sc.last then (
       let last = Array.make (slot + 1) (-1) in
@@ -271,7 +280,7 @@ let any sc a (q : Probe.t) ~opaque ~slot =
     && c < Array.length prims
     && Walk.blocks sc.w (Array.unsafe_get prims c) q ~opaque
     ||
-    let found = any_in sc a q ~opaque in
+    let found = any_top sc a q ~opaque in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0)
 

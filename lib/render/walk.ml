@@ -1021,14 +1021,8 @@ let crossings_in lv (x : index) q ~transparent out =
 (* A mesh is tried first only where the ray meets its box (its bounds, padded as the
    tree's are). A CSG object is not tried first: where its crossings let the ray through,
    the walk would gather them a second time, which costs more than the walk it spares. *)
-let blocks lv (p : Primitive.t) (q : Probe.t) ~opaque =
-  (not (opaque && p.material.transparency <> 0.))
-  &&
+let other_blocks lv (p : Primitive.t) (q : Probe.t) =
   match p.shape with
-  | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
-      Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz
-        q.p_tmin q.p_tmax
-      < q.p_tmax
   | Shape.Csg _ -> false
   | Shape.Mesh _ ->
       let b = lv.box in
@@ -1045,6 +1039,16 @@ let blocks lv (p : Primitive.t) (q : Probe.t) ~opaque =
       let tmax = q.p_tmax in
       Primitive.root p q lv.obj;
       q.p_t < tmax
+
+let[@inline] blocks lv (p : Primitive.t) (q : Probe.t) ~opaque =
+  (not (opaque && p.material.transparency <> 0.))
+  &&
+  match p.shape with
+  | Shape.Sphere { center; radius } when Transform.is_identity p.transform ->
+      Shape.sphere_sc center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy q.dz
+        q.p_tmin q.p_tmax
+      < q.p_tmax
+  | _ -> other_blocks lv p q
 
 (* --- One shape, for a ray --------------------------------------------------------------- *)
 
