@@ -451,7 +451,7 @@ let texture_tests =
       `Quick (fun () ->
         let c1 = Color.v 1. 0. 0. and c2 = Color.v 0. 0. 1. in
         let m =
-          mat ~ambient:1. ~diffuse:0. ~texture:(Texture.Checker { c1; c2; size = 1. }) ()
+          mat ~ambient:1. ~diffuse:0. ~texture:(Description.Checker { c1; c2; size = 1. }) ()
         in
         let sc =
           Scene.make_exn ~settings:small ~lights:[]
@@ -536,7 +536,7 @@ let file_tests =
 let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) () =
   let floor =
     mat
-      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. })
+      ~texture:(Description.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. })
       ()
   in
   Scene.make_exn ~settings
@@ -780,7 +780,7 @@ let validation_tests =
         let error objs =
           match Scene.make ~lights:[] objs with Ok _ -> None | Error e -> Some e
         in
-        let message m = match Material.validate m with Ok () -> "" | Error e -> e in
+        let message m = match Description.validate_material m with Ok () -> "" | Error e -> e in
         Alcotest.(check (option string))
           "all valid" None
           (error (List.init 1000 (fun _ -> ball ok)));
@@ -830,7 +830,7 @@ let validation_tests =
 let scaled_parts ?(shift = Vec3.zero) k =
   let floor =
     mat
-      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k })
+      ~texture:(Description.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k })
       ()
   in
   let p x y z = Vec3.add shift (v (k *. x) (k *. y) (k *. z)) in
@@ -936,13 +936,13 @@ let far_scene shift =
              (Transform.translate (p (-2.6) 0.4 1.5)))
         (mat
            ~texture:
-             (Texture.Stripes
+             (Description.Stripes
                 { c1 = Color.v 0.9 0.8 0.1; c2 = Color.v 0.1 0.3 0.6; size = 0.1 })
            ())
         (Shape.box ~min:(v (-0.4) (-0.4) (-0.4)) ~max:(v 0.4 0.4 0.4));
       prim
         (mat
-           ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 })
+           ~texture:(Description.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 })
            ())
         (Shape.sphere ~center:(p 0.3 1.6 2.5) ~radius:0.6);
     ]

@@ -219,10 +219,10 @@ let test_materials () =
   let p = s.objects.(1).material in
   Alcotest.(check bool)
     "checker texture" true
-    (p.texture = Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
+    (p.texture = Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
   Alcotest.(check bool)
     "noise bump" true
-    (p.bump = Some (Bump.Noise { scale = 1.; amount = 0.1 }))
+    (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }))
 
 let test_settings_camera_lights () =
   let s =
