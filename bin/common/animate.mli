@@ -22,7 +22,7 @@ val plan :
   ?getenv:(string -> string option) ->
   Cli.opts ->
   options ->
-  Lang.program * Lancer_job.Animation.plan
+  Lancer.Program.t * Lancer_job.Animation.plan
 (** {!Lancer_job.Animation.plan} for these options, the scene loaded as {!Cli.source}
     says, saying how many frames a resumed run skips; with the program it loaded. Raises
     [Cli.User_error]. *)

@@ -473,7 +473,7 @@ let source o =
       if Sys.is_directory path then user "%s: is a directory, not a scene file" path;
       Option.iter
         (fun m -> user "%s: cannot read the scene: %s" path m)
-        (Lang.source_problem path);
+        (Program.source_problem path);
       let text =
         try In_channel.with_open_bin path In_channel.input_all
         with Sys_error m -> user "%s" m
@@ -490,10 +490,10 @@ let warn_truncated prog =
          events (at %.6g s); bodies fly freely from there\n\
          %!"
         Physics.max_events time)
-    (Lang.truncated_physics prog)
+    (Program.truncated_physics prog)
 
 let load_source ?progress ?digests (filename, text) =
-  match Lang.load ?progress ?digests ~filename text with
+  match Program.load_string ?progress ?digests ~filename text with
   | Ok p ->
       warn_truncated p;
       p
@@ -502,13 +502,13 @@ let load_source ?progress ?digests (filename, text) =
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
 let load_bundle b =
-  match Lang.load_bundle b with
+  match Program.load_bundle b with
   | Ok p -> p
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
 let load ?progress ?digests scene =
   load_source ?progress ?digests (source { (default_opts ()) with scene })
-let scene_source (o : opts) prog = Lang.source ~builtin:(o.scene = None) prog
+let scene_source (o : opts) prog = Program.source ~builtin:(o.scene = None) prog
 
 let default_output o =
   match (o.output, o.scene) with

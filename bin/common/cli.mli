@@ -81,19 +81,19 @@ val source : opts -> string * string
     embedded showcase. Raises [User_error] for a missing or unreadable file. *)
 
 val load_source :
-  ?progress:(string -> unit) -> ?digests:bool -> string * string -> Lang.program
+  ?progress:(string -> unit) -> ?digests:bool -> string * string -> Lancer.Program.t
 (** Parse and check a scene's text; raises {!Lancer_job.Job_error.Scene} with every
     located error. Includes are found relative to the file name. [digests] is
-    {!Lang.load}'s. *)
+    {!Lancer.Program.load_string}'s. *)
 
-val load_bundle : Lang.bundle -> Lang.program
-(** The program of a bundle ({!Lang.load_bundle}); raises {!Lancer_job.Job_error.Scene}. *)
+val load_bundle : Lancer.Program.bundle -> Lancer.Program.t
+(** The program of a bundle ({!Lancer.Program.load_bundle}); raises {!Lancer_job.Job_error.Scene}. *)
 
-val load : ?progress:(string -> unit) -> ?digests:bool -> string option -> Lang.program
+val load : ?progress:(string -> unit) -> ?digests:bool -> string option -> Lancer.Program.t
 (** [load_source (source …)] for a scene file, or the showcase with [None]. *)
 
-val scene_source : opts -> Lang.program -> Lancer_job.Source.t
-(** The program as the job layer takes it ({!Lang.source}); built in without a scene. *)
+val scene_source : opts -> Lancer.Program.t -> Lancer_job.Source.t
+(** The program as the job layer takes it ({!Lancer.Program.source}); built in without a scene. *)
 
 val default_output : opts -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a

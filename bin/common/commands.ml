@@ -25,7 +25,7 @@ let render_cmd stop (o : Cli.opts) ~resume (enc : Cli.encoding) =
         (* Only a checkpoint's key needs the digests of the files the scene reads. *)
         let prog = Cli.load ~progress:say ~digests:resume o.scene in
         (* One scene of it: a still's description may go as it is compiled. *)
-        Lang.single_scene prog;
+        Program.single_scene prog;
         let src = Cli.scene_source o prog in
         let time, frame = Cli.time_of o src in
         say "evaluating the scene and building its acceleration structure";
@@ -112,7 +112,7 @@ let runs ks =
    frame 0 only). *)
 let check_frames prog spec =
   let fps, count =
-    match Lang.animation prog with Some (fps, n) -> (fps, n) | None -> (24., 1)
+    match Program.animation prog with Some (fps, n) -> (fps, n) | None -> (24., 1)
   in
   let first, last =
     if String.equal spec "all" then (0, count - 1)
@@ -124,7 +124,7 @@ let check_frames prog spec =
   if first < 0 || first > last then
     Cli.user "--frames %s: the first frame must be at least 0 and at most the last" spec;
   if last >= count then
-    if Lang.animation prog = None then
+    if Program.animation prog = None then
       Cli.user "--frames %s: the scene is a still (frame 0 only)" spec
     else Cli.user "--frames %s: the animation has frames 0..%d" spec (count - 1);
   (fps, first, last)
@@ -139,13 +139,13 @@ let check_cmd stop scene json time frames =
       (* Check reads the scene's objects, features and estimates, and traces no ray: no
          acceleration structure. Its summary needs one scene and not the description's
          objects, which may go as they are compiled; the JSON lists them. *)
-      if not json then Lang.single_scene prog;
-      match Lang.scene_at ~index:false prog ~time ~frame with
+      if not json then Program.single_scene prog;
+      match Program.scene_at ~index:false prog ~time ~frame with
       | Error errors -> raise (Job_error.Scene { errors; note = "" })
       | Ok sc ->
-          if json then print_endline (Yojson.Safe.pretty_to_string (Lang.to_json prog sc))
+          if json then print_endline (Yojson.Safe.pretty_to_string (Program.to_json prog sc))
           else (
-            print_string (Lang.summary prog sc);
+            print_string (Program.summary prog sc);
             print_string (Cli.cost_report sc)))
   | Some _ when time <> None -> Cli.user "give either --time or --frames, not both"
   | Some _ when json ->
@@ -156,7 +156,7 @@ let check_cmd stop scene json time frames =
          others that fail are listed. *)
       let first_scene = ref None and failed = ref [] and first_errors = ref [] in
       for k = first to last do
-        match Lang.scene_at ~index:false prog ~time:(Float.of_int k /. fps) ~frame:k with
+        match Program.scene_at ~index:false prog ~time:(Float.of_int k /. fps) ~frame:k with
         | Ok sc -> if Option.is_none !first_scene then first_scene := Some sc
         | Error errs ->
             if !failed = [] then first_errors := errs;
@@ -175,7 +175,7 @@ let check_cmd stop scene json time frames =
                      (List.length ks) n first last (runs ks);
                }));
       (match !first_scene with
-      | Some sc -> print_string (Lang.summary prog sc)
+      | Some sc -> print_string (Program.summary prog sc)
       | None -> ());
       Printf.printf "frames checked: %d..%d (%d frame%s), every one evaluates\n" first
         last n

@@ -142,7 +142,7 @@ let load show_error path =
   match Cli.source { (Cli.default_opts ()) with scene = Some path } with
   | exception (Cli.User_error _ as e) -> Error (describe show_error e, [])
   | filename, text -> (
-      match Lang.load ~filename text with
+      match Program.load_string ~filename text with
       | Ok p -> Ok p
       | Error errs ->
           Error
@@ -177,7 +177,7 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
         match load show_error path with
         | Ok p ->
             prog := Some p;
-            with_lock sh (fun () -> sh.inputs <- Lang.inputs p);
+            with_lock sh (fun () -> sh.inputs <- Program.inputs p);
             wake sh;
             Ok p
         | Error (text, files) ->
@@ -189,7 +189,7 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
   | Error (text, files) -> failed text files
   | Ok p -> (
       let fps, frames =
-        match Lang.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1)
+        match Program.animation p with Some (fps, n) -> (fps, n) | None -> (24., 1)
       in
       let frame = max 0 (min (frames - 1) v.params.frame) in
       let time = Float.of_int frame /. fps in
@@ -213,7 +213,7 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
       (* A frame may read files that frame 0 does not (an image chosen by [frame]): they
          are watched from the first version that reads them. *)
       with_lock sh (fun () ->
-          sh.inputs <- List.sort_uniq compare (Lang.inputs p @ sh.inputs));
+          sh.inputs <- List.sort_uniq compare (Program.inputs p @ sh.inputs));
       match evaluated with
       | Error text -> failed text []
       | Ok (sc, coarse) ->
@@ -226,11 +226,11 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
                  ("quality", `String (quality_name o.quality));
                  ("frame", `Int frame);
                  ( "animation",
-                   match Lang.animation p with
+                   match Program.animation p with
                    | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]
                    | None -> `Null );
                ]);
-          let summary = try Lang.summary p sc with _ -> "" in
+          let summary = try Program.summary p sc with _ -> "" in
           let base = Filename.remove_extension (Filename.basename path) in
           let name =
             if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png"

@@ -13,14 +13,13 @@ open Lancer_job
 open Cmdliner
 module Cli = Lancer_cli.Cli
 module Report = Lancer_cli.Report
-module Lang = Lancer_cli.Lang
 module Progress = Lancer_cli.Progress
 module Animate = Lancer_cli.Animate
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
 
 (* What rank 0 broadcasts once its checks are done. *)
-type setup = Go of Lang.bundle | Quit
+type setup = Go of Program.bundle | Quit
 
 let user = Cli.user
 
@@ -157,7 +156,7 @@ let render_cmd (o : Cli.opts) ~resume =
         Some (Cli.checkpoint o src ~out ~time ~frame ~files sc)
     in
     let inputs = with_digests src files in
-    (Lang.bundle prog, (out, sc, build, ck, inputs))
+    (Program.bundle prog, (out, sc, build, ck, inputs))
   in
   let lead (out, sc, build, ck, inputs) ~fatal ~cancel ~pool ~domains =
     let module Ck = Checkpoint in
@@ -229,7 +228,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
   let prepare () =
     Animate.check_video a;
     let prog, p = Animate.plan o a in
-    (Lang.bundle prog, p)
+    (Program.bundle prog, p)
   in
   let lead (p : Animation.plan) ~fatal ~cancel ~pool ~domains =
     let progress = Animate.progress o p in

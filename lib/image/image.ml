@@ -1,4 +1,7 @@
 type t = { width : int; height : int; data : Float.Array.t }
+type gamma = Srgb | Power of float
+
+let max_pixels = Raster.max_pixels
 
 let create width height =
   { width; height; data = Float.Array.make (3 * width * height) 0. }
@@ -26,9 +29,9 @@ let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
   let v = if v > 0. then if v < 1. then v else 1. else 0. in
   match gamma with
-  | Settings.Srgb ->
+  | Srgb ->
       if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
-  | Settings.Power g -> Float.pow v (1. /. g)
+  | Power g -> Float.pow v (1. /. g)
 
 let exact_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
 
@@ -77,13 +80,13 @@ let[@inline] srgb_channel v =
   let b = int_of_float (v *. 4096.) in
   let after = Float.Array.unsafe_get srgb_after b in
   if v -. Float.Array.unsafe_get srgb_before b < near || Float.abs (after -. v) < near
-  then exact_channel Settings.Srgb v
+  then exact_channel Srgb v
   else
     let k = Char.code (Bytes.unsafe_get srgb_base b) in
     if v >= after then k + 1 else k
 
 let encode_channel gamma v =
-  match gamma with Settings.Srgb -> srgb_channel v | g -> exact_channel g v
+  match gamma with Srgb -> srgb_channel v | g -> exact_channel g v
 
 let encode_channel16 gamma v =
   int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
@@ -97,7 +100,7 @@ let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
   let b = Bytes.create n in
   (match gamma with
-  | Settings.Srgb ->
+  | Srgb ->
       let data = fb.data in
       if Float.Array.length data < n then invalid_arg "Image.to_bytes";
       for k = 0 to n - 1 do
@@ -149,7 +152,7 @@ let write_rgb8 path w h bytes =
 
 type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 
-let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
+let encode ?(gamma = Srgb) ?(bits = 8) ?alpha ?crop fb =
   if bits <> 8 && bits <> 16 then invalid_arg "Image.encode: bits must be 8 or 16";
   (match alpha with
   | Some a when Float.Array.length a <> fb.width * fb.height ->
@@ -275,7 +278,7 @@ let ppm_of_string text =
   let w = int_token () in
   let h = int_token () in
   let maxv = int_token () in
-  if w < 1 || h < 1 || w > Settings.max_pixels / h then
+  if w < 1 || h < 1 || w > max_pixels / h then
     failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
   if maxv <> 255 && maxv <> 65535 then
     failwith
@@ -289,7 +292,7 @@ let png_of_string text =
   match Png.decode text with Ok r -> r | Error m -> failwith m
 
 (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
-let max_png_bytes = 4 * 8 * Settings.max_pixels
+let max_png_bytes = 4 * 8 * max_pixels
 
 let raster_of_string ~path text =
   match format_of_path path with

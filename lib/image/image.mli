@@ -12,6 +12,12 @@ type t = {
   data : Float.Array.t;  (** 3·width·height linear floats *)
 }
 
+type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
+(** How linear values are encoded into an image's samples. *)
+
+val max_pixels : int
+(** {!Raster.max_pixels}. *)
+
 val create : int -> int -> t
 (** [create w h] is a black framebuffer of [w] columns and [h] rows. *)
 
@@ -25,13 +31,13 @@ val set_rgb : t -> int -> int -> float -> float -> float -> unit
 (** [set_rgb fb i j r g b] is [set fb i j (Color.v r g b)] without building the colour
     (inlined: nothing is boxed). *)
 
-val encode_channel : Settings.gamma -> float -> int
+val encode_channel : gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 
-val encode_channel16 : Settings.gamma -> float -> int
+val encode_channel16 : gamma -> float -> int
 (** The same curve quantised to 16 bits: ⌊65535·v + 0.5⌋ (NaN encodes as 0). *)
 
-val to_bytes : Settings.gamma -> t -> Bytes.t
+val to_bytes : gamma -> t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
 type format = Png | Ppm
@@ -56,7 +62,7 @@ type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 (** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
 
 val encode :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
@@ -77,7 +83,7 @@ val output_raster : format -> out_channel -> Raster.t -> unit
     [Invalid_argument]. *)
 
 val save :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
@@ -90,14 +96,14 @@ val save :
 val read_raster : string -> (Raster.t, string) result
 (** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
     or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
-    before its pixels are allocated: larger than {!Settings.max_pixels} is an error. Never
+    before its pixels are allocated: larger than {!max_pixels} is an error. Never
     raises; the message starts with [path]. *)
 
 type written = { size : int; md5 : string }
 (** What was written to a file: its size in bytes and the MD5 (hex) of those bytes. *)
 
 val save_written :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->

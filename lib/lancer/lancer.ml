@@ -2,7 +2,7 @@
 
     The layers, each using only those before it: [lancer.math], [lancer.diag],
     [lancer.description], [lancer.image] and [lancer.physics], [lancer.render],
-    [lancer.job]. *)
+    [lancer.job], and [lancer.program] (which also uses the scene language). *)
 
 (** {1 [lancer.math]} *)
 
@@ -74,7 +74,6 @@ module Frameset = Lancer_job.Frameset
 module Job_error = Lancer_job.Job_error
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
-module Program = Lancer_job.Program
 module Quality = Lancer_job.Quality
 module Source = Lancer_job.Source
 module Still = Lancer_job.Still
@@ -83,3 +82,7 @@ module Work = Lancer_job.Work
 (** {1 The version} *)
 
 module Version = Version
+
+(** {1 [lancer.program]} *)
+
+module Program = Lancer_program.Program

@@ -1,9 +1,8 @@
 (* The one way lancer reports a failure (Report): the text and exit status of each kind,
    as the README's "Exit status and errors" documents them; and a program's scenes as the
-   job layer gets them (Lang.source). *)
+   job layer gets them (Program.source). *)
 open Lancer
 module Report = Lancer_cli.Report
-module Lang = Lancer_cli.Lang
 
 let contains s sub =
   let n = String.length s and m = String.length sub in
@@ -65,11 +64,11 @@ sphere { center: (0, 1, 0), radius: 1.5 - frame * 0.5 }
 |}
   in
   let prog =
-    match Lang.load ~filename:"frames.rts" text with
+    match Program.load_string ~filename:"frames.rts" text with
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
-  let src = Lang.source ~builtin:false prog in
+  let src = Program.source ~builtin:false prog in
   Alcotest.(check (option (pair (float 0.) int)))
     "its animation"
     (Some (4., 4))

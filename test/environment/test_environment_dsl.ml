@@ -7,7 +7,7 @@ module Error = Lancer_dsl.Error
 let errors_text es = String.concat "" (List.map Error.to_string es)
 
 let scene text =
-  match Dsl.load_string ~filename:"test.rts" text with
+  match Program.load_string ~filename:"test.rts" text with
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
   | Ok p -> (
       match Program.scene_at p ~time:0. ~frame:0 with
@@ -229,7 +229,7 @@ light { position: (0, 5, 0), point_at: (0, 0, 0), inner: 10, outer: 20 }
 sphere { center: (0, 0, 0), radius: 1, material: material { texture: gradient((0, 1, 0), color_map((0, (1, 0, 0)), (1, (0, 0, 1)))) } }|}
   in
   let p =
-    match Dsl.load_string ~filename:"test.rts" text with
+    match Program.load_string ~filename:"test.rts" text with
     | Ok p -> p
     | Error es -> Alcotest.fail (errors_text es)
   in

@@ -14,7 +14,7 @@ let () =
     match Program.load_file "ball.rts" with
     | Ok p -> p
     | Error errs ->
-        List.iter (Format.eprintf "%a" Lancer_dsl.Error.pp) errs;
+        List.iter (Format.eprintf "%a" Diagnostic.pp) errs;
         exit 1
   in
   let scene =

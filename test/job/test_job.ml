@@ -29,7 +29,7 @@ sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.
 |}
 
 let scene () =
-  match Lancer_dsl.Dsl.load_string ~filename:"small.rts" scene_text with
+  match Lancer.Program.load_string ~filename:"small.rts" scene_text with
   | Error _ -> Alcotest.fail "the test scene does not load"
   | Ok p -> (
       match Lancer.Program.scene_at p ~time:0. ~frame:0 with
@@ -49,7 +49,7 @@ let floats_equal a b =
 
 (* An animated scene's program, and its frame k at 10 frames a second. *)
 let load_anim text =
-  match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
+  match Lancer.Program.load_string ~filename:"anim.rts" text with
   | Error _ -> Alcotest.fail "the animated scene does not load"
   | Ok p -> p
 
@@ -63,7 +63,7 @@ let frames_of ?p text =
 (* The scene of frame [k] of [p] with every statement evaluated and compiled again: a
    still of that instant, indexed whole. *)
 let compiled_again p k =
-  match Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k with
+  match Lancer_dsl.Dsl.describe ~again:true (Lancer.Program.language p) ~time:(Float.of_int k /. 10.) ~frame:k with
   | Error _ -> Alcotest.fail "the frame does not evaluate again"
   | Ok d -> (
       match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
@@ -637,7 +637,7 @@ for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j 
     n
 
 let load text =
-  match Lancer_dsl.Dsl.load_string ~filename:"grid.rts" text with
+  match Lancer.Program.load_string ~filename:"grid.rts" text with
   | Ok p -> p
   | Error _ -> Alcotest.fail "the grid does not load"
 
@@ -658,11 +658,11 @@ let still_lets_objects_go () =
     in
     Alcotest.(check int)
       "not asked for one scene: the program keeps the objects" 1600
-      (List.length (Dsl.first q).objects);
+      (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language q)).objects);
     j
   in
   let w = Weak.create 1 in
-  (match (Dsl.first p).objects with
+  (match (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects with
   | o :: _ -> Weak.set w 0 (Some o)
   | [] -> Alcotest.fail "no objects");
   let overhead = (Gc.get ()).space_overhead in
@@ -670,12 +670,12 @@ let still_lets_objects_go () =
   Alcotest.(check int) "the GC as it was" overhead (Gc.get ()).space_overhead;
   Gc.full_major ();
   Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
-  Alcotest.(check int) "the program keeps none" 0 (List.length (Dsl.first p).objects);
+  Alcotest.(check int) "the program keeps none" 0 (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects);
   Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
   Alcotest.(check string)
     "check's objects, made again" json_before
     (Yojson.Safe.to_string (Program.to_json p sc));
-  (match Dsl.describe p ~time:0. ~frame:0 with
+  (match Lancer_dsl.Dsl.describe (Lancer.Program.language p) ~time:0. ~frame:0 with
   | Ok d -> Alcotest.(check int) "time 0 evaluated again" 1600 (List.length d.objects)
   | Error _ -> Alcotest.fail "time 0 does not evaluate again");
   let again = made (Program.scene_at p ~time:0. ~frame:0) in
@@ -730,7 +730,7 @@ let mover_shares_shift () =
 let frames_as_rendered ?(domains = 1) name text =
   let p = load_anim text in
   let fps, count =
-    match Lancer_dsl.Dsl.animation p with
+    match Lancer.Program.animation p with
     | Some a -> a
     | None -> Alcotest.fail "not animated"
   in

@@ -29,7 +29,7 @@ let () =
          camera { position: (0, 0, -5), look_at: (0, 0, 0) }\n"
         w h
     in
-    match Lancer_dsl.Dsl.load_string ~filename:"empty.rts" text with
+    match Lancer.Program.load_string ~filename:"empty.rts" text with
     | Error _ ->
         prerr_endline "serve_rate: the empty scene did not load";
         Mpi.abort 2

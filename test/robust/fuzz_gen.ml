@@ -545,7 +545,7 @@ let judge_scene_errors es =
 (* The language's contract (dsl.mli): Ok or located errors, never an exception nor an
    internal error, at load and at evaluation. *)
 let check_scene (file, text) =
-  match Dsl.load_string ~filename:file text with
+  match Program.load_string ~filename:file text with
   | exception e -> Error ("load raised " ^ Printexc.to_string e)
   | Error es -> (
       match List.iter (fun e -> ignore (Lancer_dsl.Error.to_string e)) es with

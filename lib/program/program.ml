@@ -1,10 +1,11 @@
 module Dsl = Lancer_dsl.Dsl
 module D = Description
 
-(* What a loaded program keeps beside it: the images and meshes its scenes read, the
-   motion of its bodies once asked for, and the description of the last scene made (for
-   check's printers). *)
-type extra = {
+(* A loaded program and what it keeps beside it: the images and meshes its scenes read,
+   the motion of its bodies once asked for, and the description of the last scene made
+   (for check's printers). *)
+type t = {
+  dsl : Dsl.t;
   assets : Compile.assets;
   mutable last : (Scene.t * D.t * bool) option;
       (** and whether the description has its objects (they are let go as they are
@@ -23,83 +24,68 @@ type extra = {
   disk_lock : Mutex.t;
 }
 
-module Programs = Ephemeron.K1.Make (struct
-  type t = Dsl.t
+let of_dsl assets dsl =
+  {
+    dsl;
+    assets;
+    last = None;
+    motion = None;
+    lock = Mutex.create ();
+    motion_lock = Mutex.create ();
+    fixed = None;
+    fixed_lock = Mutex.create ();
+    made = Atomic.make 0;
+    single = false;
+    on_disk = Hashtbl.create 4;
+    disk_lock = Mutex.create ();
+  }
 
-  let equal = ( == )
-  let hash p = Hashtbl.hash (Dsl.file p)
-end)
+let language p = p.dsl
+let assets p = p.assets
+let file p = Dsl.file p.dsl
+let animation p = Dsl.animation p.dsl
+let bodies p = Dsl.bodies p.dsl
+let empty p = Dsl.empty p.dsl
+let inputs p = Dsl.inputs p.dsl
+let named_files p = Dsl.named_files p.dsl
+let text_digest p = Dsl.text_digest p.dsl
+let source_problem = Dsl.source_problem
 
-let table = Programs.create 4
-let table_lock = Mutex.create ()
+type bundle = Dsl.bundle
 
-let extra p =
-  Mutex.protect table_lock (fun () ->
-      match Programs.find_opt table p with
-      | Some e -> e
-      | None ->
-          let e =
-            {
-              assets = Compile.assets ();
-              last = None;
-              motion = None;
-              lock = Mutex.create ();
-              motion_lock = Mutex.create ();
-              fixed = None;
-              fixed_lock = Mutex.create ();
-              made = Atomic.make 0;
-              single = false;
-              on_disk = Hashtbl.create 4;
-              disk_lock = Mutex.create ();
-            }
-          in
-          Programs.replace table p e;
-          e)
-
-let assets p = (extra p).assets
-
-(* A program loaded with the cache its files were read into. *)
-let adopt assets r =
-  Result.iter
-    (fun p ->
-      let e = extra p in
-      Mutex.protect table_lock (fun () -> Programs.replace table p { e with assets }))
-    r;
-  r
+let bundle p = Dsl.bundle p.dsl
 
 let load_file ?(digests = true) ?after_read path =
   let a = Compile.assets ~digests ?after_read () in
-  adopt a (Dsl.load_file ~files:(Compile.check_files a) path)
+  Result.map (of_dsl a) (Dsl.load_file ~files:(Compile.check_files a) path)
 
 let load_string ?progress ?(digests = true) ?after_read ?filename text =
   let a = Compile.assets ~digests ?after_read () in
-  adopt a (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
+  Result.map (of_dsl a)
+    (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
 
 let load_bundle ?progress ?(digests = true) b =
   let a = Compile.assets ~digests () in
-  adopt a (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
+  Result.map (of_dsl a) (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
 
 (* What a record says of an input: the digest of the bytes this run decoded, or, for a
    file it has not decoded (yet), of the file on disk, once. *)
 let input_digest p rel =
-  let path = Loc.relative_to (Dsl.file p) rel in
-  let e = extra p in
-  match Compile.digest e.assets path with
+  let path = Loc.relative_to (file p) rel in
+  match Compile.digest p.assets path with
   | Some d -> d
   | None ->
-      Mutex.protect e.disk_lock (fun () ->
-          match Hashtbl.find_opt e.on_disk path with
+      Mutex.protect p.disk_lock (fun () ->
+          match Hashtbl.find_opt p.on_disk path with
           | Some d -> d
           | None ->
-              let d =
-                try Digest.to_hex (Digest.file path) with Sys_error _ -> "-"
-              in
-              Hashtbl.replace e.on_disk path d;
+              let d = try Digest.to_hex (Digest.file path) with Sys_error _ -> "-" in
+              Hashtbl.replace p.on_disk path d;
               d)
 
 exception Refused of Diagnostic.t
 
-let at p (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source p loc.file) loc msg
+let at p (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source p.dsl loc.file) loc msg
 
 (* Nothing raised below reaches the caller but an interrupt, as in the language. *)
 let guard p f =
@@ -109,19 +95,19 @@ let guard p f =
   | Stack_overflow ->
       Error
         [
-          Diagnostic.file_error (Dsl.file p)
+          Diagnostic.file_error (Dsl.file p.dsl)
             "the scene is nested too deeply (the evaluator's stack overflowed)";
         ]
   | Out_of_memory ->
       Error
         [
-          Diagnostic.file_error (Dsl.file p)
+          Diagnostic.file_error (Dsl.file p.dsl)
             "the scene needs more memory than is available";
         ]
   | e ->
       Error
         [
-          Diagnostic.file_error (Dsl.file p)
+          Diagnostic.file_error (Dsl.file p.dsl)
             ("internal error: " ^ Printexc.to_string e ^ " (please report it)");
         ]
 
@@ -129,7 +115,7 @@ let guard p f =
 (* Physics: the bodies move through the static objects of the scene at time 0. *)
 
 let colliders p =
-  match Physics.colliders (Dsl.first p).objects with
+  match Physics.colliders (Dsl.first p.dsl).objects with
   | Ok cs -> cs
   | Error o ->
       raise
@@ -143,18 +129,18 @@ let colliders p =
 (* The horizon for a frame at [time]: the whole animation, or [time] when later. *)
 let horizon p time =
   let dur =
-    match Dsl.animation p with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
+    match Dsl.animation p.dsl with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
   in
   Float.max dur time
 
 let trajectory p ~time =
   let until = horizon p time in
-  let e = extra p in
+  let e = p in
   Mutex.protect e.motion_lock (fun () ->
       match e.motion with
       | Some (h, tr) when h >= until -> tr
       | _ ->
-          let w = Option.value (Dsl.physics p) ~default:Physics.default_world in
+          let w = Option.value (Dsl.physics p.dsl) ~default:Physics.default_world in
           (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
           let max_steps = 10_000_000. in
           (if w.method_ <> Physics.Exact && until /. w.step > max_steps then
@@ -166,20 +152,20 @@ let trajectory p ~time =
              in
              raise
                (Refused
-                  (match (Dsl.first p).physics_loc with
+                  (match (Dsl.first p.dsl).physics_loc with
                   | Some loc -> at p loc msg
-                  | None -> Diagnostic.file_error (Dsl.file p) msg)));
-          let tr = Physics.simulate w (colliders p) (Dsl.bodies p) ~until in
+                  | None -> Diagnostic.file_error (Dsl.file p.dsl) msg)));
+          let tr = Physics.simulate w (colliders p) (Dsl.bodies p.dsl) ~until in
           e.motion <- Some (until, tr);
           tr)
 
 let simulate p ~until =
   Result.map_error
-    (Dsl.located p ~time:0. ~frame:0)
+    (Dsl.located p.dsl ~time:0. ~frame:0)
     (guard p (fun () -> Ok (trajectory p ~time:until)))
 
 let physics_state p ~time =
-  match Dsl.bodies p with
+  match Dsl.bodies p.dsl with
   | [] -> None
   | _ ->
       let tr = trajectory p ~time in
@@ -189,9 +175,9 @@ let physics_state p ~time =
    the simulation has it at time 0 (its initial centre): evaluated again only if the
    simulation says otherwise. *)
 let first_at_rest p =
-  let first = Dsl.first p in
+  let first = Dsl.first p.dsl in
   match first.bodies with
-  | _ when Dsl.released p -> None
+  | _ when Dsl.released p.dsl -> None
   | [] -> Some first
   | bodies -> (
       match physics_state p ~time:0. with
@@ -231,7 +217,7 @@ let describe_ ?again ?body_state ?progress ?cancel ?parts p ~time ~frame =
       match guard p (fun () -> Ok (first_at_rest p)) with
       | Ok (Some d) -> Some (Ok d)
       | Ok None -> None
-      | Error es -> Some (Error (Dsl.located p ~time ~frame es))
+      | Error es -> Some (Error (Dsl.located p.dsl ~time ~frame es))
     else None
   in
   match reused with
@@ -241,11 +227,11 @@ let describe_ ?again ?body_state ?progress ?cancel ?parts p ~time ~frame =
         guard p (fun () ->
             Ok (match body_state with Some f -> Some f | None -> physics_state p ~time))
       with
-      | Error es -> Error (Dsl.located p ~time ~frame es)
+      | Error es -> Error (Dsl.located p.dsl ~time ~frame es)
       | Ok body_state ->
           Dsl.describe ?again ?body_state ?progress ?cancel ?parts
-            ~files:(Compile.check_files (assets p))
-            p ~time ~frame)
+            ~files:(Compile.check_files p.assets)
+            p.dsl ~time ~frame)
 
 let describe ?body_state ?progress ?cancel p ~time ~frame =
   describe_ ?body_state ?progress ?cancel p ~time ~frame
@@ -256,13 +242,13 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
 (* The objects no frame changes, made once for the frames of an animation (a still is
    made once anyway). *)
 let fixed p =
-  let e = extra p in
+  let e = p in
   Mutex.protect e.fixed_lock (fun () ->
       match e.fixed with
       | Some f -> f
       | None ->
           let f =
-            match (Dsl.animation p, Dsl.fixed_pieces p) with
+            match (Dsl.animation p.dsl, Dsl.fixed_pieces p.dsl) with
             | None, _ -> None
             | Some _, pieces when List.for_all List.is_empty pieces -> None
             | Some _, pieces -> Some (Compile.fixed e.assets pieces)
@@ -275,17 +261,17 @@ let compile ?progress ?index ?objects ?parts ~share p (d : D.t) =
   let whole = Option.is_none objects && Option.is_none parts in
   match
     guard p (fun () ->
-        Compile.compile ~source:(Dsl.source p) ?progress
+        Compile.compile ~source:(Dsl.source p.dsl) ?progress
           ?fixed:(if share && index <> Some false then fixed p else None)
-          ?index ?objects ?parts (assets p) d)
+          ?index ?objects ?parts p.assets d)
   with
   | Ok sc ->
-      let e = extra p in
+      let e = p in
       Mutex.protect e.lock (fun () -> e.last <- Some (sc, d, whole));
       Ok sc
-  | Error es -> Error (Dsl.located p ~time:d.time ~frame:d.frame es)
+  | Error es -> Error (Dsl.located p.dsl ~time:d.time ~frame:d.frame es)
 
-let single_scene p = (extra p).single <- true
+let single_scene p = p.single <- true
 
 (* A still's one scene, where its caller asked for one only ({!single_scene}), is the
    load's description compiled once: the program lets its objects go ({!Dsl.release}),
@@ -293,10 +279,10 @@ let single_scene p = (extra p).single <- true
    not held twice. A caller that asks for more scenes of a still (the live preview, the
    benchmarks) keeps the load's description for them. *)
 let releasable ?body_state p ~share ~time ~frame =
-  (extra p).single && (not share) && body_state = None && Float.equal time 0. && frame = 0
-  && Dsl.animation p = None
-  && Dsl.bodies p = []
-  && not (Dsl.released p)
+  p.single && (not share) && body_state = None && Float.equal time 0. && frame = 0
+  && Dsl.animation p.dsl = None
+  && Dsl.bodies p.dsl = []
+  && not (Dsl.released p.dsl)
 
 (* The scenes of an animated program share what does not change, from the first one on:
    the statements that do not depend on the instant are not evaluated again, and the
@@ -305,10 +291,10 @@ let releasable ?body_state p ~share ~time ~frame =
    over the fixed ones). A program without an animation has no such part: its first
    scene is made the long way, every statement evaluated. *)
 let scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame =
-  let later = Atomic.fetch_and_add (extra p).made 1 > 0 in
-  let share = later || Option.is_some (Dsl.animation p) in
+  let later = Atomic.fetch_and_add p.made 1 > 0 in
+  let share = later || Option.is_some (Dsl.animation p.dsl) in
   if releasable ?body_state p ~share ~time ~frame then
-    let d = Dsl.release p in
+    let d = Dsl.release p.dsl in
     let objects = d.objects and d = { d with objects = [] } in
     Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~objects ~share p d)
   else
@@ -324,7 +310,7 @@ let scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame =
 let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map
     (fun (sc, (d : D.t)) ->
-      let files = List.sort_uniq compare (List.map (Dsl.scene_relative p) d.files) in
+      let files = List.sort_uniq compare (List.map (Dsl.scene_relative p.dsl) d.files) in
       (sc, files))
     (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
 
@@ -338,7 +324,7 @@ let scene_at ?body_state ?progress ?cancel ?index p ~time ~frame =
 (* The description [sc] was made from: the last one compiled, or made again (for
    [objects], when the one compiled let its objects go). *)
 let description ?(objects = false) p (sc : Scene.t) =
-  let e = extra p in
+  let e = p in
   match Mutex.protect e.lock (fun () -> e.last) with
   | Some (s, d, whole) when s == sc && (whole || not objects) -> Some d
   | _ -> (
@@ -349,7 +335,7 @@ let description ?(objects = false) p (sc : Scene.t) =
 (* What check prints beside the scene: the program's animation, bodies, physics and
    warnings (those at time 0). *)
 let for_report p (d : D.t) =
-  let f = Dsl.first p in
+  let f = Dsl.first p.dsl in
   {
     d with
     animation = f.animation;
@@ -358,18 +344,18 @@ let for_report p (d : D.t) =
     warnings = f.warnings;
   }
 
-let rendered p sc = Compile.rendered (assets p) sc
+let rendered p sc = Compile.rendered p.assets sc
 
 let summary p (sc : Scene.t) =
   match description p sc with
-  | Some d -> Scene_report.summary ~empty:(Dsl.empty p) (for_report p d) (rendered p sc)
+  | Some d -> Scene_report.summary ~empty:(Dsl.empty p.dsl) (for_report p d) (rendered p sc)
   | None -> ""
 
 let to_json ?body_state p (sc : Scene.t) =
   let d =
     match description ~objects:true p sc with
     | Some d -> d
-    | None -> { (Dsl.first p) with objects = []; time = sc.time; frame = sc.frame }
+    | None -> { (Dsl.first p.dsl) with objects = []; time = sc.time; frame = sc.frame }
   in
   let state =
     match body_state with
@@ -378,3 +364,30 @@ let to_json ?body_state p (sc : Scene.t) =
         try physics_state p ~time:sc.time with Sys.Break -> raise Sys.Break | _ -> None)
   in
   Scene_report.json ?state (for_report p d) (rendered p sc)
+
+(* ---------------------------------------------------------------------------------- *)
+(* For the command line and the job layer *)
+
+let truncated_physics p =
+  if bodies p = [] then None
+  else
+    match simulate p ~until:0. with
+    | Ok tr when Physics.truncated tr ->
+        Some (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
+    | _ -> None
+
+let source ~builtin p : Source.t =
+  {
+    file = file p;
+    builtin;
+    animation = animation p;
+    evaluate =
+      (fun ~progress ~cancel ~time ~frame ->
+        match scene_with_files ?progress ?cancel p ~time ~frame with
+        | Ok r -> r
+        | Error errors -> raise (Job_error.Scene { errors; note = "" }));
+    inputs = (fun () -> inputs p);
+    names = (fun () -> named_files p);
+    text_digest = (fun () -> text_digest p);
+    input_digest = input_digest p;
+  }

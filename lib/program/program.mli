@@ -1,4 +1,4 @@
-(** A loaded scene program ({!Lancer_dsl.Dsl.t}) and the renderer: its scene at any time,
+(** A loaded scene program and the renderer: its scene at any time,
     described by the language, its bodies moved by {!Physics}, compiled
     ({!Compile.compile}) with one cache of images and meshes per program.
 
@@ -7,14 +7,13 @@
 
 module Dsl = Lancer_dsl.Dsl
 
-val assets : Dsl.t -> Compile.assets
-(** The program's cache of images and meshes (one per loaded program). *)
+type t
+(** A loaded program: the language's program, the cache of the images and meshes its
+    scenes read ({!assets}), the motion of its bodies once computed, and what the frames of
+    an animation share. *)
 
 val load_file :
-  ?digests:bool ->
-  ?after_read:(string -> unit) ->
-  string ->
-  (Dsl.t, Diagnostic.t list) result
+  ?digests:bool -> ?after_read:(string -> unit) -> string -> (t, Diagnostic.t list) result
 (** {!Dsl.load_file}, with the images and meshes the program uses read (into its
     {!assets}) and their problems reported with the program's. [digests] (default [true])
     and [after_read] are {!Compile.assets}': a run that records what its pixels were made
@@ -26,35 +25,69 @@ val load_string :
   ?after_read:(string -> unit) ->
   ?filename:string ->
   string ->
-  (Dsl.t, Diagnostic.t list) result
+  (t, Diagnostic.t list) result
 (** {!Dsl.load_string}, as {!load_file}. *)
 
-val load_bundle :
-  ?progress:(string -> unit) ->
-  ?digests:bool ->
-  Dsl.bundle ->
-  (Dsl.t, Diagnostic.t list) result
-(** {!Dsl.load_bundle}, as {!load_file}: the program another process loaded, from the
-    texts it read (an MPI rank's copy of rank 0's program). *)
+type bundle = Dsl.bundle
+(** A program's texts as it read them: its file and every include (plain data, sent to
+    the other MPI ranks). *)
 
-val input_digest : Dsl.t -> string -> string
+val bundle : t -> bundle
+(** The texts a program was loaded from. *)
+
+val load_bundle :
+  ?progress:(string -> unit) -> ?digests:bool -> bundle -> (t, Diagnostic.t list) result
+(** {!Dsl.load_bundle}, as {!load_file}: the program another process loaded, from the
+    texts it read (an MPI rank's copy of rank 0's program), reading no scene file. *)
+
+val source_problem : string -> string option
+(** Why a path cannot be read as a scene file, from its status alone; [None] if it can. *)
+
+val language : t -> Dsl.t
+(** The language's program. *)
+
+val assets : t -> Compile.assets
+(** The program's cache of images and meshes. *)
+
+val file : t -> string
+(** The file name the program was loaded as. *)
+
+val animation : t -> (float * int) option
+(** (fps, frames) of the animation block. *)
+
+val bodies : t -> Dsl.body list
+(** The bodies, in program order. *)
+
+val empty : t -> bool
+(** Whether the program has no statement at all. *)
+
+val inputs : t -> string list
+(** {!Dsl.inputs}: the files the program has read or named so far. *)
+
+val named_files : t -> string list
+(** {!Dsl.named_files}: every file any of its scenes may read. *)
+
+val text_digest : t -> string
+(** {!Dsl.text_digest}. *)
+
+val input_digest : t -> string -> string
 (** [input_digest p f]: the MD5 (hex) of image or mesh file [f] (named as
     {!Dsl.scene_relative} names it) as this program's scenes see it: the digest of the very
     bytes its {!assets} decoded, when they kept it; otherwise of the file on disk when
     first asked ("-" when it cannot be read). Two evaluations at the same time and frame of
-    programs with the same {!Dsl.text_digest} name the same files, so these digests are
-    what else a frame depends on ([lancer animate --resume] and checkpoints rely on it). *)
+    programs with the same {!text_digest} name the same files, so these digests are what
+    else a frame depends on ([lancer animate --resume] and checkpoints rely on it). *)
 
 (** {1 Bodies} *)
 
-val colliders : Dsl.t -> Physics.collider list
+val colliders  : t -> Physics.collider list
 (** The static obstacles of the bodies ({!Physics.colliders} of the scene at time 0). A
     CSG object that is not a union or merge of planes, parallelograms and boxes makes the
     simulation fail with an error at its block (raised as an exception inside this
     module's error boundary: call it through {!simulate} or {!describe} to get it as an
     error). *)
 
-val simulate : Dsl.t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
+val simulate  : t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
 (** The motion of the bodies among {!colliders} under the program's [physics] block,
     computed for [[0, max until duration]] (duration: the animation's, 0 for a still) and
     kept, so that every frame samples the same simulation. *)
@@ -65,7 +98,7 @@ val describe :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
-  Dsl.t ->
+  t ->
   time:float ->
   frame:int ->
   (Description.t, Diagnostic.t list) result
@@ -77,7 +110,7 @@ val scene_and_description :
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
   ?index:bool ->
-  Dsl.t ->
+  t ->
   time:float ->
   frame:int ->
   (Scene.t * Description.t, Diagnostic.t list) result
@@ -88,7 +121,7 @@ val scene_and_description :
     through it, object by object, and is returned without its objects; a later one
     evaluates the program again. [index] is {!Compile.compile}'s. *)
 
-val single_scene : Dsl.t -> unit
+val single_scene  : t -> unit
 (** [single_scene p] says that [p] is loaded for one scene only (a still's render): its
     first scene at time 0 may let the load's description go as it is compiled, so that a
     large scene is not held twice. *)
@@ -98,7 +131,7 @@ val scene_at :
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
   ?index:bool ->
-  Dsl.t ->
+  t ->
   time:float ->
   frame:int ->
   (Scene.t, Diagnostic.t list) result
@@ -108,7 +141,7 @@ val scene_with_files :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
-  Dsl.t ->
+  t ->
   time:float ->
   frame:int ->
   (Scene.t * string list, Diagnostic.t list) result
@@ -118,15 +151,25 @@ val scene_with_files :
 
 (** {1 For [lancer check]} *)
 
-val summary : Dsl.t -> Scene.t -> string
+val summary  : t -> Scene.t -> string
 (** {!Scene_report.summary} of [sc] (the last scene made by {!scene_at}, whose description
     is kept; another is described again), with the program's animation, bodies and
     warnings. *)
 
 val to_json :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
-  Dsl.t ->
+  t ->
   Scene.t ->
   Yojson.Safe.t
 (** {!Scene_report.json} of [sc], as {!summary}; bodies are shown at [sc]'s time by
     [body_state] or else the simulation. *)
+
+(** {1 For the command line and the job layer} *)
+
+val truncated_physics : t -> float option
+(** When the exact physics simulation stopped handling collisions after
+    {!Physics.max_events} events: the time of its last event. *)
+
+val source : builtin:bool -> t -> Source.t
+(** The program as the job layer takes it; its [evaluate] raises {!Job_error.Scene}.
+    [builtin]: the program is the built-in showcase. *)
