@@ -7,7 +7,7 @@
     at least as many frames as ranks (and more than one), otherwise chunks of a few tiles.
     Every rank renders units, rank 0 included: its main domain serves (only it may call
     MPI) while another domain renders rank 0's units over its pool. Each tile is rendered
-    by {!Lancer.Render.render_tile} from the same scene, and its floats travel bit for
+    by {!Lancer_render.Render.render_tile} from the same scene, and its floats travel bit for
     bit, so the pixels are identical to a local render whatever the number of ranks and
     domains. When rank 0 is alone it renders the units itself, a whole frame at a time
     over its pool.
@@ -18,7 +18,6 @@
     ends the whole job. Anything else unexpected while workers are active also ends the
     job (MPI_Abort), since they would otherwise wait for ever. *)
 
-open Lancer
 
 exception Worker_failed of int * string
 (** [Worker_failed (rank, message)]: that rank could not do its unit. *)
@@ -77,7 +76,7 @@ val serve :
     alone) rank 0 only serves. Raises what [on_frame] raises, or {!Worker_failed}, once
     every worker has stopped. [fatal e] reports an unexpected exception and is the status
     the job is then aborted with. [cancel] stops rank 0's own rendering as
-    {!Lancer.Render.render_tiles} does, and the serving loop at its next round (the job is
+    {!Lancer_render.Render.render_tiles} does, and the serving loop at its next round (the job is
     then aborted with [fatal Sys.Break]). *)
 
 val work :

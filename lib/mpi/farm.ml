@@ -12,7 +12,6 @@
    Each worker has at most one request outstanding, so rank 0 answers them in any order.
    Rank 0 renders units as well, on a domain of its own (see [local] below). *)
 
-open Lancer
 open Lancer_job
 open Work
 
