@@ -200,7 +200,7 @@ else fail "worker failure: status $status"; cat bare.err; fi
 # The 16-core run's script, at a tiny size on 1 and 2 ranks: it finds the commands, prints
 # the table and checks every output against lancer's.
 if LANCER=$(command -v lancer) LANCER_MPI=$(command -v lancer-mpi) SCENE_DIR=$(dirname "$showcase") CURVE="1 2" MAX=2 \
-     KINDS="still anim" W=48 H=32 AW=16 AH=9 REPEAT=1 MPIRUN_ARGS=--oversubscribe timeout 120 bash "$(dirname "$bindings")/run16.sh" >run16.out 2>&1 \
+     KINDS="still anim" W=48 H=32 AW=16 AH=9 REPEAT=1 MPIRUN_ARGS=--oversubscribe timeout 120 bash "$(dirname "$bindings")/../../bench/mpi/run16.sh" >run16.out 2>&1 \
    && grep -q '^| lancer-mpi, 2 ranks × 1 domain | 2 | [0-9.]* | [0-9.]*× | [0-9.]* | yes |$' run16.out \
    && grep -q '^| lancer, 2 domains | 2 |' run16.out; then
   ok "run16.sh prints the domain and rank curves, every output the same bytes"
