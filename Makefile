@@ -79,9 +79,9 @@ bench-watch: build
 	$(RUN) ./_build/default/test/watch/latency.exe _build/default/bin/main.exe
 
 # lancer-mpi's scaling model: measured here, checked against runs here, predicted for
-# 16 to 1024 ranks (a still and a 48-frame animation; test/mpi/bench.sh).
+# 16 to 1024 ranks (a still and a 48-frame animation; bench/mpi/bench.sh).
 bench-mpi: build
-	$(RUN) bash test/mpi/bench.sh
+	$(RUN) bash bench/mpi/bench.sh
 
 # What the 16-core run needs on a machine without OCaml, in out/cluster/ and
 # out/cluster.tar.gz: the static lancer, lancer-mpi (it needs Open MPI 5's libraries:
@@ -92,7 +92,7 @@ cluster-bundle: build static
 	install -m 0755 _build/default/bin/static/lancer_static.exe out/cluster/lancer
 	install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe out/cluster/lancer-mpi
 	install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe out/cluster/lancer-mpirun
-	install -m 0755 test/mpi/run16.sh out/cluster/run16.sh
+	install -m 0755 bench/mpi/run16.sh out/cluster/run16.sh
 	install -m 0644 scenes/bounce.rts out/cluster/bounce.rts
 	tar -C out -czf out/cluster.tar.gz cluster
 	@echo "out/cluster.tar.gz: unpack it on the 16-core machine and run cluster/run16.sh"
@@ -125,16 +125,16 @@ clean:
 clean-toolchain:
 	bash .ci/toolchain clean
 
-# Every speed target side by side (test/embree/bench.sh): lancer against Embree (an own
-# harness, test/embree/) on the scenes of the speed table, an animation against one still,
+# Every speed target side by side (bench/embree/bench.sh): lancer against Embree (an own
+# harness, bench/embree/) on the scenes of the speed table, an animation against one still,
 # the scene language against CPython; installs libembree-dev, GNU time and python3 where
 # missing, and skips a row with a message where its tool cannot be had.
 bench-limit: build
 	-@bash .ci/toolchain install libembree-dev time || echo "bench-limit: could not install libembree-dev"
 	-@bash .ci/toolchain install python3-minimal || echo "bench-limit: could not install python3"
-	$(RUN) bash test/embree/bench.sh
+	$(RUN) bash bench/embree/bench.sh
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
 bench-povray: build
 	bash .ci/toolchain install povray
-	$(RUN) bash test/povray/bench.sh
+	$(RUN) bash bench/povray/bench.sh

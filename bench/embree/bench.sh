@@ -2,7 +2,7 @@
 # lancer's speed targets, side by side in one run (make bench-limit): each row is a piece of
 # work, lancer's figure, the reference's, their ratio, the target and whether it is met.
 #
-#   * against Embree (an own harness, test/embree/lancer_embree.c, one thread; lancer on one
+#   * against Embree (an own harness, bench/embree/lancer_embree.c, one thread; lancer on one
 #     domain): the 100 000-sphere field at W×H, a torus of 2·NU·NV triangles read from an OBJ
 #     (time and peak memory) and GRID² spheres made by a loop of the scene language (time,
 #     and lancer's whole render and peak memory on their own). The pixels are compared with
@@ -31,7 +31,7 @@ tmp=$(mktemp -d -p "$root/_build"); trap 'rm -rf "$tmp"' EXIT
 embree=yes
 if [ ! -f /usr/include/embree4/rtcore.h ]; then
   embree="libembree-dev (Embree 4) is not installed (make bench-limit installs it)"
-elif ! cc -O2 -o "$tmp/lancer_embree" test/embree/lancer_embree.c -lembree4 -lm 2>"$tmp/cc"; then
+elif ! cc -O2 -o "$tmp/lancer_embree" bench/embree/lancer_embree.c -lembree4 -lm 2>"$tmp/cc"; then
   embree="the Embree harness did not build: $(head -n 1 "$tmp/cc")"
 fi
 python=$(command -v python3 || true)
@@ -79,7 +79,7 @@ against() {
   fi
 }
 
-awk -v NU="$NU" -v NV="$NV" -f test/embree/torus.awk >"$tmp/torus.obj"
+awk -v NU="$NU" -v NV="$NV" -f bench/embree/torus.awk >"$tmp/torus.obj"
 cat >"$tmp/torus.rts" <<RTS
 settings { width: 64, height: 48 }
 camera { position: (0, 3, -4), look_at: (0, 0, 0), fov: 50 }

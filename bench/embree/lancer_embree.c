@@ -6,8 +6,8 @@
    found, so that only edge pixels may differ from lancer's image.
 
    lancer_embree field N W H OUT.ppm     the N×N sphere field of scenes/bench/field_*.rts
-   lancer_embree grid N W H OUT.ppm      N×N spheres from a loop (test/embree/bench.sh)
-   lancer_embree mesh FILE.obj W H OUT.ppm  a white mesh above nothing (test/embree/bench.sh) */
+   lancer_embree grid N W H OUT.ppm      N×N spheres from a loop (bench/embree/bench.sh)
+   lancer_embree mesh FILE.obj W H OUT.ppm  a white mesh above nothing (bench/embree/bench.sh) */
 #include <embree4/rtcore.h>
 #include <math.h>
 #include <stdio.h>
@@ -140,11 +140,11 @@ int main(int argc, char **argv) {
     int n = atoi(argv[2]);
     spheres(n, 40. / n, 0.4, 1); plane = 1; attach_spheres();
     cam = V(0, 30, -45); look = V(0, 0, 0); light = V(-20, 40, -30); fov = 50; bg = V(0.1, 0.1, 0.15);
-  } else if (!strcmp(argv[1], "grid")) {      /* test/embree/bench.sh's loop of spheres */
+  } else if (!strcmp(argv[1], "grid")) {      /* bench/embree/bench.sh's loop of spheres */
     int n = atoi(argv[2]);
     spheres(n, 1, 0.4, 0); attach_spheres();
     cam = V(0, 0.6 * n, -0.9 * n); look = V(0, 0, 0); light = V(-0.4 * n, 0.8 * n, -0.6 * n); fov = 50; bg = V(0, 0, 0);
-  } else if (!strcmp(argv[1], "mesh")) {      /* test/embree/torus.awk's torus */
+  } else if (!strcmp(argv[1], "mesh")) {      /* bench/embree/torus.awk's torus */
     read_obj(argv[2]);
     cam = V(0, 3, -4); look = V(0, 0, 0); light = V(-3, 5, -4); fov = 50; bg = V(0, 0, 0);
   } else die("unknown scene kind");

@@ -6,11 +6,11 @@
 # 1. It measures what the model needs, on this machine: the render time per pixel on one
 #    domain, a frame's scene evaluation and write, the fixed cost of a job (mpirun,
 #    start-up, evaluating the scene: lancer-mpi on a 32×32 image) for 1 to 8 ranks, and
-#    rank 0's serving rate with units that render nothing (test/mpi/serve_rate.exe,
+#    rank 0's serving rate with units that render nothing (bench/mpi/serve_rate.exe,
 #    under mpirun -np 2..8 --oversubscribe) for units of one tile, of a still's chunk and
 #    of a whole frame, which gives its cost per unit and per byte.
 # 2. It runs lancer-mpi here (1 and 2 ranks, and more ranks or domains than cores) and
-#    prints each time next to the model's prediction (test/mpi/model.exe says how it
+#    prints each time next to the model's prediction (bench/mpi/model.exe says how it
 #    predicts), for as many cores as lancer's own speed-up on every core shows this
 #    machine gives (on a shared machine, other jobs take some).
 # 3. It predicts 16, 64, 256 and 1024 ranks of 1 and of 16 domains, where rank 0's link
@@ -23,11 +23,11 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
 command -v mpirun >/dev/null 2>&1 || { echo "bench-mpi: mpirun is not installed (apt-get install openmpi-bin libopenmpi-dev)"; exit 1; }
-dune build @install ./test/mpi/serve_rate.exe ./test/mpi/model.exe 2>&1 | tail -n 5
+dune build @install ./bench/mpi/serve_rate.exe ./bench/mpi/model.exe 2>&1 | tail -n 5
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 lmpi=${LANCER_MPI:-"$root/_build/default/bin/mpi/lancer_mpi_main.exe"}
-rate=$root/_build/default/test/mpi/serve_rate.exe
-model=$root/_build/default/test/mpi/model.exe
+rate=$root/_build/default/bench/mpi/serve_rate.exe
+model=$root/_build/default/bench/mpi/model.exe
 W=${W:-1920}; H=${H:-1080}; AW=${AW:-480}; AH=${AH:-270}; REPEAT=${REPEAT:-3}; LINK_GBPS=${LINK_GBPS:-10}
 cores=$(nproc)
 export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1} OMPI_MCA_btl=${OMPI_MCA_btl:-self,sm}
@@ -99,7 +99,7 @@ doubling=$(calc "${fixed[2]} > ${fixed[1]} ? ${fixed[2]} - ${fixed[1]} : 0")
 
 # Rank 0's serving rate with empty units.
 echo
-echo "### Rank 0's serving rate, units that render nothing (test/mpi/serve_rate.exe)"
+echo "### Rank 0's serving rate, units that render nothing (bench/mpi/serve_rate.exe)"
 echo
 echo "| units | bytes per unit | ranks | units | seconds | units/s | MB/s into rank 0 | median wait (ms) |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"

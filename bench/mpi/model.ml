@@ -1,4 +1,4 @@
-(* The scaling model of lancer-mpi (make bench-mpi, test/mpi/bench.sh): the time of a job
+(* The scaling model of lancer-mpi (make bench-mpi, bench/mpi/bench.sh): the time of a job
    on N ranks of d domains, predicted from figures measured on one machine. It replays
    the job as lancer-mpi runs it: the units are those Farm.plan cuts, in its order, and
    whichever rank is free first asks rank 0 for the next one (on demand). Rank 0's
