@@ -498,7 +498,7 @@ let load_source ?progress ?digests (filename, text) =
       warn_truncated p;
       p
   | Error errs when filename = "showcase.rts" && text == Showcase.text ->
-      user "the built-in showcase does not load:\n%s" (Report.errors_text errs)
+      user "the built-in showcase does not load:\n%s" (Job_error.errors_text errs)
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
 let load_bundle b =

@@ -130,7 +130,7 @@ let shown_errors ~any_line scene =
 (* The text of an error that ends a version, each located error through [show_error]. *)
 let describe show_error e =
   fst
-    (Report.describe
+    (Job_error.describe
        (match e with
        | Job_error.Scene { errors; note } ->
            Job_error.Scene { errors = List.map show_error errors; note }
@@ -146,7 +146,7 @@ let load show_error path =
       | Ok p -> Ok p
       | Error errs ->
           Error
-            ( Report.errors_text (List.map show_error errs),
+            ( Job_error.errors_text (List.map show_error errs),
               List.map (fun (e : Diagnostic.t) -> e.file) errs ))
 
 type version = {
