@@ -13,15 +13,15 @@ let time_render ?pool sc =
   let fb, st = Render.render ?pool sc in
   (Unix.gettimeofday () -. t0, fb, st)
 
-let domains_cmd (o : Cli.opts) counts repeat json =
-  let prog = Cli.scene_source o (Cli.load o.scene) in
-  let time, frame = Cli.time_of o prog in
-  let sc = Cli.scene_at o prog ~time ~frame in
+let domains_cmd (o : Options.t) counts repeat json =
+  let prog = Scene_file.source o (Scene_file.load o.scene) in
+  let time, frame = Options.time_of o prog in
+  let sc = Options.scene_at o prog ~time ~frame in
   let cores = Domain.recommended_domain_count () in
   let rows =
     List.map
       (fun n ->
-        if n < 1 then raise (Cli.User_error "domain counts must be at least 1");
+        if n < 1 then raise (Job_error.User "domain counts must be at least 1");
         Render.with_pool n (fun pool ->
             ignore (time_render ?pool sc) (* warm-up: pool start, caches *);
             let w0 = Gc.minor_words () in
@@ -109,7 +109,7 @@ let rec mkdir_p d =
     mkdir_p (Filename.dirname d);
     try Unix.mkdir d 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ())
 
-let scene_text (o : Cli.opts) = snd (Cli.source o)
+let scene_text (o : Options.t) = snd (Scene_file.read o.scene)
 
 (* The version of the lancer command (as [lancer --version] prints it). *)
 let version = Lancer.Version.v
@@ -131,9 +131,9 @@ let cache_key parts =
 
 (* The reference: the reference preset at 16×16 samples, depth 64, cached under the scene
    text, the size and the build. *)
-let reference (o : Cli.opts) prog ~pool ~fresh =
+let reference (o : Options.t) prog ~pool ~fresh =
   let base =
-    Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0
+    Options.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0
   in
   let s = base.settings in
   let key =
@@ -147,7 +147,7 @@ let reference (o : Cli.opts) prog ~pool ~fresh =
       let sc =
         match Scene.with_settings base { s with samples = 16; depth = 64 } with
         | Ok sc -> sc
-        | Error m -> raise (Cli.User_error m)
+        | Error m -> raise (Job_error.User m)
       in
       let fb, _ = Render.render ?pool sc in
       let bytes = Image.to_bytes sc.settings.gamma fb in
@@ -215,9 +215,9 @@ let write_rows path ~measured_at rows =
   ignore
     (Image.write_atomic path (fun oc -> output_string oc (Yojson.Safe.pretty_to_string j)))
 
-let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
+let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
   let base =
-    Cli.scene_at
+    Options.scene_at
       { o with quality = None; width = Some w; height = Some h }
       prog ~time:0. ~frame:0
   in
@@ -235,12 +235,12 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
           psnr = cmp.psnr;
           over_share = cmp.over_share;
         }
-    | Error m -> raise (Cli.User_error m)
+    | Error m -> raise (Job_error.User m)
   in
   let with_s f =
     match Scene.with_settings base (f base.settings) with
     | Ok sc -> sc
-    | Error m -> raise (Cli.User_error m)
+    | Error m -> raise (Job_error.User m)
   in
   List.map
     (fun n ->
@@ -276,7 +276,7 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
                   (Camera.with_lens_samples base.camera n)
               with
              | Ok sc -> sc
-             | Error m -> raise (Cli.User_error m)))
+             | Error m -> raise (Job_error.User m)))
          [ 1; 2; 4; 8 ]
      else [])
   @ List.map
@@ -284,14 +284,14 @@ let measure_rows (o : Cli.opts) prog ~pool ~ref_img:((w, h, _) as ref_img) =
         run "preset" name
           (match Quality.apply q base with
           | Ok sc -> sc
-          | Error m -> raise (Cli.User_error m)))
+          | Error m -> raise (Job_error.User m)))
       Quality.all
 
-let quality_cmd (o : Cli.opts) json svg fresh =
-  let prog = Cli.scene_source o (Cli.load o.scene) in
-  let domains = Cli.domains o in
+let quality_cmd (o : Options.t) json svg fresh =
+  let prog = Scene_file.source o (Scene_file.load o.scene) in
+  let domains = Options.domains o in
   let s =
-    (Cli.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0)
+    (Options.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0)
       .settings
   in
   let w = s.width and h = s.height in
@@ -527,9 +527,9 @@ let physics_row ~until ~sample_rate ~e meth step =
 
 let physics_cmd rates until sample_rate json =
   if List.exists (fun r -> not (r > 0.)) rates then
-    raise (Cli.User_error "step rates must be positive");
-  if not (until > 0.) then raise (Cli.User_error "--until must be positive");
-  if not (sample_rate > 0.) then raise (Cli.User_error "--sample-rate must be positive");
+    raise (Job_error.User "step rates must be positive");
+  if not (until > 0.) then raise (Job_error.User "--until must be positive");
+  if not (sample_rate > 0.) then raise (Job_error.User "--sample-rate must be positive");
   let configs =
     (Physics.Exact, None)
     :: List.concat_map
@@ -680,7 +680,7 @@ let scale_measure ~repeat ~count ~width ~height ~domains =
     (* Gc.minor_words counts this domain's allocations only *)
     words_per_ray =
       (if domains = 1 then words /. Float.of_int (max 1 rays) else Float.nan);
-    peak_kib = Cli.peak_memory_kib ();
+    peak_kib = Render_report.peak_memory_kib ();
   }
 
 let scale_row_json r =
@@ -740,12 +740,12 @@ let scale_child ~repeat ~count ~width ~height ~domains =
       try scale_row_of_json (Yojson.Safe.from_string out)
       with _ ->
         raise
-          (Cli.User_error
+          (Job_error.User
              ("bench scaling: unreadable row from the child process: " ^ String.trim out))
       )
   | Unix.WEXITED c | Unix.WSIGNALED c | Unix.WSTOPPED c ->
       raise
-        (Cli.User_error
+        (Job_error.User
            (Printf.sprintf
               "bench scaling: the child measuring %d spheres at %d×%d on %d domains \
                failed (status %d)"
@@ -781,31 +781,31 @@ let scaling_cmd ~repeat ~counts ~width ~height ~domains ~domain_counts ~sizes ~b
           print_endline
             (Yojson.Safe.to_string
                (scale_row_json (scale_measure ~repeat ~count ~width ~height ~domains)))
-      | None -> raise (Cli.User_error ("--row expects COUNT,WxH,DOMAINS, not " ^ s)))
+      | None -> raise (Job_error.User ("--row expects COUNT,WxH,DOMAINS, not " ^ s)))
   | None ->
       if List.exists (fun n -> n < 1) counts || base_count < 1 then
-        raise (Cli.User_error "sphere counts must be at least 1");
+        raise (Job_error.User "sphere counts must be at least 1");
       if width < 1 || height < 1 then
-        raise (Cli.User_error "--width and --height must be at least 1");
+        raise (Job_error.User "--width and --height must be at least 1");
       if domains < 1 || List.exists (fun n -> n < 1) domain_counts then
-        raise (Cli.User_error "domain counts must be at least 1");
+        raise (Job_error.User "domain counts must be at least 1");
       let sizes =
         List.map
           (fun s ->
             match parse_size s with
             | Some wh -> wh
-            | None -> raise (Cli.User_error ("not a size WxH: " ^ s)))
+            | None -> raise (Job_error.User ("not a size WxH: " ^ s)))
           sizes
       in
       List.iter
         (fun s ->
           if not (List.mem s [ "counts"; "domains"; "sizes" ]) then
-            raise (Cli.User_error ("unknown sweep " ^ s ^ " (counts, domains or sizes)")))
+            raise (Job_error.User ("unknown sweep " ^ s ^ " (counts, domains or sizes)")))
         sweeps;
       let domain_counts =
         if domain_counts = [] then default_domain_counts () else domain_counts
       in
-      if repeat < 1 then raise (Cli.User_error "--repeat must be at least 1");
+      if repeat < 1 then raise (Job_error.User "--repeat must be at least 1");
       let measure = if in_process then scale_measure ~repeat else scale_child ~repeat in
       let memory_scope =
         if in_process then "process (running maximum over the rows so far)"
@@ -904,7 +904,7 @@ let child_time what args =
   | Unix.WEXITED 0 -> dt
   | Unix.WEXITED c | Unix.WSIGNALED c | Unix.WSTOPPED c ->
       raise
-        (Cli.User_error
+        (Job_error.User
            (Printf.sprintf
               "bench animation: lancer %s failed (status %d): run it alone to see why"
               what c))
@@ -917,9 +917,9 @@ let rec remove_tree p =
     else Sys.remove p
 
 let animation_cmd scene repeat domains json =
-  if repeat < 1 then raise (Cli.User_error "bench animation: --repeat must be at least 1");
+  if repeat < 1 then raise (Job_error.User "bench animation: --repeat must be at least 1");
   if not (Sys.file_exists scene) then
-    raise (Cli.User_error (Printf.sprintf "bench animation: no scene %s" scene));
+    raise (Job_error.User (Printf.sprintf "bench animation: no scene %s" scene));
   let dir =
     Filename.concat
       (Filename.get_temp_dir_name ())
@@ -1024,7 +1024,7 @@ let language_eval text =
       (t, words, live)
   | Error es ->
       raise
-        (Cli.User_error
+        (Job_error.User
            ("the benchmark's program failed: "
            ^ String.concat "" (List.map Lancer_dsl.Error.to_string es)))
 
@@ -1047,8 +1047,8 @@ let python_time python code =
   | _ -> None
 
 let language_cmd repeat grid json =
-  if repeat < 1 then raise (Cli.User_error "--repeat must be at least 1");
-  if grid < 1 then raise (Cli.User_error "--grid must be at least 1");
+  if repeat < 1 then raise (Job_error.User "--repeat must be at least 1");
+  if grid < 1 then raise (Job_error.User "--grid must be at least 1");
   let python = on_path "python3" in
   let runs f = List.init repeat (fun _ -> f ()) in
   (* Alternated, so that a change in the machine's load falls on both. *)

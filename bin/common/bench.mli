@@ -22,10 +22,10 @@
       blocks, as many with a material expression each, and as many rotated boxes in
       translated groups (in this process: time, words allocated and held per block). *)
 
-val domains_cmd : Cli.opts -> int list -> int -> bool -> unit
+val domains_cmd : Lancer.Options.t -> int list -> int -> bool -> unit
 (** [domains_cmd opts counts repeat json]. *)
 
-val quality_cmd : Cli.opts -> bool -> string option -> bool -> unit
+val quality_cmd : Lancer.Options.t -> bool -> string option -> bool -> unit
 (** [quality_cmd opts json svg fresh]. *)
 
 val physics_cmd : float list -> float -> float -> bool -> unit

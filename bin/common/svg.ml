@@ -139,4 +139,4 @@ let write ?title path rows =
   pr "</svg>\n";
   match Lancer.Image.write_atomic path (fun oc -> Buffer.output_buffer oc b) with
   | Ok () -> ()
-  | Error m -> raise (Cli.User_error m)
+  | Error m -> raise (Lancer.Job_error.User m)

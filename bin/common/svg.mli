@@ -5,4 +5,4 @@
 
 val write : ?title:string -> string -> (string * string * float * float) list -> unit
 (** [write ?title path rows] with rows (knob, value, seconds, psnr); atomic; raises
-    [Cli.User_error] when the file cannot be written. *)
+    [Lancer.Job_error.User] when the file cannot be written. *)

@@ -91,7 +91,7 @@ let full_pass pool cancel sc =
   try Render.render ?pool ~cancel sc
   with Sys.Break when Cancel.cancelled cancel -> raise Cancelled
 
-let knobs (o : Cli.opts) (sc : Scene.t) =
+let knobs (o : Options.t) (sc : Scene.t) =
   let s = sc.settings in
   `Assoc
     [
@@ -139,8 +139,8 @@ let describe show_error e =
 (* Load the scene: the program, or the text lancer prints for its errors and the files
    they name (to be watched too). *)
 let load show_error path =
-  match Cli.source { (Cli.default_opts ()) with scene = Some path } with
-  | exception (Cli.User_error _ as e) -> Error (describe show_error e, [])
+  match Scene_file.read (Some path) with
+  | exception (Job_error.User _ as e) -> Error (describe show_error e, [])
   | filename, text -> (
       match Program.load_string ~filename text with
       | Ok p -> Ok p
@@ -159,7 +159,7 @@ type version = {
 
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
-let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
+let render_version sh show_error (o : Options.t) pool tmp prog seq v =
   let cancelled () = Cancel.cancelled v.cancel in
   let path = Option.get o.scene in
   let failed text files =
@@ -198,16 +198,16 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
         match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview
       in
       let evaluated =
-        let src = Cli.scene_source o p in
+        let src = Scene_file.source o p in
         try
-          let sc = Cli.scene_at o src ~time ~frame in
+          let sc = Options.scene_at o src ~time ~frame in
           let coarse =
-            Cli.scene_at
+            Options.scene_at
               { o with quality = Some coarse_q; samples = None }
               src ~time ~frame
           in
           Ok (sc, coarse)
-        with (Cli.User_error _ | Job_error.Scene _) as e ->
+        with (Job_error.User _ | Job_error.Scene _) as e ->
           Error (describe show_error e)
       in
       (* A frame may read files that frame 0 does not (an image chosen by [frame]): they
@@ -326,7 +326,7 @@ let render_version sh show_error (o : Cli.opts) pool tmp prog seq v =
                   (Unix.gettimeofday () -. v.t0)))
             passes)
 
-let renderer sh show_error (o : Cli.opts) domains tmp () =
+let renderer sh show_error (o : Options.t) domains tmp () =
   Render.with_pool domains (fun pool ->
       let prog = ref None and seq = ref 0 in
       let rec loop () =
@@ -736,35 +736,37 @@ let listen_address addr =
       | _ -> (addr, Beyond)
       | exception (Invalid_argument _ | Failure _) -> (addr, Beyond))
 
-let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback ~any_source_line =
+let run stop (o : Options.t) ~host ~port ~poll ~beyond_loopback ~any_source_line =
   ignore (Report.on_interrupt stop);
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let path =
     match o.scene with
     | Some "-" ->
-        Cli.user
+        Job_error.user
           "watch needs a scene file to watch, not standard input: lancer watch SCENE.rts"
     | Some p -> p
-    | None -> Cli.user "watch needs a scene file: lancer watch SCENE.rts"
+    | None -> Job_error.user "watch needs a scene file: lancer watch SCENE.rts"
   in
-  ignore (Cli.source o);
-  let domains = Cli.domains o in
-  Option.iter (fun d -> if d < 1 then Cli.user "--width must be at least 1") o.width;
-  Option.iter (fun d -> if d < 1 then Cli.user "--height must be at least 1") o.height;
+  ignore (Scene_file.read o.scene);
+  let domains = Options.domains o in
+  Option.iter (fun d -> if d < 1 then Job_error.user "--width must be at least 1") o.width;
+  Option.iter
+    (fun d -> if d < 1 then Job_error.user "--height must be at least 1")
+    o.height;
   let addr, reach =
     match Unix.inet_addr_of_string host with
     | a -> listen_address a
-    | exception Failure _ -> Cli.user "--host must be an IP address (got %S)" host
+    | exception Failure _ -> Job_error.user "--host must be an IP address (got %S)" host
   in
   (match reach with
   | Everywhere ->
-      Cli.user
+      Job_error.user
         "--host must be one address of this machine, not %s (every address): the server \
          answers only requests addressed to it"
         host
   | Beyond when not beyond_loopback ->
-      Cli.user
+      Job_error.user
         "--host %s is not a loopback address: the preview, which asks for no password, \
          would be open to other machines; add --listen-beyond-loopback to mean that"
         host
@@ -777,7 +779,7 @@ let run stop (o : Cli.opts) ~host ~port ~poll ~beyond_loopback ~any_source_line 
   Lwt_unix.setsockopt sock Unix.SO_REUSEADDR true;
   (try Unix.bind (Lwt_unix.unix_file_descr sock) (Unix.ADDR_INET (addr, port))
    with Unix.Unix_error (e, _, _) ->
-     Cli.user "cannot listen on %s:%d: %s" host port (Unix.error_message e));
+     Job_error.user "cannot listen on %s:%d: %s" host port (Unix.error_message e));
   Lwt_unix.listen sock 64;
   let port =
     match Unix.getsockname (Lwt_unix.unix_file_descr sock) with
@@ -1153,7 +1155,7 @@ let cmd =
         ->
           let o =
             {
-              (Cli.default_opts ()) with
+              Options.default with
               scene = Some scene;
               width;
               height;

@@ -2,7 +2,8 @@
 
     The layers, each using only those before it: [lancer.math], [lancer.diag],
     [lancer.description], [lancer.image] and [lancer.physics], [lancer.render],
-    [lancer.job], and [lancer.program] (which also uses the scene language). *)
+    [lancer.job], [lancer.program] (which also uses the scene language), and [lancer.run]
+    (the commands' pipelines as library functions). *)
 
 (** {1 [lancer.math]} *)
 
@@ -86,3 +87,15 @@ module Version = Version
 (** {1 [lancer.program]} *)
 
 module Program = Lancer_program.Program
+
+(** {1 [lancer.run]} *)
+
+module Check_run = Lancer_run.Check_run
+module Compare_run = Lancer_run.Compare_run
+module Frames_run = Lancer_run.Frames_run
+module Options = Lancer_run.Options
+module Output = Lancer_run.Output
+module Progress = Lancer_run.Progress
+module Render_report = Lancer_run.Render_report
+module Scene_file = Lancer_run.Scene_file
+module Still_run = Lancer_run.Still_run

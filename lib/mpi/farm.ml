@@ -19,6 +19,7 @@ type request =
   | Ready of int
   | Done of work_unit * Stats.t * float * (string * string) list
   | Failed of string
+
 type reply = Work of work_unit | Stop
 
 let tag_request = 1
@@ -75,6 +76,38 @@ let percentile p = function
            (min
               (Array.length a - 1)
               (int_of_float (Float.ceil (p *. Float.of_int (Array.length a))) - 1)))
+
+let report_json r =
+  let ms x =
+    if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3)
+  in
+  let waits l =
+    `Assoc
+      [
+        ("count", `Int (List.length l));
+        ("median", ms (percentile 0.5 l));
+        ("p90", ms (percentile 0.9 l));
+        ("max", ms (List.fold_left Float.max Float.neg_infinity l));
+      ]
+  in
+  let others =
+    List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1)))
+  in
+  let rank k =
+    `Assoc
+      [
+        ("rank", `Int k);
+        ("units", `Int r.units.(k));
+        ("tiles", `Int r.tiles.(k));
+        ("wait_ms", waits r.waits.(k));
+      ]
+  in
+  `Assoc
+    [
+      ("units", `Int (Array.fold_left ( + ) 0 r.units));
+      ("reply_wait_ms", waits others);
+      ("ranks", `List (List.init (Array.length r.units) rank));
+    ]
 
 (* Rank 0's own worker: a domain that renders, over rank 0's pool, the units the serving
    loop hands it, so that the serving loop (the only domain allowed to call MPI) stays

@@ -52,10 +52,11 @@ let layers =
     ("lancer_job", "lib/job", 6);
     ("lancer_program", "lib/program", 7);
     ("lancer_mpi", "lib/mpi", 7);
-    ("lancer", "lib/lancer", 8);
-    ("lancer_cli", "bin/common", 9);
-    ("commands", "bin", 10);
-    ("lancer-mpi", "bin/mpi", 10);
+    ("lancer_run", "lib/run", 8);
+    ("lancer", "lib/lancer", 9);
+    ("lancer_cli", "bin/common", 10);
+    ("commands", "bin", 11);
+    ("lancer-mpi", "bin/mpi", 11);
   ]
 
 (* What a layer may not use although it lies below: the job layer asks for scenes

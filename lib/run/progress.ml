@@ -64,3 +64,39 @@ let finish p =
     Mutex.protect p.lock (fun () ->
         prerr_string "\r\027[K";
         flush stderr)
+
+(* ---- What a command's options ask for ---- *)
+
+let for_options (o : Options.t) ~label ~total =
+  let mode =
+    if o.quiet then Off
+    else if Unix.isatty Unix.stderr then Terminal
+    else if o.progress then Lines
+    else Off
+  in
+  create ~mode ~label ~total ()
+
+(* What the build is doing, on the progress channel: one line redrawn in place on a
+   terminal, lines with --progress, nothing otherwise. *)
+let building (o : Options.t) what =
+  match (o.quiet, Unix.isatty Unix.stderr, o.progress) with
+  | true, _, _ -> ()
+  | false, true, _ -> Printf.eprintf "\r\027[Kbuilding: %s…%!" what
+  | false, false, true -> Printf.eprintf "building: %s\n%!" what
+  | false, false, false -> ()
+
+let built (o : Options.t) =
+  if (not o.quiet) && Unix.isatty Unix.stderr then Printf.eprintf "\r\027[K%!"
+
+let writing (o : Options.t) path f =
+  let path = if path = "-" then "the image to standard output" else path in
+  (match (o.quiet, Unix.isatty Unix.stderr, o.progress) with
+  | true, _, _ | false, false, false -> ()
+  | false, true, _ -> Printf.eprintf "\r\027[Kwriting %s…%!" path
+  | false, false, true -> Printf.eprintf "writing %s\n%!" path);
+  Fun.protect ~finally:(fun () -> built o) f
+
+let build o f =
+  let t0 = Unix.gettimeofday () in
+  let r = Fun.protect ~finally:(fun () -> built o) (fun () -> f (building o)) in
+  (r, Unix.gettimeofday () -. t0)
