@@ -54,9 +54,10 @@ let layers =
     ("lancer_mpi", "lib/mpi", 7);
     ("lancer_run", "lib/run", 8);
     ("lancer", "lib/lancer", 9);
-    ("lancer_cli", "bin/common", 10);
-    ("commands", "bin", 11);
-    ("lancer-mpi", "bin/mpi", 11);
+    ("lancer_preview", "lib/preview", 10);
+    ("lancer_cli", "bin/common", 11);
+    ("commands", "bin", 12);
+    ("lancer-mpi", "bin/mpi", 12);
   ]
 
 (* What a layer may not use although it lies below: the job layer asks for scenes
