@@ -65,13 +65,16 @@ test: deps
 golden-update: build
 	$(RUN) env LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
 
+# The user's measures (lancer bench) and the developers' benchmarks (bench/lancer_bench.exe,
+# not installed).
 bench: build
-	$(RUN) $(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
+	$(RUN) $(DUNE) build -j $(JOBS) ./bench/lancer_bench.exe
+	$(RUN) ./_build/default/bench/lancer_bench.exe scaling --counts 1000,10000,100000,1000000
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains scenes/bench/three_spheres.rts --counts 1 --repeat 1
-	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
+	$(RUN) ./_build/default/bench/lancer_bench.exe physics
 	$(RUN) $(DUNE) exec --no-build -- lancer bench animation scenes/bench/field_moving.rts
-	$(RUN) $(DUNE) exec --no-build -- lancer bench language
+	$(RUN) ./_build/default/bench/lancer_bench.exe language
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
 bench-watch: build

@@ -21,8 +21,9 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
 
 command -v /usr/bin/time >/dev/null 2>&1 || { echo "bench-limit: GNU time is missing (make bench-limit installs it)" >&2; exit 1; }
-dune build @install 2>&1 | tail -n 5
+dune build @install ./bench/lancer_bench.exe 2>&1 | tail -n 5
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
+lancer_bench=${LANCER_BENCH:-"$root/_build/default/bench/lancer_bench.exe"}
 W=${W:-1920}; H=${H:-1080}; GRID=${GRID:-1000}; NU=${NU:-1000}; NV=${NV:-500}
 REPEAT=${REPEAT:-3}; LOOP=${LOOP:-3000000}; ANIMATION_TARGET=${ANIMATION_TARGET:-4}
 mkdir -p "$root/_build"
@@ -148,11 +149,11 @@ else
   out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython: skipped" "—" "≤ 0.5×" "—" "python3 is not on the PATH (make bench-limit installs it)"
 fi
 
-# The evaluation of the spheres alone, in one process (lancer bench language, its JSON).
-lang=$("$lancer" bench language --grid "$GRID" --repeat "$REPEAT" --json 2>/dev/null || true)
+# The evaluation of the spheres alone, in one process (lancer_bench language, its JSON).
+lang=$("$lancer_bench" language --grid "$GRID" --repeat "$REPEAT" --json 2>/dev/null || true)
 jget() { echo "$lang" | sed -n "s/.*\"$1\": *\([-0-9.e+]*\).*/\1/p" | head -n 1; }
 echo
 if [ -n "$(jget objects_seconds)" ]; then
-  echo "The $((GRID * GRID)) spheres' evaluation alone (lancer bench language --grid $GRID): $(secs "$(jget objects_seconds)"), $(jget minor_words_per_object | awk '{printf "%.0f", $1}') words allocated a sphere."
+  echo "The $((GRID * GRID)) spheres' evaluation alone (lancer_bench language --grid $GRID): $(secs "$(jget objects_seconds)"), $(jget minor_words_per_object | awk '{printf "%.0f", $1}') words allocated a sphere."
 fi
 echo "lancer check of the same scene (parse, evaluation, checks, estimates): $grid_check."

@@ -42,7 +42,6 @@ module Safe_file = Lancer_image.Safe_file
 
 (** {1 [lancer.physics]} *)
 
-module Drop = Lancer_physics.Drop
 module Physics = Lancer_physics.Physics
 
 (** {1 [lancer.render]} *)

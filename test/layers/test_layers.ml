@@ -55,9 +55,11 @@ let layers =
     ("lancer_run", "lib/run", 8);
     ("lancer", "lib/lancer", 9);
     ("lancer_preview", "lib/preview", 10);
+    ("lancer_measure", "lib/measure", 10);
     ("lancer_cli", "bin/common", 11);
     ("commands", "bin", 12);
     ("lancer-mpi", "bin/mpi", 12);
+    ("lancer_benchmarks", "bench", 12);
   ]
 
 (* What a layer may not use although it lies below: the job layer asks for scenes
