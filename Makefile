@@ -78,8 +78,8 @@ bench: build
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
 bench-watch: build
-	$(RUN) $(DUNE) build -j $(JOBS) ./test/watch/latency.exe
-	$(RUN) ./_build/default/test/watch/latency.exe _build/default/bin/main.exe
+	$(RUN) $(DUNE) build -j $(JOBS) ./bench/watch/latency.exe
+	$(RUN) ./_build/default/bench/watch/latency.exe _build/default/bin/main.exe
 
 # lancer-mpi's scaling model: measured here, checked against runs here, predicted for
 # 16 to 1024 ranks (a still and a 48-frame animation; bench/mpi/bench.sh).
