@@ -3,7 +3,7 @@
    showcase at 640×480 with its own settings, with the colour of one sphere changed on
    each save; the median of 5 saves (after a first render that is not counted).
 
-     dune exec -- test/watch/latency.exe [LANCER] [EXTRA OPTIONS…]   (or: make bench-watch) *)
+     dune exec -- bench/watch/latency.exe [LANCER] [EXTRA OPTIONS…]   (or: make bench-watch) *)
 
 open Watch_client
 
