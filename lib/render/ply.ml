@@ -359,8 +359,9 @@ let parse_mesh ?(smooth = true) ~file text =
                  stride := !stride + size (scalar i)
                done;
                let stride = !stride and base = c.pos in
-               if e.count > (String.length t - base) / max 1 stride then
-                 bad "%s: the file ends before its last element" (where c);
+               if e.count > (String.length t - base) / max 1 stride then (
+                 c.pos <- String.length t;
+                 bad "%s: the file ends before its last element" (where c));
                let at k i = get_float ~le (scalar i) t (base + (k * stride) + offs.(i)) in
                for k = 0 to e.count - 1 do
                  let px = at k x and py = at k y and pz = at k z in
