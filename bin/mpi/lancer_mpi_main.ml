@@ -80,7 +80,9 @@ let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
           | _ -> max 1 (Domain.recommended_domain_count ())
         in
         Render.with_pool domains (fun pool ->
-            Farm.work ~describe:Report.message ~pool ~domains (fun key ->
+            Farm.work ~describe:Report.message ~pool ~domains
+              ~prepare:(fun () -> ignore (Lazy.force prog))
+              (fun key ->
                 scene_of (Lazy.force prog) key));
         0
 

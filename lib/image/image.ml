@@ -117,6 +117,7 @@ let to_bytes gamma fb =
 type format = Png | Ppm | Exr | Hdr | Pfm
 
 let linear = function Exr | Hdr | Pfm -> true | Png | Ppm -> false
+
 let format_name = function
   | Png -> "png"
   | Ppm -> "ppm"
@@ -132,7 +133,8 @@ let format_of_path path =
   | ".hdr" -> Ok Hdr
   | ".pfm" -> Ok Pfm
   | "" ->
-      Error (Printf.sprintf "%s: no file extension; use .png, .ppm, .exr, .hdr or .pfm" path)
+      Error
+        (Printf.sprintf "%s: no file extension; use .png, .ppm, .exr, .hdr or .pfm" path)
   | e ->
       Error
         (Printf.sprintf
@@ -150,6 +152,7 @@ let check_writable path =
         (Printf.sprintf "cannot write %s: %s" path)
         Lancer_exr.Exr.available
   | _ -> Safe_file.check_writable path
+
 let write_atomic = Safe_file.write
 
 let write_ppm oc w h bytes =
@@ -240,7 +243,9 @@ let file_bytes path (r : Raster.t) =
            "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png"
            path)
   | Ok Ppm ->
-      let header = Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r) in
+      let header =
+        Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
+      in
       Ok (header ^ Bytes.unsafe_to_string r.samples)
   | Ok Png -> Ok (png_bytes r)
   | Ok (Exr | Hdr | Pfm) ->
@@ -251,7 +256,11 @@ let file_bytes path (r : Raster.t) =
 (* The region's pixels, row-major from the top: its width, height, the three channels of
    each and, with [alpha], the alpha of each. *)
 let cropped ?alpha ?crop fb =
-  let r = match crop with Some r -> r | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height } in
+  let r =
+    match crop with
+    | Some r -> r
+    | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height }
+  in
   let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
   let rgb = Float.Array.create (3 * w * h) in
   let a = Option.map (fun _ -> Float.Array.create (w * h)) alpha in
@@ -290,7 +299,9 @@ let pfm_bytes w h rgb =
 (* Radiance RGBE: a shared exponent per pixel, mantissas of 8 bits; flat scanlines (no
    run-length encoding), which every reader takes. Negative and NaN values are 0. *)
 let rgbe r g b =
-  let pos x = if x > 0. && x <= Float.max_float then x else if x > 0. then Float.max_float else 0. in
+  let pos x =
+    if x > 0. && x <= Float.max_float then x else if x > 0. then Float.max_float else 0.
+  in
   let r = pos r and g = pos g and b = pos b in
   let v = Float.max r (Float.max g b) in
   if v < 1e-32 then (0, 0, 0, 0)
@@ -348,7 +359,10 @@ let save_written ?gamma ?bits ?alpha ?crop path fb =
            (fun m -> Printf.sprintf "cannot write %s: %s" path m)
            (linear_bytes fmt ?bits ?alpha ?crop fb))
         (write_file path)
-  | _ -> Result.bind (file_bytes path (encode ?gamma ?bits ?alpha ?crop fb)) (write_file path)
+  | _ ->
+      Result.bind
+        (file_bytes path (encode ?gamma ?bits ?alpha ?crop fb))
+        (write_file path)
 
 let save ?gamma ?bits ?alpha ?crop path fb =
   Result.map ignore (save_written ?gamma ?bits ?alpha ?crop path fb)
@@ -404,10 +418,10 @@ let ppm_of_string text =
   let depth = if maxv = 255 then 8 else 16 in
   let n = 3 * w * h * (depth / 8) in
   if len - !pos < n then raise End_of_file;
-  Raster.make ~width:w ~height:h ~channels:3 ~depth (Bytes.of_string (String.sub text !pos n))
+  Raster.make ~width:w ~height:h ~channels:3 ~depth
+    (Bytes.of_string (String.sub text !pos n))
 
-let png_of_string text =
-  match Png.decode text with Ok r -> r | Error m -> failwith m
+let png_of_string text = match Png.decode text with Ok r -> r | Error m -> failwith m
 
 (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
 let max_png_bytes = 4 * 8 * max_pixels
@@ -434,7 +448,11 @@ let raster_of_string ~path text =
 
 let read_bytes path =
   match format_of_path path with
-  | Error e -> Error e
+  | Error _ | Ok (Exr | Hdr | Pfm) ->
+      Error
+        (Printf.sprintf
+           "%s: unsupported image format %s; lancer reads .png and .ppm images" path
+           (match Filename.extension path with "" -> "(no extension)" | e -> e))
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
       else if Sys.is_directory path then

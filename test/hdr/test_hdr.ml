@@ -58,11 +58,12 @@ let png16 file =
       in
       ( r.width,
         r.height,
-        Array.init (r.width * r.height * r.channels) (fun k ->
+        Array.init
+          (r.width * r.height * r.channels)
+          (fun k ->
             let p = k / r.channels and c = k mod r.channels in
             let s = Lancer.Raster.get r (p mod r.width) (p / r.width) c in
-            if c = 3 then (Float.of_int s /. 65535., s = 65535)
-            else (lin s, s = 65535)),
+            if c = 3 then (Float.of_int s /. 65535., s = 65535) else (lin s, s = 65535)),
         r.channels )
 
 let render d args =
@@ -75,13 +76,16 @@ let render d args =
 let agree what (w, h, c, got) (pw, ph, png, pc) ~channels tolerance =
   Alcotest.(check (pair int int)) (what ^ ": the size") (pw, ph) (w, h);
   for p = 0 to (w * h) - 1 do
-    let brightest = Float.max got.(p * c) (Float.max got.((p * c) + 1) got.((p * c) + 2)) in
+    let brightest =
+      Float.max got.(p * c) (Float.max got.((p * c) + 1) got.((p * c) + 2))
+    in
     let tolerance v = tolerance ~brightest v in
     for k = 0 to channels - 1 do
       let v = got.((p * c) + k) and expected, clamped = png.((p * pc) + k) in
       if clamped then (
         if v < 1. -. tolerance 1. then
-          Alcotest.failf "%s: pixel %d channel %d is %g, the PNG's is 1 or more" what p k v)
+          Alcotest.failf "%s: pixel %d channel %d is %g, the PNG's is 1 or more" what p k
+            v)
       else if Float.abs (v -. expected) > tolerance expected then
         Alcotest.failf "%s: pixel %d channel %d is %.9g, the PNG encodes %.9g" what p k v
           expected
@@ -99,8 +103,10 @@ let exr_half () =
   render d [ "-o"; "s.exr" ];
   let png = png16 (path d "s.png") in
   (* Half floats: 11 significant bits, a relative error of at most 2^-11. *)
-  agree "half EXR" (read "exr" (path d "s.exr")) png ~channels:3 (fun ~brightest:_ v ->
-      (Float.abs v *. Float.pow 2. (-11.)) +. png_step +. 6e-8)
+  agree "half EXR"
+    (read "exr" (path d "s.exr"))
+    png ~channels:3
+    (fun ~brightest:_ v -> (Float.abs v *. Float.pow 2. (-11.)) +. png_step +. 6e-8)
 
 let exr_alpha () =
   let d = tmpdir "lancer-hdr" in
@@ -109,16 +115,21 @@ let exr_alpha () =
   render d [ "-o"; "s.exr"; "--alpha" ];
   let ((_, _, c, _) as exr) = read "exr" (path d "s.exr") in
   Alcotest.(check int) "four channels" 4 c;
-  agree "half EXR with alpha" exr (png16 (path d "s.png")) ~channels:4 (fun ~brightest:_ v ->
-      (Float.abs v *. Float.pow 2. (-11.)) +. png_step +. 6e-8)
+  agree "half EXR with alpha" exr
+    (png16 (path d "s.png"))
+    ~channels:4
+    (fun ~brightest:_ v -> (Float.abs v *. Float.pow 2. (-11.)) +. png_step +. 6e-8)
 
 let pfm () =
   let d = tmpdir "lancer-hdr" in
   write_file (path d "s.rts") scene;
   render d [ "-o"; "s.png"; "--bits"; "16" ];
   render d [ "-o"; "s.pfm" ];
-  agree "PFM" (read "pfm" (path d "s.pfm")) (png16 (path d "s.png")) ~channels:3 (fun ~brightest:_ v ->
-      (Float.abs v *. 1e-7) +. png_step)
+  agree "PFM"
+    (read "pfm" (path d "s.pfm"))
+    (png16 (path d "s.png"))
+    ~channels:3
+    (fun ~brightest:_ v -> (Float.abs v *. 1e-7) +. png_step)
 
 let hdr () =
   let d = tmpdir "lancer-hdr" in
@@ -127,7 +138,10 @@ let hdr () =
   render d [ "-o"; "s.hdr" ];
   (* RGBE: 8 bits of mantissa under the pixel's brightest channel, the value cut, not
      rounded: each channel within 2^-7 of the brightest. *)
-  agree "HDR" (read "hdr" (path d "s.hdr")) (png16 (path d "s.png")) ~channels:3
+  agree "HDR"
+    (read "hdr" (path d "s.hdr"))
+    (png16 (path d "s.png"))
+    ~channels:3
     (fun ~brightest _ -> (brightest *. Float.pow 2. (-7.)) +. png_step)
 
 (* Past a file-size limit the write fails: exit 1, the system's reason, and no file
@@ -135,9 +149,10 @@ let hdr () =
 let cut_short () =
   let d = tmpdir "lancer-hdr" in
   write_file (path d "s.rts")
-    "settings { width: 400, height: 300 }\nlight { position: (0, 5, -5) }\nplane { normal: \
-     (0, 1, 0), offset: -1, material: material { texture: noise((1, 1, 1), (0, 0, 0), \
-     0.05) } }\n";
+    "settings { width: 400, height: 300 }\n\
+     light { position: (0, 5, -5) }\n\
+     plane { normal: (0, 1, 0), offset: -1, material: material { texture: noise((1, 1, \
+     1), (0, 0, 0), 0.05) } }\n";
   List.iter
     (fun out ->
       let st, _, e =
@@ -154,8 +169,8 @@ let () =
     [
       ( "formats",
         [
-          Alcotest.test_case "a half-float EXR holds the 16-bit PNG's linear values" `Quick
-            exr_half;
+          Alcotest.test_case "a half-float EXR holds the 16-bit PNG's linear values"
+            `Quick exr_half;
           Alcotest.test_case "an EXR's alpha is the PNG's coverage" `Quick exr_alpha;
           Alcotest.test_case "a PFM holds the PNG's linear values as 32-bit floats" `Quick
             pfm;

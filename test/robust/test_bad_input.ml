@@ -255,7 +255,7 @@ let asset_tests =
     bad_texture "a truncated PPM texture" "x.ppm" (Some "P6\n4 4\n255\n\000\000")
       "truncated";
     bad_texture "a texture with an unknown extension" "x.jpg" (Some "\255\216\255")
-      "use .png or .ppm";
+      "lancer reads .png and .ppm images";
     bad_mesh "an OBJ face with an index past the vertices" (tri ^ "f 1 2 4\n") "m.obj:4:";
     bad_mesh "an OBJ face before any vertex" "f 1 2 3\n" "m.obj:1:";
     bad_mesh "an OBJ with a vertex missing a coordinate"
