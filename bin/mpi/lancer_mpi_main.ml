@@ -77,8 +77,9 @@ let distributed ?(resume = false) (o : Options.t) ~prepare ~lead ~scene_of =
           | _ -> max 1 (Domain.recommended_domain_count ())
         in
         Render.with_pool domains (fun pool ->
-            Farm.work ~describe:Job_error.message ~pool ~domains (fun key ->
-                scene_of (Lazy.force prog) key));
+            Farm.work ~describe:Job_error.message ~pool ~domains
+              ~prepare:(fun () -> ignore (Lazy.force prog))
+              (fun key -> scene_of (Lazy.force prog) key));
         0
 
 (* The files a scene was made of, each with its digest: what a unit is checked by. *)

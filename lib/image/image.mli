@@ -40,13 +40,27 @@ val encode_channel16 : gamma -> float -> int
 val to_bytes : gamma -> t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
-type format = Png | Ppm
+type format =
+  | Png
+  | Ppm
+  | Exr  (** OpenEXR: linear half or float RGB(A), {!Lancer_exr.Exr} *)
+  | Hdr  (** Radiance RGBE: linear, an 8-bit mantissa per channel and a shared exponent *)
+  | Pfm  (** portable float map: linear 32-bit float RGB *)
 
 val format_of_path : string -> (format, string) result
-(** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
+(** By extension: [.png], [.ppm], [.exr], [.hdr] or [.pfm] (case-insensitive); anything
+    else is an error. *)
+
+val linear : format -> bool
+(** Whether the format holds the framebuffer's linear values themselves (EXR, HDR, PFM)
+    rather than samples encoded by the curve (PNG, PPM). *)
+
+val format_name : format -> string
+(** ["png"], ["exr"], …, as the extension and [--format] write it. *)
 
 val check_writable : string -> (unit, string) result
-(** {!Safe_file.check_writable}: callers use it to refuse before working. *)
+(** {!Safe_file.check_writable}, and for an [.exr] path whether this build writes EXR:
+    callers use it to refuse before working. *)
 
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
 (** {!Safe_file.write}: [write_atomic path f] writes [path] through [f] into a temporary
@@ -112,7 +126,10 @@ val save_written :
   (written, string) result
 (** {!save}, and the size and MD5 of the bytes it wrote, digested before the file was
     renamed into place: what the file held when this write ended, even if another process
-    replaces it right after. *)
+    replaces it right after. A linear format ({!linear}) takes the framebuffer's values as
+    they are, before the encoding curve and without clamping: EXR as half floats, or
+    32-bit floats with [~bits:32], with [alpha] as its A channel; HDR and PFM without
+    alpha. [gamma] is then unused. *)
 
 val read_bytes : string -> (string, string) result
 (** [read_bytes path] is the whole content of the image file at [path], read once, after

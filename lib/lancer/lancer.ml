@@ -55,6 +55,7 @@ module Frag = Lancer_render.Frag
 module Material = Lancer_render.Material
 module Mesh = Lancer_render.Mesh
 module Noise = Lancer_render.Noise
+module Ply = Lancer_render.Ply
 module Pool = Lancer_render.Pool
 module Primitive = Lancer_render.Primitive
 module Render = Lancer_render.Render

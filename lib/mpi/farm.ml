@@ -338,7 +338,7 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(inputs = fun _
 
 (* ---- Other ranks ---- *)
 
-let work ?cancel ?render ~describe ~pool ~domains scene_of =
+let work ?cancel ?render ?(prepare = ignore) ~describe ~pool ~domains scene_of =
   let render : renderer =
     match render with
     | Some r -> r
@@ -392,6 +392,11 @@ let work ?cancel ?render ~describe ~pool ~domains scene_of =
      end the whole job. Rank 0 tells the user. *)
   try
     let asked = Unix.gettimeofday () in
-    Mpi.send (Ready domains) ~dest:0 ~tag:tag_request;
+    (* What the rank cannot prepare is its first message, so that rank 0, which waits
+       for every rank, always hears of it. *)
+    (match prepare () with
+    | () -> Mpi.send (Ready domains) ~dest:0 ~tag:tag_request
+    | exception (Sys.Break as e) -> raise e
+    | exception e -> Mpi.send (Failed (describe e)) ~dest:0 ~tag:tag_request);
     loop asked
   with e -> Mpi.abort (match e with Sys.Break -> 130 | _ -> 2)

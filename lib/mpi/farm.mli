@@ -86,13 +86,16 @@ val serve :
 val work :
   ?cancel:Cancel.t ->
   ?render:renderer ->
+  ?prepare:(unit -> unit) ->
   describe:(exn -> string) ->
   pool:Pool.t option ->
   domains:int ->
   (int -> Scene.t * (string * string) list) ->
   unit
 (** [work ~describe ~pool ~domains scene_of] runs on every other rank until rank 0 says
-    stop; [scene_of key] evaluates the scene of a frame, and the files it was made of with
-    their digests (sent back with each unit, see [serve]'s [inputs]). An exception from it
-    or from rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
+    stop; [prepare ()] runs first (loading the program): what it raises is sent to rank 0
+    as the rank's first message, so the job fails whatever the other ranks have done;
+    [scene_of key] evaluates the scene of a frame, and the files it was made of with their
+    digests (sent back with each unit, see [serve]'s [inputs]). An exception from it or
+    from rendering is sent to rank 0 as [describe e]; [cancel] stops the rendering with
     [Sys.Break], which ends the job. *)

@@ -130,7 +130,12 @@ let mesh c ~file ~path ~smooth =
                      match took c path text with
                      | Error m -> failed "load the mesh" m
                      | Ok text -> (
-                         match Mesh.parse_mesh ~smooth ~file:path text with
+                         let parse =
+                           if String.lowercase_ascii (Filename.extension path) = ".ply"
+                           then Ply.parse_mesh
+                           else Mesh.parse_mesh
+                         in
+                         match parse ~smooth ~file:path text with
                          | Ok m -> Ok m
                          | Error m -> failed "load the mesh" m))))
 

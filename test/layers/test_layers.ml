@@ -44,6 +44,9 @@ let layers =
   [
     ("lancer_math", "lib/math", 0);
     ("lancer_diag", "lib/diag", 1);
+    ("lancer_exr", "lib/exr", 1);
+    ("lancer_exr_openexr", "lib/exr/openexr", 1);
+    ("lancer_exr_absent", "lib/exr/absent", 1);
     ("lancer_image", "lib/image", 2);
     ("lancer_description", "lib/description", 3);
     ("lancer_physics", "lib/physics", 4);
@@ -74,6 +77,7 @@ let forbidden =
 let canonical lib =
   match String.split_on_char '.' lib with
   | [ "lancer"; sub ] -> "lancer_" ^ sub
+  | [ "lancer"; sub; impl ] -> "lancer_" ^ sub ^ "_" ^ impl
   | _ -> lib
 
 let rank lib =
