@@ -173,22 +173,26 @@ let resume_still =
            continue from it after an interruption; it is removed once the image is \
            written.")
 
+let formats =
+  List.map (fun f -> (Image.format_name f, f)) Image.[ Png; Ppm; Exr; Hdr; Pfm ]
+
 let encoding_term =
   let bits =
     Arg.(
       value
-      & opt (enum [ ("8", 8); ("16", 16) ]) 8
-      & info [ "bits" ] ~docv:"8|16"
+      & opt (some (enum [ ("8", 8); ("16", 16); ("32", 32) ])) None
+      & info [ "bits" ] ~docv:"8|16|32"
           ~doc:
-            "Bits per channel of the image: 8 (default) or 16, with the same encoding \
-             curve.")
+            "Bits per channel: 8 (the default) or 16 for a PNG or PPM image, with the \
+             same encoding curve; 16 (half floats, the default) or 32 (floats) for an \
+             EXR image.")
   in
   let alpha =
     Arg.(
       value & flag
       & info [ "alpha" ]
           ~doc:
-            "Add an alpha channel (PNG only): the share of each pixel's samples whose \
+            "Add an alpha channel (PNG or EXR): the share of each pixel's samples whose \
              primary ray hits a surface; 0 where only the background is seen.")
   in
   let region =
@@ -220,11 +224,12 @@ let encoding_term =
   let format =
     Arg.(
       value
-      & opt (some (enum [ ("png", Image.Png); ("ppm", Image.Ppm) ])) None
-      & info [ "format" ] ~docv:"png|ppm"
+      & opt (some (enum formats)) None
+      & info [ "format" ] ~docv:"png|ppm|exr|hdr|pfm"
           ~doc:
             "The format of the image written to standard output with $(b,-o -) (default \
-             png); with a file name, its extension decides.")
+             png); with a file name, its extension decides. EXR, HDR and PFM hold the \
+             linear values themselves, before the encoding curve.")
   in
   Term.(
     const (fun bits alpha region crop format ->
@@ -275,9 +280,29 @@ let frames_term =
              $(b,slurm) takes K and N from the Slurm job array (SLURM_ARRAY_TASK_ID, \
              SLURM_ARRAY_TASK_COUNT, SLURM_ARRAY_TASK_MIN).")
   in
+  let format =
+    Arg.(
+      value
+      & opt (enum formats) Image.Png
+      & info [ "format" ] ~docv:"png|ppm|exr|hdr|pfm"
+          ~doc:
+            "The frames' format: frame_0000.png (the default), or .ppm, or the linear \
+             .exr, .hdr or .pfm, which hold the values themselves, before the encoding \
+             curve.")
+  in
+  let bits =
+    Arg.(
+      value
+      & opt (some (enum [ ("8", 8); ("16", 16); ("32", 32) ])) None
+      & info [ "bits" ] ~docv:"8|16|32"
+          ~doc:
+            "Bits per channel of the frames: 8 (the default) or 16 for PNG or PPM; 16 \
+             (half floats, the default) or 32 (floats) for EXR.")
+  in
   Term.(
-    const (fun frames resume video shard -> { Frames_run.frames; resume; video; shard })
-    $ frames $ resume $ video $ shard)
+    const (fun frames resume video shard format bits ->
+        { Frames_run.frames; resume; video; shard; format; bits })
+    $ frames $ resume $ video $ shard $ format $ bits)
 
 let exits =
   [

@@ -351,18 +351,42 @@ let write_file path bytes =
 let write_raster path (r : Raster.t) =
   Result.map ignore (Result.bind (file_bytes path r) (write_file path))
 
+let bits_problem fmt bits =
+  match (fmt, bits) with
+  | _, None | (Png | Ppm), Some (8 | 16) | Exr, Some (16 | 32) -> None
+  | (Png | Ppm), Some b ->
+      Some (Printf.sprintf "%d bits: a PNG or PPM image holds 8 or 16 bits a channel" b)
+  | Exr, Some b ->
+      Some
+        (Printf.sprintf
+           "%d bits: an EXR image holds 16-bit half floats (the default) or 32-bit floats"
+           b)
+  | (Hdr | Pfm), Some b ->
+      Some
+        (Printf.sprintf "%d bits: a %s image has one depth of its own" b
+           (if fmt = Hdr then "Radiance .hdr" else "PFM"))
+
+let file_of fmt ?gamma ?bits ?alpha ?crop fb =
+  match bits_problem fmt bits with
+  | Some m -> Error m
+  | None when linear fmt -> linear_bytes fmt ?bits ?alpha ?crop fb
+  | None -> (
+      let r = encode ?gamma ?bits ?alpha ?crop fb in
+      match fmt with
+      | Ppm when r.channels <> 3 -> Error "a PPM file holds RGB only (no alpha, no gray)"
+      | Ppm ->
+          Ok
+            (Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
+            ^ Bytes.unsafe_to_string r.samples)
+      | _ -> Ok (png_bytes r))
+
 let save_written ?gamma ?bits ?alpha ?crop path fb =
-  match format_of_path path with
-  | Ok fmt when linear fmt ->
+  Result.bind (format_of_path path) (fun fmt ->
       Result.bind
         (Result.map_error
            (fun m -> Printf.sprintf "cannot write %s: %s" path m)
-           (linear_bytes fmt ?bits ?alpha ?crop fb))
-        (write_file path)
-  | _ ->
-      Result.bind
-        (file_bytes path (encode ?gamma ?bits ?alpha ?crop fb))
-        (write_file path)
+           (file_of fmt ?gamma ?bits ?alpha ?crop fb))
+        (write_file path))
 
 let save ?gamma ?bits ?alpha ?crop path fb =
   Result.map ignore (save_written ?gamma ?bits ?alpha ?crop path fb)

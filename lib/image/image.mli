@@ -113,6 +113,22 @@ val read_raster : string -> (Raster.t, string) result
     before its pixels are allocated: larger than {!max_pixels} is an error. Never
     raises; the message starts with [path]. *)
 
+val file_of :
+  format ->
+  ?gamma:gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  t ->
+  (string, string) result
+(** [file_of format fb] is the bytes of the file of that format holding [fb], as
+    {!save_written} writes them (for standard output, or a file written another way).
+    [bits]: 8 or 16 for PNG and PPM (default 8), 16 or 32 for EXR (half or single floats,
+    default 16), none for HDR and PFM. *)
+
+val bits_problem : format -> int option -> string option
+(** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
+
 type written = { size : int; md5 : string }
 (** What was written to a file: its size in bytes and the MD5 (hex) of those bytes. *)
 

@@ -3,17 +3,27 @@ type options = {
   resume : bool;
   video : string option;
   shard : Plan.shard option;
+  format : Image.format;
+  bits : int option;
 }
 
-let default_options = { frames = None; resume = false; video = None; shard = None }
+let default_options =
+  {
+    frames = None;
+    resume = false;
+    video = None;
+    shard = None;
+    format = Image.Png;
+    bits = None;
+  }
 
 let plan ?getenv (o : Options.t) (a : options) =
   let program = ref None in
   (* The options first, as every command checks them: then the shard and the scene. *)
   ignore (Options.domains o);
   let p =
-    Animation.plan ?getenv ~dir:o.output ~frames:a.frames ~shard:a.shard ~resume:a.resume
-      ~overrides:(Options.overrides o) (fun () ->
+    Animation.plan ?getenv ~format:a.format ?bits:a.bits ~dir:o.output ~frames:a.frames
+      ~shard:a.shard ~resume:a.resume ~overrides:(Options.overrides o) (fun () ->
         let prog = Scene_file.load_source (Scene_file.read o.scene) in
         program := Some prog;
         Scene_file.source o prog)
@@ -37,7 +47,7 @@ let progress o (p : Animation.plan) =
 let interrupted = "the frames written so far are kept; run again with --resume to finish"
 
 let check_video (a : options) =
-  Option.iter (Animation.check_video ~shard:(a.shard <> None)) a.video
+  Option.iter (Animation.check_video ~format:a.format ~shard:(a.shard <> None)) a.video
 
 let run ?cancel (o : Options.t) (a : options) =
   check_video a;

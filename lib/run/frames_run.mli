@@ -11,6 +11,8 @@ type options = {
   resume : bool;
   video : string option;
   shard : Plan.shard option;
+  format : Image.format;  (** [--format]: the frames' format (default PNG) *)
+  bits : int option;  (** [--bits]: their depth; [None] the format's default *)
 }
 
 val default_options : options

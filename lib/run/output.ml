@@ -1,7 +1,7 @@
 let user = Job_error.user
 
 type encoding = {
-  bits : int;
+  bits : int option;
   alpha : bool;
   region : Image.region option;
   crop : bool;
@@ -9,7 +9,7 @@ type encoding = {
 }
 
 let default_encoding =
-  { bits = 8; alpha = false; region = None; crop = false; format = None }
+  { bits = None; alpha = false; region = None; crop = false; format = None }
 
 let is_stdout p = p = "-"
 
@@ -21,10 +21,9 @@ let format_of ?format path =
     | Error m, _ -> raise (Job_error.User m)
     | Ok f, Some g when f <> g ->
         user
-          "--format %s, but -o %s has the extension of the other format; --format is for \
+          "--format %s, but -o %s has the extension of another format; --format is for \
            -o - (standard output)"
-          (if g = Image.Png then "png" else "ppm")
-          path
+          (Image.format_name g) path
     | Ok f, _ -> f
 
 let check_output ?format path =
@@ -71,8 +70,11 @@ let check_encoding e ~out (sc : Scene.t) =
            %d and 0 <= y0 < y1 <= %d"
           r.x0 r.y0 r.x1 r.y1 w h w h
   | None -> ());
-  if e.alpha && format_of ?format:e.format out = Image.Ppm then
-    user "--alpha needs a PNG output: a PPM file has no alpha channel"
+  let fmt = format_of ?format:e.format out in
+  Option.iter (user "--bits %s") (Image.bits_problem fmt e.bits);
+  if e.alpha && not (fmt = Image.Png || fmt = Image.Exr) then
+    user "--alpha needs a PNG or EXR output: a %s file has no alpha channel"
+      (String.uppercase_ascii (Image.format_name fmt))
 
 (* The records an animation keeps in its frames directory (Frameset's names): no other
    output may replace them. *)
@@ -101,11 +103,11 @@ let guard_render (o : Options.t) src ~out =
 
 (* Standard output carries the image's bytes and nothing else; a reader that goes away
    (a closed pipe) is an error to report, not a signal that kills. *)
-let write_stdout fmt raster =
+let write_stdout bytes =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   set_binary_mode_out stdout true;
   match
-    Image.output_raster fmt stdout raster;
+    output_string stdout bytes;
     flush stdout
   with
   | () -> ()
@@ -115,7 +117,11 @@ let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t
   let crop = if encoding.crop then encoding.region else None in
   if is_stdout path then
     Files.uninterrupted ?cancel "the image on standard output" (fun () ->
-        write_stdout
-          (format_of ?format:encoding.format path)
-          (Image.encode ~gamma:sc.settings.gamma ~bits:encoding.bits ?alpha ?crop fb))
-  else ignore (Files.write_image ?cancel ~bits:encoding.bits ?alpha ?crop path sc fb)
+        match
+          Image.file_of
+            (format_of ?format:encoding.format path)
+            ~gamma:sc.settings.gamma ?bits:encoding.bits ?alpha ?crop fb
+        with
+        | Ok bytes -> write_stdout bytes
+        | Error m -> user "cannot write the image to standard output: %s" m)
+  else ignore (Files.write_image ?cancel ?bits:encoding.bits ?alpha ?crop path sc fb)

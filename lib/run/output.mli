@@ -1,9 +1,11 @@
 (** Where a still's image and statistics go, checked before any rendering: an image file
-    (PNG or PPM by its extension) or standard output ([-]), in 8 or 16 bits, with an alpha
-    channel of coverage, of a region or cropped to it. *)
+    (PNG, PPM, or the linear EXR, HDR and PFM, by its extension) or standard output
+    ([-]), at the depth asked, with an alpha channel of coverage, of a region or cropped
+    to it. *)
 
 type encoding = {
-  bits : int;  (** 8 or 16 bits per channel *)
+  bits : int option;
+      (** bits per channel ({!Image.file_of}); [None]: the format's own default *)
   alpha : bool;  (** an alpha channel of coverage *)
   region : Image.region option;  (** render only these pixels *)
   crop : bool;  (** write only the region *)
@@ -13,7 +15,7 @@ type encoding = {
     [--crop], [--format]). *)
 
 val default_encoding : encoding
-(** 8 bits, no alpha, the whole image. *)
+(** The format's default depth, no alpha, the whole image. *)
 
 val is_stdout : string -> bool
 (** Whether an output path is [-], standard output. *)

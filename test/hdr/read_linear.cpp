@@ -1,9 +1,12 @@
 // An independent reader of the linear images lancer writes, for the tests: OpenEXR files
-// through OpenEXR's C++ library (Imf::RgbaInputFile), Radiance .hdr and .pfm files by
+// through OpenEXR's C++ library (Imf::InputFile), Radiance .hdr and .pfm files by
 // their own few lines here. Prints "WIDTH HEIGHT CHANNELS" and then, row by row from the
-// top, each pixel's values (R G B, and A for EXR), one pixel a line.
-#include <ImfRgbaFile.h>
-#include <ImfArray.h>
+// top, each pixel's values (R G B, and A for EXR), one pixel a line; for EXR the head
+// line also says whether the channels are half or float.
+#include <ImfInputFile.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,21 +23,29 @@ static int fail(const std::string &m) {
 }
 
 static int exr(const char *path) {
-  Imf::RgbaInputFile file(path);
-  Imath::Box2i dw = file.dataWindow();
+  Imf::InputFile file(path);
+  const Imf::Header &hd = file.header();
+  Imath::Box2i dw = hd.dataWindow();
   int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-  Imf::Array2D<Imf::Rgba> px(h, w);
-  file.setFrameBuffer(&px[0][0] - dw.min.x - dw.min.y * w, 1, w);
+  bool alpha = hd.channels().findChannel("A") != nullptr;
+  int nc = alpha ? 4 : 3;
+  const char *names[4] = {"R", "G", "B", "A"};
+  const Imf::Channel *r = hd.channels().findChannel("R");
+  if (!r) return fail("no R channel");
+  std::vector<float> px((size_t)w * h * nc);
+  Imf::FrameBuffer fb;
+  for (int c = 0; c < nc; c++)
+    fb.insert(names[c], Imf::Slice(Imf::FLOAT,
+                                   (char *)(px.data() + c - ((size_t)dw.min.x + (size_t)dw.min.y * w) * nc),
+                                   sizeof(float) * nc, sizeof(float) * nc * w));
+  file.setFrameBuffer(fb);
   file.readPixels(dw.min.y, dw.max.y);
-  bool alpha = file.channels() & Imf::WRITE_A;
-  printf("%d %d %d\n", w, h, alpha ? 4 : 3);
+  printf("%d %d %d %s\n", w, h, nc, r->type == Imf::HALF ? "half" : "float");
   for (int j = 0; j < h; j++)
     for (int i = 0; i < w; i++) {
-      const Imf::Rgba &p = px[j][i];
-      if (alpha)
-        printf("%.9g %.9g %.9g %.9g\n", (float)p.r, (float)p.g, (float)p.b, (float)p.a);
-      else
-        printf("%.9g %.9g %.9g\n", (float)p.r, (float)p.g, (float)p.b);
+      const float *p = px.data() + ((size_t)j * w + i) * nc;
+      for (int c = 0; c < nc; c++) printf(c ? " %.9g" : "%.9g", p[c]);
+      printf("\n");
     }
   return 0;
 }

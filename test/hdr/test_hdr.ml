@@ -21,6 +21,9 @@ sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.6, 0.
 sphere { center: (1.6, 0.4, -0.5), radius: 0.4 }
 |}
 
+(* What the last EXR read holds: "half" or "float". *)
+let depth = ref ""
+
 (* The values a reader of its own gives: width, height, channels and each pixel's. *)
 let read kind file =
   let out = Filename.temp_file "linear" ".txt" in
@@ -35,6 +38,7 @@ let read kind file =
   match lines with
   | head :: pixels ->
       let w, h, c = Scanf.sscanf head "%d %d %d" (fun w h c -> (w, h, c)) in
+      (depth := match String.split_on_char ' ' head with [ _; _; _; d ] -> d | _ -> "");
       let values =
         Array.of_list
           (List.concat_map
@@ -108,6 +112,59 @@ let exr_half () =
     png ~channels:3
     (fun ~brightest:_ v -> (Float.abs v *. Float.pow 2. (-11.)) +. png_step +. 6e-8)
 
+let exr_float () =
+  let d = tmpdir "lancer-hdr" in
+  write_file (path d "s.rts") scene;
+  render d [ "-o"; "s.png"; "--bits"; "16" ];
+  render d [ "-o"; "s.exr"; "--bits"; "32" ];
+  let got = read "exr" (path d "s.exr") in
+  Alcotest.(check string) "float channels" "float" !depth;
+  agree "float EXR" got
+    (png16 (path d "s.png"))
+    ~channels:3
+    (fun ~brightest:_ v -> (Float.abs v *. 1e-7) +. png_step)
+
+(* An animation's frames as EXR: frame_0000.exr …, each the still of its instant, and a
+   resumed run finds them done. *)
+let exr_frames () =
+  let d = tmpdir "lancer-hdr" in
+  write_file (path d "a.rts")
+    (scene
+   ^ "animation { fps: 10, frames: 3 }\n\
+      sphere { center: (-1.5, 0.3 + time, 0), radius: 0.3 }\n");
+  (match lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr"; "--format"; "exr"; "-q" ] with
+  | 0, _, _ -> ()
+  | st, _, e -> Alcotest.failf "animate: exit %d\n%s" st e);
+  List.iter
+    (fun k ->
+      let f = path (path d "fr") (Printf.sprintf "frame_%04d.exr" k) in
+      (match
+         lancer ~dir:d
+           [ "render"; "a.rts"; "--frame"; string_of_int k; "-q"; "-o"; "still.exr" ]
+       with
+      | 0, _, _ -> ()
+      | st, _, e -> Alcotest.failf "render: exit %d\n%s" st e);
+      Alcotest.(check bool)
+        (Printf.sprintf "frame %d is the still of its instant" k)
+        true
+        (String.equal (read_file f) (read_file (path d "still.exr"))))
+    [ 0; 1; 2 ];
+  let ((st, out, _) as r) =
+    lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr"; "--format"; "exr"; "--resume" ]
+  in
+  Alcotest.(check int) "resumed" 0 st;
+  says "every frame found done" r "3 frames already rendered, 0 to go";
+  ignore out;
+  let st, _, e =
+    lancer ~dir:d
+      [ "animate"; "a.rts"; "-o"; "vid"; "--format"; "exr"; "--video"; "v.mp4" ]
+  in
+  Alcotest.(check int) "a video of EXR frames is refused" 1 st;
+  Alcotest.(check bool) "before any frame" false (Sys.file_exists (path d "vid"));
+  Alcotest.(check bool)
+    ("says why: " ^ e) true
+    (contains e "a video is made from PNG frames")
+
 let exr_alpha () =
   let d = tmpdir "lancer-hdr" in
   write_file (path d "s.rts") scene;
@@ -172,6 +229,9 @@ let () =
           Alcotest.test_case "a half-float EXR holds the 16-bit PNG's linear values"
             `Quick exr_half;
           Alcotest.test_case "an EXR's alpha is the PNG's coverage" `Quick exr_alpha;
+          Alcotest.test_case "--bits 32 makes a float EXR with the PNG's values" `Quick
+            exr_float;
+          Alcotest.test_case "an animation's frames as EXR, resumed" `Quick exr_frames;
           Alcotest.test_case "a PFM holds the PNG's linear values as 32-bit floats" `Quick
             pfm;
           Alcotest.test_case "a Radiance .hdr holds them in RGBE" `Quick hdr;

@@ -336,7 +336,7 @@ let frames_record () =
   let dir = tmpdir () in
   let frame k = Filename.concat dir (Frameset.frame_name k) in
   let current f = if f = "tex.ppm" then "d1" else "-" in
-  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   Alcotest.(check bool)
     "nothing done yet" false
     (Frameset.is_done set 0 ~input_digest:current);
@@ -353,7 +353,7 @@ let frames_record () =
     "no view yet" false
     (Sys.file_exists (Filename.concat dir Frameset.view_name));
   (* Another run of the same job reads the first one's journal. *)
-  let again = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let again = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   Alcotest.(check bool)
     "a second run sees frame 0" true
     (Frameset.is_done again 0 ~input_digest:current);
@@ -368,7 +368,7 @@ let frames_record () =
     (fun n ->
       if Filename.check_suffix n ".jsonl" then Sys.remove (Filename.concat jdir n))
     (Sys.readdir jdir);
-  let third = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let third = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   List.iter
     (fun k ->
       Alcotest.(check bool)
@@ -376,7 +376,7 @@ let frames_record () =
         true
         (Frameset.is_done third k ~input_digest:current))
     [ 0; 1 ];
-  let other = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"K" ~count:2 in
+  let other = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"K" ~count:2 () in
   Alcotest.(check bool)
     "another job's frames are not done" false
     (Frameset.is_done other 0 ~input_digest:current);
@@ -389,14 +389,14 @@ let frames_record () =
     "a frame of the same size and other bytes is not done" false
     (Frameset.is_done third 0 ~input_digest:current);
   user_error "a directory of another scene" (fun () ->
-      Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2)
+      Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2 ())
 
 (* Another run may replace a frame between this run's write and its record: the record
    says what this run wrote, so the other run's bytes are not taken for this job's. *)
 let frame_replaced_before_record () =
   let dir = tmpdir () in
   let frame0 = Filename.concat dir (Frameset.frame_name 0) in
-  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:1 in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:1 () in
   write frame0 "this job's frame";
   write frame0 "another job's frame";
   Frameset.record set 0 ~written:(written "this job's frame") ~inputs:[];
