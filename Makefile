@@ -8,7 +8,8 @@ JOBS ?= 2
 RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
-.PHONY: all deps build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
+
+.PHONY: all deps deps-build build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
 	clean-toolchain fmt install uninstall static cluster-bundle
 
 all: build
@@ -16,20 +17,25 @@ all: build
 deps:
 	@bash .ci/toolchain setup
 
-build: deps
+# What building lancer needs, without what only its tests need (Open MPI, Chromium, …).
+deps-build:
+	@bash .ci/toolchain setup --build
+
+build: deps-build
 	$(RUN) $(DUNE) build -j $(JOBS) @install
 
 # A lancer that runs on this machine itself: the dynamically linked one where the
 # toolchain is native, the statically linked one when it was built in the toolchain root
 # (whose C library is newer than the host's).
-static: deps
+static: deps-build
 	$(RUN) env LANCER_STATIC=1 $(DUNE) build -j $(JOBS) bin/static/lancer_static.exe
 
 out/bin/lancer: build
 	@mkdir -p out/bin
 	@if [ "$$(bash .ci/toolchain mode)" = root ]; then \
 	  $(MAKE) --no-print-directory static && \
-	  install -m 0755 _build/default/bin/static/lancer_static.exe out/bin/lancer; \
+	  install -m 0755 _build/default/bin/static/lancer_static.exe out/bin/lancer && \
+	  $(RUN) strip out/bin/lancer; \
 	else install -m 0755 _build/default/bin/main.exe out/bin/lancer; fi
 
 demo: out/bin/lancer
@@ -39,23 +45,36 @@ demo: out/bin/lancer
 	@command -v ffmpeg >/dev/null 2>&1 && out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
 	@echo "lancer itself is out/bin/lancer: run 'make install' to put it in $(PREFIX)/bin"
 
-# lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/, installed as share/lancer/),
-# under PREFIX (default ~/.local).
+# lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/,
+# installed as share/lancer/), under DESTDIR/PREFIX (PREFIX default ~/.local); the
+# statically linked lancer is stripped of its debugging information. Where lancer-mpi was
+# built and runs on this machine (not in the toolchain root, whose C and MPI libraries
+# are Debian 13's), lancer-mpi and lancer-mpirun and their man pages too.
+DEST = $(DESTDIR)$(PREFIX)
+MAN1 = $(DEST)/share/man/man1
 install: out/bin/lancer
-	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1 $(PREFIX)/share/bash-completion/completions
-	install -m 0755 out/bin/lancer $(PREFIX)/bin/lancer
-	install -m 0644 _build/default/bin/share/*.1 $(PREFIX)/share/man/man1/
-	install -m 0644 _build/default/bin/share/lancer.bash $(PREFIX)/share/bash-completion/completions/lancer
-	install -d $(PREFIX)/share/lancer
-	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(PREFIX)/share/lancer/
-	@echo "installed $(PREFIX)/bin/lancer, its man pages, bash completion and scene library ($(PREFIX)/share/lancer/)"
+	install -d $(DEST)/bin $(MAN1) $(DEST)/share/bash-completion/completions $(DEST)/share/lancer
+	install -m 0755 out/bin/lancer $(DEST)/bin/lancer
+	install -m 0644 _build/default/bin/share/*.1 $(MAN1)/
+	install -m 0644 _build/default/bin/share/lancer.bash $(DEST)/share/bash-completion/completions/lancer
+	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(DEST)/share/lancer/
+	@if [ "$$(bash .ci/toolchain mode)" != root ] && [ -x _build/default/bin/mpi/lancer_mpi_main.exe ]; then \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe $(DEST)/bin/lancer-mpi && \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe $(DEST)/bin/lancer-mpirun && \
+	  install -m 0644 _build/default/bin/mpi/*.1 $(MAN1)/ && \
+	  echo "installed lancer-mpi and lancer-mpirun"; fi
+	@echo "installed $(DEST)/bin/lancer, its man pages, bash completion and scene library ($(DEST)/share/lancer/)"
 	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
 
+# Everything install put there, and the directories it made that are left empty.
 uninstall:
-	rm -f $(PREFIX)/bin/lancer $(PREFIX)/share/man/man1/lancer.1 $(PREFIX)/share/man/man1/lancer-*.1 \
-	  $(PREFIX)/share/bash-completion/completions/lancer \
-	  $(PREFIX)/share/lancer/materials.rts $(PREFIX)/share/lancer/colors.rts
-	-rmdir $(PREFIX)/share/lancer 2>/dev/null
+	rm -f $(DEST)/bin/lancer $(DEST)/bin/lancer-mpi $(DEST)/bin/lancer-mpirun \
+	  $(MAN1)/lancer.1 $(MAN1)/lancer-*.1 \
+	  $(DEST)/share/bash-completion/completions/lancer \
+	  $(DEST)/share/lancer/materials.rts $(DEST)/share/lancer/colors.rts
+	@for d in share/lancer share/bash-completion/completions share/bash-completion \
+	  share/man/man1 share/man share bin; do \
+	  rmdir $(DEST)/$$d 2>/dev/null || true; done
 
 test: deps
 	$(RUN) $(DUNE) build -j $(JOBS) @install

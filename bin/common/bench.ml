@@ -120,4 +120,14 @@ let cmd =
                   ~domains ~json))
         $ scene $ repeat $ domains $ json)
   in
-  Cmd.group (Cmd.info "bench" ~doc ~exits) [ domains; quality; animation ]
+  Cmd.group
+    (Cmd.info "bench" ~doc ~exits
+       ~envs:
+         (Cli.envs
+         @ [
+             Cmd.Env.info "XDG_CACHE_HOME"
+               ~doc:
+                 "Where $(b,bench quality) keeps its reference renders \
+                  (XDG_CACHE_HOME/lancer, or HOME/.cache/lancer).";
+           ]))
+    [ domains; quality; animation ]

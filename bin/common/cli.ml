@@ -313,6 +313,36 @@ let exits =
     Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind.";
   ]
 
+(* The environment every command reads, for its man page's ENVIRONMENT section. *)
+let envs =
+  [
+    Cmd.Env.info "LANCER_PATH"
+      ~doc:
+        "Directories (separated by $(b,:)) where $(b,include \"lancer/...\") looks for \
+         lancer's scene library before PREFIX/share beside the executable and the copy \
+         built into it.";
+    Cmd.Env.info "OCAMLRUNPARAM"
+      ~doc:
+        "The OCaml runtime's parameters. Under a limit on the address space (ulimit -v) \
+         lancer sets the number of domains the runtime reserves memory for, unless this \
+         sets it ($(b,d)).";
+    Cmd.Env.info "MALLOC_ARENA_MAX"
+      ~doc:
+        "The C library's malloc arenas; under a limit on the address space lancer keeps \
+         them to an eighth of it unless this (or GLIBC_TUNABLES) sets them.";
+  ]
+
+(* What --shard slurm reads. *)
+let slurm_envs =
+  List.map
+    (fun (v, doc) -> Cmd.Env.info v ~doc)
+    [
+      ("SLURM_ARRAY_TASK_ID", "With $(b,--shard slurm): this task's index in the job array.");
+      ("SLURM_ARRAY_TASK_COUNT", "With $(b,--shard slurm): the number of tasks.");
+      ("SLURM_ARRAY_TASK_MIN", "With $(b,--shard slurm): the first index (default 0).");
+      ("SLURM_ARRAY_TASK_STEP", "With $(b,--shard slurm): the step between indices (default 1).");
+    ]
+
 (* Cmdliner reads "-5" as an option, so "--time -5" fails: find such a value and say how
    to write it. *)
 let negative_value_hint argv =

@@ -28,6 +28,12 @@ val frames_term : Lancer.Frames_run.options Cmdliner.Term.t
     [lancer] and [lancer-mpi] take them. *)
 
 val exits : Cmdliner.Cmd.Exit.info list
+
+val envs : Cmdliner.Cmd.Env.info list
+(** The environment variables every command reads, for the man pages. *)
+
+val slurm_envs : Cmdliner.Cmd.Env.info list
+(** What [--shard slurm] reads. *)
 (** The exit statuses every command documents: 0, 1, 2 and 130. *)
 
 val negative_value_hint : string array -> string option

@@ -24,7 +24,7 @@ let render =
     ]
   in
   Cmd.v
-    (Cmd.info "render" ~doc ~man ~exits)
+    (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
       const (fun o resume e ->
           Report.run
@@ -51,7 +51,7 @@ let animate =
     ]
   in
   Cmd.v
-    (Cmd.info "animate" ~doc ~man ~exits)
+    (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
     Term.(
       const (fun o a ->
           Report.run ~interrupted:Frames_run.interrupted (fun stop ->
@@ -99,7 +99,7 @@ let check =
     ]
   in
   Cmd.v
-    (Cmd.info "check" ~doc ~man ~exits)
+    (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
       const (fun scene json time frames ->
           wrap (fun stop ->
@@ -190,7 +190,7 @@ let golden =
       $ Cli.(term Golden)
       $ golden $ tol $ share $ update)
   in
-  Cmd.v (Cmd.info "golden" ~doc ~man ~exits) term
+  Cmd.v (Cmd.info "golden" ~doc ~man ~exits ~envs:Cli.envs) term
 
 let main () =
   let doc = "a functional ray tracer for .rts scene scripts" in
@@ -207,7 +207,10 @@ let main () =
       `Pre "  lancer check scenes/showcase.rts";
     ]
   in
-  let info = Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits in
+  let info =
+    Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits
+      ~envs:(Cli.envs @ Cli.slurm_envs)
+  in
   (* Report.main ends the process: what help, --version or a command printed that
      standard output cannot take is reported there, not at exit. *)
   Report.main (fun () ->

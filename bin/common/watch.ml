@@ -139,4 +139,4 @@ let cmd =
       $ scene $ port $ host $ beyond_loopback $ any_source_line $ poll $ width $ height
       $ samples $ depth $ domains $ quality $ quiet)
   in
-  Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits) term
+  Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits ~envs:Cli.envs) term

@@ -246,7 +246,7 @@ let render =
     ]
   in
   Cmd.v
-    (Cmd.info "render" ~doc ~man ~exits)
+    (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
       const (fun o resume -> render_cmd o ~resume) $ Cli.(term Render) $ Cli.resume_still)
 
@@ -264,7 +264,7 @@ let animate =
     ]
   in
   Cmd.v
-    (Cmd.info "animate" ~doc ~man ~exits)
+    (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
     Term.(const animate_cmd $ Cli.(term Animate) $ Cli.frames_term)
 
 let () =
@@ -276,6 +276,7 @@ let () =
   at_exit Mpi.finalize;
   let info =
     Cmd.info "lancer-mpi" ~version:Lancer.Version.v ~exits
+      ~envs:(Cli.envs @ Cli.slurm_envs)
       ~doc:"lancer's render and animate over Open MPI: run it under mpirun -np N"
   in
   let cmd = Cmd.group info [ render; animate ] in
