@@ -1,6 +1,6 @@
-(** The drop of doc/numerics.md in closed form: a ball of radius {!radius} whose lowest
-    point starts {!height} above the floor y = 0, at rest, under g = {!g}, bouncing with
-    restitution [e]. Written independently of {!Physics}, so that it can check it. *)
+(** The drop of doc/reference/numerics.md in closed form: a ball of radius {!radius} whose
+    lowest point starts {!height} above the floor y = 0, at rest, under g = {!g}, bouncing
+    with restitution [e]. Written independently of {!Physics}, so that it can check it. *)
 
 val height : float
 (** 1 m: the starting gap under the ball. *)

@@ -3,8 +3,8 @@
 open Lancer
 module Timing = Lancer_measure.Timing
 
-(* The drop of doc/numerics.md, in closed form (Drop), independently of the engine it
-   checks. *)
+(* The drop of doc/reference/numerics.md, in closed form (Drop), independently of the
+   engine it checks. *)
 let drop_height = Drop.height
 let drop_radius = Drop.radius
 let drop_g = Drop.g

@@ -1,9 +1,9 @@
 /* The Embree side of `make bench-limit`: the scenes of the speed table traced by Embree on
    one thread (rtcIntersect1 for camera rays, rtcOccluded1 for shadow rays), shaded as
-   doc/shading.md says for what they use (a pinhole camera, one point light, ambient and
-   diffuse terms, a plane, spheres or a flat-shaded mesh), written as a binary PPM. Embree
-   works in single precision: each hit's t is recomputed in double on the primitive it
-   found, so that only edge pixels may differ from lancer's image.
+   doc/reference/shading.md says for what they use (a pinhole camera, one point light,
+   ambient and diffuse terms, a plane, spheres or a flat-shaded mesh), written as a binary
+   PPM. Embree works in single precision: each hit's t is recomputed in double on the
+   primitive it found, so that only edge pixels may differ from lancer's image.
 
    lancer_embree field N W H OUT.ppm     the N×N sphere field of scenes/bench/field_*.rts
    lancer_embree grid N W H OUT.ppm      N×N spheres from a loop (bench/embree/bench.sh)

@@ -52,7 +52,8 @@ let contains s sub =
 (* ---- physics ---- *)
 
 let closed_form () =
-  (* doc/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given there. *)
+  (* doc/reference/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given
+     there. *)
   let close msg a b = Alcotest.(check (float 5e-12)) msg a b in
   close "e = 1, first impact" 0.451523640986 (Lancer_benchmarks.Drop.impact_time 1. 1);
   close "e = 1, impact 4"
@@ -115,7 +116,7 @@ let physics_json () =
     (exact08 |> member "max_apex_error" |> to_number < 1e-9);
   let v30 = find 1. "verlet" (Some (1. /. 30.)) in
   Alcotest.(check (float 1e-3))
-    "Verlet at 1/30 s: first apex 1.068 m (doc/numerics.md)" 1.068
+    "Verlet at 1/30 s: first apex 1.068 m (doc/reference/numerics.md)" 1.068
     (v30 |> member "first_apex" |> to_number);
   Alcotest.(check int) "Verlet at 1/30 s: 300 steps" 300 (v30 |> member "steps" |> to_int);
   let v1000 = find 1. "verlet" (Some 0.001)
@@ -366,7 +367,8 @@ let () =
     [
       ( "physics",
         [
-          Alcotest.test_case "closed form matches doc/numerics.md" `Quick closed_form;
+          Alcotest.test_case "closed form matches doc/reference/numerics.md" `Quick
+            closed_form;
           Alcotest.test_case "physics --json" `Quick physics_json;
         ] );
       ( "quality",

@@ -198,7 +198,8 @@ let camera_tests =
 let encode_tests =
   let e = Image.encode_channel Settings.Srgb in
   [
-    Alcotest.test_case "sRGB encodes the breakpoints of doc/shading.md" `Quick (fun () ->
+    Alcotest.test_case "sRGB encodes the breakpoints of doc/reference/shading.md" `Quick
+      (fun () ->
         Alcotest.(check int) "0" 0 (e 0.);
         Alcotest.(check int) "1" 255 (e 1.);
         (* 12.92 · 0.0031308 = 0.04045 → ⌊10.31 + 0.5⌋ *)
@@ -862,7 +863,7 @@ let validation_tests =
                 ~lights:[] [])));
   ]
 
-(* ---- scale invariance (doc/numerics.md) ---- *)
+(* ---- scale invariance (doc/reference/numerics.md) ---- *)
 
 (* The demo scene with every length multiplied by [k]: positions, radii, plane offsets,
    checker size, area-light radius; attenuation coefficients rescaled so that

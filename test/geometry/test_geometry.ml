@@ -1,7 +1,8 @@
 (* Geometry: hand-computed intersections for every primitive (grazing, parallel,
-   inside-origin and tangent rays, the doc/numerics.md values), texture coordinates, the OBJ
-   loader, watertightness of meshes and tiled parallelograms, the bounding volume hierarchy
-   against brute force, and texture determinism. Random tests use fixed seeds. *)
+   inside-origin and tangent rays, the doc/reference/numerics.md values), texture
+   coordinates, the OBJ loader, watertightness of meshes and tiled parallelograms, the
+   bounding volume hierarchy against brute force, and texture determinism. Random tests
+   use fixed seeds. *)
 open Lancer
 
 let v = Vec3.v
