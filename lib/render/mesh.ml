@@ -171,7 +171,7 @@ let scan_index text len n i out =
     Array.unsafe_set out 0 (!m - 1);
     !j)
 
-(* The coordinate range of the whole renderer (doc/numerics.md): beyond it squared lengths
+(* The coordinate range of the whole renderer (doc/reference/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let max_coordinate = 1e150
 

@@ -4,7 +4,7 @@
     The image is cut into 32×32 tiles handed out dynamically; each task writes only its
     own pixels and keeps its own counters, so the result is bit-identical whatever the
     number of domains. Each pixel averages, in linear colour, the n×n points (i + (p+½)/n,
-    j + (q+½)/n) (doc/shading.md, section 2); [jitter] moves each inside its sub-cell by a
+    j + (q+½)/n) (doc/reference/shading.md, section 2); [jitter] moves each inside its sub-cell by a
     hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2
     grid and refines to max(n, 4)×max(n, 4) only where those four samples differ by more
     than θ in some channel. Samples that are NaN or infinite are counted and replaced by

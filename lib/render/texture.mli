@@ -1,7 +1,7 @@
 (** Albedo textures: solid and procedural colour fields, and image maps.
 
     Solid (3-D) textures are evaluated at an object-space point; the caller passes P − δ·N
-    (doc/shading.md, section 6) so that a surface lying exactly on a cell boundary does
+    (doc/reference/shading.md, section 6) so that a surface lying exactly on a cell boundary does
     not flicker. Image textures use the surface's (u, v). All colours are linear RGB.
     Every texture is a pure function of its arguments (the noise is seeded once, see
     {!module-Noise}), and never returns NaN for finite input. *)
