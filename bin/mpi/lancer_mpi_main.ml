@@ -1,12 +1,12 @@
 (* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks
-   (README.md here), with the same options and the same bytes. Every rank parses the same command
-   line; rank 0 alone reads the scene file and its includes, checks everything, reports
-   errors and writes files. It broadcasts the texts it read (or that the job is over,
-   when there is an error) before any work starts, so that the other ranks read no scene
-   file (one edited meanwhile cannot make an image of two versions) and every rank
-   leaves with the same status. Images and meshes are read by each rank; each unit comes
-   back with their digests, and rank 0 refuses pixels made of other bytes than its own
-   scene. The work itself is Farm's. *)
+   (doc/reference/mpi.md), with the same options and the same bytes. Every rank parses the
+   same command line; rank 0 alone reads the scene file and its includes, checks
+   everything, reports errors and writes files. It broadcasts the texts it read (or that
+   the job is over, when there is an error) before any work starts, so that the other
+   ranks read no scene file (one edited meanwhile cannot make an image of two versions)
+   and every rank leaves with the same status. Images and meshes are read by each rank;
+   each unit comes back with their digests, and rank 0 refuses pixels made of other bytes
+   than its own scene. The work itself is Farm's. *)
 
 open Lancer
 open Cmdliner
