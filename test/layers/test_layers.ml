@@ -1,7 +1,7 @@
 (* Reads the dune files of lancer's libraries and commands and checks that every
-   dependency on a lancer library points down the layers (README "Layout" draws them).
-   dune itself refuses a cycle; this catches a new arrow that would make no cycle but
-   break the layering: the language using the renderer, the job layer using the
+   dependency on a lancer library points down the layers (doc/explanation/design.md draws
+   them). dune itself refuses a cycle; this catches a new arrow that would make no cycle
+   but break the layering: the language using the renderer, the job layer using the
    language or physics, a library of lib/ using a command's. *)
 
 let root = "../.."
