@@ -19,10 +19,10 @@ val user : ('a, unit, string, 'b) format4 -> 'a
 
 (** {1 What lancer says of a failure}
 
-    The text printed on stderr and the exit status of each failure, as the README
-    documents them: 0 success, 1 a user error (a scene, option or file problem, explained
-    in one message; a file the system refuses; out of memory), 2 an internal error (a bug:
-    "please report it"), 130 interrupted. *)
+    The text printed on stderr and the exit status of each failure, as
+    doc/reference/command-line.md documents them: 0 success, 1 a user error (a scene,
+    option or file problem, explained in one message; a file the system refuses; out of
+    memory), 2 an internal error (a bug: "please report it"), 130 interrupted. *)
 
 val errors_text : Diagnostic.t list -> string
 (** Each located error printed with {!Diagnostic.pp}, one after the other. *)

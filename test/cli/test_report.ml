@@ -1,6 +1,6 @@
 (* The one way lancer reports a failure (Job_error.describe): the text and exit status of each kind,
-   as the README's "Exit status and errors" documents them; and a program's scenes as the
-   job layer gets them (Program.source). *)
+   as doc/reference/command-line.md ("Exit status and errors") documents them; and a
+   program's scenes as the job layer gets them (Program.source). *)
 open Lancer
 
 let contains s sub =
