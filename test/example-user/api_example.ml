@@ -1,5 +1,5 @@
 (* The library without the command line: load a scene, render it, write the picture and
-   compare it with the golden one. The README shows this program. *)
+   compare it with the golden one. doc/howto/golden-tests.md shows this program. *)
 open Lancer
 
 let fail fmt =
