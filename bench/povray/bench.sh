@@ -7,6 +7,13 @@
 # 3), and the median wall time and peak memory (RSS) are reported with the ratio
 # lancer/POV-Ray (below 1: lancer is faster), and whether it meets the target of at most
 # half POV-Ray's time. Knobs: W, H, REPEAT, SCENES, WORKERS, AA.
+#
+# Then what one CSG object costs under an area light: csg_tube (a still life under a 4×4
+# area light whose tube is the difference of two cylinders) against csg_tube_plain (the
+# same without the tube), at TUBE_W×TUBE_H (default 960×720) on one worker, the four
+# renders alternated TUBE_REPEAT times (default 7); the tube's cost is the difference of
+# the two median wall times, and the target is lancer's at most POV-Ray's. Knobs: TUBE_W,
+# TUBE_H, TUBE_REPEAT; TUBE=0 skips it.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -45,3 +52,28 @@ for s in $SCENES; do
     done
   done
 done
+
+[ "${TUBE:-1}" = 0 ] && exit 0
+TW=${TUBE_W:-960}; TH=${TUBE_H:-720}; TR=${TUBE_REPEAT:-7}
+# Wall seconds of a command, to the millisecond.
+wall() { local TIMEFORMAT=%R; { time "$@" >/dev/null 2>"$tmp/err"; } 2>&1 || { cat "$tmp/err" >&2; return 1; }; }
+for f in lt lp pt pp; do : >"$tmp/$f"; done
+for _ in $(seq "$TR"); do
+  wall "$lancer" render scenes/bench/csg_tube.rts -o "$tmp/l.png" --width "$TW" --height "$TH" --domains 1 -q >>"$tmp/lt"
+  HOME="$tmp/home" wall povray +Iscenes/bench/csg_tube.pov "+O$tmp/p.png" "+W$TW" "+H$TH" -D -V -GA +WT1 -A \
+    Display_Gamma=sRGB File_Gamma=sRGB >>"$tmp/pt"
+  wall "$lancer" render scenes/bench/csg_tube_plain.rts -o "$tmp/l.png" --width "$TW" --height "$TH" --domains 1 -q >>"$tmp/lp"
+  HOME="$tmp/home" wall povray +Iscenes/bench/csg_tube_plain.pov "+O$tmp/p.png" "+W$TW" "+H$TH" -D -V -GA +WT1 -A \
+    Display_Gamma=sRGB File_Gamma=sRGB >>"$tmp/pp"
+done
+echo
+echo "A CSG object under an area light (scenes/bench/csg_tube against csg_tube_plain, ${TW}×${TH}, one worker, median of $TR alternated runs):"
+echo
+printf '| program | with the tube s | without s | the tube s |\n|---|---:|---:|---:|\n'
+lt=$(median <"$tmp/lt"); lp=$(median <"$tmp/lp"); pt=$(median <"$tmp/pt"); pp=$(median <"$tmp/pp")
+awk -v lt="$lt" -v lp="$lp" -v pt="$pt" -v pp="$pp" 'BEGIN {
+  printf "| lancer | %.3f | %.3f | %.3f |\n| POV-Ray | %.3f | %.3f | %.3f |\n", lt, lp, lt - lp, pt, pp, pt - pp
+  r = (pt - pp > 0) ? (lt - lp) / (pt - pp) : -1
+  if (r < 0) print "\nthe tube costs POV-Ray too little to measure at this size"
+  else printf "\nthe tube costs lancer %.2f× what it costs POV-Ray: target ≤ 1×, %s\n", r, (sprintf("%.2f", r) + 0 <= 1 ? "met" : "not met")
+}'

@@ -65,6 +65,7 @@ module Shape = Lancer_render.Shape
 module Stats = Lancer_render.Stats
 module Texture = Lancer_render.Texture
 module Trimesh = Lancer_render.Trimesh
+module Walk = Lancer_render.Walk
 
 (** {1 [lancer.job]} *)
 

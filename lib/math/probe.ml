@@ -65,3 +65,19 @@ let of_ray q r =
   q.iz <- i.z
 
 let to_ray q = Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)
+
+let[@inline] inverse_into tr q out =
+  let x = q.ox and y = q.oy and z = q.oz in
+  out.ox <- Transform.inv_px tr x y z;
+  out.oy <- Transform.inv_py tr x y z;
+  out.oz <- Transform.inv_pz tr x y z;
+  let x = q.dx and y = q.dy and z = q.dz in
+  let dx = Transform.inv_vx tr x y z
+  and dy = Transform.inv_vy tr x y z
+  and dz = Transform.inv_vz tr x y z in
+  out.dx <- dx;
+  out.dy <- dy;
+  out.dz <- dz;
+  out.ix <- 1. /. dx;
+  out.iy <- 1. /. dy;
+  out.iz <- 1. /. dz

@@ -40,3 +40,10 @@ val of_ray : t -> Ray.t -> unit
 
 val to_ray : t -> Ray.t
 (** The ray [q] holds, as {!Ray.make_raw} builds it (its direction kept as it is). *)
+
+val inverse_into : Transform.t -> t -> t -> unit
+(** [inverse_into tr q out] writes into [out] the ray [q] holds, moved by the inverse of
+    [tr] (into the space [tr] maps from): origin and direction as {!Transform.inv_point}
+    and {!Transform.inv_vector} move them, coordinate by coordinate and bit for bit, the
+    direction not renormalised (a t means the same point in both spaces), the reciprocal
+    direction recomputed as {!set_inv_dir} does. [out]'s interval is left as it was. *)

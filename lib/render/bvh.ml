@@ -952,11 +952,12 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
 let[@inline] link nodes k = int_of_float (fget nodes ((8 * k) + 6))
 let[@inline] count nodes k = int_of_float (fget nodes ((8 * k) + 7))
 
-(* The entry t of the ray into node [k]'s box within [tmin, tmax], or infinity for a
-   miss, with each axis's near plane chosen once per ray by the sign of its reciprocal
-   direction ({!near}), so that a slab costs two comparisons. [nx], [ny], [nz] are the offsets of the near planes' coordinates in the node (0
-   for the min plane, 3 for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf
-   (origin on a slab plane, ray parallel to it) leaves the interval open. *)
+(* The entry t of the ray into node [k]'s box within [tmin, tmax], or [inf] (infinity)
+   for a miss, with each axis's near plane chosen once per ray by the sign of its
+   reciprocal direction ({!near}), so that a slab costs two comparisons. [nx], [ny], [nz]
+   are the offsets of the near planes' coordinates in the node (0 for the min plane, 3
+   for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf (origin on a slab
+   plane, ray parallel to it) leaves the interval open. *)
 let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf =
   let off = 8 * k in
   let a = (fget nodes (off + nx) -. ox) *. ix in
@@ -973,104 +974,39 @@ let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf
   let t1 = if c < t1 then c else t1 in
   if t0 <= t1 then t0 else inf
 
-(* Whether the ray meets node [k]'s box within [tmin, tmax]: [box_entry]'s slabs, and
-   the same answer except where both the entry and the exit are infinite (a ray parallel
-   to a slab it lies beyond), which it lets through. One comparison fewer than
-   [box_entry] < infinity: the walks that need no entry t. *)
-let[@inline] box_hit nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax =
-  let off = 8 * k in
-  let a = (fget nodes (off + nx) -. ox) *. ix in
-  let t0 = if a > tmin then a else tmin in
-  let c = (fget nodes (off + fx) -. ox) *. ix in
-  let t1 = if c < tmax then c else tmax in
-  let a = (fget nodes (off + ny) -. oy) *. iy in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fy) -. oy) *. iy in
-  let t1 = if c < t1 then c else t1 in
-  let a = (fget nodes (off + nz) -. oz) *. iz in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fz) -. oz) *. iz in
-  let t1 = if c < t1 then c else t1 in
-  t0 <= t1
-
 (* The offset of the near plane's coordinate for reciprocal direction [i]. *)
 let[@inline] near i = if i < 0. then 3 else 0
 
 (* --- Walks ------------------------------------------------------------------------ *)
 
-(* A depth-first walk's stack, kept from one query to the next (one per domain): the nodes
-   still to visit in [ids] (with their entry t in [ts] for the nearest walk), their count
-   [sp] between two descents, and the interval [span] (tmin, then tmax or the best t so
-   far) the descents cull boxes by, which the walk sets. [busy] while a walk holds it. *)
+(* A depth-first walk's stack, kept from one query to the next: the nodes still to visit
+   in [ids] with their entry t in [ts], their count [sp] between two descents, and the
+   interval [span] (tmin, then tmax or the best t so far) the descents cull boxes by,
+   which the walk sets. *)
 type walk = {
   mutable ids : int array;
   mutable ts : Float.Array.t;
-  mutable busy : bool;
   mutable sp : int;
   span : Float.Array.t;
 }
 
 let new_walk () =
-  {
-    ids = [||];
-    ts = Float.Array.create 0;
-    busy = false;
-    sp = 0;
-    span = Float.Array.create 2;
-  }
+  { ids = [||]; ts = Float.Array.create 0; sp = 0; span = Float.Array.create 2 }
 
-(* [w] made ready for a tree of depth [depth], and marked busy; a fresh walk where [w] is
-   busy (a query inside another's visit). *)
-let take w depth =
-  if w.busy then
-    {
-      ids = Array.make (depth + 1) 0;
-      ts = Float.Array.create (depth + 1);
-      busy = true;
-      sp = 0;
-      span = Float.Array.create 2;
-    }
-  else (
-    if Array.length w.ids <= depth then (
-      w.ids <- Array.make (depth + 1) 0;
-      w.ts <- Float.Array.create (depth + 1));
-    w.busy <- true;
-    w)
+(* [w] made ready for a tree of depth [depth]. *)
+let[@inline] ready w depth =
+  if Array.length w.ids <= depth then (
+    w.ids <- Array.make (depth + 1) 0;
+    w.ts <- Float.Array.create (depth + 1))
 
-(* The depth-first walks' descent, from the nodes on [st]'s stack to the next leaf whose
-   box the probe's ray crosses within [st.span] (−1: none is left), pushing the crossed
-   children of the interior nodes it passes, the right one below the left. It calls
-   nothing, so that the ray's floats stay in registers: in a loop that also tests
-   primitives they would be reloaded from the stack at every box. *)
+(* The descent of every walk: from the top of [st]'s stack, past the entries whose entry t
+   is beyond [st.span]'s second (the best t of a nearest walk, the end of the interval of
+   the others), to the next leaf to test (−1: none is left). At an interior node the
+   nearer child whose box the ray enters within the span comes next, the farther one is
+   pushed with its entry t, so that leaves come nearest first. It calls nothing, so that
+   the ray's floats stay in registers: in a loop that also tests primitives they would be
+   reloaded from the stack at every box. *)
 let[@inline never] next_leaf nodes (q : Probe.t) (st : walk) =
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = fget st.span 0 and tmax = fget st.span 1 in
-  let sids = st.ids in
-  let sp = ref st.sp and leaf = ref (-1) in
-  while !leaf < 0 && !sp > 0 do
-    decr sp;
-    let node = Array.unsafe_get sids !sp in
-    if count nodes node > 0 then leaf := node
-    else
-      let l = node + 1 and rr = link nodes node in
-      if box_hit nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp rr;
-        incr sp);
-      if box_hit nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax then (
-        Array.unsafe_set sids !sp l;
-        incr sp)
-  done;
-  st.sp <- !sp;
-  !leaf
-
-(* The nearest walk's descent to the next leaf to test (−1: none is left), from [start]
-   (−1: from the top of [st]'s stack, past the entries beyond the best t, [st.span]'s
-   second): at an interior node, the nearer child whose box the ray enters before the
-   best t next, the farther one pushed with its entry t. It calls nothing, so that the
-   ray's floats stay in registers (see [next_leaf]). *)
-let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   let inf = Float.infinity in
   let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
   let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
@@ -1078,7 +1014,7 @@ let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   let tmin = Float.Array.unsafe_get st.span 0
   and best = Float.Array.unsafe_get st.span 1 in
   let sids = st.ids and sts = st.ts in
-  let sp = ref st.sp and node = ref start and leaf = ref (-1) and go = ref true in
+  let sp = ref st.sp and node = ref (-1) and leaf = ref (-1) and go = ref true in
   while !go do
     if !node < 0 then (
       while !node < 0 && !sp > 0 do
@@ -1115,29 +1051,20 @@ let[@inline never] next_near_leaf nodes (q : Probe.t) (st : walk) start =
   st.sp <- !sp;
   !leaf
 
-(* An empty stack, and the interval the descents cull by. *)
-let[@inline] begin_span w t0 t1 =
-  w.sp <- 0;
-  fset w.span 0 t0;
-  fset w.span 1 t1
-
-(* A depth-first walk begun over [tmin, tmax]: the interval kept, and the root on the
-   stack if the ray crosses its box. *)
+(* A walk begun over [tmin, tmax]: the interval kept, and the root on the stack with its
+   entry t if the ray enters its box; whether it does (else there is nothing to walk). *)
 let[@inline] start nodes (q : Probe.t) w tmin tmax =
-  begin_span w tmin tmax;
+  w.sp <- 0;
+  fset w.span 0 tmin;
+  fset w.span 1 tmax;
   let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
-  if
-    box_hit nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
-      tmax
-  then (
-    Array.unsafe_set w.ids 0 0;
-    w.sp <- 1)
-
-(* The nearest walk begun over [tmin, best]: whether the ray enters the root's box, the
-   walk then to go on with [next_near_leaf] from node 0. *)
-let[@inline] start_near nodes (q : Probe.t) w tmin best =
-  begin_span w tmin best;
-  let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
-  box_entry nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz) tmin
-    best Float.infinity
-  < Float.infinity
+  let t =
+    box_entry nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
+      tmin tmax Float.infinity
+  in
+  t < Float.infinity
+  &&
+  (Array.unsafe_set w.ids 0 0;
+   fset w.ts 0 t;
+   w.sp <- 1;
+   true)

@@ -249,7 +249,7 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
       let member (m : D.obj) =
         let sh, leaves = shapes c m in
         match (m.shape, sh) with
-        | Mesh _, [ Shape.Mesh mesh ] ->
+        | Mesh _, [ Shape.Mesh { mesh; _ } ] ->
             (if solid then
                match Mesh.open_edges_mesh mesh with
                | 0 -> ()
@@ -260,8 +260,7 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
                      n
                      (if n = 1 then " is" else "s are")
                      block);
-            ( (Shape.closed_mesh (Shape.faces mesh), m.transform),
-              Array.make (Trimesh.count mesh) m.material )
+            ((Shape.solid_mesh mesh, m.transform), [| m.material |])
         | _, [ s ] ->
             ( (s, m.transform),
               if Array.length leaves = 0 then [| m.material |]
@@ -625,7 +624,7 @@ let kinds objs =
   List.iter
     (fun (o : Primitive.t) ->
       match o.shape with
-      | Shape.Mesh m ->
+      | Shape.Mesh { mesh = m; _ } ->
           let plain = ref 0 in
           for k = 0 to Trimesh.count m - 1 do
             if not (Trimesh.has_normals m k || Trimesh.has_uvs m k) then incr plain

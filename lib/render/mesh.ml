@@ -479,39 +479,105 @@ let load_mesh ?smooth path =
 let parse ?smooth ~file text = Result.map Shape.faces (parse_mesh ?smooth ~file text)
 let load ?smooth path = Result.map Shape.faces (load_mesh ?smooth path)
 
+(* A slot of an open-addressing table of [mask + 1] slots (a power of two) for a hash. *)
+let[@inline] scramble h mask =
+  let h = h lxor (h lsr 31) in
+  let h = h * 0x2545F4914F6CDD1D in
+  (h lsr 21) land mask
+
+(* The number of slots for [n] entries: a power of two at least twice [n]. *)
+let table_size n =
+  let s = ref 16 in
+  while !s < 2 * n do
+    s := 2 * !s
+  done;
+  !s
+
+(* Two coordinates at one position: equal, or both NaN. *)
+let[@inline] coord_eq a b = a = b || (Float.is_nan a && Float.is_nan b)
+
+let[@inline] same_corner xyz i j =
+  let g k = Float.Array.unsafe_get xyz k in
+  coord_eq (g (3 * i)) (g (3 * j))
+  && coord_eq (g ((3 * i) + 1)) (g ((3 * j) + 1))
+  && coord_eq (g ((3 * i) + 2)) (g ((3 * j) + 2))
+
+(* A hash of coordinate [x]'s bits, the same for 0 and -0 and for every NaN; the sign (the
+   bit that does not fit an [int]) folded into the lowest. *)
+let[@inline] coord_bits x =
+  if x = 0. then 0
+  else if Float.is_nan x then 1
+  else
+    let b = Int64.bits_of_float x in
+    Int64.to_int b lxor Int64.to_int (Int64.shift_right_logical b 63)
+
+(* The edges of triangles whose corners are [xyz] (9 floats a triangle: corners a, b, c)
+   that are not shared by exactly two of them. Corners are one position where their
+   coordinates are equal as floats, or both NaN (0 and -0 are one, as [compare] has it):
+   each corner is numbered by the first corner at its position, through a table hashed
+   on the coordinates' bits; each edge is the pair of its ends' numbers, lower first, and
+   a second table counts each edge's uses. *)
+let open_edges_of xyz =
+  let nc = Float.Array.length xyz / 3 in
+  let size = table_size nc in
+  let mask = size - 1 in
+  let first = Array.make size (-1) and id = Array.make nc 0 in
+  for i = 0 to nc - 1 do
+    let h = scramble (coord_bits (Float.Array.get xyz (3 * i))) (-1) in
+    let h = scramble (h + coord_bits (Float.Array.get xyz ((3 * i) + 1))) (-1) in
+    let h = h + coord_bits (Float.Array.get xyz ((3 * i) + 2)) in
+    let s = ref (scramble h mask) in
+    while first.(!s) >= 0 && not (same_corner xyz first.(!s) i) do
+      s := (!s + 1) land mask
+    done;
+    if first.(!s) < 0 then first.(!s) <- i;
+    id.(i) <- first.(!s)
+  done;
+  let edge = Array.make size (-1) and uses = Array.make size 0 in
+  for c = 0 to nc - 1 do
+    let a = id.(c) and b = id.(if c mod 3 = 2 then c - 2 else c + 1) in
+    let e = if a <= b then (a * nc) + b else (b * nc) + a in
+    let s = ref (scramble e mask) in
+    while edge.(!s) >= 0 && edge.(!s) <> e do
+      s := (!s + 1) land mask
+    done;
+    edge.(!s) <- e;
+    uses.(!s) <- uses.(!s) + 1
+  done;
+  let opened = ref 0 in
+  for s = 0 to size - 1 do
+    if edge.(s) >= 0 && uses.(s) <> 2 then incr opened
+  done;
+  !opened
+
 let open_edges tris =
-  let uses = Hashtbl.create 1024 in
-  let key (a : Vec3.t) (b : Vec3.t) =
-    let k (v : Vec3.t) = (v.x, v.y, v.z) in
-    if compare (k a) (k b) <= 0 then (k a, k b) else (k b, k a)
+  let tris =
+    List.filter_map
+      (function Shape.Triangle { a; b; c; _ } -> Some (a, b, c) | _ -> None)
+      tris
   in
-  List.iter
-    (function
-      | Shape.Triangle { a; b; c; _ } ->
-          List.iter
-            (fun (p, q) ->
-              let e = key p q in
-              Hashtbl.replace uses e
-                (1 + Option.value (Hashtbl.find_opt uses e) ~default:0))
-            [ (a, b); (b, c); (c, a) ]
-      | _ -> ())
+  let xyz = Float.Array.create (9 * List.length tris) in
+  List.iteri
+    (fun t ((a : Vec3.t), (b : Vec3.t), (c : Vec3.t)) ->
+      List.iteri
+        (fun k (v : Vec3.t) ->
+          let o = (9 * t) + (3 * k) in
+          Float.Array.set xyz o v.x;
+          Float.Array.set xyz (o + 1) v.y;
+          Float.Array.set xyz (o + 2) v.z)
+        [ a; b; c ])
     tris;
-  Hashtbl.fold (fun _ n acc -> if n = 2 then acc else acc + 1) uses 0
+  open_edges_of xyz
 
 let open_edges_mesh m =
-  let uses = Hashtbl.create 1024 in
-  let key (a : Vec3.t) (b : Vec3.t) =
-    let k (v : Vec3.t) = (v.x, v.y, v.z) in
-    if compare (k a) (k b) <= 0 then (k a, k b) else (k b, k a)
-  in
-  for t = 0 to Trimesh.count m - 1 do
-    let a = Trimesh.vertex m t 0
-    and b = Trimesh.vertex m t 1
-    and c = Trimesh.vertex m t 2 in
-    List.iter
-      (fun (p, q) ->
-        let e = key p q in
-        Hashtbl.replace uses e (1 + Option.value (Hashtbl.find_opt uses e) ~default:0))
-      [ (a, b); (b, c); (c, a) ]
+  let n = Trimesh.count m in
+  let xyz = Float.Array.create (9 * n) in
+  for t = 0 to n - 1 do
+    for k = 0 to 2 do
+      let v = Trimesh.vertex m t k and o = (9 * t) + (3 * k) in
+      Float.Array.set xyz o v.x;
+      Float.Array.set xyz (o + 1) v.y;
+      Float.Array.set xyz (o + 2) v.z
+    done
   done;
-  Hashtbl.fold (fun _ n acc -> if n = 2 then acc else acc + 1) uses 0
+  open_edges_of xyz

@@ -87,7 +87,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
    vertices, shared by every placement of the mesh), and so do CSG objects, whose leaves
    carry the transform. *)
 let bakeable = function
-  | Shape.Mesh _ | Shape.Closed_mesh _ | Shape.Csg _ -> false
+  | Shape.Mesh _ | Shape.Csg _ -> false
   | Shape.Sphere _ | Plane _ | Parallelogram _ | Triangle _ | Paraboloid _ | Box _
   | Cylinder _ | Disk _ | Cone _ | Torus _ ->
       true
@@ -136,9 +136,7 @@ let similar_shape tr k shape =
       if off x.y x.z && off y.x y.z && off z.x z.y then
         Some (Shape.box ~min:(p min) ~max:(p max))
       else None
-  | Shape.Parallelogram _ | Shape.Triangle _ | Shape.Closed_mesh _ | Shape.Mesh _
-  | Shape.Csg _ ->
-      None
+  | Shape.Parallelogram _ | Shape.Triangle _ | Shape.Mesh _ | Shape.Csg _ -> None
 
 let baked o =
   (* [o] as [shape], untransformed, its texture space [shift] away. *)
@@ -208,65 +206,33 @@ let mover d =
   let common = Vec3.sub Vec3.zero d in
   moved_by ~shift:(fun s -> if s == Vec3.zero then common else Vec3.sub s d) d
 
-let object_ray o r =
-  Ray.make_raw
-    (Transform.inv_point o.transform (Ray.origin r))
-    (Transform.inv_vector o.transform (Ray.dir r))
+(* The world probe [q] in object space, written into [obj], with [q]'s interval. *)
+let[@inline] object_probe o (q : Probe.t) (obj : Probe.t) =
+  Probe.inverse_into o.transform q obj;
+  obj.p_tmin <- q.p_tmin;
+  obj.p_tmax <- q.p_tmax
 
-let intersect_into o r h =
-  if Transform.is_identity o.transform then Shape.intersect_into o.shape r h
-  else Shape.intersect_into o.shape (object_ray o r) h
+let root o (q : Probe.t) (obj : Probe.t) =
+  if Transform.is_identity o.transform then Shape.root o.shape q
+  else (
+    object_probe o q obj;
+    Shape.root o.shape obj;
+    q.p_t <- obj.p_t)
 
-(* The world probe [q] in object space, written into [obj]: the object-space ray of
-   [intersect_into], coordinate by coordinate, its reciprocal direction recomputed. *)
-let[@inline] probe_gen ~first o (q : Shape.probe) (obj : Shape.probe) =
-  let tr = o.transform in
-  if Transform.is_identity tr then
-    if first then Shape.probe_first_into o.shape q else Shape.probe_into o.shape q
+let surface o ~leaf ~face =
+  let o = if leaf >= 0 then o.leaves.(leaf) else o in
+  if face < 0 then o
   else
-    let x = q.ox and y = q.oy and z = q.oz in
-    obj.ox <- Transform.inv_px tr x y z;
-    obj.oy <- Transform.inv_py tr x y z;
-    obj.oz <- Transform.inv_pz tr x y z;
-    let x = q.dx and y = q.dy and z = q.dz in
-    let dx = Transform.inv_vx tr x y z
-    and dy = Transform.inv_vy tr x y z
-    and dz = Transform.inv_vz tr x y z in
-    obj.dx <- dx;
-    obj.dy <- dy;
-    obj.dz <- dz;
-    obj.ix <- 1. /. dx;
-    obj.iy <- 1. /. dy;
-    obj.iz <- 1. /. dz;
-    obj.p_tmin <- q.p_tmin;
-    obj.p_tmax <- q.p_tmax;
-    if first then Shape.probe_first_into o.shape obj else Shape.probe_into o.shape obj;
-    q.p_t <- obj.p_t
-
-let probe_into o q obj = probe_gen ~first:false o q obj
-let probe_first_into o q obj = probe_gen ~first:true o q obj
-
-let intersect o r tmin tmax =
-  if Transform.is_identity o.transform then Shape.intersect o.shape r tmin tmax
-  else Shape.intersect o.shape (object_ray o r) tmin tmax
-
-let surface o r t =
-  match o.shape with
-  | Shape.Mesh _ ->
-      let r' = if Transform.is_identity o.transform then r else object_ray o r in
-      { o with shape = Shape.mesh_face o.shape r' t }
-  | _ ->
-      if Array.length o.leaves = 0 then o
-      else
-        let r' = if Transform.is_identity o.transform then r else object_ray o r in
-        o.leaves.(Shape.csg_leaf o.shape r' t)
+    match o.shape with
+    | Shape.Mesh { mesh; _ } -> { o with shape = Shape.face mesh face }
+    | _ -> o
 
 let is_csg o = Array.length o.leaves > 0
 
 let is_composite o =
   Array.length o.leaves > 0 || match o.shape with Shape.Mesh _ -> true | _ -> false
 
-let faces o = match o.shape with Shape.Mesh m -> Trimesh.count m | _ -> 1
+let faces o = match o.shape with Shape.Mesh { mesh; _ } -> Trimesh.count mesh | _ -> 1
 let to_object o p = Transform.inv_point o.transform p
 let shifted o = not (o.shift.x = 0. && o.shift.y = 0. && o.shift.z = 0.)
 let texture_point o p = if shifted o then Vec3.add p o.shift else to_object o p

@@ -42,11 +42,12 @@ val bounds_into : t -> Float.Array.t -> int -> unit
 (** [bounds_into p b off] writes {!bounds} into [b] at [off] (min x y z, max x y z, the
     same floats), NaN when unbounded; an untransformed sphere's without allocating. *)
 
-val surface : t -> Ray.t -> float -> t
-(** [surface o r t] is what world ray [r] hit at [t] (a root of {!intersect} from tmin = 0
-    or later): [o] itself, for a CSG object the leaf the crossing lies on, with its
-    material and orientation, for a mesh the face hit (the lowest of those hit at [t]).
-    Shading and shadows ask it before anything else. *)
+val surface : t -> leaf:int -> face:int -> t
+(** [surface o ~leaf ~face] is the part of [o] that a crossing lies on, as a query of
+    {!Walk} found it ([−1]: none): [o] itself, for a CSG object its leaf [leaf] with its
+    material and orientation, and where that (or [o]) is a mesh, its face [face]
+    ({!Shape.face}). Shading and shadows ask it before anything else; nothing is
+    intersected again. *)
 
 val is_csg : t -> bool
 (** Whether [o] is a CSG object (its normal and material are those of its {!surface}). *)
@@ -61,22 +62,16 @@ val faces : t -> int
 val materials : t -> Material.t list
 (** The materials the object can shade with: its own, or its leaves' for a CSG object. *)
 
-val intersect : t -> Ray.t -> float -> float -> float
-(** [intersect o r tmin tmax] is the nearest t in (tmin, tmax) of world ray [r] on [o], or
-    infinity. A transformed object intersects the object-space ray, whose direction is not
-    renormalised, so t is the same in both spaces. *)
+val object_probe : t -> Probe.t -> Probe.t -> unit
+(** [object_probe o q obj] writes the probe [q] (a world ray and its interval) into [obj]
+    in [o]'s object space: origin and direction transformed as {!to_object} and
+    {!Transform.inv_vector} do, bit for bit, the reciprocal direction recomputed. The
+    direction is not renormalised, so t means the same point in both spaces. *)
 
-val intersect_into : t -> Ray.t -> Shape.hit -> unit
-(** {!intersect} over [h.tmin, h.tmax], the answer stored in [h.t] (no boxed float). *)
-
-val probe_into : t -> Shape.probe -> Shape.probe -> unit
-(** [probe_into o q obj] is {!intersect_into} for the ray that the probe [q] holds, answer
-    in [q.p_t]; a transformed object writes its object-space ray into the scratch probe
-    [obj]. Allocates nothing for the shapes {!Shape.probe_into} tests in scalars. *)
-
-val probe_first_into : t -> Shape.probe -> Shape.probe -> unit
-(** {!probe_into} where any root in the interval will do ({!Shape.probe_first_into}): the
-    answer in [q.p_t] is below [q.p_tmax] exactly when {!probe_into}'s is. *)
+val root : t -> Probe.t -> Probe.t -> unit
+(** [root o q obj] is {!Shape.root} of [o]'s simple shape for the world ray [q] holds, in
+    object space through the scratch probe [obj] when [o] is transformed: the root into
+    [q.p_t]. A mesh's and a CSG object's roots are {!Walk}'s. *)
 
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)

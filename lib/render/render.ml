@@ -197,16 +197,15 @@ let pixel sc st i j =
 let coverage (sc : Scene.t) i j =
   let s = sc.settings in
   let n = if s.adaptive > 0. then max s.samples 4 else s.samples in
-  let hits = ref 0 in
+  let hits = ref 0 and r = Probe.create () and ax = Accel.domain_scratch () in
   for q = 0 to n - 1 do
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      if
-        Accel.any_hit sc.accel
-          (Camera.ray sc.view ~width:s.width ~height:s.height x y)
-          0. Float.infinity
-      then incr hits
+      Probe.of_ray r (Camera.ray sc.view ~width:s.width ~height:s.height x y);
+      r.p_tmin <- 0.;
+      r.p_tmax <- Float.infinity;
+      if Accel.any ax sc.accel r ~opaque:false ~slot:(-1) then incr hits
     done
   done;
   Float.of_int !hits /. Float.of_int (n * n)
@@ -243,11 +242,10 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   let w = fb.Image.width in
   (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
   (* The work deep in queries that is not handed [st] (a CSG object's crossings) counts
-     into it, and so polls its token too; a poll there may leave a query half done. *)
+     into it, and so polls its token too; a poll there may leave a query half done, which
+     leaves nothing for the next query to undo. *)
   Fun.protect
-    ~finally:(fun () ->
-      Accel.watch ax None;
-      Accel.release ax)
+    ~finally:(fun () -> Accel.watch ax None)
     (fun () ->
       Stats.with_current st @@ fun () ->
       for j = y0 to y1 - 1 do

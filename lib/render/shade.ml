@@ -31,19 +31,20 @@ type acc = {
   mutable f0 : float;
 }
 
-(* A domain's scratch: the ray being traced ([q]), the shadow ray ([sq]), the fragment
-   that shapes and textures answer into (and where a trace leaves its colour), the light
-   sums, the visit of a transparent crossing of the shadow ray, made once, and the
-   queries' scratch of the domain it is made on ([ax]: no look-up per query). A shading
-   step copies what it needs into locals before it traces again, so one scratch serves
-   every depth. *)
+(* A domain's scratch: the ray being traced ([q]) and what its query found ([hit]), the
+   shadow ray ([sq]) and its crossings ([xb]), the fragment that shapes and textures
+   answer into (and where a trace leaves its colour), the light sums, the factors of the
+   crossings, and the queries' scratch of the domain it is made on ([ax]: no look-up per
+   query). A shading step copies what it needs into locals before it traces again, so one
+   scratch serves every depth. *)
 type scratch = {
   q : Probe.t;
+  hit : Walk.hit;
   sq : Probe.t;
+  xb : Walk.crossings;
   f : Frag.t;
   acc : acc;
   xs : crossings;
-  cross : Primitive.t -> bool;
   ax : Accel.scratch;
 }
 
@@ -84,16 +85,14 @@ let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta 
         f.v <- 0.);
       Texture.eval_into tex f
 
-(* The shadow ray [q] crossing transparent object [o] at t = q.p_t: its factor,
-   transparency · albedo there, recorded in [xs]; whether the product is black whatever
-   the other factors (a zero in every channel: stop). *)
-let crossing (q : Probe.t) (f : Frag.t) xs (o : Primitive.t) =
+(* The shadow ray [q] crossing transparent object [o] at t = q.p_t, on its part ([leaf],
+   [face]): its factor, transparency · albedo there, recorded in [xs]; whether the product
+   is black whatever the other factors (a zero in every channel: stop). *)
+let crossing (q : Probe.t) (f : Frag.t) xs (o : Primitive.t) ~leaf ~face =
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz in
   (* A CSG object's crossing shades with the leaf it lies on, a mesh's with its face. *)
-  let o =
-    if Primitive.is_composite o then Primitive.surface o (Probe.to_ray q) q.p_t else o
-  in
+  let o = Primitive.surface o ~leaf ~face in
   let px = ox +. (t *. q.dx) and py = oy +. (t *. q.dy) and pz = oz +. (t *. q.dz) in
   Frag.set_point f px py pz;
   Primitive.normal_into o f;
@@ -185,11 +184,12 @@ let scratch () =
   let xs = { fs = Float.Array.make 32 0.; n = 0; zero = 0 } in
   {
     q = Probe.create ();
+    hit = Walk.hit ();
     sq;
+    xb = Walk.crossings ();
     f;
     acc;
     xs;
-    cross = crossing sq f xs;
     ax = Accel.domain_scratch ();
   }
 
@@ -205,10 +205,18 @@ let accel_scratch scr = scr.ax
    order in the last bit, and a frame of an animation walks its still and moving parts
    in two structures where a still walks one. *)
 let transparent_into (sc : Scene.t) scr =
-  let acc = scr.acc and xs = scr.xs in
+  let acc = scr.acc and xs = scr.xs and xb = scr.xb and q = scr.sq in
   xs.n <- 0;
   xs.zero <- 0;
-  Accel.transparent_crossings_with scr.ax sc.accel scr.sq scr.cross;
+  Accel.crossings scr.ax sc.accel q ~transparent:true xb;
+  (if xb.n > 0 then
+     let k = ref 0 and ts = xb.ts and ps = xb.parts in
+     while !k < xb.n && xs.zero <> 7 do
+       let c = 3 * !k in
+       q.p_t <- Float.Array.get ts !k;
+       ignore (crossing q scr.f xs sc.objects.(ps.(c)) ~leaf:ps.(c + 1) ~face:ps.(c + 2));
+       incr k
+     done);
   if xs.zero = 7 then (
     acc.tr <- 0.;
     acc.tg <- 0.;
@@ -243,7 +251,7 @@ let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot scr ox oy oz dx dy d
   q.dz <- dz;
   q.p_tmin <- 0.;
   q.p_tmax <- dist;
-  if Accel.occluded_with scr.ax sc.accel q ~slot then (
+  if Accel.any scr.ax sc.accel q ~opaque:true ~slot then (
     acc.tr <- 0.;
     acc.tg <- 0.;
     acc.tb <- 0.)
@@ -401,7 +409,8 @@ let rec trace_b (sc : Scene.t) st scr depth =
   let q = scr.q and f = scr.f in
   q.p_tmin <- 0.;
   q.p_tmax <- Float.infinity;
-  let i = Accel.nearest_probe_with scr.ax sc.accel q in
+  Accel.nearest scr.ax sc.accel q scr.hit;
+  let i = scr.hit.item in
   match sc.settings.fog with
   | None ->
       if i >= 0 then shade sc st scr depth sc.objects.(i)
@@ -421,9 +430,7 @@ and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
   let q = scr.q and f = scr.f and acc = scr.acc in
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz and dx = q.dx and dy = q.dy and dz = q.dz in
-  let o =
-    if Primitive.is_composite o then Primitive.surface o (Probe.to_ray q) q.p_t else o
-  in
+  let o = Primitive.surface o ~leaf:scr.hit.leaf ~face:scr.hit.face in
   let s = sc.settings in
   let m = o.material in
   let px = ox +. (t *. dx) and py = oy +. (t *. dy) and pz = oz +. (t *. dz) in

@@ -57,8 +57,7 @@ type t =
       e1 : Vec3.t;
       e2 : Vec3.t;
     }
-  | Closed_mesh of { tris : t array; mbounds : Bbox.t option }
-  | Mesh of Trimesh.t
+  | Mesh of { mesh : Trimesh.t; solid : bool }
   | Csg of {
       op : csg_op;
       members : csg_member array;
@@ -142,7 +141,15 @@ let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
-let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
+(* The tests below are written once for two uses, which [~all] chooses where they are
+   inlined (the compiler drops the branches it rules out): with [~all:false] the nearest
+   root in (tmin, tmax); with [~all:true], for a CSG object that needs every root, each
+   candidate root (valid in (tmin, tmax), else infinity) into a slot of [out] (from 0, in
+   no order), which {!roots} sorts. The candidates are computed the same whatever tmin and
+   tmax are, so they are the roots that asking again past each one finds. *)
+let no_out = Float.Array.create 0
+
+let[@inline] sphere_gen ~all cx cy cz radius ox oy oz dx dy dz tmin tmax out =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
@@ -169,16 +176,27 @@ let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
       let c = (fl -. radius) *. (fl +. radius) in
       let s = Float.sqrt disc in
       let q = if b < 0. then s -. b else -.(b +. s) in
-      if q = 0. then
+      if q = 0. then (
         let t = -.b /. a in
-        if in_range t tmin tmax then t else Float.infinity
+        if all then
+          Float.Array.unsafe_set out 0
+            (if in_range t tmin tmax then t else Float.infinity);
+        if in_range t tmin tmax then t else Float.infinity)
       else
         let t0 = q /. a and t1 = c /. q in
         (* Typed comparisons (no NaN here: disc ≥ 0 and q ≠ 0); Float.min costs a C call. *)
         let lo = if t0 < t1 then t0 else t1 and hi = if t0 < t1 then t1 else t0 in
+        if all then (
+          Float.Array.unsafe_set out 0
+            (if in_range lo tmin tmax then lo else Float.infinity);
+          Float.Array.unsafe_set out 1
+            (if in_range hi tmin tmax then hi else Float.infinity));
         if in_range lo tmin tmax then lo
         else if in_range hi tmin tmax then hi
         else Float.infinity
+
+let[@inline] sphere_sc cx cy cz radius ox oy oz dx dy dz tmin tmax =
+  sphere_gen ~all:false cx cy cz radius ox oy oz dx dy dz tmin tmax no_out
 
 let[@inline] sphere_s (center : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   sphere_sc center.x center.y center.z radius ox oy oz dx dy dz tmin tmax
@@ -249,32 +267,12 @@ let[@inline] intersect_triangle p0 p1 p2 r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   triangle_s p0 p1 p2 o.x o.y o.z d.x d.y d.z tmin tmax
 
-(* Both roots of a·t² + b·t + c in increasing order, by the stable formula; the linear and
-   the rootless cases give infinities. Used by the quadrics with a height range, where the
-   nearer root may be cut away and the farther one kept. *)
-let roots a b c =
-  if a = 0. then
-    if b = 0. then (Float.infinity, Float.infinity)
-    else
-      let t = -.c /. b in
-      (t, Float.infinity)
-  else
-    let disc = (b *. b) -. (4. *. a *. c) in
-    if disc < 0. || Float.is_nan disc then (Float.infinity, Float.infinity)
-    else
-      let s = Float.sqrt disc in
-      let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
-      if q = 0. then (0., 0.)
-      else
-        let t0 = q /. a and t1 = c /. q in
-        (Floats.min t0 t1, Floats.max t0 t1)
-
 (* Paraboloid in its frame: y' = (P − V)·axis, x⊥ = (P − V) − y'·axis, surface
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
    formula keeps the finite root (9.4999999905 in doc/reference/numerics.md) where the naive one gives 0. *)
-let[@inline] paraboloid_root t fy dy height tmin tmax =
+let[@inline] height_root t fy dy height tmin tmax =
   in_range t tmin tmax
   &&
   let y = fy +. (t *. dy) in
@@ -299,7 +297,7 @@ let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx
     if b = 0. then Float.infinity
     else
       let t = -.c /. b in
-      if paraboloid_root t f_y d_y height tmin tmax then t else Float.infinity
+      if height_root t f_y d_y height tmin tmax then t else Float.infinity
   else
     let disc = (b *. b) -. (4. *. a *. c) in
     if disc < 0. || Float.is_nan disc then Float.infinity
@@ -307,12 +305,12 @@ let[@inline] paraboloid_s (vertex : Vec3.t) (axis : Vec3.t) height k ox oy oz dx
       let s = Float.sqrt disc in
       let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
       if q = 0. then
-        if paraboloid_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
+        if height_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
       else
         let u = q /. a and v = c /. q in
         let t0 = Floats.min u v and t1 = Floats.max u v in
-        if paraboloid_root t0 f_y d_y height tmin tmax then t0
-        else if paraboloid_root t1 f_y d_y height tmin tmax then t1
+        if height_root t0 f_y d_y height tmin tmax then t0
+        else if height_root t1 f_y d_y height tmin tmax then t1
         else Float.infinity
 
 let intersect_paraboloid vertex axis height k r tmin tmax =
@@ -322,7 +320,7 @@ let intersect_paraboloid vertex axis height k r tmin tmax =
 (* Slab test for an axis-aligned box: the entry t if it lies in (tmin, tmax), else the
    exit t (origin inside). Zero direction components give ±inf bounds; 0·inf (origin on
    a face plane) gives NaN, which the comparisons ignore. *)
-let[@inline] box_s (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax =
+let[@inline] box_gen ~all (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax out =
   let a = (mn.x -. ox) *. ix and c = (mx.x -. ox) *. ix in
   let near = if a < c then a else c and far = if a < c then c else a in
   let t0 = if near > Float.neg_infinity then near else Float.neg_infinity in
@@ -334,112 +332,186 @@ let[@inline] box_s (mn : Vec3.t) (mx : Vec3.t) ox oy oz ix iy iz tmin tmax =
   let near = if a < c then a else c and far = if a < c then c else a in
   let t0 = if near > t0 then near else t0 and t1 = if far < t1 then far else t1 in
   if not (t0 <= t1) then Float.infinity
-  else if in_range t0 tmin tmax then t0
-  else if in_range t1 tmin tmax then t1
-  else Float.infinity
+  else (
+    if all then (
+      Float.Array.unsafe_set out 0 (if in_range t0 tmin tmax then t0 else Float.infinity);
+      Float.Array.unsafe_set out 1 (if in_range t1 tmin tmax then t1 else Float.infinity));
+    if in_range t0 tmin tmax then t0
+    else if in_range t1 tmin tmax then t1
+    else Float.infinity)
+
+let[@inline] box_s mn mx ox oy oz ix iy iz tmin tmax =
+  box_gen ~all:false mn mx ox oy oz ix iy iz tmin tmax no_out
 
 let intersect_box mn mx r tmin tmax =
   let o = Ray.origin r and inv = Ray.inv_dir r in
   box_s mn mx o.x o.y o.z inv.x inv.y inv.z tmin tmax
 
 (* A disk of radius r at [center] in the plane of [normal], t from the plane test. *)
-let[@inline] disk_s (center : Vec3.t) (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax
-    =
+let[@inline] disk_sc cx cy cz (normal : Vec3.t) radius ox oy oz dx dy dz tmin tmax =
   let denom = (dx *. normal.x) +. (dy *. normal.y) +. (dz *. normal.z) in
   if denom = 0. then Float.infinity
   else
     let t =
-      (((center.x -. ox) *. normal.x)
-      +. ((center.y -. oy) *. normal.y)
-      +. ((center.z -. oz) *. normal.z))
+      (((cx -. ox) *. normal.x) +. ((cy -. oy) *. normal.y) +. ((cz -. oz) *. normal.z))
       /. denom
     in
     if in_range t tmin tmax then
-      let qx = ox +. (t *. dx) -. center.x
-      and qy = oy +. (t *. dy) -. center.y
-      and qz = oz +. (t *. dz) -. center.z in
+      let qx = ox +. (t *. dx) -. cx
+      and qy = oy +. (t *. dy) -. cy
+      and qz = oz +. (t *. dz) -. cz in
       if (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius then t
       else Float.infinity
     else Float.infinity
+
+let[@inline] disk_s (center : Vec3.t) normal radius ox oy oz dx dy dz tmin tmax =
+  disk_sc center.x center.y center.z normal radius ox oy oz dx dy dz tmin tmax
 
 let disk_hit center normal radius r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
   disk_s center normal radius o.x o.y o.z d.x d.y d.z tmin tmax
 
+(* Of an axial side's roots [t0] ≤ [t1], the nearer that lies between the ends (0 ≤ y' ≤
+   [height], y' = [f_y] + t·[d_y]) in (tmin, tmax), or infinity; with [all], each of the
+   two kept (or infinity) into [out] at 0 and 1. *)
+let[@inline] side_roots ~all t0 t1 f_y d_y height tmin tmax out =
+  if all then (
+    Float.Array.unsafe_set out 0
+      (if height_root t0 f_y d_y height tmin tmax then t0 else Float.infinity);
+    Float.Array.unsafe_set out 1
+      (if height_root t1 f_y d_y height tmin tmax then t1 else Float.infinity));
+  if height_root t0 f_y d_y height tmin tmax then t0
+  else if height_root t1 f_y d_y height tmin tmax then t1
+  else Float.infinity
+
+(* An axial solid's nearest root in (tmin, tmax): its side's ([side]) or a cap's, the disk
+   of radius [r0] at [base] where [lo], of [r1] at the top where [hi]; each cap searched
+   only below the nearest root so far. With [all], the caps' roots (or infinity) into
+   [out] at 2 and 3, and the side's root. *)
+let[@inline] with_caps ~all (base : Vec3.t) (axis : Vec3.t) height r0 r1 ~lo ~hi side ox
+    oy oz dx dy dz tmin tmax out =
+  let tx = base.x +. (height *. axis.x)
+  and ty = base.y +. (height *. axis.y)
+  and tz = base.z +. (height *. axis.z) in
+  if all then (
+    Float.Array.unsafe_set out 2
+      (if lo then disk_s base axis r0 ox oy oz dx dy dz tmin tmax else Float.infinity);
+    Float.Array.unsafe_set out 3
+      (if hi then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax else Float.infinity);
+    side)
+  else if not (lo || hi) then side
+  else
+    let tmax' = Floats.min side tmax in
+    let t_lo =
+      if lo then disk_s base axis r0 ox oy oz dx dy dz tmin tmax' else Float.infinity
+    in
+    let tmax' = Floats.min t_lo tmax' in
+    let t_hi =
+      if hi then disk_sc tx ty tz axis r1 ox oy oz dx dy dz tmin tmax' else Float.infinity
+    in
+    Floats.min side (Floats.min t_lo t_hi)
+
 (* Cylinder side: the 2-D circle version of the sphere's stable discriminant, in the plane
    perpendicular to the axis (f⊥ and d⊥); kept for 0 ≤ y' ≤ h. Caps are disks. A ray
-   parallel to the axis has a = 0 and misses the side (the caps catch it). *)
-let intersect_cylinder base axis height radius caps r tmin tmax =
-  let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o base in
-  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
-  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
-  let a = Vec3.dot dp dp in
+   parallel to the axis has a = 0 and misses the side (the caps catch it). The vector
+   form's operations (f = O − base, f⊥ = f − f_y·axis, …), on scalars. *)
+let[@inline] cylinder_gen ~all (base : Vec3.t) (axis : Vec3.t) height radius caps ox oy oz
+    dx dy dz tmin tmax out =
+  let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
+  let f_y = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+  and d_y = (dx *. axis.x) +. (dy *. axis.y) +. (dz *. axis.z) in
+  let fpx = ex +. (-.f_y *. axis.x)
+  and fpy = ey +. (-.f_y *. axis.y)
+  and fpz = ez +. (-.f_y *. axis.z) in
+  let dpx = dx +. (-.d_y *. axis.x)
+  and dpy = dy +. (-.d_y *. axis.y)
+  and dpz = dz +. (-.d_y *. axis.z) in
+  let a = (dpx *. dpx) +. (dpy *. dpy) +. (dpz *. dpz) in
   let side =
     if a = 0. then Float.infinity
     else
-      let b = Vec3.dot fp dp in
-      let l = Vec3.length (Vec3.madd fp (-.b /. a) dp) in
+      let b = (fpx *. dpx) +. (fpy *. dpy) +. (fpz *. dpz) in
+      let m = -.b /. a in
+      let l = Vec3.length3 (fpx +. (m *. dpx)) (fpy +. (m *. dpy)) (fpz +. (m *. dpz)) in
       let disc = a *. (radius -. l) *. (radius +. l) in
       if disc < 0. || Float.is_nan disc then Float.infinity
       else
-        let fl = Vec3.length fp in
+        let fl = Vec3.length3 fpx fpy fpz in
         let c = (fl -. radius) *. (fl +. radius) in
         let s = Float.sqrt disc in
         let q = if b < 0. then s -. b else -.(b +. s) in
-        let t0, t1 =
-          if q = 0. then (-.b /. a, Float.infinity)
-          else (Floats.min (q /. a) (c /. q), Floats.max (q /. a) (c /. q))
-        in
-        let ok t =
-          in_range t tmin tmax
-          &&
-          let y = fy +. (t *. dy) in
-          y >= 0. && y <= height
-        in
-        if ok t0 then t0 else if ok t1 then t1 else Float.infinity
+        let t0 = if q = 0. then -.b /. a else Floats.min (q /. a) (c /. q)
+        and t1 = if q = 0. then Float.infinity else Floats.max (q /. a) (c /. q) in
+        side_roots ~all t0 t1 f_y d_y height tmin tmax out
   in
-  if not caps then side
-  else
-    let tmax' = Floats.min side tmax in
-    let t_lo = disk_hit base axis radius r tmin tmax' in
-    let tmax' = Floats.min t_lo tmax' in
-    let t_hi = disk_hit (Vec3.madd base height axis) axis radius r tmin tmax' in
-    Floats.min side (Floats.min t_lo t_hi)
+  with_caps ~all base axis height radius radius ~lo:caps ~hi:caps side ox oy oz dx dy dz
+    tmin tmax out
+
+let cylinder_s base axis height radius caps ox oy oz dx dy dz tmin tmax =
+  cylinder_gen ~all:false base axis height radius caps ox oy oz dx dy dz tmin tmax no_out
+
+let intersect_cylinder base axis height radius caps r tmin tmax =
+  let o = Ray.origin r and d = Ray.dir r in
+  cylinder_s base axis height radius caps o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Cone side: |x⊥| = r(y') with r linear from r0 at y' = 0 to r1 at y' = h, kept for
    0 ≤ y' ≤ h (where r ≥ 0, so the other nappe of the double cone is cut away). With
    k = (r1 − r0)/h and ρ(t) = r0 + k·(f_y + t·d_y): a = |d⊥|² − k²·d_y²,
-   b = 2·(f⊥·d⊥ − k·d_y·ρ₀), c = |f⊥|² − ρ₀², solved by the stable formula. Caps are
-   disks (none at a point end). *)
+   b = 2·(f⊥·d⊥ − k·d_y·ρ₀), c = |f⊥|² − ρ₀², solved by the stable formula ([roots],
+   written out). Caps are disks (none at a point end). On scalars, as the cylinder. *)
+let[@inline] cone_gen ~all (base : Vec3.t) (axis : Vec3.t) height r0 r1 caps ox oy oz dx
+    dy dz tmin tmax out =
+  let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
+  let f_y = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+  and d_y = (dx *. axis.x) +. (dy *. axis.y) +. (dz *. axis.z) in
+  let fpx = ex +. (-.f_y *. axis.x)
+  and fpy = ey +. (-.f_y *. axis.y)
+  and fpz = ez +. (-.f_y *. axis.z) in
+  let dpx = dx +. (-.d_y *. axis.x)
+  and dpy = dy +. (-.d_y *. axis.y)
+  and dpz = dz +. (-.d_y *. axis.z) in
+  let k = (r1 -. r0) /. height in
+  let rho0 = r0 +. (k *. f_y) in
+  let a = (dpx *. dpx) +. (dpy *. dpy) +. (dpz *. dpz) -. (k *. k *. d_y *. d_y) in
+  let b = 2. *. ((fpx *. dpx) +. (fpy *. dpy) +. (fpz *. dpz) -. (k *. d_y *. rho0)) in
+  let c = (fpx *. fpx) +. (fpy *. fpy) +. (fpz *. fpz) -. (rho0 *. rho0) in
+  let side =
+    if a = 0. then (
+      if b = 0. then Float.infinity
+      else
+        (* One root (the linear case). *)
+        let t = -.c /. b in
+        let t = if height_root t f_y d_y height tmin tmax then t else Float.infinity in
+        if all then Float.Array.unsafe_set out 0 t;
+        t)
+    else
+      let disc = (b *. b) -. (4. *. a *. c) in
+      if disc < 0. || Float.is_nan disc then Float.infinity
+      else
+        let s = Float.sqrt disc in
+        let q = if b < 0. then -0.5 *. (b -. s) else -0.5 *. (b +. s) in
+        if q = 0. then (
+          (* A double root. *)
+          let t =
+            if height_root 0. f_y d_y height tmin tmax then 0. else Float.infinity
+          in
+          if all then Float.Array.unsafe_set out 0 t;
+          t)
+        else
+          let t0 = Floats.min (q /. a) (c /. q) and t1 = Floats.max (q /. a) (c /. q) in
+          side_roots ~all t0 t1 f_y d_y height tmin tmax out
+  in
+  with_caps ~all base axis height r0 r1
+    ~lo:(caps && r0 > 0.)
+    ~hi:(caps && r1 > 0.)
+    side ox oy oz dx dy dz tmin tmax out
+
+let cone_s base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax =
+  cone_gen ~all:false base axis height r0 r1 caps ox oy oz dx dy dz tmin tmax no_out
+
 let intersect_cone base axis height r0 r1 caps r tmin tmax =
   let o = Ray.origin r and d = Ray.dir r in
-  let f = Vec3.sub o base in
-  let fy = Vec3.dot f axis and dy = Vec3.dot d axis in
-  let fp = Vec3.madd f (-.fy) axis and dp = Vec3.madd d (-.dy) axis in
-  let k = (r1 -. r0) /. height in
-  let rho0 = r0 +. (k *. fy) in
-  let a = Vec3.dot dp dp -. (k *. k *. dy *. dy) in
-  let b = 2. *. (Vec3.dot fp dp -. (k *. dy *. rho0)) in
-  let c = Vec3.dot fp fp -. (rho0 *. rho0) in
-  let t0, t1 = roots a b c in
-  let ok t =
-    in_range t tmin tmax
-    &&
-    let y = fy +. (t *. dy) in
-    y >= 0. && y <= height
-  in
-  let side = if ok t0 then t0 else if ok t1 then t1 else Float.infinity in
-  if not caps then side
-  else
-    let tmax' = Floats.min side tmax in
-    let t_lo = if r0 > 0. then disk_hit base axis r0 r tmin tmax' else Float.infinity in
-    let tmax' = Floats.min t_lo tmax' in
-    let t_hi =
-      if r1 > 0. then disk_hit (Vec3.madd base height axis) axis r1 r tmin tmax'
-      else Float.infinity
-    in
-    Floats.min side (Floats.min t_lo t_hi)
+  cone_s base axis height r0 r1 caps o.x o.y o.z d.x d.y d.z tmin tmax
 
 (* Torus: with q = P − C, y = q·axis, the surface is (|q|² + R² − r²)² = 4R²(|q|² − y²),
    a quartic along the ray. To keep it well scaled whatever the distance, the ray is
@@ -566,8 +638,6 @@ let torus_roots (center : Vec3.t) (axis : Vec3.t) major minor r tmin tmax =
   List.iter (fun t -> if in_range t tmin tmax && t < !best then best := t) !out;
   !best
 
-type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
-
 (* Bounds of a disk of radius r around c in the plane of unit normal n: along axis i the
    disk extends r·√(1 − n_i²). *)
 let disk_bbox (c : Vec3.t) (n : Vec3.t) r =
@@ -611,309 +681,101 @@ let bbox_of = function
       let e x = (major *. Float.sqrt (Float.max 0. (1. -. (x *. x)))) +. minor in
       let h = Vec3.v (e axis.x) (e axis.y) (e axis.z) in
       Some { Bbox.min = Vec3.sub center h; max = Vec3.add center h }
-  | Closed_mesh { mbounds; _ } -> mbounds
-  | Mesh m -> Some (Trimesh.bounds m)
+  | Mesh { mesh; _ } -> Some (Trimesh.bounds mesh)
   | Csg { cbounds; _ } -> cbounds
 
-(* --- Solids and CSG ------------------------------------------------------------------ *)
+(* --- Solids ------------------------------------------------------------------------- *)
 
-(* Whether a point is inside a solid; a point on the boundary counts as inside. A plane
-   is the half-space n̂·P ≤ offset. *)
-let rec inside s (p : Vec3.t) =
+(* Whether (x, y, z) is inside the capped solid of radius [r0] at [base] going linearly
+   to [r1] at [height] along [axis]: a cone, or a cylinder ([r0] = [r1], for which the
+   radius computed is [r0] itself, exactly). *)
+let[@inline] axial_inside (base : Vec3.t) (axis : Vec3.t) height r0 r1 x y z =
+  let qx = x -. base.x and qy = y -. base.y and qz = z -. base.z in
+  let h = (qx *. axis.x) +. (qy *. axis.y) +. (qz *. axis.z) in
+  h >= 0. && h <= height
+  &&
+  let px = qx +. (-.h *. axis.x)
+  and py = qy +. (-.h *. axis.y)
+  and pz = qz +. (-.h *. axis.z) in
+  let rr = r0 +. ((r1 -. r0) *. h /. height) in
+  (px *. px) +. (py *. py) +. (pz *. pz) <= rr *. rr
+
+(* Whether the point (x, y, z) is inside a solid; a point on the boundary counts as
+   inside. A plane is the half-space n̂·P ≤ offset. The vector operations of each test,
+   on scalars. *)
+let inside_at s x y z =
   match s with
   | Sphere { center; radius } ->
-      let q = Vec3.sub p center in
-      Vec3.dot q q <= radius *. radius
-  | Plane { normal; offset } -> Vec3.dot normal p <= offset
+      let qx = x -. center.x and qy = y -. center.y and qz = z -. center.z in
+      (qx *. qx) +. (qy *. qy) +. (qz *. qz) <= radius *. radius
+  | Plane { normal; offset } ->
+      (normal.x *. x) +. (normal.y *. y) +. (normal.z *. z) <= offset
   | Box { min; max } ->
-      p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z
-      && p.z <= max.z
+      x >= min.x && x <= max.x && y >= min.y && y <= max.y && z >= min.z && z <= max.z
   | Cylinder { base; axis; height; radius; caps = true; _ } ->
-      let q = Vec3.sub p base in
-      let y = Vec3.dot q axis in
-      y >= 0. && y <= height
-      &&
-      let xp = Vec3.madd q (-.y) axis in
-      Vec3.dot xp xp <= radius *. radius
+      axial_inside base axis height radius radius x y z
   | Cone { base; axis; height; r0; r1; caps = true; _ } ->
-      let q = Vec3.sub p base in
-      let y = Vec3.dot q axis in
-      y >= 0. && y <= height
-      &&
-      let xp = Vec3.madd q (-.y) axis in
-      let rr = r0 +. ((r1 -. r0) *. y /. height) in
-      Vec3.dot xp xp <= rr *. rr
+      axial_inside base axis height r0 r1 x y z
   | Torus { center; axis; major; minor; _ } ->
-      let q = Vec3.sub p center in
-      let y = Vec3.dot q axis in
-      let rho = Float.sqrt (Float.max 0. (Vec3.dot q q -. (y *. y))) in
-      let dr = rho -. major in
-      (dr *. dr) +. (y *. y) <= minor *. minor
-  | Closed_mesh { tris; _ } ->
-      (* Parity of the crossings of a ray from p in a fixed direction that no axis-aligned
-         feature lies along. *)
-      let r =
-        Ray.make_raw p (Vec3.v 0.5773502691896258 0.5773502691896257 0.5773502691896259)
+      let qx = x -. center.x and qy = y -. center.y and qz = z -. center.z in
+      let h = (qx *. axis.x) +. (qy *. axis.y) +. (qz *. axis.z) in
+      let rho =
+        Float.sqrt (Float.max 0. ((qx *. qx) +. (qy *. qy) +. (qz *. qz) -. (h *. h)))
       in
-      let n = ref 0 in
-      Array.iter
-        (function
-          | Triangle { a; b; c; _ } ->
-              if intersect_triangle a b c r 0. Float.infinity < Float.infinity then incr n
-          | _ -> ())
-        tris;
-      !n land 1 = 1
-  | Csg { op; members; _ } -> (
-      let ins (m : csg_member) = inside m.shape (Transform.inv_point m.transform p) in
-      match op with
-      | Union | Merge -> Array.exists ins members
-      | Intersection -> Array.for_all ins members
-      | Difference ->
-          ins members.(0)
-          &&
-          let rec none i =
-            i >= Array.length members || ((not (ins members.(i))) && none (i + 1))
-          in
-          none 1)
+      let dr = rho -. major in
+      (dr *. dr) +. (h *. h) <= minor *. minor
+  | Mesh { solid = true; _ } | Csg _ ->
+      invalid_arg
+        "Shape.inside: a solid mesh's or a CSG object's inside follows from its \
+         crossings (Walk.inside)"
   | Cylinder { caps = false; _ }
   | Cone { caps = false; _ }
-  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ | Mesh _ ->
+  | Mesh { solid = false; _ }
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ ->
       false
 
+let inside s (p : Vec3.t) = inside_at s p.x p.y p.z
+
 let rec is_solid = function
-  | Sphere _ | Plane _ | Box _ | Torus _ | Closed_mesh _ -> true
+  | Sphere _ | Plane _ | Box _ | Torus _ -> true
+  | Mesh { solid; _ } -> solid
   | Cone { caps; _ } -> caps
   | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
   | Cylinder { caps; _ } -> caps
-  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ | Mesh _ -> false
+  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
 
-(* A member's crossings are found by asking again past the last root; a shape has few
-   roots, and this bound only guards against a surface that would never stop. *)
-let max_roots = 64
+(* --- Roots ---------------------------------------------------------------------------- *)
 
-let[@inline] member_ray (m : csg_member) r =
-  if Transform.is_identity m.transform then r
-  else
-    Ray.make_raw
-      (Transform.inv_point m.transform (Ray.origin r))
-      (Transform.inv_vector m.transform (Ray.dir r))
+let composite what =
+  invalid_arg
+    (Printf.sprintf
+       "Shape.%s: a mesh's or a CSG object's roots come from the walk of its hierarchy \
+        or its members (Walk)"
+       what)
 
-(* How a CSG object knows a member's inside at one of its gaps (see [crossings_in]): a
-   [tested] member is tested there; a followed one is [followed_out] or [followed_in],
-   its state along the ray, known from its own crossings. *)
-let tested = -1
-let followed_out = 0
-let followed_in = 1
-
-(* The tests of simple surfaces that [inside] makes on a member, at most: what a tested
-   member's test at one gap counts as (Stats.spend). *)
-let inside_cost = function
-  | Closed_mesh { tris; _ } -> max 1 (Array.length tris)
-  | Csg { leaf_count; _ } -> max 1 leaf_count
-  | _ -> 1
-
-(* The member whose leaves include [leaf]: the last one whose first leaf is at most it
-   (members list their leaves in order, and one without any is never the answer). *)
-let member_of (members : csg_member array) leaf =
-  let rec go lo hi =
-    if hi - lo <= 1 then lo
-    else
-      let mid = (lo + hi) / 2 in
-      if members.(mid).first_leaf <= leaf then go mid hi else go lo mid
-  in
-  go 0 (Array.length members)
-
-(* The inside of member [i] at [p] (a point of the CSG object's space): its followed state,
-   or its own test. *)
-let[@inline] member_inside (members : csg_member array) states i p =
-  let st = Array.unsafe_get states i in
-  if st <> tested then st = followed_in
-  else
-    let m = Array.unsafe_get members i in
-    inside m.shape (Transform.inv_point m.transform p)
-
-(* [inside] of a CSG object at [p], each member's inside as [member_inside] has it. *)
-let combined op (members : csg_member array) states p =
-  let n = Array.length members in
-  match op with
-  | Union | Merge ->
-      let rec any i = i < n && (member_inside members states i p || any (i + 1)) in
-      any 0
-  | Intersection ->
-      let rec all i = i >= n || (member_inside members states i p && all (i + 1)) in
-      all 0
-  | Difference ->
-      let rec none i =
-        i >= n || ((not (member_inside members states i p)) && none (i + 1))
-      in
-      member_inside members states 0 p && none 1
-
-(* The common shapes' tests are inlined here, reading the interval from and storing the
-   root into the caller's record (a float record is flat): no float is boxed. *)
-let rec intersect_into s r (h : hit) =
-  let tmin = h.tmin and tmax = h.tmax in
+(* The quadrics with a height range and the torus take the ray in vector form. *)
+let intersect s r tmin tmax =
   match s with
-  | Sphere { center; radius } -> h.t <- intersect_sphere center radius r tmin tmax
-  | Plane { normal; offset } -> h.t <- intersect_plane normal offset r tmin tmax
-  | Triangle { a; b; c; _ } -> h.t <- intersect_triangle a b c r tmin tmax
+  | Sphere { center; radius } -> intersect_sphere center radius r tmin tmax
+  | Plane { normal; offset } -> intersect_plane normal offset r tmin tmax
+  | Triangle { a; b; c; _ } -> intersect_triangle a b c r tmin tmax
   | Parallelogram { origin; edge1; edge2; pn; w; pd } ->
-      h.t <- intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
-  | Box { min; max } -> h.t <- intersect_box min max r tmin tmax
+      intersect_parallelogram origin edge1 edge2 pn w pd r tmin tmax
+  | Box { min; max } -> intersect_box min max r tmin tmax
   | Paraboloid { vertex; axis; height; k; _ } ->
-      h.t <- intersect_paraboloid vertex axis height k r tmin tmax
+      intersect_paraboloid vertex axis height k r tmin tmax
   | Cylinder { base; axis; height; radius; caps; _ } ->
-      h.t <- intersect_cylinder base axis height radius caps r tmin tmax
-  | Disk { center; normal; radius; _ } -> h.t <- disk_hit center normal radius r tmin tmax
+      intersect_cylinder base axis height radius caps r tmin tmax
+  | Disk { center; normal; radius; _ } -> disk_hit center normal radius r tmin tmax
   | Cone { base; axis; height; r0; r1; caps; _ } ->
-      h.t <- intersect_cone base axis height r0 r1 caps r tmin tmax
+      intersect_cone base axis height r0 r1 caps r tmin tmax
   | Torus { center; axis; major; minor; _ } ->
-      h.t <- torus_roots center axis major minor r tmin tmax
-  | Closed_mesh { tris; _ } ->
-      let best = ref tmax in
-      Array.iter
-        (fun tr ->
-          let t = intersect tr r tmin !best in
-          if t < !best then best := t)
-        tris;
-      h.t <- (if !best < tmax then !best else Float.infinity)
-  | Mesh m ->
-      let q = Probe.create () in
-      Probe.of_ray q r;
-      q.p_tmin <- tmin;
-      q.p_tmax <- tmax;
-      ignore (Trimesh.nearest m q);
-      h.t <- q.p_t
-  | Csg _ ->
-      h.t <-
-        (match crossings_in (Stats.current ()) s r tmin false with
-        | (t, _) :: _, _ when t < tmax -> t
-        | _ -> Float.infinity)
+      torus_roots center axis major minor r tmin tmax
+  | Mesh _ | Csg _ -> composite "intersect"
 
-and intersect s r tmin tmax =
-  let h = { tmin; tmax; t = Float.infinity } in
-  intersect_into s r h;
-  h.t
-
-(* Every root of member [m] (number [i]) after [tmin], each paired with the leaf whose
-   surface it lies on, prepended to [acc]; each surface's root sought is one unit of
-   work for [w]. For a CSG member followed along the ray (see [crossings_in]), its state
-   just after [tmin] goes into [states.(i)]. *)
-and member_crossings w (m : csg_member) r tmin acc states i =
-  let r' = member_ray m r in
-  match m.shape with
-  | Closed_mesh { tris; _ } ->
-      Stats.spend w (Array.length tris);
-      let acc = ref acc in
-      Array.iteri
-        (fun k tr ->
-          let t = intersect tr r' tmin Float.infinity in
-          if t < Float.infinity then acc := (t, m.first_leaf + k) :: !acc)
-        tris;
-      !acc
-  | Csg { op; _ } ->
-      let followed = op <> Union in
-      let crossings, state = crossings_in w m.shape r' tmin followed in
-      if followed then states.(i) <- (if state then followed_in else followed_out);
-      List.fold_left (fun acc (t, l) -> (t, m.first_leaf + l) :: acc) acc crossings
-  | s ->
-      let rec go acc tmin k =
-        Stats.spend w 1;
-        let t = intersect s r' tmin Float.infinity in
-        if t < Float.infinity && k < max_roots then go ((t, m.first_leaf) :: acc) t (k + 1)
-        else acc
-      in
-      go acc tmin 0
-
-(* The crossings of the combined set's boundary after [tmin], nearest first, each with its
-   leaf. Every member's roots are merged in order; between two consecutive roots (and
-   after the last) nothing changes, so the inside of the combined set is tested once per
-   gap, at its middle, and a root where it changes is a crossing. The answer does not
-   depend on tmin (only which roots are kept): the first gap's state is sampled within
-   the same gap whatever tmin is. Roots are computed up to infinity, so tmax plays no
-   part at all.
-
-   A member that is itself a CSG object (but a union, whose list keeps every surface) is
-   not tested again at each gap: its crossings are where its own state changes, so its
-   state is followed along the ray from the one it had just after [tmin], flipped at each
-   of its crossings. Testing it would walk its whole tree at every gap of every level, and
-   a difference nested n deep would cost n² tests per ray; followed, each level costs its
-   gaps. The other members (surfaces, meshes, unions) are tested as the object's inside
-   tests them. With [state], the second result is the object's inside just after [tmin]
-   (for the object it is a member of); otherwise [false]. Each gap counts as the tests
-   it makes, for [w]. *)
-and crossings_in w s r tmin state =
-  match s with
-  | Csg { op; members; _ } -> (
-      let n = Array.length members in
-      let states = Array.make n tested in
-      let ev = ref [] in
-      for i = 0 to n - 1 do
-        ev := member_crossings w members.(i) r tmin !ev states i
-      done;
-      let gap_cost = ref 1 and followed = ref false in
-      for i = 0 to n - 1 do
-        if states.(i) = tested then gap_cost := !gap_cost + inside_cost members.(i).shape
-        else followed := true
-      done;
-      let gap_cost = !gap_cost and followed = !followed in
-      let ev =
-        List.stable_sort
-          (fun ((a : float), (i : int)) (b, j) ->
-            if a < b then -1 else if a > b then 1 else Int.compare i j)
-          !ev
-      in
-      let state_at t =
-        Stats.spend w gap_cost;
-        combined op members states (Ray.at r t)
-      in
-      (* A crossing of a followed member flips its state. *)
-      let pass leaf =
-        if followed then
-          let i = member_of members leaf in
-          let st = states.(i) in
-          if st <> tested then states.(i) <- followed_in - st
-      in
-      let rec skip t = function
-        | (t', l) :: rest when t' = t ->
-            pass l;
-            skip t rest
-        | l -> l
-      in
-      let rec walk before = function
-        | [] -> []
-        | (t, leaf) :: rest ->
-            pass leaf;
-            let rest = skip t rest in
-            let probe =
-              match rest with
-              | (t', _) :: _ -> 0.5 *. (t +. t')
-              | [] -> t +. Float.max 1. (Float.abs t)
-            in
-            let after = state_at probe in
-            if after <> before then (t, leaf) :: walk after rest else walk before rest
-      in
-      match ev with
-      | [] -> ([], state && state_at (tmin +. Float.max 1. (Float.abs tmin)))
-      | _ when op = Union -> (ev, false) (* every member's surface, as a group *)
-      | (t0, _) :: _ ->
-          let first = state_at (0.5 *. (tmin +. t0)) in
-          (walk first ev, first))
-  | _ ->
-      ( List.map
-          (fun t -> (t, 0))
-          (let t = intersect s r tmin Float.infinity in
-           if t < Float.infinity then [ t ] else []),
-        false )
-
-let csg_crossings s r tmin = fst (crossings_in (Stats.current ()) s r tmin false)
-
-type probe = Probe.t
-
-let probe = Probe.create
-
-(* The same tests as [intersect_into], on the probe's scalars; the quadrics with a height
-   range (cylinder, paraboloid) build the ray their vector form needs. *)
-let probe_into s (q : probe) =
+(* The same roots on the probe's scalars; the torus builds the ray its vector form
+   needs. *)
+let root s (q : Probe.t) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   match s with
   | Sphere { center; radius } ->
@@ -928,23 +790,94 @@ let probe_into s (q : probe) =
   | Box { min; max } -> q.p_t <- box_s min max q.ox q.oy q.oz q.ix q.iy q.iz tmin tmax
   | Disk { center; normal; radius; _ } ->
       q.p_t <- disk_s center normal radius q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Mesh m -> ignore (Trimesh.nearest m q)
   | Paraboloid { vertex; axis; height; k; _ } ->
       q.p_t <- paraboloid_s vertex axis height k q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
-  | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Csg _ ->
-      let h = { tmin; tmax; t = Float.infinity } in
-      intersect_into s (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz)) h;
-      q.p_t <- h.t
+  | Cylinder { base; axis; height; radius; caps; _ } ->
+      q.p_t <-
+        cylinder_s base axis height radius caps q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Cone { base; axis; height; r0; r1; caps; _ } ->
+      q.p_t <- cone_s base axis height r0 r1 caps q.ox q.oy q.oz q.dx q.dy q.dz tmin tmax
+  | Torus _ ->
+      q.p_t <-
+        intersect s
+          (Ray.make_raw (Vec3.v q.ox q.oy q.oz) (Vec3.v q.dx q.dy q.dz))
+          tmin tmax
+  | Mesh _ | Csg _ -> composite "root"
 
-let probe_first_into s (q : probe) =
-  match s with Mesh m -> ignore (Trimesh.first m q) | s -> probe_into s q
+(* The candidates in [out]'s first [n] slots, sorted, each value once, the infinite ones
+   dropped: how many are left. *)
+let sorted_distinct out n =
+  for i = 1 to n - 1 do
+    let x = Float.Array.unsafe_get out i in
+    let j = ref i in
+    while !j > 0 && Float.Array.unsafe_get out (!j - 1) > x do
+      Float.Array.unsafe_set out !j (Float.Array.unsafe_get out (!j - 1));
+      decr j
+    done;
+    Float.Array.unsafe_set out !j x
+  done;
+  let m = ref 0 in
+  for i = 0 to n - 1 do
+    let x = Float.Array.unsafe_get out i in
+    if x < Float.infinity && (!m = 0 || x <> Float.Array.unsafe_get out (!m - 1)) then (
+      Float.Array.unsafe_set out !m x;
+      incr m)
+  done;
+  !m
 
-(* The simple surfaces of a shape as a CSG member: a closed mesh's triangles, a CSG
-   object's leaves, or the shape itself. *)
-let leaf_count = function
-  | Csg { leaf_count; _ } -> leaf_count
-  | Closed_mesh { tris; _ } -> Array.length tris
-  | _ -> 1
+(* [n] slots of [out] emptied: [n]. *)
+let[@inline] put out n =
+  for i = 0 to n - 1 do
+    Float.Array.unsafe_set out i Float.infinity
+  done;
+  n
+
+let roots s (q : Probe.t) out =
+  let tmin = q.p_tmin and inf = Float.infinity in
+  match s with
+  | Sphere { center; radius } when Float.Array.length out >= 2 ->
+      let n = put out 2 in
+      ignore
+        (sphere_gen ~all:true center.x center.y center.z radius q.ox q.oy q.oz q.dx q.dy
+           q.dz tmin inf out);
+      sorted_distinct out n
+  | Box { min; max } when Float.Array.length out >= 2 ->
+      let n = put out 2 in
+      ignore (box_gen ~all:true min max q.ox q.oy q.oz q.ix q.iy q.iz tmin inf out);
+      sorted_distinct out n
+  | Cylinder { base; axis; height; radius; caps; _ } when Float.Array.length out >= 4 ->
+      let n = put out 4 in
+      ignore
+        (cylinder_gen ~all:true base axis height radius caps q.ox q.oy q.oz q.dx q.dy q.dz
+           tmin inf out);
+      sorted_distinct out n
+  | Cone { base; axis; height; r0; r1; caps; _ } when Float.Array.length out >= 4 ->
+      let n = put out 4 in
+      ignore
+        (cone_gen ~all:true base axis height r0 r1 caps q.ox q.oy q.oz q.dx q.dy q.dz tmin
+           inf out);
+      sorted_distinct out n
+  | Mesh _ | Csg _ -> composite "roots"
+  | s ->
+      (* Asked again past each root. *)
+      let n = ref 0 and go = ref true in
+      q.p_tmax <- inf;
+      while !go && !n < Float.Array.length out do
+        root s q;
+        if q.p_t < inf then (
+          Float.Array.unsafe_set out !n q.p_t;
+          incr n;
+          q.p_tmin <- q.p_t)
+        else go := false
+      done;
+      q.p_tmin <- tmin;
+      !n
+
+(* --- CSG trees ------------------------------------------------------------------------ *)
+
+(* The simple surfaces of a shape as a CSG member: a CSG object's leaves, or the shape
+   itself (a mesh is one leaf, its triangles the faces of that leaf). *)
+let leaf_count = function Csg { leaf_count; _ } -> leaf_count | _ -> 1
 
 (* A CSG object counts its leaves but does not list them: each level of a difference
    nested n deep would hold a copy of the ones below, n²/2 records in all. *)
@@ -1009,40 +942,12 @@ let csg_leaves s =
                    difference nested n deep walks n levels, not n²/2. *)
                 walk m.shape path
             | Csg _ -> walk m.shape ((m.transform, subtracted) :: path)
-            | Closed_mesh { tris; _ } ->
-                Array.iter (fun tr -> add tr m.transform subtracted path) tris
             | shape -> add shape m.transform subtracted path)
           members
     | _ -> ()
   in
   walk s [];
   Array.of_list (List.rev !acc)
-
-let closed_mesh tris =
-  let tris = Array.of_list tris in
-  let b =
-    Array.fold_left
-      (fun acc tr -> match bbox_of tr with Some b -> Bbox.union acc b | None -> acc)
-      Bbox.empty tris
-  in
-  Closed_mesh { tris; mbounds = (if Array.length tris = 0 then None else Some b) }
-
-let csg_leaf s r t =
-  match s with
-  | Csg _ ->
-      (* The crossings from 0 (where every shading ray starts) or from before t: the same
-         roots as the query that found t, so t is among them. *)
-      let tmin = if t > 0. then 0. else t -. Float.max 1. (Float.abs t) in
-      let best = ref 0 and bd = ref Float.infinity in
-      List.iter
-        (fun (t', l) ->
-          let d = Float.abs (t' -. t) in
-          if d < !bd then (
-            bd := d;
-            best := l))
-        (csg_crossings s r tmin);
-      !best
-  | _ -> 0
 
 (* Barycentric coordinates (u, v, w) of p (projected onto the triangle's plane), with
    p = u·a + v·b + w·c. *)
@@ -1163,8 +1068,7 @@ let normal s p =
       let l = Vec3.length xp in
       if l = 0. then if Vec3.dot q axis >= 0. then axis else Vec3.neg axis
       else Vec3.normalize (Vec3.madd q (-.major /. l) xp)
-  | Closed_mesh _ | Mesh _ ->
-      invalid_arg "Shape.normal: a mesh's surface is its triangles (Shape.mesh_face)"
+  | Mesh _ -> invalid_arg "Shape.normal: a mesh's surface is its triangles (Shape.face)"
   | Csg _ ->
       invalid_arg
         "Shape.normal: a CSG object has no surface of its own; ask its leaf \
@@ -1206,8 +1110,7 @@ let normal_into s (f : Frag.t) =
           f.ny <- 0.;
           f.nz <- -1.
       | _ -> Frag.set_normal f Vec3.z_axis)
-  | Triangle _ | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Closed_mesh _ | Mesh _
-  | Csg _ ->
+  | Triangle _ | Paraboloid _ | Cylinder _ | Cone _ | Torus _ | Mesh _ | Csg _ ->
       Frag.set_normal f (normal s (Frag.point f))
 
 let frac x = x -. Float.floor x
@@ -1279,7 +1182,7 @@ let uv s (p : Vec3.t) =
       let rho = Vec3.length (Vec3.madd q (-.y) axis) in
       let v = 0.5 +. (Float.atan2 y (rho -. major) /. (2. *. Float.pi)) in
       (turn e1 e2 q, if v >= 1. then 0. else clamp01 v)
-  | Closed_mesh _ | Mesh _ | Csg _ -> (0., 0.)
+  | Mesh _ | Csg _ -> (0., 0.)
 
 let uv_into s (f : Frag.t) =
   let u, v = uv s (Frag.point f) in
@@ -1290,7 +1193,7 @@ let bbox = bbox_of
 
 (* Every variant moved by d; precomputed directions, normals and frames stay as they were
    (they do not depend on the position), offsets that do are recomputed. *)
-let rec translate (d : Vec3.t) = function
+let translate (d : Vec3.t) = function
   | Sphere { center; radius } -> Sphere { center = Vec3.add center d; radius }
   | Plane { normal; offset } -> Plane { normal; offset = offset +. Vec3.dot normal d }
   | Parallelogram { origin; edge1; edge2; pn; w; _ } ->
@@ -1304,8 +1207,7 @@ let rec translate (d : Vec3.t) = function
   | Disk k -> Disk { k with center = Vec3.add k.center d }
   | Cone c -> Cone { c with base = Vec3.add c.base d }
   | Torus t -> Torus { t with center = Vec3.add t.center d }
-  | Closed_mesh { tris; _ } -> closed_mesh (Array.to_list (Array.map (translate d) tris))
-  | Mesh m -> Mesh (Trimesh.translate d m)
+  | Mesh { mesh; solid } -> Mesh { mesh = Trimesh.translate d mesh; solid }
   | Csg { op; members; _ } ->
       csg op
         (Array.to_list
@@ -1325,14 +1227,15 @@ let name = function
   | Cylinder _ -> "cylinder"
   | Disk _ -> "disk"
   | Cone _ -> "cone"
-  | Closed_mesh _ | Mesh _ -> "mesh"
+  | Mesh _ -> "mesh"
   | Torus _ -> "torus"
   | Csg { op = Union; _ } -> "union"
   | Csg { op = Merge; _ } -> "merge"
   | Csg { op = Intersection; _ } -> "intersection"
   | Csg { op = Difference; _ } -> "difference"
 
-let mesh m = Mesh m
+let mesh m = Mesh { mesh = m; solid = false }
+let solid_mesh m = Mesh { mesh = m; solid = true }
 
 (* Face [k] of a mesh as the triangle that [mesh_triangle] makes of its corners. *)
 let face m k =
@@ -1349,17 +1252,3 @@ let face m k =
     (Trimesh.vertex m k 2)
 
 let faces m = List.init (Trimesh.count m) (face m)
-
-let mesh_face s r t =
-  match s with
-  | Mesh m ->
-      (* The triangles whose root is t are those hit in (pred t, succ t): roots do not
-         depend on the interval, and the lowest index among them is the one the query
-         that found t kept. *)
-      let q = Probe.create () in
-      Probe.of_ray q r;
-      q.p_tmin <- Float.pred t;
-      q.p_tmax <- Float.succ t;
-      let k = Trimesh.nearest m q in
-      face m (if k < 0 then 0 else k)
-  | s -> s

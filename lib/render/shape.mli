@@ -8,6 +8,10 @@
     depend on tmin and tmax (only which root is kept does), so a smaller tmax never moves
     a hit: the bounding volume hierarchy relies on it.
 
+    This module tests the simple surfaces ({!root}, {!inside}). A mesh's roots come from
+    the walk of its hierarchy and a CSG object's from its members: {!Walk} asks those,
+    with the same walk as the scene's.
+
     Build shapes with the smart constructors: the variants hold precomputed values (unit
     normals, reciprocals, frames) that the constructors keep consistent. *)
 
@@ -77,12 +81,15 @@ type t = private
       e1 : Vec3.t;
       e2 : Vec3.t;
     }  (** points at distance r from the ring of radius R around [axis] *)
-  | Closed_mesh of { tris : t array;  (** triangles *) mbounds : Bbox.t option }
-      (** a mesh whose every edge is shared by exactly two faces: a solid, for CSG *)
-  | Mesh of Trimesh.t
+  | Mesh of {
+      mesh : Trimesh.t;
+      solid : bool;
+          (** every edge is shared by exactly two faces, as the caller checked: a solid,
+              whose inside is decided by the parity of a ray's crossings *)
+    }
       (** an indexed triangle mesh (an OBJ file's): one shape for all its faces, hit
-          through its own bounding volume hierarchy; shading asks {!mesh_face} for the
-          face hit *)
+          through its own bounding volume hierarchy, whose walk gives the face hit
+          ({!face}) *)
   | Csg of {
       op : csg_op;
       members : csg_member array;  (** at least one *)
@@ -100,7 +107,8 @@ and csg_member = {
 }
 
 and csg_leaf = {
-  leaf_shape : t;  (** never a [Csg] *)
+  leaf_shape : t;
+      (** never a [Csg]; a mesh is one leaf, its triangles the leaf's faces *)
   leaf_transform : Transform.t;  (** leaf space → the outermost CSG's space *)
   flipped : bool;
       (** subtracted an odd number of times: its normal points the other way *)
@@ -165,73 +173,48 @@ val csg : csg_op -> (t * Transform.t) list -> t
     solids ({!is_solid}); at least one member. *)
 
 val csg_leaves : t -> csg_leaf array
-(** [csg_leaves s] is every simple surface of CSG tree [s], depth first (a closed mesh's
-    triangles one by one), placed in the outermost object's space: the leaves that
-    [first_leaf], {!csg_crossings} and {!csg_leaf} number. Made anew at each call (the
-    tree holds only their count); [[||]] for a shape that is not a [Csg]. *)
-
-val closed_mesh : t list -> t
-(** [closed_mesh triangles] is the solid those triangles bound; the caller has checked
-    that they are closed ({!Mesh.open_edges} is 0). Inside is decided by the parity of a
-    ray's crossings. *)
+(** [csg_leaves s] is every simple surface of CSG tree [s], depth first (a mesh one leaf),
+    placed in the outermost object's space: the leaves that [first_leaf] and the CSG
+    crossings of {!Walk} number. Made anew at each call (the tree holds only their count);
+    [[||]] for a shape that is not a [Csg]. *)
 
 val is_solid : t -> bool
-(** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG
-    whose members all have one, and the plane as the half-space n̂·P ≤ offset. *)
+(** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a solid
+    mesh, a CSG whose members all have one, and the plane as the half-space n̂·P ≤ offset.
+*)
 
 val inside : t -> Vec3.t -> bool
-(** [inside s p] is whether [p] is inside solid [s], the boundary included; [false] for
-    shapes that have no inside. *)
+(** [inside s p] is whether [p] is inside [s], the boundary included; [false] for shapes
+    that have no inside. Raises [Invalid_argument] on a solid mesh and a CSG object, whose
+    inside follows from their crossings ({!Walk.inside}). *)
 
-val csg_crossings : t -> Ray.t -> float -> (float * int) list
-(** [csg_crossings s r tmin] is every t > tmin where [r] crosses the boundary of [s],
-    nearest first, with the index of the leaf the crossing lies on (0 for a simple shape).
-    It allocates: CSG objects are not on the allocation-free path. Each level of the tree
-    costs in proportion to what its members meet along [r]: a nested object counts as its
-    crossings (its inside is followed from them, not tested again at every gap), so a
-    difference nested n deep costs n levels, not n². Each test of a surface counts as a
-    unit of work into the calling domain's {!Stats.current}: this and every query that
-    meets a CSG object ({!intersect}, {!csg_leaf}, ...) raises [Sys.Break] where a poll
-    finds that render cancelled. *)
+val inside_at : t -> float -> float -> float -> bool
+(** [inside_at s x y z] is [inside s (Vec3.v x y z)], bit for bit, without the vector. *)
 
-val csg_leaf : t -> Ray.t -> float -> int
-(** [csg_leaf s r t] is the index in {!csg_leaves} of the surface that [r]'s crossing at
-    [t] (found by {!intersect} from tmin = 0 or later) lies on; 0 for a simple shape. *)
+val root : t -> Probe.t -> unit
+(** [root s q] is the nearest root of the ray that [q] holds on the simple shape [s] in
+    ([q.p_tmin], [q.p_tmax]), into [q.p_t] (infinity for none). Allocates nothing, but for
+    cylinders, cones and tori, whose test builds the ray. Raises [Invalid_argument] on a
+    mesh or a CSG object (see {!Walk}). *)
+
+val roots : t -> Probe.t -> Float.Array.t -> int
+(** [roots s q out] writes into [out] every root of the simple shape [s] along [q]'s ray
+    after [q.p_tmin], in increasing order, each value once, at most as many as [out]
+    holds: how many. They are the roots {!root} finds asked again past each one (up to
+    infinity), bit for bit; a sphere's, a box's, a cylinder's and a cone's come from one
+    test (there [out] must hold 2 or 4 floats at least, else they are asked one by one).
+    Raises [Invalid_argument] on a mesh or a CSG object. *)
 
 val intersect : t -> Ray.t -> float -> float -> float
-(** [intersect s r tmin tmax] is the smallest root t of [r] on [s] with tmin < t < tmax,
-    or [infinity]; never NaN. *)
-
-type hit = { mutable tmin : float; mutable tmax : float; mutable t : float }
-(** A ray query's interval and answer. A record of floats is stored flat, so reading and
-    writing it boxes nothing. *)
-
-val intersect_into : t -> Ray.t -> hit -> unit
-(** [intersect_into s r h] is [h.t <- intersect s r h.tmin h.tmax], without boxing a
-    float: the form the ray queries use. *)
-
-type probe = Probe.t
-(** A ray held as scalars in one flat, reusable record ({!Probe.t}): the form of the
-    renderer's ray queries, which build no {!Ray.t}. *)
-
-val probe : unit -> probe
-(** A fresh probe (all zero, answer infinity). *)
-
-val probe_into : t -> probe -> unit
-(** [probe_into s q] is [q.p_t <- intersect s r q.p_tmin q.p_tmax] for the ray [r] that
-    [q] holds: the same root, bit for bit, computed without allocating (except for
-    cylinders and paraboloids, which build the ray). *)
-
-val probe_first_into : t -> probe -> unit
-(** {!probe_into} where any root in the interval will do: a mesh stops at the first face
-    it finds crossed (its t in [q.p_t]), other shapes answer as {!probe_into}. The shadow
-    query's test. *)
+(** [intersect s r tmin tmax] is {!root} for the ray [r] over (tmin, tmax): the same root,
+    bit for bit. *)
 
 val normal : t -> Vec3.t -> Vec3.t
 (** [normal s p] is the unit normal at the surface point [p]: outward for closed surfaces
     (sphere, box, capped cylinder), away from the inside of a paraboloid's cup, the
     plane's own normal for flat shapes, and the interpolated vertex normal for smooth mesh
-    triangles. Raises [Invalid_argument] on a [Csg]: ask the leaf ({!csg_leaf}). *)
+    triangles. Raises [Invalid_argument] on a [Csg] (ask the leaf a crossing lies on) and
+    a mesh (ask the face, {!face}). *)
 
 val normal_into : t -> Frag.t -> unit
 (** [normal_into s f] is {!normal} at the point [(f.x, f.y, f.z)], written into
@@ -261,17 +244,16 @@ val name : t -> string
 val mesh : Trimesh.t -> t
 (** The mesh whose faces are the triangles of an indexed mesh. *)
 
+val solid_mesh : Trimesh.t -> t
+(** {!mesh}, a solid: the caller has checked that it is closed ({!Mesh.open_edges_mesh} is
+    0), so that it may be a member of a CSG object. *)
+
 val face : Trimesh.t -> int -> t
 (** [face m k] is triangle [k] of [m] as {!mesh_triangle} makes it of its corners, normals
     and (u, v): the same bits as a triangle read on its own. *)
 
 val faces : Trimesh.t -> t list
 (** Every face, in order. *)
-
-val mesh_face : t -> Ray.t -> float -> t
-(** [mesh_face s r t] is, for a {!Mesh}, the face that ray [r] hit at [t] (a root that
-    {!intersect} found): among the faces whose root is [t], the lowest. Any other shape is
-    its own face. *)
 
 val sphere_sc :
   float ->
@@ -288,8 +270,8 @@ val sphere_sc :
   float ->
   float
 (** [sphere_sc cx cy cz r ox oy oz dx dy dz tmin tmax] is the sphere's root in (tmin,
-    tmax) along the ray, or infinity: {!probe_into} of a {!Sphere}, bit for bit, on
-    scalars (for structures that keep spheres in flat arrays). *)
+    tmax) along the ray, or infinity: {!root} of a {!Sphere}, bit for bit, on scalars (for
+    structures that keep spheres in flat arrays). *)
 
 val plane_sc :
   float ->
@@ -305,5 +287,5 @@ val plane_sc :
   float ->
   float ->
   float
-(** [plane_sc nx ny nz offset ox oy oz dx dy dz tmin tmax]: {!probe_into} of a {!Plane},
-    bit for bit, on scalars. *)
+(** [plane_sc nx ny nz offset ox oy oz dx dy dz tmin tmax]: {!root} of a {!Plane}, bit for
+    bit, on scalars. *)

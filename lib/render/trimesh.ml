@@ -1,5 +1,6 @@
 (* An indexed triangle mesh: shared vertex arrays, three indices per triangle, and a
-   bounding volume hierarchy over the triangles whose leaves hold triangle indices. *)
+   bounding volume hierarchy over the triangles whose leaves hold triangle indices. The
+   walks over it are {!Walk}'s, the scene's own. *)
 
 type ints = (int32, Bigarray.int32_elt, Bigarray.c_layout) Bigarray.Array1.t
 
@@ -11,7 +12,9 @@ type t = {
   tn : ints;
   tt : ints;
   count : int;
-  bvh : Bvh.t option;
+  nodes : Float.Array.t;  (** the hierarchy's nodes ({!Bvh.t}); empty without one *)
+  order : int array;  (** the triangles in leaf order; in index order without a tree *)
+  depth : int;
   bounds : Bbox.t;
 }
 
@@ -68,7 +71,7 @@ let[@inline] triangle_s p0x p0y p0z p1x p1y p1z p2x p2y p2z rox roy roz rdx rdy 
         if t > tmin && t < tmax then t else Float.infinity
 
 (* Triangle [k] against the probe's ray over (p_tmin, tmax). *)
-let[@inline] test m k (q : Probe.t) tmax =
+let[@inline] root m k (q : Probe.t) tmax =
   let pos = m.pos and tv = m.tv in
   let a = 3 * iget tv (3 * k)
   and b = 3 * iget tv ((3 * k) + 1)
@@ -123,7 +126,12 @@ let make ~pos ~nrm ~tex ~tv ~tn ~tt =
     Float.is_finite !x0 && Float.is_finite !y0 && Float.is_finite !z0
     && Float.is_finite !x1 && Float.is_finite !y1 && Float.is_finite !z1
   in
-  let bvh = if count >= min_bvh && finite then Some (Bvh.build pbox) else None in
+  let nodes, order, depth =
+    if count >= min_bvh && finite then
+      let { Bvh.nodes; order; depth } = Bvh.build pbox in
+      (nodes, order, depth)
+    else (Float.Array.create 0, Array.init count Fun.id, 0)
+  in
   {
     pos;
     nrm;
@@ -132,7 +140,9 @@ let make ~pos ~nrm ~tex ~tv ~tn ~tt =
     tn;
     tt;
     count;
-    bvh;
+    nodes;
+    order;
+    depth;
     bounds = { Bbox.min = Vec3.v !x0 !y0 !z0; max = Vec3.v !x1 !y1 !z1 };
   }
 
@@ -161,89 +171,7 @@ let translate (d : Vec3.t) m =
   in
   make ~pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt
 
-(* Traversal stacks, one per domain, as the scene's ({!Bvh.walk}): a query that finds it
-   busy allocates its own. *)
-let stack_key = Domain.DLS.new_key Bvh.new_walk
-let get_stack depth = Bvh.take (Domain.DLS.get stack_key) depth
-
-(* The nearest triangle the probe's ray crosses in (p_tmin, p_tmax), ties to the lower
-   index, as a scan of the triangles in order finds it: its index (−1 for none), its t in
-   [q.p_t]. The probe's reciprocal direction must be set. The tree queries each triangle
-   up to just past the best t ({!Floats.above}), so that an equal t is seen and the index
-   decides; its boxes are padded (see Bvh), and one is culled only when its entry is
-   beyond the best t. *)
-let nearest m (q : Probe.t) =
-  let tmax = q.p_tmax in
-  match m.bvh with
-  | None ->
-      let best_t = ref tmax and best_i = ref (-1) in
-      for k = 0 to m.count - 1 do
-        let t = test m k q !best_t in
-        if t < !best_t then (
-          best_t := t;
-          best_i := k)
-      done;
-      q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
-      !best_i
-  | Some tr ->
-      let best_t = ref tmax and best_i = ref (-1) and query = ref tmax in
-      let tmin = q.p_tmin in
-      let nodes = tr.nodes and order = tr.order in
-      let st = get_stack tr.depth in
-      (if Bvh.start_near nodes q st tmin !best_t then
-         let leaf = ref (Bvh.next_near_leaf nodes q st 0) in
-         while !leaf >= 0 do
-           let first = Bvh.link nodes !leaf in
-           for j = first to first + Bvh.count nodes !leaf - 1 do
-             let i = Array.unsafe_get order j in
-             let t = test m i q !query in
-             if t <= !best_t then
-               if t < !best_t || i < !best_i then (
-                 best_t := t;
-                 best_i := i;
-                 query := Floats.above t)
-           done;
-           Float.Array.unsafe_set st.span 1 !best_t;
-           leaf := Bvh.next_near_leaf nodes q st (-1)
-         done);
-      st.busy <- false;
-      q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
-      !best_i
-
-(* Any triangle the probe's ray crosses in (p_tmin, p_tmax): the first one the walk meets
-   (−1 for none), its t in [q.p_t]. *)
-let first m (q : Probe.t) =
-  let tmax = q.p_tmax in
-  let found = ref (-1) and ft = ref Float.infinity in
-  (match m.bvh with
-  | None ->
-      let k = ref 0 in
-      while !found < 0 && !k < m.count do
-        let t = test m !k q tmax in
-        if t < tmax then (
-          found := !k;
-          ft := t);
-        incr k
-      done
-  | Some tr ->
-      let tmin = q.p_tmin in
-      let nodes = tr.nodes and order = tr.order in
-      let st = get_stack tr.depth in
-      Bvh.start nodes q st tmin tmax;
-      let node = ref (Bvh.next_leaf nodes q st) in
-      while !node >= 0 do
-        let first = Bvh.link nodes !node in
-        let j = ref first in
-        while !found < 0 && !j < first + Bvh.count nodes !node do
-          let i = Array.unsafe_get order !j in
-          let t = test m i q tmax in
-          if t < tmax then (
-            found := i;
-            ft := t);
-          incr j
-        done;
-        node := if !found < 0 then Bvh.next_leaf nodes q st else -1
-      done;
-      st.busy <- false);
-  q.p_t <- !ft;
-  !found
+let nodes m = m.nodes
+let order m = m.order
+let depth m = m.depth
+let first m = if Float.Array.length m.nodes = 0 then m.count else 0

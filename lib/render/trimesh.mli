@@ -1,7 +1,8 @@
 (** Indexed triangle meshes: vertex positions, normals and texture coordinates in flat
     float arrays, three 32-bit indices per triangle, and a bounding volume hierarchy over
     the triangles whose leaves hold triangle indices. Nothing is stored per triangle
-    beyond its indices and its place in the tree. *)
+    beyond its indices and its place in the tree. Rays walk the hierarchy with {!Walk}'s
+    queries, the scene's own, testing the triangles with {!root}. *)
 
 type ints = (int32, Bigarray.int32_elt, Bigarray.c_layout) Bigarray.Array1.t
 type t
@@ -67,13 +68,21 @@ val triangle_s :
 (** [triangle_s a b c o d tmin tmax], each point and vector as three scalars: the
     watertight ray–triangle test, the root t in (tmin, tmax) or infinity. *)
 
-val nearest : t -> Probe.t -> int
-(** [nearest m q] is the triangle nearest along the probe's ray in ([q.p_tmin],
-    [q.p_tmax]), ties to the lower index (what a scan of the triangles in order finds):
-    its index or −1; its t goes into [q.p_t] (infinity for none). The probe's reciprocal
-    direction must be set. Allocates nothing. *)
+val root : t -> int -> Probe.t -> float -> float
+(** [root m k q tmax] is triangle [k]'s root along the probe's ray in ([q.p_tmin],
+    [tmax]), or infinity: {!triangle_s} on its corners. *)
 
-val first : t -> Probe.t -> int
-(** [first m q] is a triangle the probe's ray crosses in ([q.p_tmin], [q.p_tmax]), the
-    first the walk meets, or −1: its t goes into [q.p_t] (infinity for none). For shadow
-    rays, where any crossing answers. Allocates nothing. *)
+val nodes : t -> Float.Array.t
+(** The hierarchy's nodes ({!Bvh.t}'s), empty for a mesh of fewer than 8 triangles or
+    unbounded corners, which has none. *)
+
+val order : t -> int array
+(** The triangles in leaf order (a tree's leaf [(first, count)] holds
+    [order.(first .. first + count − 1)]); in index order for a mesh without a tree. *)
+
+val depth : t -> int
+(** The tree's depth (0 without one): an upper bound on a walk's stack. *)
+
+val first : t -> int
+(** How many of [order] a walk tests in order before the tree: all of them without one,
+    none with one. *)

@@ -20,6 +20,10 @@ let sphere x y z r = Shape.sphere ~center:(Vec3.v x y z) ~radius:r
 let id = Transform.identity
 let ray o d = Ray.make o d
 
+(* A shape's crossings after [tmin] with the leaf each lies on. *)
+let crossings s r tmin =
+  List.map (fun (t, l, _) -> (t, l)) (Walk.shape_crossings s r tmin)
+
 (* The lens: two unit spheres whose centres are 1 apart. Along their common axis it spans
    z ∈ [−0.5, 0.5]: a ray from z = −5 enters at t = 4.5 (on the far sphere) and leaves at
    5.5 (on the near one). *)
@@ -28,20 +32,20 @@ let lens () =
 
 let test_lens () =
   let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
-  match Shape.csg_crossings (lens ()) r 0. with
+  match crossings (lens ()) r 0. with
   | [ (t0, l0); (t1, l1) ] ->
       close "entry" 4.5 t0;
       close "exit" 5.5 t1;
       Alcotest.(check (pair int int))
         "entry on the sphere at +z, exit on the one at −z" (1, 0) (l0, l1);
-      close "nearest hit" 4.5 (Shape.intersect (lens ()) r 0. Float.infinity)
+      close "nearest hit" 4.5 (Walk.intersect (lens ()) r 0. Float.infinity)
   | l -> Alcotest.failf "want two crossings, got %d" (List.length l)
 
 let test_lens_off_axis () =
   (* Off the axis by 0.5 along x: each sphere's surface at x = 0.5 is z = ±0.5 ∓ √0.75. *)
   let r = ray (Vec3.v 0.5 0. (-5.)) Vec3.z_axis in
   let h = Float.sqrt 0.75 in
-  match Shape.csg_crossings (lens ()) r 0. with
+  match crossings (lens ()) r 0. with
   | [ (t0, _); (t1, _) ] ->
       close ~eps:1e-12 "entry" (5. +. 0.5 -. h) t0;
       close ~eps:1e-12 "exit" (5. -. 0.5 +. h) t1
@@ -61,10 +65,9 @@ let test_cavity_normal () =
   in
   let p = Primitive.make ~leaf_materials:[| None; Some blue |] red shape in
   let r = ray (Vec3.v (-5.) 0.1 0.) Vec3.x_axis in
-  let t = Primitive.intersect p r 0. Float.infinity in
+  let s, t = Queries.surface p r 0. Float.infinity in
   let want = 5. -. 1. +. Float.sqrt ((0.5 *. 0.5) -. (0.1 *. 0.1)) in
   close "hit on the cavity wall" want t;
-  let s = Primitive.surface p r t in
   let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
   if not (n.x < -0.9) then
     Alcotest.failf "the normal (%g, %g, %g) does not point into the cavity" n.x n.y n.z;
@@ -72,9 +75,8 @@ let test_cavity_normal () =
     "the cavity wall shades with the sphere's material" true (s.material == blue);
   (* Through the middle of the solid part: the box's own face, with the CSG's material. *)
   let r = ray (Vec3.v (-5.) 0.9 0.9) Vec3.x_axis in
-  let t = Primitive.intersect p r 0. Float.infinity in
+  let s, t = Queries.surface p r 0. Float.infinity in
   close "hit on the box face" 4. t;
-  let s = Primitive.surface p r t in
   Alcotest.(check bool)
     "the box face shades with the CSG's material" true (s.material == red);
   let n = Primitive.normal s (Primitive.to_object s (Ray.at r t)) in
@@ -92,7 +94,7 @@ let test_plane_half_space () =
       ]
   in
   close "the cut" 5.
-    (Shape.intersect shape
+    (Walk.intersect shape
        (ray (Vec3.v 0.2 5. 0.3) (Vec3.v 0. (-1.) 0.))
        0. Float.infinity)
 
@@ -104,15 +106,10 @@ let test_shadow_crosses_both_walls () =
   in
   let glass = { Material.default with transparency = 0.9; ior = 1.5 } in
   let acc = Accel.build [| Primitive.make glass shell |] in
-  let n = ref 0 in
   let r = ray (Vec3.v 0. 0. (-5.)) Vec3.z_axis in
-  ignore
-    (Accel.fold_hits acc r 0. 10.
-       (fun _ _ c ->
-         incr n;
-         c)
-       Color.white);
-  Alcotest.(check int) "crossings" 4 !n
+  Alcotest.(check int)
+    "crossings" 4
+    (List.length (Queries.crossings acc r 0. 10. ~transparent:false))
 
 (* --- Random CSG trees ------------------------------------------------------------- *)
 
@@ -175,12 +172,12 @@ let test_first_sign_change =
             fun t ->
               List.map
                 (fun (m : Shape.csg_member) ->
-                  Shape.inside m.shape (Transform.inv_point m.transform (Ray.at r t)))
+                  Walk.inside m.shape (Transform.inv_point m.transform (Ray.at r t)))
                 (Array.to_list members)
-        | _ -> fun t -> [ Shape.inside s (Ray.at r t) ]
+        | _ -> fun t -> [ Walk.inside s (Ray.at r t) ]
       in
       let dt = 0.002 in
-      let t_hit = Shape.intersect s r 0. Float.infinity in
+      let t_hit = Walk.intersect s r 0. Float.infinity in
       let s0 = inside 0. in
       let rec first k =
         if k > 6000 then None
@@ -227,8 +224,8 @@ let test_bvh_brute =
                     (Vec3.v (rnd st (-6.) 6.) (rnd st (-6.) 6.) (rnd st (-6.) 6.))
                     o))
           in
-          let a = Accel.nearest bvh r 0. Float.infinity
-          and b = Accel.nearest brute r 0. Float.infinity in
+          let a = Queries.nearest bvh r 0. Float.infinity
+          and b = Queries.nearest brute r 0. Float.infinity in
           if a = b then true
           else
             QCheck.Test.fail_reportf "BVH (%g, %d), brute force (%g, %d)" (fst a) (snd a)
@@ -486,7 +483,7 @@ let test_height_field () =
   let acc = Accel.build sc.objects in
   let down x z = Ray.make (Vec3.v x 100. z) (Vec3.v 0. (-1.) 0.) in
   let height x z =
-    let t, i = Accel.nearest acc (down x z) 0. Float.infinity in
+    let t, i = Queries.nearest acc (down x z) 0. Float.infinity in
     if i < 0 then Float.nan else 100. -. t
   in
   (* Vertices: (i, j) = (1, 0) is white, (2, 0) grey 51, (0, 1) grey 102, (2, 1) red. *)
@@ -540,11 +537,11 @@ let test_closed_mesh () =
   | Ok sc ->
       let o = sc.objects.(0) in
       let r = Ray.make (Vec3.v 0.1 0.2 (-5.)) Vec3.z_axis in
-      let ts = List.map fst (Shape.csg_crossings o.shape r 0.) in
+      let ts = List.map fst (crossings o.shape r 0.) in
       check_roots "crossings" ~eps:1e-9
         [ 5. -. Float.sqrt (4. -. 0.05); 4.5; 5.5; 5. +. Float.sqrt (4. -. 0.05) ]
         ts;
-      let s = Primitive.surface o r 4.5 in
+      let s, _ = Queries.surface o r 4.4 Float.infinity in
       let n = Primitive.normal s (Primitive.to_object s (Ray.at r 4.5)) in
       if not (n.z > 0.99) then
         Alcotest.failf "the cavity's wall faces (%g, %g, %g), not the ray" n.x n.y n.z
@@ -650,7 +647,7 @@ let test_height_field_16_bit () =
   | Ok sc ->
       let acc = Accel.build sc.objects in
       let t, _ =
-        Accel.nearest acc
+        Queries.nearest acc
           (Ray.make (Vec3.v 0. 100. 0.) (Vec3.v 0. (-1.) 0.))
           0. Float.infinity
       in
@@ -790,10 +787,10 @@ let test_mixed_shadow () =
 (* The crossings by their definition: every member's roots (a nested object's own
    crossings), merged in order of (t, leaf); the object's whole inside tested at the
    middle of each gap and past the last root; a root where it changes is a crossing (a
-   union keeps them all). [Shape.csg_crossings] follows a nested object's inside from its
+   union keeps them all). [Walk.shape_crossings] follows a nested object's inside from its
    crossings instead of testing it at every gap, and must give the same list, bit for
    bit. Members are simple shapes or CSG objects (no meshes); a simple shape itself has
-   its nearest root. *)
+   its roots. *)
 let rec reference_crossings (s : Shape.t) r tmin =
   match s with
   | Shape.Csg { op; members; _ } -> (
@@ -824,7 +821,7 @@ let rec reference_crossings (s : Shape.t) r tmin =
             if a < b then -1 else if a > b then 1 else Int.compare i j)
           (List.concat_map member (Array.to_list members))
       in
-      let state t = Shape.inside s (Ray.at r t) in
+      let state t = Walk.inside s (Ray.at r t) in
       let rec skip t = function (t', _) :: rest when t' = t -> skip t rest | l -> l in
       let rec walk before = function
         | [] -> []
@@ -843,9 +840,12 @@ let rec reference_crossings (s : Shape.t) r tmin =
       | _ when op = Union -> roots
       | (t0, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) roots)
   | _ ->
-      (* A simple shape: its nearest root, on leaf 0. *)
-      let t = Shape.intersect s r tmin Float.infinity in
-      if t < Float.infinity then [ (t, 0) ] else []
+      (* A simple shape: its roots, on leaf 0. *)
+      let rec go tmin =
+        let t = Shape.intersect s r tmin Float.infinity in
+        if t < Float.infinity then (t, 0) :: go t else []
+      in
+      go tmin
 
 let same_bits (a : float) b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
 
@@ -857,7 +857,7 @@ let show_crossings l =
   String.concat ", " (List.map (fun (t, l) -> Printf.sprintf "%.17g@%d" t l) l)
 
 let check_crossings what s r tmin =
-  let want = reference_crossings s r tmin and got = Shape.csg_crossings s r tmin in
+  let want = reference_crossings s r tmin and got = crossings s r tmin in
   same_crossings want got
   || QCheck.Test.fail_reportf "%s: by definition [%s], got [%s]" what
        (show_crossings want) (show_crossings got)
@@ -940,8 +940,6 @@ let rec reference_leaves (s : Shape.t) =
                    (fun (sh, tr, flipped) ->
                      (sh, Transform.then_ tr m.transform, flipped <> subtracted))
                    (reference_leaves m.shape)
-             | Shape.Closed_mesh { tris; _ } ->
-                 List.map (fun sh -> (sh, m.transform, subtracted)) (Array.to_list tris)
              | sh -> [ (sh, m.transform, subtracted) ])
            (Array.to_list members))
   | _ -> []
@@ -1028,6 +1026,449 @@ let test_nested_picture () =
       | Ok (Different { actual; diff; _ }) ->
           Alcotest.failf "the picture changed: %s (differences in %s)" actual diff)
 
+(* --- The walk against linear scans ----------------------------------------------- *)
+
+(* A closed mesh: a torus of [nu]·[nv] quads (two triangles each) whose vertices are moved
+   in and out at random, turned at random; a few vertices on round coordinates. *)
+let random_closed_mesh st =
+  let nu = 3 + Random.State.int st 12 and nv = 3 + Random.State.int st 8 in
+  let b = Buffer.create 4096 in
+  let turn = Transform.rotate (Vec3.v (rnd st 0. 90.) (rnd st 0. 90.) (rnd st 0. 90.)) in
+  let pi = Float.pi in
+  for i = 0 to nu - 1 do
+    for j = 0 to nv - 1 do
+      let u = 2. *. pi *. Float.of_int i /. Float.of_int nu
+      and w = 2. *. pi *. Float.of_int j /. Float.of_int nv in
+      let r = 0.4 *. rnd st 0.7 1.3 and big = rnd st 0.9 1.1 in
+      let p =
+        Vec3.v
+          ((big +. (r *. Float.cos w)) *. Float.cos u)
+          (r *. Float.sin w)
+          ((big +. (r *. Float.cos w)) *. Float.sin u)
+      in
+      let p = Transform.point turn p in
+      let p =
+        if Random.State.int st 8 = 0 then
+          Vec3.v (Float.round (p.x *. 4.) /. 4.) p.y (Float.round (p.z *. 4.) /. 4.)
+        else p
+      in
+      Printf.bprintf b "v %.17g %.17g %.17g\n" p.x p.y p.z
+    done
+  done;
+  for i = 0 to nu - 1 do
+    for j = 0 to nv - 1 do
+      let id i j = (i mod nu * nv) + (j mod nv) + 1 in
+      let a = id i j
+      and b' = id (i + 1) j
+      and c = id (i + 1) (j + 1)
+      and d = id i (j + 1) in
+      Printf.bprintf b "f %d %d %d\nf %d %d %d\n" a b' c a c d
+    done
+  done;
+  match Mesh.parse_mesh ~file:"random" (Buffer.contents b) with
+  | Ok m -> m
+  | Error e -> failwith e
+
+(* The parity of the faces crossed along [Walk.parity_direction] from [p]: every face in
+   turn. *)
+let linear_parity faces p =
+  let r = Ray.make_raw p Walk.parity_direction in
+  List.fold_left
+    (fun n f ->
+      if Shape.intersect f r 0. Float.infinity < Float.infinity then n + 1 else n)
+    0 faces
+  land 1
+  = 1
+
+(* The inside of [s] at [p] with each solid mesh's parity counted over all its faces. *)
+let rec linear_inside (s : Shape.t) p =
+  match s with
+  | Shape.Mesh { mesh; solid = true } -> linear_parity (Shape.faces mesh) p
+  | Shape.Csg { op; members; _ } -> (
+      let at (m : Shape.csg_member) =
+        linear_inside m.shape (Transform.inv_point m.transform p)
+      in
+      let l = Array.to_list members in
+      match op with
+      | Union | Merge -> List.exists at l
+      | Intersection -> List.for_all at l
+      | Difference -> at (List.hd l) && not (List.exists at (List.tl l)))
+  | s -> Shape.inside s p
+
+(* [s]'s crossings after [tmin] as (t, leaf, face), by their definition and with every
+   face of a mesh tried in turn: a mesh's roots are each face's, each t once with its
+   lowest face; a CSG object's are its members' merged in order of (t, leaf, face), kept
+   where the whole object's inside ([linear_inside], tested at the middle of each gap and
+   past the last root) changes, or all of them for a union. *)
+let rec linear_crossings (s : Shape.t) r tmin =
+  match s with
+  | Shape.Mesh { mesh; _ } ->
+      let faces = Shape.faces mesh in
+      let all =
+        List.sort compare
+          (List.concat
+             (List.mapi
+                (fun k f ->
+                  let t = Shape.intersect f r tmin Float.infinity in
+                  if t < Float.infinity then [ (t, 0, k) ] else [])
+                faces))
+      in
+      let rec once = function
+        | ((t, _, _) as a) :: ((t', _, _) :: _ as rest) when t = t' ->
+            once (a :: List.tl rest)
+        | a :: rest -> a :: once rest
+        | [] -> []
+      in
+      once all
+  | Shape.Csg { op; members; _ } -> (
+      let member (m : Shape.csg_member) =
+        let r' =
+          if Transform.is_identity m.transform then r
+          else
+            Ray.make_raw
+              (Transform.inv_point m.transform (Ray.origin r))
+              (Transform.inv_vector m.transform (Ray.dir r))
+        in
+        match m.shape with
+        | Shape.Mesh { mesh; _ } ->
+            (* Every face crossed, as many as cross at one t. *)
+            List.concat
+              (List.mapi
+                 (fun k f ->
+                   let t = Shape.intersect f r' tmin Float.infinity in
+                   if t < Float.infinity then [ (t, m.first_leaf, k) ] else [])
+                 (Shape.faces mesh))
+        | Shape.Csg _ ->
+            List.map
+              (fun (t, l, f) -> (t, m.first_leaf + l, f))
+              (linear_crossings m.shape r' tmin)
+        | sh ->
+            List.map
+              (fun (t, _, _) -> (t, m.first_leaf, -1))
+              (linear_crossings sh r' tmin)
+      in
+      let roots = List.sort compare (List.concat_map member (Array.to_list members)) in
+      let state t = linear_inside s (Ray.at r t) in
+      let rec skip t = function
+        | (t', _, _) :: rest when t' = t -> skip t rest
+        | l -> l
+      in
+      let rec walk before = function
+        | [] -> []
+        | ((t, _, _) as c) :: rest ->
+            let rest = skip t rest in
+            let probe =
+              match rest with
+              | (t', _, _) :: _ -> 0.5 *. (t +. t')
+              | [] -> t +. Float.max 1. (Float.abs t)
+            in
+            let after = state probe in
+            if after <> before then c :: walk after rest else walk before rest
+      in
+      match roots with
+      | [] -> []
+      | _ when op = Union -> roots
+      | (t0, _, _) :: _ -> walk (state (0.5 *. (tmin +. t0))) roots)
+  | _ ->
+      let rec go tmin =
+        let t = Shape.intersect s r tmin Float.infinity in
+        if t < Float.infinity then (t, 0, -1) :: go t else []
+      in
+      go tmin
+
+let show3 l =
+  String.concat ", " (List.map (fun (t, l, f) -> Printf.sprintf "%.17g@%d/%d" t l f) l)
+
+let same3 want got =
+  List.length want = List.length got
+  && List.for_all2
+       (fun (t, l, f) (t', l', f') -> same_bits t t' && l = l' && f = f')
+       want got
+
+(* A solid made of closed mesh [m]: alone, or combined with a box, a sphere or a random
+   tree, possibly twice over. *)
+let rec mesh_solid st m depth =
+  let mesh = Shape.solid_mesh m in
+  if depth = 0 || Random.State.int st 4 = 0 then mesh
+  else
+    let other =
+      if Random.State.bool st then random_tree st 1
+      else
+        let c = Vec3.v (rnd st (-1.) 1.) (rnd st (-0.5) 0.5) (rnd st (-1.) 1.) in
+        Shape.box
+          ~min:(Vec3.sub c (Vec3.v 0.6 0.6 0.6))
+          ~max:(Vec3.add c (Vec3.v 0.6 0.6 0.6))
+    in
+    let op : Shape.csg_op =
+      match Random.State.int st 4 with
+      | 0 -> Union
+      | 1 -> Merge
+      | 2 -> Intersection
+      | _ -> Difference
+    in
+    let inner = mesh_solid st m (depth - 1) in
+    let members = if Random.State.bool st then [ inner; other ] else [ other; inner ] in
+    let place s =
+      if Random.State.bool st then (s, id)
+      else (s, Transform.rotate (Vec3.v (rnd st 0. 90.) (rnd st 0. 90.) 0.))
+    in
+    Shape.csg op (List.map place members)
+
+(* A ray from a sphere of radius 4 at a point of the mesh's region, a vertex of it now and
+   then. *)
+let mesh_ray st m =
+  let o =
+    Vec3.smul 4.
+      (Vec3.normalize (Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.)))
+  in
+  let target =
+    if Random.State.int st 4 = 0 then
+      Trimesh.vertex m (Random.State.int st (Trimesh.count m)) (Random.State.int st 3)
+    else Vec3.v (rnd st (-1.3) 1.3) (rnd st (-0.5) 0.5) (rnd st (-1.3) 1.3)
+  in
+  Ray.make o (Vec3.sub target o)
+
+let test_closed_mesh_linear =
+  QCheck.Test.make
+    ~name:
+      "a closed mesh's inside and crossings through its hierarchy are a scan of its \
+       faces', alone and in CSG objects, bit for bit"
+    ~count:60
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let m = random_closed_mesh st in
+      if Float.Array.length (Trimesh.nodes m) = 0 then
+        QCheck.Test.fail_report "the mesh has no hierarchy";
+      if Mesh.open_edges_mesh m <> 0 then QCheck.Test.fail_report "the mesh is open";
+      let s = mesh_solid st m 3 in
+      for _ = 1 to 60 do
+        let p =
+          if Random.State.int st 4 = 0 then
+            Trimesh.vertex m
+              (Random.State.int st (Trimesh.count m))
+              (Random.State.int st 3)
+          else Vec3.v (rnd st (-1.5) 1.5) (rnd st (-0.6) 0.6) (rnd st (-1.5) 1.5)
+        in
+        let mesh = Shape.solid_mesh m in
+        if Walk.inside mesh p <> linear_parity (Shape.faces m) p then
+          QCheck.Test.fail_reportf "the mesh's inside at (%.17g, %.17g, %.17g)" p.x p.y
+            p.z;
+        if Walk.inside s p <> linear_inside s p then
+          QCheck.Test.fail_reportf "the solid's inside at (%.17g, %.17g, %.17g)" p.x p.y
+            p.z;
+        let r = mesh_ray st m
+        and tmin = if Random.State.bool st then 0. else rnd st 1. 4. in
+        List.iter
+          (fun (what, s) ->
+            let want = linear_crossings s r tmin
+            and got = Walk.shape_crossings s r tmin in
+            if not (same3 want got) then
+              QCheck.Test.fail_reportf "%s: by a scan [%s], got [%s]" what (show3 want)
+                (show3 got))
+          [ ("the mesh", mesh); ("the solid", s) ]
+      done;
+      true)
+
+(* Open edges by their definition: each triangle's three edges as pairs of corner
+   positions (lower first, as [compare] orders them), sorted; a run of equal ones is one
+   edge, open where it is not two long. *)
+let naive_open_edges tris =
+  let k (v : Vec3.t) = (v.x, v.y, v.z) in
+  let key a b = if compare (k a) (k b) <= 0 then (k a, k b) else (k b, k a) in
+  let edges =
+    List.sort compare
+      (List.concat_map
+         (function
+           | Shape.Triangle { a; b; c; _ } -> [ key a b; key b c; key c a ] | _ -> [])
+         tris)
+  in
+  let rec runs n = function
+    | x :: (y :: _ as rest) when compare x y = 0 -> runs (n + 1) rest
+    | _ :: rest -> (if n <> 2 then 1 else 0) + runs 1 rest
+    | [] -> 0
+  in
+  runs 1 edges
+
+let test_open_edges =
+  QCheck.Test.make
+    ~name:
+      "open edges are counted as a sort of the edges by position does, 0 and -0 one, \
+       NaNs one"
+    ~count:300
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let coord () =
+        match Random.State.int st 8 with
+        | 0 -> 0.
+        | 1 -> -0.
+        | 2 -> Float.nan
+        | _ -> Float.of_int (Random.State.int st 3) -. 1.
+      in
+      let pool =
+        Array.init
+          (2 + Random.State.int st 8)
+          (fun _ -> Vec3.v (coord ()) (coord ()) (coord ()))
+      in
+      let pick () = pool.(Random.State.int st (Array.length pool)) in
+      let tris =
+        List.init (Random.State.int st 30) (fun _ ->
+            Shape.triangle ~a:(pick ()) ~b:(pick ()) ~c:(pick ()))
+      in
+      let want = naive_open_edges tris and got = Mesh.open_edges tris in
+      (want = got || QCheck.Test.fail_reportf "open edges %d, by a sort %d" got want)
+      &&
+      let m = random_closed_mesh st in
+      let faces =
+        List.filteri (fun i _ -> i mod 7 <> 0 || Random.State.bool st) (Shape.faces m)
+      in
+      (Mesh.open_edges_mesh m = 0 && Mesh.open_edges faces = naive_open_edges faces)
+      || QCheck.Test.fail_reportf "a torus with %d of %d faces" (List.length faces)
+           (Trimesh.count m))
+
+(* Random scenes of spheres, boxes, meshes (open or closed), CSG trees and CSG objects of
+   closed meshes, some turned and moved, some transparent, a plane now and then. *)
+let mixed_scene st =
+  let m = random_closed_mesh st in
+  let n = 1 + Random.State.int st 30 in
+  let one () =
+    let s =
+      match Random.State.int st 6 with
+      | 0 -> sphere (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st 0.2 1.)
+      | 1 ->
+          let c = Vec3.v (rnd st (-1.) 1.) (rnd st (-1.) 1.) (rnd st (-1.) 1.) in
+          Shape.box ~min:c ~max:(Vec3.add c (Vec3.v (rnd st 0.1 1.) (rnd st 0.1 1.) 0.5))
+      | 2 -> Shape.mesh m
+      | 3 -> random_tree st 2
+      | 4 -> mesh_solid st m 2
+      | _ -> Shape.plane ~normal:Vec3.y_axis ~offset:(rnd st (-8.) (-4.))
+    in
+    let transform =
+      Transform.then_
+        (if Random.State.bool st then id
+         else Transform.rotate (Vec3.v (rnd st 0. 90.) (rnd st 0. 90.) 0.))
+        (Transform.translate
+           (Vec3.v (rnd st (-5.) 5.) (rnd st (-3.) 3.) (rnd st (-5.) 5.)))
+    in
+    let material =
+      if Random.State.int st 4 = 0 then { Material.default with transparency = 0.5 }
+      else Material.default
+    in
+    Primitive.make ~transform material s
+  in
+  Array.init n (fun _ -> one ())
+
+(* Every crossing of each object by itself in (tmin, tmax), as the crossings query gives
+   them: (t, index, leaf, face), the leaf −1 but in a CSG object, the face −1 but on a
+   mesh. *)
+let object_crossings prims r tmin tmax ~transparent =
+  List.sort compare
+    (List.concat
+       (List.mapi
+          (fun i (p : Primitive.t) ->
+            if transparent && p.material.transparency = 0. then []
+            else
+              let csg = match p.shape with Shape.Csg _ -> true | _ -> false in
+              List.filter_map
+                (fun (t, leaf, face) ->
+                  if t < tmax then Some (t, i, (if csg then leaf else -1), face) else None)
+                (Walk.shape_crossings p.shape (Queries.object_ray p r) tmin))
+          (Array.to_list prims)))
+
+let test_walk_brute =
+  QCheck.Test.make
+    ~name:
+      "the walk's three queries over meshes, CSG objects and simple shapes are a scan's, \
+       through a tree, without one and in two parts"
+    ~count:80
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let prims = mixed_scene st in
+      let n = Array.length prims in
+      let moving = Array.init n (fun _ -> Random.State.int st 3 = 0) in
+      let part want =
+        Array.of_list (List.filter (fun i -> moving.(i) = want) (List.init n Fun.id))
+      in
+      let fixed_idx = part false and moving_idx = part true in
+      let sub idx = Array.map (fun i -> prims.(i)) idx in
+      let accels =
+        [
+          ("tree", Accel.build prims);
+          ("scan", Accel.build (Array.map Primitive.without_bounds prims));
+          ( "two parts",
+            Accel.layered prims
+              ~fixed:(Accel.build (sub fixed_idx))
+              ~fixed_idx
+              ~moving:(Accel.build (sub moving_idx))
+              ~moving_idx );
+        ]
+      in
+      for _ = 1 to 60 do
+        let o = Vec3.v (rnd st (-9.) 9.) (rnd st (-5.) 5.) (-12.) in
+        (* At random, or at a vertex of a mesh's (an edge or a corner of its faces). *)
+        let target =
+          let p = prims.(Random.State.int st n) in
+          match p.shape with
+          | Shape.Mesh { mesh; _ } when Random.State.bool st ->
+              Transform.point p.transform
+                (Trimesh.vertex mesh
+                   (Random.State.int st (Trimesh.count mesh))
+                   (Random.State.int st 3))
+          | _ -> Vec3.v (rnd st (-6.) 6.) (rnd st (-3.) 3.) (rnd st (-6.) 6.)
+        in
+        let r = Ray.make o (Vec3.sub target o) in
+        let tmin = if Random.State.bool st then 0. else rnd st 0. 8.
+        and tmax = if Random.State.bool st then Float.infinity else rnd st 8. 30. in
+        let every = object_crossings prims r tmin tmax ~transparent:false in
+        let want_hit =
+          match every with
+          | (t, i, leaf, face) :: _ -> (t, i, leaf, face)
+          | [] -> (Float.infinity, -1, -1, -1)
+        in
+        let blocked =
+          List.exists
+            (fun (_, i, _, _) -> prims.(i).Primitive.material.transparency = 0.)
+            every
+        in
+        let see_through = object_crossings prims r tmin tmax ~transparent:true in
+        List.iter
+          (fun (name, a) ->
+            let t, i, leaf, face = Queries.hit a r tmin tmax in
+            let wt, wi, wl, wf = want_hit in
+            if not (same_bits t wt && i = wi && leaf = wl && face = wf) then
+              QCheck.Test.fail_reportf "%s: nearest %.17g@%d:%d/%d, scan %.17g@%d:%d/%d"
+                name t i leaf face wt wi wl wf;
+            if Queries.any a r tmin tmax ~opaque:false <> (every <> []) then
+              QCheck.Test.fail_reportf "%s: any crossing, scan %b" name (every <> []);
+            if
+              Queries.any a r tmin tmax ~opaque:true ~slot:(Random.State.int st 2)
+              <> blocked
+            then QCheck.Test.fail_reportf "%s: an opaque crossing, scan %b" name blocked;
+            let same l l' =
+              List.length l = List.length l'
+              && List.for_all2
+                   (fun (t, i, l, f) (t', i', l', f') ->
+                     same_bits t t' && i = i' && l = l' && f = f')
+                   l l'
+            in
+            let show l =
+              String.concat ", "
+                (List.map (fun (t, i, l, f) -> Printf.sprintf "%.17g@%d:%d/%d" t i l f) l)
+            in
+            let got = Queries.crossings a r tmin tmax ~transparent:false in
+            if not (same got every) then
+              QCheck.Test.fail_reportf "%s: crossings [%s], scan [%s]" name (show got)
+                (show every);
+            let got = Queries.crossings a r tmin tmax ~transparent:true in
+            if not (same got see_through) then
+              QCheck.Test.fail_reportf "%s: transparent crossings [%s], scan [%s]" name
+                (show got) (show see_through))
+          accels
+      done;
+      true)
+
 let () =
   Alcotest.run "csg"
     [
@@ -1078,6 +1519,7 @@ let () =
             test_closed_mesh;
           Alcotest.test_case "an open mesh is refused with the count of its open edges"
             `Quick test_open_mesh_refused;
+          seeded test_open_edges;
         ] );
       ( "physics",
         [
@@ -1091,7 +1533,13 @@ let () =
           Alcotest.test_case "check and --json describe a CSG tree, members and materials"
             `Quick test_check_describes_trees;
         ] );
-      ("properties", [ seeded test_first_sign_change; seeded test_bvh_brute ]);
+      ( "properties",
+        [
+          seeded test_first_sign_change;
+          seeded test_bvh_brute;
+          seeded test_closed_mesh_linear;
+          seeded test_walk_brute;
+        ] );
       ( "nesting",
         [
           seeded test_crossings_by_definition;

@@ -24,7 +24,8 @@ let miss msg t =
 
 let ray o d = Ray.make o d
 let raw o d = Ray.make_raw o d
-let hit s r = Shape.intersect s r 0. inf
+let hit s r = Walk.intersect s r 0. inf
+let same_bits a b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
 let case name f = Alcotest.test_case name `Quick f
 
 let seeded ?(seed = 20240611) t =
@@ -462,8 +463,8 @@ let watertight_mesh =
         else Vec3.smul 0.5 (Vec3.smul (Random.State.float st 1.) (rand_dir st))
       in
       let r = Ray.make_raw origin (Vec3.sub target origin) in
-      let _, i = Accel.nearest accel r 0. inf in
-      let scan = Array.exists (fun p -> Primitive.intersect p r 0. inf < inf) prims in
+      let _, i = Queries.nearest accel r 0. inf in
+      let scan = Array.exists (fun p -> Queries.intersect p r 0. inf < inf) prims in
       i >= 0 && scan)
 
 (* Tilted tiles with edges that are not representable exactly, so that shared edges are
@@ -512,7 +513,7 @@ let watertight_tiles =
       in
       let r = Ray.make_raw origin (Vec3.sub target origin) in
       QCheck.assume (Float.abs (Vec3.dot (Vec3.normalize (Ray.dir r)) n) > 1e-3);
-      let _, i = Accel.nearest accel r 0. inf in
+      let _, i = Queries.nearest accel r 0. inf in
       i >= 0)
 
 (* ---- indexed meshes ---- *)
@@ -559,8 +560,8 @@ let same_face (x : Shape.t) (y : Shape.t) =
 let mesh_nearest_prop =
   QCheck.Test.make
     ~name:
-      "an indexed mesh's nearest hit and face are a scan of its faces' (ties to the \
-       lower), its first crossing one of them"
+      "an indexed mesh's three queries are a scan of its faces': the nearest hit and its \
+       face (ties to the lower), any crossing, every crossing once a t"
     ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
@@ -569,7 +570,13 @@ let mesh_nearest_prop =
       let m = mesh_ok text in
       let faces = Array.of_list (Shape.faces m) in
       let shape = Shape.mesh m in
+      let prim = Primitive.make Material.default shape in
+      let accel = Accel.build [| prim |] in
       let ok = ref true in
+      let fail fmt =
+        ok := false;
+        QCheck.Test.fail_reportf fmt
+      in
       for _ = 1 to 300 do
         let o = v (rand_in st (-1.) (Float.of_int n +. 1.)) 3. (rand_in st (-1.) 5.) in
         (* At a vertex, along an edge, or anywhere over the grid. *)
@@ -588,36 +595,43 @@ let mesh_nearest_prop =
           if Random.State.bool st then target else Vec3.add target (v 0. (-0.1) 0.)
         in
         let r = ray o (Vec3.sub target o) in
-        let best_t = ref inf and best = ref (-1) in
-        Array.iteri
-          (fun k f ->
-            let t = Shape.intersect f r 0. !best_t in
-            if t < !best_t then (
-              best_t := t;
-              best := k))
-          faces;
-        let t = Shape.intersect shape r 0. inf in
-        if not (Int64.equal (Int64.bits_of_float t) (Int64.bits_of_float !best_t)) then (
-          ok := false;
-          QCheck.Test.fail_reportf "mesh t %.17g vs scan %.17g" t !best_t);
-        if !best >= 0 && not (same_face (Shape.mesh_face shape r t) faces.(!best)) then (
-          ok := false;
-          QCheck.Test.fail_reportf "the face hit at %.17g is not the scan's face %d" t
-            !best);
-        (* The shadow query's test: some face is crossed exactly when the nearest is. *)
         let tmax = if Random.State.bool st then inf else rand_in st 1. 6. in
-        let q = Probe.create () in
-        Probe.of_ray q r;
-        q.p_tmin <- 0.;
-        q.p_tmax <- tmax;
-        let k = Trimesh.first m q in
-        let nearest = Shape.intersect shape r 0. tmax in
-        if k >= 0 <> (nearest < tmax) then (
-          ok := false;
-          QCheck.Test.fail_reportf "first %d, nearest %.17g below %g" k nearest tmax);
-        if k >= 0 && Shape.intersect faces.(k) r 0. tmax <> q.p_t then (
-          ok := false;
-          QCheck.Test.fail_reportf "first face %d's t %.17g is not its root" k q.p_t)
+        (* Every face's roots, in order of (t, face). *)
+        let roots =
+          List.sort compare
+            (List.filter_map
+               (fun k ->
+                 let t = Shape.intersect faces.(k) r 0. tmax in
+                 if t < tmax then Some (t, k) else None)
+               (List.init (Array.length faces) Fun.id))
+        in
+        let best_t, best = match roots with (t, k) :: _ -> (t, k) | [] -> (inf, -1) in
+        let t = Walk.intersect shape r 0. tmax in
+        if not (same_bits t best_t) then fail "mesh t %.17g vs scan %.17g" t best_t;
+        let t, i, leaf, face = Queries.hit accel r 0. tmax in
+        if not (same_bits t best_t) then fail "query t %.17g vs scan %.17g" t best_t;
+        if best >= 0 && (i <> 0 || leaf <> -1 || face <> best) then
+          fail "the face hit at %.17g is %d, the scan's %d" t face best;
+        let s, _ = Queries.surface prim r 0. tmax in
+        if best >= 0 && not (same_face s.shape faces.(best)) then
+          fail "the surface at %.17g is not face %d" t best;
+        if Queries.any accel r 0. tmax ~opaque:false <> (best >= 0) then
+          fail "any crossing %b, scan %b" (not (best >= 0)) (best >= 0);
+        (* Each t once, with the lowest face crossed there. *)
+        let rec distinct = function
+          | (t, k) :: ((t', _) :: _ as rest) when t = t' ->
+              distinct ((t, k) :: List.tl rest)
+          | x :: rest -> x :: distinct rest
+          | [] -> []
+        in
+        let want = distinct roots
+        and got =
+          List.map
+            (fun (t, _, _, face) -> (t, face))
+            (Queries.crossings accel r 0. tmax ~transparent:false)
+        in
+        if got <> want then
+          fail "%d crossings, the scan's %d distinct" (List.length got) (List.length want)
       done;
       !ok)
 
@@ -669,7 +683,7 @@ let indexed_tests =
         let m = mesh_ok (sphere_obj ()) in
         let a = Accel.build [| Primitive.make Material.default (Shape.mesh m) |] in
         Alcotest.(check bool) "bvh" true (Accel.uses_bvh a);
-        let t, i = Accel.nearest a (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
+        let t, i = Queries.nearest a (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
         Alcotest.(check int) "index" 0 i;
         if not (t > 3.9 && t < 4.1) then Alcotest.failf "t = %.17g" t);
   ]
@@ -680,7 +694,7 @@ let brute_nearest prims r tmin tmax =
   let best_t = ref tmax and best_i = ref (-1) in
   Array.iteri
     (fun i p ->
-      let t = Primitive.intersect p r tmin !best_t in
+      let t = Queries.intersect p r tmin !best_t in
       if t < !best_t then (
         best_t := t;
         best_i := i))
@@ -691,10 +705,10 @@ let brute_crossings prims r tmin tmax =
   let acc = ref [] in
   Array.iteri
     (fun i p ->
-      let t = ref (Primitive.intersect p r tmin tmax) in
+      let t = ref (Queries.intersect p r tmin tmax) in
       while !t < tmax do
         acc := (i, !t) :: !acc;
-        t := Primitive.intersect p r !t tmax
+        t := Queries.intersect p r !t tmax
       done)
     prims;
   List.sort compare !acc
@@ -767,7 +781,7 @@ let bvh_nearest_prop =
       for _ = 1 to 300 do
         let r = rand_ray st in
         let tmax = if Random.State.int st 4 = 0 then rand_in st 1. 30. else inf in
-        let t1, i1 = Accel.nearest accel r 0. tmax
+        let t1, i1 = Queries.nearest accel r 0. tmax
         and t2, i2 = brute_nearest prims r 0. tmax in
         if not (i1 = i2 && Int64.equal (Int64.bits_of_float t1) (Int64.bits_of_float t2))
         then (
@@ -776,8 +790,10 @@ let bvh_nearest_prop =
       done;
       !ok)
 
-let bvh_fold_prop =
-  QCheck.Test.make ~name:"fold_hits visits every crossing once, as the brute-force scan"
+let bvh_crossings_prop =
+  QCheck.Test.make
+    ~name:
+      "the crossings query gives every crossing once, in order, as the brute-force scan"
     ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
@@ -787,20 +803,16 @@ let bvh_fold_prop =
       let ok = ref true in
       for _ = 1 to 200 do
         let r = rand_ray st in
-        let seen = ref [] in
-        let _ =
-          Accel.fold_hits accel r 0. 40.
-            (fun p t acc ->
-              seen := (index_of prims p, t) :: !seen;
-              acc)
-            Color.white
-        in
+        let got = Queries.crossings accel r 0. 40. ~transparent:false in
+        let ts = List.map (fun (t, _, _, _) -> t) got in
+        if ts <> List.sort Float.compare ts then ok := false;
         (* Duplicated primitives are physically the same object twice: compare by index
            of first occurrence on both sides. *)
         let norm l =
           List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l)
         in
-        if norm !seen <> norm (brute_crossings prims r 0. 40.) then ok := false
+        let seen = List.map (fun (t, i, _, _) -> (i, t)) got in
+        if norm seen <> norm (brute_crossings prims r 0. 40.) then ok := false
       done;
       !ok)
 
@@ -849,19 +861,8 @@ let shadow_soup ?(quadrics = true) st =
 let brute_occluded prims r tmax =
   Array.exists
     (fun (p : Primitive.t) ->
-      p.material.transparency = 0. && Primitive.intersect p r 0. tmax < tmax)
+      p.material.transparency = 0. && Queries.intersect p r 0. tmax < tmax)
     prims
-
-let fill_probe (q : Shape.probe) r tmax =
-  let o = Ray.origin r and d = Ray.dir r in
-  q.ox <- o.x;
-  q.oy <- o.y;
-  q.oz <- o.z;
-  q.dx <- d.x;
-  q.dy <- d.y;
-  q.dz <- d.z;
-  q.p_tmin <- 0.;
-  q.p_tmax <- tmax
 
 let occluded_prop =
   QCheck.Test.make
@@ -876,7 +877,6 @@ let occluded_prop =
       let accels =
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ]
       in
-      let q = Accel.shadow_probe () in
       let ok = ref true in
       for _ = 1 to 200 do
         let r = rand_ray st in
@@ -884,8 +884,9 @@ let occluded_prop =
         let expected = brute_occluded prims r tmax in
         List.iter
           (fun a ->
-            fill_probe q r tmax;
-            let got = Accel.occluded a q ~slot:(Random.State.int st 3) in
+            let got =
+              Queries.any a r 0. tmax ~opaque:true ~slot:(Random.State.int st 3)
+            in
             if got <> expected then (
               ok := false;
               QCheck.Test.fail_reportf "occluded %b, scan %b" got expected))
@@ -918,7 +919,7 @@ let occluded_allocation =
             (fun j x -> Float.Array.set data ((6 * k) + j) x)
             [ o.x; o.y; o.z; d.x; d.y; d.z ])
         rays;
-      let q = Accel.shadow_probe () in
+      let q = Probe.create () and sc = Accel.domain_scratch () in
       List.iter
         (fun a ->
           let run () =
@@ -932,7 +933,7 @@ let occluded_allocation =
               q.dz <- Float.Array.get data ((6 * k) + 5);
               q.p_tmin <- 0.;
               q.p_tmax <- 25.;
-              if Accel.occluded a q ~slot:(k land 1) then incr hits
+              if Accel.any sc a q ~opaque:true ~slot:(k land 1) then incr hits
             done;
             !hits
           in
@@ -946,71 +947,50 @@ let occluded_allocation =
             Alcotest.failf "%.0f minor words for %d shadow queries" words n)
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
 
-(* The scalar forms the renderer traces with against the vector forms, bit for bit: the
-   nearest hit of a probe, the normal at it, and the transparent crossings of a shadow
-   ray in the fold's order. *)
-let same_bits a b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
-
+(* The tree against the scan over the same primitives (kept out of the tree), bit for
+   bit: the nearest hit and its part, the transparent crossings in order; and the scalar
+   normal the renderer shades with against the vector form. *)
 let scalar_forms_prop =
   QCheck.Test.make
     ~name:
-      "nearest_probe, normal_into and transparent_crossings answer as nearest_into, \
-       normal and fold_transparent_hits, bit for bit"
+      "the tree's nearest hit and transparent crossings are the scan's, and normal_into \
+       is normal, bit for bit"
     ~count:40
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
       let st = Random.State.make [| seed |] in
       let prims = shadow_soup st in
-      let accels =
-        [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ]
-      in
-      let q = Probe.create () and f = Frag.create () in
+      let tree = Accel.build prims
+      and scan = Accel.build (Array.map Primitive.without_bounds prims) in
+      let f = Frag.create () in
       for _ = 1 to 150 do
         let r = rand_ray st in
         let tmax = if Random.State.int st 4 = 0 then inf else rand_in st 0.5 30. in
+        let t, i, leaf, face = Queries.hit tree r 0. tmax
+        and t', i', leaf', face' = Queries.hit scan r 0. tmax in
+        if i <> i' || leaf <> leaf' || face <> face' || not (same_bits t t') then
+          QCheck.Test.fail_reportf "tree (%d, %.17g), scan (%d, %.17g)" i t i' t';
+        if i >= 0 then (
+          let o = prims.(i) in
+          let p = Ray.at r t in
+          let n = Primitive.normal o (Primitive.to_object o p) in
+          Frag.set_point f p.x p.y p.z;
+          Primitive.normal_into o f;
+          if not (same_bits n.x f.nx && same_bits n.y f.ny && same_bits n.z f.nz) then
+            QCheck.Test.fail_reportf
+              "normal (%.17g, %.17g, %.17g), scalars (%.17g, %.17g, %.17g)" n.x n.y n.z
+              f.nx f.ny f.nz);
+        let a = Queries.crossings tree r 0. tmax ~transparent:true
+        and b = Queries.crossings scan r 0. tmax ~transparent:true in
+        let same (t, i, l, f) (u, j, m, g) = i = j && l = m && f = g && same_bits t u in
+        if not (List.length a = List.length b && List.for_all2 same a b) then
+          QCheck.Test.fail_reportf "tree %d crossings, scan %d" (List.length a)
+            (List.length b);
         List.iter
-          (fun a ->
-            let h = { Shape.tmin = 0.; tmax; t = inf } in
-            let i = Accel.nearest_into a r 0. tmax h in
-            Probe.of_ray q r;
-            q.p_tmin <- 0.;
-            q.p_tmax <- tmax;
-            let i' = Accel.nearest_probe a q in
-            if i <> i' || not (same_bits h.t q.p_t) then
-              QCheck.Test.fail_reportf "nearest (%d, %.17g), probe (%d, %.17g)" i h.t i'
-                q.p_t;
-            if i >= 0 then (
-              let o = prims.(i) in
-              let p = Ray.at r h.t in
-              let n = Primitive.normal o (Primitive.to_object o p) in
-              Frag.set_point f p.x p.y p.z;
-              Primitive.normal_into o f;
-              if not (same_bits n.x f.nx && same_bits n.y f.ny && same_bits n.z f.nz) then
-                QCheck.Test.fail_reportf
-                  "normal (%.17g, %.17g, %.17g), scalars (%.17g, %.17g, %.17g)" n.x n.y
-                  n.z f.nx f.ny f.nz);
-            let folded = ref [] and visited = ref [] in
-            ignore
-              (Accel.fold_transparent_hits a r 0. tmax
-                 (fun o t acc ->
-                   folded := (index_of prims o, t) :: !folded;
-                   acc)
-                 Color.white);
-            Probe.of_ray q r;
-            q.p_tmin <- 0.;
-            q.p_tmax <- tmax;
-            Accel.transparent_crossings a q (fun o ->
-                visited := (index_of prims o, q.p_t) :: !visited;
-                false);
-            let same (i, t) (j, u) = i = j && same_bits t u in
-            if
-              not
-                (List.length !folded = List.length !visited
-                && List.for_all2 same !folded !visited)
-            then
-              QCheck.Test.fail_reportf "fold %d crossings, probe %d" (List.length !folded)
-                (List.length !visited))
-          accels
+          (fun (_, i, _, _) ->
+            if prims.(i).Primitive.material.transparency = 0. then
+              QCheck.Test.fail_report "an opaque crossing among the transparent ones")
+          a
       done;
       true)
 
@@ -1086,7 +1066,7 @@ let placed_prop =
           Vec3.add aim (Vec3.smul (rand_in st 4. 12.) (Vec3.normalize (rv 1.)))
         in
         let r = Ray.make origin (Vec3.sub aim origin) in
-        let t = Primitive.intersect o r 0. inf and t' = Primitive.intersect b r 0. inf in
+        let t = Queries.intersect o r 0. inf and t' = Queries.intersect b r 0. inf in
         if not ((t = inf && t' = inf) || near t t') then
           QCheck.Test.fail_reportf "root %.17g, baked %.17g" t t';
         if t < inf then (
@@ -1161,7 +1141,7 @@ let similar_prop =
           Vec3.add aim (Vec3.smul (rand_in st 8. 20.) (Vec3.normalize (rv 1.)))
         in
         let r = Ray.make origin (Vec3.add (Vec3.sub aim origin) (rv (0.3 *. k))) in
-        let t = Primitive.intersect o r 0. inf and t' = Primitive.intersect b r 0. inf in
+        let t = Queries.intersect o r 0. inf and t' = Queries.intersect b r 0. inf in
         let close a b' = Float.abs (a -. b') <= 1e-9 *. Float.max 1. (Float.abs a) in
         if not ((t = inf && t' = inf) || close t t') then
           QCheck.Test.fail_reportf "shape %d: root %.17g, baked %.17g" kind t t';
@@ -1307,7 +1287,7 @@ let field_ray st n =
       ray (Vec3.add c (Vec3.smul 0.5 d)) (Vec3.normalize (v (-0.4) 0.8 (-0.5)))
 
 let brute_any prims r tmax =
-  Array.exists (fun p -> Primitive.intersect p r 0. tmax < tmax) prims
+  Array.exists (fun p -> Queries.intersect p r 0. tmax < tmax) prims
 
 (* Every query of a sphere field against the scan over its primitives, through one
    structure over them all and through two parts (a moving one picked at random). *)
@@ -1338,7 +1318,6 @@ let sphere_field_prop =
       let whole = Accel.build prims in
       if not (Accel.uses_bvh whole) then QCheck.Test.fail_report "no BVH built";
       let side = int_of_float (Float.sqrt (Float.of_int n)) in
-      let q = Probe.create () and sq = Accel.shadow_probe () in
       for _ = 1 to 300 do
         let r = field_ray st side in
         let tmax = if Random.State.int st 3 = 0 then rand_in st 0.5 8. else inf in
@@ -1346,44 +1325,39 @@ let sphere_field_prop =
         let blocked = brute_occluded prims r tmax and any = brute_any prims r tmax in
         List.iter
           (fun (name, a) ->
-            let t, i = Accel.nearest a r 0. tmax in
+            let t, i = Queries.nearest a r 0. tmax in
             if i <> i0 || not (same_bits t t0) then
               QCheck.Test.fail_reportf "%s: nearest (%.17g, %d), scan (%.17g, %d)" name t
                 i t0 i0;
-            Probe.of_ray q r;
-            q.p_tmin <- 0.;
-            q.p_tmax <- tmax;
-            let i' = Accel.nearest_probe a q in
-            if i' <> i0 || not (same_bits q.p_t t0) then
-              QCheck.Test.fail_reportf "%s: nearest_probe (%.17g, %d), scan (%.17g, %d)"
-                name q.p_t i' t0 i0;
-            fill_probe sq r tmax;
-            let got = Accel.occluded a sq ~slot:(Random.State.int st 2) in
+            let got =
+              Queries.any a r 0. tmax ~opaque:true ~slot:(Random.State.int st 2)
+            in
             if got <> blocked then
               QCheck.Test.fail_reportf "%s: occluded %b, scan %b" name got blocked;
-            let hit = Accel.any_hit a r 0. tmax in
+            let hit = Queries.any a r 0. tmax ~opaque:false in
             if hit <> any then
-              QCheck.Test.fail_reportf "%s: any_hit %b, scan %b" name hit any)
-          [ ("one structure", whole); ("two parts", layered) ];
-        (* One structure's transparent crossings are those of the scan. *)
-        let seen = ref [] in
-        Probe.of_ray q r;
-        q.p_tmin <- 0.;
-        q.p_tmax <- tmax;
-        Accel.transparent_crossings whole q (fun o ->
-            seen := (index_of prims o, q.p_t) :: !seen;
-            false);
-        let expected =
-          List.filter
-            (fun (i, _) -> prims.(i).Primitive.material.transparency <> 0.)
-            (brute_crossings prims r 0. tmax)
-        in
-        let norm l =
-          List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l)
-        in
-        if norm !seen <> norm expected then
-          QCheck.Test.fail_reportf "%d transparent crossings, scan %d" (List.length !seen)
-            (List.length expected)
+              QCheck.Test.fail_reportf "%s: any hit %b, scan %b" name hit any;
+            (* The transparent crossings are those of the scan, in order. *)
+            let seen =
+              List.map
+                (fun (t, i, _, _) -> (i, t))
+                (Queries.crossings a r 0. tmax ~transparent:true)
+            in
+            let ts = List.map snd seen in
+            if ts <> List.sort Float.compare ts then
+              QCheck.Test.fail_reportf "%s: crossings out of order" name;
+            let expected =
+              List.filter
+                (fun (i, _) -> prims.(i).Primitive.material.transparency <> 0.)
+                (brute_crossings prims r 0. tmax)
+            in
+            let norm l =
+              List.sort compare (List.map (fun (i, t) -> (index_of prims prims.(i), t)) l)
+            in
+            if norm seen <> norm expected then
+              QCheck.Test.fail_reportf "%s: %d transparent crossings, scan %d" name
+                (List.length seen) (List.length expected))
+          [ ("one structure", whole); ("two parts", layered) ]
       done;
       true)
 
@@ -1447,7 +1421,7 @@ let bvh_tests =
               Primitive.make Material.default (Shape.sphere ~center:Vec3.zero ~radius:1.))
         in
         let accel = Accel.build prims in
-        let t, i = Accel.nearest accel (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
+        let t, i = Queries.nearest accel (ray (v 0. 0. (-5.)) Vec3.z_axis) 0. inf in
         close "t" 4. t;
         Alcotest.(check int) "index" 0 i);
     case "a BVH render is byte-identical to a brute-force render" (fun () ->
@@ -1608,7 +1582,7 @@ let () =
       ("obj", mesh_tests @ [ seeded obj_number_prop ]);
       ("indexed mesh", indexed_tests @ [ seeded mesh_nearest_prop ]);
       ("watertight", [ seeded watertight_mesh; seeded watertight_tiles ]);
-      ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_fold_prop ]);
+      ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_crossings_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("scalar forms", [ seeded scalar_forms_prop ]);
       ("sphere fields", [ seeded sphere_field_prop ]);

@@ -699,8 +699,15 @@ let scene_without_index () =
     let o = Vec3.v (f () *. 8.) (2. +. f ()) (f () *. 8.)
     and d = Vec3.v (f ()) (-1.) (f ()) in
     let r = Ray.make o d in
-    let t1, i1 = Accel.nearest built.accel r 0. infinity
-    and t2, i2 = Accel.nearest scan.accel r 0. infinity in
+    let nearest a =
+      let q = Probe.create () and h = Walk.hit () in
+      Probe.of_ray q r;
+      q.p_tmin <- 0.;
+      q.p_tmax <- infinity;
+      Accel.nearest (Accel.domain_scratch ()) a q h;
+      (q.p_t, h.item)
+    in
+    let t1, i1 = nearest built.accel and t2, i2 = nearest scan.accel in
     Alcotest.(check bool) "the same hit" true (Float.equal t1 t2 && i1 = i2)
   done;
   let few = Array.sub built.objects 0 5 in
