@@ -15,7 +15,9 @@ type body = D.body = {
 
 type t = {
   file : string;
-  stmts : Ast.stmt list;
+  code : Compile.t;  (** the program, compiled once *)
+  strings : string list;  (** every string literal the program writes *)
+  empty : bool;  (** no statement at all *)
   sources : (string, string) Hashtbl.t;
   resolved : (string * string, string) Hashtbl.t;
       (** for each (including file, name written), the path the include was found at *)
@@ -24,7 +26,7 @@ type t = {
   mutable first : D.t;
       (** the evaluation at time 0, frame 0 (without its objects once {!release}d) *)
   released : bool Atomic.t;
-  mutable memo : Eval.memo;  (** what that evaluation did that later ones skip *)
+  mutable memo : Run.memo;  (** what that evaluation did that later ones skip *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
@@ -77,13 +79,13 @@ let release t =
      [first] changes), so that it never uses the emptied [first] as the scene. *)
   Atomic.set t.released true;
   t.first <- { d with objects = [] };
-  t.memo <- Eval.memo t.stmts;
+  t.memo <- Run.again t.memo;
   d
 
 let animation t = t.first.animation
 let bodies t = t.first.bodies
 let physics t = t.first.physics
-let empty t = List.is_empty t.stmts
+let empty t = t.empty
 
 (* The one boundary: nothing raised below reaches the caller but an interrupt (Ctrl-C
    while a scene is evaluated), which is the command's to answer. *)
@@ -161,8 +163,8 @@ let unquoted path (e : Error.t) =
       e with
       source_line = None;
       message =
-        "this file does not parse as a scene (a syntax error here); it is not named .rts, \
-         so nothing of it is shown";
+        "this file does not parse as a scene (a syntax error here); it is not named \
+         .rts, so nothing of it is shown";
     }
 
 (* The most included files a program may expand to, counting every inclusion: a file
@@ -222,8 +224,8 @@ let resolve ~read sources resolved includes errors main stmts =
                 err s.sloc
                   (Printf.sprintf
                      "the includes expand to more than %d files (\"%s\" and the files it \
-                      includes are included over and over): include each file once, \
-                      from one place"
+                      includes are included over and over): include each file once, from \
+                      one place"
                      max_inclusions p);
               Ast.Included (path, [])
           | None -> (
@@ -252,7 +254,9 @@ let resolve ~read sources resolved includes errors main stmts =
                     | Some r -> r
                     | None ->
                         let r = Syntax.parse ~file:path text in
-                        Result.iter_error (fun e -> errors := unquoted path e :: !errors) r;
+                        Result.iter_error
+                          (fun e -> errors := unquoted path e :: !errors)
+                          r;
                         Hashtbl.replace parsed path r;
                         r
                   in
@@ -290,129 +294,6 @@ let file_errors files sources uses =
         (fun ((loc : Loc.t), msg) ->
           Error.make ?source:(Hashtbl.find_opt sources loc.file) loc msg)
         (f (List.rev uses))
-
-let load_text ?progress ?files ?(read = from_disk) file text =
-  let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
-  let resolved = Hashtbl.create 4 in
-  Hashtbl.replace sources file text;
-  chained includes
-  @@
-  match Syntax.parse ~file text with
-  | Error e -> Error [ e ]
-  | Ok stmts -> (
-      let errors = ref [] in
-      let stmts = resolve ~read sources resolved includes errors file stmts in
-      if !errors <> [] then Error (List.rev !errors)
-      else
-        let on_objects n =
-          Option.iter
-            (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
-            progress
-        in
-        (* The static check's mistakes, with those of the evaluation at time 0 and of
-           the files it uses: one that both find (in code that runs) is reported once.
-           The evaluation's come first, so that its files keep the order they had without
-           the static check; sorted in source order within each file. *)
-        let static = Static_check.run ~sources stmts in
-        let merged es =
-          let key (e : Error.t) = (e.file, e.line, e.col, e.message) in
-          let seen = Hashtbl.create 16 in
-          Eval.sort_errors
-            (List.filter
-               (fun e ->
-                 let k = key e in
-                 (not (Hashtbl.mem seen k))
-                 &&
-                 (Hashtbl.add seen k ();
-                  true))
-               (es @ static))
-        in
-        let uses = ref [] in
-        let on_file u = uses := u :: !uses in
-        let memo = Eval.memo stmts in
-        let run =
-          Eval.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 stmts
-        in
-        match (run, file_errors files sources !uses) with
-        | Error es, fes -> Error (merged (es @ fes))
-        | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
-        | Ok first, _ ->
-            let first = { first with warnings = chained_list includes first.warnings } in
-            Ok
-              {
-                file;
-                stmts;
-                sources;
-                resolved;
-                includes;
-                first;
-                released = Atomic.make false;
-                memo;
-                named =
-                  (let h = Hashtbl.create 4 in
-                   List.iter (fun f -> Hashtbl.replace h f ()) first.files;
-                   h);
-                named_lock = Mutex.create ();
-              })
-
-let load_string ?progress ?files ?(filename = "<string>") text =
-  guard filename (fun () -> load_text ?progress ?files filename text)
-
-type bundle = {
-  b_file : string;
-  b_text : string;
-  b_includes : ((string * string) * (string * string)) list;
-}
-
-let bundle t =
-  {
-    b_file = t.file;
-    b_text = Hashtbl.find t.sources t.file;
-    b_includes =
-      List.sort compare
-        (Hashtbl.fold
-           (fun key path acc -> (key, (path, Hashtbl.find t.sources path)) :: acc)
-           t.resolved []);
-  }
-
-(* Includes from the bundle alone: none is looked for on this machine's disk. *)
-let load_bundle ?progress ?files b =
-  let read ~including p =
-    match List.assoc_opt (including, p) b.b_includes with
-    | Some (path, text) -> (path, fun () -> Ok text)
-    | None ->
-        ( Loc.relative_to including p,
-          fun () -> Error (`Status "it is not among the files the program was sent with") )
-  in
-  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
-
-let load_file ?files path =
-  guard path (fun () ->
-      match read_file path with
-      | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
-      | Ok text -> load_text ?files path text)
-
-let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts t ~time ~frame =
-  if not (Float.is_finite time) then
-    Error [ Error.file_error t.file "the time must be a finite number" ]
-  else
-    Eval.run
-      ?memo:(if again then None else Some t.memo)
-      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
-      ~time ~frame t.stmts
-
-(* An error that only some frames have names the frame: frame 0 was checked when the
-   program was loaded, so an error at another instant is one of those. *)
-let at_frame ~time ~frame r =
-  if Float.equal time 0. && frame = 0 then r
-  else
-    Result.map_error
-      (List.map (fun (e : Error.t) ->
-           {
-             e with
-             message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time;
-           }))
-      r
 
 (* Every string the program writes, in any statement, branch, function or macro, run or
    not. The language builds no string from others, so a file any frame can read is named
@@ -454,16 +335,129 @@ let strings stmts =
   List.iter stmt stmts;
   !acc
 
+let load_text ?progress ?files ?(read = from_disk) file text =
+  let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
+  let resolved = Hashtbl.create 4 in
+  Hashtbl.replace sources file text;
+  chained includes
+  @@
+  match Syntax.parse ~file text with
+  | Error e -> Error [ e ]
+  | Ok stmts -> (
+      let errors = ref [] in
+      let stmts = resolve ~read sources resolved includes errors file stmts in
+      if !errors <> [] then Error (List.rev !errors)
+      else
+        let on_objects n =
+          Option.iter
+            (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
+            progress
+        in
+        (* The checker's mistakes, with those of the run at time 0 and of the files it
+           uses, in source order (the checker's first at the same place). *)
+        let checked, static = Check.program ~sources stmts in
+        let code = Compile.program checked in
+        let merged es = Run.sort_errors (static @ es) in
+        let uses = ref [] in
+        let on_file u = uses := u :: !uses in
+        let memo = Run.memo stmts in
+        let run =
+          Run.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
+        in
+        match (run, file_errors files sources !uses) with
+        | Error es, fes -> Error (merged (es @ fes))
+        | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
+        | Ok first, _ ->
+            let first = { first with warnings = chained_list includes first.warnings } in
+            Ok
+              {
+                file;
+                code;
+                strings = strings stmts;
+                empty = List.is_empty stmts;
+                sources;
+                resolved;
+                includes;
+                first;
+                released = Atomic.make false;
+                memo;
+                named =
+                  (let h = Hashtbl.create 4 in
+                   List.iter (fun f -> Hashtbl.replace h f ()) first.files;
+                   h);
+                named_lock = Mutex.create ();
+              })
+
+let load_string ?progress ?files ?(filename = "<string>") text =
+  guard filename (fun () -> load_text ?progress ?files filename text)
+
+type bundle = {
+  b_file : string;
+  b_text : string;
+  b_includes : ((string * string) * (string * string)) list;
+}
+
+let bundle t =
+  {
+    b_file = t.file;
+    b_text = Hashtbl.find t.sources t.file;
+    b_includes =
+      List.sort compare
+        (Hashtbl.fold
+           (fun key path acc -> (key, (path, Hashtbl.find t.sources path)) :: acc)
+           t.resolved []);
+  }
+
+(* Includes from the bundle alone: none is looked for on this machine's disk. *)
+let load_bundle ?progress ?files b =
+  let read ~including p =
+    match List.assoc_opt (including, p) b.b_includes with
+    | Some (path, text) -> (path, fun () -> Ok text)
+    | None ->
+        ( Loc.relative_to including p,
+          fun () -> Error (`Status "it is not among the files the program was sent with")
+        )
+  in
+  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
+
+let load_file ?files path =
+  guard path (fun () ->
+      match read_file path with
+      | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
+      | Ok text -> load_text ?files path text)
+
+let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts t ~time ~frame =
+  if not (Float.is_finite time) then
+    Error [ Error.file_error t.file "the time must be a finite number" ]
+  else
+    Run.run
+      ?memo:(if again then None else Some t.memo)
+      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
+      ~time ~frame t.code
+
+(* An error that only some frames have names the frame: frame 0 was checked when the
+   program was loaded, so an error at another instant is one of those. *)
+let at_frame ~time ~frame r =
+  if Float.equal time 0. && frame = 0 then r
+  else
+    Result.map_error
+      (List.map (fun (e : Error.t) ->
+           {
+             e with
+             message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time;
+           }))
+      r
+
 let named_files t =
   let files = Hashtbl.fold (fun f _ acc -> f :: acc) t.sources [] in
   List.sort_uniq String.compare
     (List.concat_map
        (fun s -> List.map (fun f -> Loc.relative_to f s) files)
-       (List.sort_uniq String.compare (strings t.stmts)))
+       (List.sort_uniq String.compare t.strings))
 
 let source t file = Hashtbl.find_opt t.sources file
-let fixed_objects t = Eval.fixed_objects t.memo
-let fixed_pieces t = Eval.fixed_pieces t.memo
+let fixed_objects t = Run.fixed_objects t.memo
+let fixed_pieces t = Run.fixed_pieces t.memo
 
 let located t ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
@@ -492,7 +486,7 @@ let describe ?again ?body_state ?progress ?cancel ?files ?parts t ~time ~frame =
            let r =
              match r with
              | Error es ->
-                 Error (Eval.sort_errors (es @ file_errors files t.sources !uses))
+                 Error (Run.sort_errors (es @ file_errors files t.sources !uses))
              | Ok _ -> r
            in
            Result.iter (note t) r;

@@ -1,0 +1,377 @@
+open Value
+open Tast
+
+type scode = frame -> scope -> unit
+type t = { stmts : scode array; slots : int }
+
+(* A statement that fails is reported and skipped. *)
+let guard code : scode =
+ fun fr sc -> try code fr sc with Fail (l, m) -> State.report fr.st l m | Poisoned -> ()
+
+(* ... and a name it defines is poisoned: its uses give up quietly. *)
+let guard_slot i code : scode =
+ fun fr sc ->
+  try code fr sc with
+  | Fail (l, m) ->
+      State.report fr.st l m;
+      fr.l.(i) <- VPoison
+  | Poisoned -> fr.l.(i) <- VPoison
+
+let untyped what = invalid_arg ("Compile: " ^ what ^ " of a type not checked")
+
+(* ------------------------------------------------------------------------------------ *)
+(* What a list of statements builds *)
+
+let block_stmts blk =
+  List.concat_map (function Stmts ss -> ss | Field _ -> []) blk.items
+
+let rec objects_written stmts =
+  List.fold_left
+    (fun n (s : stmt) ->
+      n
+      +
+      match s.s with
+      | Block blk when Schema.is_shape blk.keyword.id -> 1
+      | Block
+          ({
+             keyword =
+               { id = "group" | "union" | "merge" | "intersection" | "difference"; _ };
+             _;
+           } as blk) ->
+          objects_written (block_stmts blk)
+      | If_stmt (_, t, e) -> min (objects_written t) (objects_written e)
+      | _ -> 0)
+    0 stmts
+
+(* Whether a statement may start a loop (its own, or a macro's): only then do the loops
+   around it keep count of the iterations they have left. *)
+let rec may_loop (s : stmt) =
+  match s.s with
+  | For _ | Call_stmt _ -> true
+  | If_stmt (_, t, e) -> List.exists may_loop t || List.exists may_loop e
+  | Block blk | Body (_, _, Some blk) -> List.exists may_loop (block_stmts blk)
+  | _ -> false
+
+(* ------------------------------------------------------------------------------------ *)
+(* Blocks: their items evaluated in order, their fields read by [Build] *)
+
+type item = CSlot of int * Cexpr.code | CStep of int * Cexpr.code | CStmt of scode
+
+type site = {
+  site : Fields.site;
+  items : item array;
+  nslots : int;
+  nsteps : int;
+  kloc : Loc.t;
+}
+
+let value c fr =
+  try c fr with
+  | Fail (l, m) ->
+      State.report fr.st l m;
+      VPoison
+  | Poisoned -> VPoison
+
+(* One evaluation of a block: its fields' values (a failed one poisoned, and the block
+   failed), its statements run in [inner]. *)
+let evaluate s fr inner =
+  let vals = Array.make s.nslots VPoison in
+  let svals = if s.nsteps = 0 then [||] else Array.make s.nsteps VPoison in
+  let failed = ref false in
+  for k = 0 to Array.length s.items - 1 do
+    match s.items.(k) with
+    | CSlot (i, c) ->
+        let v = value c fr in
+        if v == VPoison then failed := true;
+        vals.(i) <- v
+    | CStep (j, c) ->
+        let v = value c fr in
+        if v == VPoison then failed := true;
+        svals.(j) <- v
+    | CStmt c -> c fr inner
+  done;
+  let b = Fields.make s.site fr.st.tell vals svals in
+  if !failed then b.failed <- true;
+  b
+
+let top_level (blk : block) code : scode =
+  match blk.where with
+  | Either ->
+      let k = blk.keyword in
+      fun fr sc ->
+        if sc.in_group then fail k.nloc (Msg.top_level_only k.id);
+        code fr sc
+  | Top | Inside -> code
+
+(* A setting of the run that may be given once. *)
+let once what (blk : block) get set build s : scode =
+  let kloc = blk.keyword.nloc in
+  top_level blk (fun fr sc ->
+      (match get fr.st.out with Some (_, l) -> fail kloc (Msg.once what l) | None -> ());
+      match build (evaluate s fr sc) with
+      | Some x -> set fr.st.out (Some (x, kloc))
+      | None -> ())
+
+let into (sc : scope) objs = List.iter (fun o -> sc.sink := o :: !(sc.sink)) objs
+
+let csg s ~keyword fr (sc : scope) =
+  let members = ref [] in
+  let b = evaluate s fr { sink = members; in_group = true; in_csg = true } in
+  match Build.csg b ~keyword ~loc:s.kloc ~in_csg:sc.in_csg (List.rev !members) with
+  | Some o -> State.add_object fr.st sc s.kloc o
+  | None -> ()
+
+let group s fr sc =
+  let members = ref [] in
+  let b = evaluate s fr { sink = members; in_group = true; in_csg = false } in
+  let t, tj = Build.transforms b in
+  let mat = Build.object_material b in
+  if not b.failed then into sc (Build.group_members t tj mat (List.rev !members))
+
+(* The statements of a material block (lets) build nothing: one scope serves them all. *)
+let no_objects = { sink = ref []; in_group = false; in_csg = false }
+
+(* A material block of constants is one material, when it has no mistake. *)
+let constant_material site (items : item array) consts mat =
+  if Array.exists (function CSlot _ -> false | _ -> true) items then None
+  else
+    let ok = ref true in
+    let sink = { report = (fun _ _ -> ok := false); use = (fun _ -> ok := false) } in
+    let vals = Array.make (Array.length consts) VPoison in
+    Array.iter
+      (function
+        | CSlot (i, _) -> (
+            match consts.(i) with Some v -> vals.(i) <- v | None -> ok := false)
+        | _ -> ())
+      items;
+    if not !ok then None
+    else
+      match mat (Fields.make site sink vals [||]) with
+      | Some m when !ok -> Some (Value.material m)
+      | _ -> None
+
+(* ------------------------------------------------------------------------------------ *)
+(* Statements *)
+
+let body_code s ~name ~(where : where) ~nloc ~sloc fr (sc : scope) =
+  if where = Either && sc.in_group then fail nloc Msg.body_in_group;
+  let out = fr.st.out in
+  if List.exists (fun ((b : Description.body), _) -> b.name = name) out.bodies then
+    fail nloc (Msg.body_twice name);
+  let members = ref [] in
+  let b = evaluate s fr { sink = members; in_group = true; in_csg = false } in
+  match Build.body b ~name ~loc:sloc ~at:nloc !members with
+  | None -> raise Poisoned
+  | Some r -> (
+      fr.st.count.objects <- fr.st.count.objects - List.length !members;
+      match r with Error (l, m) -> fail l m | Ok bo -> out.bodies <- bo :: out.bodies)
+
+let for_loop sloc (na, nb, nst) per_iteration nests slot cbody fr sc =
+  let a = na fr in
+  let b = nb fr in
+  let step = match nst with Some (n, l) -> (n fr, l) | None -> (1., sloc) in
+  let step, step_loc = step in
+  if step = 0. then fail step_loc Msg.loop_step_zero;
+  let st = fr.st in
+  let count = Float.floor (((b -. a) /. step) +. 1e-9) +. 1. in
+  State.loop st sloc ~start:a ~stop:b ~step ~count ~per_iteration;
+  let count = if count < 0. then 0 else int_of_float count in
+  let c = st.count in
+  let outer = c.loops in
+  Fun.protect
+    ~finally:(fun () -> c.loops <- outer)
+    (fun () ->
+      for k = 0 to count - 1 do
+        State.step st sloc;
+        if nests then c.loops <- outer *. Float.of_int (count - k);
+        fr.l.(slot) <- VNum (a +. (Float.of_int k *. step));
+        cbody fr sc
+      done)
+
+(* What a name named before a body took it. *)
+let before cs = function
+  | Some (Local b | Maybe (b, _)) -> Cexpr.raw (Cexpr.resolve cs b)
+  | Some (Global { kind = Number f; _ }) -> fun fr -> f fr.st.hooks
+  | Some (Global { name; kind = Function _; _ }) ->
+      let v = VBuiltin name in
+      fun _ -> v
+  | Some (Unbound _) | None -> fun _ -> unbound
+
+let rec expr cs e = Cexpr.expr ~block:material cs e
+
+and items cs (blk : block) =
+  let nsteps = ref 0
+  and consts = Array.make (List.length (Schema.names_of blk.schema)) None in
+  let items =
+    List.concat_map
+      (function
+        | Field { slot = Slot i; value; _ } ->
+            consts.(i) <- Cexpr.const value;
+            [ CSlot (i, expr cs value) ]
+        | Field { slot = Step _; value; _ } ->
+            let j = !nsteps in
+            incr nsteps;
+            [ CStep (j, expr cs value) ]
+        | Field { slot = Dropped; _ } -> []
+        | Stmts ss -> List.map (fun s -> CStmt (stmt cs s)) ss)
+      blk.items
+  in
+  let site = Fields.site blk.schema blk in
+  ( {
+      site;
+      items = Array.of_list items;
+      nslots = Array.length consts;
+      nsteps = !nsteps;
+      kloc = blk.keyword.nloc;
+    },
+    consts )
+
+and material cs blk : Cexpr.code =
+  let s, consts = items cs blk in
+  let mat = Build.material s.site in
+  match if blk.failed then None else constant_material s.site s.items consts mat with
+  | Some v -> fun _ -> v
+  | None -> (
+      fun fr ->
+        match mat (evaluate s fr no_objects) with
+        | Some m -> Value.material m
+        | None -> raise Poisoned)
+
+and block cs (blk : block) : scode =
+  let s, _ = items cs blk in
+  let kloc = blk.keyword.nloc in
+  match blk.keyword.id with
+  | "settings" ->
+      once "settings" blk
+        (fun o -> o.settings)
+        (fun o v -> o.settings <- v)
+        Build.settings s
+  | "camera" ->
+      once "camera" blk (fun o -> o.camera) (fun o v -> o.camera <- v) Build.camera s
+  | "animation" ->
+      once "animation" blk
+        (fun o -> o.animation)
+        (fun o v -> o.animation <- v)
+        Build.animation s
+  | "physics" ->
+      once "physics" blk (fun o -> o.physics) (fun o v -> o.physics <- v) Build.physics s
+  | "light" ->
+      top_level blk (fun fr sc ->
+          match Build.light (evaluate s fr sc) with
+          | Some l -> fr.st.out.lights <- l :: fr.st.out.lights
+          | None -> ())
+  | "group" ->
+      fun fr sc -> if sc.in_csg then csg s ~keyword:"group" fr sc else group s fr sc
+  | ("union" | "merge" | "intersection" | "difference") as keyword -> csg s ~keyword
+  | _ -> (
+      let obj = Build.object_ s.site in
+      fun fr sc ->
+        match obj (evaluate s fr sc) with
+        | Some o -> State.add_object fr.st sc kloc o
+        | None -> ())
+
+and stmts cs ss : scode =
+  match Array.of_list (List.map (stmt cs) ss) with
+  | [||] -> fun _ _ -> ()
+  | [| c |] -> c
+  | a ->
+      fun fr sc ->
+        for k = 0 to Array.length a - 1 do
+          a.(k) fr sc
+        done
+
+and func : 'a. Cexpr.t -> fn_def -> (Cexpr.t -> 'a) -> 'a * int * (frame -> Value.t array)
+    =
+ fun cs def body ->
+  let inner = Cexpr.inner cs ~level:def.level ~nparams:(List.length def.params) in
+  List.iteri (fun k (p : binding) -> inner.slots.(p.id) <- k) def.params;
+  let code = body inner in
+  let getters =
+    Array.of_list (List.rev_map (fun (_, _, a) -> Cexpr.raw a) inner.fn.caps)
+  in
+  (code, inner.fn.nslots, fun fr -> Array.map (fun g -> g fr) getters)
+
+and stmt cs (s : stmt) : scode =
+  match s.s with
+  | Let (b, e) ->
+      let c = expr cs e in
+      let i = Cexpr.new_slot cs b in
+      guard_slot i (fun fr _ -> fr.l.(i) <- c fr)
+  | Fn (b, def, body) ->
+      let i = Cexpr.new_slot cs b in
+      let fbody, fslots, caps = func cs def (fun inner -> expr inner body) in
+      let fname = def.fname and nparams = List.length def.params in
+      guard_slot i (fun fr _ ->
+          let c = { fname; nparams; fbody; fslots; fcaps = [||] } in
+          fr.l.(i) <- VFun c;
+          c.fcaps <- caps fr)
+  | Macro (b, def, body) ->
+      let i = Cexpr.new_slot cs b in
+      let mbody, mslots, caps = func cs def (fun inner -> stmts inner body) in
+      let mname = def.fname and mnparams = List.length def.params in
+      guard_slot i (fun fr _ ->
+          let m = { mname; mnparams; mbody; mslots; mcaps = [||] } in
+          fr.l.(i) <- VMacro m;
+          m.mcaps <- caps fr)
+  | Poisoned_fn b ->
+      let i = Cexpr.new_slot cs b in
+      fun fr _ -> fr.l.(i) <- VPoison
+  | For (b, a, z, st, body) ->
+      let bound what (e : expr) =
+        (Cexpr.number e (Msg.loop_bound what) (expr cs e), e.loc)
+      in
+      let na, _ = bound "start" a and nb, _ = bound "end" z in
+      let nst = Option.map (bound "step") st in
+      let i = Cexpr.new_slot cs b in
+      let cbody = stmts cs body in
+      let per_iteration = Float.of_int (objects_written body) in
+      let nests = List.exists may_loop body in
+      guard (for_loop s.sloc (na, nb, nst) per_iteration nests i cbody)
+  | If_stmt (c, t, e) ->
+      let cc = Cexpr.boolean c Msg.condition (expr cs c) in
+      let ct = stmts cs t and ce = stmts cs e in
+      guard (fun fr sc -> if cc fr then ct fr sc else ce fr sc)
+  | Call_stmt (callee, name, args) -> (
+      let get = expr cs callee in
+      let codes = Array.of_list (List.map (expr cs) args) in
+      let loc = s.sloc in
+      match callee.ty with
+      | Macro _ ->
+          guard (fun fr sc ->
+              match get fr with
+              | VMacro m -> Cexpr.call_macro m codes loc fr sc
+              | _ -> untyped name.id)
+      | _ ->
+          guard (fun fr sc ->
+              match get fr with
+              | VMacro m -> Cexpr.call_macro m codes loc fr sc
+              | VFun c -> fail name.nloc (Msg.function_as_statement c.fname)
+              | VBuiltin n -> fail name.nloc (Msg.builtin_as_statement n)
+              | v -> fail name.nloc (Msg.not_a_macro name.id (ty v))))
+  | Block blk -> guard (block cs blk)
+  | Body (b, prev, blk) -> (
+      let get_before = before cs prev in
+      let i = Cexpr.new_slot cs b in
+      match blk with
+      | None -> fun fr _ -> fr.l.(i) <- get_before fr
+      | Some blk -> (
+          let s', _ = items cs blk in
+          let v = VBody b.name in
+          let code =
+            body_code s' ~name:b.name ~where:blk.where ~nloc:blk.keyword.nloc ~sloc:s.sloc
+          in
+          fun fr sc ->
+            try
+              code fr sc;
+              fr.l.(i) <- v
+            with
+            | Fail (l, m) ->
+                State.report fr.st l m;
+                fr.l.(i) <- get_before fr
+            | Poisoned -> fr.l.(i) <- get_before fr))
+  | Nothing -> fun _ _ -> ()
+
+let program (p : Check.program) =
+  let cs = Cexpr.create ~bindings:p.bindings in
+  let stmts = Array.of_list (List.map (stmt cs) p.stmts) in
+  { stmts; slots = cs.fn.nslots }

@@ -1,0 +1,255 @@
+open Value
+
+(* ------------------------------------------------------------------------------------ *)
+(* A block's kind made ready: each field's default as a value *)
+
+(* A default of the schema, a literal written as in a scene. *)
+let literal (text : string) =
+  let rec value (e : Ast.expr) =
+    match e.e with
+    | Num x -> VNum x
+    | Str s -> VStr s
+    | Bool b -> VBool b
+    | Unop (Neg, a) -> ( match value a with VNum x -> VNum (-.x) | _ -> VPoison)
+    | Binop (Div, a, b) -> (
+        match (value a, value b) with VNum x, VNum y -> VNum (x /. y) | _ -> VPoison)
+    | Vec (a, b, c) -> (
+        match (value a, value b, value c) with
+        | VNum x, VNum y, VNum z -> VVec (Vec3.v x y z)
+        | _ -> VPoison)
+    | _ -> VPoison
+  in
+  match Syntax.parse ~file:"schema" ("let default = " ^ text) with
+  | Ok [ { s = Let (_, e); _ } ] when value e != VPoison -> value e
+  | _ ->
+      invalid_arg (Printf.sprintf "Build: the schema's default %S is not a literal" text)
+
+(* For a field without a default: a placeholder of its type, used only once the block
+   has failed, or where the block's reading supplies the value itself. *)
+let placeholder (fl : Schema.field) =
+  match fl.ty with
+  | Number | Integer -> VNum 1.
+  | Boolean -> VBool false
+  | File -> VStr ""
+  | Choice l -> VStr (match l with c :: _ -> c | [] -> "")
+  | Vector | Colour -> VVec Vec3.zero
+  | Direction -> VVec Vec3.y_axis
+  | Material | Base_material | Texture | Bump | Scale | Background | Fog | Gamma ->
+      VPoison
+
+type entry = { sch : Schema.field; default : Value.t; required : bool }
+
+let entry (fl : Schema.field) =
+  {
+    sch = fl;
+    default =
+      (match fl.default with
+      | Value v -> literal v
+      | Required | Absent _ -> placeholder fl);
+    required = fl.default = Required && fl.condition = Always;
+  }
+
+(* Each block kind's entries, by field, made once per schema block. *)
+let kinds : (Schema.block * entry array) list Atomic.t = Atomic.make []
+
+let entries (b : Schema.block) =
+  match List.assq_opt b (Atomic.get kinds) with
+  | Some es -> es
+  | None ->
+      let es =
+        Array.of_list
+          (List.map
+             (fun n -> entry (List.hd (Schema.fields_named b n)))
+             (Schema.names_of b))
+      in
+      let rec add () =
+        let l = Atomic.get kinds in
+        if not (Atomic.compare_and_set kinds l ((b, es) :: l)) then add ()
+      in
+      add ();
+      es
+
+(* ------------------------------------------------------------------------------------ *)
+(* A block as written *)
+
+type site = {
+  block : Schema.block;
+  kind : string;  (** the keyword, as messages name the block *)
+  kloc : Loc.t;
+  names : string array;
+  entries : entry array;
+  given : bool array;
+  vlocs : Loc.t array;
+  wrong : bool array;
+  steps : (string * Loc.t) array;
+  failed : bool;
+  kind_known : bool;
+}
+
+let site (kind : Schema.block) (b : Tast.block) =
+  let names = Array.of_list (Schema.names_of kind) in
+  let n = Array.length names in
+  let given = Array.make n false and wrong = Array.make n false in
+  let vlocs = Array.make n b.keyword.nloc in
+  let steps = ref [] in
+  List.iter
+    (function
+      | Tast.Field { slot = Slot i; value; wrong = w; _ } ->
+          given.(i) <- true;
+          wrong.(i) <- w;
+          vlocs.(i) <- value.loc
+      | Field { slot = Step s; value; _ } -> steps := (s, value.loc) :: !steps
+      | Field { slot = Dropped; _ } | Stmts _ -> ())
+    b.items;
+  {
+    block = kind;
+    kind = b.keyword.id;
+    kloc = b.keyword.nloc;
+    names;
+    entries = entries kind;
+    given;
+    vlocs;
+    wrong;
+    steps = Array.of_list (List.rev !steps);
+    failed = b.failed;
+    kind_known = b.kind_known;
+  }
+
+let step_count s = Array.length s.steps
+
+type t = {
+  site : site;
+  vals : Value.t array;
+  svals : Value.t array;
+  mutable failed : bool;
+  out : Value.sink;
+}
+
+let make site out vals svals = { site; vals; svals; failed = site.failed; out }
+
+(* ------------------------------------------------------------------------------------ *)
+(* Reading fields. Each accessor reports a value out of its range (or of a type the
+   checker could not know) at the value, marks the block failed and gives the default, so
+   that every mistake of a block is reported at once. *)
+
+let slot site name =
+  let rec go i =
+    if i >= Array.length site.names then
+      invalid_arg (Printf.sprintf "Build: no field %s of %s in the schema" name site.kind)
+    else if String.equal site.names.(i) name then i
+    else go (i + 1)
+  in
+  go 0
+
+let bad b loc msg =
+  b.out.report loc msg;
+  b.failed <- true
+
+let finish b = not b.failed
+let given b i = b.site.given.(i)
+
+(* A field whose value is usable: not one that failed (already reported). *)
+let live b i = given b i && b.vals.(i) != VPoison
+
+(* A field left out: its default ([default], or the schema's). One required is missing
+   (reported by the checker), or its value failed: the same, the block failed. *)
+let fallback default b i conv =
+  let e = b.site.entries.(i) in
+  if (not (given b i)) && e.required then b.failed <- true;
+  if given b i then b.failed <- true;
+  match default with
+  | Some d -> d
+  | None -> (
+      match conv e.default with
+      | Some x -> x
+      | None -> invalid_arg ("Build: the schema has no default of " ^ e.sch.name))
+
+(* A value of the wrong type: only one whose type the checker could not know. *)
+let get default b i conv =
+  if given b i then
+    match b.vals.(i) with
+    | VPoison -> fallback default b i conv
+    | v -> (
+        match conv v with
+        | Some x -> x
+        | None ->
+            bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
+            fallback default b i conv)
+  else fallback default b i conv
+
+let as_number = function VNum x -> Some x | _ -> None
+let as_vector = function VVec v -> Some v | _ -> None
+
+let check_range b (e : entry) i x =
+  if not (Schema.in_range e.sch.range x) then
+    bad b b.site.vlocs.(i) (Msg.out_of_range e.sch x)
+
+(* A number, refused outside the field's range; [check] instead checks it otherwise. *)
+let number ?default ?check b i =
+  match (given b i, b.vals.(i)) with
+  | true, VNum x -> (
+      match check with
+      | Some c -> c b.site.vlocs.(i) x
+      | None ->
+          check_range b b.site.entries.(i) i x;
+          x)
+  | false, _ -> (
+      match (default, b.site.entries.(i)) with
+      | Some d, { required = false; _ } -> d
+      | None, { required = false; default = VNum x; _ } -> x
+      | _ -> get default b i as_number)
+  | true, _ -> get default b i as_number
+
+(* A whole number in the field's range. *)
+let integer b i =
+  match (given b i, b.vals.(i)) with
+  | true, VNum x ->
+      let e = b.site.entries.(i) in
+      if Schema.in_range e.sch.range x then int_of_float x
+      else (
+        check_range b e i x;
+        int_of_float (fallback None b i as_number))
+  | _ -> int_of_float (get None b i as_number)
+
+let boolean ?default b i =
+  match (given b i, b.vals.(i)) with
+  | true, VBool x -> x
+  | _ -> get default b i (function VBool x -> Some x | _ -> None)
+
+let file b i = get None b i (function VStr s -> Some s | _ -> None)
+
+let check_coords b i (v : Vec3.t) =
+  let big = Schema.big in
+  if not (Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big) then
+    bad b b.site.vlocs.(i) (Msg.coordinates b.site.names.(i))
+
+(* A vector with coordinates within ±1e150; [check] checks it further. *)
+let point ?default ?check b i =
+  match (given b i, b.vals.(i)) with
+  | true, VVec v -> (
+      check_coords b i v;
+      match check with Some c -> c b.site.vlocs.(i) v | None -> v)
+  | false, _ -> (
+      match (default, b.site.entries.(i)) with
+      | Some d, { required = false; _ } -> d
+      | None, { required = false; default = VVec v; _ } -> v
+      | _ -> get default b i as_vector)
+  | true, _ -> get default b i as_vector
+
+let direction b i =
+  match (given b i, b.vals.(i)) with
+  | true, VVec v ->
+      check_coords b i v;
+      if Vec3.max_abs v < 1e-150 then
+        bad b b.site.vlocs.(i) (Msg.non_zero b.site.names.(i));
+      v
+  | _ -> point b i
+
+let color ?default b i =
+  match (given b i, b.vals.(i)) with
+  | true, VVec v ->
+      check_coords b i v;
+      if v.x < 0. || v.y < 0. || v.z < 0. then
+        bad b b.site.vlocs.(i) (Msg.negative_colour b.site.names.(i) v);
+      Color.of_vec3 v
+  | _ -> Color.of_vec3 (point ?default:(Option.map Color.to_vec3 default) b i)
