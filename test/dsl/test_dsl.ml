@@ -593,11 +593,70 @@ let mutated =
   in
   QCheck.make ~print:(fun s -> s) gen
 
+(* The reader and the grammar read the same tree (locations included) wherever the
+   reader reads one; where it does not, the grammar says why. *)
+let same_tree text =
+  match Lancer_dsl.Reader.program ~file:"fuzz.rts" text with
+  | None -> true
+  | Some (stmts, _) -> (
+      match Lancer_dsl.Syntax.grammar ~file:"fuzz.rts" text with
+      | Ok stmts' when stmts = stmts' -> true
+      | Ok _ -> QCheck.Test.fail_reportf "the reader reads another tree in:\n%s" text
+      | Error e ->
+          QCheck.Test.fail_reportf "the reader reads what the grammar refuses (%s):\n%s"
+            e.message text)
+
+let rec scene_files dir =
+  Sys.readdir dir |> Array.to_list |> List.sort compare
+  |> List.concat_map (fun f ->
+         let p = Filename.concat dir f in
+         if Sys.is_directory p then scene_files p
+         else if Filename.check_suffix f ".rts" then [ p ]
+         else [])
+
+let test_reader () =
+  let files = scene_files scenes_dir @ scene_files "../../dsl/lancer" in
+  Alcotest.(check bool) "the scenes are found" true (List.length files >= 40);
+  List.iter
+    (fun path ->
+      let text = In_channel.with_open_bin path In_channel.input_all in
+      match Lancer_dsl.Syntax.grammar ~file:path text with
+      | Error _ -> ()
+      | Ok stmts ->
+          Alcotest.(check bool)
+            (path ^ ": the reader reads what the grammar reads")
+            true
+            (Option.map fst (Lancer_dsl.Reader.program ~file:path text) = Some stmts))
+    files;
+  List.iter
+    (fun text ->
+      Alcotest.(check bool)
+        (text ^ ": left to the grammar")
+        true
+        (Lancer_dsl.Reader.program ~file:"t.rts" text = None))
+    [
+      "let x = 1 < 2 < 3";
+      "let x = 1 + if a then b else c";
+      "let x = (1, 2, 3, 4)";
+      "sphere { a: 1,, b: 2 }";
+      "let x = 3.x";
+      "let x = 1e999";
+      "let x = \"open";
+      "/* open";
+      "let x = 1 && 2";
+      "let é = 1";
+      "f(1,)";
+    ]
+
 let props =
   let rand = Random.State.make [| 2024 |] in
   List.map
     (QCheck_alcotest.to_alcotest ~rand)
     [
+      QCheck.Test.make ~name:"the reader reads random token sequences as the grammar does"
+        ~count token_seq same_tree;
+      QCheck.Test.make ~name:"the reader reads mutated valid scenes as the grammar does"
+        ~count mutated same_tree;
       QCheck.Test.make
         ~name:
           "random token sequences give Ok or Error, never an exception nor an internal \
@@ -854,6 +913,8 @@ let () =
         [
           Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick
             test_scenes;
+          Alcotest.test_case "the reader reads every scene as the grammar does" `Quick
+            test_reader;
           Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick
             test_json;
         ] );
