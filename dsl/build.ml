@@ -222,11 +222,11 @@ let camera b =
     List.find_opt
       (fun (fl : Schema.field) ->
         match fl.condition with Kind_in ks -> List.mem k ks | _ -> false)
-      (Schema.fields_named site.block "fov")
+      site.kind_.named.(fov)
   in
   let fov_v =
     let d =
-      match Option.map entry (fov_of kind_name) with
+      match Option.map Kind.entry (fov_of kind_name) with
       | Some { default = VNum x; _ } -> x
       | _ -> ( match site.entries.(fov).default with VNum x -> x | _ -> 60.)
     in
@@ -421,7 +421,7 @@ let light b =
 (* ------------------------------------------------------------------------------------ *)
 (* Objects *)
 
-let step_field b name = List.hd (Schema.fields_named b.site.block name)
+let step_field b name = b.site.entries.(slot b.site name).sch
 
 (* translate / rotate / scale, in the order written *)
 let transforms b =
@@ -456,8 +456,8 @@ let transforms b =
   (!t, List.rev !js)
 
 let object_material b =
-  match slot b.site "material" with
-  | i when not (live b i) -> None
+  match b.site.kind_.material with
+  | i when i < 0 || not (live b i) -> None
   | i -> (
       match b.vals.(i) with
       | VMat m -> m.some

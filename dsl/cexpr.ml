@@ -12,13 +12,22 @@ type fn = {
   parent : fn option;
 }
 
-type t = { slots : int array; fn : fn }
+type slots = { mutable a : int array }
+type t = { slots : slots; fn : fn }
 
-let create ~bindings =
+let create () =
   {
-    slots = Array.make bindings (-1);
+    slots = { a = Array.make 64 (-1) };
     fn = { level = 0; nslots = 0; caps = []; ncaps = 0; parent = None };
   }
+
+let set_slot cs (b : binding) i =
+  let s = cs.slots in
+  if b.id >= Array.length s.a then (
+    let a = Array.make (max (2 * Array.length s.a) (b.id + 1)) (-1) in
+    Array.blit s.a 0 a 0 (Array.length s.a);
+    s.a <- a);
+  s.a.(b.id) <- i
 
 let inner cs ~level ~nparams =
   { cs with fn = { level; nslots = nparams; caps = []; ncaps = 0; parent = Some cs.fn } }
@@ -26,11 +35,11 @@ let inner cs ~level ~nparams =
 let new_slot cs (b : binding) =
   let i = cs.fn.nslots in
   cs.fn.nslots <- i + 1;
-  cs.slots.(b.id) <- i;
+  set_slot cs b i;
   i
 
 let rec resolve_in slots fn (b : binding) =
-  if b.level = fn.level then Slot slots.(b.id)
+  if b.level = fn.level then Slot slots.a.(b.id)
   else
     match List.find_opt (fun (id, _, _) -> id = b.id) fn.caps with
     | Some (_, i, _) -> Cap i
@@ -61,13 +70,13 @@ let var cs v (loc : Loc.t) : code =
       fun fr ->
         match get fr with
         | VPoison -> raise Poisoned
-        | v when v == unbound -> fail loc msg
+        | v when v == unbound -> fail loc (msg ())
         | v -> v)
   | Global { kind = Number f; _ } -> fun fr -> f fr.st.hooks
   | Global { name; kind = Function _; _ } ->
       let v = VBuiltin name in
       fun _ -> v
-  | Unbound msg -> fun _ -> fail loc msg
+  | Unbound msg -> fun _ -> fail loc (msg ())
 
 let rec const (e : expr) =
   match e.e with

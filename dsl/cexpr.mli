@@ -21,12 +21,17 @@ type fn = {
     from around its definition (newest first, with each one's index and where it is in the
     function around). *)
 
-type t = { slots : int array; fn : fn }
+type slots
+
+type t = { slots : slots; fn : fn }
 (** What compiling a program keeps: the slot of each binding (by id, in its own function's
     frame), and the function being compiled. *)
 
-val create : bindings:int -> t
-(** For a program of that many bindings: compiling its top level. *)
+val create : unit -> t
+(** Compiling a program's top level. *)
+
+val set_slot : t -> Tast.binding -> int -> unit
+(** Where a binding is in its function's frame. *)
 
 val inner : t -> level:int -> nparams:int -> t
 (** Compiling a function's body, at that level, its parameters its first slots. *)

@@ -1,6 +1,7 @@
 open Tast
 module A = Ast
 module Names = Map.Make (String)
+module Keywords = Hashtbl.Make (String)
 
 type program = { stmts : Tast.stmt list; bindings : int }
 
@@ -10,13 +11,13 @@ type env = { names : entry Names.t; level : int }
 
 type cx = {
   sources : (string, string) Hashtbl.t;
-  blocks : Schema.block list;
+  kinds : Kind.t list Keywords.t;  (** the schema's kinds, by keyword *)
   types : bool;  (** false: every expression's type is taken as unknown *)
   mutable errors : Error.t list;  (** reversed *)
   mutable count : int;  (** of [errors] *)
   mutable next : int;  (** the next binding's id *)
-  definitions : (string * Loc.t) list Lazy.t;
-      (** every name the program defines, where, in program order *)
+  mutable definitions : (string * Loc.t) list;
+      (** every name the program defines, where, newest first *)
 }
 
 let report cx (loc : Loc.t) msg =
@@ -34,9 +35,10 @@ let bind env name var ty = { env with names = Names.add name { var; ty } env.nam
 (* ------------------------------------------------------------------------------------ *)
 (* Names *)
 
-(* Every name the program defines ([let], [fn], [body]), anywhere, and where. *)
-let definitions stmts =
-  let acc = ref [] in
+(* Every name a statement defines ([let], [fn], [body]), anywhere inside it, and where,
+   newest first in front of [acc]. *)
+let definitions acc stmts =
+  let acc = ref acc in
   let rec stmt (s : A.stmt) =
     match s.s with
     | Let (x, _) | Fn (x, _, _) -> acc := (x.id, x.nloc) :: !acc
@@ -54,15 +56,16 @@ let definitions stmts =
     | Include _ | Call_stmt _ -> ()
   and items its = List.iter (function A.Stmt s -> stmt s | Field _ -> ()) its in
   List.iter stmt stmts;
-  List.rev !acc
+  !acc
 
 (* The message for a name that names nothing where it is used: one defined further down
-   the same file was most likely meant; otherwise the closest name in scope. *)
-let unbound_message cx env x (loc : Loc.t) =
+   the same file was most likely meant; otherwise the closest name in scope. Made when the
+   error is met, once the whole program is checked. *)
+let unbound_message cx env x (loc : Loc.t) () =
   let later (d : Loc.t) =
     d.file = loc.file && (d.line > loc.line || (d.line = loc.line && d.col > loc.col))
   in
-  match List.find_opt (fun (n, d) -> n = x && later d) (Lazy.force cx.definitions) with
+  match List.find_opt (fun (n, d) -> n = x && later d) (List.rev cx.definitions) with
   | Some (_, d) -> Msg.unknown_name_later x d
   | None -> Msg.unknown_name x (Msg.hint x (List.map fst (Names.bindings env.names)))
 
@@ -211,30 +214,19 @@ and expr_ ~material cx env (e : A.expr) =
 (* ------------------------------------------------------------------------------------ *)
 (* Blocks *)
 
-let find_block cx id = List.find_opt (fun (b : Schema.block) -> b.id = id) cx.blocks
-
-let holds_objects cx keyword =
-  List.exists (fun (b : Schema.block) -> b.keyword = keyword && b.holds_objects) cx.blocks
-
-let choose cx ~keyword present =
-  match List.filter (fun (b : Schema.block) -> b.keyword = keyword) cx.blocks with
-  | [ b ] -> Some b
-  | bs -> (
+(* The kind a block of these [kinds] (a keyword's) is, given the fields written. *)
+let choose kinds present =
+  match kinds with
+  | [ k ] -> Some k
+  | ks -> (
       match
         List.filter
-          (fun (b : Schema.block) ->
-            match b.chosen_by with Some n -> present n | None -> false)
-          bs
+          (fun (k : Kind.t) ->
+            match k.block.chosen_by with Some n -> present n | None -> false)
+          ks
       with
-      | [ b ] -> Some b
+      | [ k ] -> Some k
       | _ -> None)
-
-let index_of x l =
-  let rec go i = function
-    | [] -> -1
-    | y :: rest -> if String.equal x y then i else go (i + 1) rest
-  in
-  go 0 l
 
 (* A field given where the block's kind (or the field it depends on) says it does not
    apply: the message, and whether it is shown at the field's name or at its value. *)
@@ -252,41 +244,48 @@ let missing id keyword name =
   | _ -> Msg.needs_field keyword name
 
 (* The block's kind, when its [kind] field is left out or written as one of its choices. *)
-let literal_kind (b : Schema.block) given =
-  let choices =
-    List.concat_map
-      (fun (fl : Schema.field) -> match fl.ty with Choice l -> l | _ -> [])
-      (Schema.fields_named b "kind")
-  in
-  match List.find_opt (fun ((n : A.name), _) -> n.id = "kind") given with
-  | Some (_, ({ e = A.Str s; _ } : A.expr)) when List.mem s choices -> `Known s
-  | Some _ -> `Unknown
-  | None -> (
-      match Schema.fields_named b "kind" with
-      | { default = Value v; _ } :: _ when String.length v >= 2 ->
-          `Known (String.sub v 1 (String.length v - 2))
-      | _ -> `None)
+let literal_kind (k : Kind.t) given =
+  match k.kind with
+  | -1 -> `None
+  | i -> (
+      let fields = k.named.(i) in
+      let choices =
+        List.concat_map
+          (fun (fl : Schema.field) -> match fl.ty with Choice l -> l | _ -> [])
+          fields
+      in
+      match List.find_opt (fun ((n : A.name), _) -> n.id = "kind") given with
+      | Some (_, ({ e = A.Str s; _ } : A.expr)) when List.mem s choices -> `Known s
+      | Some _ -> `Unknown
+      | None -> (
+          match fields with
+          | { default = Value v; _ } :: _ when String.length v >= 2 ->
+              `Known (String.sub v 1 (String.length v - 2))
+          | _ -> `None))
 
 (* Where each field of a block of kind [b] goes, from the fields written alone (each once:
    those given twice are left out), and the fields the block needs. A field the block
    does not take, there or at all, is reported and dropped: its value is neither checked
    nor run. The entry each other field's value is checked against ([None]: one that
    depends on a kind known only when the program runs). *)
-let places cx (b : Schema.block) ~keyword kloc (given : (A.name * A.expr) list) =
+let places cx (k : Kind.t) ~keyword kloc (given : (A.name * A.expr) list) =
+  let b = k.block in
   let failed = ref false in
   let report loc msg =
     failed := true;
     report cx loc msg
   in
-  let names = Schema.names_of b in
-  let present name = List.exists (fun ((n : A.name), _) -> n.id = name) given in
-  let kind = literal_kind b given in
+  let present name =
+    List.exists (fun ((n : A.name), _) -> String.equal n.id name) given
+  in
+  let kind = literal_kind k given in
   let applies (fl : Schema.field) =
     match fl.condition with
     | Always -> true
     | With n -> present n
     | Without n -> not (present n)
-    | Kind_in ks -> ( match kind with `Known k -> List.mem k ks | _ -> false)
+    | Kind_in ks -> (
+        match kind with `Known k -> List.exists (String.equal k) ks | _ -> false)
   in
   (* Surely not: its kind, or the field it depends on, is known and says so. *)
   let excluded (fl : Schema.field) =
@@ -294,42 +293,49 @@ let places cx (b : Schema.block) ~keyword kloc (given : (A.name * A.expr) list) 
     | Always -> false
     | With n -> not (present n)
     | Without n -> present n
-    | Kind_in ks -> ( match kind with `Known k -> not (List.mem k ks) | _ -> false)
+    | Kind_in ks -> (
+        match kind with `Known k -> not (List.exists (String.equal k) ks) | _ -> false)
   in
   let place ((n : A.name), (v : A.expr)) =
-    if not (List.mem n.id names) then (
-      report n.nloc (Msg.unknown_field n.id keyword (Msg.hint n.id names));
-      (Dropped, None))
-    else
-      let entries = Schema.fields_named b n.id in
-      match List.filter applies entries with
-      | fl :: _ ->
-          ((if fl.repeats then Step n.id else Slot (index_of n.id names)), Some fl)
-      | [] when List.for_all excluded entries ->
-          (match misplaced b.id n.id with
-          | Some (at, msg) -> report (if at = `Name then n.nloc else v.loc) msg
-          | None -> failed := true);
-          (Dropped, None)
-      | [] -> (Slot (index_of n.id names), None)
+    match Kind.slot k n.id with
+    | -1 ->
+        report n.nloc
+          (Msg.unknown_field n.id keyword (Msg.hint n.id (Array.to_list k.names)));
+        (Dropped, None)
+    | i -> (
+        let entries = k.named.(i) in
+        match List.find_opt applies entries with
+        | Some fl -> ((if fl.repeats then Step n.id else Slot i), Some fl)
+        | None when List.for_all excluded entries ->
+            (match misplaced b.id n.id with
+            | Some (at, msg) -> report (if at = `Name then n.nloc else v.loc) msg
+            | None -> failed := true);
+            (Dropped, None)
+        | None -> (Slot i, None))
   in
   let places = List.map place given in
   List.iter
     (fun (fl : Schema.field) ->
-      if fl.default = Required && applies fl && not (present fl.name) then
+      if
+        (match fl.default with Required -> true | _ -> false)
+        && applies fl
+        && not (present fl.name)
+      then
         (* A misspelt field already reported as unknown, with this one as its hint, is
            not reported missing as well (a field of the block's own does not stand for a
            missing one: a triangle's `b` is not a missing `c`). *)
         let misspelt =
-          fl.condition = Always
+          (match fl.condition with Always -> true | _ -> false)
           && List.exists
                (fun ((n : A.name), _) ->
-                 (not (List.mem n.id names))
-                 && Msg.suggest n.id [ fl.name ] = Some fl.name)
+                 Kind.slot k n.id < 0 && Msg.suggest n.id [ fl.name ] = Some fl.name)
                given
         in
         if misspelt then failed := true else report kloc (missing b.id keyword fl.name))
     b.fields;
   (places, !failed, match kind with `Unknown -> false | _ -> true)
+
+let repeatable = function "translate" | "rotate" | "scale" -> true | _ -> false
 
 (* The block's fields as written, each once (those given twice reported), and whether a
    statement it does not hold was found (reported). *)
@@ -340,13 +346,13 @@ let written cx ~holds kw items =
       (fun (seen, acc) item ->
         match item with
         | A.Field (n, e) -> (
-            match List.assoc_opt n.id seen with
-            | Some line when not (List.mem n.id Schema.repeatable) ->
+            match List.find_opt (fun (x, _) -> String.equal x n.id) seen with
+            | Some (_, line) when not (repeatable n.id) ->
                 failed := true;
                 report cx n.nloc (Msg.given_twice n.id kw line);
                 (seen, acc)
             | first ->
-                ( (if first = None then (n.id, n.nloc.line) :: seen else seen),
+                ( (if Option.is_none first then (n.id, n.nloc.line) :: seen else seen),
                   (n, e) :: acc ))
         | A.Stmt s -> (
             match s.s with
@@ -364,12 +370,13 @@ let written cx ~holds kw items =
    statements (a [let] is seen by the items after it). [stmt] checks a statement. *)
 let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
   let kw = keyword.id in
-  let holds = holds_objects cx kw in
+  let kinds = Option.value (Keywords.find_opt cx.kinds kw) ~default:[] in
+  let holds = List.exists (fun (k : Kind.t) -> k.block.holds_objects) kinds in
   let inner = if holds then Inside else where in
   let given, mistaken = written cx ~holds kw items in
   let present name = List.exists (fun ((n : A.name), _) -> n.id = name) given in
-  let schema, places, failed, kind_known =
-    match choose cx ~keyword:kw present with
+  let kind, places, failed, kind_known =
+    match choose kinds present with
     | Some b ->
         let places, failed, k = places cx b ~keyword:kw kloc given in
         (b, places, failed, k)
@@ -378,7 +385,9 @@ let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
         (match List.find_opt (fun ((n : A.name), _) -> n.id = "direction") given with
         | Some (_, v) when present "position" -> report cx v.loc Msg.light_choice_both
         | _ -> report cx kloc Msg.light_choice_none);
-        ( Option.get (find_block cx "point_light"),
+        ( List.find
+            (fun (k : Kind.t) -> k.block.id = "point_light")
+            (Keywords.find cx.kinds "light"),
           List.map (fun _ -> (Dropped, None)) given,
           true,
           true )
@@ -394,14 +403,17 @@ let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
             | ((n', _), (slot, fl)) :: rest when n' == n ->
                 places := rest;
                 let field v wrong = Field { name = n; value = v; slot; wrong } in
-                if slot = Dropped then (env, field (bad e) false :: acc)
+                if match slot with Dropped -> true | _ -> false then
+                  (env, field (bad e) false :: acc)
                 else
                   let v = expr ~material:(material_block ~stmt) cx env e in
                   let wrong =
                     match fl with
-                    | Some (fl : Schema.field) ->
-                        refused cx v (Ty.accepts fl.ty) (Msg.field_type fl)
-                    | None -> false
+                    | Some (fl : Schema.field)
+                      when Ty.known v.ty && not (Ty.accepts fl.ty v.ty) ->
+                        report cx v.loc (Msg.field_type fl v.ty);
+                        true
+                    | _ -> false
                   in
                   if wrong then failed := true;
                   (env, field (if wrong then { v with e = Bad } else v) wrong :: acc)
@@ -417,7 +429,7 @@ let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
             | _ -> (env, acc)))
       (env, []) items
   in
-  { keyword; schema; items = List.rev rev; failed = !failed; kind_known; where }
+  { keyword; kind; items = List.rev rev; failed = !failed; kind_known; where }
 
 and material_block ~stmt cx env loc items =
   block cx env ~stmt ~where:Top ~keyword:{ id = "material"; nloc = loc } loc items
@@ -533,7 +545,7 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       | "material" ->
           report cx k.nloc Msg.material_statement;
           (env, one Nothing)
-      | kw when not (List.mem kw Schema.keywords) ->
+      | kw when (not (Keywords.mem cx.kinds kw)) || kw = "body" ->
           report cx k.nloc (Msg.unknown_block kw);
           (env, one Nothing)
       | ("settings" | "camera" | "animation" | "physics" | "light") when where = Inside ->
@@ -559,20 +571,34 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
         | Some e when is e.ty Body -> Body
         | Some _ -> Unknown
       in
-      ( bind env n.id (Maybe (b, "")) (unknown ty),
+      ( bind env n.id (Maybe (b, fun () -> "")) (unknown ty),
         one (Body (b, Option.map (fun e -> e.var) before, tb)) )
 
-let program ?(schema = Schema.blocks) ?(types = true) ~sources stmts_ =
-  let cx =
-    {
-      sources;
-      blocks = schema;
-      types;
-      errors = [];
-      count = 0;
-      next = 0;
-      definitions = lazy (definitions stmts_);
-    }
-  in
-  let _, ts = stmts cx initial ~where:Top stmts_ in
-  ({ stmts = ts; bindings = cx.next }, List.rev cx.errors)
+type state = { cx : cx; mutable env : env }
+
+let start ?(schema = Schema.blocks) ?(types = true) ~sources () =
+  let kinds = Keywords.create 32 in
+  List.iter
+    (fun (b : Schema.block) ->
+      let k = Kind.get b in
+      Keywords.replace kinds b.keyword
+        (Option.value (Keywords.find_opt kinds b.keyword) ~default:[] @ [ k ]))
+    schema;
+  {
+    cx = { sources; kinds; types; errors = []; count = 0; next = 0; definitions = [] };
+    env = initial;
+  }
+
+let top st s =
+  st.cx.definitions <- definitions st.cx.definitions [ s ];
+  let env, ts = stmt st.cx st.env ~where:Top s in
+  st.env <- env;
+  ts
+
+let finish st = (st.cx.next, List.rev st.cx.errors)
+
+let program ?schema ?types ~sources stmts =
+  let st = start ?schema ?types ~sources () in
+  let ts = List.concat_map (top st) stmts in
+  let bindings, errors = finish st in
+  ({ stmts = ts; bindings }, errors)

@@ -33,3 +33,23 @@ val program :
     expression's type is taken as unknown: only what the text of blocks says is checked
     before the run, and every type is checked as the program runs (for testing that the
     two phases agree). *)
+
+(** {1 Statement by statement}
+
+    The same, as a program is read: each top-level statement checked as it comes, so that
+    what is read and checked of a large program can go as soon as it is compiled. *)
+
+type state
+
+val start :
+  ?schema:Schema.block list ->
+  ?types:bool ->
+  sources:(string, string) Hashtbl.t ->
+  unit ->
+  state
+
+val top : state -> Ast.stmt -> Tast.stmt list
+(** The next top-level statement, typed (an include's statements, each). *)
+
+val finish : state -> int * Error.t list
+(** How many bindings the program defines, and the mistakes found, in the order found. *)

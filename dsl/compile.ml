@@ -200,36 +200,43 @@ let before cs = function
 let rec expr cs e = Cexpr.expr ~block:material cs e
 
 and items cs (blk : block) =
-  let nsteps = ref 0
-  and consts = Array.make (List.length (Schema.names_of blk.schema)) None in
+  let nsteps = ref 0 and n = Array.length blk.kind.names in
+  let values = Array.make n None and steps = ref [] in
   let items =
     List.concat_map
       (function
         | Field { slot = Slot i; value; _ } ->
-            consts.(i) <- Cexpr.const value;
+            values.(i) <- Some value;
             [ CSlot (i, expr cs value) ]
         | Field { slot = Step _; value; _ } ->
             let j = !nsteps in
             incr nsteps;
+            steps := value :: !steps;
             [ CStep (j, expr cs value) ]
         | Field { slot = Dropped; _ } -> []
         | Stmts ss -> List.map (fun s -> CStmt (stmt cs s)) ss)
       blk.items
   in
-  let site = Fields.site blk.schema blk in
+  let site = Fields.site blk in
   ( {
       site;
       items = Array.of_list items;
-      nslots = Array.length consts;
+      nslots = n;
       nsteps = !nsteps;
       kloc = blk.keyword.nloc;
     },
-    consts )
+    (values, Array.of_list (List.rev !steps)) )
 
 and material cs blk : Cexpr.code =
-  let s, consts = items cs blk in
+  let s, (values, _) = items cs blk in
   let mat = Build.material s.site in
-  match if blk.failed then None else constant_material s.site s.items consts mat with
+  match
+    if blk.failed then None
+    else
+      constant_material s.site s.items
+        (Array.map (fun v -> Option.bind v Cexpr.const) values)
+        mat
+  with
   | Some v -> fun _ -> v
   | None -> (
       fun fr ->
@@ -284,7 +291,7 @@ and func : 'a. Cexpr.t -> fn_def -> (Cexpr.t -> 'a) -> 'a * int * (frame -> Valu
     =
  fun cs def body ->
   let inner = Cexpr.inner cs ~level:def.level ~nparams:(List.length def.params) in
-  List.iteri (fun k (p : binding) -> inner.slots.(p.id) <- k) def.params;
+  List.iteri (fun k (p : binding) -> Cexpr.set_slot inner p k) def.params;
   let code = body inner in
   let getters =
     Array.of_list (List.rev_map (fun (_, _, a) -> Cexpr.raw a) inner.fn.caps)
@@ -371,7 +378,13 @@ and stmt cs (s : stmt) : scode =
             | Poisoned -> fr.l.(i) <- get_before fr))
   | Nothing -> fun _ _ -> ()
 
+type state = { cs : Cexpr.t; mutable codes : scode list }
+
+let start () = { cs = Cexpr.create (); codes = [] }
+let top st s = st.codes <- stmt st.cs s :: st.codes
+let finish st = { stmts = Array.of_list (List.rev st.codes); slots = st.cs.fn.nslots }
+
 let program (p : Check.program) =
-  let cs = Cexpr.create ~bindings:p.bindings in
-  let stmts = Array.of_list (List.map (stmt cs) p.stmts) in
-  { stmts; slots = cs.fn.nslots }
+  let st = start () in
+  List.iter (top st) p.stmts;
+  finish st

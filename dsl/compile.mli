@@ -13,6 +13,17 @@ type t = {
 
 val program : Check.program -> t
 
+(** {1 Statement by statement} *)
+
+type state
+
+val start : unit -> state
+
+val top : state -> Tast.stmt -> unit
+(** The next top-level statement (includes flattened). *)
+
+val finish : state -> t
+
 val objects_written : Tast.stmt list -> int
 (** The objects a list of statements surely builds each time it runs: object blocks, and
     those of groups; not those behind a condition (the smaller branch), a macro call or an

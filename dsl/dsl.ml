@@ -175,8 +175,9 @@ let max_inclusions = 10_000
 (* Replace every [include] by the parsed statements of the file it names, relative to the
    including file. [stack] holds the files being included, outermost last. Each file is
    read and parsed once, however often it is included; [resolved] keeps, for each
-   (including file, name written), the path it was found at. *)
-let resolve ~read sources resolved includes errors main stmts =
+   (including file, name written), the path it was found at. [resolver] gives the function
+   that resolves the includes of a top-level statement. *)
+let resolver ~read sources resolved includes errors main =
   let err loc msg =
     errors :=
       Error.make ?source:(Hashtbl.find_opt sources loc.Loc.file) loc msg :: !errors
@@ -272,7 +273,7 @@ let resolve ~read sources resolved includes errors main stmts =
     in
     { s with s = d }
   in
-  stmts_ [ (canonical main, main) ] main stmts
+  stmt [ (canonical main, main) ] main
 
 (* Every error of a file that was included gets the chain of includes that led to it. *)
 let chained includes r =
@@ -298,8 +299,8 @@ let file_errors files sources uses =
 (* Every string the program writes, in any statement, branch, function or macro, run or
    not. The language builds no string from others, so a file any frame can read is named
    by one of these. *)
-let strings stmts =
-  let acc = ref [] in
+let strings ~acc stmts =
+  let acc = ref acc in
   let rec expr (e : Ast.expr) =
     match e.e with
     | Str s -> if s <> "" then acc := s :: !acc
@@ -335,58 +336,119 @@ let strings stmts =
   List.iter stmt stmts;
   !acc
 
-let load_text ?progress ?files ?(read = from_disk) file text =
+(* What loading a program makes of it, statement by statement: each top-level statement's
+   includes resolved, then checked, compiled and looked at for the memo as it comes, so
+   that what is read of a large program goes as soon as it is compiled. *)
+type loading = {
+  sources : (string, string) Hashtbl.t;
+  resolved : (string * string, string) Hashtbl.t;
+  includes : (string, Loc.t list) Hashtbl.t;
+  errors : Error.t list ref;  (** of the includes, reversed *)
+  resolve : Ast.stmt -> Ast.stmt;
+  check : Check.state;
+  compile : Compile.state;
+  analysis : Run.analysis;
+  mutable strings : string list;
+  mutable count : int;  (** top-level statements *)
+}
+
+let loading ~read file text =
   let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
-  let resolved = Hashtbl.create 4 in
+  let resolved = Hashtbl.create 4 and errors = ref [] in
   Hashtbl.replace sources file text;
-  chained includes
-  @@
-  match Syntax.parse ~file text with
-  | Error e -> Error [ e ]
-  | Ok stmts -> (
-      let errors = ref [] in
-      let stmts = resolve ~read sources resolved includes errors file stmts in
-      if !errors <> [] then Error (List.rev !errors)
-      else
-        let on_objects n =
-          Option.iter
-            (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
-            progress
-        in
-        (* The checker's mistakes, with those of the run at time 0 and of the files it
-           uses, in source order (the checker's first at the same place). *)
-        let checked, static = Check.program ~sources stmts in
-        let code = Compile.program checked in
-        let merged es = Run.sort_errors (static @ es) in
-        let uses = ref [] in
-        let on_file u = uses := u :: !uses in
-        let memo = Run.memo stmts in
-        let run =
-          Run.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
-        in
-        match (run, file_errors files sources !uses) with
-        | Error es, fes -> Error (merged (es @ fes))
-        | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
-        | Ok first, _ ->
-            let first = { first with warnings = chained_list includes first.warnings } in
-            Ok
-              {
-                file;
-                code;
-                strings = strings stmts;
-                empty = List.is_empty stmts;
-                sources;
-                resolved;
-                includes;
-                first;
-                released = Atomic.make false;
-                memo;
-                named =
-                  (let h = Hashtbl.create 4 in
-                   List.iter (fun f -> Hashtbl.replace h f ()) first.files;
-                   h);
-                named_lock = Mutex.create ();
-              })
+  {
+    sources;
+    resolved;
+    includes;
+    errors;
+    resolve = resolver ~read sources resolved includes errors file;
+    check = Check.start ~sources ();
+    compile = Compile.start ();
+    analysis = Run.analysis ();
+    strings = [];
+    count = 0;
+  }
+
+let feed l s =
+  let s = l.resolve s in
+  l.count <- l.count + 1;
+  l.strings <- strings ~acc:l.strings [ s ];
+  Run.analyse l.analysis s;
+  List.iter (Compile.top l.compile) (Check.top l.check s)
+
+(* The program read as it comes; where the reader gives up (a mistake it leaves to the
+   grammar to explain), read whole, and [Error] for a syntax error. *)
+let read_program ~read file text =
+  match
+    let r = Reader.start ~file text in
+    let l = loading ~read file text in
+    let rec go () =
+      match Reader.next r with
+      | Some s ->
+          feed l s;
+          go ()
+      | None -> ()
+    in
+    go ();
+    if Reader.plain r || Option.is_none (Syntax.not_text file text) then Some l else None
+  with
+  | Some l -> Ok l
+  | None | (exception (Reader.Give_up | Failure _ | Invalid_argument _ | Stack_overflow))
+    -> (
+      match Syntax.parse ~file text with
+      | Error e -> Error [ e ]
+      | Ok stmts ->
+          let l = loading ~read file text in
+          List.iter (feed l) stmts;
+          Ok l)
+
+let load_text ?progress ?files ?(read = from_disk) file text =
+  match read_program ~read file text with
+  | Error es -> Error es
+  | Ok l when !(l.errors) <> [] -> chained l.includes (Error (List.rev !(l.errors)))
+  | Ok l -> (
+      let sources = l.sources and includes = l.includes in
+      chained includes
+      @@
+      let on_objects n =
+        Option.iter
+          (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
+          progress
+      in
+      (* The checker's mistakes, with those of the run at time 0 and of the files it
+         uses, in source order (the checker's first at the same place). *)
+      let _, static = Check.finish l.check in
+      let code = Compile.finish l.compile in
+      let merged es = Run.sort_errors (static @ es) in
+      let uses = ref [] in
+      let on_file u = uses := u :: !uses in
+      let memo = Run.memo_of l.analysis in
+      let run =
+        Run.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
+      in
+      match (run, file_errors files sources !uses) with
+      | Error es, fes -> Error (merged (es @ fes))
+      | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
+      | Ok first, _ ->
+          let first = { first with warnings = chained_list includes first.warnings } in
+          Ok
+            {
+              file;
+              code;
+              strings = l.strings;
+              empty = l.count = 0;
+              sources;
+              resolved = l.resolved;
+              includes;
+              first;
+              released = Atomic.make false;
+              memo;
+              named =
+                (let h = Hashtbl.create 4 in
+                 List.iter (fun f -> Hashtbl.replace h f ()) first.files;
+                 h);
+              named_lock = Mutex.create ();
+            })
 
 let load_string ?progress ?files ?(filename = "<string>") text =
   guard filename (fun () -> load_text ?progress ?files filename text)
@@ -397,7 +459,7 @@ type bundle = {
   b_includes : ((string * string) * (string * string)) list;
 }
 
-let bundle t =
+let bundle (t : t) =
   {
     b_file = t.file;
     b_text = Hashtbl.find t.sources t.file;
@@ -426,7 +488,8 @@ let load_file ?files path =
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
       | Ok text -> load_text ?files path text)
 
-let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts t ~time ~frame =
+let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts (t : t) ~time
+    ~frame =
   if not (Float.is_finite time) then
     Error [ Error.file_error t.file "the time must be a finite number" ]
   else
@@ -448,18 +511,18 @@ let at_frame ~time ~frame r =
            }))
       r
 
-let named_files t =
+let named_files (t : t) =
   let files = Hashtbl.fold (fun f _ acc -> f :: acc) t.sources [] in
   List.sort_uniq String.compare
     (List.concat_map
        (fun s -> List.map (fun f -> Loc.relative_to f s) files)
        (List.sort_uniq String.compare t.strings))
 
-let source t file = Hashtbl.find_opt t.sources file
+let source (t : t) file = Hashtbl.find_opt t.sources file
 let fixed_objects t = Run.fixed_objects t.memo
 let fixed_pieces t = Run.fixed_pieces t.memo
 
-let located t ~time ~frame es =
+let located (t : t) ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
   | Error es -> es
   | Ok () -> []
@@ -467,7 +530,7 @@ let located t ~time ~frame es =
 (* The evaluation at time 0, frame 0 is the one made when the program was loaded, with
    each body placed where the simulation has it at time 0 (its initial centre): evaluated
    again only if the simulation says otherwise. *)
-let describe ?again ?body_state ?progress ?cancel ?files ?parts t ~time ~frame =
+let describe ?again ?body_state ?progress ?cancel ?files ?parts (t : t) ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->

@@ -3,76 +3,13 @@ open Value
 (* ------------------------------------------------------------------------------------ *)
 (* A block's kind made ready: each field's default as a value *)
 
-(* A default of the schema, a literal written as in a scene. *)
-let literal (text : string) =
-  let rec value (e : Ast.expr) =
-    match e.e with
-    | Num x -> VNum x
-    | Str s -> VStr s
-    | Bool b -> VBool b
-    | Unop (Neg, a) -> ( match value a with VNum x -> VNum (-.x) | _ -> VPoison)
-    | Binop (Div, a, b) -> (
-        match (value a, value b) with VNum x, VNum y -> VNum (x /. y) | _ -> VPoison)
-    | Vec (a, b, c) -> (
-        match (value a, value b, value c) with
-        | VNum x, VNum y, VNum z -> VVec (Vec3.v x y z)
-        | _ -> VPoison)
-    | _ -> VPoison
-  in
-  match Syntax.parse ~file:"schema" ("let default = " ^ text) with
-  | Ok [ { s = Let (_, e); _ } ] when value e != VPoison -> value e
-  | _ ->
-      invalid_arg (Printf.sprintf "Build: the schema's default %S is not a literal" text)
-
-(* For a field without a default: a placeholder of its type, used only once the block
-   has failed, or where the block's reading supplies the value itself. *)
-let placeholder (fl : Schema.field) =
-  match fl.ty with
-  | Number | Integer -> VNum 1.
-  | Boolean -> VBool false
-  | File -> VStr ""
-  | Choice l -> VStr (match l with c :: _ -> c | [] -> "")
-  | Vector | Colour -> VVec Vec3.zero
-  | Direction -> VVec Vec3.y_axis
-  | Material | Base_material | Texture | Bump | Scale | Background | Fog | Gamma ->
-      VPoison
-
-type entry = { sch : Schema.field; default : Value.t; required : bool }
-
-let entry (fl : Schema.field) =
-  {
-    sch = fl;
-    default =
-      (match fl.default with
-      | Value v -> literal v
-      | Required | Absent _ -> placeholder fl);
-    required = fl.default = Required && fl.condition = Always;
-  }
-
-(* Each block kind's entries, by field, made once per schema block. *)
-let kinds : (Schema.block * entry array) list Atomic.t = Atomic.make []
-
-let entries (b : Schema.block) =
-  match List.assq_opt b (Atomic.get kinds) with
-  | Some es -> es
-  | None ->
-      let es =
-        Array.of_list
-          (List.map
-             (fun n -> entry (List.hd (Schema.fields_named b n)))
-             (Schema.names_of b))
-      in
-      let rec add () =
-        let l = Atomic.get kinds in
-        if not (Atomic.compare_and_set kinds l ((b, es) :: l)) then add ()
-      in
-      add ();
-      es
-
 (* ------------------------------------------------------------------------------------ *)
 (* A block as written *)
 
+type entry = Kind.entry = { sch : Schema.field; default : Value.t; required : bool }
+
 type site = {
+  kind_ : Kind.t;
   block : Schema.block;
   kind : string;  (** the keyword, as messages name the block *)
   kloc : Loc.t;
@@ -86,9 +23,9 @@ type site = {
   kind_known : bool;
 }
 
-let site (kind : Schema.block) (b : Tast.block) =
-  let names = Array.of_list (Schema.names_of kind) in
-  let n = Array.length names in
+let site (b : Tast.block) =
+  let kind = b.kind in
+  let n = Array.length kind.names in
   let given = Array.make n false and wrong = Array.make n false in
   let vlocs = Array.make n b.keyword.nloc in
   let steps = ref [] in
@@ -102,11 +39,12 @@ let site (kind : Schema.block) (b : Tast.block) =
       | Field { slot = Dropped; _ } | Stmts _ -> ())
     b.items;
   {
-    block = kind;
+    kind_ = kind;
+    block = kind.block;
     kind = b.keyword.id;
     kloc = b.keyword.nloc;
-    names;
-    entries = entries kind;
+    names = kind.names;
+    entries = kind.entries;
     given;
     vlocs;
     wrong;
@@ -133,13 +71,11 @@ let make site out vals svals = { site; vals; svals; failed = site.failed; out }
    that every mistake of a block is reported at once. *)
 
 let slot site name =
-  let rec go i =
-    if i >= Array.length site.names then
-      invalid_arg (Printf.sprintf "Build: no field %s of %s in the schema" name site.kind)
-    else if String.equal site.names.(i) name then i
-    else go (i + 1)
-  in
-  go 0
+  match Kind.slot site.kind_ name with
+  | -1 ->
+      invalid_arg
+        (Printf.sprintf "Fields: no field %s of %s in the schema" name site.kind)
+  | i -> i
 
 let bad b loc msg =
   b.out.report loc msg;

@@ -5,18 +5,10 @@
     value, the block marked failed and the default given instead, so that every mistake of
     a block is reported at once. What the checker reported is not reported again. *)
 
-type entry = {
-  sch : Schema.field;
-  default : Value.t;
-      (** the schema's default, read as the literal it is; for a field without one, a
-          placeholder of its type (used only once the block has failed, or where its
-          reading supplies the value itself) *)
-  required : bool;  (** required whatever else the block holds *)
-}
-
-val entry : Schema.field -> entry
+type entry = Kind.entry = { sch : Schema.field; default : Value.t; required : bool }
 
 type site = {
+  kind_ : Kind.t;
   block : Schema.block;
   kind : string;  (** the keyword, as messages name the block *)
   kloc : Loc.t;
@@ -30,10 +22,7 @@ type site = {
   kind_known : bool;  (** the checker knew its [kind] and checked what depends on it *)
 }
 
-val site : Schema.block -> Tast.block -> site
-(** [site kind block]: [kind] is the block's own (from the schema the program was checked
-    with). *)
-
+val site : Tast.block -> site
 val step_count : site -> int
 
 type t = {

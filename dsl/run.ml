@@ -19,38 +19,41 @@ let sort_errors (es : Error.t list) =
 (* ------------------------------------------------------------------------------------ *)
 (* What does not change between instants *)
 
-(* Every name a statement or expression mentions: the names it reads, and more (names it
-   binds itself, field names excluded). A value the statement computes can come from
-   nothing but these names and its literals, so if none of them holds anything that may
-   differ between instants, neither does the statement's work. *)
-let rec expr_names acc (e : expr) =
+(* Whether a statement or expression mentions a name for which [p] holds: a name it reads,
+   in an expression, a call or a macro call (not a name it binds). A value the statement
+   computes can come from nothing but these names and its literals, so if none of them
+   holds anything that may differ between instants, neither does the statement's work. *)
+let rec expr_mentions p (e : expr) =
   match e.e with
-  | Num _ | Str _ | Bool _ -> acc
-  | Var x -> x :: acc
-  | Vec (a, b, c) | If (a, b, c) -> expr_names (expr_names (expr_names acc a) b) c
-  | Pair (a, b) | Binop (_, a, b) -> expr_names (expr_names acc a) b
-  | Unop (_, a) | Dot (a, _) -> expr_names acc a
-  | Call (f, args) -> List.fold_left expr_names (f.id :: acc) args
-  | Material items -> items_names acc items
+  | Num _ | Str _ | Bool _ -> false
+  | Var x -> p x
+  | Vec (a, b, c) | If (a, b, c) ->
+      expr_mentions p a || expr_mentions p b || expr_mentions p c
+  | Pair (a, b) | Binop (_, a, b) -> expr_mentions p a || expr_mentions p b
+  | Unop (_, a) | Dot (a, _) -> expr_mentions p a
+  | Call (f, args) -> p f.id || List.exists (expr_mentions p) args
+  | Material items -> items_mention p items
 
-and items_names acc items =
-  List.fold_left
-    (fun acc -> function Field (_, e) -> expr_names acc e | Stmt s -> stmt_names acc s)
-    acc items
+and items_mention p items =
+  List.exists
+    (function Field (_, e) -> expr_mentions p e | Stmt s -> stmt_mentions p s)
+    items
 
-and stmt_names acc (s : stmt) =
+and stmt_mentions p (s : stmt) =
   match s.s with
-  | Let (_, e) | Fn (_, _, e) -> expr_names acc e
-  | Macro (_, _, b) | Included (_, b) -> List.fold_left stmt_names acc b
+  | Let (_, e) | Fn (_, _, e) -> expr_mentions p e
+  | Macro (_, _, b) | Included (_, b) -> List.exists (stmt_mentions p) b
   | For (_, a, b, st, body) ->
-      let acc = expr_names (expr_names acc a) b in
-      let acc = match st with Some e -> expr_names acc e | None -> acc in
-      List.fold_left stmt_names acc body
+      expr_mentions p a || expr_mentions p b
+      || (match st with Some e -> expr_mentions p e | None -> false)
+      || List.exists (stmt_mentions p) body
   | If_stmt (c, t, e) ->
-      List.fold_left stmt_names (List.fold_left stmt_names (expr_names acc c) t) e
-  | Include _ -> acc
-  | Block (_, items) | Body (_, items) -> items_names acc items
-  | Call_stmt (f, args) -> List.fold_left expr_names (f.id :: acc) args
+      expr_mentions p c
+      || List.exists (stmt_mentions p) t
+      || List.exists (stmt_mentions p) e
+  | Include _ -> false
+  | Block (_, items) | Body (_, items) -> items_mention p items
+  | Call_stmt (f, args) -> p f.id || List.exists (expr_mentions p) args
 
 (* The names a statement binds anywhere inside it (loop variables, parameters, [let]s,
    functions, macros). *)
@@ -72,14 +75,15 @@ let rec bound_names acc (s : stmt) =
   | Include _ | Call_stmt _ -> acc
 
 let object_block k =
-  Schema.is_shape k
-  || List.mem k [ "group"; "union"; "merge"; "intersection"; "difference" ]
+  match k with
+  | "group" | "union" | "merge" | "intersection" | "difference" -> true
+  | k -> Schema.is_shape k
 
 (* Whether running [s] does nothing but build objects (into the scope it runs in) and
    use files: no settings, camera, light, animation, physics or body; a macro it calls
    must be one of [pure_macro]'s, not a name bound inside it. *)
 let only_objects pure_macro (s : stmt) =
-  let local = bound_names [] s in
+  let local = lazy (bound_names [] s) in
   let rec go (s : stmt) =
     match s.s with
     | Let _ | Fn _ | Macro _ -> true
@@ -88,7 +92,8 @@ let only_objects pure_macro (s : stmt) =
     | Block (k, its) ->
         object_block k.id
         && List.for_all (function Stmt s -> go s | Field _ -> true) its
-    | Call_stmt (f, _) -> (not (List.mem f.id local)) && pure_macro f.id
+    | Call_stmt (f, _) ->
+        (not (List.exists (String.equal f.id) (Lazy.force local))) && pure_macro f.id
     | Include _ | Body _ -> false
   in
   go s
@@ -114,54 +119,63 @@ type memo = {
   mutable recorded : bool;
 }
 
-let rec flatten stmts =
-  List.concat_map
-    (fun (s : stmt) -> match s.s with Included (_, b) -> flatten b | _ -> [ s ])
-    stmts
+(* The statements seen so far: names whose value may differ between instants (time,
+   frame, bodies, and whatever is defined from them), macros that only build objects and
+   depend on none of them, and which statements are fixed (newest first). *)
+type analysis = {
+  mutable dynamic : Names.t;
+  mutable pure : Names.t;
+  mutable fixed_rev : bool list;
+}
+
+let analysis () =
+  { dynamic = Names.of_list [ "time"; "frame" ]; pure = Names.empty; fixed_rev = [] }
+
+let rec analyse a (s : stmt) =
+  let reads except =
+    stmt_mentions (fun n -> (not (String.equal n except)) && Names.mem n a.dynamic) s
+  in
+  let set x dyn =
+    a.dynamic <- (if dyn then Names.add x a.dynamic else Names.remove x a.dynamic)
+  in
+  let fixed =
+    match s.s with
+    | Let (x, _) ->
+        set x.id (reads "");
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Fn (x, _, _) ->
+        set x.id (reads x.id);
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Macro (x, _, b) ->
+        let dyn = reads x.id in
+        set x.id dyn;
+        let self = Names.add x.id a.pure in
+        let ok = (not dyn) && List.for_all (only_objects (fun f -> Names.mem f self)) b in
+        a.pure <- (if ok then self else Names.remove x.id a.pure);
+        false
+    | Body (x, _) ->
+        set x.id true;
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Block _ | For _ | If_stmt _ | Call_stmt _ ->
+        (not (reads "")) && only_objects (fun f -> Names.mem f a.pure) s
+    | Include _ -> false
+    | Included (_, b) ->
+        List.iter (analyse a) b;
+        false
+  in
+  match s.s with Included _ -> () | _ -> a.fixed_rev <- fixed :: a.fixed_rev
+
+let memo_of a =
+  let fixed = Array.of_list (List.rev a.fixed_rev) in
+  { fixed; entries = Array.make (Array.length fixed) None; recorded = false }
 
 let memo stmts =
-  let top = Array.of_list (flatten stmts) in
-  (* Names whose value may differ between instants: time, frame, bodies, and whatever is
-     defined from them. Macros that only build objects and depend on none of them. *)
-  let dynamic = ref (Names.of_list [ "time"; "frame" ]) in
-  let pure = ref Names.empty in
-  let fixed =
-    Array.map
-      (fun (s : stmt) ->
-        let reads except =
-          List.exists (fun n -> n <> except && Names.mem n !dynamic) (stmt_names [] s)
-        in
-        let set x dyn =
-          dynamic := if dyn then Names.add x !dynamic else Names.remove x !dynamic
-        in
-        match s.s with
-        | Let (x, _) ->
-            set x.id (reads "");
-            pure := Names.remove x.id !pure;
-            false
-        | Fn (x, _, _) ->
-            set x.id (reads x.id);
-            pure := Names.remove x.id !pure;
-            false
-        | Macro (x, _, b) ->
-            let dyn = reads x.id in
-            set x.id dyn;
-            let self = Names.add x.id !pure in
-            let ok =
-              (not dyn) && List.for_all (only_objects (fun f -> Names.mem f self)) b
-            in
-            pure := if ok then self else Names.remove x.id !pure;
-            false
-        | Body (x, _) ->
-            set x.id true;
-            pure := Names.remove x.id !pure;
-            false
-        | Block _ | For _ | If_stmt _ | Call_stmt _ ->
-            (not (reads "")) && only_objects (fun f -> Names.mem f !pure) s
-        | Include _ | Included _ -> false)
-      top
-  in
-  { fixed; entries = Array.make (Array.length top) None; recorded = false }
+  let a = analysis () in
+  List.iter (analyse a) stmts;
+  memo_of a
 
 let again m =
   { fixed = m.fixed; entries = Array.make (Array.length m.fixed) None; recorded = false }
@@ -200,9 +214,11 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file
      or replays, and between them those of the others (finished when a piece follows). *)
   let pieces = ref [] in
   let cut () =
-    if !(scope.sink) <> [] then (
-      pieces := List.rev !(scope.sink) :: !pieces;
-      scope.sink := [])
+    match !(scope.sink) with
+    | [] -> ()
+    | objs ->
+        pieces := List.rev objs :: !pieces;
+        scope.sink := []
   in
   let code = prog.stmts in
   let fr = { l = Array.make prog.slots VPoison; c = [||]; st } in

@@ -22,6 +22,16 @@ val memo : Ast.stmt list -> memo
 (** [memo prog]: which top-level statements of [prog] (includes flattened) are such
     statements; nothing recorded yet. *)
 
+type analysis
+(** {!memo}, statement by statement. *)
+
+val analysis : unit -> analysis
+
+val analyse : analysis -> Ast.stmt -> unit
+(** The next top-level statement (an include's statements, each). *)
+
+val memo_of : analysis -> memo
+
 val again : memo -> memo
 (** The same statements, nothing recorded. *)
 

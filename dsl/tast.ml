@@ -2,9 +2,9 @@ type binding = { id : int; name : string; level : int }
 
 type var =
   | Local of binding
-  | Maybe of binding * string
+  | Maybe of binding * (unit -> string)
   | Global of Builtins.t
-  | Unbound of string
+  | Unbound of (unit -> string)
 
 type expr = { e : desc; ty : Ty.t; loc : Loc.t }
 
@@ -40,7 +40,7 @@ and fn_def = { fname : string; params : binding list; level : int }
 
 and block = {
   keyword : Ast.name;
-  schema : Schema.block;
+  kind : Kind.t;
   items : item list;
   failed : bool;
   kind_known : bool;

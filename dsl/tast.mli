@@ -19,11 +19,13 @@ type binding = {
 
 type var =
   | Local of binding
-  | Maybe of binding * string
+  | Maybe of binding * (unit -> string)
       (** a body's name, defined only if its body was built (otherwise it keeps what it
-          named before, if anything): the message of the error where it names nothing *)
+          named before, if anything): the message of the error where it names nothing
+          (made when it is needed: it names a definition further down, if any) *)
   | Global of Builtins.t
-  | Unbound of string  (** not a name here: the message of the error, when it runs *)
+  | Unbound of (unit -> string)
+      (** not a name here: the message of the error, when it runs *)
 
 type expr = { e : desc; ty : Ty.t; loc : Loc.t }
 
@@ -62,7 +64,7 @@ and fn_def = { fname : string; params : binding list; level : int }
 
 and block = {
   keyword : Ast.name;  (** as written: [sphere], [light], … *)
-  schema : Schema.block;  (** its kind (a light's chosen by its fields) *)
+  kind : Kind.t;  (** its kind (a light's chosen by its fields) *)
   items : item list;  (** in the order written *)
   failed : bool;  (** the checker reported a mistake of the block itself or a field *)
   kind_known : bool;
