@@ -465,34 +465,41 @@ let object_material b =
           bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
           None)
 
+(* What the shape of a block that failed is taken to be: it is not used. *)
+let unused = D.Sphere { center = Vec3.zero; radius = 1. }
+
 let file_use b i make =
   let file = file b i in
-  if b.failed then None
+  if b.failed then unused
   else
     let path = Loc.relative_to b.site.kloc.file file in
     let at = b.site.vlocs.(i) in
     let u, sh = make file path at in
     b.out.use u;
-    Some sh
+    sh
 
-(* The shape a block of kind [site] states, read from its fields. *)
-let shape site : t -> D.shape option =
-  let s = slot site in
-  let built b sh = if b.failed then None else Some sh in
-  let check b cond msg = if (not b.failed) && cond then bad b site.kloc msg in
-  match site.block.id with
+(* The shape a block of kind [k] states, read from its fields (made for the kind, not
+   for one block: what it says of a block it reads from the block's site). *)
+let shape_of (k : Kind.t) : t -> D.shape =
+  let s name =
+    match Kind.slot k name with
+    | -1 -> invalid_arg ("Build: no field " ^ name ^ " of " ^ k.block.id)
+    | i -> i
+  in
+  let check b cond msg = if (not b.failed) && cond then bad b b.site.kloc msg in
+  match k.block.id with
   | "sphere" ->
       let c = s "center" and r = s "radius" in
       fun b ->
         let center = point b c in
         let radius = number b r in
-        built b (D.Sphere { center; radius })
+        D.Sphere { center; radius }
   | "plane" ->
       let n = s "normal" and o = s "offset" in
       fun b ->
         let normal = direction b n in
         let offset = number b o in
-        built b (D.Plane { normal; offset })
+        D.Plane { normal; offset }
   | "parallelogram" ->
       let o = s "origin" and e1 = s "edge1" and e2 = s "edge2" in
       fun b ->
@@ -500,7 +507,7 @@ let shape site : t -> D.shape option =
         let edge1 = direction b e1 in
         let edge2 = direction b e2 in
         check b (Vec3.length (Vec3.cross edge1 edge2) < 1e-300) Msg.not_parallel;
-        built b (D.Parallelogram { origin; edge1; edge2 })
+        D.Parallelogram { origin; edge1; edge2 }
   | "triangle" ->
       let ia = s "a" and ib = s "b" and ic = s "c" in
       fun b ->
@@ -510,7 +517,7 @@ let shape site : t -> D.shape option =
         check b
           (Vec3.length (Vec3.cross (Vec3.sub bb a) (Vec3.sub c a)) < 1e-300)
           Msg.not_in_line;
-        built b (D.Triangle { a; b = bb; c })
+        D.Triangle { a; b = bb; c }
   | "paraboloid" ->
       let v = s "vertex" and ax = s "axis" and r = s "radius" and h = s "height" in
       fun b ->
@@ -518,14 +525,14 @@ let shape site : t -> D.shape option =
         let axis = direction b ax in
         let radius = number b r in
         let height = number b h in
-        built b (D.Paraboloid { vertex; axis; radius; height })
+        D.Paraboloid { vertex; axis; radius; height }
   | "box" ->
       let lo = s "min" and hi = s "max" in
       fun b ->
         let mn = point b lo in
         let mx = point b hi in
         check b (not (mn.x < mx.x && mn.y < mx.y && mn.z < mx.z)) Msg.box_order;
-        built b (D.Box { min = mn; max = mx })
+        D.Box { min = mn; max = mx }
   | "cylinder" ->
       let ba = s "base" and t = s "top" and r = s "radius" and c = s "caps" in
       fun b ->
@@ -534,7 +541,7 @@ let shape site : t -> D.shape option =
         let radius = number b r in
         let caps = boolean b c in
         check b (Vec3.length (Vec3.sub top base) < 1e-150) Msg.cylinder_ends;
-        built b (D.Cylinder { base; top; radius; caps })
+        D.Cylinder { base; top; radius; caps }
   | "cone" ->
       let ba = s "base" and t = s "top" and c = s "caps" in
       let r0 = s "base_radius" and r1 = s "top_radius" in
@@ -545,7 +552,7 @@ let shape site : t -> D.shape option =
         let caps = boolean b c in
         check b (Vec3.length (Vec3.sub top base) < 1e-150) Msg.cone_ends;
         check b (base_radius < 1e-150 && top_radius < 1e-150) Msg.cone_radii;
-        built b (D.Cone { base; top; base_radius; top_radius; caps })
+        D.Cone { base; top; base_radius; top_radius; caps }
   | "torus" ->
       let c = s "center" and ma = s "major" and mi = s "minor" and ax = s "axis" in
       fun b ->
@@ -553,14 +560,14 @@ let shape site : t -> D.shape option =
         let major = number b ma in
         let minor = number b mi in
         let axis = direction b ax in
-        built b (D.Torus { center; axis; major; minor })
+        D.Torus { center; axis; major; minor }
   | "disk" ->
       let c = s "center" and n = s "normal" and r = s "radius" in
       fun b ->
         let center = point b c in
         let normal = direction b n in
         let radius = number b r in
-        built b (D.Disk { center; normal; radius })
+        D.Disk { center; normal; radius }
   | "mesh" ->
       let f = s "file" and sm = s "smooth" in
       fun b ->
@@ -582,6 +589,21 @@ let shape site : t -> D.shape option =
             (D.Heights { file; path; at }, D.Height_field { file; path; origin; size; at }))
   | k -> invalid_arg ("Build: " ^ k ^ " is not a shape")
 
+(* Made once for each kind. *)
+let shapes : (Kind.t * (t -> D.shape)) list Atomic.t = Atomic.make []
+
+let shape site =
+  match List.assq_opt site.kind_ (Atomic.get shapes) with
+  | Some f -> f
+  | None ->
+      let f = shape_of site.kind_ in
+      let rec add () =
+        let l = Atomic.get shapes in
+        if not (Atomic.compare_and_set shapes l ((site.kind_, f) :: l)) then add ()
+      in
+      add ();
+      f
+
 let untransformed = (Transform.identity, [])
 
 let object_ site =
@@ -590,10 +612,8 @@ let object_ site =
   fun b ->
     let transform, steps = if plain then untransformed else transforms b in
     let material = object_material b in
-    match shape b with
-    | Some shape when finish b ->
-        Some { D.kind; shape; transform; steps; material; loc; body = None }
-    | _ -> None
+    let shape = shape b in
+    { D.kind; shape; transform; steps; material; loc; body = None }
 
 let group_members t tj mat members =
   if Transform.is_identity t && match (tj, mat) with [], None -> true | _ -> false then

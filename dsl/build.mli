@@ -12,9 +12,10 @@ module D = Description
 
 (** {1 Objects} *)
 
-val object_ : Fields.site -> Fields.t -> D.obj option
+val object_ : Fields.site -> Fields.t -> D.obj
 (** [object_ site] reads a shape block of that site: its object (transforms and material
-    included), each time. *)
+    included), each time; only where the block is right ({!Fields.finish}, once read) is
+    it the block's object. *)
 
 val transforms : Fields.t -> Transform.t * D.step list
 val object_material : Fields.t -> D.material option

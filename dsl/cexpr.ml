@@ -180,15 +180,15 @@ let dynamic_call (name : Ast.name) get (args : (code * expr) list) loc : code =
 (* ------------------------------------------------------------------------------------ *)
 (* Expressions *)
 
-let number (e : expr) msg : code -> frame -> float =
-  if Ty.known e.ty then fun c fr ->
-    match c fr with VNum x -> x | _ -> untyped "a number"
-  else fun c fr -> match c fr with VNum x -> x | v -> fail e.loc (msg (ty v))
+(* Each a function of the frame alone, made once: called as it runs, it is one call. *)
+let number (e : expr) msg (c : code) : frame -> float =
+  if Ty.known e.ty then fun fr -> match c fr with VNum x -> x | _ -> untyped "a number"
+  else fun fr -> match c fr with VNum x -> x | v -> fail e.loc (msg (ty v))
 
-let boolean (e : expr) msg : code -> frame -> bool =
-  if Ty.known e.ty then fun c fr ->
+let boolean (e : expr) msg (c : code) : frame -> bool =
+  if Ty.known e.ty then fun fr ->
     match c fr with VBool b -> b | _ -> untyped "a boolean"
-  else fun c fr -> match c fr with VBool b -> b | v -> fail e.loc (msg (ty v))
+  else fun fr -> match c fr with VBool b -> b | v -> fail e.loc (msg (ty v))
 
 let rec expr ~block cs (e : expr) : code =
   let sub = expr ~block cs in
@@ -199,13 +199,13 @@ let rec expr ~block cs (e : expr) : code =
       | Const v -> fun _ -> v
       | Var v -> var cs v e.loc
       | Vec (a, b, c) ->
-          let ca = sub a and cb = sub b and cc = sub c in
-          let na = number a Msg.component and nb = number b Msg.component in
-          let nc = number c Msg.component in
+          let na = number a Msg.component (sub a) in
+          let nb = number b Msg.component (sub b) in
+          let nc = number c Msg.component (sub c) in
           fun fr ->
-            let x = na ca fr in
-            let y = nb cb fr in
-            let z = nc cc fr in
+            let x = na fr in
+            let y = nb fr in
+            let z = nc fr in
             VVec { x; y; z }
       | Pair (a, b) ->
           let ca = sub a and cb = sub b in

@@ -63,6 +63,9 @@ type site = {
   nslots : int;
   nsteps : int;
   kloc : Loc.t;
+  fields : (int * Cexpr.code) array option;
+      (** where the block is only fields (no transform, no statement): each one's slot and
+          code *)
 }
 
 let value c fr =
@@ -72,24 +75,54 @@ let value c fr =
       VPoison
   | Poisoned -> VPoison
 
+(* [n] values not given yet. Blocks have a few fields: an array written out is made
+   where it is used ([Array.make] is a call into the runtime, and an array of constants a
+   copy of one), so its elements are not a constant. *)
+let unset n =
+  let p = Sys.opaque_identity VPoison in
+  match n with
+  | 0 -> [||]
+  | 1 -> [| p |]
+  | 2 -> [| p; p |]
+  | 3 -> [| p; p; p |]
+  | 4 -> [| p; p; p; p |]
+  | 5 -> [| p; p; p; p; p |]
+  | 6 -> [| p; p; p; p; p; p |]
+  | 7 -> [| p; p; p; p; p; p; p |]
+  | 8 -> [| p; p; p; p; p; p; p; p |]
+  | n -> Array.make n p
+
 (* One evaluation of a block: its fields' values (a failed one poisoned, and the block
    failed), its statements run in [inner]. *)
 let evaluate s fr inner =
-  let vals = Array.make s.nslots VPoison in
-  let svals = if s.nsteps = 0 then [||] else Array.make s.nsteps VPoison in
+  let vals = unset s.nslots in
   let failed = ref false in
-  for k = 0 to Array.length s.items - 1 do
-    match s.items.(k) with
-    | CSlot (i, c) ->
-        let v = value c fr in
-        if v == VPoison then failed := true;
-        vals.(i) <- v
-    | CStep (j, c) ->
-        let v = value c fr in
-        if v == VPoison then failed := true;
-        svals.(j) <- v
-    | CStmt c -> c fr inner
-  done;
+  let svals =
+    match s.fields with
+    | Some fields ->
+        for k = 0 to Array.length fields - 1 do
+          let i, c = fields.(k) in
+          let v = value c fr in
+          if v == VPoison then failed := true;
+          vals.(i) <- v
+        done;
+        [||]
+    | None ->
+        let svals = unset s.nsteps in
+        for k = 0 to Array.length s.items - 1 do
+          match s.items.(k) with
+          | CSlot (i, c) ->
+              let v = value c fr in
+              if v == VPoison then failed := true;
+              vals.(i) <- v
+          | CStep (j, c) ->
+              let v = value c fr in
+              if v == VPoison then failed := true;
+              svals.(j) <- v
+          | CStmt c -> c fr inner
+        done;
+        svals
+  in
   let b = Fields.make s.site fr.st.tell vals svals in
   if !failed then b.failed <- true;
   b
@@ -150,6 +183,54 @@ let constant_material site (items : item array) consts mat =
       | Some m when !ok -> Some (Value.material m)
       | _ -> None
 
+(* A shape block of constants (its material aside, of a type the checker knew) is its
+   object, made once when it is compiled, when it has no mistake: each evaluation makes a
+   copy with the material. The material's code, if it has one. *)
+let folded_object s (blk : block) (values, steps) =
+  let m = blk.kind.material in
+  let n = Array.length values in
+  let vals = Array.make n VPoison in
+  let constant = ref (not blk.failed) in
+  for i = 0 to n - 1 do
+    match values.(i) with
+    | Some (e : expr) when i = m -> if not (Ty.equal e.ty Mat) then constant := false
+    | Some e -> (
+        match Cexpr.const e with Some v -> vals.(i) <- v | None -> constant := false)
+    | None -> ()
+  done;
+  let svals =
+    Array.map
+      (fun e ->
+        match Cexpr.const e with
+        | Some v -> v
+        | None ->
+            constant := false;
+            VPoison)
+      steps
+  in
+  if (not !constant) || Array.exists (function CStmt _ -> true | _ -> false) s.items
+  then None
+  else
+    let ok = ref true in
+    let sink = { report = (fun _ _ -> ok := false); use = (fun _ -> ok := false) } in
+    let site =
+      if m >= 0 && s.site.given.(m) then (
+        let given = Array.copy s.site.given in
+        given.(m) <- false;
+        { s.site with given })
+      else s.site
+    in
+    let b = Fields.make site sink vals svals in
+    let o = Build.object_ site b in
+    if Fields.finish b && !ok then
+      let code =
+        Array.fold_left
+          (fun acc -> function CSlot (i, c) when i = m -> Some c | _ -> acc)
+          None s.items
+      in
+      Some (o, code)
+    else None
+
 (* ------------------------------------------------------------------------------------ *)
 (* Statements *)
 
@@ -200,7 +281,7 @@ let before cs = function
 let rec expr cs e = Cexpr.expr ~block:material cs e
 
 and items cs (blk : block) =
-  let nsteps = ref 0 and n = Array.length blk.kind.names in
+  let nsteps = ref 0 and n = blk.kind.values in
   let values = Array.make n None and steps = ref [] in
   let items =
     List.concat_map
@@ -223,6 +304,12 @@ and items cs (blk : block) =
       items = Array.of_list items;
       nslots = n;
       nsteps = !nsteps;
+      fields =
+        (let fields =
+           List.filter_map (function CSlot (i, c) -> Some (i, c) | _ -> None) items
+         in
+         if List.compare_lengths fields items = 0 then Some (Array.of_list fields)
+         else None);
       kloc = blk.keyword.nloc;
     },
     (values, Array.of_list (List.rev !steps)) )
@@ -245,7 +332,7 @@ and material cs blk : Cexpr.code =
         | None -> raise Poisoned)
 
 and block cs (blk : block) : scode =
-  let s, _ = items cs blk in
+  let s, values = items cs blk in
   let kloc = blk.keyword.nloc in
   match blk.keyword.id with
   | "settings" ->
@@ -271,11 +358,22 @@ and block cs (blk : block) : scode =
       fun fr sc -> if sc.in_csg then csg s ~keyword:"group" fr sc else group s fr sc
   | ("union" | "merge" | "intersection" | "difference") as keyword -> csg s ~keyword
   | _ -> (
-      let obj = Build.object_ s.site in
-      fun fr sc ->
-        match obj (evaluate s fr sc) with
-        | Some o -> State.add_object fr.st sc kloc o
-        | None -> ())
+      match folded_object s blk values with
+      | Some (o, material) -> (
+          match material with
+          | None -> fun fr sc -> State.add_object fr.st sc kloc { o with material = None }
+          | Some c -> (
+              fun fr sc ->
+                match value c fr with
+                | VMat m -> State.add_object fr.st sc kloc { o with material = m.some }
+                | VPoison -> ()
+                | _ -> untyped "a material"))
+      | None ->
+          let obj = Build.object_ s.site in
+          fun fr sc ->
+            let b = evaluate s fr sc in
+            let o = obj b in
+            if Fields.finish b then State.add_object fr.st sc kloc o)
 
 and stmts cs ss : scode =
   match Array.of_list (List.map (stmt cs) ss) with
@@ -303,7 +401,13 @@ and stmt cs (s : stmt) : scode =
   | Let (b, e) ->
       let c = expr cs e in
       let i = Cexpr.new_slot cs b in
-      guard_slot i (fun fr _ -> fr.l.(i) <- c fr)
+      fun fr _ ->
+        fr.l.(i) <-
+          (try c fr with
+          | Fail (l, m) ->
+              State.report fr.st l m;
+              VPoison
+          | Poisoned -> VPoison)
   | Fn (b, def, body) ->
       let i = Cexpr.new_slot cs b in
       let fbody, fslots, caps = func cs def (fun inner -> expr inner body) in

@@ -84,8 +84,8 @@ let bad b loc msg =
 let finish b = not b.failed
 let given b i = b.site.given.(i)
 
-(* A field whose value is usable: not one that failed (already reported). *)
-let live b i = given b i && b.vals.(i) != VPoison
+(* A field whose value is usable: given, and not one that failed (already reported). *)
+let live b i = b.vals.(i) != VPoison
 
 (* A field left out: its default ([default], or the schema's). One required is missing
    (reported by the checker), or its value failed: the same, the block failed. *)
@@ -122,24 +122,24 @@ let check_range b (e : entry) i x =
 
 (* A number, refused outside the field's range; [check] instead checks it otherwise. *)
 let number ?default ?check b i =
-  match (given b i, b.vals.(i)) with
-  | true, VNum x -> (
+  match b.vals.(i) with
+  | VNum x -> (
       match check with
       | Some c -> c b.site.vlocs.(i) x
       | None ->
           check_range b b.site.entries.(i) i x;
           x)
-  | false, _ -> (
+  | _ when not (given b i) -> (
       match (default, b.site.entries.(i)) with
       | Some d, { required = false; _ } -> d
       | None, { required = false; default = VNum x; _ } -> x
       | _ -> get default b i as_number)
-  | true, _ -> get default b i as_number
+  | _ -> get default b i as_number
 
 (* A whole number in the field's range. *)
 let integer b i =
-  match (given b i, b.vals.(i)) with
-  | true, VNum x ->
+  match b.vals.(i) with
+  | VNum x ->
       let e = b.site.entries.(i) in
       if Schema.in_range e.sch.range x then int_of_float x
       else (
@@ -148,8 +148,8 @@ let integer b i =
   | _ -> int_of_float (get None b i as_number)
 
 let boolean ?default b i =
-  match (given b i, b.vals.(i)) with
-  | true, VBool x -> x
+  match b.vals.(i) with
+  | VBool x -> x
   | _ -> get default b i (function VBool x -> Some x | _ -> None)
 
 let file b i = get None b i (function VStr s -> Some s | _ -> None)
@@ -161,20 +161,20 @@ let check_coords b i (v : Vec3.t) =
 
 (* A vector with coordinates within ±1e150; [check] checks it further. *)
 let point ?default ?check b i =
-  match (given b i, b.vals.(i)) with
-  | true, VVec v -> (
+  match b.vals.(i) with
+  | VVec v -> (
       check_coords b i v;
       match check with Some c -> c b.site.vlocs.(i) v | None -> v)
-  | false, _ -> (
+  | _ when not (given b i) -> (
       match (default, b.site.entries.(i)) with
       | Some d, { required = false; _ } -> d
       | None, { required = false; default = VVec v; _ } -> v
       | _ -> get default b i as_vector)
-  | true, _ -> get default b i as_vector
+  | _ -> get default b i as_vector
 
 let direction b i =
-  match (given b i, b.vals.(i)) with
-  | true, VVec v ->
+  match b.vals.(i) with
+  | VVec v ->
       check_coords b i v;
       if Vec3.max_abs v < 1e-150 then
         bad b b.site.vlocs.(i) (Msg.non_zero b.site.names.(i));
@@ -182,8 +182,8 @@ let direction b i =
   | _ -> point b i
 
 let color ?default b i =
-  match (given b i, b.vals.(i)) with
-  | true, VVec v ->
+  match b.vals.(i) with
+  | VVec v ->
       check_coords b i v;
       if v.x < 0. || v.y < 0. || v.z < 0. then
         bad b b.site.vlocs.(i) (Msg.negative_colour b.site.names.(i) v);

@@ -27,7 +27,7 @@ val step_count : site -> int
 
 type t = {
   site : site;
-  vals : Value.t array;  (** by field; what is not given is not read *)
+  vals : Value.t array;  (** by field; [VPoison] where it is not given *)
   svals : Value.t array;  (** the transforms' values, in order *)
   mutable failed : bool;  (** a value failed (reported), or a mistake was found *)
   out : Value.sink;  (** where its mistakes go, and the files it names *)

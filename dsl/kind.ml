@@ -52,6 +52,7 @@ type t = {
   named : Schema.field list array;
   material : int;
   kind : int;
+  values : int;
 }
 
 let index names name =
@@ -72,6 +73,14 @@ let make (b : Schema.block) =
     named;
     material = index names "material";
     kind = index names "kind";
+    values =
+      1
+      + Array.fold_left max (-1)
+          (Array.mapi
+             (fun i fs ->
+               if List.exists (fun (fl : Schema.field) -> not fl.repeats) fs then i
+               else -1)
+             named);
   }
 
 let made : t list Atomic.t = Atomic.make []

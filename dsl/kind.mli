@@ -18,6 +18,9 @@ type t = {
   named : Schema.field list array;  (** by slot: every entry of the field's name *)
   material : int;  (** the slot of [material], [-1] for a kind without *)
   kind : int;  (** the slot of [kind], [-1] for a kind without *)
+  values : int;
+      (** the slots before it are those of fields that may hold a value: a field that
+          repeats (a transform) is written in the order of the others, not in a slot *)
 }
 
 val get : Schema.block -> t

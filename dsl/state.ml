@@ -90,13 +90,16 @@ let limit st loc msg =
   report st loc msg;
   raise Abort
 
-let step st loc =
+(* An interrupt is felt here too: evaluation may run where a signal does not raise at
+   once (inside a pool of domains). *)
+let poll st loc =
+  if st.count.steps land 4095 = 0 then Option.iter Cancel.check st.hooks.cancel;
+  if st.count.steps > max_steps then limit st loc (Msg.steps_limit max_steps)
+
+let[@inline] step st loc =
   let c = st.count in
   c.steps <- c.steps + 1;
-  (* An interrupt is felt here too: evaluation may run where a signal does not raise at
-     once (inside a pool of domains). *)
-  if c.steps land 4095 = 0 then Option.iter Cancel.check st.hooks.cancel;
-  if c.steps > max_steps then limit st loc (Msg.steps_limit max_steps)
+  if c.steps land 4095 = 0 || c.steps > max_steps then poll st loc
 
 let enter st loc =
   step st loc;
