@@ -3,6 +3,19 @@ module A = Ast
 module Names = Map.Make (String)
 module Keywords = Hashtbl.Make (String)
 
+(* A block's keyword and the names of its fields as written. *)
+module Written = Hashtbl.Make (struct
+  type t = string * string list
+
+  let equal (a, l) (b, m) = String.equal a b && List.equal String.equal l m
+
+  (* Names are few and short: their lengths and first letters tell most apart. *)
+  let hash (a, l) =
+    List.fold_left
+      (fun h n -> (h * 31) + (String.length n * 128) + Char.code n.[0])
+      (Hashtbl.hash a) l
+end)
+
 type program = { stmts : Tast.stmt list; bindings : int }
 
 (* What a name stands for where it is used, and its type. *)
@@ -18,7 +31,12 @@ type cx = {
   mutable next : int;  (** the next binding's id *)
   mutable definitions : (string * Loc.t) list;
       (** every name the program defines, where, newest first *)
+  placed : placed Written.t;
+      (** the places of the fields of a block without a mistake, by its keyword and the
+          names of its fields as written (those of a generated scene repeat) *)
 }
+
+and placed = Kind.t * (slot * Schema.field option) list * bool
 
 let report cx (loc : Loc.t) msg =
   cx.count <- cx.count + 1;
@@ -134,8 +152,8 @@ and expr_ ~material cx env (e : A.expr) =
       mk e (Var var) ty
   | Vec (a, b, c) ->
       let ta = sub a and tb = sub b and tc = sub c in
-      if List.exists (fun t -> refused cx t (is Num) Msg.component) [ ta; tb; tc ] then
-        bad e
+      let component t = refused cx t (is Num) Msg.component in
+      if component ta || component tb || component tc then bad e
       else mk e (Vec (ta, tb, tc)) Vec
   | Pair (a, b) ->
       let ta = sub a and tb = sub b in
@@ -375,22 +393,33 @@ let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
   let inner = if holds then Inside else where in
   let given, mistaken = written cx ~holds kw items in
   let present name = List.exists (fun ((n : A.name), _) -> n.id = name) given in
+  let names = List.map (fun ((n : A.name), _) -> n.id) given in
+  (* What the places depend on, the names alone: not the value of a [kind]. *)
+  let key = if List.exists (String.equal "kind") names then None else Some (kw, names) in
   let kind, places, failed, kind_known =
-    match choose kinds present with
-    | Some b ->
-        let places, failed, k = places cx b ~keyword:kw kloc given in
-        (b, places, failed, k)
-    | None ->
-        (* A light whose fields do not say which: none of them is read. *)
-        (match List.find_opt (fun ((n : A.name), _) -> n.id = "direction") given with
-        | Some (_, v) when present "position" -> report cx v.loc Msg.light_choice_both
-        | _ -> report cx kloc Msg.light_choice_none);
-        ( List.find
-            (fun (k : Kind.t) -> k.block.id = "point_light")
-            (Keywords.find cx.kinds "light"),
-          List.map (fun _ -> (Dropped, None)) given,
-          true,
-          true )
+    match Option.bind key (Written.find_opt cx.placed) with
+    | Some (b, places, k) -> (b, places, false, k)
+    | None -> (
+        match choose kinds present with
+        | Some b ->
+            let before = cx.count in
+            let places, failed, k = places cx b ~keyword:kw kloc given in
+            (match key with
+            | Some key when cx.count = before && not failed ->
+                Written.replace cx.placed key (b, places, k)
+            | _ -> ());
+            (b, places, failed, k)
+        | None ->
+            (* A light whose fields do not say which: none of them is read. *)
+            (match List.find_opt (fun ((n : A.name), _) -> n.id = "direction") given with
+            | Some (_, v) when present "position" -> report cx v.loc Msg.light_choice_both
+            | _ -> report cx kloc Msg.light_choice_none);
+            ( List.find
+                (fun (k : Kind.t) -> k.block.id = "point_light")
+                (Keywords.find cx.kinds "light"),
+              List.map (fun _ -> (Dropped, None)) given,
+              true,
+              true ))
   in
   let failed = ref (failed || mistaken) in
   let places = ref (List.combine given places) in
@@ -585,7 +614,17 @@ let start ?(schema = Schema.blocks) ?(types = true) ~sources () =
         (Option.value (Keywords.find_opt kinds b.keyword) ~default:[] @ [ k ]))
     schema;
   {
-    cx = { sources; kinds; types; errors = []; count = 0; next = 0; definitions = [] };
+    cx =
+      {
+        sources;
+        kinds;
+        types;
+        errors = [];
+        count = 0;
+        next = 0;
+        definitions = [];
+        placed = Written.create 16;
+      };
     env = initial;
   }
 

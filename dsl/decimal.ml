@@ -151,17 +151,21 @@ let[@inline] mul_hi a b =
 
 let[@inline] mul_lo a b = Int64.mul a b
 
-(* The zeros above the highest bit of [w > 0], as a 64-bit number. *)
+(* The zeros above the highest bit of [w > 0], as a 64-bit number: 63 less the place of
+   that bit, found by halves. *)
 let leading_zeros w =
-  let rec go w n k =
-    if k = 0 then 64 - n - w
-    else if w lsr k > 0 then go (w lsr k) (n + k) (k / 2)
-    else go w n (k / 2)
-  in
-  go w 0 32
+  let p = 0 and x = w in
+  let p, x = if x lsr 32 <> 0 then (p + 32, x lsr 32) else (p, x) in
+  let p, x = if x lsr 16 <> 0 then (p + 16, x lsr 16) else (p, x) in
+  let p, x = if x lsr 8 <> 0 then (p + 8, x lsr 8) else (p, x) in
+  let p, x = if x lsr 4 <> 0 then (p + 4, x lsr 4) else (p, x) in
+  let p, x = if x lsr 2 <> 0 then (p + 2, x lsr 2) else (p, x) in
+  let p = if x lsr 1 <> 0 then p + 1 else p in
+  63 - p
 
+(* NaN where it cannot tell (no numeral is NaN). *)
 let lemire w q =
-  if q < lowest || q > 350 then None
+  if q < lowest || q > 350 then Float.nan
   else
     let th, tl, e = power q in
     let lz = leading_zeros w in
@@ -173,7 +177,7 @@ let lemire w q =
     let h = if ult l hl then Int64.add hh 1L else hh in
     let r = ll in
     (* The error (< m) may carry one into L: not into H unless L is all ones. *)
-    if l = -1L then None
+    if l = -1L then Float.nan
     else
       let top = Int64.compare h 0L < 0 in
       let shift = if top then 10 else 9 in
@@ -181,7 +185,7 @@ let lemire w q =
       let below = Int64.logand h (Int64.sub (Int64.shift_left 1L shift) 1L) in
       let tie_bit = Int64.logand m54 1L = 1L in
       (* Past the 54th bit, zero bits could be a tie: only if all the known ones are. *)
-      if tie_bit && below = 0L && l = 0L && r = 0L then None
+      if tie_bit && below = 0L && l = 0L && r = 0L then Float.nan
       else
         let m53 = Int64.shift_right_logical m54 1 in
         let m53 = if tie_bit then Int64.add m53 1L else m53 in
@@ -191,19 +195,23 @@ let lemire w q =
             (Int64.shift_right_logical m53 1, exp + 1)
           else (m53, exp)
         in
-        if exp < -1022 || exp > 1023 then None
+        if exp < -1022 || exp > 1023 then Float.nan
         else
-          Some
-            (Int64.float_of_bits
-               (Int64.logor
-                  (Int64.shift_left (Int64.of_int (exp + 1023)) 52)
-                  (Int64.logand m53 0xFFFFFFFFFFFFFL)))
+          Int64.float_of_bits
+            (Int64.logor
+               (Int64.shift_left (Int64.of_int (exp + 1023)) 52)
+               (Int64.logand m53 0xFFFFFFFFFFFFFL))
+
+(* The same, NaN where it cannot tell. *)
+let parts w q =
+  if w = 0 then 0.
+  else if w <= 1 lsl 53 && q >= -22 && q <= 22 then
+    if q >= 0 then Float.of_int w *. pow10.(q) else Float.of_int w /. pow10.(-q)
+  else lemire w q
 
 let of_parts w q =
-  if w = 0 then Some 0.
-  else if w <= 1 lsl 53 && q >= -22 && q <= 22 then
-    Some (if q >= 0 then Float.of_int w *. pow10.(q) else Float.of_int w /. pow10.(-q))
-  else lemire w q
+  let x = parts w q in
+  if Float.is_nan x then None else Some x
 
 (* The numeral at [text.[s]] (the lexer's: digits, perhaps a point and more, perhaps an
    exponent), read up to [len] at most; where it ends goes in [at]. Up to 18 significant
@@ -215,7 +223,8 @@ let slow text s e = float_of_string (String.sub text s (e - s))
 
 let result text s e w q c =
   c.at <- e;
-  match of_parts w q with Some x -> x | None -> slow text s e
+  let x = parts w q in
+  if Float.is_nan x then slow text s e else x
 
 let digit text i len =
   i < len
@@ -291,12 +300,41 @@ and inexact text s len i c =
   c.at <- e;
   slow text s e
 
-let scan text s c =
-  let len = String.length text in
-  if s < 0 || s >= len then invalid_arg "Decimal.scan" else whole text s len s 0 0 0 c
+(* The common numeral (digits, perhaps a point and more, at most 18 significant digits, no
+   exponent) in one pass, any other as above: the integer part, then the fraction, whose
+   digits start at [f]. *)
+let rec common text s len i w n c =
+  if i < len then
+    let ch = String.unsafe_get text i in
+    if ch >= '0' && ch <= '9' && n < 18 then
+      let w = (w * 10) + (Char.code ch - 48) in
+      common text s len (i + 1) w (if w > 0 then n + 1 else n) c
+    else if ch = '.' then common_fraction text s len (i + 1) w n (i + 1) c
+    else common_end text s len i w 0 c
+  else result text s i w 0 c
+
+and common_fraction text s len i w n f c =
+  if i < len then
+    let ch = String.unsafe_get text i in
+    if ch >= '0' && ch <= '9' && n < 18 then
+      let w = (w * 10) + (Char.code ch - 48) in
+      common_fraction text s len (i + 1) w (if w > 0 then n + 1 else n) f c
+    else common_end text s len i w (f - i) c
+  else result text s i w (f - i) c
+
+(* At [i < len], past the digits read: more digits, or an exponent, are read as above. *)
+and common_end text s len i w q c =
+  match String.unsafe_get text i with
+  | '0' .. '9' | 'e' | 'E' -> whole text s len s 0 0 0 c
+  | _ -> result text s i w q c
+
+let scan_to text s len c =
+  if s < 0 || s >= len then invalid_arg "Decimal.scan" else common text s len s 0 0 c
+
+let scan text s c = scan_to text s (String.length text) c
 
 let read text s e =
   let c = { at = s } in
   if s < 0 || e > String.length text || s >= e then invalid_arg "Decimal.read";
-  let x = whole text s e s 0 0 0 c in
+  let x = scan_to text s e c in
   if c.at <> e then invalid_arg "Decimal.read: not a numeral" else x

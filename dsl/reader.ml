@@ -62,7 +62,8 @@ type t = {
   mutable str : string;
   mutable eline : int;  (** the end of the last token read *)
   mutable ecol : int;
-  names : string list array;  (** identifiers read so far, by hash: each made once *)
+  names : (string * tok) list array;
+      (** identifiers read so far, by hash: each made once, with its token *)
   mutable plain : bool;  (** no byte outside ASCII, and no NUL, met so far *)
   cursor : Decimal.cursor;  (** where a number ends *)
 }
@@ -103,10 +104,11 @@ let rec same text s n x i =
   || (String.unsafe_get x i = String.unsafe_get text (s + i) && same text s n x (i + 1))
 
 let rec find text s n = function
-  | [] -> None
-  | x :: rest ->
-      if String.length x = n && same text s n x 0 then Some x else find text s n rest
+  | [] -> raise_notrace Not_found
+  | ((x, _) as p) :: rest ->
+      if String.length x = n && same text s n x 0 then p else find text s n rest
 
+(* The word text.[s, e), and its token (a keyword's, or [IDENT]). *)
 let intern t s e =
   let h = ref 0 in
   for i = s to e - 1 do
@@ -114,11 +116,12 @@ let intern t s e =
   done;
   let b = !h land (Array.length t.names - 1) in
   match find t.text s (e - s) t.names.(b) with
-  | Some x -> x
-  | None ->
+  | p -> p
+  | exception Not_found ->
       let x = String.sub t.text s (e - s) in
-      t.names.(b) <- x :: t.names.(b);
-      x
+      let p = (x, keyword x) in
+      t.names.(b) <- p :: t.names.(b);
+      p
 
 (* White space and comments. *)
 let rec blank t =
@@ -228,8 +231,7 @@ let lex t =
           incr e
         done;
         t.pos <- !e;
-        let x = intern t s !e in
-        let k = keyword x in
+        let x, k = intern t s !e in
         if k = IDENT then t.ident <- x;
         k
     | '0' .. '9' -> number t s
@@ -300,25 +302,25 @@ let rec expr t =
     mk t l c (If (cond, a, b)))
   else or_expr t
 
-and or_expr t =
-  let rec more a =
-    if t.tok = OR then (
-      advance t;
-      let b = and_expr t in
-      more (from t a (Binop (Or, a, b))))
-    else a
-  in
-  more (and_expr t)
+(* Each level of the precedence, then the operators of that level that follow (functions
+   of [t] of their own: a local function would be a closure made at every expression). *)
+and or_expr t = or_more t (and_expr t)
 
-and and_expr t =
-  let rec more a =
-    if t.tok = AND then (
-      advance t;
-      let b = not_expr t in
-      more (from t a (Binop (And, a, b))))
-    else a
-  in
-  more (not_expr t)
+and or_more t a =
+  if t.tok = OR then (
+    advance t;
+    let b = and_expr t in
+    or_more t (from t a (Binop (Or, a, b))))
+  else a
+
+and and_expr t = and_more t (not_expr t)
+
+and and_more t a =
+  if t.tok = AND then (
+    advance t;
+    let b = not_expr t in
+    and_more t (from t a (Binop (And, a, b))))
+  else a
 
 and not_expr t =
   if t.tok = NOT then (
@@ -349,29 +351,27 @@ and cmp_expr t =
       | EQ | NE | LT | LE | GT | GE -> raise Give_up (* comparisons do not chain *)
       | _ -> from t a (Binop (op, a, b)))
 
-and add_expr t =
-  let rec more a =
-    match t.tok with
-    | PLUS | MINUS ->
-        let op = if t.tok = PLUS then Add else Sub in
-        advance t;
-        let b = mul_expr t in
-        more (from t a (Binop (op, a, b)))
-    | _ -> a
-  in
-  more (mul_expr t)
+and add_expr t = add_more t (mul_expr t)
 
-and mul_expr t =
-  let rec more a =
-    match t.tok with
-    | STAR | SLASH | PERCENT ->
-        let op = match t.tok with STAR -> Mul | SLASH -> Div | _ -> Mod in
-        advance t;
-        let b = unary t in
-        more (from t a (Binop (op, a, b)))
-    | _ -> a
-  in
-  more (unary t)
+and add_more t a =
+  match t.tok with
+  | PLUS | MINUS ->
+      let op = if t.tok = PLUS then Add else Sub in
+      advance t;
+      let b = mul_expr t in
+      add_more t (from t a (Binop (op, a, b)))
+  | _ -> a
+
+and mul_expr t = mul_more t (unary t)
+
+and mul_more t a =
+  match t.tok with
+  | STAR | SLASH | PERCENT ->
+      let op = match t.tok with STAR -> Mul | SLASH -> Div | _ -> Mod in
+      advance t;
+      let b = unary t in
+      mul_more t (from t a (Binop (op, a, b)))
+  | _ -> a
 
 and unary t =
   if t.tok = MINUS then (
@@ -387,15 +387,14 @@ and unary t =
       from t a (Binop (Pow, a, b)))
     else a
 
-and postfix t =
-  let rec more a =
-    if t.tok = DOT then (
-      advance t;
-      let f = name t in
-      more (from t a (Dot (a, f))))
-    else a
-  in
-  more (atom t)
+and postfix t = postfix_more t (atom t)
+
+and postfix_more t a =
+  if t.tok = DOT then (
+    advance t;
+    let f = name t in
+    postfix_more t (from t a (Dot (a, f))))
+  else a
 
 and atom t =
   let l = t.tline and c = t.tcol in
@@ -468,15 +467,14 @@ and args t =
 
 (* ---- Statements and blocks ---- *)
 
-and items t =
-  let rec more acc =
-    if t.tok = RBRACE then List.rev acc
-    else
-      let i = item t in
-      if t.tok = COMMA then advance t;
-      more (i :: acc)
-  in
-  more []
+and items t = items_more t []
+
+and items_more t acc =
+  if t.tok = RBRACE then List.rev acc
+  else
+    let i = item t in
+    if t.tok = COMMA then advance t;
+    items_more t (i :: acc)
 
 and item t =
   match t.tok with

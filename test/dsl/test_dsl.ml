@@ -648,11 +648,55 @@ let test_reader () =
       "f(1,)";
     ]
 
+(* Numerals as scenes write them: doubles printed in the usual formats, and strings of
+   digits with a point and perhaps an exponent; each followed by what may follow a number
+   in a scene. *)
+let numeral =
+  let gen =
+    QCheck.Gen.(
+      let double =
+        let* bits = map Int64.of_int (int_bound max_int) in
+        let* bits =
+          map
+            (fun b -> Int64.logor (Int64.shift_left bits 1) b)
+            (map Int64.of_int (int_bound 1))
+        in
+        let x = Float.abs (Int64.float_of_bits bits) in
+        let* fmt = oneofl [ "%.17g"; "%.16g"; "%.15g"; "%g"; "%.3f"; "%.6e"; "%.20e" ] in
+        return
+          (if Float.is_finite x then Printf.sprintf (Scanf.format_from_string fmt "%f") x
+           else "1")
+      and digits =
+        let* d = string_size ~gen:numeral (int_range 1 24) in
+        let* p = int_bound (String.length d) in
+        let* e = opt (int_range (-400) 400) in
+        return
+          ((if p = 0 then "0" else String.sub d 0 p)
+          ^ "."
+          ^ String.sub d p (String.length d - p)
+          ^ match e with Some e -> Printf.sprintf "e%d" e | None -> "")
+      in
+      pair (oneof [ double; digits ]) (oneofl [ ""; ")"; ","; " "; "}"; "x" ]))
+  in
+  QCheck.make ~print:(fun (n, tail) -> n ^ tail) gen
+
+let decimal_reads (n, tail) =
+  let c = { Lancer_dsl.Decimal.at = 0 } in
+  let x = Lancer_dsl.Decimal.scan (n ^ tail) 0 c in
+  let y = float_of_string n in
+  if Int64.bits_of_float x <> Int64.bits_of_float y then
+    QCheck.Test.fail_reportf "%s reads as %h, float_of_string as %h" n x y
+  else if c.at <> String.length n then
+    QCheck.Test.fail_reportf "%s ends at %d, not %d" (n ^ tail) c.at (String.length n)
+  else true
+
 let props =
   let rand = Random.State.make [| 2024 |] in
   List.map
     (QCheck_alcotest.to_alcotest ~rand)
     [
+      QCheck.Test.make ~name:"numerals read as the double float_of_string gives"
+        ~count:(20 * count) numeral decimal_reads;
       QCheck.Test.make ~name:"the reader reads random token sequences as the grammar does"
         ~count token_seq same_tree;
       QCheck.Test.make ~name:"the reader reads mutated valid scenes as the grammar does"
