@@ -139,6 +139,18 @@ let texture ?(arity = Exactly 3) ?(arg = all_of Any) name usage doc impl =
 let pattern name usage doc arity =
   texture ~arity:(Among ([ 2; 3 ], arity)) name usage doc (tex name)
 
+(* [min] or [max] of two or more numbers, [pick] choosing between two. *)
+let extremum name usage doc pick =
+  fn_arity
+    (At_least (2, Msg.at_least_two name))
+    (all_of number) (returns Ty.Num) name usage doc
+    (Code
+       (fun _ args ->
+         VNum
+           (Array.fold_left
+              (fun m (v, _) -> match v with VNum x -> pick m x | _ -> m)
+              (n args 0) args)))
+
 let unit_interval x = x >= -1. && x <= 1.
 let in_unit = "a value in [-1, 1]"
 
@@ -176,25 +188,8 @@ let all =
     partial "log" "log(x)" "the natural logarithm of x > 0"
       (fun x -> x > 0.)
       "a value > 0" log;
-    fn_arity
-      (At_least (2, Msg.at_least_two "min"))
-      (all_of number) (returns Ty.Num) "min" "min(a, b, …)"
-      "the smallest of its arguments"
-      (Code
-         (fun _ args ->
-           VNum
-             (Array.fold_left
-                (fun m (v, _) -> match v with VNum x -> Float.min m x | _ -> m)
-                (n args 0) args)));
-    fn_arity
-      (At_least (2, Msg.at_least_two "max"))
-      (all_of number) (returns Ty.Num) "max" "max(a, b, …)" "the largest of its arguments"
-      (Code
-         (fun _ args ->
-           VNum
-             (Array.fold_left
-                (fun m (v, _) -> match v with VNum x -> Float.max m x | _ -> m)
-                (n args 0) args)));
+    extremum "min" "min(a, b, …)" "the smallest of its arguments" Float.min;
+    extremum "max" "max(a, b, …)" "the largest of its arguments" Float.max;
     fn ~arity:2 "pow" "pow(a, b)" "a to the power b" (F2 Float.pow);
     fn ~arity:3 "clamp" "clamp(x, lo, hi)" "x limited to [lo, hi] (lo ≤ hi)"
       (Code

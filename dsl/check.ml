@@ -510,29 +510,22 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       let b = binding cx env x in
       (bind env x.id (Local b) te.ty, one (Let (b, te)))
   | Fn (f, ps, body) ->
-      let b = binding cx env f in
-      let dup = params_twice cx ps in
-      let fty = if dup then Ty.Unknown else unknown (Fun (List.length ps)) in
-      let env' = bind env f.id (Local b) fty in
-      let benv, pbs = params cx env' ps in
-      let te = expr benv body in
-      ( env',
-        one
-          (if dup then Poisoned_fn b
-           else Fn (b, { fname = f.id; params = pbs; level = env.level + 1 }, te)) )
+      let env, d =
+        definition cx env f ps
+          (fun n -> Fun n)
+          (fun benv -> expr benv body)
+          (fun b def te -> Fn (b, def, te))
+      in
+      (env, one d)
   | Macro (f, ps, body) ->
-      let b = binding cx env f in
-      let dup = params_twice cx ps in
-      let mty = if dup then Ty.Unknown else unknown (Macro (List.length ps)) in
-      let env' = bind env f.id (Local b) mty in
-      let benv, pbs = params cx env' ps in
       let where = if where = Inside then Inside else Either in
-      let _, tbody = stmts cx benv ~where body in
-      ( env',
-        one
-          (if dup then Poisoned_fn b
-           else Macro (b, { fname = f.id; params = pbs; level = env.level + 1 }, tbody))
-      )
+      let env, d =
+        definition cx env f ps
+          (fun n -> Macro n)
+          (fun benv -> snd (stmts cx benv ~where body))
+          (fun b def tbody -> Macro (b, def, tbody))
+      in
+      (env, one d)
   | For (x, a, b, st, body) ->
       let bound what (e : A.expr) =
         let te = expr env e in
@@ -602,6 +595,30 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       in
       ( bind env n.id (Maybe (b, fun () -> "")) (unknown ty),
         one (Body (b, Option.map (fun e -> e.var) before, tb)) )
+
+(* A function or a macro [f] with parameters [ps] (its type [ty] of their count): its body
+   checked by [body] in its scope, and the statement [make] makes of it. A parameter named
+   twice poisons the definition. *)
+and definition :
+    'a.
+    cx ->
+    env ->
+    A.name ->
+    A.name list ->
+    (int -> Ty.t) ->
+    (env -> 'a) ->
+    (binding -> fn_def -> 'a -> sdesc) ->
+    env * sdesc =
+ fun cx env f ps ty body make ->
+  let b = binding cx env f in
+  let dup = params_twice cx ps in
+  let fty = if dup || not cx.types then Ty.Unknown else ty (List.length ps) in
+  let env' = bind env f.id (Local b) fty in
+  let benv, pbs = params cx env' ps in
+  let tbody = body benv in
+  ( env',
+    if dup then Poisoned_fn b
+    else make b { fname = f.id; params = pbs; level = env.level + 1 } tbody )
 
 type state = { cx : cx; mutable env : env }
 

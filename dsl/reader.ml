@@ -446,21 +446,25 @@ and atom t =
       mk t l c (Material its)
   | _ -> raise Give_up
 
-and args t =
+and args t = parenthesized t expr
+
+(* [( x, x, … )] or [()], each [x] read by [one]. *)
+and parenthesized : 'a. t -> (t -> 'a) -> 'a list =
+ fun t one ->
   expect t LPAREN;
   if t.tok = RPAREN then (
     advance t;
     [])
   else
     let rec more acc =
-      let e = expr t in
+      let x = one t in
       match t.tok with
       | COMMA ->
           advance t;
-          more (e :: acc)
+          more (x :: acc)
       | RPAREN ->
           advance t;
-          List.rev (e :: acc)
+          List.rev (x :: acc)
       | _ -> raise Give_up
     in
     more []
@@ -582,24 +586,7 @@ and stmt t =
   | IDENT -> named t (name t)
   | _ -> raise Give_up
 
-and params t =
-  expect t LPAREN;
-  if t.tok = RPAREN then (
-    advance t;
-    [])
-  else
-    let rec more acc =
-      let n = name t in
-      match t.tok with
-      | COMMA ->
-          advance t;
-          more (n :: acc)
-      | RPAREN ->
-          advance t;
-          List.rev (n :: acc)
-      | _ -> raise Give_up
-    in
-    more []
+and params t = parenthesized t name
 
 let start ~file text =
   let t =
