@@ -288,6 +288,26 @@ let name t =
 let mk t line col e = { e; loc = loc t line col }
 let from t (a : expr) e = { e; loc = loc t a.loc.line a.loc.col }
 
+(* [( x, x, … )] or [()], each [x] read by [one]. *)
+let parenthesized t one =
+  expect t LPAREN;
+  if t.tok = RPAREN then (
+    advance t;
+    [])
+  else
+    let rec more acc =
+      let x = one t in
+      match t.tok with
+      | COMMA ->
+          advance t;
+          more (x :: acc)
+      | RPAREN ->
+          advance t;
+          List.rev (x :: acc)
+      | _ -> raise Give_up
+    in
+    more []
+
 (* ---- Expressions, loosest first ---- *)
 
 let rec expr t =
@@ -447,27 +467,6 @@ and atom t =
   | _ -> raise Give_up
 
 and args t = parenthesized t expr
-
-(* [( x, x, … )] or [()], each [x] read by [one]. *)
-and parenthesized : 'a. t -> (t -> 'a) -> 'a list =
- fun t one ->
-  expect t LPAREN;
-  if t.tok = RPAREN then (
-    advance t;
-    [])
-  else
-    let rec more acc =
-      let x = one t in
-      match t.tok with
-      | COMMA ->
-          advance t;
-          more (x :: acc)
-      | RPAREN ->
-          advance t;
-          List.rev (x :: acc)
-      | _ -> raise Give_up
-    in
-    more []
 
 (* ---- Statements and blocks ---- *)
 
