@@ -73,10 +73,10 @@ let note t c = if c >= '\x80' || c = '\000' then t.plain <- false
 
 (* ---- Lexing ---- *)
 
-let is_ident c =
+let[@inline] is_ident c =
   match c with 'a' .. 'z' | 'A' .. 'Z' | '0' .. '9' | '_' -> true | _ -> false
 
-let is_digit c = c >= '0' && c <= '9'
+let[@inline] is_digit c = c >= '0' && c <= '9'
 
 let keyword = function
   | "true" -> TRUE
@@ -320,7 +320,15 @@ let rec expr t =
     expect t ELSE;
     let b = expr t in
     mk t l c (If (cond, a, b)))
-  else or_expr t
+  else if t.tok = NOT || t.tok = MINUS then or_expr t
+  else
+    (* Most often an operand alone: read without going down the levels one by one. *)
+    let a = postfix t in
+    match t.tok with
+    | CARET | STAR | SLASH | PERCENT | PLUS | MINUS | EQ | NE | LT | LE | GT | GE | AND
+    | OR ->
+        or_more t (and_more t (cmp_more t (add_more t (mul_more t (pow_more t a)))))
+    | _ -> a
 
 (* Each level of the precedence, then the operators of that level that follow (functions
    of [t] of their own: a local function would be a closure made at every expression). *)
@@ -350,8 +358,9 @@ and not_expr t =
     mk t l c (Unop (Not, a)))
   else cmp_expr t
 
-and cmp_expr t =
-  let a = add_expr t in
+and cmp_expr t = cmp_more t (add_expr t)
+
+and cmp_more t a =
   let op =
     match t.tok with
     | EQ -> Some Eq
@@ -399,13 +408,14 @@ and unary t =
     advance t;
     let a = unary t in
     mk t l c (Unop (Neg, a)))
-  else
-    let a = postfix t in
-    if t.tok = CARET then (
-      advance t;
-      let b = unary t in
-      from t a (Binop (Pow, a, b)))
-    else a
+  else pow_more t (postfix t)
+
+and pow_more t a =
+  if t.tok = CARET then (
+    advance t;
+    let b = unary t in
+    from t a (Binop (Pow, a, b)))
+  else a
 
 and postfix t = postfix_more t (atom t)
 

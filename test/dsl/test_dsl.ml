@@ -648,6 +648,54 @@ let test_reader () =
       "f(1,)";
     ]
 
+(* Expressions of every level of the precedence, nested: [let x = …]. *)
+let expression =
+  let gen =
+    QCheck.Gen.(
+      sized
+      @@ fix (fun self n ->
+             let atom =
+               oneofl [ "1"; "2.5"; "x"; "v.y"; "f(1, y)"; "(1, 2, 3)"; "true"; "\"s\"" ]
+             in
+             if n <= 0 then atom
+             else
+               let sub = self (n / 2) in
+               frequency
+                 [
+                   (2, atom);
+                   ( 6,
+                     let* a = sub and* b = sub in
+                     let* op =
+                       oneofl
+                         [
+                           "+";
+                           "-";
+                           "*";
+                           "/";
+                           "%";
+                           "^";
+                           "==";
+                           "!=";
+                           "<";
+                           "<=";
+                           ">";
+                           ">=";
+                           "and";
+                           "or";
+                         ]
+                     in
+                     return (a ^ " " ^ op ^ " " ^ b) );
+                   (1, map (fun a -> "-" ^ a) sub);
+                   (1, map (fun a -> "not " ^ a) sub);
+                   (1, map (fun a -> "(" ^ a ^ ")") sub);
+                   ( 1,
+                     let* c = sub and* a = sub and* b = sub in
+                     return ("if " ^ c ^ " then " ^ a ^ " else " ^ b) );
+                   (1, map (fun a -> "(" ^ a ^ ").x") sub);
+                 ]))
+  in
+  QCheck.make ~print:(fun s -> s) (QCheck.Gen.map (fun e -> "let x = " ^ e) gen)
+
 (* Numerals as scenes write them: doubles printed in the usual formats, and strings of
    digits with a point and perhaps an exponent; each followed by what may follow a number
    in a scene. *)
@@ -697,6 +745,8 @@ let props =
     [
       QCheck.Test.make ~name:"numerals read as the double float_of_string gives"
         ~count:(20 * count) numeral decimal_reads;
+      QCheck.Test.make ~name:"the reader reads random expressions as the grammar does"
+        ~count expression same_tree;
       QCheck.Test.make ~name:"the reader reads random token sequences as the grammar does"
         ~count token_seq same_tree;
       QCheck.Test.make ~name:"the reader reads mutated valid scenes as the grammar does"
