@@ -12,12 +12,17 @@ type fn = {
   parent : fn option;
 }
 
-type slots = { mutable a : int array }
+type slots = {
+  mutable a : int array;
+  mutable reads : code option array;
+      (** the code that reads a slot of the frame, by slot: one for all its uses *)
+}
+
 type t = { slots : slots; fn : fn }
 
 let create () =
   {
-    slots = { a = Array.make 64 (-1) };
+    slots = { a = Array.make 64 (-1); reads = [||] };
     fn = { level = 0; nslots = 0; caps = []; ncaps = 0; parent = None };
   }
 
@@ -59,11 +64,26 @@ let raw = function Slot i -> fun fr -> fr.l.(i) | Cap i -> fun fr -> fr.c.(i)
 (* A value the checker knew the type of, and that has another: compiled code is wrong. *)
 let untyped what = invalid_arg ("Cexpr: " ^ what ^ " of a type not checked")
 
+(* The value in slot [i] of the frame (a scene names the same few things again and again:
+   one closure serves them all). *)
+let read_slot cs i : code =
+  let s = cs.slots in
+  if i >= Array.length s.reads then (
+    let a = Array.make (max 16 (2 * (i + 1))) None in
+    Array.blit s.reads 0 a 0 (Array.length s.reads);
+    s.reads <- a);
+  match s.reads.(i) with
+  | Some c -> c
+  | None ->
+      let c fr = match fr.l.(i) with VPoison -> raise Poisoned | v -> v in
+      s.reads.(i) <- Some c;
+      c
+
 let var cs v (loc : Loc.t) : code =
   match v with
   | Local b -> (
       match resolve cs b with
-      | Slot i -> ( fun fr -> match fr.l.(i) with VPoison -> raise Poisoned | v -> v)
+      | Slot i -> read_slot cs i
       | Cap i -> ( fun fr -> match fr.c.(i) with VPoison -> raise Poisoned | v -> v))
   | Maybe (b, msg) -> (
       let get = raw (resolve cs b) in
@@ -198,6 +218,15 @@ let rec expr ~block cs (e : expr) : code =
       match e.e with
       | Const v -> fun _ -> v
       | Var v -> var cs v e.loc
+      | Vec (a, b, c) when Ty.known a.ty && Ty.known b.ty && Ty.known c.ty ->
+          (* Numbers, as the checker made sure: read where they are made. *)
+          let ca = sub a and cb = sub b and cc = sub c in
+          let num = function VNum x -> x | _ -> untyped "a component" in
+          fun fr ->
+            let x = num (ca fr) in
+            let y = num (cb fr) in
+            let z = num (cc fr) in
+            VVec { x; y; z }
       | Vec (a, b, c) ->
           let na = number a Msg.component (sub a) in
           let nb = number b Msg.component (sub b) in

@@ -34,6 +34,9 @@ type cx = {
   placed : placed Written.t;
       (** the places of the fields of a block without a mistake, by its keyword and the
           names of its fields as written (those of a generated scene repeat) *)
+  mutable last_kinds : string * Kind.t list;
+      (** the last keyword looked up, and its kinds: a generated scene's blocks are mostly
+          of one kind, and the reader makes the keywords the same string *)
 }
 
 and placed = Kind.t * (slot * Schema.field option) list * bool
@@ -142,7 +145,6 @@ let rec expr ~material cx env (e : A.expr) : expr =
   if cx.count > before || not cx.types then { te with ty = Unknown } else te
 
 and expr_ ~material cx env (e : A.expr) =
-  let sub = expr ~material cx env in
   match e.e with
   | Num x -> mk e (Const (VNum x)) Num
   | Str s -> mk e (Const (VStr s)) Str
@@ -151,25 +153,27 @@ and expr_ ~material cx env (e : A.expr) =
       let { var; ty } = lookup cx env x e.loc in
       mk e (Var var) ty
   | Vec (a, b, c) ->
-      let ta = sub a and tb = sub b and tc = sub c in
+      let ta = expr ~material cx env a
+      and tb = expr ~material cx env b
+      and tc = expr ~material cx env c in
       let component t = refused cx t (is Num) Msg.component in
       if component ta || component tb || component tc then bad e
       else mk e (Vec (ta, tb, tc)) Vec
   | Pair (a, b) ->
-      let ta = sub a and tb = sub b in
+      let ta = expr ~material cx env a and tb = expr ~material cx env b in
       mk e (Pair (ta, tb)) (Pair (ta.ty, tb.ty))
   | Binop (((And | Or) as op), a, b) ->
       (* An operand of the wrong type fails where it is evaluated: the right one only
          where the left does not decide. *)
       let operand x =
-        let t = sub x in
+        let t = expr ~material cx env x in
         if refused cx t (is Bool) (Msg.needs_booleans op) then { t with e = Bad } else t
       in
       let ta = operand a in
       let tb = operand b in
       mk e (Binop (op, ta, tb)) (if is ta.ty Bool && is tb.ty Bool then Bool else Unknown)
   | Binop (op, a, b) -> (
-      let ta = sub a and tb = sub b in
+      let ta = expr ~material cx env a and tb = expr ~material cx env b in
       if not (Ty.known ta.ty && Ty.known tb.ty) then mk e (Binop (op, ta, tb)) Unknown
       else
         match Ops.binop_type op ta.ty tb.ty with
@@ -178,7 +182,7 @@ and expr_ ~material cx env (e : A.expr) =
             report cx e.loc (Msg.cannot_combine op ta.ty tb.ty);
             bad e)
   | Unop (op, a) -> (
-      let ta = sub a in
+      let ta = expr ~material cx env a in
       let typ, msg =
         match op with
         | Neg -> (Ops.neg_type, Msg.neg_needs)
@@ -191,7 +195,7 @@ and expr_ ~material cx env (e : A.expr) =
           report cx e.loc (msg ta.ty);
           bad e)
   | Dot (a, f) -> (
-      let ta = sub a in
+      let ta = expr ~material cx env a in
       let wrong msg =
         report cx f.nloc msg;
         bad e
@@ -204,7 +208,7 @@ and expr_ ~material cx env (e : A.expr) =
       | Body, x -> wrong (Msg.body_member x)
       | t, x -> wrong (Msg.dot_needs x t))
   | Call (f, args) -> (
-      let targs = List.map sub args in
+      let targs = List.map (expr ~material cx env) args in
       let { var; ty } = lookup cx env f.id f.nloc in
       match (var, ty) with
       | Global b, _ -> builtin_call cx e f b targs
@@ -222,15 +226,24 @@ and expr_ ~material cx env (e : A.expr) =
           report cx f.nloc (Msg.not_a_function f.id t);
           bad e)
   | If (c, a, b) ->
-      let tc = sub c in
+      let tc = expr ~material cx env c in
       let wrong = refused cx tc (is Bool) Msg.condition in
-      let ta = sub a and tb = sub b in
+      let ta = expr ~material cx env a and tb = expr ~material cx env b in
       if wrong then bad e
       else mk e (If (tc, ta, tb)) (if is ta.ty tb.ty then ta.ty else Unknown)
   | Material items -> mk e (Material (material cx env e.loc items)) Mat
 
 (* ------------------------------------------------------------------------------------ *)
 (* Blocks *)
+
+(* The kinds a keyword stands for: none for a keyword that is no block's. *)
+let kinds cx kw =
+  match cx.last_kinds with
+  | k, kinds when k == kw -> kinds
+  | _ ->
+      let kinds = Option.value (Keywords.find_opt cx.kinds kw) ~default:[] in
+      cx.last_kinds <- (kw, kinds);
+      kinds
 
 (* The kind a block of these [kinds] (a keyword's) is, given the fields written. *)
 let choose kinds present =
@@ -358,37 +371,32 @@ let repeatable = function "translate" | "rotate" | "scale" -> true | _ -> false
 (* The block's fields as written, each once (those given twice reported), and whether a
    statement it does not hold was found (reported). *)
 let written cx ~holds kw items =
-  let failed = ref false in
-  let _, rev =
-    List.fold_left
-      (fun (seen, acc) item ->
-        match item with
-        | A.Field (n, e) -> (
-            match List.find_opt (fun (x, _) -> String.equal x n.id) seen with
-            | Some (_, line) when not (repeatable n.id) ->
-                failed := true;
-                report cx n.nloc (Msg.given_twice n.id kw line);
-                (seen, acc)
-            | first ->
-                ( (if Option.is_none first then (n.id, n.nloc.line) :: seen else seen),
-                  (n, e) :: acc ))
-        | A.Stmt s -> (
-            match s.s with
-            | Let _ | Fn _ | Macro _ -> (seen, acc)
-            | _ when holds -> (seen, acc)
-            | _ ->
-                failed := true;
-                report cx s.sloc (Msg.holds_only_fields kw);
-                (seen, acc)))
-      ([], []) items
-  in
-  (List.rev rev, !failed)
+  let failed = ref false and seen = ref [] and fields = ref [] in
+  List.iter
+    (function
+      | A.Field (n, e) -> (
+          match List.find_opt (fun (x, _) -> String.equal x n.id) !seen with
+          | Some (_, line) when not (repeatable n.id) ->
+              failed := true;
+              report cx n.nloc (Msg.given_twice n.id kw line)
+          | first ->
+              if Option.is_none first then seen := (n.id, n.nloc.line) :: !seen;
+              fields := (n, e) :: !fields)
+      | A.Stmt s -> (
+          match s.s with
+          | Let _ | Fn _ | Macro _ -> ()
+          | _ when holds -> ()
+          | _ ->
+              failed := true;
+              report cx s.sloc (Msg.holds_only_fields kw)))
+    items;
+  (List.rev !fields, !failed)
 
 (* A block's items in order: its fields' values (checked against their fields), its
    statements (a [let] is seen by the items after it). [stmt] checks a statement. *)
 let rec block cx env ~stmt ~where ~(keyword : A.name) kloc items : block =
   let kw = keyword.id in
-  let kinds = Option.value (Keywords.find_opt cx.kinds kw) ~default:[] in
+  let kinds = kinds cx kw in
   let holds = List.exists (fun (k : Kind.t) -> k.block.holds_objects) kinds in
   let inner = if holds then Inside else where in
   let given, mistaken = written cx ~holds kw items in
@@ -567,7 +575,7 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       | "material" ->
           report cx k.nloc Msg.material_statement;
           (env, one Nothing)
-      | kw when (not (Keywords.mem cx.kinds kw)) || kw = "body" ->
+      | kw when List.is_empty (kinds cx kw) || kw = "body" ->
           report cx k.nloc (Msg.unknown_block kw);
           (env, one Nothing)
       | ("settings" | "camera" | "animation" | "physics" | "light") when where = Inside ->
@@ -641,6 +649,7 @@ let start ?(schema = Schema.blocks) ?(types = true) ~sources () =
         next = 0;
         definitions = [];
         placed = Written.create 16;
+        last_kinds = ("", []);
       };
     env = initial;
   }

@@ -68,7 +68,7 @@ type site = {
           code *)
 }
 
-let value c fr =
+let[@inline] value c fr =
   try c fr with
   | Fail (l, m) ->
       State.report fr.st l m;
@@ -78,7 +78,7 @@ let value c fr =
 (* [n] values not given yet. Blocks have a few fields: an array written out is made
    where it is used ([Array.make] is a call into the runtime, and an array of constants a
    copy of one), so its elements are not a constant. *)
-let unset n =
+let[@inline] unset n =
   let p = Sys.opaque_identity VPoison in
   match n with
   | 0 -> [||]
@@ -164,12 +164,21 @@ let group s fr sc =
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
 let no_objects = { sink = ref []; in_group = false; in_csg = false }
 
+(* What reading a block of constants when it is compiled may not do: find a mistake, or
+   name a file (the run reports it, and the file is read as it runs). *)
+exception Not_constant
+
+let refuses =
+  {
+    report = (fun _ _ -> raise_notrace Not_constant);
+    use = (fun _ -> raise_notrace Not_constant);
+  }
+
 (* A material block of constants is one material, when it has no mistake. *)
 let constant_material site (items : item array) consts mat =
   if Array.exists (function CSlot _ -> false | _ -> true) items then None
   else
     let ok = ref true in
-    let sink = { report = (fun _ _ -> ok := false); use = (fun _ -> ok := false) } in
     let vals = Array.make (Array.length consts) VPoison in
     Array.iter
       (function
@@ -179,9 +188,9 @@ let constant_material site (items : item array) consts mat =
       items;
     if not !ok then None
     else
-      match mat (Fields.make site sink vals [||]) with
-      | Some m when !ok -> Some (Value.material m)
-      | _ -> None
+      match mat (Fields.make site refuses vals [||]) with
+      | Some m -> Some (Value.material m)
+      | None | (exception Not_constant) -> None
 
 (* A shape block of constants (its material aside, of a type the checker knew) is its
    object, made once when it is compiled, when it has no mistake: each evaluation makes a
@@ -193,17 +202,16 @@ let folded_object s (blk : block) (values, steps) =
   let constant = ref (not blk.failed) in
   for i = 0 to n - 1 do
     match values.(i) with
-    | Some (e : expr) when i = m -> if not (Ty.equal e.ty Mat) then constant := false
-    | Some e -> (
-        match Cexpr.const e with Some v -> vals.(i) <- v | None -> constant := false)
+    | Some ((e : expr), _) when i = m -> if not (Ty.equal e.ty Mat) then constant := false
+    | Some (_, Some v) -> vals.(i) <- v
+    | Some (_, None) -> constant := false
     | None -> ()
   done;
   let svals =
     Array.map
-      (fun e ->
-        match Cexpr.const e with
-        | Some v -> v
-        | None ->
+      (function
+        | _, Some v -> v
+        | _, None ->
             constant := false;
             VPoison)
       steps
@@ -211,25 +219,17 @@ let folded_object s (blk : block) (values, steps) =
   if (not !constant) || Array.exists (function CStmt _ -> true | _ -> false) s.items
   then None
   else
-    let ok = ref true in
-    let sink = { report = (fun _ _ -> ok := false); use = (fun _ -> ok := false) } in
-    let site =
-      if m >= 0 && s.site.given.(m) then (
-        let given = Array.copy s.site.given in
-        given.(m) <- false;
-        { s.site with given })
-      else s.site
-    in
-    let b = Fields.make site sink vals svals in
-    let o = Build.object_ site b in
-    if Fields.finish b && !ok then
-      let code =
-        Array.fold_left
-          (fun acc -> function CSlot (i, c) when i = m -> Some c | _ -> acc)
-          None s.items
-      in
-      Some (o, code)
-    else None
+    (* Its material not read: its value is not there, as if it had failed. *)
+    let b = Fields.make s.site refuses vals svals in
+    match Build.object_ s.site b with
+    | o when Fields.finish b ->
+        let code =
+          Array.fold_left
+            (fun acc -> function CSlot (i, c) when i = m -> Some c | _ -> acc)
+            None s.items
+        in
+        Some (o, code)
+    | _ | (exception Not_constant) -> None
 
 (* ------------------------------------------------------------------------------------ *)
 (* Statements *)
@@ -283,17 +283,24 @@ let rec expr cs e = Cexpr.expr ~block:material cs e
 and items cs (blk : block) =
   let nsteps = ref 0 and n = blk.kind.values in
   let values = Array.make n None and steps = ref [] in
+  (* Each value with its constant, if it is one (its code gives it). *)
+  let valued value =
+    let k = Cexpr.const value in
+    ((value, k), match k with Some v -> fun _ -> v | None -> expr cs value)
+  in
   let items =
     List.concat_map
       (function
         | Field { slot = Slot i; value; _ } ->
-            values.(i) <- Some value;
-            [ CSlot (i, expr cs value) ]
+            let v, code = valued value in
+            values.(i) <- Some v;
+            [ CSlot (i, code) ]
         | Field { slot = Step _; value; _ } ->
             let j = !nsteps in
             incr nsteps;
-            steps := value :: !steps;
-            [ CStep (j, expr cs value) ]
+            let v, code = valued value in
+            steps := v :: !steps;
+            [ CStep (j, code) ]
         | Field { slot = Dropped; _ } -> []
         | Stmts ss -> List.map (fun s -> CStmt (stmt cs s)) ss)
       blk.items
@@ -320,9 +327,7 @@ and material cs blk : Cexpr.code =
   match
     if blk.failed then None
     else
-      constant_material s.site s.items
-        (Array.map (fun v -> Option.bind v Cexpr.const) values)
-        mat
+      constant_material s.site s.items (Array.map (fun v -> Option.bind v snd) values) mat
   with
   | Some v -> fun _ -> v
   | None -> (
@@ -331,49 +336,83 @@ and material cs blk : Cexpr.code =
         | Some m -> Value.material m
         | None -> raise Poisoned)
 
+(* A block statement's code, which reports a failure and skips the block (a shape block
+   of constants has none: it is not guarded). *)
 and block cs (blk : block) : scode =
   let s, values = items cs blk in
   let kloc = blk.keyword.nloc in
   match blk.keyword.id with
   | "settings" ->
-      once "settings" blk
-        (fun o -> o.settings)
-        (fun o v -> o.settings <- v)
-        Build.settings s
+      guard
+        (once "settings" blk
+           (fun o -> o.settings)
+           (fun o v -> o.settings <- v)
+           Build.settings s)
   | "camera" ->
-      once "camera" blk (fun o -> o.camera) (fun o v -> o.camera <- v) Build.camera s
+      guard
+        (once "camera" blk (fun o -> o.camera) (fun o v -> o.camera <- v) Build.camera s)
   | "animation" ->
-      once "animation" blk
-        (fun o -> o.animation)
-        (fun o v -> o.animation <- v)
-        Build.animation s
+      guard
+        (once "animation" blk
+           (fun o -> o.animation)
+           (fun o v -> o.animation <- v)
+           Build.animation s)
   | "physics" ->
-      once "physics" blk (fun o -> o.physics) (fun o v -> o.physics <- v) Build.physics s
+      guard
+        (once "physics" blk
+           (fun o -> o.physics)
+           (fun o v -> o.physics <- v)
+           Build.physics s)
   | "light" ->
-      top_level blk (fun fr sc ->
-          match Build.light (evaluate s fr sc) with
-          | Some l -> fr.st.out.lights <- l :: fr.st.out.lights
-          | None -> ())
+      guard
+        (top_level blk (fun fr sc ->
+             match Build.light (evaluate s fr sc) with
+             | Some l -> fr.st.out.lights <- l :: fr.st.out.lights
+             | None -> ()))
   | "group" ->
-      fun fr sc -> if sc.in_csg then csg s ~keyword:"group" fr sc else group s fr sc
-  | ("union" | "merge" | "intersection" | "difference") as keyword -> csg s ~keyword
+      guard (fun fr sc ->
+          if sc.in_csg then csg s ~keyword:"group" fr sc else group s fr sc)
+  | ("union" | "merge" | "intersection" | "difference") as keyword ->
+      guard (csg s ~keyword)
   | _ -> (
       match folded_object s blk values with
-      | Some (o, material) -> (
+      | Some ({ Description.kind; shape; transform; steps; loc; _ }, material) -> (
+          (* Its parts, not the object: each evaluation makes its own. *)
           match material with
-          | None -> fun fr sc -> State.add_object fr.st sc kloc { o with material = None }
+          | None ->
+              fun fr sc ->
+                State.add_object fr.st sc loc
+                  {
+                    Description.kind;
+                    shape;
+                    transform;
+                    steps;
+                    material = None;
+                    loc;
+                    body = None;
+                  }
           | Some c -> (
               fun fr sc ->
                 match value c fr with
-                | VMat m -> State.add_object fr.st sc kloc { o with material = m.some }
+                | VMat m ->
+                    State.add_object fr.st sc loc
+                      {
+                        Description.kind;
+                        shape;
+                        transform;
+                        steps;
+                        material = m.some;
+                        loc;
+                        body = None;
+                      }
                 | VPoison -> ()
                 | _ -> untyped "a material"))
       | None ->
           let obj = Build.object_ s.site in
-          fun fr sc ->
-            let b = evaluate s fr sc in
-            let o = obj b in
-            if Fields.finish b then State.add_object fr.st sc kloc o)
+          guard (fun fr sc ->
+              let b = evaluate s fr sc in
+              let o = obj b in
+              if Fields.finish b then State.add_object fr.st sc kloc o))
 
 and stmts cs ss : scode =
   match Array.of_list (List.map (stmt cs) ss) with
@@ -459,7 +498,7 @@ and stmt cs (s : stmt) : scode =
               | VFun c -> fail name.nloc (Msg.function_as_statement c.fname)
               | VBuiltin n -> fail name.nloc (Msg.builtin_as_statement n)
               | v -> fail name.nloc (Msg.not_a_macro name.id (ty v))))
-  | Block blk -> guard (block cs blk)
+  | Block blk -> block cs blk
   | Body (b, prev, blk) -> (
       let get_before = before cs prev in
       let i = Cexpr.new_slot cs b in

@@ -184,12 +184,23 @@ let resolver ~read sources resolved includes errors main =
   in
   let parsed = Hashtbl.create 4 and inclusions = ref 0 in
   let chain file = Option.value (Hashtbl.find_opt includes file) ~default:[] in
+  (* Whether a statement holds an include, anywhere inside: only then is it made anew. *)
+  let rec includes_in (s : Ast.stmt) =
+    match s.s with
+    | Include _ -> true
+    | Macro (_, _, b) | For (_, _, _, _, b) -> List.exists includes_in b
+    | If_stmt (_, t, e) -> List.exists includes_in t || List.exists includes_in e
+    | Block (_, its) | Body (_, its) ->
+        List.exists (function Ast.Stmt s -> includes_in s | Field _ -> false) its
+    | Let _ | Fn _ | Included _ | Call_stmt _ -> false
+  in
   let rec stmts_ stack file ss = List.map (stmt stack file) ss
   and items stack file its =
     List.map
       (function Ast.Field _ as f -> f | Ast.Stmt s -> Ast.Stmt (stmt stack file s))
       its
-  and stmt stack file (s : Ast.stmt) =
+  and stmt stack file (s : Ast.stmt) = if includes_in s then resolve stack file s else s
+  and resolve stack file (s : Ast.stmt) =
     let d =
       match s.s with
       | Include (p, loc) -> (

@@ -116,7 +116,7 @@ let get default b i conv =
 let as_number = function VNum x -> Some x | _ -> None
 let as_vector = function VVec v -> Some v | _ -> None
 
-let check_range b (e : entry) i x =
+let[@inline] check_range b (e : entry) i x =
   if not (Schema.in_range e.sch.range x) then
     bad b b.site.vlocs.(i) (Msg.out_of_range e.sch x)
 
@@ -154,7 +154,7 @@ let boolean ?default b i =
 
 let file b i = get None b i (function VStr s -> Some s | _ -> None)
 
-let check_coords b i (v : Vec3.t) =
+let[@inline] check_coords b i (v : Vec3.t) =
   let big = Schema.big in
   if not (Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big) then
     bad b b.site.vlocs.(i) (Msg.coordinates b.site.names.(i))
