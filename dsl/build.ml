@@ -38,7 +38,7 @@ let material site =
     let d =
       if not (live b base) then default
       else
-        match b.vals.(base) with
+        match value b base with
         | VMat m -> m.mat
         | v ->
             bad b b.site.vlocs.(base) (Msg.field_type b.site.entries.(base).sch (ty v));
@@ -46,16 +46,17 @@ let material site =
     in
     let m : D.material =
       {
-        color = color b color_ ~default:d.color;
+        color = color_or b color_ d.color;
         texture = d.texture;
-        ambient = number b ambient ~default:d.ambient;
-        diffuse = number b diffuse ~default:d.diffuse;
-        specular = number b specular ~default:d.specular;
-        shininess = number b shininess ~default:d.shininess;
-        reflection = number b reflection ~default:d.reflection;
-        transparency = number b transparency ~default:d.transparency;
-        ior = number b ior ~default:d.ior;
-        fresnel = boolean b fresnel ~default:d.fresnel;
+        ambient = number_or b ambient d.ambient;
+        diffuse = number_or b diffuse d.diffuse;
+        specular = number_or b specular d.specular;
+        shininess = number_or b shininess d.shininess;
+        reflection = number_or b reflection d.reflection;
+        transparency = number_or b transparency d.transparency;
+        ior = number_or b ior d.ior;
+        fresnel =
+          (if given b fresnel then boolean b fresnel ~default:d.fresnel else d.fresnel);
         bump = d.bump;
       }
     in
@@ -64,7 +65,7 @@ let material site =
     let read i f other =
       if not (live b i) then None
       else
-        match b.vals.(i) with
+        match value b i with
         | VTex t -> (
             match f ~use:b.out.use t with
             | Ok x -> Some x
@@ -97,13 +98,10 @@ let material site =
       bad b
         b.site.vlocs.(if given b transparency then transparency else reflection)
         (Msg.reflection_transparency m.reflection m.transparency);
-    if not (finish b) then None
-    else
-      match D.validate_material m with
-      | Ok () -> Some m
-      | Error msg ->
-          bad b b.site.kloc (Msg.invalid "material" msg);
-          None
+    (* What the description requires of a material ({!D.validate_material}) holds: each
+       number is in its field's range, or the base's or the schema's (the tests check
+       that these ranges are within the description's), and the sum is checked above. *)
+    m
 
 (* ------------------------------------------------------------------------------------ *)
 (* Settings, camera, lights, animation, physics *)
@@ -121,7 +119,7 @@ let settings b =
     let default = Option.get (gamma e.default) in
     if not (live b i) then default
     else
-      match gamma b.vals.(i) with
+      match gamma (value b i) with
       | Some g -> g
       | None ->
           bad b b.site.vlocs.(i) (Msg.gamma e.sch.range);
@@ -138,7 +136,7 @@ let settings b =
       adaptive = number b (s "adaptive");
       shadows = boolean b (s "shadows");
       background =
-        (match (live b background, b.vals.(background)) with
+        (match (live b background, value b background) with
         | true, VTex _ ->
             (* a gradient's horizon, once the sky below has read it *)
             Color.of_vec3 (Option.get (as_vector b.site.entries.(background).default))
@@ -155,7 +153,7 @@ let settings b =
     | _ -> None
   in
   let st =
-    match (live b background, b.vals.(background)) with
+    match (live b background, value b background) with
     | true, VTex { tname = "gradient"; targs = [ h; z ]; _ } -> (
         match (colour_arg h, colour_arg z) with
         | Some horizon, Some zenith ->
@@ -172,7 +170,7 @@ let settings b =
   let st =
     if not (live b fog) then st
     else
-      match b.vals.(fog) with
+      match value b fog with
       | VTex { tname = "fog"; targs = [ VVec c; VNum distance ]; _ } ->
           if c.x < 0. || c.y < 0. || c.z < 0. then (
             bad b b.site.vlocs.(fog) Msg.fog_colour;
@@ -205,7 +203,7 @@ let camera b =
     else if not (given b kind) then
       match site.entries.(kind).default with VStr x -> x | _ -> "perspective"
     else
-      match b.vals.(kind) with
+      match value b kind with
       | VStr x when List.mem x camera_kinds -> x
       | VStr x ->
           bad b site.vlocs.(kind) (Msg.camera_kind x camera_kinds);
@@ -350,7 +348,7 @@ let physics b =
     in
     if not (live b m) then default
     else
-      match b.vals.(m) with
+      match value b m with
       | VStr x -> (
           match method_of x with
           | Some k -> k
@@ -423,43 +421,56 @@ let light b =
 
 let step_field b name = b.site.entries.(slot b.site name).sch
 
-(* translate / rotate / scale, in the order written *)
+(* translate / rotate / scale, in the order written: the transform (each one checked),
+   and the steps (read from the last, into a list in order; none for a block that
+   failed, which is not built). *)
 let transforms b =
-  let steps = b.site.steps in
-  let big = Schema.big in
-  let t = ref Transform.identity and js = ref [] in
-  let add tr j =
-    t := Transform.then_ !t tr;
-    js := j :: !js
+  let steps = b.site.steps and big = Schema.big in
+  let n = Array.length steps in
+  let within (v : Vec3.t) =
+    Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big
   in
   let factor x = Float.abs x >= 1e-150 && Float.abs x <= 1e150 in
-  for k = 0 to Array.length steps - 1 do
-    let name, at = steps.(k) in
-    let coords (v : Vec3.t) =
-      if not (Float.abs v.x <= big && Float.abs v.y <= big && Float.abs v.z <= big) then
-        bad b at (Msg.coordinates name)
-    in
-    match (name, b.svals.(k)) with
-    | _, VPoison -> () (* its value failed, already reported *)
-    | "translate", VVec v ->
-        coords v;
-        add (Transform.translate v) (D.Translate v)
-    | "rotate", VVec v ->
-        coords v;
-        add (Transform.rotate v) (D.Rotate v)
-    | "scale", ((VNum _ | VVec _) as s) ->
-        let v = match s with VNum x -> Vec3.v x x x | VVec v -> v | _ -> Vec3.one in
-        if not (factor v.x && factor v.y && factor v.z) then bad b at Msg.scale_factors
-        else add (Transform.scale v) (D.Scale v)
-    | _, v -> bad b at (Msg.field_type (step_field b name) (ty v))
-  done;
-  (!t, List.rev !js)
+  let scale = function VNum x -> Vec3.v x x x | VVec v -> v | _ -> Vec3.one in
+  let rec compose k t =
+    if k = n then t
+    else
+      let name, at = steps.(k) in
+      match (name, b.svals.(k)) with
+      | _, VPoison -> compose (k + 1) t (* its value failed, already reported *)
+      | "translate", VVec v ->
+          if not (within v) then bad b at (Msg.coordinates name);
+          compose (k + 1) (Transform.then_ t (Transform.translate v))
+      | "rotate", VVec v ->
+          if not (within v) then bad b at (Msg.coordinates name);
+          compose (k + 1) (Transform.then_ t (Transform.rotate v))
+      | "scale", ((VNum _ | VVec _) as s) ->
+          let v = scale s in
+          if not (factor v.x && factor v.y && factor v.z) then (
+            bad b at Msg.scale_factors;
+            compose (k + 1) t)
+          else compose (k + 1) (Transform.then_ t (Transform.scale v))
+      | _, v ->
+          bad b at (Msg.field_type (step_field b name) (ty v));
+          compose (k + 1) t
+  in
+  let rec listed k js =
+    if k < 0 then js
+    else
+      match (fst steps.(k), b.svals.(k)) with
+      | "translate", VVec v -> listed (k - 1) (D.Translate v :: js)
+      | "rotate", VVec v -> listed (k - 1) (D.Rotate v :: js)
+      | "scale", s -> listed (k - 1) (D.Scale (scale s) :: js)
+      | _ -> listed (k - 1) js
+  in
+  let t = compose 0 Transform.identity in
+  (t, if b.failed then [] else listed (n - 1) [])
 
 let object_material b =
   match b.site.kind_.material with
   | i when i < 0 || not (live b i) -> None
   | i -> (
-      match b.vals.(i) with
+      match value b i with
       | VMat m -> m.some
       | v ->
           bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
@@ -615,19 +626,24 @@ let object_ site =
     let shape = shape b in
     { D.kind; shape; transform; steps; material; loc; body = None }
 
-let group_members t tj mat members =
+let group_members t tj mat members onto =
   if Transform.is_identity t && match (tj, mat) with [], None -> true | _ -> false then
-    members (* each object would be itself again *)
+    members @ onto (* each object would be itself again *)
   else
-    List.map
-      (fun (o : D.obj) ->
-        {
-          o with
-          transform = Transform.then_ o.transform t;
-          steps = o.steps @ tj;
-          material = (match o.material with Some _ -> o.material | None -> mat);
-        })
-      members
+    let member (o : D.obj) =
+      {
+        o with
+        transform = Transform.then_ o.transform t;
+        steps = o.steps @ tj;
+        material = (match o.material with Some _ -> o.material | None -> mat);
+      }
+    in
+    let rec map_onto = function
+      | [] -> onto
+      | o :: rest -> member o :: map_onto rest
+        [@@tail_mod_cons]
+    in
+    map_onto members
 
 (* A CSG block: its members are combined into one object. A group inside a CSG block is
    one member, the union of its own. *)

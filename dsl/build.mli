@@ -21,9 +21,15 @@ val transforms : Fields.t -> Transform.t * D.step list
 val object_material : Fields.t -> D.material option
 
 val group_members :
-  Transform.t -> D.step list -> D.material option -> D.obj list -> D.obj list
-(** A group's members (in order), each with the group's transform after its own and its
-    material unless it has one. *)
+  Transform.t ->
+  D.step list ->
+  D.material option ->
+  D.obj list ->
+  D.obj list ->
+  D.obj list
+(** [group_members t steps material members onto]: a group's members (newest first, as a
+    scope holds them), each with the group's transform after its own and its material
+    unless it has one, in front of [onto]. *)
 
 val csg :
   Fields.t -> keyword:string -> loc:Loc.t -> in_csg:bool -> D.obj list -> D.obj option
@@ -43,8 +49,9 @@ val body :
 
 (** {1 Materials} *)
 
-val material : Fields.site -> Fields.t -> D.material option
-(** [material site] reads a material block of that site: its material, each time. *)
+val material : Fields.site -> Fields.t -> D.material
+(** [material site] reads a material block of that site: its material, each time; only
+    where the block is right ({!Fields.finish}, once read) is it the block's material. *)
 
 (** {1 Settings, camera, lights, animation, physics} *)
 

@@ -60,7 +60,7 @@ type item = CSlot of int * Cexpr.code | CStep of int * Cexpr.code | CStmt of sco
 type site = {
   site : Fields.site;
   items : item array;
-  nslots : int;
+  nslots : int;  (** the slots an evaluation holds: up to the last field given *)
   nsteps : int;
   kloc : Loc.t;
   fields : (int * Cexpr.code) array option;
@@ -145,8 +145,6 @@ let once what (blk : block) get set build s : scode =
       | Some x -> set fr.st.out (Some (x, kloc))
       | None -> ())
 
-let into (sc : scope) objs = List.iter (fun o -> sc.sink := o :: !(sc.sink)) objs
-
 let csg s ~keyword fr (sc : scope) =
   let members = ref [] in
   let b = evaluate s fr { sink = members; in_group = true; in_csg = true } in
@@ -159,7 +157,7 @@ let group s fr sc =
   let b = evaluate s fr { sink = members; in_group = true; in_csg = false } in
   let t, tj = Build.transforms b in
   let mat = Build.object_material b in
-  if not b.failed then into sc (Build.group_members t tj mat (List.rev !members))
+  if not b.failed then sc.sink := Build.group_members t tj mat !members !(sc.sink)
 
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
 let no_objects = { sink = ref []; in_group = false; in_csg = false }
@@ -188,9 +186,10 @@ let constant_material site (items : item array) consts mat =
       items;
     if not !ok then None
     else
-      match mat (Fields.make site refuses vals [||]) with
-      | Some m -> Some (Value.material m)
-      | None | (exception Not_constant) -> None
+      let b = Fields.make site refuses vals [||] in
+      match mat b with
+      | m when Fields.finish b -> Some (Value.material m)
+      | _ | (exception Not_constant) -> None
 
 (* A shape block of constants (its material aside, of a type the checker knew) is its
    object, made once when it is compiled, when it has no mistake: each evaluation makes a
@@ -309,7 +308,10 @@ and items cs (blk : block) =
   ( {
       site;
       items = Array.of_list items;
-      nslots = n;
+      nslots =
+        List.fold_left
+          (fun w -> function CSlot (i, _) -> max w (i + 1) | _ -> w)
+          0 items;
       nsteps = !nsteps;
       fields =
         (let fields =
@@ -330,11 +332,11 @@ and material cs blk : Cexpr.code =
       constant_material s.site s.items (Array.map (fun v -> Option.bind v snd) values) mat
   with
   | Some v -> fun _ -> v
-  | None -> (
+  | None ->
       fun fr ->
-        match mat (evaluate s fr no_objects) with
-        | Some m -> Value.material m
-        | None -> raise Poisoned)
+        let b = evaluate s fr no_objects in
+        let m = mat b in
+        if Fields.finish b then Value.material m else raise Poisoned
 
 (* A block statement's code, which reports a failure and skips the block (a shape block
    of constants has none: it is not guarded). *)

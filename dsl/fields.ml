@@ -84,8 +84,12 @@ let bad b loc msg =
 let finish b = not b.failed
 let given b i = b.site.given.(i)
 
+(* A field's value: [VPoison] where it is not given (nor any field after it). *)
+let[@inline] value b i =
+  if i < Array.length b.vals then Array.unsafe_get b.vals i else VPoison
+
 (* A field whose value is usable: given, and not one that failed (already reported). *)
-let live b i = b.vals.(i) != VPoison
+let live b i = value b i != VPoison
 
 (* A field left out: its default ([default], or the schema's). One required is missing
    (reported by the checker), or its value failed: the same, the block failed. *)
@@ -103,7 +107,7 @@ let fallback default b i conv =
 (* A value of the wrong type: only one whose type the checker could not know. *)
 let get default b i conv =
   if given b i then
-    match b.vals.(i) with
+    match value b i with
     | VPoison -> fallback default b i conv
     | v -> (
         match conv v with
@@ -122,7 +126,7 @@ let[@inline] check_range b (e : entry) i x =
 
 (* A number, refused outside the field's range; [check] instead checks it otherwise. *)
 let number ?default ?check b i =
-  match b.vals.(i) with
+  match value b i with
   | VNum x -> (
       match check with
       | Some c -> c b.site.vlocs.(i) x
@@ -136,9 +140,18 @@ let number ?default ?check b i =
       | _ -> get default b i as_number)
   | _ -> get default b i as_number
 
+(* A number left out is [default], and read no further; one given as {!number} reads it. *)
+let number_or b i default =
+  match value b i with
+  | VNum x ->
+      check_range b b.site.entries.(i) i x;
+      x
+  | _ when not (given b i) -> default
+  | _ -> number ~default b i
+
 (* A whole number in the field's range. *)
 let integer b i =
-  match b.vals.(i) with
+  match value b i with
   | VNum x ->
       let e = b.site.entries.(i) in
       if Schema.in_range e.sch.range x then int_of_float x
@@ -148,7 +161,7 @@ let integer b i =
   | _ -> int_of_float (get None b i as_number)
 
 let boolean ?default b i =
-  match b.vals.(i) with
+  match value b i with
   | VBool x -> x
   | _ -> get default b i (function VBool x -> Some x | _ -> None)
 
@@ -161,7 +174,7 @@ let[@inline] check_coords b i (v : Vec3.t) =
 
 (* A vector with coordinates within ±1e150; [check] checks it further. *)
 let point ?default ?check b i =
-  match b.vals.(i) with
+  match value b i with
   | VVec v -> (
       check_coords b i v;
       match check with Some c -> c b.site.vlocs.(i) v | None -> v)
@@ -173,7 +186,7 @@ let point ?default ?check b i =
   | _ -> get default b i as_vector
 
 let direction b i =
-  match b.vals.(i) with
+  match value b i with
   | VVec v ->
       check_coords b i v;
       if Vec3.max_abs v < 1e-150 then
@@ -182,10 +195,17 @@ let direction b i =
   | _ -> point b i
 
 let color ?default b i =
-  match b.vals.(i) with
+  match value b i with
   | VVec v ->
       check_coords b i v;
       if v.x < 0. || v.y < 0. || v.z < 0. then
         bad b b.site.vlocs.(i) (Msg.negative_colour b.site.names.(i) v);
       Color.of_vec3 v
   | _ -> Color.of_vec3 (point ?default:(Option.map Color.to_vec3 default) b i)
+
+(* The same, [default] where it is left out. *)
+let color_or b i default =
+  match value b i with
+  | VVec _ -> color b i
+  | _ when not (given b i) -> default
+  | _ -> color ~default b i

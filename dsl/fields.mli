@@ -27,7 +27,8 @@ val step_count : site -> int
 
 type t = {
   site : site;
-  vals : Value.t array;  (** by field; [VPoison] where it is not given *)
+  vals : Value.t array;
+      (** by field, up to the last one given at least; [VPoison] where it is not given *)
   svals : Value.t array;  (** the transforms' values, in order *)
   mutable failed : bool;  (** a value failed (reported), or a mistake was found *)
   out : Value.sink;  (** where its mistakes go, and the files it names *)
@@ -48,6 +49,9 @@ val finish : t -> bool
 
 val given : t -> int -> bool
 
+val value : t -> int -> Value.t
+(** A field's value, [VPoison] where it is not given. *)
+
 val live : t -> int -> bool
 (** Given, and its value did not fail. *)
 
@@ -55,6 +59,9 @@ val check_range : t -> entry -> int -> float -> unit
 
 val number : ?default:float -> ?check:(Loc.t -> float -> float) -> t -> int -> float
 (** A number, refused outside the field's range; [check] instead checks it otherwise. *)
+
+val number_or : t -> int -> float -> float
+(** [number_or b i default]: {!number} where the field is given, [default] where not. *)
 
 val integer : t -> int -> int
 val boolean : ?default:bool -> t -> int -> bool
@@ -65,4 +72,8 @@ val point : ?default:Vec3.t -> ?check:(Loc.t -> Vec3.t -> Vec3.t) -> t -> int ->
 
 val direction : t -> int -> Vec3.t
 val color : ?default:Color.t -> t -> int -> Color.t
+
+val color_or : t -> int -> Color.t -> Color.t
+(** [color_or b i default]: {!color} where the field is given, [default] where not. *)
+
 val as_vector : Value.t -> Vec3.t option

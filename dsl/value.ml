@@ -5,7 +5,7 @@ type t =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of material
+  | VMat of { mat : D.material; some : D.material option }
   | VTex of tex
   | VPair of t * t
   | VFun of closure
@@ -14,7 +14,6 @@ type t =
   | VBody of string
   | VPoison
 
-and material = { mat : D.material; some : D.material option }
 and tex = { tname : string; targs : t list; tloc : Loc.t }
 
 and closure = {

@@ -11,7 +11,9 @@ type t =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of material
+  | VMat of { mat : Description.material; some : Description.material option }
+      (** a material, with the option an object holds it in (made once, shared by its
+          objects) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
   | VFun of closure
@@ -19,10 +21,6 @@ type t =
   | VBuiltin of string  (** a built-in function, by name *)
   | VBody of string
   | VPoison  (** the value of a name whose definition failed (already reported) *)
-
-and material = { mat : Description.material; some : Description.material option }
-(** A material, with the option an object holds it in (made once, shared by its objects).
-*)
 
 and tex = { tname : string; targs : t list; tloc : Loc.t }
 (** A texture-like built-in's call ([checker(…)], [gradient(…)], [fog(…)], …): what it

@@ -389,6 +389,51 @@ let test_description_defaults () =
   check_same "Description.default_material" Lancer.Description.default_material
     (material "sphere { center: (0, 0, 0), radius: 1, material: material { } }")
 
+(* A material is made from its fields' values as the schema's ranges allow them, without
+   the description checking it again: every number a material field's range holds (at
+   each end of it, the others at their defaults) is one the description accepts. *)
+let test_material_ranges () =
+  let block = Option.get (Schema.find "material") in
+  let ends (r : Schema.range) =
+    match r with
+    | Any -> [ -1e300; 1e300 ]
+    | Whole (lo, hi) -> [ Float.of_int lo; Float.of_int hi ]
+    | Real (lo, hi) ->
+        let low = function
+          | Schema.Incl x -> [ x ]
+          | Excl x -> [ Float.succ x ]
+          | Unbounded -> [ -1e300 ]
+        and high = function
+          | Schema.Incl x -> [ x ]
+          | Excl x -> [ Float.pred x ]
+          | Unbounded -> [ 1e300 ]
+        in
+        low lo @ high hi
+  in
+  let numbers = List.filter (fun (fl : Schema.field) -> fl.ty = Number) block.fields in
+  Alcotest.(check bool) "the material has number fields" true (List.length numbers >= 7);
+  List.iter
+    (fun (fl : Schema.field) ->
+      List.iter
+        (fun x ->
+          let d = Lancer.Description.default_material in
+          let m : Lancer.Description.material =
+            match fl.name with
+            | "ambient" -> { d with ambient = x }
+            | "diffuse" -> { d with diffuse = x }
+            | "specular" -> { d with specular = x }
+            | "shininess" -> { d with shininess = x }
+            | "reflection" -> { d with reflection = x }
+            | "transparency" -> { d with transparency = x }
+            | "ior" -> { d with ior = x }
+            | n -> Alcotest.failf "a material field %s this test does not know" n
+          in
+          match Lancer.Description.validate_material m with
+          | Ok () -> ()
+          | Error e -> Alcotest.failf "%s: %g is in its range, but %s" fl.name x e)
+        (ends fl.range))
+    numbers
+
 let () =
   Alcotest.run "schema"
     [
@@ -411,5 +456,8 @@ let () =
             test_schema_defaults_used;
           Alcotest.test_case "the scene description's own defaults are the schema's"
             `Quick test_description_defaults;
+          Alcotest.test_case
+            "every number a material field's range holds, the description accepts" `Quick
+            test_material_ranges;
         ] );
     ]
