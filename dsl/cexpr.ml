@@ -210,22 +210,38 @@ let boolean (e : expr) msg (c : code) : frame -> bool =
     match c fr with VBool b -> b | _ -> untyped "a boolean"
   else fun fr -> match c fr with VBool b -> b | v -> fail e.loc (msg (ty v))
 
+(* [num]'s check, of the number alone. *)
+let[@inline] checked loc r = if r -. r = 0. then r else finite loc r
+
+(* Whether an expression is one [floats] computes on numbers (the checker knew it and its
+   operands to be numbers). *)
+let arithmetic (e : expr) =
+  let num (a : expr) = Ty.equal a.ty Num in
+  match e.e with
+  | Binop ((Add | Sub | Mul | Div), a, b) -> num a && num b
+  | Call_builtin (_, { impl = F1 _ | Partial _; _ }, [ a ]) -> num a
+  | Call_builtin (_, { impl = F2 _; _ }, [ a; b ]) -> num a && num b
+  | _ -> false
+
 let rec expr ~block cs (e : expr) : code =
   let sub = expr ~block cs in
   match const e with
   | Some v -> fun _ -> v
+  | None when arithmetic e ->
+      let f = floats ~block cs e in
+      fun fr -> VNum (f fr)
   | None -> (
       match e.e with
       | Const v -> fun _ -> v
       | Var v -> var cs v e.loc
       | Vec (a, b, c) when Ty.known a.ty && Ty.known b.ty && Ty.known c.ty ->
-          (* Numbers, as the checker made sure: read where they are made. *)
-          let ca = sub a and cb = sub b and cc = sub c in
-          let num = function VNum x -> x | _ -> untyped "a component" in
+          (* Numbers, as the checker made sure: computed as numbers. *)
+          let fa = floats ~block cs a and fb = floats ~block cs b in
+          let fc = floats ~block cs c in
           fun fr ->
-            let x = num (ca fr) in
-            let y = num (cb fr) in
-            let z = num (cc fr) in
+            let x = fa fr in
+            let y = fb fr in
+            let z = fc fr in
             VVec { x; y; z }
       | Vec (a, b, c) ->
           let na = number a Msg.component (sub a) in
@@ -279,6 +295,72 @@ let rec expr ~block cs (e : expr) : code =
           fun fr -> if cc fr then ca fr else cb fr
       | Material blk -> block cs blk
       | Bad -> fun _ -> raise Poisoned)
+
+(* An expression the checker knew to be a number, as the function computing it: the
+   operations and built-ins of numbers on numbers are done on floats, and only the result
+   is made a value (checked as [Ops] and [Builtins] check it). *)
+and floats ~block cs (e : expr) : frame -> float =
+  let sub = floats ~block cs and loc = e.loc in
+  match (const e, e.e) with
+  | Some (VNum x), _ -> fun _ -> x
+  | _, Binop (op, a, b) when arithmetic e -> (
+      let fa = sub a and fb = sub b in
+      match op with
+      | Add ->
+          fun fr ->
+            let x = fa fr in
+            let y = fb fr in
+            checked loc (x +. y)
+      | Sub ->
+          fun fr ->
+            let x = fa fr in
+            let y = fb fr in
+            checked loc (x -. y)
+      | Mul ->
+          fun fr ->
+            let x = fa fr in
+            let y = fb fr in
+            checked loc (x *. y)
+      | _ ->
+          let bloc = b.loc in
+          fun fr ->
+            let x = fa fr in
+            let y = fb fr in
+            if y = 0. then fail bloc Msg.division_by_zero else checked loc (x /. y))
+  | _, Call_builtin (_, { impl = F1 g; _ }, [ a ]) when arithmetic e ->
+      let fa = sub a in
+      fun fr -> checked loc (g (fa fr))
+  | _, Call_builtin (b, { impl = Partial (ok, what, g); _ }, [ a ]) when arithmetic e ->
+      let fa = sub a in
+      fun fr ->
+        let x = fa fr in
+        if ok x then checked loc (g x) else fail loc (Msg.domain b.name what x)
+  | _, Call_builtin (_, { impl = F2 g; _ }, [ a; b ]) when arithmetic e ->
+      let fa = sub a and fb = sub b in
+      fun fr ->
+        let x = fa fr in
+        let y = fb fr in
+        checked loc (g x y)
+  | _, Unop (Neg, a) when Ty.equal a.ty Num ->
+      let fa = sub a in
+      fun fr -> -.fa fr
+  | _, Var (Local v) -> (
+      match resolve cs v with
+      | Slot i -> (
+          fun fr ->
+            match fr.l.(i) with
+            | VNum x -> x
+            | VPoison -> raise Poisoned
+            | _ -> untyped "a number")
+      | Cap i -> (
+          fun fr ->
+            match fr.c.(i) with
+            | VNum x -> x
+            | VPoison -> raise Poisoned
+            | _ -> untyped "a number"))
+  | _ -> (
+      let c = expr ~block cs e in
+      fun fr -> match c fr with VNum x -> x | _ -> untyped "a number")
 
 (* An operator on two numbers (or on values whose types the checker could not know, most
    often numbers) at once; any other case through [Ops.binop]. *)
