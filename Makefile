@@ -8,7 +8,8 @@ JOBS ?= 2
 RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
-.PHONY: all deps build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
+
+.PHONY: all deps deps-build build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
 	clean-toolchain fmt install uninstall static cluster-bundle
 
 all: build
@@ -16,20 +17,25 @@ all: build
 deps:
 	@bash .ci/toolchain setup
 
-build: deps
+# What building lancer needs, without what only its tests need (Open MPI, Chromium, …).
+deps-build:
+	@bash .ci/toolchain setup --build
+
+build: deps-build
 	$(RUN) $(DUNE) build -j $(JOBS) @install
 
 # A lancer that runs on this machine itself: the dynamically linked one where the
 # toolchain is native, the statically linked one when it was built in the toolchain root
 # (whose C library is newer than the host's).
-static: deps
+static: deps-build
 	$(RUN) env LANCER_STATIC=1 $(DUNE) build -j $(JOBS) bin/static/lancer_static.exe
 
 out/bin/lancer: build
 	@mkdir -p out/bin
 	@if [ "$$(bash .ci/toolchain mode)" = root ]; then \
 	  $(MAKE) --no-print-directory static && \
-	  install -m 0755 _build/default/bin/static/lancer_static.exe out/bin/lancer; \
+	  install -m 0755 _build/default/bin/static/lancer_static.exe out/bin/lancer && \
+	  $(RUN) strip out/bin/lancer; \
 	else install -m 0755 _build/default/bin/main.exe out/bin/lancer; fi
 
 demo: out/bin/lancer
@@ -39,23 +45,36 @@ demo: out/bin/lancer
 	@command -v ffmpeg >/dev/null 2>&1 && out/bin/lancer animate scenes/bounce.rts -o out/bounce --width 320 --height 180 --resume --video out/bounce.gif -q && echo "and as a GIF in out/bounce.gif" || true
 	@echo "lancer itself is out/bin/lancer: run 'make install' to put it in $(PREFIX)/bin"
 
-# lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/, installed as share/lancer/),
-# under PREFIX (default ~/.local).
+# lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/,
+# installed as share/lancer/), under DESTDIR/PREFIX (PREFIX default ~/.local); the
+# statically linked lancer is stripped of its debugging information. Where lancer-mpi was
+# built and runs on this machine (not in the toolchain root, whose C and MPI libraries
+# are Debian 13's), lancer-mpi and lancer-mpirun and their man pages too.
+DEST = $(DESTDIR)$(PREFIX)
+MAN1 = $(DEST)/share/man/man1
 install: out/bin/lancer
-	install -d $(PREFIX)/bin $(PREFIX)/share/man/man1 $(PREFIX)/share/bash-completion/completions
-	install -m 0755 out/bin/lancer $(PREFIX)/bin/lancer
-	install -m 0644 _build/default/bin/share/*.1 $(PREFIX)/share/man/man1/
-	install -m 0644 _build/default/bin/share/lancer.bash $(PREFIX)/share/bash-completion/completions/lancer
-	install -d $(PREFIX)/share/lancer
-	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(PREFIX)/share/lancer/
-	@echo "installed $(PREFIX)/bin/lancer, its man pages, bash completion and scene library ($(PREFIX)/share/lancer/)"
+	install -d $(DEST)/bin $(MAN1) $(DEST)/share/bash-completion/completions $(DEST)/share/lancer
+	install -m 0755 out/bin/lancer $(DEST)/bin/lancer
+	install -m 0644 _build/default/bin/share/*.1 $(MAN1)/
+	install -m 0644 _build/default/bin/share/lancer.bash $(DEST)/share/bash-completion/completions/lancer
+	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(DEST)/share/lancer/
+	@if [ "$$(bash .ci/toolchain mode)" != root ] && [ -x _build/default/bin/mpi/lancer_mpi_main.exe ]; then \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe $(DEST)/bin/lancer-mpi && \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe $(DEST)/bin/lancer-mpirun && \
+	  install -m 0644 _build/default/bin/mpi/*.1 $(MAN1)/ && \
+	  echo "installed lancer-mpi and lancer-mpirun"; fi
+	@echo "installed $(DEST)/bin/lancer, its man pages, bash completion and scene library ($(DEST)/share/lancer/)"
 	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
 
+# Everything install put there, and the directories it made that are left empty.
 uninstall:
-	rm -f $(PREFIX)/bin/lancer $(PREFIX)/share/man/man1/lancer.1 $(PREFIX)/share/man/man1/lancer-*.1 \
-	  $(PREFIX)/share/bash-completion/completions/lancer \
-	  $(PREFIX)/share/lancer/materials.rts $(PREFIX)/share/lancer/colors.rts
-	-rmdir $(PREFIX)/share/lancer 2>/dev/null
+	rm -f $(DEST)/bin/lancer $(DEST)/bin/lancer-mpi $(DEST)/bin/lancer-mpirun \
+	  $(MAN1)/lancer.1 $(MAN1)/lancer-*.1 \
+	  $(DEST)/share/bash-completion/completions/lancer \
+	  $(DEST)/share/lancer/materials.rts $(DEST)/share/lancer/colors.rts
+	@for d in share/lancer share/bash-completion/completions share/bash-completion \
+	  share/man/man1 share/man share bin; do \
+	  rmdir $(DEST)/$$d 2>/dev/null || true; done
 
 test: deps
 	$(RUN) $(DUNE) build -j $(JOBS) @install
@@ -65,23 +84,26 @@ test: deps
 golden-update: build
 	$(RUN) env LANCER_UPDATE_GOLDEN=1 $(DUNE) test -j $(JOBS) --force test/golden
 
+# The user's measures (lancer bench) and the developers' benchmarks (bench/lancer_bench.exe,
+# not installed).
 bench: build
-	$(RUN) $(DUNE) exec --no-build -- lancer bench scaling --counts 1000,10000,100000,1000000
+	$(RUN) $(DUNE) build -j $(JOBS) ./bench/lancer_bench.exe
+	$(RUN) ./_build/default/bench/lancer_bench.exe scaling --counts 1000,10000,100000,1000000
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains --width 1920 --height 1080 --counts 1,2
 	$(RUN) $(DUNE) exec --no-build -- lancer bench domains scenes/bench/three_spheres.rts --counts 1 --repeat 1
-	$(RUN) $(DUNE) exec --no-build -- lancer bench physics
+	$(RUN) ./_build/default/bench/lancer_bench.exe physics
 	$(RUN) $(DUNE) exec --no-build -- lancer bench animation scenes/bench/field_moving.rts
-	$(RUN) $(DUNE) exec --no-build -- lancer bench language
+	$(RUN) ./_build/default/bench/lancer_bench.exe language
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
 bench-watch: build
-	$(RUN) $(DUNE) build -j $(JOBS) ./test/watch/latency.exe
-	$(RUN) ./_build/default/test/watch/latency.exe _build/default/bin/main.exe
+	$(RUN) $(DUNE) build -j $(JOBS) ./bench/watch/latency.exe
+	$(RUN) ./_build/default/bench/watch/latency.exe _build/default/bin/main.exe
 
 # lancer-mpi's scaling model: measured here, checked against runs here, predicted for
-# 16 to 1024 ranks (a still and a 48-frame animation; test/mpi/bench.sh).
+# 16 to 1024 ranks (a still and a 48-frame animation; bench/mpi/bench.sh).
 bench-mpi: build
-	$(RUN) bash test/mpi/bench.sh
+	$(RUN) bash bench/mpi/bench.sh
 
 # What the 16-core run needs on a machine without OCaml, in out/cluster/ and
 # out/cluster.tar.gz: the static lancer, lancer-mpi (it needs Open MPI 5's libraries:
@@ -92,7 +114,7 @@ cluster-bundle: build static
 	install -m 0755 _build/default/bin/static/lancer_static.exe out/cluster/lancer
 	install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe out/cluster/lancer-mpi
 	install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe out/cluster/lancer-mpirun
-	install -m 0755 test/mpi/run16.sh out/cluster/run16.sh
+	install -m 0755 bench/mpi/run16.sh out/cluster/run16.sh
 	install -m 0644 scenes/bounce.rts out/cluster/bounce.rts
 	tar -C out -czf out/cluster.tar.gz cluster
 	@echo "out/cluster.tar.gz: unpack it on the 16-core machine and run cluster/run16.sh"
@@ -125,8 +147,8 @@ clean:
 clean-toolchain:
 	bash .ci/toolchain clean
 
-# Every speed target side by side (test/embree/bench.sh): lancer against Embree (an own
-# harness, test/embree/) on the scenes of the speed table, an animation against one still,
+# Every speed target side by side (bench/embree/bench.sh): lancer against Embree (an own
+# harness, bench/embree/) on the scenes of the speed table, an animation against one still,
 # the scene language against CPython, a generated scene read beside POV-Ray reading it;
 # installs libembree-dev, GNU time, python3 and povray where missing, and skips a row with
 # a message where its tool cannot be had.
@@ -134,9 +156,9 @@ bench-limit: build
 	-@bash .ci/toolchain install libembree-dev time || echo "bench-limit: could not install libembree-dev"
 	-@bash .ci/toolchain install python3-minimal || echo "bench-limit: could not install python3"
 	-@bash .ci/toolchain install povray || echo "bench-limit: could not install povray"
-	$(RUN) bash test/embree/bench.sh
+	$(RUN) bash bench/embree/bench.sh
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).
 bench-povray: build
 	bash .ci/toolchain install povray
-	$(RUN) bash test/povray/bench.sh
+	$(RUN) bash bench/povray/bench.sh

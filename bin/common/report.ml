@@ -8,38 +8,8 @@ external startup_done : unit -> int = "lancer_startup_done"
    handler of the runtime's fatal errors uses too. *)
 external out_of_memory_text : unit -> string = "lancer_out_of_memory_text"
 
-let errors_text errs =
-  String.concat "\n" (List.map (Format.asprintf "%a" Diagnostic.pp) errs)
-
-let scene_text errors note =
-  errors_text errors ^ if note = "" then "" else "lancer: " ^ note ^ "\n"
-
-let internal e =
-  Printf.sprintf
-    "lancer: internal error: %s\n\
-     This is a bug in lancer; please report it with the scene and the command.\n"
-    (Printexc.to_string e)
-
-(* Domain.spawn fails so when the system has no room for a new domain's thread or the
-   runtime none for its state: memory, not a bug. *)
-let domain_failure m =
-  String.starts_with ~prefix:"failed to create domain" m
-  || String.equal m "failed to allocate domain"
-
-let describe ?(interrupted = "interrupted; no output was written") = function
-  | Job_error.User m -> ("lancer: " ^ m ^ "\n", 1)
-  | Job_error.Scene { errors; note } -> (scene_text errors note, 1)
-  | Sys.Break | Fun.Finally_raised Sys.Break -> ("\nlancer: " ^ interrupted ^ "\n", 130)
-  | Job_error.Interrupted what -> ("\nlancer: interrupted; " ^ what ^ "\n", 130)
-  | Out_of_memory -> (out_of_memory_text (), 1)
-  | Failure m when domain_failure m -> (out_of_memory_text (), 1)
-  | Sys_error m -> ("lancer: " ^ m ^ "\n", 1)
-  | e -> (internal e, 2)
-
-let message = function
-  | Job_error.User m -> m
-  | Job_error.Scene { errors; note } -> scene_text errors note
-  | e -> "internal error: " ^ Printexc.to_string e
+let describe ?interrupted e =
+  Job_error.describe ?interrupted ~out_of_memory:out_of_memory_text e
 
 (* ---- Standard output and error ---- *)
 

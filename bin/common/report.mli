@@ -1,27 +1,9 @@
-(** The one way [lancer] and [lancer-mpi] report an error: the job layer's and the
-    language's failures turned into text at the edge, with the exit statuses the README
-    documents: 0 success, 1 a user error (a scene, option or file problem, explained in
-    one message; a file or standard output the system refuses; out of memory), 2 an
-    internal error (a bug: "please report it"), 130 interrupted. No backtrace reaches the
-    user. *)
-
-val errors_text : Lancer.Diagnostic.t list -> string
-(** Each located error printed with {!Lancer.Diagnostic.pp}, one after the other. *)
-
-val describe : ?interrupted:string -> exn -> string * int
-(** The text printed on stderr for an exception that ends a command, and the exit status:
-    [lancer: message] for {!Lancer_job.Job_error.User} (1), the located errors and their
-    note for {!Lancer_job.Job_error.Scene} (1), [lancer: interrupted; …] for an interrupt
-    (130: [interrupted] says what became of the output, default "no output was written",
-    and {!Lancer_job.Job_error.Interrupted} what was finished first), [lancer: …] with the
-    system's reason for [Sys_error] (1), [lancer: out of memory …] with what to try (the
-    address-space limit when there is one) for [Out_of_memory] and for a domain that could
-    not be started (1), and anything else as an internal error (2). *)
-
-val message : exn -> string
-(** What went wrong, without the program's name: the message of a user error, the located
-    errors of a scene, ["internal error: …"] for anything else (a worker's failure, shown
-    by rank 0). *)
+(** The edge of the process for [lancer] and [lancer-mpi]: signals, standard output that
+    fails, and the exit status of a failure as {!Lancer_job.Job_error.describe} gives it
+    (with the start-up stub's out-of-memory text): 0 success, 1 a user error (a scene,
+    option or file problem, explained in one message; a file or standard output the system
+    refuses; out of memory), 2 an internal error (a bug: "please report it"), 130
+    interrupted. No backtrace reaches the user. *)
 
 (** {1 The process}
 
@@ -31,13 +13,14 @@ val message : exn -> string
     then delivered to them); standard descriptors closed at start were opened on /dev/null
     so that no file takes their number, and writing to them fails as it would; the
     runtime's fatal errors are said as lancer's out of memory (1) or internal error (2);
-    and an exception no command caught is said as {!describe} says it. *)
+    and an exception no command caught is said as {!Lancer_job.Job_error.describe} says
+    it. *)
 
 val main : (unit -> int) -> 'a
 (** [main eval] runs the command line ([eval] gives the exit status) and ends the process
     with {!exit}: output that standard output cannot take, from help, [--version] or a
     command, is a user error (1) with the system's reason; an exception [eval] raises is
-    said as {!describe} says it. *)
+    said as {!Lancer_job.Job_error.describe} says it. *)
 
 val exit : int -> 'a
 (** [exit status] flushes standard output (what Printf and Format still hold) and ends the
@@ -62,8 +45,8 @@ val on_interrupt : stop -> Lancer.Cancel.t
     and the writes. *)
 
 val fail : ?interrupted:string -> ?terminated:string -> stop -> exn -> int
-(** Print what {!describe} says of an exception and give its status; [terminated] replaces
-    the interrupt's message when the stop came from SIGTERM. *)
+(** Print what {!Lancer_job.Job_error.describe} says of an exception and give its status;
+    [terminated] replaces the interrupt's message when the stop came from SIGTERM. *)
 
 val run : ?interrupted:string -> ?terminated:string -> (stop -> unit) -> int
 (** [run f] runs a command body with this run's {!stop} and turns its outcome into an exit

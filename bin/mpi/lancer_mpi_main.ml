@@ -1,28 +1,24 @@
 (* lancer-mpi render|animate: lancer's render and animate over Open MPI ranks
-   (README.md here), with the same options and the same bytes. Every rank parses the same command
-   line; rank 0 alone reads the scene file and its includes, checks everything, reports
-   errors and writes files. It broadcasts the texts it read (or that the job is over,
-   when there is an error) before any work starts, so that the other ranks read no scene
-   file (one edited meanwhile cannot make an image of two versions) and every rank
-   leaves with the same status. Images and meshes are read by each rank; each unit comes
-   back with their digests, and rank 0 refuses pixels made of other bytes than its own
-   scene. The work itself is Farm's. *)
+   (doc/reference/mpi.md), with the same options and the same bytes. Every rank parses the
+   same command line; rank 0 alone reads the scene file and its includes, checks
+   everything, reports errors and writes files. It broadcasts the texts it read (or that
+   the job is over, when there is an error) before any work starts, so that the other
+   ranks read no scene file (one edited meanwhile cannot make an image of two versions)
+   and every rank leaves with the same status. Images and meshes are read by each rank;
+   each unit comes back with their digests, and rank 0 refuses pixels made of other bytes
+   than its own scene. The work itself is Farm's. *)
 
 open Lancer
-open Lancer_job
 open Cmdliner
 module Cli = Lancer_cli.Cli
 module Report = Lancer_cli.Report
-module Lang = Lancer_cli.Lang
-module Progress = Lancer_cli.Progress
-module Animate = Lancer_cli.Animate
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
 
 (* What rank 0 broadcasts once its checks are done. *)
-type setup = Go of Lang.bundle | Quit
+type setup = Go of Program.bundle | Quit
 
-let user = Cli.user
+let user = Job_error.user
 
 let ranks_text domains =
   match Mpi.size () with
@@ -49,7 +45,7 @@ let fatal ~resume stop e =
    texts, state); [lead] runs on rank 0 with the pool its own units are rendered over;
    [scene_of prog key] is the scene of a frame on the other ranks, with the files it was
    made of and their digests. *)
-let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
+let distributed ?(resume = false) (o : Options.t) ~prepare ~lead ~scene_of =
   if Mpi.rank () = 0 then
     Report.run
       ?interrupted:(if resume then Some Report.resumed_interrupt else None)
@@ -63,7 +59,7 @@ let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
             raise e
         in
         ignore (Mpi.bcast (Go source) ~root:0);
-        let domains = Cli.domains o in
+        let domains = Options.domains o in
         try
           Render.with_pool ~cancel domains (fun pool ->
               lead state ~fatal:(fatal ~resume stop) ~cancel ~pool ~domains)
@@ -74,99 +70,61 @@ let distributed ?(resume = false) (o : Cli.opts) ~prepare ~lead ~scene_of =
     | Go bundle ->
         (* Rank 0 has loaded the same texts, so errors here are unexpected: they reach
            rank 0 through Farm and are reported there. *)
-        let prog = lazy (Cli.load_bundle bundle) in
+        let prog = lazy (Scene_file.load_bundle bundle) in
         let domains =
           match o.domains with
           | Some n when n >= 1 -> n
           | _ -> max 1 (Domain.recommended_domain_count ())
         in
         Render.with_pool domains (fun pool ->
-            Farm.work ~describe:Report.message ~pool ~domains (fun key ->
-                scene_of (Lazy.force prog) key));
+            Farm.work ~describe:Job_error.message ~pool ~domains
+              ~prepare:(fun () -> ignore (Lazy.force prog))
+              (fun key -> scene_of (Lazy.force prog) key));
         0
 
-(* What --stats adds under lancer-mpi: per rank, the units and tiles it rendered and how
-   long it waited for each next unit (milliseconds: median, 90th percentile, largest). *)
-let report_json (r : Farm.report) =
-  let ms x =
-    if not (Float.is_finite x) then `Null else `Float (Float.round (x *. 1e6) /. 1e3)
-  in
-  let waits l =
-    `Assoc
-      [
-        ("count", `Int (List.length l));
-        ("median", ms (Farm.percentile 0.5 l));
-        ("p90", ms (Farm.percentile 0.9 l));
-        ("max", ms (List.fold_left Float.max Float.neg_infinity l));
-      ]
-  in
-  let others =
-    List.concat (Array.to_list (Array.sub r.waits 1 (Array.length r.waits - 1)))
-  in
-  let rank k =
-    `Assoc
-      [
-        ("rank", `Int k);
-        ("units", `Int r.units.(k));
-        ("tiles", `Int r.tiles.(k));
-        ("wait_ms", waits r.waits.(k));
-      ]
-  in
-  `Assoc
-    [
-      ("units", `Int (Array.fold_left ( + ) 0 r.units));
-      ("reply_wait_ms", waits others);
-      ("ranks", `List (List.init (Array.length r.units) rank));
-    ]
-
 (* The files a scene was made of, each with its digest: what a unit is checked by. *)
-let with_digests (src : Source.t) files = List.map (fun f -> (f, src.input_digest f)) files
+let with_digests (src : Source.t) files =
+  List.map (fun f -> (f, src.input_digest f)) files
 
 (* ---- render ---- *)
 
-let render_cmd (o : Cli.opts) ~resume =
+let render_cmd (o : Options.t) ~resume =
   let still ?progress src =
-    let time, frame = Cli.time_of o src in
-    Cli.scene_with_files ?progress o src ~time ~frame
+    let time, frame = Options.time_of o src in
+    Source.scene ?progress src (Options.overrides o) ~time ~frame
   in
   let prepare () =
-    let out = Cli.default_output o in
-    if Cli.is_stdout out then
+    let out = Scene_file.default_output o in
+    if Output.is_stdout out then
       user
         "lancer-mpi writes its image to a file; -o - (standard output) is for lancer \
          render";
-    Cli.check_output out;
-    Cli.check_stats_name o.stats;
-    Option.iter Cli.check_writable o.stats;
-    ignore (Cli.domains o);
-    let source = Cli.source o in
-    let (sc, files, src, prog), build =
-      Cli.build o (fun say ->
+    Still_run.check_outputs o ~out;
+    ignore (Options.domains o);
+    let text = Scene_file.read o.scene in
+    let (program, source, scene, files), seconds =
+      Progress.build o (fun say ->
           say "loading and evaluating the scene";
-          let prog = Cli.load_source ~progress:say source in
-          let src = Cli.scene_source o prog in
+          let prog = Scene_file.load_source ~progress:say text in
+          let src = Scene_file.source o prog in
           let sc, files = still ~progress:say src in
-          (sc, files, src, prog))
+          (prog, src, sc, files))
     in
-    Cli.guard_render o src ~out;
+    let time, frame = Options.time_of o source in
+    let b = { Still_run.program; source; scene; files; time; frame; seconds } in
+    Output.guard_render o source ~out;
     (* With --resume rank 0 keeps the finished tiles in a checkpoint beside the output. *)
-    let ck =
-      if not resume then None
-      else
-        let time, frame = Cli.time_of o src in
-        Some (Cli.checkpoint o src ~out ~time ~frame ~files sc)
-    in
-    let inputs = with_digests src files in
-    (Lang.bundle prog, (out, sc, build, ck, inputs))
+    let ck = if resume then Some (Still_run.checkpoint o b ~out) else None in
+    (Program.bundle program, (out, b, ck, with_digests source files))
   in
-  let lead (out, sc, build, ck, inputs) ~fatal ~cancel ~pool ~domains =
+  let lead (out, (b : Still_run.built), ck, inputs) ~fatal ~cancel ~pool ~domains =
     let module Ck = Checkpoint in
     let total =
       match ck with
       | Some ck -> Array.length (Ck.todo ck)
-      | None -> Array.length (Render.tiles sc)
+      | None -> Array.length (Render.tiles b.scene)
     in
-    let progress = Cli.progress o ~label:"tiles" ~total in
+    let progress = Progress.for_options o ~label:"tiles" ~total in
     let t0 = Unix.gettimeofday () in
     let result = ref None in
     (* An interrupt ends the job through [fatal]: with --resume, the finished tiles are
@@ -188,7 +146,7 @@ let render_cmd (o : Cli.opts) ~resume =
         ~inputs:(fun _ -> Some inputs)
         ~cancel ~fatal ~pool ~domains ~on_tiles:(Progress.update progress)
         ~on_frame:(fun _ _ fb st -> result := Some (fb, st))
-        [ (0, fun () -> sc) ]
+        [ (0, fun () -> b.scene) ]
     in
     let wall = Unix.gettimeofday () -. t0 in
     Progress.finish progress;
@@ -201,23 +159,12 @@ let render_cmd (o : Cli.opts) ~resume =
        was still writing made mpirun kill rank 0 too, and the image was lost. *)
     let ranks = Mpi.size () and workers = ranks_text domains in
     Mpi.finalize ();
-    Cli.writing o out (fun () -> Cli.write_image ~cancel out sc fb);
-    Option.iter Ck.remove ck;
-    Cli.warn_bad_samples st;
-    Option.iter
-      (fun p ->
-        let j =
-          match Cli.stats_json o sc ~build ~wall ~domains ~ranks st with
-          | `Assoc l -> `Assoc (l @ [ ("mpi", report_json report) ])
-          | j -> j
-        in
-        Cli.write_json ~cancel p j)
-      o.stats;
-    if not o.quiet then
-      print_endline (Cli.summary ~out sc ~build ~render:wall ~workers st)
+    Still_run.finish ~cancel
+      ~extra:[ ("mpi", Farm.report_json report) ]
+      o ~out ~checkpoint:ck ~build:b.seconds ~wall ~domains ~ranks ~workers b.scene fb st
   in
   distributed ~resume o ~prepare ~lead ~scene_of:(fun prog _ ->
-      let src = Cli.scene_source o prog in
+      let src = Scene_file.source o prog in
       let sc, files = still src in
       (sc, with_digests src files))
 
@@ -225,20 +172,20 @@ let render_cmd (o : Cli.opts) ~resume =
 
 (* The plan, frame names, manifest and digests are lancer animate's, so that either
    command can --resume the other's frames. *)
-let animate_cmd (o : Cli.opts) (a : Animate.options) =
+let animate_cmd (o : Options.t) (a : Frames_run.options) =
   let prepare () =
-    Animate.check_video a;
-    let prog, p = Animate.plan o a in
-    (Lang.bundle prog, p)
+    Frames_run.check_video a;
+    let prog, p = Frames_run.plan o a in
+    (Program.bundle prog, p)
   in
   let lead (p : Animation.plan) ~fatal ~cancel ~pool ~domains =
-    let progress = Animate.progress o p in
+    let progress = Frames_run.progress o p in
     let t0 = Unix.gettimeofday () in
     let written = ref 0 in
     (* Each frame is written atomically as soon as all its tiles are in, whatever order
        they finish in; the manifest follows each one. *)
     let on_frame k sc fb st =
-      Animate.write_frame p k sc fb st;
+      Frames_run.write_frame p k sc fb st;
       incr written;
       Progress.update progress !written
     in
@@ -253,7 +200,7 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
         p.dir
         (Unix.gettimeofday () -. t0)
         (Animation.describe_range p) (ranks_text domains);
-    Option.iter (Animate.make_video o p) a.video
+    Option.iter (Frames_run.make_video o p) a.video
   in
   let animation (src : Source.t) =
     match src.animation with
@@ -261,9 +208,11 @@ let animate_cmd (o : Cli.opts) (a : Animate.options) =
     | None -> user "the scene has no animation block"
   in
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
-      let src = Cli.scene_source o prog in
+      let src = Scene_file.source o prog in
       let sc, files =
-        Cli.scene_with_files o src ~time:(Float.of_int k /. animation src) ~frame:k
+        Source.scene src (Options.overrides o)
+          ~time:(Float.of_int k /. animation src)
+          ~frame:k
       in
       (sc, with_digests src files))
 
@@ -297,8 +246,9 @@ let render =
     ]
   in
   Cmd.v
-    (Cmd.info "render" ~doc ~man ~exits)
-    Term.(const (fun o resume -> render_cmd o ~resume) $ Cli.opts_term $ Cli.resume_still)
+    (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
+    Term.(
+      const (fun o resume -> render_cmd o ~resume) $ Cli.(term Render) $ Cli.resume_still)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png … over MPI ranks" in
@@ -314,8 +264,8 @@ let animate =
     ]
   in
   Cmd.v
-    (Cmd.info "animate" ~doc ~man ~exits)
-    Term.(const animate_cmd $ Cli.(term Animate) $ Animate.options_term)
+    (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
+    Term.(const animate_cmd $ Cli.(term Animate) $ Cli.frames_term)
 
 let () =
   (* Interrupted before the command's own handler is in place (while MPI starts, or the
@@ -326,6 +276,7 @@ let () =
   at_exit Mpi.finalize;
   let info =
     Cmd.info "lancer-mpi" ~version:Lancer.Version.v ~exits
+      ~envs:(Cli.envs @ Cli.slurm_envs)
       ~doc:"lancer's render and animate over Open MPI: run it under mpirun -np N"
   in
   let cmd = Cmd.group info [ render; animate ] in

@@ -1,5 +1,6 @@
-(** The camera: how a point of the image becomes a primary ray (doc/shading.md, section 1).
-    Left-handed, pixel units from the top-left corner of the image.
+(** The camera: how a point of the image becomes a primary ray
+    (doc/reference/shading.md, section 1). Left-handed, pixel units from the top-left
+    corner of the image.
 
     With f = normalize(look_at − position), r = normalize(up × f), u = f × r, a = W/H:
     - perspective (pinhole, the default): h = tan(fov/2), the ray through (x, y) leaves

@@ -1,24 +1,29 @@
 type image = { written : string; path : string; at : Loc.t }
 type pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float
 
-type texture =
+type ('image, 'map) texture_of =
   | Solid of Color.t
   | Checker of { c1 : Color.t; c2 : Color.t; size : float }
   | Stripes of { c1 : Color.t; c2 : Color.t; size : float }
   | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
-  | Gradient of { axis : Vec3.t; map : (float * Color.t) list }
-  | Mapped of { pattern : pattern; map : (float * Color.t) list }
-  | Image of { image : image; scale : float }
+  | Gradient of { axis : Vec3.t; map : 'map }
+  | Mapped of { pattern : pattern; map : 'map }
+  | Image of { image : 'image; scale : float }
 
-type bump =
+type color_map = (float * Color.t) list
+type texture = (image, color_map) texture_of
+
+type 'image bump_of =
   | Noise_bump of { scale : float; amount : float }
-  | Image_bump of { image : image; amount : float }
+  | Image_bump of { image : 'image; amount : float }
 
-type material = {
+type bump = image bump_of
+
+type ('texture, 'bump) material_of = {
   color : Color.t;
-  texture : texture option;
+  texture : 'texture option;
   ambient : float;
   diffuse : float;
   specular : float;
@@ -27,8 +32,10 @@ type material = {
   transparency : float;
   ior : float;
   fresnel : bool;
-  bump : bump option;
+  bump : 'bump option;
 }
+
+type material = (texture, bump) material_of
 
 let default_material =
   {

@@ -21,42 +21,80 @@ type pattern =
   | Marble_pattern of float
   | Wood_pattern of float  (** each with its scale *)
 
-type texture =
+(** A texture: an albedo as a function of the object-space point P (solid textures) or of
+    the surface's (u, v) (images). Its images are ['image] and its colour maps ['map]:
+    files and entry lists here ({!texture}), decoded images and arrays in the renderer,
+    whose [Texture.t] is this type. Solid textures are evaluated at P − δ·N (N the
+    geometric normal, δ the scale-aware ray offset) so that a surface lying exactly on a
+    cell boundary does not flicker. All colours are linear RGB. *)
+type ('image, 'map) texture_of =
   | Solid of Color.t
   | Checker of { c1 : Color.t; c2 : Color.t; size : float }
-  | Stripes of { c1 : Color.t; c2 : Color.t; size : float }
+      (** k = ⌊x/s⌋ + ⌊y/s⌋ + ⌊z/s⌋; c1 where k is even, c2 where odd *)
+  | Stripes of { c1 : Color.t; c2 : Color.t; size : float }  (** along x: ⌊x/s⌋ parity *)
   | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
+      (** mix c1 c2 by ½(1 + perlin(P/scale)), clamped to [0, 1] *)
   | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
+      (** veins along x: mix c1 c2 by ½(1 + sin(π·(x/scale + 4·turbulence(P/scale)))) *)
   | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
-  | Gradient of { axis : Vec3.t; map : (float * Color.t) list }
-  | Mapped of { pattern : pattern; map : (float * Color.t) list }
-  | Image of { image : image; scale : float }  (** an image on the surface's (u, v) *)
+      (** rings around the y axis, [scale] apart: the fraction of r/scale +
+          0.35·perlin(x/2s, y/10s, z/2s) (s = scale, r = √(x² + z²)), mixed smoothly from
+          c1 (ring start) to c2 *)
+  | Gradient of { axis : Vec3.t; map : 'map }
+      (** value fract(P·axis) = P·axis − ⌊P·axis⌋ (object space), coloured by the map *)
+  | Mapped of { pattern : pattern; map : 'map }
+      (** a noise, marble or wood pattern coloured by a map: the value that would mix c1
+          and c2, clamped to [0, 1], looked up in the map *)
+  | Image of { image : 'image; scale : float }
+      (** an image on (u, v): u left to right, v bottom to top, [scale] copies across the
+          unit square in each direction, bilinear filtering, wrapping at the edges *)
 
-type bump =
+type color_map = (float * Color.t) list
+(** Entries (t_k, c_k) with 0 ≤ t_0 ≤ t_1 ≤ … ≤ 1, at least one ({!color_map_problem}):
+    the colour at v is c_0 below t_0, the last colour from the last t on, and in between
+    linear between the bracketing entries. *)
+
+type texture = (image, color_map) texture_of
+
+(** A bump map: a perturbation of the shading normal. *)
+type 'image bump_of =
   | Noise_bump of { scale : float; amount : float }
-  | Image_bump of { image : image; amount : float }  (** a height map on (u, v) *)
+      (** gradient of 3-D Perlin noise at P/scale, times amount *)
+  | Image_bump of { image : 'image; amount : float }
+      (** a height map on (u, v): the luminance of the image, sampled bilinearly with
+          wrapping; the normal tilts by amount × (height change per texel) along the
+          surface directions in which u and v grow *)
 
-type material = {
-  color : Color.t;
-  texture : texture option;
-  ambient : float;
-  diffuse : float;
-  specular : float;
-  shininess : float;
-  reflection : float;
-  transparency : float;
-  ior : float;
-  fresnel : bool;
-  bump : bump option;
+type bump = image bump_of
+
+(** A surface material: the description's ([material]) and the renderer's
+    ([Material.t], with decoded textures) are this one record. Invariants, checked by
+    {!validate_material}: coefficients finite and non-negative, reflection + transparency
+    ≤ 1, ior > 0. *)
+type ('texture, 'bump) material_of = {
+  color : Color.t;  (** linear albedo when there is no texture; default white *)
+  texture : 'texture option;  (** albedo texture; overrides [color]; default none *)
+  ambient : float;  (** default 0.1 *)
+  diffuse : float;  (** default 0.9 *)
+  specular : float;  (** Phong weight; default 0 *)
+  shininess : float;  (** Phong exponent; default 50 *)
+  reflection : float;  (** mirror weight r in [0, 1]; default 0 *)
+  transparency : float;  (** refraction weight τ in [0, 1]; default 0 *)
+  ior : float;  (** index of refraction; default 1 *)
+  fresnel : bool;  (** Schlick's approximation moves τ·F to r; default false *)
+  bump : 'bump option;  (** normal perturbation; default none *)
 }
 
-val default_material : material
-(** White, ambient 0.1, diffuse 0.9, no specular (shininess 50), opaque, ior 1: the
-    renderer's default material. *)
+type material = (texture, bump) material_of
 
-val validate_material : material -> (unit, string) result
-(** The renderer's checks of a material's numbers (non-negative, finite, reflection +
-    transparency ≤ 1, ior > 0), with its messages. *)
+val default_material : ('texture, 'bump) material_of
+(** Every default above: white, ambient 0.1, diffuse 0.9, no specular (shininess 50),
+    opaque, ior 1, no texture or bump. The language's defaults and the renderer's are
+    this value. *)
+
+val validate_material : ('texture, 'bump) material_of -> (unit, string) result
+(** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤
+    1, ior > 0), with their messages. *)
 
 val color_map_problem : (float * Color.t) list -> string option
 (** Why these entries are not a colour map (none, a t outside [0, 1], decreasing, a colour

@@ -1,4 +1,4 @@
-type gamma = Srgb | Power of float
+type gamma = Lancer_image.Image.gamma = Srgb | Power of float
 type sky = { horizon : Color.t; zenith : Color.t }
 type fog = { color : Color.t; distance : float }
 
@@ -33,7 +33,7 @@ let default =
     gamma = Srgb;
   }
 
-let max_pixels = 16384 * 16384
+let max_pixels = Lancer_image.Image.max_pixels
 
 (* Each bounce is a nested call: far beyond this the stack would overflow. *)
 let max_depth = 1000

@@ -1,6 +1,7 @@
 (** Render settings (the [settings] block of a scene), with their defaults. *)
 
-type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
+type gamma = Lancer_image.Image.gamma = Srgb | Power of float
+(** The output encoding ({!Lancer_image.Image.gamma}). *)
 
 type sky = { horizon : Color.t; zenith : Color.t }
 (** A background gradient: a ray leaving the scene along unit direction D sees
@@ -35,8 +36,7 @@ val default : t
 (** The settings with every default, as listed with the fields above. *)
 
 val max_pixels : int
-(** The largest image accepted: width × height ≤ this (268 435 456 = 16384², 6 GiB of
-    linear framebuffer). *)
+(** {!Lancer_image.Image.max_pixels}: the largest image accepted. *)
 
 val max_depth : int
 (** 1000: the largest ray depth (each bounce is a nested call). *)

@@ -1,4 +1,7 @@
 type t = { width : int; height : int; data : Float.Array.t }
+type gamma = Srgb | Power of float
+
+let max_pixels = Raster.max_pixels
 
 let create width height =
   { width; height; data = Float.Array.make (3 * width * height) 0. }
@@ -26,9 +29,9 @@ let curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
   let v = if v > 0. then if v < 1. then v else 1. else 0. in
   match gamma with
-  | Settings.Srgb ->
+  | Srgb ->
       if v <= 0.0031308 then 12.92 *. v else (1.055 *. Float.pow v (1. /. 2.4)) -. 0.055
-  | Settings.Power g -> Float.pow v (1. /. g)
+  | Power g -> Float.pow v (1. /. g)
 
 let exact_channel gamma v = int_of_float (Float.floor ((255. *. curve gamma v) +. 0.5))
 
@@ -77,13 +80,13 @@ let[@inline] srgb_channel v =
   let b = int_of_float (v *. 4096.) in
   let after = Float.Array.unsafe_get srgb_after b in
   if v -. Float.Array.unsafe_get srgb_before b < near || Float.abs (after -. v) < near
-  then exact_channel Settings.Srgb v
+  then exact_channel Srgb v
   else
     let k = Char.code (Bytes.unsafe_get srgb_base b) in
     if v >= after then k + 1 else k
 
 let encode_channel gamma v =
-  match gamma with Settings.Srgb -> srgb_channel v | g -> exact_channel g v
+  match gamma with Srgb -> srgb_channel v | g -> exact_channel g v
 
 let encode_channel16 gamma v =
   int_of_float (Float.floor ((65535. *. curve gamma v) +. 0.5))
@@ -97,7 +100,7 @@ let to_bytes gamma fb =
   let n = 3 * fb.width * fb.height in
   let b = Bytes.create n in
   (match gamma with
-  | Settings.Srgb ->
+  | Srgb ->
       let data = fb.data in
       if Float.Array.length data < n then invalid_arg "Image.to_bytes";
       for k = 0 to n - 1 do
@@ -111,21 +114,45 @@ let to_bytes gamma fb =
       done);
   b
 
-type format = Png | Ppm
+type format = Png | Ppm | Exr | Hdr | Pfm
+
+let linear = function Exr | Hdr | Pfm -> true | Png | Ppm -> false
+
+let format_name = function
+  | Png -> "png"
+  | Ppm -> "ppm"
+  | Exr -> "exr"
+  | Hdr -> "hdr"
+  | Pfm -> "pfm"
 
 let format_of_path path =
   match String.lowercase_ascii (Filename.extension path) with
   | ".png" -> Ok Png
   | ".ppm" -> Ok Ppm
-  | "" -> Error (Printf.sprintf "%s: no file extension; use .png or .ppm" path)
-  | e -> Error (Printf.sprintf "%s: unsupported image format %s; use .png or .ppm" path e)
+  | ".exr" -> Ok Exr
+  | ".hdr" -> Ok Hdr
+  | ".pfm" -> Ok Pfm
+  | "" ->
+      Error
+        (Printf.sprintf "%s: no file extension; use .png, .ppm, .exr, .hdr or .pfm" path)
+  | e ->
+      Error
+        (Printf.sprintf
+           "%s: unsupported image format %s; use .png, .ppm, .exr, .hdr or .pfm" path e)
 
 let describe_exn = function
   | Sys_error m | Failure m -> m
   | Unix.Unix_error (e, _, _) -> Unix.error_message e
   | e -> Printexc.to_string e
 
-let check_writable = Safe_file.check_writable
+let check_writable path =
+  match format_of_path path with
+  | Ok Exr when Result.is_error Lancer_exr.Exr.available ->
+      Result.map_error
+        (Printf.sprintf "cannot write %s: %s" path)
+        Lancer_exr.Exr.available
+  | _ -> Safe_file.check_writable path
+
 let write_atomic = Safe_file.write
 
 let write_ppm oc w h bytes =
@@ -146,10 +173,13 @@ let write_rgb8 path w h bytes =
   | Ok Png ->
       let png = png_bytes (Raster.make ~width:w ~height:h ~channels:3 ~depth:8 bytes) in
       write_atomic path (fun oc -> output_string oc png)
+  | Ok (Exr | Hdr | Pfm) ->
+      Error
+        (Printf.sprintf "cannot write %s: 8-bit pixels go to a .png or .ppm file" path)
 
 type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 
-let encode ?(gamma = Settings.Srgb) ?(bits = 8) ?alpha ?crop fb =
+let encode ?(gamma = Srgb) ?(bits = 8) ?alpha ?crop fb =
   if bits <> 8 && bits <> 16 then invalid_arg "Image.encode: bits must be 8 or 16";
   (match alpha with
   | Some a when Float.Array.length a <> fb.width * fb.height ->
@@ -198,6 +228,7 @@ let output_raster fmt oc (r : Raster.t) =
       invalid_arg "Image.output_raster: a PPM file holds RGB only"
   | Ppm -> write_ppm_raster oc r
   | Png -> write_png oc r
+  | Exr | Hdr | Pfm -> invalid_arg "Image.output_raster: a linear format holds no raster"
 
 (* A file's bytes in memory first, so that the temporary file exists only while its
    bytes are written: a process killed while it compresses (as mpirun kills its ranks
@@ -212,9 +243,103 @@ let file_bytes path (r : Raster.t) =
            "cannot write %s: a PPM file holds RGB only (no alpha, no gray); write a .png"
            path)
   | Ok Ppm ->
-      let header = Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r) in
+      let header =
+        Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
+      in
       Ok (header ^ Bytes.unsafe_to_string r.samples)
   | Ok Png -> Ok (png_bytes r)
+  | Ok (Exr | Hdr | Pfm) ->
+      invalid_arg "Image.file_bytes: a linear format is written from the framebuffer"
+
+(* ---- Linear images: the framebuffer's values themselves, before any curve ---- *)
+
+(* The region's pixels, row-major from the top: its width, height, the three channels of
+   each and, with [alpha], the alpha of each. *)
+let cropped ?alpha ?crop fb =
+  let r =
+    match crop with
+    | Some r -> r
+    | None -> { x0 = 0; y0 = 0; x1 = fb.width; y1 = fb.height }
+  in
+  let w = r.x1 - r.x0 and h = r.y1 - r.y0 in
+  let rgb = Float.Array.create (3 * w * h) in
+  let a = Option.map (fun _ -> Float.Array.create (w * h)) alpha in
+  for j = 0 to h - 1 do
+    for i = 0 to w - 1 do
+      let src = ((r.y0 + j) * fb.width) + r.x0 + i and dst = (j * w) + i in
+      for c = 0 to 2 do
+        Float.Array.set rgb ((3 * dst) + c) (Float.Array.get fb.data ((3 * src) + c))
+      done;
+      match (alpha, a) with
+      | Some al, Some a -> Float.Array.set a dst (Float.Array.get al src)
+      | _ -> ()
+    done
+  done;
+  (w, h, rgb, a)
+
+(* Portable float map: "PF", the size, −1 (little-endian), then 32-bit floats, rows from
+   the bottom. *)
+let pfm_bytes w h rgb =
+  let header = Printf.sprintf "PF\n%d %d\n-1.0\n" w h in
+  let n = String.length header in
+  let b = Bytes.create (n + (12 * w * h)) in
+  Bytes.blit_string header 0 b 0 n;
+  for j = 0 to h - 1 do
+    let row = h - 1 - j in
+    for i = 0 to w - 1 do
+      for c = 0 to 2 do
+        Bytes.set_int32_le b
+          (n + (4 * ((3 * ((j * w) + i)) + c)))
+          (Int32.bits_of_float (Float.Array.get rgb ((3 * ((row * w) + i)) + c)))
+      done
+    done
+  done;
+  Bytes.unsafe_to_string b
+
+(* Radiance RGBE: a shared exponent per pixel, mantissas of 8 bits; flat scanlines (no
+   run-length encoding), which every reader takes. Negative and NaN values are 0. *)
+let rgbe r g b =
+  let pos x =
+    if x > 0. && x <= Float.max_float then x else if x > 0. then Float.max_float else 0.
+  in
+  let r = pos r and g = pos g and b = pos b in
+  let v = Float.max r (Float.max g b) in
+  if v < 1e-32 then (0, 0, 0, 0)
+  else
+    let m, e = Float.frexp v in
+    let scale = m *. 256. /. v in
+    let q x = min 255 (int_of_float (x *. scale)) in
+    (q r, q g, q b, min 255 (e + 128))
+
+let hdr_bytes w h rgb =
+  let header = Printf.sprintf "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" h w in
+  let n = String.length header in
+  let b = Bytes.create (n + (4 * w * h)) in
+  Bytes.blit_string header 0 b 0 n;
+  for p = 0 to (w * h) - 1 do
+    let r, g, bl, e =
+      rgbe
+        (Float.Array.get rgb (3 * p))
+        (Float.Array.get rgb ((3 * p) + 1))
+        (Float.Array.get rgb ((3 * p) + 2))
+    in
+    let o = n + (4 * p) in
+    Bytes.set_uint8 b o r;
+    Bytes.set_uint8 b (o + 1) g;
+    Bytes.set_uint8 b (o + 2) bl;
+    Bytes.set_uint8 b (o + 3) e
+  done;
+  Bytes.unsafe_to_string b
+
+let linear_bytes fmt ?(bits = 16) ?alpha ?crop fb =
+  let w, h, rgb, a = cropped ?alpha ?crop fb in
+  match fmt with
+  | Exr -> Lancer_exr.Exr.encode ~width:w ~height:h ~half:(bits <> 32) ~rgb ~alpha:a
+  | Pfm when alpha <> None -> Error "a PFM file holds RGB only (no alpha); write a .exr"
+  | Hdr when alpha <> None -> Error "a Radiance .hdr file has no alpha; write a .exr"
+  | Pfm -> Ok (pfm_bytes w h rgb)
+  | Hdr -> Ok (hdr_bytes w h rgb)
+  | Png | Ppm -> invalid_arg "Image.linear_bytes: not a linear format"
 
 type written = { size : int; md5 : string }
 
@@ -226,8 +351,42 @@ let write_file path bytes =
 let write_raster path (r : Raster.t) =
   Result.map ignore (Result.bind (file_bytes path r) (write_file path))
 
+let bits_problem fmt bits =
+  match (fmt, bits) with
+  | _, None | (Png | Ppm), Some (8 | 16) | Exr, Some (16 | 32) -> None
+  | (Png | Ppm), Some b ->
+      Some (Printf.sprintf "%d bits: a PNG or PPM image holds 8 or 16 bits a channel" b)
+  | Exr, Some b ->
+      Some
+        (Printf.sprintf
+           "%d bits: an EXR image holds 16-bit half floats (the default) or 32-bit floats"
+           b)
+  | (Hdr | Pfm), Some b ->
+      Some
+        (Printf.sprintf "%d bits: a %s image has one depth of its own" b
+           (if fmt = Hdr then "Radiance .hdr" else "PFM"))
+
+let file_of fmt ?gamma ?bits ?alpha ?crop fb =
+  match bits_problem fmt bits with
+  | Some m -> Error m
+  | None when linear fmt -> linear_bytes fmt ?bits ?alpha ?crop fb
+  | None -> (
+      let r = encode ?gamma ?bits ?alpha ?crop fb in
+      match fmt with
+      | Ppm when r.channels <> 3 -> Error "a PPM file holds RGB only (no alpha, no gray)"
+      | Ppm ->
+          Ok
+            (Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
+            ^ Bytes.unsafe_to_string r.samples)
+      | _ -> Ok (png_bytes r))
+
 let save_written ?gamma ?bits ?alpha ?crop path fb =
-  Result.bind (file_bytes path (encode ?gamma ?bits ?alpha ?crop fb)) (write_file path)
+  Result.bind (format_of_path path) (fun fmt ->
+      Result.bind
+        (Result.map_error
+           (fun m -> Printf.sprintf "cannot write %s: %s" path m)
+           (file_of fmt ?gamma ?bits ?alpha ?crop fb))
+        (write_file path))
 
 let save ?gamma ?bits ?alpha ?crop path fb =
   Result.map ignore (save_written ?gamma ?bits ?alpha ?crop path fb)
@@ -275,7 +434,7 @@ let ppm_of_string text =
   let w = int_token () in
   let h = int_token () in
   let maxv = int_token () in
-  if w < 1 || h < 1 || w > Settings.max_pixels / h then
+  if w < 1 || h < 1 || w > max_pixels / h then
     failwith (Printf.sprintf "unsupported PPM size %d×%d" w h);
   if maxv <> 255 && maxv <> 65535 then
     failwith
@@ -283,13 +442,13 @@ let ppm_of_string text =
   let depth = if maxv = 255 then 8 else 16 in
   let n = 3 * w * h * (depth / 8) in
   if len - !pos < n then raise End_of_file;
-  Raster.make ~width:w ~height:h ~channels:3 ~depth (Bytes.of_string (String.sub text !pos n))
+  Raster.make ~width:w ~height:h ~channels:3 ~depth
+    (Bytes.of_string (String.sub text !pos n))
 
-let png_of_string text =
-  match Png.decode text with Ok r -> r | Error m -> failwith m
+let png_of_string text = match Png.decode text with Ok r -> r | Error m -> failwith m
 
 (* A PNG is compressed: a file larger than the largest raw image is not one lancer reads. *)
-let max_png_bytes = 4 * 8 * Settings.max_pixels
+let max_png_bytes = 4 * 8 * max_pixels
 
 let raster_of_string ~path text =
   match format_of_path path with
@@ -304,6 +463,8 @@ let raster_of_string ~path text =
                    (String.length text));
             png_of_string text
         | Ppm -> ppm_of_string text
+        | Exr | Hdr | Pfm ->
+            failwith "lancer reads PNG and PPM images (textures, height fields, goldens)"
       with
       | r -> Ok r
       | exception End_of_file -> Error (Printf.sprintf "%s: truncated image file" path)
@@ -311,7 +472,11 @@ let raster_of_string ~path text =
 
 let read_bytes path =
   match format_of_path path with
-  | Error e -> Error e
+  | Error _ | Ok (Exr | Hdr | Pfm) ->
+      Error
+        (Printf.sprintf
+           "%s: unsupported image format %s; lancer reads .png and .ppm images" path
+           (match Filename.extension path with "" -> "(no extension)" | e -> e))
   | Ok fmt -> (
       if not (Sys.file_exists path) then Error (Printf.sprintf "%s: no such file" path)
       else if Sys.is_directory path then

@@ -1,8 +1,8 @@
 (** Framebuffers, output encoding and image files.
 
     A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
-    (doc/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v, else
-    1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!Png},
+    (doc/reference/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v,
+    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!Png},
     plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
     temporary file in the same directory, then a rename. *)
 
@@ -11,6 +11,12 @@ type t = {
   height : int;
   data : Float.Array.t;  (** 3·width·height linear floats *)
 }
+
+type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
+(** How linear values are encoded into an image's samples. *)
+
+val max_pixels : int
+(** {!Raster.max_pixels}. *)
 
 val create : int -> int -> t
 (** [create w h] is a black framebuffer of [w] columns and [h] rows. *)
@@ -25,22 +31,36 @@ val set_rgb : t -> int -> int -> float -> float -> float -> unit
 (** [set_rgb fb i j r g b] is [set fb i j (Color.v r g b)] without building the colour
     (inlined: nothing is boxed). *)
 
-val encode_channel : Settings.gamma -> float -> int
+val encode_channel : gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 
-val encode_channel16 : Settings.gamma -> float -> int
+val encode_channel16 : gamma -> float -> int
 (** The same curve quantised to 16 bits: ⌊65535·v + 0.5⌋ (NaN encodes as 0). *)
 
-val to_bytes : Settings.gamma -> t -> Bytes.t
+val to_bytes : gamma -> t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
-type format = Png | Ppm
+type format =
+  | Png
+  | Ppm
+  | Exr  (** OpenEXR: linear half or float RGB(A), {!Lancer_exr.Exr} *)
+  | Hdr  (** Radiance RGBE: linear, an 8-bit mantissa per channel and a shared exponent *)
+  | Pfm  (** portable float map: linear 32-bit float RGB *)
 
 val format_of_path : string -> (format, string) result
-(** By extension: [.png] or [.ppm] (case-insensitive); anything else is an error. *)
+(** By extension: [.png], [.ppm], [.exr], [.hdr] or [.pfm] (case-insensitive); anything
+    else is an error. *)
+
+val linear : format -> bool
+(** Whether the format holds the framebuffer's linear values themselves (EXR, HDR, PFM)
+    rather than samples encoded by the curve (PNG, PPM). *)
+
+val format_name : format -> string
+(** ["png"], ["exr"], …, as the extension and [--format] write it. *)
 
 val check_writable : string -> (unit, string) result
-(** {!Safe_file.check_writable}: callers use it to refuse before working. *)
+(** {!Safe_file.check_writable}, and for an [.exr] path whether this build writes EXR:
+    callers use it to refuse before working. *)
 
 val write_atomic : string -> (out_channel -> unit) -> (unit, string) result
 (** {!Safe_file.write}: [write_atomic path f] writes [path] through [f] into a temporary
@@ -56,7 +76,7 @@ type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 (** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
 
 val encode :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
@@ -77,7 +97,7 @@ val output_raster : format -> out_channel -> Raster.t -> unit
     [Invalid_argument]. *)
 
 val save :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
@@ -90,14 +110,30 @@ val save :
 val read_raster : string -> (Raster.t, string) result
 (** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
     or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
-    before its pixels are allocated: larger than {!Settings.max_pixels} is an error. Never
+    before its pixels are allocated: larger than {!max_pixels} is an error. Never
     raises; the message starts with [path]. *)
+
+val file_of :
+  format ->
+  ?gamma:gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  t ->
+  (string, string) result
+(** [file_of format fb] is the bytes of the file of that format holding [fb], as
+    {!save_written} writes them (for standard output, or a file written another way).
+    [bits]: 8 or 16 for PNG and PPM (default 8), 16 or 32 for EXR (half or single floats,
+    default 16), none for HDR and PFM. *)
+
+val bits_problem : format -> int option -> string option
+(** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
 
 type written = { size : int; md5 : string }
 (** What was written to a file: its size in bytes and the MD5 (hex) of those bytes. *)
 
 val save_written :
-  ?gamma:Settings.gamma ->
+  ?gamma:gamma ->
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
@@ -106,7 +142,10 @@ val save_written :
   (written, string) result
 (** {!save}, and the size and MD5 of the bytes it wrote, digested before the file was
     renamed into place: what the file held when this write ended, even if another process
-    replaces it right after. *)
+    replaces it right after. A linear format ({!linear}) takes the framebuffer's values as
+    they are, before the encoding curve and without clamping: EXR as half floats, or
+    32-bit floats with [~bits:32], with [alpha] as its A channel; HDR and PFM without
+    alpha. [gamma] is then unused. *)
 
 val read_bytes : string -> (string, string) result
 (** [read_bytes path] is the whole content of the image file at [path], read once, after

@@ -521,7 +521,7 @@ let decode_exn max_pixels s =
     ps;
   Raster.make ~width:hd.w ~height:hd.h ~channels:out_ch ~depth:out_depth samples
 
-let decode ?(max_pixels = Settings.max_pixels) s =
+let decode ?(max_pixels = Raster.max_pixels) s =
   match decode_exn max_pixels s with
   | r -> Ok r
   | exception Bad m -> Error m

@@ -21,4 +21,4 @@ val decode : ?max_pixels:int -> string -> (Raster.t, string) result
 (** [decode contents] is the image of a PNG file's contents. [Error] says plainly what is
     wrong or unsupported (not a PNG, a bad CRC in chunk IDAT, truncated data, an
     unsupported bit depth, an image larger than [max_pixels] pixels (default
-    {!Settings.max_pixels}), …). Never raises. *)
+    {!Raster.max_pixels}), …). Never raises. *)

@@ -5,6 +5,10 @@
     byte each; samples of 16 bits take two, most significant first (the byte order of both
     PNG and PPM). *)
 
+val max_pixels : int
+(** The largest image lancer makes or reads: width × height ≤ this (268 435 456 = 16384²,
+    6 GiB of linear framebuffer). *)
+
 type t = { width : int; height : int; channels : int; depth : int; samples : Bytes.t }
 
 val make : width:int -> height:int -> channels:int -> depth:int -> Bytes.t -> t

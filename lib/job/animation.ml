@@ -3,16 +3,27 @@ let user = Job_error.user
 (* What changes every frame's pixels: the scene's text and includes (not the path it was
    typed as) and the overriding options. The frame number and the images and meshes a
    frame reads are recorded beside it. *)
-let job_digest (src : Source.t) overrides =
+let job_digest (src : Source.t) overrides ~format ~bits =
   Digest.to_hex
     (Digest.string
        (String.concat "|"
-          ("lancer-frames-v3" :: src.text_digest () :: Overrides.digest_fields overrides)))
+          (("lancer-frames-v3" :: src.text_digest () :: Overrides.digest_fields overrides)
+          @
+          (* Frames as PNG at the default depth keep the digest they always had. *)
+          match (format, bits) with
+          | Image.Png, None -> []
+          | f, b ->
+              [
+                Image.format_name f;
+                (match b with Some b -> string_of_int b | None -> "-");
+              ])))
 
 type plan = {
   source : Source.t;
   overrides : Overrides.t;
   dir : string;
+  format : Image.format;
+  bits : int option;
   fps : float;
   first : int;
   last : int;
@@ -24,7 +35,10 @@ type plan = {
   inputs_lock : Mutex.t;
 }
 
-let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load =
+let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~shard
+    ~resume ~overrides load =
+  Option.iter (user "--bits %s") (Image.bits_problem format bits);
+  let ext = Image.format_name format in
   let dir =
     match dir with
     | Some d -> d
@@ -55,7 +69,9 @@ let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load 
      run has read, nor one that the scene names, which a later frame may read. *)
   Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Source.reads source)
     ((Filename.concat dir Frameset.view_name, "the frames record")
-    :: List.map (fun k -> (Filename.concat dir (Frameset.frame_name k), "a frame")) mine);
+    :: List.map
+         (fun k -> (Filename.concat dir (Frameset.frame_name ~ext k), "a frame"))
+         mine);
   let set =
     (* A directory belongs to one scene file, named by its real path (the same from any
        working directory, and on every node that mounts it at the same place). *)
@@ -64,7 +80,9 @@ let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load 
       | "<stdin>" -> "<stdin>"
       | f -> ( try Unix.realpath f with Unix.Unix_error _ -> f)
     in
-    Frameset.open_ ~dir ~scene ~job:(job_digest source overrides) ~count
+    Frameset.open_ ~ext ~dir ~scene
+      ~job:(job_digest source overrides ~format ~bits)
+      ~count ()
   in
   let todo =
     if resume then
@@ -78,6 +96,8 @@ let plan ?(getenv = Sys.getenv_opt) ~dir ~frames ~shard ~resume ~overrides load 
     source;
     overrides;
     dir;
+    format;
+    bits;
     fps;
     first;
     last;
@@ -109,11 +129,13 @@ let write_frame p k sc fb =
     | Some i -> i
     | None -> with_digests p (snd (evaluate p k))
   in
-  let path = Filename.concat p.dir (Frameset.frame_name k) in
+  let path =
+    Filename.concat p.dir (Frameset.frame_name ~ext:(Image.format_name p.format) k)
+  in
   (* The plan refused every file the scene names; this is checked again against what the
      frames evaluated so far have read, by any name, before each frame is written. *)
   Files.refuse_overwrite ~reads:(Source.reads p.source) path "a frame";
-  let written = Files.write_image path sc fb in
+  let written = Files.write_image ?bits:p.bits path sc fb in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~written ~inputs
 
@@ -254,7 +276,12 @@ let describe_range p =
     (match p.shard with Some (k, n) -> Printf.sprintf ", shard %d/%d" k n | None -> "")
 
 (* The video's name and place are checked before the frames are rendered, not after. *)
-let check_video ~shard v =
+let check_video ?(format = Image.Png) ~shard v =
+  if format <> Image.Png then
+    user
+      "--video with %s frames: a video is made from PNG frames; render PNG frames for \
+       it, or assemble the %s frames with a compositor"
+      (Image.format_name format) (Image.format_name format);
   if shard then
     user
       "--video with --shard: a shard has only some of the frames; once every shard is \
@@ -277,6 +304,7 @@ let make_video p out =
     Printf.sprintf "ffmpeg -loglevel error -y -framerate %g -start_number %d -i %s %s %s"
       p.fps p.first
       (Filename.quote (Filename.concat p.dir "frame_%04d.png"))
+      (* check_video refused any other format *)
       (if Filename.check_suffix out ".gif" then
          (* One palette made from the frames themselves: sharper and smaller than the default. *)
          "-vf " ^ Filename.quote "split[a][b];[a]palettegen[p];[b][p]paletteuse"

@@ -16,6 +16,8 @@ type plan = private {
   source : Source.t;
   overrides : Overrides.t;
   dir : string;
+  format : Image.format;  (** the frames' format *)
+  bits : int option;  (** and depth *)
   fps : float;
   first : int;
   last : int;
@@ -31,6 +33,8 @@ type plan = private {
 
 val plan :
   ?getenv:(string -> string option) ->
+  ?format:Image.format ->
+  ?bits:int ->
   dir:string option ->
   frames:(int * int) option ->
   shard:Plan.shard option ->
@@ -43,7 +47,9 @@ val plan :
     [load], check the range against its animation, refuse frames that would replace the
     scene's own files, claim the directory for this scene ({!Frameset.open_}), and work
     out which frames to render: this shard's frames of the range ({!Plan.shard_frames}),
-    less, with [resume], those already done for the same job. Raises {!Job_error.User}. *)
+    less, with [resume], those already done for the same job. The frames are written in
+    [format] (default PNG; [frame_0000.exr] for EXR) at [bits] ({!Image.file_of}), which
+    are part of the job. Raises {!Job_error.User}. *)
 
 val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it
@@ -69,9 +75,9 @@ val finish : plan -> unit
 val describe_range : plan -> string
 (** ["0..119 at 24 fps"], with the shard when there is one. *)
 
-val check_video : shard:bool -> string -> unit
-(** Refuse, before rendering, a video that is not .mp4 or .gif, cannot be written, or
-    comes with a shard ([shard]). *)
+val check_video : ?format:Image.format -> shard:bool -> string -> unit
+(** Refuse, before rendering, a video that is not .mp4 or .gif, cannot be written, comes
+    with a shard ([shard]), or would be made of frames that are not PNG ([format]). *)
 
 val make_video : plan -> string -> unit
 (** Assemble the frames into a .mp4 or .gif with ffmpeg; a clear error without it. *)

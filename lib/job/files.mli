@@ -38,8 +38,8 @@ val write_image :
   Scene.t ->
   Image.t ->
   Image.written
-(** Encode with the scene's gamma ([bits] 8 by default; the coverage [alpha] as a fourth
-    channel; only [crop] when given) and write the file atomically, {!uninterrupted}; the
+(** Encode with the scene's gamma ([bits] as {!Image.file_of} takes them; the coverage
+    [alpha] as a fourth channel; only [crop] when given) and write the file atomically, {!uninterrupted}; the
     size and MD5 of the bytes written. Raises {!Job_error.User}. *)
 
 val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit

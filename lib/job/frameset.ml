@@ -1,6 +1,6 @@
 (* See frameset.mli. *)
 
-let frame_name k = Printf.sprintf "frame_%04d.png" k
+let frame_name ?(ext = "png") k = Printf.sprintf "frame_%04d.%s" k ext
 let journal_dir = "lancer-frames.d"
 let view_name = "lancer-frames.json"
 let binding_name = "scene.json"
@@ -15,6 +15,7 @@ type entry = {
 
 type t = {
   dir : string;
+  ext : string;  (** the frames' extension *)
   jdir : string;
   scene : string;
   job : string;
@@ -59,11 +60,11 @@ let write_new path text =
 
 (* ---- Entries as JSON lines ---- *)
 
-let entry_json (e : entry) =
+let entry_json ~ext (e : entry) =
   `Assoc
     [
       ("frame", `Int e.frame);
-      ("file", `String (frame_name e.frame));
+      ("file", `String (frame_name ~ext e.frame));
       ("job", `String e.job);
       ("size", `Int e.size);
       ("md5", `String e.md5);
@@ -191,7 +192,7 @@ let rec bind ~dir ~jdir ~scene attempts =
       | Error m -> Job_error.user "cannot write %s: %s" path m
       | Ok () -> bind ~dir ~jdir ~scene attempts)
 
-let open_ ~dir ~scene ~job ~count =
+let open_ ?(ext = "png") ~dir ~scene ~job ~count () =
   let jdir = Filename.concat dir journal_dir in
   (try Unix.mkdir jdir 0o755 with
   | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory jdir -> ()
@@ -208,6 +209,7 @@ let open_ ~dir ~scene ~job ~count =
   let t =
     {
       dir;
+      ext;
       jdir;
       scene;
       job;
@@ -239,7 +241,7 @@ let candidates t k ~input_digest =
     (Option.value (Hashtbl.find_opt t.entries k) ~default:[])
 
 let is_done t k ~input_digest =
-  let path = Filename.concat t.dir (frame_name k) in
+  let path = Filename.concat t.dir (frame_name ~ext:t.ext k) in
   match (candidates t k ~input_digest, regular_size path) with
   | [], _ | _, None -> false
   | cs, Some size -> (
@@ -270,7 +272,7 @@ let journal_fd t =
 let record t k ~(written : Image.written) ~inputs =
   let size = written.size and md5 = written.md5 in
   let e = { frame = k; job = t.job; size; md5; inputs } in
-  let line = Yojson.Safe.to_string (entry_json e) ^ "\n" in
+  let line = Yojson.Safe.to_string (entry_json ~ext:t.ext e) ^ "\n" in
   Mutex.protect t.lock (fun () ->
       let fd = journal_fd t in
       (* Synced at most once a second (and when closed): an entry whose frame did not reach
@@ -282,7 +284,9 @@ let record t k ~(written : Image.written) ~inputs =
       | Ok () ->
           if sync then t.synced <- now;
           add t e
-      | Error m -> Job_error.user "cannot record %s in %s: %s" (frame_name k) t.journal m)
+      | Error m ->
+          Job_error.user "cannot record %s in %s: %s" (frame_name ~ext:t.ext k) t.journal
+            m)
 
 let close t =
   Mutex.protect t.lock (fun () ->
@@ -308,7 +312,7 @@ let finish t ~input_digest =
   read_all t;
   let chosen =
     List.init t.count (fun k ->
-        match regular_size (Filename.concat t.dir (frame_name k)) with
+        match regular_size (Filename.concat t.dir (frame_name ~ext:t.ext k)) with
         | None -> None
         | Some size ->
             List.find_opt
@@ -319,7 +323,7 @@ let finish t ~input_digest =
     let frames =
       List.map
         (fun e ->
-          match entry_json (Option.get e) with
+          match entry_json ~ext:t.ext (Option.get e) with
           | `Assoc kvs -> `Assoc (List.filter (fun (k, _) -> k <> "job") kvs)
           | j -> j)
         chosen

@@ -20,8 +20,8 @@
 
 type t
 
-val frame_name : int -> string
-(** [frame_0042.png]. *)
+val frame_name : ?ext:string -> int -> string
+(** [frame_0042.png] ([ext], default ["png"], the frames' extension). *)
 
 val journal_dir : string
 (** ["lancer-frames.d"]. *)
@@ -29,9 +29,10 @@ val journal_dir : string
 val view_name : string
 (** ["lancer-frames.json"]. *)
 
-val open_ : dir:string -> scene:string -> job:string -> count:int -> t
+val open_ : ?ext:string -> dir:string -> scene:string -> job:string -> count:int -> unit -> t
 (** Claim [dir] (an existing directory) for the scene named [scene], or join it if it
-    already holds that scene's frames, and read what every run recorded. Raises
+    already holds that scene's frames, and read what every run recorded; its frames are
+    [frame_NNNN.ext] (default [png]). Raises
     {!Job_error.User} when [dir] holds another scene's frames or cannot be used. *)
 
 val is_done : t -> int -> input_digest:(string -> string) -> bool

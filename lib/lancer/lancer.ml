@@ -2,7 +2,8 @@
 
     The layers, each using only those before it: [lancer.math], [lancer.diag],
     [lancer.description], [lancer.image] and [lancer.physics], [lancer.render],
-    [lancer.job]. *)
+    [lancer.job], [lancer.program] (which also uses the scene language), and [lancer.run]
+    (the commands' pipelines as library functions). *)
 
 (** {1 [lancer.math]} *)
 
@@ -41,7 +42,6 @@ module Safe_file = Lancer_image.Safe_file
 
 (** {1 [lancer.physics]} *)
 
-module Drop = Lancer_physics.Drop
 module Physics = Lancer_physics.Physics
 
 (** {1 [lancer.render]} *)
@@ -55,6 +55,7 @@ module Frag = Lancer_render.Frag
 module Material = Lancer_render.Material
 module Mesh = Lancer_render.Mesh
 module Noise = Lancer_render.Noise
+module Ply = Lancer_render.Ply
 module Pool = Lancer_render.Pool
 module Primitive = Lancer_render.Primitive
 module Render = Lancer_render.Render
@@ -74,7 +75,6 @@ module Frameset = Lancer_job.Frameset
 module Job_error = Lancer_job.Job_error
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
-module Program = Lancer_job.Program
 module Quality = Lancer_job.Quality
 module Source = Lancer_job.Source
 module Still = Lancer_job.Still
@@ -83,3 +83,19 @@ module Work = Lancer_job.Work
 (** {1 The version} *)
 
 module Version = Version
+
+(** {1 [lancer.program]} *)
+
+module Program = Lancer_program.Program
+
+(** {1 [lancer.run]} *)
+
+module Check_run = Lancer_run.Check_run
+module Compare_run = Lancer_run.Compare_run
+module Frames_run = Lancer_run.Frames_run
+module Options = Lancer_run.Options
+module Output = Lancer_run.Output
+module Progress = Lancer_run.Progress
+module Render_report = Lancer_run.Render_report
+module Scene_file = Lancer_run.Scene_file
+module Still_run = Lancer_run.Still_run

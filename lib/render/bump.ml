@@ -1,6 +1,4 @@
-type t =
-  | Noise of { scale : float; amount : float }
-  | Image of { img : Image.t; amount : float }
+type t = Image.t Description.bump_of
 
 (* Remove the gradient's component along n so the bump tilts the normal without
    changing which side it faces, then renormalise. *)
@@ -17,12 +15,12 @@ let height img u v =
    that a seam does not look like a cliff. *)
 let wrap_diff d = d -. Float.round d
 
-let perturb b ~uv (p : Vec3.t) n =
+let perturb (b : t) ~uv (p : Vec3.t) n =
   match b with
-  | Noise { scale; amount } ->
+  | Noise_bump { scale; amount } ->
       let s = 1. /. scale in
       tilt n (Noise.gradient (p.x *. s) (p.y *. s) (p.z *. s)) amount
-  | Image { img; amount } ->
+  | Image_bump { image = img; amount } ->
       (* The surface directions of growing u and v: central differences of [uv] along a
          tangent frame (t1, t2), a step small against the object's scale. *)
       let helper = if Float.abs n.x < 0.9 then Vec3.x_axis else Vec3.y_axis in

@@ -1,12 +1,8 @@
 (** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
-type t =
-  | Noise of { scale : float; amount : float }
-      (** gradient of 3-D Perlin noise at P/scale, times amount *)
-  | Image of { img : Image.t; amount : float }
-      (** a height map on (u, v): the luminance of the linear image, sampled bilinearly
-          with wrapping; the normal tilts by amount × (height change per texel) along the
-          surface directions in which u and v grow *)
+type t = Image.t Description.bump_of
+(** The description's bump map ({!Description.bump_of}, where each kind is defined) with
+    its height map decoded to a linear framebuffer. *)
 
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t
 (** [perturb b ~uv p n] is the unit shading normal at object-space point [p] with unit

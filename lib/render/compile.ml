@@ -130,7 +130,12 @@ let mesh c ~file ~path ~smooth =
                      match took c path text with
                      | Error m -> failed "load the mesh" m
                      | Ok text -> (
-                         match Mesh.parse_mesh ~smooth ~file:path text with
+                         let parse =
+                           if String.lowercase_ascii (Filename.extension path) = ".ply"
+                           then Ply.parse_mesh
+                           else Mesh.parse_mesh
+                         in
+                         match parse ~smooth ~file:path text with
                          | Ok m -> Ok m
                          | Error m -> failed "load the mesh" m))))
 
@@ -166,49 +171,26 @@ exception Problem of Loc.t * string
 let problem loc fmt = Printf.ksprintf (fun m -> raise (Problem (loc, m))) fmt
 let ok_or loc = function Ok x -> x | Error m -> raise (Problem (loc, m))
 
-let color_map map =
-  match Texture.color_map map with
-  | Ok m -> m
-  | Error m -> invalid_arg ("Compile: an unchecked colour map: " ^ m)
-
+(* The description's texture with its image decoded and its colour maps as arrays (the
+   description has checked them). *)
 let texture c : D.texture -> Texture.t = function
-  | Solid col -> Texture.Solid col
-  | Checker { c1; c2; size } -> Texture.Checker { c1; c2; size }
-  | Stripes { c1; c2; size } -> Texture.Stripes { c1; c2; size }
-  | Noise { c1; c2; scale } -> Texture.Noise { c1; c2; scale }
-  | Marble { c1; c2; scale } -> Texture.Marble { c1; c2; scale }
-  | Wood { c1; c2; scale } -> Texture.Wood { c1; c2; scale }
-  | Gradient { axis; map } -> Texture.Gradient { axis; map = color_map map }
-  | Mapped { pattern; map } ->
-      let pattern =
-        match pattern with
-        | Noise_pattern s -> Texture.Noise_pattern s
-        | Marble_pattern s -> Texture.Marble_pattern s
-        | Wood_pattern s -> Texture.Wood_pattern s
-      in
-      Texture.Mapped { pattern; map = color_map map }
-  | Image { image; scale } ->
-      Texture.Image { img = ok_or image.at (picture c image); scale }
+  | Solid c -> Solid c
+  | Checker { c1; c2; size } -> Checker { c1; c2; size }
+  | Stripes { c1; c2; size } -> Stripes { c1; c2; size }
+  | Noise { c1; c2; scale } -> Noise { c1; c2; scale }
+  | Marble { c1; c2; scale } -> Marble { c1; c2; scale }
+  | Wood { c1; c2; scale } -> Wood { c1; c2; scale }
+  | Gradient { axis; map } -> Gradient { axis; map = Texture.color_map map }
+  | Mapped { pattern; map } -> Mapped { pattern; map = Texture.color_map map }
+  | Image { image; scale } -> Image { image = ok_or image.at (picture c image); scale }
 
 let bump c : D.bump -> Bump.t = function
-  | Noise_bump { scale; amount } -> Bump.Noise { scale; amount }
+  | Noise_bump { scale; amount } -> Noise_bump { scale; amount }
   | Image_bump { image; amount } ->
-      Bump.Image { img = ok_or image.at (picture c image); amount }
+      Image_bump { image = ok_or image.at (picture c image); amount }
 
 let material c (m : D.material) : Material.t =
-  {
-    color = m.color;
-    texture = Option.map (texture c) m.texture;
-    ambient = m.ambient;
-    diffuse = m.diffuse;
-    specular = m.specular;
-    shininess = m.shininess;
-    reflection = m.reflection;
-    transparency = m.transparency;
-    ior = m.ior;
-    fresnel = m.fresnel;
-    bump = Option.map (bump c) m.bump;
-  }
+  { m with texture = Option.map (texture c) m.texture; bump = Option.map (bump c) m.bump }
 
 let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~at =
   match heights c ~file ~path with
@@ -562,15 +544,15 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
       match fx with
       | Some fx when !next = Array.length fx.objs ->
           (* Every object of the fixed part is here: its structure is reused. *)
-          Scene.make_layered ~settings:d.settings ~camera:d.camera ~time:d.time
+          Scene.make_layered ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
             ~frame:d.frame ~lights:d.lights
             ~fixed:(fixed_part fx (Scene.origin_of d.camera))
             (List.rev !pieces)
       | None ->
-          Scene.of_moved ~index ~settings:d.settings ~camera:d.camera ~time:d.time
+          Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
             ~frame:d.frame ~lights:d.lights (Dynarray.to_array flat)
       | Some _ ->
-          Scene.make ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
+          Scene.make ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
             ~lights:d.lights
             (List.concat_map
                (function

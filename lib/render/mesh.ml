@@ -2,71 +2,7 @@ exception Bad of int * string
 
 let bad line fmt = Printf.ksprintf (fun m -> raise (Bad (line, m))) fmt
 
-(* Growable flat arrays of what was read so far: [len] elements of [width] floats. *)
-type floats = { mutable fl : Float.Array.t; mutable len : int; width : int }
-
-let floats width = { fl = Float.Array.create 0; len = 0; width }
-
-let grow_floats s =
-  if s.width * (s.len + 1) > Float.Array.length s.fl then (
-    let d = Float.Array.create (s.width * max 16 (2 * s.len)) in
-    Float.Array.blit s.fl 0 d 0 (s.width * s.len);
-    s.fl <- d)
-
-let push3 s x y z =
-  grow_floats s;
-  let k = 3 * s.len in
-  Float.Array.unsafe_set s.fl k x;
-  Float.Array.unsafe_set s.fl (k + 1) y;
-  Float.Array.unsafe_set s.fl (k + 2) z;
-  s.len <- s.len + 1
-
-let push2 s u v =
-  grow_floats s;
-  let k = 2 * s.len in
-  Float.Array.unsafe_set s.fl k u;
-  Float.Array.unsafe_set s.fl (k + 1) v;
-  s.len <- s.len + 1
-
-(* Triangles' corner indices, three 32-bit ints each. *)
-type corners = { mutable ix : Trimesh.ints; mutable n : int }
-
-let corners () = { ix = Trimesh.ints 0; n = 0 }
-
-let push_corners s a b c =
-  if 3 * (s.n + 1) > Bigarray.Array1.dim s.ix then (
-    let d = Trimesh.ints (3 * max 16 (2 * s.n)) in
-    Bigarray.Array1.blit s.ix (Bigarray.Array1.sub d 0 (3 * s.n));
-    s.ix <- d);
-  let k = 3 * s.n in
-  Bigarray.Array1.unsafe_set s.ix k (Int32.of_int a);
-  Bigarray.Array1.unsafe_set s.ix (k + 1) (Int32.of_int b);
-  Bigarray.Array1.unsafe_set s.ix (k + 2) (Int32.of_int c);
-  s.n <- s.n + 1
-
-(* The normals' and texture coordinates' corners of a mesh that has none are only
-   counted: the array is made, its first faces marked absent, at the first face that has
-   them (a million faces without them would write 24 MB of −1 that are dropped). *)
-let push_absent s =
-  if Bigarray.Array1.dim s.ix = 0 then s.n <- s.n + 1 else push_corners s (-1) (-1) (-1)
-
-let push_present s a b c =
-  if Bigarray.Array1.dim s.ix = 0 && s.n > 0 then (
-    let d = Trimesh.ints (3 * 2 * (s.n + 1)) in
-    Bigarray.Array1.fill (Bigarray.Array1.sub d 0 (3 * s.n)) (-1l);
-    s.ix <- d);
-  push_corners s a b c
-
-let trimmed s =
-  if 3 * s.n = Bigarray.Array1.dim s.ix then s.ix
-  else
-    let d = Trimesh.ints (3 * s.n) in
-    Bigarray.Array1.blit (Bigarray.Array1.sub s.ix 0 (3 * s.n)) d;
-    d
-
-let trimmed_floats s =
-  if s.width * s.len = Float.Array.length s.fl then s.fl
-  else Float.Array.sub s.fl 0 (s.width * s.len)
+open Tri_builder
 
 let ignored =
   [
@@ -235,7 +171,7 @@ let scan_index text len n i out =
     Array.unsafe_set out 0 (!m - 1);
     !j)
 
-(* The coordinate range of the whole renderer (doc/numerics.md): beyond it squared lengths
+(* The coordinate range of the whole renderer (doc/reference/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let max_coordinate = 1e150
 
@@ -335,23 +271,7 @@ let parse_mesh ?(smooth = true) ~file text =
   in
   let face i j k =
     let cv = !cv and ct = !ct and cn = !cn in
-    (* |(b − a) × (c − a)|, in floats (as Vec3.length of Vec3.cross would compute it). *)
-    let p = vs.fl and a = 3 * cv.(i) and b = 3 * cv.(j) and c = 3 * cv.(k) in
-    let ax = Float.Array.get p a
-    and ay = Float.Array.get p (a + 1)
-    and az = Float.Array.get p (a + 2) in
-    let ux = Float.Array.get p b -. ax
-    and uy = Float.Array.get p (b + 1) -. ay
-    and uz = Float.Array.get p (b + 2) -. az in
-    let wx = Float.Array.get p c -. ax
-    and wy = Float.Array.get p (c + 1) -. ay
-    and wz = Float.Array.get p (c + 2) -. az in
-    let area =
-      Vec3.length3
-        ((uy *. wz) -. (uz *. wy))
-        ((uz *. wx) -. (ux *. wz))
-        ((ux *. wy) -. (uy *. wx))
-    in
+    let area = area vs.fl cv.(i) cv.(j) cv.(k) in
     if area > 0. && Float.is_finite area then (
       push_corners tv cv.(i) cv.(j) cv.(k);
       if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then (

@@ -71,7 +71,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
   let material =
     if Array.length leaves = 0 then material
     else
-      match Array.find_opt (fun l -> l.material.Material.transparency <> 0.) leaves with
+      match Array.find_opt (fun l -> l.material.transparency <> 0.) leaves with
       | Some l -> l.material
       | None -> leaves.(0).material
   in

@@ -226,10 +226,17 @@ let check_reuse (fb : Image.t) = function
         || base.width <> fb.width || base.height <> fb.height
       then invalid_arg "Render: a reuse's mask or image has the wrong size"
 
-let render_tile ?alpha ?reuse sc st fb x0 y0 x1 y1 =
+(* Column or row [i] of an image of one sample per [k]×[k] block: the block's middle
+   pixel of the full image, or its last one where the block is cut by the edge. *)
+let[@inline] strided k n i = if k = 1 then i else min (n - 1) ((i * k) + (k / 2))
+
+let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   check_reuse fb reuse;
   if Option.is_some alpha && Option.is_some reuse then
     invalid_arg "Render: alpha with a reuse (coverage is not watched)";
+  if stride < 1 || (stride > 1 && (Option.is_some alpha || Option.is_some reuse)) then
+    invalid_arg "Render: a stride below 1, or with alpha or a reuse";
+  let sw = sc.Scene.settings.width and sh = sc.settings.height in
   let scr = scratch () in
   let f = Shade.frag scr.shade in
   let ax = Shade.accel_scratch scr.shade in
@@ -256,7 +263,7 @@ let render_tile ?alpha ?reuse sc st fb x0 y0 x1 y1 =
               done
           | _ -> (
               Accel.untouch ax;
-              pixel_into sc st scr i j;
+              pixel_into sc st scr (strided stride sw i) (strided stride sh j);
               Image.set_rgb fb i j f.r f.g f.b;
               (match reuse with
               | Some (Watch { mask; _ }) ->
@@ -268,8 +275,12 @@ let render_tile ?alpha ?reuse sc st fb x0 y0 x1 y1 =
         done
       done)
 
-let tiles ?region (sc : Scene.t) =
-  let w = sc.settings.width and h = sc.settings.height in
+let size ?(stride = 1) (sc : Scene.t) =
+  let k = max 1 stride in
+  ((sc.settings.width + k - 1) / k, (sc.settings.height + k - 1) / k)
+
+let tiles ?region ?stride (sc : Scene.t) =
+  let w, h = size ?stride sc in
   let nx = (w + tile_size - 1) / tile_size and ny = (h + tile_size - 1) / tile_size in
   let all =
     Array.init (nx * ny) (fun k ->
@@ -303,25 +314,27 @@ let tiles_cache :
     (int * int * Image.region option * (int * int * int * int) array) option Atomic.t =
   Atomic.make None
 
-let cached_tiles ?region (sc : Scene.t) =
-  let w = sc.settings.width and h = sc.settings.height in
+let cached_tiles ?region ?stride (sc : Scene.t) =
+  let w, h = size ?stride sc in
   match Atomic.get tiles_cache with
   | Some (w', h', r', all) when w = w' && h = h' && r' = region -> all
   | _ ->
-      let all = tiles ?region sc in
+      let all = tiles ?region ?stride sc in
       Atomic.set tiles_cache (Some (w, h, region, all));
       all
 
 let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region
-    ?alpha ?reuse (sc : Scene.t) fb idxs =
-  let all = cached_tiles ?region sc in
+    ?alpha ?reuse ?stride (sc : Scene.t) fb idxs =
+  if Option.is_some region && Option.is_some stride then
+    invalid_arg "Render: a region with a stride";
+  let all = cached_tiles ?region ?stride sc in
   let n = Array.length idxs in
   let stats = Array.init n (fun _ -> Stats.create ~cancel ()) in
   let done_ = Atomic.make 0 in
   let work k =
     Cancel.check cancel;
     let x0, y0, x1, y1 = all.(idxs.(k)) in
-    render_tile ?alpha ?reuse sc stats.(k) fb x0 y0 x1 y1;
+    render_tile ?alpha ?reuse ?stride sc stats.(k) fb x0 y0 x1 y1;
     on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) stats.(k)
   in
   (match pool with
@@ -336,9 +349,10 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
   Array.iter (Stats.add_into total) stats;
   total
 
-let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse (sc : Scene.t)
-    =
-  let fb = Image.create sc.settings.width sc.settings.height in
+let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse ?stride
+    (sc : Scene.t) =
+  let w, h = size ?stride sc in
+  let fb = Image.create w h in
   (* Outside a region: the background, and alpha 0. *)
   if region <> None then
     for j = 0 to fb.height - 1 do
@@ -347,9 +361,9 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse (sc 
       done
     done;
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
-  let n = Array.length (tiles ?region sc) in
+  let n = Array.length (tiles ?region ?stride sc) in
   let st =
-    render_tiles ?cancel ?pool ?region ?alpha ?reuse
+    render_tiles ?cancel ?pool ?region ?alpha ?reuse ?stride
       ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st))
       sc fb (Array.init n Fun.id)
   in

@@ -4,7 +4,7 @@
     The image is cut into 32×32 tiles handed out dynamically; each task writes only its
     own pixels and keeps its own counters, so the result is bit-identical whatever the
     number of domains. Each pixel averages, in linear colour, the n×n points (i + (p+½)/n,
-    j + (q+½)/n) (doc/shading.md, section 2); [jitter] moves each inside its sub-cell by a
+    j + (q+½)/n) (doc/reference/shading.md, section 2); [jitter] moves each inside its sub-cell by a
     hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2
     grid and refines to max(n, 4)×max(n, 4) only where those four samples differ by more
     than θ in some channel. Samples that are NaN or infinite are counted and replaced by
@@ -37,6 +37,7 @@ type reuse =
 val render_tile :
   ?alpha:Float.Array.t ->
   ?reuse:reuse ->
+  ?stride:int ->
   Scene.t ->
   Stats.t ->
   Image.t ->
@@ -48,11 +49,17 @@ val render_tile :
 (** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
     with [alpha] it also stores each pixel's {!coverage} there (row-major); with [reuse]
     as {!reuse} says. Its rays and the tests inside CSG objects that they make count into
-    [stats] ({!Stats.with_current}), polling its token. *)
+    [stats] ({!Stats.with_current}), polling its token. With [stride = k] (default 1;
+    neither [alpha] nor [reuse] then), [fb] is the image of one sample per k×k block of
+    the scene's image, ⌈width/k⌉×⌈height/k⌉ pixels, and its pixel (i, j) is the scene's
+    pixel (min(width−1, i·k + k/2), min(height−1, j·k + k/2)), computed as a whole render
+    computes it; the coordinates above are [fb]'s. *)
 
-val tiles : ?region:Image.region -> Scene.t -> (int * int * int * int) array
-(** The tiles (x0, y0, x1, y1) of the scene's image, row-major; with [region] only those
-    that meet it, clipped to it. *)
+val tiles :
+  ?region:Image.region -> ?stride:int -> Scene.t -> (int * int * int * int) array
+(** The tiles (x0, y0, x1, y1) of the scene's image (of its image of one sample per
+    [stride]×[stride] block), row-major; with [region] only those that meet it, clipped to
+    it. *)
 
 val render_tiles :
   ?cancel:Cancel.t ->
@@ -61,6 +68,7 @@ val render_tiles :
   ?region:Image.region ->
   ?alpha:Float.Array.t ->
   ?reuse:reuse ->
+  ?stride:int ->
   Scene.t ->
   Image.t ->
   int array ->
@@ -74,7 +82,7 @@ val render_tiles :
     {!Cancel.check_every} units of work inside one (rays, tests inside CSG objects:
     {!Stats.spend}), and once all are done: when it is cancelled the call raises
     [Sys.Break] within a few thousand units per domain, and [fb] is not to be used.
-    [alpha] as for {!render_tile}. *)
+    [alpha] and [stride] (not with [region]) as for {!render_tile}. *)
 
 val render :
   ?cancel:Cancel.t ->
@@ -83,13 +91,16 @@ val render :
   ?region:Image.region ->
   ?alpha:Float.Array.t ->
   ?reuse:reuse ->
+  ?stride:int ->
   Scene.t ->
   Image.t * Stats.t
 (** [render scene] renders the whole image through {!render_tiles}.
     [on_tile done_ total rays]: [done_] tiles of [total] are finished, and that tile cast
     [rays] rays. With [region] only its pixels are rendered, each exactly as in a whole
     render; the others are the background. With [alpha] (width·height values) each
-    rendered pixel's {!coverage} is stored there, 0 elsewhere. *)
+    rendered pixel's {!coverage} is stored there, 0 elsewhere. With [stride = k] the image
+    is the ⌈width/k⌉×⌈height/k⌉ one of one sample per k×k block ({!render_tile}): a
+    complete picture, with the camera of the full image, at about 1/k² of its cost. *)
 
 val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and

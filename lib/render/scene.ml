@@ -62,7 +62,7 @@ let uses_of objects =
     (match m.texture with
     | Some tex -> (
         x := true;
-        match tex with Texture.Gradient _ | Texture.Mapped _ -> c := true | _ -> ())
+        match (tex : Texture.t) with Gradient _ | Mapped _ -> c := true | _ -> ())
     | None -> ());
     if Option.is_some m.bump then b := true
   in
@@ -125,7 +125,7 @@ let uses_in (f : Features.t) =
 let ( let* ) = Result.bind
 
 (* The error of the first invalid material, the objects taken in order (a CSG object's
-   leaves in theirs), as [Material.validate] says it; none is checked after it. A material
+   leaves in theirs), as [Description.validate_material] says it; none is checked after it. A material
    that is physically the last one found valid is not checked again: a million spheres of
    one material check it once, with nothing allocated for each. *)
 let first_error objects =
@@ -135,7 +135,7 @@ let first_error objects =
     match !last with
     | Some l when l == m -> ()
     | _ -> (
-        match Material.validate m with
+        match Description.validate_material m with
         | Ok () -> last := Some m
         | Error e -> raise (Invalid e))
   in
@@ -169,11 +169,11 @@ let mover camera =
   let origin = origin_of camera in
   if is_zero origin then Primitive.baked else Primitive.mover (Vec3.neg origin)
 
-let of_gen ~moved ?(index = true) ?(settings = Settings.default)
+let of_gen ~moved ?(index = true) ?(checked = false) ?(settings = Settings.default)
     ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights objects =
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () = first_error objects in
+  let* () = if checked then Ok () else first_error objects in
   let lights = Array.of_list lights in
   let origin = origin_of camera in
   let objects = if moved then objects else Array.map (mover camera) objects in
@@ -181,13 +181,13 @@ let of_gen ~moved ?(index = true) ?(settings = Settings.default)
   let features = derive_features settings camera lights objects accel in
   Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)
 
-let of_array ?settings ?camera ?time ?frame ~lights objects =
-  of_gen ~moved:false ?settings ?camera ?time ?frame ~lights objects
+let of_array ?checked ?settings ?camera ?time ?frame ~lights objects =
+  of_gen ~moved:false ?checked ?settings ?camera ?time ?frame ~lights objects
 
 let of_moved = of_gen ~moved:true
 
-let make ?settings ?camera ?time ?frame ~lights objects =
-  of_array ?settings ?camera ?time ?frame ~lights (Array.of_list objects)
+let make ?checked ?settings ?camera ?time ?frame ~lights objects =
+  of_array ?checked ?settings ?camera ?time ?frame ~lights (Array.of_list objects)
 
 (* ---------------------------------------------------------------------------------- *)
 (* A part that does not change between frames *)
@@ -196,7 +196,7 @@ type fixed = {
   f_origin : Vec3.t;
   f_prims : Primitive.t array;  (** moved by −[f_origin] *)
   f_accel : Accel.t;
-  f_valid : bool;  (** whether every material of them is valid *)
+  f_valid : bool Lazy.t;  (** whether every material of them is valid *)
   f_uses : uses;
   f_placed : (int * int array) option Atomic.t;
       (** the last [fixed_idx] of the part placed whole after that many moving objects (k
@@ -214,7 +214,7 @@ let fixed ~origin prims =
     f_origin = origin;
     f_prims = prims;
     f_accel = Accel.build prims;
-    f_valid = materials_valid prims;
+    f_valid = lazy (materials_valid prims);
     f_uses = uses_of prims;
     f_placed = Atomic.make None;
   }
@@ -227,8 +227,8 @@ let same_point (a : Vec3.t) (b : Vec3.t) =
 
 type piece = Fixed of int * int | Moving of Primitive.t list
 
-let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(time = 0.)
-    ?(frame = 0) ~lights ~fixed:f pieces =
+let make_layered ?(checked = false) ?(settings = Settings.default)
+    ?(camera = Camera.default) ?(time = 0.) ?(frame = 0) ~lights ~fixed:f pieces =
   let origin = origin_of camera in
   if not (same_point origin f.f_origin) then
     invalid_arg "Scene.make_layered: the fixed part is for another origin";
@@ -316,7 +316,10 @@ let make_layered ?(settings = Settings.default) ?(camera = Camera.default) ?(tim
   in
   let* () = Settings.validate settings in
   let* () = Camera.validate camera in
-  let* () = first_error (if f.f_valid then moving else objects) in
+  let* () =
+    if checked then Ok ()
+    else first_error (if Lazy.force f.f_valid then moving else objects)
+  in
   let lights = Array.of_list lights in
   (* A shadow ray's transmittance multiplies its crossings in the order of their values,
      not of the structure's walk (Shade.transparent_into), so transparent objects are

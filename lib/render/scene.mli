@@ -25,6 +25,7 @@ type t = private {
     the world's origin renders as it would at the origin. *)
 
 val make :
+  ?checked:bool ->
   ?settings:Settings.t ->
   ?camera:Camera.t ->
   ?time:float ->
@@ -32,10 +33,13 @@ val make :
   lights:Light.t list ->
   Primitive.t list ->
   (t, string) result
-(** [make ~lights objects] validates settings, camera and materials and builds the scene.
-*)
+(** [make ~lights objects] validates settings, camera and materials
+    ({!Description.validate_material}) and builds the scene. With [~checked:true] the
+    materials are not checked: they are a description's, which its language checked
+    (the scenes {!Compile} makes). *)
 
 val of_array :
+  ?checked:bool ->
   ?settings:Settings.t ->
   ?camera:Camera.t ->
   ?time:float ->
@@ -55,6 +59,7 @@ val mover : Camera.t -> Primitive.t -> Primitive.t
 
 val of_moved :
   ?index:bool ->
+  ?checked:bool ->
   ?settings:Settings.t ->
   ?camera:Camera.t ->
   ?time:float ->
@@ -89,6 +94,7 @@ type piece =
   | Moving of Primitive.t list  (** primitives of this frame, in world coordinates *)
 
 val make_layered :
+  ?checked:bool ->
   ?settings:Settings.t ->
   ?camera:Camera.t ->
   ?time:float ->

@@ -57,7 +57,7 @@ and crossings = {
 }
 
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
-   the texture is evaluated in object space at p − δ·n (doc/shading.md, section 6). *)
+   the texture is evaluated in object space at p − δ·n (doc/reference/shading.md, section 6). *)
 let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta =
   let m = o.material in
   match m.texture with
@@ -318,7 +318,7 @@ let refract d nf eta =
   else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
-   it, added into acc.(ar, ag, ab) (doc/shading.md, section 4), for albedo (cr, cg, cb),
+   it, added into acc.(ar, ag, ab) (doc/reference/shading.md, section 4), for albedo (cr, cg, cb),
    the normal facing the ray (nfx, nfy, nfz), the ray's direction (dx, dy, dz) and shadow
    rays from (lox, loy, loz). Inlined into [shade]: its floats stay unboxed and nothing is
    allocated. [area_n] > 0 makes it an area light sampled n×n over [radius] around

@@ -1,4 +1,4 @@
-(** The Whitted shading model of doc/shading.md, exactly: ambient, Lambert with distance
+(** The Whitted shading model of doc/reference/shading.md, exactly: ambient, Lambert with distance
     attenuation, shadows with transmittance through transparent surfaces, Phong
     highlights, mirror reflection, Snell–Descartes refraction with total internal
     reflection, optional Schlick Fresnel, and the depth rule.

@@ -138,7 +138,7 @@ let disk ~center ~normal ~radius =
 
 let[@inline] in_range (t : float) tmin tmax = t > tmin && t < tmax
 
-(* Sphere (doc/numerics.md): with f = O − C and half-b' = f·d, the discriminant
+(* Sphere (doc/reference/numerics.md): with f = O − C and half-b' = f·d, the discriminant
    b'² − a·c equals a·(r − ℓ)(r + ℓ) where ℓ = |f − (b'/a)·d| is the distance from the centre
    to the ray's line. That form has no cancellation when the sphere is far away or tiny;
    c = (|f| − r)(|f| + r) likewise. The far root is q/a, the near one c/q. *)
@@ -273,7 +273,7 @@ let roots a b c =
    |x⊥|² = k·y' with k = r²/h, kept for 0 ≤ y' ≤ h (open cup, seen from both sides).
    Along the ray, with f = O − V: a = |d⊥|², b = 2·f⊥·d⊥ − k·d_y, c = |f⊥|² − k·f_y. A ray
    parallel to the axis has a = 0 and one root; nearly parallel (a = 1e-18) the stable
-   formula keeps the finite root (9.4999999905 in doc/numerics.md) where the naive one gives 0. *)
+   formula keeps the finite root (9.4999999905 in doc/reference/numerics.md) where the naive one gives 0. *)
 let[@inline] paraboloid_root t fy dy height tmin tmax =
   in_range t tmin tmax
   &&

@@ -1,37 +1,7 @@
 type color_map = { ts : float array; cs : Color.t array }
 
 let color_map entries =
-  let n = List.length entries in
-  let ok_color (c : Color.t) = Color.is_finite c && c.r >= 0. && c.g >= 0. && c.b >= 0. in
-  if n = 0 then Error "a color_map needs at least one entry (t, colour)"
-  else
-    let rec check prev k = function
-      | [] ->
-          Ok
-            {
-              ts = Array.of_list (List.map fst entries);
-              cs = Array.of_list (List.map snd entries);
-            }
-      | (t, c) :: rest ->
-          if not (t >= 0. && t <= 1.) then
-            Error
-              (Printf.sprintf "entry %d of the color_map has t = %g; t must be in [0, 1]"
-                 k t)
-          else if t < prev then
-            Error
-              (Printf.sprintf
-                 "entry %d of the color_map has t = %g, below the t = %g before it: \
-                  entries go in increasing t"
-                 k t prev)
-          else if not (ok_color c) then
-            Error
-              (Printf.sprintf
-                 "entry %d of the color_map has a colour with a negative or non-finite \
-                  component"
-                 k)
-          else check t (k + 1) rest
-    in
-    check 0. 1 entries
+  { ts = Array.of_list (List.map fst entries); cs = Array.of_list (List.map snd entries) }
 
 (* The last k with t_k ≤ v (−1 when v < t_0); a binary search would pay only for long maps. *)
 let lookup m v =
@@ -52,18 +22,7 @@ let lookup m v =
       (c0.g +. (s *. (c1.g -. c0.g)))
       (c0.b +. (s *. (c1.b -. c0.b)))
 
-type t =
-  | Solid of Color.t
-  | Checker of { c1 : Color.t; c2 : Color.t; size : float }
-  | Stripes of { c1 : Color.t; c2 : Color.t; size : float }
-  | Noise of { c1 : Color.t; c2 : Color.t; scale : float }
-  | Marble of { c1 : Color.t; c2 : Color.t; scale : float }
-  | Wood of { c1 : Color.t; c2 : Color.t; scale : float }
-  | Gradient of { axis : Vec3.t; map : color_map }
-  | Mapped of { pattern : pattern; map : color_map }
-  | Image of { img : Image.t; scale : float }
-
-and pattern = Noise_pattern of float | Marble_pattern of float | Wood_pattern of float
+type t = (Image.t, color_map) Description.texture_of
 
 (* ⌊x⌋ as an int, clamped so that huge or non-finite coordinates cannot reach the
    unspecified cases of int_of_float; only the parity is used. *)
@@ -107,7 +66,7 @@ let bilinear (img : Image.t) u v =
 
 (* The value in [0, 1] (before clamping) that mixes the two colours of a noise, marble or
    wood texture, or indexes a colour map. *)
-let pattern_value pat (p : Vec3.t) =
+let pattern_value (pat : Description.pattern) (p : Vec3.t) =
   match pat with
   | Noise_pattern scale ->
       let s = 1. /. scale in
@@ -128,7 +87,7 @@ let pattern_value pat (p : Vec3.t) =
       (* A smooth ring profile: light wood rising to the dark late wood at the ring's end. *)
       f *. f *. (3. -. (2. *. f))
 
-let eval t (p : Vec3.t) u v =
+let eval (t : t) (p : Vec3.t) u v =
   match t with
   | Solid c -> c
   | Checker { c1; c2; size } ->
@@ -160,7 +119,7 @@ let eval t (p : Vec3.t) u v =
       (* fract; a non-finite coordinate takes the map's start rather than NaN. *)
       let f = if Float.is_finite x then x -. Float.floor x else 0. in
       lookup map f
-  | Image { img; scale } -> bilinear img (u *. scale) (v *. scale)
+  | Image { image; scale } -> bilinear image (u *. scale) (v *. scale)
 
 (* [mix] into the fragment's colour. *)
 let[@inline] mix_into (f : Frag.t) (c1 : Color.t) (c2 : Color.t) s =
@@ -171,7 +130,7 @@ let[@inline] mix_into (f : Frag.t) (c1 : Color.t) (c2 : Color.t) s =
 
 (* [eval] in scalars for the textures that pick or mix two colours; the others build the
    point and their colour. *)
-let eval_into t (f : Frag.t) =
+let eval_into (t : t) (f : Frag.t) =
   match t with
   | Solid c -> Frag.set_color f c
   | Checker { c1; c2; size } ->
@@ -185,13 +144,13 @@ let eval_into t (f : Frag.t) =
   | Marble _ | Wood _ | Mapped _ | Gradient _ | Image _ ->
       Frag.set_color f (eval t (Frag.point f) f.u f.v)
 
-let needs_uv = function
+let needs_uv : t -> bool = function
   | Image _ -> true
   | Solid _ | Checker _ | Stripes _ | Noise _ | Marble _ | Wood _ | Gradient _ | Mapped _
     ->
       false
 
-let name = function
+let name : t -> string = function
   | Solid _ -> "solid"
   | Checker _ -> "checker"
   | Stripes _ -> "stripes"

@@ -1,5 +1,4 @@
 open Lancer
-module Dsl = Lancer_dsl.Dsl
 
 type outcome = Compare.outcome =
   | Same of Compare.t
@@ -45,13 +44,13 @@ let errs e = String.concat "\n" (List.map (Format.asprintf "%a" Lancer_dsl.Error
 
 (* The time and frame asked for, as [lancer render --time/--frame] takes them. *)
 let time_and_frame ?time ?frame prog =
-  let fps = match Dsl.animation prog with Some (fps, _) -> fps | None -> 24. in
+  let fps = match Program.animation prog with Some (fps, _) -> fps | None -> 24. in
   match (time, frame) with
   | Some _, Some _ -> Error "give either ~time or ~frame, not both"
   | Some t, None when not (Float.is_finite t) -> Error "~time must be a finite number"
   | Some t, None -> Ok (t, int_of_float (Float.floor ((t *. fps) +. 1e-9)))
   | None, Some k -> (
-      match Dsl.animation prog with
+      match Program.animation prog with
       | _ when k < 0 -> Error (Printf.sprintf "~frame must be at least 0 (got %d)" k)
       | None ->
           Error
@@ -138,7 +137,7 @@ let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~s
   | Ok (prog, img) -> (
       let golden_file = source_path golden in
       let read =
-        Dsl.inputs prog
+        Program.inputs prog
         @ if updating () || not (Sys.file_exists golden_file) then [] else [ golden_file ]
       in
       (match undeclared_inputs read with

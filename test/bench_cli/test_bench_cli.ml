@@ -1,9 +1,11 @@
-(* lancer bench as a user runs it: the JSON of physics, quality and scaling, the quality
-   cache, and the closed form the physics bench measures against. *)
+(* lancer bench as a user runs it (quality and its cache, domains, animation), and the
+   developers' benchmarks of bench/ run small so that they keep working (physics and the
+   closed form it measures against, scaling). *)
 
 open Yojson.Safe.Util
 
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+let bench_exe = Filename.concat (Sys.getcwd ()) "../../bench/lancer_bench.exe"
 
 let tmpdir () =
   let d =
@@ -18,8 +20,9 @@ let tmpdir () =
 let read_file p = In_channel.with_open_bin p In_channel.input_all
 let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
 
-(* Run lancer with [args] (and [env] prepended as NAME=value); (status, stdout, stderr). *)
-let lancer ?(env = []) args =
+(* Run lancer (or [exe]) with [args] (and [env] prepended as NAME=value); (status,
+   stdout, stderr). *)
+let lancer ?(exe = exe) ?(env = []) args =
   let out = Filename.temp_file "lancer" ".out"
   and err = Filename.temp_file "lancer" ".err" in
   let cmd =
@@ -35,8 +38,8 @@ let lancer ?(env = []) args =
   Sys.remove err;
   (status, o, e)
 
-let json_of args ?env () =
-  let st, o, e = lancer ?env args in
+let json_of ?exe args ?env () =
+  let st, o, e = lancer ?exe ?env args in
   Alcotest.(check int) (String.concat " " args ^ ": exit\n" ^ e) 0 st;
   try Yojson.Safe.from_string o
   with Yojson.Json_error m -> Alcotest.failf "not JSON (%s):\n%s" m o
@@ -49,27 +52,33 @@ let contains s sub =
 (* ---- physics ---- *)
 
 let closed_form () =
-  (* doc/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given there. *)
+  (* doc/reference/numerics.md: e = 1 and e = 0.8 impact times, to the 12 digits given
+     there. *)
   let close msg a b = Alcotest.(check (float 5e-12)) msg a b in
-  close "e = 1, first impact" 0.451523640986 (Lancer.Drop.impact_time 1. 1);
+  close "e = 1, first impact" 0.451523640986 (Lancer_benchmarks.Drop.impact_time 1. 1);
   close "e = 1, impact 4"
     (0.451523640986 +. (3. *. 0.903047281971))
-    (Lancer.Drop.impact_time 1. 4);
+    (Lancer_benchmarks.Drop.impact_time 1. 4);
   List.iteri
     (fun i t ->
       close
         (Printf.sprintf "e = 0.8, impact %d" (i + 1))
         t
-        (Lancer.Drop.impact_time 0.8 (i + 1)))
+        (Lancer_benchmarks.Drop.impact_time 0.8 (i + 1)))
     [ 0.451523640986; 1.173961466563; 1.751911727025; 2.214271935394; 2.584160102090 ];
   (* apex 0.64 m after the first e = 0.8 impact, half-way to the second *)
-  let mid = 0.5 *. (Lancer.Drop.impact_time 0.8 1 +. Lancer.Drop.impact_time 0.8 2) in
-  Alcotest.(check (float 1e-12)) "apex 0.64 m" 0.64 (Lancer.Drop.gap 0.8 mid);
+  let mid =
+    0.5
+    *. (Lancer_benchmarks.Drop.impact_time 0.8 1
+       +. Lancer_benchmarks.Drop.impact_time 0.8 2)
+  in
+  Alcotest.(check (float 1e-12)) "apex 0.64 m" 0.64 (Lancer_benchmarks.Drop.gap 0.8 mid);
   Alcotest.(check (float 0.))
-    "at rest after Zeno's 4.0637 s" 0. (Lancer.Drop.gap 0.8 4.07)
+    "at rest after Zeno's 4.0637 s" 0.
+    (Lancer_benchmarks.Drop.gap 0.8 4.07)
 
 let physics_json () =
-  let j = json_of [ "bench"; "physics"; "--json" ] () in
+  let j = json_of ~exe:bench_exe [ "physics"; "--json" ] () in
   let rows = j |> member "rows" |> to_list in
   Alcotest.(check int)
     "2 restitutions × (exact + 2 methods × 3 steps)" 14 (List.length rows);
@@ -107,7 +116,7 @@ let physics_json () =
     (exact08 |> member "max_apex_error" |> to_number < 1e-9);
   let v30 = find 1. "verlet" (Some (1. /. 30.)) in
   Alcotest.(check (float 1e-3))
-    "Verlet at 1/30 s: first apex 1.068 m (doc/numerics.md)" 1.068
+    "Verlet at 1/30 s: first apex 1.068 m (doc/reference/numerics.md)" 1.068
     (v30 |> member "first_apex" |> to_number);
   Alcotest.(check int) "Verlet at 1/30 s: 300 steps" 300 (v30 |> member "steps" |> to_int);
   let v1000 = find 1. "verlet" (Some 0.001)
@@ -195,9 +204,8 @@ let quality_cache () =
 
 let scaling_json () =
   let j =
-    json_of
+    json_of ~exe:bench_exe
       [
-        "bench";
         "scaling";
         "--counts";
         "100,1000";
@@ -243,9 +251,8 @@ let scaling_json () =
     "same rays on 1 and 2 domains" true
     (match ints "domains" "rays" with [ a; b ] -> a = b | _ -> false);
   let only =
-    json_of
+    json_of ~exe:bench_exe
       [
-        "bench";
         "scaling";
         "--counts";
         "100";
@@ -294,7 +301,7 @@ let domains_words () =
 let scaling_errors () =
   List.iter
     (fun args ->
-      let st, _, e = lancer ("bench" :: "scaling" :: args) in
+      let st, _, e = lancer ~exe:bench_exe ("scaling" :: args) in
       Alcotest.(check int) (String.concat " " args ^ "\n" ^ e) 1 st;
       Alcotest.(check bool)
         "one line, no backtrace" true
@@ -305,6 +312,24 @@ let scaling_errors () =
       [ "--row"; "10,8x8" ];
       [ "--sweeps"; "colours" ];
     ]
+
+(* The developers' benchmarks are not part of the shipped command. *)
+let not_shipped () =
+  List.iter
+    (fun b ->
+      let st, _, e = lancer [ "bench"; b ] in
+      Alcotest.(check int) ("lancer bench " ^ b ^ " is not a command\n" ^ e) 1 st)
+    [ "physics"; "scaling"; "language" ]
+
+let language_json () =
+  let j =
+    json_of ~exe:bench_exe [ "language"; "--repeat"; "1"; "--grid"; "10"; "--json" ] ()
+  in
+  let open Yojson.Safe.Util in
+  Alcotest.(check int) "objects" 100 (j |> member "objects" |> to_int);
+  Alcotest.(check bool)
+    "the loop's time" true
+    (j |> member "loop_seconds" |> to_number > 0.)
 
 (* An animation timed against its still: every frame written, both times and their ratio
    reported; a scene that fails is a one-line error. *)
@@ -342,7 +367,8 @@ let () =
     [
       ( "physics",
         [
-          Alcotest.test_case "closed form matches doc/numerics.md" `Quick closed_form;
+          Alcotest.test_case "closed form matches doc/reference/numerics.md" `Quick
+            closed_form;
           Alcotest.test_case "physics --json" `Quick physics_json;
         ] );
       ( "quality",
@@ -354,4 +380,9 @@ let () =
           Alcotest.test_case "bad options exit 1" `Quick scaling_errors;
         ] );
       ("animation", [ Alcotest.test_case "animation --json" `Quick animation_json ]);
+      ( "bench/",
+        [
+          Alcotest.test_case "not commands of lancer" `Quick not_shipped;
+          Alcotest.test_case "language --json" `Quick language_json;
+        ] );
     ]

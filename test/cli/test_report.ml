@@ -1,9 +1,7 @@
-(* The one way lancer reports a failure (Report): the text and exit status of each kind,
-   as the README's "Exit status and errors" documents them; and a program's scenes as the
-   job layer gets them (Lang.source). *)
+(* The one way lancer reports a failure (Job_error.describe): the text and exit status of each kind,
+   as doc/reference/command-line.md ("Exit status and errors") documents them; and a
+   program's scenes as the job layer gets them (Program.source). *)
 open Lancer
-module Report = Lancer_cli.Report
-module Lang = Lancer_cli.Lang
 
 let contains s sub =
   let n = String.length s and m = String.length sub in
@@ -14,21 +12,21 @@ let outcome = Alcotest.(pair string int)
 
 let statuses () =
   Alcotest.check outcome "a user error" ("lancer: no such file\n", 1)
-    (Report.describe (Job_error.User "no such file"));
+    (Job_error.describe (Job_error.User "no such file"));
   Alcotest.check outcome "a file the system refuses"
     ("lancer: out.png: No space\n", 1)
-    (Report.describe (Sys_error "out.png: No space"));
+    (Job_error.describe (Sys_error "out.png: No space"));
   Alcotest.check outcome "an interrupt"
     ("\nlancer: interrupted; no output was written\n", 130)
-    (Report.describe Sys.Break);
+    (Job_error.describe Sys.Break);
   Alcotest.check outcome "an interrupt, saying what became of the output"
     ("\nlancer: the frames are kept\n", 130)
-    (Report.describe ~interrupted:"the frames are kept" Sys.Break);
+    (Job_error.describe ~interrupted:"the frames are kept" Sys.Break);
   Alcotest.check outcome "an interrupt during the final write"
     ("\nlancer: interrupted; a.png was written in full first\n", 130)
-    (Report.describe (Job_error.Interrupted "a.png was written in full first"));
-  Alcotest.(check int) "out of memory" 1 (snd (Report.describe Out_of_memory));
-  let text, status = Report.describe Not_found in
+    (Job_error.describe (Job_error.Interrupted "a.png was written in full first"));
+  Alcotest.(check int) "out of memory" 1 (snd (Job_error.describe Out_of_memory));
+  let text, status = Job_error.describe Not_found in
   Alcotest.(check int) "anything else is an internal error" 2 status;
   Alcotest.(check bool)
     ("named a bug, to report: " ^ text)
@@ -41,17 +39,17 @@ let scene_errors () =
   let each = Format.asprintf "%a" Diagnostic.pp in
   Alcotest.check outcome "every located error, as the language prints it"
     (each e1 ^ "\n" ^ each e2, 1)
-    (Report.describe (Job_error.Scene { errors = [ e1; e2 ]; note = "" }));
+    (Job_error.describe (Job_error.Scene { errors = [ e1; e2 ]; note = "" }));
   Alcotest.check outcome "and the note after them"
     (each e1 ^ "lancer: 1 of the 3 frames checked (0..2) fail: 1\n", 1)
-    (Report.describe
+    (Job_error.describe
        (Job_error.Scene
           { errors = [ e1 ]; note = "1 of the 3 frames checked (0..2) fail: 1" }));
   Alcotest.(check string)
     "a worker's failure is the message alone" "cannot write"
-    (Report.message (Job_error.User "cannot write"));
+    (Job_error.message (Job_error.User "cannot write"));
   Alcotest.(check string)
-    "or the internal error" "internal error: Not_found" (Report.message Not_found)
+    "or the internal error" "internal error: Not_found" (Job_error.message Not_found)
 
 (* A scene that only fails at frame 3 (a radius of 0): the job layer sees the failure as the job
    layer's own located error, and the overrides apply to the scenes that evaluate. *)
@@ -65,11 +63,11 @@ sphere { center: (0, 1, 0), radius: 1.5 - frame * 0.5 }
 |}
   in
   let prog =
-    match Lang.load ~filename:"frames.rts" text with
+    match Program.load_string ~filename:"frames.rts" text with
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
-  let src = Lang.source ~builtin:false prog in
+  let src = Program.source ~builtin:false prog in
   Alcotest.(check (option (pair (float 0.) int)))
     "its animation"
     (Some (4., 4))

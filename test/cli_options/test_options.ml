@@ -107,8 +107,10 @@ let help_tests =
         check [ "render" ] render_options;
         check [ "animate" ]
           [
+            "--bits";
             "--depth";
             "--domains";
+            "--format";
             "--frames";
             "--height";
             "--output";

@@ -198,7 +198,8 @@ let camera_tests =
 let encode_tests =
   let e = Image.encode_channel Settings.Srgb in
   [
-    Alcotest.test_case "sRGB encodes the breakpoints of doc/shading.md" `Quick (fun () ->
+    Alcotest.test_case "sRGB encodes the breakpoints of doc/reference/shading.md" `Quick
+      (fun () ->
         Alcotest.(check int) "0" 0 (e 0.);
         Alcotest.(check int) "1" 255 (e 1.);
         (* 12.92 · 0.0031308 = 0.04045 → ⌊10.31 + 0.5⌋ *)
@@ -451,7 +452,9 @@ let texture_tests =
       `Quick (fun () ->
         let c1 = Color.v 1. 0. 0. and c2 = Color.v 0. 0. 1. in
         let m =
-          mat ~ambient:1. ~diffuse:0. ~texture:(Texture.Checker { c1; c2; size = 1. }) ()
+          mat ~ambient:1. ~diffuse:0.
+            ~texture:(Description.Checker { c1; c2; size = 1. })
+            ()
         in
         let sc =
           Scene.make_exn ~settings:small ~lights:[]
@@ -536,7 +539,8 @@ let file_tests =
 let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) () =
   let floor =
     mat
-      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. })
+      ~texture:
+        (Description.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 1. })
       ()
   in
   Scene.make_exn ~settings
@@ -632,7 +636,8 @@ let render_tests =
             let prims =
               List.map
                 (fun (k, color, transparency) ->
-                  prim (mat ~color ~transparency ~ior:1.2 ())
+                  prim
+                    (mat ~color ~transparency ~ior:1.2 ())
                     (Shape.sphere
                        ~center:(Vec3.v 0. 0. (2. *. Float.of_int k))
                        ~radius:0.5))
@@ -689,6 +694,40 @@ let render_tests =
               true
               (floats_equal fb.data reference.data))
           [ 1; 2; 3; 4 ]);
+    Alcotest.test_case
+      "one sample per k×k block: the full image's middle pixels, on any number of domains"
+      `Quick (fun () ->
+        let settings =
+          { Settings.default with width = 70; height = 45; samples = 2; jitter = true }
+        in
+        let sc = demo_scene ~settings () in
+        let full, _ = Render.render sc in
+        List.iter
+          (fun k ->
+            let cw = (70 + k - 1) / k and ch = (45 + k - 1) / k in
+            List.iter
+              (fun n ->
+                let fb, st =
+                  Render.with_pool n (fun pool -> Render.render ?pool ~stride:k sc)
+                in
+                let name = Printf.sprintf "%d×%d blocks, %d domains" k k n in
+                Alcotest.(check (pair int int)) name (cw, ch) (fb.width, fb.height);
+                for j = 0 to ch - 1 do
+                  for i = 0 to cw - 1 do
+                    let x = min 69 ((i * k) + (k / 2))
+                    and y = min 44 ((j * k) + (k / 2)) in
+                    let a = Image.get fb i j and b = Image.get full x y in
+                    if not (a.r = b.r && a.g = b.g && a.b = b.b) then
+                      Alcotest.failf "%s: pixel %d,%d is not the image's %d,%d" name i j x
+                        y
+                  done
+                done;
+                Alcotest.(check int)
+                  (name ^ ": one pixel's samples per block")
+                  (cw * ch * 4)
+                  st.primary)
+              [ 1; 2 ])
+          [ 1; 2; 8; 64 ]);
     Alcotest.test_case "ray counts do not depend on the number of domains" `Quick
       (fun () ->
         let sc = demo_scene () in
@@ -780,7 +819,9 @@ let validation_tests =
         let error objs =
           match Scene.make ~lights:[] objs with Ok _ -> None | Error e -> Some e
         in
-        let message m = match Material.validate m with Ok () -> "" | Error e -> e in
+        let message m =
+          match Description.validate_material m with Ok () -> "" | Error e -> e
+        in
         Alcotest.(check (option string))
           "all valid" None
           (error (List.init 1000 (fun _ -> ball ok)));
@@ -822,7 +863,7 @@ let validation_tests =
                 ~lights:[] [])));
   ]
 
-(* ---- scale invariance (doc/numerics.md) ---- *)
+(* ---- scale invariance (doc/reference/numerics.md) ---- *)
 
 (* The demo scene with every length multiplied by [k]: positions, radii, plane offsets,
    checker size, area-light radius; attenuation coefficients rescaled so that
@@ -830,7 +871,8 @@ let validation_tests =
 let scaled_parts ?(shift = Vec3.zero) k =
   let floor =
     mat
-      ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k })
+      ~texture:
+        (Description.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = k })
       ()
   in
   let p x y z = Vec3.add shift (v (k *. x) (k *. y) (k *. z)) in
@@ -936,13 +978,14 @@ let far_scene shift =
              (Transform.translate (p (-2.6) 0.4 1.5)))
         (mat
            ~texture:
-             (Texture.Stripes
+             (Description.Stripes
                 { c1 = Color.v 0.9 0.8 0.1; c2 = Color.v 0.1 0.3 0.6; size = 0.1 })
            ())
         (Shape.box ~min:(v (-0.4) (-0.4) (-0.4)) ~max:(v 0.4 0.4 0.4));
       prim
         (mat
-           ~texture:(Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 })
+           ~texture:
+             (Description.Checker { c1 = Color.white; c2 = Color.black; size = 0.25 })
            ())
         (Shape.sphere ~center:(p 0.3 1.6 2.5) ~radius:0.6);
     ]

@@ -253,7 +253,7 @@ difference {
    reversed (pointing into the cavity), both of the glass. *)
 let test_hollow_glass () =
   let prog =
-    match Lancer_dsl.Dsl.load_string hollow_scene with
+    match Lancer.Program.load_string hollow_scene with
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
@@ -472,7 +472,7 @@ let test_height_field () =
     Printf.sprintf "height_field { file: %S, origin: (1, 2, 3), size: (4, 10, 2) }" file
   in
   let prog =
-    match Lancer_dsl.Dsl.load_string scene with
+    match Lancer.Program.load_string scene with
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
@@ -512,7 +512,7 @@ let cube_obj ~faces =
   file
 
 let load_scene text =
-  match Lancer_dsl.Dsl.load_string text with
+  match Lancer.Program.load_string text with
   | Error es ->
       Error (String.concat "\n" (List.map (fun (e : Lancer_dsl.Error.t) -> e.message) es))
   | Ok p -> (
@@ -571,7 +571,7 @@ let test_physics_union_of_boxes () =
      offset: 6 } translate: (0, -1, 0) }\n\
      body ball { sphere { center: (0, 2, 0), radius: 0.5 } }"
   in
-  match Lancer_dsl.Dsl.load_string scene with
+  match Lancer.Program.load_string scene with
   | Error _ -> Alcotest.fail "the scene does not load"
   | Ok p -> (
       match Lancer.Program.colliders p with
@@ -602,7 +602,7 @@ let test_check_describes_trees () =
      material { color: (1, 0, 0) } } } translate: (0, 1, 0) }"
   in
   let p =
-    match Lancer_dsl.Dsl.load_string text with
+    match Lancer.Program.load_string text with
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
@@ -687,7 +687,7 @@ let test_bounds () =
   Alcotest.(check bool) "a union with a plane is unbounded" true (p.bounds = None)
 
 let located text =
-  match Lancer_dsl.Dsl.load_string ~filename:"t.rts" text with
+  match Lancer.Program.load_string ~filename:"t.rts" text with
   | Ok _ -> Alcotest.failf "accepted: %s" text
   | Error es -> List.map (fun (e : Lancer_dsl.Error.t) -> (e.line, e.col, e.message)) es
 

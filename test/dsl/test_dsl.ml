@@ -8,7 +8,7 @@ module Error = Lancer_dsl.Error
 let errors_text es = String.concat "" (List.map Error.to_string es)
 
 let load text =
-  match Dsl.load_string ~filename:"test.rts" text with
+  match Program.load_string ~filename:"test.rts" text with
   | Ok p -> p
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
 
@@ -219,10 +219,10 @@ let test_materials () =
   let p = s.objects.(1).material in
   Alcotest.(check bool)
     "checker texture" true
-    (p.texture = Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
+    (p.texture = Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
   Alcotest.(check bool)
     "noise bump" true
-    (p.bump = Some (Bump.Noise { scale = 1.; amount = 0.1 }))
+    (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }))
 
 let test_settings_camera_lights () =
   let s =
@@ -251,7 +251,7 @@ let test_animation_time () =
   Alcotest.(check (option (pair (float 0.) int)))
     "animation"
     (Some (10., 20))
-    (Dsl.animation p);
+    (Program.animation p);
   (match Program.scene_at p ~time:1.5 ~frame:15 with
   | Ok s -> (
       match s.objects.(0).shape with
@@ -263,16 +263,16 @@ let test_animation_time () =
   Alcotest.(check (option (pair (float 0.) int)))
     "duration"
     (Some (24., 48))
-    (Dsl.animation p);
+    (Program.animation p);
   Alcotest.(check (option (pair (float 0.) int)))
     "defaults: 24 fps, 48 frames"
     (Some (24., 48))
-    (Dsl.animation (load "animation { }"));
+    (Program.animation (load "animation { }"));
   Alcotest.(check (option (pair (float 0.) int)))
     "frames default to 48"
     (Some (12., 48))
-    (Dsl.animation (load "animation { fps: 12 }"));
-  Alcotest.(check (option (pair (float 0.) int))) "none" None (Dsl.animation (load ""))
+    (Program.animation (load "animation { fps: 12 }"));
+  Alcotest.(check (option (pair (float 0.) int))) "none" None (Program.animation (load ""))
 
 let test_bodies () =
   let text =
@@ -283,7 +283,7 @@ let test_bodies () =
      plane { normal: (0, 1, 0) }"
   in
   let p = load text in
-  (match Dsl.bodies p with
+  (match Program.bodies p with
   | [ b ] ->
       Alcotest.(check string) "name" "ball" b.name;
       veq "centre" (Vec3.v 0. 2. 0.) b.center;
@@ -292,7 +292,7 @@ let test_bodies () =
   | _ -> Alcotest.fail "one body");
   Alcotest.(check bool)
     "physics" true
-    (match Dsl.physics p with
+    (match Dsl.physics (Program.language p) with
     | Some { method_ = Dsl.Verlet; gravity; _ } -> gravity.y = -10.
     | _ -> false);
   let hook name t =
@@ -340,7 +340,7 @@ let test_physics_wired () =
   | _ -> Alcotest.fail "one plane collider");
   (* A rotated body keeps its radius; a body scaled unevenly is refused. *)
   (match
-     Dsl.bodies
+     Program.bodies
        (load
           "body b { sphere { center: (0, 2, 0), radius: 1, rotate: (0, 45, 0), scale: 2 \
            } }")
@@ -392,7 +392,7 @@ let test_includes () =
   in
   write "common.rts" "let r = 2\nsphere { center: (0, 0, 0), radius: r }";
   write "main.rts" "include \"common.rts\"\nsphere { center: (1, 0, 0), radius: r }";
-  (match Dsl.load_file (Filename.concat dir "main.rts") with
+  (match Program.load_file (Filename.concat dir "main.rts") with
   | Ok p -> (
       match Program.scene_at p ~time:0. ~frame:0 with
       | Ok s ->
@@ -489,7 +489,7 @@ let test_scenes () =
   List.iter
     (fun f ->
       let path = Filename.concat scenes_dir f in
-      match Dsl.load_file path with
+      match Program.load_file path with
       | Ok p -> (
           match Program.scene_at p ~time:0. ~frame:0 with
           | Ok s ->
@@ -528,7 +528,7 @@ let no_crash text es =
   | None -> true
 
 let no_exception text =
-  match Dsl.load_string ~filename:"fuzz.rts" text with
+  match Program.load_string ~filename:"fuzz.rts" text with
   | Ok p -> (
       match Program.scene_at p ~time:0.5 ~frame:1 with
       | Ok s ->
@@ -771,12 +771,12 @@ module D = Description
 (* A still is evaluated once: the description at time 0, frame 0 is the load's own. *)
 let test_described_once () =
   let p = load "sphere { center: (0, 0, 0), radius: 1 }\nlight { position: (0, 5, 0) }" in
-  (match Dsl.describe p ~time:0. ~frame:0 with
-  | Ok d -> Alcotest.(check bool) "the load's description" true (d == Dsl.first p)
+  (match Dsl.describe (Program.language p) ~time:0. ~frame:0 with
+  | Ok d -> Alcotest.(check bool) "the load's description" true (d == Dsl.first (Program.language p))
   | Error es -> Alcotest.failf "%s" (errors_text es));
-  match Dsl.describe p ~time:1. ~frame:24 with
+  match Dsl.describe (Program.language p) ~time:1. ~frame:24 with
   | Ok d ->
-      Alcotest.(check bool) "another instant is evaluated" false (d == Dsl.first p);
+      Alcotest.(check bool) "another instant is evaluated" false (d == Dsl.first (Program.language p));
       Alcotest.(check (float 0.)) "its time" 1. d.time;
       Alcotest.(check int) "its frame" 24 d.frame
   | Error es -> Alcotest.failf "%s" (errors_text es)
@@ -926,7 +926,7 @@ let test_colliders_of_description () =
        difference { box { min: (-1, 0, -1), max: (1, 1, 1) } sphere { center: (0, 1, 0), \
        radius: 0.5 } }"
   in
-  let objects = (Dsl.first p).objects in
+  let objects = (Dsl.first (Program.language p)).objects in
   (match Physics.colliders (List.filteri (fun i _ -> i < 3) objects) with
   | Ok [ Physics.Plane { normal; offset }; _; _; _; _; _; _ ] ->
       Alcotest.(check bool)

@@ -139,7 +139,7 @@ let test_required () =
 
 (* The whole scene, as lancer check --json gives it. *)
 let json text =
-  match Dsl.load_string ~filename:"test.rts" text with
+  match Lancer.Program.load_string ~filename:"test.rts" text with
   | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
   | Ok p -> (
       match Lancer.Program.scene_at p ~time:0. ~frame:0 with

@@ -144,7 +144,7 @@ let dof_scene ?(aperture = 0.3) ?(lens_samples = 3) ?(samples = 1) () =
   let floor =
     matte
       ~texture:
-        (Texture.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 0.5 })
+        (Description.Checker { c1 = Color.white; c2 = Color.v 0.2 0.2 0.2; size = 0.5 })
       ()
   in
   Scene.make_exn ~settings ~camera
@@ -414,14 +414,13 @@ let environment_tests =
 
 let map_tests =
   let m =
-    ok
-      (Texture.color_map
+    Texture.color_map
          [
            (0.2, Color.v 1. 0. 0.);
            (0.6, Color.v 0. 0. 1.);
            (0.6, Color.v 0. 1. 0.);
            (1., Color.v 1. 1. 1.);
-         ])
+         ]
   in
   [
     Alcotest.test_case
@@ -434,7 +433,7 @@ let map_tests =
           (Color.v 0. 1. 0.);
         check_color "after the step" (Texture.lookup m 0.8) (Color.v 0.5 1. 0.5));
     Alcotest.test_case "gradient takes the fractional part of P·axis" `Quick (fun () ->
-        let tex = Texture.Gradient { axis = v 0. 2. 0.; map = m } in
+        let tex = Description.Gradient { axis = v 0. 2. 0.; map = m } in
         check_color "P·axis = 0.6"
           (Texture.eval tex (v 5. 0.3 0.) 0. 0.)
           (Color.v 0. 1. 0.);
@@ -449,7 +448,7 @@ let map_tests =
       (fun () ->
         (* With the map black → white, the mapped texture is the two-colour one with
            c1 = black and c2 = white, at every point. *)
-        let bw = ok (Texture.color_map [ (0., Color.black); (1., Color.white) ]) in
+        let bw = Texture.color_map [ (0., Color.black); (1., Color.white) ] in
         List.iter
           (fun (name, pattern, two) ->
             for k = 0 to 20 do
@@ -461,29 +460,29 @@ let map_tests =
               in
               check_color
                 (Printf.sprintf "%s at point %d" name k)
-                (Texture.eval (Texture.Mapped { pattern; map = bw }) p 0. 0.)
+                (Texture.eval (Description.Mapped { pattern; map = bw }) p 0. 0.)
                 (Texture.eval two p 0. 0.)
             done)
           [
             ( "marble",
-              Texture.Marble_pattern 0.7,
-              Texture.Marble { c1 = Color.black; c2 = Color.white; scale = 0.7 } );
+              Description.Marble_pattern 0.7,
+              Description.Marble { c1 = Color.black; c2 = Color.white; scale = 0.7 } );
             ( "wood",
-              Texture.Wood_pattern 0.3,
-              Texture.Wood { c1 = Color.black; c2 = Color.white; scale = 0.3 } );
+              Description.Wood_pattern 0.3,
+              Description.Wood { c1 = Color.black; c2 = Color.white; scale = 0.3 } );
             ( "noise",
-              Texture.Noise_pattern 0.5,
-              Texture.Noise { c1 = Color.black; c2 = Color.white; scale = 0.5 } );
+              Description.Noise_pattern 0.5,
+              Description.Noise { c1 = Color.black; c2 = Color.white; scale = 0.5 } );
           ]);
     Alcotest.test_case "entries out of order or outside [0, 1] are refused" `Quick
       (fun () ->
         Alcotest.(check bool)
           "decreasing" true
-          (Result.is_error (Texture.color_map [ (0.5, Color.white); (0.4, Color.black) ]));
+          (Option.is_some (Description.color_map_problem [ (0.5, Color.white); (0.4, Color.black) ]));
         Alcotest.(check bool)
           "t > 1" true
-          (Result.is_error (Texture.color_map [ (1.5, Color.white) ]));
-        Alcotest.(check bool) "empty" true (Result.is_error (Texture.color_map [])));
+          (Option.is_some (Description.color_map_problem [ (1.5, Color.white) ]));
+        Alcotest.(check bool) "empty" true (Option.is_some (Description.color_map_problem [])));
   ]
 
 (* ---- features ---- *)
@@ -506,8 +505,8 @@ let feature_tests =
             f.color_maps;
           ];
         let tex =
-          Texture.Gradient
-            { axis = Vec3.y_axis; map = ok (Texture.color_map [ (0., Color.white) ]) }
+          Description.Gradient
+            { axis = Vec3.y_axis; map = Texture.color_map [ (0., Color.white) ] }
         in
         let sc =
           Scene.make_exn

@@ -7,7 +7,7 @@ module Error = Lancer_dsl.Error
 let errors_text es = String.concat "" (List.map Error.to_string es)
 
 let scene text =
-  match Dsl.load_string ~filename:"test.rts" text with
+  match Program.load_string ~filename:"test.rts" text with
   | Error es -> Alcotest.failf "unexpected errors:\n%s" (errors_text es)
   | Ok p -> (
       match Program.scene_at p ~time:0. ~frame:0 with
@@ -158,7 +158,7 @@ let test_color_maps () =
        1, 0), color_map((0, (1, 0, 0)), (0.5, (0, 1, 0)), (1, (0, 0, 1)))) } }"
   in
   (match sc.objects.(0).material.texture with
-  | Some (Texture.Gradient { axis; map }) ->
+  | Some (Description.Gradient { axis; map }) ->
       Alcotest.(check bool) "axis" true (Vec3.equal_f axis Vec3.y_axis);
       Alcotest.(check int) "three entries" 3 (Array.length map.ts);
       Alcotest.(check bool)
@@ -175,7 +175,7 @@ let test_color_maps () =
   Alcotest.(check bool)
     "through let" true
     (match sc.objects.(0).material.texture with
-    | Some (Texture.Gradient _) -> true
+    | Some (Description.Gradient _) -> true
     | _ -> false);
   let sc =
     scene
@@ -190,10 +190,10 @@ let test_color_maps () =
   List.iteri
     (fun i want ->
       match sc.objects.(i).material.texture with
-      | Some (Texture.Mapped { pattern; _ }) ->
+      | Some (Description.Mapped { pattern; _ }) ->
           Alcotest.(check bool) ("pattern " ^ string_of_int i) true (pattern = want)
       | _ -> Alcotest.fail "not a mapped texture")
-    [ Texture.Marble_pattern 0.5; Texture.Wood_pattern 0.2; Texture.Noise_pattern 1. ];
+    [ Description.Marble_pattern 0.5; Description.Wood_pattern 0.2; Description.Noise_pattern 1. ];
   Alcotest.(check bool) "mapped textures count as colour maps" true sc.features.color_maps;
   check_err
     "let m = color_map((0, (1, 1, 1)))\n\
@@ -229,7 +229,7 @@ light { position: (0, 5, 0), point_at: (0, 0, 0), inner: 10, outer: 20 }
 sphere { center: (0, 0, 0), radius: 1, material: material { texture: gradient((0, 1, 0), color_map((0, (1, 0, 0)), (1, (0, 0, 1)))) } }|}
   in
   let p =
-    match Dsl.load_string ~filename:"test.rts" text with
+    match Program.load_string ~filename:"test.rts" text with
     | Ok p -> p
     | Error es -> Alcotest.fail (errors_text es)
   in

@@ -1,5 +1,5 @@
 (* The library without the command line: load a scene, render it, write the picture and
-   compare it with the golden one. The README shows this program. *)
+   compare it with the golden one. doc/howto/golden-tests.md shows this program. *)
 open Lancer
 
 let fail fmt =
@@ -14,7 +14,7 @@ let () =
     match Program.load_file "ball.rts" with
     | Ok p -> p
     | Error errs ->
-        List.iter (Format.eprintf "%a" Lancer_dsl.Error.pp) errs;
+        List.iter (Format.eprintf "%a" Diagnostic.pp) errs;
         exit 1
   in
   let scene =

@@ -1,7 +1,8 @@
 (* Geometry: hand-computed intersections for every primitive (grazing, parallel,
-   inside-origin and tangent rays, the doc/numerics.md values), texture coordinates, the OBJ
-   loader, watertightness of meshes and tiled parallelograms, the bounding volume hierarchy
-   against brute force, and texture determinism. Random tests use fixed seeds. *)
+   inside-origin and tangent rays, the doc/reference/numerics.md values), texture
+   coordinates, the OBJ loader, watertightness of meshes and tiled parallelograms, the
+   bounding volume hierarchy against brute force, and texture determinism. Random tests
+   use fixed seeds. *)
 open Lancer
 
 let v = Vec3.v
@@ -1059,7 +1060,7 @@ let placed_prop =
         {
           Material.default with
           texture =
-            Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 0.3 });
+            Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 0.3 });
         }
       in
       let o = Primitive.make ~transform:tr m shape in
@@ -1182,7 +1183,7 @@ let placed_tests =
           {
             m with
             texture =
-              Some (Texture.Checker { c1 = Color.white; c2 = Color.black; size = 1. });
+              Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 1. });
           }
         in
         let s = Shape.sphere ~center:Vec3.zero ~radius:1. in
@@ -1539,7 +1540,7 @@ let in_between (c : Color.t) =
 let texture_tests =
   let procedural =
     [
-      Texture.Noise { c1 = red; c2 = blue; scale = 0.7 };
+      Description.Noise { c1 = red; c2 = blue; scale = 0.7 };
       Marble { c1 = red; c2 = blue; scale = 0.7 };
       Wood { c1 = red; c2 = blue; scale = 0.7 };
     ]
@@ -1573,12 +1574,12 @@ let texture_tests =
               [ v 1e300 (-1e300) 0.; v Float.nan 0. 0.; v inf 0. 0. ])
           procedural);
     case "an image texture returns its pixels at their centres and wraps" (fun () ->
-        let tex = Texture.Image { img = ramp; scale = 1. } in
+        let tex = Description.Image { image = ramp; scale = 1. } in
         close "second pixel" (1. /. 3.) (Texture.eval tex Vec3.zero 0.375 0.5).r;
         close "wrapped" (1. /. 3.) (Texture.eval tex Vec3.zero 1.375 (-2.5)).r;
         close "bilinear between pixels 1 and 2" 0.5 (Texture.eval tex Vec3.zero 0.5 0.5).g;
         close "scale tiles" (1. /. 3.)
-          (Texture.eval (Texture.Image { img = ramp; scale = 2. }) Vec3.zero 0.1875 0.5).r;
+          (Texture.eval (Description.Image { image = ramp; scale = 2. }) Vec3.zero 0.1875 0.5).r;
         Alcotest.(check bool) "needs uv" true (Texture.needs_uv tex);
         Alcotest.(check bool)
           "nan coordinates" true
@@ -1589,11 +1590,11 @@ let texture_tests =
         let plane = Shape.plane ~normal:Vec3.y_axis ~offset:0. in
         let p = v 0.3 0. 0.2 in
         let uv d = Shape.uv plane (Vec3.add p d) in
-        let n = Bump.perturb (Bump.Image { img = ramp; amount = 1. }) ~uv p Vec3.y_axis in
+        let n = Bump.perturb (Description.Image_bump { image = ramp; amount = 1. }) ~uv p Vec3.y_axis in
         close "unit" 1. (Vec3.length n);
         Alcotest.(check bool) "tilted toward −x (u grows with x)" true (n.x < -0.01);
         let flat = Image.create 4 4 in
-        let n = Bump.perturb (Bump.Image { img = flat; amount = 1. }) ~uv p Vec3.y_axis in
+        let n = Bump.perturb (Description.Image_bump { image = flat; amount = 1. }) ~uv p Vec3.y_axis in
         check_vec "flat" Vec3.y_axis n);
   ]
 

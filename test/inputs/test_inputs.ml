@@ -100,7 +100,7 @@ let load_swapping d =
 
 let plan ?(resume = false) d load =
   Animation.plan ~dir:(Some (path d "fr")) ~frames:None ~shard:None ~resume
-    ~overrides:Overrides.none (fun () -> Lancer_cli.Lang.source ~builtin:false (load ()))
+    ~overrides:Overrides.none (fun () -> Program.source ~builtin:false (load ()))
 
 (* What a frame's record says of its texture is what the frame was made of: the bytes
    decoded, not the file as it was a moment later. A run resumed with the new texture
@@ -144,7 +144,7 @@ let replaced_texture_checkpoint () =
   write_file (path d "a.rts") textured;
   write_ppm (path d "tex.ppm") (200, 30, 30);
   let key prog =
-    let src = Lancer_cli.Lang.source ~builtin:false prog in
+    let src = Program.source ~builtin:false prog in
     let _, files = Source.scene src Overrides.none ~time:0. ~frame:0 in
     Checkpoint.key src Overrides.none ~time:0. ~frame:0 ~files
   in

@@ -299,7 +299,7 @@ let rays_tests =
            let m = material { reflection: 0.5, transparency: 0.5, ior: 1 }\n\
            plane { normal: (0, 0, 1), offset: 0, material: m }\n"
         in
-        match Lancer_dsl.Dsl.load_string text with
+        match Lancer.Program.load_string text with
         | Error _ -> Alcotest.fail "the scene does not load"
         | Ok prog -> (
             match Lancer.Program.scene_at prog ~time:0. ~frame:0 with

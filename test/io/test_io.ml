@@ -494,7 +494,8 @@ let sixteen_tests =
         done);
   ]
 
-(* The byte doc/shading.md gives for a linear value, written out here as the reference. *)
+(* The byte doc/reference/shading.md gives for a linear value, written out here as the
+   reference. *)
 let srgb_byte v =
   let v = if Float.is_nan v then 0. else Float.min 1. (Float.max 0. v) in
   let e =

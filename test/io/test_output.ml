@@ -630,7 +630,7 @@ let output_tests =
           lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.ppm"; "--alpha" ]
         in
         check_status "PPM refused" 1 r;
-        Alcotest.(check bool) e true (contains e "--alpha needs a PNG output"));
+        Alcotest.(check bool) e true (contains e "--alpha needs a PNG or EXR output"));
     Alcotest.test_case
       "--region renders the same pixels as a whole render, the background elsewhere; \
        --crop writes just them"
@@ -784,7 +784,7 @@ let stdout_tests =
             Alcotest.(check bool) e true (contains e expect))
           [
             ([ "-o"; "x.png"; "--format"; "ppm" ], "--format is for -o -");
-            ([ "-o"; "-"; "--format"; "ppm"; "--alpha" ], "--alpha needs a PNG output");
+            ([ "-o"; "-"; "--format"; "ppm"; "--alpha" ], "--alpha needs a PNG or EXR output");
             ([ "-o"; "-"; "--stats"; "-" ], "would both write to standard output");
             ( [ "-o"; "-"; "--resume" ],
               "--resume keeps its checkpoint beside the output file" );

@@ -29,7 +29,7 @@ sphere { center: (0, 1, 0), radius: 1, material: material { color: (0.9, 0.2, 0.
 |}
 
 let scene () =
-  match Lancer_dsl.Dsl.load_string ~filename:"small.rts" scene_text with
+  match Lancer.Program.load_string ~filename:"small.rts" scene_text with
   | Error _ -> Alcotest.fail "the test scene does not load"
   | Ok p -> (
       match Lancer.Program.scene_at p ~time:0. ~frame:0 with
@@ -49,7 +49,7 @@ let floats_equal a b =
 
 (* An animated scene's program, and its frame k at 10 frames a second. *)
 let load_anim text =
-  match Lancer_dsl.Dsl.load_string ~filename:"anim.rts" text with
+  match Lancer.Program.load_string ~filename:"anim.rts" text with
   | Error _ -> Alcotest.fail "the animated scene does not load"
   | Ok p -> p
 
@@ -63,7 +63,7 @@ let frames_of ?p text =
 (* The scene of frame [k] of [p] with every statement evaluated and compiled again: a
    still of that instant, indexed whole. *)
 let compiled_again p k =
-  match Lancer_dsl.Dsl.describe ~again:true p ~time:(Float.of_int k /. 10.) ~frame:k with
+  match Lancer_dsl.Dsl.describe ~again:true (Lancer.Program.language p) ~time:(Float.of_int k /. 10.) ~frame:k with
   | Error _ -> Alcotest.fail "the frame does not evaluate again"
   | Ok d -> (
       match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
@@ -336,7 +336,7 @@ let frames_record () =
   let dir = tmpdir () in
   let frame k = Filename.concat dir (Frameset.frame_name k) in
   let current f = if f = "tex.ppm" then "d1" else "-" in
-  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   Alcotest.(check bool)
     "nothing done yet" false
     (Frameset.is_done set 0 ~input_digest:current);
@@ -353,7 +353,7 @@ let frames_record () =
     "no view yet" false
     (Sys.file_exists (Filename.concat dir Frameset.view_name));
   (* Another run of the same job reads the first one's journal. *)
-  let again = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let again = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   Alcotest.(check bool)
     "a second run sees frame 0" true
     (Frameset.is_done again 0 ~input_digest:current);
@@ -368,7 +368,7 @@ let frames_record () =
     (fun n ->
       if Filename.check_suffix n ".jsonl" then Sys.remove (Filename.concat jdir n))
     (Sys.readdir jdir);
-  let third = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 in
+  let third = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:2 () in
   List.iter
     (fun k ->
       Alcotest.(check bool)
@@ -376,7 +376,7 @@ let frames_record () =
         true
         (Frameset.is_done third k ~input_digest:current))
     [ 0; 1 ];
-  let other = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"K" ~count:2 in
+  let other = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"K" ~count:2 () in
   Alcotest.(check bool)
     "another job's frames are not done" false
     (Frameset.is_done other 0 ~input_digest:current);
@@ -389,14 +389,14 @@ let frames_record () =
     "a frame of the same size and other bytes is not done" false
     (Frameset.is_done third 0 ~input_digest:current);
   user_error "a directory of another scene" (fun () ->
-      Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2)
+      Frameset.open_ ~dir ~scene:"/scenes/b.rts" ~job:"J" ~count:2 ())
 
 (* Another run may replace a frame between this run's write and its record: the record
    says what this run wrote, so the other run's bytes are not taken for this job's. *)
 let frame_replaced_before_record () =
   let dir = tmpdir () in
   let frame0 = Filename.concat dir (Frameset.frame_name 0) in
-  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:1 in
+  let set = Frameset.open_ ~dir ~scene:"/scenes/a.rts" ~job:"J" ~count:1 () in
   write frame0 "this job's frame";
   write frame0 "another job's frame";
   Frameset.record set 0 ~written:(written "this job's frame") ~inputs:[];
@@ -637,7 +637,7 @@ for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j 
     n
 
 let load text =
-  match Lancer_dsl.Dsl.load_string ~filename:"grid.rts" text with
+  match Lancer.Program.load_string ~filename:"grid.rts" text with
   | Ok p -> p
   | Error _ -> Alcotest.fail "the grid does not load"
 
@@ -658,11 +658,11 @@ let still_lets_objects_go () =
     in
     Alcotest.(check int)
       "not asked for one scene: the program keeps the objects" 1600
-      (List.length (Dsl.first q).objects);
+      (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language q)).objects);
     j
   in
   let w = Weak.create 1 in
-  (match (Dsl.first p).objects with
+  (match (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects with
   | o :: _ -> Weak.set w 0 (Some o)
   | [] -> Alcotest.fail "no objects");
   let overhead = (Gc.get ()).space_overhead in
@@ -670,12 +670,12 @@ let still_lets_objects_go () =
   Alcotest.(check int) "the GC as it was" overhead (Gc.get ()).space_overhead;
   Gc.full_major ();
   Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
-  Alcotest.(check int) "the program keeps none" 0 (List.length (Dsl.first p).objects);
+  Alcotest.(check int) "the program keeps none" 0 (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects);
   Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
   Alcotest.(check string)
     "check's objects, made again" json_before
     (Yojson.Safe.to_string (Program.to_json p sc));
-  (match Dsl.describe p ~time:0. ~frame:0 with
+  (match Lancer_dsl.Dsl.describe (Lancer.Program.language p) ~time:0. ~frame:0 with
   | Ok d -> Alcotest.(check int) "time 0 evaluated again" 1600 (List.length d.objects)
   | Error _ -> Alcotest.fail "time 0 does not evaluate again");
   let again = made (Program.scene_at p ~time:0. ~frame:0) in
@@ -730,7 +730,7 @@ let mover_shares_shift () =
 let frames_as_rendered ?(domains = 1) name text =
   let p = load_anim text in
   let fps, count =
-    match Lancer_dsl.Dsl.animation p with
+    match Lancer.Program.animation p with
     | Some a -> a
     | None -> Alcotest.fail "not animated"
   in

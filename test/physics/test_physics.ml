@@ -1,5 +1,6 @@
-(* Physics tests: the closed-form bouncing ball of doc/numerics.md, the fixed-step errors,
-   tunnelling, sphere–sphere impulses, and properties of the exact integrator. *)
+(* Physics tests: the closed-form bouncing ball of doc/reference/numerics.md, the
+   fixed-step errors, tunnelling, sphere–sphere impulses, and properties of the exact
+   integrator. *)
 
 open Lancer
 module P = Physics

@@ -6,7 +6,7 @@
    FUZZ_SEED     seed of the first case (default 1); each case has its own seed, printed
                  with every failure so that it can be replayed
    FUZZ_ROOT     project root, where scenes/ is found (default .)
-   FUZZ_TARGETS  comma-separated subset of scene,obj,image (default all)
+   FUZZ_TARGETS  comma-separated subset of scene,obj,ply,image (default all)
 
    The first failing inputs of each target are written to fuzz-failures/ in the current
    directory. Exit status 1 when anything failed. *)
@@ -51,7 +51,7 @@ let () =
   in
   let root = env "FUZZ_ROOT" "." in
   let wanted =
-    String.split_on_char ',' (env "FUZZ_TARGETS" "scene,obj,image")
+    String.split_on_char ',' (env "FUZZ_TARGETS" "scene,obj,ply,image")
     |> List.map String.trim
   in
   let seeds = G.scene_seeds root in
@@ -77,6 +77,22 @@ let () =
         failed = 0;
       };
       {
+        name = "ply";
+        share = 0.1;
+        case =
+          (fun st ->
+            ( ".ply",
+              if Random.State.bool st then
+                G.ply_text
+                  (List.nth [ "ascii"; "binary_little_endian"; "binary_big_endian" ]
+                     (Random.State.int st 3))
+                  (G.random_ply st)
+              else G.mutated_ply st ));
+        check = (fun (_, text) -> G.check_ply text);
+        tried = 0;
+        failed = 0;
+      };
+      {
         name = "image";
         share = 0.2;
         case = G.image_case;
@@ -88,7 +104,7 @@ let () =
     |> List.filter (fun t -> List.mem t.name wanted)
   in
   if targets = [] then (
-    prerr_endline "fuzz: FUZZ_TARGETS names none of scene, obj, image";
+    prerr_endline "fuzz: FUZZ_TARGETS names none of scene, obj, ply, image";
     exit 2);
   let total_share = List.fold_left (fun a t -> a +. t.share) 0. targets in
   Printf.printf "fuzzing %s for %g s from seed %d (%d seed scenes)\n%!"

@@ -269,6 +269,178 @@ let check_obj_lines text =
   if String.equal direct by_words then Ok ()
   else Error (Printf.sprintf "one pass:\n%s\nword by word:\n%s" direct by_words)
 
+(* ---- PLY ---- *)
+
+(* A random mesh (vertices, optional normals and (u, v), polygons of 3 to 6 corners) as
+   ASCII, binary little-endian and binary big-endian PLY, written here byte by byte
+   (independently of the reader), with extra properties and an extra element to read
+   past. *)
+type ply_mesh = {
+  verts : (float * float * float) array;
+  normals : (float * float * float) array option;
+  uvs : (float * float) array option;
+  polys : int array array;
+}
+
+let random_ply_mesh st =
+  let n = 3 + Random.State.int st 30 in
+  (* Eighths in [−4, 4]: every format holds them exactly, in binary as in decimal. *)
+  let f () = Float.of_int (Random.State.int st 65 - 32) /. 8. in
+  let verts = Array.init n (fun _ -> (f (), f (), f ())) in
+  let normals =
+    if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f (), f ()))) else None
+  in
+  let uvs = if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f ()))) else None in
+  let polys =
+    Array.init
+      (1 + Random.State.int st 20)
+      (fun _ -> Array.init (3 + Random.State.int st 4) (fun _ -> Random.State.int st n))
+  in
+  { verts; normals; uvs; polys }
+
+let ply_text fmt (m : ply_mesh) =
+  let b = Buffer.create 1024 in
+  let add = Buffer.add_string b in
+  add "ply\n";
+  add (Printf.sprintf "format %s 1.0\n" fmt);
+  add "comment written by the fuzzer\n";
+  add (Printf.sprintf "element vertex %d\n" (Array.length m.verts));
+  add "property float x\nproperty float y\nproperty float z\n";
+  add "property uchar quality\n";
+  if m.normals <> None then add "property float nx\nproperty float ny\nproperty float nz\n";
+  if m.uvs <> None then add "property float u\nproperty float v\n";
+  add "element edge 1\nproperty int vertex1\nproperty int vertex2\n";
+  add (Printf.sprintf "element face %d\n" (Array.length m.polys));
+  add "property list uchar uint vertex_indices\nproperty list uchar float texcoord\n";
+  add "end_header\n";
+  let ascii = fmt = "ascii" and le = fmt = "binary_little_endian" in
+  let float x =
+    if ascii then add (Printf.sprintf "%g " x)
+    else
+      let by = Bytes.create 4 in
+      let bits = Int32.bits_of_float x in
+      if le then Bytes.set_int32_le by 0 bits else Bytes.set_int32_be by 0 bits;
+      Buffer.add_bytes b by
+  in
+  let int32 v =
+    if ascii then add (Printf.sprintf "%d " v)
+    else
+      let by = Bytes.create 4 in
+      if le then Bytes.set_int32_le by 0 (Int32.of_int v)
+      else Bytes.set_int32_be by 0 (Int32.of_int v);
+      Buffer.add_bytes b by
+  in
+  let uchar v = if ascii then add (Printf.sprintf "%d " v) else Buffer.add_uint8 b v in
+  let eol () = if ascii then add "\n" in
+  Array.iteri
+    (fun i (x, y, z) ->
+      float x;
+      float y;
+      float z;
+      uchar (i land 255);
+      Option.iter
+        (fun ns ->
+          let x, y, z = ns.(i) in
+          float x;
+          float y;
+          float z)
+        m.normals;
+      Option.iter
+        (fun us ->
+          let u, v = us.(i) in
+          float u;
+          float v)
+        m.uvs;
+      eol ())
+    m.verts;
+  int32 0;
+  int32 1;
+  eol ();
+  Array.iter
+    (fun p ->
+      uchar (Array.length p);
+      Array.iter int32 p;
+      uchar 2;
+      float 0.25;
+      float 0.75;
+      eol ())
+    m.polys;
+  Buffer.contents b
+
+(* The same mesh as OBJ text (the normals and (u, v) indexed with the vertices). *)
+let obj_of_ply (m : ply_mesh) =
+  let b = Buffer.create 1024 in
+  Array.iter (fun (x, y, z) -> Printf.bprintf b "v %g %g %g\n" x y z) m.verts;
+  Option.iter
+    (Array.iter (fun (x, y, z) -> Printf.bprintf b "vn %g %g %g\n" x y z))
+    m.normals;
+  Option.iter (Array.iter (fun (u, v) -> Printf.bprintf b "vt %g %g\n" u v)) m.uvs;
+  Array.iter
+    (fun p ->
+      Buffer.add_string b "f";
+      Array.iter
+        (fun k ->
+          let k = k + 1 in
+          match (m.uvs, m.normals) with
+          | None, None -> Printf.bprintf b " %d" k
+          | Some _, None -> Printf.bprintf b " %d/%d" k k
+          | None, Some _ -> Printf.bprintf b " %d//%d" k k
+          | Some _, Some _ -> Printf.bprintf b " %d/%d/%d" k k k)
+        p;
+      Buffer.add_char b '\n')
+    m.polys;
+  Buffer.contents b
+
+let ply_formats = [ "ascii"; "binary_little_endian"; "binary_big_endian" ]
+
+let random_ply st = random_ply_mesh st
+
+let mutated_ply st =
+  let m = random_ply_mesh st in
+  let fmt = List.nth ply_formats (Random.State.int st 3) in
+  mutate st [| " "; "\n"; "0"; "-1"; "255"; "list"; "float"; "end_header"; "\000"; "\255" |]
+    (ply_text fmt m)
+
+let ply_faces text = Result.map Shape.faces (Ply.parse_mesh ~file:"fuzz.ply" text)
+
+(* The reader's contract: Ok with finite triangles, or one located line. *)
+let check_ply text =
+  match ply_faces text with
+  | exception e -> Error ("raised " ^ Printexc.to_string e)
+  | Error m ->
+      if not (String.length m > 9 && String.sub m 0 9 = "fuzz.ply:") then
+        Error ("unlocated message: " ^ m)
+      else if String.contains m '\n' then Error ("message on several lines: " ^ m)
+      else Ok ()
+  | Ok [] -> Error "Ok with no triangles"
+  | Ok _ -> Ok ()
+
+(* A mesh reads to the same triangles, bit for bit, from each PLY format and from OBJ. *)
+let check_ply_formats (m : ply_mesh) =
+  (* An error's place differs between the formats (a line of OBJ, the whole PLY file):
+     its message must not. *)
+  let unplaced = function
+    | Error msg -> (
+        match String.index_opt msg ' ' with
+        | Some i -> Error (String.sub msg i (String.length msg - i))
+        | None -> Error msg)
+    | ok -> ok
+  in
+  let describe_faces r = describe_faces (unplaced r) in
+  let obj =
+    describe_faces
+      (try Mesh.parse ~file:"fuzz.ply" (obj_of_ply m) with e -> Error (Printexc.to_string e))
+  in
+  List.fold_left
+    (fun acc fmt ->
+      Result.bind acc (fun () ->
+          let got =
+            describe_faces (try ply_faces (ply_text fmt m) with e -> Error (Printexc.to_string e))
+          in
+          if String.equal got obj then Ok ()
+          else Error (Printf.sprintf "%s PLY:\n%s\nOBJ:\n%s" fmt got obj)))
+    (Ok ()) ply_formats
+
 (* ---- images ---- *)
 
 let tmp_counter = ref 0
@@ -545,7 +717,7 @@ let judge_scene_errors es =
 (* The language's contract (dsl.mli): Ok or located errors, never an exception nor an
    internal error, at load and at evaluation. *)
 let check_scene (file, text) =
-  match Dsl.load_string ~filename:file text with
+  match Program.load_string ~filename:file text with
   | exception e -> Error ("load raised " ^ Printexc.to_string e)
   | Error es -> (
       match List.iter (fun e -> ignore (Lancer_dsl.Error.to_string e)) es with

@@ -21,6 +21,29 @@ val check_obj_lines : string -> (unit, string) result
     text and the same text with every line indented by a blank (which no line's one-pass
     reading takes) must give the same triangles, bit for bit, or the same message. *)
 
+type ply_mesh
+(** A small random mesh: vertices, perhaps normals and (u, v), polygons. *)
+
+val random_ply : Random.State.t -> ply_mesh
+
+val ply_text : string -> ply_mesh -> string
+(** [ply_text format m] is [m] as a PLY file of that format ([ascii],
+    [binary_little_endian], [binary_big_endian]), written here byte by byte, with extra
+    properties and an extra element that a reader must read past. *)
+
+val obj_of_ply : ply_mesh -> string
+(** The same mesh as OBJ text. *)
+
+val mutated_ply : Random.State.t -> string
+(** A random mesh's PLY file with random insertions, deletions and replacements. *)
+
+val check_ply : string -> (unit, string) result
+(** The PLY reader's contract: triangles, or one [fuzz.ply:…] line; never an exception. *)
+
+val check_ply_formats : ply_mesh -> (unit, string) result
+(** The mesh reads to the same triangles, bit for bit, from ASCII, little- and big-endian
+    PLY and from OBJ. *)
+
 val with_temp_file : string -> string -> (string -> 'a) -> 'a
 (** [with_temp_file ext contents f] is [f path] for a temporary file holding [contents],
     removed afterwards. *)

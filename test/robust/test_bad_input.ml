@@ -206,6 +206,43 @@ let asset_tests =
   in
   let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n" in
   [
+    case "a mesh as ASCII, little- and big-endian PLY and as OBJ renders the same bytes"
+      (fun () ->
+        let d = tmpdir () in
+        let m = G.random_ply (Random.State.make [| 7 |]) in
+        let files =
+          [
+            ("a.ply", G.ply_text "ascii" m);
+            ("le.ply", G.ply_text "binary_little_endian" m);
+            ("be.ply", G.ply_text "binary_big_endian" m);
+            ("m.obj", G.obj_of_ply m);
+          ]
+        in
+        let images =
+          List.map
+            (fun (name, text) ->
+              write_file (Filename.concat d name) text;
+              write_file (Filename.concat d "s.rts")
+                (Printf.sprintf
+                   "settings { width: 48, height: 36 }\ncamera { position: (0, 1, -9), \
+                    look_at: (0, 0, 0) }\nlight { position: (-3, 5, -4) }\nmesh { file: \
+                    %S, material: material { texture: checker((1, 1, 1), (0.2, 0.3, \
+                    0.8), 0.5) } }\n"
+                   name);
+              let ((st, _, _) as r) = render d [] in
+              if st <> 0 then fail_with ~msg:name r;
+              read_file (Filename.concat d "out.ppm"))
+            files
+        in
+        match images with
+        | first :: rest ->
+            List.iteri
+              (fun k img ->
+                Alcotest.(check bool)
+                  (fst (List.nth files (k + 1)) ^ " renders as the ASCII PLY")
+                  true (String.equal first img))
+              rest
+        | [] -> ());
     bad_texture "a missing texture image" "x.png" None "no such file";
     bad_texture "a texture that is not a PNG" "x.png" (Some "GIF89a this is not a png")
       "not a PNG file";
@@ -218,7 +255,7 @@ let asset_tests =
     bad_texture "a truncated PPM texture" "x.ppm" (Some "P6\n4 4\n255\n\000\000")
       "truncated";
     bad_texture "a texture with an unknown extension" "x.jpg" (Some "\255\216\255")
-      "use .png or .ppm";
+      "lancer reads .png and .ppm images";
     bad_mesh "an OBJ face with an index past the vertices" (tri ^ "f 1 2 4\n") "m.obj:4:";
     bad_mesh "an OBJ face before any vertex" "f 1 2 3\n" "m.obj:1:";
     bad_mesh "an OBJ with a vertex missing a coordinate"

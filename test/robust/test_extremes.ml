@@ -74,7 +74,7 @@ let grazing_tests =
           Alcotest.(check int) "one shadow ray" 1 st.shadow);
       case "a camera lying in a floor plane sees no NaN along the horizon row" (fun () ->
           (* H odd: the middle row's rays have a zero vertical component and start on the
-             plane, the 0/0 case of doc/numerics.md. *)
+             plane, the 0/0 case of doc/reference/numerics.md. *)
           let settings =
             { Settings.default with width = 9; height = 5; background = Color.v 0. 0. 1. }
           in

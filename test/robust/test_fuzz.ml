@@ -30,6 +30,63 @@ let obj_props =
       G.mutated_obj G.check_obj_lines;
   ]
 
+let ply_props =
+  [
+    prop ~name:"a random mesh reads the same from ASCII, binary PLY (both orders) and OBJ"
+      ~count:1500 G.random_ply G.check_ply_formats;
+    prop ~name:"mutated PLY files give triangles or a located one-line error" ~count:4000
+      G.mutated_ply G.check_ply;
+  ]
+
+let ply_error text fragment =
+  match Ply.parse_mesh ~file:"m.ply" text with
+  | Ok _ -> Alcotest.failf "expected an error containing %S" fragment
+  | Error m ->
+      if not (G.contains m fragment) then
+        Alcotest.failf "expected %S in the message, got %S" fragment m
+
+let ply_head ?(format = "ascii") ?(vertices = 3) ?(faces = 1) () =
+  Printf.sprintf
+    "ply\nformat %s 1.0\nelement vertex %d\nproperty float x\nproperty float \
+     y\nproperty float z\nelement face %d\nproperty list uchar int \
+     vertex_indices\nend_header\n"
+    format vertices faces
+
+let ply_cases =
+  [
+    Alcotest.test_case "a file that is not PLY says so at line 1" `Quick (fun () ->
+        ply_error "solid cube\n" "m.ply:1: not a PLY file");
+    Alcotest.test_case "a header without end_header names its last line" `Quick
+      (fun () -> ply_error "ply\nformat ascii 1.0\nelement vertex 3\n" "m.ply:4:");
+    Alcotest.test_case "an unknown format and type are named with the choices" `Quick
+      (fun () ->
+        ply_error "ply\nformat binary_middle_endian 1.0\nend_header\n"
+          "m.ply:2: unknown format \"binary_middle_endian\" (expected ascii";
+        ply_error "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"
+          "m.ply:4: property x: unknown type");
+    Alcotest.test_case "a bad number in an ASCII body is located at its line" `Quick
+      (fun () ->
+        ply_error (ply_head () ^ "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n")
+          "m.ply:11: expected a number, got \"zero\"");
+    Alcotest.test_case "an index out of range is located" `Quick (fun () ->
+        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
+          "m.ply:13: vertex index 7 is out of range (3 vertices)");
+    Alcotest.test_case "a truncated binary body is located at its byte" `Quick (fun () ->
+        let head = ply_head ~format:"binary_little_endian" () in
+        ply_error (head ^ String.make 20 '\000')
+          (Printf.sprintf "m.ply: byte %d: the file ends before its last element"
+             (String.length head + 20)));
+    Alcotest.test_case "a face of two corners, and no vertex element, are refused" `Quick
+      (fun () ->
+        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n2 0 1\n")
+          "a face needs at least 3 corners, got 2";
+        ply_error "ply\nformat ascii 1.0\nelement face 0\nend_header\n" "the file has no faces");
+    Alcotest.test_case "values past the elements the header declares are refused" `Quick
+      (fun () ->
+        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n")
+          "m.ply:14: more values than the header's elements hold");
+  ]
+
 let image_props =
   [
     prop ~name:"random and mutated PNG/PPM bytes decode or give an Error" ~count:1500
@@ -170,6 +227,7 @@ let () =
   Alcotest.run "fuzz"
     [
       ("obj", List.map (seeded 20240611) obj_props @ obj_cases);
+      ("ply", List.map (seeded 20261203) ply_props @ ply_cases);
       ("image", List.map (seeded 20240612) image_props @ image_cases);
       ("oracles", oracle_cases);
     ]

@@ -281,10 +281,11 @@ let () =
        --no-sandbox --disable-gpu --version >/dev/null 2>&1"
     = 0
   in
-  if not can_start then
-    print_endline
-      "SKIPPED: the browser test of lancer watch: chromium cannot be started here (make \
-       deps installs it)"
+  if not can_start then (
+    prerr_endline
+      "the browser test of lancer watch: chromium cannot be started here (make deps \
+       installs it)";
+    exit 1)
   else
     Alcotest.run "browser"
       [

@@ -1,0 +1,1 @@
+(** The developers' benchmarks: [lancer_bench physics|scaling|language] (see bench/dune). *)

@@ -1,0 +1,292 @@
+(* lancer bench quality: each quality knob's time, rays and error against a reference,
+   cached. *)
+
+open Lancer
+
+let cache_dir () =
+  let base =
+    match Sys.getenv_opt "XDG_CACHE_HOME" with
+    | Some d when d <> "" -> d
+    | _ ->
+        Filename.concat
+          (Option.value (Sys.getenv_opt "HOME") ~default:Filename.current_dir_name)
+          ".cache"
+  in
+  Filename.concat base "lancer"
+
+let rec mkdir_p d =
+  if not (Sys.file_exists d) then (
+    mkdir_p (Filename.dirname d);
+    try Unix.mkdir d 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ())
+
+let scene_text (o : Options.t) = snd (Scene_file.read o.scene)
+
+(* The version of the lancer command (as [lancer --version] prints it). *)
+let version = Lancer.Version.v
+
+(* What the cached results depend on besides the scene: the version and the very build
+   of this executable (a rebuilt renderer may shade, and time, differently). Rates also
+   depend on the machine, hence its name. *)
+let build_id =
+  lazy
+    (let exe =
+       try Digest.to_hex (Digest.file Sys.executable_name) with _ -> "unknown"
+     in
+     let host = try Unix.gethostname () with _ -> "unknown" in
+     Printf.sprintf "lancer %s|build %s|host %s|OCaml %s" version exe host
+       Sys.ocaml_version)
+
+let cache_key parts =
+  Digest.to_hex (Digest.string (String.concat "\x00" (Lazy.force build_id :: parts)))
+
+(* The reference: the reference preset at 16×16 samples, depth 64, cached under the scene
+   text, the size and the build. *)
+let reference (o : Options.t) prog ~pool ~fresh =
+  let base =
+    Options.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0
+  in
+  let s = base.settings in
+  let key =
+    cache_key
+      [ "reference v2"; scene_text o; string_of_int s.width; string_of_int s.height ]
+  in
+  let path = Filename.concat (cache_dir ()) ("reference-" ^ key ^ ".ppm") in
+  match if fresh then Error "fresh" else Image.read_rgb8 path with
+  | Ok img -> (img, true)
+  | Error _ ->
+      let sc =
+        match Scene.with_settings base { s with samples = 16; depth = 64 } with
+        | Ok sc -> sc
+        | Error m -> raise (Job_error.User m)
+      in
+      let fb, _ = Render.render ?pool sc in
+      let bytes = Image.to_bytes sc.settings.gamma fb in
+      (try mkdir_p (cache_dir ()) with _ -> ());
+      ignore (Image.write_rgb8 path fb.width fb.height bytes);
+      ((fb.width, fb.height, bytes), false)
+
+type row = {
+  knob : string;
+  value : string;
+  seconds : float;
+  rays : int;
+  rmse : float;
+  psnr : float;
+  over_share : float;
+}
+
+let row_json r =
+  `Assoc
+    [
+      ("knob", `String r.knob);
+      ("value", `String r.value);
+      ("seconds", `Float r.seconds);
+      ("rays", `Int r.rays);
+      ("rmse", `Float r.rmse);
+      ("psnr", if Float.is_finite r.psnr then `Float r.psnr else `String "inf");
+      ("share_over_1", `Float r.over_share);
+    ]
+
+let row_of_json j =
+  let open Yojson.Safe.Util in
+  {
+    knob = j |> member "knob" |> to_string;
+    value = j |> member "value" |> to_string;
+    seconds = j |> member "seconds" |> to_number;
+    rays = j |> member "rays" |> to_int;
+    rmse = j |> member "rmse" |> to_number;
+    psnr =
+      (match j |> member "psnr" with `String "inf" -> Float.infinity | p -> to_number p);
+    over_share = j |> member "share_over_1" |> to_number;
+  }
+
+(* Measured rows cached under the scene text, the options and the build. *)
+let read_rows path =
+  match Yojson.Safe.from_file path with
+  | exception _ -> None
+  | j -> (
+      let open Yojson.Safe.Util in
+      try
+        Some
+          ( j |> member "measured_at" |> to_number,
+            List.map row_of_json (j |> member "rows" |> to_list) )
+      with _ -> None)
+
+let write_rows path ~measured_at rows =
+  (try mkdir_p (Filename.dirname path) with _ -> ());
+  let j =
+    `Assoc
+      [
+        ("build", `String (Lazy.force build_id));
+        ("measured_at", `Float measured_at);
+        ("rows", `List (List.map row_json rows));
+      ]
+  in
+  ignore
+    (Image.write_atomic path (fun oc -> output_string oc (Yojson.Safe.pretty_to_string j)))
+
+let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
+  let base =
+    Options.scene_at
+      { o with quality = None; width = Some w; height = Some h }
+      prog ~time:0. ~frame:0
+  in
+  let run knob value sc =
+    let t, fb, st = Timing.render ?pool sc in
+    let img = (fb.Image.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
+    match Compare.compare ~threshold:1 ref_img img with
+    | Ok cmp ->
+        {
+          knob;
+          value;
+          seconds = t;
+          rays = Stats.total_rays st;
+          rmse = cmp.rmse;
+          psnr = cmp.psnr;
+          over_share = cmp.over_share;
+        }
+    | Error m -> raise (Job_error.User m)
+  in
+  let with_s f =
+    match Scene.with_settings base (f base.settings) with
+    | Ok sc -> sc
+    | Error m -> raise (Job_error.User m)
+  in
+  List.map
+    (fun n ->
+      run "samples" (Printf.sprintf "%d×%d" n n)
+        (with_s (fun s -> { s with samples = n; adaptive = 0. })))
+    [ 1; 2; 3; 4; 6 ]
+  @ List.map
+      (fun th ->
+        run "adaptive" (Printf.sprintf "%g" th)
+          (with_s (fun s -> { s with samples = 4; adaptive = th })))
+      [ 0.2; 0.1; 0.05; 0.02 ]
+  @ List.map
+      (fun d -> run "depth" (string_of_int d) (with_s (fun s -> { s with depth = d })))
+      [ 1; 2; 3; 5; 8; 16; 64 ]
+  @ (if base.features.soft_shadows then
+       List.map
+         (fun n ->
+           run "light samples" (Printf.sprintf "%d×%d" n n)
+             (Scene.map_lights
+                (with_s (fun s -> s))
+                (function
+                  | Light.Point p when p.radius > 0. -> Light.Point { p with samples = n }
+                  | l -> l)))
+         [ 1; 2; 4; 8 ]
+     else [])
+  @ (if base.features.depth_of_field then
+       List.map
+         (fun n ->
+           run "lens samples" (Printf.sprintf "%d×%d" n n)
+             (match
+                Scene.with_camera
+                  (with_s (fun s -> s))
+                  (Camera.with_lens_samples base.camera n)
+              with
+             | Ok sc -> sc
+             | Error m -> raise (Job_error.User m)))
+         [ 1; 2; 4; 8 ]
+     else [])
+  @ List.map
+      (fun (name, q) ->
+        run "preset" name
+          (match Quality.apply q base with
+          | Ok sc -> sc
+          | Error m -> raise (Job_error.User m)))
+      Quality.all
+
+let run (o : Options.t) ~json ~svg ~fresh =
+  let prog = Scene_file.source o (Scene_file.load o.scene) in
+  let domains = Options.domains o in
+  let s =
+    (Options.scene_at { o with quality = Some Quality.Reference } prog ~time:0. ~frame:0)
+      .settings
+  in
+  let w = s.width and h = s.height in
+  let opt = function Some n -> string_of_int n | None -> "-" in
+  let rows_path =
+    Filename.concat (cache_dir ())
+      ("quality-"
+      ^ cache_key
+          [
+            "quality rows v1";
+            scene_text o;
+            string_of_int w;
+            string_of_int h;
+            opt o.samples;
+            opt o.depth;
+            string_of_int domains;
+          ]
+      ^ ".json")
+  in
+  let cached_rows = if fresh then None else read_rows rows_path in
+  let rows, measured_at, cached, ref_cached =
+    match cached_rows with
+    | Some (at, rows) -> (rows, at, true, None)
+    | None ->
+        Render.with_pool domains @@ fun pool ->
+        let ref_img, ref_cached = reference o prog ~pool ~fresh in
+        if not json then
+          Printf.eprintf "reference render %s\n%!"
+            (if ref_cached then "read from the cache" else "rendered and cached");
+        let rows = measure_rows o prog ~pool ~ref_img in
+        let at = Unix.time () in
+        write_rows rows_path ~measured_at:at rows;
+        (rows, at, false, Some ref_cached)
+  in
+  let date =
+    let t = Unix.localtime measured_at in
+    Printf.sprintf "%04d-%02d-%02d %02d:%02d" (t.tm_year + 1900) (t.tm_mon + 1) t.tm_mday
+      t.tm_hour t.tm_min
+  in
+  if json then
+    print_endline
+      (Yojson.Safe.pretty_to_string
+         (`Assoc
+            [
+              ("scene", `String (Option.value o.scene ~default:"(showcase)"));
+              ("width", `Int w);
+              ("height", `Int h);
+              ("domains", `Int domains);
+              ("cached", `Bool cached);
+              ( "reference_cached",
+                match ref_cached with Some b -> `Bool b | None -> `Null );
+              ("measured_at", `Float measured_at);
+              ("cache_file", `String rows_path);
+              ("rows", `List (List.map row_json rows));
+            ]))
+  else (
+    Printf.printf
+      "scene %s at %d×%d on %d domains; error against a 16×16-sample, depth-64 \
+       reference; %s\n\n"
+      (Option.value o.scene ~default:"(showcase)")
+      w h domains
+      (if cached then
+         Printf.sprintf "rows measured %s, read from the cache (--fresh to measure again)"
+           date
+       else Printf.sprintf "rows measured now (%s) and cached" date);
+    Printf.printf
+      "| knob | value | wall time (s) | M rays | RMSE (0–255) | PSNR dB | pixels off > \
+       1/255 |\n\
+       |---|---|---:|---:|---:|---:|---:|\n";
+    List.iter
+      (fun r ->
+        Printf.printf "| %s | %s | %.3f | %.2f | %.3f | %s | %.2f%% |\n" r.knob r.value
+          r.seconds
+          (Float.of_int r.rays /. 1e6)
+          r.rmse
+          (if Float.is_finite r.psnr then Printf.sprintf "%.2f" r.psnr else "∞")
+          (100. *. r.over_share))
+      rows);
+  let title =
+    Printf.sprintf "%s at %d×%d, %d domains"
+      (Option.value o.scene ~default:"showcase")
+      w h domains
+  in
+  Option.iter
+    (fun path ->
+      Svg.write ~title path
+        (List.map (fun r -> (r.knob, r.value, r.seconds, r.psnr)) rows))
+    svg

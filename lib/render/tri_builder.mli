@@ -1,0 +1,37 @@
+(** What a mesh reader fills as it reads: growable flat arrays of vertices, normals and
+    texture coordinates, and of triangles' corner indices, and the area test that drops
+    degenerate triangles. The OBJ and PLY readers share them. *)
+
+type floats = { mutable fl : Float.Array.t; mutable len : int; width : int }
+(** [len] elements of [width] floats in [fl] (which may be longer). *)
+
+val floats : int -> floats
+(** An empty array of elements of this width. *)
+
+val push3 : floats -> float -> float -> float -> unit
+val push2 : floats -> float -> float -> unit
+
+type corners = { mutable ix : Trimesh.ints; mutable n : int }
+(** [n] triangles' three corner indices in [ix] (which may be longer). *)
+
+val corners : unit -> corners
+(** None yet. *)
+
+val push_corners : corners -> int -> int -> int -> unit
+
+val push_absent : corners -> unit
+(** A triangle without this kind of corner (normals or (u, v)): only counted while no
+    triangle has one, so that a mesh without them writes nothing. *)
+
+val push_present : corners -> int -> int -> int -> unit
+(** A triangle with them: the earlier triangles are marked absent (−1) at the first. *)
+
+val trimmed : corners -> Trimesh.ints
+(** Exactly the [3n] indices. *)
+
+val trimmed_floats : floats -> Float.Array.t
+(** Exactly the [width·len] floats. *)
+
+val area : Float.Array.t -> int -> int -> int -> float
+(** [area pos a b c] is |(b − a) × (c − a)| for vertices [a], [b], [c] of [pos] (three
+    coordinates each): a triangle is kept where it is finite and positive. *)

@@ -1,0 +1,68 @@
+type options = {
+  frames : (int * int) option;
+  resume : bool;
+  video : string option;
+  shard : Plan.shard option;
+  format : Image.format;
+  bits : int option;
+}
+
+let default_options =
+  {
+    frames = None;
+    resume = false;
+    video = None;
+    shard = None;
+    format = Image.Png;
+    bits = None;
+  }
+
+let plan ?getenv (o : Options.t) (a : options) =
+  let program = ref None in
+  (* The options first, as every command checks them: then the shard and the scene. *)
+  ignore (Options.domains o);
+  let p =
+    Animation.plan ?getenv ~format:a.format ?bits:a.bits ~dir:o.output ~frames:a.frames
+      ~shard:a.shard ~resume:a.resume ~overrides:(Options.overrides o) (fun () ->
+        let prog = Scene_file.load_source (Scene_file.read o.scene) in
+        program := Some prog;
+        Scene_file.source o prog)
+  in
+  if p.resumed > 0 && not o.quiet then
+    Printf.printf "resuming: %d frames already rendered, %d to go\n%!" p.resumed
+      (List.length p.todo);
+  (Option.get !program, p)
+
+let write_frame p k sc fb st =
+  Render_report.warn_bad_samples st;
+  Animation.write_frame p k sc fb
+
+let make_video (o : Options.t) p out =
+  Animation.make_video p out;
+  if not o.quiet then Printf.printf "video: %s\n" out
+
+let progress o (p : Animation.plan) =
+  Progress.for_options o ~label:"frames" ~total:(List.length p.todo)
+
+let interrupted = "the frames written so far are kept; run again with --resume to finish"
+
+let check_video (a : options) =
+  Option.iter (Animation.check_video ~format:a.format ~shard:(a.shard <> None)) a.video
+
+let run ?cancel (o : Options.t) (a : options) =
+  check_video a;
+  let _, p = plan o a in
+  let domains = Options.domains o in
+  let bar = progress o p in
+  let t0 = Unix.gettimeofday () in
+  let finished = Atomic.make 0 in
+  Animation.render ?cancel ~domains p ~on_frame:(fun _ st ->
+      Render_report.warn_bad_samples st;
+      Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
+  Progress.finish bar;
+  Animation.finish p;
+  if not o.quiet then
+    Printf.printf "wrote %d frames to %s in %.2f s (%s)\n%!" (List.length p.todo) p.dir
+      (Unix.gettimeofday () -. t0)
+      (Animation.describe_range p);
+  Option.iter (make_video o p) a.video

@@ -1,0 +1,129 @@
+let user = Job_error.user
+
+type built = {
+  program : Program.t;
+  source : Source.t;
+  scene : Scene.t;
+  files : string list;
+  time : float;
+  frame : int;
+  seconds : float;
+}
+
+let check_outputs ?format (o : Options.t) ~out =
+  Output.check_output ?format out;
+  Output.check_stats_name o.stats;
+  Option.iter Files.check_writable o.stats
+
+(* What rendering an image allocates beside the scene, at most, per pixel: the
+   framebuffer's three floats, as many for its encoding, an alpha channel, the samples'
+   bytes and a compressed copy. *)
+let image_bytes (sc : Scene.t) = 64 * sc.settings.width * sc.settings.height
+
+let build ?digests (o : Options.t) =
+  let (program, source, scene, files, time, frame), seconds =
+    Progress.build o (fun say ->
+        say
+          (Printf.sprintf "reading and checking %s"
+             (Option.value o.scene ~default:"the showcase"));
+        let prog = Scene_file.load ~progress:say ?digests o.scene in
+        (* One scene of it: a still's description may go as it is compiled. *)
+        Program.single_scene prog;
+        let src = Scene_file.source o prog in
+        let time, frame = Options.time_of o src in
+        say "evaluating the scene and building its acceleration structure";
+        let sc, files =
+          Source.scene ~progress:say src (Options.overrides o) ~time ~frame
+        in
+        (* Evaluating a large scene leaves garbage (the evaluator's values, the objects
+           compiled): it is given back before the framebuffer is allocated, so that peak
+           memory is the scene plus the image, unless the heap as it is and the image's
+           buffers fit in the most the heap has already been (compacting a million
+           objects takes a tenth of the build). *)
+        let g = Gc.quick_stat () in
+        let bytes w = w * (Sys.word_size / 8) in
+        if bytes g.heap_words + image_bytes sc > bytes g.top_heap_words then Gc.compact ();
+        (prog, src, sc, files, time, frame))
+  in
+  { program; source; scene; files; time; frame; seconds }
+
+let checkpoint (o : Options.t) (b : built) ~out =
+  let key =
+    Checkpoint.key b.source (Options.overrides o) ~time:b.time ~frame:b.frame
+      ~files:b.files
+  in
+  let ck = Checkpoint.start ~out ~key b.scene in
+  if Checkpoint.resumed ck > 0 && not o.quiet then
+    Printf.printf "resuming: %d of %d tiles already rendered\n%!" (Checkpoint.resumed ck)
+      (Checkpoint.tiles ck);
+  ck
+
+let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
+    (o : Options.t) ~out ~checkpoint ~build ~wall ~domains ~ranks ~workers sc fb st =
+  Progress.writing o out (fun () -> Output.write_image ?cancel ~encoding ?alpha out sc fb);
+  Option.iter Checkpoint.remove checkpoint;
+  Render_report.warn_bad_samples st;
+  Option.iter
+    (fun p ->
+      let j =
+        match Render_report.stats_json o sc ~build ~wall ~domains ~ranks st with
+        | `Assoc l -> `Assoc (l @ extra)
+        | j -> j
+      in
+      Files.write_json ?cancel p j)
+    o.stats;
+  if not o.quiet then
+    let size =
+      match encoding.region with
+      | Some r when encoding.crop -> Some (r.x1 - r.x0, r.y1 - r.y0)
+      | _ -> None
+    in
+    let stdout = Output.is_stdout out in
+    let line =
+      Render_report.summary ?size
+        ~out:(if stdout then "the image to standard output" else out)
+        sc ~build ~render:wall ~workers st
+    in
+    (* With -o -, standard output is the image's alone. *)
+    if stdout then prerr_endline line else print_endline line
+
+let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
+  let out = Scene_file.default_output o in
+  check_outputs ?format:enc.format o ~out;
+  let domains = Options.domains o in
+  (* Only a checkpoint's key needs the digests of the files the scene reads. *)
+  let b = build ~digests:resume o in
+  let sc = b.scene in
+  Output.guard_render o b.source ~out;
+  Render_report.warn_long_render o sc;
+  Output.check_encoding enc ~out sc;
+  if resume && Output.is_stdout out then
+    user
+      "--resume keeps its checkpoint beside the output file: it cannot be combined with \
+       -o - (standard output)";
+  if resume && (enc.alpha || enc.region <> None) then
+    user
+      "--resume keeps a checkpoint of the whole image: it cannot be combined with \
+       --alpha or --region";
+  let region = enc.region in
+  let progress =
+    Progress.for_options o ~label:"tiles" ~total:(Array.length (Render.tiles ?region sc))
+  in
+  let alpha =
+    if enc.alpha then Some (Float.Array.make (sc.settings.width * sc.settings.height) 0.)
+    else None
+  in
+  (* Before the clock starts: the checkpoint's key reads the files' digests. *)
+  let checkpoint = if resume then Some (checkpoint o b ~out) else None in
+  let t0 = Unix.gettimeofday () in
+  let fb, st =
+    Still.render ?cancel ?checkpoint ?region ?alpha ~domains
+      ~on_tile:(fun d rays -> Progress.update ~rays progress d)
+      sc
+  in
+  let wall = Unix.gettimeofday () -. t0 in
+  Progress.finish progress;
+  finish ?cancel ~encoding:enc ?alpha o ~out ~checkpoint ~build:b.seconds ~wall ~domains
+    ~ranks:1
+    ~workers:(Printf.sprintf "%d domains" domains)
+    sc fb st

@@ -1,0 +1,57 @@
+(** [lancer render] as a library function: a still's whole pipeline, from the scene file
+    to the image, its statistics and its summary line (load → evaluate → compile →
+    checkpoint → render → write), and its steps, which [lancer-mpi render] shares. *)
+
+type built = {
+  program : Program.t;
+  source : Source.t;  (** the program as the job layer sees it *)
+  scene : Scene.t;  (** at the chosen time, with the options' overrides *)
+  files : string list;  (** the images and meshes that scene read *)
+  time : float;
+  frame : int;
+  seconds : float;  (** the build's wall time: loading, evaluation, structure *)
+}
+(** A still's scene, built. *)
+
+val check_outputs : ?format:Image.format -> Options.t -> out:string -> unit
+(** Refuse, before any work, an image output ({!Output.check_output}) or a [--stats] file
+    that cannot be written or is named like an input. *)
+
+val build : ?digests:bool -> Options.t -> built
+(** Load the scene ({!Scene_file.load}; [digests] as there, default [true]), evaluate it
+    at the options' time with their overrides and compile it, saying what it does on the
+    progress channel ({!Progress.build}). The program is loaded for this one scene
+    ({!Program.single_scene}), and the garbage of a large evaluation is given back before
+    the image is allocated when the heap would otherwise grow past its peak. *)
+
+val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
+(** The checkpoint of [out] for this still ({!Checkpoint.start} with its key), saying how
+    many tiles it brings back (unless [--quiet]). *)
+
+val finish :
+  ?cancel:Cancel.t ->
+  ?encoding:Output.encoding ->
+  ?alpha:Float.Array.t ->
+  ?extra:(string * Yojson.Safe.t) list ->
+  Options.t ->
+  out:string ->
+  checkpoint:Checkpoint.t option ->
+  build:float ->
+  wall:float ->
+  domains:int ->
+  ranks:int ->
+  workers:string ->
+  Scene.t ->
+  Image.t ->
+  Stats.t ->
+  unit
+(** What follows a still's last tile: the image written ({!Output.write_image}, under a
+    progress note), the checkpoint removed, a warning for bad samples, the [--stats] JSON
+    ({!Render_report.stats_json} and [extra] fields) and, unless [--quiet], the summary
+    line ({!Render_report.summary}; on stderr when the image goes to standard output). *)
+
+val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
+(** [lancer render]: the output checked, the scene built, the writes guarded, the image
+    rendered over [--domains] domains (from a checkpoint with [resume]) with a progress
+    line, then {!finish}. Raises {!Job_error.User} and {!Job_error.Scene}; [Sys.Break]
+    when [cancel] is cancelled. *)
