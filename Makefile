@@ -149,11 +149,13 @@ clean-toolchain:
 
 # Every speed target side by side (bench/embree/bench.sh): lancer against Embree (an own
 # harness, bench/embree/) on the scenes of the speed table, an animation against one still,
-# the scene language against CPython; installs libembree-dev, GNU time and python3 where
-# missing, and skips a row with a message where its tool cannot be had.
+# the scene language against CPython, a generated scene read beside POV-Ray reading it;
+# installs libembree-dev, GNU time, python3 and povray where missing, and skips a row with
+# a message where its tool cannot be had.
 bench-limit: build
 	-@bash .ci/toolchain install libembree-dev time || echo "bench-limit: could not install libembree-dev"
 	-@bash .ci/toolchain install python3-minimal || echo "bench-limit: could not install python3"
+	-@bash .ci/toolchain install povray || echo "bench-limit: could not install povray"
 	$(RUN) bash bench/embree/bench.sh
 
 # lancer against POV-Ray on the scene pairs of scenes/bench/ (installs povray if missing).

@@ -15,7 +15,9 @@ type body = D.body = {
 
 type t = {
   file : string;
-  stmts : Ast.stmt list;
+  code : Compile.t;  (** the program, compiled once *)
+  strings : string list;  (** every string literal the program writes *)
+  empty : bool;  (** no statement at all *)
   sources : (string, string) Hashtbl.t;
   resolved : (string * string, string) Hashtbl.t;
       (** for each (including file, name written), the path the include was found at *)
@@ -24,7 +26,7 @@ type t = {
   mutable first : D.t;
       (** the evaluation at time 0, frame 0 (without its objects once {!release}d) *)
   released : bool Atomic.t;
-  mutable memo : Eval.memo;  (** what that evaluation did that later ones skip *)
+  mutable memo : Run.memo;  (** what that evaluation did that later ones skip *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
@@ -77,13 +79,13 @@ let release t =
      [first] changes), so that it never uses the emptied [first] as the scene. *)
   Atomic.set t.released true;
   t.first <- { d with objects = [] };
-  t.memo <- Eval.memo t.stmts;
+  t.memo <- Run.again t.memo;
   d
 
 let animation t = t.first.animation
 let bodies t = t.first.bodies
 let physics t = t.first.physics
-let empty t = List.is_empty t.stmts
+let empty t = t.empty
 
 (* The one boundary: nothing raised below reaches the caller but an interrupt (Ctrl-C
    while a scene is evaluated), which is the command's to answer. *)
@@ -161,8 +163,8 @@ let unquoted path (e : Error.t) =
       e with
       source_line = None;
       message =
-        "this file does not parse as a scene (a syntax error here); it is not named .rts, \
-         so nothing of it is shown";
+        "this file does not parse as a scene (a syntax error here); it is not named \
+         .rts, so nothing of it is shown";
     }
 
 (* The most included files a program may expand to, counting every inclusion: a file
@@ -173,20 +175,32 @@ let max_inclusions = 10_000
 (* Replace every [include] by the parsed statements of the file it names, relative to the
    including file. [stack] holds the files being included, outermost last. Each file is
    read and parsed once, however often it is included; [resolved] keeps, for each
-   (including file, name written), the path it was found at. *)
-let resolve ~read sources resolved includes errors main stmts =
+   (including file, name written), the path it was found at. [resolver] gives the function
+   that resolves the includes of a top-level statement. *)
+let resolver ~read sources resolved includes errors main =
   let err loc msg =
     errors :=
       Error.make ?source:(Hashtbl.find_opt sources loc.Loc.file) loc msg :: !errors
   in
   let parsed = Hashtbl.create 4 and inclusions = ref 0 in
   let chain file = Option.value (Hashtbl.find_opt includes file) ~default:[] in
+  (* Whether a statement holds an include, anywhere inside: only then is it made anew. *)
+  let rec includes_in (s : Ast.stmt) =
+    match s.s with
+    | Include _ -> true
+    | Macro (_, _, b) | For (_, _, _, _, b) -> List.exists includes_in b
+    | If_stmt (_, t, e) -> List.exists includes_in t || List.exists includes_in e
+    | Block (_, its) | Body (_, its) ->
+        List.exists (function Ast.Stmt s -> includes_in s | Field _ -> false) its
+    | Let _ | Fn _ | Included _ | Call_stmt _ -> false
+  in
   let rec stmts_ stack file ss = List.map (stmt stack file) ss
   and items stack file its =
     List.map
       (function Ast.Field _ as f -> f | Ast.Stmt s -> Ast.Stmt (stmt stack file s))
       its
-  and stmt stack file (s : Ast.stmt) =
+  and stmt stack file (s : Ast.stmt) = if includes_in s then resolve stack file s else s
+  and resolve stack file (s : Ast.stmt) =
     let d =
       match s.s with
       | Include (p, loc) -> (
@@ -222,8 +236,8 @@ let resolve ~read sources resolved includes errors main stmts =
                 err s.sloc
                   (Printf.sprintf
                      "the includes expand to more than %d files (\"%s\" and the files it \
-                      includes are included over and over): include each file once, \
-                      from one place"
+                      includes are included over and over): include each file once, from \
+                      one place"
                      max_inclusions p);
               Ast.Included (path, [])
           | None -> (
@@ -252,7 +266,9 @@ let resolve ~read sources resolved includes errors main stmts =
                     | Some r -> r
                     | None ->
                         let r = Syntax.parse ~file:path text in
-                        Result.iter_error (fun e -> errors := unquoted path e :: !errors) r;
+                        Result.iter_error
+                          (fun e -> errors := unquoted path e :: !errors)
+                          r;
                         Hashtbl.replace parsed path r;
                         r
                   in
@@ -268,7 +284,7 @@ let resolve ~read sources resolved includes errors main stmts =
     in
     { s with s = d }
   in
-  stmts_ [ (canonical main, main) ] main stmts
+  stmt [ (canonical main, main) ] main
 
 (* Every error of a file that was included gets the chain of includes that led to it. *)
 let chained includes r =
@@ -291,134 +307,11 @@ let file_errors files sources uses =
           Error.make ?source:(Hashtbl.find_opt sources loc.file) loc msg)
         (f (List.rev uses))
 
-let load_text ?progress ?files ?(read = from_disk) file text =
-  let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
-  let resolved = Hashtbl.create 4 in
-  Hashtbl.replace sources file text;
-  chained includes
-  @@
-  match Syntax.parse ~file text with
-  | Error e -> Error [ e ]
-  | Ok stmts -> (
-      let errors = ref [] in
-      let stmts = resolve ~read sources resolved includes errors file stmts in
-      if !errors <> [] then Error (List.rev !errors)
-      else
-        let on_objects n =
-          Option.iter
-            (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
-            progress
-        in
-        (* The static check's mistakes, with those of the evaluation at time 0 and of
-           the files it uses: one that both find (in code that runs) is reported once.
-           The evaluation's come first, so that its files keep the order they had without
-           the static check; sorted in source order within each file. *)
-        let static = Static_check.run ~sources stmts in
-        let merged es =
-          let key (e : Error.t) = (e.file, e.line, e.col, e.message) in
-          let seen = Hashtbl.create 16 in
-          Eval.sort_errors
-            (List.filter
-               (fun e ->
-                 let k = key e in
-                 (not (Hashtbl.mem seen k))
-                 &&
-                 (Hashtbl.add seen k ();
-                  true))
-               (es @ static))
-        in
-        let uses = ref [] in
-        let on_file u = uses := u :: !uses in
-        let memo = Eval.memo stmts in
-        let run =
-          Eval.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 stmts
-        in
-        match (run, file_errors files sources !uses) with
-        | Error es, fes -> Error (merged (es @ fes))
-        | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
-        | Ok first, _ ->
-            let first = { first with warnings = chained_list includes first.warnings } in
-            Ok
-              {
-                file;
-                stmts;
-                sources;
-                resolved;
-                includes;
-                first;
-                released = Atomic.make false;
-                memo;
-                named =
-                  (let h = Hashtbl.create 4 in
-                   List.iter (fun f -> Hashtbl.replace h f ()) first.files;
-                   h);
-                named_lock = Mutex.create ();
-              })
-
-let load_string ?progress ?files ?(filename = "<string>") text =
-  guard filename (fun () -> load_text ?progress ?files filename text)
-
-type bundle = {
-  b_file : string;
-  b_text : string;
-  b_includes : ((string * string) * (string * string)) list;
-}
-
-let bundle t =
-  {
-    b_file = t.file;
-    b_text = Hashtbl.find t.sources t.file;
-    b_includes =
-      List.sort compare
-        (Hashtbl.fold
-           (fun key path acc -> (key, (path, Hashtbl.find t.sources path)) :: acc)
-           t.resolved []);
-  }
-
-(* Includes from the bundle alone: none is looked for on this machine's disk. *)
-let load_bundle ?progress ?files b =
-  let read ~including p =
-    match List.assoc_opt (including, p) b.b_includes with
-    | Some (path, text) -> (path, fun () -> Ok text)
-    | None ->
-        ( Loc.relative_to including p,
-          fun () -> Error (`Status "it is not among the files the program was sent with") )
-  in
-  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
-
-let load_file ?files path =
-  guard path (fun () ->
-      match read_file path with
-      | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
-      | Ok text -> load_text ?files path text)
-
-let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts t ~time ~frame =
-  if not (Float.is_finite time) then
-    Error [ Error.file_error t.file "the time must be a finite number" ]
-  else
-    Eval.run
-      ?memo:(if again then None else Some t.memo)
-      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
-      ~time ~frame t.stmts
-
-(* An error that only some frames have names the frame: frame 0 was checked when the
-   program was loaded, so an error at another instant is one of those. *)
-let at_frame ~time ~frame r =
-  if Float.equal time 0. && frame = 0 then r
-  else
-    Result.map_error
-      (List.map (fun (e : Error.t) ->
-           {
-             e with
-             message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time;
-           }))
-      r
-
 (* Every string the program writes, in any statement, branch, function or macro, run or
    not. The language builds no string from others, so a file any frame can read is named
    by one of these. *)
-let strings stmts =
-  let acc = ref [] in
+let strings ~acc stmts =
+  let acc = ref acc in
   let rec expr (e : Ast.expr) =
     match e.e with
     | Str s -> if s <> "" then acc := s :: !acc
@@ -454,18 +347,193 @@ let strings stmts =
   List.iter stmt stmts;
   !acc
 
-let named_files t =
+(* What loading a program makes of it, statement by statement: each top-level statement's
+   includes resolved, then checked, compiled and looked at for the memo as it comes, so
+   that what is read of a large program goes as soon as it is compiled. *)
+type loading = {
+  sources : (string, string) Hashtbl.t;
+  resolved : (string * string, string) Hashtbl.t;
+  includes : (string, Loc.t list) Hashtbl.t;
+  errors : Error.t list ref;  (** of the includes, reversed *)
+  resolve : Ast.stmt -> Ast.stmt;
+  check : Check.state;
+  compile : Compile.state;
+  analysis : Run.analysis;
+  mutable strings : string list;
+  mutable count : int;  (** top-level statements *)
+}
+
+let loading ~read file text =
+  let sources = Hashtbl.create 4 and includes = Hashtbl.create 4 in
+  let resolved = Hashtbl.create 4 and errors = ref [] in
+  Hashtbl.replace sources file text;
+  {
+    sources;
+    resolved;
+    includes;
+    errors;
+    resolve = resolver ~read sources resolved includes errors file;
+    check = Check.start ~sources ();
+    compile = Compile.start ();
+    analysis = Run.analysis ();
+    strings = [];
+    count = 0;
+  }
+
+let feed l s =
+  let s = l.resolve s in
+  l.count <- l.count + 1;
+  l.strings <- strings ~acc:l.strings [ s ];
+  Run.analyse l.analysis s;
+  List.iter (Compile.top l.compile) (Check.top l.check s)
+
+(* The program read as it comes; where the reader gives up (a mistake it leaves to the
+   grammar to explain), read whole, and [Error] for a syntax error. *)
+let read_program ~read file text =
+  match
+    let r = Reader.start ~file text in
+    let l = loading ~read file text in
+    let rec go () =
+      match Reader.next r with
+      | Some s ->
+          feed l s;
+          go ()
+      | None -> ()
+    in
+    go ();
+    if Reader.plain r || Option.is_none (Syntax.not_text file text) then Some l else None
+  with
+  | Some l -> Ok l
+  | None | (exception (Reader.Give_up | Failure _ | Invalid_argument _ | Stack_overflow))
+    -> (
+      match Syntax.parse ~file text with
+      | Error e -> Error [ e ]
+      | Ok stmts ->
+          let l = loading ~read file text in
+          List.iter (feed l) stmts;
+          Ok l)
+
+let load_text ?progress ?files ?(read = from_disk) file text =
+  match read_program ~read file text with
+  | Error es -> Error es
+  | Ok l when !(l.errors) <> [] -> chained l.includes (Error (List.rev !(l.errors)))
+  | Ok l -> (
+      let sources = l.sources and includes = l.includes in
+      chained includes
+      @@
+      let on_objects n =
+        Option.iter
+          (fun f -> f (Printf.sprintf "checking the scene: %d objects so far" n))
+          progress
+      in
+      (* The checker's mistakes, with those of the run at time 0 and of the files it
+         uses, in source order (the checker's first at the same place). *)
+      let _, static = Check.finish l.check in
+      let code = Compile.finish l.compile in
+      let merged es = Run.sort_errors (static @ es) in
+      let uses = ref [] in
+      let on_file u = uses := u :: !uses in
+      let memo = Run.memo_of l.analysis in
+      let run =
+        Run.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
+      in
+      match (run, file_errors files sources !uses) with
+      | Error es, fes -> Error (merged (es @ fes))
+      | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
+      | Ok first, _ ->
+          let first = { first with warnings = chained_list includes first.warnings } in
+          Ok
+            {
+              file;
+              code;
+              strings = l.strings;
+              empty = l.count = 0;
+              sources;
+              resolved = l.resolved;
+              includes;
+              first;
+              released = Atomic.make false;
+              memo;
+              named =
+                (let h = Hashtbl.create 4 in
+                 List.iter (fun f -> Hashtbl.replace h f ()) first.files;
+                 h);
+              named_lock = Mutex.create ();
+            })
+
+let load_string ?progress ?files ?(filename = "<string>") text =
+  guard filename (fun () -> load_text ?progress ?files filename text)
+
+type bundle = {
+  b_file : string;
+  b_text : string;
+  b_includes : ((string * string) * (string * string)) list;
+}
+
+let bundle (t : t) =
+  {
+    b_file = t.file;
+    b_text = Hashtbl.find t.sources t.file;
+    b_includes =
+      List.sort compare
+        (Hashtbl.fold
+           (fun key path acc -> (key, (path, Hashtbl.find t.sources path)) :: acc)
+           t.resolved []);
+  }
+
+(* Includes from the bundle alone: none is looked for on this machine's disk. *)
+let load_bundle ?progress ?files b =
+  let read ~including p =
+    match List.assoc_opt (including, p) b.b_includes with
+    | Some (path, text) -> (path, fun () -> Ok text)
+    | None ->
+        ( Loc.relative_to including p,
+          fun () -> Error (`Status "it is not among the files the program was sent with")
+        )
+  in
+  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
+
+let load_file ?files path =
+  guard path (fun () ->
+      match read_file path with
+      | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
+      | Ok text -> load_text ?files path text)
+
+let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts (t : t) ~time
+    ~frame =
+  if not (Float.is_finite time) then
+    Error [ Error.file_error t.file "the time must be a finite number" ]
+  else
+    Run.run
+      ?memo:(if again then None else Some t.memo)
+      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
+      ~time ~frame t.code
+
+(* An error that only some frames have names the frame: frame 0 was checked when the
+   program was loaded, so an error at another instant is one of those. *)
+let at_frame ~time ~frame r =
+  if Float.equal time 0. && frame = 0 then r
+  else
+    Result.map_error
+      (List.map (fun (e : Error.t) ->
+           {
+             e with
+             message = Printf.sprintf "%s (at frame %d, time %g s)" e.message frame time;
+           }))
+      r
+
+let named_files (t : t) =
   let files = Hashtbl.fold (fun f _ acc -> f :: acc) t.sources [] in
   List.sort_uniq String.compare
     (List.concat_map
        (fun s -> List.map (fun f -> Loc.relative_to f s) files)
-       (List.sort_uniq String.compare (strings t.stmts)))
+       (List.sort_uniq String.compare t.strings))
 
-let source t file = Hashtbl.find_opt t.sources file
-let fixed_objects t = Eval.fixed_objects t.memo
-let fixed_pieces t = Eval.fixed_pieces t.memo
+let source (t : t) file = Hashtbl.find_opt t.sources file
+let fixed_objects t = Run.fixed_objects t.memo
+let fixed_pieces t = Run.fixed_pieces t.memo
 
-let located t ~time ~frame es =
+let located (t : t) ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
   | Error es -> es
   | Ok () -> []
@@ -473,7 +541,7 @@ let located t ~time ~frame es =
 (* The evaluation at time 0, frame 0 is the one made when the program was loaded, with
    each body placed where the simulation has it at time 0 (its initial centre): evaluated
    again only if the simulation says otherwise. *)
-let describe ?again ?body_state ?progress ?cancel ?files ?parts t ~time ~frame =
+let describe ?again ?body_state ?progress ?cancel ?files ?parts (t : t) ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
@@ -492,7 +560,7 @@ let describe ?again ?body_state ?progress ?cancel ?files ?parts t ~time ~frame =
            let r =
              match r with
              | Error es ->
-                 Error (Eval.sort_errors (es @ file_errors files t.sources !uses))
+                 Error (Run.sort_errors (es @ file_errors files t.sources !uses))
              | Ok _ -> r
            in
            Result.iter (note t) r;

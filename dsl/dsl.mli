@@ -16,8 +16,8 @@ val load_file :
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
   string ->
   (t, Error.t list) result
-(** [load_file path] reads, parses and checks [path]: the whole program against the fields
-    of each block kind ({!Static_check}, code that does not run included), then its
+(** [load_file path] reads, parses and checks [path]: the whole program's types and the
+    fields of each block kind ({!Check}, code that does not run included), then its
     evaluation at time 0; the errors of both, each once, in source order. The language
     reads no image or mesh: [files uses], when given, says what the files the program uses
     have wrong (the renderer's [Compile.check_files]), reported with the program's errors.
@@ -84,7 +84,7 @@ val describe :
     with [Sys.Break]. The top-level statements that cannot build anything else at another
     instant are not evaluated again ({!fixed_objects}), unless [again] (default [false])
     says to evaluate every statement: the same description, made the long way. When a new
-    evaluation succeeds, [parts] (as for {!Eval.run}) is given its objects in pieces and
+    evaluation succeeds, [parts] (as for {!Run.run}) is given its objects in pieces and
     the description has none: a piece of the objects {!fixed_pieces} lists is that very
     list. The load's own evaluation (time 0, frame 0) is given whole, [parts] untold. *)
 
@@ -103,10 +103,10 @@ val released : t -> bool
 
 val fixed_objects : t -> Description.obj list
 (** The objects of {!first} built by top-level statements that cannot build anything else
-    at another instant ({!Eval.memo}), in program order. {!describe} does not evaluate
-    such statements again: each of these objects is in its descriptions as the very value
-    it is here (physically), in this order, unless the statement had to be evaluated again
-    (its objects are then new values). So a renderer can keep what it made of them. *)
+    at another instant ({!Run.memo}), in program order. {!describe} does not evaluate such
+    statements again: each of these objects is in its descriptions as the very value it is
+    here (physically), in this order, unless the statement had to be evaluated again (its
+    objects are then new values). So a renderer can keep what it made of them. *)
 
 val fixed_pieces : t -> Description.obj list list
 (** {!fixed_objects} by the statement that built them, in program order: the lists a

@@ -340,7 +340,7 @@ let names_of (b : block) =
 let field_names id = match find id with Some b -> names_of b | None -> []
 let shapes = List.map (fun b -> b.id) shape_blocks
 let csg = List.map (fun b -> b.id) csg_blocks
-let is_shape k = List.mem k shapes
+let is_shape k = List.exists (String.equal k) shapes
 
 let keywords =
   [ "settings"; "camera"; "animation"; "physics"; "light"; "group" ] @ csg @ shapes

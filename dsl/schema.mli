@@ -3,10 +3,10 @@
     it is required), whether it may be given more than once, when it applies and one line
     of documentation.
 
-    The evaluator takes from here the fields it allows, each field's default and its range
-    (and how its messages word the range), the static check of a program ({!Static_check})
-    its types, and the field tables of the language reference (dsl/README.md) are
-    generated from it. *)
+    The type checker ({!Check}) takes from here the fields each block allows and their
+    types, the building of blocks ({!Build}) each field's default and its range (and how
+    its messages word the range), and the field tables of the language reference
+    (dsl/README.md) are generated from it. *)
 
 (** The value a field takes. *)
 type ty =

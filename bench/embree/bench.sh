@@ -13,12 +13,16 @@
 #   * an animation against one still of it: `lancer bench animation` of
 #     scenes/bench/field_moving.rts (24 frames at 480×270, one domain);
 #   * the scene language against CPython: a loop of 3 000 001 sin·cos in `lancer check`
-#     against the same loop in python3.
+#     against the same loop in python3;
+#   * reading a generated scene: LITERAL sphere blocks written out, as exporters and
+#     scripts write them (bench/embree/literal_spheres.awk), read, checked and evaluated by
+#     `lancer check` (MB/s), beside POV-Ray on the same scene in its own language (a 1×1
+#     render, and the parse time it reports) when povray is installed.
 #
 # Whole processes, the two sides alternated REPEAT times (default 3), medians. A row whose
 # tool is missing (Embree, GNU time, python3) says so and is skipped. Knobs: W, H (default
 # 1920×1080), GRID (default 1000), NU, NV (default 1000×500), CSG_NU, CSG_NV, REPEAT, LOOP
-# (iterations - 1, default 3000000), ANIMATION_TARGET (default 4).
+# (iterations - 1, default 3000000), ANIMATION_TARGET (default 4), LITERAL (default 100000).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -30,6 +34,7 @@ lancer_bench=${LANCER_BENCH:-"$root/_build/default/bench/lancer_bench.exe"}
 W=${W:-1920}; H=${H:-1080}; GRID=${GRID:-1000}; NU=${NU:-1000}; NV=${NV:-500}
 CSG_NU=${CSG_NU:-200}; CSG_NV=${CSG_NV:-100}
 REPEAT=${REPEAT:-3}; LOOP=${LOOP:-3000000}; ANIMATION_TARGET=${ANIMATION_TARGET:-4}
+LITERAL=${LITERAL:-100000}
 mkdir -p "$root/_build"
 tmp=$(mktemp -d -p "$root/_build"); trap 'rm -rf "$tmp"' EXIT
 
@@ -99,6 +104,8 @@ light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }
 for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n / 2), radius: 0.4 } } }
 RTS
 printf 'for i in 0 to %d { let x = sin(i) * cos(i) }\n' "$LOOP" >"$tmp/loop.rts"
+awk -v N="$LITERAL" -f bench/embree/literal_spheres.awk >"$tmp/literal.rts"
+awk -v N="$LITERAL" -v POV=1 -f bench/embree/literal_spheres.awk >"$tmp/literal.pov"
 
 echo "median of $REPEAT alternated runs, whole processes; lancer on one domain"
 echo
@@ -173,6 +180,32 @@ if [ -n "$python" ]; then
     "$("$python" -c 'import platform; print("Python", platform.python_version())')"
 else
   out "$loop" "$(secs "$(med "$tmp/l" 1)")" "CPython: skipped" "—" "≤ 0.5×" "—" "python3 is not on the PATH (make bench-limit installs it)"
+fi
+
+# A generated scene read, checked and evaluated, in MB/s of its text; POV-Ray parses the
+# same scene in its own language (a render of one pixel: its parse, its bounding and
+# the process; the parse time it reports itself in the note).
+literal="$LITERAL literal sphere blocks, $(awk -v b="$(wc -c <"$tmp/literal.rts")" 'BEGIN { printf "%.1f", b / 1e6 }') MB (lancer check)"
+: >"$tmp/l"; : >"$tmp/p"; : >"$tmp/pp"
+povray=$(command -v povray || true)
+mkdir -p "$tmp/home"   # POV-Ray wants a writable user configuration directory
+for _ in $(seq "$REPEAT"); do
+  measure "$lancer" check "$tmp/literal.rts" >>"$tmp/l"
+  if [ -n "$povray" ]; then
+    HOME="$tmp/home" measure "$povray" "+I$tmp/literal.pov" "+O$tmp/p.png" +W1 +H1 -D -V +GS >>"$tmp/p"
+    sed -n 's/.*Parse Time:.*(\([0-9.]*\) seconds).*/\1/p' "$tmp/err" >>"$tmp/pp"
+  fi
+done
+lt=$(med "$tmp/l" 1)
+rate=$(awk -v b="$(wc -c <"$tmp/literal.rts")" -v s="$lt" 'BEGIN { if (s > 0) printf "%.0f", b / 1e6 / s; else print 0 }')
+fast=$(awk -v r="$rate" 'BEGIN { print (r >= 40 ? "yes" : "no") }')
+if [ -n "$povray" ]; then
+  pt=$(med "$tmp/p" 1)
+  out "$literal" "$(secs "$lt"), $rate MB/s" "POV-Ray $(secs "$pt")" "$(ratio "$lt" "$pt")" "≥ 40 MB/s" "$fast" \
+    "POV-Ray: a 1×1 render of the same scene, of which its parse $(secs "$(median <"$tmp/pp")")"
+else
+  out "$literal" "$(secs "$lt"), $rate MB/s" "POV-Ray: skipped" "—" "≥ 40 MB/s" "$fast" \
+    "povray is not on the PATH (make bench-povray installs it)"
 fi
 
 # The evaluation of the spheres alone, in one process (lancer_bench language, its JSON).

@@ -70,12 +70,24 @@ let common () =
     [ "field"; "value"; "default"; "meaning" ]
     (List.map field_rows (Option.get (Schema.find "group")).fields)
 
+(* Every built-in, in the table's order: how it is written, and its line. *)
+let builtins () =
+  table [ "built-in"; "meaning" ]
+    (List.map
+       (fun (b : Lancer_dsl.Builtins.t) -> [ Printf.sprintf "`%s`" b.usage; b.doc ])
+       Lancer_dsl.Builtins.all)
+
 let section id =
-  match id with "objects" -> objects () | "common" -> common () | id -> block_table id
+  match id with
+  | "objects" -> objects ()
+  | "common" -> common ()
+  | "builtins" -> builtins ()
+  | id -> block_table id
 
 let marker line =
   let p = "<!-- fields: " and s = " -->" in
-  if String.starts_with ~prefix:p line && String.ends_with ~suffix:s line then
+  if String.equal line "<!-- builtins -->" then Some "builtins"
+  else if String.starts_with ~prefix:p line && String.ends_with ~suffix:s line then
     Some
       (String.sub line (String.length p)
          (String.length line - String.length p - String.length s))

@@ -593,11 +593,164 @@ let mutated =
   in
   QCheck.make ~print:(fun s -> s) gen
 
+(* The reader and the grammar read the same tree (locations included) wherever the
+   reader reads one; where it does not, the grammar says why. *)
+let same_tree text =
+  match Lancer_dsl.Reader.program ~file:"fuzz.rts" text with
+  | None -> true
+  | Some (stmts, _) -> (
+      match Lancer_dsl.Syntax.grammar ~file:"fuzz.rts" text with
+      | Ok stmts' when stmts = stmts' -> true
+      | Ok _ -> QCheck.Test.fail_reportf "the reader reads another tree in:\n%s" text
+      | Error e ->
+          QCheck.Test.fail_reportf "the reader reads what the grammar refuses (%s):\n%s"
+            e.message text)
+
+let rec scene_files dir =
+  Sys.readdir dir |> Array.to_list |> List.sort compare
+  |> List.concat_map (fun f ->
+         let p = Filename.concat dir f in
+         if Sys.is_directory p then scene_files p
+         else if Filename.check_suffix f ".rts" then [ p ]
+         else [])
+
+let test_reader () =
+  let files = scene_files scenes_dir @ scene_files "../../dsl/lancer" in
+  Alcotest.(check bool) "the scenes are found" true (List.length files >= 40);
+  List.iter
+    (fun path ->
+      let text = In_channel.with_open_bin path In_channel.input_all in
+      match Lancer_dsl.Syntax.grammar ~file:path text with
+      | Error _ -> ()
+      | Ok stmts ->
+          Alcotest.(check bool)
+            (path ^ ": the reader reads what the grammar reads")
+            true
+            (Option.map fst (Lancer_dsl.Reader.program ~file:path text) = Some stmts))
+    files;
+  List.iter
+    (fun text ->
+      Alcotest.(check bool)
+        (text ^ ": left to the grammar")
+        true
+        (Lancer_dsl.Reader.program ~file:"t.rts" text = None))
+    [
+      "let x = 1 < 2 < 3";
+      "let x = 1 + if a then b else c";
+      "let x = (1, 2, 3, 4)";
+      "sphere { a: 1,, b: 2 }";
+      "let x = 3.x";
+      "let x = 1e999";
+      "let x = \"open";
+      "/* open";
+      "let x = 1 && 2";
+      "let é = 1";
+      "f(1,)";
+    ]
+
+(* Expressions of every level of the precedence, nested: [let x = …]. *)
+let expression =
+  let gen =
+    QCheck.Gen.(
+      sized
+      @@ fix (fun self n ->
+             let atom =
+               oneofl [ "1"; "2.5"; "x"; "v.y"; "f(1, y)"; "(1, 2, 3)"; "true"; "\"s\"" ]
+             in
+             if n <= 0 then atom
+             else
+               let sub = self (n / 2) in
+               frequency
+                 [
+                   (2, atom);
+                   ( 6,
+                     let* a = sub and* b = sub in
+                     let* op =
+                       oneofl
+                         [
+                           "+";
+                           "-";
+                           "*";
+                           "/";
+                           "%";
+                           "^";
+                           "==";
+                           "!=";
+                           "<";
+                           "<=";
+                           ">";
+                           ">=";
+                           "and";
+                           "or";
+                         ]
+                     in
+                     return (a ^ " " ^ op ^ " " ^ b) );
+                   (1, map (fun a -> "-" ^ a) sub);
+                   (1, map (fun a -> "not " ^ a) sub);
+                   (1, map (fun a -> "(" ^ a ^ ")") sub);
+                   ( 1,
+                     let* c = sub and* a = sub and* b = sub in
+                     return ("if " ^ c ^ " then " ^ a ^ " else " ^ b) );
+                   (1, map (fun a -> "(" ^ a ^ ").x") sub);
+                 ]))
+  in
+  QCheck.make ~print:(fun s -> s) (QCheck.Gen.map (fun e -> "let x = " ^ e) gen)
+
+(* Numerals as scenes write them: doubles printed in the usual formats, and strings of
+   digits with a point and perhaps an exponent; each followed by what may follow a number
+   in a scene. *)
+let numeral =
+  let gen =
+    QCheck.Gen.(
+      let double =
+        let* bits = map Int64.of_int (int_bound max_int) in
+        let* bits =
+          map
+            (fun b -> Int64.logor (Int64.shift_left bits 1) b)
+            (map Int64.of_int (int_bound 1))
+        in
+        let x = Float.abs (Int64.float_of_bits bits) in
+        let* fmt = oneofl [ "%.17g"; "%.16g"; "%.15g"; "%g"; "%.3f"; "%.6e"; "%.20e" ] in
+        return
+          (if Float.is_finite x then Printf.sprintf (Scanf.format_from_string fmt "%f") x
+           else "1")
+      and digits =
+        let* d = string_size ~gen:numeral (int_range 1 24) in
+        let* p = int_bound (String.length d) in
+        let* e = opt (int_range (-400) 400) in
+        return
+          ((if p = 0 then "0" else String.sub d 0 p)
+          ^ "."
+          ^ String.sub d p (String.length d - p)
+          ^ match e with Some e -> Printf.sprintf "e%d" e | None -> "")
+      in
+      pair (oneof [ double; digits ]) (oneofl [ ""; ")"; ","; " "; "}"; "x" ]))
+  in
+  QCheck.make ~print:(fun (n, tail) -> n ^ tail) gen
+
+let decimal_reads (n, tail) =
+  let c = { Lancer_dsl.Decimal.at = 0 } in
+  let x = Lancer_dsl.Decimal.scan (n ^ tail) 0 c in
+  let y = float_of_string n in
+  if Int64.bits_of_float x <> Int64.bits_of_float y then
+    QCheck.Test.fail_reportf "%s reads as %h, float_of_string as %h" n x y
+  else if c.at <> String.length n then
+    QCheck.Test.fail_reportf "%s ends at %d, not %d" (n ^ tail) c.at (String.length n)
+  else true
+
 let props =
   let rand = Random.State.make [| 2024 |] in
   List.map
     (QCheck_alcotest.to_alcotest ~rand)
     [
+      QCheck.Test.make ~name:"numerals read as the double float_of_string gives"
+        ~count:(20 * count) numeral decimal_reads;
+      QCheck.Test.make ~name:"the reader reads random expressions as the grammar does"
+        ~count expression same_tree;
+      QCheck.Test.make ~name:"the reader reads random token sequences as the grammar does"
+        ~count token_seq same_tree;
+      QCheck.Test.make ~name:"the reader reads mutated valid scenes as the grammar does"
+        ~count mutated same_tree;
       QCheck.Test.make
         ~name:
           "random token sequences give Ok or Error, never an exception nor an internal \
@@ -854,6 +1007,8 @@ let () =
         [
           Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick
             test_scenes;
+          Alcotest.test_case "the reader reads every scene as the grammar does" `Quick
+            test_reader;
           Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick
             test_json;
         ] );

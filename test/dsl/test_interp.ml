@@ -1,17 +1,11 @@
-(* The evaluator on its own (without the static check in front of it): how names are
-   found (slots, closures, shadowing), the limits, poisoned names and the messages of
-   mistakes found only as a program runs. *)
+(* The compiled program as it runs: how names are found (slots, closures, shadowing), the
+   limits, poisoned names, and the messages of mistakes (the checker's and the run's, in
+   source order). *)
 
 open Lancer_dsl
 module D = Lancer_description.Description
 
-let eval ?(time = 0.) ?(frame = 0) text =
-  match Syntax.parse ~file:"test.rts" text with
-  | Error e -> Alcotest.failf "syntax error: %s" (Error.to_string e)
-  | Ok stmts ->
-      let sources = Hashtbl.create 1 in
-      Hashtbl.replace sources "test.rts" text;
-      Eval.run ~file:"test.rts" ~sources ~time ~frame stmts
+let eval ?(time = 0.) ?(frame = 0) text = Pipeline.run ~time ~frame text
 
 let objects text =
   match eval text with

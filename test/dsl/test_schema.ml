@@ -1,28 +1,19 @@
-(* The schema of the language (dsl/schema.ml) is what the evaluator does: every field of
-   every block kind is accepted and no other, required fields are required, defaults are
-   the values used when a field is left out, and numbers outside a field's range are
-   refused where they are written. The evaluator takes its defaults and ranges from the
-   schema: these tests guard how it reads them (a default as the literal it is, a range
-   with its bounds included or not), and that it has none of its own. *)
+(* The schema of the language (dsl/schema.ml) is what the checker and the evaluation do:
+   every field of every block kind is accepted and no other, required fields are
+   required, defaults are the values used when a field is left out, and numbers outside
+   a field's range are refused where they are written. Both take the fields, their
+   defaults and ranges from the schema: these tests guard how they read them (a default
+   as the literal it is, a range with its bounds included or not), and that they have
+   none of their own. *)
 
 module Dsl = Lancer_dsl.Dsl
 module Error = Lancer_dsl.Error
-module Eval = Lancer_dsl.Eval
-module Syntax = Lancer_dsl.Syntax
 module Schema = Lancer_dsl.Schema
 
 let errors_text es = String.concat "" (List.map Error.to_string es)
 
-(* The evaluator's own errors (without the static check), for a program of one file. *)
-let eval_errors text =
-  match Syntax.parse ~file:"test.rts" text with
-  | Error e -> Alcotest.failf "syntax error: %s" (Error.to_string e)
-  | Ok stmts -> (
-      let sources = Hashtbl.create 1 in
-      Hashtbl.replace sources "test.rts" text;
-      match Eval.run ~objects:false ~file:"test.rts" ~sources ~time:0. ~frame:0 stmts with
-      | Ok _ -> []
-      | Error es -> es)
+(* The mistakes of a program of one file, the checker's and the run's. *)
+let eval_errors text = Pipeline.errors text
 
 (* A valid block of each shape: its required fields. *)
 let shape_fields = function
@@ -282,27 +273,22 @@ let test_ranges () =
     Schema.blocks;
   Alcotest.(check bool) "ranges were checked" true (!checked >= 100)
 
-(* The scene a program describes, evaluated with [schema]. *)
+(* The scene a program describes, checked and evaluated with [schema]. *)
 let described ?schema text =
-  match Syntax.parse ~file:"test.rts" text with
-  | Error e -> Alcotest.failf "syntax error: %s" (Error.to_string e)
-  | Ok stmts -> (
-      let sources = Hashtbl.create 1 in
-      Hashtbl.replace sources "test.rts" text;
-      match Eval.run ?schema ~file:"test.rts" ~sources ~time:0. ~frame:0 stmts with
-      | Ok d ->
-          (* A body is where its statement is, up to its end, which moves with its text. *)
-          let nowhere =
-            { Lancer.Loc.file = ""; line = 0; col = 0; end_line = 0; end_col = 0 }
-          in
-          {
-            d with
-            bodies =
-              List.map
-                (fun (b : Lancer.Description.body) -> { b with loc = nowhere })
-                d.bodies;
-          }
-      | Error es -> Alcotest.failf "%s\n%s" text (errors_text es))
+  match Pipeline.run ?schema text with
+  | Ok d ->
+      (* A body is where its statement is, up to its end, which moves with its text. *)
+      let nowhere =
+        { Lancer.Loc.file = ""; line = 0; col = 0; end_line = 0; end_col = 0 }
+      in
+      {
+        d with
+        bodies =
+          List.map
+            (fun (b : Lancer.Description.body) -> { b with loc = nowhere })
+            d.bodies;
+      }
+  | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
 
 (* Another value of the field's type than its default, within its range. *)
 let other (fl : Schema.field) default =
@@ -403,6 +389,51 @@ let test_description_defaults () =
   check_same "Description.default_material" Lancer.Description.default_material
     (material "sphere { center: (0, 0, 0), radius: 1, material: material { } }")
 
+(* A material is made from its fields' values as the schema's ranges allow them, without
+   the description checking it again: every number a material field's range holds (at
+   each end of it, the others at their defaults) is one the description accepts. *)
+let test_material_ranges () =
+  let block = Option.get (Schema.find "material") in
+  let ends (r : Schema.range) =
+    match r with
+    | Any -> [ -1e300; 1e300 ]
+    | Whole (lo, hi) -> [ Float.of_int lo; Float.of_int hi ]
+    | Real (lo, hi) ->
+        let low = function
+          | Schema.Incl x -> [ x ]
+          | Excl x -> [ Float.succ x ]
+          | Unbounded -> [ -1e300 ]
+        and high = function
+          | Schema.Incl x -> [ x ]
+          | Excl x -> [ Float.pred x ]
+          | Unbounded -> [ 1e300 ]
+        in
+        low lo @ high hi
+  in
+  let numbers = List.filter (fun (fl : Schema.field) -> fl.ty = Number) block.fields in
+  Alcotest.(check bool) "the material has number fields" true (List.length numbers >= 7);
+  List.iter
+    (fun (fl : Schema.field) ->
+      List.iter
+        (fun x ->
+          let d = Lancer.Description.default_material in
+          let m : Lancer.Description.material =
+            match fl.name with
+            | "ambient" -> { d with ambient = x }
+            | "diffuse" -> { d with diffuse = x }
+            | "specular" -> { d with specular = x }
+            | "shininess" -> { d with shininess = x }
+            | "reflection" -> { d with reflection = x }
+            | "transparency" -> { d with transparency = x }
+            | "ior" -> { d with ior = x }
+            | n -> Alcotest.failf "a material field %s this test does not know" n
+          in
+          match Lancer.Description.validate_material m with
+          | Ok () -> ()
+          | Error e -> Alcotest.failf "%s: %g is in its range, but %s" fl.name x e)
+        (ends fl.range))
+    numbers
+
 let () =
   Alcotest.run "schema"
     [
@@ -425,5 +456,8 @@ let () =
             test_schema_defaults_used;
           Alcotest.test_case "the scene description's own defaults are the schema's"
             `Quick test_description_defaults;
+          Alcotest.test_case
+            "every number a material field's range holds, the description accepts" `Quick
+            test_material_ranges;
         ] );
     ]

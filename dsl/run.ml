@@ -1,0 +1,324 @@
+module D = Description
+open Ast
+open Value
+
+(* Errors in source order: files in the order they first appear, then line and column. *)
+let sort_errors (es : Error.t list) =
+  let files =
+    List.fold_left
+      (fun acc (e : Error.t) -> if List.mem e.file acc then acc else acc @ [ e.file ])
+      [] es
+  in
+  let rec index x i = function
+    | [] -> i
+    | y :: r -> if y = x then i else index x (i + 1) r
+  in
+  let key (e : Error.t) = (index e.file 0 files, e.line, e.col) in
+  List.stable_sort (fun a b -> compare (key a) (key b)) es
+
+(* ------------------------------------------------------------------------------------ *)
+(* What does not change between instants *)
+
+(* Whether a statement or expression mentions a name for which [p] holds: a name it reads,
+   in an expression, a call or a macro call (not a name it binds). A value the statement
+   computes can come from nothing but these names and its literals, so if none of them
+   holds anything that may differ between instants, neither does the statement's work. *)
+let rec expr_mentions p (e : expr) =
+  match e.e with
+  | Num _ | Str _ | Bool _ -> false
+  | Var x -> p x
+  | Vec (a, b, c) | If (a, b, c) ->
+      expr_mentions p a || expr_mentions p b || expr_mentions p c
+  | Pair (a, b) | Binop (_, a, b) -> expr_mentions p a || expr_mentions p b
+  | Unop (_, a) | Dot (a, _) -> expr_mentions p a
+  | Call (f, args) -> p f.id || List.exists (expr_mentions p) args
+  | Material items -> items_mention p items
+
+and items_mention p items =
+  List.exists
+    (function Field (_, e) -> expr_mentions p e | Stmt s -> stmt_mentions p s)
+    items
+
+and stmt_mentions p (s : stmt) =
+  match s.s with
+  | Let (_, e) | Fn (_, _, e) -> expr_mentions p e
+  | Macro (_, _, b) | Included (_, b) -> List.exists (stmt_mentions p) b
+  | For (_, a, b, st, body) ->
+      expr_mentions p a || expr_mentions p b
+      || (match st with Some e -> expr_mentions p e | None -> false)
+      || List.exists (stmt_mentions p) body
+  | If_stmt (c, t, e) ->
+      expr_mentions p c
+      || List.exists (stmt_mentions p) t
+      || List.exists (stmt_mentions p) e
+  | Include _ -> false
+  | Block (_, items) | Body (_, items) -> items_mention p items
+  | Call_stmt (f, args) -> p f.id || List.exists (expr_mentions p) args
+
+(* The names a statement binds anywhere inside it (loop variables, parameters, [let]s,
+   functions, macros). *)
+let rec bound_names acc (s : stmt) =
+  let items acc its =
+    List.fold_left
+      (fun acc -> function Stmt s -> bound_names acc s | Field _ -> acc)
+      acc its
+  in
+  match s.s with
+  | Let (x, _) -> x.id :: acc
+  | Fn (x, ps, _) -> (x.id :: List.map (fun (p : name) -> p.id) ps) @ acc
+  | Macro (x, ps, b) ->
+      List.fold_left bound_names ((x.id :: List.map (fun (p : name) -> p.id) ps) @ acc) b
+  | For (x, _, _, _, b) -> List.fold_left bound_names (x.id :: acc) b
+  | If_stmt (_, t, e) -> List.fold_left bound_names (List.fold_left bound_names acc t) e
+  | Included (_, b) -> List.fold_left bound_names acc b
+  | Block (_, its) | Body (_, its) -> items acc its
+  | Include _ | Call_stmt _ -> acc
+
+let object_block k =
+  match k with
+  | "group" | "union" | "merge" | "intersection" | "difference" -> true
+  | k -> Schema.is_shape k
+
+(* Whether running [s] does nothing but build objects (into the scope it runs in) and
+   use files: no settings, camera, light, animation, physics or body; a macro it calls
+   must be one of [pure_macro]'s, not a name bound inside it. *)
+let only_objects pure_macro (s : stmt) =
+  let local = lazy (bound_names [] s) in
+  let rec go (s : stmt) =
+    match s.s with
+    | Let _ | Fn _ | Macro _ -> true
+    | For (_, _, _, _, b) | Included (_, b) -> List.for_all go b
+    | If_stmt (_, t, e) -> List.for_all go t && List.for_all go e
+    | Block (k, its) ->
+        object_block k.id
+        && List.for_all (function Stmt s -> go s | Field _ -> true) its
+    | Call_stmt (f, _) ->
+        (not (List.exists (String.equal f.id) (Lazy.force local))) && pure_macro f.id
+    | Include _ | Body _ -> false
+  in
+  go s
+
+module Names = Set.Make (String)
+
+(* What the first run recorded of a top-level statement that [memo] may skip. *)
+type recorded = {
+  objects_before : int;  (** the count of objects built when it started *)
+  steps_before : int;
+  steps : int;  (** the evaluation steps it took *)
+  counted : int;  (** the objects it counted against the limit (members included) *)
+  built : D.obj list;  (** the objects it built, in order *)
+  file_uses : D.file_use list;  (** in the order they were met *)
+  warned : Error.t list;  (** in the order they were given *)
+}
+
+type memo = {
+  fixed : bool array;
+      (** whether each top-level statement (includes flattened) depends on nothing that
+          may differ between instants and only builds objects *)
+  entries : recorded option array;  (** filled by the first run *)
+  mutable recorded : bool;
+}
+
+(* The statements seen so far: names whose value may differ between instants (time,
+   frame, bodies, and whatever is defined from them), macros that only build objects and
+   depend on none of them, and which statements are fixed (newest first). *)
+type analysis = {
+  mutable dynamic : Names.t;
+  mutable pure : Names.t;
+  mutable fixed_rev : bool list;
+}
+
+let analysis () =
+  { dynamic = Names.of_list [ "time"; "frame" ]; pure = Names.empty; fixed_rev = [] }
+
+let rec analyse a (s : stmt) =
+  let reads except =
+    stmt_mentions (fun n -> (not (String.equal n except)) && Names.mem n a.dynamic) s
+  in
+  let set x dyn =
+    a.dynamic <- (if dyn then Names.add x a.dynamic else Names.remove x a.dynamic)
+  in
+  let fixed =
+    match s.s with
+    | Let (x, _) ->
+        set x.id (reads "");
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Fn (x, _, _) ->
+        set x.id (reads x.id);
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Macro (x, _, b) ->
+        let dyn = reads x.id in
+        set x.id dyn;
+        let self = Names.add x.id a.pure in
+        let ok = (not dyn) && List.for_all (only_objects (fun f -> Names.mem f self)) b in
+        a.pure <- (if ok then self else Names.remove x.id a.pure);
+        false
+    | Body (x, _) ->
+        set x.id true;
+        a.pure <- Names.remove x.id a.pure;
+        false
+    | Block _ | For _ | If_stmt _ | Call_stmt _ ->
+        (not (reads "")) && only_objects (fun f -> Names.mem f a.pure) s
+    | Include _ -> false
+    | Included (_, b) ->
+        List.iter (analyse a) b;
+        false
+  in
+  match s.s with Included _ -> () | _ -> a.fixed_rev <- fixed :: a.fixed_rev
+
+let memo_of a =
+  let fixed = Array.of_list (List.rev a.fixed_rev) in
+  { fixed; entries = Array.make (Array.length fixed) None; recorded = false }
+
+let memo stmts =
+  let a = analysis () in
+  List.iter (analyse a) stmts;
+  memo_of a
+
+let again m =
+  { fixed = m.fixed; entries = Array.make (Array.length m.fixed) None; recorded = false }
+
+let fixed_pieces m =
+  Array.fold_left
+    (fun acc e -> match e with Some e -> e.built :: acc | None -> acc)
+    [] m.entries
+  |> List.rev
+
+let fixed_objects m = List.concat (fixed_pieces m)
+
+(* ------------------------------------------------------------------------------------ *)
+(* A run *)
+
+(* The elements of [now] in front of [before] (a list it was grown from), oldest first. *)
+let grown now before =
+  let rec go acc l =
+    if l == before then acc else match l with x :: r -> go (x :: acc) r | [] -> acc
+  in
+  go [] now
+
+let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file = ignore)
+    ~file ~sources ~time ~frame (prog : Compile.t) =
+  let uses = ref [] in
+  let on_file u =
+    uses := u :: !uses;
+    on_file u
+  in
+  let st =
+    State.create ?body_state ?on_objects ?cancel ~on_file ~sources ~time ~frame ()
+  in
+  let out = st.out and count = st.count in
+  let scope = { sink = ref []; in_group = false; in_csg = false } in
+  (* The objects built so far, newest piece first: those of statements the memo records
+     or replays, and between them those of the others (finished when a piece follows). *)
+  let pieces = ref [] in
+  let cut () =
+    match !(scope.sink) with
+    | [] -> ()
+    | objs ->
+        pieces := List.rev objs :: !pieces;
+        scope.sink := []
+  in
+  let code = prog.stmts in
+  let fr = { l = Array.make prog.slots VPoison; c = [||]; st } in
+  let top m i =
+    match m.entries.(i) with
+    | Some e
+      when m.recorded && count.objects = e.objects_before && count.steps <= e.steps_before
+      ->
+        (* It would do what it did then: the same objects, steps, files and warnings. *)
+        cut ();
+        pieces := e.built :: !pieces;
+        let before = count.objects in
+        count.objects <- count.objects + e.counted;
+        count.steps <- count.steps + e.steps;
+        List.iter (State.use st) e.file_uses;
+        List.iter
+          (fun (w : Error.t) ->
+            let key = (w.file, w.line, w.col, "warning: " ^ w.message) in
+            if not (Hashtbl.mem out.seen key) then (
+              Hashtbl.add out.seen key ();
+              out.warnings <- w :: out.warnings))
+          e.warned;
+        if count.objects lsr 16 > before lsr 16 then
+          Option.iter (fun f -> f count.objects) on_objects;
+        Option.iter Cancel.check cancel
+    | _ when m.fixed.(i) && not m.recorded ->
+        cut ();
+        let objects_before = count.objects and steps_before = count.steps in
+        let uses0 = !uses and warnings0 = out.warnings and errors0 = out.errors in
+        code.(i) fr scope;
+        let built = List.rev !(scope.sink) in
+        scope.sink := [];
+        pieces := built :: !pieces;
+        if out.errors == errors0 then
+          m.entries.(i) <-
+            Some
+              {
+                objects_before;
+                steps_before;
+                steps = count.steps - steps_before;
+                counted = count.objects - objects_before;
+                built;
+                file_uses = grown !uses uses0;
+                warned = grown out.warnings warnings0;
+              }
+    | _ -> code.(i) fr scope
+  in
+  (try
+     match memo with
+     | None -> Array.iter (fun c -> c fr scope) code
+     | Some m ->
+         Array.iteri (fun i _ -> top m i) code;
+         if out.errors = [] then m.recorded <- true
+   with Abort -> ());
+  if out.errors <> [] then Error (sort_errors (List.rev out.errors))
+  else
+    (* With [parts], the pieces themselves, not one list copied from them: a piece the
+       memo replayed is the very list it recorded. *)
+    let in_parts = objects && Option.is_some parts in
+    let statics =
+      if objects && not in_parts then (
+        cut ();
+        match !pieces with [ p ] -> p | ps -> List.concat (List.rev ps))
+      else []
+    in
+    let bodies = List.rev out.bodies in
+    let body_objs =
+      List.map
+        (fun ((b : D.body), (o : D.obj)) ->
+          let transform =
+            match Option.bind body_state (fun f -> f b.name time) with
+            | Some (p, _) ->
+                Transform.then_ o.transform (Transform.translate (Vec3.sub p b.center))
+            | None -> o.transform
+          in
+          { o with transform; body = Some b.name })
+        (if objects then bodies else [])
+    in
+    (match parts with
+    | Some f when in_parts ->
+        cut ();
+        f (List.rev (match body_objs with [] -> !pieces | b -> b :: !pieces))
+    | _ -> ());
+    Ok
+      {
+        D.file;
+        time;
+        frame;
+        settings = (match out.settings with Some (s, _) -> s | None -> Settings.default);
+        camera = (match out.camera with Some (c, _) -> c | None -> Camera.default);
+        lights = List.rev out.lights;
+        objects =
+          (if in_parts then []
+           else match body_objs with [] -> statics | _ -> statics @ body_objs);
+        animation = Option.map fst out.animation;
+        physics = Option.map fst out.physics;
+        physics_loc = Option.map snd out.physics;
+        warnings = sort_errors (List.rev out.warnings);
+        bodies = List.map fst bodies;
+        files =
+          List.sort_uniq String.compare
+            (Hashtbl.fold (fun p () acc -> p :: acc) out.used []);
+      }

@@ -1,0 +1,128 @@
+(** The values of the language as a program runs, the frames and scopes they live in, a
+    run's state, and how values are printed in messages.
+
+    Compiled code ({!Compile}) is a function of a {!frame}: the values of one activation
+    (a call, or the program) and, through it, the {!state} of the run it belongs to. The
+    state is the run's alone: compiled code holds none, so a program compiled once runs
+    any number of times. *)
+
+type t =
+  | VNum of float
+  | VBool of bool
+  | VVec of Vec3.t
+  | VStr of string
+  | VMat of { mat : Description.material; some : Description.material option }
+      (** a material, with the option an object holds it in (made once, shared by its
+          objects) *)
+  | VTex of tex
+  | VPair of t * t  (** [(t, c)], an entry of a colour map *)
+  | VFun of closure
+  | VMacro of macro
+  | VBuiltin of string  (** a built-in function, by name *)
+  | VBody of string
+  | VPoison  (** the value of a name whose definition failed (already reported) *)
+
+and tex = { tname : string; targs : t list; tloc : Loc.t }
+(** A texture-like built-in's call ([checker(…)], [gradient(…)], [fog(…)], …): what it
+    means is read where it is used (a material's [texture] or [bump], the settings'
+    [background] or [fog]). *)
+
+and closure = {
+  fname : string;
+  nparams : int;
+  fbody : frame -> t;
+  fslots : int;
+  mutable fcaps : t array;
+}
+(** A function made of compiled code: its parameters are the first slots of the frame a
+    call makes ([fslots] in all); the values it reads from around its definition are
+    copied into [fcaps] when it is defined, so a function defined in a loop's body keeps
+    that iteration's values. *)
+
+and macro = {
+  mname : string;
+  mnparams : int;
+  mbody : frame -> scope -> unit;
+  mslots : int;
+  mutable mcaps : t array;
+}
+
+and frame = { l : t array; c : t array; st : state }
+(** One activation: its own values by slot ([l]), those its function captured ([c]), and
+    the run. *)
+
+and scope = {
+  sink : Description.obj list ref;  (** newest first *)
+  in_group : bool;  (** inside a group, CSG block or body *)
+  in_csg : bool;  (** directly inside a CSG block *)
+}
+(** Where a statement's objects go: the program's, or a group's, CSG block's or body's
+    being built. *)
+
+and state = { hooks : hooks; count : counters; out : outputs; tell : sink }
+(** A run: what it was given, what it counts against the limits, what it has said. *)
+
+and sink = { report : Loc.t -> string -> unit; use : Description.file_use -> unit }
+(** Where a run's mistakes go (each once), and the files it names. *)
+
+and hooks = {
+  time : float;
+  time_v : t;
+  frame_v : t;
+  body_state : (string -> float -> (Vec3.t * Vec3.t) option) option;
+  on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
+  on_file : Description.file_use -> unit;  (** told each use of a file, as it is met *)
+  cancel : Cancel.t option;  (** polled every 4096 steps *)
+  sources : (string, string) Hashtbl.t;  (** each file's text, for error display *)
+}
+
+and counters = {
+  mutable objects : int;  (** built, members of groups included *)
+  mutable steps : int;  (** loop iterations and calls *)
+  mutable loops : float;  (** iterations the enclosing loops have left, multiplied *)
+  mutable depth : int;  (** calls under way *)
+}
+
+and outputs = {
+  mutable errors : Error.t list;  (** reversed *)
+  mutable warnings : Error.t list;  (** reversed *)
+  seen : (string * int * int * string, unit) Hashtbl.t;
+      (** each diagnostic given, so that a loop says each once *)
+  mutable settings : (Settings.t * Loc.t) option;
+  mutable camera : (Camera.t * Loc.t) option;
+  mutable animation : ((float * int) * Loc.t) option;
+  mutable physics : (Description.physics * Loc.t) option;
+  mutable lights : Light.t list;  (** reversed *)
+  mutable bodies : (Description.body * Description.obj) list;  (** reversed *)
+  used : (string, unit) Hashtbl.t;  (** the image and mesh files named *)
+}
+
+exception Fail of Loc.t * string
+(** A mistake found as the program runs, to report where it is. *)
+
+exception Poisoned
+(** The value needed is one whose mistake was already reported: give up quietly. *)
+
+exception Abort
+(** A limit was reached (and reported): the whole evaluation stops. *)
+
+val fail : Loc.t -> string -> 'a
+(** [fail loc msg] raises {!Fail}. *)
+
+val ty : t -> Ty.t
+(** The type of a value. *)
+
+val type_name : t -> string
+(** [Ty.name (ty v)]. *)
+
+val unbound : t
+(** Physically unique: the value of a name that is not defined (a body that failed with no
+    name before it). *)
+
+val num : Loc.t -> float -> t
+(** [num loc x] is [VNum x], or the error at [loc] for a NaN or an infinity. *)
+
+val finite : Loc.t -> float -> float
+val finite_vec : Loc.t -> Vec3.t -> Vec3.t
+val vbool : bool -> t
+val material : Description.material -> t
