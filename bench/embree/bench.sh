@@ -135,7 +135,7 @@ for _ in $(seq "$REPEAT"); do measure "$lancer" check "$tmp/grid.rts" >>"$tmp/c"
 grid_check="$(secs "$(med "$tmp/c" 1)"), $(mib "$(med "$tmp/c" 2)")"
 
 # A closed mesh in a difference with a box, against the mesh alone (whole processes).
-awk -v NU="$CSG_NU" -v NV="$CSG_NV" -f test/embree/torus.awk >"$tmp/closed.obj"
+awk -v NU="$CSG_NU" -v NV="$CSG_NV" -f bench/embree/torus.awk >"$tmp/closed.obj"
 for s in alone difference; do
   if [ "$s" = alone ]; then body='mesh { file: "closed.obj" }'
   else body='difference { mesh { file: "closed.obj" } box { min: (0, -1, -2), max: (2, 1, 2) } }'; fi
