@@ -1398,7 +1398,7 @@ let test_walk_brute =
           ("tree", Accel.build prims);
           ("scan", Accel.build (Array.map Primitive.without_bounds prims));
           ( "two parts",
-            Accel.layered prims
+            Accel.layered prims ~key:[||]
               ~fixed:(Accel.build (sub fixed_idx))
               ~fixed_idx
               ~moving:(Accel.build (sub moving_idx))

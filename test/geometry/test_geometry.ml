@@ -1309,7 +1309,7 @@ let sphere_field_prop =
       let fixed_idx = part false and moving_idx = part true in
       let sub idx = Array.map (fun i -> prims.(i)) idx in
       let layered =
-        Accel.layered prims
+        Accel.layered prims ~key:[||]
           ~fixed:(Accel.build (sub fixed_idx))
           ~fixed_idx
           ~moving:(Accel.build (sub moving_idx))
