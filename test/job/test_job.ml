@@ -208,6 +208,54 @@ for i in 0 to 15 { sphere { center: (i / 10, 3, 1), radius: 0.05 } }
   let frame = frames_of ~p text in
   List.iter (fun k -> same_as_again p k (frame k)) [ 0; 1; 3; 4; 2 ]
 
+(* The scenes of several instants of one frame (the samples of a shutter) are the scenes
+   of each instant, each layered over the one static part; a time at which the program
+   fails gives its error. *)
+let scenes_of_one_frame () =
+  let text =
+    {|settings { width: 8, height: 6 }
+animation { fps: 10, frames: 5 }
+light { position: (-3, 5, -4) }
+for i in 0 to 30 { sphere { center: (i / 10, 0.2, 1), radius: 0.05 } }
+sphere { center: (-1 + time, 1, 0), radius: 0.5 }
+for i in 0 to 20 { box { min: (i / 10, 0, 2), max: (i / 10 + 0.05, 0.05, 2.05) } }
+sphere { center: (0, 1, 0), radius: 0.3 - time }
+|}
+  in
+  let p = load_anim text in
+  let times = [| 0.1; 0.125; 0.15; 0.175 |] in
+  (match Lancer.Program.scenes p ~times ~frame:1 with
+  | Error _ -> Alcotest.fail "the instants of frame 1 do not evaluate"
+  | Ok scs ->
+      Alcotest.(check int) "one scene an instant" (Array.length times) (Array.length scs);
+      Array.iteri
+        (fun i (sc : Lancer_render.Scene.t) ->
+          Alcotest.(check (float 0.)) "its time" times.(i) sc.time;
+          Alcotest.(check int) "its frame" 1 sc.frame;
+          Alcotest.(check (option (array int)))
+            "layered over the static statements" (Some [| 3; 5 |])
+            (Lancer_render.Accel.fixed_key sc.accel);
+          match Lancer.Program.scene p ~time:times.(i) ~frame:1 with
+          | Error _ -> Alcotest.fail "an instant does not evaluate alone"
+          | Ok alone ->
+              Alcotest.(check int)
+                "as many primitives as alone"
+                (Array.length alone.objects) (Array.length sc.objects);
+              Array.iteri
+                (fun j (o : Lancer_render.Primitive.t) ->
+                  if o.shape <> alone.objects.(j).shape then
+                    Alcotest.failf "instant %g: primitive %d differs" times.(i) j)
+                sc.objects)
+        scs);
+  match Lancer.Program.scenes p ~times:[| 0.1; 0.35; 0.2 |] ~frame:1 with
+  | Ok _ -> Alcotest.fail "a negative radius is accepted"
+  | Error (e :: _) ->
+      Alcotest.(check bool)
+        ("the failing instant is named: " ^ e.message)
+        true
+        (String.ends_with ~suffix:"(at frame 1, time 0.35 s)" e.message)
+  | Error [] -> Alcotest.fail "an error without a diagnostic"
+
 (* ---- Plan ---- *)
 
 let frames_syntax () =
@@ -900,6 +948,8 @@ let () =
             frames_share_pixels;
           Alcotest.test_case "glass frames are their stills, bit for bit" `Quick
             glass_frames_are_their_stills;
+          Alcotest.test_case "the scenes of several instants of one frame" `Quick
+            scenes_of_one_frame;
         ] );
       ( "work",
         [
