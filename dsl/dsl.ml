@@ -552,6 +552,16 @@ let evaluate ?again ~parts ?body_state ?progress ?cancel ?files (t : t) ~time ~f
              note t d;
              Ok ({ d with warnings = chained_list t.includes d.warnings }, ps))
 
+type 'a at_instant =
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  ?files:(D.file_use list -> (Loc.t * string) list) ->
+  t ->
+  time:float ->
+  frame:int ->
+  ('a, Error.t list) result
+
 (* The evaluation at time 0, frame 0 is the one made when the program was loaded, until
    it is released. *)
 let describe ?again ?body_state ?progress ?cancel ?files (t : t) ~time ~frame =

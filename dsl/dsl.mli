@@ -60,8 +60,7 @@ val load_bundle :
     no file is read, so the program is the one whose texts were bundled, whatever the
     files on this machine's disk say now. *)
 
-val describe :
-  ?again:bool ->
+type 'a at_instant =
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
@@ -69,7 +68,10 @@ val describe :
   t ->
   time:float ->
   frame:int ->
-  (Description.t, Error.t list) result
+  ('a, Error.t list) result
+(** An evaluation of a program at one instant (see {!describe}). *)
+
+val describe : ?again:bool -> Description.t at_instant
 (** [describe p ~time ~frame] is the scene [p] states with [time] (seconds) and [frame]
     bound. [body_state name t] gives (position, velocity) of body [name] at time [t] (the
     simulation's); without it, or where it answers [None], a body sits at its initial
@@ -84,15 +86,7 @@ val describe :
     [again] (default [false]) says to evaluate every statement: the same description,
     made the long way. *)
 
-val describe_parts :
-  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
-  ?progress:(string -> unit) ->
-  ?cancel:Cancel.t ->
-  ?files:(Description.file_use list -> (Loc.t * string) list) ->
-  t ->
-  time:float ->
-  frame:int ->
-  (Description.t * Description.part list, Error.t list) result
+val describe_parts : (Description.t * Description.part list) at_instant
 (** {!describe}, always a new evaluation, with the description's objects given as parts
     ({!Run.run_parts}) and the description left without them: a static statement is
     [Static] its position in {!static}, unless it had to be evaluated again (it started

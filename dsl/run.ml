@@ -327,7 +327,18 @@ let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
         },
         part_list )
 
-let run ?static ?body_state ?on_objects ?cancel ?objects ?on_file ~file ~sources ~time
+type 'a runner =
+  ?on_objects:(int -> unit) ->
+  ?cancel:Cancel.t ->
+  ?on_file:(D.file_use -> unit) ->
+  file:string ->
+  sources:(string, string) Hashtbl.t ->
+  time:float ->
+  frame:int ->
+  Compile.t ->
+  ('a, Error.t list) result
+
+let run ?static ?body_state ?objects ?on_objects ?cancel ?on_file ~file ~sources ~time
     ~frame prog =
   let mode = match static with Some st -> Replay st | None -> Plain in
   Result.map fst

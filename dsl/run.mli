@@ -38,8 +38,7 @@ type static
 val objects : static -> Description.static
 (** The objects each recorded statement built, by position. *)
 
-val record :
-  plan ->
+type 'a runner =
   ?on_objects:(int -> unit) ->
   ?cancel:Cancel.t ->
   ?on_file:(D.file_use -> unit) ->
@@ -48,22 +47,14 @@ val record :
   time:float ->
   frame:int ->
   Compile.t ->
-  (D.t * static, Error.t list) result
-(** {!run}, every statement run, and what the plan's static statements did. *)
+  ('a, Error.t list) result
+(** A run of a program at one instant (see {!run}). *)
 
 val run :
   ?static:static ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
-  ?on_objects:(int -> unit) ->
-  ?cancel:Cancel.t ->
   ?objects:bool ->
-  ?on_file:(D.file_use -> unit) ->
-  file:string ->
-  sources:(string, string) Hashtbl.t ->
-  time:float ->
-  frame:int ->
-  Compile.t ->
-  (D.t, Error.t list) result
+  D.t runner
 (** [run ~file ~sources ~time ~frame prog] runs [prog] (the program of [file]) with [time]
     and [frame] bound. [sources] maps each file name to its text (for error display).
     [body_state name t] is (position, velocity) of body [name] at time [t]; without it (or
@@ -78,18 +69,13 @@ val run :
     run: what it did then is taken instead, and the description is the one running it
     would have given. *)
 
+val record : plan -> (D.t * static) runner
+(** {!run}, every statement run, and what the plan's static statements did. *)
+
 val run_parts :
   ?static:static ->
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
-  ?on_objects:(int -> unit) ->
-  ?cancel:Cancel.t ->
-  ?on_file:(D.file_use -> unit) ->
-  file:string ->
-  sources:(string, string) Hashtbl.t ->
-  time:float ->
-  frame:int ->
-  Compile.t ->
-  (D.t * D.part list, Error.t list) result
+  (D.t * D.part list) runner
 (** {!run}, with the description's [objects] left empty and given as parts instead: a
     static statement taken from [static] is [Static] its position, the objects built in
     between (body spheres last) [Built]. Their objects in order are what [objects] would

@@ -213,12 +213,12 @@ for i in 0 to 15 { sphere { center: (i / 10, 3, 1), radius: 0.05 } }
    fails gives its error. *)
 let scenes_of_one_frame () =
   let text =
-    {|settings { width: 8, height: 6 }
-animation { fps: 10, frames: 5 }
-light { position: (-3, 5, -4) }
-for i in 0 to 30 { sphere { center: (i / 10, 0.2, 1), radius: 0.05 } }
-sphere { center: (-1 + time, 1, 0), radius: 0.5 }
-for i in 0 to 20 { box { min: (i / 10, 0, 2), max: (i / 10 + 0.05, 0.05, 2.05) } }
+    {|animation { fps: 10, frames: 5 }
+settings { width: 6, height: 4 }
+light { position: (2, 4, -4) }
+for k in 0 to 12 { box { min: (k / 4, 0, 0), max: (k / 4 + 0.1, 0.1, 0.1) } }
+sphere { center: (time, 0.5, 0), radius: 0.25 }
+for k in 0 to 9 { sphere { center: (k / 5, 1, 2), radius: 0.08 } }
 sphere { center: (0, 1, 0), radius: 0.3 - time }
 |}
   in
