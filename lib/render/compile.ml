@@ -133,7 +133,7 @@ let mesh c ~file ~path ~smooth =
                          let parse =
                            if String.lowercase_ascii (Filename.extension path) = ".ply"
                            then Ply.parse_mesh
-                           else Mesh.parse_mesh
+                           else Obj_file.parse_mesh
                          in
                          match parse ~smooth ~file:path text with
                          | Ok m -> Ok m
@@ -251,7 +251,7 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
         match (m.shape, sh) with
         | Mesh _, [ Shape.Mesh { mesh; _ } ] ->
             (if solid then
-               match Mesh.open_edges_mesh mesh with
+               match Obj_file.open_edges_mesh mesh with
                | 0 -> ()
                | n ->
                    problem m.loc
@@ -595,7 +595,7 @@ let check_files c uses =
               match solid_in with
               | None -> ()
               | Some (block, member) -> (
-                  match Mesh.open_edges_mesh m with
+                  match Obj_file.open_edges_mesh m with
                   | 0 -> ()
                   | n ->
                       report member

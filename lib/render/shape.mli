@@ -245,7 +245,7 @@ val mesh : Trimesh.t -> t
 (** The mesh whose faces are the triangles of an indexed mesh. *)
 
 val solid_mesh : Trimesh.t -> t
-(** {!mesh}, a solid: the caller has checked that it is closed ({!Mesh.open_edges_mesh} is
+(** {!mesh}, a solid: the caller has checked that it is closed ({!Obj_file.open_edges_mesh} is
     0), so that it may be a member of a CSG object. *)
 
 val face : Trimesh.t -> int -> t
