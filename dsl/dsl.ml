@@ -343,8 +343,9 @@ let strings ~acc stmts =
   !acc
 
 (* What loading a program makes of it, statement by statement: each top-level statement's
-   includes resolved, then checked, compiled and looked at for the plan of static statements as it comes, so
-   that what is read of a large program goes as soon as it is compiled. *)
+   includes resolved, then checked, compiled and looked at for the plan of static
+   statements as it comes, so that what is read of a large program goes as soon as it is
+   compiled. *)
 type loading = {
   sources : (string, string) Hashtbl.t;
   resolved : (string * string, string) Hashtbl.t;

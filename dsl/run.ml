@@ -310,7 +310,8 @@ let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
           D.file;
           time;
           frame;
-          settings = (match out.settings with Some (s, _) -> s | None -> Settings.default);
+          settings =
+            (match out.settings with Some (s, _) -> s | None -> Settings.default);
           camera = (match out.camera with Some (c, _) -> c | None -> Camera.default);
           lights = List.rev out.lights;
           objects =

@@ -184,15 +184,16 @@ let top ?chosen_by ?(keyword = "") id doc fields =
 let number x =
   let rec go p =
     let s = Printf.sprintf "%.*g" p x in
-    if p >= 17 || (Float.equal (float_of_string s) x && not (String.contains s 'e')) then s
-    else go (p + 1)
+    let exact = Float.equal (float_of_string s) x && not (String.contains s 'e') in
+    if p >= 17 || exact then s else go (p + 1)
   in
   go 1
 
 let num x = opt (number x)
 let whole n = opt (string_of_int n)
 let flag b = opt (string_of_bool b)
-let vec (v : Vec3.t) = opt (Printf.sprintf "(%s, %s, %s)" (number v.x) (number v.y) (number v.z))
+let vec (v : Vec3.t) =
+  opt (Printf.sprintf "(%s, %s, %s)" (number v.x) (number v.y) (number v.z))
 let rgb (c : Color.t) = vec (Vec3.v c.r c.g c.b)
 let settings = Settings.default
 let camera = Camera.default
@@ -234,7 +235,8 @@ let blocks =
       [
         f "kind" (Choice camera_kinds) ~default:(opt "\"perspective\"") "the projection";
         f "position" Vector ~default:(vec camera.position) "the eye";
-        f "look_at" Vector ~default:(vec camera.look_at) "the point at the image's centre";
+        f "look_at" Vector ~default:(vec camera.look_at)
+          "the point at the image's centre";
         f "up" Vector ~default:(vec camera.up) "the image's upright; not along the view";
         f "fov" Number
           ~range:(Real (Excl 0., Excl 180.))
@@ -313,10 +315,12 @@ let blocks =
           "a texture (checker(…), …) or a colour; overrides `color`";
         f "ambient" Number ~range:non_negative ~default:(num material.ambient)
           "weight of the ambient light";
-        f "diffuse" Number ~range:non_negative ~default:(num material.diffuse) "diffuse weight";
+        f "diffuse" Number ~range:non_negative ~default:(num material.diffuse)
+          "diffuse weight";
         f "specular" Number ~range:non_negative ~default:(num material.specular)
           "Phong highlight weight";
-        f "shininess" Number ~range:non_negative ~default:(num material.shininess) "Phong exponent";
+        f "shininess" Number ~range:non_negative ~default:(num material.shininess)
+          "Phong exponent";
         f "reflection" Number ~range:unit_interval ~default:(num material.reflection)
           "mirror weight; reflection + transparency at most 1";
         f "transparency" Number ~range:unit_interval ~default:(num material.transparency)

@@ -239,7 +239,8 @@ type static = (int * obj list) list
 (** The objects each static statement built, by its position, in program order. *)
 
 type part =
-  | Static of int  (** the objects of the static statement at this position, as {!static} has them *)
+  | Static of int
+      (** the objects of the static statement at this position, as {!static} has them *)
   | Built of obj list  (** objects this instant built, in program order *)
 (** A piece of a scene's objects: a scene's objects are its parts' objects in order. *)
 

@@ -145,7 +145,8 @@ val scenes :
   frame:int ->
   (Scene.t array, Diagnostic.t list) result
 (** The scenes at each of [times], all numbered [frame] (the instants of one frame), as
-    {!scene} makes them: they share the static part. The errors of the first that fails. *)
+    {!scene} makes them: they share the static part. The errors of the first that
+    fails. *)
 
 val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->

@@ -419,8 +419,8 @@ let handed_over_overhead = 40
    is allocated after the objects. *)
 let compact_objects = 250_000
 
-let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static ?objects
-    ?parts c (d : D.t) =
+let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
+    ?objects ?parts c (d : D.t) =
   let handed_over = Option.is_some objects in
   let objects = Option.value objects ~default:d.objects in
   (* The static part a scene made of parts is layered over: one that compiled and holds
@@ -471,7 +471,8 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
     if handed_over && not compacting then Gc.set { (Gc.get ()) with space_overhead = o }
   in
   pace (min overhead handed_over_overhead);
-  (* Primitives [first] to [first + n − 1] of the static part, after what came before. *)
+  (* Primitives [first] to [first + n − 1] of the static part, after what came
+     before. *)
   let add_run first n =
     if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
     else (
@@ -484,7 +485,9 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
     if j < Array.length fx.start then fx.start.(j) else Array.length fx.flat
   in
   (* Objects [i] to [j − 1] of the static part, placed as they were made. *)
-  let add_static (fx : static) i j = add_run fx.start.(i) (prim_end fx j - fx.start.(i)) in
+  let add_static (fx : static) i j =
+    add_run fx.start.(i) (prim_end fx j - fx.start.(i))
+  in
   let one (o : D.obj) =
     match primitives c material_of o with
     | ps ->

@@ -241,8 +241,8 @@ val mesh : Trimesh.t -> t
 (** The mesh whose faces are the triangles of an indexed mesh. *)
 
 val solid_mesh : Trimesh.t -> t
-(** {!mesh}, a solid: the caller has checked that it is closed ({!Obj_file.open_edges_mesh} is
-    0), so that it may be a member of a CSG object. *)
+(** {!mesh}, a solid: the caller has checked that it is closed
+    ({!Obj_file.open_edges_mesh} is 0), so that it may be a member of a CSG object. *)
 
 val face : Trimesh.t -> int -> t
 (** [face m k] is triangle [k] of [m] as {!mesh_triangle} makes it of its corners, normals

@@ -18,13 +18,18 @@ val load_source :
   Program.t
 (** Parse and check a scene's text, with a warning on stderr when its physics stopped
     handling collisions; raises {!Job_error.Scene} with every located error. Includes are
-    found relative to the file name. [single] and [digests] are {!Program.load_string}'s. *)
+    found relative to the file name. [single] and [digests] are
+    {!Program.load_string}'s. *)
 
 val load_bundle : Program.bundle -> Program.t
 (** The program of a bundle ({!Program.load_bundle}); raises {!Job_error.Scene}. *)
 
 val load :
-  ?single:bool -> ?progress:(string -> unit) -> ?digests:bool -> string option -> Program.t
+  ?single:bool ->
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  string option ->
+  Program.t
 (** [load_source (read scene)]. *)
 
 val source : Options.t -> Program.t -> Source.t
