@@ -1,6 +1,48 @@
 module Dsl = Lancer_dsl.Dsl
 module D = Description
 
+(* ---------------------------------------------------------------------------------- *)
+(* Physics: the bodies move through the static objects of the scene at time 0. *)
+
+exception Refused of Diagnostic.t
+
+let at dsl (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source dsl loc.file) loc msg
+
+let colliders_of dsl =
+  match Physics.colliders (Dsl.first dsl).objects with
+  | Ok cs -> cs
+  | Error o ->
+      raise
+        (Refused
+           (at dsl o.loc
+              (Printf.sprintf
+                 "bodies cannot collide with this %s: physics follows a CSG object only \
+                  when it is a union or merge of planes, parallelograms and boxes"
+                 o.kind)))
+
+(* The animation's duration; 0 for a still. *)
+let duration dsl =
+  match Dsl.animation dsl with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
+
+(* The motion of the bodies over [0, until]. *)
+let simulation dsl ~until =
+  let w = Option.value (Dsl.physics dsl) ~default:Physics.default_world in
+  (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
+  let max_steps = 10_000_000. in
+  (if w.method_ <> Physics.Exact && until /. w.step > max_steps then
+     let msg =
+       Printf.sprintf
+         "the physics step %g s over %g s would take %.3g steps per body; the limit is \
+          %.0f (use a larger step or the exact method)"
+         w.step until (until /. w.step) max_steps
+     in
+     raise
+       (Refused
+          (match (Dsl.first dsl).physics_loc with
+          | Some loc -> at dsl loc msg
+          | None -> Diagnostic.file_error (Dsl.file dsl) msg)));
+  Physics.simulate w (colliders_of dsl) (Dsl.bodies dsl) ~until
+
 (* A loaded program and what it makes once for all its scenes: the images and meshes
    they read, the motion of its bodies once asked for, and its static part compiled. *)
 type t = {
@@ -10,9 +52,10 @@ type t = {
   static : Compile.static option Lazy.t;
       (** the static part compiled, for an animation whose static statements build
           objects; forced under [lock] *)
+  motion : Physics.trajectory Lazy.t;
+      (** the simulation of the bodies over the animation (over no time for a still);
+          forced under [lock] *)
   lock : Mutex.t;  (** over [static], [motion] and [on_disk] *)
-  mutable motion : (float * Physics.trajectory) option;
-      (** the simulation of the bodies and the horizon it was computed for *)
   on_disk : (string, string) Hashtbl.t;
       (** the MD5 of input files this run has not decoded, as they were when asked *)
 }
@@ -28,8 +71,8 @@ let of_dsl ~single assets dsl =
         | None, _ -> None
         | Some _, st when List.for_all (fun (_, objs) -> List.is_empty objs) st -> None
         | Some _, st -> Some (Compile.static assets st));
+    motion = lazy (simulation dsl ~until:(duration dsl));
     lock = Mutex.create ();
-    motion = None;
     on_disk = Hashtbl.create 4;
   }
 
@@ -77,9 +120,6 @@ let input_digest p rel =
               Hashtbl.replace p.on_disk path d;
               d)
 
-exception Refused of Diagnostic.t
-
-let at p (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source p.dsl loc.file) loc msg
 
 (* Nothing raised below reaches the caller but an interrupt, as in the language. *)
 let guard p f =
@@ -106,51 +146,15 @@ let guard p f =
         ]
 
 (* ---------------------------------------------------------------------------------- *)
-(* Physics: the bodies move through the static objects of the scene at time 0. *)
+(* Physics *)
 
-let colliders p =
-  match Physics.colliders (Dsl.first p.dsl).objects with
-  | Ok cs -> cs
-  | Error o ->
-      raise
-        (Refused
-           (at p o.loc
-              (Printf.sprintf
-                 "bodies cannot collide with this %s: physics follows a CSG object only \
-                  when it is a union or merge of planes, parallelograms and boxes"
-                 o.kind)))
+let colliders p = colliders_of p.dsl
 
-(* The horizon for a frame at [time]: the whole animation, or [time] when later. *)
-let horizon p time =
-  let dur =
-    match Dsl.animation p.dsl with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
-  in
-  Float.max dur time
-
+(* The simulation that samples [time]: the animation's, made once, or for a later time
+   one of its own (which would sample the animation's times as the animation's does). *)
 let trajectory p ~time =
-  let until = horizon p time in
-  Mutex.protect p.lock (fun () ->
-      match p.motion with
-      | Some (h, tr) when h >= until -> tr
-      | _ ->
-          let w = Option.value (Dsl.physics p.dsl) ~default:Physics.default_world in
-          (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
-          let max_steps = 10_000_000. in
-          (if w.method_ <> Physics.Exact && until /. w.step > max_steps then
-             let msg =
-               Printf.sprintf
-                 "the physics step %g s over %g s would take %.3g steps per body; the \
-                  limit is %.0f (use a larger step or the exact method)"
-                 w.step until (until /. w.step) max_steps
-             in
-             raise
-               (Refused
-                  (match (Dsl.first p.dsl).physics_loc with
-                  | Some loc -> at p loc msg
-                  | None -> Diagnostic.file_error (Dsl.file p.dsl) msg)));
-          let tr = Physics.simulate w (colliders p) (Dsl.bodies p.dsl) ~until in
-          p.motion <- Some (until, tr);
-          tr)
+  if time <= duration p.dsl then Mutex.protect p.lock (fun () -> Lazy.force p.motion)
+  else simulation p.dsl ~until:time
 
 let simulate p ~until =
   Result.map_error

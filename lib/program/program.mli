@@ -101,8 +101,9 @@ val colliders  : t -> Physics.collider list
 
 val simulate  : t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
 (** The motion of the bodies among {!colliders} under the program's [physics] block,
-    computed for [[0, max until duration]] (duration: the animation's, 0 for a still) and
-    kept, so that every frame samples the same simulation. *)
+    computed for [[0, max until duration]] (duration: the animation's, 0 for a still).
+    The animation's is made once and kept, so that every frame samples the same
+    simulation; one for a later time is made for it. *)
 
 (** {1 Scenes} *)
 
