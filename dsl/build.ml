@@ -600,20 +600,7 @@ let shape_of (k : Kind.t) : t -> D.shape =
             (D.Heights { file; path; at }, D.Height_field { file; path; origin; size; at }))
   | k -> invalid_arg ("Build: " ^ k ^ " is not a shape")
 
-(* Made once for each kind. *)
-let shapes : (Kind.t * (t -> D.shape)) list Atomic.t = Atomic.make []
-
-let shape site =
-  match List.assq_opt site.kind_ (Atomic.get shapes) with
-  | Some f -> f
-  | None ->
-      let f = shape_of site.kind_ in
-      let rec add () =
-        let l = Atomic.get shapes in
-        if not (Atomic.compare_and_set shapes l ((site.kind_, f) :: l)) then add ()
-      in
-      add ();
-      f
+let shape site = shape_of site.kind_
 
 let untransformed = (Transform.identity, [])
 

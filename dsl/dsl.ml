@@ -23,10 +23,10 @@ type t = {
       (** for each (including file, name written), the path the include was found at *)
   includes : (string, Loc.t list) Hashtbl.t;
       (** for each included file, where it was included *)
-  mutable first : D.t;
-      (** the evaluation at time 0, frame 0 (without its objects once {!release}d) *)
-  released : bool Atomic.t;
-  mutable memo : Run.memo;  (** what that evaluation did that later ones skip *)
+  header : D.t;  (** the evaluation at time 0, frame 0, without its objects *)
+  kept : (D.t * Run.static) option Atomic.t;
+      (** that evaluation whole, and what it did in the static statements, until
+          {!release}d *)
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
@@ -68,23 +68,18 @@ let text_digest t =
   Digest.to_hex (Digest.string (String.concat "\n" lines))
 
 let file t = t.file
-let first t = t.first
-let released t = Atomic.get t.released
+let first t = match Atomic.get t.kept with Some (d, _) -> d | None -> t.header
+let released t = Option.is_none (Atomic.get t.kept)
 
-(* The objects are let go from the program: what the load recorded of them (in the memo
-   as in [first]) is forgotten, and the next description at time 0 is evaluated again. *)
-let release t =
-  let d = t.first in
-  (* Marked first: a reader takes [first], then asks [released] (an atomic, set before
-     [first] changes), so that it never uses the emptied [first] as the scene. *)
-  Atomic.set t.released true;
-  t.first <- { d with objects = [] };
-  t.memo <- Run.again t.memo;
-  d
-
-let animation t = t.first.animation
-let bodies t = t.first.bodies
-let physics t = t.first.physics
+(* The objects are let go from the program: what the load recorded of them (the
+   description and the static statements' objects) is forgotten, and the next
+   description at time 0 is evaluated again. One caller gets them. *)
+let release t = Option.map fst (Atomic.exchange t.kept None)
+let static t = match Atomic.get t.kept with Some (_, st) -> Run.objects st | None -> []
+let recorded t = Option.map snd (Atomic.get t.kept)
+let animation t = t.header.animation
+let bodies t = t.header.bodies
+let physics t = t.header.physics
 let empty t = t.empty
 
 (* The one boundary: nothing raised below reaches the caller but an interrupt (Ctrl-C
@@ -348,8 +343,9 @@ let strings ~acc stmts =
   !acc
 
 (* What loading a program makes of it, statement by statement: each top-level statement's
-   includes resolved, then checked, compiled and looked at for the memo as it comes, so
-   that what is read of a large program goes as soon as it is compiled. *)
+   includes resolved, then checked, compiled and looked at for the plan of static
+   statements as it comes, so that what is read of a large program goes as soon as it is
+   compiled. *)
 type loading = {
   sources : (string, string) Hashtbl.t;
   resolved : (string * string, string) Hashtbl.t;
@@ -433,14 +429,14 @@ let load_text ?progress ?files ?(read = from_disk) file text =
       let merged es = Run.sort_errors (static @ es) in
       let uses = ref [] in
       let on_file u = uses := u :: !uses in
-      let memo = Run.memo_of l.analysis in
+      let plan = Run.plan_of l.analysis in
       let run =
-        Run.run ~memo ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
+        Run.record plan ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
       in
       match (run, file_errors files sources !uses) with
       | Error es, fes -> Error (merged (es @ fes))
       | Ok _, fes when static <> [] || fes <> [] -> Error (merged fes)
-      | Ok first, _ ->
+      | Ok (first, static), _ ->
           let first = { first with warnings = chained_list includes first.warnings } in
           Ok
             {
@@ -451,9 +447,8 @@ let load_text ?progress ?files ?(read = from_disk) file text =
               sources;
               resolved = l.resolved;
               includes;
-              first;
-              released = Atomic.make false;
-              memo;
+              header = { first with objects = [] };
+              kept = Atomic.make (Some (first, static));
               named =
                 (let h = Hashtbl.create 4 in
                  List.iter (fun f -> Hashtbl.replace h f ()) first.files;
@@ -499,15 +494,21 @@ let load_file ?files path =
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
       | Ok text -> load_text ?files path text)
 
-let eval ?(again = false) ?body_state ?on_objects ?on_file ?cancel ?parts (t : t) ~time
+(* [parts]: the objects as parts ({!Run.run_parts}), else whole. *)
+let eval ?(again = false) ~parts ?body_state ?on_objects ?on_file ?cancel (t : t) ~time
     ~frame =
   if not (Float.is_finite time) then
     Error [ Error.file_error t.file "the time must be a finite number" ]
   else
-    Run.run
-      ?memo:(if again then None else Some t.memo)
-      ?body_state ?on_objects ?on_file ?cancel ?parts ~file:t.file ~sources:t.sources
-      ~time ~frame t.code
+    let static = if again then None else recorded t in
+    if parts then
+      Run.run_parts ?static ?body_state ?on_objects ?on_file ?cancel ~file:t.file
+        ~sources:t.sources ~time ~frame t.code
+    else
+      Result.map
+        (fun d -> (d, []))
+        (Run.run ?static ?body_state ?on_objects ?on_file ?cancel ~file:t.file
+           ~sources:t.sources ~time ~frame t.code)
 
 (* An error that only some frames have names the frame: frame 0 was checked when the
    program was loaded, so an error at another instant is one of those. *)
@@ -530,43 +531,49 @@ let named_files (t : t) =
        (List.sort_uniq String.compare t.strings))
 
 let source (t : t) file = Hashtbl.find_opt t.sources file
-let fixed_objects t = Run.fixed_objects t.memo
-let fixed_pieces t = Run.fixed_pieces t.memo
 
 let located (t : t) ~time ~frame es =
   match at_frame ~time ~frame (chained t.includes (Error es)) with
   | Error es -> es
   | Ok () -> []
 
-(* The evaluation at time 0, frame 0 is the one made when the program was loaded, with
-   each body placed where the simulation has it at time 0 (its initial centre): evaluated
-   again only if the simulation says otherwise. *)
-let describe ?again ?body_state ?progress ?cancel ?files ?parts (t : t) ~time ~frame =
+(* An evaluation at [time] and [frame], its objects whole or as parts. *)
+let evaluate ?again ~parts ?body_state ?progress ?cancel ?files (t : t) ~time ~frame =
   let say fmt = Printf.ksprintf (fun m -> Option.iter (fun f -> f m) progress) fmt in
   at_frame ~time ~frame @@ chained t.includes
   @@ guard t.file (fun () ->
-         let first = t.first in
-         if
-           Float.equal time 0. && frame = 0 && body_state = None
-           && not (Atomic.get t.released)
-         then Ok first
-         else
-           let on_objects n = say "evaluating the scene: %d objects so far" n in
-           let uses = ref [] in
-           let on_file u = uses := u :: !uses in
-           let r =
-             eval ?again ?body_state ~on_objects ~on_file ?cancel ?parts t ~time ~frame
-           in
-           let r =
-             match r with
-             | Error es ->
-                 Error (Run.sort_errors (es @ file_errors files t.sources !uses))
-             | Ok _ -> r
-           in
-           Result.iter (note t) r;
-           Result.map
-             (fun (d : D.t) -> { d with warnings = chained_list t.includes d.warnings })
-             r)
+         let on_objects n = say "evaluating the scene: %d objects so far" n in
+         let uses = ref [] in
+         let on_file u = uses := u :: !uses in
+         match
+           eval ?again ~parts ?body_state ~on_objects ~on_file ?cancel t ~time ~frame
+         with
+         | Error es -> Error (Run.sort_errors (es @ file_errors files t.sources !uses))
+         | Ok (d, ps) ->
+             note t d;
+             Ok ({ d with warnings = chained_list t.includes d.warnings }, ps))
+
+type 'a at_instant =
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  ?files:(D.file_use list -> (Loc.t * string) list) ->
+  t ->
+  time:float ->
+  frame:int ->
+  ('a, Error.t list) result
+
+(* The evaluation at time 0, frame 0 is the one made when the program was loaded, until
+   it is released. *)
+let describe ?again ?body_state ?progress ?cancel ?files (t : t) ~time ~frame =
+  match Atomic.get t.kept with
+  | Some (first, _) when Float.equal time 0. && frame = 0 && body_state = None -> Ok first
+  | _ ->
+      Result.map fst
+        (evaluate ?again ~parts:false ?body_state ?progress ?cancel ?files t ~time ~frame)
+
+let describe_parts ?body_state ?progress ?cancel ?files t ~time ~frame =
+  evaluate ~parts:true ?body_state ?progress ?cancel ?files t ~time ~frame
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)

@@ -60,17 +60,18 @@ val load_bundle :
     no file is read, so the program is the one whose texts were bundled, whatever the
     files on this machine's disk say now. *)
 
-val describe :
-  ?again:bool ->
+type 'a at_instant =
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
-  ?parts:(Description.obj list list -> unit) ->
   t ->
   time:float ->
   frame:int ->
-  (Description.t, Error.t list) result
+  ('a, Error.t list) result
+(** An evaluation of a program at one instant (see {!describe}). *)
+
+val describe : ?again:bool -> Description.t at_instant
 (** [describe p ~time ~frame] is the scene [p] states with [time] (seconds) and [frame]
     bound. [body_state name t] gives (position, velocity) of body [name] at time [t] (the
     simulation's); without it, or where it answers [None], a body sits at its initial
@@ -81,36 +82,35 @@ val describe :
     When the evaluation fails, [files] (as for {!load_file}) adds what the files it used
     have wrong. [progress], when given, is told how many objects a long evaluation has
     built. [cancel] is polled as the program runs: once it is cancelled, evaluation stops
-    with [Sys.Break]. The top-level statements that cannot build anything else at another
-    instant are not evaluated again ({!fixed_objects}), unless [again] (default [false])
-    says to evaluate every statement: the same description, made the long way. When a new
-    evaluation succeeds, [parts] (as for {!Run.run}) is given its objects in pieces and
-    the description has none: a piece of the objects {!fixed_pieces} lists is that very
-    list. The load's own evaluation (time 0, frame 0) is given whole, [parts] untold. *)
+    with [Sys.Break]. The static statements ({!static}) are not evaluated again, unless
+    [again] (default [false]) says to evaluate every statement: the same description,
+    made the long way. *)
+
+val describe_parts : (Description.t * Description.part list) at_instant
+(** {!describe}, always a new evaluation, with the description's objects given as parts
+    ({!Run.run_parts}) and the description left without them: a static statement is
+    [Static] its position in {!static}, unless it had to be evaluated again (it started
+    with another count of objects than at the load), and the objects of the others are
+    [Built]. *)
 
 val first : t -> Description.t
 (** The evaluation made when the program was loaded: time 0, frame 0, bodies at their
     initial centres; without its objects once {!release}d. *)
 
-val release : t -> Description.t
-(** [release p] is {!first} [p] as it was, and [p] keeps none of its objects from now on
-    (neither in {!first} nor for {!fixed_objects}), so that a caller that compiles them
-    once can let each go as soon as it is compiled. {!describe} at time 0, frame 0 then
-    evaluates the program again: the same description, as new values. *)
+val release : t -> Description.t option
+(** [release p] is {!first} [p] with its objects, for the one caller that gets it
+    ([None] for any other, or once released), and [p] keeps none of its objects from then
+    on (neither in {!first} nor in {!static}), so that a caller that compiles them once
+    can let each go as soon as it is compiled. {!describe} at time 0, frame 0 then
+    evaluates the program again, every statement: the same description, as new values. *)
 
 val released : t -> bool
 (** Whether {!release} was called. *)
 
-val fixed_objects : t -> Description.obj list
-(** The objects of {!first} built by top-level statements that cannot build anything else
-    at another instant ({!Run.memo}), in program order. {!describe} does not evaluate such
-    statements again: each of these objects is in its descriptions as the very value it is
-    here (physically), in this order, unless the statement had to be evaluated again (its
-    objects are then new values). So a renderer can keep what it made of them. *)
-
-val fixed_pieces : t -> Description.obj list list
-(** {!fixed_objects} by the statement that built them, in program order: the lists a
-    description's [parts] shares. *)
+val static : t -> Description.static
+(** The program's static part: the objects of {!first} built by the top-level statements
+    that cannot build anything else at another instant ({!Run.plan}), by position ([[]]
+    once {!release}d). *)
 
 val named_files : t -> string list
 (** Every file any scene of the program may read, at any time or frame: each string the

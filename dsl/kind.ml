@@ -83,18 +83,6 @@ let make (b : Schema.block) =
              named);
   }
 
-let made : t list Atomic.t = Atomic.make []
-
-let get (b : Schema.block) =
-  match List.find_opt (fun k -> k.block == b) (Atomic.get made) with
-  | Some k -> k
-  | None ->
-      let k = make b in
-      let rec add () =
-        let l = Atomic.get made in
-        if not (Atomic.compare_and_set made l (k :: l)) then add ()
-      in
-      add ();
-      k
+let get = make
 
 let slot k name = index k.names name

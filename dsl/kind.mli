@@ -24,7 +24,7 @@ type t = {
 }
 
 val get : Schema.block -> t
-(** Made once for each block of a schema (the same block, physically, gives the same). *)
+(** The kind of a block of a schema: its fields by slot. *)
 
 val slot : t -> string -> int
 (** A field's slot; [-1] for a name the kind does not have. *)

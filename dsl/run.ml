@@ -100,7 +100,7 @@ let only_objects pure_macro (s : stmt) =
 
 module Names = Set.Make (String)
 
-(* What the first run recorded of a top-level statement that [memo] may skip. *)
+(* What the recording run did in a static statement. *)
 type recorded = {
   objects_before : int;  (** the count of objects built when it started *)
   steps_before : int;
@@ -111,25 +111,24 @@ type recorded = {
   warned : Error.t list;  (** in the order they were given *)
 }
 
-type memo = {
-  fixed : bool array;
-      (** whether each top-level statement (includes flattened) depends on nothing that
-          may differ between instants and only builds objects *)
-  entries : recorded option array;  (** filled by the first run *)
-  mutable recorded : bool;
-}
+type plan = bool array
+(* whether each top-level statement (includes flattened) depends on nothing that may
+   differ between instants and only builds objects *)
+
+type static = recorded option array
+(* by position: what the recording run did in each static statement *)
 
 (* The statements seen so far: names whose value may differ between instants (time,
    frame, bodies, and whatever is defined from them), macros that only build objects and
-   depend on none of them, and which statements are fixed (newest first). *)
+   depend on none of them, and which statements are static (newest first). *)
 type analysis = {
   mutable dynamic : Names.t;
   mutable pure : Names.t;
-  mutable fixed_rev : bool list;
+  mutable static_rev : bool list;
 }
 
 let analysis () =
-  { dynamic = Names.of_list [ "time"; "frame" ]; pure = Names.empty; fixed_rev = [] }
+  { dynamic = Names.of_list [ "time"; "frame" ]; pure = Names.empty; static_rev = [] }
 
 let rec analyse a (s : stmt) =
   let reads except =
@@ -138,7 +137,7 @@ let rec analyse a (s : stmt) =
   let set x dyn =
     a.dynamic <- (if dyn then Names.add x a.dynamic else Names.remove x a.dynamic)
   in
-  let fixed =
+  let static =
     match s.s with
     | Let (x, _) ->
         set x.id (reads "");
@@ -166,27 +165,21 @@ let rec analyse a (s : stmt) =
         List.iter (analyse a) b;
         false
   in
-  match s.s with Included _ -> () | _ -> a.fixed_rev <- fixed :: a.fixed_rev
+  match s.s with Included _ -> () | _ -> a.static_rev <- static :: a.static_rev
 
-let memo_of a =
-  let fixed = Array.of_list (List.rev a.fixed_rev) in
-  { fixed; entries = Array.make (Array.length fixed) None; recorded = false }
+let plan_of a = Array.of_list (List.rev a.static_rev)
 
-let memo stmts =
+let plan stmts =
   let a = analysis () in
   List.iter (analyse a) stmts;
-  memo_of a
+  plan_of a
 
-let again m =
-  { fixed = m.fixed; entries = Array.make (Array.length m.fixed) None; recorded = false }
-
-let fixed_pieces m =
-  Array.fold_left
-    (fun acc e -> match e with Some e -> e.built :: acc | None -> acc)
-    [] m.entries
-  |> List.rev
-
-let fixed_objects m = List.concat (fixed_pieces m)
+let objects (st : static) =
+  let acc = ref [] in
+  Array.iteri
+    (fun i -> function Some e -> acc := (i, e.built) :: !acc | None -> ())
+    st;
+  List.rev !acc
 
 (* ------------------------------------------------------------------------------------ *)
 (* A run *)
@@ -198,8 +191,10 @@ let grown now before =
   in
   go [] now
 
-let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file = ignore)
-    ~file ~sources ~time ~frame (prog : Compile.t) =
+type mode = Plain | Record of plan * static | Replay of static
+
+let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
+    ?(on_file = ignore) ~file ~sources ~time ~frame (prog : Compile.t) =
   let uses = ref [] in
   let on_file u =
     uses := u :: !uses;
@@ -210,78 +205,85 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file
   in
   let out = st.out and count = st.count in
   let scope = { sink = ref []; in_group = false; in_csg = false } in
-  (* The objects built so far, newest piece first: those of statements the memo records
-     or replays, and between them those of the others (finished when a piece follows). *)
+  (* The objects built so far, newest piece first: those of the static statements, and
+     between them those of the others (finished when a piece follows). *)
   let pieces = ref [] in
   let cut () =
     match !(scope.sink) with
     | [] -> ()
     | objs ->
-        pieces := List.rev objs :: !pieces;
+        pieces := D.Built (List.rev objs) :: !pieces;
         scope.sink := []
   in
   let code = prog.stmts in
   let fr = { l = Array.make prog.slots VPoison; c = [||]; st } in
-  let top m i =
-    match m.entries.(i) with
-    | Some e
-      when m.recorded && count.objects = e.objects_before && count.steps <= e.steps_before
-      ->
-        (* It would do what it did then: the same objects, steps, files and warnings. *)
-        cut ();
-        pieces := e.built :: !pieces;
-        let before = count.objects in
-        count.objects <- count.objects + e.counted;
-        count.steps <- count.steps + e.steps;
-        List.iter (State.use st) e.file_uses;
-        List.iter
-          (fun (w : Error.t) ->
-            let key = (w.file, w.line, w.col, "warning: " ^ w.message) in
-            if not (Hashtbl.mem out.seen key) then (
-              Hashtbl.add out.seen key ();
-              out.warnings <- w :: out.warnings))
-          e.warned;
-        if count.objects lsr 16 > before lsr 16 then
-          Option.iter (fun f -> f count.objects) on_objects;
-        Option.iter Cancel.check cancel
-    | _ when m.fixed.(i) && not m.recorded ->
-        cut ();
-        let objects_before = count.objects and steps_before = count.steps in
-        let uses0 = !uses and warnings0 = out.warnings and errors0 = out.errors in
-        code.(i) fr scope;
-        let built = List.rev !(scope.sink) in
-        scope.sink := [];
-        pieces := built :: !pieces;
-        if out.errors == errors0 then
-          m.entries.(i) <-
-            Some
-              {
-                objects_before;
-                steps_before;
-                steps = count.steps - steps_before;
-                counted = count.objects - objects_before;
-                built;
-                file_uses = grown !uses uses0;
-                warned = grown out.warnings warnings0;
-              }
-    | _ -> code.(i) fr scope
+  let replay i (e : recorded) =
+    (* It would do what it did then: the same objects, steps, files and warnings. *)
+    cut ();
+    pieces := D.Static i :: !pieces;
+    let before = count.objects in
+    count.objects <- count.objects + e.counted;
+    count.steps <- count.steps + e.steps;
+    List.iter (State.use st) e.file_uses;
+    List.iter
+      (fun (w : Error.t) ->
+        let key = (w.file, w.line, w.col, "warning: " ^ w.message) in
+        if not (Hashtbl.mem out.seen key) then (
+          Hashtbl.add out.seen key ();
+          out.warnings <- w :: out.warnings))
+      e.warned;
+    if count.objects lsr 16 > before lsr 16 then
+      Option.iter (fun f -> f count.objects) on_objects;
+    Option.iter Cancel.check cancel
   in
-  (try
-     match memo with
-     | None -> Array.iter (fun c -> c fr scope) code
-     | Some m ->
-         Array.iteri (fun i _ -> top m i) code;
-         if out.errors = [] then m.recorded <- true
-   with Abort -> ());
+  let record into i =
+    cut ();
+    let objects_before = count.objects and steps_before = count.steps in
+    let uses0 = !uses and warnings0 = out.warnings and errors0 = out.errors in
+    code.(i) fr scope;
+    let built = List.rev !(scope.sink) in
+    scope.sink := [];
+    pieces := D.Built built :: !pieces;
+    if out.errors == errors0 then
+      into.(i) <-
+        Some
+          {
+            objects_before;
+            steps_before;
+            steps = count.steps - steps_before;
+            counted = count.objects - objects_before;
+            built;
+            file_uses = grown !uses uses0;
+            warned = grown out.warnings warnings0;
+          }
+  in
+  let top i c =
+    match mode with
+    | Plain -> c fr scope
+    | Record (plan, into) -> if plan.(i) then record into i else c fr scope
+    | Replay static -> (
+        match static.(i) with
+        | Some e when count.objects = e.objects_before && count.steps <= e.steps_before ->
+            replay i e
+        | _ -> c fr scope)
+  in
+  (try Array.iteri top code with Abort -> ());
   if out.errors <> [] then Error (sort_errors (List.rev out.errors))
   else
-    (* With [parts], the pieces themselves, not one list copied from them: a piece the
-       memo replayed is the very list it recorded. *)
-    let in_parts = objects && Option.is_some parts in
+    let static_objects = function
+      | D.Built objs -> objs
+      | D.Static i -> (
+          match mode with
+          | Replay static -> (
+              match static.(i) with Some e -> e.built | None -> [])
+          | Plain | Record _ -> [])
+    in
     let statics =
-      if objects && not in_parts then (
+      if objects && not parts then (
         cut ();
-        match !pieces with [ p ] -> p | ps -> List.concat (List.rev ps))
+        match !pieces with
+        | [ p ] -> static_objects p
+        | ps -> List.concat (List.rev_map static_objects ps))
       else []
     in
     let bodies = List.rev out.bodies in
@@ -297,28 +299,62 @@ let run ?memo ?body_state ?on_objects ?cancel ?(objects = true) ?parts ?(on_file
           { o with transform; body = Some b.name })
         (if objects then bodies else [])
     in
-    (match parts with
-    | Some f when in_parts ->
+    let part_list =
+      if parts then (
         cut ();
-        f (List.rev (match body_objs with [] -> !pieces | b -> b :: !pieces))
-    | _ -> ());
+        List.rev (match body_objs with [] -> !pieces | b -> D.Built b :: !pieces))
+      else []
+    in
     Ok
-      {
-        D.file;
-        time;
-        frame;
-        settings = (match out.settings with Some (s, _) -> s | None -> Settings.default);
-        camera = (match out.camera with Some (c, _) -> c | None -> Camera.default);
-        lights = List.rev out.lights;
-        objects =
-          (if in_parts then []
-           else match body_objs with [] -> statics | _ -> statics @ body_objs);
-        animation = Option.map fst out.animation;
-        physics = Option.map fst out.physics;
-        physics_loc = Option.map snd out.physics;
-        warnings = sort_errors (List.rev out.warnings);
-        bodies = List.map fst bodies;
-        files =
-          List.sort_uniq String.compare
-            (Hashtbl.fold (fun p () acc -> p :: acc) out.used []);
-      }
+      ( {
+          D.file;
+          time;
+          frame;
+          settings =
+            (match out.settings with Some (s, _) -> s | None -> Settings.default);
+          camera = (match out.camera with Some (c, _) -> c | None -> Camera.default);
+          lights = List.rev out.lights;
+          objects =
+            (if parts then []
+             else match body_objs with [] -> statics | _ -> statics @ body_objs);
+          animation = Option.map fst out.animation;
+          physics = Option.map fst out.physics;
+          physics_loc = Option.map snd out.physics;
+          warnings = sort_errors (List.rev out.warnings);
+          bodies = List.map fst bodies;
+          files =
+            List.sort_uniq String.compare
+              (Hashtbl.fold (fun p () acc -> p :: acc) out.used []);
+        },
+        part_list )
+
+type 'a runner =
+  ?on_objects:(int -> unit) ->
+  ?cancel:Cancel.t ->
+  ?on_file:(D.file_use -> unit) ->
+  file:string ->
+  sources:(string, string) Hashtbl.t ->
+  time:float ->
+  frame:int ->
+  Compile.t ->
+  ('a, Error.t list) result
+
+let run ?static ?body_state ?objects ?on_objects ?cancel ?on_file ~file ~sources ~time
+    ~frame prog =
+  let mode = match static with Some st -> Replay st | None -> Plain in
+  Result.map fst
+    (exec ~mode ~parts:false ?body_state ?on_objects ?cancel ?objects ?on_file ~file
+       ~sources ~time ~frame prog)
+
+let run_parts ?static ?body_state ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame
+    prog =
+  let mode = match static with Some st -> Replay st | None -> Plain in
+  exec ~mode ~parts:true ?body_state ?on_objects ?cancel ?on_file ~file ~sources ~time
+    ~frame prog
+
+let record plan ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog =
+  let into = Array.make (Array.length plan) None in
+  Result.map
+    (fun (d, _) -> (d, into))
+    (exec ~mode:(Record (plan, into)) ~parts:false ?on_objects ?cancel ?on_file ~file
+       ~sources ~time ~frame prog)

@@ -179,6 +179,27 @@ let top ?chosen_by ?(keyword = "") id doc fields =
     fields;
   }
 
+(* Defaults that the scene description has values for are those values, written as a
+   scene writes them: a number in the fewest digits that read back as it. *)
+let number x =
+  let rec go p =
+    let s = Printf.sprintf "%.*g" p x in
+    let exact = Float.equal (float_of_string s) x && not (String.contains s 'e') in
+    if p >= 17 || exact then s else go (p + 1)
+  in
+  go 1
+
+let num x = opt (number x)
+let whole n = opt (string_of_int n)
+let flag b = opt (string_of_bool b)
+let vec (v : Vec3.t) =
+  opt (Printf.sprintf "(%s, %s, %s)" (number v.x) (number v.y) (number v.z))
+let rgb (c : Color.t) = vec (Vec3.v c.r c.g c.b)
+let settings = Settings.default
+let camera = Camera.default
+let material = Description.default_material
+let physics = Description.default_physics
+
 let camera_kinds = [ "perspective"; "orthographic"; "fisheye" ]
 
 let blocks =
@@ -187,24 +208,24 @@ let blocks =
       [
         f "width" Integer
           ~range:(Whole (1, 65536))
-          ~default:(opt "640") "image width in pixels";
+          ~default:(whole settings.width) "image width in pixels";
         f "height" Integer
           ~range:(Whole (1, 65536))
-          ~default:(opt "480") "image height in pixels";
+          ~default:(whole settings.height) "image height in pixels";
         f "depth" Integer
           ~range:(Whole (1, Settings.max_depth))
-          ~default:(opt "5") "maximum ray depth (primary rays are depth 1)";
+          ~default:(whole settings.depth) "maximum ray depth (primary rays are depth 1)";
         f "samples" Integer
           ~range:(Whole (1, 64))
-          ~default:(opt "1") "n: n×n samples per pixel";
-        f "jitter" Boolean ~default:(opt "false")
+          ~default:(whole settings.samples) "n: n×n samples per pixel";
+        f "jitter" Boolean ~default:(flag settings.jitter)
           "move samples inside their sub-cells deterministically";
-        f "adaptive" Number ~range:non_negative ~default:(opt "0")
+        f "adaptive" Number ~range:non_negative ~default:(num settings.adaptive)
           "θ: refine pixels whose corner samples differ by more than θ (0: off)";
-        f "shadows" Boolean ~default:(opt "true") "trace shadow rays";
-        f "background" Background ~default:(opt "(0, 0, 0)")
+        f "shadows" Boolean ~default:(flag settings.shadows) "trace shadow rays";
+        f "background" Background ~default:(rgb settings.background)
           "what a ray that hits nothing sees";
-        f "ambient" Colour ~default:(opt "(1, 1, 1)") "the ambient light's colour";
+        f "ambient" Colour ~default:(rgb settings.ambient) "the ambient light's colour";
         f "gamma" Gamma
           ~range:(Real (Excl 0., Incl 1000.))
           ~default:(opt "\"srgb\"") "output encoding: \"srgb\" or a number g (v^(1/g))";
@@ -213,12 +234,13 @@ let blocks =
     top "camera" "where the image is seen from"
       [
         f "kind" (Choice camera_kinds) ~default:(opt "\"perspective\"") "the projection";
-        f "position" Vector ~default:(opt "(0, 0, -5)") "the eye";
-        f "look_at" Vector ~default:(opt "(0, 0, 0)") "the point at the image's centre";
-        f "up" Vector ~default:(opt "(0, 1, 0)") "the image's upright; not along the view";
+        f "position" Vector ~default:(vec camera.position) "the eye";
+        f "look_at" Vector ~default:(vec camera.look_at)
+          "the point at the image's centre";
+        f "up" Vector ~default:(vec camera.up) "the image's upright; not along the view";
         f "fov" Number
           ~range:(Real (Excl 0., Excl 180.))
-          ~unit:"degrees" ~default:(opt "60") ~condition:(Kind_in [ "perspective" ])
+          ~unit:"degrees" ~default:(num camera.fov) ~condition:(Kind_in [ "perspective" ])
           "vertical field of view, degrees";
         f "fov" Number
           ~range:(Real (Excl 0., Incl 360.))
@@ -226,13 +248,13 @@ let blocks =
           "angle across the image's inscribed circle, degrees";
         f "width" Number ~range:length ~condition:(Kind_in [ "orthographic" ])
           "width of the view in world units";
-        f "aperture" Number ~range:non_negative ~default:(opt "0")
+        f "aperture" Number ~range:non_negative ~default:(num camera.aperture)
           "radius of the lens (0: a pinhole)";
         f "focal_distance" Number ~range:length
           ~default:(Absent "required with an aperture") "the distance that is in focus";
         f "lens_samples" Integer
           ~range:(Whole (1, 64))
-          ~default:(opt "1") "n: n×n rays through the lens per sample";
+          ~default:(whole camera.lens_samples) "n: n×n rays through the lens per sample";
       ];
     top "point_light" ~keyword:"light" ~chosen_by:"position"
       "a point light (a spot light with `point_at`, an area light with `radius` and \
@@ -279,7 +301,7 @@ let blocks =
       ];
     top "physics" "how bodies move"
       [
-        f "gravity" Vector ~default:(opt "(0, -9.81, 0)") "acceleration, m/s²";
+        f "gravity" Vector ~default:(vec physics.gravity) "acceleration, m/s²";
         f "method"
           (Choice [ "exact"; "verlet"; "euler" ])
           ~default:(opt "\"exact\"") "the integrator";
@@ -288,21 +310,23 @@ let blocks =
       ];
     top "material" "how a surface looks (a value: `material { … }`)"
       [
-        f "color" Colour ~default:(opt "(1, 1, 1)") "the surface colour";
+        f "color" Colour ~default:(rgb material.color) "the surface colour";
         f "texture" Texture ~default:(Absent "none")
           "a texture (checker(…), …) or a colour; overrides `color`";
-        f "ambient" Number ~range:non_negative ~default:(opt "0.1")
+        f "ambient" Number ~range:non_negative ~default:(num material.ambient)
           "weight of the ambient light";
-        f "diffuse" Number ~range:non_negative ~default:(opt "0.9") "diffuse weight";
-        f "specular" Number ~range:non_negative ~default:(opt "0")
+        f "diffuse" Number ~range:non_negative ~default:(num material.diffuse)
+          "diffuse weight";
+        f "specular" Number ~range:non_negative ~default:(num material.specular)
           "Phong highlight weight";
-        f "shininess" Number ~range:non_negative ~default:(opt "50") "Phong exponent";
-        f "reflection" Number ~range:unit_interval ~default:(opt "0")
+        f "shininess" Number ~range:non_negative ~default:(num material.shininess)
+          "Phong exponent";
+        f "reflection" Number ~range:unit_interval ~default:(num material.reflection)
           "mirror weight; reflection + transparency at most 1";
-        f "transparency" Number ~range:unit_interval ~default:(opt "0")
+        f "transparency" Number ~range:unit_interval ~default:(num material.transparency)
           "refraction weight";
-        f "ior" Number ~range:positive ~default:(opt "1") "index of refraction";
-        f "fresnel" Boolean ~default:(opt "false")
+        f "ior" Number ~range:positive ~default:(num material.ior) "index of refraction";
+        f "fresnel" Boolean ~default:(flag material.fresnel)
           "Schlick's approximation of Fresnel moves transparency × F to reflection";
         f "bump" Bump ~default:(Absent "none") "perturbs the normal";
         f "base" Base_material ~default:(Absent "the default material")

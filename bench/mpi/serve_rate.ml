@@ -34,7 +34,7 @@ let () =
         prerr_endline "serve_rate: the empty scene did not load";
         Mpi.abort 2
     | Ok prog -> (
-        match Lancer.Program.scene_at prog ~time:0. ~frame:0 with
+        match Lancer.Program.scene prog ~time:0. ~frame:0 with
         | Ok sc -> sc
         | Error _ ->
             prerr_endline "serve_rate: the empty scene did not evaluate";

@@ -192,6 +192,9 @@ type t = {
   files : string list;
 }
 
+type static = (int * obj list) list
+type part = Static of int | Built of obj list
+
 type rendered = {
   r_settings : Settings.t;
   r_lights : Light.t list;

@@ -227,6 +227,23 @@ type t = {
       (** the image and mesh files the objects name, resolved, sorted, each once *)
 }
 
+(** {1 What the instants of a program share}
+
+    A program's top-level statements (its includes' statements each counted, in order)
+    are known by their position: 0 for the first. A statement that cannot build anything
+    else at another instant is static; the objects the static statements built are the
+    program's {!static} part, made once, and a scene at any instant is that part joined
+    with what the other statements build then ({!part}). *)
+
+type static = (int * obj list) list
+(** The objects each static statement built, by its position, in program order. *)
+
+type part =
+  | Static of int
+      (** the objects of the static statement at this position, as {!static} has them *)
+  | Built of obj list  (** objects this instant built, in program order *)
+(** A piece of a scene's objects: a scene's objects are its parts' objects in order. *)
+
 (** {1 What the renderer made of it}
 
     For [lancer check], which prints a description beside what rendering it involves. *)

@@ -154,13 +154,14 @@ let reusable (sc : Scene.t) =
   && (not (Camera.depth_of_field sc.view))
   && Option.is_some (Accel.moving_bounds [ sc.accel ])
 
-(* Whether two frames' scenes differ only in their moving parts: the same settings,
-   camera, lights and features, and physically the same fixed part. A pixel none of
+(* Whether two frames' scenes (of one program) differ only in their moving parts: the
+   same settings, camera (so the same origin), lights and features, and the same fixed
+   part (the program's static part: the same statements' objects). A pixel none of
    whose queries meets either moving part then has the same colour in both, bit for
    bit: every query's answer is the fixed part's, and every other input is equal. *)
 let shares_pixels (a : Scene.t) (b : Scene.t) =
-  (match (Accel.fixed_part a.accel, Accel.fixed_part b.accel) with
-  | Some x, Some y -> x == y
+  (match (Accel.fixed_key a.accel, Accel.fixed_key b.accel) with
+  | Some x, Some y -> x = y
   | _ -> false)
   &&
   try

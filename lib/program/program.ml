@@ -1,43 +1,79 @@
 module Dsl = Lancer_dsl.Dsl
 module D = Description
 
-(* A loaded program and what it keeps beside it: the images and meshes its scenes read,
-   the motion of its bodies once asked for, and the description of the last scene made
-   (for check's printers). *)
+(* ---------------------------------------------------------------------------------- *)
+(* Physics: the bodies move through the static objects of the scene at time 0. *)
+
+exception Refused of Diagnostic.t
+
+let at dsl (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source dsl loc.file) loc msg
+
+let colliders_of dsl =
+  match Physics.colliders (Dsl.first dsl).objects with
+  | Ok cs -> cs
+  | Error o ->
+      raise
+        (Refused
+           (at dsl o.loc
+              (Printf.sprintf
+                 "bodies cannot collide with this %s: physics follows a CSG object only \
+                  when it is a union or merge of planes, parallelograms and boxes"
+                 o.kind)))
+
+(* The animation's duration; 0 for a still. *)
+let duration dsl =
+  match Dsl.animation dsl with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
+
+(* The motion of the bodies over [0, until]. *)
+let simulation dsl ~until =
+  let w = Option.value (Dsl.physics dsl) ~default:Physics.default_world in
+  (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
+  let max_steps = 10_000_000. in
+  (if w.method_ <> Physics.Exact && until /. w.step > max_steps then
+     let msg =
+       Printf.sprintf
+         "the physics step %g s over %g s would take %.3g steps per body; the limit is \
+          %.0f (use a larger step or the exact method)"
+         w.step until (until /. w.step) max_steps
+     in
+     raise
+       (Refused
+          (match (Dsl.first dsl).physics_loc with
+          | Some loc -> at dsl loc msg
+          | None -> Diagnostic.file_error (Dsl.file dsl) msg)));
+  Physics.simulate w (colliders_of dsl) (Dsl.bodies dsl) ~until
+
+(* A loaded program and what it makes once for all its scenes: the images and meshes
+   they read, the motion of its bodies once asked for, and its static part compiled. *)
 type t = {
   dsl : Dsl.t;
   assets : Compile.assets;
-  mutable last : (Scene.t * D.t * bool) option;
-      (** and whether the description has its objects (they are let go as they are
-          compiled when a still is made from the load's description) *)
-  mutable motion : (float * Physics.trajectory) option;
-      (** the simulation of the bodies and the horizon it was computed for *)
-  lock : Mutex.t;
-  motion_lock : Mutex.t;
-  mutable fixed : Compile.fixed option option;
-      (** what the frames of an animation share, once made ([Some None]: nothing) *)
-  fixed_lock : Mutex.t;
-  made : int Atomic.t;  (** scenes begun *)
-  mutable single : bool;  (** asked for one scene only ({!single_scene}) *)
+  single : bool;  (** loaded for one scene only *)
+  static : Compile.static option Lazy.t;
+      (** the static part compiled, for an animation whose static statements build
+          objects; forced under [lock] *)
+  motion : Physics.trajectory Lazy.t;
+      (** the simulation of the bodies over the animation (over no time for a still);
+          forced under [lock] *)
+  lock : Mutex.t;  (** over [static], [motion] and [on_disk] *)
   on_disk : (string, string) Hashtbl.t;
       (** the MD5 of input files this run has not decoded, as they were when asked *)
-  disk_lock : Mutex.t;
 }
 
-let of_dsl assets dsl =
+let of_dsl ~single assets dsl =
   {
     dsl;
     assets;
-    last = None;
-    motion = None;
+    single;
+    static =
+      lazy
+        (match (Dsl.animation dsl, Dsl.static dsl) with
+        | None, _ -> None
+        | Some _, st when List.for_all (fun (_, objs) -> List.is_empty objs) st -> None
+        | Some _, st -> Some (Compile.static assets st));
+    motion = lazy (simulation dsl ~until:(duration dsl));
     lock = Mutex.create ();
-    motion_lock = Mutex.create ();
-    fixed = None;
-    fixed_lock = Mutex.create ();
-    made = Atomic.make 0;
-    single = false;
     on_disk = Hashtbl.create 4;
-    disk_lock = Mutex.create ();
   }
 
 let language p = p.dsl
@@ -55,18 +91,19 @@ type bundle = Dsl.bundle
 
 let bundle p = Dsl.bundle p.dsl
 
-let load_file ?(digests = true) ?after_read path =
+let load_file ?(single = false) ?(digests = true) ?after_read path =
   let a = Compile.assets ~digests ?after_read () in
-  Result.map (of_dsl a) (Dsl.load_file ~files:(Compile.check_files a) path)
+  Result.map (of_dsl ~single a) (Dsl.load_file ~files:(Compile.check_files a) path)
 
-let load_string ?progress ?(digests = true) ?after_read ?filename text =
+let load_string ?(single = false) ?progress ?(digests = true) ?after_read ?filename text =
   let a = Compile.assets ~digests ?after_read () in
-  Result.map (of_dsl a)
+  Result.map (of_dsl ~single a)
     (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
 
-let load_bundle ?progress ?(digests = true) b =
+let load_bundle ?(single = false) ?progress ?(digests = true) b =
   let a = Compile.assets ~digests () in
-  Result.map (of_dsl a) (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
+  Result.map (of_dsl ~single a)
+    (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
 
 (* What a record says of an input: the digest of the bytes this run decoded, or, for a
    file it has not decoded (yet), of the file on disk, once. *)
@@ -75,7 +112,7 @@ let input_digest p rel =
   match Compile.digest p.assets path with
   | Some d -> d
   | None ->
-      Mutex.protect p.disk_lock (fun () ->
+      Mutex.protect p.lock (fun () ->
           match Hashtbl.find_opt p.on_disk path with
           | Some d -> d
           | None ->
@@ -83,9 +120,6 @@ let input_digest p rel =
               Hashtbl.replace p.on_disk path d;
               d)
 
-exception Refused of Diagnostic.t
-
-let at p (loc : Loc.t) msg = Diagnostic.make ?source:(Dsl.source p.dsl loc.file) loc msg
 
 (* Nothing raised below reaches the caller but an interrupt, as in the language. *)
 let guard p f =
@@ -112,52 +146,15 @@ let guard p f =
         ]
 
 (* ---------------------------------------------------------------------------------- *)
-(* Physics: the bodies move through the static objects of the scene at time 0. *)
+(* Physics *)
 
-let colliders p =
-  match Physics.colliders (Dsl.first p.dsl).objects with
-  | Ok cs -> cs
-  | Error o ->
-      raise
-        (Refused
-           (at p o.loc
-              (Printf.sprintf
-                 "bodies cannot collide with this %s: physics follows a CSG object only \
-                  when it is a union or merge of planes, parallelograms and boxes"
-                 o.kind)))
+let colliders p = colliders_of p.dsl
 
-(* The horizon for a frame at [time]: the whole animation, or [time] when later. *)
-let horizon p time =
-  let dur =
-    match Dsl.animation p.dsl with Some (fps, n) -> Float.of_int n /. fps | None -> 0.
-  in
-  Float.max dur time
-
+(* The simulation that samples [time]: the animation's, made once, or for a later time
+   one of its own (which would sample the animation's times as the animation's does). *)
 let trajectory p ~time =
-  let until = horizon p time in
-  let e = p in
-  Mutex.protect e.motion_lock (fun () ->
-      match e.motion with
-      | Some (h, tr) when h >= until -> tr
-      | _ ->
-          let w = Option.value (Dsl.physics p.dsl) ~default:Physics.default_world in
-          (* A fixed-step method keeps every step: refuse what would not fit in memory. *)
-          let max_steps = 10_000_000. in
-          (if w.method_ <> Physics.Exact && until /. w.step > max_steps then
-             let msg =
-               Printf.sprintf
-                 "the physics step %g s over %g s would take %.3g steps per body; the \
-                  limit is %.0f (use a larger step or the exact method)"
-                 w.step until (until /. w.step) max_steps
-             in
-             raise
-               (Refused
-                  (match (Dsl.first p.dsl).physics_loc with
-                  | Some loc -> at p loc msg
-                  | None -> Diagnostic.file_error (Dsl.file p.dsl) msg)));
-          let tr = Physics.simulate w (colliders p) (Dsl.bodies p.dsl) ~until in
-          e.motion <- Some (until, tr);
-          tr)
+  if time <= duration p.dsl then Mutex.protect p.lock (fun () -> Lazy.force p.motion)
+  else simulation p.dsl ~until:time
 
 let simulate p ~until =
   Result.map_error
@@ -211,7 +208,14 @@ let first_at_rest p =
             Some { first with objects = List.map place first.objects }
           else None)
 
-let describe_ ?again ?body_state ?progress ?cancel ?parts p ~time ~frame =
+(* The bodies where the simulation has them at [time], unless [body_state] says. *)
+let body_state_at ?body_state p ~time ~frame =
+  Result.map_error
+    (Dsl.located p.dsl ~time ~frame)
+    (guard p (fun () ->
+         Ok (match body_state with Some f -> Some f | None -> physics_state p ~time)))
+
+let describe ?body_state ?progress ?cancel p ~time ~frame =
   let reused =
     if Float.equal time 0. && frame = 0 && body_state = None then
       match guard p (fun () -> Ok (first_at_rest p)) with
@@ -222,90 +226,81 @@ let describe_ ?again ?body_state ?progress ?cancel ?parts p ~time ~frame =
   in
   match reused with
   | Some r -> r
-  | None -> (
-      match
-        guard p (fun () ->
-            Ok (match body_state with Some f -> Some f | None -> physics_state p ~time))
-      with
-      | Error es -> Error (Dsl.located p.dsl ~time ~frame es)
-      | Ok body_state ->
-          Dsl.describe ?again ?body_state ?progress ?cancel ?parts
+  | None ->
+      Result.bind (body_state_at ?body_state p ~time ~frame) (fun body_state ->
+          Dsl.describe ?body_state ?progress ?cancel
             ~files:(Compile.check_files p.assets)
             p.dsl ~time ~frame)
-
-let describe ?body_state ?progress ?cancel p ~time ~frame =
-  describe_ ?body_state ?progress ?cancel p ~time ~frame
 
 (* ---------------------------------------------------------------------------------- *)
 (* Scenes *)
 
-(* The objects no frame changes, made once for the frames of an animation (a still is
-   made once anyway). *)
-let fixed p =
-  let e = p in
-  Mutex.protect e.fixed_lock (fun () ->
-      match e.fixed with
-      | Some f -> f
-      | None ->
-          let f =
-            match (Dsl.animation p.dsl, Dsl.fixed_pieces p.dsl) with
-            | None, _ -> None
-            | Some _, pieces when List.for_all List.is_empty pieces -> None
-            | Some _, pieces -> Some (Compile.fixed e.assets pieces)
-          in
-          e.fixed <- Some f;
-          f)
+(* The static part compiled, made by the first scene that asks. *)
+let static p = Mutex.protect p.lock (fun () -> Lazy.force p.static)
 
-let compile ?progress ?index ?objects ?parts ~share p (d : D.t) =
-  (* [objects] is not used after the compile, which lets each go as it is compiled. *)
-  let whole = Option.is_none objects && Option.is_none parts in
-  match
-    guard p (fun () ->
-        Compile.compile ~source:(Dsl.source p.dsl) ?progress
-          ?fixed:(if share && index <> Some false then fixed p else None)
-          ?index ?objects ?parts p.assets d)
-  with
-  | Ok sc ->
-      let e = p in
-      Mutex.protect e.lock (fun () -> e.last <- Some (sc, d, whole));
-      Ok sc
-  | Error es -> Error (Dsl.located p.dsl ~time:d.time ~frame:d.frame es)
+let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
+  Result.map_error
+    (Dsl.located p.dsl ~time:d.time ~frame:d.frame)
+    (guard p (fun () ->
+         Compile.compile ~source:(Dsl.source p.dsl) ?progress ?index ?static ?objects
+           ?parts p.assets d))
 
-let single_scene p = p.single <- true
+(* The scene at [time] and [frame], and its description (without its objects when they
+   were handed to the compile, or given as parts).
 
-(* A still's one scene, where its caller asked for one only ({!single_scene}), is the
-   load's description compiled once: the program lets its objects go ({!Dsl.release}),
-   and the compile lets each go as it is made into primitives, so that a large scene is
-   not held twice. A caller that asks for more scenes of a still (the live preview, the
-   benchmarks) keeps the load's description for them. *)
-let releasable ?body_state p ~share ~time ~frame =
-  p.single && (not share) && body_state = None && Float.equal time 0. && frame = 0
-  && Dsl.animation p.dsl = None
-  && Dsl.bodies p.dsl = []
-  && not (Dsl.released p.dsl)
+   A program loaded for one scene ([single]) has its load's description compiled for a
+   still at time 0, frame 0: the program lets its objects go ({!Dsl.release}), and the
+   compile lets each go as it is made into primitives, so that a large scene is not held
+   twice. An animation's scenes (those indexed) are the static part, compiled once, joined
+   with what the other statements build at that instant. Any other scene is described,
+   then compiled. *)
+let scene_and_description ?body_state ?progress ?cancel ?(index = true) p ~time ~frame =
+  let released =
+    if
+      p.single && body_state = None && Float.equal time 0. && frame = 0
+      && Dsl.animation p.dsl = None
+      && Dsl.bodies p.dsl = []
+    then Dsl.release p.dsl
+    else None
+  in
+  match released with
+  | Some d ->
+      let objects = d.objects and d = { d with objects = [] } in
+      Result.map (fun sc -> (sc, d)) (compile ?progress ~index ~objects p d)
+  | None -> (
+      match
+        if index then guard p (fun () -> Ok (static p)) else Ok None
+      with
+      | Error es -> Error (Dsl.located p.dsl ~time ~frame es)
+      | Ok (Some static) ->
+          Result.bind (body_state_at ?body_state p ~time ~frame) (fun body_state ->
+              Result.bind
+                (Dsl.describe_parts ?body_state ?progress ?cancel
+                   ~files:(Compile.check_files p.assets)
+                   p.dsl ~time ~frame) (fun (d, parts) ->
+                  Result.map
+                    (fun sc -> (sc, d))
+                    (compile ?progress ~index ~static ~parts p d)))
+      | Ok None ->
+          Result.bind (describe ?body_state ?progress ?cancel p ~time ~frame) (fun d ->
+              Result.map (fun sc -> (sc, d)) (compile ?progress ~index p d)))
 
-(* The scenes of an animated program share what does not change, from the first one on:
-   the statements that do not depend on the instant are not evaluated again, and the
-   objects they build are compiled and indexed once, as a part of their own (the first
-   scene made the long way would build that index twice: once over every object, once
-   over the fixed ones). A program without an animation has no such part: its first
-   scene is made the long way, every statement evaluated. *)
-let scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame =
-  let later = Atomic.fetch_and_add p.made 1 > 0 in
-  let share = later || Option.is_some (Dsl.animation p.dsl) in
-  if releasable ?body_state p ~share ~time ~frame then
-    let d = Dsl.release p.dsl in
-    let objects = d.objects and d = { d with objects = [] } in
-    Result.map (fun sc -> (sc, d)) (compile ?progress ?index ~objects ~share p d)
-  else
-    (* Shared statements replayed: their objects come as the lists the fixed part was
-       made from, not copied into one list per scene. *)
-    let parts = ref None in
-    let on_parts = if share then Some (fun ps -> parts := Some ps) else None in
-    Result.bind
-      (describe_ ~again:(not share) ?body_state ?progress ?cancel ?parts:on_parts p ~time
-         ~frame) (fun d ->
-        Result.map (fun sc -> (sc, d)) (compile ?progress ?index ?parts:!parts ~share p d))
+let scene ?body_state ?progress ?cancel ?index p ~time ~frame =
+  Result.map fst
+    (scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame)
+
+let scene_at = scene
+
+let scenes ?body_state ?progress ?cancel ?index p ~times ~frame =
+  let n = Array.length times in
+  let rec go k acc =
+    if k = n then Ok (Array.of_list (List.rev acc))
+    else
+      match scene ?body_state ?progress ?cancel ?index p ~time:times.(k) ~frame with
+      | Ok sc -> go (k + 1) (sc :: acc)
+      | Error es -> Error es
+  in
+  go 0 []
 
 let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
   Result.map
@@ -314,23 +309,8 @@ let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
       (sc, files))
     (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
 
-let scene_at ?body_state ?progress ?cancel ?index p ~time ~frame =
-  Result.map fst
-    (scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame)
-
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)
-
-(* The description [sc] was made from: the last one compiled, or made again (for
-   [objects], when the one compiled let its objects go). *)
-let description ?(objects = false) p (sc : Scene.t) =
-  let e = p in
-  match Mutex.protect e.lock (fun () -> e.last) with
-  | Some (s, d, whole) when s == sc && (whole || not objects) -> Some d
-  | _ -> (
-      match describe p ~time:sc.time ~frame:sc.frame with
-      | Ok d -> Some d
-      | Error _ -> None)
 
 (* What check prints beside the scene: the program's animation, bodies, physics and
    warnings (those at time 0). *)
@@ -346,6 +326,13 @@ let for_report p (d : D.t) =
 
 let rendered p sc = Compile.rendered p.assets sc
 
+(* The description [sc] was made from, described again; at time 0, frame 0 of a program
+   that let its objects go, the load's without them (all a summary reads). *)
+let description p (sc : Scene.t) =
+  if Float.equal sc.time 0. && sc.frame = 0 && Dsl.released p.dsl then
+    Some (Dsl.first p.dsl)
+  else Result.to_option (describe p ~time:sc.time ~frame:sc.frame)
+
 let summary p (sc : Scene.t) =
   match description p sc with
   | Some d -> Scene_report.summary ~empty:(Dsl.empty p.dsl) (for_report p d) (rendered p sc)
@@ -353,9 +340,9 @@ let summary p (sc : Scene.t) =
 
 let to_json ?body_state p (sc : Scene.t) =
   let d =
-    match description ~objects:true p sc with
-    | Some d -> d
-    | None -> { (Dsl.first p.dsl) with objects = []; time = sc.time; frame = sc.frame }
+    match describe p ~time:sc.time ~frame:sc.frame with
+    | Ok d -> d
+    | Error _ -> { (Dsl.first p.dsl) with objects = []; time = sc.time; frame = sc.frame }
   in
   let state =
     match body_state with

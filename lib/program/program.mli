@@ -9,17 +9,25 @@ module Dsl = Lancer_dsl.Dsl
 
 type t
 (** A loaded program: the language's program, the cache of the images and meshes its
-    scenes read ({!assets}), the motion of its bodies once computed, and what the frames of
-    an animation share. *)
+    scenes read ({!assets}), and what is made once for all its scenes: the motion of its
+    bodies and its static part ({!Dsl.static}) compiled, each when first needed. *)
 
 val load_file :
-  ?digests:bool -> ?after_read:(string -> unit) -> string -> (t, Diagnostic.t list) result
+  ?single:bool ->
+  ?digests:bool ->
+  ?after_read:(string -> unit) ->
+  string ->
+  (t, Diagnostic.t list) result
 (** {!Dsl.load_file}, with the images and meshes the program uses read (into its
     {!assets}) and their problems reported with the program's. [digests] (default [true])
     and [after_read] are {!Compile.assets}': a run that records what its pixels were made
-    of (an animation's frames, a checkpoint) keeps the digest of every file it decodes. *)
+    of (an animation's frames, a checkpoint) keeps the digest of every file it decodes.
+    [single] (default [false]) says that the program is loaded for one scene only (a
+    still's render): its first scene at time 0 may let the load's description go as it is
+    compiled, so that a large scene is not held twice (see {!scene}). *)
 
 val load_string :
+  ?single:bool ->
   ?progress:(string -> unit) ->
   ?digests:bool ->
   ?after_read:(string -> unit) ->
@@ -36,7 +44,11 @@ val bundle : t -> bundle
 (** The texts a program was loaded from. *)
 
 val load_bundle :
-  ?progress:(string -> unit) -> ?digests:bool -> bundle -> (t, Diagnostic.t list) result
+  ?single:bool ->
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  bundle ->
+  (t, Diagnostic.t list) result
 (** {!Dsl.load_bundle}, as {!load_file}: the program another process loaded, from the
     texts it read (an MPI rank's copy of rank 0's program), reading no scene file. *)
 
@@ -89,8 +101,9 @@ val colliders  : t -> Physics.collider list
 
 val simulate  : t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
 (** The motion of the bodies among {!colliders} under the program's [physics] block,
-    computed for [[0, max until duration]] (duration: the animation's, 0 for a still) and
-    kept, so that every frame samples the same simulation. *)
+    computed for [[0, max until duration]] (duration: the animation's, 0 for a still).
+    The animation's is made once and kept, so that every frame samples the same
+    simulation; one for a later time is made for it. *)
 
 (** {1 Scenes} *)
 
@@ -105,7 +118,7 @@ val describe :
 (** {!Dsl.describe} with the bodies where {!simulate} has them (unless [body_state] says
     otherwise). At time 0, frame 0 it is the description the load made. *)
 
-val scene_and_description :
+val scene :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
@@ -113,18 +126,28 @@ val scene_and_description :
   t ->
   time:float ->
   frame:int ->
-  (Scene.t * Description.t, Diagnostic.t list) result
-(** The scene at [time] and [frame] ({!describe}, then {!Compile.compile}), and its
-    description. The program is evaluated once per call, and not at all for a scene at
-    time 0, frame 0 of a still without bodies: that one is the load's description. After
-    {!single_scene}, the first such scene lets it go ({!Dsl.release}) as the compile goes
-    through it, object by object, and is returned without its objects; a later one
-    evaluates the program again. [index] is {!Compile.compile}'s. *)
+  (Scene.t, Diagnostic.t list) result
+(** The scene at [time] and [frame]: {!describe}, then {!Compile.compile} ([index] is
+    its). The program is evaluated once per call, and not at all for a scene at time 0,
+    frame 0 of a still without bodies: that one is the load's description. An animation's
+    scene is its static part, compiled once for all of them, joined with the objects its
+    other statements build at [time] ({!Dsl.describe_parts}). In a program loaded
+    [~single:true], the first scene at time 0, frame 0 of a still without bodies lets the
+    load's description go ({!Dsl.release}) as the compile goes through it, object by
+    object; a later one evaluates the program again. *)
 
-val single_scene  : t -> unit
-(** [single_scene p] says that [p] is loaded for one scene only (a still's render): its
-    first scene at time 0 may let the load's description go as it is compiled, so that a
-    large scene is not held twice. *)
+val scenes :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  ?index:bool ->
+  t ->
+  times:float array ->
+  frame:int ->
+  (Scene.t array, Diagnostic.t list) result
+(** The scenes at each of [times], all numbered [frame] (the instants of one frame), as
+    {!scene} makes them: they share the static part. The errors of the first that
+    fails. *)
 
 val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -135,7 +158,7 @@ val scene_at :
   time:float ->
   frame:int ->
   (Scene.t, Diagnostic.t list) result
-(** {!scene_and_description}'s scene. *)
+(** {!scene}. *)
 
 val scene_with_files :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -145,16 +168,15 @@ val scene_with_files :
   time:float ->
   frame:int ->
   (Scene.t * string list, Diagnostic.t list) result
-(** {!scene_at}, and the image and mesh files that scene names, sorted, as paths from the
+(** {!scene}, and the image and mesh files that scene names, sorted, as paths from the
     main file's directory. Their digests ({!input_digest}) are left to the callers
     that record them: a still without a checkpoint never reads a mesh twice. *)
 
 (** {1 For [lancer check]} *)
 
 val summary  : t -> Scene.t -> string
-(** {!Scene_report.summary} of [sc] (the last scene made by {!scene_at}, whose description
-    is kept; another is described again), with the program's animation, bodies and
-    warnings. *)
+(** {!Scene_report.summary} of [sc] (a scene of the program, whose description is made
+    again), with the program's animation, bodies and warnings. *)
 
 val to_json :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->

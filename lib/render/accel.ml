@@ -19,6 +19,7 @@ type t = {
 (* A scene's primitives in two parts, each with its own structure: [fixed] over those
    whose index [fixed_idx] lists (increasing), [moving] over the others. *)
 and layers = {
+  key : int array;  (** what the fixed part is, as its maker named it *)
   fixed : t;
   fixed_idx : int array;
   moving : t;
@@ -28,7 +29,7 @@ and layers = {
 
 let min_bvh = 8
 let uses_bvh a = match a.layers with Some l -> l.bvh | None -> a.weight >= min_bvh
-let fixed_part a = Option.map (fun l -> l.fixed) a.layers
+let fixed_key a = Option.map (fun l -> l.key) a.layers
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
 
@@ -306,7 +307,7 @@ let crossings sc a (q : Probe.t) ~transparent out =
 
 (* --- Two parts ------------------------------------------------------------------------ *)
 
-let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
+let layered prims ~key ~fixed ~fixed_idx ~moving ~moving_idx =
   let n = Array.length prims in
   if Array.length fixed_idx + Array.length moving_idx <> n then
     invalid_arg "Accel.layered: the parts do not cover the primitives";
@@ -317,7 +318,7 @@ let layered prims ~fixed ~fixed_idx ~moving ~moving_idx =
     prims;
     weight;
     index = linear [||];
-    layers = Some { fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
+    layers = Some { key; fixed; fixed_idx; moving; moving_idx; bvh = weight >= min_bvh };
   }
 
 let moving_bounds accels =

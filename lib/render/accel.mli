@@ -20,26 +20,27 @@ val unindexed : Primitive.t array -> t
 
 val layered :
   Primitive.t array ->
+  key:int array ->
   fixed:t ->
   fixed_idx:int array ->
   moving:t ->
   moving_idx:int array ->
   t
-(** [layered prims ~fixed ~fixed_idx ~moving ~moving_idx] indexes [prims] by two
+(** [layered prims ~key ~fixed ~fixed_idx ~moving ~moving_idx] indexes [prims] by two
     structures built over parts of it: [fixed] over the primitives [fixed_idx] lists (in
     increasing order), [moving] over the others ([moving_idx], increasing), so that the
     part that does not change between the frames of an animation is built once. Its
     queries answer as [build prims]'s would, with indices into [prims]: the nearest hit
     the same, whether there is any hit the same, every crossing the same in the same
-    order. {!uses_bvh} says whether [build prims] would build a tree. *)
+    order. {!uses_bvh} says whether [build prims] would build a tree. [key] names what
+    [fixed] holds, for {!fixed_key}. *)
 
 val uses_bvh : t -> bool
 (** Whether a bounding volume hierarchy was built (small scenes skip it), or for
     {!unindexed} would have been. *)
 
-val fixed_part : t -> t option
-(** The structure over the fixed part of a {!layered} one (physically the one given), or
-    [None] for one made by {!build}. *)
+val fixed_key : t -> int array option
+(** The [key] a {!layered} structure was given, or [None] for one made by {!build}. *)
 
 (** {1 The three queries} *)
 

@@ -133,7 +133,7 @@ let mesh c ~file ~path ~smooth =
                          let parse =
                            if String.lowercase_ascii (Filename.extension path) = ".ply"
                            then Ply.parse_mesh
-                           else Mesh.parse_mesh
+                           else Obj_file.parse_mesh
                          in
                          match parse ~smooth ~file:path text with
                          | Ok m -> Ok m
@@ -251,7 +251,7 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
         match (m.shape, sh) with
         | Mesh _, [ Shape.Mesh { mesh; _ } ] ->
             (if solid then
-               match Mesh.open_edges_mesh mesh with
+               match Obj_file.open_edges_mesh mesh with
                | 0 -> ()
                | n ->
                    problem m.loc
@@ -312,11 +312,12 @@ let primitives c material_of (o : D.obj) =
   let leaf_materials = Array.map (Option.map (fun lm -> material_of (Some lm))) leaves in
   List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
 
-type fixed = {
-  objs : D.obj array;
-  lists : D.obj list array;  (** the non-empty pieces it was made from, in order *)
-  firsts : int array;  (** the index in [objs] of each one's first object *)
+type static = {
+  entry_of : int array;  (** by statement position: its entry, or −1 *)
+  positions : int array;  (** each entry's statement position, increasing *)
+  firsts : int array;  (** the index in [objs] of each entry's first object *)
   counts : int array;  (** and its count of objects *)
+  objs : D.obj array;
   start : int array;  (** where each object's primitives start in [flat] *)
   faces : int array;
       (** the faces of the objects before each (one more entry: all of them), a mesh
@@ -327,16 +328,40 @@ type fixed = {
   mutable part : Scene.fixed option;  (** for the last origin asked *)
 }
 
-let fixed c pieces =
-  let pieces = List.filter (fun p -> not (List.is_empty p)) pieces in
-  let lists = Array.of_list pieces in
-  let counts = Array.map List.length lists in
-  let firsts = Array.make (Array.length lists) 0 in
-  for k = 1 to Array.length lists - 1 do
+let static c (st : D.static) =
+  let entries = Array.of_list st in
+  let positions = Array.map fst entries in
+  let counts = Array.map (fun (_, objs) -> List.length objs) entries in
+  let firsts = Array.make (Array.length entries) 0 in
+  for k = 1 to Array.length entries - 1 do
     firsts.(k) <- firsts.(k - 1) + counts.(k - 1)
   done;
-  let objs = Array.of_list (List.concat pieces) in
+  let entry_of =
+    Array.make (1 + Array.fold_left max (-1) positions) (-1)
+  in
+  Array.iteri
+    (fun e i ->
+      if i < 0 || entry_of.(i) >= 0 || (e > 0 && positions.(e - 1) >= i) then
+        invalid_arg "Compile.static: the positions are not increasing";
+      entry_of.(i) <- e)
+    positions;
+  let objs = Array.of_list (List.concat_map snd st) in
   let material_of = materials c in
+  let made ~ok ~start ~faces ~flat =
+    {
+      entry_of;
+      positions;
+      firsts;
+      counts;
+      objs;
+      start;
+      faces;
+      flat;
+      ok;
+      part_lock = Mutex.create ();
+      part = None;
+    }
+  in
   match Array.map (primitives c material_of) objs with
   | prims ->
       let start = Array.make (Array.length objs) 0 in
@@ -352,35 +377,14 @@ let fixed c pieces =
         (fun i ps ->
           faces.(i + 1) <- List.fold_left (fun w p -> w + Primitive.faces p) faces.(i) ps)
         prims;
-      {
-        objs;
-        lists;
-        firsts;
-        counts;
-        start;
-        faces;
-        flat;
-        ok = true;
-        part_lock = Mutex.create ();
-        part = None;
-      }
-  | exception Problem _ ->
-      {
-        objs;
-        lists;
-        firsts;
-        counts;
-        start = [||];
-        faces = [||];
-        flat = [||];
-        ok = false;
-        part_lock = Mutex.create ();
-        part = None;
-      }
+      made ~ok:true ~start ~faces ~flat
+  | exception Problem _ -> made ~ok:false ~start:[||] ~faces:[||] ~flat:[||]
 
-let fixed_part fx (origin : Vec3.t) =
-  Mutex.protect fx.part_lock (fun () ->
-      match fx.part with
+(* The structure over the static part, moved for [origin]: the one made for the last
+   origin asked, or a new one. *)
+let static_part st (origin : Vec3.t) =
+  Mutex.protect st.part_lock (fun () ->
+      match st.part with
       | Some f
         when let bits = Int64.bits_of_float and (o : Vec3.t) = Scene.fixed_origin f in
              bits o.x = bits origin.x
@@ -388,10 +392,15 @@ let fixed_part fx (origin : Vec3.t) =
              && bits o.z = bits origin.z ->
           f
       | _ ->
-          fx.part <- None;
-          let f = Scene.fixed ~origin fx.flat in
-          fx.part <- Some f;
+          st.part <- None;
+          let f = Scene.fixed ~key:st.positions ~origin st.flat in
+          st.part <- Some f;
           f)
+
+(* The entry of the static statement at position [i]. *)
+let entry st i =
+  if i >= 0 && i < Array.length st.entry_of && st.entry_of.(i) >= 0 then st.entry_of.(i)
+  else invalid_arg "Compile.compile: a static part that is not the static part's"
 
 (* The GC's space overhead while objects handed over are compiled: over a million
    spheres, the default (120) let the heap grow by 100 MB beside the dying objects before
@@ -410,31 +419,28 @@ let handed_over_overhead = 40
    is allocated after the objects. *)
 let compact_objects = 250_000
 
-let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixed ?objects
-    ?parts c (d : D.t) =
+let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
+    ?objects ?parts c (d : D.t) =
   let handed_over = Option.is_some objects in
   let objects = Option.value objects ~default:d.objects in
-  let fx = match fixed with Some fx when fx.ok -> Some fx | _ -> None in
-  (* The objects of the fixed part, met in their order: the next one is [!next]. *)
-  let next = ref 0 in
-  let fixed_index (o : D.obj) =
-    match fx with
-    | Some fx when !next < Array.length fx.objs && fx.objs.(!next) == o ->
-        incr next;
-        !next - 1
-    | _ -> -1
+  (* The static part a scene made of parts is layered over: one that compiled and holds
+     objects. *)
+  let fx =
+    match (parts, static) with
+    | Some _, Some st when index && st.ok && Array.length st.objs > 0 -> Some st
+    | _ -> None
   in
   let pieces = ref [] in
-  (* The run of the fixed part met last, not yet in [pieces]: consecutive objects of the
-     fixed part make one piece, with nothing allocated for each. *)
+  (* The run of the static part met last, not yet in [pieces]: consecutive objects of the
+     static part make one piece, with nothing allocated for each. *)
   let run_first = ref 0 and run_n = ref 0 in
   let end_run () =
     if !run_n > 0 then (
       pieces := Scene.Fixed (!run_first, !run_n) :: !pieces;
       run_n := 0)
   in
-  (* Without a fixed part, the objects go straight into one array: no list cell or piece
-     per object beside them while the structure is built. *)
+  (* Without a static part, the objects go straight into one array: no list cell or
+     piece per object beside them while the structure is built. *)
   let flat = Dynarray.create () in
   let problems = ref [] and seen = Hashtbl.create 4 in
   let count = ref 0 in
@@ -442,6 +448,13 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
     if not (Hashtbl.mem seen (loc, msg)) then (
       Hashtbl.add seen (loc, msg) ();
       problems := (loc, msg) :: !problems)
+  in
+  let counted (o : D.obj) n =
+    count := !count + n;
+    if !count > D.max_objects && !count - n <= D.max_objects then
+      report o.loc
+        (Printf.sprintf "this scene builds more than %d objects; that is the limit"
+           D.max_objects)
   in
   let material_of = materials c in
   (* Each primitive moved into render coordinates as it is made: the unmoved one dies
@@ -458,7 +471,8 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
     if handed_over && not compacting then Gc.set { (Gc.get ()) with space_overhead = o }
   in
   pace (min overhead handed_over_overhead);
-  (* Primitives [first] to [first + n − 1] of the fixed part, after what came before. *)
+  (* Primitives [first] to [first + n − 1] of the static part, after what came
+     before. *)
   let add_run first n =
     if !run_n > 0 && !run_first + !run_n = first then run_n := !run_n + n
     else (
@@ -466,63 +480,59 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
       run_first := first;
       run_n := n)
   in
-  (* Where the fixed part's primitives of object [j] start (all of them at the end). *)
-  let prim_end (fx : fixed) j =
+  (* Where the static part's primitives of object [j] start (all of them at the end). *)
+  let prim_end (fx : static) j =
     if j < Array.length fx.start then fx.start.(j) else Array.length fx.flat
   in
+  (* Objects [i] to [j − 1] of the static part, placed as they were made. *)
+  let add_static (fx : static) i j =
+    add_run fx.start.(i) (prim_end fx j - fx.start.(i))
+  in
   let one (o : D.obj) =
-    match
-      match fx with
-      | Some fx when fixed_index o >= 0 ->
-          let i = !next - 1 in
-          add_run fx.start.(i) (prim_end fx (i + 1) - fx.start.(i));
-          fx.faces.(i + 1) - fx.faces.(i)
-      | _ ->
-          let ps = primitives c material_of o in
-          (match fx with
-          | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
-          | Some _ ->
-              end_run ();
-              pieces := Scene.Moving ps :: !pieces);
-          List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
-    with
-    | n ->
-        count := !count + n;
-        if !count > D.max_objects && !count - n <= D.max_objects then
-          report o.loc
-            (Printf.sprintf "this scene builds more than %d objects; that is the limit"
-               D.max_objects)
+    match primitives c material_of o with
+    | ps ->
+        (match fx with
+        | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
+        | Some _ ->
+            end_run ();
+            pieces := Scene.Moving ps :: !pieces);
+        counted o (List.fold_left (fun w p -> w + Primitive.faces p) 0 ps)
     | exception Problem (loc, msg) -> report loc msg
   in
-  (* A piece that is a recorded statement's list itself, met where its objects come next
-     in the fixed part: all of them at once, nothing done per object. *)
-  let entry = ref 0 in
-  let whole piece =
+  (* The static statements placed whole, in order, and the last one's entry. *)
+  let placed = ref 0 and last = ref (-1) in
+  let static_piece i =
+    let st =
+      match static with
+      | Some st -> st
+      | None -> invalid_arg "Compile.compile: a static part without the static part"
+    in
+    let e = entry st i in
+    let i0 = st.firsts.(e) and j = st.firsts.(e) + st.counts.(e) in
     match fx with
-    | Some fx when not (List.is_empty piece) ->
-        while !entry < Array.length fx.firsts && fx.firsts.(!entry) < !next do
-          incr entry
-        done;
-        let e = !entry in
-        if e < Array.length fx.firsts && fx.firsts.(e) = !next && fx.lists.(e) == piece
-        then
-          let i = !next and j = !next + fx.counts.(e) in
-          let n = fx.faces.(j) - fx.faces.(i) in
-          if !count + n > D.max_objects then false
-          else (
-            add_run fx.start.(i) (prim_end fx j - fx.start.(i));
-            count := !count + n;
-            next := j;
-            incr entry;
-            true)
-        else false
-    | _ -> false
+    | Some fx when !count + fx.faces.(j) - fx.faces.(i0) <= D.max_objects ->
+        (* All its objects at once, nothing done per object. *)
+        add_static fx i0 j;
+        count := !count + fx.faces.(j) - fx.faces.(i0);
+        if e > !last && st.counts.(e) > 0 then incr placed;
+        last := e
+    | Some fx ->
+        for k = i0 to j - 1 do
+          add_static fx k (k + 1);
+          counted fx.objs.(k) (fx.faces.(k + 1) - fx.faces.(k))
+        done
+    | None ->
+        for k = i0 to j - 1 do
+          one st.objs.(k)
+        done
   in
   (try
      match parts with
      | None -> List.iter one objects
      | Some ps ->
-         List.iter (fun piece -> if not (whole piece) then List.iter one piece) ps
+         List.iter
+           (function D.Static i -> static_piece i | D.Built objs -> List.iter one objs)
+           ps
    with e ->
      let bt = Printexc.get_raw_backtrace () in
      pace overhead;
@@ -539,25 +549,27 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?fixe
     if index && !count > 10_000 then
       progress
         (Printf.sprintf "building the acceleration structure over %d objects" !count);
+    let whole (fx : static) =
+      !placed = Array.fold_left (fun n k -> if k > 0 then n + 1 else n) 0 fx.counts
+    in
     match
       match fx with
-      | Some fx when !next = Array.length fx.objs ->
-          (* Every object of the fixed part is here: its structure is reused. *)
-          Scene.make_layered ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
-            ~frame:d.frame ~lights:d.lights
-            ~fixed:(fixed_part fx (Scene.origin_of d.camera))
+      | Some fx when whole fx ->
+          (* Every static statement is here, whole: its structure is reused. *)
+          Scene.make_layered ~checked:true ~settings:d.settings ~camera:d.camera
+            ~time:d.time ~frame:d.frame ~lights:d.lights
+            ~fixed:(static_part fx (Scene.origin_of d.camera))
             (List.rev !pieces)
       | None ->
-          Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
-            ~frame:d.frame ~lights:d.lights (Dynarray.to_array flat)
-      | Some _ ->
-          Scene.make ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time ~frame:d.frame
-            ~lights:d.lights
+          Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera
+            ~time:d.time ~frame:d.frame ~lights:d.lights (Dynarray.to_array flat)
+      | Some fx ->
+          Scene.make ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
+            ~frame:d.frame ~lights:d.lights
             (List.concat_map
                (function
                  | Scene.Moving ps -> ps
-                 | Scene.Fixed (first, n) ->
-                     List.init n (fun m -> (Option.get fx).flat.(first + m)))
+                 | Scene.Fixed (first, n) -> List.init n (fun m -> fx.flat.(first + m)))
                (List.rev !pieces))
     with
     | Ok s -> Ok s
@@ -586,7 +598,7 @@ let check_files c uses =
               match solid_in with
               | None -> ()
               | Some (block, member) -> (
-                  match Mesh.open_edges_mesh m with
+                  match Obj_file.open_edges_mesh m with
                   | 0 -> ()
                   | n ->
                       report member

@@ -26,39 +26,41 @@ val digest : assets -> string -> string option
 (** [digest assets path] is the MD5 (hex) of the bytes of [path] that the cache decoded,
     when it keeps digests and has read that file. *)
 
-type fixed
-(** The primitives of objects that do not change between the frames of an animation, made
-    once, and the acceleration structure over them (for the last origin asked). *)
+type static
+(** A program's static part ({!Description.static}) compiled: the primitives of its
+    objects, made once, known by their statements' positions, and the acceleration
+    structure over them (for the last origin asked). *)
 
-val fixed : assets -> Description.obj list list -> fixed
-(** [fixed assets pieces]: the primitives of the objects of [pieces] (in order), as
-    {!compile} makes them. An object that does not compile leaves the fixed part unused
-    (each compile then makes and reports everything itself). *)
+val static : assets -> Description.static -> static
+(** [static assets st]: the primitives of the objects of [st] (whose positions increase),
+    as {!compile} makes them. An object that does not compile leaves the part unused:
+    each scene then makes and reports its objects itself. *)
 
 val compile :
   ?source:(string -> string option) ->
   ?progress:(string -> unit) ->
   ?index:bool ->
-  ?fixed:fixed ->
+  ?static:static ->
   ?objects:Description.obj list ->
-  ?parts:Description.obj list list ->
+  ?parts:Description.part list ->
   assets ->
   Description.t ->
   (Scene.t, Diagnostic.t list) result
 (** [compile assets d] is the scene [d] describes. [source file] is the text of [file],
     for an error's caret display. [progress] is told when a long build starts its
     acceleration structure ("building the acceleration structure over 1000000 objects").
-    With [fixed], the objects of [d] that are the fixed part's, physically and in its
-    order, are not made again; when all of them are there, the scene reuses their
-    acceleration structure ({!Scene.make_layered}): the same scene, made faster. With
-    [objects], those are compiled in place of [d]'s: a caller that keeps no other
+    With [objects], those are compiled in place of [d]'s: a caller that keeps no other
     reference to them (passing [d] without them) lets each go as it is compiled, so that a
     large scene is not held twice. With [parts], the objects are theirs, in order, in
-    place of [d]'s: a piece that is one of the fixed part's pieces itself, met where its
-    objects come next, is taken whole, with no work per object (a frame of an animation
-    then costs what its moving objects cost). With [~index:false] (default [true]) and no
-    [fixed], the scene has no acceleration structure to query it fast ({!Scene.of_moved}):
-    for [lancer check], which reads what the scene holds but traces no ray. *)
+    place of [d]'s, a [Static] part being the objects [static] has at that position
+    ([Invalid_argument] without [static], or for a position it does not have): each
+    [Static] part is taken whole, with no work per object, and when every statement of
+    [static] that has objects is there, the scene reuses the static part's acceleration
+    structure ({!Scene.make_layered}, its {!Accel.fixed_key} the positions of [static]):
+    the same scene, made faster (a frame of an animation then costs what its other
+    objects cost). With [~index:false] (default [true]), the scene has no acceleration
+    structure to query it fast ({!Scene.of_moved}): for [lancer check], which reads what
+    the scene holds but traces no ray. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order

@@ -203,7 +203,7 @@ let read_float c ty =
   match c.fmt with
   | Ascii ->
       let s, e = word c in
-      let f = Mesh.float_at c.text s e in
+      let f = Obj_file.float_at c.text s e in
       if Float.is_nan f then
         bad "%s: expected a number, got %S" (where c)
           (String.sub c.text s (min 16 (e - s)));
@@ -219,7 +219,7 @@ let read_int c ty =
   match c.fmt with
   | Ascii -> (
       let s, e = word c in
-      match Mesh.int_at c.text s e with
+      match Obj_file.int_at c.text s e with
       | Some n -> n
       | None ->
           bad "%s: expected an integer, got %S" (where c)

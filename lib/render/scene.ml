@@ -193,6 +193,7 @@ let make ?checked ?settings ?camera ?time ?frame ~lights objects =
 (* A part that does not change between frames *)
 
 type fixed = {
+  f_key : int array;
   f_origin : Vec3.t;
   f_prims : Primitive.t array;  (** moved by −[f_origin] *)
   f_accel : Accel.t;
@@ -205,12 +206,13 @@ type fixed = {
 
 let materials_valid prims = Result.is_ok (first_error prims)
 
-let fixed ~origin prims =
+let fixed ~key ~origin prims =
   let prims =
     if is_zero origin then Array.map Primitive.baked prims
     else Array.map (Primitive.translate (Vec3.neg origin)) prims
   in
   {
+    f_key = key;
     f_origin = origin;
     f_prims = prims;
     f_accel = Accel.build prims;
@@ -326,7 +328,8 @@ let make_layered ?(checked = false) ?(settings = Settings.default)
      layered like the others. *)
   let uses = either f.f_uses (uses_of moving) in
   let accel =
-    Accel.layered objects ~fixed:f.f_accel ~fixed_idx ~moving:(Accel.build moving)
+    Accel.layered objects ~key:f.f_key ~fixed:f.f_accel ~fixed_idx
+      ~moving:(Accel.build moving)
       ~moving_idx
   in
   let features = features_of settings camera lights uses accel in

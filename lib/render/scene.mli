@@ -82,9 +82,10 @@ type fixed
 (** Primitives that do not change between the frames of an animation, moved into the
     render coordinates of one origin, with their acceleration structure. *)
 
-val fixed : origin:Vec3.t -> Primitive.t array -> fixed
-(** [fixed ~origin prims] moves [prims] (in world coordinates) by −[origin] and builds
-    their structure. *)
+val fixed : key:int array -> origin:Vec3.t -> Primitive.t array -> fixed
+(** [fixed ~key ~origin prims] moves [prims] (in world coordinates) by −[origin] and
+    builds their structure. [key] names what they are: the scenes made with it have it as
+    their structure's {!Accel.fixed_key}. *)
 
 val fixed_origin : fixed -> Vec3.t
 

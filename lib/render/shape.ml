@@ -736,14 +736,6 @@ let inside_at s x y z =
 
 let inside s (p : Vec3.t) = inside_at s p.x p.y p.z
 
-let rec is_solid = function
-  | Sphere _ | Plane _ | Box _ | Torus _ -> true
-  | Mesh { solid; _ } -> solid
-  | Cone { caps; _ } -> caps
-  | Csg { members; _ } -> Array.for_all (fun (m : csg_member) -> is_solid m.shape) members
-  | Cylinder { caps; _ } -> caps
-  | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ -> false
-
 (* --- Roots ---------------------------------------------------------------------------- *)
 
 let composite what =

@@ -170,18 +170,14 @@ val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
 val csg : csg_op -> (t * Transform.t) list -> t
 (** [csg op members] combines solids, each placed by its transform; members of
     [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
-    solids ({!is_solid}); at least one member. *)
+    solids (as {!Description.is_solid} says, a mesh made by {!solid_mesh}); at least one
+    member. *)
 
 val csg_leaves : t -> csg_leaf array
 (** [csg_leaves s] is every simple surface of CSG tree [s], depth first (a mesh one leaf),
     placed in the outermost object's space: the leaves that [first_leaf] and the CSG
     crossings of {!Walk} number. Made anew at each call (the tree holds only their count);
     [[||]] for a shape that is not a [Csg]. *)
-
-val is_solid : t -> bool
-(** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a solid
-    mesh, a CSG whose members all have one, and the plane as the half-space n̂·P ≤ offset.
-*)
 
 val inside : t -> Vec3.t -> bool
 (** [inside s p] is whether [p] is inside [s], the boundary included; [false] for shapes
@@ -245,8 +241,8 @@ val mesh : Trimesh.t -> t
 (** The mesh whose faces are the triangles of an indexed mesh. *)
 
 val solid_mesh : Trimesh.t -> t
-(** {!mesh}, a solid: the caller has checked that it is closed ({!Mesh.open_edges_mesh} is
-    0), so that it may be a member of a CSG object. *)
+(** {!mesh}, a solid: the caller has checked that it is closed
+    ({!Obj_file.open_edges_mesh} is 0), so that it may be a member of a CSG object. *)
 
 val face : Trimesh.t -> int -> t
 (** [face m k] is triangle [k] of [m] as {!mesh_triangle} makes it of its corners, normals

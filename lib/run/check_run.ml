@@ -37,9 +37,9 @@ let one prog o ~json =
   let time, frame = Options.time_of o (Scene_file.source o prog) in
   (* Check reads the scene's objects, features and estimates, and traces no ray: no
      acceleration structure. Its summary needs one scene and not the description's
-     objects, which may go as they are compiled; the JSON lists them. *)
-  if not json then Program.single_scene prog;
-  match Program.scene_at ~index:false prog ~time ~frame with
+     objects, which may go as they are compiled (the program is loaded for one scene);
+     the JSON lists them. *)
+  match Program.scene ~index:false prog ~time ~frame with
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
   | Ok sc ->
       if json then print_endline (Yojson.Safe.pretty_to_string (Program.to_json prog sc))
@@ -53,7 +53,7 @@ let every prog spec =
   let fps, first, last = frames prog spec in
   let first_scene = ref None and failed = ref [] and first_errors = ref [] in
   for k = first to last do
-    match Program.scene_at ~index:false prog ~time:(Float.of_int k /. fps) ~frame:k with
+    match Program.scene ~index:false prog ~time:(Float.of_int k /. fps) ~frame:k with
     | Ok sc -> if Option.is_none !first_scene then first_scene := Some sc
     | Error errs ->
         if !failed = [] then first_errors := errs;
@@ -79,7 +79,7 @@ let every prog spec =
 
 let run ~scene ~json ~time ~frames =
   let o = { Options.default with scene = Some scene; time } in
-  let prog = Scene_file.load o.scene in
+  let prog = Scene_file.load ~single:(frames = None && not json) o.scene in
   match frames with
   | None -> one prog o ~json
   | Some _ when time <> None -> user "give either --time or --frames, not both"

@@ -42,8 +42,8 @@ let warn_truncated prog =
         Physics.max_events time)
     (Program.truncated_physics prog)
 
-let load_source ?progress ?digests (filename, text) =
-  match Program.load_string ?progress ?digests ~filename text with
+let load_source ?single ?progress ?digests (filename, text) =
+  match Program.load_string ?single ?progress ?digests ~filename text with
   | Ok p ->
       warn_truncated p;
       p
@@ -56,7 +56,8 @@ let load_bundle b =
   | Ok p -> p
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
 
-let load ?progress ?digests scene = load_source ?progress ?digests (read scene)
+let load ?single ?progress ?digests scene =
+  load_source ?single ?progress ?digests (read scene)
 let source (o : Options.t) prog = Program.source ~builtin:(o.scene = None) prog
 
 let default_output (o : Options.t) =

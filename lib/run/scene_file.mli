@@ -11,15 +11,25 @@ val read : string option -> string * string
     {!Job_error.User} for a missing or unreadable file. *)
 
 val load_source :
-  ?progress:(string -> unit) -> ?digests:bool -> string * string -> Program.t
+  ?single:bool ->
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  string * string ->
+  Program.t
 (** Parse and check a scene's text, with a warning on stderr when its physics stopped
     handling collisions; raises {!Job_error.Scene} with every located error. Includes are
-    found relative to the file name. [digests] is {!Program.load_string}'s. *)
+    found relative to the file name. [single] and [digests] are
+    {!Program.load_string}'s. *)
 
 val load_bundle : Program.bundle -> Program.t
 (** The program of a bundle ({!Program.load_bundle}); raises {!Job_error.Scene}. *)
 
-val load : ?progress:(string -> unit) -> ?digests:bool -> string option -> Program.t
+val load :
+  ?single:bool ->
+  ?progress:(string -> unit) ->
+  ?digests:bool ->
+  string option ->
+  Program.t
 (** [load_source (read scene)]. *)
 
 val source : Options.t -> Program.t -> Source.t

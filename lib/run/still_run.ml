@@ -26,9 +26,8 @@ let build ?digests (o : Options.t) =
         say
           (Printf.sprintf "reading and checking %s"
              (Option.value o.scene ~default:"the showcase"));
-        let prog = Scene_file.load ~progress:say ?digests o.scene in
         (* One scene of it: a still's description may go as it is compiled. *)
-        Program.single_scene prog;
+        let prog = Scene_file.load ~single:true ~progress:say ?digests o.scene in
         let src = Scene_file.source o prog in
         let time, frame = Options.time_of o src in
         say "evaluating the scene and building its acceleration structure";

@@ -21,7 +21,7 @@ val build : ?digests:bool -> Options.t -> built
 (** Load the scene ({!Scene_file.load}; [digests] as there, default [true]), evaluate it
     at the options' time with their overrides and compile it, saying what it does on the
     progress channel ({!Progress.build}). The program is loaded for this one scene
-    ({!Program.single_scene}), and the garbage of a large evaluation is given back before
+    ([~single:true]), and the garbage of a large evaluation is given back before
     the image is allocated when the heap would otherwise grow past its peak. *)
 
 val checkpoint : Options.t -> built -> out:string -> Checkpoint.t

@@ -1065,7 +1065,7 @@ let random_closed_mesh st =
       Printf.bprintf b "f %d %d %d\nf %d %d %d\n" a b' c a c d
     done
   done;
-  match Mesh.parse_mesh ~file:"random" (Buffer.contents b) with
+  match Obj_file.parse_mesh ~file:"random" (Buffer.contents b) with
   | Ok m -> m
   | Error e -> failwith e
 
@@ -1240,7 +1240,7 @@ let test_closed_mesh_linear =
       let m = random_closed_mesh st in
       if Float.Array.length (Trimesh.nodes m) = 0 then
         QCheck.Test.fail_report "the mesh has no hierarchy";
-      if Mesh.open_edges_mesh m <> 0 then QCheck.Test.fail_report "the mesh is open";
+      if Obj_file.open_edges_mesh m <> 0 then QCheck.Test.fail_report "the mesh is open";
       let s = mesh_solid st m 3 in
       for _ = 1 to 60 do
         let p =
@@ -1316,14 +1316,15 @@ let test_open_edges =
         List.init (Random.State.int st 30) (fun _ ->
             Shape.triangle ~a:(pick ()) ~b:(pick ()) ~c:(pick ()))
       in
-      let want = naive_open_edges tris and got = Mesh.open_edges tris in
+      let want = naive_open_edges tris and got = Obj_file.open_edges tris in
       (want = got || QCheck.Test.fail_reportf "open edges %d, by a sort %d" got want)
       &&
       let m = random_closed_mesh st in
       let faces =
         List.filteri (fun i _ -> i mod 7 <> 0 || Random.State.bool st) (Shape.faces m)
       in
-      (Mesh.open_edges_mesh m = 0 && Mesh.open_edges faces = naive_open_edges faces)
+      (Obj_file.open_edges_mesh m = 0
+      && Obj_file.open_edges faces = naive_open_edges faces)
       || QCheck.Test.fail_reportf "a torus with %d of %d faces" (List.length faces)
            (Trimesh.count m))
 
@@ -1398,7 +1399,7 @@ let test_walk_brute =
           ("tree", Accel.build prims);
           ("scan", Accel.build (Array.map Primitive.without_bounds prims));
           ( "two parts",
-            Accel.layered prims
+            Accel.layered prims ~key:[||]
               ~fixed:(Accel.build (sub fixed_idx))
               ~fixed_idx
               ~moving:(Accel.build (sub moving_idx))

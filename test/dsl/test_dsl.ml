@@ -781,6 +781,44 @@ let test_described_once () =
       Alcotest.(check int) "its frame" 24 d.frame
   | Error es -> Alcotest.failf "%s" (errors_text es)
 
+(* A program's static part is the objects of the statements no instant changes, by
+   position; an evaluation gives a static statement as its position, unless it starts
+   with another count of objects than at the load (it is then evaluated again). *)
+let test_static_parts () =
+  let p =
+    Program.language
+      (load
+         "settings { width: 4, height: 3 }
+          sphere { center: (0, 0, 0), radius: 1 }
+          sphere { center: (time, 0, 0), radius: 1 }
+          for i in 0 to floor(time * 3) { sphere { center: (i, 2, 0), radius: 0.5 } }
+          box { min: (0, 0, 0), max: (1, 1, 1) }
+")
+  in
+  let kinds objs = List.map (fun (o : D.obj) -> o.kind) objs in
+  Alcotest.(check (list (pair int (list string))))
+    "statements 1 and 4"
+    [ (1, [ "sphere" ]); (4, [ "box" ]) ]
+    (List.map (fun (i, objs) -> (i, kinds objs)) (Dsl.static p));
+  let parts time =
+    match Dsl.describe_parts p ~time ~frame:1 with
+    | Ok (d, ps) ->
+        Alcotest.(check int) "the description without objects" 0 (List.length d.objects);
+        List.map
+          (function D.Static i -> Printf.sprintf "static %d" i | D.Built objs ->
+             String.concat " " (kinds objs))
+          ps
+    | Error es -> Alcotest.failf "%s" (errors_text es)
+  in
+  Alcotest.(check (list string))
+    "the loop builds as many as at the load"
+    [ "static 1"; "sphere sphere"; "static 4" ]
+    (parts 0.1);
+  Alcotest.(check (list string))
+    "the loop builds one more: the box is evaluated again"
+    [ "static 1"; "sphere sphere sphere box" ]
+    (parts 0.5)
+
 (* The language names files and reads none: a scene whose image and mesh do not exist
    loads; the description holds the names as written and resolved, and where they were
    written; the renderer reports them there. *)
@@ -992,6 +1030,7 @@ let () =
           Alcotest.test_case
             "a still is evaluated once: at frame 0 the load's description" `Quick
             test_described_once;
+          Alcotest.test_case "the static part, by position" `Quick test_static_parts;
           Alcotest.test_case
             "the language names images and meshes and reads none; the renderer reports \
              them where they were named"

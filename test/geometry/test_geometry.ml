@@ -278,12 +278,12 @@ let sphere_obj ?(nlat = 12) ?(nlon = 16) () =
   Buffer.contents b
 
 let parse_ok ?smooth text =
-  match Mesh.parse ?smooth ~file:"t.obj" text with
+  match Obj_file.parse ?smooth ~file:"t.obj" text with
   | Ok l -> l
   | Error e -> Alcotest.failf "unexpected error: %s" e
 
 let parse_err text expected_prefix =
-  match Mesh.parse ~file:"t.obj" text with
+  match Obj_file.parse ~file:"t.obj" text with
   | Ok _ -> Alcotest.failf "expected an error starting %S" expected_prefix
   | Error e ->
       let n = String.length expected_prefix in
@@ -378,13 +378,13 @@ let mesh_tests =
         parse_err "\000\001\002binary" "t.obj:1:");
     case "a file without faces is an error" (fun () -> parse_err quad "t.obj:");
     case "a missing file is an error" (fun () ->
-        match Mesh.load "/nonexistent/x.obj" with
+        match Obj_file.load "/nonexistent/x.obj" with
         | Ok _ -> Alcotest.fail "expected an error"
         | Error _ -> ());
     case "a mesh file on disk loads" (fun () ->
         let path = Filename.temp_file "lancer" ".obj" in
         Out_channel.with_open_bin path (fun oc -> output_string oc (sphere_obj ()));
-        let r = Mesh.load path in
+        let r = Obj_file.load path in
         Sys.remove path;
         match r with
         | Ok l -> Alcotest.(check int) "triangles" (2 * 16 * 11) (List.length l)
@@ -519,7 +519,7 @@ let watertight_tiles =
 (* ---- indexed meshes ---- *)
 
 let mesh_ok ?smooth text =
-  match Mesh.parse_mesh ?smooth ~file:"t.obj" text with
+  match Obj_file.parse_mesh ?smooth ~file:"t.obj" text with
   | Ok m -> m
   | Error e -> Alcotest.failf "unexpected error: %s" e
 
@@ -1309,7 +1309,7 @@ let sphere_field_prop =
       let fixed_idx = part false and moving_idx = part true in
       let sub idx = Array.map (fun i -> prims.(i)) idx in
       let layered =
-        Accel.layered prims
+        Accel.layered prims ~key:[||]
           ~fixed:(Accel.build (sub fixed_idx))
           ~fixed_idx
           ~moving:(Accel.build (sub moving_idx))

@@ -71,7 +71,8 @@ let compiled_again p k =
       | Error _ -> Alcotest.fail "the frame does not compile again")
 
 (* The objects that do not move are compiled and indexed once for every frame, the first
-   one included: no frame builds a structure over them again. *)
+   one included: every frame is layered over the program's static part, known by the
+   positions of its statements (the plane and the loop: the fourth and fifth). *)
 let frames_share_the_fixed_part () =
   let text =
     {|settings { width: 16, height: 12 }
@@ -83,26 +84,20 @@ sphere { center: (-1 + time, 1, 0), radius: 0.5 }
 |}
   in
   let frame = frames_of text in
-  let fixed k =
-    match Lancer_render.Accel.fixed_part (frame k).accel with
-    | Some f -> f
-    | None -> Alcotest.failf "frame %d has no fixed part" k
-  in
-  let f0 = fixed 0 in
   List.iter
     (fun k ->
-      Alcotest.(check bool)
-        (Printf.sprintf "frame %d shares frame 0's structure" k)
-        true
-        (fixed k == f0))
-    [ 1; 3; 4 ];
+      Alcotest.(check (option (array int)))
+        (Printf.sprintf "frame %d is layered over statements 3 and 4" k)
+        (Some [| 3; 4 |])
+        (Lancer_render.Accel.fixed_key (frame k).accel))
+    [ 0; 1; 3; 4 ];
   (* A still has no such part. *)
   Alcotest.(check bool)
     "a still is indexed whole" true
-    (Option.is_none (Lancer_render.Accel.fixed_part (scene ()).accel))
+    (Option.is_none (Lancer_render.Accel.fixed_key (scene ()).accel))
 
 (* A frame evaluates, compiles and places only what moves: the objects of the statements
-   that do not are handed over as the lists they were first built as, and taken whole,
+   that do not are handed over as their positions in the static part, and taken whole,
    so that what a frame allocates does not grow with them (a word a fixed object for the
    frame's array of every primitive, where a copy of their list alone took three). *)
 let rec frames_cost_what_moves () =
@@ -181,12 +176,12 @@ sphere { center: (-2 + time * 10, 1.2, -0.5), radius: 0.7,
       Alcotest.(check bool)
         (Printf.sprintf "frame %d is layered" k)
         true
-        (Option.is_some (Lancer_render.Accel.fixed_part layered.accel));
+        (Option.is_some (Lancer_render.Accel.fixed_key layered.accel));
       let whole = compiled_again p k in
       Alcotest.(check bool)
         (Printf.sprintf "the still of instant %d is not" k)
         true
-        (Option.is_none (Lancer_render.Accel.fixed_part whole.accel));
+        (Option.is_none (Lancer_render.Accel.fixed_key whole.accel));
       let a, _ = Render.render layered and b, _ = Render.render whole in
       Alcotest.(check bool)
         (Printf.sprintf "frame %d: the still's framebuffer, bit for bit" k)
@@ -212,6 +207,54 @@ for i in 0 to 15 { sphere { center: (i / 10, 3, 1), radius: 0.05 } }
   let p = load_anim text in
   let frame = frames_of ~p text in
   List.iter (fun k -> same_as_again p k (frame k)) [ 0; 1; 3; 4; 2 ]
+
+(* The scenes of several instants of one frame (the samples of a shutter) are the scenes
+   of each instant, each layered over the one static part; a time at which the program
+   fails gives its error. *)
+let scenes_of_one_frame () =
+  let text =
+    {|animation { fps: 10, frames: 5 }
+settings { width: 6, height: 4 }
+light { position: (2, 4, -4) }
+for k in 0 to 12 { box { min: (k / 4, 0, 0), max: (k / 4 + 0.1, 0.1, 0.1) } }
+sphere { center: (time, 0.5, 0), radius: 0.25 }
+for k in 0 to 9 { sphere { center: (k / 5, 1, 2), radius: 0.08 } }
+sphere { center: (0, 1, 0), radius: 0.3 - time }
+|}
+  in
+  let p = load_anim text in
+  let times = [| 0.1; 0.125; 0.15; 0.175 |] in
+  (match Lancer.Program.scenes p ~times ~frame:1 with
+  | Error _ -> Alcotest.fail "the instants of frame 1 do not evaluate"
+  | Ok scs ->
+      Alcotest.(check int) "one scene an instant" (Array.length times) (Array.length scs);
+      Array.iteri
+        (fun i (sc : Lancer_render.Scene.t) ->
+          Alcotest.(check (float 0.)) "its time" times.(i) sc.time;
+          Alcotest.(check int) "its frame" 1 sc.frame;
+          Alcotest.(check (option (array int)))
+            "layered over the static statements" (Some [| 3; 5 |])
+            (Lancer_render.Accel.fixed_key sc.accel);
+          match Lancer.Program.scene p ~time:times.(i) ~frame:1 with
+          | Error _ -> Alcotest.fail "an instant does not evaluate alone"
+          | Ok alone ->
+              Alcotest.(check int)
+                "as many primitives as alone"
+                (Array.length alone.objects) (Array.length sc.objects);
+              Array.iteri
+                (fun j (o : Lancer_render.Primitive.t) ->
+                  if o.shape <> alone.objects.(j).shape then
+                    Alcotest.failf "instant %g: primitive %d differs" times.(i) j)
+                sc.objects)
+        scs);
+  match Lancer.Program.scenes p ~times:[| 0.1; 0.35; 0.2 |] ~frame:1 with
+  | Ok _ -> Alcotest.fail "a negative radius is accepted"
+  | Error (e :: _) ->
+      Alcotest.(check bool)
+        ("the failing instant is named: " ^ e.message)
+        true
+        (String.ends_with ~suffix:"(at frame 1, time 0.35 s)" e.message)
+  | Error [] -> Alcotest.fail "an error without a diagnostic"
 
 (* ---- Plan ---- *)
 
@@ -636,8 +679,8 @@ for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j 
 |}
     n
 
-let load text =
-  match Lancer.Program.load_string ~filename:"grid.rts" text with
+let load ?single text =
+  match Lancer.Program.load_string ?single ~filename:"grid.rts" text with
   | Ok p -> p
   | Error _ -> Alcotest.fail "the grid does not load"
 
@@ -648,8 +691,7 @@ let made = function Ok sc -> sc | Error _ -> Alcotest.fail "the grid does not co
    again. A program asked for several scenes keeps the load's description for them. *)
 let still_lets_objects_go () =
   let module Dsl = Lancer_dsl.Dsl in
-  let p = load (grid_text 40) in
-  Program.single_scene p;
+  let p = load ~single:true (grid_text 40) in
   let json_before =
     let q = load (grid_text 40) in
     let j =
@@ -906,6 +948,8 @@ let () =
             frames_share_pixels;
           Alcotest.test_case "glass frames are their stills, bit for bit" `Quick
             glass_frames_are_their_stills;
+          Alcotest.test_case "the scenes of several instants of one frame" `Quick
+            scenes_of_one_frame;
         ] );
       ( "work",
         [

@@ -218,7 +218,7 @@ let mutated_obj st = mutate st obj_alphabet seed_obj
 (* The loader's contract: Ok with finite, bounded triangles, or one "file:line: message"
    line. Anything else (an exception, an unlocated or multi-line message) is a failure. *)
 let check_obj text =
-  match Mesh.parse ~file:"fuzz.obj" text with
+  match Obj_file.parse ~file:"fuzz.obj" text with
   | exception e -> Error ("raised " ^ Printexc.to_string e)
   | Error m ->
       let located = String.length m > 9 && String.sub m 0 9 = "fuzz.obj:" in
@@ -263,7 +263,7 @@ let describe_faces = function
       Buffer.contents b
 
 let check_obj_lines text =
-  let parse t = try Mesh.parse ~file:"fuzz.obj" t with e -> Error (Printexc.to_string e) in
+  let parse t = try Obj_file.parse ~file:"fuzz.obj" t with e -> Error (Printexc.to_string e) in
   let direct = describe_faces (parse text)
   and by_words = describe_faces (parse (indented text)) in
   if String.equal direct by_words then Ok ()
@@ -429,7 +429,7 @@ let check_ply_formats (m : ply_mesh) =
   let describe_faces r = describe_faces (unplaced r) in
   let obj =
     describe_faces
-      (try Mesh.parse ~file:"fuzz.ply" (obj_of_ply m) with e -> Error (Printexc.to_string e))
+      (try Obj_file.parse ~file:"fuzz.ply" (obj_of_ply m) with e -> Error (Printexc.to_string e))
   in
   List.fold_left
     (fun acc fmt ->

@@ -12,7 +12,7 @@ val mutated_obj : Random.State.t -> string
 (** A valid OBJ file with random insertions, deletions and replacements. *)
 
 val check_obj : string -> (unit, string) result
-(** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Mesh.parse} raises,
+(** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Obj_file.parse} raises,
     answers a message without the file name or on several lines, or returns no triangle or
     one with non-finite bounds. *)
 

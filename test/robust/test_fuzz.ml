@@ -96,7 +96,7 @@ let image_props =
 (* ---- hand-made OBJ cases ---- *)
 
 let obj_error text fragment =
-  match Mesh.parse ~file:"m.obj" text with
+  match Obj_file.parse ~file:"m.obj" text with
   | Ok _ -> Alcotest.failf "expected an error containing %S" fragment
   | Error m ->
       if not (G.contains m fragment) then
@@ -117,13 +117,13 @@ let obj_cases =
           String.concat " "
             (List.init 1_000_000 (fun i -> if i mod 2 = 0 then "1" else "2"))
         in
-        match Mesh.parse ~file:"m.obj" (tri ^ "f 3 " ^ corners ^ "\n") with
+        match Obj_file.parse ~file:"m.obj" (tri ^ "f 3 " ^ corners ^ "\n") with
         | Ok ts -> Alcotest.(check bool) "some triangles" true (ts <> [])
         | Error m -> Alcotest.fail m);
     Alcotest.test_case "NUL bytes, a UTF-16 file and CRLF line ends" `Quick (fun () ->
         obj_error (tri ^ "f 1 2\0003\n") "not a text file";
         obj_error "\255\254v\000 \0001\000" "m.obj:1:";
-        match Mesh.parse ~file:"m.obj" "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n" with
+        match Obj_file.parse ~file:"m.obj" "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n" with
         | Ok [ _ ] -> ()
         | Ok _ -> Alcotest.fail "one triangle expected"
         | Error m -> Alcotest.fail m);
