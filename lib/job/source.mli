@@ -37,7 +37,11 @@ val scene :
   time:float ->
   frame:int ->
   Scene.t * string list
-(** [evaluate], then the overrides ({!Overrides.apply}). *)
+(** [evaluate], then the overrides ({!Overrides.apply}). When the scene's camera has an
+    open shutter ({!Camera.motion_blur}, after the overrides), also the scenes at its
+    instants ({!Camera.shutter_times}: [time] + s/fps, fps the animation's or 24 without
+    one), evaluated and overridden alike and given as the scene's {!Scene.moments}; the
+    files are those of them all. *)
 
 val reads : t -> (string * string) list
 (** The files a run of this scene reads, as (path, what it is): the scene file (not for

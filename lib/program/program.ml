@@ -239,8 +239,12 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
 (* ---------------------------------------------------------------------------------- *)
 (* Scenes *)
 
-(* The objects no frame changes, made once for the frames of an animation (a still is
-   made once anyway). *)
+(* Whether the program's camera has an open shutter (at time 0): a still is then made at
+   several instants ({!scenes}). *)
+let blurred p = Camera.motion_blur (Dsl.first p.dsl).camera
+
+(* The objects no frame changes, made once for the frames of an animation or the
+   instants of a blurred still (another still is made once anyway). *)
 let fixed p =
   let e = p in
   Mutex.protect e.fixed_lock (fun () ->
@@ -249,9 +253,9 @@ let fixed p =
       | None ->
           let f =
             match (Dsl.animation p.dsl, Dsl.fixed_pieces p.dsl) with
-            | None, _ -> None
-            | Some _, pieces when List.for_all List.is_empty pieces -> None
-            | Some _, pieces -> Some (Compile.fixed e.assets pieces)
+            | None, _ when not (blurred p) -> None
+            | _, pieces when List.for_all List.is_empty pieces -> None
+            | _, pieces -> Some (Compile.fixed e.assets pieces)
           in
           e.fixed <- Some f;
           f)
@@ -281,6 +285,7 @@ let single_scene p = p.single <- true
 let releasable ?body_state p ~share ~time ~frame =
   p.single && (not share) && body_state = None && Float.equal time 0. && frame = 0
   && Dsl.animation p.dsl = None
+  && (not (blurred p))
   && Dsl.bodies p.dsl = []
   && not (Dsl.released p.dsl)
 
@@ -317,6 +322,17 @@ let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
 let scene_at ?body_state ?progress ?cancel ?index p ~time ~frame =
   Result.map fst
     (scene_and_description ?body_state ?progress ?cancel ?index p ~time ~frame)
+
+(* In order, up to the first that fails. *)
+let scenes ?body_state ?progress ?cancel p ~times ~frame =
+  let rec go acc = function
+    | [] -> Ok (Array.of_list (List.rev acc))
+    | time :: rest -> (
+        match scene_with_files ?body_state ?progress ?cancel p ~time ~frame with
+        | Ok r -> go (r :: acc) rest
+        | Error es -> Error es)
+  in
+  go [] (Array.to_list times)
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)

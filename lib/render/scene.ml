@@ -10,6 +10,7 @@ type t = {
   origin : Vec3.t;
   view : Camera.t;
   view_lights : Light.t array;
+  moments : t array;
 }
 
 (* Rendering happens in coordinates centred near the camera: the world point [origin], the
@@ -163,6 +164,7 @@ let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel featur
     origin;
     view = view_camera origin camera;
     view_lights = view_lights origin lights;
+    moments = [||];
   }
 
 let mover camera =
@@ -364,5 +366,21 @@ let map_lights t f =
     view_lights = view_lights t.origin lights;
     features = features_of t.settings t.camera lights (uses_in t.features) t.accel;
   }
+
+let with_moments t moments =
+  if Camera.motion_blur t.camera then
+    if Array.length moments <> t.camera.shutter_samples then
+      Error
+        (Printf.sprintf "the shutter has %d samples, but %d scenes were given"
+           t.camera.shutter_samples (Array.length moments))
+    else if
+      Array.exists
+        (fun m ->
+          m.settings.width <> t.settings.width || m.settings.height <> t.settings.height)
+        moments
+    then Error "the scenes at the shutter's instants differ in image size"
+    else Ok { t with moments = Array.map (fun m -> { m with moments = [||] }) moments }
+  else if Array.length moments = 0 then Ok t
+  else Error "scenes at other instants were given for a closed shutter"
 
 let object_count t = Array.fold_left (fun n o -> n + Primitive.faces o) 0 t.objects

@@ -85,6 +85,7 @@ let sample (fl : Schema.field) =
   | Background -> "(0, 0, 0)"
   | Fog -> "fog((1, 1, 1), 5)"
   | Gamma -> "2.2"
+  | Interval -> "(0, 0.5)"
 
 let unknown_field (e : Error.t) = String.starts_with ~prefix:"unknown field" e.message
 
