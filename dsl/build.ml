@@ -196,7 +196,8 @@ let interval b i ~default =
     match value b i with
     | VPair (VNum x, VNum y) ->
         if not (Schema.in_range e.sch.range x && Schema.in_range e.sch.range y) then (
-          bad b at (Msg.out_of_range e.sch (if Schema.in_range e.sch.range x then y else x));
+          bad b at
+            (Msg.out_of_range e.sch (if Schema.in_range e.sch.range x then y else x));
           default)
         else if x > y then (
           bad b at (Msg.interval_order e.sch.name x y);

@@ -22,7 +22,8 @@ let default_shutter_samples = 8
 
 let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero)
     ?(up = Vec3.y_axis) ?(fov = 60.) ?(aperture = 0.) ?(focal_distance = 1.)
-    ?(lens_samples = 1) ?(shutter = (0., 0.)) ?(shutter_samples = default_shutter_samples) () =
+    ?(lens_samples = 1) ?(shutter = (0., 0.)) ?(shutter_samples = default_shutter_samples)
+    () =
   let f = Vec3.normalize (Vec3.sub look_at position) in
   let r = Vec3.normalize (Vec3.cross up f) in
   let u = Vec3.cross f r in
@@ -107,14 +108,12 @@ let validate c =
             (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
         else
           let o, cl = c.shutter in
-          if
-            not
-              (Float.abs o <= max_shutter && Float.abs cl <= max_shutter && cl >= o)
+          if not (Float.abs o <= max_shutter && Float.abs cl <= max_shutter && cl >= o)
           then
             Error
               (Printf.sprintf
-                 "camera shutter must be (open, close) with −%g ≤ open ≤ close ≤ %g frames \
-                  (got (%g, %g))"
+                 "camera shutter must be (open, close) with −%g ≤ open ≤ close ≤ %g \
+                  frames (got (%g, %g))"
                  max_shutter max_shutter o cl)
           else if c.shutter_samples < 1 || c.shutter_samples > max_shutter_samples then
             Error

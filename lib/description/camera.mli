@@ -41,8 +41,8 @@ type t = private {
       (** distance to the points in focus along each ray, > 0; default 1 *)
   lens_samples : int;  (** n: n×n lens points per sample, in 1–64; default 1 *)
   shutter : float * float;
-      (** (open, close), in frames from the frame's time, −1 ≤ open ≤ close ≤ 1;
-          default (0, 0): closed, no motion blur *)
+      (** (open, close), in frames from the frame's time, −1 ≤ open ≤ close ≤ 1; default
+          (0, 0): closed, no motion blur *)
   shutter_samples : int;
       (** how many distinct instants an open shutter is rendered at, in 1–64; default 8 *)
   f : Vec3.t;
