@@ -17,12 +17,9 @@ type t = {
 (* Frames per second of a time without an animation block, as [time_of] takes it. *)
 let still_fps = 24.
 
-let scene ?progress ?cancel t o ~time ~frame =
-  let sc, files = t.evaluate ~progress ~cancel ~time ~frame in
-  let sc = Overrides.apply o sc in
-  if not (Camera.motion_blur sc.camera) then (sc, files)
+let with_instants ?progress ?cancel t o (sc : Scene.t) ~time ~frame =
+  if not (Camera.motion_blur sc.camera) then (sc, [])
   else
-    (* An open shutter: the scenes at its instants, under the same overrides. *)
     let fps = match t.animation with Some (fps, _) -> fps | None -> still_fps in
     let moments =
       Array.map
@@ -32,10 +29,13 @@ let scene ?progress ?cancel t o ~time ~frame =
         (Camera.shutter_times sc.camera)
     in
     match Scene.with_moments sc (Array.map fst moments) with
-    | Ok sc ->
-        let files = List.concat (files :: Array.to_list (Array.map snd moments)) in
-        (sc, List.sort_uniq String.compare files)
+    | Ok sc -> (sc, List.concat (Array.to_list (Array.map snd moments)))
     | Error m -> Job_error.user "frame %d: %s" frame m
+
+let scene ?progress ?cancel t o ~time ~frame =
+  let sc, files = t.evaluate ~progress ~cancel ~time ~frame in
+  let sc, more = with_instants ?progress ?cancel t o (Overrides.apply o sc) ~time ~frame in
+  if more = [] then (sc, files) else (sc, List.sort_uniq String.compare (files @ more))
 
 let reads t =
   List.filter_map

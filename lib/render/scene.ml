@@ -358,14 +358,30 @@ let with_camera t camera =
       features = features_of t.settings camera t.lights (uses_in t.features) t.accel;
     }
 
-let map_lights t f =
+let rec map_lights t f =
   let lights = Array.map f t.lights in
   {
     t with
     lights;
     view_lights = view_lights t.origin lights;
     features = features_of t.settings t.camera lights (uses_in t.features) t.accel;
+    moments = Array.map (fun m -> map_lights m f) t.moments;
   }
+
+(* [change] on the scene and on each of its moments. *)
+let and_moments t change =
+  let* t' = change t in
+  let rec all acc k =
+    if k < 0 then Ok acc
+    else
+      let* m = change t.moments.(k) in
+      all (m :: acc) (k - 1)
+  in
+  let* ms = all [] (Array.length t.moments - 1) in
+  Ok { t' with moments = Array.of_list ms }
+
+let map_settings t f = and_moments t (fun s -> with_settings s (f s.settings))
+let map_camera t f = and_moments t (fun s -> with_camera s (f s.camera))
 
 let with_moments t moments =
   if Camera.motion_blur t.camera then

@@ -135,7 +135,16 @@ val with_camera : t -> Camera.t -> (t, string) result
 
 val map_lights : t -> (Light.t -> Light.t) -> t
 (** The same scene with each light replaced (quality presets change area-light samples),
-    features re-derived; its {!moments} are left as they are. *)
+    features re-derived; its {!moments}' lights too. *)
+
+val map_settings : t -> (Settings.t -> Settings.t) -> (t, string) result
+(** [map_settings sc f]: {!with_settings} of [f] of its settings, for the scene and each
+    of its {!moments} (whose settings may be their own, a background that changes with
+    time). *)
+
+val map_camera : t -> (Camera.t -> Camera.t) -> (t, string) result
+(** [map_camera sc f]: {!with_camera} of [f] of its camera, for the scene and each of its
+    {!moments}. *)
 
 val with_moments : t -> t array -> (t, string) result
 (** [with_moments sc ms] is [sc] rendered as the scenes [ms] at its camera's
