@@ -34,7 +34,9 @@ let with_instants ?progress ?cancel t o (sc : Scene.t) ~time ~frame =
 
 let scene ?progress ?cancel t o ~time ~frame =
   let sc, files = t.evaluate ~progress ~cancel ~time ~frame in
-  let sc, more = with_instants ?progress ?cancel t o (Overrides.apply o sc) ~time ~frame in
+  let sc, more =
+    with_instants ?progress ?cancel t o (Overrides.apply o sc) ~time ~frame
+  in
   if more = [] then (sc, files) else (sc, List.sort_uniq String.compare (files @ more))
 
 let reads t =

@@ -182,7 +182,9 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
        (* The scenes at n instants, each pixel's 4×4 samples spread over them. *)
        List.map
          (fun n ->
-           let sc = ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n)) in
+           let sc =
+             ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n))
+           in
            let sc, _ =
              Source.with_instants prog (Options.overrides o) sc ~time:0. ~frame:0
            in

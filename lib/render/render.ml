@@ -72,7 +72,7 @@ let[@inline] moment (sc : Scene.t) i j p q n =
   else
     let count = n * n in
     let h = Hash.combine (Hash.combine (Hash.mix sc.frame) i) j in
-    let turn = (Hash.combine h 4 land max_int) mod count in
+    let turn = Hash.combine h 4 land max_int mod count in
     let slot = ((n * ((p + q) mod n)) + p + turn) mod count in
     let u = Hash.to_unit (Hash.combine (Hash.combine h ((p * 4096) + q)) 5) in
     let k =
