@@ -159,7 +159,8 @@ val scenes :
   ((Scene.t * string list) array, Diagnostic.t list) result
 (** {!scene_with_files} at each of [times] (seconds, in order) of frame [frame]: the
     instants of a motion-blurred frame. What does not change with time is evaluated and
-    built once for them all, as for the frames of an animation. *)
+    built once for them all, as for the frames of an animation (and for a still whose
+    camera's shutter is open). *)
 
 (** {1 For [lancer check]} *)
 
