@@ -25,18 +25,7 @@ let in_dir shutter =
 
 let rows shutter =
   let d = in_dir shutter in
-  let st, out, err =
-    run
-      ~prefix:("XDG_CACHE_HOME=" ^ Filename.quote (Filename.concat d "cache"))
-      ~exe ~dir:d
-      [ "bench"; "quality"; "blur.rts"; "--domains"; "1"; "--json" ]
-  in
-  if st <> 0 then Alcotest.failf "bench quality failed (%d): %s" st err;
-  let open Yojson.Safe.Util in
-  Yojson.Safe.from_string out |> member "rows" |> to_list
-  |> List.filter (fun r -> r |> member "knob" |> to_string = "shutter samples")
-  |> List.map (fun r ->
-         (r |> member "value" |> to_string, r |> member "rmse" |> to_number))
+  quality_rows ~exe ~dir:d "blur.rts" "shutter samples"
 
 let tests =
   [
