@@ -188,6 +188,25 @@ let settings b =
         bad b b.site.kloc (Msg.invalid "settings" m);
         None
 
+(* A pair (a, b) of numbers in the field's range, a ≤ b; [default] where left out. *)
+let interval b i ~default =
+  if not (live b i) then default
+  else
+    let e = b.site.entries.(i) and at = b.site.vlocs.(i) in
+    match value b i with
+    | VPair (VNum x, VNum y) ->
+        if not (Schema.in_range e.sch.range x && Schema.in_range e.sch.range y) then (
+          bad b at
+            (Msg.out_of_range e.sch (if Schema.in_range e.sch.range x then y else x));
+          default)
+        else if x > y then (
+          bad b at (Msg.interval_order e.sch.name x y);
+          default)
+        else (x, y)
+    | v ->
+        bad b at (Msg.field_type e.sch (ty v));
+        default
+
 let camera_kinds = [ "perspective"; "orthographic"; "fisheye" ]
 
 let camera b =
@@ -260,6 +279,8 @@ let camera b =
   (* Without an aperture, the focal distance is the camera's own default (unused). *)
   let focal_distance = number b focal ~default:Camera.default.focal_distance in
   let lens_samples = integer b (s "lens_samples") in
+  let shutter = interval b (s "shutter") ~default:Camera.default.shutter in
+  let shutter_samples = integer b (s "shutter_samples") in
   if given b aperture_ && (not (given b focal)) && aperture > 0. then
     bad b site.kloc Msg.aperture_focal;
   if not (finish b) then None
@@ -288,7 +309,7 @@ let camera b =
       in
       let c =
         Camera.make ~kind ~position ~look_at ~up:up_v ~fov:fov_v ~aperture ~focal_distance
-          ~lens_samples ()
+          ~lens_samples ~shutter ~shutter_samples ()
       in
       match Camera.validate c with
       | Ok () -> Some c

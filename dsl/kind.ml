@@ -30,7 +30,8 @@ let placeholder (fl : Schema.field) =
   | Choice l -> VStr (match l with c :: _ -> c | [] -> "")
   | Vector | Colour -> VVec Vec3.zero
   | Direction -> VVec Vec3.y_axis
-  | Material | Base_material | Texture | Bump | Scale | Background | Fog | Gamma ->
+  | Material | Base_material | Texture | Bump | Scale | Background | Fog | Gamma
+  | Interval ->
       VPoison
 
 type entry = { sch : Schema.field; default : Value.t; required : bool }

@@ -91,6 +91,9 @@ let field_type (fl : Schema.field) (t : Ty.t) =
   | Fog -> must "fog(COLOR, DISTANCE)"
   | Gamma ->
       sp "`%s` must be \"srgb\" or a number in %s" fl.name (Schema.range_text fl.range)
+  | Interval -> must "a pair of numbers (a, b)"
+
+let interval_order name a b = sp "`%s` must be (a, b) with a ≤ b, got (%g, %g)" name a b
 
 (* ---- Names and calls ---- *)
 

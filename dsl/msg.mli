@@ -33,6 +33,9 @@ val dot_needs : string -> Ty.t -> string
 val loop_bound : string -> Ty.t -> string
 (** [loop_bound "start" t]: the start, end or step of a [for] loop is not a number. *)
 
+val interval_order : string -> float -> float -> string
+(** [interval_order name a b]: a pair field's first number above its second. *)
+
 val field_type : Schema.field -> Ty.t -> string
 (** A field given a value of a type it does not take:
     ["`radius` must be a number, got a vector"]. *)

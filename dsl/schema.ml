@@ -15,6 +15,7 @@ type ty =
   | Background
   | Fog
   | Gamma
+  | Interval
 
 type bound = Incl of float | Excl of float | Unbounded
 type range = Any | Real of bound * bound | Whole of int * int
@@ -255,6 +256,14 @@ let blocks =
         f "lens_samples" Integer
           ~range:(Whole (1, 64))
           ~default:(whole camera.lens_samples) "n: n×n rays through the lens per sample";
+        f "shutter" Interval
+          ~range:(Real (Incl (-.Camera.max_shutter), Incl Camera.max_shutter))
+          ~unit:"frames" ~default:(Absent "closed: no motion blur")
+          "(open, close): the part of each frame the image gathers, in frames";
+        f "shutter_samples" Integer
+          ~range:(Whole (1, Camera.max_shutter_samples))
+          ~default:(whole Camera.default_shutter_samples)
+          ~condition:(With "shutter") "how many instants of the shutter are rendered";
       ];
     top "point_light" ~keyword:"light" ~chosen_by:"position"
       "a point light (a spot light with `point_at`, an area light with `radius` and \
@@ -446,6 +455,7 @@ let type_text = function
   | Background -> "colour, or gradient(HORIZON, ZENITH)"
   | Fog -> "fog(COLOR, DISTANCE)"
   | Gamma -> "\"srgb\", or a number"
+  | Interval -> "pair (a, b) of numbers, a ≤ b,"
 
 let value_text (fl : field) =
   let r = range_text fl.range in

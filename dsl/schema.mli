@@ -26,6 +26,7 @@ type ty =
   | Background  (** a colour or [gradient(HORIZON, ZENITH)] *)
   | Fog  (** [fog(COLOR, DISTANCE)] *)
   | Gamma  (** ["srgb"] or a number (in the field's range) *)
+  | Interval  (** [(a, b)]: two numbers in the field's range, a ≤ b *)
 
 type bound = Incl of float | Excl of float | Unbounded
 

@@ -51,6 +51,7 @@ let accepts (ty : Schema.ty) t =
   | Scale, (Num | Vec)
   | Background, (Vec | Tex "gradient")
   | Fog, Tex "fog"
-  | Gamma, (Str | Num) ->
+  | Gamma, (Str | Num)
+  | Interval, Pair ((Num | Unknown), (Num | Unknown)) ->
       true
   | _ -> false

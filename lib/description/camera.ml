@@ -9,6 +9,8 @@ type t = {
   aperture : float;
   focal_distance : float;
   lens_samples : int;
+  shutter : float * float;
+  shutter_samples : int;
   f : Vec3.t;
   r : Vec3.t;
   u : Vec3.t;
@@ -16,9 +18,12 @@ type t = {
   pinhole : bool;
 }
 
+let default_shutter_samples = 8
+
 let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero)
     ?(up = Vec3.y_axis) ?(fov = 60.) ?(aperture = 0.) ?(focal_distance = 1.)
-    ?(lens_samples = 1) () =
+    ?(lens_samples = 1) ?(shutter = (0., 0.)) ?(shutter_samples = default_shutter_samples)
+    () =
   let f = Vec3.normalize (Vec3.sub look_at position) in
   let r = Vec3.normalize (Vec3.cross up f) in
   let u = Vec3.cross f r in
@@ -35,6 +40,8 @@ let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3
     aperture;
     focal_distance;
     lens_samples;
+    shutter;
+    shutter_samples;
     f;
     r;
     u;
@@ -44,6 +51,21 @@ let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3
 
 let default = make ()
 let with_lens_samples c n = { c with lens_samples = n }
+let with_shutter_samples c n = { c with shutter_samples = n }
+let max_shutter_samples = 64
+let max_shutter = 1.
+
+let motion_blur c =
+  let o, cl = c.shutter in
+  cl > o
+
+(* The middles of [shutter_samples] equal parts of the shutter. *)
+let shutter_times c =
+  let o, cl = c.shutter in
+  if not (cl > o) then [||]
+  else
+    let n = c.shutter_samples in
+    Array.init n (fun k -> o +. ((cl -. o) *. (Float.of_int k +. 0.5) /. Float.of_int n))
 
 let translate (d : Vec3.t) c =
   { c with position = Vec3.add c.position d; look_at = Vec3.add c.look_at d }
@@ -84,7 +106,20 @@ let validate c =
         else if c.lens_samples < 1 || c.lens_samples > 64 then
           Error
             (Printf.sprintf "camera lens_samples must be in 1–64 (got %d)" c.lens_samples)
-        else Ok ()
+        else
+          let o, cl = c.shutter in
+          if not (Float.abs o <= max_shutter && Float.abs cl <= max_shutter && cl >= o)
+          then
+            Error
+              (Printf.sprintf
+                 "camera shutter must be (open, close) with −%g ≤ open ≤ close ≤ %g \
+                  frames (got (%g, %g))"
+                 max_shutter max_shutter o cl)
+          else if c.shutter_samples < 1 || c.shutter_samples > max_shutter_samples then
+            Error
+              (Printf.sprintf "camera shutter_samples must be in 1–%d (got %d)"
+                 max_shutter_samples c.shutter_samples)
+          else Ok ()
 
 (* The ray through image point (x, y), into the probe: origin and unit direction, as
    scalars (the vector forms' operations, component by component). Inlined where it is

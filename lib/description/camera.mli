@@ -18,7 +18,11 @@
     Depth of field ([aperture] A > 0): each primary ray is replaced by
     [lens_samples]² rays from points of the disk of radius A around its origin, in the
     (r, u) plane, all aimed at the point at distance [focal_distance] along it
-    ({!lens_ray}); the renderer averages them. *)
+    ({!lens_ray}); the renderer averages them.
+
+    Motion blur ([shutter] (open, close) with close > open, in frames): the image of frame
+    f at [fps] is that of the instants (f + s)/fps for s in the shutter, taken at the
+    {!shutter_times}; each camera sample sees one of them (the renderer's choice). *)
 
 type kind =
   | Perspective
@@ -36,6 +40,11 @@ type t = private {
   focal_distance : float;
       (** distance to the points in focus along each ray, > 0; default 1 *)
   lens_samples : int;  (** n: n×n lens points per sample, in 1–64; default 1 *)
+  shutter : float * float;
+      (** (open, close), in frames from the frame's time, −1 ≤ open ≤ close ≤ 1; default
+          (0, 0): closed, no motion blur *)
+  shutter_samples : int;
+      (** how many distinct instants an open shutter is rendered at, in 1–64; default 8 *)
   f : Vec3.t;
   r : Vec3.t;
   u : Vec3.t;
@@ -52,10 +61,19 @@ val make :
   ?aperture:float ->
   ?focal_distance:float ->
   ?lens_samples:int ->
+  ?shutter:float * float ->
+  ?shutter_samples:int ->
   unit ->
   t
 (** Defaults: perspective, position (0,0,−5), look_at origin, up (0,1,0), fov 60, no depth
-    of field (aperture 0, focal distance 1, 1 lens sample). *)
+    of field (aperture 0, focal distance 1, 1 lens sample), the shutter closed ((0, 0),
+    {!default_shutter_samples} shutter samples when opened). *)
+
+val default_shutter_samples : int
+(** 8: the instants an open shutter is rendered at unless told. *)
+
+val max_shutter : float
+(** 1: the shutter's open and close are within ±1 frame. *)
 
 val default : t
 (** The camera of {!make} with every default: at (0, 0, −5) looking at the origin. *)
@@ -64,10 +82,25 @@ val validate : t -> (unit, string) result
 (** [Error] when look_at = position, up is parallel to the view direction, fov is outside
     (0, 180) (perspective) or (0, 360] (fisheye), an orthographic width is not a positive
     finite number, the aperture is negative or not finite, the focal distance is not
-    positive, or lens_samples is outside 1–64. *)
+    positive, lens_samples is outside 1–64, the shutter is not −1 ≤ open ≤ close ≤ 1 or
+    shutter_samples is outside 1–{!max_shutter_samples}. *)
 
 val with_lens_samples : t -> int -> t
 (** The same camera with another number of lens samples (a quality knob). *)
+
+val with_shutter_samples : t -> int -> t
+(** The same camera with another number of shutter samples (a quality knob). *)
+
+val max_shutter_samples : int
+(** 64: the most instants an open shutter is rendered at. *)
+
+val motion_blur : t -> bool
+(** Whether the shutter is open: close > open. *)
+
+val shutter_times : t -> float array
+(** The instants an open shutter is rendered at, in frames from the frame's time: the
+    middles open + (k + ½)·(close − open)/n of its n = [shutter_samples] equal parts, k =
+    0 … n − 1, in order; empty when the shutter is closed. *)
 
 val translate : Vec3.t -> t -> t
 (** [translate d c] is [c] moved by [d]: the same directions (f, r, u) and lens, from

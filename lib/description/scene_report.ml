@@ -69,13 +69,18 @@ let summary ~empty (d : D.t) (r : D.rendered) =
     (if s.jitter then "on" else "off")
     adaptive s.depth;
   (let c = d.camera in
-   line "camera: %s%s%s" (Camera.kind_name c.kind)
+   line "camera: %s%s%s%s" (Camera.kind_name c.kind)
      (match c.kind with
      | Camera.Orthographic { width } -> Printf.sprintf ", %g wide" width
      | Perspective | Fisheye -> Printf.sprintf ", fov %g°" c.fov)
      (if Camera.depth_of_field c then
         Printf.sprintf ", depth of field (aperture %g, focused at %g, %d×%d lens samples)"
           c.aperture c.focal_distance c.lens_samples c.lens_samples
+      else "")
+     (if Camera.motion_blur c then
+        let o, cl = c.shutter in
+        Printf.sprintf ", motion blur (shutter %g to %g frames, %d instants)" o cl
+          c.shutter_samples
       else ""));
   (match d.animation with
   | Some (fps, n) ->
@@ -358,7 +363,14 @@ let json ?state (d : D.t) (r : D.rendered) =
               ("aperture", `Float c.aperture);
               ("focal_distance", `Float c.focal_distance);
               ("lens_samples", `Int c.lens_samples);
-            ]) );
+            ]
+          @
+          if Camera.motion_blur c then
+            [
+              ("shutter", `List [ `Float (fst c.shutter); `Float (snd c.shutter) ]);
+              ("shutter_samples", `Int c.shutter_samples);
+            ]
+          else []) );
       ( "animation",
         match d.animation with
         | Some (fps, n) -> `Assoc [ ("fps", `Float fps); ("frames", `Int n) ]

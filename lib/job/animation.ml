@@ -148,9 +148,11 @@ let write_frame p k sc fb =
 let window (sc : Scene.t) = max 2 (min 24 (8_000_000 / max 1 (Array.length sc.objects)))
 
 (* Whether a frame's pixels may be shared with other frames': none of its pixels is drawn
-   at random by frame (jitter, a lens), and what its moving part holds is bounded. *)
+   at random by frame (jitter, a lens, the instants of an open shutter), and what its
+   moving part holds is bounded. *)
 let reusable (sc : Scene.t) =
-  (not sc.settings.jitter)
+  Array.length sc.moments = 0
+  && (not sc.settings.jitter)
   && (not (Camera.depth_of_field sc.view))
   && Option.is_some (Accel.moving_bounds [ sc.accel ])
 

@@ -19,6 +19,15 @@ let apply q (sc : Scene.t) =
     | Reference ->
         ({ s with samples = 8; adaptive = 0.; depth = max s.depth 16 }, fun n -> max n 8)
   in
-  Result.map
-    (fun sc -> Scene.map_lights sc (light_samples lf))
-    (Scene.with_settings sc settings)
+  let shutter_samples =
+    match q with Draft -> 1 | Preview -> 4 | Final -> 8 | Reference -> 32
+  in
+  let c = sc.camera in
+  let ( let* ) = Result.bind in
+  let* sc = Scene.with_settings sc settings in
+  let* sc =
+    if Camera.motion_blur c && c.shutter_samples <> shutter_samples then
+      Scene.with_camera sc (Camera.with_shutter_samples c shutter_samples)
+    else Ok sc
+  in
+  Ok (Scene.map_lights sc (light_samples lf))

@@ -1,9 +1,13 @@
 (** The [--quality] presets: named points on the speed/accuracy trade.
 
-    | preset | samples | adaptive | depth | area-light samples |
-    |-----------|---------|----------|----------|--------------------| | draft | 1 | off |
-    ≤ 3 | 1 (hard shadows) | | preview | 1 | off | scene | ≤ 3 | | final | 4 | 0.02 | ≥ 8
-    | scene | | reference | 8 | off | ≥ 16 | ≥ 8 |
+    - draft: 1 sample, adaptive off, depth ≤ 3, area lights 1 sample (hard shadows), an
+      open shutter 1 instant;
+    - preview: 1 sample, adaptive off, the scene's depth, area lights ≤ 3, shutter 4
+      instants;
+    - final: 4 samples, adaptive 0.02, depth ≥ 8, the scene's area lights, shutter 8
+      instants;
+    - reference: 8 samples, adaptive off, depth ≥ 16, area lights ≥ 8, shutter 32
+      instants.
 
     Explicit [--samples] and [--depth] override a preset. *)
 
@@ -16,4 +20,5 @@ val to_string : t -> string
 (** The preset's name, as [--quality] takes it. *)
 
 val apply : t -> Scene.t -> (Scene.t, string) result
-(** The scene with the preset's settings and area-light samples. *)
+(** The scene with the preset's settings, area-light samples and shutter samples (for an
+    open shutter). *)

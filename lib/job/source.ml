@@ -14,9 +14,30 @@ type t = {
   input_digest : string -> string;
 }
 
+(* Frames per second of a time without an animation block, as [time_of] takes it. *)
+let still_fps = 24.
+
+let with_instants ?progress ?cancel t o (sc : Scene.t) ~time ~frame =
+  if not (Camera.motion_blur sc.camera) then (sc, [])
+  else
+    let fps = match t.animation with Some (fps, _) -> fps | None -> still_fps in
+    let moments =
+      Array.map
+        (fun s ->
+          let m, fs = t.evaluate ~progress ~cancel ~time:(time +. (s /. fps)) ~frame in
+          (Overrides.apply o m, fs))
+        (Camera.shutter_times sc.camera)
+    in
+    match Scene.with_moments sc (Array.map fst moments) with
+    | Ok sc -> (sc, List.concat (Array.to_list (Array.map snd moments)))
+    | Error m -> Job_error.user "frame %d: %s" frame m
+
 let scene ?progress ?cancel t o ~time ~frame =
   let sc, files = t.evaluate ~progress ~cancel ~time ~frame in
-  (Overrides.apply o sc, files)
+  let sc, more =
+    with_instants ?progress ?cancel t o (Overrides.apply o sc) ~time ~frame
+  in
+  if more = [] then (sc, files) else (sc, List.sort_uniq String.compare (files @ more))
 
 let reads t =
   List.filter_map
@@ -40,7 +61,7 @@ let time_of t ~time ~frame =
       (* Beyond this the frame number (time × fps, fps ≤ 1000) would not fit an integer. *)
       if Float.abs tm > max_time then
         user "--time must be within ±1e9 seconds (got %g)" tm;
-      let fps = match t.animation with Some (fps, _) -> fps | None -> 24. in
+      let fps = match t.animation with Some (fps, _) -> fps | None -> still_fps in
       (tm, int_of_float (Float.floor ((tm *. fps) +. 1e-9)))
   | None, Some k -> (
       if k < 0 then user "--frame must be at least 0 (got %d)" k;

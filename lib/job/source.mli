@@ -37,7 +37,24 @@ val scene :
   time:float ->
   frame:int ->
   Scene.t * string list
-(** [evaluate], then the overrides ({!Overrides.apply}). *)
+(** [evaluate], then the overrides ({!Overrides.apply}). When the scene's camera has an
+    open shutter ({!Camera.motion_blur}, after the overrides), also the scenes at its
+    instants ({!Camera.shutter_times}: [time] + s/fps, fps the animation's or 24 without
+    one), evaluated and overridden alike and given as the scene's {!Scene.moments}; the
+    files are those of them all. *)
+
+val with_instants :
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  t ->
+  Overrides.t ->
+  Scene.t ->
+  time:float ->
+  frame:int ->
+  Scene.t * string list
+(** [with_instants t o sc ~time ~frame]: [sc] (the scene at [time] and [frame], the
+    overrides applied) with the scenes at its open shutter's instants, as {!scene} makes
+    them, and the files they read; [sc] and no file for a closed shutter. *)
 
 val reads : t -> (string * string) list
 (** The files a run of this scene reads, as (path, what it is): the scene file (not for

@@ -55,7 +55,7 @@ let reference (o : Options.t) prog ~pool ~fresh =
   | Ok img -> (img, true)
   | Error _ ->
       let sc =
-        match Scene.with_settings base { s with samples = 16; depth = 64 } with
+        match Scene.map_settings base (fun s -> { s with samples = 16; depth = 64 }) with
         | Ok sc -> sc
         | Error m -> raise (Job_error.User m)
       in
@@ -126,11 +126,9 @@ let write_rows path ~measured_at rows =
     (Image.write_atomic path (fun oc -> output_string oc (Yojson.Safe.pretty_to_string j)))
 
 let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
-  let base =
-    Options.scene_at
-      { o with quality = None; width = Some w; height = Some h }
-      prog ~time:0. ~frame:0
-  in
+  let o = { o with quality = None; width = Some w; height = Some h } in
+  let base = Options.scene_at o prog ~time:0. ~frame:0 in
+  let ok = function Ok sc -> sc | Error m -> raise (Job_error.User m) in
   let run knob value sc =
     let t, fb, st = Timing.render ?pool sc in
     let img = (fb.Image.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
@@ -147,11 +145,8 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
         }
     | Error m -> raise (Job_error.User m)
   in
-  let with_s f =
-    match Scene.with_settings base (f base.settings) with
-    | Ok sc -> sc
-    | Error m -> raise (Job_error.User m)
-  in
+  (* A change of settings reaches the scenes at an open shutter's instants too. *)
+  let with_s f = ok (Scene.map_settings base f) in
   List.map
     (fun n ->
       run "samples" (Printf.sprintf "%d×%d" n n)
@@ -180,21 +175,30 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
        List.map
          (fun n ->
            run "lens samples" (Printf.sprintf "%d×%d" n n)
-             (match
-                Scene.with_camera
-                  (with_s (fun s -> s))
-                  (Camera.with_lens_samples base.camera n)
-              with
-             | Ok sc -> sc
-             | Error m -> raise (Job_error.User m)))
+             (ok (Scene.map_camera base (fun c -> Camera.with_lens_samples c n))))
          [ 1; 2; 4; 8 ]
+     else [])
+  @ (if Camera.motion_blur base.camera then
+       (* The scenes at n instants, each pixel's 4×4 samples spread over them. *)
+       List.map
+         (fun n ->
+           let sc =
+             ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n))
+           in
+           let sc, _ =
+             Source.with_instants prog (Options.overrides o) sc ~time:0. ~frame:0
+           in
+           run "shutter samples" (string_of_int n)
+             (ok (Scene.map_settings sc (fun s -> { s with samples = 4; adaptive = 0. }))))
+         [ 1; 2; 4; 8; 16 ]
      else [])
   @ List.map
       (fun (name, q) ->
+        (* A preset's shutter samples make its instants: the scene is made again. *)
         run "preset" name
-          (match Quality.apply q base with
-          | Ok sc -> sc
-          | Error m -> raise (Job_error.User m)))
+          (if Camera.motion_blur base.camera then
+             Options.scene_at { o with quality = Some q } prog ~time:0. ~frame:0
+           else ok (Quality.apply q base)))
       Quality.all
 
 let run (o : Options.t) ~json ~svg ~fresh =

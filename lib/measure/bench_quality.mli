@@ -1,7 +1,7 @@
 (** [lancer bench quality]: the scene rendered across each quality knob (samples, adaptive
-    threshold, depth, soft-shadow and lens samples, the presets), each with its wall time,
-    rays and error against a reference render (RMSE, PSNR, share of pixels off by more
-    than 1/255). The reference image and the measured rows are cached under
+    threshold, depth, soft-shadow, lens and shutter samples, the presets), each with its
+    wall time, rays and error against a reference render (RMSE, PSNR, share of pixels off
+    by more than 1/255). The reference image and the measured rows are cached under
     [$XDG_CACHE_HOME/lancer] (or [~/.cache/lancer]), keyed by the scene text, the size and
     options, the build of the running executable and the host. *)
 

@@ -168,15 +168,18 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
       let coarse_q =
         match o.quality with Some Quality.Draft -> Quality.Draft | _ -> Quality.Preview
       in
-      (* The scene is evaluated once; each pass's options apply over it. *)
+      (* The scene is evaluated once; each pass's options apply over it (and an open
+         shutter's instants are made for each, as many as its options say). *)
       let evaluated =
         let src = Scene_file.source o p in
         try
           let sc, _ = src.evaluate ~progress:None ~cancel:None ~time ~frame in
           let coarse = { o with quality = Some coarse_q; samples = None } in
-          Ok
-            ( Overrides.apply (Options.overrides o) sc,
-              Overrides.apply (Options.overrides coarse) sc )
+          let pass o =
+            let ov = Options.overrides o in
+            fst (Source.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
+          in
+          Ok (pass o, pass coarse)
         with (Job_error.User _ | Job_error.Scene _) as e ->
           Error (describe show_error e)
       in

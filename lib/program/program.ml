@@ -60,6 +60,10 @@ type t = {
       (** the MD5 of input files this run has not decoded, as they were when asked *)
 }
 
+(* Whether the program's camera has an open shutter (at time 0): a still is then made at
+   several instants ({!scenes}), which share its static part as an animation's frames do. *)
+let blurred_dsl dsl = Camera.motion_blur (Dsl.first dsl).camera
+
 let of_dsl ~single assets dsl =
   {
     dsl;
@@ -68,9 +72,9 @@ let of_dsl ~single assets dsl =
     static =
       lazy
         (match (Dsl.animation dsl, Dsl.static dsl) with
-        | None, _ -> None
-        | Some _, st when List.for_all (fun (_, objs) -> List.is_empty objs) st -> None
-        | Some _, st -> Some (Compile.static assets st));
+        | None, _ when not (blurred_dsl dsl) -> None
+        | _, st when List.for_all (fun (_, objs) -> List.is_empty objs) st -> None
+        | _, st -> Some (Compile.static assets st));
     motion = lazy (simulation dsl ~until:(duration dsl));
     lock = Mutex.create ();
     on_disk = Hashtbl.create 4;
@@ -238,6 +242,8 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
 (* The static part compiled, made by the first scene that asks. *)
 let static p = Mutex.protect p.lock (fun () -> Lazy.force p.static)
 
+let blurred p = blurred_dsl p.dsl
+
 let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
   Result.map_error
     (Dsl.located p.dsl ~time:d.time ~frame:d.frame)
@@ -259,6 +265,7 @@ let scene_and_description ?body_state ?progress ?cancel ?(index = true) p ~time 
     if
       p.single && body_state = None && Float.equal time 0. && frame = 0
       && Dsl.animation p.dsl = None
+      && (not (blurred p))
       && Dsl.bodies p.dsl = []
     then Dsl.release p.dsl
     else None
@@ -308,6 +315,17 @@ let scene_with_files ?body_state ?progress ?cancel p ~time ~frame =
       let files = List.sort_uniq compare (List.map (Dsl.scene_relative p.dsl) d.files) in
       (sc, files))
     (scene_and_description ?body_state ?progress ?cancel p ~time ~frame)
+
+(* {!scene_with_files} at each of [times], in order, up to the first that fails. *)
+let scenes_with_files ?body_state ?progress ?cancel p ~times ~frame =
+  let rec go acc = function
+    | [] -> Ok (Array.of_list (List.rev acc))
+    | time :: rest -> (
+        match scene_with_files ?body_state ?progress ?cancel p ~time ~frame with
+        | Ok r -> go (r :: acc) rest
+        | Error es -> Error es)
+  in
+  go [] (Array.to_list times)
 
 (* ---------------------------------------------------------------------------------- *)
 (* lancer check *)

@@ -172,6 +172,19 @@ val scene_with_files :
     main file's directory. Their digests ({!input_digest}) are left to the callers
     that record them: a still without a checkpoint never reads a mesh twice. *)
 
+val scenes_with_files :
+  ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
+  ?progress:(string -> unit) ->
+  ?cancel:Cancel.t ->
+  t ->
+  times:float array ->
+  frame:int ->
+  ((Scene.t * string list) array, Diagnostic.t list) result
+(** {!scene_with_files} at each of [times] (seconds, in order) of frame [frame]: the
+    instants of a motion-blurred frame, as {!scenes}. What does not change with time is evaluated and
+    built once for them all, as for the frames of an animation (and for a still whose
+    camera's shutter is open). *)
+
 (** {1 For [lancer check]} *)
 
 val summary  : t -> Scene.t -> string

@@ -58,9 +58,32 @@ let camera_sample (sc : Scene.t) (st : Stats.t) scr i j =
     f.g <- k *. !ag;
     f.b <- k *. !ab
 
-(* One sample at image point (x, y), its colour into the fragment. Inlined, so that x
-   and y are not boxed on the way to the camera. *)
-let[@inline] sample (sc : Scene.t) (st : Stats.t) scr i j x y =
+(* The scene that sample (p, q) of the n×n grid of pixel (i, j) sees: the scene itself,
+   or with an open shutter one of its m moments (the scenes at the shutter's instants).
+   The grid's samples take the n² slots of the shutter, in m equal strata, as a Latin
+   square does: slot n·((p + q) mod n) + p, so that every row and every column of the
+   grid spans the shutter; the slots are turned by a hash of (frame, pixel), and each
+   sample lies inside its slot by a hash of (frame, pixel, sample), as the other samples
+   are drawn, so that the image does not depend on which domain renders which tile. *)
+let[@inline] moment (sc : Scene.t) i j p q n =
+  let ms = sc.moments in
+  let m = Array.length ms in
+  if m = 0 then sc
+  else
+    let count = n * n in
+    let h = Hash.combine (Hash.combine (Hash.mix sc.frame) i) j in
+    let turn = Hash.combine h 4 land max_int mod count in
+    let slot = ((n * ((p + q) mod n)) + p + turn) mod count in
+    let u = Hash.to_unit (Hash.combine (Hash.combine h ((p * 4096) + q)) 5) in
+    let k =
+      Float.to_int ((Float.of_int slot +. u) *. Float.of_int m /. Float.of_int count)
+    in
+    Array.unsafe_get ms (if k < m then k else m - 1)
+
+(* One sample at image point (x, y), sample (p, q) of the pixel's n×n grid, its colour
+   into the fragment. Inlined, so that x and y are not boxed on the way to the camera. *)
+let[@inline] sample (sc : Scene.t) (st : Stats.t) scr i j p q n x y =
+  let sc = moment sc i j p q n in
   let s = sc.settings in
   if Camera.pinhole_perspective sc.view then (
     st.primary <- st.primary + 1;
@@ -99,7 +122,7 @@ let grid sc st scr i j n =
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      sample sc st scr i j x y;
+      sample sc st scr i j p q n x y;
       ar := !ar +. f.r;
       ag := !ag +. f.g;
       ab := !ab +. f.b
@@ -166,7 +189,7 @@ let pixel_into (sc : Scene.t) st scr i j =
       for p = 0 to 1 do
         let x = Float.of_int i +. sub_offset sc 2 i j p q 0 in
         let y = Float.of_int j +. sub_offset sc 2 i j q p 1 in
-        sample sc st scr i j x y;
+        sample sc st scr i j p q 2 x y;
         let k = 3 * ((2 * q) + p) in
         Float.Array.unsafe_set c k f.r;
         Float.Array.unsafe_set c (k + 1) f.g;
@@ -180,7 +203,7 @@ let pixel_into (sc : Scene.t) st scr i j =
       f.g <- 0.25 *. sum4 c 1;
       f.b <- 0.25 *. sum4 c 2))
   else if s.samples = 1 then
-    sample sc st scr i j
+    sample sc st scr i j 0 0 1
       (Float.of_int i +. sub_offset sc 1 i j 0 0 0)
       (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
   else grid sc st scr i j s.samples
@@ -202,10 +225,11 @@ let coverage (sc : Scene.t) i j =
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
       let y = Float.of_int j +. sub_offset sc n i j q p 1 in
-      Probe.of_ray r (Camera.ray sc.view ~width:s.width ~height:s.height x y);
+      let at = moment sc i j p q n in
+      Probe.of_ray r (Camera.ray at.view ~width:s.width ~height:s.height x y);
       r.p_tmin <- 0.;
       r.p_tmax <- Float.infinity;
-      if Accel.any ax sc.accel r ~opaque:false ~slot:(-1) then incr hits
+      if Accel.any ax at.accel r ~opaque:false ~slot:(-1) then incr hits
     done
   done;
   Float.of_int !hits /. Float.of_int (n * n)

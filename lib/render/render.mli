@@ -8,7 +8,10 @@
     hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2
     grid and refines to max(n, 4)×max(n, 4) only where those four samples differ by more
     than θ in some channel. Samples that are NaN or infinite are counted and replaced by
-    the background. *)
+    the background. A scene with {!Scene.moments} (an open shutter) is motion-blurred:
+    each sample of an n×n grid sees one of them, the grid's n² samples spread evenly over
+    the shutter (every row and column of the grid spans it) and placed by a hash of
+    (frame, pixel, sample). *)
 
 val tile_size : int
 (** The side of a square tile in pixels (32); the last row and column of tiles may be

@@ -10,6 +10,7 @@ type t = {
   origin : Vec3.t;
   view : Camera.t;
   view_lights : Light.t array;
+  moments : t array;
 }
 
 (* Rendering happens in coordinates centred near the camera: the world point [origin], the
@@ -163,6 +164,7 @@ let assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel featur
     origin;
     view = view_camera origin camera;
     view_lights = view_lights origin lights;
+    moments = [||];
   }
 
 let mover camera =
@@ -359,13 +361,45 @@ let with_camera t camera =
       features = features_of t.settings camera t.lights (uses_in t.features) t.accel;
     }
 
-let map_lights t f =
+let rec map_lights t f =
   let lights = Array.map f t.lights in
   {
     t with
     lights;
     view_lights = view_lights t.origin lights;
     features = features_of t.settings t.camera lights (uses_in t.features) t.accel;
+    moments = Array.map (fun m -> map_lights m f) t.moments;
   }
+
+(* [change] on the scene and on each of its moments. *)
+let and_moments t change =
+  let* t' = change t in
+  let rec all acc k =
+    if k < 0 then Ok acc
+    else
+      let* m = change t.moments.(k) in
+      all (m :: acc) (k - 1)
+  in
+  let* ms = all [] (Array.length t.moments - 1) in
+  Ok { t' with moments = Array.of_list ms }
+
+let map_settings t f = and_moments t (fun s -> with_settings s (f s.settings))
+let map_camera t f = and_moments t (fun s -> with_camera s (f s.camera))
+
+let with_moments t moments =
+  if Camera.motion_blur t.camera then
+    if Array.length moments <> t.camera.shutter_samples then
+      Error
+        (Printf.sprintf "the shutter has %d samples, but %d scenes were given"
+           t.camera.shutter_samples (Array.length moments))
+    else if
+      Array.exists
+        (fun m ->
+          m.settings.width <> t.settings.width || m.settings.height <> t.settings.height)
+        moments
+    then Error "the scenes at the shutter's instants differ in image size"
+    else Ok { t with moments = Array.map (fun m -> { m with moments = [||] }) moments }
+  else if Array.length moments = 0 then Ok t
+  else Error "scenes at other instants were given for a closed shutter"
 
 let object_count t = Array.fold_left (fun n o -> n + Primitive.faces o) 0 t.objects

@@ -19,6 +19,10 @@ type t = private {
           world's origin) *)
   view : Camera.t;  (** [camera] in render coordinates *)
   view_lights : Light.t array;  (** [lights] in render coordinates *)
+  moments : t array;
+      (** with the camera's shutter open ({!Camera.motion_blur}): the scenes at its
+          {!Camera.shutter_times}, in order, which the renderer's samples see instead of
+          this one (each with no moments of its own); empty otherwise *)
 }
 (** [camera] and [lights] are as the scene gave them; the renderer traces in coordinates
     centred near the camera ([view], [view_lights], [objects]), so that a scene far from
@@ -123,14 +127,30 @@ val make_exn :
     scenes). *)
 
 val with_settings : t -> Settings.t -> (t, string) result
-(** The same scene with other settings (command-line overrides), features re-derived. *)
+(** The same scene with other settings (command-line overrides), features re-derived; its
+    {!moments} are left as they are (each is a scene to change in its own right). *)
 
 val with_camera : t -> Camera.t -> (t, string) result
-(** The same scene seen through another camera (quality knobs), features re-derived. *)
+(** The same scene seen through another camera (quality knobs), features re-derived; its
+    {!moments} are left as they are. *)
 
 val map_lights : t -> (Light.t -> Light.t) -> t
 (** The same scene with each light replaced (quality presets change area-light samples),
-    features re-derived. *)
+    features re-derived; its {!moments}' lights too. *)
+
+val map_settings : t -> (Settings.t -> Settings.t) -> (t, string) result
+(** [map_settings sc f]: {!with_settings} of [f] of its settings, for the scene and each
+    of its {!moments} (whose settings may be their own, a background that changes with
+    time). *)
+
+val map_camera : t -> (Camera.t -> Camera.t) -> (t, string) result
+(** [map_camera sc f]: {!with_camera} of [f] of its camera, for the scene and each of its
+    {!moments}. *)
+
+val with_moments : t -> t array -> (t, string) result
+(** [with_moments sc ms] is [sc] rendered as the scenes [ms] at its camera's
+    {!Camera.shutter_times} ({!moments}): one for each, of [sc]'s image size; none for a
+    closed shutter. *)
 
 val object_count : t -> int
 (** How many objects the scene has, a mesh counting as its faces: what [lancer check] and

@@ -61,24 +61,19 @@ let time_and_frame ?time ?frame prog =
       | Some (fps, _) -> Ok (Float.of_int k /. fps, k))
   | None, None -> Ok (0., 0)
 
-(* The program and its render: the quality preset first, then the explicit settings. *)
+(* The program and its render, as lancer render makes it ({!Source.scene}): the quality
+   preset first, then the explicit settings; an open shutter's instants too. *)
 let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) path =
   let ( let* ) = Result.bind in
   let* prog = Result.map_error errs (Program.load_file path) in
   let* time, frame = time_and_frame ?time ?frame prog in
-  let* sc = Result.map_error errs (Program.scene_at prog ~time ~frame) in
-  let* sc = match quality with None -> Ok sc | Some q -> Quality.apply q sc in
-  let s = sc.settings in
-  let pick v d = Option.value v ~default:d in
-  let s' =
-    {
-      s with
-      width = pick width s.width;
-      height = pick height s.height;
-      samples = pick samples s.samples;
-    }
+  let overrides = { Overrides.none with width; height; samples; quality } in
+  let* sc =
+    match Source.scene (Program.source ~builtin:false prog) overrides ~time ~frame with
+    | sc, _ -> Ok sc
+    | exception Job_error.Scene { errors; _ } -> Error (errs errors)
+    | exception Job_error.User m -> Error m
   in
-  let* sc = if s' = s then Ok sc else Scene.with_settings sc s' in
   let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
   Ok (prog, (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb))
 

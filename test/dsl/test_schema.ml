@@ -45,27 +45,6 @@ let items_text fields =
 let shape_required k = items_text (shape_fields k)
 let sphere = "sphere { center: (0, 0, 0), radius: 1 }"
 
-(* What a field needs beside it to apply. *)
-let context (b : Schema.block) (fl : Schema.field) =
-  (match fl.condition with
-  | Kind_in (k :: _) -> [ Printf.sprintf "kind: \"%s\"" k ]
-  | With n -> [ n ^ ": (0, 0, 0)" ]
-  | _ -> [])
-  @ (match b.chosen_by with Some c when c <> fl.name -> [ c ^ ": (0, 5, 0)" ] | _ -> [])
-  @
-  if Schema.is_shape b.id then
-    [ items_text (List.filter (fun (n, _) -> n <> fl.name) (shape_fields b.id)) ]
-  else []
-
-(* A program with block [b] holding [items] (field: value texts, comma-separated). *)
-let program (b : Schema.block) items =
-  let items = String.concat ", " (List.filter (fun s -> s <> "") items) in
-  match b.keyword with
-  | "material" -> Printf.sprintf "%s\nlet m = material { %s }" sphere items
-  | "body" -> Printf.sprintf "body ball { %s %s }" sphere items
-  | k when b.holds_objects -> Printf.sprintf "%s { %s %s }" k sphere items
-  | k -> Printf.sprintf "%s { %s }" k items
-
 (* A value of the field's type, in its range. *)
 let sample (fl : Schema.field) =
   let number () =
@@ -85,6 +64,31 @@ let sample (fl : Schema.field) =
   | Background -> "(0, 0, 0)"
   | Fog -> "fog((1, 1, 1), 5)"
   | Gamma -> "2.2"
+  | Interval -> "(0, 0.5)"
+
+(* What a field needs beside it to apply. *)
+let context (b : Schema.block) (fl : Schema.field) =
+  (match fl.condition with
+  | Kind_in (k :: _) -> [ Printf.sprintf "kind: \"%s\"" k ]
+  | With n -> (
+      match Schema.fields_named b n with
+      | f :: _ -> [ n ^ ": " ^ sample f ]
+      | [] -> [ n ^ ": (0, 0, 0)" ])
+  | _ -> [])
+  @ (match b.chosen_by with Some c when c <> fl.name -> [ c ^ ": (0, 5, 0)" ] | _ -> [])
+  @
+  if Schema.is_shape b.id then
+    [ items_text (List.filter (fun (n, _) -> n <> fl.name) (shape_fields b.id)) ]
+  else []
+
+(* A program with block [b] holding [items] (field: value texts, comma-separated). *)
+let program (b : Schema.block) items =
+  let items = String.concat ", " (List.filter (fun s -> s <> "") items) in
+  match b.keyword with
+  | "material" -> Printf.sprintf "%s\nlet m = material { %s }" sphere items
+  | "body" -> Printf.sprintf "body ball { %s %s }" sphere items
+  | k when b.holds_objects -> Printf.sprintf "%s { %s %s }" k sphere items
+  | k -> Printf.sprintf "%s { %s }" k items
 
 let unknown_field (e : Error.t) = String.starts_with ~prefix:"unknown field" e.message
 
@@ -252,7 +256,12 @@ let test_ranges () =
     (fun (b : Schema.block) ->
       List.iter
         (fun (fl : Schema.field) ->
-          let at_value x = refused_at_value b fl (num x) in
+          (* A pair's range is each number's. *)
+          let at_value x =
+            refused_at_value b fl
+              (if fl.ty = Interval then Printf.sprintf "(%s, %s)" (num x) (num x)
+               else num x)
+          in
           List.iter
             (fun x ->
               incr checked;

@@ -21,18 +21,7 @@ sphere { center: (0.8, 0.6, 2), radius: 0.6, material: material { color: (0.2, 0
 let rows aperture =
   let d = tmpdir "lancer-bench-lens" in
   write_file (Filename.concat d "dof.rts") (scene aperture);
-  let st, out, err =
-    run
-      ~prefix:("XDG_CACHE_HOME=" ^ Filename.quote (Filename.concat d "cache"))
-      ~exe ~dir:d
-      [ "bench"; "quality"; "dof.rts"; "--domains"; "1"; "--json" ]
-  in
-  if st <> 0 then Alcotest.failf "bench quality failed (%d): %s" st err;
-  let open Yojson.Safe.Util in
-  Yojson.Safe.from_string out |> member "rows" |> to_list
-  |> List.filter (fun r -> r |> member "knob" |> to_string = "lens samples")
-  |> List.map (fun r ->
-         (r |> member "value" |> to_string, r |> member "rmse" |> to_number))
+  quality_rows ~exe ~dir:d "dof.rts" "lens samples"
 
 let tests =
   [

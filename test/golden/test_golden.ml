@@ -86,6 +86,10 @@ let registry =
     ( "gallery_mesh",
       "scenes/gallery/mesh.rts",
       "the torus OBJ, smooth-shaded on the left and faceted on the right" );
+    ( "gallery_motion_blur",
+      "scenes/gallery/motion_blur.rts",
+      "a red ball smeared from its drop to the floor and back up, a blue one smeared \
+       sideways, the green one between them sharp" );
     ( "gallery_noise",
       "scenes/gallery/noise.rts",
       "noise at three scales, fine to coarse, left to right" );

@@ -233,16 +233,20 @@ let reader_tests =
         "the goldens written by the former (interlaced, libpng) writer still read" `Quick
         (fun () ->
           let dir = "../golden" in
+          (* Those the former writer made are interlaced; goldens added since are
+             lancer's own. *)
           let pngs =
-            List.filter
-              (fun f -> Filename.check_suffix f ".png")
+            List.filter_map
+              (fun f ->
+                if not (Filename.check_suffix f ".png") then None
+                else
+                  let s = read_file (Filename.concat dir f) in
+                  if Char.code s.[28] = 1 then Some (f, s) else None)
               (Array.to_list (Sys.readdir dir))
           in
           Alcotest.(check bool) "some goldens" true (List.length pngs > 5);
           List.iter
-            (fun f ->
-              let s = read_file (Filename.concat dir f) in
-              Alcotest.(check bool) (f ^ " is interlaced") true (Char.code s.[28] = 1);
+            (fun (f, s) ->
               let r = decode_ok f s in
               (* Re-encoded plainly, it decodes to the same samples. *)
               check_raster f r (decode_ok (f ^ " re-encoded") (encode r)))

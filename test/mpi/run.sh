@@ -5,9 +5,11 @@
 # stop without writing the image. Skipped, with the reason, where Open MPI or the
 # lancer commands are missing.
 #
-# usage: run.sh TEST_BINDINGS.exe SHOWCASE.rts ORBIT.rts [DEPTH_OF_FIELD.rts]   (lancer, lancer-mpi on PATH)
+# usage: run.sh TEST_BINDINGS.exe SHOWCASE.rts ORBIT.rts [DEPTH_OF_FIELD.rts [MOTION_BLUR.rts]]
+#   (lancer, lancer-mpi on PATH)
 set -u
 bindings=$(realpath "$1") showcase=$(realpath "$2") orbit=$(realpath "$3") dof=${4:+$(realpath "$4")}
+blur=${5:+$(realpath "$5")}
 
 # lancer-mpi was built, so an MPI library is installed: its mpirun must be too.
 command -v mpirun >/dev/null 2>&1 ||
@@ -65,6 +67,17 @@ if [ -n "$dof" ]; then
     if run -np "$n" lancer-mpi render "$dof" --width 48 --height 36 --samples 2 -q -o "dof$n.png" >/dev/null 2>dof.log \
        && cmp -s dof_ref.png "dof$n.png"; then ok "a depth-of-field still on $n ranks is byte-identical to lancer render's"
     else fail "the depth-of-field still on $n ranks differs or failed"; cat dof.log; fi
+  done
+fi
+
+# Motion blur: each sample's instant is a hash of frame, pixel and sample, and every rank
+# builds the same scenes at the shutter's instants.
+if [ -n "$blur" ]; then
+  lancer render "$blur" --width 48 --height 36 -q -o blur_ref.png >/dev/null || fail "lancer render (motion blur)"
+  for n in 2 4; do
+    if run -np "$n" lancer-mpi render "$blur" --width 48 --height 36 -q -o "blur$n.png" >/dev/null 2>blur.log \
+       && cmp -s blur_ref.png "blur$n.png"; then ok "a motion-blurred still on $n ranks is byte-identical to lancer render's"
+    else fail "the motion-blurred still on $n ranks differs or failed"; cat blur.log; fi
   done
 fi
 

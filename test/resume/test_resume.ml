@@ -13,17 +13,17 @@ let frame k = Printf.sprintf "frame_%04d.png" k
 let mtime p = (Unix.stat p).Unix.st_mtime
 
 (* Six frames; from frame 3 on a sphere wears an image texture. *)
-let scene ?(color = "(0.9, 0.2, 0.2)") ?(frames = 6) () =
+let scene ?(color = "(0.9, 0.2, 0.2)") ?(frames = 6) ?(camera = "") () =
   Printf.sprintf
     {|settings { width: 24, height: 18 }
 animation { fps: 10, frames: %d }
-camera { position: (0, 1, -5), look_at: (0, 1, 0) }
+camera { position: (0, 1, -5), look_at: (0, 1, 0)%s }
 light { position: (-3, 5, -4) }
 plane { normal: (0, 1, 0), offset: 0 }
 body ball { sphere { center: (0, 2, 0), radius: 0.4, material: material { color: %s } } restitution: 0.8 }
 if frame >= 3 { sphere { center: (1, 1, 0), radius: 0.5, material: material { texture: image("tex.ppm", 1) } } }
 |}
-    frames color
+    frames camera color
 
 let write_ppm p (r, g, b) =
   write_file p
@@ -31,9 +31,9 @@ let write_ppm p (r, g, b) =
     ^ String.concat ""
         (List.init 4 (fun _ -> String.init 3 (fun i -> Char.chr [| r; g; b |].(i)))))
 
-let setup ?color ?frames () =
+let setup ?color ?frames ?camera () =
   let d = tmpdir "lancer-resume" in
-  write_file (path d "a.rts") (scene ?color ?frames ());
+  write_file (path d "a.rts") (scene ?color ?frames ?camera ());
   write_ppm (path d "tex.ppm") (200, 30, 30);
   d
 
@@ -368,6 +368,59 @@ let stopped_midway d out signal =
     (Sys.file_exists (path d (out ^ ".checkpoint")));
   st
 
+(* With an open shutter every frame is the scenes at its instants: the same bytes
+   whoever renders it. *)
+let blur_tests =
+  [
+    Alcotest.test_case
+      "a motion-blurred animation: its frames are lancer render's, in shards and resumed \
+       too"
+      `Quick (fun () ->
+        let d = setup ~camera:", shutter: (-0.5, 0.5), shutter_samples: 4" () in
+        check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "ref"; "-q" ]);
+        let ref = frames_of (path d "ref") 6 in
+        List.iteri
+          (fun k f ->
+            check_status "render" 0
+              (lancer ~dir:d
+                 [
+                   "render"; "a.rts"; "--frame"; string_of_int k; "-o"; "still.png"; "-q";
+                 ]);
+            Alcotest.(check bool)
+              (Printf.sprintf "frame %d as a still" k)
+              true
+              (f = read_file (path d "still.png")))
+          ref;
+        check_status "frame 1" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "1"; "-o"; "still.png"; "-q" ]);
+        write_file (path d "open.rts") (scene ());
+        check_status "without the shutter" 0
+          (lancer ~dir:d
+             [ "render"; "open.rts"; "--frame"; "1"; "-o"; "sharp.png"; "-q" ]);
+        Alcotest.(check bool)
+          "blurred, not sharp" false
+          (read_file (path d "sharp.png") = read_file (path d "still.png"));
+        List.iter
+          (fun k ->
+            check_status "shard" 0
+              (lancer ~dir:d
+                 [
+                   "animate";
+                   "a.rts";
+                   "-o";
+                   "shards";
+                   "-q";
+                   "--shard";
+                   Printf.sprintf "%d/2" k;
+                 ]))
+          [ 0; 1 ];
+        Alcotest.(check bool) "two shards" true (ref = frames_of (path d "shards") 6);
+        Sys.remove (path d ("shards/" ^ frame 4));
+        let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "shards"; "--resume" ] in
+        says "resumed" r "5 frames already rendered, 1 to go";
+        Alcotest.(check bool) "resumed" true (ref = frames_of (path d "shards") 6));
+  ]
+
 let still_tests =
   [
     Alcotest.test_case
@@ -463,4 +516,9 @@ let crafted_tests =
 
 let () =
   Alcotest.run "resume"
-    [ ("animate", animate_tests); ("render", still_tests); ("crafted", crafted_tests) ]
+    [
+      ("animate", animate_tests);
+      ("blur", blur_tests);
+      ("render", still_tests);
+      ("crafted", crafted_tests);
+    ]

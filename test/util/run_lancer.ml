@@ -55,3 +55,17 @@ let status_text = function
   | Unix.WEXITED n -> Printf.sprintf "exit %d" n
   | Unix.WSIGNALED n -> Printf.sprintf "killed by signal %d" n
   | Unix.WSTOPPED n -> Printf.sprintf "stopped by signal %d" n
+
+let quality_rows ~exe ~dir scene knob =
+  let st, out, err =
+    run
+      ~prefix:("XDG_CACHE_HOME=" ^ Filename.quote (Filename.concat dir "cache"))
+      ~exe ~dir
+      [ "bench"; "quality"; scene; "--domains"; "1"; "--json" ]
+  in
+  if st <> 0 then Alcotest.failf "bench quality failed (%d): %s" st err;
+  let open Yojson.Safe.Util in
+  Yojson.Safe.from_string out |> member "rows" |> to_list
+  |> List.filter (fun r -> r |> member "knob" |> to_string = knob)
+  |> List.map (fun r ->
+         (r |> member "value" |> to_string, r |> member "rmse" |> to_number))

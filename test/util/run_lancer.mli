@@ -35,3 +35,8 @@ val wait_status : int -> int
 
 val status_text : Unix.process_status -> string
 (** ["exit 1"], ["killed by signal 9"], … *)
+
+val quality_rows : exe:string -> dir:string -> string -> string -> (string * float) list
+(** [quality_rows ~exe ~dir scene knob]: the rows of [knob] that
+    [lancer bench quality SCENE --domains 1 --json] measures in [dir] (with its own cache
+    there), as (value, RMSE), in order; fails the test when the command fails. *)
