@@ -223,9 +223,40 @@ let language =
       const (fun repeat grid json -> run (fun () -> Language.run ~repeat ~grid ~json))
       $ repeat $ grid $ json)
 
+let materials =
+  let grid =
+    Arg.(
+      value & opt int 1000
+      & info [ "grid" ] ~docv:"N" ~doc:"N × N spheres (1000: a million).")
+  in
+  let colour =
+    Arg.(
+      value & flag
+      & info [ "colour" ] ~doc:"Each sphere with a material of its own, its colour computed in the loop.")
+  in
+  let man =
+    [
+      `S Manpage.s_description;
+      `P
+        "Loads and compiles N × N spheres made by a loop, as a still's render does, in \
+         this process, and prints the words per object that each stage holds: the \
+         description the language makes, the compiled primitives (their materials \
+         included), the materials alone, the acceleration structure, and the largest \
+         heap of the process. Run it once with $(b,--colour) and once without: each \
+         run is a fresh process, so that the largest heap is that program's.";
+      `S Manpage.s_examples;
+      `Pre "  lancer_bench materials --grid 1000 --colour";
+    ]
+  in
+  Cmd.v
+    (Cmd.info "materials" ~doc:"memory per object of spheres with a colour each" ~man)
+    Term.(
+      const (fun grid colour json -> run (fun () -> Materials.run ~grid ~colour ~json))
+      $ grid $ colour $ json)
+
 let () =
   let doc =
     "the developers' benchmarks of lancer: scaling, physics methods, the language"
   in
   exit
-    (Cmd.eval' (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language ]))
+    (Cmd.eval' (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language; materials ]))
