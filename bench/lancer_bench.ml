@@ -1,5 +1,5 @@
 (* The developers' benchmarks, outside the shipped lancer: scaling, the physics methods,
-   the scene language. Not installed; `make bench` runs them. *)
+   the scene language, memory per object. Not installed; `make bench` runs them. *)
 
 open Lancer
 open Lancer_benchmarks
@@ -187,18 +187,16 @@ let scaling =
       $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps
       $ in_process $ row $ repeat $ json)
 
+(* The size of the object programs: N × N spheres. *)
+let grid doc = Arg.(value & opt int 1000 & info [ "grid" ] ~docv:"N" ~doc)
+
 let language =
   let repeat =
     Arg.(
       value & opt int 3
       & info [ "repeat" ] ~docv:"N" ~doc:"Runs of each program (the median is shown).")
   in
-  let grid =
-    Arg.(
-      value & opt int 1000
-      & info [ "grid" ] ~docv:"N"
-          ~doc:"The object program builds N × N spheres (1000: a million).")
-  in
+  let grid = grid "The object program builds N × N spheres (1000: a million)." in
   let man =
     [
       `S Manpage.s_description;
@@ -224,15 +222,12 @@ let language =
       $ repeat $ grid $ json)
 
 let materials =
-  let grid =
-    Arg.(
-      value & opt int 1000
-      & info [ "grid" ] ~docv:"N" ~doc:"N × N spheres (1000: a million).")
-  in
+  let grid = grid "N × N spheres (1000: a million)." in
   let colour =
     Arg.(
       value & flag
-      & info [ "colour" ] ~doc:"Each sphere with a material of its own, its colour computed in the loop.")
+      & info [ "colour" ]
+          ~doc:"Each sphere with a material of its own, its colour computed in the loop.")
   in
   let man =
     [
@@ -256,7 +251,9 @@ let materials =
 
 let () =
   let doc =
-    "the developers' benchmarks of lancer: scaling, physics methods, the language"
+    "the developers' benchmarks of lancer: scaling, physics methods, the language, memory \
+     per object"
   in
   exit
-    (Cmd.eval' (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language; materials ]))
+    (Cmd.eval'
+       (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language; materials ]))
