@@ -159,8 +159,8 @@ and obj = {
           their colour alone share one record (as a loop that colours each object makes
           them) *)
   color : Color.t;
-      (** the colour of its material (white for the default material); for a CSG leaf
-          without a material of its own, its parent's. See {!object_material} *)
+      (** the colour of its material (white without one: a CSG member without a
+          material takes its parent's material and colour). See {!object_material} *)
   loc : Loc.t;  (** where the object's block starts *)
   body : string option;  (** the body this sphere is, if any *)
 }
