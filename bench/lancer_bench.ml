@@ -1,5 +1,5 @@
 (* The developers' benchmarks, outside the shipped lancer: scaling, the physics methods,
-   the scene language. Not installed; `make bench` runs them. *)
+   the scene language, memory per object. Not installed; `make bench` runs them. *)
 
 open Lancer
 open Lancer_benchmarks
@@ -187,18 +187,16 @@ let scaling =
       $ counts $ width $ height $ domains $ domain_counts $ sizes $ base_count $ sweeps
       $ in_process $ row $ repeat $ json)
 
+(* The size of the object programs: N × N spheres. *)
+let grid doc = Arg.(value & opt int 1000 & info [ "grid" ] ~docv:"N" ~doc)
+
 let language =
   let repeat =
     Arg.(
       value & opt int 3
       & info [ "repeat" ] ~docv:"N" ~doc:"Runs of each program (the median is shown).")
   in
-  let grid =
-    Arg.(
-      value & opt int 1000
-      & info [ "grid" ] ~docv:"N"
-          ~doc:"The object program builds N × N spheres (1000: a million).")
-  in
+  let grid = grid "The object program builds N × N spheres (1000: a million)." in
   let man =
     [
       `S Manpage.s_description;
@@ -223,9 +221,39 @@ let language =
       const (fun repeat grid json -> run (fun () -> Language.run ~repeat ~grid ~json))
       $ repeat $ grid $ json)
 
+let materials =
+  let grid = grid "N × N spheres (1000: a million)." in
+  let colour =
+    Arg.(
+      value & flag
+      & info [ "colour" ]
+          ~doc:"Each sphere with a material of its own, its colour computed in the loop.")
+  in
+  let man =
+    [
+      `S Manpage.s_description;
+      `P
+        "Loads and compiles N × N spheres made by a loop, as a still's render does, in \
+         this process, and prints the words per object that each stage holds: the \
+         description the language makes, the compiled primitives (their materials \
+         included), the materials alone, the acceleration structure, and the largest \
+         heap of the process. Run it once with $(b,--colour) and once without: each \
+         run is a fresh process, so that the largest heap is that program's.";
+      `S Manpage.s_examples;
+      `Pre "  lancer_bench materials --grid 1000 --colour";
+    ]
+  in
+  Cmd.v
+    (Cmd.info "materials" ~doc:"memory per object of spheres with a colour each" ~man)
+    Term.(
+      const (fun grid colour json -> run (fun () -> Materials.run ~grid ~colour ~json))
+      $ grid $ colour $ json)
+
 let () =
   let doc =
-    "the developers' benchmarks of lancer: scaling, physics methods, the language"
+    "the developers' benchmarks of lancer: scaling, physics methods, the language, memory \
+     per object"
   in
   exit
-    (Cmd.eval' (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language ]))
+    (Cmd.eval'
+       (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language; materials ]))

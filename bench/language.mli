@@ -4,6 +4,10 @@
     many with a material expression each, and as many rotated boxes in translated groups
     (time, words allocated and held per block). *)
 
+val grid_header : int -> string
+(** The settings, camera and light of the object programs, for [n] × [n] objects
+    around the origin. *)
+
 val run : repeat:int -> grid:int -> json:bool -> unit
 (** [repeat] runs of each program (medians), the objects' programs of [grid] × [grid]
     blocks; a Markdown table, or JSON with [json]. Raises {!Lancer.Job_error.User}. *)

@@ -25,6 +25,15 @@ let default_material site =
    }
     : D.material)
 
+(* Whether [m] and [d] differ in their colour alone: an object of [m] can then hold [d]'s
+   option, its colour beside it ({!D.obj}). Numbers compare by their bits. *)
+let same_but_color (m : D.material) (d : D.material) =
+  let same x y = Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y) in
+  m.texture == d.texture && m.bump == d.bump && Bool.equal m.fresnel d.fresnel
+  && same m.ambient d.ambient && same m.diffuse d.diffuse && same m.specular d.specular
+  && same m.shininess d.shininess && same m.reflection d.reflection
+  && same m.transparency d.transparency && same m.ior d.ior
+
 let material site =
   let base = slot site "base" and color_ = slot site "color" in
   let ambient = slot site "ambient" and diffuse = slot site "diffuse" in
@@ -33,16 +42,17 @@ let material site =
   let ior = slot site "ior" and fresnel = slot site "fresnel" in
   let texture = slot site "texture" and bump = slot site "bump" in
   let default = default_material site in
+  let default_some = Some default in
   fun b ->
     (* A field left out keeps the base's value; without a base, the schema's default. *)
-    let d =
-      if not (live b base) then default
+    let d, d_some =
+      if not (live b base) then (default, default_some)
       else
         match value b base with
-        | VMat m -> m.mat
+        | VMat m -> (m.mat, m.some)
         | v ->
             bad b b.site.vlocs.(base) (Msg.field_type b.site.entries.(base).sch (ty v));
-            default
+            (default, default_some)
     in
     let m : D.material =
       {
@@ -101,7 +111,7 @@ let material site =
     (* What the description requires of a material ({!D.validate_material}) holds: each
        number is in its field's range, or the base's or the schema's (the tests check
        that these ranges are within the description's), and the sum is checked above. *)
-    m
+    Value.material ~some:(if same_but_color m d then d_some else Some m) m
 
 (* ------------------------------------------------------------------------------------ *)
 (* Settings, camera, lights, animation, physics *)
@@ -487,15 +497,17 @@ let transforms b =
   let t = compose 0 Transform.identity in
   (t, if b.failed then [] else listed (n - 1) [])
 
+let no_material = (None, D.default_material.color)
+
 let object_material b =
   match b.site.kind_.material with
-  | i when i < 0 || not (live b i) -> None
+  | i when i < 0 || not (live b i) -> no_material
   | i -> (
       match value b i with
-      | VMat m -> m.some
+      | VMat m -> (m.some, m.mat.color)
       | v ->
           bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
-          None)
+          no_material)
 
 (* What the shape of a block that failed is taken to be: it is not used. *)
 let unused = D.Sphere { center = Vec3.zero; radius = 1. }
@@ -630,11 +642,11 @@ let object_ site =
   let plain = step_count site = 0 in
   fun b ->
     let transform, steps = if plain then untransformed else transforms b in
-    let material = object_material b in
+    let material, color = object_material b in
     let shape = shape b in
-    { D.kind; shape; transform; steps; material; loc; body = None }
+    { D.kind; shape; transform; steps; material; color; loc; body = None }
 
-let group_members t tj mat members onto =
+let group_members t tj (mat, color) members onto =
   if Transform.is_identity t && match (tj, mat) with [], None -> true | _ -> false then
     members @ onto (* each object would be itself again *)
   else
@@ -644,6 +656,7 @@ let group_members t tj mat members onto =
         transform = Transform.then_ o.transform t;
         steps = o.steps @ tj;
         material = (match o.material with Some _ -> o.material | None -> mat);
+        color = (match o.material with Some _ -> o.color | None -> color);
       }
     in
     let rec map_onto = function
@@ -657,7 +670,7 @@ let group_members t tj mat members onto =
    one member, the union of its own. *)
 let csg b ~keyword ~loc ~in_csg members =
   let t, tj = transforms b in
-  let mat = object_material b in
+  let mat, color = object_material b in
   let op : D.csg_op =
     match keyword with
     | "merge" -> Merge
@@ -709,6 +722,7 @@ let csg b ~keyword ~loc ~in_csg members =
         transform = t;
         steps = tj;
         material = mat;
+        color;
         loc;
         body = None;
       }

@@ -18,18 +18,20 @@ val object_ : Fields.site -> Fields.t -> D.obj
     it the block's object. *)
 
 val transforms : Fields.t -> Transform.t * D.step list
-val object_material : Fields.t -> D.material option
+val object_material : Fields.t -> D.material option * Color.t
+(** A block's [material] as an object holds it ({!D.obj}): the option, shared by the
+    materials that differ from it in their colour alone, and the colour. *)
 
 val group_members :
   Transform.t ->
   D.step list ->
-  D.material option ->
+  D.material option * Color.t ->
   D.obj list ->
   D.obj list ->
   D.obj list
-(** [group_members t steps material members onto]: a group's members (newest first, as a
-    scope holds them), each with the group's transform after its own and its material
-    unless it has one, in front of [onto]. *)
+(** [group_members t steps (material, colour) members onto]: a group's members (newest
+    first, as a scope holds them), each with the group's transform after its own and its
+    material and colour unless it has a material, in front of [onto]. *)
 
 val csg :
   Fields.t -> keyword:string -> loc:Loc.t -> in_csg:bool -> D.obj list -> D.obj option
@@ -49,9 +51,12 @@ val body :
 
 (** {1 Materials} *)
 
-val material : Fields.site -> Fields.t -> D.material
-(** [material site] reads a material block of that site: its material, each time; only
-    where the block is right ({!Fields.finish}, once read) is it the block's material. *)
+val material : Fields.site -> Fields.t -> Value.t
+(** [material site] reads a material block of that site: its material (a [VMat]), each
+    time; only where the block is right ({!Fields.finish}, once read) is it the block's
+    material. One that differs from its base (or, without one, from the defaults) in its
+    colour alone holds the base's option ({!Value.t}'s [VMat]), so that the objects of a
+    loop that colours each one share a material. *)
 
 (** {1 Settings, camera, lights, animation, physics} *)
 

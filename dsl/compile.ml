@@ -188,7 +188,7 @@ let constant_material site (items : item array) consts mat =
     else
       let b = Fields.make site refuses vals [||] in
       match mat b with
-      | m when Fields.finish b -> Some (Value.material m)
+      | m when Fields.finish b -> Some m
       | _ | (exception Not_constant) -> None
 
 (* A shape block of constants (its material aside, of a type the checker knew) is its
@@ -336,7 +336,7 @@ and material cs blk : Cexpr.code =
       fun fr ->
         let b = evaluate s fr no_objects in
         let m = mat b in
-        if Fields.finish b then Value.material m else raise Poisoned
+        if Fields.finish b then m else raise Poisoned
 
 (* A block statement's code, which reports a failure and skips the block (a shape block
    of constants has none: it is not guarded). *)
@@ -378,7 +378,7 @@ and block cs (blk : block) : scode =
       guard (csg s ~keyword)
   | _ -> (
       match folded_object s blk values with
-      | Some ({ Description.kind; shape; transform; steps; loc; _ }, material) -> (
+      | Some ({ Description.kind; shape; transform; steps; loc; color; _ }, material) -> (
           (* Its parts, not the object: each evaluation makes its own. *)
           match material with
           | None ->
@@ -390,6 +390,7 @@ and block cs (blk : block) : scode =
                     transform;
                     steps;
                     material = None;
+                    color;
                     loc;
                     body = None;
                   }
@@ -404,6 +405,7 @@ and block cs (blk : block) : scode =
                         transform;
                         steps;
                         material = m.some;
+                        color = m.mat.color;
                         loc;
                         body = None;
                       }

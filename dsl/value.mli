@@ -12,8 +12,9 @@ type t =
   | VVec of Vec3.t
   | VStr of string
   | VMat of { mat : Description.material; some : Description.material option }
-      (** a material, with the option an object holds it in (made once, shared by its
-          objects) *)
+      (** a material, with the option an object holds it in: made once, shared by its
+          objects, and by every material that differs from it in its colour alone (an
+          object holds its colour beside it, {!Description.obj}) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
   | VFun of closure
@@ -125,4 +126,6 @@ val num : Loc.t -> float -> t
 val finite : Loc.t -> float -> float
 val finite_vec : Loc.t -> Vec3.t -> Vec3.t
 val vbool : bool -> t
-val material : Description.material -> t
+val material : ?some:Description.material option -> Description.material -> t
+(** [material m] is [m] as a value; [some] (default [Some m]) the option its objects hold,
+    whose fields are [m]'s but the colour. *)

@@ -4,8 +4,10 @@
 #
 #   * against Embree (an own harness, bench/embree/lancer_embree.c, one thread; lancer on one
 #     domain): the 100 000-sphere field at W×H, a torus of 2·NU·NV triangles read from an OBJ
-#     (time and peak memory) and GRID² spheres made by a loop of the scene language (time,
-#     and lancer's whole render and peak memory on their own). The pixels are compared with
+#     (time and peak memory), GRID² spheres made by a loop of the scene language (time,
+#     and lancer's whole render and peak memory on their own) and the same spheres each
+#     with a colour computed in the loop (time and peak memory, Embree storing a colour
+#     per sphere). The pixels are compared with
 #     lancer diff: edge pixels may differ, Embree being single precision;
 #   * a CSG object of a closed mesh against the mesh alone: the difference of a torus of
 #     2·CSG_NU·CSG_NV triangles (default 200×100: 40 000) and a box, against the torus by
@@ -103,6 +105,7 @@ camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), fov: 50 }
 light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }
 for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n / 2), radius: 0.4 } } }
 RTS
+sed 's|radius: 0.4 }|radius: 0.4, material: material { color: (i / n, j / n, 0.5) } }|' "$tmp/grid.rts" >"$tmp/gridc.rts"
 printf 'for i in 0 to %d { let x = sin(i) * cos(i) }\n' "$LOOP" >"$tmp/loop.rts"
 awk -v N="$LITERAL" -f bench/embree/literal_spheres.awk >"$tmp/literal.rts"
 awk -v N="$LITERAL" -v POV=1 -f bench/embree/literal_spheres.awk >"$tmp/literal.pov"
@@ -129,6 +132,17 @@ if [ "$embree" = yes ]; then
   out "$grid: peak memory" "$(mib "$gm")" "Embree $(mib "$(med "$tmp/e" 2)")" "$(ratio "$gm" "$(med "$tmp/e" 2)")" "< 300 MiB" "$(met "$gm" $((300 * 1024)) 1)" ""
 else
   out "$grid: peak memory" "$(mib "$gm")" "" "" "< 300 MiB" "$(met "$gm" $((300 * 1024)) 1)" ""
+fi
+# The same spheres, each with a material { color: … } computed in the loop; Embree keeps
+# a colour per sphere too.
+gridc="$((GRID * GRID)) spheres from a loop, each its own colour, first pixel at 64×48"
+pair "$tmp/gridc.rts" 64 48 gridc "$GRID"
+gcm=$(med "$tmp/l" 2)
+against "$gridc" "$(med "$tmp/l" 1)" "$(med "$tmp/e" 1)" 3 "$(cat "$tmp/same")"
+if [ "$embree" = yes ]; then
+  out "$gridc: peak memory" "$(mib "$gcm")" "Embree $(mib "$(med "$tmp/e" 2)")" "$(ratio "$gcm" "$(med "$tmp/e" 2)")" "< 300 MiB" "$(met "$gcm" $((300 * 1024)) 1)" ""
+else
+  out "$gridc: peak memory" "$(mib "$gcm")" "" "" "< 300 MiB" "$(met "$gcm" $((300 * 1024)) 1)" ""
 fi
 : >"$tmp/c"
 for _ in $(seq "$REPEAT"); do measure "$lancer" check "$tmp/grid.rts" >>"$tmp/c"; done

@@ -7,6 +7,7 @@
 
    lancer_embree field N W H OUT.ppm     the N×N sphere field of scenes/bench/field_*.rts
    lancer_embree grid N W H OUT.ppm      N×N spheres from a loop (bench/embree/bench.sh)
+   lancer_embree gridc N W H OUT.ppm     the same, sphere (i, j) of colour (i/N, j/N, 0.5)
    lancer_embree mesh FILE.obj W H OUT.ppm  a white mesh above nothing (bench/embree/bench.sh) */
 #include <embree4/rtcore.h>
 #include <math.h>
@@ -39,7 +40,8 @@ static void spheres(int n, double s, double lift, int colours) {
     for (int j = 0; j < n; j++) {
       double *p = sph + 4 * (i * n + j), *c = col + 3 * (i * n + j);
       p[0] = (i - n / 2.) * s; p[1] = lift * s; p[2] = (j - n / 2.) * s; p[3] = 0.4 * s;
-      c[0] = colours ? 0.5 + 0.5 * sin(i) : 1; c[1] = colours ? 0.5 + 0.5 * cos(j) : 1; c[2] = colours ? 0.6 : 1;
+      if (colours == 2) { c[0] = (double)i / n; c[1] = (double)j / n; c[2] = 0.5; }
+      else { c[0] = colours ? 0.5 + 0.5 * sin(i) : 1; c[1] = colours ? 0.5 + 0.5 * cos(j) : 1; c[2] = colours ? 0.6 : 1; }
     }
 }
 
@@ -131,7 +133,7 @@ static int encode(double v) {
 }
 
 int main(int argc, char **argv) {
-  if (argc != 6) die("usage: lancer_embree field|grid N W H OUT.ppm, or mesh FILE.obj W H OUT.ppm");
+  if (argc != 6) die("usage: lancer_embree field|grid|gridc N W H OUT.ppm, or mesh FILE.obj W H OUT.ppm");
   int w = atoi(argv[3]), h = atoi(argv[4]);
   RTCDevice dev = rtcNewDevice("threads=1");
   if (!dev) die("no Embree device");
@@ -140,9 +142,9 @@ int main(int argc, char **argv) {
     int n = atoi(argv[2]);
     spheres(n, 40. / n, 0.4, 1); plane = 1; attach_spheres();
     cam = V(0, 30, -45); look = V(0, 0, 0); light = V(-20, 40, -30); fov = 50; bg = V(0.1, 0.1, 0.15);
-  } else if (!strcmp(argv[1], "grid")) {      /* bench/embree/bench.sh's loop of spheres */
+  } else if (!strcmp(argv[1], "grid") || !strcmp(argv[1], "gridc")) { /* bench.sh's loops */
     int n = atoi(argv[2]);
-    spheres(n, 1, 0.4, 0); attach_spheres();
+    spheres(n, 1, 0.4, strcmp(argv[1], "grid") ? 2 : 0); attach_spheres();
     cam = V(0, 0.6 * n, -0.9 * n); look = V(0, 0, 0); light = V(-0.4 * n, 0.8 * n, -0.6 * n); fov = 50; bg = V(0, 0, 0);
   } else if (!strcmp(argv[1], "mesh")) {      /* bench/embree/torus.awk's torus */
     read_obj(argv[2]);

@@ -139,9 +139,15 @@ and obj = {
   transform : Transform.t;
   steps : step list;
   material : material option;
+  color : Color.t;
   loc : Loc.t;
   body : string option;
 }
+
+let object_material o =
+  match o.material with
+  | Some m when m.color != o.color && m.color <> o.color -> Some { m with color = o.color }
+  | m -> m
 
 let rec is_solid = function
   | Sphere _ | Plane _ | Box _ | Torus _ | Mesh _ -> true

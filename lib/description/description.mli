@@ -154,10 +154,20 @@ and obj = {
   transform : Transform.t;  (** object space → world space, groups' transforms included *)
   steps : step list;  (** the transforms applied, in order (groups' last) *)
   material : material option;
-      (** [None]: the default material (or a CSG leaf's parent's) *)
+      (** [None]: the default material (or a CSG leaf's parent's). Its [color] is not
+          read: [color] below is the object's, so that objects whose materials differ in
+          their colour alone share one record (as a loop that colours each object makes
+          them) *)
+  color : Color.t;
+      (** the colour of its material (white without one: a CSG member without a
+          material takes its parent's material and colour). See {!object_material} *)
   loc : Loc.t;  (** where the object's block starts *)
   body : string option;  (** the body this sphere is, if any *)
 }
+
+val object_material : obj -> material option
+(** [object_material o] is [o]'s material with its own colour ([o.material] where that
+    has it already; a copy otherwise). *)
 
 val is_solid : shape -> bool
 (** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG

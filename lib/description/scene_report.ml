@@ -282,7 +282,9 @@ let rec fields_json (r : D.rendered) (s : D.shape) : (string * Yojson.Safe.t) li
              ("transforms", `List (List.map step_json o.steps));
            ]
           @
-          match o.material with Some m -> [ ("material", material_json m) ] | None -> [])
+          match D.object_material o with
+          | Some m -> [ ("material", material_json m) ]
+          | None -> [])
       in
       [ ("members", `List (List.map member members)) ]
 
@@ -302,7 +304,8 @@ let json ?state (d : D.t) (r : D.rendered) =
           @ [
               ("transforms", `List (List.map step_json o.steps));
               ( "material",
-                material_json (Option.value o.material ~default:D.default_material) );
+                material_json
+                  (Option.value (D.object_material o) ~default:D.default_material) );
             ]
           @ match o.body with Some n -> [ ("body", `String n) ] | None -> []))
       d.objects

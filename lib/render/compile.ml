@@ -260,11 +260,13 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
                      n
                      (if n = 1 then " is" else "s are")
                      block);
-            ((Shape.solid_mesh mesh, m.transform), [| m.material |])
+            ((Shape.solid_mesh mesh, m.transform), [| D.object_material m |])
         | _, [ s ] ->
             ( (s, m.transform),
-              if Array.length leaves = 0 then [| m.material |]
-              else Array.map (function None -> m.material | Some _ as x -> x) leaves )
+              if Array.length leaves = 0 then [| D.object_material m |]
+              else
+                Array.map (function None -> D.object_material m | Some _ as x -> x) leaves
+            )
         | _ -> problem m.loc "a %s cannot be a member of a CSG object" m.kind
       in
       let op : Shape.csg_op =
@@ -291,26 +293,45 @@ let sort_problems ps =
   let key ((l : Loc.t), _) = (index l.file 0 files, l.line, l.col) in
   List.stable_sort (fun a b -> compare (key a) (key b)) ps
 
-(* One material record per material of the description (objects built by one `let`
-   share it), the default material the renderer's own. *)
+(* How many distinct materials a compile shares at most: past them, each new one is a
+   record of its own, so that a scene whose every object computes another material keeps
+   no table of them beside its objects. *)
+let shared_materials = 4096
+
+(* One material record per distinct material of the description (hash-consed: objects
+   whose materials are equal, or differ in their colour alone, which objects hold beside
+   them, share one), the default material the renderer's own. *)
 let materials c =
-  let last = ref None in
+  let last = ref None and table = Hashtbl.create 16 in
   function
   | None -> Material.default
   | Some m -> (
       match !last with
       | Some (dm, rm) when dm == m -> rm
       | _ ->
-          let rm = material c m in
+          let rm =
+            match Hashtbl.find_opt table m with
+            | Some rm -> rm
+            | None ->
+                let rm = material c m in
+                if Hashtbl.length table < shared_materials then Hashtbl.add table m rm;
+                rm
+          in
           last := Some (m, rm);
           rm)
 
-(* The primitives of one object. *)
+(* The primitives of one object: its colour beside its material, but for a CSG object,
+   whose leaves take the material with its colour. *)
 let primitives c material_of (o : D.obj) =
-  let m = material_of o.material in
   let sh, leaves = shapes c o in
-  let leaf_materials = Array.map (Option.map (fun lm -> material_of (Some lm))) leaves in
-  List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
+  if Array.length leaves = 0 then
+    List.map
+      (Primitive.make ~transform:o.transform ~color:o.color (material_of o.material))
+      sh
+  else
+    let m = material_of (D.object_material o) in
+    let leaf_materials = Array.map (Option.map (fun lm -> material_of (Some lm))) leaves in
+    List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
 
 type static = {
   entry_of : int array;  (** by statement position: its entry, or −1 *)
@@ -468,7 +489,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
   in
   let overhead = (Gc.get ()).space_overhead in
   let pace o =
-    if handed_over && not compacting then Gc.set { (Gc.get ()) with space_overhead = o }
+    if handed_over then Gc.set { (Gc.get ()) with space_overhead = o }
   in
   pace (min overhead handed_over_overhead);
   (* Primitives [first] to [first + n − 1] of the static part, after what came

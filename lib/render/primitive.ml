@@ -2,6 +2,7 @@ type t = {
   shape : Shape.t;
   transform : Transform.t;
   material : Material.t;
+  color : Color.t;
   bounds : Bbox.t option;
   shift : Vec3.t;
   flip : bool;
@@ -46,8 +47,8 @@ let bounds_into o b off =
           set b (off + 5) max.z
       | None -> Float.Array.fill b off 6 Float.nan)
 
-let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials material
-    shape =
+let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials ?color
+    (material : Material.t) shape =
   let bounds = world_bounds transform shape in
   let leaves =
     match shape with
@@ -75,7 +76,12 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials m
       | Some l -> l.material
       | None -> leaves.(0).material
   in
-  { shape; transform; material; bounds; shift = Vec3.zero; flip; leaves }
+  let color =
+    match color with
+    | Some c when Array.length leaves = 0 -> c
+    | _ -> material.color
+  in
+  { shape; transform; material; color; bounds; shift = Vec3.zero; flip; leaves }
 
 (* A simple shape whose transform only moves it (a group's or a body's translation) is
    that shape moved, untransformed, its texture space (object space before) [shift]
@@ -190,7 +196,7 @@ let rec moved_by ~shift (d : Vec3.t) o =
         {
           (make
              ~transform:(Transform.then_ o.transform (Transform.translate d))
-             ~flip:o.flip o.material o.shape)
+             ~flip:o.flip ~color:o.color o.material o.shape)
           with
           shift = o.shift;
         }
@@ -299,8 +305,11 @@ let uv_into o (f : Frag.t) =
   | _ -> to_object_into o f);
   Shape.uv_into o.shape f
 
+let painted o =
+  if o.material.color == o.color then o.material else { o.material with color = o.color }
+
 let materials o =
-  if Array.length o.leaves = 0 then [ o.material ]
-  else Array.to_list (Array.map (fun l -> l.material) o.leaves)
+  if Array.length o.leaves = 0 then [ painted o ]
+  else Array.to_list (Array.map painted o.leaves)
 
 let without_bounds o = { o with bounds = None }

@@ -8,7 +8,10 @@ type t = private {
   transform : Transform.t;  (** object space → world space *)
   material : Material.t;
       (** for a CSG object, which shades with its leaves' materials, a transparent leaf's
-          when there is one (else its first leaf's): what shadow queries look at *)
+          when there is one (else its first leaf's): what shadow queries look at. Its
+          [color] is not read: [color] is, so that objects whose materials differ in their
+          colour alone share one *)
+  color : Color.t;  (** the colour of its material, which shading reads *)
   bounds : Bbox.t option;
       (** [None] when unbounded; otherwise read the bounds with {!bounds}: an
           untransformed shape's are its own, and this field holds a marker shared by all
@@ -27,13 +30,15 @@ val make :
   ?transform:Transform.t ->
   ?flip:bool ->
   ?leaf_materials:Material.t option array ->
+  ?color:Color.t ->
   Material.t ->
   Shape.t ->
   t
 (** [make ~transform material shape] places [shape] in the world by [transform] (default
     the identity) and computes its world bounds. [flip] reverses its normal. For a CSG
-    shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None].
-*)
+    shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None],
+    and each leaf's colour its material's. [color] (default [material]'s) is the colour
+    of any other shape. *)
 
 val bounds : t -> Bbox.t option
 (** The world-space bounds; [None] when unbounded. *)
@@ -60,7 +65,8 @@ val faces : t -> int
 (** How many surfaces [o] stands for: a mesh's triangles, 1 for any other object. *)
 
 val materials : t -> Material.t list
-(** The materials the object can shade with: its own, or its leaves' for a CSG object. *)
+(** The materials the object can shade with: its own, or its leaves' for a CSG object,
+    each with its {!field-color} (a copy where its record holds another). *)
 
 val object_probe : t -> Probe.t -> Probe.t -> unit
 (** [object_probe o q obj] writes the probe [q] (a world ray and its interval) into [obj]

@@ -60,9 +60,8 @@ and crossings = {
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
    the texture is evaluated in object space at p − δ·n (doc/reference/shading.md, section 6). *)
 let[@inline] albedo_into (o : Primitive.t) (f : Frag.t) px py pz nx ny nz delta =
-  let m = o.material in
-  match m.texture with
-  | None -> Frag.set_color f m.color
+  match o.material.texture with
+  | None -> Frag.set_color f o.color
   | Some tex ->
       (* N is the geometric normal: a smooth mesh's interpolated normal is not. *)
       (match o.shape with

@@ -319,7 +319,7 @@ let not_shipped () =
     (fun b ->
       let st, _, e = lancer [ "bench"; b ] in
       Alcotest.(check int) ("lancer bench " ^ b ^ " is not a command\n" ^ e) 1 st)
-    [ "physics"; "scaling"; "language" ]
+    [ "physics"; "scaling"; "language"; "materials" ]
 
 let language_json () =
   let j =
@@ -330,6 +330,35 @@ let language_json () =
   Alcotest.(check bool)
     "the loop's time" true
     (j |> member "loop_seconds" |> to_number > 0.)
+
+(* Spheres coloured in their loop hold their colour, not a material each: a few words more
+   per object than plain ones in the description and in the scene, and their materials
+   next to nothing. *)
+let materials_json () =
+  let words colour =
+    let j =
+      json_of ~exe:bench_exe
+        ([ "materials"; "--grid"; "30"; "--json" ] @ if colour then [ "--colour" ] else [])
+        ()
+    in
+    let open Yojson.Safe.Util in
+    Alcotest.(check int) "objects" 900 (j |> member "objects" |> to_int);
+    let w k = j |> member k |> to_number in
+    (w "description_words_per_object", w "primitive_words_per_object", w
+       "material_words_per_object")
+  in
+  let d0, p0, _ = words false and d1, p1, m1 = words true in
+  let more what a b =
+    Alcotest.(check bool)
+      (Printf.sprintf "%s: %.1f words an object more than %.1f, at most 6" what b a)
+      true
+      (b -. a <= 6.)
+  in
+  more "the description" d0 d1;
+  more "the scene's primitives" p0 p1;
+  Alcotest.(check bool)
+    (Printf.sprintf "the materials: %.2f words an object, under 1" m1)
+    true (m1 < 1.)
 
 (* An animation timed against its still: every frame written, both times and their ratio
    reported; a scene that fails is a one-line error. *)
@@ -384,5 +413,7 @@ let () =
         [
           Alcotest.test_case "not commands of lancer" `Quick not_shipped;
           Alcotest.test_case "language --json" `Quick language_json;
+          Alcotest.test_case "materials --json: a colour each is compact" `Quick
+            materials_json;
         ] );
     ]

@@ -185,10 +185,10 @@ let test_groups_and_transforms () =
   let o0 = s.objects.(0) and o1 = s.objects.(1) in
   Alcotest.(check bool)
     "a member without a material takes the group's" true
-    (o0.material.color = Color.v 1. 0. 0.);
+    (o0.color = Color.v 1. 0. 0.);
   Alcotest.(check bool)
     "a member with its own keeps it" true
-    (o1.material.color = Color.v 0. 0. 1.);
+    (o1.color = Color.v 0. 0. 1.);
   veq "the group's transform applies" (Vec3.v 10. 0. 0.) (centre o0);
   let s =
     scene
@@ -223,6 +223,55 @@ let test_materials () =
   Alcotest.(check bool)
     "noise bump" true
     (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }))
+
+(* Equal materials are one record in the scene, and a loop that colours each object makes
+   no material per object: the objects share one, each holding its own colour. *)
+let test_materials_shared () =
+  let s =
+    scene
+      "sphere { center: (0, 0, 0), radius: 1, material: material { color: (1, 0, 0), \
+       specular: 0.5 } }\n\
+       sphere { center: (3, 0, 0), radius: 1, material: material { specular: 0.5, color: \
+       (1, 0, 0) } }"
+  in
+  Alcotest.(check bool)
+    "two equal materials written apart compile to one" true
+    (s.objects.(0).material == s.objects.(1).material);
+  let n = 300 in
+  let text =
+    Printf.sprintf
+      "let n = %d\n\
+       let shiny = material { specular: 0.5, ior: 1.5 }\n\
+       for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i, 0, j), radius: \
+       0.4, material: material { base: shiny, color: (i / n, j / n, 0.5) } } } }"
+      n
+  in
+  let p = load text in
+  (match Dsl.describe (Program.language p) ~time:0. ~frame:0 with
+  | Ok d ->
+      let first = (List.hd d.objects).material in
+      Alcotest.(check bool)
+        "the description's objects share the material they differ from in colour" true
+        (List.for_all (fun (o : Description.obj) -> o.material == first) d.objects)
+  | Error es -> Alcotest.failf "%s" (errors_text es));
+  let s = scene_of p ~time:0. in
+  Alcotest.(check int) "objects" (n * n) (Array.length s.objects);
+  let m = s.objects.(0).material in
+  Alcotest.(check bool)
+    "the scene's objects share one material" true
+    (Array.for_all (fun (o : Primitive.t) -> o.material == m) s.objects);
+  feq "the base's fields" 0.5 m.specular;
+  feq "the base's ior" 1.5 m.ior;
+  (* Each object reads its own colour back, wherever the structure put it. *)
+  let wrong = ref 0 in
+  Array.iter
+    (fun (o : Primitive.t) ->
+      let c = centre o in
+      let i = Float.round c.x and j = Float.round c.z in
+      let f = Float.of_int n in
+      if o.color <> Color.v (i /. f) (j /. f) 0.5 then incr wrong)
+    s.objects;
+  Alcotest.(check int) "objects whose colour is another's" 0 !wrong
 
 let test_settings_camera_lights () =
   let s =
@@ -881,6 +930,7 @@ let test_compile_by_hand () =
       transform = Transform.translate (Vec3.v 0. 1. 0.);
       steps = [ Translate (Vec3.v 0. 1. 0.) ];
       material = Some { D.default_material with color = Color.v 1. 0. 0. };
+      color = Color.v 1. 0. 0.;
       loc = Loc.whole_file "hand";
       body = None;
     }
@@ -906,7 +956,7 @@ let test_compile_by_hand () =
   | Error es -> Alcotest.failf "%s" (errors_text es)
   | Ok sc ->
       let o = sc.objects.(0) in
-      Alcotest.(check bool) "red" true (o.material.color = Color.v 1. 0. 0.);
+      Alcotest.(check bool) "red" true (o.color = Color.v 1. 0. 0.);
       Alcotest.(check bool)
         "placed by its transform" true
         (Vec3.equal_f (centre o) (Vec3.v 0. 1. 0.))
@@ -922,6 +972,7 @@ let test_file_spellings () =
       transform = Transform.identity;
       steps = [];
       material = None;
+      color = D.default_material.color;
       loc = at line;
       body = None;
     }
@@ -1002,6 +1053,9 @@ let () =
           Alcotest.test_case
             "a material copies its base, then overrides; textures and bumps evaluate"
             `Quick test_materials;
+          Alcotest.test_case
+            "equal materials are shared; a loop's colours are kept per object" `Quick
+            test_materials_shared;
           Alcotest.test_case "settings, camera and lights take their fields and defaults"
             `Quick test_settings_camera_lights;
           Alcotest.test_case

@@ -275,10 +275,11 @@ let test_sphere_blocks () =
       "let m = material { color: (1, 0, 0) }\n\
        sphere { material: m, radius: 2, center: (1, 2, 3) }"
   with
-  | [ { shape = D.Sphere { center; radius }; material = Some m; steps = []; _ } ] ->
+  | [ ({ shape = D.Sphere { center; radius }; material = Some _; steps = []; _ } as o) ]
+    ->
       Alcotest.(check (list (float 0.)))
         "fields in any order" [ 1.; 2.; 3.; 2.; 1. ]
-        [ center.x; center.y; center.z; radius; m.color.r ]
+        [ center.x; center.y; center.z; radius; o.color.r ]
   | _ -> Alcotest.fail "one sphere with its material"
 
 let test_other_blocks () =
@@ -343,7 +344,7 @@ let test_material_blocks () =
   let materials text =
     List.map
       (fun (o : D.obj) ->
-        match o.material with Some m -> m | None -> Alcotest.fail "no material")
+        match D.object_material o with Some m -> m | None -> Alcotest.fail "no material")
       (objects text)
   in
   let ms =
@@ -448,7 +449,7 @@ let test_transformed_blocks () =
          Printf.sprintf "%s %s (%g,%g,%g) %g" o.kind
            (String.concat " " (List.map step o.steps))
            p.x p.y p.z
-           (match o.material with
+           (match D.object_material o with
            | Some m -> if m.ambient = 0.5 then 0.5 else m.color.r
            | None -> -1.))
        objs)

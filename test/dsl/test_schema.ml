@@ -296,6 +296,13 @@ let described ?schema text =
           List.map
             (fun (b : Lancer.Description.body) -> { b with loc = nowhere })
             d.bodies;
+        (* Each object's material as it reads, its colour in it: a material that differs
+           from another in its colour alone may be held as that one. *)
+        objects =
+          List.map
+            (fun (o : Lancer.Description.obj) ->
+              { o with material = Lancer.Description.object_material o })
+            d.objects;
       }
   | Error es -> Alcotest.failf "%s\n%s" text (errors_text es)
 
@@ -392,7 +399,10 @@ let test_description_defaults () =
     (Option.get (described ("physics { }\n" ^ sphere)).physics);
   let material text =
     match (described text).objects with
-    | [ o ] -> Option.value o.material ~default:Lancer.Description.default_material
+    | [ o ] ->
+        Option.value
+          (Lancer.Description.object_material o)
+          ~default:Lancer.Description.default_material
     | _ -> Alcotest.fail "one object"
   in
   check_same "Description.default_material" Lancer.Description.default_material
