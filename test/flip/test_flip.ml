@@ -69,6 +69,73 @@ let allocation () =
   Alcotest.(check bool) "FLIP" true (f2 <= f1 +. 100.);
   Alcotest.(check bool) "SSIM" true (s2 <= s1 +. 100.)
 
+let tmpdir () =
+  let d = Filename.temp_file "lancer-flip" "" in
+  Sys.remove d;
+  Unix.mkdir d 0o755;
+  d
+
+let contains s sub =
+  let n = String.length s and k = String.length sub in
+  let rec at i = i + k <= n && (String.sub s i k = sub || at (i + 1)) in
+  at 0
+
+let exists d f = Sys.file_exists (Filename.concat d f)
+
+(* A golden judged by a metric passes or fails by it, and its diff image is FLIP's map;
+   without one, the per-channel tolerance decides and the diff image is the red one, as
+   before. *)
+let golden_metric () =
+  let golden_image, actual = pair "render_spheres" in
+  let flip = Flip.mean (Flip.error_map golden_image actual) in
+  let d = tmpdir () in
+  let g = Filename.concat d "g.png" in
+  let w, h, bytes = golden_image in
+  (match Image.write_rgb8 g w h bytes with Ok () -> () | Error m -> Alcotest.fail m);
+  let golden ?metric () =
+    match Lancer_alcotest.compare_golden ?metric ~golden:g actual with
+    | Ok o -> o
+    | Error m -> Alcotest.fail m
+  in
+  let diff_bytes () =
+    match Image.read_rgb8 (Filename.concat d "g.diff.png") with
+    | Ok (_, _, b) -> b
+    | Error m -> Alcotest.fail m
+  in
+  (match golden () with
+  | Different { figures; _ } ->
+      Alcotest.(check bool) "no metric judged" true (figures.judged = None);
+      Alcotest.(check bool) "no FLIP in the message" false
+        (contains (Format.asprintf "%a" Compare.pp figures) "FLIP");
+      Alcotest.(check bool)
+        "the red diff image" true
+        (Bytes.equal (diff_bytes ()) (Compare.diff_image golden_image actual))
+  | _ -> Alcotest.fail "the render passed a per-channel tolerance of 1");
+  (match golden ~metric:(Compare.Flip (flip +. 0.001)) () with
+  | Same { judged = Some (Compare.Flip _, v); _ } ->
+      Alcotest.(check (float 1e-12)) "the mean FLIP" flip v;
+      Alcotest.(check bool) "failure images removed" false (exists d "g.diff.png")
+  | _ -> Alcotest.fail "a mean FLIP within the limit failed");
+  (match golden ~metric:(Compare.Flip (flip -. 0.001)) () with
+  | Different { figures; _ } ->
+      let msg = Format.asprintf "%a" Compare.pp figures in
+      Alcotest.(check bool) ("the metric in " ^ msg) true
+        (contains msg (Printf.sprintf "mean FLIP %.4f >" flip));
+      Alcotest.(check bool)
+        "FLIP's map as the diff image" true
+        (Bytes.equal (diff_bytes ()) (Compare.flip_image golden_image actual))
+  | _ -> Alcotest.fail "a mean FLIP over the limit passed");
+  (match golden ~metric:(Compare.Ssim 0.9) () with
+  | Same _ -> ()
+  | _ -> Alcotest.fail "SSIM 0.98 failed a limit of 0.9");
+  (match golden ~metric:(Compare.Psnr 60.) () with
+  | Different _ -> ()
+  | _ -> Alcotest.fail "a noisy render passed a PSNR of 60 dB");
+  match Compare.golden ~metric:(Compare.Flip 2.) ~update:false ~golden:g actual with
+  | Error m ->
+      Alcotest.(check string) "refused" "a mean FLIP limit must be between 0 and 1 (got 2)" m
+  | Ok _ -> Alcotest.fail "a FLIP limit of 2 was taken"
+
 let () =
   Alcotest.run "flip"
     [
@@ -76,4 +143,6 @@ let () =
         [ Alcotest.test_case "FLIP and SSIM agree with the references" `Quick agreement ]
       );
       ("cost", [ Alcotest.test_case "no allocation per pixel" `Quick allocation ]);
+      ( "golden",
+        [ Alcotest.test_case "a golden judged by a metric" `Quick golden_metric ] );
     ]
