@@ -133,8 +133,8 @@ let share_arg =
     value & opt float 0.
     & info [ "max-share" ] ~docv:"F"
         ~doc:
-          "Share of pixels (0–1) allowed to exceed the per-channel tolerance ($(b,--metric \
-           max)).")
+          "Share of pixels (0–1) allowed to exceed the per-channel tolerance \
+           ($(b,--metric max)).")
 
 let diff =
   let doc = "compare two images; exit status 1 when they differ beyond the tolerance" in
@@ -195,16 +195,16 @@ let golden =
         "Renders SCENE.rts with the given options and compares the image with \
          GOLDEN.png. When they differ beyond the tolerance, GOLDEN.actual.png and \
          GOLDEN.diff.png (differences in red; FLIP's error map, in grey, with a \
-         $(b,--metric) other than $(b,max)) are written next to the golden, and the \
-         exit status is 1.";
+         $(b,--metric) other than $(b,max)) are written next to the golden, and the exit \
+         status is 1.";
       `S Manpage.s_examples;
       `Pre "  lancer golden scene.rts tests/scene.png --width 160 --height 120";
       `Pre
         "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --update   # \
          (re)make the golden";
       `Pre
-        "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --metric flip \
-         --tolerance 0.01";
+        "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --metric \
+         flip --tolerance 0.01";
     ]
   in
   let term =

@@ -11,8 +11,7 @@ let check_metric m =
   | Flip v -> between "a mean FLIP limit" 0. 1. v
   | Ssim v -> between "an SSIM limit" (-1.) 1. v
 
-let passes m v =
-  match m with Rmse l | Flip l -> v <= l | Psnr l | Ssim l -> v >= l
+let passes m v = match m with Rmse l | Flip l -> v <= l | Psnr l | Ssim l -> v >= l
 
 let pp_judged ppf (m, v) =
   let name, digits, l =

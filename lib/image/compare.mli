@@ -14,8 +14,8 @@ type metric =
   | Ssim of float  (** SSIM at least this, -1–1 *)
 
 val check_metric : metric -> (unit, string) result
-(** [Error] for a limit outside the metric's range (RMSE 0–255, PSNR at least 0, FLIP
-    0–1, SSIM -1–1) or not a number. *)
+(** [Error] for a limit outside the metric's range (RMSE 0–255, PSNR at least 0, FLIP 0–1,
+    SSIM -1–1) or not a number. *)
 
 val measure :
   metric -> int * int * Bytes.t -> int * int * Bytes.t -> (float, string) result

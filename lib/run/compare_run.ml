@@ -8,7 +8,8 @@ let check_tolerance tolerance share =
 
 type metric = Max | Rmse | Psnr | Flip | Ssim
 
-let metric_names = [ ("max", Max); ("rmse", Rmse); ("psnr", Psnr); ("flip", Flip); ("ssim", Ssim) ]
+let metric_names =
+  [ ("max", Max); ("rmse", Rmse); ("psnr", Psnr); ("flip", Flip); ("ssim", Ssim) ]
 
 (* The limit of a --metric given by --tolerance, as the library takes it; None for the
    per-channel tolerance. *)
@@ -33,7 +34,9 @@ let limit metric tolerance =
   in
   Option.iter
     (fun m ->
-      match Compare.check_metric m with Ok () -> () | Error e -> user "--tolerance: %s" e)
+      match Compare.check_metric m with
+      | Ok () -> ()
+      | Error e -> user "--tolerance: %s" e)
     m;
   m
 
@@ -87,10 +90,10 @@ let diff ?out ?(json = false) ~metric ~tolerance ~share a b =
       user "--metric ssim: SSIM needs images of at least %d×%d pixels (these are %d×%d)"
         Ssim.window Ssim.window wa ha
   | _ -> ());
-  let ok =
-    Compare.within ~max_diff:channel ~max_share:share { c with judged }
+  let ok = Compare.within ~max_diff:channel ~max_share:share { c with judged } in
+  let word =
+    if c.max_diff = 0 then "same" else if ok then "within tolerance" else "differ"
   in
-  let word = if c.max_diff = 0 then "same" else if ok then "within tolerance" else "differ" in
   let verdict =
     match judged with
     | Some j when c.max_diff <> 0 -> Format.asprintf "%s (%a)" word Compare.pp_judged j
@@ -102,47 +105,49 @@ let diff ?out ?(json = false) ~metric ~tolerance ~share a b =
       | Ok () -> ()
       | Error m -> raise (Job_error.User m))
     out;
-  (if json then
-     let num v = if Float.is_finite v then `Float v else `Null in
-     let doc =
-       `Assoc
-         ([
-            ("a", `String a);
-            ("b", `String b);
-            ("verdict", `String word);
-            ("within", `Bool ok);
-            ("metric", `String (metric_name metric));
-            ( "tolerance",
-              match judge with
-              | None -> `Int channel
-              | Some (Compare.Rmse l | Psnr l | Flip l | Ssim l) -> num l );
-            ("max_share", `Float share);
-            ("width", `Int wa);
-            ("height", `Int ha);
-            ("max_diff", `Int c.max_diff);
-            ("rmse", `Float c.rmse);
-            ("psnr", num c.psnr);
-            ("over", `Int c.over);
-            ("over_share", `Float c.over_share);
-            ("flip", `Float flip);
-            ("ssim", match ssim with Some s -> `Float s | None -> `Null);
-          ]
-         @ match out with Some p -> [ ("diff_image", `String p) ] | None -> [])
-     in
-     print_endline (Yojson.Safe.pretty_to_string doc)
-   else (
-     Format.printf "%s: %a, mean FLIP %.4f, SSIM %s@." verdict Compare.pp c flip
-       (match ssim with
-       | Some s -> Printf.sprintf "%.4f" s
-       | None -> Printf.sprintf "undefined (under %d×%d pixels)" Ssim.window Ssim.window);
-     Option.iter (Printf.printf "FLIP error map: %s\n") out));
+  if json then
+    let num v = if Float.is_finite v then `Float v else `Null in
+    let doc =
+      `Assoc
+        ([
+           ("a", `String a);
+           ("b", `String b);
+           ("verdict", `String word);
+           ("within", `Bool ok);
+           ("metric", `String (metric_name metric));
+           ( "tolerance",
+             match judge with
+             | None -> `Int channel
+             | Some (Compare.Rmse l | Psnr l | Flip l | Ssim l) -> num l );
+           ("max_share", `Float share);
+           ("width", `Int wa);
+           ("height", `Int ha);
+           ("max_diff", `Int c.max_diff);
+           ("rmse", `Float c.rmse);
+           ("psnr", num c.psnr);
+           ("over", `Int c.over);
+           ("over_share", `Float c.over_share);
+           ("flip", `Float flip);
+           ("ssim", match ssim with Some s -> `Float s | None -> `Null);
+         ]
+        @ match out with Some p -> [ ("diff_image", `String p) ] | None -> [])
+    in
+    print_endline (Yojson.Safe.pretty_to_string doc)
+  else (
+    Format.printf "%s: %a, mean FLIP %.4f, SSIM %s@." verdict Compare.pp c flip
+      (match ssim with
+      | Some s -> Printf.sprintf "%.4f" s
+      | None -> Printf.sprintf "undefined (under %d×%d pixels)" Ssim.window Ssim.window);
+    Option.iter (Printf.printf "FLIP error map: %s\n") out);
   ok
 
 let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
   check_tolerance tolerance share;
   Option.iter
     (fun m ->
-      match Compare.check_metric m with Ok () -> () | Error e -> user "--tolerance: %s" e)
+      match Compare.check_metric m with
+      | Ok () -> ()
+      | Error e -> user "--tolerance: %s" e)
     metric;
   let src = Scene_file.source o (Scene_file.load o.scene) in
   let time, frame = Options.time_of o src in

@@ -128,8 +128,8 @@ let compare_golden ?tolerance ?max_share ?metric ~golden actual =
   Compare.golden ?tolerance ?max_share ?metric ~update:(updating ())
     ~golden:(source_path golden) actual
 
-let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?frame ~scene
-    ~golden () =
+let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?frame
+    ~scene ~golden () =
   match
     render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene)
   with

@@ -140,7 +140,8 @@ let help_tests =
             "--update";
             "--width";
           ];
-        check [ "diff" ] [ "--json"; "--max-share"; "--metric"; "--output"; "--tolerance" ];
+        check [ "diff" ]
+          [ "--json"; "--max-share"; "--metric"; "--output"; "--tolerance" ];
         check [ "bench"; "domains" ]
           [
             "--counts";
@@ -359,7 +360,15 @@ let diff_tests =
         Alcotest.(check bool) "an SSIM under 1" true (ssim < 1.);
         let judged metric limit =
           lancer ~dir:d
-            [ "diff"; "a.png"; "b.png"; "--metric"; metric; "--tolerance"; Printf.sprintf "%.6f" limit ]
+            [
+              "diff";
+              "a.png";
+              "b.png";
+              "--metric";
+              metric;
+              "--tolerance";
+              Printf.sprintf "%.6f" limit;
+            ]
         in
         let ((_, out, _) as r) = judged "flip" (flip +. 0.001) in
         check_status "flip within" 0 r;
@@ -389,7 +398,9 @@ let diff_tests =
         check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
         List.iter
           (fun (args, msg) ->
-            let ((_, out, e) as r) = lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args) in
+            let ((_, out, e) as r) =
+              lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args)
+            in
             check_status (String.concat " " args) 1 r;
             has (String.concat " " args) e msg;
             Alcotest.(check string) "no figures" "" out)
@@ -411,7 +422,8 @@ let diff_tests =
         check_status "tiny" 0
           (lancer ~dir:d [ "render"; "s.rts"; "-o"; "t.png"; "-q"; "-W"; "8"; "-H"; "6" ]);
         let ((_, out, e) as r) =
-          lancer ~dir:d [ "diff"; "t.png"; "t.png"; "--metric"; "ssim"; "--tolerance"; "0.9" ]
+          lancer ~dir:d
+            [ "diff"; "t.png"; "t.png"; "--metric"; "ssim"; "--tolerance"; "0.9" ]
         in
         check_status "tiny ssim" 1 r;
         has "tiny ssim" e "SSIM needs images of at least 11×11 pixels (these are 8×6)";
@@ -419,12 +431,13 @@ let diff_tests =
         let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "t.png"; "t.png" ] in
         check_status "tiny, max" 0 r;
         has "tiny, max" out "SSIM undefined (under 11×11 pixels)");
-    Alcotest.test_case "golden --metric judges the render by the metric" `Quick
-      (fun () ->
+    Alcotest.test_case "golden --metric judges the render by the metric" `Quick (fun () ->
         let d = scenes () in
         check_status "update" 0
           (lancer ~dir:d [ "golden"; "a.rts"; "g.png"; "--update"; "-q" ]);
-        let moved args = lancer ~dir:d ([ "golden"; "a.rts"; "g.png"; "--time"; "0.05" ] @ args) in
+        let moved args =
+          lancer ~dir:d ([ "golden"; "a.rts"; "g.png"; "--time"; "0.05" ] @ args)
+        in
         check_status "per channel" 1 (moved []);
         let ((_, out, _) as r) = moved [ "--metric"; "flip"; "--tolerance"; "0.5" ] in
         check_status "flip" 0 r;
@@ -441,7 +454,9 @@ let diff_tests =
         in
         let g = read "g.png" and a = read "g.actual.png" in
         let _, _, m = read "g.diff.png" in
-        Alcotest.(check bool) "FLIP's map" true (Bytes.equal m (Lancer.Compare.flip_image g a));
+        Alcotest.(check bool)
+          "FLIP's map" true
+          (Bytes.equal m (Lancer.Compare.flip_image g a));
         let ((_, _, e) as r) = moved [ "--metric"; "ssim" ] in
         check_status "no limit" 1 r;
         has "no limit" e "--metric ssim needs --tolerance");
@@ -450,7 +465,9 @@ let diff_tests =
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
         check_status "b" 0
           (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
-        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "m.png" ] in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "m.png" ]
+        in
         check_status "diff" 1 r;
         has "named" out "FLIP error map: m.png";
         let read p =
@@ -463,9 +480,7 @@ let diff_tests =
         Alcotest.(check bool)
           "the map of Flip" true
           (Bytes.equal m (Lancer.Flip.grey (Lancer.Flip.error_map a b)));
-        Alcotest.(check bool)
-          "not black" true
-          (Bytes.exists (fun c -> c <> '\000') m);
+        Alcotest.(check bool) "not black" true (Bytes.exists (fun c -> c <> '\000') m);
         check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png"; "-o"; "z.png" ]);
         let _, _, z = read "z.png" in
         Alcotest.(check bool) "black" true (Bytes.for_all (fun c -> c = '\000') z));
