@@ -11,10 +11,17 @@ type metric = Max | Rmse | Psnr | Flip | Ssim
 let metric_names =
   [ ("max", Max); ("rmse", Rmse); ("psnr", Psnr); ("flip", Flip); ("ssim", Ssim) ]
 
-(* The limit of a --metric given by --tolerance, as the library takes it; None for the
-   per-channel tolerance. *)
 let metric_name metric = fst (List.find (fun (_, m) -> m = metric) metric_names)
 
+(* Refuse a metric's limit out of its range. *)
+let check_limit =
+  Option.iter (fun m ->
+      match Compare.check_metric m with
+      | Ok () -> ()
+      | Error e -> user "--tolerance: %s" e)
+
+(* The limit of a --metric given by --tolerance, as the library takes it; None for the
+   per-channel tolerance. *)
 let limit metric tolerance =
   let need what =
     user "--metric %s needs --tolerance: %s that still counts as equal"
@@ -32,12 +39,7 @@ let limit metric tolerance =
     | Flip, Some t -> Some (Compare.Flip t)
     | Ssim, Some t -> Some (Compare.Ssim t)
   in
-  Option.iter
-    (fun m ->
-      match Compare.check_metric m with
-      | Ok () -> ()
-      | Error e -> user "--tolerance: %s" e)
-    m;
+  check_limit m;
   m
 
 (* The per-channel tolerance of --metric max, a whole number. *)
@@ -143,12 +145,7 @@ let diff ?out ?(json = false) ~metric ~tolerance ~share a b =
 
 let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
   check_tolerance tolerance share;
-  Option.iter
-    (fun m ->
-      match Compare.check_metric m with
-      | Ok () -> ()
-      | Error e -> user "--tolerance: %s" e)
-    metric;
+  check_limit metric;
   let src = Scene_file.source o (Scene_file.load o.scene) in
   let time, frame = Options.time_of o src in
   let sc = Options.scene_at o src ~time ~frame in

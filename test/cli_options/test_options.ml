@@ -294,7 +294,9 @@ let refusal_tests =
 
 let diff_tests =
   [
-    Alcotest.test_case "diff refuses a tolerance outside 0..255 and a share outside 0..1"
+    Alcotest.test_case
+      "diff refuses a tolerance outside 0..255 or its metric's range, a metric without \
+       its limit, and a share outside 0..1"
       `Quick (fun () ->
         let d = scenes () in
         check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
@@ -312,6 +314,18 @@ let diff_tests =
             ([ "--max-share"; "2" ], "--max-share must be between 0 and 1 (got 2)");
             ([ "--max-share"; "nan" ], "--max-share must be between 0 and 1");
             ([ "--max-share=-0.5" ], "--max-share must be between 0 and 1 (got -0.5)");
+            ( [ "--metric"; "flip" ],
+              "--metric flip needs --tolerance: the largest mean FLIP (0–1)" );
+            ([ "--metric"; "ssim" ], "--metric ssim needs --tolerance");
+            ( [ "--metric"; "flip"; "--tolerance"; "1.5" ],
+              "--tolerance: a mean FLIP limit must be between 0 and 1 (got 1.5)" );
+            ( [ "--metric"; "ssim"; "--tolerance"; "2" ],
+              "--tolerance: an SSIM limit must be between -1 and 1 (got 2)" );
+            ( [ "--metric"; "rmse"; "--tolerance=-1" ],
+              "--tolerance: an RMSE limit must be between 0 and 255 (got -1)" );
+            ( [ "--tolerance"; "0.5" ],
+              "--tolerance must be a whole number between 0 and 255 (got 0.5)" );
+            ([ "--metric"; "lpips" ], "invalid value 'lpips'");
           ];
         let ((_, _, e) as r) =
           lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--tolerance"; "256" ]
@@ -392,32 +406,9 @@ let diff_tests =
         Alcotest.(check (float 0.)) "no FLIP" 0. (j |> member "flip" |> to_number);
         Alcotest.(check (float 0.)) "SSIM 1" 1. (j |> member "ssim" |> to_number);
         Alcotest.(check bool) "PSNR null" true (j |> member "psnr" = `Null));
-    Alcotest.test_case "diff refuses a metric without its limit, or out of its range"
-      `Quick (fun () ->
+    Alcotest.test_case "diff --metric ssim needs images of 11×11 pixels or more" `Quick
+      (fun () ->
         let d = scenes () in
-        check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
-        List.iter
-          (fun (args, msg) ->
-            let ((_, out, e) as r) =
-              lancer ~dir:d ([ "diff"; "a.png"; "a.png" ] @ args)
-            in
-            check_status (String.concat " " args) 1 r;
-            has (String.concat " " args) e msg;
-            Alcotest.(check string) "no figures" "" out)
-          [
-            ( [ "--metric"; "flip" ],
-              "--metric flip needs --tolerance: the largest mean FLIP (0–1)" );
-            ([ "--metric"; "ssim" ], "--metric ssim needs --tolerance");
-            ( [ "--metric"; "flip"; "--tolerance"; "1.5" ],
-              "--tolerance: a mean FLIP limit must be between 0 and 1 (got 1.5)" );
-            ( [ "--metric"; "ssim"; "--tolerance"; "2" ],
-              "--tolerance: an SSIM limit must be between -1 and 1 (got 2)" );
-            ( [ "--metric"; "rmse"; "--tolerance=-1" ],
-              "--tolerance: an RMSE limit must be between 0 and 255 (got -1)" );
-            ( [ "--tolerance"; "0.5" ],
-              "--tolerance must be a whole number between 0 and 255 (got 0.5)" );
-            ([ "--metric"; "lpips" ], "invalid value 'lpips'");
-          ];
         (* SSIM needs an 11×11 window. *)
         check_status "tiny" 0
           (lancer ~dir:d [ "render"; "s.rts"; "-o"; "t.png"; "-q"; "-W"; "8"; "-H"; "6" ]);
