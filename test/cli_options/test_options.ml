@@ -499,14 +499,23 @@ let diff_tests =
         with
         | Error m -> has "library" m "g.png is 16×12 but the image is 24×18"
         | Ok _ -> Alcotest.fail "a golden of another size passed");
-    Alcotest.test_case "diff names the images of different sizes" `Quick (fun () ->
+    Alcotest.test_case "diff names the images of different sizes, and one it cannot read"
+      `Quick (fun () ->
         let d = scenes () in
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
         check_status "b" 0
           (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--width"; "16" ]);
         let ((_, _, e) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
         check_status "sizes" 1 r;
-        has "sizes" e "a.png is 24×18 but b.png is 16×18");
+        has "sizes" e "a.png is 24×18 but b.png is 16×18";
+        write_file (Filename.concat d "t.png") "not an image\n";
+        let ((_, out, e) as r) =
+          lancer ~dir:d
+            [ "diff"; "a.png"; "t.png"; "--metric"; "flip"; "--tolerance"; "0.1" ]
+        in
+        check_status "unreadable" 1 r;
+        has "unreadable" e "lancer: t.png: not a PNG file";
+        Alcotest.(check string) "no figures" "" out);
     Alcotest.test_case "a negative value after an option gets a hint to write --time=-5"
       `Quick (fun () ->
         let d = scenes () in
