@@ -32,6 +32,12 @@ plane { normal: (0, 1, 0), offset: 0 }
 sphere { center: (0, 1 + time, 0), radius: 0.5 }
 |}
 
+(* An image a command wrote in the directory d. *)
+let read_image d p =
+  match Lancer.Image.read_rgb8 (Filename.concat d p) with
+  | Ok i -> i
+  | Error m -> Alcotest.fail m
+
 let scenes () =
   let d = tmpdir "lancer-options" in
   write_file (Filename.concat d "s.rts") still;
@@ -438,13 +444,8 @@ let diff_tests =
         check_status "psnr" 1 r;
         has "psnr" out "; PSNR";
         has "psnr" out "< 99 dB";
-        let read p =
-          match Lancer.Image.read_rgb8 (Filename.concat d p) with
-          | Ok i -> i
-          | Error m -> Alcotest.fail m
-        in
-        let g = read "g.png" and a = read "g.actual.png" in
-        let _, _, m = read "g.diff.png" in
+        let g = read_image d "g.png" and a = read_image d "g.actual.png" in
+        let _, _, m = read_image d "g.diff.png" in
         Alcotest.(check bool)
           "FLIP's map" true
           (Bytes.equal m (Lancer.Compare.flip_image g a));
@@ -461,19 +462,14 @@ let diff_tests =
         in
         check_status "diff" 1 r;
         has "named" out "FLIP error map: m.png";
-        let read p =
-          match Lancer.Image.read_rgb8 (Filename.concat d p) with
-          | Ok i -> i
-          | Error m -> Alcotest.fail m
-        in
-        let a = read "a.png" and b = read "b.png" in
-        let _, _, m = read "m.png" in
+        let a = read_image d "a.png" and b = read_image d "b.png" in
+        let _, _, m = read_image d "m.png" in
         Alcotest.(check bool)
           "the map of Flip" true
           (Bytes.equal m (Lancer.Flip.grey (Lancer.Flip.error_map a b)));
         Alcotest.(check bool) "not black" true (Bytes.exists (fun c -> c <> '\000') m);
         check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png"; "-o"; "z.png" ]);
-        let _, _, z = read "z.png" in
+        let _, _, z = read_image d "z.png" in
         Alcotest.(check bool) "black" true (Bytes.for_all (fun c -> c = '\000') z));
     Alcotest.test_case
       "a golden of another size: which is the golden, and --width/--height" `Quick
