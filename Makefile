@@ -10,7 +10,7 @@ PREFIX ?= $(HOME)/.local
 
 
 .PHONY: all deps deps-build build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
-	clean-toolchain fmt install uninstall static cluster-bundle
+	clean-toolchain fmt install uninstall static cluster-bundle flip-oracle
 
 all: build
 
@@ -79,6 +79,11 @@ uninstall:
 test: deps
 	$(RUN) $(DUNE) build -j $(JOBS) @install
 	$(RUN) $(DUNE) test -j $(JOBS) --force
+
+# FLIP and SSIM against the reference implementations, the table of test/flip remade
+# from them (pip installs them into out/ the first time).
+flip-oracle: deps
+	bash test/flip/oracle.sh
 
 # Re-render every golden image from its scene. Only this command changes goldens.
 golden-update: build

@@ -1,3 +1,40 @@
+type metric = Rmse of float | Psnr of float | Flip of float | Ssim of float
+
+let check_metric m =
+  let between name lo hi v =
+    if v >= lo && v <= hi then Ok ()
+    else Error (Printf.sprintf "%s must be between %g and %g (got %g)" name lo hi v)
+  in
+  match m with
+  | Rmse v -> between "an RMSE limit" 0. 255. v
+  | Psnr v -> between "a PSNR limit" 0. Float.infinity v
+  | Flip v -> between "a mean FLIP limit" 0. 1. v
+  | Ssim v -> between "an SSIM limit" (-1.) 1. v
+
+let passes m v = match m with Rmse l | Flip l -> v <= l | Psnr l | Ssim l -> v >= l
+
+let pp_judged ppf (m, v) =
+  let name, digits, l =
+    match m with
+    | Rmse l -> ("RMSE", 3, l)
+    | Psnr l -> ("PSNR", 2, l)
+    | Flip l -> ("mean FLIP", 4, l)
+    | Ssim l -> ("SSIM", 4, l)
+  in
+  let value =
+    match m with
+    | Psnr _ when not (Float.is_finite v) -> "inf"
+    | _ -> Printf.sprintf "%.*f" digits v
+  in
+  let unit = match m with Psnr _ -> " dB" | _ -> "" in
+  Format.fprintf ppf "%s %s%s %s %g%s" name value unit
+    (match (m, passes m v) with
+    | (Rmse _ | Flip _), true -> "<="
+    | (Rmse _ | Flip _), false -> ">"
+    | (Psnr _ | Ssim _), true -> ">="
+    | (Psnr _ | Ssim _), false -> "<")
+    l unit
+
 type t = {
   width : int;
   height : int;
@@ -6,13 +43,14 @@ type t = {
   psnr : float;
   over : int;
   over_share : float;
+  judged : (metric * float) option;
 }
 
 let pixel_diff a b k =
   let d c = abs (Char.code (Bytes.get a (k + c)) - Char.code (Bytes.get b (k + c))) in
   max (d 0) (max (d 1) (d 2))
 
-let compare ?(threshold = 1) (wa, ha, a) (wb, hb, b) =
+let figures ~threshold (wa, ha, a) (wb, hb, b) =
   if wa <> wb || ha <> hb then
     Error (Printf.sprintf "the images differ in size: %d×%d and %d×%d" wa ha wb hb)
   else
@@ -39,7 +77,36 @@ let compare ?(threshold = 1) (wa, ha, a) (wb, hb, b) =
         psnr;
         over = !over;
         over_share = (if n = 0 then 0. else Float.of_int !over /. Float.of_int n);
+        judged = None;
       }
+
+let size_error (wa, ha, _) (wb, hb, _) =
+  if wa <> wb || ha <> hb then
+    Error (Printf.sprintf "the images differ in size: %d×%d and %d×%d" wa ha wb hb)
+  else Ok ()
+
+let measure m a b =
+  let ( let* ) = Result.bind in
+  let* () = size_error a b in
+  match m with
+  | Rmse _ -> Result.map (fun c -> c.rmse) (figures ~threshold:1 a b)
+  | Psnr _ -> Result.map (fun c -> c.psnr) (figures ~threshold:1 a b)
+  | Flip _ -> Ok (Flip.mean (Flip.error_map a b))
+  | Ssim _ -> Ssim.ssim a b
+
+let compare ?(threshold = 1) ?metric a b =
+  let ( let* ) = Result.bind in
+  let* c = figures ~threshold a b in
+  match metric with
+  | None -> Ok c
+  | Some m ->
+      let* () = check_metric m in
+      let* v =
+        match m with Rmse _ -> Ok c.rmse | Psnr _ -> Ok c.psnr | _ -> measure m a b
+      in
+      Ok { c with judged = Some (m, v) }
+
+let flip_image a b = Flip.grey (Flip.error_map a b)
 
 let diff_image ?(threshold = 1) (w, h, a) (_, _, b) =
   let out = Bytes.create (3 * w * h) in
@@ -58,14 +125,17 @@ let diff_image ?(threshold = 1) (w, h, a) (_, _, b) =
   out
 
 let within ?(max_diff = 1) ?(max_share = 0.) c =
-  c.max_diff <= max_diff || (c.over_share <= max_share && max_share > 0.)
+  match c.judged with
+  | Some (m, v) -> passes m v
+  | None -> c.max_diff <= max_diff || (c.over_share <= max_share && max_share > 0.)
 
 let pp ppf c =
   Format.fprintf ppf
     "max difference %d/255, RMSE %.3f, PSNR %s, %d pixels (%.3f%%) over the threshold"
     c.max_diff c.rmse
     (if Float.is_finite c.psnr then Printf.sprintf "%.2f dB" c.psnr else "inf dB")
-    c.over (100. *. c.over_share)
+    c.over (100. *. c.over_share);
+  Option.iter (Format.fprintf ppf "; %a" pp_judged) c.judged
 
 type outcome =
   | Same of t
@@ -97,8 +167,10 @@ let remove_stale golden =
       if Sys.file_exists p then try Sys.remove p with Sys_error _ -> ())
     [ ".actual.png"; ".diff.png" ]
 
-let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as actual) =
+let golden ?(tolerance = 1) ?(max_share = 0.) ?metric ~update ~golden
+    ((w, h, bytes) as actual) =
   let ( let* ) = Result.bind in
+  let* () = match metric with Some m -> check_metric m | None -> Ok () in
   if update then (
     let* () = make_dir (Filename.dirname golden) in
     let* () = Image.write_rgb8 golden w h bytes in
@@ -120,7 +192,7 @@ let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as 
               size, or remake the golden"
              golden gw gh w h)
     in
-    let* figures = compare ~threshold:tolerance expected actual in
+    let* figures = compare ~threshold:tolerance ?metric expected actual in
     if within ~max_diff:tolerance ~max_share figures then (
       remove_stale golden;
       Ok (Same figures))
@@ -128,6 +200,9 @@ let golden ?(tolerance = 1) ?(max_share = 0.) ~update ~golden ((w, h, bytes) as 
       let a = sibling golden ".actual.png" and d = sibling golden ".diff.png" in
       let* () = Image.write_rgb8 a w h bytes in
       let* () =
-        Image.write_rgb8 d w h (diff_image ~threshold:tolerance expected actual)
+        Image.write_rgb8 d w h
+          (match metric with
+          | Some _ -> flip_image expected actual
+          | None -> diff_image ~threshold:tolerance expected actual)
       in
       Ok (Different { figures; actual = a; diff = d })

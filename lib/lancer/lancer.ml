@@ -35,10 +35,12 @@ module Settings = Lancer_description.Settings
 (** {1 [lancer.image]} *)
 
 module Compare = Lancer_image.Compare
+module Flip = Lancer_image.Flip
 module Image = Lancer_image.Image
 module Png = Lancer_image.Png
 module Raster = Lancer_image.Raster
 module Safe_file = Lancer_image.Safe_file
+module Ssim = Lancer_image.Ssim
 
 (** {1 [lancer.physics]} *)
 

@@ -6,14 +6,56 @@ let check_tolerance tolerance share =
   if not (share >= 0. && share <= 1.) then
     user "--max-share must be between 0 and 1 (got %g)" share
 
-(* One word for the outcome, before the figures. *)
-let verdict ~tolerance ~share (c : Compare.t) =
-  if c.max_diff = 0 then "same"
-  else if Compare.within ~max_diff:tolerance ~max_share:share c then "within tolerance"
-  else "differ"
+type metric = Max | Rmse | Psnr | Flip | Ssim
 
-let diff ?out ~tolerance ~share a b =
-  check_tolerance tolerance share;
+let metric_names =
+  [ ("max", Max); ("rmse", Rmse); ("psnr", Psnr); ("flip", Flip); ("ssim", Ssim) ]
+
+let metric_name metric = fst (List.find (fun (_, m) -> m = metric) metric_names)
+
+(* Refuse a metric's limit out of its range. *)
+let check_limit =
+  Option.iter (fun m ->
+      match Compare.check_metric m with
+      | Ok () -> ()
+      | Error e -> user "--tolerance: %s" e)
+
+(* The limit of a --metric given by --tolerance, as the library takes it; None for the
+   per-channel tolerance. *)
+let limit metric tolerance =
+  let need what =
+    user "--metric %s needs --tolerance: %s that still counts as equal"
+      (metric_name metric) what
+  in
+  let m =
+    match (metric, tolerance) with
+    | Max, _ -> None
+    | Rmse, None -> need "the largest RMSE (0–255)"
+    | Psnr, None -> need "the smallest PSNR (dB)"
+    | Flip, None -> need "the largest mean FLIP (0–1)"
+    | Ssim, None -> need "the smallest SSIM (-1–1)"
+    | Rmse, Some t -> Some (Compare.Rmse t)
+    | Psnr, Some t -> Some (Compare.Psnr t)
+    | Flip, Some t -> Some (Compare.Flip t)
+    | Ssim, Some t -> Some (Compare.Ssim t)
+  in
+  check_limit m;
+  m
+
+(* The per-channel tolerance of --metric max, a whole number. *)
+let channel_tolerance = function
+  | None -> 1
+  | Some t when Float.is_integer t && Float.abs t < 1e6 -> Float.to_int t
+  | Some t -> user "--tolerance must be a whole number between 0 and 255 (got %g)" t
+
+let judge metric tolerance ~share =
+  let m = limit metric tolerance in
+  let channel = match m with None -> channel_tolerance tolerance | Some _ -> 1 in
+  check_tolerance channel share;
+  (channel, m)
+
+let diff ?out ?(json = false) ~metric ~tolerance ~share a b =
+  let channel, judge = judge metric tolerance ~share in
   Option.iter
     (fun p ->
       Files.guard_writes
@@ -27,23 +69,83 @@ let diff ?out ~tolerance ~share a b =
   if (wa, ha) <> (wb, hb) then
     user "%s is %d×%d but %s is %d×%d: only images of the same size can be compared" a wa
       ha b wb hb;
-  match Compare.compare ~threshold:tolerance ia ib with
-  | Error m -> raise (Job_error.User m)
-  | Ok c ->
-      Format.printf "%s: %a@." (verdict ~tolerance ~share c) Compare.pp c;
-      Option.iter
-        (fun p ->
-          let w, h, _ = ia in
-          match
-            Image.write_rgb8 p w h (Compare.diff_image ~threshold:tolerance ia ib)
-          with
-          | Ok () -> Printf.printf "diff image: %s\n" p
-          | Error m -> raise (Job_error.User m))
-        out;
-      Compare.within ~max_diff:tolerance ~max_share:share c
+  let c =
+    match Compare.compare ~threshold:channel ia ib with
+    | Error m -> raise (Job_error.User m)
+    | Ok c -> c
+  in
+  let map = Flip.error_map ia ib in
+  let flip = Flip.mean map and ssim = Result.to_option (Ssim.ssim ia ib) in
+  let judged =
+    Option.map
+      (fun m ->
+        ( m,
+          match m with
+          | Compare.Rmse _ -> c.rmse
+          | Compare.Psnr _ -> c.psnr
+          | Compare.Flip _ -> flip
+          | Compare.Ssim _ -> Option.value ssim ~default:Float.nan ))
+      judge
+  in
+  (match judged with
+  | Some (Compare.Ssim _, v) when Float.is_nan v ->
+      user "--metric ssim: SSIM needs images of at least %d×%d pixels (these are %d×%d)"
+        Ssim.window Ssim.window wa ha
+  | _ -> ());
+  let ok = Compare.within ~max_diff:channel ~max_share:share { c with judged } in
+  let word =
+    if c.max_diff = 0 then "same" else if ok then "within tolerance" else "differ"
+  in
+  let verdict =
+    match judged with
+    | Some j when c.max_diff <> 0 -> Format.asprintf "%s (%a)" word Compare.pp_judged j
+    | _ -> word
+  in
+  Option.iter
+    (fun p ->
+      match Image.write_rgb8 p wa ha (Flip.grey map) with
+      | Ok () -> ()
+      | Error m -> raise (Job_error.User m))
+    out;
+  if json then
+    let num v = if Float.is_finite v then `Float v else `Null in
+    let doc =
+      `Assoc
+        ([
+           ("a", `String a);
+           ("b", `String b);
+           ("verdict", `String word);
+           ("within", `Bool ok);
+           ("metric", `String (metric_name metric));
+           ( "tolerance",
+             match judge with
+             | None -> `Int channel
+             | Some (Compare.Rmse l | Psnr l | Flip l | Ssim l) -> num l );
+           ("max_share", `Float share);
+           ("width", `Int wa);
+           ("height", `Int ha);
+           ("max_diff", `Int c.max_diff);
+           ("rmse", `Float c.rmse);
+           ("psnr", num c.psnr);
+           ("over", `Int c.over);
+           ("over_share", `Float c.over_share);
+           ("flip", `Float flip);
+           ("ssim", match ssim with Some s -> `Float s | None -> `Null);
+         ]
+        @ match out with Some p -> [ ("diff_image", `String p) ] | None -> [])
+    in
+    print_endline (Yojson.Safe.pretty_to_string doc)
+  else (
+    Format.printf "%s: %a, mean FLIP %.4f, SSIM %s@." verdict Compare.pp c flip
+      (match ssim with
+      | Some s -> Printf.sprintf "%.4f" s
+      | None -> Printf.sprintf "undefined (under %d×%d pixels)" Ssim.window Ssim.window);
+    Option.iter (Printf.printf "FLIP error map: %s\n") out);
+  ok
 
-let golden ?cancel (o : Options.t) ~golden ~tolerance ~share ~update =
+let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
   check_tolerance tolerance share;
+  check_limit metric;
   let src = Scene_file.source o (Scene_file.load o.scene) in
   let time, frame = Options.time_of o src in
   let sc = Options.scene_at o src ~time ~frame in
@@ -78,7 +180,7 @@ let golden ?cancel (o : Options.t) ~golden ~tolerance ~share ~update =
   in
   Progress.finish progress;
   let actual = (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb) in
-  match Compare.golden ~tolerance ~max_share:share ~update ~golden actual with
+  match Compare.golden ~tolerance ~max_share:share ?metric ~update ~golden actual with
   | Error m -> user "%s" m
   | Ok (Compare.Updated g) ->
       if not o.quiet then Printf.printf "golden written: %s\n" g;

@@ -119,12 +119,12 @@ let undeclared_inputs files =
           else None)
         files
 
-let compare_golden ?tolerance ?max_share ~golden actual =
-  Compare.golden ?tolerance ?max_share ~update:(updating ()) ~golden:(source_path golden)
-    actual
+let compare_golden ?tolerance ?max_share ?metric ~golden actual =
+  Compare.golden ?tolerance ?max_share ?metric ~update:(updating ())
+    ~golden:(source_path golden) actual
 
-let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene
-    ~golden () =
+let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?frame
+    ~scene ~golden () =
   match
     render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene)
   with
@@ -154,7 +154,7 @@ let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~s
                        | "." -> Printf.sprintf "(glob_files *%s)" (Filename.extension p)
                        | d -> Printf.sprintf "(source_tree %s)" d)
                      missing))));
-      match compare_golden ?tolerance ?max_share ~golden img with
+      match compare_golden ?tolerance ?max_share ?metric ~golden img with
       | Error m -> Alcotest.failf "%s: %s" golden m
       | Ok (Same _) | Ok (Updated _) -> ()
       | Ok (Missing { actual }) ->
@@ -170,8 +170,8 @@ let check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~s
             \  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
             scene golden_file Compare.pp figures actual diff)
 
-let test_case ?(speed = `Quick) ?tolerance ?max_share ?width ?height ?samples ?quality
-    ?time ?frame name ~scene ~golden () =
+let test_case ?(speed = `Quick) ?tolerance ?max_share ?metric ?width ?height ?samples
+    ?quality ?time ?frame name ~scene ~golden () =
   Alcotest.test_case name speed (fun () ->
-      check ?tolerance ?max_share ?width ?height ?samples ?quality ?time ?frame ~scene
-        ~golden ())
+      check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?frame
+        ~scene ~golden ())

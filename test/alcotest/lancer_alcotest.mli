@@ -1,11 +1,11 @@
 (** Golden-image tests for lancer scenes, as alcotest checks.
 
     A golden test renders a scene and compares the encoded image with a stored PNG under a
-    per-channel tolerance. On failure it writes [NAME.actual.png] and [NAME.diff.png] next
-    to the golden file (in the source tree when run by dune), prints their paths and the
-    figures, and fails. With the environment variable [LANCER_UPDATE_GOLDEN=1] it writes
-    the golden instead (making its directory if needed) and passes: goldens change only on
-    that explicit request.
+    per-channel tolerance, or a limit in another metric (mean FLIP, SSIM, RMSE, PSNR). On
+    failure it writes [NAME.actual.png] and [NAME.diff.png] next to the golden file (in
+    the source tree when run by dune), prints their paths and the figures, and fails. With
+    the environment variable [LANCER_UPDATE_GOLDEN=1] it writes the golden instead (making
+    its directory if needed) and passes: goldens change only on that explicit request.
 
     {[
       let () =
@@ -46,6 +46,7 @@ val render_scene :
 val compare_golden :
   ?tolerance:int ->
   ?max_share:float ->
+  ?metric:Lancer.Compare.metric ->
   golden:string ->
   int * int * Bytes.t ->
   (outcome, string) result
@@ -54,6 +55,7 @@ val compare_golden :
 val check :
   ?tolerance:int ->
   ?max_share:float ->
+  ?metric:Lancer.Compare.metric ->
   ?width:int ->
   ?height:int ->
   ?samples:int ->
@@ -67,16 +69,19 @@ val check :
 (** Render as {!render_scene} does and compare; an alcotest failure with a useful message
     unless [Same] or [Updated]. [tolerance] (default 1) is the largest per-channel
     difference allowed; [max_share] (default 0) the share of pixels allowed to exceed it.
-    Under dune it also fails when a file the scene reads (an include, an image, a mesh) or
-    the golden is not among the test's dependencies, naming the file and what to add to
-    the stanza's [deps]: without it dune would not run the test again when that file
-    changes. After a pass the [.actual.png] and [.diff.png] of an earlier failure are
-    removed. *)
+    A [metric] judges the image by another figure instead, e.g.
+    [~metric:(Lancer.Compare.Flip 0.01)] (mean FLIP at most 0.01) or
+    [~metric:(Lancer.Compare.Ssim 0.98)], and makes the diff image FLIP's error map. Under
+    dune it also fails when a file the scene reads (an include, an image, a mesh) or the
+    golden is not among the test's dependencies, naming the file and what to add to the
+    stanza's [deps]: without it dune would not run the test again when that file changes.
+    After a pass the [.actual.png] and [.diff.png] of an earlier failure are removed. *)
 
 val test_case :
   ?speed:Alcotest.speed_level ->
   ?tolerance:int ->
   ?max_share:float ->
+  ?metric:Lancer.Compare.metric ->
   ?width:int ->
   ?height:int ->
   ?samples:int ->

@@ -32,6 +32,12 @@ plane { normal: (0, 1, 0), offset: 0 }
 sphere { center: (0, 1 + time, 0), radius: 0.5 }
 |}
 
+(* An image a command wrote in the directory d. *)
+let read_image d p =
+  match Lancer.Image.read_rgb8 (Filename.concat d p) with
+  | Ok i -> i
+  | Error m -> Alcotest.fail m
+
 let scenes () =
   let d = tmpdir "lancer-options" in
   write_file (Filename.concat d "s.rts") still;
@@ -130,6 +136,7 @@ let help_tests =
             "--frame";
             "--height";
             "--max-share";
+            "--metric";
             "--progress";
             "--quality";
             "--quiet";
@@ -139,6 +146,8 @@ let help_tests =
             "--update";
             "--width";
           ];
+        check [ "diff" ]
+          [ "--json"; "--max-share"; "--metric"; "--output"; "--tolerance" ];
         check [ "bench"; "domains" ]
           [
             "--counts";
@@ -291,7 +300,9 @@ let refusal_tests =
 
 let diff_tests =
   [
-    Alcotest.test_case "diff refuses a tolerance outside 0..255 and a share outside 0..1"
+    Alcotest.test_case
+      "diff refuses a tolerance outside 0..255 or its metric's range, a metric without \
+       its limit, and a share outside 0..1"
       `Quick (fun () ->
         let d = scenes () in
         check_status "render" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
@@ -309,6 +320,18 @@ let diff_tests =
             ([ "--max-share"; "2" ], "--max-share must be between 0 and 1 (got 2)");
             ([ "--max-share"; "nan" ], "--max-share must be between 0 and 1");
             ([ "--max-share=-0.5" ], "--max-share must be between 0 and 1 (got -0.5)");
+            ( [ "--metric"; "flip" ],
+              "--metric flip needs --tolerance: the largest mean FLIP (0–1)" );
+            ([ "--metric"; "ssim" ], "--metric ssim needs --tolerance");
+            ( [ "--metric"; "flip"; "--tolerance"; "1.5" ],
+              "--tolerance: a mean FLIP limit must be between 0 and 1 (got 1.5)" );
+            ( [ "--metric"; "ssim"; "--tolerance"; "2" ],
+              "--tolerance: an SSIM limit must be between -1 and 1 (got 2)" );
+            ( [ "--metric"; "rmse"; "--tolerance=-1" ],
+              "--tolerance: an RMSE limit must be between 0 and 255 (got -1)" );
+            ( [ "--tolerance"; "0.5" ],
+              "--tolerance must be a whole number between 0 and 255 (got 0.5)" );
+            ([ "--metric"; "lpips" ], "invalid value 'lpips'");
           ];
         let ((_, _, e) as r) =
           lancer ~dir:d [ "golden"; "s.rts"; "g.png"; "--update"; "--tolerance"; "256" ]
@@ -340,6 +363,114 @@ let diff_tests =
         in
         check_status "within a share" 0 r;
         has "within a share" out "within tolerance: ");
+    Alcotest.test_case "diff --metric judges by the metric, within its limit" `Quick
+      (fun () ->
+        let d = scenes () in
+        check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        check_status "b" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
+        let figures m =
+          let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png"; "--json" ] in
+          check_status "json" 1 r;
+          let j = Yojson.Safe.from_string out in
+          Yojson.Safe.Util.(j |> member m |> to_number)
+        in
+        let flip = figures "flip" and ssim = figures "ssim" in
+        Alcotest.(check bool) "a FLIP between 0 and 1" true (flip > 0. && flip < 1.);
+        Alcotest.(check bool) "an SSIM under 1" true (ssim < 1.);
+        let judged metric limit =
+          lancer ~dir:d
+            [
+              "diff";
+              "a.png";
+              "b.png";
+              "--metric";
+              metric;
+              "--tolerance";
+              Printf.sprintf "%.6f" limit;
+            ]
+        in
+        let ((_, out, _) as r) = judged "flip" (flip +. 0.001) in
+        check_status "flip within" 0 r;
+        has "flip within" out "within tolerance (mean FLIP";
+        let ((_, out, _) as r) = judged "flip" (flip -. 0.001) in
+        check_status "flip over" 1 r;
+        has "flip over" out "differ (mean FLIP";
+        check_status "ssim within" 0 (judged "ssim" (ssim -. 0.001));
+        let ((_, out, _) as r) = judged "ssim" (ssim +. 0.001) in
+        check_status "ssim under" 1 r;
+        has "ssim under" out "differ (SSIM";
+        check_status "rmse within" 0 (judged "rmse" 255.);
+        check_status "psnr under" 1 (judged "psnr" 1000.);
+        (* The same images by the per-channel tolerance differ: the metric decided. *)
+        check_status "max" 1 (lancer ~dir:d [ "diff"; "a.png"; "b.png" ]);
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "a.png"; "a.png"; "--json" ] in
+        check_status "same, json" 0 r;
+        let j = Yojson.Safe.from_string out in
+        let open Yojson.Safe.Util in
+        Alcotest.(check string) "verdict" "same" (j |> member "verdict" |> to_string);
+        Alcotest.(check (float 0.)) "no FLIP" 0. (j |> member "flip" |> to_number);
+        Alcotest.(check (float 0.)) "SSIM 1" 1. (j |> member "ssim" |> to_number);
+        Alcotest.(check bool) "PSNR null" true (j |> member "psnr" = `Null));
+    Alcotest.test_case "diff --metric ssim needs images of 11×11 pixels or more" `Quick
+      (fun () ->
+        let d = scenes () in
+        (* SSIM needs an 11×11 window. *)
+        check_status "tiny" 0
+          (lancer ~dir:d [ "render"; "s.rts"; "-o"; "t.png"; "-q"; "-W"; "8"; "-H"; "6" ]);
+        let ((_, out, e) as r) =
+          lancer ~dir:d
+            [ "diff"; "t.png"; "t.png"; "--metric"; "ssim"; "--tolerance"; "0.9" ]
+        in
+        check_status "tiny ssim" 1 r;
+        has "tiny ssim" e "SSIM needs images of at least 11×11 pixels (these are 8×6)";
+        Alcotest.(check string) "no figures" "" out;
+        let ((_, out, _) as r) = lancer ~dir:d [ "diff"; "t.png"; "t.png" ] in
+        check_status "tiny, max" 0 r;
+        has "tiny, max" out "SSIM undefined (under 11×11 pixels)");
+    Alcotest.test_case "golden --metric judges the render by the metric" `Quick (fun () ->
+        let d = scenes () in
+        check_status "update" 0
+          (lancer ~dir:d [ "golden"; "a.rts"; "g.png"; "--update"; "-q" ]);
+        let moved args =
+          lancer ~dir:d ([ "golden"; "a.rts"; "g.png"; "--time"; "0.05" ] @ args)
+        in
+        check_status "per channel" 1 (moved []);
+        let ((_, out, _) as r) = moved [ "--metric"; "flip"; "--tolerance"; "0.5" ] in
+        check_status "flip" 0 r;
+        has "flip" out "within tolerance of g.png";
+        has "flip" out "; mean FLIP";
+        let ((_, out, _) as r) = moved [ "--metric"; "psnr"; "--tolerance"; "99" ] in
+        check_status "psnr" 1 r;
+        has "psnr" out "; PSNR";
+        has "psnr" out "< 99 dB";
+        let g = read_image d "g.png" and a = read_image d "g.actual.png" in
+        let _, _, m = read_image d "g.diff.png" in
+        Alcotest.(check bool)
+          "FLIP's map" true
+          (Bytes.equal m (Lancer.Compare.flip_image g a));
+        let ((_, _, e) as r) = moved [ "--metric"; "ssim" ] in
+        check_status "no limit" 1 r;
+        has "no limit" e "--metric ssim needs --tolerance");
+    Alcotest.test_case "diff -o writes FLIP's error map in grey" `Quick (fun () ->
+        let d = scenes () in
+        check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
+        check_status "b" 0
+          (lancer ~dir:d [ "render"; "a.rts"; "-o"; "b.png"; "-q"; "--time"; "0.3" ]);
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "diff"; "a.png"; "b.png"; "-o"; "m.png" ]
+        in
+        check_status "diff" 1 r;
+        has "named" out "FLIP error map: m.png";
+        let a = read_image d "a.png" and b = read_image d "b.png" in
+        let _, _, m = read_image d "m.png" in
+        Alcotest.(check bool)
+          "the map of Flip" true
+          (Bytes.equal m (Lancer.Flip.grey (Lancer.Flip.error_map a b)));
+        Alcotest.(check bool) "not black" true (Bytes.exists (fun c -> c <> '\000') m);
+        check_status "same" 0 (lancer ~dir:d [ "diff"; "a.png"; "a.png"; "-o"; "z.png" ]);
+        let _, _, z = read_image d "z.png" in
+        Alcotest.(check bool) "black" true (Bytes.for_all (fun c -> c = '\000') z));
     Alcotest.test_case
       "a golden of another size: which is the golden, and --width/--height" `Quick
       (fun () ->
@@ -364,14 +495,23 @@ let diff_tests =
         with
         | Error m -> has "library" m "g.png is 16×12 but the image is 24×18"
         | Ok _ -> Alcotest.fail "a golden of another size passed");
-    Alcotest.test_case "diff names the images of different sizes" `Quick (fun () ->
+    Alcotest.test_case "diff names the images of different sizes, and one it cannot read"
+      `Quick (fun () ->
         let d = scenes () in
         check_status "a" 0 (lancer ~dir:d [ "render"; "s.rts"; "-o"; "a.png"; "-q" ]);
         check_status "b" 0
           (lancer ~dir:d [ "render"; "s.rts"; "-o"; "b.png"; "-q"; "--width"; "16" ]);
         let ((_, _, e) as r) = lancer ~dir:d [ "diff"; "a.png"; "b.png" ] in
         check_status "sizes" 1 r;
-        has "sizes" e "a.png is 24×18 but b.png is 16×18");
+        has "sizes" e "a.png is 24×18 but b.png is 16×18";
+        write_file (Filename.concat d "t.png") "not an image\n";
+        let ((_, out, e) as r) =
+          lancer ~dir:d
+            [ "diff"; "a.png"; "t.png"; "--metric"; "flip"; "--tolerance"; "0.1" ]
+        in
+        check_status "unreadable" 1 r;
+        has "unreadable" e "lancer: t.png: not a PNG file";
+        Alcotest.(check string) "no figures" "" out);
     Alcotest.test_case "a negative value after an option gets a hint to write --time=-5"
       `Quick (fun () ->
         let d = scenes () in

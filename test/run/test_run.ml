@@ -156,7 +156,10 @@ let compare () =
     (Compare_run.golden o ~golden ~tolerance:1 ~share:0. ~update:false);
   Alcotest.(check bool)
     "an image is within tolerance of itself" true
-    (Compare_run.diff ~tolerance:0 ~share:0. golden golden);
+    (Compare_run.diff ~metric:Max ~tolerance:(Some 0.) ~share:0. golden golden);
+  Alcotest.(check bool)
+    "and of mean FLIP 0" true
+    (Compare_run.diff ~metric:Flip ~tolerance:(Some 0.) ~share:0. golden golden);
   user_error "a golden of another size" (fun () ->
       Compare_run.golden { o with width = Some 10 } ~golden ~tolerance:1 ~share:0.
         ~update:false);
