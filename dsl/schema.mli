@@ -6,7 +6,7 @@
     The type checker ({!Check}) takes from here the fields each block allows and their
     types, the building of blocks ({!Build}) each field's default and its range (and how
     its messages word the range), and the field tables of the language reference
-    (dsl/README.md) are generated from it. *)
+    (doc/reference/language.md) are generated from it. *)
 
 (** The value a field takes. *)
 type ty =
