@@ -103,7 +103,7 @@ val released : t -> bool
 
 val fixed_objects : t -> Description.obj list
 (** The objects of {!first} built by top-level statements that cannot build anything else
-    at another instant ({!Run.memo}), in program order. {!describe} does not evaluate such
+    at another instant ({!Run.type-memo}), in program order. {!describe} does not evaluate such
     statements again: each of these objects is in its descriptions as the very value it is
     here (physically), in this order, unless the statement had to be evaluated again (its
     objects are then new values). So a renderer can keep what it made of them. *)

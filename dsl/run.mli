@@ -1,5 +1,5 @@
 (** The runner: runs a compiled program ({!Compile}) at one instant and states the scene
-    it describes ({!Description.t}), or the located errors its run found; with {!State},
+    it describes ({!Lancer_description.Description.t}), or the located errors its run found; with {!State},
     the limits, the steps, the cancellation, and the memo of what does not change between
     instants. It reads no file: the images and meshes a scene names are the renderer's.
 
@@ -23,7 +23,7 @@ val memo : Ast.stmt list -> memo
     statements; nothing recorded yet. *)
 
 type analysis
-(** {!memo}, statement by statement. *)
+(** {!val-memo}, statement by statement. *)
 
 val analysis : unit -> analysis
 

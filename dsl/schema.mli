@@ -122,7 +122,7 @@ val repeatable : string list
 val in_range : range -> float -> bool
 
 val range_text : range -> string
-(** [[0, 1]], [(0, 1e150]], [within ±1e150]; [""] for [Any]. *)
+(** [[0, 1]], [(0, 1e150\]], [within ±1e150]; [""] for [Any]. *)
 
 val type_text : ty -> string
 (** The type as the reference names it: [number], [vector (x, y, z)], … *)

@@ -1,6 +1,6 @@
 (** A scene as the job layer sees it: a set of functions the language supplies. The job
     layer never reads a scene's text itself; it asks this record for the scene at a time
-    and for what it read, so that how a program becomes a {!Scene.t} is the language's
+    and for what it read, so that how a program becomes a {!Lancer_render.Scene.t} is the language's
     business alone. *)
 
 type t = {
@@ -26,7 +26,7 @@ type t = {
   text_digest : unit -> string;  (** a digest of the scene's text and includes *)
   input_digest : string -> string;
       (** the MD5 of an input file as this run's scenes read it (see
-          {!Program.input_digest}) *)
+          {!Lancer_program.Program.input_digest}) *)
 }
 
 val scene :

@@ -1,6 +1,6 @@
 (** The renderer's form of a scene description: reads the images and meshes it names
     (through a cache shared between frames), builds the shapes, primitives, materials and
-    textures, and the acceleration structure ({!Scene.make}).
+    textures, and the acceleration structure ({!Lancer_render.Scene.make}).
 
     A file that cannot be read, a mesh without triangles or open where a solid is needed,
     a height field too small: each is reported at the place the description recorded, in
@@ -50,14 +50,14 @@ val compile :
     acceleration structure ("building the acceleration structure over 1000000 objects").
     With [fixed], the objects of [d] that are the fixed part's, physically and in its
     order, are not made again; when all of them are there, the scene reuses their
-    acceleration structure ({!Scene.make_layered}): the same scene, made faster. With
+    acceleration structure ({!Lancer_render.Scene.make_layered}): the same scene, made faster. With
     [objects], those are compiled in place of [d]'s: a caller that keeps no other
     reference to them (passing [d] without them) lets each go as it is compiled, so that a
     large scene is not held twice. With [parts], the objects are theirs, in order, in
     place of [d]'s: a piece that is one of the fixed part's pieces itself, met where its
     objects come next, is taken whole, with no work per object (a frame of an animation
     then costs what its moving objects cost). With [~index:false] (default [true]) and no
-    [fixed], the scene has no acceleration structure to query it fast ({!Scene.of_moved}):
+    [fixed], the scene has no acceleration structure to query it fast ({!Lancer_render.Scene.of_moved}):
     for [lancer check], which reads what the scene holds but traces no ray. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list

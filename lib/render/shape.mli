@@ -186,7 +186,7 @@ val is_solid : t -> bool
 val inside : t -> Vec3.t -> bool
 (** [inside s p] is whether [p] is inside [s], the boundary included; [false] for shapes
     that have no inside. Raises [Invalid_argument] on a solid mesh and a CSG object, whose
-    inside follows from their crossings ({!Walk.inside}). *)
+    inside follows from their crossings ({!Lancer_render.Walk.inside}). *)
 
 val inside_at : t -> float -> float -> float -> bool
 (** [inside_at s x y z] is [inside s (Vec3.v x y z)], bit for bit, without the vector. *)
@@ -245,7 +245,7 @@ val mesh : Trimesh.t -> t
 (** The mesh whose faces are the triangles of an indexed mesh. *)
 
 val solid_mesh : Trimesh.t -> t
-(** {!mesh}, a solid: the caller has checked that it is closed ({!Mesh.open_edges_mesh} is
+(** {!mesh}, a solid: the caller has checked that it is closed ({!Lancer_render.Mesh.open_edges_mesh} is
     0), so that it may be a member of a CSG object. *)
 
 val face : Trimesh.t -> int -> t

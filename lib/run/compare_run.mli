@@ -3,12 +3,12 @@
 
 val check_tolerance : int -> float -> unit
 (** Refuse a [--tolerance] outside 0–255 or a [--max-share] outside 0–1
-    ({!Job_error.User}). *)
+    ({!Lancer_job.Job_error.User}). *)
 
 val diff : ?out:string -> tolerance:int -> share:float -> string -> string -> bool
 (** [lancer diff A B]: the verdict ([same], [within tolerance] or [differ]) and the
     figures, a picture of the differences written to [out]; whether the images are within
-    the tolerance. Raises {!Job_error.User}. *)
+    the tolerance. Raises {!Lancer_job.Job_error.User}. *)
 
 val golden :
   ?cancel:Cancel.t ->
@@ -22,4 +22,4 @@ val golden :
     with the golden PNG (refused before rendering when its size differs), or written as
     the golden with [update]; on a difference the actual and diff images are written
     beside the golden and named. Whether the render matches (or was written). Raises
-    {!Job_error.User} and {!Job_error.Scene}. *)
+    {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}. *)
