@@ -21,7 +21,7 @@ let render =
       `Pre
         "  lancer render big.rts -o big.png --resume    # again after an interruption: \
          continues";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
@@ -48,7 +48,7 @@ let animate =
       `Pre
         "  lancer animate scene.rts -o frames/ --shard slurm --resume   # a task of \
          sbatch --array=0-15";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
@@ -96,7 +96,7 @@ let check =
       `Pre "  lancer check anim.rts --json --time 1.5";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
@@ -133,7 +133,7 @@ let diff =
     [
       `S Manpage.s_examples;
       `Pre "  lancer diff expected.png actual.png -o diff.png --tolerance 2";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "diff" ~doc ~man ~exits)
@@ -178,7 +178,7 @@ let golden =
       `Pre
         "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --update   # \
          (re)make the golden";
-    ]
+    ] @ Cli.bugs
   in
   let term =
     Term.(
@@ -205,7 +205,7 @@ let main () =
       `Pre "  lancer render";
       `Pre "  lancer render scenes/showcase.rts -o out/showcase.png --quality final";
       `Pre "  lancer check scenes/showcase.rts";
-    ]
+    ] @ Cli.bugs
   in
   let info =
     Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits
