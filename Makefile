@@ -10,7 +10,7 @@ PREFIX ?= $(HOME)/.local
 
 
 .PHONY: all deps deps-build build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
-	clean-toolchain fmt install uninstall static cluster-bundle flip-oracle
+	clean-toolchain fmt install uninstall static cluster-bundle flip-oracle packages
 
 all: build
 
@@ -21,8 +21,10 @@ deps:
 deps-build:
 	@bash .ci/toolchain setup --build
 
+# lancer and lancer-mpi (where an MPI library is found), not lancer-alcotest: its
+# library needs alcotest, which only the tests install.
 build: deps-build
-	$(RUN) $(DUNE) build -j $(JOBS) @install
+	$(RUN) $(DUNE) build -j $(JOBS) --only-packages lancer,lancer-mpi @install
 
 # A lancer that runs on this machine itself: the dynamically linked one where the
 # toolchain is native, the statically linked one when it was built in the toolchain root
@@ -84,6 +86,10 @@ test: deps
 # from them (pip installs them into out/ the first time).
 flip-oracle: deps
 	bash test/flip/oracle.sh
+# Each of the three packages built and tested on its own, as opam does it: lancer, then
+# lancer-alcotest and lancer-mpi against the installed lancer (.ci/packages).
+packages: deps
+	$(RUN) env JOBS=$(JOBS) bash .ci/packages
 
 # Re-render every golden image from its scene. Only this command changes goldens.
 golden-update: build

@@ -3,7 +3,7 @@
     … — or the mistakes only values show (a number out of its range, a colour with a
     negative component, a box whose corners are the wrong way round). Pure: it reads no
     file and keeps nothing; what it finds, and each file a block names (as it is met, also
-    where the block fails), goes to the {!Value.sink} it is given.
+    where the block fails), goes to the {!Value.type-sink} it is given.
 
     Each block is read from its fields ({!Fields}). Mistakes the checker reported are not
     reported again: a block it found wrong is read for the others, and not built. *)

@@ -1,7 +1,7 @@
 (** The one table of built-in names: each function's (and [pi]'s, [time]'s and [frame]'s)
     signature, implementation and line of documentation. The type checker takes the
     signatures from here, the compiled code the implementations, "did you mean" the names,
-    and the language reference (dsl/README.md) its list of built-ins. *)
+    and the language reference (doc/reference/language.md) its list of built-ins. *)
 
 (** What an argument must be. *)
 type arg =

@@ -109,7 +109,7 @@ val released : t -> bool
 
 val static : t -> Description.static
 (** The program's static part: the objects of {!first} built by the top-level statements
-    that cannot build anything else at another instant ({!Run.plan}), by position ([[]]
+    that cannot build anything else at another instant ({!Run.val-plan}), by position ([[]]
     once {!release}d). *)
 
 val named_files : t -> string list

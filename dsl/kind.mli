@@ -1,5 +1,5 @@
 (** A block kind of the schema made ready to use, once: its fields by name and by place
-    ("slot": the index in {!Schema.names_of}), each with its default as a value. The
+    ("slot": the index in {!Lancer_dsl.Schema.names_of}), each with its default as a value. The
     checker places fields by these, and a block's evaluation reads them by their slots. *)
 
 type entry = {
@@ -13,7 +13,7 @@ type entry = {
 
 type t = {
   block : Schema.block;
-  names : string array;  (** {!Schema.names_of} *)
+  names : string array;  (** {!Lancer_dsl.Schema.names_of} *)
   entries : entry array;  (** by slot: the first entry of the field's name *)
   named : Schema.field list array;  (** by slot: every entry of the field's name *)
   material : int;  (** the slot of [material], [-1] for a kind without *)

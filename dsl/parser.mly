@@ -1,5 +1,5 @@
-/* The grammar of .rts scene scripts (dsl/README.md). Operator precedence is encoded in the
-   levels of [expr], loosest first: if-then-else, or, and, not, comparisons (not
+/* The grammar of .rts scene scripts (doc/reference/language.md). Operator precedence is
+   encoded in the levels of [expr], loosest first: if-then-else, or, and, not, comparisons (not
    associative), + -, * / %, unary -, ^ (right-associative), field access and calls. */
 
 %{

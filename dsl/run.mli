@@ -1,5 +1,5 @@
 (** The runner: runs a compiled program ({!Compile}) at one instant and states the scene
-    it describes ({!Description.t}), or the located errors its run found; with {!State},
+    it describes ({!Lancer_description.Description.t}), or the located errors its run found; with {!State},
     the limits, the steps, the cancellation; and the program's static statements, run
     once and taken as they were at other instants. It reads no file: the images and
     meshes a scene names are the renderer's.
@@ -12,7 +12,7 @@
 module D = Description
 
 type plan
-(** Which top-level statements (includes flattened; see {!Description.static}) are
+(** Which top-level statements (includes flattened; see {!Lancer_description.Description.static}) are
     static: such a statement builds objects and nothing else (no settings, camera, light,
     animation, physics or body, nor a macro that makes one), and mentions no name that
     may hold a different value at another instant: not [time], [frame], a body, nor a
@@ -23,7 +23,7 @@ val plan : Ast.stmt list -> plan
 (** [plan prog]: which top-level statements of [prog] (includes flattened) are static. *)
 
 type analysis
-(** {!plan}, statement by statement. *)
+(** {!val-plan}, statement by statement. *)
 
 val analysis : unit -> analysis
 

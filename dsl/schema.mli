@@ -6,7 +6,7 @@
     The type checker ({!Check}) takes from here the fields each block allows and their
     types, the building of blocks ({!Build}) each field's default and its range (and how
     its messages word the range), and the field tables of the language reference
-    (dsl/README.md) are generated from it. *)
+    (doc/reference/language.md) are generated from it. *)
 
 (** The value a field takes. *)
 type ty =
@@ -123,7 +123,7 @@ val repeatable : string list
 val in_range : range -> float -> bool
 
 val range_text : range -> string
-(** [[0, 1]], [(0, 1e150]], [within ±1e150]; [""] for [Any]. *)
+(** [[0, 1]], [(0, 1e150\]], [within ±1e150]; [""] for [Any]. *)
 
 val type_text : ty -> string
 (** The type as the reference names it: [number], [vector (x, y, z)], … *)

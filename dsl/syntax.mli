@@ -1,6 +1,6 @@
 (** Text to syntax tree: {!Reader} reads a program without a mistake; the lexer and the
     Menhir parser (table back-end, incremental API) read any other, and turn its first
-    lexical or syntax error into a located {!Error.t}, whose message comes from
+    lexical or syntax error into a located {!Lancer_dsl.Error.t}, whose message comes from
     [parser.messages] for the error state the parser is in. *)
 
 val parse : file:string -> string -> (Ast.stmt list, Error.t) result

@@ -14,7 +14,7 @@ type t =
   | VMat of { mat : Description.material; some : Description.material option }
       (** a material, with the option an object holds it in: made once, shared by its
           objects, and by every material that differs from it in its colour alone (an
-          object holds its colour beside it, {!Description.obj}) *)
+          object holds its colour beside it, {!Lancer_description.Description.obj}) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
   | VFun of closure

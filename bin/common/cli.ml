@@ -304,13 +304,23 @@ let frames_term =
         { Frames_run.frames; resume; video; shard; format; bits })
     $ frames $ resume $ video $ shard $ format $ bits)
 
+(* The project's issue tracker (dune-project's bug_reports). *)
+let bug_tracker = "https://github.com/lancer/lancer/issues"
+
 let exits =
   [
     Cmd.Exit.info 0 ~doc:"on success.";
     Cmd.Exit.info 1
       ~doc:"on a user error: a scene, option or file problem, explained in one message.";
-    Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it).";
+    Cmd.Exit.info 2 ~doc:("on an internal error: a bug in lancer; please report it at " ^ bug_tracker ^ ".");
     Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind.";
+  ]
+
+(* Where bugs are reported: every man page's BUGS section. *)
+let bugs =
+  [
+    `S Manpage.s_bugs;
+    `P ("Report bugs at " ^ bug_tracker ^ ", with the scene and the command that show them.");
   ]
 
 (* The environment every command reads, for its man page's ENVIRONMENT section. *)

@@ -27,6 +27,12 @@ val frames_term : Lancer.Frames_run.options Cmdliner.Term.t
 (** [--frames A..B], [--resume], [--video OUT] and [--shard K/N|slurm] of [animate], as
     [lancer] and [lancer-mpi] take them. *)
 
+val bug_tracker : string
+(** Where bugs are reported: the project's issue tracker. *)
+
+val bugs : Cmdliner.Manpage.block list
+(** A man page's BUGS section, naming {!bug_tracker}. *)
+
 val exits : Cmdliner.Cmd.Exit.info list
 
 val envs : Cmdliner.Cmd.Env.info list

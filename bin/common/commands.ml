@@ -21,7 +21,7 @@ let render =
       `Pre
         "  lancer render big.rts -o big.png --resume    # again after an interruption: \
          continues";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
@@ -48,7 +48,7 @@ let animate =
       `Pre
         "  lancer animate scene.rts -o frames/ --shard slurm --resume   # a task of \
          sbatch --array=0-15";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
@@ -96,7 +96,7 @@ let check =
       `Pre "  lancer check anim.rts --json --time 1.5";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
@@ -168,6 +168,7 @@ let diff =
       `Pre "  lancer diff expected.png actual.png --metric flip --tolerance 0.01";
       `Pre "  lancer diff expected.png actual.png --json";
     ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "diff" ~doc ~man ~exits)
@@ -206,6 +207,7 @@ let golden =
         "  lancer golden scene.rts tests/scene.png --width 160 --height 120 --metric \
          flip --tolerance 0.01";
     ]
+    @ Cli.bugs
   in
   let term =
     Term.(
@@ -235,7 +237,7 @@ let main () =
       `Pre "  lancer render";
       `Pre "  lancer render scenes/showcase.rts -o out/showcase.png --quality final";
       `Pre "  lancer check scenes/showcase.rts";
-    ]
+    ] @ Cli.bugs
   in
   let info =
     Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits

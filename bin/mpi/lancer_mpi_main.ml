@@ -225,7 +225,7 @@ let exits =
       ~doc:
         "on a user error (scene, option or file), reported once by rank 0; every rank \
          exits so.";
-    Cmd.Exit.info 2 ~doc:"on an internal error (a bug in lancer; please report it).";
+    Cmd.Exit.info 2 ~doc:("on an internal error: a bug in lancer; please report it at " ^ Cli.bug_tracker ^ ".");
   ]
 
 let render =
@@ -243,7 +243,7 @@ let render =
       `Pre
         "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 \
          --height 2160 --quality final --resume";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
@@ -261,7 +261,7 @@ let animate =
          frame once it is complete.";
       `S Manpage.s_examples;
       `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume";
-    ]
+    ] @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
@@ -275,7 +275,7 @@ let () =
   Mpi.init ();
   at_exit Mpi.finalize;
   let info =
-    Cmd.info "lancer-mpi" ~version:Lancer.Version.v ~exits
+    Cmd.info "lancer-mpi" ~version:Lancer.Version.v ~exits ~man:Cli.bugs
       ~envs:(Cli.envs @ Cli.slurm_envs)
       ~doc:"lancer's render and animate over Open MPI: run it under mpirun -np N"
   in

@@ -129,6 +129,7 @@ let cmd =
         "  lancer-mpirun -np 4 --bind-to none lancer-mpi render scene.rts -o scene.png \
          --domains 2";
     ]
+    @ [ `S Manpage.s_bugs; `P "Report bugs at https://github.com/lancer/lancer/issues." ]
   in
   let exits =
     [

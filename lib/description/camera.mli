@@ -11,7 +11,7 @@
       units across the image; [fov] is not used);
     - fisheye (equidistant): with S = min(W, H), n_x = (2x − W)/S, n_y = (H − 2y)/S and
       ρ = √(n_x² + n_y²), a point with ρ ≤ 1 looks at θ = ρ·fov/2 from f (fov in
-      (0, 360] degrees, the angle across the inscribed circle) towards φ = atan2(n_y, n_x):
+      (0, 360\] degrees, the angle across the inscribed circle) towards φ = atan2(n_y, n_x):
       direction cos θ·f + sin θ·(cos φ·r + sin φ·u). Points with ρ > 1 see the background
       as a ray along f that hits nothing would ({!in_view}).
 
@@ -80,7 +80,7 @@ val default : t
 
 val validate : t -> (unit, string) result
 (** [Error] when look_at = position, up is parallel to the view direction, fov is outside
-    (0, 180) (perspective) or (0, 360] (fisheye), an orthographic width is not a positive
+    (0, 180) (perspective) or (0, 360\] (fisheye), an orthographic width is not a positive
     finite number, the aperture is negative or not finite, the focal distance is not
     positive, lens_samples is outside 1–64, the shutter is not −1 ≤ open ≤ close ≤ 1 or
     shutter_samples is outside 1–{!max_shutter_samples}. *)

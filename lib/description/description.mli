@@ -23,7 +23,7 @@ type pattern =
 
 (** A texture: an albedo as a function of the object-space point P (solid textures) or of
     the surface's (u, v) (images). Its images are ['image] and its colour maps ['map]:
-    files and entry lists here ({!texture}), decoded images and arrays in the renderer,
+    files and entry lists here ({!type-texture}), decoded images and arrays in the renderer,
     whose [Texture.t] is this type. Solid textures are evaluated at P − δ·N (N the
     geometric normal, δ the scale-aware ray offset) so that a surface lying exactly on a
     cell boundary does not flicker. All colours are linear RGB. *)

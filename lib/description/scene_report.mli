@@ -1,8 +1,8 @@
 (** What [lancer check] prints about a scene: a summary in a few lines, or the whole
     description as JSON ([--json]).
 
-    Both print a {!Description.t} beside what the renderer made of it
-    ({!Description.rendered}): the settings as rendered (command-line overrides show), the
+    Both print a {!Lancer_description.Description.t} beside what the renderer made of it
+    ({!Lancer_description.Description.rendered}): the settings as rendered (command-line overrides show), the
     lights, the objects by kind as built, the features the renderer uses. The
     description's [animation], [bodies], [physics] and [warnings] are printed as they are:
     pass those of the program (at time 0) for a scene at another time. *)

@@ -3,7 +3,7 @@
     the span and, for a file that was included, the chain of includes that led to it.
 
     Every error a scene can cause (lexical, syntax, type, name, range, limits, includes)
-    is one of these; no exception escapes {!Dsl}. *)
+    is one of these; no exception escapes {!Lancer_dsl.Dsl}. *)
 
 type kind = Error | Warning
 

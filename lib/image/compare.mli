@@ -4,7 +4,7 @@
     Differences are measured on the 8-bit encoded values, per channel, by default: the
     largest difference and the share of pixels beyond a threshold. A comparison may
     instead be judged by a {!metric}: the RMSE, the PSNR, the mean FLIP (the perceptual
-    error of {!Flip}) or the SSIM (of {!Ssim}). *)
+    error of {!module-Flip}) or the SSIM (of {!module-Ssim}). *)
 
 (** A limit in one metric: what two images may differ by and still count as equal. *)
 type metric =

@@ -2,7 +2,7 @@
 
     A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
     (doc/reference/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v,
-    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!Png},
+    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!module-Png},
     plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
     temporary file in the same directory, then a rename. *)
 

@@ -8,7 +8,7 @@
     pixels). It is rewritten atomically (a temporary file, then a rename) at most every
     second, and never more often than ten times the time the last write took, so that
     writing it costs at most about a tenth of the render. Pixels are rendered by
-    {!Render.render_tile} either way, so the finished image is the same bytes as an
+    {!Lancer_render.Render.render_tile} either way, so the finished image is the same bytes as an
     uninterrupted render.
 
     {2 The file}
@@ -17,8 +17,8 @@
     as IEEE 754 binary64. In order:
     - the line [lancer-checkpoint-3\n] (20 bytes), which names this layout;
     - the seal (32 bytes), {!seal} of the key and the body, the rest of the file;
-    - the image's width, height and number of tiles ({!Render.tiles}), three words;
-    - per tile, in {!Render.tiles} order, 57 bytes: a flag byte, 1 when the tile is
+    - the image's width, height and number of tiles ({!Lancer_render.Render.tiles}), three words;
+    - per tile, in {!Lancer_render.Render.tiles} order, 57 bytes: a flag byte, 1 when the tile is
       finished and 0 when not, then seven words: its primary, shadow, reflected and
       refracted rays, its bad samples, and the column and row of its first bad sample
       ((−1, −1) when none). Tiles rendered together as one unit keep their counters on the
@@ -68,7 +68,7 @@ val key :
 
 val seal : key:string -> string -> string
 (** [seal ~key body] is the seal of a checkpoint of the job [key] whose body (what follows
-    the seal) is [body]: the BLAKE2b-256 digest (32 bytes, {!Digest.BLAKE256}) of the
+    the seal) is [body]: the BLAKE2b-256 digest (32 bytes, [Digest.BLAKE256]) of the
     key's length in one word, the key, and [body]. Made by the writer and checked by the
     reader; without the key it cannot be made again. *)
 
@@ -87,7 +87,7 @@ val framebuffer : t -> Image.t
 (** The image being rendered, with the finished tiles' pixels already in. *)
 
 val todo : t -> int array
-(** The tiles ({!Render.tiles} numbers) still to render, in order. *)
+(** The tiles ({!Lancer_render.Render.tiles} numbers) still to render, in order. *)
 
 val finished : t -> int
 (** How many tiles are done. *)
@@ -114,6 +114,6 @@ val render :
   Scene.t ->
   unit
 (** Render the tiles still to do into the framebuffer over [pool] with
-    {!Render.render_tiles}, recording each one; [on_tile finished rays] after each. Raises
+    {!Lancer_render.Render.render_tiles}, recording each one; [on_tile finished rays] after each. Raises
     [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles finished
     by then are recorded. *)

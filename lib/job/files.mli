@@ -38,7 +38,7 @@ val write_image :
   Scene.t ->
   Image.t ->
   Image.written
-(** Encode with the scene's gamma ([bits] as {!Image.file_of} takes them; the coverage
+(** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the coverage
     [alpha] as a fourth channel; only [crop] when given) and write the file atomically, {!uninterrupted}; the
     size and MD5 of the bytes written. Raises {!Job_error.User}. *)
 

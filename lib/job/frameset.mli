@@ -33,7 +33,7 @@ val open_ : ?ext:string -> dir:string -> scene:string -> job:string -> count:int
 (** Claim [dir] (an existing directory) for the scene named [scene], or join it if it
     already holds that scene's frames, and read what every run recorded; its frames are
     [frame_NNNN.ext] (default [png]). Raises
-    {!Job_error.User} when [dir] holds another scene's frames or cannot be used. *)
+    {!Lancer_job.Job_error.User} when [dir] holds another scene's frames or cannot be used. *)
 
 val is_done : t -> int -> input_digest:(string -> string) -> bool
 (** Whether frame k is on disk as an entry of this job recorded it, with every input it
@@ -43,7 +43,7 @@ val record : t -> int -> written:Image.written -> inputs:(string * string) list 
 (** Record frame k, just written, in this run's journal, with the size and MD5 of the bytes
     this run wrote ([written], digested before the rename): a run that replaced the file
     since is not taken for this one. Safe to call from several domains. Raises
-    {!Job_error.User} if the journal cannot be written. *)
+    {!Lancer_job.Job_error.User} if the journal cannot be written. *)
 
 val drop_view : t -> unit
 (** Remove the merged view: frames are about to change. *)

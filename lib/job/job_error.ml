@@ -15,7 +15,8 @@ let scene_text errors note =
 let internal e =
   Printf.sprintf
     "lancer: internal error: %s\n\
-     This is a bug in lancer; please report it with the scene and the command.\n"
+     This is a bug in lancer; please report it with the scene and the command at\n\
+     https://github.com/lancer/lancer/issues\n"
     (Printexc.to_string e)
 
 (* Domain.spawn fails so when the system has no room for a new domain's thread or the

@@ -25,11 +25,11 @@ val user : ('a, unit, string, 'b) format4 -> 'a
     memory), 2 an internal error (a bug: "please report it"), 130 interrupted. *)
 
 val errors_text : Diagnostic.t list -> string
-(** Each located error printed with {!Diagnostic.pp}, one after the other. *)
+(** Each located error printed with {!Lancer_diag.Diagnostic.pp}, one after the other. *)
 
 val out_of_memory_text : unit -> string
 (** [lancer: out of memory …] with what to try, and the address-space limit when there is
-    one ({!Address_space.limit}). *)
+    one ({!Lancer_diag.Address_space.limit}). *)
 
 val describe :
   ?interrupted:string -> ?out_of_memory:(unit -> string) -> exn -> string * int

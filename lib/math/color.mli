@@ -2,7 +2,7 @@
 
     Every colour inside lancer is linear RGB with components nominally in [0, 1] but not
     clamped (lights may be brighter than 1). sRGB appears only when an image is encoded
-    ({!Image}) or an image texture is decoded. *)
+    ({!Lancer_image.Image}) or an image texture is decoded. *)
 
 type t = { r : float; g : float; b : float }
 

@@ -84,7 +84,7 @@ val body :
   unit ->
   body
 (** [body ~name ~center ~radius ()] is a sphere at rest (defaults: velocity 0, mass 1,
-    restitution 1, defined at {!Loc.whole_file} [name]). *)
+    restitution 1, defined at {!Lancer_diag.Loc.whole_file} [name]). *)
 
 type collider =
   | Plane of { normal : Vec3.t; offset : float }
@@ -104,7 +104,7 @@ type world = Description.physics = {
 (** A scene's [physics] block, as its description states it. *)
 
 val default_world : world
-(** Gravity (0, −9.81, 0), [Exact], step 1/240 s ({!Description.default_physics}). *)
+(** Gravity (0, −9.81, 0), [Exact], step 1/240 s ({!Lancer_description.Description.default_physics}). *)
 
 val colliders : Description.obj list -> (collider list, Description.obj) result
 (** The static obstacles among a description's objects (those that are not a body's

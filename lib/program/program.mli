@@ -1,6 +1,6 @@
 (** A loaded scene program and the renderer: its scene at any time,
-    described by the language, its bodies moved by {!Physics}, compiled
-    ({!Compile.compile}) with one cache of images and meshes per program.
+    described by the language, its bodies moved by {!Lancer_physics.Physics}, compiled
+    ({!Lancer_render.Compile.compile}) with one cache of images and meshes per program.
 
     Every function returns located errors, as the language does, and raises nothing but
     [Sys.Break]. *)
@@ -20,7 +20,7 @@ val load_file :
   (t, Diagnostic.t list) result
 (** {!Dsl.load_file}, with the images and meshes the program uses read (into its
     {!assets}) and their problems reported with the program's. [digests] (default [true])
-    and [after_read] are {!Compile.assets}': a run that records what its pixels were made
+    and [after_read] are {!Lancer_render.Compile.val-assets}': a run that records what its pixels were made
     of (an animation's frames, a checkpoint) keeps the digest of every file it decodes.
     [single] (default [false]) says that the program is loaded for one scene only (a
     still's render): its first scene at time 0 may let the load's description go as it is
@@ -93,7 +93,7 @@ val input_digest : t -> string -> string
 (** {1 Bodies} *)
 
 val colliders  : t -> Physics.collider list
-(** The static obstacles of the bodies ({!Physics.colliders} of the scene at time 0). A
+(** The static obstacles of the bodies ({!Lancer_physics.Physics.colliders} of the scene at time 0). A
     CSG object that is not a union or merge of planes, parallelograms and boxes makes the
     simulation fail with an error at its block (raised as an exception inside this
     module's error boundary: call it through {!simulate} or {!describe} to get it as an
@@ -127,7 +127,7 @@ val scene :
   time:float ->
   frame:int ->
   (Scene.t, Diagnostic.t list) result
-(** The scene at [time] and [frame]: {!describe}, then {!Compile.compile} ([index] is
+(** The scene at [time] and [frame]: {!describe}, then {!Lancer_render.Compile.compile} ([index] is
     its). The program is evaluated once per call, and not at all for a scene at time 0,
     frame 0 of a still without bodies: that one is the load's description. An animation's
     scene is its static part, compiled once for all of them, joined with the objects its
@@ -181,14 +181,14 @@ val scenes_with_files :
   frame:int ->
   ((Scene.t * string list) array, Diagnostic.t list) result
 (** {!scene_with_files} at each of [times] (seconds, in order) of frame [frame]: the
-    instants of a motion-blurred frame, as {!scenes}. What does not change with time is evaluated and
+    instants of a motion-blurred frame, as {!val-scenes}. What does not change with time is evaluated and
     built once for them all, as for the frames of an animation (and for a still whose
     camera's shutter is open). *)
 
 (** {1 For [lancer check]} *)
 
 val summary  : t -> Scene.t -> string
-(** {!Scene_report.summary} of [sc] (a scene of the program, whose description is made
+(** {!Lancer_description.Scene_report.summary} of [sc] (a scene of the program, whose description is made
     again), with the program's animation, bodies and warnings. *)
 
 val to_json :
@@ -196,15 +196,15 @@ val to_json :
   t ->
   Scene.t ->
   Yojson.Safe.t
-(** {!Scene_report.json} of [sc], as {!summary}; bodies are shown at [sc]'s time by
+(** {!Lancer_description.Scene_report.json} of [sc], as {!summary}; bodies are shown at [sc]'s time by
     [body_state] or else the simulation. *)
 
 (** {1 For the command line and the job layer} *)
 
 val truncated_physics : t -> float option
 (** When the exact physics simulation stopped handling collisions after
-    {!Physics.max_events} events: the time of its last event. *)
+    {!Lancer_physics.Physics.max_events} events: the time of its last event. *)
 
 val source : builtin:bool -> t -> Source.t
-(** The program as the job layer takes it; its [evaluate] raises {!Job_error.Scene}.
+(** The program as the job layer takes it; its [evaluate] raises {!Lancer_job.Job_error.Scene}.
     [builtin]: the program is the built-in showcase. *)

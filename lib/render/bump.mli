@@ -1,7 +1,7 @@
 (** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
 type t = Image.t Description.bump_of
-(** The description's bump map ({!Description.bump_of}, where each kind is defined) with
+(** The description's bump map ({!Lancer_description.Description.bump_of}, where each kind is defined) with
     its height map decoded to a linear framebuffer. *)
 
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t

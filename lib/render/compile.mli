@@ -1,6 +1,6 @@
 (** The renderer's form of a scene description: reads the images and meshes it names
     (through a cache shared between frames), builds the shapes, primitives, materials and
-    textures, and the acceleration structure ({!Scene.make}).
+    textures, and the acceleration structure ({!Lancer_render.Scene.make}).
 
     A file that cannot be read, a mesh without triangles or open where a solid is needed,
     a height field too small: each is reported at the place the description recorded, in
@@ -27,7 +27,7 @@ val digest : assets -> string -> string option
     when it keeps digests and has read that file. *)
 
 type static
-(** A program's static part ({!Description.static}) compiled: the primitives of its
+(** A program's static part ({!Lancer_description.Description.static}) compiled: the primitives of its
     objects, made once, known by their statements' positions, and the acceleration
     structure over them (for the last origin asked). *)
 

@@ -18,7 +18,7 @@ type t = {
   bound : float;
       (** an upper bound with every reflection and refraction followed to the maximum
           depth (each ray that hits casts its shadow rays), but never more than the
-          {!Shade.max_secondary} secondary rays a camera sample may cast; equal to
+          {!Lancer_render.Shade.max_secondary} secondary rays a camera sample may cast; equal to
           [direct] for a scene that neither reflects nor refracts *)
 }
 

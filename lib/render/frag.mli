@@ -4,8 +4,8 @@
     asks shapes, primitives and textures about a hit point.
 
     The fields are registers rather than a fixed meaning: each function says what it reads
-    and what it writes (see {!Shape.normal_into}, {!Primitive.normal_into},
-    {!Texture.eval_into}). A fragment is scratch, owned by one domain at a time. *)
+    and what it writes (see {!Shape.normal_into}, {!Lancer_render.Primitive.normal_into},
+    {!Lancer_render.Texture.eval_into}). A fragment is scratch, owned by one domain at a time. *)
 
 type t = {
   mutable x : float;

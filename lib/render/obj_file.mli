@@ -15,18 +15,18 @@ val load_mesh : ?smooth:bool -> string -> (Trimesh.t, string) result
 (** [load_mesh path] reads and parses the file at [path]. *)
 
 val parse : ?smooth:bool -> file:string -> string -> (Shape.t list, string) result
-(** {!parse_mesh}, its faces as triangles ({!Shape.faces}). *)
+(** {!parse_mesh}, its faces as triangles ({!Lancer_render.Shape.faces}). *)
 
 val load : ?smooth:bool -> string -> (Shape.t list, string) result
 (** {!load_mesh}, its faces as triangles. *)
 
 val float_at : string -> int -> int -> float
-(** [float_at text s e] is the number written in bytes [s, e) of [text], as
+(** [float_at text s e] is the number written in bytes \[s, e) of [text], as
     [float_of_string] reads it (without a copy for plain decimals); NaN when those bytes
     are not one. *)
 
 val int_at : string -> int -> int -> int option
-(** [int_at text s e] is the integer written in bytes [s, e), as [int_of_string_opt]. *)
+(** [int_at text s e] is the integer written in bytes \[s, e), as [int_of_string_opt]. *)
 
 val open_edges : Shape.t list -> int
 (** [open_edges triangles] is how many edges (pairs of corner positions) are not shared by

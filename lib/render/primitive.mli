@@ -13,7 +13,7 @@ type t = private {
           colour alone share one *)
   color : Color.t;  (** the colour of its material, which shading reads *)
   bounds : Bbox.t option;
-      (** [None] when unbounded; otherwise read the bounds with {!bounds}: an
+      (** [None] when unbounded; otherwise read the bounds with {!val-bounds}: an
           untransformed shape's are its own, and this field holds a marker shared by all
           of them instead of a box each *)
   shift : Vec3.t;
@@ -22,7 +22,7 @@ type t = private {
   flip : bool;  (** the normal is reversed (a surface subtracted by a CSG difference) *)
   leaves : t array;
       (** for a CSG shape, each of its simple surfaces placed in the world with its own
-          material and orientation (the shape's {!Shape.csg_leaves}, in order); empty
+          material and orientation (the shape's {!Lancer_render.Shape.csg_leaves}, in order); empty
           otherwise *)
 }
 
@@ -44,14 +44,14 @@ val bounds : t -> Bbox.t option
 (** The world-space bounds; [None] when unbounded. *)
 
 val bounds_into : t -> Float.Array.t -> int -> unit
-(** [bounds_into p b off] writes {!bounds} into [b] at [off] (min x y z, max x y z, the
+(** [bounds_into p b off] writes {!val-bounds} into [b] at [off] (min x y z, max x y z, the
     same floats), NaN when unbounded; an untransformed sphere's without allocating. *)
 
 val surface : t -> leaf:int -> face:int -> t
 (** [surface o ~leaf ~face] is the part of [o] that a crossing lies on, as a query of
     {!Walk} found it ([−1]: none): [o] itself, for a CSG object its leaf [leaf] with its
     material and orientation, and where that (or [o]) is a mesh, its face [face]
-    ({!Shape.face}). Shading and shadows ask it before anything else; nothing is
+    ({!Lancer_render.Shape.face}). Shading and shadows ask it before anything else; nothing is
     intersected again. *)
 
 val is_csg : t -> bool
@@ -71,11 +71,11 @@ val materials : t -> Material.t list
 val object_probe : t -> Probe.t -> Probe.t -> unit
 (** [object_probe o q obj] writes the probe [q] (a world ray and its interval) into [obj]
     in [o]'s object space: origin and direction transformed as {!to_object} and
-    {!Transform.inv_vector} do, bit for bit, the reciprocal direction recomputed. The
+    {!Lancer_math.Transform.inv_vector} do, bit for bit, the reciprocal direction recomputed. The
     direction is not renormalised, so t means the same point in both spaces. *)
 
 val root : t -> Probe.t -> Probe.t -> unit
-(** [root o q obj] is {!Shape.root} of [o]'s simple shape for the world ray [q] holds, in
+(** [root o q obj] is {!Lancer_render.Shape.root} of [o]'s simple shape for the world ray [q] holds, in
     object space through the scratch probe [obj] when [o] is transformed: the root into
     [q.p_t]. A mesh's and a CSG object's roots are {!Walk}'s. *)
 
@@ -89,7 +89,7 @@ val normal : t -> Vec3.t -> Vec3.t
 val normal_into : t -> Frag.t -> unit
 (** [normal_into o f] is {!normal} at the world point [(f.x, f.y, f.z)], bit for bit: the
     unit world normal goes into [(f.nx, f.ny, f.nz)] and the point is left in object
-    space. Allocates nothing where {!Shape.normal_into} does not. *)
+    space. Allocates nothing where {!Lancer_render.Shape.normal_into} does not. *)
 
 val texture_point_into : t -> Frag.t -> unit
 (** [texture_point_into o f] replaces the world point [(f.x, f.y, f.z)] by
@@ -122,7 +122,7 @@ val texture_point : t -> Vec3.t -> Vec3.t
     untransformed object the world point before the move. *)
 
 val uv : t -> Vec3.t -> float * float
-(** [uv o p] is the (u, v) of the surface at world point [p] ({!Shape.uv} at the object's
+(** [uv o p] is the (u, v) of the surface at world point [p] ({!Lancer_render.Shape.uv} at the object's
     own point). *)
 
 val without_bounds : t -> t

@@ -32,7 +32,7 @@ type reuse =
   | Watch of { box : Float.Array.t; mask : Bytes.t }
       (** render every pixel, and set [mask]'s byte of pixel (i, j) (at j·width + i) to
           ['\001'] where one of its queries may have met [box] (min x y z, max x y z; see
-          {!Accel.watch}), ['\000'] elsewhere *)
+          {!Lancer_render.Accel.watch}), ['\000'] elsewhere *)
   | Only of { mask : Bytes.t; base : Image.t }
       (** render the pixels whose [mask] byte is ['\001'] and take the others from [base]
       *)
@@ -82,7 +82,7 @@ val render_tiles :
     calling domain. [on_tile done_ k stats] is called after each tile, from whichever
     domain rendered it: [done_] of the tiles are finished, the last being tile [k] with
     its own counters [stats]. [cancel] is polled before each tile, every
-    {!Cancel.check_every} units of work inside one (rays, tests inside CSG objects:
+    {!Lancer_diag.Cancel.check_every} units of work inside one (rays, tests inside CSG objects:
     {!Stats.spend}), and once all are done: when it is cancelled the call raises
     [Sys.Break] within a few thousand units per domain, and [fb] is not to be used.
     [alpha] and [stride] (not with [region]) as for {!render_tile}. *)
@@ -107,7 +107,7 @@ val render :
 
 val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and
-    tears it down afterwards, also on an exception. While the pool lives, {!Cancel.signal}
+    tears it down afterwards, also on an exception. While the pool lives, {!Lancer_diag.Cancel.signal}
     on [cancel] does not raise (it could land inside the pool's own synchronisation): pass
     the token the signal handler cancels, and the same to the work done in [f]; if it was
     cancelled, [with_pool] raises [Sys.Break] on its way out. With more than one domain it

@@ -49,7 +49,7 @@ val trace_into : Scene.t -> Stats.t -> scratch -> int -> unit
 (** [trace_into scene stats scr depth] is {!trace} of the ray that [probe scr] holds, bit
     for bit, its colour written into [(frag scr).(r, g, b)]. Camera, reflected and
     refracted rays build no ray, vector or colour on the way, with the shapes that
-    {!Shape.probe_into} and {!Shape.normal_into} handle in scalars and the textures
+    {!Lancer_render.Shape.root} and {!Lancer_render.Shape.normal_into} handle in scalars and the textures
     {!Texture.eval_into} does; bump maps and CSG objects still allocate. The probe and the
     fragment are overwritten. *)
 

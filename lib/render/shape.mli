@@ -170,7 +170,7 @@ val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
 val csg : csg_op -> (t * Transform.t) list -> t
 (** [csg op members] combines solids, each placed by its transform; members of
     [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
-    solids (as {!Description.is_solid} says, a mesh made by {!solid_mesh}); at least one
+    solids (as {!Lancer_description.Description.is_solid} says, a mesh made by {!solid_mesh}); at least one
     member. *)
 
 val csg_leaves : t -> csg_leaf array
@@ -182,7 +182,7 @@ val csg_leaves : t -> csg_leaf array
 val inside : t -> Vec3.t -> bool
 (** [inside s p] is whether [p] is inside [s], the boundary included; [false] for shapes
     that have no inside. Raises [Invalid_argument] on a solid mesh and a CSG object, whose
-    inside follows from their crossings ({!Walk.inside}). *)
+    inside follows from their crossings ({!Lancer_render.Walk.inside}). *)
 
 val inside_at : t -> float -> float -> float -> bool
 (** [inside_at s x y z] is [inside s (Vec3.v x y z)], bit for bit, without the vector. *)

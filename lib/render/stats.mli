@@ -42,7 +42,7 @@ val tick : t -> unit
 (** Called once per ray traced: [spend s 1]. *)
 
 val spend : t -> int -> unit
-(** [spend s n] counts [n] units of work done: once every {!Cancel.check_every} units it
+(** [spend s n] counts [n] units of work done: once every {!Lancer_diag.Cancel.check_every} units it
     polls the token and raises [Sys.Break] if it is cancelled. A ray is one unit; so is
     each test of a simple surface inside a CSG object (a root sought, a point tested
     against its inside), which is how a ray that costs seconds (through a CSG object of

@@ -11,7 +11,7 @@ type color_map = { ts : float array; cs : Color.t array }
 
 val color_map : Description.color_map -> color_map
 (** The arrays of a colour map's entries, which the description has checked
-    ({!Description.color_map_problem}). *)
+    ({!Lancer_description.Description.color_map_problem}). *)
 
 val lookup : color_map -> float -> Color.t
 (** [lookup m v] is the colour at [v]: c_0 below t_0, the last colour from the last t on,
@@ -19,8 +19,8 @@ val lookup : color_map -> float -> Color.t
     t_k)/(t_(k+1) − t_k))·(c_(k+1) − c_k). *)
 
 type t = (Image.t, color_map) Description.texture_of
-(** The description's texture ({!Description.texture_of}, where each kind is defined) with
-    its image decoded to a linear framebuffer (from {!Image.read_linear}) and its colour
+(** The description's texture ({!Lancer_description.Description.texture_of}, where each kind is defined) with
+    its image decoded to a linear framebuffer (from {!Lancer_image.Image.read_linear}) and its colour
     maps as arrays. *)
 
 val eval : t -> Vec3.t -> float -> float -> Color.t

@@ -1,5 +1,5 @@
 (** [lancer animate] as a library function: an animation's frames rendered to
-    [DIR/frame_0000.png …] with the job layer ({!Animation}: the plan, the scheduling, the
+    [DIR/frame_0000.png …] with the job layer ({!Lancer_job.Animation}: the plan, the scheduling, the
     frames record), with its progress line and summary. [resume] skips frames already
     written for the same scene, inputs and options; [shard] renders a share of the frames,
     and shards may run at once into one directory; [video] assembles the frames with
@@ -19,19 +19,19 @@ val default_options : options
 
 val plan :
   ?getenv:(string -> string option) -> Options.t -> options -> Program.t * Animation.plan
-(** {!Animation.plan} for these options, the scene loaded as {!Scene_file.read} says,
+(** {!Lancer_job.Animation.val-plan} for these options, the scene loaded as {!Scene_file.read} says,
     saying how many frames a resumed run skips; with the program it loaded. Raises
-    {!Job_error.User}. *)
+    {!Lancer_job.Job_error.User}. *)
 
 val write_frame : Animation.plan -> int -> Scene.t -> Image.t -> Stats.t -> unit
-(** {!Animation.write_frame}, with a warning when some samples were NaN. *)
+(** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)
 
 val check_video : options -> unit
 (** Refuse, before rendering, a [--video] that is not .mp4 or .gif, cannot be written, or
     comes with [--shard]. *)
 
 val make_video : Options.t -> Animation.plan -> string -> unit
-(** {!Animation.make_video}, saying where the video is. *)
+(** {!Lancer_job.Animation.make_video}, saying where the video is. *)
 
 val progress : Options.t -> Animation.plan -> Progress.t
 (** A progress line over the frames to render, as the options ask for it. *)

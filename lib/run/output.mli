@@ -5,7 +5,7 @@
 
 type encoding = {
   bits : int option;
-      (** bits per channel ({!Image.file_of}); [None]: the format's own default *)
+      (** bits per channel ({!Lancer_image.Image.file_of}); [None]: the format's own default *)
   alpha : bool;  (** an alpha channel of coverage *)
   region : Image.region option;  (** render only these pixels *)
   crop : bool;  (** write only the region *)
@@ -23,7 +23,7 @@ val is_stdout : string -> bool
 val check_output : ?format:Image.format -> string -> unit
 (** Refuse, before any rendering, an output with an unknown extension (or one that
     [format] contradicts), in a missing directory, that is a directory or read-only, and
-    [-] when standard output is a terminal; raises {!Job_error.User}. *)
+    [-] when standard output is a terminal; raises {!Lancer_job.Job_error.User}. *)
 
 val check_stats_name : string option -> unit
 (** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png], …):
@@ -31,10 +31,10 @@ val check_stats_name : string option -> unit
 
 val check_encoding : encoding -> out:string -> Scene.t -> unit
 (** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
-    with a PPM output; raises {!Job_error.User}. *)
+    with a PPM output; raises {!Lancer_job.Job_error.User}. *)
 
 val guard_render : Options.t -> Source.t -> out:string -> unit
-(** {!Files.guard_writes} for a still: the image and the statistics against the scene's
+(** {!Lancer_job.Files.guard_writes} for a still: the image and the statistics against the scene's
     files and an animation's records, and not both on standard output. *)
 
 val write_image :
@@ -48,5 +48,5 @@ val write_image :
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for
     [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    {!Job_error.User}. With [cancel] an interrupt during the write does not cut it short
-    ({!Files.uninterrupted}). *)
+    {!Lancer_job.Job_error.User}. With [cancel] an interrupt during the write does not cut it short
+    ({!Lancer_job.Files.uninterrupted}). *)

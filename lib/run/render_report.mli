@@ -38,7 +38,7 @@ val rays_text : float -> string
 (** A ray count as a person reads it: [307 200] as "307 k", "18.4 M", "1.28 G". *)
 
 val cost_report : Scene.t -> string
-(** The estimated rays ({!Cost}) of the scene as set and under each quality preset, with
+(** The estimated rays ({!Lancer_render.Cost}) of the scene as set and under each quality preset, with
     how many times the scene's own cost each is; the header says it is an estimate. *)
 
 val long_render_rays : float

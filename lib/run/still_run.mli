@@ -25,7 +25,7 @@ val build : ?digests:bool -> Options.t -> built
     the image is allocated when the heap would otherwise grow past its peak. *)
 
 val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
-(** The checkpoint of [out] for this still ({!Checkpoint.start} with its key), saying how
+(** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key), saying how
     many tiles it brings back (unless [--quiet]). *)
 
 val finish :
@@ -53,5 +53,5 @@ val finish :
 val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image
     rendered over [--domains] domains (from a checkpoint with [resume]) with a progress
-    line, then {!finish}. Raises {!Job_error.User} and {!Job_error.Scene}; [Sys.Break]
+    line, then {!finish}. Raises {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}; [Sys.Break]
     when [cancel] is cancelled. *)

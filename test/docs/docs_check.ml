@@ -1,10 +1,12 @@
-(* The documentation as a test. Every fenced block of README.md, CHANGES.md, doc/**/*.md,
-   dsl/README.md and the READMEs of scenes/gallery/ and test/example-user/ is read by what its info string says it is (doc/README.md, "How the
-   examples are checked", is the authors' side of this):
+(* The documentation as a test. Every fenced block of README.md, CHANGES.md, doc/**/*.md
+   and the READMEs of scenes/gallery/ and test/example-user/ is read by what its info
+   string says it is (doc/README.md, "How the examples are checked", is the authors' side
+   of this):
 
    - ```rts: a whole scene, which `lancer check` must accept with no warning (`rts warns`
      allows warnings); ```rts fragment: statements shown alone, checked after the two
-     library includes, warnings allowed;
+     library includes, warnings allowed; ```rts fragment each: alternatives, each
+     statement (from a line that is not indented to the next) checked alone as a fragment;
    - ```console: a transcript. Each `$ COMMAND` line (continued by a final `\`) is run by
      sh, and what it writes to stdout and stderr must be the lines under it; a line `...`
      stands for any number of lines, and `...` inside a line for any text. A command that
@@ -15,7 +17,7 @@
    - a block with `file=NAME` is also written to NAME, for the blocks after it in the same
      page; a block with `from=PATH` must be an excerpt of PATH (its lines in order);
    - other languages (ocaml, dune, text, json, ply) are shown as they are; a fence without
-     a language is refused, except in dsl/README.md.
+     a language is refused.
 
    The blocks of one page run in order in one temporary directory, where `scenes` is the
    project's scenes/ and `lancer` is the lancer under test. Relative links and images
@@ -211,31 +213,58 @@ let run env ~dir cmd =
 
 let has_warning out = List.exists (fun l -> contains l "warning:") (lines_of out)
 
+(* A block's statements one by one, for ```rts fragment each: a statement starts at a line
+   that is not indented (nor blank, a comment or a closing brace) and runs to the next;
+   each comes with the line it starts at in the block. *)
+let statements body =
+  let starts l = l <> "" && l.[0] <> ' ' && l.[0] <> '}' && not (starts_with ~prefix:"//" l) in
+  let rec go i cur acc = function
+    | [] -> List.rev (match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc)
+    | l :: rest when starts l ->
+        let acc = match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc in
+        go (i + 1) (Some (i, [ l ])) acc rest
+    | l :: rest -> (
+        match cur with
+        | Some (k, ls) -> go (i + 1) (Some (k, l :: ls)) acc rest
+        | None -> go (i + 1) None acc rest)
+  in
+  go 0 None [] body
+
 let check_rts env ~file ~dir b =
   incr count_rts;
   let fragment = List.mem_assoc "fragment" b.attrs in
-  let text = String.concat "\n" b.body ^ "\n" in
-  let name =
-    match List.assoc_opt "file" b.attrs with
-    | Some n when not fragment -> n
-    | _ ->
-        let n = Printf.sprintf ".block-%d.rts" b.line in
-        write_file (Filename.concat dir n)
-          (if fragment then
-             "include \"lancer/materials.rts\"\ninclude \"lancer/colors.rts\"\n" ^ text
-           else text);
-        n
+  let check ~line ~what body =
+    let text = String.concat "\n" body ^ "\n" in
+    let name =
+      match List.assoc_opt "file" b.attrs with
+      | Some n when not fragment -> n
+      | _ ->
+          let n = Printf.sprintf ".block-%d.rts" line in
+          write_file (Filename.concat dir n)
+            (if fragment then
+               "include \"lancer/materials.rts\"\ninclude \"lancer/colors.rts\"\n" ^ text
+             else text);
+          n
+    in
+    let status, out = run env ~dir ("lancer check " ^ Filename.quote name) in
+    if status <> 0 then
+      fail ~file ~line "lancer check refuses this %s (exit %d):\n%s" what status out
+    else if (not fragment) && (not (List.mem_assoc "warns" b.attrs)) && has_warning out then
+      fail ~file ~line
+        "lancer check warns about this scene (mark it `rts warns` if that is its point):\n\
+         %s"
+        out
   in
-  let status, out = run env ~dir ("lancer check " ^ Filename.quote name) in
-  if status <> 0 then
-    fail ~file ~line:b.line "lancer check refuses this %s (exit %d):\n%s"
-      (if fragment then "fragment (after the two library includes)" else "scene")
-      status out
-  else if (not fragment) && (not (List.mem_assoc "warns" b.attrs)) && has_warning out then
-    fail ~file ~line:b.line
-      "lancer check warns about this scene (mark it `rts warns` if that is its point):\n\
-       %s"
-      out
+  if fragment && List.mem_assoc "each" b.attrs then
+    List.iter
+      (fun (k, body) ->
+        check ~line:(b.line + 1 + k)
+          ~what:"statement (alone, after the two library includes)" body)
+      (statements b.body)
+  else
+    check ~line:b.line
+      ~what:(if fragment then "fragment (after the two library includes)" else "scene")
+      b.body
 
 (* ---- ```console --------------------------------------------------------------------------- *)
 
@@ -647,7 +676,6 @@ let check_page env targets ~tmp ~index file =
   let dir = Filename.concat tmp (Printf.sprintf "page-%d" index) in
   Unix.mkdir dir 0o755;
   Unix.symlink (Filename.concat env.root "scenes") (Filename.concat dir "scenes");
-  let bare_allowed = file = "dsl/README.md" in
   List.iter
     (fun b ->
       (match List.assoc_opt "file" b.attrs with
@@ -663,7 +691,6 @@ let check_page env targets ~tmp ~index file =
       | "rts" -> check_rts env ~file ~dir b
       | "console" -> check_console env ~file ~dir b
       | "sh" | "bash" -> check_sh env ~file targets b
-      | "" when bare_allowed -> ()
       | "" ->
           fail ~file ~line:b.line
             "a block without a language: say what it is (rts, console, sh, ocaml, dune, \
@@ -689,7 +716,7 @@ let () =
         if files <> [] then files
         else
           [ "README.md"; "CHANGES.md" ] @ md_files "doc"
-          @ [ "dsl/README.md"; "scenes/gallery/README.md"; "test/example-user/README.md" ]
+          @ [ "scenes/gallery/README.md"; "test/example-user/README.md" ]
           |> List.filter Sys.file_exists
       in
       let tmp =

@@ -1,4 +1,4 @@
-(* The scene language: every construct evaluates as dsl/README.md says, every scene of scenes/
+(* The scene language: every construct evaluates as doc/reference/language.md says, every scene of scenes/
    loads, and no input makes the language raise (qcheck, fixed seeds). *)
 
 open Lancer
@@ -1033,7 +1033,7 @@ let () =
     [
       ( "expressions",
         [
-          Alcotest.test_case "operators follow the precedence of dsl/README.md" `Quick
+          Alcotest.test_case "operators follow the precedence of doc/reference/language.md" `Quick
             test_precedence;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
             test_vectors;

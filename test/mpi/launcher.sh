@@ -12,6 +12,7 @@ showcase=$(realpath "$1")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
+here=$(pwd -P)
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
@@ -20,12 +21,21 @@ command -v lancer-mpirun >/dev/null 2>&1 || { echo "FAIL: lancer-mpirun is not o
 launcher=$(command -v lancer-mpirun)
 
 now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# the processes whose command line matches $1 and that run in this test's directory (the
+# same test run elsewhere at once has processes of the same command line)
+ours() {
+  local p
+  for p in $(pgrep -f -- "$1"); do
+    [ "$(readlink "/proc/$p/cwd" 2>/dev/null)" = "$here" ] && echo "$p"
+  done
+  return 0
+}
 # waits up to 30 s until two ranks rendering into directory $1 run, then half a second
 # more (a loaded machine may take seconds to start a job: the interrupt must find it running)
 ranks_running() {
   local i
   for i in $(seq 1 300); do
-    [ "$(pgrep -fc "^[^ ]*lancer-mpi render branching.rts -o $1/")" -ge 2 ] && break
+    [ "$(ours "^[^ ]*lancer-mpi render branching.rts -o $1/" | wc -l)" -ge 2 ] && break
     sleep 0.1
   done
   sleep 0.5
@@ -201,7 +211,7 @@ if script --version 2>/dev/null | grep -q util-linux && command -v timeout >/dev
   { ranks_running tty; printf '\003'
     # the terminal stays open until the launcher has ended (script(1) hangs up on its
     # job when its input ends: a loaded machine may take seconds to end the job)
-    for _ in $(seq 1 300); do pgrep -f "^[^ ]*lancer-mpirun .*-o tty/" >/dev/null || break; sleep 0.1; done
+    for _ in $(seq 1 300); do [ -n "$(ours "^[^ ]*lancer-mpirun .*-o tty/")" ] || break; sleep 0.1; done
     sleep 0.5; } | SHELL=/bin/bash timeout 60 script -qec \
     "lancer-mpirun ${opts[*]} -np 2 lancer-mpi render branching.rts -o tty/b.png --domains 1; echo \"status=\$?\"" \
     /dev/null >tty.log 2>&1
