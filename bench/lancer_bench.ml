@@ -237,8 +237,8 @@ let materials =
          this process, and prints the words per object that each stage holds: the \
          description the language makes, the compiled primitives (their materials \
          included), the materials alone, the acceleration structure, and the largest \
-         heap of the process. Run it once with $(b,--colour) and once without: each \
-         run is a fresh process, so that the largest heap is that program's.";
+         heap of the process. Run it once with $(b,--colour) and once without: each run \
+         is a fresh process, so that the largest heap is that program's.";
       `S Manpage.s_examples;
       `Pre "  lancer_bench materials --grid 1000 --colour";
     ]
@@ -251,9 +251,11 @@ let materials =
 
 let () =
   let doc =
-    "the developers' benchmarks of lancer: scaling, physics methods, the language, memory \
-     per object"
+    "the developers' benchmarks of lancer: scaling, physics methods, the language, \
+     memory per object"
   in
   exit
     (Cmd.eval'
-       (Cmd.group (Cmd.info "lancer_bench" ~doc) [ physics; scaling; language; materials ]))
+       (Cmd.group
+          (Cmd.info "lancer_bench" ~doc)
+          [ physics; scaling; language; materials ]))

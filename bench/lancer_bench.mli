@@ -1,1 +1,2 @@
-(** The developers' benchmarks: [lancer_bench physics|scaling|language] (see bench/dune). *)
+(** The developers' benchmarks: [lancer_bench physics|scaling|language] (see bench/dune).
+*)

@@ -5,8 +5,8 @@
     (time, words allocated and held per block). *)
 
 val grid_header : int -> string
-(** The settings, camera and light of the object programs, for [n] × [n] objects
-    around the origin. *)
+(** The settings, camera and light of the object programs, for [n] × [n] objects around
+    the origin. *)
 
 val run : repeat:int -> grid:int -> json:bool -> unit
 (** [repeat] runs of each program (medians), the objects' programs of [grid] × [grid]

@@ -37,7 +37,9 @@ let run ~grid ~colour ~json =
     | Error es -> fail es
   in
   Program.single_scene p;
-  let sc = match Program.scene_at p ~time:0. ~frame:0 with Ok s -> s | Error es -> fail es in
+  let sc =
+    match Program.scene_at p ~time:0. ~frame:0 with Ok s -> s | Error es -> fail es
+  in
   let objects = words sc.objects /. n in
   let materials =
     let ms = Array.map (fun (o : Primitive.t) -> o.material) sc.objects in
@@ -69,7 +71,5 @@ let run ~grid ~colour ~json =
     print_endline "|---|---:|";
     List.iter
       (fun (k, v) ->
-        Printf.printf "| %s | %.1f |\n"
-          (String.concat " " (String.split_on_char '_' k))
-          v)
+        Printf.printf "| %s | %.1f |\n" (String.concat " " (String.split_on_char '_' k)) v)
       rows)

@@ -29,10 +29,13 @@ let default_material site =
    option, its colour beside it ({!D.obj}). Numbers compare by their bits. *)
 let same_but_color (m : D.material) (d : D.material) =
   let same x y = Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y) in
-  m.texture == d.texture && m.bump == d.bump && Bool.equal m.fresnel d.fresnel
+  m.texture == d.texture && m.bump == d.bump
+  && Bool.equal m.fresnel d.fresnel
   && same m.ambient d.ambient && same m.diffuse d.diffuse && same m.specular d.specular
-  && same m.shininess d.shininess && same m.reflection d.reflection
-  && same m.transparency d.transparency && same m.ior d.ior
+  && same m.shininess d.shininess
+  && same m.reflection d.reflection
+  && same m.transparency d.transparency
+  && same m.ior d.ior
 
 let material site =
   let base = slot site "base" and color_ = slot site "color" in
@@ -634,7 +637,6 @@ let shape_of (k : Kind.t) : t -> D.shape =
   | k -> invalid_arg ("Build: " ^ k ^ " is not a shape")
 
 let shape site = shape_of site.kind_
-
 let untransformed = (Transform.identity, [])
 
 let object_ site =

@@ -18,6 +18,7 @@ val object_ : Fields.site -> Fields.t -> D.obj
     it the block's object. *)
 
 val transforms : Fields.t -> Transform.t * D.step list
+
 val object_material : Fields.t -> D.material option * Color.t
 (** A block's [material] as an object holds it ({!D.obj}): the option, shared by the
     materials that differ from it in their colour alone, and the colour. *)

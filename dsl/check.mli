@@ -29,10 +29,10 @@ val program :
   program * Error.t list
 (** [program ~sources stmts] is the typed program and the mistakes found, in the order
     found. [sources] maps each file to its text, for the display. Block kinds and their
-    fields are [schema]'s ({!Lancer_dsl.Schema.blocks} unless told). With [~types:false] every
-    expression's type is taken as unknown: only what the text of blocks says is checked
-    before the run, and every type is checked as the program runs (for testing that the
-    two phases agree). *)
+    fields are [schema]'s ({!Lancer_dsl.Schema.blocks} unless told). With [~types:false]
+    every expression's type is taken as unknown: only what the text of blocks says is
+    checked before the run, and every type is checked as the program runs (for testing
+    that the two phases agree). *)
 
 (** {1 Statement by statement}
 

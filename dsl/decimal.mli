@@ -5,8 +5,8 @@
     that cannot decide. *)
 
 val read : string -> int -> int -> float
-(** [read text s e]: the numeral in bytes \[s, e) of [text] (digits, perhaps a point and more, perhaps
-    an exponent: the lexer's numbers). *)
+(** [read text s e]: the numeral in bytes \[s, e) of [text] (digits, perhaps a point and
+    more, perhaps an exponent: the lexer's numbers). *)
 
 type cursor = { mutable at : int }
 

@@ -83,8 +83,8 @@ val describe : ?again:bool -> Description.t at_instant
     have wrong. [progress], when given, is told how many objects a long evaluation has
     built. [cancel] is polled as the program runs: once it is cancelled, evaluation stops
     with [Sys.Break]. The static statements ({!static}) are not evaluated again, unless
-    [again] (default [false]) says to evaluate every statement: the same description,
-    made the long way. *)
+    [again] (default [false]) says to evaluate every statement: the same description, made
+    the long way. *)
 
 val describe_parts : (Description.t * Description.part list) at_instant
 (** {!describe}, always a new evaluation, with the description's objects given as parts
@@ -98,19 +98,19 @@ val first : t -> Description.t
     initial centres; without its objects once {!release}d. *)
 
 val release : t -> Description.t option
-(** [release p] is {!first} [p] with its objects, for the one caller that gets it
-    ([None] for any other, or once released), and [p] keeps none of its objects from then
-    on (neither in {!first} nor in {!static}), so that a caller that compiles them once
-    can let each go as soon as it is compiled. {!describe} at time 0, frame 0 then
-    evaluates the program again, every statement: the same description, as new values. *)
+(** [release p] is {!first} [p] with its objects, for the one caller that gets it ([None]
+    for any other, or once released), and [p] keeps none of its objects from then on
+    (neither in {!first} nor in {!static}), so that a caller that compiles them once can
+    let each go as soon as it is compiled. {!describe} at time 0, frame 0 then evaluates
+    the program again, every statement: the same description, as new values. *)
 
 val released : t -> bool
 (** Whether {!release} was called. *)
 
 val static : t -> Description.static
 (** The program's static part: the objects of {!first} built by the top-level statements
-    that cannot build anything else at another instant ({!Run.val-plan}), by position ([[]]
-    once {!release}d). *)
+    that cannot build anything else at another instant ({!Run.val-plan}), by position
+    ([[]] once {!release}d). *)
 
 val named_files : t -> string list
 (** Every file any scene of the program may read, at any time or frame: each string the

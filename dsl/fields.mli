@@ -1,6 +1,6 @@
 (** A block's fields, read: where a block is written, which of its kind's fields it gives
-    and where ({!type-site}, made once); each time it is evaluated, their values ({!t}), read
-    by the accessors below with their kind's defaults and ranges. A value outside its
+    and where ({!type-site}, made once); each time it is evaluated, their values ({!t}),
+    read by the accessors below with their kind's defaults and ranges. A value outside its
     range, or of a type the checker could not know and that is wrong, is reported at the
     value, the block marked failed and the default given instead, so that every mistake of
     a block is reported at once. What the checker reported is not reported again. *)

@@ -85,5 +85,4 @@ let make (b : Schema.block) =
   }
 
 let get = make
-
 let slot k name = index k.names name

@@ -1,6 +1,7 @@
 (** A block kind of the schema made ready to use, once: its fields by name and by place
-    ("slot": the index in {!Lancer_dsl.Schema.names_of}), each with its default as a value. The
-    checker places fields by these, and a block's evaluation reads them by their slots. *)
+    ("slot": the index in {!Lancer_dsl.Schema.names_of}), each with its default as a
+    value. The checker places fields by these, and a block's evaluation reads them by
+    their slots. *)
 
 type entry = {
   sch : Schema.field;

@@ -176,9 +176,7 @@ let plan stmts =
 
 let objects (st : static) =
   let acc = ref [] in
-  Array.iteri
-    (fun i -> function Some e -> acc := (i, e.built) :: !acc | None -> ())
-    st;
+  Array.iteri (fun i -> function Some e -> acc := (i, e.built) :: !acc | None -> ()) st;
   List.rev !acc
 
 (* ------------------------------------------------------------------------------------ *)
@@ -274,8 +272,7 @@ let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
       | D.Built objs -> objs
       | D.Static i -> (
           match mode with
-          | Replay static -> (
-              match static.(i) with Some e -> e.built | None -> [])
+          | Replay static -> ( match static.(i) with Some e -> e.built | None -> [])
           | Plain | Record _ -> [])
     in
     let statics =
@@ -356,5 +353,6 @@ let record plan ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog =
   let into = Array.make (Array.length plan) None in
   Result.map
     (fun (d, _) -> (d, into))
-    (exec ~mode:(Record (plan, into)) ~parts:false ?on_objects ?cancel ?on_file ~file
-       ~sources ~time ~frame prog)
+    (exec
+       ~mode:(Record (plan, into))
+       ~parts:false ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog)

@@ -1,8 +1,8 @@
 (** The runner: runs a compiled program ({!Compile}) at one instant and states the scene
-    it describes ({!Lancer_description.Description.t}), or the located errors its run found; with {!State},
-    the limits, the steps, the cancellation; and the program's static statements, run
-    once and taken as they were at other instants. It reads no file: the images and
-    meshes a scene names are the renderer's.
+    it describes ({!Lancer_description.Description.t}), or the located errors its run
+    found; with {!State}, the limits, the steps, the cancellation; and the program's
+    static statements, run once and taken as they were at other instants. It reads no
+    file: the images and meshes a scene names are the renderer's.
 
     Errors are collected, not thrown: a statement that fails is reported and skipped (a
     [let] that fails binds its name to a poisoned value, so that later uses do not report
@@ -12,12 +12,12 @@
 module D = Description
 
 type plan
-(** Which top-level statements (includes flattened; see {!Lancer_description.Description.static}) are
-    static: such a statement builds objects and nothing else (no settings, camera, light,
-    animation, physics or body, nor a macro that makes one), and mentions no name that
-    may hold a different value at another instant: not [time], [frame], a body, nor a
-    name defined from one of them (through a [let], a function or a macro, at the point
-    where it is defined). *)
+(** Which top-level statements (includes flattened; see
+    {!Lancer_description.Description.static}) are static: such a statement builds objects
+    and nothing else (no settings, camera, light, animation, physics or body, nor a macro
+    that makes one), and mentions no name that may hold a different value at another
+    instant: not [time], [frame], a body, nor a name defined from one of them (through a
+    [let], a function or a macro, at the point where it is defined). *)
 
 val plan : Ast.stmt list -> plan
 (** [plan prog]: which top-level statements of [prog] (includes flattened) are static. *)

@@ -193,14 +193,15 @@ let number x =
 let num x = opt (number x)
 let whole n = opt (string_of_int n)
 let flag b = opt (string_of_bool b)
+
 let vec (v : Vec3.t) =
   opt (Printf.sprintf "(%s, %s, %s)" (number v.x) (number v.y) (number v.z))
+
 let rgb (c : Color.t) = vec (Vec3.v c.r c.g c.b)
 let settings = Settings.default
 let camera = Camera.default
 let material = Description.default_material
 let physics = Description.default_physics
-
 let camera_kinds = [ "perspective"; "orthographic"; "fisheye" ]
 
 let blocks =
@@ -236,8 +237,7 @@ let blocks =
       [
         f "kind" (Choice camera_kinds) ~default:(opt "\"perspective\"") "the projection";
         f "position" Vector ~default:(vec camera.position) "the eye";
-        f "look_at" Vector ~default:(vec camera.look_at)
-          "the point at the image's centre";
+        f "look_at" Vector ~default:(vec camera.look_at) "the point at the image's centre";
         f "up" Vector ~default:(vec camera.up) "the image's upright; not along the view";
         f "fov" Number
           ~range:(Real (Excl 0., Excl 180.))

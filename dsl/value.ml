@@ -108,5 +108,6 @@ let[@inline] num loc r = if r -. r = 0. then VNum r else VNum (finite loc r)
 let vtrue = VBool true
 let vfalse = VBool false
 let[@inline] vbool b = if b then vtrue else vfalse
+
 let material ?some m =
   VMat { mat = m; some = (match some with Some s -> s | None -> Some m) }

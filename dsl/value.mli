@@ -126,6 +126,7 @@ val num : Loc.t -> float -> t
 val finite : Loc.t -> float -> float
 val finite_vec : Loc.t -> Vec3.t -> Vec3.t
 val vbool : bool -> t
+
 val material : ?some:Description.material option -> Description.material -> t
 (** [material m] is [m] as a value; [some] (default [Some m]) the option its objects hold,
     whose fields are [m]'s but the colour. *)

@@ -24,7 +24,8 @@ let cmd =
       [
         `S Manpage.s_examples;
         `Pre "  lancer bench domains --width 1920 --height 1080 --counts 1,2,4,8,16";
-      ] @ Cli.bugs
+      ]
+      @ Cli.bugs
     in
     Cmd.v
       (Cmd.info "domains"
@@ -67,7 +68,8 @@ let cmd =
         `Pre
           "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg \
            trade.svg";
-      ] @ Cli.bugs
+      ]
+      @ Cli.bugs
     in
     Cmd.v
       (Cmd.info "quality"
@@ -107,7 +109,8 @@ let cmd =
            change between frames is evaluated, compiled and indexed once per animation.";
         `S Manpage.s_examples;
         `Pre "  lancer bench animation scenes/bench/field_moving.rts --repeat 3";
-      ] @ Cli.bugs
+      ]
+      @ Cli.bugs
     in
     Cmd.v
       (Cmd.info "animation"

@@ -312,7 +312,9 @@ let exits =
     Cmd.Exit.info 0 ~doc:"on success.";
     Cmd.Exit.info 1
       ~doc:"on a user error: a scene, option or file problem, explained in one message.";
-    Cmd.Exit.info 2 ~doc:("on an internal error: a bug in lancer; please report it at " ^ bug_tracker ^ ".");
+    Cmd.Exit.info 2
+      ~doc:
+        ("on an internal error: a bug in lancer; please report it at " ^ bug_tracker ^ ".");
     Cmd.Exit.info 130 ~doc:"when interrupted (Ctrl-C); no output file is left behind.";
   ]
 
@@ -320,7 +322,9 @@ let exits =
 let bugs =
   [
     `S Manpage.s_bugs;
-    `P ("Report bugs at " ^ bug_tracker ^ ", with the scene and the command that show them.");
+    `P
+      ("Report bugs at " ^ bug_tracker
+     ^ ", with the scene and the command that show them.");
   ]
 
 (* The environment every command reads, for its man page's ENVIRONMENT section. *)
@@ -347,10 +351,12 @@ let slurm_envs =
   List.map
     (fun (v, doc) -> Cmd.Env.info v ~doc)
     [
-      ("SLURM_ARRAY_TASK_ID", "With $(b,--shard slurm): this task's index in the job array.");
+      ( "SLURM_ARRAY_TASK_ID",
+        "With $(b,--shard slurm): this task's index in the job array." );
       ("SLURM_ARRAY_TASK_COUNT", "With $(b,--shard slurm): the number of tasks.");
       ("SLURM_ARRAY_TASK_MIN", "With $(b,--shard slurm): the first index (default 0).");
-      ("SLURM_ARRAY_TASK_STEP", "With $(b,--shard slurm): the step between indices (default 1).");
+      ( "SLURM_ARRAY_TASK_STEP",
+        "With $(b,--shard slurm): the step between indices (default 1)." );
     ]
 
 (* Cmdliner reads "-5" as an option, so "--time -5" fails: find such a value and say how

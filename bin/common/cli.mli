@@ -34,13 +34,13 @@ val bugs : Cmdliner.Manpage.block list
 (** A man page's BUGS section, naming {!bug_tracker}. *)
 
 val exits : Cmdliner.Cmd.Exit.info list
+(** The exit statuses every command documents: 0, 1, 2 and 130. *)
 
 val envs : Cmdliner.Cmd.Env.info list
 (** The environment variables every command reads, for the man pages. *)
 
 val slurm_envs : Cmdliner.Cmd.Env.info list
 (** What [--shard slurm] reads. *)
-(** The exit statuses every command documents: 0, 1, 2 and 130. *)
 
 val negative_value_hint : string array -> string option
 (** For a command line such as [--time -5], which the parser refuses ([-5] reads as an

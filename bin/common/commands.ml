@@ -21,7 +21,8 @@ let render =
       `Pre
         "  lancer render big.rts -o big.png --resume    # again after an interruption: \
          continues";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
@@ -48,7 +49,8 @@ let animate =
       `Pre
         "  lancer animate scene.rts -o frames/ --shard slurm --resume   # a task of \
          sbatch --array=0-15";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
@@ -96,7 +98,8 @@ let check =
       `Pre "  lancer check anim.rts --json --time 1.5";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
@@ -237,7 +240,8 @@ let main () =
       `Pre "  lancer render";
       `Pre "  lancer render scenes/showcase.rts -o out/showcase.png --quality final";
       `Pre "  lancer check scenes/showcase.rts";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   let info =
     Cmd.info "lancer" ~version:Lancer.Version.v ~doc ~man ~exits

@@ -99,7 +99,8 @@ let cmd =
       `S Manpage.s_examples;
       `Pre "  lancer watch scenes/showcase.rts";
       `Pre "  lancer watch scene.rts --port 9000 --quality final --width 640 --height 480";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   let term =
     Term.(

@@ -225,7 +225,10 @@ let exits =
       ~doc:
         "on a user error (scene, option or file), reported once by rank 0; every rank \
          exits so.";
-    Cmd.Exit.info 2 ~doc:("on an internal error: a bug in lancer; please report it at " ^ Cli.bug_tracker ^ ".");
+    Cmd.Exit.info 2
+      ~doc:
+        ("on an internal error: a bug in lancer; please report it at " ^ Cli.bug_tracker
+       ^ ".");
   ]
 
 let render =
@@ -243,7 +246,8 @@ let render =
       `Pre
         "  mpirun --hostfile hosts -np 9 lancer-mpi render scene.rts --width 3840 \
          --height 2160 --quality final --resume";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
@@ -261,7 +265,8 @@ let animate =
          frame once it is complete.";
       `S Manpage.s_examples;
       `Pre "  mpirun -np 4 lancer-mpi animate anim.rts -o frames/ --frames 0..47 --resume";
-    ] @ Cli.bugs
+    ]
+    @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))

@@ -1,24 +1,23 @@
-(** The camera: how a point of the image becomes a primary ray
-    (doc/reference/shading.md, section 1). Left-handed, pixel units from the top-left
-    corner of the image.
+(** The camera: how a point of the image becomes a primary ray (doc/reference/shading.md,
+    section 1). Left-handed, pixel units from the top-left corner of the image.
 
     With f = normalize(look_at − position), r = normalize(up × f), u = f × r, a = W/H:
     - perspective (pinhole, the default): h = tan(fov/2), the ray through (x, y) leaves
       [position] with direction normalize(f + ((2x/W − 1)·h·a)·r + ((1 − 2y/H)·h)·u);
       [fov] is vertical, in (0, 180) degrees;
-    - orthographic: every ray has direction f and starts at
-      position + ((2x/W − 1)·width/2)·r + ((1 − 2y/H)·width/(2a))·u ([width] in world
-      units across the image; [fov] is not used);
-    - fisheye (equidistant): with S = min(W, H), n_x = (2x − W)/S, n_y = (H − 2y)/S and
-      ρ = √(n_x² + n_y²), a point with ρ ≤ 1 looks at θ = ρ·fov/2 from f (fov in
-      (0, 360\] degrees, the angle across the inscribed circle) towards φ = atan2(n_y, n_x):
+    - orthographic: every ray has direction f and starts at position + ((2x/W −
+      1)·width/2)·r + ((1 − 2y/H)·width/(2a))·u ([width] in world units across the image;
+      [fov] is not used);
+    - fisheye (equidistant): with S = min(W, H), n_x = (2x − W)/S, n_y = (H − 2y)/S and ρ
+      = √(n_x² + n_y²), a point with ρ ≤ 1 looks at θ = ρ·fov/2 from f (fov in (0, 360\]
+      degrees, the angle across the inscribed circle) towards φ = atan2(n_y, n_x):
       direction cos θ·f + sin θ·(cos φ·r + sin φ·u). Points with ρ > 1 see the background
       as a ray along f that hits nothing would ({!in_view}).
 
-    Depth of field ([aperture] A > 0): each primary ray is replaced by
-    [lens_samples]² rays from points of the disk of radius A around its origin, in the
-    (r, u) plane, all aimed at the point at distance [focal_distance] along it
-    ({!lens_ray}); the renderer averages them.
+    Depth of field ([aperture] A > 0): each primary ray is replaced by [lens_samples]²
+    rays from points of the disk of radius A around its origin, in the (r, u) plane, all
+    aimed at the point at distance [focal_distance] along it ({!lens_ray}); the renderer
+    averages them.
 
     Motion blur ([shutter] (open, close) with close > open, in frames): the image of frame
     f at [fps] is that of the instants (f + s)/fps for s in the shutter, taken at the

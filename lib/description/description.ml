@@ -146,7 +146,8 @@ and obj = {
 
 let object_material o =
   match o.material with
-  | Some m when m.color != o.color && m.color <> o.color -> Some { m with color = o.color }
+  | Some m when m.color != o.color && m.color <> o.color ->
+      Some { m with color = o.color }
   | m -> m
 
 let rec is_solid = function

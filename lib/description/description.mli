@@ -23,10 +23,10 @@ type pattern =
 
 (** A texture: an albedo as a function of the object-space point P (solid textures) or of
     the surface's (u, v) (images). Its images are ['image] and its colour maps ['map]:
-    files and entry lists here ({!type-texture}), decoded images and arrays in the renderer,
-    whose [Texture.t] is this type. Solid textures are evaluated at P − δ·N (N the
-    geometric normal, δ the scale-aware ray offset) so that a surface lying exactly on a
-    cell boundary does not flicker. All colours are linear RGB. *)
+    files and entry lists here ({!type-texture}), decoded images and arrays in the
+    renderer, whose [Texture.t] is this type. Solid textures are evaluated at P − δ·N (N
+    the geometric normal, δ the scale-aware ray offset) so that a surface lying exactly on
+    a cell boundary does not flicker. All colours are linear RGB. *)
 type ('image, 'map) texture_of =
   | Solid of Color.t
   | Checker of { c1 : Color.t; c2 : Color.t; size : float }
@@ -67,10 +67,6 @@ type 'image bump_of =
 
 type bump = image bump_of
 
-(** A surface material: the description's ([material]) and the renderer's
-    ([Material.t], with decoded textures) are this one record. Invariants, checked by
-    {!validate_material}: coefficients finite and non-negative, reflection + transparency
-    ≤ 1, ior > 0. *)
 type ('texture, 'bump) material_of = {
   color : Color.t;  (** linear albedo when there is no texture; default white *)
   texture : 'texture option;  (** albedo texture; overrides [color]; default none *)
@@ -84,13 +80,17 @@ type ('texture, 'bump) material_of = {
   fresnel : bool;  (** Schlick's approximation moves τ·F to r; default false *)
   bump : 'bump option;  (** normal perturbation; default none *)
 }
+(** A surface material: the description's ([material]) and the renderer's ([Material.t],
+    with decoded textures) are this one record. Invariants, checked by
+    {!validate_material}: coefficients finite and non-negative, reflection + transparency
+    ≤ 1, ior > 0. *)
 
 type material = (texture, bump) material_of
 
 val default_material : ('texture, 'bump) material_of
 (** Every default above: white, ambient 0.1, diffuse 0.9, no specular (shininess 50),
-    opaque, ior 1, no texture or bump. The language's defaults and the renderer's are
-    this value. *)
+    opaque, ior 1, no texture or bump. The language's defaults and the renderer's are this
+    value. *)
 
 val validate_material : ('texture, 'bump) material_of -> (unit, string) result
 (** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤
@@ -159,15 +159,15 @@ and obj = {
           their colour alone share one record (as a loop that colours each object makes
           them) *)
   color : Color.t;
-      (** the colour of its material (white without one: a CSG member without a
-          material takes its parent's material and colour). See {!object_material} *)
+      (** the colour of its material (white without one: a CSG member without a material
+          takes its parent's material and colour). See {!object_material} *)
   loc : Loc.t;  (** where the object's block starts *)
   body : string option;  (** the body this sphere is, if any *)
 }
 
 val object_material : obj -> material option
-(** [object_material o] is [o]'s material with its own colour ([o.material] where that
-    has it already; a copy otherwise). *)
+(** [object_material o] is [o]'s material with its own colour ([o.material] where that has
+    it already; a copy otherwise). *)
 
 val is_solid : shape -> bool
 (** Whether the shape has an inside: sphere, box, torus, capped cylinder and cone, a CSG
@@ -239,20 +239,20 @@ type t = {
 
 (** {1 What the instants of a program share}
 
-    A program's top-level statements (its includes' statements each counted, in order)
-    are known by their position: 0 for the first. A statement that cannot build anything
-    else at another instant is static; the objects the static statements built are the
+    A program's top-level statements (its includes' statements each counted, in order) are
+    known by their position: 0 for the first. A statement that cannot build anything else
+    at another instant is static; the objects the static statements built are the
     program's {!static} part, made once, and a scene at any instant is that part joined
     with what the other statements build then ({!part}). *)
 
 type static = (int * obj list) list
 (** The objects each static statement built, by its position, in program order. *)
 
+(** A piece of a scene's objects: a scene's objects are its parts' objects in order. *)
 type part =
   | Static of int
       (** the objects of the static statement at this position, as {!static} has them *)
   | Built of obj list  (** objects this instant built, in program order *)
-(** A piece of a scene's objects: a scene's objects are its parts' objects in order. *)
 
 (** {1 What the renderer made of it}
 

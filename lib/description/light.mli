@@ -48,8 +48,8 @@ val spot :
     when [point_at] is the position, or unless 0 ≤ inner ≤ outer ≤ 180. *)
 
 val spot_factor : spot -> float -> float
-(** [spot_factor s cos_theta] is the factor of E at angle θ from the axis (see {!type-spot}).
-*)
+(** [spot_factor s cos_theta] is the factor of E at angle θ from the axis (see
+    {!type-spot}). *)
 
 val is_spot : t -> bool
 (** Whether the light is a spot light. *)

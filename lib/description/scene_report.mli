@@ -2,10 +2,10 @@
     description as JSON ([--json]).
 
     Both print a {!Lancer_description.Description.t} beside what the renderer made of it
-    ({!Lancer_description.Description.rendered}): the settings as rendered (command-line overrides show), the
-    lights, the objects by kind as built, the features the renderer uses. The
-    description's [animation], [bodies], [physics] and [warnings] are printed as they are:
-    pass those of the program (at time 0) for a scene at another time. *)
+    ({!Lancer_description.Description.rendered}): the settings as rendered (command-line
+    overrides show), the lights, the objects by kind as built, the features the renderer
+    uses. The description's [animation], [bodies], [physics] and [warnings] are printed as
+    they are: pass those of the program (at time 0) for a scene at another time. *)
 
 val warnings : empty:bool -> Description.t -> Description.rendered -> Diagnostic.t list
 (** What is legal but likely a mistake: an empty program ([empty]), a scene without

@@ -1,7 +1,8 @@
 (** Render settings (the [settings] block of a scene), with their defaults. *)
 
-type gamma = Lancer_image.Image.gamma = Srgb | Power of float
-(** The output encoding ({!Lancer_image.Image.gamma}). *)
+type gamma = Lancer_image.Image.gamma =
+  | Srgb
+  | Power of float  (** The output encoding ({!Lancer_image.Image.gamma}). *)
 
 type sky = { horizon : Color.t; zenith : Color.t }
 (** A background gradient: a ray leaving the scene along unit direction D sees

@@ -27,8 +27,8 @@ val default_ppd : float
 
 val error_map : ?ppd:float -> int * int * Bytes.t -> int * int * Bytes.t -> Float.Array.t
 (** [error_map reference test]: the FLIP error of every pixel of two (width, height, RGB
-    bytes) images of the same size, row by row. [ppd] defaults to {!default_ppd}.
-    Raises [Invalid_argument] when the sizes differ or [ppd] is not positive. *)
+    bytes) images of the same size, row by row. [ppd] defaults to {!default_ppd}. Raises
+    [Invalid_argument] when the sizes differ or [ppd] is not positive. *)
 
 val mean : Float.Array.t -> float
 (** The mean of an error map (0 for an empty one): the figure FLIP is quoted by. *)

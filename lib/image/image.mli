@@ -2,9 +2,9 @@
 
     A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
     (doc/reference/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v,
-    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG ({!module-Png},
-    plain, 8-bit RGB by default) or binary PPM by extension, always written atomically: a
-    temporary file in the same directory, then a rename. *)
+    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG
+    ({!module-Png}, plain, 8-bit RGB by default) or binary PPM by extension, always
+    written atomically: a temporary file in the same directory, then a rename. *)
 
 type t = {
   width : int;
@@ -12,8 +12,8 @@ type t = {
   data : Float.Array.t;  (** 3·width·height linear floats *)
 }
 
-type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
 (** How linear values are encoded into an image's samples. *)
+type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
 
 val max_pixels : int
 (** {!Raster.max_pixels}. *)
@@ -76,12 +76,7 @@ type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 (** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
 
 val encode :
-  ?gamma:gamma ->
-  ?bits:int ->
-  ?alpha:Float.Array.t ->
-  ?crop:region ->
-  t ->
-  Raster.t
+  ?gamma:gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> t -> Raster.t
 (** [encode fb] is [fb]'s RGB samples at [bits] (8, the default, or 16) through
     {!encode_channel} or {!encode_channel16}; with [alpha] (one linear value per pixel,
     row-major) a fourth channel ⌊max·a + 0.5⌋, not gamma-encoded; with [crop] only that
@@ -110,8 +105,8 @@ val save :
 val read_raster : string -> (Raster.t, string) result
 (** [read_raster path] is the samples of a PNG (any colour type, 1 to 16 bits, interlaced
     or not) or binary PPM (maximum value 255 or 65535) file. A PNG's size is checked
-    before its pixels are allocated: larger than {!max_pixels} is an error. Never
-    raises; the message starts with [path]. *)
+    before its pixels are allocated: larger than {!max_pixels} is an error. Never raises;
+    the message starts with [path]. *)
 
 val file_of :
   format ->

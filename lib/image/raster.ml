@@ -1,4 +1,5 @@
 let max_pixels = 16384 * 16384
+
 type t = { width : int; height : int; channels : int; depth : int; samples : Bytes.t }
 
 let make ~width ~height ~channels ~depth samples =

@@ -45,11 +45,12 @@ val plan :
 (** [plan ~dir ~frames ~shard ~resume ~overrides load]: check the output directory (made
     if missing), the shard (a Slurm one read through [getenv]), load the scene with
     [load], check the range against its animation, refuse frames that would replace the
-    scene's own files, claim the directory for this scene ({!Lancer_job.Frameset.open_}), and work
-    out which frames to render: this shard's frames of the range ({!Lancer_job.Plan.shard_frames}),
-    less, with [resume], those already done for the same job. The frames are written in
-    [format] (default PNG; [frame_0000.exr] for EXR) at [bits] ({!Lancer_image.Image.file_of}), which
-    are part of the job. Raises {!Job_error.User}. *)
+    scene's own files, claim the directory for this scene ({!Lancer_job.Frameset.open_}),
+    and work out which frames to render: this shard's frames of the range
+    ({!Lancer_job.Plan.shard_frames}), less, with [resume], those already done for the
+    same job. The frames are written in [format] (default PNG; [frame_0000.exr] for EXR)
+    at [bits] ({!Lancer_image.Image.file_of}), which are part of the job. Raises
+    {!Job_error.User}. *)
 
 val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it

@@ -8,8 +8,8 @@
     pixels). It is rewritten atomically (a temporary file, then a rename) at most every
     second, and never more often than ten times the time the last write took, so that
     writing it costs at most about a tenth of the render. Pixels are rendered by
-    {!Lancer_render.Render.render_tile} either way, so the finished image is the same bytes as an
-    uninterrupted render.
+    {!Lancer_render.Render.render_tile} either way, so the finished image is the same
+    bytes as an uninterrupted render.
 
     {2 The file}
 
@@ -17,10 +17,11 @@
     as IEEE 754 binary64. In order:
     - the line [lancer-checkpoint-3\n] (20 bytes), which names this layout;
     - the seal (32 bytes), {!seal} of the key and the body, the rest of the file;
-    - the image's width, height and number of tiles ({!Lancer_render.Render.tiles}), three words;
-    - per tile, in {!Lancer_render.Render.tiles} order, 57 bytes: a flag byte, 1 when the tile is
-      finished and 0 when not, then seven words: its primary, shadow, reflected and
-      refracted rays, its bad samples, and the column and row of its first bad sample
+    - the image's width, height and number of tiles ({!Lancer_render.Render.tiles}), three
+      words;
+    - per tile, in {!Lancer_render.Render.tiles} order, 57 bytes: a flag byte, 1 when the
+      tile is finished and 0 when not, then seven words: its primary, shadow, reflected
+      and refracted rays, its bad samples, and the column and row of its first bad sample
       ((−1, −1) when none). Tiles rendered together as one unit keep their counters on the
       first of them, zero on the others;
     - the number of pixel values, 3·width·height, one word;
@@ -57,20 +58,15 @@ val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
 val key :
-  Source.t ->
-  Overrides.t ->
-  time:float ->
-  frame:int ->
-  files:string list ->
-  string
+  Source.t -> Overrides.t -> time:float -> frame:int -> files:string list -> string
 (** The key of a still: what its pixels depend on (the scene's text digest, the files it
     read, the time and frame, the overrides). *)
 
 val seal : key:string -> string -> string
 (** [seal ~key body] is the seal of a checkpoint of the job [key] whose body (what follows
-    the seal) is [body]: the BLAKE2b-256 digest (32 bytes, [Digest.BLAKE256]) of the
-    key's length in one word, the key, and [body]. Made by the writer and checked by the
-    reader; without the key it cannot be made again. *)
+    the seal) is [body]: the BLAKE2b-256 digest (32 bytes, [Digest.BLAKE256]) of the key's
+    length in one word, the key, and [body]. Made by the writer and checked by the reader;
+    without the key it cannot be made again. *)
 
 val start : out:string -> key:string -> Scene.t -> t
 (** Load the checkpoint of [out] if it is sealed with this key and passes every check
@@ -114,6 +110,6 @@ val render :
   Scene.t ->
   unit
 (** Render the tiles still to do into the framebuffer over [pool] with
-    {!Lancer_render.Render.render_tiles}, recording each one; [on_tile finished rays] after each. Raises
-    [Sys.Break] within a few thousand rays once [cancel] is cancelled; the tiles finished
-    by then are recorded. *)
+    {!Lancer_render.Render.render_tiles}, recording each one; [on_tile finished rays]
+    after each. Raises [Sys.Break] within a few thousand rays once [cancel] is cancelled;
+    the tiles finished by then are recorded. *)

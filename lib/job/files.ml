@@ -67,8 +67,8 @@ let refuse ~reads ~names (w, what) =
       if same w r then
         if r.path = w.path then
           user
-            "refusing to write %s to %s: that file is %s, read by this run; choose another \
-             name"
+            "refusing to write %s to %s: that file is %s, read by this run; choose \
+             another name"
             what w.path rwhat
         else
           user
@@ -111,7 +111,8 @@ let guard_writes ?(distinct = true) ?(names = []) ~reads writes =
 let refuse_overwrite ~reads path what =
   refuse
     ~reads:(List.map (fun (p, what) -> (identity p, what)) reads)
-    ~names:[] (identity path, what)
+    ~names:[]
+    (identity path, what)
 
 (* A write is not cut short by an interrupt: an exception raised half-way through the
    encoder or the rename's clean-up would leave a temporary file or a lie. The interrupt

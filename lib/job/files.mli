@@ -15,8 +15,8 @@ val guard_writes :
   unit
 (** [guard_writes ~reads writes] refuses, before any work, each write (path, what it is)
     that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
-    link, a hard link, ./a.png for a.png), that is one of [names] (files the scene may read
-    later, at another frame), or, with [distinct] (default), that is the same file as
+    link, a hard link, ./a.png for a.png), that is one of [names] (files the scene may
+    read later, at another frame), or, with [distinct] (default), that is the same file as
     another write. Raises {!Job_error.User} naming both. *)
 
 val refuse_overwrite : reads:(string * string) list -> string -> string -> unit
@@ -38,9 +38,10 @@ val write_image :
   Scene.t ->
   Image.t ->
   Image.written
-(** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the coverage
-    [alpha] as a fourth channel; only [crop] when given) and write the file atomically, {!uninterrupted}; the
-    size and MD5 of the bytes written. Raises {!Job_error.User}. *)
+(** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the
+    coverage [alpha] as a fourth channel; only [crop] when given) and write the file
+    atomically, {!uninterrupted}; the size and MD5 of the bytes written. Raises
+    {!Job_error.User}. *)
 
 val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

@@ -29,20 +29,21 @@ val journal_dir : string
 val view_name : string
 (** ["lancer-frames.json"]. *)
 
-val open_ : ?ext:string -> dir:string -> scene:string -> job:string -> count:int -> unit -> t
+val open_ :
+  ?ext:string -> dir:string -> scene:string -> job:string -> count:int -> unit -> t
 (** Claim [dir] (an existing directory) for the scene named [scene], or join it if it
     already holds that scene's frames, and read what every run recorded; its frames are
-    [frame_NNNN.ext] (default [png]). Raises
-    {!Lancer_job.Job_error.User} when [dir] holds another scene's frames or cannot be used. *)
+    [frame_NNNN.ext] (default [png]). Raises {!Lancer_job.Job_error.User} when [dir] holds
+    another scene's frames or cannot be used. *)
 
 val is_done : t -> int -> input_digest:(string -> string) -> bool
 (** Whether frame k is on disk as an entry of this job recorded it, with every input it
     read still having the recorded MD5 ([input_digest f] is the MD5 of input [f] now). *)
 
 val record : t -> int -> written:Image.written -> inputs:(string * string) list -> unit
-(** Record frame k, just written, in this run's journal, with the size and MD5 of the bytes
-    this run wrote ([written], digested before the rename): a run that replaced the file
-    since is not taken for this one. Safe to call from several domains. Raises
+(** Record frame k, just written, in this run's journal, with the size and MD5 of the
+    bytes this run wrote ([written], digested before the rename): a run that replaced the
+    file since is not taken for this one. Safe to call from several domains. Raises
     {!Lancer_job.Job_error.User} if the journal cannot be written. *)
 
 val drop_view : t -> unit

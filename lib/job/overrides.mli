@@ -14,8 +14,8 @@ val none : t
 
 val apply : t -> Scene.t -> Scene.t
 (** The scene under the preset, then with the given size, samples and depth. Raises
-    {!Job_error.User} for a depth beyond {!Lancer_description.Settings.max_depth} (named [--depth]) or
-    settings the scene refuses. *)
+    {!Job_error.User} for a depth beyond {!Lancer_description.Settings.max_depth} (named
+    [--depth]) or settings the scene refuses. *)
 
 val digest_fields : t -> string list
 (** Each option as text (["-"] when unset), in a fixed order: for the digests that say

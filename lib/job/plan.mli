@@ -12,7 +12,8 @@ val shard_of_string : string -> (shard, string) result
 val slurm_shard : (string -> string option) -> int * int
 (** (K, N) from a Slurm job array's environment, read through the given [getenv]: N =
     [SLURM_ARRAY_TASK_COUNT], K = ([SLURM_ARRAY_TASK_ID] − [SLURM_ARRAY_TASK_MIN]) /
-    [SLURM_ARRAY_TASK_STEP] (MIN 0 and STEP 1 when unset). Raises {!Lancer_job.Job_error.User}. *)
+    [SLURM_ARRAY_TASK_STEP] (MIN 0 and STEP 1 when unset). Raises
+    {!Lancer_job.Job_error.User}. *)
 
 val resolve_shard : getenv:(string -> string option) -> shard -> int * int
 (** (K, N) of a shard: as given, or {!slurm_shard}. *)

@@ -1,7 +1,7 @@
 (** A scene as the job layer sees it: a set of functions the language supplies. The job
     layer never reads a scene's text itself; it asks this record for the scene at a time
-    and for what it read, so that how a program becomes a {!Lancer_render.Scene.t} is the language's
-    business alone. *)
+    and for what it read, so that how a program becomes a {!Lancer_render.Scene.t} is the
+    language's business alone. *)
 
 type t = {
   file : string;
@@ -38,10 +38,10 @@ val scene :
   frame:int ->
   Scene.t * string list
 (** [evaluate], then the overrides ({!Overrides.apply}). When the scene's camera has an
-    open shutter ({!Lancer_description.Camera.motion_blur}, after the overrides), also the scenes at its
-    instants ({!Lancer_description.Camera.shutter_times}: [time] + s/fps, fps the animation's or 24 without
-    one), evaluated and overridden alike and given as the scene's {!Lancer_render.Scene.moments}; the
-    files are those of them all. *)
+    open shutter ({!Lancer_description.Camera.motion_blur}, after the overrides), also the
+    scenes at its instants ({!Lancer_description.Camera.shutter_times}: [time] + s/fps,
+    fps the animation's or 24 without one), evaluated and overridden alike and given as
+    the scene's {!Lancer_render.Scene.moments}; the files are those of them all. *)
 
 val with_instants :
   ?progress:(string -> unit) ->

@@ -1,6 +1,7 @@
 (** A still: one scene's image rendered over a pool of domains through the one tile loop
-    ({!Lancer_render.Render.render_tiles}), optionally kept tile by tile in a {!Checkpoint} so that an
-    interrupted render continues where it stopped, with the same bytes. *)
+    ({!Lancer_render.Render.render_tiles}), optionally kept tile by tile in a
+    {!Checkpoint} so that an interrupted render continues where it stopped, with the same
+    bytes. *)
 
 val render :
   ?cancel:Cancel.t ->
@@ -16,5 +17,5 @@ val render :
     included; that tile cast [rays] rays). With [checkpoint] only the tiles it lacks are
     rendered, each recorded as it finishes, and the counters are those of every tile; an
     interrupt saves it before [Sys.Break] goes on (a save that fails raises
-    {!Job_error.Interrupted} saying so). [region] and [alpha] as for {!Lancer_render.Render.render},
-    without a checkpoint. *)
+    {!Job_error.Interrupted} saying so). [region] and [alpha] as for
+    {!Lancer_render.Render.render}, without a checkpoint. *)

@@ -2,10 +2,10 @@
     lancer-mpi, or this process alone) renders, and the one way a unit is rendered.
 
     A job is a list of frames, each known by a key (the frame number of an animation, 0
-    for a still). A unit is a set of tiles ({!Lancer_render.Render.tiles}) of one frame: whole frames
-    when there are at least as many frames as ranks (and more than one), otherwise chunks
-    of a few tiles, about four per domain of the rank that asks, never fewer than its
-    domains. Units are cut in order, frame by frame. *)
+    for a still). A unit is a set of tiles ({!Lancer_render.Render.tiles}) of one frame:
+    whole frames when there are at least as many frames as ranks (and more than one),
+    otherwise chunks of a few tiles, about four per domain of the rank that asks, never
+    fewer than its domains. Units are cut in order, frame by frame. *)
 
 type work_unit = { key : int; tiles : int array }
 
@@ -18,15 +18,15 @@ val render_unit :
   int array ->
   Stats.t
 (** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles] into
-    [fb] over [pool] through {!Lancer_render.Render.render_tiles}, the tile loop of every render, and is
-    their summed counters. [on_tile] is called after each tile, from whichever domain
-    rendered it; [cancel] as for {!Lancer_render.Render.render_tiles}. *)
+    [fb] over [pool] through {!Lancer_render.Render.render_tiles}, the tile loop of every
+    render, and is their summed counters. [on_tile] is called after each tile, from
+    whichever domain rendered it; [cancel] as for {!Lancer_render.Render.render_tiles}. *)
 
 val plan : ranks:int -> domains:int -> int list -> (int * int) list
-(** [plan ~ranks ~domains tiles] is the units a {!type-cutter} cuts, in the order it hands them
-    out, when every rank has [domains] domains and frame k (counted from 0) of the job has
-    the k-th element of [tiles] tiles: a list of (frame index, tiles in the unit). For
-    predicting the scheme's speed without running it. *)
+(** [plan ~ranks ~domains tiles] is the units a {!type-cutter} cuts, in the order it hands
+    them out, when every rank has [domains] domains and frame k (counted from 0) of the
+    job has the k-th element of [tiles] tiles: a list of (frame index, tiles in the unit).
+    For predicting the scheme's speed without running it. *)
 
 (** {1 Cutting a job as it runs} *)
 

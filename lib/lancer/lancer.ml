@@ -7,14 +7,14 @@
     new minor version, noted in the changelog.
 
     The {{!internals}internals} are the renderer's, the job layer's and the language's own
-    modules, named here for lancer's commands and tests: they change whenever lancer
-    does, without notice.
+    modules, named here for lancer's commands and tests: they change whenever lancer does,
+    without notice.
 
     The layers, each using only those before it: [lancer.math], [lancer.diag],
     [lancer.description], [lancer.image] and [lancer.physics], [lancer.render],
-    [lancer.job], [lancer.program] (which also uses the scene language, [lancer.dsl]),
-    and [lancer.run] (the commands' pipelines). The package's
-    {{!page-index}first page} has an example. *)
+    [lancer.job], [lancer.program] (which also uses the scene language, [lancer.dsl]), and
+    [lancer.run] (the commands' pipelines). The package's {{!page-index}first page} has an
+    example. *)
 
 (** {1:stable The stable API} *)
 

@@ -104,7 +104,8 @@ type world = Description.physics = {
 (** A scene's [physics] block, as its description states it. *)
 
 val default_world : world
-(** Gravity (0, −9.81, 0), [Exact], step 1/240 s ({!Lancer_description.Description.default_physics}). *)
+(** Gravity (0, −9.81, 0), [Exact], step 1/240 s
+    ({!Lancer_description.Description.default_physics}). *)
 
 val colliders : Description.obj list -> (collider list, Description.obj) result
 (** The static obstacles among a description's objects (those that are not a body's

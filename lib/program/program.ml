@@ -124,7 +124,6 @@ let input_digest p rel =
               Hashtbl.replace p.on_disk path d;
               d)
 
-
 (* Nothing raised below reaches the caller but an interrupt, as in the language. *)
 let guard p f =
   try f () with
@@ -241,7 +240,6 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
 
 (* The static part compiled, made by the first scene that asks. *)
 let static p = Mutex.protect p.lock (fun () -> Lazy.force p.static)
-
 let blurred p = blurred_dsl p.dsl
 
 let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
@@ -275,16 +273,15 @@ let scene_and_description ?body_state ?progress ?cancel ?(index = true) p ~time 
       let objects = d.objects and d = { d with objects = [] } in
       Result.map (fun sc -> (sc, d)) (compile ?progress ~index ~objects p d)
   | None -> (
-      match
-        if index then guard p (fun () -> Ok (static p)) else Ok None
-      with
+      match if index then guard p (fun () -> Ok (static p)) else Ok None with
       | Error es -> Error (Dsl.located p.dsl ~time ~frame es)
       | Ok (Some static) ->
           Result.bind (body_state_at ?body_state p ~time ~frame) (fun body_state ->
               Result.bind
                 (Dsl.describe_parts ?body_state ?progress ?cancel
                    ~files:(Compile.check_files p.assets)
-                   p.dsl ~time ~frame) (fun (d, parts) ->
+                   p.dsl ~time ~frame)
+                (fun (d, parts) ->
                   Result.map
                     (fun sc -> (sc, d))
                     (compile ?progress ~index ~static ~parts p d)))
@@ -353,7 +350,8 @@ let description p (sc : Scene.t) =
 
 let summary p (sc : Scene.t) =
   match description p sc with
-  | Some d -> Scene_report.summary ~empty:(Dsl.empty p.dsl) (for_report p d) (rendered p sc)
+  | Some d ->
+      Scene_report.summary ~empty:(Dsl.empty p.dsl) (for_report p d) (rendered p sc)
   | None -> ""
 
 let to_json ?body_state p (sc : Scene.t) =

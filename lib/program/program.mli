@@ -1,5 +1,5 @@
-(** A loaded scene program and the renderer: its scene at any time,
-    described by the language, its bodies moved by {!Lancer_physics.Physics}, compiled
+(** A loaded scene program and the renderer: its scene at any time, described by the
+    language, its bodies moved by {!Lancer_physics.Physics}, compiled
     ({!Lancer_render.Compile.compile}) with one cache of images and meshes per program.
 
     Every function returns located errors, as the language does, and raises nothing but
@@ -20,11 +20,12 @@ val load_file :
   (t, Diagnostic.t list) result
 (** {!Dsl.load_file}, with the images and meshes the program uses read (into its
     {!assets}) and their problems reported with the program's. [digests] (default [true])
-    and [after_read] are {!Lancer_render.Compile.val-assets}': a run that records what its pixels were made
-    of (an animation's frames, a checkpoint) keeps the digest of every file it decodes.
-    [single] (default [false]) says that the program is loaded for one scene only (a
-    still's render): its first scene at time 0 may let the load's description go as it is
-    compiled, so that a large scene is not held twice (see {!scene}). *)
+    and [after_read] are {!Lancer_render.Compile.val-assets}': a run that records what its
+    pixels were made of (an animation's frames, a checkpoint) keeps the digest of every
+    file it decodes. [single] (default [false]) says that the program is loaded for one
+    scene only (a still's render): its first scene at time 0 may let the load's
+    description go as it is compiled, so that a large scene is not held twice (see
+    {!scene}). *)
 
 val load_string :
   ?single:bool ->
@@ -37,8 +38,8 @@ val load_string :
 (** {!Dsl.load_string}, as {!load_file}. *)
 
 type bundle = Dsl.bundle
-(** A program's texts as it read them: its file and every include (plain data, sent to
-    the other MPI ranks). *)
+(** A program's texts as it read them: its file and every include (plain data, sent to the
+    other MPI ranks). *)
 
 val bundle : t -> bundle
 (** The texts a program was loaded from. *)
@@ -84,26 +85,27 @@ val text_digest : t -> string
 
 val input_digest : t -> string -> string
 (** [input_digest p f]: the MD5 (hex) of image or mesh file [f] (named as
-    {!Dsl.scene_relative} names it) as this program's scenes see it: the digest of the very
-    bytes its {!assets} decoded, when they kept it; otherwise of the file on disk when
-    first asked ("-" when it cannot be read). Two evaluations at the same time and frame of
-    programs with the same {!text_digest} name the same files, so these digests are what
-    else a frame depends on ([lancer animate --resume] and checkpoints rely on it). *)
+    {!Dsl.scene_relative} names it) as this program's scenes see it: the digest of the
+    very bytes its {!assets} decoded, when they kept it; otherwise of the file on disk
+    when first asked ("-" when it cannot be read). Two evaluations at the same time and
+    frame of programs with the same {!text_digest} name the same files, so these digests
+    are what else a frame depends on ([lancer animate --resume] and checkpoints rely on
+    it). *)
 
 (** {1 Bodies} *)
 
-val colliders  : t -> Physics.collider list
-(** The static obstacles of the bodies ({!Lancer_physics.Physics.colliders} of the scene at time 0). A
-    CSG object that is not a union or merge of planes, parallelograms and boxes makes the
-    simulation fail with an error at its block (raised as an exception inside this
-    module's error boundary: call it through {!simulate} or {!describe} to get it as an
-    error). *)
+val colliders : t -> Physics.collider list
+(** The static obstacles of the bodies ({!Lancer_physics.Physics.colliders} of the scene
+    at time 0). A CSG object that is not a union or merge of planes, parallelograms and
+    boxes makes the simulation fail with an error at its block (raised as an exception
+    inside this module's error boundary: call it through {!simulate} or {!describe} to get
+    it as an error). *)
 
-val simulate  : t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
+val simulate : t -> until:float -> (Physics.trajectory, Diagnostic.t list) result
 (** The motion of the bodies among {!colliders} under the program's [physics] block,
-    computed for [[0, max until duration]] (duration: the animation's, 0 for a still).
-    The animation's is made once and kept, so that every frame samples the same
-    simulation; one for a later time is made for it. *)
+    computed for [[0, max until duration]] (duration: the animation's, 0 for a still). The
+    animation's is made once and kept, so that every frame samples the same simulation;
+    one for a later time is made for it. *)
 
 (** {1 Scenes} *)
 
@@ -127,14 +129,14 @@ val scene :
   time:float ->
   frame:int ->
   (Scene.t, Diagnostic.t list) result
-(** The scene at [time] and [frame]: {!describe}, then {!Lancer_render.Compile.compile} ([index] is
-    its). The program is evaluated once per call, and not at all for a scene at time 0,
-    frame 0 of a still without bodies: that one is the load's description. An animation's
-    scene is its static part, compiled once for all of them, joined with the objects its
-    other statements build at [time] ({!Dsl.describe_parts}). In a program loaded
-    [~single:true], the first scene at time 0, frame 0 of a still without bodies lets the
-    load's description go ({!Dsl.release}) as the compile goes through it, object by
-    object; a later one evaluates the program again. *)
+(** The scene at [time] and [frame]: {!describe}, then {!Lancer_render.Compile.compile}
+    ([index] is its). The program is evaluated once per call, and not at all for a scene
+    at time 0, frame 0 of a still without bodies: that one is the load's description. An
+    animation's scene is its static part, compiled once for all of them, joined with the
+    objects its other statements build at [time] ({!Dsl.describe_parts}). In a program
+    loaded [~single:true], the first scene at time 0, frame 0 of a still without bodies
+    lets the load's description go ({!Dsl.release}) as the compile goes through it, object
+    by object; a later one evaluates the program again. *)
 
 val scenes :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -146,8 +148,8 @@ val scenes :
   frame:int ->
   (Scene.t array, Diagnostic.t list) result
 (** The scenes at each of [times], all numbered [frame] (the instants of one frame), as
-    {!scene} makes them: they share the static part. The errors of the first that
-    fails. *)
+    {!scene} makes them: they share the static part. The errors of the first that fails.
+*)
 
 val scene_at :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -169,8 +171,8 @@ val scene_with_files :
   frame:int ->
   (Scene.t * string list, Diagnostic.t list) result
 (** {!scene}, and the image and mesh files that scene names, sorted, as paths from the
-    main file's directory. Their digests ({!input_digest}) are left to the callers
-    that record them: a still without a checkpoint never reads a mesh twice. *)
+    main file's directory. Their digests ({!input_digest}) are left to the callers that
+    record them: a still without a checkpoint never reads a mesh twice. *)
 
 val scenes_with_files :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -181,23 +183,23 @@ val scenes_with_files :
   frame:int ->
   ((Scene.t * string list) array, Diagnostic.t list) result
 (** {!scene_with_files} at each of [times] (seconds, in order) of frame [frame]: the
-    instants of a motion-blurred frame, as {!val-scenes}. What does not change with time is evaluated and
-    built once for them all, as for the frames of an animation (and for a still whose
-    camera's shutter is open). *)
+    instants of a motion-blurred frame, as {!val-scenes}. What does not change with time
+    is evaluated and built once for them all, as for the frames of an animation (and for a
+    still whose camera's shutter is open). *)
 
 (** {1 For [lancer check]} *)
 
-val summary  : t -> Scene.t -> string
-(** {!Lancer_description.Scene_report.summary} of [sc] (a scene of the program, whose description is made
-    again), with the program's animation, bodies and warnings. *)
+val summary : t -> Scene.t -> string
+(** {!Lancer_description.Scene_report.summary} of [sc] (a scene of the program, whose
+    description is made again), with the program's animation, bodies and warnings. *)
 
 val to_json :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
   t ->
   Scene.t ->
   Yojson.Safe.t
-(** {!Lancer_description.Scene_report.json} of [sc], as {!summary}; bodies are shown at [sc]'s time by
-    [body_state] or else the simulation. *)
+(** {!Lancer_description.Scene_report.json} of [sc], as {!summary}; bodies are shown at
+    [sc]'s time by [body_state] or else the simulation. *)
 
 (** {1 For the command line and the job layer} *)
 
@@ -206,5 +208,5 @@ val truncated_physics : t -> float option
     {!Lancer_physics.Physics.max_events} events: the time of its last event. *)
 
 val source : builtin:bool -> t -> Source.t
-(** The program as the job layer takes it; its [evaluate] raises {!Lancer_job.Job_error.Scene}.
-    [builtin]: the program is the built-in showcase. *)
+(** The program as the job layer takes it; its [evaluate] raises
+    {!Lancer_job.Job_error.Scene}. [builtin]: the program is the built-in showcase. *)

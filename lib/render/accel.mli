@@ -4,8 +4,9 @@
     three queries, {!Walk}'s over the scene's hierarchy: the nearest hit (camera,
     reflected and refracted rays), any hit (shadow rays stop at the first opaque surface)
     and every crossing in order (the transmittance of a shadow ray through transparent
-    surfaces). Each takes the calling domain's {!scratch} and a ray held in a {!Lancer_math.Probe.t}
-    over its interval ([p_tmin], [p_tmax]); each sets the probe's reciprocal direction. *)
+    surfaces). Each takes the calling domain's {!scratch} and a ray held in a
+    {!Lancer_math.Probe.t} over its interval ([p_tmin], [p_tmax]); each sets the probe's
+    reciprocal direction. *)
 
 type t
 
@@ -45,8 +46,8 @@ val fixed_key : t -> int array option
 (** {1 The three queries} *)
 
 type scratch
-(** What the queries of one domain reuse: the walks' levels ({!Walk.type-scratch}), the shadow
-    queries' last occluders, and a watch. *)
+(** What the queries of one domain reuse: the walks' levels ({!Walk.type-scratch}), the
+    shadow queries' last occluders, and a watch. *)
 
 val domain_scratch : unit -> scratch
 (** The calling domain's scratch. It must be used by that domain only. *)
@@ -56,8 +57,8 @@ val nearest : scratch -> t -> Probe.t -> Walk.hit -> unit
     its index in the array given to {!build} ([h.item], −1 for none) with the part it lies
     on ([h.leaf], [h.face]: {!Primitive.surface}'s), its t into [q.p_t] (infinity for
     none). Ties go to the lower index, so the answer never depends on the traversal order.
-    Moves [q.p_tmax]. Allocates nothing (with the shapes that {!Lancer_render.Shape.root} tests in
-    scalars): the query of camera and secondary rays. *)
+    Moves [q.p_tmax]. Allocates nothing (with the shapes that {!Lancer_render.Shape.root}
+    tests in scalars): the query of camera and secondary rays. *)
 
 val any : scratch -> t -> Probe.t -> opaque:bool -> slot:int -> bool
 (** [any sc a q ~opaque ~slot] is whether a surface crosses the ray with [q.p_tmin] < t <

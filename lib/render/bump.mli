@@ -1,8 +1,8 @@
 (** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
 type t = Image.t Description.bump_of
-(** The description's bump map ({!Lancer_description.Description.bump_of}, where each kind is defined) with
-    its height map decoded to a linear framebuffer. *)
+(** The description's bump map ({!Lancer_description.Description.bump_of}, where each kind
+    is defined) with its height map decoded to a linear framebuffer. *)
 
 val perturb : t -> uv:(Vec3.t -> float * float) -> Vec3.t -> Vec3.t -> Vec3.t
 (** [perturb b ~uv p n] is the unit shading normal at object-space point [p] with unit

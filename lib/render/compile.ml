@@ -34,7 +34,8 @@ let files (c : assets) =
         @ Hashtbl.fold (fun p _ acc -> p :: acc) c.heights []))
 
 let digest (c : assets) path =
-  Option.bind c.digests (fun t -> Mutex.protect c.lock (fun () -> Hashtbl.find_opt t path))
+  Option.bind c.digests (fun t ->
+      Mutex.protect c.lock (fun () -> Hashtbl.find_opt t path))
 
 (* Read once per cache, whatever frame or thread asks first. *)
 let cached c tbl key read =
@@ -265,8 +266,9 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
             ( (s, m.transform),
               if Array.length leaves = 0 then [| D.object_material m |]
               else
-                Array.map (function None -> D.object_material m | Some _ as x -> x) leaves
-            )
+                Array.map
+                  (function None -> D.object_material m | Some _ as x -> x)
+                  leaves )
         | _ -> problem m.loc "a %s cannot be a member of a CSG object" m.kind
       in
       let op : Shape.csg_op =
@@ -330,7 +332,9 @@ let primitives c material_of (o : D.obj) =
       sh
   else
     let m = material_of (D.object_material o) in
-    let leaf_materials = Array.map (Option.map (fun lm -> material_of (Some lm))) leaves in
+    let leaf_materials =
+      Array.map (Option.map (fun lm -> material_of (Some lm))) leaves
+    in
     List.map (Primitive.make ~transform:o.transform ~leaf_materials m) sh
 
 type static = {
@@ -357,9 +361,7 @@ let static c (st : D.static) =
   for k = 1 to Array.length entries - 1 do
     firsts.(k) <- firsts.(k - 1) + counts.(k - 1)
   done;
-  let entry_of =
-    Array.make (1 + Array.fold_left max (-1) positions) (-1)
-  in
+  let entry_of = Array.make (1 + Array.fold_left max (-1) positions) (-1) in
   Array.iteri
     (fun e i ->
       if i < 0 || entry_of.(i) >= 0 || (e > 0 && positions.(e - 1) >= i) then
@@ -488,9 +490,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
     index && handed_over && List.compare_length_with objects compact_objects >= 0
   in
   let overhead = (Gc.get ()).space_overhead in
-  let pace o =
-    if handed_over then Gc.set { (Gc.get ()) with space_overhead = o }
-  in
+  let pace o = if handed_over then Gc.set { (Gc.get ()) with space_overhead = o } in
   pace (min overhead handed_over_overhead);
   (* Primitives [first] to [first + n − 1] of the static part, after what came
      before. *)

@@ -27,14 +27,14 @@ val digest : assets -> string -> string option
     when it keeps digests and has read that file. *)
 
 type static
-(** A program's static part ({!Lancer_description.Description.static}) compiled: the primitives of its
-    objects, made once, known by their statements' positions, and the acceleration
-    structure over them (for the last origin asked). *)
+(** A program's static part ({!Lancer_description.Description.static}) compiled: the
+    primitives of its objects, made once, known by their statements' positions, and the
+    acceleration structure over them (for the last origin asked). *)
 
 val static : assets -> Description.static -> static
 (** [static assets st]: the primitives of the objects of [st] (whose positions increase),
-    as {!compile} makes them. An object that does not compile leaves the part unused:
-    each scene then makes and reports its objects itself. *)
+    as {!compile} makes them. An object that does not compile leaves the part unused: each
+    scene then makes and reports its objects itself. *)
 
 val compile :
   ?source:(string -> string option) ->
@@ -57,10 +57,10 @@ val compile :
     [Static] part is taken whole, with no work per object, and when every statement of
     [static] that has objects is there, the scene reuses the static part's acceleration
     structure ({!Scene.make_layered}, its {!Accel.fixed_key} the positions of [static]):
-    the same scene, made faster (a frame of an animation then costs what its other
-    objects cost). With [~index:false] (default [true]), the scene has no acceleration
-    structure to query it fast ({!Scene.of_moved}): for [lancer check], which reads what
-    the scene holds but traces no ray. *)
+    the same scene, made faster (a frame of an animation then costs what its other objects
+    cost). With [~index:false] (default [true]), the scene has no acceleration structure
+    to query it fast ({!Scene.of_moved}): for [lancer check], which reads what the scene
+    holds but traces no ray. *)
 
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order

@@ -18,8 +18,8 @@ type t = {
   bound : float;
       (** an upper bound with every reflection and refraction followed to the maximum
           depth (each ray that hits casts its shadow rays), but never more than the
-          {!Lancer_render.Shade.max_secondary} secondary rays a camera sample may cast; equal to
-          [direct] for a scene that neither reflects nor refracts *)
+          {!Lancer_render.Shade.max_secondary} secondary rays a camera sample may cast;
+          equal to [direct] for a scene that neither reflects nor refracts *)
 }
 
 val samples_per_pixel : Settings.t -> int

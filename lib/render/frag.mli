@@ -5,7 +5,8 @@
 
     The fields are registers rather than a fixed meaning: each function says what it reads
     and what it writes (see {!Shape.normal_into}, {!Lancer_render.Primitive.normal_into},
-    {!Lancer_render.Texture.eval_into}). A fragment is scratch, owned by one domain at a time. *)
+    {!Lancer_render.Texture.eval_into}). A fragment is scratch, owned by one domain at a
+    time. *)
 
 type t = {
   mutable x : float;

@@ -136,8 +136,8 @@ let scan_decimal text len i out k =
       incr j)
     else go := false
   done;
-  if !nd = 0 || !nd > 15 || (!j < len && not (ends_word (String.unsafe_get text !j)))
-  then -1
+  if !nd = 0 || !nd > 15 || (!j < len && not (ends_word (String.unsafe_get text !j))) then
+    -1
   else
     let f = Float.of_int !m in
     let f = if !frac > 0 then f /. Float.Array.unsafe_get pow10 !frac else f in
@@ -160,12 +160,11 @@ let scan_index text len n i out =
   if
     !j = i
     || !j - i > 18
-    || !m < 1
-    || !m > n
-    || (!j < len
+    || !m < 1 || !m > n
+    || !j < len
        &&
        let c = String.unsafe_get text !j in
-       not (c = '/' || ends_word c))
+       not (c = '/' || ends_word c)
   then -1
   else (
     Array.unsafe_set out 0 (!m - 1);
@@ -465,7 +464,9 @@ let parse_mesh ?(smooth = true) ~file text =
       else if vs.len = 0 && vns.len = 0 && vts.len = 0 && !faces = 0 then
         (* Nothing read yet is OBJ: the file is something else, whose words are not
            quoted (a scene may name any file as a mesh). *)
-        (line, "not an OBJ file: no vertex, normal, texture coordinate or face before this line")
+        ( line,
+          "not an OBJ file: no vertex, normal, texture coordinate or face before this \
+           line" )
       else (line, m)
     in
     Error (Printf.sprintf "%s:%d: %s" file line m)

@@ -4,9 +4,9 @@
     The [vertex] element's [x], [y], [z] are read, with [nx], [ny], [nz] (normals) and
     [u], [v] (or [s], [t], [texture_u], [texture_v]) when present; the [face] element's
     [vertex_indices] (or [vertex_index]) lists make polygons, fan-triangulated from their
-    first corner as OBJ's are. Every other property and element is read past. Triangles
-    of zero area are dropped. A malformed file never raises: the error is located as the
-    OBJ reader's are, [file:LINE: message] in the header or an ASCII body,
+    first corner as OBJ's are. Every other property and element is read past. Triangles of
+    zero area are dropped. A malformed file never raises: the error is located as the OBJ
+    reader's are, [file:LINE: message] in the header or an ASCII body,
     [file: byte N: message] in a binary body, and says what was expected. *)
 
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result

@@ -77,9 +77,7 @@ let rec make ?(transform = Transform.identity) ?(flip = false) ?leaf_materials ?
       | None -> leaves.(0).material
   in
   let color =
-    match color with
-    | Some c when Array.length leaves = 0 -> c
-    | _ -> material.color
+    match color with Some c when Array.length leaves = 0 -> c | _ -> material.color
   in
   { shape; transform; material; color; bounds; shift = Vec3.zero; flip; leaves }
 

@@ -22,8 +22,8 @@ type t = private {
   flip : bool;  (** the normal is reversed (a surface subtracted by a CSG difference) *)
   leaves : t array;
       (** for a CSG shape, each of its simple surfaces placed in the world with its own
-          material and orientation (the shape's {!Lancer_render.Shape.csg_leaves}, in order); empty
-          otherwise *)
+          material and orientation (the shape's {!Lancer_render.Shape.csg_leaves}, in
+          order); empty otherwise *)
 }
 
 val make :
@@ -37,22 +37,22 @@ val make :
 (** [make ~transform material shape] places [shape] in the world by [transform] (default
     the identity) and computes its world bounds. [flip] reverses its normal. For a CSG
     shape, [leaf_materials.(i)] is the material of leaf i, [material] where it is [None],
-    and each leaf's colour its material's. [color] (default [material]'s) is the colour
-    of any other shape. *)
+    and each leaf's colour its material's. [color] (default [material]'s) is the colour of
+    any other shape. *)
 
 val bounds : t -> Bbox.t option
 (** The world-space bounds; [None] when unbounded. *)
 
 val bounds_into : t -> Float.Array.t -> int -> unit
-(** [bounds_into p b off] writes {!val-bounds} into [b] at [off] (min x y z, max x y z, the
-    same floats), NaN when unbounded; an untransformed sphere's without allocating. *)
+(** [bounds_into p b off] writes {!val-bounds} into [b] at [off] (min x y z, max x y z,
+    the same floats), NaN when unbounded; an untransformed sphere's without allocating. *)
 
 val surface : t -> leaf:int -> face:int -> t
 (** [surface o ~leaf ~face] is the part of [o] that a crossing lies on, as a query of
     {!Walk} found it ([−1]: none): [o] itself, for a CSG object its leaf [leaf] with its
     material and orientation, and where that (or [o]) is a mesh, its face [face]
-    ({!Lancer_render.Shape.face}). Shading and shadows ask it before anything else; nothing is
-    intersected again. *)
+    ({!Lancer_render.Shape.face}). Shading and shadows ask it before anything else;
+    nothing is intersected again. *)
 
 val is_csg : t -> bool
 (** Whether [o] is a CSG object (its normal and material are those of its {!surface}). *)
@@ -71,13 +71,14 @@ val materials : t -> Material.t list
 val object_probe : t -> Probe.t -> Probe.t -> unit
 (** [object_probe o q obj] writes the probe [q] (a world ray and its interval) into [obj]
     in [o]'s object space: origin and direction transformed as {!to_object} and
-    {!Lancer_math.Transform.inv_vector} do, bit for bit, the reciprocal direction recomputed. The
-    direction is not renormalised, so t means the same point in both spaces. *)
+    {!Lancer_math.Transform.inv_vector} do, bit for bit, the reciprocal direction
+    recomputed. The direction is not renormalised, so t means the same point in both
+    spaces. *)
 
 val root : t -> Probe.t -> Probe.t -> unit
-(** [root o q obj] is {!Lancer_render.Shape.root} of [o]'s simple shape for the world ray [q] holds, in
-    object space through the scratch probe [obj] when [o] is transformed: the root into
-    [q.p_t]. A mesh's and a CSG object's roots are {!Walk}'s. *)
+(** [root o q obj] is {!Lancer_render.Shape.root} of [o]'s simple shape for the world ray
+    [q] holds, in object space through the scratch probe [obj] when [o] is transformed:
+    the root into [q.p_t]. A mesh's and a CSG object's roots are {!Walk}'s. *)
 
 val to_object : t -> Vec3.t -> Vec3.t
 (** World point to object space. *)
@@ -122,8 +123,8 @@ val texture_point : t -> Vec3.t -> Vec3.t
     untransformed object the world point before the move. *)
 
 val uv : t -> Vec3.t -> float * float
-(** [uv o p] is the (u, v) of the surface at world point [p] ({!Lancer_render.Shape.uv} at the object's
-    own point). *)
+(** [uv o p] is the (u, v) of the surface at world point [p] ({!Lancer_render.Shape.uv} at
+    the object's own point). *)
 
 val without_bounds : t -> t
 (** The same primitive with no bounds, so that {!Accel} scans it linearly: tests compare

@@ -4,14 +4,14 @@
     The image is cut into 32×32 tiles handed out dynamically; each task writes only its
     own pixels and keeps its own counters, so the result is bit-identical whatever the
     number of domains. Each pixel averages, in linear colour, the n×n points (i + (p+½)/n,
-    j + (q+½)/n) (doc/reference/shading.md, section 2); [jitter] moves each inside its sub-cell by a
-    hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first takes the 2×2
-    grid and refines to max(n, 4)×max(n, 4) only where those four samples differ by more
-    than θ in some channel. Samples that are NaN or infinite are counted and replaced by
-    the background. A scene with {!Scene.moments} (an open shutter) is motion-blurred:
-    each sample of an n×n grid sees one of them, the grid's n² samples spread evenly over
-    the shutter (every row and column of the grid spans it) and placed by a hash of
-    (frame, pixel, sample). *)
+    j + (q+½)/n) (doc/reference/shading.md, section 2); [jitter] moves each inside its
+    sub-cell by a hash of (frame, pixel, sample). With [adaptive = θ > 0] a pixel first
+    takes the 2×2 grid and refines to max(n, 4)×max(n, 4) only where those four samples
+    differ by more than θ in some channel. Samples that are NaN or infinite are counted
+    and replaced by the background. A scene with {!Scene.moments} (an open shutter) is
+    motion-blurred: each sample of an n×n grid sees one of them, the grid's n² samples
+    spread evenly over the shutter (every row and column of the grid spans it) and placed
+    by a hash of (frame, pixel, sample). *)
 
 val tile_size : int
 (** The side of a square tile in pixels (32); the last row and column of tiles may be
@@ -82,8 +82,8 @@ val render_tiles :
     calling domain. [on_tile done_ k stats] is called after each tile, from whichever
     domain rendered it: [done_] of the tiles are finished, the last being tile [k] with
     its own counters [stats]. [cancel] is polled before each tile, every
-    {!Lancer_diag.Cancel.check_every} units of work inside one (rays, tests inside CSG objects:
-    {!Stats.spend}), and once all are done: when it is cancelled the call raises
+    {!Lancer_diag.Cancel.check_every} units of work inside one (rays, tests inside CSG
+    objects: {!Stats.spend}), and once all are done: when it is cancelled the call raises
     [Sys.Break] within a few thousand units per domain, and [fb] is not to be used.
     [alpha] and [stride] (not with [region]) as for {!render_tile}. *)
 
@@ -107,15 +107,15 @@ val render :
 
 val with_pool : ?cancel:Cancel.t -> int -> (Pool.t option -> 'a) -> 'a
 (** [with_pool n f] runs [f] with a pool of [n] domains in all (none when n = 1), and
-    tears it down afterwards, also on an exception. While the pool lives, {!Lancer_diag.Cancel.signal}
-    on [cancel] does not raise (it could land inside the pool's own synchronisation): pass
-    the token the signal handler cancels, and the same to the work done in [f]; if it was
-    cancelled, [with_pool] raises [Sys.Break] on its way out. With more than one domain it
-    first raises the minor heap to {!parallel_minor_heap_words} words per domain (never
-    lowers it): fewer minor collections, each of which stops every domain. Under a limit
-    on the address space (ulimit -v) it raises it only as far as {!minor_heap_words_for}
-    allows, since the runtime reserves the minor heaps of all the domains it could run at
-    once. *)
+    tears it down afterwards, also on an exception. While the pool lives,
+    {!Lancer_diag.Cancel.signal} on [cancel] does not raise (it could land inside the
+    pool's own synchronisation): pass the token the signal handler cancels, and the same
+    to the work done in [f]; if it was cancelled, [with_pool] raises [Sys.Break] on its
+    way out. With more than one domain it first raises the minor heap to
+    {!parallel_minor_heap_words} words per domain (never lowers it): fewer minor
+    collections, each of which stops every domain. Under a limit on the address space
+    (ulimit -v) it raises it only as far as {!minor_heap_words_for} allows, since the
+    runtime reserves the minor heaps of all the domains it could run at once. *)
 
 val parallel_minor_heap_words : int
 (** 2M words (16 MB) per domain. *)

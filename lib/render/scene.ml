@@ -331,8 +331,7 @@ let make_layered ?(checked = false) ?(settings = Settings.default)
   let uses = either f.f_uses (uses_of moving) in
   let accel =
     Accel.layered objects ~key:f.f_key ~fixed:f.f_accel ~fixed_idx
-      ~moving:(Accel.build moving)
-      ~moving_idx
+      ~moving:(Accel.build moving) ~moving_idx
   in
   let features = features_of settings camera lights uses accel in
   Ok (assemble ~settings ~camera ~lights ~time ~frame ~origin objects accel features)

@@ -1,7 +1,8 @@
 (** An immutable, fully evaluated scene at one instant: what the renderer sees.
 
     Built by {!make}, which validates every part, builds the acceleration structure and
-    derives {!Lancer_description.Features.t}. The scene language ([dsl/]) produces one per frame time. *)
+    derives {!Lancer_description.Features.t}. The scene language ([dsl/]) produces one per
+    frame time. *)
 
 type t = private {
   settings : Settings.t;
@@ -20,9 +21,10 @@ type t = private {
   view : Camera.t;  (** [camera] in render coordinates *)
   view_lights : Light.t array;  (** [lights] in render coordinates *)
   moments : t array;
-      (** with the camera's shutter open ({!Lancer_description.Camera.motion_blur}): the scenes at its
-          {!Lancer_description.Camera.shutter_times}, in order, which the renderer's samples see instead of
-          this one (each with no moments of its own); empty otherwise *)
+      (** with the camera's shutter open ({!Lancer_description.Camera.motion_blur}): the
+          scenes at its {!Lancer_description.Camera.shutter_times}, in order, which the
+          renderer's samples see instead of this one (each with no moments of its own);
+          empty otherwise *)
 }
 (** [camera] and [lights] are as the scene gave them; the renderer traces in coordinates
     centred near the camera ([view], [view_lights], [objects]), so that a scene far from
@@ -38,9 +40,9 @@ val make :
   Primitive.t list ->
   (t, string) result
 (** [make ~lights objects] validates settings, camera and materials
-    ({!Lancer_description.Description.validate_material}) and builds the scene. With [~checked:true] the
-    materials are not checked: they are a description's, which its language checked
-    (the scenes {!Compile} makes). *)
+    ({!Lancer_description.Description.validate_material}) and builds the scene. With
+    [~checked:true] the materials are not checked: they are a description's, which its
+    language checked (the scenes {!Compile} makes). *)
 
 val of_array :
   ?checked:bool ->
@@ -57,9 +59,9 @@ val of_array :
 val mover : Camera.t -> Primitive.t -> Primitive.t
 (** What {!of_array} does to each object before it builds the scene seen through this
     camera: moves it by −[origin_of camera] ({!Primitive.translate}), or when that is zero
-    only {!Lancer_render.Primitive.baked} (a shape that its transform only moves becomes that shape
-    moved). A primitive's move made by one [mover] shares the vectors that are the same
-    for all of them. *)
+    only {!Lancer_render.Primitive.baked} (a shape that its transform only moves becomes
+    that shape moved). A primitive's move made by one [mover] shares the vectors that are
+    the same for all of them. *)
 
 val of_moved :
   ?index:bool ->
@@ -73,9 +75,9 @@ val of_moved :
   (t, string) result
 (** {!of_array} of objects already moved by [mover camera] (each one as it was made, so
     that a large scene never holds both copies): the same scene. With [~index:false] its
-    queries scan every object ({!Lancer_render.Accel.unindexed}): the same answers and features, without
-    the time and memory of the hierarchy, for a caller that reads the scene but traces few
-    rays or none. *)
+    queries scan every object ({!Lancer_render.Accel.unindexed}): the same answers and
+    features, without the time and memory of the hierarchy, for a caller that reads the
+    scene but traces few rays or none. *)
 
 val origin_of : Camera.t -> Vec3.t
 (** The [origin] of a scene seen through this camera. *)
@@ -111,9 +113,9 @@ val make_layered :
 (** [make_layered ~lights ~fixed pieces] is {!make} of the primitives the pieces list, in
     order; every primitive of [fixed] must be among them once, in its order. The same
     scene as {!make} gives, object for object and answer for answer, but for the work: the
-    fixed part's structure is reused ({!Lancer_render.Accel.layered}) and only the moving primitives' is
-    built; with a transparent material anywhere, one structure is built over them all, as
-    {!make} does. [fixed] must be for [origin_of camera]. *)
+    fixed part's structure is reused ({!Lancer_render.Accel.layered}) and only the moving
+    primitives' is built; with a transparent material anywhere, one structure is built
+    over them all, as {!make} does. [fixed] must be for [origin_of camera]. *)
 
 val make_exn :
   ?settings:Settings.t ->
@@ -149,8 +151,8 @@ val map_camera : t -> (Camera.t -> Camera.t) -> (t, string) result
 
 val with_moments : t -> t array -> (t, string) result
 (** [with_moments sc ms] is [sc] rendered as the scenes [ms] at its camera's
-    {!Lancer_description.Camera.shutter_times} ({!moments}): one for each, of [sc]'s image size; none for a
-    closed shutter. *)
+    {!Lancer_description.Camera.shutter_times} ({!moments}): one for each, of [sc]'s image
+    size; none for a closed shutter. *)
 
 val object_count : t -> int
 (** How many objects the scene has, a mesh counting as its faces: what [lancer check] and

@@ -51,11 +51,7 @@ type scratch = {
 (* The factors of a shadow ray's transparent crossings, 4 floats each (t, then
    transparency · albedo in r, g, b), in the order the structure visits them, and the
    channels (bits 1, 2, 4) in which some factor is zero. *)
-and crossings = {
-  mutable fs : Float.Array.t;
-  mutable n : int;
-  mutable zero : int;
-}
+and crossings = { mutable fs : Float.Array.t; mutable n : int; mutable zero : int }
 
 (* Albedo C at world point p on object o with geometric normal n, into (f.r, f.g, f.b):
    the texture is evaluated in object space at p − δ·n (doc/reference/shading.md, section 6). *)

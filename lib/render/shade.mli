@@ -1,5 +1,5 @@
-(** The Whitted shading model of doc/reference/shading.md, exactly: ambient, Lambert with distance
-    attenuation, shadows with transmittance through transparent surfaces, Phong
+(** The Whitted shading model of doc/reference/shading.md, exactly: ambient, Lambert with
+    distance attenuation, shadows with transmittance through transparent surfaces, Phong
     highlights, mirror reflection, Snell–Descartes refraction with total internal
     reflection, optional Schlick Fresnel, and the depth rule.
 
@@ -49,9 +49,9 @@ val trace_into : Scene.t -> Stats.t -> scratch -> int -> unit
 (** [trace_into scene stats scr depth] is {!trace} of the ray that [probe scr] holds, bit
     for bit, its colour written into [(frag scr).(r, g, b)]. Camera, reflected and
     refracted rays build no ray, vector or colour on the way, with the shapes that
-    {!Lancer_render.Shape.root} and {!Lancer_render.Shape.normal_into} handle in scalars and the textures
-    {!Texture.eval_into} does; bump maps and CSG objects still allocate. The probe and the
-    fragment are overwritten. *)
+    {!Lancer_render.Shape.root} and {!Lancer_render.Shape.normal_into} handle in scalars
+    and the textures {!Texture.eval_into} does; bump maps and CSG objects still allocate.
+    The probe and the fragment are overwritten. *)
 
 val max_secondary : int
 (** 65536: the most secondary (reflected and refracted) rays one call of {!trace} casts.

@@ -170,8 +170,8 @@ val disk : center:Vec3.t -> normal:Vec3.t -> radius:float -> t
 val csg : csg_op -> (t * Transform.t) list -> t
 (** [csg op members] combines solids, each placed by its transform; members of
     [Intersection], [Merge] and [Difference] (and of a [Union] inside one of them) must be
-    solids (as {!Lancer_description.Description.is_solid} says, a mesh made by {!solid_mesh}); at least one
-    member. *)
+    solids (as {!Lancer_description.Description.is_solid} says, a mesh made by
+    {!solid_mesh}); at least one member. *)
 
 val csg_leaves : t -> csg_leaf array
 (** [csg_leaves s] is every simple surface of CSG tree [s], depth first (a mesh one leaf),

@@ -29,10 +29,10 @@ type t = {
   _p13 : int;
   _p14 : int;
   _p15 : int;
-      (** two cache lines of nothing after the counters (processors fetch lines in
-          pairs): the counters of tasks made one after the other (so side by side in
-          memory) that two domains run are never in one cache line, which every ray's
-          count would otherwise pass between the cores *)
+      (** two cache lines of nothing after the counters (processors fetch lines in pairs):
+          the counters of tasks made one after the other (so side by side in memory) that
+          two domains run are never in one cache line, which every ray's count would
+          otherwise pass between the cores *)
 }
 
 val create : ?cancel:Cancel.t -> unit -> t
@@ -42,11 +42,12 @@ val tick : t -> unit
 (** Called once per ray traced: [spend s 1]. *)
 
 val spend : t -> int -> unit
-(** [spend s n] counts [n] units of work done: once every {!Lancer_diag.Cancel.check_every} units it
-    polls the token and raises [Sys.Break] if it is cancelled. A ray is one unit; so is
-    each test of a simple surface inside a CSG object (a root sought, a point tested
-    against its inside), which is how a ray that costs seconds (through a CSG object of
-    thousands of members) still stops within milliseconds. Allocates nothing. *)
+(** [spend s n] counts [n] units of work done: once every
+    {!Lancer_diag.Cancel.check_every} units it polls the token and raises [Sys.Break] if
+    it is cancelled. A ray is one unit; so is each test of a simple surface inside a CSG
+    object (a root sought, a point tested against its inside), which is how a ray that
+    costs seconds (through a CSG object of thousands of members) still stops within
+    milliseconds. Allocates nothing. *)
 
 val current : unit -> t
 (** The counters of the task that the calling domain runs inside {!with_current}, for the

@@ -1,10 +1,10 @@
 (** Albedo textures: solid and procedural colour fields, and image maps.
 
     Solid (3-D) textures are evaluated at an object-space point; the caller passes P − δ·N
-    (doc/reference/shading.md, section 6) so that a surface lying exactly on a cell boundary does
-    not flicker. Image textures use the surface's (u, v). All colours are linear RGB.
-    Every texture is a pure function of its arguments (the noise is seeded once, see
-    {!module-Noise}), and never returns NaN for finite input. *)
+    (doc/reference/shading.md, section 6) so that a surface lying exactly on a cell
+    boundary does not flicker. Image textures use the surface's (u, v). All colours are
+    linear RGB. Every texture is a pure function of its arguments (the noise is seeded
+    once, see {!module-Noise}), and never returns NaN for finite input. *)
 
 type color_map = { ts : float array; cs : Color.t array }
 (** A colour map as arrays: t_k and c_k. *)
@@ -19,9 +19,9 @@ val lookup : color_map -> float -> Color.t
     t_k)/(t_(k+1) − t_k))·(c_(k+1) − c_k). *)
 
 type t = (Image.t, color_map) Description.texture_of
-(** The description's texture ({!Lancer_description.Description.texture_of}, where each kind is defined) with
-    its image decoded to a linear framebuffer (from {!Lancer_image.Image.read_linear}) and its colour
-    maps as arrays. *)
+(** The description's texture ({!Lancer_description.Description.texture_of}, where each
+    kind is defined) with its image decoded to a linear framebuffer (from
+    {!Lancer_image.Image.read_linear}) and its colour maps as arrays. *)
 
 val eval : t -> Vec3.t -> float -> float -> Color.t
 (** [eval tex p u v] is the albedo at object-space point [p] with texture coordinates

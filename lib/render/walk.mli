@@ -3,22 +3,24 @@
     A scene's hierarchy and every mesh's are walked by the same three queries, written
     once: the nearest root, any root, and every crossing. A hierarchy is a {!Bvh} tree
     (possibly none) over {e slots}, some tested in order before the tree; its leaves are
-    the triangles of a mesh, or a scene's placed objects ({!type-items}): spheres and planes
-    read from a float array, simple shapes through their primitive, meshes and CSG objects
-    asked in turn, with the walk of their own hierarchy or the crossings of their members.
-    Besides its t, a query answers the {e part} a root lies on: the face of a mesh, the
-    leaf of a CSG object (and that leaf's face where it is a mesh), so that shading builds
-    the surface of the winner without intersecting anything again ({!Primitive.surface}).
+    the triangles of a mesh, or a scene's placed objects ({!type-items}): spheres and
+    planes read from a float array, simple shapes through their primitive, meshes and CSG
+    objects asked in turn, with the walk of their own hierarchy or the crossings of their
+    members. Besides its t, a query answers the {e part} a root lies on: the face of a
+    mesh, the leaf of a CSG object (and that leaf's face where it is a mesh), so that
+    shading builds the surface of the winner without intersecting anything again
+    ({!Primitive.surface}).
 
-    The queries allocate nothing (with the shapes that {!Lancer_render.Shape.root} tests in scalars),
-    CSG objects included. Each runs on a level of the calling domain's {!type-scratch}, the
-    queries it makes in turn on the next. *)
+    The queries allocate nothing (with the shapes that {!Lancer_render.Shape.root} tests
+    in scalars), CSG objects included. Each runs on a level of the calling domain's
+    {!type-scratch}, the queries it makes in turn on the next. *)
 
 (** {1 Answers} *)
 
 type hit = {
   mutable item : int;  (** the item hit: a scene index; −1 for none *)
-  mutable leaf : int;  (** the CSG leaf it lies on ({!Lancer_render.Shape.csg_leaves}), or −1 *)
+  mutable leaf : int;
+      (** the CSG leaf it lies on ({!Lancer_render.Shape.csg_leaves}), or −1 *)
   mutable face : int;  (** the mesh face, of the item or of its leaf, or −1 *)
 }
 (** What a nearest query found besides its t, which is in the probe's [p_t]. *)
@@ -123,9 +125,9 @@ val intersect : Shape.t -> Ray.t -> float -> float -> float
     infinity. *)
 
 val inside : Shape.t -> Vec3.t -> bool
-(** [inside s p] is whether [p] is inside [s], the boundary included ({!Lancer_render.Shape.inside}); a
-    solid mesh's inside is the parity of its crossings along a fixed direction, a CSG
-    object's its members' combined. *)
+(** [inside s p] is whether [p] is inside [s], the boundary included
+    ({!Lancer_render.Shape.inside}); a solid mesh's inside is the parity of its crossings
+    along a fixed direction, a CSG object's its members' combined. *)
 
 val parity_direction : Vec3.t
 (** The direction of the ray along which a solid mesh's crossings are counted for its

@@ -11,5 +11,5 @@ val frames : Program.t -> string -> float * int * int
 val run : scene:string -> json:bool -> time:float option -> frames:string option -> unit
 (** [lancer check SCENE]: at [time] (default 0) the summary and the estimated rays, or
     with [json] the evaluated scene as JSON; with [frames] every frame of the range is
-    evaluated, the errors of the first that fails raised ({!Lancer_job.Job_error.Scene}, its note
-    listing every failing frame) or the first frame's summary printed. *)
+    evaluated, the errors of the first that fails raised ({!Lancer_job.Job_error.Scene},
+    its note listing every failing frame) or the first frame's summary printed. *)

@@ -29,11 +29,11 @@ val diff :
   bool
 (** [lancer diff A B]: the verdict ([same], [within tolerance] or [differ], with the
     metric's value against its limit for a metric other than [Max]) and the figures (those
-    of {!Lancer_image.Compare.pp}, the mean FLIP and the SSIM), or all of them as one JSON object with
-    [json]; FLIP's error map written to [out] (grey). With [Max], [tolerance] is the
-    per-channel difference (a whole number, default 1) and [share] the share of pixels
-    that may exceed it; otherwise [tolerance] is the metric's limit, required. Whether the
-    images are within the tolerance. Raises {!Lancer_job.Job_error.User}. *)
+    of {!Lancer_image.Compare.pp}, the mean FLIP and the SSIM), or all of them as one JSON
+    object with [json]; FLIP's error map written to [out] (grey). With [Max], [tolerance]
+    is the per-channel difference (a whole number, default 1) and [share] the share of
+    pixels that may exceed it; otherwise [tolerance] is the metric's limit, required.
+    Whether the images are within the tolerance. Raises {!Lancer_job.Job_error.User}. *)
 
 val golden :
   ?cancel:Cancel.t ->

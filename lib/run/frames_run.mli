@@ -1,10 +1,10 @@
 (** [lancer animate] as a library function: an animation's frames rendered to
-    [DIR/frame_0000.png …] with the job layer ({!Lancer_job.Animation}: the plan, the scheduling, the
-    frames record), with its progress line and summary. [resume] skips frames already
-    written for the same scene, inputs and options; [shard] renders a share of the frames,
-    and shards may run at once into one directory; [video] assembles the frames with
-    ffmpeg. [lancer-mpi animate] uses the same plan, names and record, so either command
-    resumes the other's frames. *)
+    [DIR/frame_0000.png …] with the job layer ({!Lancer_job.Animation}: the plan, the
+    scheduling, the frames record), with its progress line and summary. [resume] skips
+    frames already written for the same scene, inputs and options; [shard] renders a share
+    of the frames, and shards may run at once into one directory; [video] assembles the
+    frames with ffmpeg. [lancer-mpi animate] uses the same plan, names and record, so
+    either command resumes the other's frames. *)
 
 type options = {
   frames : (int * int) option;  (** [--frames A..B] *)
@@ -19,9 +19,9 @@ val default_options : options
 
 val plan :
   ?getenv:(string -> string option) -> Options.t -> options -> Program.t * Animation.plan
-(** {!Lancer_job.Animation.val-plan} for these options, the scene loaded as {!Scene_file.read} says,
-    saying how many frames a resumed run skips; with the program it loaded. Raises
-    {!Lancer_job.Job_error.User}. *)
+(** {!Lancer_job.Animation.val-plan} for these options, the scene loaded as
+    {!Scene_file.read} says, saying how many frames a resumed run skips; with the program
+    it loaded. Raises {!Lancer_job.Job_error.User}. *)
 
 val write_frame : Animation.plan -> int -> Scene.t -> Image.t -> Stats.t -> unit
 (** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)

@@ -31,11 +31,12 @@ val max_domains : int
 (** 128: the most domains [--domains] may ask for (the OCaml runtime's own limit). *)
 
 val domains : t -> int
-(** [--domains N] if given (1 to {!max_domains}; raises {!Lancer_job.Job_error.User} otherwise), else
-    the recommended count for this machine. *)
+(** [--domains N] if given (1 to {!max_domains}; raises {!Lancer_job.Job_error.User}
+    otherwise), else the recommended count for this machine. *)
 
 val time_of : t -> Source.t -> float * int
-(** The (time, frame) chosen by [--time] / [--frame] (default 0, 0): {!Lancer_job.Source.time_of}. *)
+(** The (time, frame) chosen by [--time] / [--frame] (default 0, 0):
+    {!Lancer_job.Source.time_of}. *)
 
 val scene_at :
   ?progress:(string -> unit) ->
@@ -45,5 +46,5 @@ val scene_at :
   time:float ->
   frame:int ->
   Scene.t
-(** The scene at a time with the options' overrides ({!Lancer_job.Source.scene}); [progress] and
-    [cancel] as for the language's evaluation. *)
+(** The scene at a time with the options' overrides ({!Lancer_job.Source.scene});
+    [progress] and [cancel] as for the language's evaluation. *)

@@ -1,11 +1,12 @@
 (** Where a still's image and statistics go, checked before any rendering: an image file
-    (PNG, PPM, or the linear EXR, HDR and PFM, by its extension) or standard output
-    ([-]), at the depth asked, with an alpha channel of coverage, of a region or cropped
-    to it. *)
+    (PNG, PPM, or the linear EXR, HDR and PFM, by its extension) or standard output ([-]),
+    at the depth asked, with an alpha channel of coverage, of a region or cropped to it.
+*)
 
 type encoding = {
   bits : int option;
-      (** bits per channel ({!Lancer_image.Image.file_of}); [None]: the format's own default *)
+      (** bits per channel ({!Lancer_image.Image.file_of}); [None]: the format's own
+          default *)
   alpha : bool;  (** an alpha channel of coverage *)
   region : Image.region option;  (** render only these pixels *)
   crop : bool;  (** write only the region *)
@@ -34,8 +35,8 @@ val check_encoding : encoding -> out:string -> Scene.t -> unit
     with a PPM output; raises {!Lancer_job.Job_error.User}. *)
 
 val guard_render : Options.t -> Source.t -> out:string -> unit
-(** {!Lancer_job.Files.guard_writes} for a still: the image and the statistics against the scene's
-    files and an animation's records, and not both on standard output. *)
+(** {!Lancer_job.Files.guard_writes} for a still: the image and the statistics against the
+    scene's files and an animation's records, and not both on standard output. *)
 
 val write_image :
   ?cancel:Cancel.t ->
@@ -48,5 +49,5 @@ val write_image :
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for
     [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    {!Lancer_job.Job_error.User}. With [cancel] an interrupt during the write does not cut it short
-    ({!Lancer_job.Files.uninterrupted}). *)
+    {!Lancer_job.Job_error.User}. With [cancel] an interrupt during the write does not cut
+    it short ({!Lancer_job.Files.uninterrupted}). *)

@@ -38,8 +38,9 @@ val rays_text : float -> string
 (** A ray count as a person reads it: [307 200] as "307 k", "18.4 M", "1.28 G". *)
 
 val cost_report : Scene.t -> string
-(** The estimated rays ({!Lancer_render.Cost}) of the scene as set and under each quality preset, with
-    how many times the scene's own cost each is; the header says it is an estimate. *)
+(** The estimated rays ({!Lancer_render.Cost}) of the scene as set and under each quality
+    preset, with how many times the scene's own cost each is; the header says it is an
+    estimate. *)
 
 val long_render_rays : float
 (** 10⁹: a render estimated above this says so before it starts. *)

@@ -1,5 +1,6 @@
 (** Where a command's scene comes from: a file, standard input (["-"]), or the built-in
-    showcase; loaded into a {!Lancer_program.Program.t} with its errors raised as {!Lancer_job.Job_error.Scene}. *)
+    showcase; loaded into a {!Lancer_program.Program.t} with its errors raised as
+    {!Lancer_job.Job_error.Scene}. *)
 
 val showcase : string
 (** The text of the built-in showcase (scenes/showcase.rts). *)
@@ -17,12 +18,13 @@ val load_source :
   string * string ->
   Program.t
 (** Parse and check a scene's text, with a warning on stderr when its physics stopped
-    handling collisions; raises {!Lancer_job.Job_error.Scene} with every located error. Includes are
-    found relative to the file name. [single] and [digests] are
+    handling collisions; raises {!Lancer_job.Job_error.Scene} with every located error.
+    Includes are found relative to the file name. [single] and [digests] are
     {!Lancer_program.Program.load_string}'s. *)
 
 val load_bundle : Program.bundle -> Program.t
-(** The program of a bundle ({!Lancer_program.Program.load_bundle}); raises {!Lancer_job.Job_error.Scene}. *)
+(** The program of a bundle ({!Lancer_program.Program.load_bundle}); raises
+    {!Lancer_job.Job_error.Scene}. *)
 
 val load :
   ?single:bool ->
@@ -33,9 +35,10 @@ val load :
 (** [load_source (read scene)]. *)
 
 val source : Options.t -> Program.t -> Source.t
-(** The program as the job layer takes it ({!Lancer_program.Program.source}); built in without a scene.
-*)
+(** The program as the job layer takes it ({!Lancer_program.Program.source}); built in
+    without a scene. *)
 
 val default_output : Options.t -> string
 (** [-o] if given, else the scene's base name with [.png] ([showcase.png] without a
-    scene); a scene read from standard input needs [-o] (raises {!Lancer_job.Job_error.User}). *)
+    scene); a scene read from standard input needs [-o] (raises
+    {!Lancer_job.Job_error.User}). *)

@@ -21,12 +21,12 @@ val build : ?digests:bool -> Options.t -> built
 (** Load the scene ({!Scene_file.load}; [digests] as there, default [true]), evaluate it
     at the options' time with their overrides and compile it, saying what it does on the
     progress channel ({!Progress.build}). The program is loaded for this one scene
-    ([~single:true]), and the garbage of a large evaluation is given back before
-    the image is allocated when the heap would otherwise grow past its peak. *)
+    ([~single:true]), and the garbage of a large evaluation is given back before the image
+    is allocated when the heap would otherwise grow past its peak. *)
 
 val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
-(** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key), saying how
-    many tiles it brings back (unless [--quiet]). *)
+(** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
+    saying how many tiles it brings back (unless [--quiet]). *)
 
 val finish :
   ?cancel:Cancel.t ->
@@ -53,5 +53,5 @@ val finish :
 val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image
     rendered over [--domains] domains (from a checkpoint with [resume]) with a progress
-    line, then {!finish}. Raises {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}; [Sys.Break]
-    when [cancel] is cancelled. *)
+    line, then {!finish}. Raises {!Lancer_job.Job_error.User} and
+    {!Lancer_job.Job_error.Scene}; [Sys.Break] when [cancel] is cancelled. *)

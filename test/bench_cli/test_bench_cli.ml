@@ -344,8 +344,9 @@ let materials_json () =
     let open Yojson.Safe.Util in
     Alcotest.(check int) "objects" 900 (j |> member "objects" |> to_int);
     let w k = j |> member k |> to_number in
-    (w "description_words_per_object", w "primitive_words_per_object", w
-       "material_words_per_object")
+    ( w "description_words_per_object",
+      w "primitive_words_per_object",
+      w "material_words_per_object" )
   in
   let d0, p0, _ = words false and d1, p1, m1 = words true in
   let more what a b =

@@ -383,7 +383,9 @@ let tests =
         let d = tmpdir () in
         let ((_, _, e) as r) = lancer ~dir:d [ "render"; "-o"; "out.jpg" ] in
         check_status "exit" 1 r;
-        Alcotest.(check bool) "says which formats" true (contains e ".png, .ppm, .exr, .hdr or .pfm"));
+        Alcotest.(check bool)
+          "says which formats" true
+          (contains e ".png, .ppm, .exr, .hdr or .pfm"));
     Alcotest.test_case "a bad scene prints file:line:col and exits 1" `Quick (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "bad.rts")

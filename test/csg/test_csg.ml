@@ -1323,8 +1323,8 @@ let test_open_edges =
       let faces =
         List.filteri (fun i _ -> i mod 7 <> 0 || Random.State.bool st) (Shape.faces m)
       in
-      (Obj_file.open_edges_mesh m = 0
-      && Obj_file.open_edges faces = naive_open_edges faces)
+      Obj_file.open_edges_mesh m = 0
+      && Obj_file.open_edges faces = naive_open_edges faces
       || QCheck.Test.fail_reportf "a torus with %d of %d faces" (List.length faces)
            (Trimesh.count m))
 

@@ -217,11 +217,16 @@ let has_warning out = List.exists (fun l -> contains l "warning:") (lines_of out
    that is not indented (nor blank, a comment or a closing brace) and runs to the next;
    each comes with the line it starts at in the block. *)
 let statements body =
-  let starts l = l <> "" && l.[0] <> ' ' && l.[0] <> '}' && not (starts_with ~prefix:"//" l) in
+  let starts l =
+    l <> "" && l.[0] <> ' ' && l.[0] <> '}' && not (starts_with ~prefix:"//" l)
+  in
   let rec go i cur acc = function
-    | [] -> List.rev (match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc)
+    | [] ->
+        List.rev (match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc)
     | l :: rest when starts l ->
-        let acc = match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc in
+        let acc =
+          match cur with Some (k, ls) -> (k, List.rev ls) :: acc | None -> acc
+        in
         go (i + 1) (Some (i, [ l ])) acc rest
     | l :: rest -> (
         match cur with
@@ -249,7 +254,8 @@ let check_rts env ~file ~dir b =
     let status, out = run env ~dir ("lancer check " ^ Filename.quote name) in
     if status <> 0 then
       fail ~file ~line "lancer check refuses this %s (exit %d):\n%s" what status out
-    else if (not fragment) && (not (List.mem_assoc "warns" b.attrs)) && has_warning out then
+    else if (not fragment) && (not (List.mem_assoc "warns" b.attrs)) && has_warning out
+    then
       fail ~file ~line
         "lancer check warns about this scene (mark it `rts warns` if that is its point):\n\
          %s"
@@ -258,7 +264,8 @@ let check_rts env ~file ~dir b =
   if fragment && List.mem_assoc "each" b.attrs then
     List.iter
       (fun (k, body) ->
-        check ~line:(b.line + 1 + k)
+        check
+          ~line:(b.line + 1 + k)
           ~what:"statement (alone, after the two library includes)" body)
       (statements b.body)
   else

@@ -186,9 +186,7 @@ let test_groups_and_transforms () =
   Alcotest.(check bool)
     "a member without a material takes the group's" true
     (o0.color = Color.v 1. 0. 0.);
-  Alcotest.(check bool)
-    "a member with its own keeps it" true
-    (o1.color = Color.v 0. 0. 1.);
+  Alcotest.(check bool) "a member with its own keeps it" true (o1.color = Color.v 0. 0. 1.);
   veq "the group's transform applies" (Vec3.v 10. 0. 0.) (centre o0);
   let s =
     scene
@@ -219,7 +217,8 @@ let test_materials () =
   let p = s.objects.(1).material in
   Alcotest.(check bool)
     "checker texture" true
-    (p.texture = Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
+    (p.texture
+    = Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
   Alcotest.(check bool)
     "noise bump" true
     (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }))
@@ -321,7 +320,9 @@ let test_animation_time () =
     "frames default to 48"
     (Some (12., 48))
     (Program.animation (load "animation { fps: 12 }"));
-  Alcotest.(check (option (pair (float 0.) int))) "none" None (Program.animation (load ""))
+  Alcotest.(check (option (pair (float 0.) int)))
+    "none" None
+    (Program.animation (load ""))
 
 let test_bodies () =
   let text =
@@ -821,11 +822,16 @@ module D = Description
 let test_described_once () =
   let p = load "sphere { center: (0, 0, 0), radius: 1 }\nlight { position: (0, 5, 0) }" in
   (match Dsl.describe (Program.language p) ~time:0. ~frame:0 with
-  | Ok d -> Alcotest.(check bool) "the load's description" true (d == Dsl.first (Program.language p))
+  | Ok d ->
+      Alcotest.(check bool)
+        "the load's description" true
+        (d == Dsl.first (Program.language p))
   | Error es -> Alcotest.failf "%s" (errors_text es));
   match Dsl.describe (Program.language p) ~time:1. ~frame:24 with
   | Ok d ->
-      Alcotest.(check bool) "another instant is evaluated" false (d == Dsl.first (Program.language p));
+      Alcotest.(check bool)
+        "another instant is evaluated" false
+        (d == Dsl.first (Program.language p));
       Alcotest.(check (float 0.)) "its time" 1. d.time;
       Alcotest.(check int) "its frame" 24 d.frame
   | Error es -> Alcotest.failf "%s" (errors_text es)
@@ -837,12 +843,12 @@ let test_static_parts () =
   let p =
     Program.language
       (load
-         "settings { width: 4, height: 3 }
-          sphere { center: (0, 0, 0), radius: 1 }
-          sphere { center: (time, 0, 0), radius: 1 }
-          for i in 0 to floor(time * 3) { sphere { center: (i, 2, 0), radius: 0.5 } }
-          box { min: (0, 0, 0), max: (1, 1, 1) }
-")
+         "settings { width: 4, height: 3 }\n\
+         \          sphere { center: (0, 0, 0), radius: 1 }\n\
+         \          sphere { center: (time, 0, 0), radius: 1 }\n\
+         \          for i in 0 to floor(time * 3) { sphere { center: (i, 2, 0), radius: \
+          0.5 } }\n\
+         \          box { min: (0, 0, 0), max: (1, 1, 1) }\n")
   in
   let kinds objs = List.map (fun (o : D.obj) -> o.kind) objs in
   Alcotest.(check (list (pair int (list string))))
@@ -854,8 +860,9 @@ let test_static_parts () =
     | Ok (d, ps) ->
         Alcotest.(check int) "the description without objects" 0 (List.length d.objects);
         List.map
-          (function D.Static i -> Printf.sprintf "static %d" i | D.Built objs ->
-             String.concat " " (kinds objs))
+          (function
+            | D.Static i -> Printf.sprintf "static %d" i
+            | D.Built objs -> String.concat " " (kinds objs))
           ps
     | Error es -> Alcotest.failf "%s" (errors_text es)
   in
@@ -1033,7 +1040,8 @@ let () =
     [
       ( "expressions",
         [
-          Alcotest.test_case "operators follow the precedence of doc/reference/language.md" `Quick
+          Alcotest.test_case
+            "operators follow the precedence of doc/reference/language.md" `Quick
             test_precedence;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
             test_vectors;

@@ -415,12 +415,12 @@ let environment_tests =
 let map_tests =
   let m =
     Texture.color_map
-         [
-           (0.2, Color.v 1. 0. 0.);
-           (0.6, Color.v 0. 0. 1.);
-           (0.6, Color.v 0. 1. 0.);
-           (1., Color.v 1. 1. 1.);
-         ]
+      [
+        (0.2, Color.v 1. 0. 0.);
+        (0.6, Color.v 0. 0. 1.);
+        (0.6, Color.v 0. 1. 0.);
+        (1., Color.v 1. 1. 1.);
+      ]
   in
   [
     Alcotest.test_case
@@ -478,11 +478,14 @@ let map_tests =
       (fun () ->
         Alcotest.(check bool)
           "decreasing" true
-          (Option.is_some (Description.color_map_problem [ (0.5, Color.white); (0.4, Color.black) ]));
+          (Option.is_some
+             (Description.color_map_problem [ (0.5, Color.white); (0.4, Color.black) ]));
         Alcotest.(check bool)
           "t > 1" true
           (Option.is_some (Description.color_map_problem [ (1.5, Color.white) ]));
-        Alcotest.(check bool) "empty" true (Option.is_some (Description.color_map_problem [])));
+        Alcotest.(check bool)
+          "empty" true
+          (Option.is_some (Description.color_map_problem [])));
   ]
 
 (* ---- features ---- *)

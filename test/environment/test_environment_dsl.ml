@@ -193,7 +193,11 @@ let test_color_maps () =
       | Some (Description.Mapped { pattern; _ }) ->
           Alcotest.(check bool) ("pattern " ^ string_of_int i) true (pattern = want)
       | _ -> Alcotest.fail "not a mapped texture")
-    [ Description.Marble_pattern 0.5; Description.Wood_pattern 0.2; Description.Noise_pattern 1. ];
+    [
+      Description.Marble_pattern 0.5;
+      Description.Wood_pattern 0.2;
+      Description.Noise_pattern 1.;
+    ];
   Alcotest.(check bool) "mapped textures count as colour maps" true sc.features.color_maps;
   check_err
     "let m = color_map((0, (1, 1, 1)))\n\

@@ -329,15 +329,16 @@ let mesh_tests =
         | l -> Alcotest.failf "3 triangles expected, got %d" (List.length l));
     case "faces without normals or (u, v) before and after one with them" (fun () ->
         let text =
-          quad
-          ^ "vt 0.25 0.5\nvn 1 0 1\nf 1 2 3\nf 1 2 3\nf 1/1/1 2/1/1 3/1/1\nf 1 3 4\n"
+          quad ^ "vt 0.25 0.5\nvn 1 0 1\nf 1 2 3\nf 1 2 3\nf 1/1/1 2/1/1 3/1/1\nf 1 3 4\n"
         in
         match parse_ok text with
         | [ t1; t2; t3; t4 ] ->
             let p = v 0.9 0.1 0. in
             check_vec "first: flat" Vec3.z_axis (Shape.normal t1 p);
             check_vec "second: flat" Vec3.z_axis (Shape.normal t2 p);
-            check_vec "third: its normals" (Vec3.normalize (v 1. 0. 1.)) (Shape.normal t3 p);
+            check_vec "third: its normals"
+              (Vec3.normalize (v 1. 0. 1.))
+              (Shape.normal t3 p);
             let u, w = Shape.uv t3 p in
             close "its u" 0.25 u;
             close "its v" 0.5 w;
@@ -1553,7 +1554,10 @@ let texture_tests =
         close "wrapped" (1. /. 3.) (Texture.eval tex Vec3.zero 1.375 (-2.5)).r;
         close "bilinear between pixels 1 and 2" 0.5 (Texture.eval tex Vec3.zero 0.5 0.5).g;
         close "scale tiles" (1. /. 3.)
-          (Texture.eval (Description.Image { image = ramp; scale = 2. }) Vec3.zero 0.1875 0.5).r;
+          (Texture.eval
+             (Description.Image { image = ramp; scale = 2. })
+             Vec3.zero 0.1875 0.5)
+            .r;
         Alcotest.(check bool) "needs uv" true (Texture.needs_uv tex);
         Alcotest.(check bool)
           "nan coordinates" true
@@ -1564,11 +1568,19 @@ let texture_tests =
         let plane = Shape.plane ~normal:Vec3.y_axis ~offset:0. in
         let p = v 0.3 0. 0.2 in
         let uv d = Shape.uv plane (Vec3.add p d) in
-        let n = Bump.perturb (Description.Image_bump { image = ramp; amount = 1. }) ~uv p Vec3.y_axis in
+        let n =
+          Bump.perturb
+            (Description.Image_bump { image = ramp; amount = 1. })
+            ~uv p Vec3.y_axis
+        in
         close "unit" 1. (Vec3.length n);
         Alcotest.(check bool) "tilted toward −x (u grows with x)" true (n.x < -0.01);
         let flat = Image.create 4 4 in
-        let n = Bump.perturb (Description.Image_bump { image = flat; amount = 1. }) ~uv p Vec3.y_axis in
+        let n =
+          Bump.perturb
+            (Description.Image_bump { image = flat; amount = 1. })
+            ~uv p Vec3.y_axis
+        in
         check_vec "flat" Vec3.y_axis n);
   ]
 

@@ -65,8 +65,7 @@ light { position: (-3, 5, -4) }
 sphere { center: (0, 0, 0), radius: 1 }
 fn dressed(c) { sphere { center: c, radius: 1, material: material { texture: image("out/frame_0001.png", 1) } } }
 if frame > 100 { dressed((0, 0, 0)) }
-|}
-  ;
+|};
   let r = lancer ~dir:d [ "animate"; "a.rts"; "-o"; "out"; "-q" ] in
   check_status "refused" 1 r;
   says "says why" r "refusing to write a frame to out/frame_0001.png";
@@ -99,8 +98,10 @@ let load_swapping d =
   | Error _ -> Alcotest.fail "the scene does not load"
 
 let plan ?(resume = false) d load =
-  Animation.plan ~dir:(Some (path d "fr")) ~frames:None ~shard:None ~resume
-    ~overrides:Overrides.none (fun () -> Program.source ~builtin:false (load ()))
+  Animation.plan
+    ~dir:(Some (path d "fr"))
+    ~frames:None ~shard:None ~resume ~overrides:Overrides.none
+    (fun () -> Program.source ~builtin:false (load ()))
 
 (* What a frame's record says of its texture is what the frame was made of: the bytes
    decoded, not the file as it was a moment later. A run resumed with the new texture
@@ -186,14 +187,19 @@ let other_options_at_once () =
     in
     Alcotest.(check int) "first run" 0 (wait_status a);
     Alcotest.(check int) "second run" 0 (wait_status b);
-    check_status "resumed" 0 (lancer ~dir:d [ "animate"; "c.rts"; "-o"; out; "-q"; "--resume" ]);
+    check_status "resumed" 0
+      (lancer ~dir:d [ "animate"; "c.rts"; "-o"; out; "-q"; "--resume" ]);
     for k = 0 to 39 do
-      if not (String.equal (read_file (path (path d "ref") (frame k)))
-                (read_file (path (path d out) (frame k))))
+      if
+        not
+          (String.equal
+             (read_file (path (path d "ref") (frame k)))
+             (read_file (path (path d out) (frame k))))
       then Alcotest.failf "round %d: frame %d is not the resumed options' frame" round k
     done;
     Alcotest.(check string)
-      "the merged record" (read_file (path (path d "ref") Frameset.view_name))
+      "the merged record"
+      (read_file (path (path d "ref") Frameset.view_name))
       (read_file (path (path d out) Frameset.view_name))
   done
 

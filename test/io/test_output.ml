@@ -3,7 +3,6 @@ open Run_lancer
 
 let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
 let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
-
 let tmpdir () = tmpdir "lancer-output"
 let ( // ) = Filename.concat
 
@@ -784,7 +783,8 @@ let stdout_tests =
             Alcotest.(check bool) e true (contains e expect))
           [
             ([ "-o"; "x.png"; "--format"; "ppm" ], "--format is for -o -");
-            ([ "-o"; "-"; "--format"; "ppm"; "--alpha" ], "--alpha needs a PNG or EXR output");
+            ( [ "-o"; "-"; "--format"; "ppm"; "--alpha" ],
+              "--alpha needs a PNG or EXR output" );
             ([ "-o"; "-"; "--stats"; "-" ], "would both write to standard output");
             ( [ "-o"; "-"; "--resume" ],
               "--resume keeps its checkpoint beside the output file" );

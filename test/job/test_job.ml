@@ -63,7 +63,11 @@ let frames_of ?p text =
 (* The scene of frame [k] of [p] with every statement evaluated and compiled again: a
    still of that instant, indexed whole. *)
 let compiled_again p k =
-  match Lancer_dsl.Dsl.describe ~again:true (Lancer.Program.language p) ~time:(Float.of_int k /. 10.) ~frame:k with
+  match
+    Lancer_dsl.Dsl.describe ~again:true (Lancer.Program.language p)
+      ~time:(Float.of_int k /. 10.)
+      ~frame:k
+  with
   | Error _ -> Alcotest.fail "the frame does not evaluate again"
   | Ok d -> (
       match Lancer_render.Compile.compile (Lancer.Program.assets p) d with
@@ -233,14 +237,15 @@ sphere { center: (0, 1, 0), radius: 0.3 - time }
           Alcotest.(check (float 0.)) "its time" times.(i) sc.time;
           Alcotest.(check int) "its frame" 1 sc.frame;
           Alcotest.(check (option (array int)))
-            "layered over the static statements" (Some [| 3; 5 |])
+            "layered over the static statements"
+            (Some [| 3; 5 |])
             (Lancer_render.Accel.fixed_key sc.accel);
           match Lancer.Program.scene p ~time:times.(i) ~frame:1 with
           | Error _ -> Alcotest.fail "an instant does not evaluate alone"
           | Ok alone ->
               Alcotest.(check int)
-                "as many primitives as alone"
-                (Array.length alone.objects) (Array.length sc.objects);
+                "as many primitives as alone" (Array.length alone.objects)
+                (Array.length sc.objects);
               Array.iteri
                 (fun j (o : Lancer_render.Primitive.t) ->
                   if o.shape <> alone.objects.(j).shape then
@@ -459,8 +464,7 @@ let animation_source ?(text = "text") input : Source.t =
     file = "anim.rts";
     builtin = false;
     animation = Some (4., 4);
-    evaluate =
-      (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ "tex.ppm" ]));
+    evaluate = (fun ~progress:_ ~cancel:_ ~time:_ ~frame:_ -> (scene (), [ "tex.ppm" ]));
     inputs = (fun () -> [ "anim.rts"; "tex.ppm" ]);
     names = (fun () -> [ "tex.ppm" ]);
     text_digest = (fun () -> text);
@@ -712,7 +716,9 @@ let still_lets_objects_go () =
   Alcotest.(check int) "the GC as it was" overhead (Gc.get ()).space_overhead;
   Gc.full_major ();
   Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
-  Alcotest.(check int) "the program keeps none" 0 (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects);
+  Alcotest.(check int)
+    "the program keeps none" 0
+    (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects);
   Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
   Alcotest.(check string)
     "check's objects, made again" json_before
@@ -879,10 +885,13 @@ let frames_share_pixels () =
      their values, whichever structures hold them). *)
   let glass =
     variant_of shared_scene "material: material { color: (0.3 + i / 15, 0.5, 0.6) }"
-      "material: material { color: (0.3 + i / 15, 0.5, 0.6), transparency: 0.5, ior: 1.2 }"
+      "material: material { color: (0.3 + i / 15, 0.5, 0.6), transparency: 0.5, ior: 1.2 \
+       }"
   in
-  let glass = variant_of glass "reflection: 0.3, specular: 0.5 }"
-      "transparency: 0.9, ior: 1.5, fresnel: true }" in
+  let glass =
+    variant_of glass "reflection: 0.3, specular: 0.5 }"
+      "transparency: 0.9, ior: 1.5, fresnel: true }"
+  in
   let primary = frames_as_rendered "glass spheres, one of them moving" glass in
   Array.iteri
     (fun k n ->

@@ -7,7 +7,6 @@ open Run_lancer
 
 let lancer ?prefix ~dir args = run ?prefix ~exe ~dir args
 let spawn ~dir args = spawn ~exe ~dir args
-
 let path d f = Filename.concat d f
 let frame k = Printf.sprintf "frame_%04d.png" k
 let mtime p = (Unix.stat p).Unix.st_mtime
@@ -38,7 +37,6 @@ let setup ?color ?frames ?camera () =
   d
 
 let frames_of d n = List.init n (fun k -> read_file (path d (frame k)))
-
 
 let rec wait_for ?(tries = 3000) p =
   if tries > 0 && not (p ()) then (

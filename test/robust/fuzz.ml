@@ -72,7 +72,8 @@ let () =
           (fun st ->
             (".obj", if Random.State.bool st then G.random_obj st else G.mutated_obj st));
         check =
-          (fun (_, text) -> Result.bind (G.check_obj text) (fun () -> G.check_obj_lines text));
+          (fun (_, text) ->
+            Result.bind (G.check_obj text) (fun () -> G.check_obj_lines text));
         tried = 0;
         failed = 0;
       };
@@ -84,7 +85,8 @@ let () =
             ( ".ply",
               if Random.State.bool st then
                 G.ply_text
-                  (List.nth [ "ascii"; "binary_little_endian"; "binary_big_endian" ]
+                  (List.nth
+                     [ "ascii"; "binary_little_endian"; "binary_big_endian" ]
                      (Random.State.int st 3))
                   (G.random_ply st)
               else G.mutated_ply st ));

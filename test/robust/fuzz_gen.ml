@@ -240,8 +240,7 @@ let check_obj text =
       then Ok ()
       else Error "a triangle with non-finite bounds"
 
-let indented text =
-  " " ^ String.concat "\n " (String.split_on_char '\n' text)
+let indented text = " " ^ String.concat "\n " (String.split_on_char '\n' text)
 
 let describe_faces = function
   | Error m -> "Error " ^ m
@@ -263,7 +262,9 @@ let describe_faces = function
       Buffer.contents b
 
 let check_obj_lines text =
-  let parse t = try Obj_file.parse ~file:"fuzz.obj" t with e -> Error (Printexc.to_string e) in
+  let parse t =
+    try Obj_file.parse ~file:"fuzz.obj" t with e -> Error (Printexc.to_string e)
+  in
   let direct = describe_faces (parse text)
   and by_words = describe_faces (parse (indented text)) in
   if String.equal direct by_words then Ok ()
@@ -288,9 +289,12 @@ let random_ply_mesh st =
   let f () = Float.of_int (Random.State.int st 65 - 32) /. 8. in
   let verts = Array.init n (fun _ -> (f (), f (), f ())) in
   let normals =
-    if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f (), f ()))) else None
+    if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f (), f ())))
+    else None
   in
-  let uvs = if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f ()))) else None in
+  let uvs =
+    if Random.State.bool st then Some (Array.init n (fun _ -> (f (), f ()))) else None
+  in
   let polys =
     Array.init
       (1 + Random.State.int st 20)
@@ -307,7 +311,8 @@ let ply_text fmt (m : ply_mesh) =
   add (Printf.sprintf "element vertex %d\n" (Array.length m.verts));
   add "property float x\nproperty float y\nproperty float z\n";
   add "property uchar quality\n";
-  if m.normals <> None then add "property float nx\nproperty float ny\nproperty float nz\n";
+  if m.normals <> None then
+    add "property float nx\nproperty float ny\nproperty float nz\n";
   if m.uvs <> None then add "property float u\nproperty float v\n";
   add "element edge 1\nproperty int vertex1\nproperty int vertex2\n";
   add (Printf.sprintf "element face %d\n" (Array.length m.polys));
@@ -392,13 +397,13 @@ let obj_of_ply (m : ply_mesh) =
   Buffer.contents b
 
 let ply_formats = [ "ascii"; "binary_little_endian"; "binary_big_endian" ]
-
 let random_ply st = random_ply_mesh st
 
 let mutated_ply st =
   let m = random_ply_mesh st in
   let fmt = List.nth ply_formats (Random.State.int st 3) in
-  mutate st [| " "; "\n"; "0"; "-1"; "255"; "list"; "float"; "end_header"; "\000"; "\255" |]
+  mutate st
+    [| " "; "\n"; "0"; "-1"; "255"; "list"; "float"; "end_header"; "\000"; "\255" |]
     (ply_text fmt m)
 
 let ply_faces text = Result.map Shape.faces (Ply.parse_mesh ~file:"fuzz.ply" text)
@@ -429,13 +434,15 @@ let check_ply_formats (m : ply_mesh) =
   let describe_faces r = describe_faces (unplaced r) in
   let obj =
     describe_faces
-      (try Obj_file.parse ~file:"fuzz.ply" (obj_of_ply m) with e -> Error (Printexc.to_string e))
+      (try Obj_file.parse ~file:"fuzz.ply" (obj_of_ply m)
+       with e -> Error (Printexc.to_string e))
   in
   List.fold_left
     (fun acc fmt ->
       Result.bind acc (fun () ->
           let got =
-            describe_faces (try ply_faces (ply_text fmt m) with e -> Error (Printexc.to_string e))
+            describe_faces
+              (try ply_faces (ply_text fmt m) with e -> Error (Printexc.to_string e))
           in
           if String.equal got obj then Ok ()
           else Error (Printf.sprintf "%s PLY:\n%s\nOBJ:\n%s" fmt got obj)))

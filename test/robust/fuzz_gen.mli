@@ -12,9 +12,9 @@ val mutated_obj : Random.State.t -> string
 (** A valid OBJ file with random insertions, deletions and replacements. *)
 
 val check_obj : string -> (unit, string) result
-(** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Obj_file.parse} raises,
-    answers a message without the file name or on several lines, or returns no triangle or
-    one with non-finite bounds. *)
+(** The OBJ loader's contract: [Error] (the case fails) when {!Lancer.Obj_file.parse}
+    raises, answers a message without the file name or on several lines, or returns no
+    triangle or one with non-finite bounds. *)
 
 val check_obj_lines : string -> (unit, string) result
 (** The loader's one-pass reading of plain lines against its word-by-word reading: the

@@ -150,7 +150,8 @@ let scene_tests =
         in
         if st <> 1 || not (G.contains e "the includes expand to more than 10000 files")
         then fail_with r;
-        if not (G.contains e ".rts:1:1: the includes expand") then fail_with ~msg:"unlocated" r);
+        if not (G.contains e ".rts:1:1: the includes expand") then
+          fail_with ~msg:"unlocated" r);
     case "an image 60000×60000 is refused up front with the limit" (fun () ->
         let d = tmpdir () in
         scene d "";
@@ -224,10 +225,11 @@ let asset_tests =
               write_file (Filename.concat d name) text;
               write_file (Filename.concat d "s.rts")
                 (Printf.sprintf
-                   "settings { width: 48, height: 36 }\ncamera { position: (0, 1, -9), \
-                    look_at: (0, 0, 0) }\nlight { position: (-3, 5, -4) }\nmesh { file: \
-                    %S, material: material { texture: checker((1, 1, 1), (0.2, 0.3, \
-                    0.8), 0.5) } }\n"
+                   "settings { width: 48, height: 36 }\n\
+                    camera { position: (0, 1, -9), look_at: (0, 0, 0) }\n\
+                    light { position: (-3, 5, -4) }\n\
+                    mesh { file: %S, material: material { texture: checker((1, 1, 1), \
+                    (0.2, 0.3, 0.8), 0.5) } }\n"
                    name);
               let ((st, _, _) as r) = render d [] in
               if st <> 0 then fail_with ~msg:name r;

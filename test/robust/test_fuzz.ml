@@ -47,17 +47,23 @@ let ply_error text fragment =
 
 let ply_head ?(format = "ascii") ?(vertices = 3) ?(faces = 1) () =
   Printf.sprintf
-    "ply\nformat %s 1.0\nelement vertex %d\nproperty float x\nproperty float \
-     y\nproperty float z\nelement face %d\nproperty list uchar int \
-     vertex_indices\nend_header\n"
+    "ply\n\
+     format %s 1.0\n\
+     element vertex %d\n\
+     property float x\n\
+     property float y\n\
+     property float z\n\
+     element face %d\n\
+     property list uchar int vertex_indices\n\
+     end_header\n"
     format vertices faces
 
 let ply_cases =
   [
     Alcotest.test_case "a file that is not PLY says so at line 1" `Quick (fun () ->
         ply_error "solid cube\n" "m.ply:1: not a PLY file");
-    Alcotest.test_case "a header without end_header names its last line" `Quick
-      (fun () -> ply_error "ply\nformat ascii 1.0\nelement vertex 3\n" "m.ply:4:");
+    Alcotest.test_case "a header without end_header names its last line" `Quick (fun () ->
+        ply_error "ply\nformat ascii 1.0\nelement vertex 3\n" "m.ply:4:");
     Alcotest.test_case "an unknown format and type are named with the choices" `Quick
       (fun () ->
         ply_error "ply\nformat binary_middle_endian 1.0\nend_header\n"
@@ -66,24 +72,30 @@ let ply_cases =
           "m.ply:4: property x: unknown type");
     Alcotest.test_case "a bad number in an ASCII body is located at its line" `Quick
       (fun () ->
-        ply_error (ply_head () ^ "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n")
+        ply_error
+          (ply_head () ^ "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n")
           "m.ply:11: expected a number, got \"zero\"");
     Alcotest.test_case "an index out of range is located" `Quick (fun () ->
-        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
+        ply_error
+          (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
           "m.ply:13: vertex index 7 is out of range (3 vertices)");
     Alcotest.test_case "a truncated binary body is located at its byte" `Quick (fun () ->
         let head = ply_head ~format:"binary_little_endian" () in
-        ply_error (head ^ String.make 20 '\000')
+        ply_error
+          (head ^ String.make 20 '\000')
           (Printf.sprintf "m.ply: byte %d: the file ends before its last element"
              (String.length head + 20)));
     Alcotest.test_case "a face of two corners, and no vertex element, are refused" `Quick
       (fun () ->
-        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n2 0 1\n")
+        ply_error
+          (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n2 0 1\n")
           "a face needs at least 3 corners, got 2";
-        ply_error "ply\nformat ascii 1.0\nelement face 0\nend_header\n" "the file has no faces");
+        ply_error "ply\nformat ascii 1.0\nelement face 0\nend_header\n"
+          "the file has no faces");
     Alcotest.test_case "values past the elements the header declares are refused" `Quick
       (fun () ->
-        ply_error (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n")
+        ply_error
+          (ply_head () ^ "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n")
           "m.ply:14: more values than the header's elements hold");
   ]
 
@@ -123,7 +135,9 @@ let obj_cases =
     Alcotest.test_case "NUL bytes, a UTF-16 file and CRLF line ends" `Quick (fun () ->
         obj_error (tri ^ "f 1 2\0003\n") "not a text file";
         obj_error "\255\254v\000 \0001\000" "m.obj:1:";
-        match Obj_file.parse ~file:"m.obj" "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n" with
+        match
+          Obj_file.parse ~file:"m.obj" "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"
+        with
         | Ok [ _ ] -> ()
         | Ok _ -> Alcotest.fail "one triangle expected"
         | Error m -> Alcotest.fail m);

@@ -48,8 +48,7 @@ let spawn ~exe ~dir args =
   Unix.close null;
   pid
 
-let wait_status pid =
-  match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
+let wait_status pid = match snd (Unix.waitpid [] pid) with Unix.WEXITED n -> n | _ -> -1
 
 let status_text = function
   | Unix.WEXITED n -> Printf.sprintf "exit %d" n

@@ -20,8 +20,8 @@ val run :
     stderr). *)
 
 val check_status : string -> int -> int * string * string -> unit
-(** [check_status msg expected r]: the exit status of [r] (from {!run}) is [expected];
-    the failure shows its stderr. *)
+(** [check_status msg expected r]: the exit status of [r] (from {!run}) is [expected]; the
+    failure shows its stderr. *)
 
 val says : string -> int * string * string -> string -> unit
 (** [says msg r sub]: [r]'s stdout or stderr contains [sub]. *)
