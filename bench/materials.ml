@@ -26,7 +26,9 @@ let run ~grid ~colour ~json =
          ^ String.concat "" (List.map Diagnostic.to_string es)))
   in
   let p =
-    match Program.load_string ~filename:"bench.rts" (program ~colour grid) with
+    match
+      Program.load_string ~single:true ~filename:"bench.rts" (program ~colour grid)
+    with
     | Ok p -> p
     | Error es -> fail es
   in
@@ -36,9 +38,8 @@ let run ~grid ~colour ~json =
     | Ok d -> words d.objects /. n
     | Error es -> fail es
   in
-  Program.single_scene p;
   let sc =
-    match Program.scene_at p ~time:0. ~frame:0 with Ok s -> s | Error es -> fail es
+    match Program.scene p ~time:0. ~frame:0 with Ok s -> s | Error es -> fail es
   in
   let objects = words sc.objects /. n in
   let materials =
