@@ -21,7 +21,7 @@ val finalize : unit -> unit
     every rank must call it. *)
 
 val rank : unit -> int
-(** This process's rank in [0, size). *)
+(** This process's rank, from 0 to [size () - 1]. *)
 
 val size : unit -> int
 (** The number of ranks in the job. *)
