@@ -547,18 +547,15 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
           one st.objs.(k)
         done
   in
-  (try
-     match parts with
-     | None -> List.iter one objects
-     | Some ps ->
-         List.iter
-           (function D.Static i -> static_piece i | D.Built objs -> List.iter one objs)
-           ps
-   with e ->
-     let bt = Printexc.get_raw_backtrace () in
-     pace overhead;
-     Printexc.raise_with_backtrace e bt);
-  pace overhead;
+  Fun.protect
+    ~finally:(fun () -> pace overhead)
+    (fun () ->
+      match parts with
+      | None -> List.iter one objects
+      | Some ps ->
+          List.iter
+            (function D.Static i -> static_piece i | D.Built objs -> List.iter one objs)
+            ps);
   end_run ();
   if !problems <> [] then
     Error
