@@ -272,9 +272,10 @@ let all =
       "fog of that colour, 37 % thick at that distance (settings)" fog;
   ]
 
-let table = Hashtbl.create 64
-let () = List.iter (fun b -> Hashtbl.replace table b.name b) all
-let find name = Hashtbl.find_opt table name
+module By_name = Map.Make (String)
+
+let table = List.fold_left (fun m b -> By_name.add b.name b m) By_name.empty all
+let find name = By_name.find_opt name table
 let names = List.map (fun b -> b.name) all
 
 (* ---- Checking a call ---- *)

@@ -160,7 +160,8 @@ let group s fr sc =
   if not b.failed then sc.sink := Build.group_members t tj mat !members !(sc.sink)
 
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
-let no_objects = { sink = ref []; in_group = false; in_csg = false }
+(* A material's block builds no object: its scope's sink stays empty. *)
+let no_objects () = { sink = ref []; in_group = false; in_csg = false }
 
 (* What reading a block of constants when it is compiled may not do: find a mistake, or
    name a file (the run reports it, and the file is read as it runs). *)
@@ -334,7 +335,7 @@ and material cs blk : Cexpr.code =
   | Some v -> fun _ -> v
   | None ->
       fun fr ->
-        let b = evaluate s fr no_objects in
+        let b = evaluate s fr (no_objects ()) in
         let m = mat b in
         if Fields.finish b then m else raise Poisoned
 

@@ -45,6 +45,7 @@ and hooks = {
   on_objects : (int -> unit) option;
   on_file : D.file_use -> unit;
   cancel : Cancel.t option;
+  address_limit : int option;
   sources : (string, string) Hashtbl.t;
 }
 

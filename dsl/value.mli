@@ -74,6 +74,8 @@ and hooks = {
   on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
   on_file : Description.file_use -> unit;  (** told each use of a file, as it is met *)
   cancel : Cancel.t option;  (** polled every 4096 steps *)
+  address_limit : int option;
+      (** the process's limit on its address space (ulimit -v), read as the run starts *)
   sources : (string, string) Hashtbl.t;  (** each file's text, for error display *)
 }
 
