@@ -65,7 +65,7 @@ val write_frame : plan -> int -> Scene.t -> Image.t -> unit
     domains at once. *)
 
 val render :
-  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Stats.t -> unit) -> plan -> unit
+  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Counters.t -> unit) -> plan -> unit
 (** Render and write every frame of [todo] over a pool of [domains] domains, scheduled as
     above; [on_frame k stats] once frame k is written, from whichever domain wrote it.
     Raises [Sys.Break] once [cancel] is cancelled; the frames written by then are kept. *)

@@ -88,7 +88,7 @@ val todo : t -> int array
 val finished : t -> int
 (** How many tiles are done. *)
 
-val tiles_done : t -> int array -> Stats.t -> unit
+val tiles_done : t -> int array -> Counters.t -> unit
 (** [tiles_done t tiles stats]: those tiles' pixels are in the framebuffer, with their
     counters summed in [stats]; rewrites the checkpoint when due. Safe from several
     domains at once. Raises {!Job_error.User} if the checkpoint cannot be written. *)
@@ -96,7 +96,7 @@ val tiles_done : t -> int array -> Stats.t -> unit
 val save : t -> unit
 (** Write the checkpoint now (on an interrupt). *)
 
-val stats : t -> Stats.t
+val stats : t -> Counters.t
 (** The counters of every finished tile, loaded ones included, summed in tile order. *)
 
 val remove : t -> unit

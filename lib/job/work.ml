@@ -46,7 +46,7 @@ type frame = {
   todo : int array;
   fb : Image.t;
   mutable left : int;
-  st : Stats.t;
+  mutable st : Counters.t;
 }
 
 (* Units are cut from [pending] in order. With [whole] a unit is a frame; otherwise
@@ -74,7 +74,7 @@ let open_next c =
             ( Image.create sc.settings.width sc.settings.height,
               Array.init (Array.length all) Fun.id )
       in
-      let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in
+      let f = { sc; all; todo; fb; left = Array.length todo; st = Counters.zero } in
       Hashtbl.replace c.opened key f;
       Some (key, f)
 
@@ -124,7 +124,7 @@ let frame c key = Hashtbl.find c.opened key
 let deposit c key tiles st =
   let f = Hashtbl.find c.opened key in
   f.left <- f.left - Array.length tiles;
-  Stats.add_into f.st st;
+  f.st <- Counters.add f.st st;
   if f.left = 0 then (
     Hashtbl.remove c.opened key;
     Some f)

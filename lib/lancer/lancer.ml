@@ -31,7 +31,8 @@ module Scene = Lancer_render.Scene
 
 module Render = Lancer_render.Render
 module Pool = Lancer_render.Pool
-module Stats = Lancer_render.Stats
+module Counters = Lancer_render.Counters
+module Task = Lancer_render.Task
 module Cancel = Lancer_diag.Cancel
 module Quality = Lancer_job.Quality
 

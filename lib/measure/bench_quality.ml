@@ -138,7 +138,7 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
           knob;
           value;
           seconds = t;
-          rays = Stats.total_rays st;
+          rays = Counters.total_rays st;
           rmse = cmp.rmse;
           psnr = cmp.psnr;
           over_share = cmp.over_share;

@@ -17,7 +17,7 @@ open Work
 
 type request =
   | Ready of int
-  | Done of work_unit * Stats.t * float * (string * string) list
+  | Done of work_unit * Counters.t * float * (string * string) list
   | Failed of string
 
 type reply = Work of work_unit | Stop
@@ -119,7 +119,7 @@ type local = {
   given : Condition.t;
   mutable task : (work_unit * frame) option;
   mutable quit : bool;
-  result : (work_unit * (Stats.t, exn) result * float) option Atomic.t;
+  result : (work_unit * (Counters.t, exn) result * float) option Atomic.t;
   crashed : exn option Atomic.t;
 }
 
@@ -142,7 +142,7 @@ let local_worker ~render l () =
   (* An interrupt raised on this domain outside a unit is handed on like one inside. *)
   try loop () with e -> Atomic.set l.crashed (Some e)
 
-type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Counters.t
 
 (* The first file whose digest differs between a worker's scene and rank 0's, or that
    one of them read and the other did not. *)

@@ -260,7 +260,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                   [
                     ("name", `String pname);
                     ("seconds", `Float secs);
-                    ("rays", `Int (Stats.total_rays st));
+                    ("rays", `Int (Counters.total_rays st));
                   ]
                 :: !done_passes;
               publish sh "image"
@@ -280,7 +280,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                      ("name", `String name);
                    ]);
               if last then (
-                let rays = Stats.total_rays st in
+                let rays = Counters.total_rays st in
                 publish sh "stats"
                   (`Assoc
                      [

@@ -1,5 +1,5 @@
-let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
-  let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Counters.t) =
+  let rays = Float.of_int (Counters.total_rays st) /. 1e6 in
   let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf
     "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M \
@@ -18,10 +18,10 @@ let peak_memory_kib () =
           | _ -> None)
         (String.split_on_char '\n' text)
 
-let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t)
-    =
+let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks
+    (st : Counters.t) =
   let s = sc.settings in
-  let rays = Stats.total_rays st in
+  let rays = Counters.total_rays st in
   let opt_int = function Some n -> `Int n | None -> `Null in
   `Assoc
     [
@@ -69,7 +69,7 @@ let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks (st :
           ] );
     ]
 
-let warn_bad_samples (st : Stats.t) =
+let warn_bad_samples (st : Counters.t) =
   if st.bad_samples > 0 then
     match st.first_bad with
     | Some (i, j) ->

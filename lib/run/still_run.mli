@@ -43,7 +43,7 @@ val finish :
   workers:string ->
   Scene.t ->
   Image.t ->
-  Stats.t ->
+  Counters.t ->
   unit
 (** What follows a still's last tile: the image written ({!Output.write_image}, under a
     progress note), the checkpoint removed, a warning for bad samples, the [--stats] JSON

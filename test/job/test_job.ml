@@ -550,8 +550,8 @@ let checkpoint_roundtrip () =
     "the resumed image is the uninterrupted one, bit for bit" true
     (floats_equal fb.data (Checkpoint.framebuffer back).data);
   Alcotest.(check int)
-    "and its counters" (Stats.total_rays st)
-    (Stats.total_rays (Checkpoint.stats back));
+    "and its counters" (Counters.total_rays st)
+    (Counters.total_rays (Checkpoint.stats back));
   Alcotest.(check int)
     "another key starts afresh" 0
     (Checkpoint.resumed (Checkpoint.start ~out ~key:"k2" sc));

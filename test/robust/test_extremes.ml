@@ -69,7 +69,7 @@ let grazing_tests =
               ~lights:[ Light.directional (v 0. 0. (-1.)) ]
               [ prim (mat ()) (Shape.plane ~normal:Vec3.z_axis ~offset:0.) ]
           in
-          let st = Stats.create () in
+          let st = Task.create () in
           check_color ~eps:1e-9 "lit floor" Color.white (Shade.trace sc st r 1);
           Alcotest.(check int) "one shadow ray" 1 st.shadow);
       case "a camera lying in a floor plane sees no NaN along the horizon row" (fun () ->
@@ -183,7 +183,7 @@ let mirrors_tests =
               prim m (Shape.plane ~normal:Vec3.z_axis ~offset:(-1.));
             ]
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         let got = Shade.trace sc st (Ray.make Vec3.zero Vec3.z_axis) 1 in
         let expected = a *. (1. -. Float.pow rho (Float.of_int depth)) in
         check_color ~eps:1e-12 "colour" (Color.v expected expected expected) got;
