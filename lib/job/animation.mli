@@ -60,7 +60,7 @@ val frame_inputs : plan -> int -> (string * string) list option
 (** The files (with their digests) frame k was made of, from {!frame_scene} until the
     frame is written. *)
 
-val write_frame : plan -> int -> Scene.t -> Image.t -> unit
+val write_frame : plan -> int -> Scene.t -> Framebuffer.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)
 

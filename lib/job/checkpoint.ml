@@ -22,7 +22,7 @@ type t = {
   height : int;
   finished : bool array; (* by tile *)
   counters : Counters.t option array; (* by tile; a unit's counters on its first tile *)
-  fb : Image.t; (* only finished tiles' pixels count *)
+  fb : Framebuffer.t; (* only finished tiles' pixels count *)
   todo : int array;
   lock : Mutex.t;
   writing : bool Atomic.t;
@@ -243,7 +243,9 @@ let start ~out ~key (sc : Scene.t) =
     match load path ~key ~width ~height ~rects with
     | Some state -> state
     | None ->
-        (Array.make tiles false, Array.make tiles None, (Image.create width height).data)
+        ( Array.make tiles false,
+          Array.make tiles None,
+          (Framebuffer.create width height).data )
   in
   let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 finished in
   let todo =

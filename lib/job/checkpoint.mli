@@ -79,7 +79,7 @@ val resumed : t -> int
 val tiles : t -> int
 (** How many tiles the image has. *)
 
-val framebuffer : t -> Image.t
+val framebuffer : t -> Framebuffer.t
 (** The image being rendered, with the finished tiles' pixels already in. *)
 
 val todo : t -> int array

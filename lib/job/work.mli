@@ -14,7 +14,7 @@ val render_unit :
   ?on_tile:(unit -> unit) ->
   pool:Pool.t option ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   int array ->
   Counters.t
 (** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles] into
@@ -34,7 +34,7 @@ type frame = {
   sc : Scene.t;
   all : (int * int * int * int) array;  (** its tiles *)
   todo : int array;  (** the tiles to render: all of them, or those a checkpoint lacks *)
-  fb : Image.t;
+  fb : Framebuffer.t;
   mutable left : int;  (** tiles still to come back *)
   mutable st : Counters.t;  (** the counters of the tiles back so far *)
 }
@@ -43,7 +43,7 @@ type frame = {
 type cutter
 
 val cutter :
-  ?start:(int -> (Image.t * int array) option) ->
+  ?start:(int -> (Framebuffer.t * int array) option) ->
   ranks:int ->
   (int * (unit -> Scene.t)) list ->
   cutter

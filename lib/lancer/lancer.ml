@@ -38,6 +38,7 @@ module Quality = Lancer_job.Quality
 
 (** {2 Images} *)
 
+module Framebuffer = Lancer_image.Framebuffer
 module Image = Lancer_image.Image
 module Png = Lancer_image.Png
 module Compare = Lancer_image.Compare

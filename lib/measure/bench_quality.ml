@@ -131,7 +131,9 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
   let ok = function Ok sc -> sc | Error m -> raise (Job_error.User m) in
   let run knob value sc =
     let t, fb, st = Timing.render ?pool sc in
-    let img = (fb.Image.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
+    let img =
+      (fb.Framebuffer.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb)
+    in
     match Compare.compare ~threshold:1 ref_img img with
     | Ok cmp ->
         {

@@ -4,7 +4,9 @@ val median : float list -> float
 (** The median (the mean of the two middle values of an even count); NaN for none. *)
 
 val render :
-  ?pool:Lancer.Pool.t -> Lancer.Scene.t -> float * Lancer.Image.t * Lancer.Counters.t
+  ?pool:Lancer.Pool.t ->
+  Lancer.Scene.t ->
+  float * Lancer.Framebuffer.t * Lancer.Counters.t
 (** The wall time of {!Lancer.Render.render}, and its image and counters. *)
 
 val child : string -> string list -> (float, int) result

@@ -52,7 +52,7 @@ let publish sh ev data =
 (* The renderer *)
 
 (* The PNG bytes of an image, through camlimages and a file in a private directory. *)
-let png_bytes tmp (sc : Scene.t) (fb : Image.t) =
+let png_bytes tmp (sc : Scene.t) (fb : Framebuffer.t) =
   let path = Filename.concat tmp "view.png" in
   match
     Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb)

@@ -23,7 +23,7 @@ val plan :
     {!Scene_file.read} says, saying how many frames a resumed run skips; with the program
     it loaded. Raises {!Lancer_job.Job_error.User}. *)
 
-val write_frame : Animation.plan -> int -> Scene.t -> Image.t -> Counters.t -> unit
+val write_frame : Animation.plan -> int -> Scene.t -> Framebuffer.t -> Counters.t -> unit
 (** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)
 
 val check_video : options -> unit

@@ -44,7 +44,7 @@ val write_image :
   ?alpha:Float.Array.t ->
   string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for

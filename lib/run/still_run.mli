@@ -42,7 +42,7 @@ val finish :
   ranks:int ->
   workers:string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   Counters.t ->
   unit
 (** What follows a still's last tile: the image written ({!Output.write_image}, under a

@@ -477,10 +477,10 @@ let tmpdir () =
   d
 
 let gradient () =
-  let fb = Image.create 7 5 in
+  let fb = Framebuffer.create 7 5 in
   for j = 0 to 4 do
     for i = 0 to 6 do
-      Image.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
+      Framebuffer.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
     done
   done;
   fb
@@ -713,7 +713,7 @@ let render_tests =
                   for i = 0 to cw - 1 do
                     let x = min 69 ((i * k) + (k / 2))
                     and y = min 44 ((j * k) + (k / 2)) in
-                    let a = Image.get fb i j and b = Image.get full x y in
+                    let a = Framebuffer.get fb i j and b = Framebuffer.get full x y in
                     if not (a.r = b.r && a.g = b.g && a.b = b.b) then
                       Alcotest.failf "%s: pixel %d,%d is not the image's %d,%d" name i j x
                         y
@@ -1047,7 +1047,7 @@ let unit_tests =
             ~settings:{ Settings.default with width = 4096; height = 4096 }
             ~lights:[] []
         in
-        let fb = Image.create 64 64 in
+        let fb = Framebuffer.create 64 64 in
         (* Tiles 0 and 1 lie inside a 64×64 framebuffer's first rows. *)
         ignore (Render.render_tiles sc fb [| 0; 1 |]);
         let before = (Gc.quick_stat ()).major_words in
