@@ -13,7 +13,7 @@
     plan, names and records, so either command resumes the other's frames. *)
 
 type plan = private {
-  source : Source.t;
+  source : Scenes.t;
   overrides : Overrides.t;
   dir : string;
   format : Image.format;  (** the frames' format *)
@@ -40,7 +40,7 @@ val plan :
   shard:Plan.shard option ->
   resume:bool ->
   overrides:Overrides.t ->
-  (unit -> Source.t) ->
+  (unit -> Scenes.t) ->
   plan
 (** [plan ~dir ~frames ~shard ~resume ~overrides load]: check the output directory (made
     if missing), the shard (a Slurm one read through [getenv]), load the scene with

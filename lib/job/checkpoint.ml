@@ -34,7 +34,7 @@ type t = {
 
 let path_for out = out ^ ".checkpoint"
 
-let key (src : Source.t) overrides ~time ~frame ~files =
+let key (src : Scenes.t) overrides ~time ~frame ~files =
   Digest.to_hex
     (Digest.string
        (String.concat "|"

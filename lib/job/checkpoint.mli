@@ -58,7 +58,7 @@ val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
 val key :
-  Source.t -> Overrides.t -> time:float -> frame:int -> files:string list -> string
+  Scenes.t -> Overrides.t -> time:float -> frame:int -> files:string list -> string
 (** The key of a still: what its pixels depend on (the scene's text digest, the files it
     read, the time and frame, the overrides). *)
 

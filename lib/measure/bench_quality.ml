@@ -188,7 +188,7 @@ let measure_rows (o : Options.t) prog ~pool ~ref_img:((w, h, _) as ref_img) =
              ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n))
            in
            let sc, _ =
-             Source.with_instants prog (Options.overrides o) sc ~time:0. ~frame:0
+             Scenes.with_instants prog (Options.overrides o) sc ~time:0. ~frame:0
            in
            run "shutter samples" (string_of_int n)
              (ok (Scene.map_settings sc (fun s -> { s with samples = 4; adaptive = 0. }))))

@@ -177,7 +177,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
           let coarse = { o with quality = Some coarse_q; samples = None } in
           let pass o =
             let ov = Options.overrides o in
-            fst (Source.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
+            fst (Scenes.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
           in
           Ok (pass o, pass coarse)
         with (Job_error.User _ | Job_error.Scene _) as e ->

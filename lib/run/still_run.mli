@@ -4,7 +4,7 @@
 
 type built = {
   program : Program.t;
-  source : Source.t;  (** the program as the job layer sees it *)
+  source : Scenes.t;  (** the program as the job layer sees it *)
   scene : Scene.t;  (** at the chosen time, with the options' overrides *)
   files : string list;  (** the images and meshes that scene read *)
   time : float;

@@ -13,7 +13,7 @@ let load text =
 let frame_scene ?(overrides = Overrides.none) p ~frame =
   let fps = match Program.animation p with Some (fps, _) -> fps | None -> 24. in
   let time = Float.of_int frame /. fps in
-  fst (Source.scene (Program.source ~builtin:false p) overrides ~time ~frame)
+  fst (Scenes.scene (Program.as_scenes ~builtin:false p) overrides ~time ~frame)
 
 let render ?(domains = 1) sc =
   fst (Render.with_pool domains (fun pool -> Render.render ?pool sc))
