@@ -141,9 +141,9 @@ let write_ppm oc w h bytes =
 
 let write_png oc raster = Png.encode raster (output_string oc)
 
-let png_bytes raster =
+let png_bytes ?text raster =
   let b = Buffer.create (max 4096 (Bytes.length raster.Raster.samples / 4)) in
-  Png.encode raster (Buffer.add_string b);
+  Png.encode ?text raster (Buffer.add_string b);
   Buffer.contents b
 
 let write_rgb8 path w h bytes =
@@ -346,7 +346,7 @@ let bits_problem fmt bits =
         (Printf.sprintf "%d bits: a %s image has one depth of its own" b
            (if fmt = Hdr then "Radiance .hdr" else "PFM"))
 
-let file_of fmt ?gamma ?bits ?alpha ?crop fb =
+let file_of fmt ?gamma ?bits ?alpha ?crop ?text fb =
   match bits_problem fmt bits with
   | Some m -> Error m
   | None when linear fmt -> linear_bytes fmt ?bits ?alpha ?crop fb
@@ -358,14 +358,14 @@ let file_of fmt ?gamma ?bits ?alpha ?crop fb =
           Ok
             (Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
             ^ Bytes.unsafe_to_string r.samples)
-      | _ -> Ok (png_bytes r))
+      | _ -> Ok (png_bytes ?text:(Option.map (fun f -> f r) text) r))
 
-let save_written ?gamma ?bits ?alpha ?crop path fb =
+let save_written ?gamma ?bits ?alpha ?crop ?text path fb =
   Result.bind (format_of_path path) (fun fmt ->
       Result.bind
         (Result.map_error
            (fun m -> Printf.sprintf "cannot write %s: %s" path m)
-           (file_of fmt ?gamma ?bits ?alpha ?crop fb))
+           (file_of fmt ?gamma ?bits ?alpha ?crop ?text fb))
         (write_file path))
 
 let save ?gamma ?bits ?alpha ?crop path fb =
