@@ -160,6 +160,7 @@ let render_cmd (o : Options.t) ~resume =
     let ranks = Mpi.size () and workers = ranks_text domains in
     Mpi.finalize ();
     Still_run.finish ~cancel
+      ~record:(Still_run.record o b Output.default_encoding ~out)
       ~extra:[ ("mpi", Farm.report_json report) ]
       o ~out ~checkpoint:ck ~build:b.seconds ~wall ~domains ~ranks ~workers b.scene fb st
   in

@@ -135,7 +135,13 @@ let write_frame p k sc fb =
   (* The plan refused every file the scene names; this is checked again against what the
      frames evaluated so far have read, by any name, before each frame is written. *)
   Files.refuse_overwrite ~reads:(Scenes.reads p.source) path "a frame";
-  let written = Files.write_image ?bits:p.bits path sc fb in
+  let record =
+    Provenance.make ~image:path p.source p.overrides ~files:inputs
+      ~time:(Float.of_int k /. p.fps)
+      ~frame:k ~region:None ~crop:false ~alpha:false
+      ~bits:(Option.value p.bits ~default:8)
+  in
+  let written = Files.write_image ?bits:p.bits ~record path sc fb in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~written ~inputs
 

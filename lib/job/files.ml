@@ -146,9 +146,12 @@ let uninterrupted ?cancel what write =
         raise (Job_error.Interrupted (what ^ " was written in full first"));
       r
 
-let write_image ?cancel ?bits ?alpha ?crop path (sc : Scene.t) fb =
+let write_image ?cancel ?bits ?alpha ?crop ?record path (sc : Scene.t) fb =
+  let text = Option.map Provenance.text record in
   uninterrupted ?cancel path (fun () ->
-      match Image.save_written ~gamma:sc.settings.gamma ?bits ?alpha ?crop path fb with
+      match
+        Image.save_written ~gamma:sc.settings.gamma ?bits ?alpha ?crop ?text path fb
+      with
       | Ok w -> w
       | Error m -> raise (Job_error.User m))
 

@@ -38,14 +38,15 @@ val write_image :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:Image.region ->
+  ?record:Provenance.t ->
   string ->
   Scene.t ->
   Framebuffer.t ->
   Image.written
 (** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the
     coverage [alpha] as a fourth channel; only [crop] when given) and write the file
-    atomically, {!uninterrupted}; the size and MD5 of the bytes written. Raises
-    {!Job_error.User}. *)
+    atomically, {!uninterrupted}, with [record] in it (a PNG's text; {!Provenance}); the
+    size and MD5 of the bytes written. Raises {!Job_error.User}. *)
 
 val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

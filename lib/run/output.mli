@@ -42,12 +42,13 @@ val write_image :
   ?cancel:Cancel.t ->
   ?encoding:encoding ->
   ?alpha:Float.Array.t ->
+  ?record:Provenance.t ->
   string ->
   Scene.t ->
   Framebuffer.t ->
   unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
-    coverage [alpha] as a fourth channel) and write atomically, or to standard output for
-    [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    {!Lancer_job.Job_error.User}. With [cancel] an interrupt during the write does not cut
-    it short ({!Lancer_job.Files.uninterrupted}). *)
+    coverage [alpha] as a fourth channel; [record] in a PNG's text) and write atomically,
+    or to standard output for [-] (PNG unless [--format ppm]; a closed pipe is an error,
+    not a signal); raises {!Lancer_job.Job_error.User}. With [cancel] an interrupt during
+    the write does not cut it short ({!Lancer_job.Files.uninterrupted}). *)

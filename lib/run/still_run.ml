@@ -57,9 +57,16 @@ let checkpoint (o : Options.t) (b : built) ~out =
       (Checkpoint.tiles ck);
   ck
 
-let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
+let record (o : Options.t) (b : built) (enc : Output.encoding) ~out =
+  Provenance.make ~image:out b.source (Options.overrides o)
+    ~files:(List.map (fun f -> (f, b.source.input_digest f)) b.files)
+    ~time:b.time ~frame:b.frame ~region:enc.region ~crop:enc.crop ~alpha:enc.alpha
+    ~bits:(Option.value enc.bits ~default:8)
+
+let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra = [])
     (o : Options.t) ~out ~checkpoint ~build ~wall ~domains ~ranks ~workers sc fb st =
-  Progress.writing o out (fun () -> Output.write_image ?cancel ~encoding ?alpha out sc fb);
+  Progress.writing o out (fun () ->
+      Output.write_image ?cancel ~encoding ?alpha ?record out sc fb);
   Option.iter Checkpoint.remove checkpoint;
   Render_report.warn_bad_samples st;
   Option.iter
@@ -91,7 +98,9 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   check_outputs ?format:enc.format o ~out;
   let domains = Options.domains o in
   (* Only a checkpoint's key needs the digests of the files the scene reads. *)
-  let b = build ~digests:resume o in
+  (* The image's record and a checkpoint's key hold the digests of the files the scene
+     read: of the bytes it read. *)
+  let b = build ~digests:true o in
   let sc = b.scene in
   Output.guard_render o b.source ~out;
   Render_report.warn_long_render o sc;
@@ -122,7 +131,7 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  finish ?cancel ~encoding:enc ?alpha o ~out ~checkpoint ~build:b.seconds ~wall ~domains
-    ~ranks:1
+  finish ?cancel ~encoding:enc ?alpha ~record:(record o b enc ~out) o ~out ~checkpoint
+    ~build:b.seconds ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
     sc fb st

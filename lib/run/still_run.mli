@@ -28,10 +28,14 @@ val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
 (** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
     saying how many tiles it brings back (unless [--quiet]). *)
 
+val record : Options.t -> built -> Output.encoding -> out:string -> Provenance.t
+(** The record of the image [out] of this still ({!Lancer_job.Provenance.make}). *)
+
 val finish :
   ?cancel:Cancel.t ->
   ?encoding:Output.encoding ->
   ?alpha:Float.Array.t ->
+  ?record:Provenance.t ->
   ?extra:(string * Yojson.Safe.t) list ->
   Options.t ->
   out:string ->
@@ -45,10 +49,11 @@ val finish :
   Framebuffer.t ->
   Counters.t ->
   unit
-(** What follows a still's last tile: the image written ({!Output.write_image}, under a
-    progress note), the checkpoint removed, a warning for bad samples, the [--stats] JSON
-    ({!Render_report.stats_json} and [extra] fields) and, unless [--quiet], the summary
-    line ({!Render_report.summary}; on stderr when the image goes to standard output). *)
+(** What follows a still's last tile: the image written with [record]
+    ({!Output.write_image}, under a progress note), the checkpoint removed, a warning for
+    bad samples, the [--stats] JSON ({!Render_report.stats_json} and [extra] fields) and,
+    unless [--quiet], the summary line ({!Render_report.summary}; on stderr when the image
+    goes to standard output). *)
 
 val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image
