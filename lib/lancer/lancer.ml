@@ -62,11 +62,12 @@ module Still_run = Lancer_run.Still_run
 module Frames_run = Lancer_run.Frames_run
 module Check_run = Lancer_run.Check_run
 module Compare_run = Lancer_run.Compare_run
+module Verify_run = Lancer_run.Verify_run
 module Render_report = Lancer_run.Render_report
 
 (** {2 The version} *)
 
-module Version = Version
+module Version = Lancer_diag.Version
 
 (** {1:internals Internals}
 
@@ -125,6 +126,7 @@ module Walk = Lancer_render.Walk
 module Animation = Lancer_job.Animation
 module Checkpoint = Lancer_job.Checkpoint
 module Files = Lancer_job.Files
+module Provenance = Lancer_job.Provenance
 module Frameset = Lancer_job.Frameset
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
