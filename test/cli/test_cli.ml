@@ -83,14 +83,14 @@ let animate_tests =
               Alcotest.(check bool)
                 (Printf.sprintf "frame %d (glass: %b)" k glass)
                 true
-                (read_file (Filename.concat d (Printf.sprintf "out/frame_%04d.png" k))
-                = read_file (Filename.concat d still))
+                (pixels (Filename.concat d (Printf.sprintf "out/frame_%04d.png" k))
+                = pixels (Filename.concat d still))
             done;
             (* The frames differ: something moves. *)
             Alcotest.(check bool)
               "frames 1 and 4 differ" false
-              (read_file (Filename.concat d "out/frame_0001.png")
-              = read_file (Filename.concat d "out/frame_0004.png")))
+              (pixels (Filename.concat d "out/frame_0001.png")
+              = pixels (Filename.concat d "out/frame_0004.png")))
           [ false; true ]);
     Alcotest.test_case
       "animate writes every frame and a manifest; --resume renders only what is missing \
@@ -107,7 +107,7 @@ let animate_tests =
         (* The ball falls: frames differ. *)
         Alcotest.(check bool)
           "the ball moves" false
-          (read_file (path "frame_0000.png") = read_file (path "frame_0003.png"));
+          (pixels (path "frame_0000.png") = pixels (path "frame_0003.png"));
         let before = read_file (path "frame_0001.png") in
         Sys.remove (path "frame_0002.png");
         Unix.sleepf 0.05;

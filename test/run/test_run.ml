@@ -1,6 +1,6 @@
-(* The commands' pipelines called as library functions: the bytes they write are those
-   of the library's own steps (load, evaluate, compile, render, encode), and what they
-   refuse they refuse before any work. *)
+(* The commands' pipelines called as library functions: the pixels they write are those
+   of the library's own steps (load, evaluate, compile, render, encode; their files add
+   the image's record), and what they refuse they refuse before any work. *)
 open Lancer
 
 let tmpdir () =
@@ -10,6 +10,9 @@ let tmpdir () =
 
 let write path text = Out_channel.with_open_bin path (fun oc -> output_string oc text)
 let read path = In_channel.with_open_bin path In_channel.input_all
+
+(* The samples of a PNG file's contents. *)
+let pixels png = Bytes.to_string (Result.get_ok (Png.decode png)).samples
 
 let user_error name f =
   match f () with
@@ -72,7 +75,8 @@ let still () =
   Still_run.run o ~resume:false Output.default_encoding;
   Alcotest.(check bool)
     "the bytes of load, evaluate, render, encode" true
-    (read out = by_steps ~width:30 scene ~time:0. ~frame:0 (Filename.concat d "ref.png"));
+    (pixels (read out)
+    = pixels (by_steps ~width:30 scene ~time:0. ~frame:0 (Filename.concat d "ref.png")));
   let j = Yojson.Safe.from_file stats in
   let open Yojson.Safe.Util in
   Alcotest.(check int) "statistics: the width" 30 (j |> member "width" |> to_int);
@@ -117,11 +121,12 @@ let frames () =
     Alcotest.(check bool)
       (Printf.sprintf "frame %d is that frame's still" k)
       true
-      (read f
-      = by_steps scene
-          ~time:(Float.of_int k /. 10.)
-          ~frame:k
-          (Filename.concat d (Printf.sprintf "ref%d.png" k)))
+      (pixels (read f)
+      = pixels
+          (by_steps scene
+             ~time:(Float.of_int k /. 10.)
+             ~frame:k
+             (Filename.concat d (Printf.sprintf "ref%d.png" k))))
   done;
   let _, p =
     Frames_run.plan o { Frames_run.default_options with resume = true; frames = None }

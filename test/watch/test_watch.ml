@@ -76,10 +76,12 @@ let basic () =
       let _, _, err =
         Run_lancer.run ~exe ~dir:d [ "render"; "s.rts"; "-o"; "r.png"; "-q" ]
       in
+      Run_lancer.write_file (Filename.concat d "served.png") red_png;
       Alcotest.(check bool)
-        ("the same bytes as lancer render\n" ^ err)
+        ("the same pixels as lancer render\n" ^ err)
         true
-        (red_png = Run_lancer.read_file (Filename.concat d "r.png"));
+        (Run_lancer.pixels (Filename.concat d "served.png")
+        = Run_lancer.pixels (Filename.concat d "r.png"));
       (* An edit: a coarse image first, then a full one with other pixels. *)
       atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)");
       let _, j = wait_for e "a coarse image after the edit" is_image in
