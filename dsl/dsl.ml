@@ -251,6 +251,7 @@ let resolver ~read sources resolved includes errors main =
                   err s.sloc msg;
                   Ast.Included (path, [])
               | Ok text -> (
+                  let text = Syntax.without_bom text in
                   Hashtbl.replace resolved (file, p) path;
                   Hashtbl.replace sources path text;
                   (* The first include of a file gives the chain its errors show. *)
@@ -410,6 +411,7 @@ let read_program ~read file text =
           Ok l)
 
 let load_text ?progress ?files ?(read = from_disk) file text =
+  let text = Syntax.without_bom text in
   match read_program ~read file text with
   | Error es -> Error es
   | Ok l when !(l.errors) <> [] -> chained l.includes (Error (List.rev !(l.errors)))

@@ -1,19 +1,36 @@
 let angle_vector = "Vectors are written (x, y, z), not <x, y, z>."
 
-let directive = function
-  | "declare" | "local" ->
-      "`#declare` is not used in .rts scripts: write `let NAME = value`"
-  | "include" -> "`#include` is not used in .rts scripts: write `include \"file.rts\"`"
-  | "if" | "ifdef" | "else" | "end" ->
-      "`#if` is not used in .rts scripts: write `if CONDITION { … } else { … }`"
-  | "while" | "for" ->
-      "`#while` is not used in .rts scripts: write `for i in A to B { … }`"
-  | "macro" -> "`#macro` is not used in .rts scripts: write `fn NAME(a, b) { … }`"
-  | d ->
-      Printf.sprintf
-        "`#%s` is not used in .rts scripts: there are no `#` directives (comments are \
-         `//` or `/* */`)"
-        d
+(* Each POV-Ray directive named as written, with what a .rts script writes instead. *)
+let directive d =
+  let instead =
+    match d with
+    | "declare" -> "write `let NAME = value`"
+    | "local" ->
+        "write `let NAME = value` (a `let` inside a block, a loop or a `fn` is seen only \
+         there)"
+    | "undef" -> "a name cannot be undefined; a later `let NAME = …` hides the earlier one"
+    | "include" -> "write `include \"file.rts\"`"
+    | "if" -> "write `if CONDITION { … } else { … }`"
+    | "ifdef" | "ifndef" ->
+        "a name is always defined before it is used; give it a value with `let` and test \
+         it with `if CONDITION { … }`"
+    | "else" -> "write `} else {` after `if CONDITION { …`"
+    | "elseif" -> "write `} else if CONDITION {`"
+    | "switch" | "case" | "range" | "break" ->
+        "write `if A { … } else if B { … } else { … }`"
+    | "end" -> "`if`, `for` and `fn` bodies are closed by `}`"
+    | "for" -> "write `for i in A to B step S { … }` (`step` is optional, 1 by default)"
+    | "while" ->
+        "write `for i in A to B { … }`: a loop runs over a range known when it starts"
+    | "macro" -> "write `fn NAME(a, b) { … }` (a scene macro) or `fn NAME(a, b) = EXPR`"
+    | "version" -> "a scene needs no version line: delete it"
+    | "default" ->
+        "give each object its `material`, or a `group { material: …, … }` its objects"
+    | "debug" | "warning" | "error" ->
+        "a scene cannot print; `lancer check` lists what it makes"
+    | _ -> "there are no `#` directives (comments are `//` or `/* */`)"
+  in
+  Printf.sprintf "`#%s` is not used in .rts scripts: %s" d instead
 
 let keyword_as_name k =
   Printf.sprintf "`%s` is a keyword%s: it cannot be a name; choose another%s." k

@@ -64,6 +64,8 @@ rule token = parse
   | '#' (ident as d) { error lexbuf (Hints.directive d) }
   | ';' { error lexbuf "`;` is not used in .rts scripts: separate fields with commas or new lines" }
   | eof { EOF }
+  | "\xE2\x80\x9C" | "\xE2\x80\x9D" | "\xE2\x80\x98" | "\xE2\x80\x99" as q
+      { error lexbuf (Printf.sprintf "a typographic quote %s; write \" (strings are in straight double quotes: \"like this\")" q) }
   | ['\x80'-'\xff']+ { error lexbuf "non-ASCII characters are allowed only in comments and strings" }
   | _ as c { error lexbuf (Printf.sprintf "unexpected character `%s`" (Char.escaped c)) }
 

@@ -9,6 +9,13 @@ let not_text file text =
     Some (Error.file_error file "this is not UTF-8 text; a scene is UTF-8 text")
   else None
 
+let bom = "\xEF\xBB\xBF"
+
+let without_bom text =
+  if String.starts_with ~prefix:bom text then
+    String.sub text 3 (String.length text - 3)
+  else text
+
 (* The offending token as written (shortened), or "end of file". *)
 let what text tok (s : Lexing.position) (e : Lexing.position) =
   match tok with

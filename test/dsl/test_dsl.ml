@@ -458,6 +458,41 @@ let test_includes () =
         "cycle" true
         (List.exists (fun (e : Error.t) -> contains e.message "include cycle") es)
 
+(* Each POV-Ray directive is named in its own message, with what to write instead. *)
+let test_directives () =
+  List.iter
+    (fun d ->
+      let ms = errs (Printf.sprintf "#%s X\n" d) in
+      if not (List.exists (fun m -> contains m (Printf.sprintf "`#%s` is not used" d)) ms)
+      then Alcotest.failf "#%s: %s" d (String.concat "\n" ms))
+    [ "declare"; "local"; "undef"; "include"; "if"; "ifdef"; "ifndef"; "else"; "elseif";
+      "switch"; "case"; "range"; "break"; "end"; "for"; "while"; "macro"; "version";
+      "default"; "debug"; "warning"; "error"; "fopen" ];
+  check_err "#for (I, 0, 9)" "write `for i in A to B step S { … }`";
+  check_err "#while (I < 9)" "write `for i in A to B { … }`";
+  check_err "#local R = 2" "write `let NAME = value`";
+  check_err "#end" "closed by `}`";
+  check_err "#else" "write `} else {`";
+  check_err "#version 3.7;" "delete it"
+
+(* A byte-order mark is skipped: the scene loads and columns count from what follows it;
+   typographic quotes are named. *)
+let test_bom_and_quotes () =
+  let bom = "\xEF\xBB\xBF" in
+  let s = scene (bom ^ "sphere { center: (0, 0, 0), radius: 2 }") in
+  Alcotest.(check int) "one object" 1 (Array.length s.objects);
+  (match Dsl.load_string ~filename:"test.rts" (bom ^ "let r = raduis") with
+  | Error [ e ] -> Alcotest.(check (pair int int)) "line, column" (1, 9) (e.line, e.col)
+  | _ -> Alcotest.fail "expected one error");
+  List.iter
+    (fun q ->
+      check_err
+        (Printf.sprintf "let t = image(%swood.png%s, 1)" q q)
+        (Printf.sprintf "a typographic quote %s; write \"" q))
+    [ "\xE2\x80\x9C"; "\xE2\x80\x98" ];
+  check_err "let t = x\xE2\x80\x9D" "a typographic quote \xE2\x80\x9D";
+  check_err "let t = x\xE2\x80\x99" "a typographic quote \xE2\x80\x99"
+
 let test_errors () =
   check_err "sphere { center: (0,0,0), radiu: 1 }" "did you mean `radius`?";
   check_err "let radius = 1\nlet x = radis" "did you mean `radius`?";
@@ -1084,6 +1119,10 @@ let () =
             test_errors;
           Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick
             test_error_display;
+          Alcotest.test_case "each POV-Ray directive gets a hint of its own" `Quick
+            test_directives;
+          Alcotest.test_case "a byte-order mark is skipped and typographic quotes named"
+            `Quick test_bom_and_quotes;
           Alcotest.test_case "a very long line is shown as a window around the error"
             `Quick test_long_line;
         ] );
