@@ -79,6 +79,8 @@ let definitions acc stmts =
   List.iter stmt stmts;
   !acc
 
+let colours = "lancer/colors.rts"
+
 (* The message for a name that names nothing where it is used: one defined further down
    the same file was most likely meant; otherwise the closest name in scope. Made when the
    error is met, once the whole program is checked. *)
@@ -88,7 +90,12 @@ let unbound_message cx env x (loc : Loc.t) () =
   in
   match List.find_opt (fun (n, d) -> n = x && later d) (List.rev cx.definitions) with
   | Some (_, d) -> Msg.unknown_name_later x d
-  | None -> Msg.unknown_name x (Msg.hint x (List.map fst (Names.bindings env.names)))
+  | None -> (
+      match Msg.hint x (List.map fst (Names.bindings env.names)) with
+      | "" ->
+          Msg.unknown_name x
+            (Msg.library_hint x ~file:colours (Library.names colours))
+      | hint -> Msg.unknown_name x hint)
 
 let lookup cx env x loc =
   match Names.find_opt x env.names with
@@ -388,7 +395,8 @@ let written cx ~holds kw items =
           | _ when holds -> ()
           | _ ->
               failed := true;
-              report cx s.sloc (Msg.holds_only_fields kw)))
+              let inner = match s.s with Block (k, _) -> Some k.id | _ -> None in
+              report cx s.sloc (Msg.holds_only_fields ?inner kw)))
     items;
   (List.rev !fields, !failed)
 

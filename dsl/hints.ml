@@ -32,6 +32,57 @@ let directive d =
   in
   Printf.sprintf "`#%s` is not used in .rts scripts: %s" d instead
 
+(* POV-Ray's words for what lancer writes otherwise, met as an unknown block or field:
+   in a material, the field of its own to write; elsewhere, the material to write. *)
+let pov_word ?block w =
+  let in_material = block = Some "material" in
+  match w with
+  | "light_source" ->
+      Some
+        "POV-Ray's `light_source` is `light { position: (x, y, z), color: (r, g, b) }` \
+         here"
+  | "angle" ->
+      Some
+        "POV-Ray's `angle` is the horizontal field of view; lancer's camera takes `fov`, \
+         the vertical one, in degrees: fov = 2·atan(tan(angle/2)·height/width) (angle 90 \
+         on a 4:3 image is `fov: 73.74`)"
+  | "pigment" when in_material -> Some "POV-Ray's `pigment` is `color: (r, g, b)` (or `texture: …`) here"
+  | "pigment" ->
+      Some
+        "POV-Ray's `pigment` is a material's `color` (or `texture`) here: `material: \
+         material { color: (r, g, b) }`"
+  | "finish" when in_material ->
+      Some "POV-Ray's `finish` is this material's own fields here: `ambient`, `diffuse`, \
+            `specular`, `shininess`, `reflection`"
+  | "finish" ->
+      Some
+        "POV-Ray's `finish` is the material itself here: `material: material { ambient: \
+         …, diffuse: …, specular: …, shininess: …, reflection: … }`"
+  | "normal" when in_material -> Some "POV-Ray's `normal` is `bump: noise(scale, amount)` here"
+  | "normal" ->
+      Some
+        "POV-Ray's `normal` is a material's `bump` here: `material: material { bump: \
+         noise(scale, amount) }`"
+  | ("filter" | "transmit") when in_material ->
+      Some
+        (Printf.sprintf
+           "POV-Ray's `%s` is `transparency: T` here (the share of light refracted \
+            through, with `ior`)"
+           w)
+  | "filter" | "transmit" ->
+      Some
+        (Printf.sprintf
+           "POV-Ray's `%s` is written in a material here: `material: material { \
+            transparency: 0.9, ior: 1.5, … }` (the glass of `include \
+            \"lancer/materials.rts\"` is ready: `material: glass`)"
+           w)
+  | "metallic" ->
+      Some
+        "POV-Ray's `metallic` metals are ready here: those of `include \
+         \"lancer/materials.rts\"` (`gold`, `copper`, `silver`, `chrome`), as `material: \
+         gold` or, in a material, `base: gold`"
+  | _ -> None
+
 let keyword_as_name k =
   Printf.sprintf "`%s` is a keyword%s: it cannot be a name; choose another%s." k
     (if k = "step" then " (as in `for i in 0 to 10 step 2`)" else "")
