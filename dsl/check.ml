@@ -69,7 +69,7 @@ let definitions acc stmts =
     | Body (x, its) ->
         acc := (x.id, x.nloc) :: !acc;
         items its
-    | For (_, _, _, _, b) | Included (_, b) -> List.iter stmt b
+    | For (_, _, _, _, b) | For_each (_, _, b) | Included (_, b) -> List.iter stmt b
     | If_stmt (_, t, e) ->
         List.iter stmt t;
         List.iter stmt e
@@ -239,6 +239,20 @@ and expr_ ~material cx env (e : A.expr) =
       if wrong then bad e
       else mk e (If (tc, ta, tb)) (if is ta.ty tb.ty then ta.ty else Unknown)
   | Material items -> mk e (Material (material cx env e.loc items)) Mat
+  | List es -> (
+      let tes = List.map (expr ~material cx env) es in
+      match Ops.list_type (List.map (fun (t : expr) -> (t.ty, t.loc)) tes) with
+      | Ok ty -> mk e (List tes) ty
+      | Error (loc, msg) ->
+          report cx loc msg;
+          bad e)
+  | Index (a, i) ->
+      (* The list's mistake first: the evaluation finds it first. *)
+      let ta = expr ~material cx env a in
+      let ti = expr ~material cx env i in
+      if refused cx ta Ops.is_list Msg.index_needs || refused cx ti (is Num) Msg.index_type
+      then bad e
+      else mk e (Index (ta, ti)) (Ops.element ta.ty)
 
 (* ------------------------------------------------------------------------------------ *)
 (* Blocks *)
@@ -553,6 +567,16 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       let bx = binding cx env x in
       let _, tbody = stmts cx (bind env x.id (Local bx) (unknown Num)) ~where body in
       (env, one (For (bx, ta, tb, tst, tbody)))
+  | For_each (x, l, body) ->
+      let tl = expr env l in
+      let tl =
+        if refused cx tl Ops.is_list Msg.for_each_needs then { tl with e = Bad } else tl
+      in
+      let bx = binding cx env x in
+      let _, tbody =
+        stmts cx (bind env x.id (Local bx) (unknown (Ops.element tl.ty))) ~where body
+      in
+      (env, one (For_each (bx, tl, tbody)))
   | If_stmt (c, t, e) ->
       let tc = expr env c in
       let tc =

@@ -24,7 +24,7 @@ let describe = function
   | IN -> "`in`" | TO -> "`to`" | STEP -> "`step`" | IF -> "`if`" | THEN -> "`then`"
   | ELSE -> "`else`" | INCLUDE -> "`include`" | BODY -> "`body`" | MATERIAL -> "`material`"
   | AND -> "`and`" | OR -> "`or`" | NOT -> "`not`" | LPAREN -> "`(`" | RPAREN -> "`)`"
-  | LBRACE -> "`{`" | RBRACE -> "`}`" | COMMA -> "`,`" | COLON -> "`:`" | DOT -> "`.`"
+  | LBRACE -> "`{`" | RBRACE -> "`}`" | LBRACKET -> "`[`" | RBRACKET -> "`]`" | COMMA -> "`,`" | COLON -> "`:`" | DOT -> "`.`"
   | ASSIGN -> "`=`" | EQ -> "`==`" | NE -> "`!=`" | LT -> "`<`" | LE -> "`<=`" | GT -> "`>`"
   | GE -> "`>=`" | PLUS -> "`+`" | MINUS -> "`-`" | STAR -> "`*`" | SLASH -> "`/`"
   | PERCENT -> "`%`" | CARET -> "`^`" | EOF -> "the end of the file"
@@ -54,6 +54,7 @@ rule token = parse
         lexbuf.lex_start_p <- start;
         STRING s }
   | '(' { LPAREN } | ')' { RPAREN } | '{' { LBRACE } | '}' { RBRACE }
+  | '[' { LBRACKET } | ']' { RBRACKET }
   | ',' { COMMA } | ':' { COLON } | '.' { DOT }
   | "==" { EQ } | "!=" { NE } | "<=" { LE } | ">=" { GE } | '<' { LT } | '>' { GT }
   | '=' { ASSIGN }

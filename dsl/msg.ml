@@ -107,6 +107,26 @@ let body_member x =
 let dot_needs x t = sp "`.%s` needs a vector or a body, got %s" x (tn t)
 let loop_bound what t = sp "the %s of a `for` loop must be a number, got %s" what (tn t)
 
+let for_each_needs t =
+  sp "`for NAME in` goes over a list (`for p in [a, b] { … }`) or a range (`for i in A \
+      to B { … }`), got %s"
+    (tn t)
+
+let list_element i t first =
+  sp "the elements of a list must be of one type: element %d is %s, the first %s" i (tn t)
+    (tn first)
+
+let index_needs t = sp "`[…]` takes an element of a list, got %s" (tn t)
+let index_type t = sp "a list index must be a number, got %s" (tn t)
+let index_whole x = sp "a list index must be a whole number, got %s" (num x)
+
+let index_range x n =
+  if n = 0 then sp "index %s is out of range: the list is empty" (num x)
+  else
+    sp "index %s is out of range: the list has %d element%s, indices 0 to %d" (num x) n
+      (if n = 1 then "" else "s")
+      (n - 1)
+
 let field_type (fl : Schema.field) (t : Ty.t) =
   let must what = sp "`%s` must be %s, got %s" fl.name what (tn t) in
   match fl.ty with

@@ -38,6 +38,25 @@ val dot_needs : string -> Ty.t -> string
 val loop_bound : string -> Ty.t -> string
 (** [loop_bound "start" t]: the start, end or step of a [for] loop is not a number. *)
 
+val for_each_needs : Ty.t -> string
+(** [for x in e { … }] where [e] is not a list. *)
+
+val list_element : int -> Ty.t -> Ty.t -> string
+(** [list_element i t first]: element [i] (from 1) of a list literal is of type [t], which
+    its first element's type [first] cannot share. *)
+
+val index_needs : Ty.t -> string
+(** [e[i]] where [e] is not a list. *)
+
+val index_type : Ty.t -> string
+(** [l[i]] where [i] is not a number. *)
+
+val index_whole : float -> string
+(** [l[x]] where [x] is not a whole number. *)
+
+val index_range : float -> int -> string
+(** [index_range i n]: [l[i]] out of a list of [n] elements. *)
+
 val interval_order : string -> float -> float -> string
 (** [interval_order name a b]: a pair field's first number above its second. *)
 

@@ -57,7 +57,8 @@ let grammar ~file text =
         open_ := { label; at = s; stop = e } :: !open_;
         keyword := None :: !keyword
     | Parser.LPAREN -> open_ := { label = "("; at = s; stop = e } :: !open_
-    | Parser.RBRACE | Parser.RPAREN -> (
+    | Parser.LBRACKET -> open_ := { label = "["; at = s; stop = e } :: !open_
+    | Parser.RBRACE | Parser.RPAREN | Parser.RBRACKET -> (
         (match (tok, !keyword) with
         | Parser.RBRACE, _ :: (_ :: _ as rest) -> keyword := rest
         | _ -> ());
@@ -86,7 +87,9 @@ let grammar ~file text =
         let tok, s, e = !last in
         match (tok, !open_) with
         | Parser.EOF, b :: _ ->
-            let closer = if b.label = "(" then ")" else "}" in
+            let closer =
+              match b.label with "(" -> ")" | "[" -> "]" | _ -> "}"
+            in
             let where =
               Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1)
             in

@@ -144,6 +144,31 @@ let test_let_fn_scoping () =
 
 let count text = Array.length (scene text).objects
 
+(* Lists: literals, indexing from 0, len, iteration in order; strings joined by +. *)
+let test_lists_and_strings () =
+  Alcotest.(check int)
+    "for p in a list" 3
+    (count "let pts = [(0, 0, 0), (1, 0, 0), (2, 0, 0)]\n\
+            for p in pts { sphere { center: p, radius: 0.1 } }");
+  veq "iteration in order, indexing from 0" (Vec3.v 2. 0. 0.)
+    (vec "[(0, 0, 0), (1, 0, 0), (2, 0, 0)][2]");
+  feq "len, nested lists, a comma after the last" 5.
+    (num "len([[1, 2], [], [3],]) + [[1, 2], [3]][0][1]");
+  feq "len of an empty list" 1. (num "len([]) + 1");
+  Alcotest.(check int)
+    "a loop over an empty list runs no time" 0
+    (count "for p in [] { sphere { center: p, radius: 0.1 } }");
+  feq "a list made from names and indexed by a computed number" 30.
+    (num "(if true then [10, 20, 30] else [])[floor(2.5)]");
+  feq "strings joined with +" 1.
+    (num "if \"wood\" + \".\" + \"png\" == \"wood.png\" then 1 else 0");
+  Alcotest.(check int)
+    "a list of materials" 2
+    (count "let ms = [material { color: (1, 0, 0) }, material { color: (0, 1, 0) }]\n\
+            for m in ms { sphere { center: (0, 0, 0), radius: 1, material: m } }");
+  check_err "let pts = [1, 2, 3]\nlet x = pts[3]"
+    "index 3 is out of range: the list has 3 elements, indices 0 to 2"
+
 let test_loops_and_macros () =
   Alcotest.(check int)
     "inclusive loop" 5
@@ -1078,6 +1103,8 @@ let () =
           Alcotest.test_case
             "operators follow the precedence of doc/reference/language.md" `Quick
             test_precedence;
+          Alcotest.test_case "lists are made, indexed, counted and gone over; strings joined"
+            `Quick test_lists_and_strings;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
             test_vectors;
           Alcotest.test_case "every built-in computes what its name says" `Quick
