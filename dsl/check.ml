@@ -93,8 +93,7 @@ let unbound_message cx env x (loc : Loc.t) () =
   | None -> (
       match Msg.hint x (List.map fst (Names.bindings env.names)) with
       | "" ->
-          Msg.unknown_name x
-            (Msg.library_hint x ~file:colours (Library.names colours))
+          Msg.unknown_name x (Msg.library_hint x ~file:colours (Library.names colours))
       | hint -> Msg.unknown_name x hint)
 
 let lookup cx env x loc =
@@ -250,7 +249,8 @@ and expr_ ~material cx env (e : A.expr) =
       (* The list's mistake first: the evaluation finds it first. *)
       let ta = expr ~material cx env a in
       let ti = expr ~material cx env i in
-      if refused cx ta Ops.is_list Msg.index_needs || refused cx ti (is Num) Msg.index_type
+      if
+        refused cx ta Ops.is_list Msg.index_needs || refused cx ti (is Num) Msg.index_type
       then bad e
       else mk e (Index (ta, ti)) (Ops.element ta.ty)
 

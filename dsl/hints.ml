@@ -8,7 +8,8 @@ let directive d =
     | "local" ->
         "write `let NAME = value` (a `let` inside a block, a loop or a `fn` is seen only \
          there)"
-    | "undef" -> "a name cannot be undefined; a later `let NAME = …` hides the earlier one"
+    | "undef" ->
+        "a name cannot be undefined; a later `let NAME = …` hides the earlier one"
     | "include" -> "write `include \"file.rts\"`"
     | "if" -> "write `if CONDITION { … } else { … }`"
     | "ifdef" | "ifndef" ->
@@ -46,19 +47,22 @@ let pov_word ?block w =
         "POV-Ray's `angle` is the horizontal field of view; lancer's camera takes `fov`, \
          the vertical one, in degrees: fov = 2·atan(tan(angle/2)·height/width) (angle 90 \
          on a 4:3 image is `fov: 73.74`)"
-  | "pigment" when in_material -> Some "POV-Ray's `pigment` is `color: (r, g, b)` (or `texture: …`) here"
+  | "pigment" when in_material ->
+      Some "POV-Ray's `pigment` is `color: (r, g, b)` (or `texture: …`) here"
   | "pigment" ->
       Some
         "POV-Ray's `pigment` is a material's `color` (or `texture`) here: `material: \
          material { color: (r, g, b) }`"
   | "finish" when in_material ->
-      Some "POV-Ray's `finish` is this material's own fields here: `ambient`, `diffuse`, \
-            `specular`, `shininess`, `reflection`"
+      Some
+        "POV-Ray's `finish` is this material's own fields here: `ambient`, `diffuse`, \
+         `specular`, `shininess`, `reflection`"
   | "finish" ->
       Some
         "POV-Ray's `finish` is the material itself here: `material: material { ambient: \
          …, diffuse: …, specular: …, shininess: …, reflection: … }`"
-  | "normal" when in_material -> Some "POV-Ray's `normal` is `bump: noise(scale, amount)` here"
+  | "normal" when in_material ->
+      Some "POV-Ray's `normal` is `bump: noise(scale, amount)` here"
   | "normal" ->
       Some
         "POV-Ray's `normal` is a material's `bump` here: `material: material { bump: \

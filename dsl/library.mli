@@ -26,4 +26,5 @@ val builtin : string -> string option
 
 val names : string -> string list
 (** [names p] are the names library path [p] defines at top level ([let NAME = …] at a
-    line's start), in order, from its built-in copy; [[]] for a path not in the library. *)
+    line's start), in order, from its built-in copy; [[]] for a path not in the library.
+*)

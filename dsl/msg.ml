@@ -56,7 +56,8 @@ let last_word x =
   let rec start i =
     if i <= 0 then 0
     else if x.[i - 1] = '_' then i
-    else if Char.uppercase_ascii x.[i] = x.[i] && Char.lowercase_ascii x.[i] <> x.[i] then i
+    else if Char.uppercase_ascii x.[i] = x.[i] && Char.lowercase_ascii x.[i] <> x.[i] then
+      i
     else start (i - 1)
   in
   let i = start (n - 1) in
@@ -77,7 +78,9 @@ let library_hint x ~file library =
   match List.stable_sort (fun (d, _) (e, _) -> Int.compare d e) close with
   | [] -> ""
   | l ->
-      let names = List.map (fun (_, c) -> sp "`%s`" c) (List.filteri (fun i _ -> i < 3) l) in
+      let names =
+        List.map (fun (_, c) -> sp "`%s`" c) (List.filteri (fun i _ -> i < 3) l)
+      in
       let rec words = function
         | [] -> ""
         | [ a ] -> a
@@ -108,8 +111,9 @@ let dot_needs x t = sp "`.%s` needs a vector or a body, got %s" x (tn t)
 let loop_bound what t = sp "the %s of a `for` loop must be a number, got %s" what (tn t)
 
 let for_each_needs t =
-  sp "`for NAME in` goes over a list (`for p in [a, b] { … }`) or a range (`for i in A \
-      to B { … }`), got %s"
+  sp
+    "`for NAME in` goes over a list (`for p in [a, b] { … }`) or a range (`for i in A to \
+     B { … }`), got %s"
     (tn t)
 
 let list_element i t first =
@@ -240,12 +244,14 @@ let given_twice n kind line =
 let holds_only_fields ?inner kind =
   match Option.bind inner (fun w -> Hints.pov_word w) with
   | Some h -> sp "a %s holds only `field: value` pairs (and `let`): %s" kind h
-  | None -> sp "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind
+  | None ->
+      sp "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind
 
 let unknown_field n kind hint =
   match Hints.pov_word ~block:kind n with
   | Some h -> sp "unknown field `%s` in %s: %s" n kind h
   | None -> sp "unknown field `%s` in %s%s" n kind hint
+
 let needs_field kind n = sp "%s needs a `%s` field" kind n
 
 let out_of_range (fl : Schema.field) x =

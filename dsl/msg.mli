@@ -19,9 +19,10 @@ val hint : string -> string list -> string
 (** ["; did you mean `c`?"] for [suggest]'s candidate, or [""]. *)
 
 val library_hint : string -> file:string -> string list -> string
-(** [library_hint x ~file names]: ["; did you mean `a`, `b` or `c` (of `include "file"`)?"]
-    for up to three of [names] (those a library [file] defines) close to [x] in spelling or
-    ending in the same word ([royal_blue], [RoyalBlue]: [blue], [sky_blue]), or [""]. *)
+(** [library_hint x ~file names]:
+    ["; did you mean `a`, `b` or `c` (of `include "file"`)?"] for up to three of [names]
+    (those a library [file] defines) close to [x] in spelling or ending in the same word
+    ([royal_blue], [RoyalBlue]: [blue], [sky_blue]), or [""]. *)
 
 (** {1 Types} *)
 
@@ -118,8 +119,8 @@ val given_twice : string -> string -> int -> string
 (** [given_twice field block first_line]. *)
 
 val holds_only_fields : ?inner:string -> string -> string
-(** [holds_only_fields ?inner block]: a [block] holding a statement, [inner] the keyword of
-    the block written inside it (POV-Ray's [pigment { … }] gets its hint). *)
+(** [holds_only_fields ?inner block]: a [block] holding a statement, [inner] the keyword
+    of the block written inside it (POV-Ray's [pigment { … }] gets its hint). *)
 
 val unknown_field : string -> string -> string -> string
 (** [unknown_field field block hint]. *)

@@ -95,8 +95,8 @@ let list_type (elements : (Ty.t * Loc.t) list) =
         | (t, loc) :: rest -> (
             match Ty.join first t with
             | None -> Error (loc, Msg.list_element i t first)
-            | Some _ ->
-                go (i + 1) (Option.value (Ty.join acc t) ~default:Ty.Unknown) rest)
+            | Some _ -> go (i + 1) (Option.value (Ty.join acc t) ~default:Ty.Unknown) rest
+            )
       in
       go 2 first rest
 

@@ -34,6 +34,7 @@ val equal : Value.t -> Value.t -> bool
 (** {1 Lists} *)
 
 val is_list : Ty.t -> bool
+
 val element : Ty.t -> Ty.t
 (** The type of a list's elements; {!Ty.Unknown} for any other type. *)
 
@@ -46,5 +47,5 @@ val list : (Value.t * Loc.t) array -> Value.t
 (** The list of these values, refused as {!list_type} refuses their types. *)
 
 val index : Loc.t -> Loc.t -> Value.t -> Value.t -> Value.t
-(** [index aloc iloc l i]: element [i] of list [l], from 0. Raises {!Value.Fail} at
-    [aloc] when [l] is not a list, at [iloc] when [i] is not a whole number in range. *)
+(** [index aloc iloc l i]: element [i] of list [l], from 0. Raises {!Value.Fail} at [aloc]
+    when [l] is not a list, at [iloc] when [i] is not a whole number in range. *)

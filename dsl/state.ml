@@ -134,7 +134,8 @@ let loop st loc ~range ~count ~per_iteration =
       (Msg.loop_builds ~total ~each:per_iteration ~count ~loops:c.loops ~built:c.objects
          ~objects:max_objects);
   (match range with
-  | Some (start, stop, step) when count <= 0. -> warn st loc (Msg.loop_zero start stop step)
+  | Some (start, stop, step) when count <= 0. ->
+      warn st loc (Msg.loop_zero start stop step)
   | _ -> ());
   (* And for memory: objects that would not fit under the process's limit are refused
      before they are built (the runtime would abort, not raise, once it runs out). *)

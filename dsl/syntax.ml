@@ -12,8 +12,7 @@ let not_text file text =
 let bom = "\xEF\xBB\xBF"
 
 let without_bom text =
-  if String.starts_with ~prefix:bom text then
-    String.sub text 3 (String.length text - 3)
+  if String.starts_with ~prefix:bom text then String.sub text 3 (String.length text - 3)
   else text
 
 (* The offending token as written (shortened), or "end of file". *)
@@ -87,9 +86,7 @@ let grammar ~file text =
         let tok, s, e = !last in
         match (tok, !open_) with
         | Parser.EOF, b :: _ ->
-            let closer =
-              match b.label with "(" -> ")" | "[" -> "]" | _ -> "}"
-            in
+            let closer = match b.label with "(" -> ")" | "[" -> "]" | _ -> "}" in
             let where =
               Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1)
             in

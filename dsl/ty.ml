@@ -47,8 +47,7 @@ and name = function
   | Tex "color_map" -> "a colour map"
   | Tex _ -> "a texture"
   | Pair _ -> "a pair (t, colour)"
-  | List t -> (
-      match plural t with "" -> "a list" | p -> "a list of " ^ p)
+  | List t -> ( match plural t with "" -> "a list" | p -> "a list of " ^ p)
   | Fun _ -> "a function"
   | Macro _ -> "a scene macro"
   | Builtin _ -> "a built-in function"

@@ -28,10 +28,10 @@ val known : t -> bool
 val equal : t -> t -> bool
 
 val join : t -> t -> t option
-(** [join a b] is the type of a list holding values of types [a] and [b]: [None] where they
-    cannot share one (a number and a string); where one is unknown, or they differ only in
-    what a message does not tell apart (two functions, two textures, lists of unknown
-    elements), what is common to them (often {!Unknown}). *)
+(** [join a b] is the type of a list holding values of types [a] and [b]: [None] where
+    they cannot share one (a number and a string); where one is unknown, or they differ
+    only in what a message does not tell apart (two functions, two textures, lists of
+    unknown elements), what is common to them (often {!Unknown}). *)
 
 val name : t -> string
 (** As messages name a value of the type: ["a number"], ["a vector"], ["a colour map"], …

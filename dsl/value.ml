@@ -90,7 +90,8 @@ let rec ty = function
         else
           Array.fold_left
             (fun t v -> Option.value (Ty.join t (ty v)) ~default:Ty.Unknown)
-            (ty a.(0)) a
+            (ty a.(0))
+            a
       in
       Ty.List element
   | VFun c -> Ty.Fun c.nparams

@@ -93,8 +93,8 @@ let test_lists_and_strings () =
   check_errors "a loop over a number; a list's element has its type"
     "for p in 3 { }\nfor q in [1, 2] { sphere { center: q, radius: 1 } }\n"
     [
-      "test.rts:1:10: `for NAME in` goes over a list (`for p in [a, b] { … }`) or a range \
-       (`for i in A to B { … }`), got a number";
+      "test.rts:1:10: `for NAME in` goes over a list (`for p in [a, b] { … }`) or a \
+       range (`for i in A to B { … }`), got a number";
       "test.rts:2:36: `center` must be a vector (x, y, z), got a number";
     ];
   check_errors "an element of unknown type is the evaluation's to check"
@@ -293,7 +293,10 @@ let same_as_evaluator =
     "fn m(a) { sphere { center: a, radius: 1 } }\nlet k = m(1)\nm(1, 2)";
     "for i in (1, 2, 3) to 2 { }\nif 2 { }\nlet l = 1 and true";
     "let cm = color_map((0, (1, 0, 0)), 3, (\"a\", 1))\nlet gr = gradient(1, 2)";
-    "let a = [1, 2][\"a\"]\nlet b = len(3)\nlet c = \"a\" + 1\nlet d = [1, \"a\", (1, 2, 3)]";
+    "let a = [1, 2][\"a\"]\n\
+     let b = len(3)\n\
+     let c = \"a\" + 1\n\
+     let d = [1, \"a\", (1, 2, 3)]";
     "let e = 3[0]\nfor p in 3 { }\nlet f = [[1], [\"a\"]]\nlet g = [1][true]";
   ]
 

@@ -148,8 +148,9 @@ let count text = Array.length (scene text).objects
 let test_lists_and_strings () =
   Alcotest.(check int)
     "for p in a list" 3
-    (count "let pts = [(0, 0, 0), (1, 0, 0), (2, 0, 0)]\n\
-            for p in pts { sphere { center: p, radius: 0.1 } }");
+    (count
+       "let pts = [(0, 0, 0), (1, 0, 0), (2, 0, 0)]\n\
+        for p in pts { sphere { center: p, radius: 0.1 } }");
   veq "iteration in order, indexing from 0" (Vec3.v 2. 0. 0.)
     (vec "[(0, 0, 0), (1, 0, 0), (2, 0, 0)][2]");
   feq "len, nested lists, a comma after the last" 5.
@@ -164,8 +165,9 @@ let test_lists_and_strings () =
     (num "if \"wood\" + \".\" + \"png\" == \"wood.png\" then 1 else 0");
   Alcotest.(check int)
     "a list of materials" 2
-    (count "let ms = [material { color: (1, 0, 0) }, material { color: (0, 1, 0) }]\n\
-            for m in ms { sphere { center: (0, 0, 0), radius: 1, material: m } }");
+    (count
+       "let ms = [material { color: (1, 0, 0) }, material { color: (0, 1, 0) }]\n\
+        for m in ms { sphere { center: (0, 0, 0), radius: 1, material: m } }");
   check_err "let pts = [1, 2, 3]\nlet x = pts[3]"
     "index 3 is out of range: the list has 3 elements, indices 0 to 2"
 
@@ -490,9 +492,31 @@ let test_directives () =
       let ms = errs (Printf.sprintf "#%s X\n" d) in
       if not (List.exists (fun m -> contains m (Printf.sprintf "`#%s` is not used" d)) ms)
       then Alcotest.failf "#%s: %s" d (String.concat "\n" ms))
-    [ "declare"; "local"; "undef"; "include"; "if"; "ifdef"; "ifndef"; "else"; "elseif";
-      "switch"; "case"; "range"; "break"; "end"; "for"; "while"; "macro"; "version";
-      "default"; "debug"; "warning"; "error"; "fopen" ];
+    [
+      "declare";
+      "local";
+      "undef";
+      "include";
+      "if";
+      "ifdef";
+      "ifndef";
+      "else";
+      "elseif";
+      "switch";
+      "case";
+      "range";
+      "break";
+      "end";
+      "for";
+      "while";
+      "macro";
+      "version";
+      "default";
+      "debug";
+      "warning";
+      "error";
+      "fopen";
+    ];
   check_err "#for (I, 0, 9)" "write `for i in A to B step S { … }`";
   check_err "#while (I < 9)" "write `for i in A to B { … }`";
   check_err "#local R = 2" "write `let NAME = value`";
@@ -1103,8 +1127,9 @@ let () =
           Alcotest.test_case
             "operators follow the precedence of doc/reference/language.md" `Quick
             test_precedence;
-          Alcotest.test_case "lists are made, indexed, counted and gone over; strings joined"
-            `Quick test_lists_and_strings;
+          Alcotest.test_case
+            "lists are made, indexed, counted and gone over; strings joined" `Quick
+            test_lists_and_strings;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
             test_vectors;
           Alcotest.test_case "every built-in computes what its name says" `Quick
