@@ -114,7 +114,7 @@ let add_object st scope loc o =
   if c.objects land 1023 = 0 then Option.iter (limit st loc) (memory_refusal st c.objects);
   scope.sink := o :: !(scope.sink)
 
-let loop st loc ~start ~stop ~step ~count ~per_iteration =
+let loop st loc ~range ~count ~per_iteration =
   let c = st.count in
   (* Refused before it starts when this loop, run inside the loops around it, would go
      past the step limit: nested loops fail at once instead of after minutes. *)
@@ -131,7 +131,10 @@ let loop st loc ~start ~stop ~step ~count ~per_iteration =
     limit st loc
       (Msg.loop_builds ~total ~each:per_iteration ~count ~loops:c.loops ~built:c.objects
          ~objects:max_objects);
-  if count <= 0. then warn st loc (Msg.loop_zero start stop step);
+  (match range with
+  | Some (start, stop, step) when count <= 0. ->
+      warn st loc (Msg.loop_zero start stop step)
+  | _ -> ());
   (* And for memory: objects that would not fit under the process's limit are refused
      before they are built (the runtime would abort, not raise, once it runs out). *)
   if per_iteration > 0. && total < 1e15 then

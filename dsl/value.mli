@@ -17,6 +17,8 @@ type t =
           object holds its colour beside it, {!Lancer_description.Description.obj}) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
+  | VList of t array
+      (** [[a, b, …]]: never changed once made; its elements of one type *)
   | VFun of closure
   | VMacro of macro
   | VBuiltin of string  (** a built-in function, by name *)
