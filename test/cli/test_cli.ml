@@ -410,6 +410,9 @@ mesh { file: "%s" }
             [ "render"; "m.rts"; "-o"; "m.png"; "-q"; "--domains"; "1" ]
         in
         let plain = peak "plain.obj" and padded = peak "padded.obj" in
+        List.iter
+          (fun f -> Sys.remove (Filename.concat d f))
+          [ "plain.obj"; "padded.obj" ];
         Alcotest.(check bool)
           (Printf.sprintf "the largest heap: %d MiB, %d MiB with the padded file"
              (plain lsr 20) (padded lsr 20))
