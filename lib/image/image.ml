@@ -311,10 +311,11 @@ let hdr_bytes w h rgb =
   done;
   Bytes.unsafe_to_string b
 
-let linear_bytes fmt ?(bits = 16) ?alpha ?crop fb =
+let linear_bytes fmt ?(bits = 16) ?alpha ?crop ?record fb =
   let w, h, rgb, a = cropped ?alpha ?crop fb in
   match fmt with
-  | Exr -> Lancer_exr.Exr.encode ~width:w ~height:h ~half:(bits <> 32) ~rgb ~alpha:a
+  | Exr ->
+      Lancer_exr.Exr.encode ?record ~width:w ~height:h ~half:(bits <> 32) ~rgb ~alpha:a ()
   | Pfm when alpha <> None -> Error "a PFM file holds RGB only (no alpha); write a .exr"
   | Hdr when alpha <> None -> Error "a Radiance .hdr file has no alpha; write a .exr"
   | Pfm -> Ok (pfm_bytes w h rgb)
@@ -346,10 +347,15 @@ let bits_problem fmt bits =
         (Printf.sprintf "%d bits: a %s image has one depth of its own" b
            (if fmt = Hdr then "Radiance .hdr" else "PFM"))
 
+let record_keyword = "lancer"
+
 let file_of fmt ?gamma ?bits ?alpha ?crop ?text fb =
   match bits_problem fmt bits with
   | Some m -> Error m
-  | None when linear fmt -> linear_bytes fmt ?bits ?alpha ?crop fb
+  | None when linear fmt ->
+      (* An EXR header keeps the record (without blocks: they are digests of samples). *)
+      let record = Option.bind text (fun f -> List.assoc_opt record_keyword (f None)) in
+      linear_bytes fmt ?bits ?alpha ?crop ?record fb
   | None -> (
       let r = encode ?gamma ?bits ?alpha ?crop fb in
       match fmt with
@@ -358,7 +364,7 @@ let file_of fmt ?gamma ?bits ?alpha ?crop ?text fb =
           Ok
             (Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
             ^ Bytes.unsafe_to_string r.samples)
-      | _ -> Ok (png_bytes ?text:(Option.map (fun f -> f r) text) r))
+      | _ -> Ok (png_bytes ?text:(Option.map (fun f -> f (Some r)) text) r))
 
 let save_written ?gamma ?bits ?alpha ?crop ?text path fb =
   Result.bind (format_of_path path) (fun fmt ->

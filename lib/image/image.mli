@@ -100,14 +100,15 @@ val file_of :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
-  ?text:(Raster.t -> (string * string) list) ->
+  ?text:(Raster.t option -> (string * string) list) ->
   Framebuffer.t ->
   (string, string) result
 (** [file_of format fb] is the bytes of the file of that format holding [fb], as
     {!save_written} writes them (for standard output, or a file written another way).
     [bits]: 8 or 16 for PNG and PPM (default 8), 16 or 32 for EXR (half or single floats,
     default 16), none for HDR and PFM. [text]: a PNG's text chunks ({!Png.encode}), made
-    from the encoded image; other formats have none. *)
+    from the encoded image ([Some]); an EXR keeps the text of keyword ["lancer"], made
+    without an encoded image ([None]), as a header attribute; other formats keep none. *)
 
 val bits_problem : format -> int option -> string option
 (** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
@@ -120,7 +121,7 @@ val save_written :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
-  ?text:(Raster.t -> (string * string) list) ->
+  ?text:(Raster.t option -> (string * string) list) ->
   string ->
   Framebuffer.t ->
   (written, string) result

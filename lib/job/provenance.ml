@@ -118,7 +118,9 @@ let to_json t =
         ("blocks", `String t.blocks);
       ])
 
-let text t r = [ (keyword, Yojson.Safe.to_string (to_json { t with blocks = blocks r })) ]
+let text t r =
+  let blocks = match r with Some r -> blocks r | None -> "" in
+  [ (keyword, Yojson.Safe.to_string (to_json { t with blocks })) ]
 
 exception Bad of string
 

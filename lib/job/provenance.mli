@@ -57,8 +57,9 @@ val blocks : Raster.t -> string
 val block_count : Raster.t -> int * int
 (** The blocks across and down. *)
 
-val text : t -> Raster.t -> (string * string) list
-(** The PNG text of the record with the blocks of the raster about to be written. *)
+val text : t -> Raster.t option -> (string * string) list
+(** The text of the record with the blocks of the raster about to be written (a PNG's), or
+    none (an EXR's header: its values are floats). *)
 
 val of_text : string -> (t, string) result
 (** A record read back: [Error] says what is wrong with it (a file lancer reads is input
