@@ -73,6 +73,8 @@ let width =
 let height =
   side [ "height"; "H" ] "H" "Image height in pixels, 1 to 65536 (overrides the scene)."
 
+let size = Term.(const (fun w h -> (w, h)) $ width $ height)
+
 let samples =
   int_opt [ "samples" ] "N"
     "N×N samples per pixel (overrides the scene and the quality preset)."

@@ -96,6 +96,7 @@ let check =
       `S Manpage.s_examples;
       `Pre "  lancer check scenes/showcase.rts";
       `Pre "  lancer check anim.rts --json --time 1.5";
+      `Pre "  lancer check scene.rts --width 3840 --height 2160   # the estimates at 4K";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
     ]
@@ -104,11 +105,11 @@ let check =
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
-      const (fun scene json time frames ->
+      const (fun scene json time frames (width, height) ->
           wrap (fun stop ->
               ignore (Report.on_interrupt stop);
-              Check_run.run ~scene ~json ~time ~frames))
-      $ scene $ json $ time $ frames)
+              Check_run.run ?width ?height ~scene ~json ~time ~frames ()))
+      $ scene $ json $ time $ frames $ Cli.size)
 
 (* The options of diff and golden that say when two images count as equal. *)
 let metric_arg =

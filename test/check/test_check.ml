@@ -232,6 +232,28 @@ let row out name =
 
 let cost_tests =
   [
+    Alcotest.test_case "check --width and --height: the estimates at that size" `Quick
+      (fun () ->
+        let d =
+          scene_dir
+            "settings { width: 100, height: 50 }\n\
+             light { position: (0, 5, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n"
+        in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "s.rts"; "--width"; "200"; "--height"; "100" ]
+        in
+        check_status "check --width --height" 0 r;
+        has "the size" out "image: 200×100";
+        Alcotest.(check (list string))
+          "as set: four times the primary rays"
+          [ "as"; "set"; "20"; "k"; "40"; "k"; "40"; "k"; "(depth"; "5)"; "1" ]
+          (row out "as");
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "s.rts"; "--json"; "--width"; "30" ]
+        in
+        check_status "check --json --width" 0 r;
+        has "in the JSON" out "\"width\": 30");
     Alcotest.test_case
       "check estimates the rays of the scene and of each preset, and says it is an \
        estimate"
