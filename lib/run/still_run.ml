@@ -94,6 +94,11 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   let b = build ~digests:resume o in
   let sc = b.scene in
   Output.guard_render o b.source ~out;
+  (* What lancer check warns of, before the render rather than after it. *)
+  if not o.quiet then
+    List.iter
+      (fun w -> Printf.eprintf "%s%!" (Diagnostic.to_string w))
+      (Program.warnings b.program sc);
   Render_report.warn_long_render o sc;
   Output.check_encoding enc ~out sc;
   if resume && Output.is_stdout out then
