@@ -61,11 +61,14 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
     (o : Options.t) ~out ~checkpoint ~build ~wall ~domains ~ranks ~workers sc fb st =
   Progress.writing o out (fun () -> Output.write_image ?cancel ~encoding ?alpha out sc fb);
   Option.iter Checkpoint.remove checkpoint;
+  let resumed_rays = Option.fold ~none:0 ~some:Checkpoint.resumed_rays checkpoint in
   Render_report.warn_bad_samples st;
   Option.iter
     (fun p ->
       let j =
-        match Render_report.stats_json o sc ~build ~wall ~domains ~ranks st with
+        match
+          Render_report.stats_json ~resumed_rays o sc ~build ~wall ~domains ~ranks st
+        with
         | `Assoc l -> `Assoc (l @ extra)
         | j -> j
       in
@@ -79,7 +82,7 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
     in
     let stdout = Output.is_stdout out in
     let line =
-      Render_report.summary ?size
+      Render_report.summary ?size ~resumed_rays
         ~out:(if stdout then "the image to standard output" else out)
         sc ~build ~render:wall ~workers st
     in
