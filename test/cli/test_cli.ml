@@ -629,7 +629,40 @@ let tests =
             [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ]
         in
         check_status "render" 0 r;
-        Alcotest.(check string) "stderr is not a terminal: silent" "" e;
+        Alcotest.(check string) "stderr is not a terminal, a short render: silent" "" e;
+        (* Not on a terminal, a line every few seconds: every unit at an interval of 0. *)
+        let ((_, _, e) as r) =
+          run ~prefix:"LANCER_PROGRESS_INTERVAL=0" ~exe ~dir:d
+            [
+              "render";
+              "s.rts";
+              "-o";
+              "a.png";
+              "--width";
+              "200";
+              "--height";
+              "150";
+              "--domains";
+              "1";
+            ]
+        in
+        check_status "render, lines" 0 r;
+        Alcotest.(check bool)
+          ("a line per tile, with the time left\n" ^ e)
+          true
+          (contains e "tiles 1/35 (  3%)"
+          && contains e "tiles 35/35 (100%)"
+          && contains e "left "
+          && not (contains e "\r"));
+        write_file (Filename.concat d "a.rts") anim_scene;
+        let ((_, _, e) as r) =
+          run ~prefix:"LANCER_PROGRESS_INTERVAL=0" ~exe ~dir:d
+            [ "animate"; "a.rts"; "-o"; "frames"; "--domains"; "1" ]
+        in
+        check_status "animate, lines" 0 r;
+        Alcotest.(check bool)
+          ("a line per frame\n" ^ e) true
+          (contains e "frames 1/4 ( 25%)" && contains e "frames 4/4 (100%)");
         let ((_, _, e) as r) =
           lancer ~dir:d
             [

@@ -176,6 +176,23 @@ let scene_file () =
   user_error "standard input has no name for the image" (fun () ->
       Scene_file.default_output { Options.default with scene = Some "-" })
 
+(* The progress line's figures: the time left from the share of the work done. *)
+let progress_line () =
+  let line = Progress.line ~label:"tiles" ~total:4 ~elapsed:10. in
+  Alcotest.(check string)
+    "a quarter of equal units in 10 s: 30 s left"
+    "tiles 1/4 ( 25%)  0.1 tiles/s  elapsed 10s  left 30s" (line ~done_:1 ~rays:0 ());
+  Alcotest.(check string)
+    "units of unequal cost: the share decides"
+    "tiles 1/4 ( 50%)  1.00 M rays/s  elapsed 10s  left 10s"
+    (line ~done_:1 ~share:0.5 ~rays:10_000_000 ());
+  Alcotest.(check string)
+    "nothing done yet: no estimate" "tiles 0/4 (  0%)  0.0 tiles/s  elapsed 10s  left ?"
+    (line ~done_:0 ~rays:0 ());
+  Alcotest.(check string)
+    "minutes and hours" "2m05s 1h03m"
+    (Progress.hms 125. ^ " " ^ Progress.hms 3800.)
+
 let () =
   Alcotest.run "run"
     [
@@ -194,4 +211,7 @@ let () =
           Alcotest.test_case "golden and diff" `Quick compare;
         ] );
       ("scene file", [ Alcotest.test_case "the showcase and errors" `Quick scene_file ]);
+      ( "progress",
+        [ Alcotest.test_case "the time left, from the share done" `Quick progress_line ]
+      );
     ]
