@@ -624,27 +624,16 @@ let tests =
       (fun () ->
         let d = tmpdir () in
         write_file (Filename.concat d "s.rts") small_scene;
-        let ((_, _, e) as r) =
-          lancer ~dir:d
-            [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ]
+        let render =
+          [ "render"; "s.rts"; "-o"; "a.png"; "--width"; "200"; "--height"; "150" ]
         in
+        let ((_, _, e) as r) = lancer ~dir:d render in
         check_status "render" 0 r;
         Alcotest.(check string) "stderr is not a terminal, a short render: silent" "" e;
         (* Not on a terminal, a line every few seconds: every unit at an interval of 0. *)
         let ((_, _, e) as r) =
           run ~prefix:"LANCER_PROGRESS_INTERVAL=0" ~exe ~dir:d
-            [
-              "render";
-              "s.rts";
-              "-o";
-              "a.png";
-              "--width";
-              "200";
-              "--height";
-              "150";
-              "--domains";
-              "1";
-            ]
+            (render @ [ "--domains"; "1" ])
         in
         check_status "render, lines" 0 r;
         Alcotest.(check bool)
@@ -663,20 +652,7 @@ let tests =
         Alcotest.(check bool)
           ("a line per frame\n" ^ e) true
           (contains e "frames 1/4 ( 25%)" && contains e "frames 4/4 (100%)");
-        let ((_, _, e) as r) =
-          lancer ~dir:d
-            [
-              "render";
-              "s.rts";
-              "-o";
-              "a.png";
-              "--width";
-              "200";
-              "--height";
-              "150";
-              "--progress";
-            ]
-        in
+        let ((_, _, e) as r) = lancer ~dir:d (render @ [ "--progress" ]) in
         check_status "render --progress" 0 r;
         Alcotest.(check bool)
           ("--progress: lines for a log\n" ^ e)
