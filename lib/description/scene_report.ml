@@ -21,8 +21,7 @@ let light_kind = function
   | Light.Point _ -> "point"
   | Light.Directional _ -> "directional"
 
-let warnings ~empty (d : D.t) (r : D.rendered) =
-  let objects = List.fold_left (fun n (_, k) -> n + k) 0 r.r_kinds in
+let warnings ~empty ~objects ~lights (d : D.t) =
   let file msg = Diagnostic.file_error ~kind:Diagnostic.Warning d.file msg in
   let scene =
     if empty then
@@ -32,7 +31,7 @@ let warnings ~empty (d : D.t) (r : D.rendered) =
          [ file "the scene has no objects: the image is the background only" ]
        else [])
       @
-      if r.r_lights = [] && objects > 0 then
+      if lights = 0 && objects > 0 then
         [
           file
             "the scene has no lights: objects show only their ambient colour (add light \
@@ -188,7 +187,11 @@ let summary ~empty (d : D.t) (r : D.rendered) =
     (if used = [] then "nothing beyond direct light" else String.concat ", " used);
   line "renderer skips: %s"
     (if skipped = [] then "nothing" else String.concat ", " skipped);
-  List.iter (fun w -> Buffer.add_string b (Diagnostic.to_string w)) (warnings ~empty d r);
+  List.iter
+    (fun w -> Buffer.add_string b (Diagnostic.to_string w))
+    (warnings ~empty
+       ~objects:(List.fold_left (fun n (_, k) -> n + k) 0 kinds)
+       ~lights:(List.length r.r_lights) d);
   Buffer.contents b
 
 let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]

@@ -7,10 +7,11 @@
     uses. The description's [animation], [bodies], [physics] and [warnings] are printed as
     they are: pass those of the program (at time 0) for a scene at another time. *)
 
-val warnings : empty:bool -> Description.t -> Description.rendered -> Diagnostic.t list
+val warnings :
+  empty:bool -> objects:int -> lights:int -> Description.t -> Diagnostic.t list
 (** What is legal but likely a mistake: an empty program ([empty]), a scene without
-    objects or without lights, and the description's own warnings (a loop that runs zero
-    times). *)
+    objects or without lights (it has [objects] and [lights], as rendered), and the
+    description's own warnings (a loop that runs zero times, colours given as 0–255). *)
 
 val colour_warnings :
   ?source:(string -> string option) -> Description.t -> Diagnostic.t list

@@ -84,7 +84,8 @@ let entry_of_json ?job j =
         job;
         made_with =
           (match member "made_with" j with
-          | `Assoc kvs -> List.map (fun (k, v) -> (k, to_string v)) kvs
+          | `Assoc kvs ->
+              List.filter_map (function k, `String v -> Some (k, v) | _ -> None) kvs
           | _ -> []);
         size = to_int (member "size" j);
         md5 = to_string (member "md5" j);
@@ -277,7 +278,9 @@ let job_change t (e : entry) =
       names
   in
   match changed with
-  | [] -> "they were rendered for another version of the scene or other options"
+  | cs when cs = [] || e.made_with = [] ->
+      (* A record of an older lancer, or of the merged view, does not say. *)
+      "they were rendered for another version of the scene or other options"
   | cs -> String.concat "; " cs
 
 let why_not_done t k ~input_digest =

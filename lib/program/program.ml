@@ -361,11 +361,12 @@ let summary p (sc : Scene.t) =
   | None -> ""
 
 (* The warnings read nothing of the description at [sc]'s time but its file: the
-   program's at time 0 serve, without evaluating it again. *)
+   program's at time 0 serve, without evaluating it again; and of the scene only its
+   counts, without listing its objects as a summary does. *)
 let warnings p (sc : Scene.t) =
-  Scene_report.warnings ~empty:(Dsl.empty p.dsl)
+  Scene_report.warnings ~empty:(Dsl.empty p.dsl) ~objects:(Scene.object_count sc)
+    ~lights:(Array.length sc.lights)
     (for_report p (Dsl.first p.dsl))
-    (rendered p sc)
 
 let to_json ?body_state p (sc : Scene.t) =
   let d =
