@@ -302,7 +302,10 @@ let describe_range p =
 let on_path prog =
   let executable f =
     (not (Sys.is_directory f))
-    && match Unix.access f [ Unix.X_OK ] with () -> true | exception _ -> false
+    &&
+    match Unix.access f [ Unix.X_OK ] with
+    | () -> true
+    | exception Unix.Unix_error _ -> false
   in
   List.exists
     (fun d ->
@@ -310,7 +313,8 @@ let on_path prog =
       Sys.file_exists f && executable f)
     (String.split_on_char ':' (Option.value (Sys.getenv_opt "PATH") ~default:""))
 
-(* The video's name and place, and ffmpeg, are checked before the frames are rendered, not after. *)
+(* The video's name and place, and ffmpeg, are checked before the frames are rendered,
+   not after. *)
 let check_video ?(format = Image.Png) ~shard v =
   if format <> Image.Png then
     user
