@@ -348,7 +348,8 @@ let envs =
     Cmd.Env.info "LANCER_PROGRESS_INTERVAL"
       ~doc:
         "The seconds between two progress lines when stderr is not a terminal (default \
-         5, or 2 with $(b,--progress)); 0 prints a line for every tile or frame.";
+         5, or 2 with $(b,--progress)); 0 prints a line for every tile or frame, \
+         $(b,off) none (unless $(b,--progress) asks for them).";
     Cmd.Env.info "OCAMLRUNPARAM"
       ~doc:
         "The OCaml runtime's parameters. Under a limit on the address space (ulimit -v) \

@@ -15,10 +15,15 @@ type t = {
 
 let interval_variable = "LANCER_PROGRESS_INTERVAL"
 
+(* The interval the variable sets: [None] for "off". *)
 let interval ~default =
-  match Option.bind (Sys.getenv_opt interval_variable) Float.of_string_opt with
-  | Some s when s >= 0. && Float.is_finite s -> s
-  | _ -> default
+  match Sys.getenv_opt interval_variable with
+  | Some "off" -> None
+  | Some v -> (
+      match Float.of_string_opt v with
+      | Some s when s >= 0. && Float.is_finite s -> Some s
+      | _ -> Some default)
+  | None -> Some default
 
 let create ?mode ?every ?(wait = false) ~label ~total () =
   let mode =
@@ -29,7 +34,7 @@ let create ?mode ?every ?(wait = false) ~label ~total () =
   let every =
     match (every, mode) with
     | Some e, _ -> e
-    | None, Lines -> interval ~default:2.
+    | None, Lines -> Option.value (interval ~default:2.) ~default:2.
     | None, (Terminal | Off) -> 0.2
   in
   let now = Unix.gettimeofday () in
@@ -107,9 +112,9 @@ let for_options (o : Options.t) ~label ~total =
   else if Unix.isatty Unix.stderr then create ~mode:Terminal ~label ~total ()
   else if o.progress then create ~mode:Lines ~label ~total ()
   else
-    create ~mode:Lines
-      ~every:(interval ~default:quiet_interval)
-      ~wait:true ~label ~total ()
+    match interval ~default:quiet_interval with
+    | None -> create ~mode:Off ~label ~total ()
+    | Some every -> create ~mode:Lines ~every ~wait:true ~label ~total ()
 
 (* What the build is doing, on the progress channel: one line redrawn in place on a
    terminal, lines with --progress, nothing otherwise. *)

@@ -11,8 +11,13 @@ type mode =
 
 val interval_variable : string
 (** ["LANCER_PROGRESS_INTERVAL"]: the environment variable that sets the seconds between
-    two lines when stderr is not a terminal (0: a line at every unit), for a log that
-    wants them more or less often, and for tests. *)
+    two lines when stderr is not a terminal (0: a line at every unit; [off]: none, unless
+    [--progress] asks for them), for a log that wants them more or less often, and for
+    tests. *)
+
+val interval : default:float -> float option
+(** The seconds between two lines that {!interval_variable} sets: [None] for [off],
+    [default] when it is unset or not a number of seconds (at least 0). *)
 
 val create :
   ?mode:mode -> ?every:float -> ?wait:bool -> label:string -> total:int -> unit -> t

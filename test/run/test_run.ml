@@ -193,6 +193,18 @@ let progress_line () =
     "minutes and hours" "2m05s 1h03m"
     (Progress.hms 125. ^ " " ^ Progress.hms 3800.)
 
+(* LANCER_PROGRESS_INTERVAL: seconds, or off. *)
+let progress_interval () =
+  let with_value v =
+    Unix.putenv Progress.interval_variable v;
+    Progress.interval ~default:5.
+  in
+  Alcotest.(check (option (float 0.))) "a number of seconds" (Some 0.5) (with_value "0.5");
+  Alcotest.(check (option (float 0.))) "off" None (with_value "off");
+  Alcotest.(check (option (float 0.)))
+    "not a number: the default" (Some 5.) (with_value "x");
+  Alcotest.(check (option (float 0.))) "negative: the default" (Some 5.) (with_value "-1")
+
 let () =
   Alcotest.run "run"
     [
@@ -212,6 +224,8 @@ let () =
         ] );
       ("scene file", [ Alcotest.test_case "the showcase and errors" `Quick scene_file ]);
       ( "progress",
-        [ Alcotest.test_case "the time left, from the share done" `Quick progress_line ]
-      );
+        [
+          Alcotest.test_case "the time left, from the share done" `Quick progress_line;
+          Alcotest.test_case "the interval between lines, or off" `Quick progress_interval;
+        ] );
     ]
