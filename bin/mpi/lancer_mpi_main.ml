@@ -83,7 +83,7 @@ let distributed ?(resume = false) (o : Options.t) ~prepare ~lead ~scene_of =
         0
 
 (* The files a scene was made of, each with its digest: what a unit is checked by. *)
-let with_digests (src : Source.t) files =
+let with_digests (src : Scenes.t) files =
   List.map (fun f -> (f, src.input_digest f)) files
 
 (* ---- render ---- *)
@@ -91,7 +91,7 @@ let with_digests (src : Source.t) files =
 let render_cmd (o : Options.t) ~resume =
   let still ?progress src =
     let time, frame = Options.time_of o src in
-    Source.scene ?progress src (Options.overrides o) ~time ~frame
+    Scenes.scene ?progress src (Options.overrides o) ~time ~frame
   in
   let prepare () =
     let out = Scene_file.default_output o in
@@ -198,7 +198,7 @@ let animate_cmd (o : Options.t) (a : Frames_run.options) =
     Frames_run.wrote ~extra:("; " ^ ranks_text domains) o p ~t0;
     Option.iter (Frames_run.make_video o p) a.video
   in
-  let animation (src : Source.t) =
+  let animation (src : Scenes.t) =
     match src.animation with
     | Some (fps, _) -> fps
     | None -> user "the scene has no animation block"
@@ -206,7 +206,7 @@ let animate_cmd (o : Options.t) (a : Frames_run.options) =
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
       let src = Scene_file.source o prog in
       let sc, files =
-        Source.scene src (Options.overrides o)
+        Scenes.scene src (Options.overrides o)
           ~time:(Float.of_int k /. animation src)
           ~frame:k
       in

@@ -3,7 +3,7 @@ let user = Job_error.user
 (* What changes every frame's pixels, named: the scene's text and includes (not the path
    it was typed as) and the overriding options. The frame number and the images and
    meshes a frame reads are recorded beside it. *)
-let job_parts (src : Source.t) overrides ~format ~bits =
+let job_parts (src : Scenes.t) overrides ~format ~bits =
   (("scene", src.text_digest ()) :: Overrides.named_fields overrides)
   @
   (* Frames as PNG at the default depth keep the digest they always had. *)
@@ -20,7 +20,7 @@ let job_digest parts =
     (Digest.string (String.concat "|" ("lancer-frames-v3" :: List.map snd parts)))
 
 type plan = {
-  source : Source.t;
+  source : Scenes.t;
   overrides : Overrides.t;
   dir : string;
   format : Image.format;
@@ -49,7 +49,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
   if Sys.file_exists dir && not (Sys.is_directory dir) then
     user "%s exists and is not a directory" dir;
   let shard = Option.map (Plan.resolve_shard ~getenv) shard in
-  let source : Source.t = load () in
+  let source : Scenes.t = load () in
   let fps, count =
     match source.animation with
     | Some a -> a
@@ -69,7 +69,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
   let mine = Plan.shard_frames ~first ~last shard in
   (* Before anything is written into the directory: no frame replaces a file that this
      run has read, nor one that the scene names, which a later frame may read. *)
-  Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Source.reads source)
+  Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Scenes.reads source)
     ((Filename.concat dir Frameset.view_name, "the frames record")
     :: List.map
          (fun k -> (Filename.concat dir (Frameset.frame_name ~ext k), "a frame"))
@@ -129,7 +129,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
   }
 
 let evaluate ?cancel p k =
-  Source.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
+  Scenes.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
 
 (* The files a frame read, each with its digest now: what its record keeps. *)
 let with_digests p files = List.map (fun f -> (f, p.source.input_digest f)) files
@@ -153,7 +153,7 @@ let write_frame p k sc fb =
   in
   (* The plan refused every file the scene names; this is checked again against what the
      frames evaluated so far have read, by any name, before each frame is written. *)
-  Files.refuse_overwrite ~reads:(Source.reads p.source) path "a frame";
+  Files.refuse_overwrite ~reads:(Scenes.reads p.source) path "a frame";
   let written = Files.write_image ?bits:p.bits path sc fb in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~written ~inputs

@@ -13,7 +13,7 @@
     plan, names and records, so either command resumes the other's frames. *)
 
 type plan = private {
-  source : Source.t;
+  source : Scenes.t;
   overrides : Overrides.t;
   dir : string;
   format : Image.format;  (** the frames' format *)
@@ -43,7 +43,7 @@ val plan :
   shard:Plan.shard option ->
   resume:bool ->
   overrides:Overrides.t ->
-  (unit -> Source.t) ->
+  (unit -> Scenes.t) ->
   plan
 (** [plan ~dir ~frames ~shard ~resume ~overrides load]: check the output directory (made
     if missing), the shard (a Slurm one read through [getenv]), load the scene with
@@ -63,12 +63,12 @@ val frame_inputs : plan -> int -> (string * string) list option
 (** The files (with their digests) frame k was made of, from {!frame_scene} until the
     frame is written. *)
 
-val write_frame : plan -> int -> Scene.t -> Image.t -> unit
+val write_frame : plan -> int -> Scene.t -> Framebuffer.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)
 
 val render :
-  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Stats.t -> unit) -> plan -> unit
+  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Counters.t -> unit) -> plan -> unit
 (** Render and write every frame of [todo] over a pool of [domains] domains, scheduled as
     above; [on_frame k stats] once frame k is written, from whichever domain wrote it.
     Raises [Sys.Break] once [cancel] is cancelled; the frames written by then are kept. *)

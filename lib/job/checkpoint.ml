@@ -21,8 +21,8 @@ type t = {
   width : int;
   height : int;
   finished : bool array; (* by tile *)
-  counters : Stats.t option array; (* by tile; a unit's counters on its first tile *)
-  fb : Image.t; (* only finished tiles' pixels count *)
+  counters : Counters.t option array; (* by tile; a unit's counters on its first tile *)
+  fb : Framebuffer.t; (* only finished tiles' pixels count *)
   todo : int array;
   lock : Mutex.t;
   writing : bool Atomic.t;
@@ -35,7 +35,7 @@ type t = {
 
 let path_for out = out ^ ".checkpoint"
 
-let key (src : Source.t) overrides ~time ~frame ~files =
+let key (src : Scenes.t) overrides ~time ~frame ~files =
   Digest.to_hex
     (Digest.string
        (String.concat "|"
@@ -82,7 +82,7 @@ let encode b off ~width ~height ~finished ~counters ~(pixels : Float.Array.t) =
       let o = off + header_length + (k * tile_length) in
       let at w n = put_int b (o + 1 + (w * word)) n in
       Bytes.set_uint8 b o (if done_ then 1 else 0);
-      let (s : Stats.t) = match counters.(k) with Some s when done_ -> s | _ -> zero in
+      let (s : Counters.t) = match counters.(k) with Some s when done_ -> s | _ -> zero in
       at 0 s.primary;
       at 1 s.shadow;
       at 2 s.reflected;
@@ -240,7 +240,7 @@ let start ~out ~key (sc : Scene.t) =
     match load path ~key ~width ~height ~rects with
     | Some state -> state
     | None ->
-        (Array.make tiles false, Array.make tiles None, (Image.create width height).data)
+        (Array.make tiles false, Array.make tiles None, (Framebuffer.create width height).data)
   in
   let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 finished in
   let todo =
@@ -258,7 +258,7 @@ let start ~out ~key (sc : Scene.t) =
     resumed = count;
     resumed_rays =
       Array.fold_left
-        (fun n -> function Some st -> n + Stats.total_rays st | None -> n)
+        (fun n -> function Some st -> n + Counters.total_rays st | None -> n)
         0 counters;
     lock = Mutex.create ();
     writing = Atomic.make false;
@@ -332,5 +332,5 @@ let render ?cancel ?pool ?(on_tile = fun _ _ -> ()) t sc =
     (Render.render_tiles ?cancel ?pool
        ~on_tile:(fun _ k st ->
          tiles_done t [| k |] st;
-         on_tile (finished t) (Stats.total_rays st))
+         on_tile (finished t) (Counters.total_rays st))
        sc t.fb t.todo)

@@ -36,7 +36,7 @@ val write_image :
   ?crop:Image.region ->
   string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   Image.written
 (** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the
     coverage [alpha] as a fourth channel; only [crop] when given) and write the file

@@ -44,9 +44,9 @@ type frame = {
   sc : Scene.t;
   all : (int * int * int * int) array;
   todo : int array;
-  fb : Image.t;
+  fb : Framebuffer.t;
   mutable left : int;
-  st : Stats.t;
+  st : Counters.t;
 }
 
 (* Units are cut from [pending] in order. With [whole] a unit is a frame; otherwise
@@ -57,7 +57,7 @@ type cutter = {
   opened : (int, frame) Hashtbl.t;
   whole : bool;
   mutable chunk : int;
-  start : int -> (Image.t * int array) option;
+  start : int -> (Framebuffer.t * int array) option;
 }
 
 let open_next c =
@@ -71,7 +71,7 @@ let open_next c =
         match c.start key with
         | Some (fb, todo) -> (fb, todo)
         | None ->
-            ( Image.create sc.settings.width sc.settings.height,
+            ( Framebuffer.create sc.settings.width sc.settings.height,
               Array.init (Array.length all) Fun.id )
       in
       let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in

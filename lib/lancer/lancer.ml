@@ -126,7 +126,7 @@ module Files = Lancer_job.Files
 module Frameset = Lancer_job.Frameset
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
-module Source = Lancer_job.Source
+module Scenes = Lancer_job.Scenes
 module Still = Lancer_job.Still
 module Work = Lancer_job.Work
 

@@ -195,7 +195,7 @@ let row_specs (o : Options.t) prog ~size:(w, h) =
                (fun () ->
                  four
                    (fst
-                      (Source.with_instants prog (Options.overrides o) sc ~time:0.
+                      (Scenes.with_instants prog (Options.overrides o) sc ~time:0.
                          ~frame:0)));
            })
          [ 1; 2; 4; 8; 16 ]
@@ -219,14 +219,14 @@ let row_specs (o : Options.t) prog ~size:(w, h) =
 let measure ?on_tile ~pool ~ref_img spec =
   let sc = spec.make () in
   let t, fb, st = Timing.render ?pool ?on_tile sc in
-  let img = (fb.Image.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
+  let img = (fb.Framebuffer.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb) in
   match Compare.compare ~threshold:1 ref_img img with
   | Ok cmp ->
       {
         knob = spec.s_knob;
         value = spec.s_value;
         seconds = t;
-        rays = Stats.total_rays st;
+        rays = Counters.total_rays st;
         rmse = cmp.rmse;
         psnr = cmp.psnr;
         over_share = cmp.over_share;

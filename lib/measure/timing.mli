@@ -7,7 +7,7 @@ val render :
   ?pool:Lancer.Pool.t ->
   ?on_tile:(int -> int -> int -> unit) ->
   Lancer.Scene.t ->
-  float * Lancer.Image.t * Lancer.Stats.t
+  float * Lancer.Framebuffer.t * Lancer.Counters.t
 (** The wall time of {!Lancer.Render.render}, and its image and counters; [on_tile] as
     there. *)
 

@@ -52,7 +52,7 @@ let publish sh ev data =
 (* The renderer *)
 
 (* The PNG bytes of an image, through camlimages and a file in a private directory. *)
-let png_bytes tmp (sc : Scene.t) (fb : Image.t) =
+let png_bytes tmp (sc : Scene.t) (fb : Framebuffer.t) =
   let path = Filename.concat tmp "view.png" in
   match
     Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb)
@@ -182,7 +182,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
           let coarse = { o with quality = Some coarse_q; samples = None } in
           let pass o =
             let ov = Options.overrides o in
-            fst (Source.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
+            fst (Scenes.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
           in
           Ok (pass o, pass coarse)
         with (Job_error.User _ | Job_error.Scene _) as e ->
@@ -265,7 +265,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                   [
                     ("name", `String pname);
                     ("seconds", `Float secs);
-                    ("rays", `Int (Stats.total_rays st));
+                    ("rays", `Int (Counters.total_rays st));
                   ]
                 :: !done_passes;
               publish sh "image"
@@ -285,7 +285,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                      ("name", `String name);
                    ]);
               if last then (
-                let rays = Stats.total_rays st in
+                let rays = Counters.total_rays st in
                 publish sh "stats"
                   (`Assoc
                      [

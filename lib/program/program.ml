@@ -393,7 +393,7 @@ let truncated_physics p =
         Some (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> None
 
-let source ~builtin p : Source.t =
+let as_scenes ~builtin p : Scenes.t =
   {
     file = file p;
     builtin;

@@ -213,6 +213,6 @@ val truncated_physics : t -> float option
 (** When the exact physics simulation stopped handling collisions after
     {!Lancer_physics.Physics.max_events} events: the time of its last event. *)
 
-val source : builtin:bool -> t -> Source.t
+val as_scenes : builtin:bool -> t -> Scenes.t
 (** The program as the job layer takes it; its [evaluate] raises
     {!Lancer_job.Job_error.Scene}. [builtin]: the program is the built-in showcase. *)

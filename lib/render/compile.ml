@@ -6,7 +6,7 @@ module D = Description
 type 'a read = ('a, string -> string) result
 
 type assets = {
-  pictures : (string, Image.t read) Hashtbl.t;
+  pictures : (string, Framebuffer.t read) Hashtbl.t;
   meshes : (string * bool, Trimesh.t read) Hashtbl.t;
   heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)

@@ -236,9 +236,9 @@ let coverage (sc : Scene.t) i j =
 
 type reuse =
   | Watch of { box : Float.Array.t; mask : Bytes.t }
-  | Only of { mask : Bytes.t; base : Image.t }
+  | Only of { mask : Bytes.t; base : Framebuffer.t }
 
-let check_reuse (fb : Image.t) = function
+let check_reuse (fb : Framebuffer.t) = function
   | None -> ()
   | Some (Watch { box; mask }) ->
       if Float.Array.length box <> 6 || Bytes.length mask <> fb.width * fb.height then
@@ -263,7 +263,7 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   let scr = scratch () in
   let f = Shade.frag scr.shade in
   let ax = Shade.accel_scratch scr.shade in
-  let w = fb.Image.width in
+  let w = fb.Framebuffer.width in
   (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
   (* The work deep in queries that is not handed [st] (a CSG object's crossings) counts
      into it, and so polls its token too; a poll there may leave a query half done, which
@@ -286,7 +286,7 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
           | _ -> (
               Accel.untouch ax;
               pixel_into sc st scr (strided stride sw i) (strided stride sh j);
-              Image.set_rgb fb i j f.r f.g f.b;
+              Framebuffer.set_rgb fb i j f.r f.g f.b;
               (match reuse with
               | Some (Watch { mask; _ }) ->
                   Bytes.set mask p (if Accel.touched ax then '\001' else '\000')
@@ -374,12 +374,12 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
 let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse ?stride
     (sc : Scene.t) =
   let w, h = size ?stride sc in
-  let fb = Image.create w h in
+  let fb = Framebuffer.create w h in
   (* Outside a region: the background, and alpha 0. *)
   if region <> None then
     for j = 0 to fb.height - 1 do
       for i = 0 to fb.width - 1 do
-        Image.set fb i j sc.settings.background
+        Framebuffer.set fb i j sc.settings.background
       done
     done;
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;

@@ -33,7 +33,7 @@ type reuse =
       (** render every pixel, and set [mask]'s byte of pixel (i, j) (at j·width + i) to
           ['\001'] where one of its queries may have met [box] (min x y z, max x y z; see
           {!Lancer_render.Accel.watch}), ['\000'] elsewhere *)
-  | Only of { mask : Bytes.t; base : Image.t }
+  | Only of { mask : Bytes.t; base : Framebuffer.t }
       (** render the pixels whose [mask] byte is ['\001'] and take the others from [base]
       *)
 
@@ -43,7 +43,7 @@ val render_tile :
   ?stride:int ->
   Scene.t ->
   Stats.t ->
-  Image.t ->
+  Framebuffer.t ->
   int ->
   int ->
   int ->
@@ -73,7 +73,7 @@ val render_tiles :
   ?reuse:reuse ->
   ?stride:int ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   int array ->
   Stats.t
 (** [render_tiles scene fb idxs] renders the tiles of {!tiles}[ ?region scene] numbered
@@ -96,7 +96,7 @@ val render :
   ?reuse:reuse ->
   ?stride:int ->
   Scene.t ->
-  Image.t * Stats.t
+  Framebuffer.t * Stats.t
 (** [render scene] renders the whole image through {!render_tiles}.
     [on_tile done_ total rays]: [done_] tiles of [total] are finished, and that tile cast
     [rays] rays. With [region] only its pixels are rendered, each exactly as in a whole

@@ -74,7 +74,7 @@ let run ?cancel (o : Options.t) (a : options) =
   let finished = Atomic.make 0 in
   Animation.render ?cancel ~domains p ~on_frame:(fun _ st ->
       Render_report.warn_bad_samples st;
-      Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
+      Progress.update ~rays:(Counters.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
   Progress.finish bar;
   Animation.finish p;
   wrote o p ~t0;

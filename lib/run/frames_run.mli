@@ -24,7 +24,7 @@ val plan :
     again those a run recorded (another option, a changed scene or input, a missing file);
     with the program it loaded. Raises {!Lancer_job.Job_error.User}. *)
 
-val write_frame : Animation.plan -> int -> Scene.t -> Image.t -> Stats.t -> unit
+val write_frame : Animation.plan -> int -> Scene.t -> Framebuffer.t -> Counters.t -> unit
 (** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)
 
 val check_video : options -> unit

@@ -97,7 +97,7 @@ let guard_render (o : Options.t) src ~out =
   refuse_frames_records
     ((if is_stdout out then [] else [ (out, "-o") ])
     @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
-  Files.guard_writes ~reads:(Source.reads src)
+  Files.guard_writes ~reads:(Scenes.reads src)
     ((if is_stdout out then [] else [ (out, "the image") ])
     @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 

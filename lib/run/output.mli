@@ -34,7 +34,7 @@ val check_encoding : encoding -> out:string -> Scene.t -> unit
 (** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
     with a PPM output; raises {!Lancer_job.Job_error.User}. *)
 
-val guard_render : Options.t -> Source.t -> out:string -> unit
+val guard_render : Options.t -> Scenes.t -> out:string -> unit
 (** {!Lancer_job.Files.guard_writes} for a still: the image and the statistics against the
     scene's files and an animation's records, and not both on standard output. *)
 
@@ -44,7 +44,7 @@ val write_image :
   ?alpha:Float.Array.t ->
   string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
     coverage [alpha] as a fourth channel) and write atomically, or to standard output for

@@ -1,9 +1,9 @@
 (* The rays this run cast: a resumed render's counters include the checkpoint's tiles. *)
-let run_rays ~resumed_rays st = Stats.total_rays st - resumed_rays
+let run_rays ~resumed_rays st = Counters.total_rays st - resumed_rays
 
 let summary ?size ?(resumed_rays = 0) ~out (sc : Scene.t) ~build ~render ~workers
-    (st : Stats.t) =
-  let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+    (st : Counters.t) =
+  let rays = Float.of_int (Counters.total_rays st) /. 1e6 in
   let now = Float.of_int (run_rays ~resumed_rays st) /. 1e6 in
   let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf
@@ -25,9 +25,9 @@ let peak_memory_kib () =
         (String.split_on_char '\n' text)
 
 let stats_json ?(resumed_rays = 0) (o : Options.t) (sc : Scene.t) ~build ~wall ~domains
-    ~ranks (st : Stats.t) =
+    ~ranks (st : Counters.t) =
   let s = sc.settings in
-  let rays = Stats.total_rays st in
+  let rays = Counters.total_rays st in
   let now = run_rays ~resumed_rays st in
   let opt_int = function Some n -> `Int n | None -> `Null in
   `Assoc
@@ -77,7 +77,7 @@ let stats_json ?(resumed_rays = 0) (o : Options.t) (sc : Scene.t) ~build ~wall ~
           ] );
     ]
 
-let warn_bad_samples (st : Stats.t) =
+let warn_bad_samples (st : Counters.t) =
   if st.bad_samples > 0 then
     match st.first_bad with
     | Some (i, j) ->

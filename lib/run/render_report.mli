@@ -10,7 +10,7 @@ val summary :
   build:float ->
   render:float ->
   workers:string ->
-  Stats.t ->
+  Counters.t ->
   string
 (** The line a render prints when done: the file, size, total, build and render seconds,
     [workers] ("2 domains"), rays and rays per second of the render; [size] is the size
@@ -26,7 +26,7 @@ val stats_json :
   wall:float ->
   domains:int ->
   ranks:int ->
-  Stats.t ->
+  Counters.t ->
   Yojson.Safe.t
 (** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:
     loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
@@ -36,7 +36,7 @@ val stats_json :
 val peak_memory_kib : unit -> int option
 (** The process's peak resident set (VmHWM), where /proc exists. *)
 
-val warn_bad_samples : Stats.t -> unit
+val warn_bad_samples : Counters.t -> unit
 (** A warning on stderr when some samples were NaN or infinite. *)
 
 val rays_text : float -> string

@@ -2,7 +2,7 @@ let user = Job_error.user
 
 type built = {
   program : Program.t;
-  source : Source.t;
+  source : Scenes.t;
   scene : Scene.t;
   files : string list;
   time : float;
@@ -32,7 +32,7 @@ let build ?digests (o : Options.t) =
         let time, frame = Options.time_of o src in
         say "evaluating the scene and building its acceleration structure";
         let sc, files =
-          Source.scene ~progress:say src (Options.overrides o) ~time ~frame
+          Scenes.scene ~progress:say src (Options.overrides o) ~time ~frame
         in
         (* Evaluating a large scene leaves garbage (the evaluator's values, the objects
            compiled): it is given back before the framebuffer is allocated, so that peak

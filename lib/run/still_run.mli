@@ -4,7 +4,7 @@
 
 type built = {
   program : Program.t;
-  source : Source.t;  (** the program as the job layer sees it *)
+  source : Scenes.t;  (** the program as the job layer sees it *)
   scene : Scene.t;  (** at the chosen time, with the options' overrides *)
   files : string list;  (** the images and meshes that scene read *)
   time : float;
@@ -42,8 +42,8 @@ val finish :
   ranks:int ->
   workers:string ->
   Scene.t ->
-  Image.t ->
-  Stats.t ->
+  Framebuffer.t ->
+  Counters.t ->
   unit
 (** What follows a still's last tile: the image written ({!Output.write_image}, under a
     progress note), the checkpoint removed, a warning for bad samples, the [--stats] JSON

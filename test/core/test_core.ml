@@ -479,10 +479,10 @@ let tmpdir () =
   d
 
 let gradient () =
-  let fb = Image.create 7 5 in
+  let fb = Framebuffer.create 7 5 in
   for j = 0 to 4 do
     for i = 0 to 6 do
-      Image.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
+      Framebuffer.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
     done
   done;
   fb
@@ -605,7 +605,7 @@ let words_per_ray sc =
   ignore (Render.render sc);
   let w0 = Gc.minor_words () in
   let _, st = Render.render sc in
-  (Gc.minor_words () -. w0) /. Float.of_int (Stats.total_rays st)
+  (Gc.minor_words () -. w0) /. Float.of_int (Counters.total_rays st)
 
 let render_tests =
   [
@@ -716,7 +716,7 @@ let render_tests =
                   for i = 0 to cw - 1 do
                     let x = min 69 ((i * k) + (k / 2))
                     and y = min 44 ((j * k) + (k / 2)) in
-                    let a = Image.get fb i j and b = Image.get full x y in
+                    let a = Framebuffer.get fb i j and b = Framebuffer.get full x y in
                     if not (a.r = b.r && a.g = b.g && a.b = b.b) then
                       Alcotest.failf "%s: pixel %d,%d is not the image's %d,%d" name i j x
                         y
@@ -733,7 +733,7 @@ let render_tests =
         let sc = demo_scene () in
         let _, a = Render.render sc in
         let _, b = Render.with_pool 2 (fun pool -> Render.render ?pool sc) in
-        Alcotest.(check int) "rays" (Stats.total_rays a) (Stats.total_rays b);
+        Alcotest.(check int) "rays" (Counters.total_rays a) (Counters.total_rays b);
         Alcotest.(check int) "primary" (64 * 48) a.primary);
     Alcotest.test_case "n×n supersampling averages the sub-pixel centres" `Quick
       (fun () ->
@@ -1050,7 +1050,7 @@ let unit_tests =
             ~settings:{ Settings.default with width = 4096; height = 4096 }
             ~lights:[] []
         in
-        let fb = Image.create 64 64 in
+        let fb = Framebuffer.create 64 64 in
         (* Tiles 0 and 1 lie inside a 64×64 framebuffer's first rows. *)
         ignore (Render.render_tiles sc fb [| 0; 1 |]);
         let before = (Gc.quick_stat ()).major_words in

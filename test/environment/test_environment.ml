@@ -204,7 +204,7 @@ let dof_tests =
               (floats_equal fb.data reference.data);
             Alcotest.(check int)
               (Printf.sprintf "rays on %d domains" n)
-              (Stats.total_rays rs) (Stats.total_rays st))
+              (Counters.total_rays rs) (Counters.total_rays st))
           [ 1; 2; 3 ]);
     Alcotest.test_case "each sample casts lens_samples² primary rays" `Quick (fun () ->
         let _, st = Render.render (dof_scene ~lens_samples:3 ~samples:2 ()) in
