@@ -93,9 +93,21 @@ let check =
   in
   let man =
     [
+      `S Manpage.s_description;
+      `P
+        "Prints what the scene holds (sampling, camera, animation, objects by kind, CSG \
+         trees, lights, the renderer's features it uses and skips), warnings about what \
+         is legal but likely a mistake, and the rays a render will cost, estimated \
+         before any is traced, as set and under each quality preset ($(b,--width) and \
+         $(b,--height) give them for that size). The warnings (which $(b,lancer render) \
+         prints too) name an empty scene, a scene without objects or lights, a loop that \
+         runs zero times, and a surface colour with a component m above 1 (as if given \
+         as 0–255) unless some light's intensity × its colour's largest component × m is \
+         at most 1.";
       `S Manpage.s_examples;
       `Pre "  lancer check scenes/showcase.rts";
       `Pre "  lancer check anim.rts --json --time 1.5";
+      `Pre "  lancer check scene.rts --width 3840 --height 2160   # the estimates at 4K";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
     ]
@@ -104,11 +116,11 @@ let check =
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
-      const (fun scene json time frames ->
+      const (fun scene json time frames (width, height) ->
           wrap (fun stop ->
               ignore (Report.on_interrupt stop);
-              Check_run.run ~scene ~json ~time ~frames))
-      $ scene $ json $ time $ frames)
+              Check_run.run ?width ?height ~scene ~json ~time ~frames ()))
+      $ scene $ json $ time $ frames $ Cli.size)
 
 (* The options of diff and golden that say when two images count as equal. *)
 let metric_arg =

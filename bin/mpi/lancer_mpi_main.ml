@@ -196,11 +196,7 @@ let animate_cmd (o : Options.t) (a : Frames_run.options) =
          (List.map (fun k -> (k, fun () -> Animation.frame_scene ~cancel p k)) p.todo));
     Progress.finish progress;
     Animation.finish p;
-    if not o.quiet then
-      Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo)
-        p.dir
-        (Unix.gettimeofday () -. t0)
-        (Animation.describe_range p) (ranks_text domains);
+    Frames_run.wrote ~extra:("; " ^ ranks_text domains) o p ~t0;
     Option.iter (Frames_run.make_video o p) a.video
   in
   let animation (src : Scenes.t) =

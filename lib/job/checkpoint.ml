@@ -27,6 +27,7 @@ type t = {
   lock : Mutex.t;
   writing : bool Atomic.t;
   resumed : int; (* tiles loaded from the file *)
+  resumed_rays : int; (* the rays of those tiles *)
   mutable count : int;
   mutable last : float; (* when it was last written *)
   mutable interval : float;
@@ -261,6 +262,10 @@ let start ~out ~key (sc : Scene.t) =
     fb = { width; height; data = pixels };
     todo;
     resumed = count;
+    resumed_rays =
+      Array.fold_left
+        (fun n -> function Some st -> n + Counters.total_rays st | None -> n)
+        0 counters;
     lock = Mutex.create ();
     writing = Atomic.make false;
     count;
@@ -269,6 +274,7 @@ let start ~out ~key (sc : Scene.t) =
   }
 
 let framebuffer t = t.fb
+let resumed_rays t = t.resumed_rays
 let resumed t = t.resumed
 let tiles t = Array.length t.finished
 let todo t = t.todo

@@ -76,6 +76,10 @@ val start : out:string -> key:string -> Scene.t -> t
 val resumed : t -> int
 (** How many tiles the checkpoint held when it was loaded (0 for a new one). *)
 
+val resumed_rays : t -> int
+(** The rays of the tiles the checkpoint held when it was loaded: those a resumed render
+    did not cast itself. *)
+
 val tiles : t -> int
 (** How many tiles the image has. *)
 

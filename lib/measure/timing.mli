@@ -5,9 +5,11 @@ val median : float list -> float
 
 val render :
   ?pool:Lancer.Pool.t ->
+  ?on_tile:(int -> int -> int -> unit) ->
   Lancer.Scene.t ->
   float * Lancer.Framebuffer.t * Lancer.Counters.t
-(** The wall time of {!Lancer.Render.render}, and its image and counters. *)
+(** The wall time of {!Lancer.Render.render}, and its image and counters; [on_tile] as
+    there. *)
 
 val child : string -> string list -> (float, int) result
 (** [child exe args]: the wall time of the program [exe] run with [args] (its output

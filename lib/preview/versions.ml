@@ -128,6 +128,13 @@ let load show_error path =
 
 type version = { t0 : float; reload : bool; params : params; cancel : Cancel.t }
 
+(* An error that ends a version: on the page, and in the terminal running the server (even
+   with --quiet, which silences only the timings), as lancer prints it elsewhere. *)
+let fail sh text =
+  publish sh "failure" (`Assoc [ ("text", `String text) ]);
+  prerr_string (if String.ends_with ~suffix:"\n" text then text else text ^ "\n");
+  flush stderr
+
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
 let render_version sh show_error (o : Options.t) pool tmp prog seq v =
@@ -136,9 +143,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
   let failed text files =
     with_lock sh (fun () ->
         sh.inputs <- List.sort_uniq compare ((path :: files) @ sh.inputs));
-    publish sh "failure" (`Assoc [ ("text", `String text) ]);
-    wake sh;
-    if not o.quiet then prerr_string text
+    fail sh text
   in
   let t_build = Unix.gettimeofday () in
   let loaded =
@@ -322,7 +327,7 @@ let renderer sh show_error (o : Options.t) ~domains ~tmp () =
         in
         (try render_version sh show_error o pool tmp prog seq v with
         | Cancelled -> ()
-        | e -> publish sh "failure" (`Assoc [ ("text", `String (describe show_error e)) ]));
+        | e -> fail sh (describe show_error e));
         loop ()
       in
       loop ())

@@ -68,11 +68,14 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
   Progress.writing o out (fun () ->
       Output.write_image ?cancel ~encoding ?alpha ?record out sc fb);
   Option.iter Checkpoint.remove checkpoint;
+  let resumed_rays = Option.fold ~none:0 ~some:Checkpoint.resumed_rays checkpoint in
   Render_report.warn_bad_samples st;
   Option.iter
     (fun p ->
       let j =
-        match Render_report.stats_json o sc ~build ~wall ~domains ~ranks st with
+        match
+          Render_report.stats_json ~resumed_rays o sc ~build ~wall ~domains ~ranks st
+        with
         | `Assoc l -> `Assoc (l @ extra)
         | j -> j
       in
@@ -86,7 +89,7 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
     in
     let stdout = Output.is_stdout out in
     let line =
-      Render_report.summary ?size
+      Render_report.summary ?size ~resumed_rays
         ~out:(if stdout then "the image to standard output" else out)
         sc ~build ~render:wall ~workers st
     in
@@ -103,6 +106,11 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   let b = build ~digests:true o in
   let sc = b.scene in
   Output.guard_render o b.source ~out;
+  (* What lancer check warns of, before the render rather than after it. *)
+  if not o.quiet then
+    List.iter
+      (fun w -> Printf.eprintf "%s%!" (Diagnostic.to_string w))
+      (Program.warnings b.program sc);
   Render_report.warn_long_render o sc;
   Output.check_encoding enc ~out sc;
   if resume && Output.is_stdout out then
