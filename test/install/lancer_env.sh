@@ -13,7 +13,14 @@ build=$(cd ../.. && pwd)          # _build/default: the copies of .ci/ and doc/
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/lancer-env-test.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 prefix=$tmp/prefix project=$tmp/my-scenes
-mode=$(bash "$build/.ci/install-env" "$build/../install/default/lib" "$prefix" "$prefix")
+libdir=$build/../install/default/lib
+if [ ! -d "$libdir/lancer" ]; then
+  # dune build -p lancer-alcotest, against a lancer installed elsewhere: make install
+  # installs both from one build, which this cannot play.
+  echo "lancer-env: not checked: lancer is not built in this workspace"
+  exit 0
+fi
+mode=$(bash "$build/.ci/install-env" "$libdir" "$prefix" "$prefix")
 fail() { echo "lancer-env: $*" >&2; exit 1; }
 
 # The blocks of the guide marked route=golden: files into the project, sh lines to run.
