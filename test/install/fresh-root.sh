@@ -10,7 +10,8 @@
 #                                          project outside the tree)
 #   test/install/fresh-root.sh trixie-cluster  (Debian 13 with MPICH standing for a
 #                                          cluster's own MPI: the cluster guide's build of
-#                                          lancer-mpi against it, then a render over 2 ranks)
+#                                          lancer-mpi against it, with the OCaml of the
+#                                          system; then the same as bookworm-user)
 # It makes the root (with gcc and make, as a user's machine has) under $TMPDIR, copies
 # the project's tracked files into it, records its packages and /etc/apt, runs
 # `make test`, `make demo` and `make test` again (timed), then checks that no package of
@@ -119,17 +120,28 @@ if [ "$case" = bookworm-user ] || [ "$case" = trixie-cluster ]; then
   ls "$user"/{dune-project,dune,test_scenes.ml,ball.rts,first.rts} >/dev/null
 fi
 path='PATH=$HOME/.local/bin:$PATH'
-if [ "$case" = bookworm-user ]; then
-  [ "$(inroot 'cd /home/user/lancer && bash .ci/toolchain mode')" = root ] ||
-    { echo "fresh-root: with opam installed but not initialised, the mode is not root"; exit 1; }
-  step make-install 'make install'
+if [ "$case" = bookworm-user ] || [ "$case" = trixie-cluster ]; then
+  if [ "$case" = bookworm-user ]; then
+    [ "$(inroot 'cd /home/user/lancer && bash .ci/toolchain mode')" = root ] ||
+      { echo "fresh-root: with opam installed but not initialised, the mode is not root"; exit 1; }
+    step make-install 'make install'
+  else
+    # make install there, then a render over two ranks of the cluster's MPI.
+    step cluster-route "export $path; bash ~/route-cluster.sh"
+    step cluster-mpi "export $path; cd ~/my-scenes && ldd \$(command -v lancer-mpi) | grep mpich &&
+      lancer render scene.rts -o ref.png -q && cmp ref.png scene.png"
+  fi
   step golden-route "export $path; cd ~/my-scenes && bash ~/route-golden.sh && test -s golden/ball.png"
   step readme-route "export $path; cd ~/my-scenes && bash ~/route-user.sh"
   step mpi-bytes "export $path; cd ~/my-scenes && lancer render first.rts -o first.png -q && cmp first.png first-mpi.png"
-  step golden-catches-change "export $path; cd ~/my-scenes && sed -i 's/0.15, 0.35, 0.9/0.2, 0.8, 0.2/' ball.rts && ! lancer-env dune test >changed.log 2>&1 && grep 'differs from its golden' changed.log"
-elif [ "$case" = trixie-cluster ]; then
-  step cluster-route "export $path; bash ~/route-cluster.sh"
-  step mpi-bytes "export $path; cd ~/my-scenes && ldd \$(command -v lancer-mpi) | grep -q mpich && lancer render scene.rts -o ref.png -q && cmp ref.png scene.png"
+  # Ctrl-C, as a terminal sends it (to the whole process group), ends the job with 130
+  # within 2 s through everything that runs it.
+  step mpirun-interrupt "export $path; cd ~/my-scenes && rm -f status &&
+    { setsid bash -c 'lancer-mpirun -n 2 lancer-mpi render first.rts -o big.png --width 8000 --height 6000 -q; echo \$? >status' & } &&
+    sleep 2 && kill -INT -- -\$! && for i in \$(seq 20); do [ -s status ] && break; sleep 0.1; done &&
+    cat status && [ \$(cat status) = 130 ] && [ ! -e big.png ]"
+  step golden-catches-change "export $path; cd ~/my-scenes && sed -i 's/0.15, 0.35, 0.9/0.2, 0.8, 0.2/' ball.rts &&
+    ! lancer-env dune test >changed.log 2>&1 && grep 'differs from its golden' changed.log"
 elif [ "$case" = trixie-pending ]; then
   inroot 'apt-get update -q' >/dev/null
   pending=$(inroot 'apt-get -s upgrade' | grep -c '^Inst ' || true)
