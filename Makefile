@@ -27,7 +27,7 @@ deps-install:
 	@bash .ci/toolchain setup --install
 
 # lancer and lancer-mpi (where an MPI library is found), not lancer-alcotest: its
-# library needs alcotest, which only the tests install.
+# library needs alcotest, which only the tests and make install (deps-install) install.
 build: deps-build
 	$(RUN) $(DUNE) build -j $(JOBS) --only-packages lancer,lancer-mpi @install
 
