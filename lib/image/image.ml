@@ -347,6 +347,59 @@ let bits_problem fmt bits =
         (Printf.sprintf "%d bits: a %s image has one depth of its own" b
            (if fmt = Hdr then "Radiance .hdr" else "PFM"))
 
+(* A 32-bit digest of bytes [off, off + len) of [s] folded into [h]: FNV-1a over 4-byte
+   words (then the bytes left), in native ints, so that nothing is allocated. Each step is
+   a bijection of the digest for a given word, so a change within one word always changes
+   it. *)
+external get32u : string -> int -> int32 = "%caml_string_get32u"
+external get64u : string -> int -> int64 = "%caml_string_get64u"
+external swap32 : int32 -> int32 = "%bswap_int32"
+external swap64 : int64 -> int64 = "%bswap_int64"
+
+(* Only the low 32 bits of [h] matter: those of a product depend only on those of its
+   factors, so the masking waits for the end, and a 64-bit load gives two words. *)
+let fold_words h s off len =
+  if off < 0 || len < 0 || off + len > String.length s then invalid_arg "Image.fold_words";
+  let p = 0x01000193 in
+  let h = ref h and i = ref off in
+  let stop = off + len in
+  while !i + 8 <= stop do
+    (* Little-endian words on every machine. *)
+    let w = get64u s !i in
+    let w = if Sys.big_endian then swap64 w else w in
+    h := !h lxor Int64.to_int w * p;
+    h := !h lxor Int64.to_int (Int64.shift_right_logical w 32) * p;
+    i := !i + 8
+  done;
+  if !i + 4 <= stop then (
+    let w = get32u s !i in
+    let w = if Sys.big_endian then swap32 w else w in
+    h := !h lxor Int32.to_int w * p;
+    i := !i + 4);
+  while !i < stop do
+    h := !h lxor Char.code (String.unsafe_get s !i) * p;
+    incr i
+  done;
+  !h land 0xFFFF_FFFF
+
+let block_digests ~size (r : Raster.t) =
+  let nx = (r.width + size - 1) / size and ny = (r.height + size - 1) / size in
+  let px = r.channels * (r.depth / 8) in
+  let s = Bytes.unsafe_to_string r.samples in
+  let b = Buffer.create (8 * nx * ny) in
+  for by = 0 to ny - 1 do
+    for bx = 0 to nx - 1 do
+      let x0 = bx * size in
+      let len = min size (r.width - x0) * px in
+      let h = ref 0x811C9DC5 in
+      for j = by * size to min r.height ((by + 1) * size) - 1 do
+        h := fold_words !h s (((j * r.width) + x0) * px) len
+      done;
+      Buffer.add_string b (Printf.sprintf "%08x" !h)
+    done
+  done;
+  Buffer.contents b
+
 let record_keyword = "lancer"
 
 let file_of fmt ?gamma ?bits ?alpha ?crop ?text fb =

@@ -110,6 +110,11 @@ val file_of :
     from the encoded image ([Some]); an EXR keeps the text of keyword ["lancer"], made
     without an encoded image ([None]), as a header attribute; other formats keep none. *)
 
+val block_digests : size:int -> Raster.t -> string
+(** A 32-bit digest (FNV-1a over 4-byte words) of each [size]×[size] block of the raster's
+    samples (the last row and column of blocks may be smaller), row-major, 8 hexadecimal
+    digits a block. *)
+
 val bits_problem : format -> int option -> string option
 (** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
 

@@ -70,24 +70,7 @@ let make ~image (src : Scenes.t) options ~files ~time ~frame ~region ~crop ~alph
 let block_count (r : Raster.t) =
   ((r.width + block_size - 1) / block_size, (r.height + block_size - 1) / block_size)
 
-let blocks (r : Raster.t) =
-  let nx, ny = block_count r in
-  let px = r.channels * (r.depth / 8) in
-  let b = Buffer.create (8 * nx * ny) in
-  let row = Buffer.create (block_size * px) in
-  for by = 0 to ny - 1 do
-    for bx = 0 to nx - 1 do
-      Buffer.clear row;
-      let x0 = bx * block_size and y0 = by * block_size in
-      let w = min block_size (r.width - x0) in
-      for j = y0 to min r.height (y0 + block_size) - 1 do
-        Buffer.add_subbytes row r.samples (((j * r.width) + x0) * px) (w * px)
-      done;
-      Buffer.add_string b
-        (String.sub (Digest.to_hex (Digest.string (Buffer.contents row))) 0 8)
-    done
-  done;
-  Buffer.contents b
+let blocks r = Image.block_digests ~size:block_size r
 
 let to_json t =
   let opt name f = function Some v -> [ (name, f v) ] | None -> [] in

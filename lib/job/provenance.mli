@@ -25,8 +25,9 @@ type t = {
   alpha : bool;  (** [--alpha]: a fourth channel of coverage *)
   bits : int;  (** 8 or 16 *)
   blocks : string;
-      (** 8 hexadecimal digits a block (the start of the MD5 of its samples), blocks of
-          {!block_size} pixels row-major over the image as written *)
+      (** 8 hexadecimal digits a block (a 32-bit digest of its samples,
+          {!Lancer_image.Image.block_digests}), blocks of {!block_size} pixels row-major
+          over the image as written *)
 }
 
 val keyword : string
