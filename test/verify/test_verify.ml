@@ -140,6 +140,52 @@ let test_refusals () =
   let r = lancer ~dir:d [ "verify"; "missing.png" ] in
   check_status "missing" 1 r
 
+(* make demo's own commands (read from the Makefile), then lancer verify on every image
+   they wrote. *)
+let test_demo () =
+  let root = Filename.concat (Sys.getcwd ()) "../.." in
+  let make = read_file (root // "Makefile") in
+  let lines = String.split_on_char '\n' make in
+  let rec demo = function
+    | l :: rest when String.starts_with ~prefix:"demo:" l -> body rest
+    | _ :: rest -> demo rest
+    | [] -> []
+  and body = function
+    | l :: rest when String.length l > 0 && l.[0] = '\t' -> l :: body rest
+    | _ -> []
+  in
+  let prefix = "\tout/bin/lancer " in
+  let commands =
+    List.filter_map
+      (fun l ->
+        if String.starts_with ~prefix l then
+          Some
+            (String.sub l (String.length prefix) (String.length l - String.length prefix))
+        else None)
+      (demo lines)
+  in
+  Alcotest.(check bool) "make demo runs lancer" true (List.length commands >= 2);
+  let d = tmpdir "lancer-verify-demo" in
+  Unix.symlink (root // "scenes") (d // "scenes");
+  Unix.mkdir (d // "out") 0o755;
+  List.iter
+    (fun c ->
+      let st =
+        Sys.command (Printf.sprintf "cd %s && %s %s -q" (Filename.quote d) exe c)
+      in
+      Alcotest.(check int) c 0 st)
+    commands;
+  let images =
+    "out/showcase.png"
+    :: List.map
+         (fun f -> "out/bounce" // f)
+         (List.filter
+            (fun f -> Filename.check_suffix f ".png")
+            (Array.to_list (Sys.readdir (d // "out/bounce"))))
+  in
+  Alcotest.(check bool) "the frames" true (List.length images > 100);
+  List.iter (reproduced d) images
+
 let () =
   Alcotest.run "verify"
     [
@@ -154,5 +200,6 @@ let () =
             test_inputs_changed;
           Alcotest.test_case "an image without a record, or with a bad one" `Quick
             test_refusals;
+          Alcotest.test_case "every image make demo writes is reproduced" `Slow test_demo;
         ] );
     ]
