@@ -72,9 +72,6 @@ val kind_names : string list
 (** The kinds by the names a scene gives them: ["perspective"], ["orthographic"],
     ["fisheye"]. *)
 
-val kind_name : kind -> string
-(** A kind's name among {!kind_names}. *)
-
 val default_shutter_samples : int
 (** 8: the instants an open shutter is rendered at unless told. *)
 
