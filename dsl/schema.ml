@@ -337,6 +337,11 @@ let blocks =
         f "ior" Number ~range:positive ~default:(num material.ior) "index of refraction";
         f "fresnel" Boolean ~default:(flag material.fresnel)
           "Schlick's approximation of Fresnel moves transparency × F to reflection";
+        f "metallic" Number ~range:unit_interval ~default:(num material.metallic)
+          "tints the highlight and the reflection by the surface colour: 0 white, 1 the \
+           colour";
+        f "filter" Number ~range:unit_interval ~default:(num material.filter)
+          "tints the light seen through the surface by its colour: 0 white, 1 the colour";
         f "bump" Bump ~default:(Absent "none") "perturbs the normal";
         f "base" Base_material ~default:(Absent "the default material")
           "a material to copy before the other fields apply";

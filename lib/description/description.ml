@@ -32,6 +32,8 @@ type ('texture, 'bump) material_of = {
   transparency : float;
   ior : float;
   fresnel : bool;
+  metallic : float;
+  filter : float;
   bump : 'bump option;
 }
 
@@ -49,6 +51,8 @@ let default_material =
     transparency = 0.;
     ior = 1.;
     fresnel = false;
+    metallic = 0.;
+    filter = 0.;
     bump = None;
   }
 
@@ -57,6 +61,9 @@ let validate_material m =
     if Float.is_finite v && v >= 0. then Ok ()
     else Error (Printf.sprintf "%s must be a finite number >= 0 (got %g)" name v)
   in
+  let at_most_one name v =
+    if v > 1. then Error (name ^ " must be at most 1") else Ok ()
+  in
   let ( let* ) = Result.bind in
   let* () = nonneg "ambient" m.ambient in
   let* () = nonneg "diffuse" m.diffuse in
@@ -64,9 +71,13 @@ let validate_material m =
   let* () = nonneg "shininess" m.shininess in
   let* () = nonneg "reflection" m.reflection in
   let* () = nonneg "transparency" m.transparency in
-  if m.reflection > 1. then Error "reflection must be at most 1"
-  else if m.transparency > 1. then Error "transparency must be at most 1"
-  else if m.reflection +. m.transparency > 1. then
+  let* () = nonneg "metallic" m.metallic in
+  let* () = nonneg "filter" m.filter in
+  let* () = at_most_one "reflection" m.reflection in
+  let* () = at_most_one "transparency" m.transparency in
+  let* () = at_most_one "metallic" m.metallic in
+  let* () = at_most_one "filter" m.filter in
+  if m.reflection +. m.transparency > 1. then
     Error
       (Printf.sprintf "reflection + transparency must be at most 1 (got %g + %g)"
          m.reflection m.transparency)

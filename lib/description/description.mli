@@ -78,23 +78,28 @@ type ('texture, 'bump) material_of = {
   transparency : float;  (** refraction weight τ in [0, 1]; default 0 *)
   ior : float;  (** index of refraction; default 1 *)
   fresnel : bool;  (** Schlick's approximation moves τ·F to r; default false *)
+  metallic : float;
+      (** μ in [0, 1]: the highlight and the reflected light are multiplied by tint(μ) =
+          (1 − μ)·white + μ·C, C the albedo; default 0 *)
+  filter : float;
+      (** φ in [0, 1]: the refracted light is multiplied by tint(φ); default 0 *)
   bump : 'bump option;  (** normal perturbation; default none *)
 }
 (** A surface material: the description's ([material]) and the renderer's ([Material.t],
     with decoded textures) are this one record. Invariants, checked by
     {!validate_material}: coefficients finite and non-negative, reflection + transparency
-    ≤ 1, ior > 0. *)
+    ≤ 1, ior > 0, metallic and filter in [0, 1]. *)
 
 type material = (texture, bump) material_of
 
 val default_material : ('texture, 'bump) material_of
 (** Every default above: white, ambient 0.1, diffuse 0.9, no specular (shininess 50),
-    opaque, ior 1, no texture or bump. The language's defaults and the renderer's are this
-    value. *)
+    opaque, ior 1, untinted (metallic and filter 0), no texture or bump. The language's
+    defaults and the renderer's are this value. *)
 
 val validate_material : ('texture, 'bump) material_of -> (unit, string) result
 (** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤
-    1, ior > 0), with their messages. *)
+    1, ior > 0, metallic and filter at most 1), with their messages. *)
 
 val color_map_problem : (float * Color.t) list -> string option
 (** Why these entries are not a colour map (none, a t outside [0, 1], decreasing, a colour

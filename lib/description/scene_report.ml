@@ -215,6 +215,8 @@ let material_json (m : D.material) =
        ("transparency", `Float m.transparency);
        ("ior", `Float m.ior);
        ("fresnel", `Bool m.fresnel);
+       ("metallic", `Float m.metallic);
+       ("filter", `Float m.filter);
      ]
     @ (match m.texture with Some x -> [ ("texture", texture_json x) ] | None -> [])
     @ match m.bump with Some x -> [ ("bump", bump_json x) ] | None -> [])
