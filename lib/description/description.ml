@@ -57,33 +57,41 @@ let default_material =
   }
 
 let validate_material m =
-  let nonneg name v =
-    if Float.is_finite v && v >= 0. then Ok ()
-    else Error (Printf.sprintf "%s must be a finite number >= 0 (got %g)" name v)
+  (* The weights in [0, 1], after the other coefficients, which are only non-negative. *)
+  let weights =
+    [
+      ("reflection", m.reflection);
+      ("transparency", m.transparency);
+      ("metallic", m.metallic);
+      ("filter", m.filter);
+    ]
   in
-  let at_most_one name v =
-    if v > 1. then Error (name ^ " must be at most 1") else Ok ()
+  let coefficients =
+    [
+      ("ambient", m.ambient);
+      ("diffuse", m.diffuse);
+      ("specular", m.specular);
+      ("shininess", m.shininess);
+    ]
+    @ weights
   in
-  let ( let* ) = Result.bind in
-  let* () = nonneg "ambient" m.ambient in
-  let* () = nonneg "diffuse" m.diffuse in
-  let* () = nonneg "specular" m.specular in
-  let* () = nonneg "shininess" m.shininess in
-  let* () = nonneg "reflection" m.reflection in
-  let* () = nonneg "transparency" m.transparency in
-  let* () = nonneg "metallic" m.metallic in
-  let* () = nonneg "filter" m.filter in
-  let* () = at_most_one "reflection" m.reflection in
-  let* () = at_most_one "transparency" m.transparency in
-  let* () = at_most_one "metallic" m.metallic in
-  let* () = at_most_one "filter" m.filter in
-  if m.reflection +. m.transparency > 1. then
-    Error
-      (Printf.sprintf "reflection + transparency must be at most 1 (got %g + %g)"
-         m.reflection m.transparency)
-  else if not (Float.is_finite m.ior && m.ior > 0.) then
-    Error (Printf.sprintf "ior must be > 0 (got %g)" m.ior)
-  else Ok ()
+  let negative (name, v) =
+    if Float.is_finite v && v >= 0. then None
+    else Some (Printf.sprintf "%s must be a finite number >= 0 (got %g)" name v)
+  and above_one (name, v) = if v > 1. then Some (name ^ " must be at most 1") else None in
+  match List.find_map negative coefficients with
+  | Some e -> Error e
+  | None -> (
+      match List.find_map above_one weights with
+      | Some e -> Error e
+      | None ->
+          if m.reflection +. m.transparency > 1. then
+            Error
+              (Printf.sprintf "reflection + transparency must be at most 1 (got %g + %g)"
+                 m.reflection m.transparency)
+          else if not (Float.is_finite m.ior && m.ior > 0.) then
+            Error (Printf.sprintf "ior must be > 0 (got %g)" m.ior)
+          else Ok ())
 
 let color_map_problem entries =
   let ok_color (c : Color.t) = Color.is_finite c && c.r >= 0. && c.g >= 0. && c.b >= 0. in

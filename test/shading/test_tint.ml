@@ -3,20 +3,7 @@
 
 module R = Tint_ref
 
-let plain : R.material =
-  {
-    color = R.v 1. 1. 1.;
-    ambient = 0.1;
-    diffuse = 0.9;
-    specular = 0.;
-    shininess = 50.;
-    reflection = 0.;
-    transparency = 0.;
-    ior = 1.;
-    fresnel = false;
-    metallic = 0.;
-    filter = 0.;
-  }
+let plain = Lancer.Description.default_material
 
 let scene material : R.scene =
   {
@@ -39,7 +26,7 @@ let scene material : R.scene =
 let gold =
   {
     plain with
-    color = R.v 1. 0.766 0.336;
+    color = Lancer.Color.v 1. 0.766 0.336;
     ambient = 0.05;
     diffuse = 0.75;
     specular = 0.8;
@@ -51,7 +38,7 @@ let gold =
 let red_glass =
   {
     plain with
-    color = R.v 1. 0.2 0.15;
+    color = Lancer.Color.v 1. 0.2 0.15;
     ambient = 0.;
     diffuse = 0.;
     specular = 1.;
@@ -65,7 +52,7 @@ let red_glass =
 let mixed =
   {
     plain with
-    color = R.v 0.3 0.8 0.5;
+    color = Lancer.Color.v 0.3 0.8 0.5;
     specular = 0.5;
     shininess = 20.;
     reflection = 0.3;
@@ -121,7 +108,7 @@ let tints_show () =
   List.iter
     (fun (what, m) ->
       let s = scene m in
-      let untinted = scene { m with R.metallic = 0.; filter = 0. } in
+      let untinted = scene { m with Lancer.Description.metallic = 0.; filter = 0. } in
       if Bytes.equal (R.render s) (R.render untinted) then
         Alcotest.failf "%s: the tint changes nothing in the reference" what)
     [ ("gold", gold); ("red glass", red_glass); ("mixed", mixed) ]

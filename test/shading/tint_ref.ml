@@ -1,19 +1,5 @@
 type v = { x : float; y : float; z : float }
 
-type material = {
-  color : v;
-  ambient : float;
-  diffuse : float;
-  specular : float;
-  shininess : float;
-  reflection : float;
-  transparency : float;
-  ior : float;
-  fresnel : bool;
-  metallic : float;
-  filter : float;
-}
-
 type scene = {
   width : int;
   height : int;
@@ -26,7 +12,7 @@ type scene = {
   light : v;
   center : v;
   radius : float;
-  material : material;
+  material : Lancer.Description.material;
 }
 
 let v x y z = { x; y; z }
@@ -75,7 +61,7 @@ let rec trace s o d depth =
 
 and shade s o d p depth =
   let m = s.material in
-  let c = m.color in
+  let c = v m.color.r m.color.g m.color.b in
   let n = unit (p -| s.center) in
   let entering = dot d n < 0. in
   let nf = if entering then n else -1. *| n in
@@ -169,6 +155,7 @@ let rts s =
   let p a = Printf.sprintf "(%.17g, %.17g, %.17g)" a.x a.y a.z
   and n = Printf.sprintf "%.17g" in
   let m = s.material in
+  let rgb (c : Lancer.Color.t) = p (v c.r c.g c.b) in
   String.concat "\n"
     [
       Printf.sprintf
@@ -181,7 +168,7 @@ let rts s =
         "sphere { center: %s, radius: %s, material: material { color: %s, ambient: %s, \
          diffuse: %s, specular: %s, shininess: %s, reflection: %s, transparency: %s, \
          ior: %s, fresnel: %b, metallic: %s, filter: %s } }"
-        (p s.center) (n s.radius) (p m.color) (n m.ambient) (n m.diffuse) (n m.specular)
+        (p s.center) (n s.radius) (rgb m.color) (n m.ambient) (n m.diffuse) (n m.specular)
         (n m.shininess) (n m.reflection) (n m.transparency) (n m.ior) m.fresnel
         (n m.metallic) (n m.filter);
       "";

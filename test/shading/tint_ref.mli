@@ -8,20 +8,6 @@ type v = { x : float; y : float; z : float }
 
 val v : float -> float -> float -> v
 
-type material = {
-  color : v;
-  ambient : float;
-  diffuse : float;
-  specular : float;
-  shininess : float;
-  reflection : float;
-  transparency : float;
-  ior : float;
-  fresnel : bool;
-  metallic : float;
-  filter : float;
-}
-
 type scene = {
   width : int;
   height : int;
@@ -34,7 +20,7 @@ type scene = {
   light : v;  (** a point light of white colour, intensity 1, no attenuation *)
   center : v;
   radius : float;
-  material : material;
+  material : Lancer.Description.material;  (** its texture and bump are not read *)
 }
 
 val render : scene -> Bytes.t
