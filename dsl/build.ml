@@ -628,9 +628,10 @@ let shape_of (k : Kind.t) : t -> D.shape =
             ( D.Model { file; path; smooth; at; solid_in = None },
               D.Mesh { file; path; smooth; at } ))
   | "height_field" ->
-      let f = s "file" and o = s "origin" and sz = s "size" in
+      let f = s "file" and o = s "origin" and sz = s "size" and sm = s "smooth" in
       fun b ->
         let origin = point b o in
+        let smooth = boolean b sm in
         let size =
           point b sz ~check:(fun at (size : Vec3.t) ->
               if not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) then
@@ -638,7 +639,8 @@ let shape_of (k : Kind.t) : t -> D.shape =
               size)
         in
         file_use b f (fun file path at ->
-            (D.Heights { file; path; at }, D.Height_field { file; path; origin; size; at }))
+            ( D.Heights { file; path; at },
+              D.Height_field { file; path; origin; size; smooth; at } ))
   | k -> invalid_arg ("Build: " ^ k ^ " is not a shape")
 
 let shape site = shape_of site.kind_

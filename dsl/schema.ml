@@ -132,7 +132,9 @@ let shape_blocks =
     shape "mesh"
       [
         f "file" File "a Wavefront OBJ file, relative to the scene";
-        f "smooth" Boolean ~default:(opt "true") "interpolate the vertex normals";
+        f "smooth" Boolean ~default:(opt "true")
+          "interpolate vertex normals: the file's, or where it has none normals computed \
+           from the faces (split at edges sharper than 60°)";
       ];
     shape "cone" ~doc:"either radius may be 0 (a point)"
       [
@@ -155,6 +157,8 @@ let shape_blocks =
         f "file" File "a PNG or PPM image of heights, relative to the scene";
         f "origin" Vector ~default:(opt "(0, 0, 0)") "the corner of pixel (0, 0)";
         f "size" Vector "(sx, sy, sz): the extent along each axis, positive";
+        f "smooth" Boolean ~default:(opt "false")
+          "interpolate vertex normals computed from the cells (false: flat facets)";
       ];
   ]
 

@@ -121,6 +121,7 @@ let color_map_problem entries =
     check 0. 1 entries
 
 let max_objects = 10_000_000
+let crease = 60.
 
 type csg_op = Union | Merge | Intersection | Difference
 type step = Translate of Vec3.t | Rotate of Vec3.t | Scale of Vec3.t
@@ -148,6 +149,7 @@ type shape =
       path : string;
       origin : Vec3.t;
       size : Vec3.t;
+      smooth : bool;
       at : Loc.t;
     }
   | Csg of { op : csg_op; block : string; members : obj list; solid : bool }
@@ -220,6 +222,7 @@ type t = {
 
 type static = (int * obj list) list
 type part = Static of int | Built of obj list
+type mesh_faces = { triangles : int; read : int; computed : int }
 
 type rendered = {
   r_settings : Settings.t;
@@ -228,6 +231,6 @@ type rendered = {
   r_kinds : (string * int) list;
   r_csg : string list;
   r_materials : int;
-  r_meshes : ((string * bool) * int) list;
-  r_rasters : (string * (int * int)) list;
+  r_meshes : ((string * bool) * mesh_faces) list;
+  r_rasters : ((string * bool) * (int * int)) list;
 }

@@ -107,6 +107,10 @@ val color_map_problem : (float * Color.t) list -> string option
 
 (** {1 Shapes and objects} *)
 
+val crease : float
+(** 60: the angle in degrees between two faces above which the normals computed for a mesh
+    without normals (or a smooth height field) do not smooth across their edge. *)
+
 val max_objects : int
 (** 10 000 000: the most objects a scene may build (a mesh's triangles and a height
     field's each count). *)
@@ -144,8 +148,12 @@ type shape =
       path : string;
       origin : Vec3.t;
       size : Vec3.t;
+      smooth : bool;
       at : Loc.t;
-    }  (** an image's luminance as heights over [size] from [origin] *)
+    }
+      (** an image's luminance as heights over [size] from [origin]; [smooth]: vertex
+          normals computed from the cells and interpolated, as a mesh's without normals
+          are *)
   | Csg of { op : csg_op; block : string; members : obj list; solid : bool }
       (** members in order, each with its own transform and material; [block] as written
           ("group" for a group inside a CSG block); [solid] when the members must have an
@@ -263,6 +271,13 @@ type part =
 
     For [lancer check], which prints a description beside what rendering it involves. *)
 
+type mesh_faces = {
+  triangles : int;
+  read : int;  (** how many of them have the file's normals *)
+  computed : int;
+      (** how many have normals computed from the faces; the others are flat *)
+}
+
 type rendered = {
   r_settings : Settings.t;  (** as rendered: command-line overrides applied *)
   r_lights : Light.t list;
@@ -272,7 +287,8 @@ type rendered = {
           count) *)
   r_csg : string list;  (** each CSG object's tree on one line: difference(box, sphere) *)
   r_materials : int;  (** distinct materials *)
-  r_meshes : ((string * bool) * int) list;
+  r_meshes : ((string * bool) * mesh_faces) list;
       (** the triangles of each mesh file read (path, smooth) *)
-  r_rasters : (string * (int * int)) list;  (** width and height of each height field *)
+  r_rasters : ((string * bool) * (int * int)) list;
+      (** width and height of each height field's image (path, smooth) *)
 }

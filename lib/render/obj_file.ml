@@ -454,7 +454,7 @@ let parse_mesh ?(smooth = true) ~file text =
     else if tv.n = 0 then Error (Printf.sprintf "%s:%d: the file has no faces" file lines)
     else
       Ok
-        (Trimesh.make ~pos:(trimmed_floats vs) ~nrm:(trimmed_floats vns)
+        (Mesh_normals.mesh ~smooth ~pos:(trimmed_floats vs) ~nrm:(trimmed_floats vns)
            ~tex:(trimmed_floats vts) ~tv:(trimmed tv)
            ~tn:(if !with_normals then trimmed tn else Trimesh.no_ints)
            ~tt:(if !with_uvs then trimmed tt else Trimesh.no_ints))

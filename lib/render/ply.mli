@@ -12,4 +12,5 @@
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
 (** [parse_mesh ~file text] reads the PLY file whose bytes are [text] into one indexed
     mesh; [file] names it in messages. With [smooth] (default true) a mesh with vertex
-    normals interpolates them. *)
+    normals interpolates them, and one without gets normals computed from its faces
+    ({!Mesh_normals.complete}). *)
