@@ -62,6 +62,14 @@ let corners_around tv nv count =
   done;
   (start, around)
 
+(* Union–find over the corners around one vertex (local indices), with path halving. *)
+let rec find parent i =
+  let p = parent.(i) in
+  if p = i then i
+  else (
+    parent.(i) <- parent.(p);
+    find parent parent.(i))
+
 let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
   let count = Bigarray.Array1.dim tv / 3 in
   let has = Bigarray.Array1.dim tn > 0 in
@@ -77,58 +85,84 @@ let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
     faces_into pos tv fn ang count;
     let start, around = corners_around tv nv count in
     let cos_crease = Float.cos (crease *. Float.pi /. 180.) in
+    let within k k' =
+      (fget fn (3 * k) *. fget fn (3 * k'))
+      +. (fget fn ((3 * k) + 1) *. fget fn ((3 * k') + 1))
+      +. (fget fn ((3 * k) + 2) *. fget fn ((3 * k') + 2))
+      >= cos_crease
+    in
     let out = Tri_builder.floats 3 in
     Tri_builder.(out.fl <- Float.Array.copy nrm);
     out.len <- Float.Array.length nrm / 3;
     let tn' = Trimesh.ints (3 * count) in
     if has then Bigarray.Array1.blit tn tn' else Bigarray.Array1.fill tn' (-1l);
+    (* Scratch for the corners around one vertex, as large as the most there are. *)
+    let most = ref 0 in
     for v = 0 to nv - 1 do
-      (* The normals computed at this vertex so far start here: a corner whose average
-         is one of them, to the bit, shares it. *)
-      let first = out.len in
-      for p = start.(v) to start.(v + 1) - 1 do
-        let corner = iget around p in
-        let k = corner / 3 in
+      most := max !most (start.(v + 1) - start.(v))
+    done;
+    let parent = Array.make !most 0
+    and index = Array.make !most (-1)
+    and sums = Float.Array.make (3 * !most) 0. in
+    for v = 0 to nv - 1 do
+      let first = start.(v) and d = start.(v + 1) - start.(v) in
+      let face i = iget around (first + i) / 3 in
+      (* The faces around v that share an edge from v (the same other vertex) and meet
+         within the crease are one smooth group: each corner's edges as keys
+         (other vertex, corner), sorted, so that the faces of an edge are neighbours. *)
+      let keys = Array.make (2 * d) 0 in
+      for i = 0 to d - 1 do
+        let c = iget around (first + i) in
+        let k = c / 3 and j = c mod 3 in
+        let other o = iget tv ((3 * k) + ((j + o) mod 3)) in
+        keys.(2 * i) <- (other 1 lsl 31) lor i;
+        keys.((2 * i) + 1) <- (other 2 lsl 31) lor i;
+        parent.(i) <- i;
+        index.(i) <- -1
+      done;
+      Array.sort Int.compare keys;
+      let mask = (1 lsl 31) - 1 in
+      for e = 1 to (2 * d) - 1 do
+        let a = keys.(e - 1) and b = keys.(e) in
+        if a lsr 31 = b lsr 31 then
+          let i = a land mask and i' = b land mask in
+          if within (face i) (face i') then parent.(find parent i) <- find parent i'
+      done;
+      (* Each group's angle-weighted sum of its faces' normals, in the corners' order. *)
+      for i = 0 to d - 1 do
+        let r = find parent i in
+        if r = i then (
+          Float.Array.set sums (3 * i) 0.;
+          Float.Array.set sums ((3 * i) + 1) 0.;
+          Float.Array.set sums ((3 * i) + 2) 0.)
+      done;
+      for i = 0 to d - 1 do
+        let r = 3 * find parent i and k = face i in
+        let w = fget ang (iget around (first + i)) in
+        for x = 0 to 2 do
+          fset sums (r + x) (fget sums (r + x) +. (w *. fget fn ((3 * k) + x)))
+        done
+      done;
+      (* One normal per group, given to the corners of its faces that have none. *)
+      for i = 0 to d - 1 do
+        let k = face i in
         if missing k then (
-          let fx = fget fn (3 * k)
-          and fy = fget fn ((3 * k) + 1)
-          and fz = fget fn ((3 * k) + 2) in
-          let sx = ref 0. and sy = ref 0. and sz = ref 0. in
-          for p' = start.(v) to start.(v + 1) - 1 do
-            let c' = iget around p' in
-            let k' = c' / 3 in
-            let gx = fget fn (3 * k')
-            and gy = fget fn ((3 * k') + 1)
-            and gz = fget fn ((3 * k') + 2) in
-            if (fx *. gx) +. (fy *. gy) +. (fz *. gz) >= cos_crease then (
-              let w = fget ang c' in
-              sx := !sx +. (w *. gx);
-              sy := !sy +. (w *. gy);
-              sz := !sz +. (w *. gz))
-          done;
-          let l = Vec3.length3 !sx !sy !sz in
-          (* The corner's own face is always in its sum; a sum that still vanishes (a
-             face of no angle) falls back to the face's normal. *)
-          let nx, ny, nz =
-            if l > 0. then (!sx /. l, !sy /. l, !sz /. l) else (fx, fy, fz)
-          in
-          let same = ref (-1) and q = ref first in
-          while !same < 0 && !q < out.len do
-            let o = 3 * !q in
-            if
-              Float.equal (fget out.fl o) nx
-              && Float.equal (fget out.fl (o + 1)) ny
-              && Float.equal (fget out.fl (o + 2)) nz
-            then same := !q;
-            incr q
-          done;
-          let index =
-            if !same >= 0 then !same
-            else (
-              Tri_builder.push3 out nx ny nz;
-              out.len - 1)
-          in
-          iset tn' corner index)
+          let r = find parent i in
+          if index.(r) < 0 then (
+            let sx = fget sums (3 * r)
+            and sy = fget sums ((3 * r) + 1)
+            and sz = fget sums ((3 * r) + 2) in
+            let l = Vec3.length3 sx sy sz in
+            (* A group's sum includes its own faces' normals, weighted by angles in
+               (0, π): it vanishes only for faces of no angle, which keep their own. *)
+            if l > 0. then Tri_builder.push3 out (sx /. l) (sy /. l) (sz /. l)
+            else
+              Tri_builder.push3 out
+                (fget fn (3 * k))
+                (fget fn ((3 * k) + 1))
+                (fget fn ((3 * k) + 2));
+            index.(r) <- out.len - 1);
+          iset tn' (iget around (first + i)) index.(r))
       done
     done;
     (Tri_builder.trimmed_floats out, tn', !n_missing)

@@ -1,12 +1,15 @@
-(** Vertex normals of a mesh that has none: each corner's normal is the average of the
-    normals of the faces around its vertex, weighted by the angle each face makes at that
-    vertex, taking only the faces that meet the corner's own face at no more than the
-    crease angle, so that a sharp edge stays sharp. The faces around a vertex are those
-    that name it (the same vertex of the file, not merely the same position).
+(** Vertex normals of a mesh that has none. The faces around a vertex (those that name it:
+    the same vertex of the file, not merely the same position) fall into smooth groups:
+    two faces that share an edge from the vertex and whose normals are at most the crease
+    angle apart are in one group. Each corner's normal is the average of the normals of
+    its group's faces, each weighted by the angle the face makes at the vertex. An edge
+    where faces meet at more than the crease angle stays sharp; a curved surface shades
+    smoothly.
 
-    Corners whose averages come out the same (a smooth vertex: every face around it within
-    the crease of every other) share one normal, so a smooth mesh stores about one per
-    vertex. Everything is in flat arrays, as the mesh's own data. *)
+    The corners of one group share one normal, so a smooth mesh stores one per vertex. The
+    work per vertex is that of sorting its edges, whatever its number of faces (a polygon
+    of a million corners, fanned, is one vertex of a million faces). Everything is in flat
+    arrays, as the mesh's own data. *)
 
 val complete :
   ?crease:float ->

@@ -26,33 +26,61 @@ let angle u w =
   Float.acos
     (Float.max (-1.) (Float.min 1. (Vec3.dot (Vec3.normalize u) (Vec3.normalize w))))
 
-(* The normal at each corner of [faces] (triples of indices into [pos]): the normals of
-   the faces at the corner's vertex within [crease] degrees of the corner's face, each
-   weighted by the face's angle there. *)
+(* The normal at each corner of [faces] (triples of indices into [pos]): the faces at the
+   corner's vertex reached from the corner's own face through edges from that vertex
+   where the two faces' normals are at most [crease] degrees apart, each face's normal
+   weighted by its angle at the vertex, summed in the order of the faces. *)
 let corner_normals ?(crease = 60.) pos faces =
   let n k =
     let a, b, c = faces.(k) in
     face_normal pos.(a) pos.(b) pos.(c)
   in
-  let angle_at k vtx =
+  let corners k =
     let a, b, c = faces.(k) in
-    let p = pos.(vtx) in
-    let others = List.filter (fun i -> i <> vtx) [ a; b; c ] in
-    match others with
-    | [ x; y ] -> angle (Vec3.sub pos.(x) p) (Vec3.sub pos.(y) p)
+    [ a; b; c ]
+  in
+  let angle_at k vtx =
+    match List.filter (fun i -> i <> vtx) (corners k) with
+    | [ x; y ] -> angle (Vec3.sub pos.(x) pos.(vtx)) (Vec3.sub pos.(y) pos.(vtx))
     | _ -> Alcotest.fail "a face with a repeated vertex"
   in
   let cos_crease = Float.cos (crease *. Float.pi /. 180.) in
+  let around vtx =
+    List.filter
+      (fun k -> List.mem vtx (corners k))
+      (List.init (Array.length faces) Fun.id)
+  in
+  (* Faces k and k' share an edge from vtx: another vertex in common. *)
+  let share_edge vtx k k' =
+    List.exists (fun x -> x <> vtx && List.mem x (corners k')) (corners k)
+  in
+  let group vtx k =
+    let rec grow seen = function
+      | [] -> seen
+      | g :: rest ->
+          let next =
+            List.filter
+              (fun k' ->
+                (not (List.mem k' seen))
+                && share_edge vtx g k'
+                && Vec3.dot (n g) (n k') >= cos_crease)
+              (around vtx)
+          in
+          grow (seen @ next) (rest @ next)
+    in
+    grow [ k ] [ k ]
+  in
   Array.mapi
     (fun k (a, b, c) ->
       let at vtx =
-        let sum = ref Vec3.zero in
-        Array.iteri
-          (fun k' (a', b', c') ->
-            if (a' = vtx || b' = vtx || c' = vtx) && Vec3.dot (n k) (n k') >= cos_crease
-            then sum := Vec3.add !sum (Vec3.smul (angle_at k' vtx) (n k')))
-          faces;
-        Vec3.normalize !sum
+        let members = group vtx k in
+        Vec3.normalize
+          (List.fold_left
+             (fun sum k' ->
+               if List.mem k' members then
+                 Vec3.add sum (Vec3.smul (angle_at k' vtx) (n k'))
+               else sum)
+             Vec3.zero (around vtx))
       in
       (at a, at b, at c))
     faces
@@ -160,6 +188,46 @@ let unit_tests =
         and f1 = face_normal pos.(1) pos.(0) pos.(3) in
         same_normals "creased tent" m [| (f0, f0, f0); (f1, f1, f1) |];
         same_normals "the definition" m (corner_normals pos faces));
+    case
+      "faces 35° apart in turn smooth into one group, though the first and last are 105° \
+       apart" (fun () ->
+        (* A fan around the apex of a steep cone, each blade turned 35° about y from the
+           one before, bent down, the blades sharing their edges from the origin. *)
+        let blade i =
+          let r = Float.of_int i *. 35. *. Float.pi /. 180. in
+          v (Float.cos r) (-2.) (Float.sin r)
+        in
+        let pos = Array.append [| v 0. 0. 0. |] (Array.init 5 blade) in
+        let faces = Array.init 4 (fun i -> (0, i + 2, i + 1)) in
+        let m = mesh (obj_text pos faces) in
+        same_normals "fan" m (corner_normals pos faces);
+        let n0, _, _ = stored_normals m 0 and n3, _, _ = stored_normals m 3 in
+        check_vec "one normal at the centre" n0 n3;
+        Alcotest.(check bool)
+          "the first and last faces are more than 60° apart" true
+          (Vec3.dot
+             (face_normal pos.(0) pos.(2) pos.(1))
+             (face_normal pos.(0) pos.(5) pos.(4))
+          < 0.5));
+    case "a polygon of 200 000 corners, fanned from one vertex, is quick" (fun () ->
+        let b = Buffer.create (1 lsl 22) in
+        Buffer.add_string b "v 0 0 0\n";
+        let n = 200_000 in
+        for i = 0 to n - 1 do
+          let r = 2. *. Float.pi *. Float.of_int i /. Float.of_int n in
+          Printf.bprintf b "v %.17g 0 %.17g\n" (Float.cos r) (Float.sin r)
+        done;
+        Buffer.add_string b "f 1";
+        for i = n downto 1 do
+          Printf.bprintf b " %d" (i + 1)
+        done;
+        Buffer.add_char b '\n';
+        let t0 = Sys.time () in
+        let m = mesh (Buffer.contents b) in
+        let dt = Sys.time () -. t0 in
+        Alcotest.(check int) "every face computed" (n - 1) (Trimesh.computed m);
+        check_vec "the centre's normal" (v 0. 1. 0.) (Trimesh.normal m 0 0);
+        if dt > 10. then Alcotest.failf "%.1f s of CPU" dt);
     case "a cube's corners stay sharp, a lumpy sphere is smooth everywhere" (fun () ->
         let cube =
           [|
