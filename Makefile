@@ -9,7 +9,7 @@ RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
 
-.PHONY: all deps deps-build build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
+.PHONY: all deps deps-build deps-install build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
 	clean-toolchain fmt install uninstall static cluster-bundle flip-oracle packages
 
 all: build
@@ -21,8 +21,13 @@ deps:
 deps-build:
 	@bash .ci/toolchain setup --build
 
+# What make install builds: the build set, alcotest (for lancer-alcotest), and in the
+# toolchain root Open MPI (for lancer-mpi).
+deps-install:
+	@bash .ci/toolchain setup --install
+
 # lancer and lancer-mpi (where an MPI library is found), not lancer-alcotest: its
-# library needs alcotest, which only the tests install.
+# library needs alcotest, which only the tests and make install (deps-install) install.
 build: deps-build
 	$(RUN) $(DUNE) build -j $(JOBS) --only-packages lancer,lancer-mpi @install
 
@@ -49,33 +54,48 @@ demo: out/bin/lancer
 
 # lancer, lancer's man pages and shell completion, and its scene library (dsl/lancer/,
 # installed as share/lancer/), under DESTDIR/PREFIX (PREFIX default ~/.local); the
-# statically linked lancer is stripped of its debugging information. Where lancer-mpi was
-# built and runs on this machine (not in the toolchain root, whose C and MPI libraries
-# are Debian 13's), lancer-mpi and lancer-mpirun and their man pages too.
+# statically linked lancer is stripped of its debugging information. Then the libraries
+# lancer, lancer-alcotest and lancer-mpi (lib/, for a dune project of one's own) and
+# lancer-env, which runs a command with the toolchain they were built with and them on
+# OCAMLPATH (.ci/lancer-env). lancer-mpi and lancer-mpirun where they were built: as
+# they are where the toolchain is native; in the toolchain root (whose C and MPI
+# libraries are Debian 13's) under libexec/lancer/, with lancer-env's wrappers in bin/
+# that run them in the root.
 DEST = $(DESTDIR)$(PREFIX)
 MAN1 = $(DEST)/share/man/man1
-install: out/bin/lancer
+LIBS = lancer lancer-alcotest lancer-mpi
+install: deps-install out/bin/lancer
+	$(RUN) $(DUNE) build -j $(JOBS) --only-packages lancer,lancer-alcotest,lancer-mpi @install
 	install -d $(DEST)/bin $(MAN1) $(DEST)/share/bash-completion/completions $(DEST)/share/lancer
 	install -m 0755 out/bin/lancer $(DEST)/bin/lancer
 	install -m 0644 _build/default/bin/share/*.1 $(MAN1)/
 	install -m 0644 _build/default/bin/share/lancer.bash $(DEST)/share/bash-completion/completions/lancer
 	install -m 0644 dsl/lancer/materials.rts dsl/lancer/colors.rts $(DEST)/share/lancer/
-	@if [ "$$(bash .ci/toolchain mode)" != root ] && [ -x _build/default/bin/mpi/lancer_mpi_main.exe ]; then \
-	  install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe $(DEST)/bin/lancer-mpi && \
-	  install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe $(DEST)/bin/lancer-mpirun && \
+	@mode=$$(bash .ci/install-env _build/install/default/lib $(DEST) $(PREFIX)) || exit 1; \
+	if [ -x _build/default/bin/mpi/lancer_mpi_main.exe ]; then \
+	  if [ "$$mode" = root ]; then bin=$(DEST)/libexec/lancer; else bin=$(DEST)/bin; fi; \
+	  install -d $$bin && \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpi_main.exe $$bin/lancer-mpi && \
+	  install -m 0755 _build/default/bin/mpi/lancer_mpirun.exe $$bin/lancer-mpirun && \
+	  if [ "$$mode" = root ]; then \
+	    install -m 0755 $(DEST)/bin/lancer-env $(DEST)/bin/lancer-mpi && \
+	    install -m 0755 $(DEST)/bin/lancer-env $(DEST)/bin/lancer-mpirun; fi && \
 	  install -m 0644 _build/default/bin/mpi/*.1 $(MAN1)/ && \
 	  echo "installed lancer-mpi and lancer-mpirun"; fi
 	@echo "installed $(DEST)/bin/lancer, its man pages, bash completion and scene library ($(DEST)/share/lancer/)"
+	@echo "installed the libraries $(LIBS) in $(DEST)/lib/ and lancer-env: 'lancer-env dune test' in a project of yours"
 	@case ":$$PATH:" in *":$(PREFIX)/bin:"*) ;; *) echo "add $(PREFIX)/bin to your PATH to run it as lancer";; esac
 
 # Everything install put there, and the directories it made that are left empty.
 uninstall:
-	rm -f $(DEST)/bin/lancer $(DEST)/bin/lancer-mpi $(DEST)/bin/lancer-mpirun \
+	rm -f $(DEST)/bin/lancer $(DEST)/bin/lancer-env $(DEST)/bin/lancer-mpi $(DEST)/bin/lancer-mpirun \
 	  $(MAN1)/lancer.1 $(MAN1)/lancer-*.1 \
 	  $(DEST)/share/bash-completion/completions/lancer \
-	  $(DEST)/share/lancer/materials.rts $(DEST)/share/lancer/colors.rts
+	  $(DEST)/share/lancer/materials.rts $(DEST)/share/lancer/colors.rts \
+	  $(DEST)/lib/stublibs/dlllancer_*.so
+	rm -rf $(addprefix $(DEST)/lib/,$(LIBS)) $(DEST)/libexec/lancer
 	@for d in share/lancer share/bash-completion/completions share/bash-completion \
-	  share/man/man1 share/man share bin; do \
+	  share/man/man1 share/man share lib/stublibs lib libexec bin; do \
 	  rmdir $(DEST)/$$d 2>/dev/null || true; done
 
 test: deps

@@ -66,7 +66,7 @@ let scale_measure ~repeat ~count ~width ~height ~domains =
   in
   let words = (Gc.minor_words () -. w0) /. Float.of_int (List.length runs) in
   let render_s = Timing.median (List.map snd runs) in
-  let rays = Stats.total_rays (snd (fst (List.hd runs))) in
+  let rays = Counters.total_rays (snd (fst (List.hd runs))) in
   ignore (Sys.opaque_identity sc);
   {
     count;

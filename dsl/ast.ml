@@ -17,6 +17,8 @@ and expr_desc =
   | Call of name * expr list
   | If of expr * expr * expr
   | Material of item list
+  | List of expr list
+  | Index of expr * expr
 
 and item = Field of name * expr | Stmt of stmt
 and stmt = { s : stmt_desc; sloc : Loc.t }
@@ -26,6 +28,7 @@ and stmt_desc =
   | Fn of name * name list * expr
   | Macro of name * name list * stmt list
   | For of name * expr * expr * expr option * stmt list
+  | For_each of name * expr * stmt list
   | If_stmt of expr * stmt list * stmt list
   | Include of string * Loc.t
   | Included of string * stmt list

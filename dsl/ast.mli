@@ -24,6 +24,8 @@ and expr_desc =
   | Call of name * expr list
   | If of expr * expr * expr
   | Material of item list  (** [material { … }] *)
+  | List of expr list  (** [[a, b, c]] *)
+  | Index of expr * expr  (** [l[i]], from 0 *)
 
 and item =
   | Field of name * expr  (** [name: value] *)
@@ -37,6 +39,7 @@ and stmt_desc =
   | Macro of name * name list * stmt list  (** [fn f(a, b) { … }] *)
   | For of name * expr * expr * expr option * stmt list
       (** [for i in a to b step s { … }] *)
+  | For_each of name * expr * stmt list  (** [for x in LIST { … }] *)
   | If_stmt of expr * stmt list * stmt list
   | Include of string * Loc.t
   | Included of string * stmt list  (** the file and its statements, after loading *)

@@ -225,8 +225,6 @@ let interval b i ~default =
         bad b at (Msg.field_type e.sch (ty v));
         default
 
-let camera_kinds = [ "perspective"; "orthographic"; "fisheye" ]
-
 let camera b =
   let site = b.site in
   let s name = slot site name in
@@ -241,9 +239,9 @@ let camera b =
       match site.entries.(kind).default with VStr x -> x | _ -> "perspective"
     else
       match value b kind with
-      | VStr x when List.mem x camera_kinds -> x
+      | VStr x when List.mem x Camera.kind_names -> x
       | VStr x ->
-          bad b site.vlocs.(kind) (Msg.camera_kind x camera_kinds);
+          bad b site.vlocs.(kind) (Msg.camera_kind x Camera.kind_names);
           "unknown"
       | v ->
           bad b site.vlocs.(kind) (Msg.field_type site.entries.(kind).sch (ty v));
@@ -367,17 +365,10 @@ let animation b =
   in
   if finish b then Some (fps, frames) else None
 
-let physics_methods = [ "exact"; "verlet"; "euler" ]
-
 let physics b =
   let s name = slot b.site name in
   let m = s "method" in
-  let method_of = function
-    | "verlet" -> Some D.Verlet
-    | "euler" -> Some D.Euler
-    | "exact" -> Some D.Exact
-    | _ -> None
-  in
+  let method_of x = List.assoc_opt x D.physics_methods in
   let gravity = point b (s "gravity") in
   let method_ =
     let default =
@@ -392,7 +383,8 @@ let physics b =
           match method_of x with
           | Some k -> k
           | None ->
-              bad b b.site.vlocs.(m) (Msg.physics_method x physics_methods);
+              bad b b.site.vlocs.(m)
+                (Msg.physics_method x (List.map fst D.physics_methods));
               default)
       | v ->
           bad b b.site.vlocs.(m) (Msg.field_type b.site.entries.(m).sch (ty v));

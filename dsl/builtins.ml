@@ -28,6 +28,7 @@ type t = { name : string; usage : string; doc : string; kind : kind }
 let number = Of ((fun t -> t = Ty.Num), "a number")
 let vector = Of ((fun t -> t = Ty.Vec), "a vector (x, y, z)")
 let file_name = Of ((fun t -> t = Ty.Str), "a file name string")
+let list = Of (Ops.is_list, "a list")
 
 let map_or_colour =
   Of
@@ -215,6 +216,12 @@ let all =
            let x = v args 0 in
            if Vec3.max_abs x = 0. then fail loc Msg.normalize_zero;
            vvec loc (Vec3.normalize x)));
+    fn ~arg:(all_of list) "len" "len(l)" "the number of elements of a list"
+      (Code
+         (fun _ args ->
+           match fst args.(0) with
+           | VList l -> VNum (Float.of_int (Array.length l))
+           | _ -> unchecked ()));
     fn ~arity:3 ~result:(returns Ty.Vec) "rgb" "rgb(r, g, b)"
       "the colour vector (linear, components usually in [0, 1])"
       (Code (fun _ args -> VVec (Vec3.v (n args 0) (n args 1) (n args 2))));
@@ -272,9 +279,10 @@ let all =
       "fog of that colour, 37 % thick at that distance (settings)" fog;
   ]
 
-let table = Hashtbl.create 64
-let () = List.iter (fun b -> Hashtbl.replace table b.name b) all
-let find name = Hashtbl.find_opt table name
+module By_name = Map.Make (String)
+
+let table = List.fold_left (fun m b -> By_name.add b.name b m) By_name.empty all
+let find name = By_name.find_opt name table
 let names = List.map (fun b -> b.name) all
 
 (* ---- Checking a call ---- *)

@@ -200,6 +200,22 @@ let dynamic_call (name : Ast.name) get (args : (code * expr) list) loc : code =
 (* ------------------------------------------------------------------------------------ *)
 (* Expressions *)
 
+(* Whether a type is known through and through (no unknown part). *)
+let rec complete : Ty.t -> bool = function
+  | Unknown -> false
+  | List t -> complete t
+  | Pair (a, b) -> complete a && complete b
+  | _ -> true
+
+(* A list literal of type [ty]: its elements' types checked as it is made, unless the
+   checker knew them all (then it found them to be one). *)
+let list (elements : (code * expr) list) (ty : Ty.t) : code =
+  let codes = Array.of_list (List.map fst elements) in
+  if complete ty then fun fr -> VList (Array.map (fun c -> c fr) codes)
+  else
+    let locs = Array.of_list (List.map (fun (_, (a : expr)) -> a.loc) elements) in
+    fun fr -> Ops.list (Array.mapi (fun k c -> (c fr, locs.(k))) codes)
+
 (* Each a function of the frame alone, made once: called as it runs, it is one call. *)
 let number (e : expr) msg (c : code) : frame -> float =
   if Ty.known e.ty then fun fr -> match c fr with VNum x -> x | _ -> untyped "a number"
@@ -294,6 +310,13 @@ let rec expr ~block cs (e : expr) : code =
           let ca = sub a and cb = sub b in
           fun fr -> if cc fr then ca fr else cb fr
       | Material blk -> block cs blk
+      | List es -> list (List.map (fun a -> (sub a, a)) es) e.ty
+      | Index (a, i) ->
+          let ca = sub a and ci = sub i in
+          let aloc = a.loc and iloc = i.loc in
+          fun fr ->
+            let va = ca fr in
+            Ops.index aloc iloc va (ci fr)
       | Bad -> fun _ -> raise Poisoned)
 
 (* An expression the checker knew to be a number, as the function computing it: the

@@ -69,7 +69,7 @@ let definitions acc stmts =
     | Body (x, its) ->
         acc := (x.id, x.nloc) :: !acc;
         items its
-    | For (_, _, _, _, b) | Included (_, b) -> List.iter stmt b
+    | For (_, _, _, _, b) | For_each (_, _, b) | Included (_, b) -> List.iter stmt b
     | If_stmt (_, t, e) ->
         List.iter stmt t;
         List.iter stmt e
@@ -78,6 +78,8 @@ let definitions acc stmts =
   and items its = List.iter (function A.Stmt s -> stmt s | Field _ -> ()) its in
   List.iter stmt stmts;
   !acc
+
+let colours = "lancer/colors.rts"
 
 (* The message for a name that names nothing where it is used: one defined further down
    the same file was most likely meant; otherwise the closest name in scope. Made when the
@@ -88,7 +90,11 @@ let unbound_message cx env x (loc : Loc.t) () =
   in
   match List.find_opt (fun (n, d) -> n = x && later d) (List.rev cx.definitions) with
   | Some (_, d) -> Msg.unknown_name_later x d
-  | None -> Msg.unknown_name x (Msg.hint x (List.map fst (Names.bindings env.names)))
+  | None -> (
+      match Msg.hint x (List.map fst (Names.bindings env.names)) with
+      | "" ->
+          Msg.unknown_name x (Msg.library_hint x ~file:colours (Library.names colours))
+      | hint -> Msg.unknown_name x hint)
 
 let lookup cx env x loc =
   match Names.find_opt x env.names with
@@ -232,6 +238,21 @@ and expr_ ~material cx env (e : A.expr) =
       if wrong then bad e
       else mk e (If (tc, ta, tb)) (if is ta.ty tb.ty then ta.ty else Unknown)
   | Material items -> mk e (Material (material cx env e.loc items)) Mat
+  | List es -> (
+      let tes = List.map (expr ~material cx env) es in
+      match Ops.list_type (List.map (fun (t : expr) -> (t.ty, t.loc)) tes) with
+      | Ok ty -> mk e (List tes) ty
+      | Error (loc, msg) ->
+          report cx loc msg;
+          bad e)
+  | Index (a, i) ->
+      (* The list's mistake first: the evaluation finds it first. *)
+      let ta = expr ~material cx env a in
+      let ti = expr ~material cx env i in
+      if
+        refused cx ta Ops.is_list Msg.index_needs || refused cx ti (is Num) Msg.index_type
+      then bad e
+      else mk e (Index (ta, ti)) (Ops.element ta.ty)
 
 (* ------------------------------------------------------------------------------------ *)
 (* Blocks *)
@@ -388,7 +409,8 @@ let written cx ~holds kw items =
           | _ when holds -> ()
           | _ ->
               failed := true;
-              report cx s.sloc (Msg.holds_only_fields kw)))
+              let inner = match s.s with Block (k, _) -> Some k.id | _ -> None in
+              report cx s.sloc (Msg.holds_only_fields ?inner kw)))
     items;
   (List.rev !fields, !failed)
 
@@ -545,6 +567,16 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       let bx = binding cx env x in
       let _, tbody = stmts cx (bind env x.id (Local bx) (unknown Num)) ~where body in
       (env, one (For (bx, ta, tb, tst, tbody)))
+  | For_each (x, l, body) ->
+      let tl = expr env l in
+      let tl =
+        if refused cx tl Ops.is_list Msg.for_each_needs then { tl with e = Bad } else tl
+      in
+      let bx = binding cx env x in
+      let _, tbody =
+        stmts cx (bind env x.id (Local bx) (unknown (Ops.element tl.ty))) ~where body
+      in
+      (env, one (For_each (bx, tl, tbody)))
   | If_stmt (c, t, e) ->
       let tc = expr env c in
       let tc =

@@ -47,7 +47,7 @@ let rec objects_written stmts =
    around it keep count of the iterations they have left. *)
 let rec may_loop (s : stmt) =
   match s.s with
-  | For _ | Call_stmt _ -> true
+  | For _ | For_each _ | Call_stmt _ -> true
   | If_stmt (_, t, e) -> List.exists may_loop t || List.exists may_loop e
   | Block blk | Body (_, _, Some blk) -> List.exists may_loop (block_stmts blk)
   | _ -> false
@@ -160,7 +160,8 @@ let group s fr sc =
   if not b.failed then sc.sink := Build.group_members t tj mat !members !(sc.sink)
 
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
-let no_objects = { sink = ref []; in_group = false; in_csg = false }
+(* A material's block builds no object: its scope's sink stays empty. *)
+let no_objects () = { sink = ref []; in_group = false; in_csg = false }
 
 (* What reading a block of constants when it is compiled may not do: find a mistake, or
    name a file (the run reports it, and the file is read as it runs). *)
@@ -246,27 +247,42 @@ let body_code s ~name ~(where : where) ~nloc ~sloc fr (sc : scope) =
       fr.st.count.objects <- fr.st.count.objects - List.length !members;
       match r with Error (l, m) -> fail l m | Ok bo -> out.bodies <- bo :: out.bodies)
 
+(* [count] runs of a loop's body [cbody], its name in [slot] being [value k] in the k-th
+   (the loops around it told how many are left, when the body may start loops). *)
+let iterate sloc ~count ~nests slot value cbody fr sc =
+  let c = fr.st.count in
+  let outer = c.loops in
+  Fun.protect
+    ~finally:(fun () -> c.loops <- outer)
+    (fun () ->
+      for k = 0 to count - 1 do
+        State.step fr.st sloc;
+        if nests then c.loops <- outer *. Float.of_int (count - k);
+        fr.l.(slot) <- value k;
+        cbody fr sc
+      done)
+
 let for_loop sloc (na, nb, nst) per_iteration nests slot cbody fr sc =
   let a = na fr in
   let b = nb fr in
   let step = match nst with Some (n, l) -> (n fr, l) | None -> (1., sloc) in
   let step, step_loc = step in
   if step = 0. then fail step_loc Msg.loop_step_zero;
-  let st = fr.st in
   let count = Float.floor (((b -. a) /. step) +. 1e-9) +. 1. in
-  State.loop st sloc ~start:a ~stop:b ~step ~count ~per_iteration;
+  State.loop fr.st sloc ~range:(Some (a, b, step)) ~count ~per_iteration;
   let count = if count < 0. then 0 else int_of_float count in
-  let c = st.count in
-  let outer = c.loops in
-  Fun.protect
-    ~finally:(fun () -> c.loops <- outer)
-    (fun () ->
-      for k = 0 to count - 1 do
-        State.step st sloc;
-        if nests then c.loops <- outer *. Float.of_int (count - k);
-        fr.l.(slot) <- VNum (a +. (Float.of_int k *. step));
-        cbody fr sc
-      done)
+  iterate sloc ~count ~nests slot
+    (fun k -> VNum (a +. (Float.of_int k *. step)))
+    cbody fr sc
+
+(* [for x in LIST { … }]: the body run for each element, in order. *)
+let for_each sloc lloc cl per_iteration nests slot cbody fr sc =
+  match cl fr with
+  | VList l ->
+      let count = Array.length l in
+      State.loop fr.st sloc ~range:None ~count:(Float.of_int count) ~per_iteration;
+      iterate sloc ~count ~nests slot (Array.get l) cbody fr sc
+  | v -> fail lloc (Msg.for_each_needs (ty v))
 
 (* What a name named before a body took it. *)
 let before cs = function
@@ -334,7 +350,7 @@ and material cs blk : Cexpr.code =
   | Some v -> fun _ -> v
   | None ->
       fun fr ->
-        let b = evaluate s fr no_objects in
+        let b = evaluate s fr (no_objects ()) in
         let m = mat b in
         if Fields.finish b then m else raise Poisoned
 
@@ -481,6 +497,13 @@ and stmt cs (s : stmt) : scode =
       let per_iteration = Float.of_int (objects_written body) in
       let nests = List.exists may_loop body in
       guard (for_loop s.sloc (na, nb, nst) per_iteration nests i cbody)
+  | For_each (b, l, body) ->
+      let cl = expr cs l in
+      let i = Cexpr.new_slot cs b in
+      let cbody = stmts cs body in
+      let per_iteration = Float.of_int (objects_written body) in
+      let nests = List.exists may_loop body in
+      guard (for_each s.sloc l.loc cl per_iteration nests i cbody)
   | If_stmt (c, t, e) ->
       let cc = Cexpr.boolean c Msg.condition (expr cs c) in
       let ct = stmts cs t and ce = stmts cs e in

@@ -2,7 +2,7 @@
 
    Small cases are exact in double arithmetic (Clinger): w ≤ 2^53 and |q| ≤ 22, one
    rounding. Otherwise (after Eisel and Lemire): with 10^q = T·2^e, T in [2^127, 2^128) and
-   t = ⌊T⌋ (a power of ten's 128-bit mantissa, computed once per q), the product X' of m
+   t = ⌊T⌋ (a power of ten's 128-bit mantissa, from a table made at build time), the product X' of m
    (w shifted to 64 bits) and t, of 192 bits H·2^128 + L·2^64 + R, is the exact product's
    lower bound, by less than m < 2^64: the error may carry one into L, and into H only
    where L is all ones. Otherwise H is exact, and gives the double's 53 bits and the 54th,
@@ -10,122 +10,9 @@
    even): X' says they are not unless its own are all zero. There, and for a result that
    is not a normal double, [None]. *)
 
-(* ---- Big naturals, for the powers of ten: little-endian limbs of 30 bits ---- *)
-
-let limb = 30
-let base = 1 lsl limb
-let mask = base - 1
-
-(* The limbs without the zeros on top. *)
-let trim a =
-  let n = ref (Array.length a) in
-  while !n > 0 && a.(!n - 1) = 0 do
-    decr n
-  done;
-  Array.sub a 0 !n
-
-let mul_small a k =
-  let r = Array.make (Array.length a + 1) 0 in
-  let carry = ref 0 in
-  Array.iteri
-    (fun i x ->
-      let p = (x * k) + !carry in
-      r.(i) <- p land mask;
-      carry := p lsr limb)
-    a;
-  r.(Array.length a) <- !carry;
-  trim r
-
-let bits a =
-  match Array.length a with
-  | 0 -> 0
-  | n ->
-      let top = a.(n - 1) in
-      let b = ref 0 in
-      while top lsr !b > 0 do
-        incr b
-      done;
-      ((n - 1) * limb) + !b
-
-let bit a i =
-  let l = i / limb in
-  l < Array.length a && (a.(l) lsr (i mod limb)) land 1 = 1
-
-let compare_big a b =
-  let na = Array.length a and nb = Array.length b in
-  if na <> nb then compare na nb
-  else
-    let rec go i =
-      if i < 0 then 0 else if a.(i) <> b.(i) then compare a.(i) b.(i) else go (i - 1)
-    in
-    go (na - 1)
-
-(* [a - b] for [a >= b], and [2a]. *)
-let sub a b =
-  let r = Array.copy a and borrow = ref 0 in
-  Array.iteri
-    (fun i x ->
-      let d = x - (if i < Array.length b then b.(i) else 0) - !borrow in
-      if d < 0 then (
-        r.(i) <- d + base;
-        borrow := 1)
-      else (
-        r.(i) <- d;
-        borrow := 0))
-    a;
-  trim r
-
-let double a = mul_small a 2
-
-let pow2 n =
-  let a = Array.make ((n / limb) + 1) 0 in
-  a.(n / limb) <- 1 lsl (n mod limb);
-  a
-
-(* The 128 bits of [a] from bit [top] down, as two unsigned 64-bit halves. *)
-let window a top =
-  let half from =
-    let h = ref 0L in
-    for i = from downto from - 63 do
-      h := Int64.logor (Int64.shift_left !h 1) (if i >= 0 && bit a i then 1L else 0L)
-    done;
-    !h
-  in
-  (half top, half (top - 64))
-
-(* 10^q = t·2^e with t the 128-bit floor of its mantissa (as hi, lo), for q in [-350, 350]. *)
-let power q =
-  let rec ten k acc = if k = 0 then acc else ten (k - 1) (mul_small acc 10) in
-  if q >= 0 then
-    let n = ten q [| 1 |] in
-    let b = bits n in
-    let hi, lo = window n (b - 1) in
-    (hi, lo, b - 128)
-  else
-    (* ⌊2^(b+127) / D⌋ for D = 10^-q, of b bits: one quotient bit at a time. *)
-    let d = ten (-q) [| 1 |] in
-    let b = bits d in
-    let r = ref (sub (pow2 b) d) in
-    let hi = ref 1L and lo = ref 0L in
-    for i = 126 downto 0 do
-      r := double !r;
-      let one = compare_big !r d >= 0 in
-      if one then r := sub !r d;
-      if i >= 64 then hi := Int64.logor (Int64.shift_left !hi 1) (if one then 1L else 0L)
-      else lo := Int64.logor (Int64.shift_left !lo 1) (if one then 1L else 0L)
-    done;
-    (!hi, !lo, -(b + 127))
+(* ---- The powers of ten, 10^q = (hi·2^64 + lo)·2^e, made at build time ---- *)
 
 let lowest = -350
-let table : (int64 * int64 * int) option array = Array.make 701 None
-
-let power q =
-  match table.(q - lowest) with
-  | Some p -> p
-  | None ->
-      let p = power q in
-      table.(q - lowest) <- Some p;
-      p
 
 (* ---- The conversion ---- *)
 
@@ -167,7 +54,10 @@ let leading_zeros w =
 let lemire w q =
   if q < lowest || q > 350 then Float.nan
   else
-    let th, tl, e = power q in
+    let i = q - lowest in
+    let th = Decimal_powers.hi.(i)
+    and tl = Decimal_powers.lo.(i)
+    and e = Decimal_powers.e.(i) in
     let lz = leading_zeros w in
     let m = Int64.shift_left (Int64.of_int w) lz in
     (* m·(th·2^64 + tl) = H·2^128 + L·2^64 + R *)

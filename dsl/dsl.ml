@@ -183,7 +183,8 @@ let resolver ~read sources resolved includes errors main =
   let rec includes_in (s : Ast.stmt) =
     match s.s with
     | Include _ -> true
-    | Macro (_, _, b) | For (_, _, _, _, b) -> List.exists includes_in b
+    | Macro (_, _, b) | For (_, _, _, _, b) | For_each (_, _, b) ->
+        List.exists includes_in b
     | If_stmt (_, t, e) -> List.exists includes_in t || List.exists includes_in e
     | Block (_, its) | Body (_, its) ->
         List.exists (function Ast.Stmt s -> includes_in s | Field _ -> false) its
@@ -251,6 +252,7 @@ let resolver ~read sources resolved includes errors main =
                   err s.sloc msg;
                   Ast.Included (path, [])
               | Ok text -> (
+                  let text = Syntax.without_bom text in
                   Hashtbl.replace resolved (file, p) path;
                   Hashtbl.replace sources path text;
                   (* The first include of a file gives the chain its errors show. *)
@@ -272,6 +274,7 @@ let resolver ~read sources resolved includes errors main =
                   | Ok ss -> Ast.Included (path, stmts_ ((key, path) :: stack) path ss))))
       | Macro (f, ps, b) -> Macro (f, ps, stmts_ stack file b)
       | For (x, a, b, st, body) -> For (x, a, b, st, stmts_ stack file body)
+      | For_each (x, l, body) -> For_each (x, l, stmts_ stack file body)
       | If_stmt (c, t, e) -> If_stmt (c, stmts_ stack file t, stmts_ stack file e)
       | Block (k, its) -> Block (k, items stack file its)
       | Body (n, its) -> Body (n, items stack file its)
@@ -303,8 +306,9 @@ let file_errors files sources uses =
         (f (List.rev uses))
 
 (* Every string the program writes, in any statement, branch, function or macro, run or
-   not. The language builds no string from others, so a file any frame can read is named
-   by one of these. *)
+   not, and each join [a + b] of a string written in [a] and one written in [b]: a file
+   any frame can read is named by one of these, unless the program joins strings held by
+   names. *)
 let strings ~acc stmts =
   let acc = ref acc in
   let rec expr (e : Ast.expr) =
@@ -315,11 +319,24 @@ let strings ~acc stmts =
         expr a;
         expr b;
         expr c
-    | Pair (a, b) | Binop (_, a, b) ->
+    | Binop (Add, a, b) ->
+        let before = !acc in
+        expr a;
+        let after_a = !acc in
+        expr b;
+        (* The strings put in front of [stop]. *)
+        let rec since stop l =
+          if l == stop then [] else match l with x :: r -> x :: since stop r | [] -> []
+        in
+        let ys = since after_a !acc in
+        List.iter
+          (fun x -> List.iter (fun y -> acc := (x ^ y) :: !acc) ys)
+          (since before after_a)
+    | Pair (a, b) | Binop (_, a, b) | Index (a, b) ->
         expr a;
         expr b
     | Unop (_, a) | Dot (a, _) -> expr a
-    | Call (_, es) -> List.iter expr es
+    | Call (_, es) | List es -> List.iter expr es
     | Material its -> List.iter item its
   and item = function Ast.Field (_, e) -> expr e | Ast.Stmt s -> stmt s
   and stmt (s : Ast.stmt) =
@@ -330,6 +347,9 @@ let strings ~acc stmts =
         expr a;
         expr b;
         Option.iter expr st;
+        List.iter stmt body
+    | For_each (_, l, body) ->
+        expr l;
         List.iter stmt body
     | If_stmt (c, th, el) ->
         expr c;
@@ -410,6 +430,7 @@ let read_program ~read file text =
           Ok l)
 
 let load_text ?progress ?files ?(read = from_disk) file text =
+  let text = Syntax.without_bom text in
   match read_program ~read file text with
   | Error es -> Error es
   | Ok l when !(l.errors) <> [] -> chained l.includes (Error (List.rev !(l.errors)))

@@ -114,10 +114,11 @@ val static : t -> Description.static
 
 val named_files : t -> string list
 (** Every file any scene of the program may read, at any time or frame: each string the
-    program writes (in any statement, branch, function or macro body, run or not),
-    resolved against the directory of each of the program's files, sorted. A superset: the
-    language builds no string from others, so every image or mesh a frame reads is among
-    these. *)
+    program writes (in any statement, branch, function or macro body, run or not), and
+    each join [a + b] of one written in [a] and one written in [b], resolved against the
+    directory of each of the program's files, sorted. A superset of the images and meshes
+    a frame reads, unless the program joins strings that names hold ([let d = "tex/"],
+    then [d + "oak.png"]). *)
 
 val source : t -> string -> string option
 (** [source p file]: the text of [file], the program's or an include's (for an error's

@@ -10,6 +10,12 @@ val directive : string -> string
 (** [directive d] is the message for [#d] ([#declare], [#include], [#if], …), which the
     language does not have: what to write instead. *)
 
+val pov_word : ?block:string -> string -> string option
+(** [pov_word ?block w] is what lancer writes for POV-Ray's word [w] ([light_source],
+    [angle], [pigment], [finish], [normal], [filter], [transmit], [metallic]), for an
+    unknown block or field named [w] (in a block of keyword [block]); [None] for any other
+    word. A field of that name where the block has one is known, and gets no hint. *)
+
 val keyword_as_name : string -> string
 (** [keyword_as_name k] says that keyword [k] (as [step]) cannot be used as a name. *)
 

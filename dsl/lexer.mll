@@ -24,7 +24,7 @@ let describe = function
   | IN -> "`in`" | TO -> "`to`" | STEP -> "`step`" | IF -> "`if`" | THEN -> "`then`"
   | ELSE -> "`else`" | INCLUDE -> "`include`" | BODY -> "`body`" | MATERIAL -> "`material`"
   | AND -> "`and`" | OR -> "`or`" | NOT -> "`not`" | LPAREN -> "`(`" | RPAREN -> "`)`"
-  | LBRACE -> "`{`" | RBRACE -> "`}`" | COMMA -> "`,`" | COLON -> "`:`" | DOT -> "`.`"
+  | LBRACE -> "`{`" | RBRACE -> "`}`" | LBRACKET -> "`[`" | RBRACKET -> "`]`" | COMMA -> "`,`" | COLON -> "`:`" | DOT -> "`.`"
   | ASSIGN -> "`=`" | EQ -> "`==`" | NE -> "`!=`" | LT -> "`<`" | LE -> "`<=`" | GT -> "`>`"
   | GE -> "`>=`" | PLUS -> "`+`" | MINUS -> "`-`" | STAR -> "`*`" | SLASH -> "`/`"
   | PERCENT -> "`%`" | CARET -> "`^`" | EOF -> "the end of the file"
@@ -54,6 +54,7 @@ rule token = parse
         lexbuf.lex_start_p <- start;
         STRING s }
   | '(' { LPAREN } | ')' { RPAREN } | '{' { LBRACE } | '}' { RBRACE }
+  | '[' { LBRACKET } | ']' { RBRACKET }
   | ',' { COMMA } | ':' { COLON } | '.' { DOT }
   | "==" { EQ } | "!=" { NE } | "<=" { LE } | ">=" { GE } | '<' { LT } | '>' { GT }
   | '=' { ASSIGN }
@@ -64,6 +65,8 @@ rule token = parse
   | '#' (ident as d) { error lexbuf (Hints.directive d) }
   | ';' { error lexbuf "`;` is not used in .rts scripts: separate fields with commas or new lines" }
   | eof { EOF }
+  | "\xE2\x80\x9C" | "\xE2\x80\x9D" | "\xE2\x80\x98" | "\xE2\x80\x99" as q
+      { error lexbuf (Printf.sprintf "a typographic quote %s; write \" (strings are in straight double quotes: \"like this\")" q) }
   | ['\x80'-'\xff']+ { error lexbuf "non-ASCII characters are allowed only in comments and strings" }
   | _ as c { error lexbuf (Printf.sprintf "unexpected character `%s`" (Char.escaped c)) }
 

@@ -36,3 +36,14 @@ let read path =
   else
     try Ok (In_channel.with_open_bin path In_channel.input_all)
     with Sys_error m -> Error m
+
+let names p =
+  match builtin p with
+  | None -> []
+  | Some text ->
+      List.filter_map
+        (fun line ->
+          match String.split_on_char ' ' line with
+          | "let" :: name :: _ -> Some name
+          | _ -> None)
+        (String.split_on_char '\n' text)

@@ -23,3 +23,8 @@ val files : string list
 
 val builtin : string -> string option
 (** [builtin p] is the text of the built-in copy of library path [p]. *)
+
+val names : string -> string list
+(** [names p] are the names library path [p] defines at top level ([let NAME = …] at a
+    line's start), in order, from its built-in copy; [[]] for a path not in the library.
+*)

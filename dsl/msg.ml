@@ -50,6 +50,45 @@ let suggest x candidates =
 let hint x candidates =
   match suggest x candidates with Some c -> sp "; did you mean `%s`?" c | None -> ""
 
+(* The last word of a name ([blue] of [sky_blue], or of [SkyBlue]), lowercase. *)
+let last_word x =
+  let n = String.length x in
+  let rec start i =
+    if i <= 0 then 0
+    else if x.[i - 1] = '_' then i
+    else if Char.uppercase_ascii x.[i] = x.[i] && Char.lowercase_ascii x.[i] <> x.[i] then
+      i
+    else start (i - 1)
+  in
+  let i = start (n - 1) in
+  String.lowercase_ascii (String.sub x i (n - i))
+
+let library_hint x ~file library =
+  let lx = String.lowercase_ascii x in
+  let limit = max 1 (min 3 (String.length x / 3)) in
+  let close =
+    List.filter_map
+      (fun c ->
+        let d = edit_distance lx c in
+        if c <> x && (d <= limit || String.equal (last_word x) (last_word c)) then
+          Some (d, c)
+        else None)
+      library
+  in
+  match List.stable_sort (fun (d, _) (e, _) -> Int.compare d e) close with
+  | [] -> ""
+  | l ->
+      let names =
+        List.map (fun (_, c) -> sp "`%s`" c) (List.filteri (fun i _ -> i < 3) l)
+      in
+      let rec words = function
+        | [] -> ""
+        | [ a ] -> a
+        | [ a; b ] -> a ^ " or " ^ b
+        | a :: r -> a ^ ", " ^ words r
+      in
+      sp "; did you mean %s (of `include \"%s\"`)?" (words names) file
+
 (* ---- Types ---- *)
 
 let tn = Ty.name
@@ -70,6 +109,27 @@ let body_member x =
 
 let dot_needs x t = sp "`.%s` needs a vector or a body, got %s" x (tn t)
 let loop_bound what t = sp "the %s of a `for` loop must be a number, got %s" what (tn t)
+
+let for_each_needs t =
+  sp
+    "`for NAME in` goes over a list (`for p in [a, b] { … }`) or a range (`for i in A to \
+     B { … }`), got %s"
+    (tn t)
+
+let list_element i t first =
+  sp "the elements of a list must be of one type: element %d is %s, the first %s" i (tn t)
+    (tn first)
+
+let index_needs t = sp "`[…]` takes an element of a list, got %s" (tn t)
+let index_type t = sp "a list index must be a number, got %s" (tn t)
+let index_whole x = sp "a list index must be a whole number, got %s" (num x)
+
+let index_range x n =
+  if n = 0 then sp "index %s is out of range: the list is empty" (num x)
+  else
+    sp "index %s is out of range: the list has %d element%s, indices 0 to %d" (num x) n
+      (if n = 1 then "" else "s")
+      (n - 1)
 
 let field_type (fl : Schema.field) (t : Ty.t) =
   let must what = sp "`%s` must be %s, got %s" fl.name what (tn t) in
@@ -181,10 +241,17 @@ let not_real x y = sp "%s ^ %s is not a real number" (num x) (num y)
 let given_twice n kind line =
   sp "`%s` is given twice in this %s (first at line %d)" n kind line
 
-let holds_only_fields kind =
-  sp "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind
+let holds_only_fields ?inner kind =
+  match Option.bind inner (fun w -> Hints.pov_word w) with
+  | Some h -> sp "a %s holds only `field: value` pairs (and `let`): %s" kind h
+  | None ->
+      sp "a %s holds only `field: value` pairs (and `let`); objects go in a `group`" kind
 
-let unknown_field n kind hint = sp "unknown field `%s` in %s%s" n kind hint
+let unknown_field n kind hint =
+  match Hints.pov_word ~block:kind n with
+  | Some h -> sp "unknown field `%s` in %s: %s" n kind h
+  | None -> sp "unknown field `%s` in %s%s" n kind hint
+
 let needs_field kind n = sp "%s needs a `%s` field" kind n
 
 let out_of_range (fl : Schema.field) x =
@@ -200,7 +267,10 @@ let material_statement =
   "a material is a value: write `material: material { … }` inside an object, or `let m = \
    material { … }`"
 
-let unknown_block x = sp "unknown block `%s`%s" x (hint x Schema.keywords)
+let unknown_block x =
+  match Hints.pov_word x with
+  | Some h -> sp "unknown block `%s`: %s" x h
+  | None -> sp "unknown block `%s`%s" x (hint x Schema.keywords)
 
 let once what (l : Loc.t) =
   sp "%s is given twice (the first is at %s:%d:%d)" what l.file l.line l.col

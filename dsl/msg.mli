@@ -18,6 +18,12 @@ val suggest : string -> string list -> string option
 val hint : string -> string list -> string
 (** ["; did you mean `c`?"] for [suggest]'s candidate, or [""]. *)
 
+val library_hint : string -> file:string -> string list -> string
+(** [library_hint x ~file names]:
+    ["; did you mean `a`, `b` or `c` (of `include "file"`)?"] for up to three of [names]
+    (those a library [file] defines) close to [x] in spelling or ending in the same word
+    ([royal_blue], [RoyalBlue]: [blue], [sky_blue]), or [""]. *)
+
 (** {1 Types} *)
 
 val cannot_combine : Ast.binop -> Ty.t -> Ty.t -> string
@@ -32,6 +38,25 @@ val dot_needs : string -> Ty.t -> string
 
 val loop_bound : string -> Ty.t -> string
 (** [loop_bound "start" t]: the start, end or step of a [for] loop is not a number. *)
+
+val for_each_needs : Ty.t -> string
+(** [for x in e { … }] where [e] is not a list. *)
+
+val list_element : int -> Ty.t -> Ty.t -> string
+(** [list_element i t first]: element [i] (from 1) of a list literal is of type [t], which
+    its first element's type [first] cannot share. *)
+
+val index_needs : Ty.t -> string
+(** [e[i]] where [e] is not a list. *)
+
+val index_type : Ty.t -> string
+(** [l[i]] where [i] is not a number. *)
+
+val index_whole : float -> string
+(** [l[x]] where [x] is not a whole number. *)
+
+val index_range : float -> int -> string
+(** [index_range i n]: [l[i]] out of a list of [n] elements. *)
 
 val interval_order : string -> float -> float -> string
 (** [interval_order name a b]: a pair field's first number above its second. *)
@@ -93,7 +118,9 @@ val not_real : float -> float -> string
 val given_twice : string -> string -> int -> string
 (** [given_twice field block first_line]. *)
 
-val holds_only_fields : string -> string
+val holds_only_fields : ?inner:string -> string -> string
+(** [holds_only_fields ?inner block]: a [block] holding a statement, [inner] the keyword
+    of the block written inside it (POV-Ray's [pigment { … }] gets its hint). *)
 
 val unknown_field : string -> string -> string -> string
 (** [unknown_field field block hint]. *)

@@ -4,6 +4,7 @@ open Value
 let binop_type op (a : Ty.t) (b : Ty.t) : Ty.t option =
   match (op, a, b) with
   | (Add | Sub), Num, Num -> Some Num
+  | Add, Str, Str -> Some Str
   | (Add | Sub), Vec, Vec -> Some Vec
   | Mul, Num, Num -> Some Num
   | Mul, (Num | Vec), (Num | Vec) -> Some Vec
@@ -42,6 +43,7 @@ let binop loc op bloc a b =
       match (op, a, b) with
       | Add, VNum x, VNum y -> add loc x y
       | Add, VVec x, VVec y -> vec (Vec3.add x y)
+      | Add, VStr x, VStr y -> VStr (x ^ y)
       | Sub, VNum x, VNum y -> sub loc x y
       | Sub, VVec x, VVec y -> vec (Vec3.sub x y)
       | Mul, VNum x, VNum y -> mul loc x y
@@ -80,3 +82,36 @@ let not_ loc = function
   | VBool b -> vbool (not b)
   | VPoison -> raise Poisoned
   | v -> fail loc (Msg.not_needs (ty v))
+
+let is_list : Ty.t -> bool = function List _ -> true | _ -> false
+let element : Ty.t -> Ty.t = function List t -> t | _ -> Unknown
+
+let list_type (elements : (Ty.t * Loc.t) list) =
+  match elements with
+  | [] -> Ok (Ty.List Unknown)
+  | (first, _) :: rest ->
+      let rec go i acc = function
+        | [] -> Ok (Ty.List acc)
+        | (t, loc) :: rest -> (
+            match Ty.join first t with
+            | None -> Error (loc, Msg.list_element i t first)
+            | Some _ -> go (i + 1) (Option.value (Ty.join acc t) ~default:Ty.Unknown) rest
+            )
+      in
+      go 2 first rest
+
+let list (elements : (Value.t * Loc.t) array) =
+  match list_type (Array.to_list (Array.map (fun (v, l) -> (ty v, l)) elements)) with
+  | Error (loc, msg) -> fail loc msg
+  | Ok _ -> VList (Array.map fst elements)
+
+let index aloc iloc a i =
+  match (a, i) with
+  | VPoison, _ | _, VPoison -> raise Poisoned
+  | VList l, VNum x ->
+      let n = Array.length l in
+      if not (Float.is_integer x) then fail iloc (Msg.index_whole x)
+      else if x < 0. || x >= Float.of_int n then fail iloc (Msg.index_range x n)
+      else l.(int_of_float x)
+  | VList _, v -> fail iloc (Msg.index_type (ty v))
+  | v, _ -> fail aloc (Msg.index_needs (ty v))

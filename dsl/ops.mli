@@ -30,3 +30,22 @@ val not_ : Loc.t -> Value.t -> Value.t
 
 val equal : Value.t -> Value.t -> bool
 (** [==] on two values of a type it compares (numbers, booleans, strings, vectors). *)
+
+(** {1 Lists} *)
+
+val is_list : Ty.t -> bool
+
+val element : Ty.t -> Ty.t
+(** The type of a list's elements; {!Ty.Unknown} for any other type. *)
+
+val list_type : (Ty.t * Loc.t) list -> (Ty.t, Loc.t * string) result
+(** The type of a list literal whose elements have these types (and places): [Error] at
+    the first element whose type its first element's cannot share ({!Ty.join}), with
+    {!Msg.list_element}. *)
+
+val list : (Value.t * Loc.t) array -> Value.t
+(** The list of these values, refused as {!list_type} refuses their types. *)
+
+val index : Loc.t -> Loc.t -> Value.t -> Value.t -> Value.t
+(** [index aloc iloc l i]: element [i] of list [l], from 0. Raises {!Value.Fail} at [aloc]
+    when [l] is not a list, at [iloc] when [i] is not a whole number in range. *)

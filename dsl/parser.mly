@@ -1,6 +1,7 @@
 /* The grammar of .rts scene scripts (doc/reference/language.md). Operator precedence is
    encoded in the levels of [expr], loosest first: if-then-else, or, and, not, comparisons (not
-   associative), + -, * / %, unary -, ^ (right-associative), field access and calls. */
+   associative), + -, * / %, unary -, ^ (right-associative), field access, indexing and
+   calls. */
 
 %{
 open Ast
@@ -13,7 +14,7 @@ let st d l = { s = d; sloc = loc l }
 %token <string> STRING
 %token <string> IDENT
 %token TRUE FALSE LET FN FOR IN TO STEP IF THEN ELSE INCLUDE BODY MATERIAL AND OR NOT
-%token LPAREN RPAREN LBRACE RBRACE COMMA COLON DOT ASSIGN
+%token LPAREN RPAREN LBRACE RBRACE LBRACKET RBRACKET COMMA COLON DOT ASSIGN
 %token EQ NE LT LE GT GE PLUS MINUS STAR SLASH PERCENT CARET
 %token EOF
 
@@ -41,6 +42,7 @@ stmt:
   | FN f = name ps = params ASSIGN e = expr { st (Fn (f, ps, e)) $loc }
   | FN f = name ps = params b = body { st (Macro (f, ps, b)) $loc }
   | FOR x = name IN a = expr TO b = expr s = step b2 = body { st (For (x, a, b, s, b2)) $loc }
+  | FOR x = name IN l = expr b = body { st (For_each (x, l, b)) $loc }
   | s = if_stmt { s }
   | INCLUDE p = STRING { st (Include (p, loc $loc(p))) $loc }
   | k = name LBRACE its = items RBRACE { st (Block (k, its)) $loc }
@@ -117,6 +119,7 @@ pow_expr:
 
 postfix_expr:
   | a = postfix_expr DOT f = name { mk (Dot (a, f)) $loc }
+  | a = postfix_expr LBRACKET i = expr RBRACKET { mk (Index (a, i)) $loc }
   | e = atom { e }
 
 atom:
@@ -130,3 +133,10 @@ atom:
   | LPAREN a = expr COMMA b = expr RPAREN { mk (Pair (a, b)) $loc }
   | LPAREN a = expr COMMA b = expr COMMA c = expr RPAREN { mk (Vec (a, b, c)) $loc }
   | MATERIAL LBRACE its = items RBRACE { mk (Material its) $loc }
+  | LBRACKET l = elements RBRACKET { mk (List l) $loc }
+
+/* A list's elements, separated by commas; one may follow the last. */
+elements:
+  | { [] }
+  | e = expr { [ e ] }
+  | e = expr COMMA l = elements { e :: l }

@@ -29,6 +29,8 @@ type tok =
   | RPAREN
   | LBRACE
   | RBRACE
+  | LBRACKET
+  | RBRACKET
   | COMMA
   | COLON
   | DOT
@@ -243,6 +245,8 @@ let lex t =
     | ')' -> one t s RPAREN
     | '{' -> one t s LBRACE
     | '}' -> one t s RBRACE
+    | '[' -> one t s LBRACKET
+    | ']' -> one t s RBRACKET
     | ',' -> one t s COMMA
     | ':' -> one t s COLON
     | '.' -> one t s DOT
@@ -420,11 +424,17 @@ and pow_more t a =
 and postfix t = postfix_more t (atom t)
 
 and postfix_more t a =
-  if t.tok = DOT then (
-    advance t;
-    let f = name t in
-    postfix_more t (from t a (Dot (a, f))))
-  else a
+  match t.tok with
+  | DOT ->
+      advance t;
+      let f = name t in
+      postfix_more t (from t a (Dot (a, f)))
+  | LBRACKET ->
+      advance t;
+      let i = expr t in
+      expect t RBRACKET;
+      postfix_more t (from t a (Index (a, i)))
+  | _ -> a
 
 and atom t =
   let l = t.tline and c = t.tcol in
@@ -474,6 +484,25 @@ and atom t =
       let its = items t in
       expect t RBRACE;
       mk t l c (Material its)
+  | LBRACKET ->
+      advance t;
+      let rec more acc =
+        if t.tok = RBRACKET then (
+          advance t;
+          List.rev acc)
+        else
+          let x = expr t in
+          match t.tok with
+          | COMMA ->
+              advance t;
+              more (x :: acc)
+          | RBRACKET ->
+              advance t;
+              List.rev (x :: acc)
+          | _ -> raise Give_up
+      in
+      let es = more [] in
+      mk t l c (List es)
   | _ -> raise Give_up
 
 and args t = parenthesized t expr
@@ -568,16 +597,18 @@ and stmt t =
       let x = name t in
       expect t IN;
       let a = expr t in
-      expect t TO;
-      let b = expr t in
-      let s =
-        if t.tok = STEP then (
-          advance t;
-          Some (expr t))
-        else None
-      in
-      let b2 = body t in
-      st (For (x, a, b, s, b2))
+      if t.tok = LBRACE then st (For_each (x, a, body t))
+      else (
+        expect t TO;
+        let b = expr t in
+        let s =
+          if t.tok = STEP then (
+            advance t;
+            Some (expr t))
+          else None
+        in
+        let b2 = body t in
+        st (For (x, a, b, s, b2)))
   | IF -> if_stmt t
   | INCLUDE ->
       advance t;

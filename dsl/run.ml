@@ -29,9 +29,10 @@ let rec expr_mentions p (e : expr) =
   | Var x -> p x
   | Vec (a, b, c) | If (a, b, c) ->
       expr_mentions p a || expr_mentions p b || expr_mentions p c
-  | Pair (a, b) | Binop (_, a, b) -> expr_mentions p a || expr_mentions p b
+  | Pair (a, b) | Binop (_, a, b) | Index (a, b) -> expr_mentions p a || expr_mentions p b
   | Unop (_, a) | Dot (a, _) -> expr_mentions p a
   | Call (f, args) -> p f.id || List.exists (expr_mentions p) args
+  | List es -> List.exists (expr_mentions p) es
   | Material items -> items_mention p items
 
 and items_mention p items =
@@ -47,6 +48,7 @@ and stmt_mentions p (s : stmt) =
       expr_mentions p a || expr_mentions p b
       || (match st with Some e -> expr_mentions p e | None -> false)
       || List.exists (stmt_mentions p) body
+  | For_each (_, l, body) -> expr_mentions p l || List.exists (stmt_mentions p) body
   | If_stmt (c, t, e) ->
       expr_mentions p c
       || List.exists (stmt_mentions p) t
@@ -68,7 +70,7 @@ let rec bound_names acc (s : stmt) =
   | Fn (x, ps, _) -> (x.id :: List.map (fun (p : name) -> p.id) ps) @ acc
   | Macro (x, ps, b) ->
       List.fold_left bound_names ((x.id :: List.map (fun (p : name) -> p.id) ps) @ acc) b
-  | For (x, _, _, _, b) -> List.fold_left bound_names (x.id :: acc) b
+  | For (x, _, _, _, b) | For_each (x, _, b) -> List.fold_left bound_names (x.id :: acc) b
   | If_stmt (_, t, e) -> List.fold_left bound_names (List.fold_left bound_names acc t) e
   | Included (_, b) -> List.fold_left bound_names acc b
   | Block (_, its) | Body (_, its) -> items acc its
@@ -87,7 +89,7 @@ let only_objects pure_macro (s : stmt) =
   let rec go (s : stmt) =
     match s.s with
     | Let _ | Fn _ | Macro _ -> true
-    | For (_, _, _, _, b) | Included (_, b) -> List.for_all go b
+    | For (_, _, _, _, b) | For_each (_, _, b) | Included (_, b) -> List.for_all go b
     | If_stmt (_, t, e) -> List.for_all go t && List.for_all go e
     | Block (k, its) ->
         object_block k.id
@@ -158,7 +160,7 @@ let rec analyse a (s : stmt) =
         set x.id true;
         a.pure <- Names.remove x.id a.pure;
         false
-    | Block _ | For _ | If_stmt _ | Call_stmt _ ->
+    | Block _ | For _ | For_each _ | If_stmt _ | Call_stmt _ ->
         (not (reads "")) && only_objects (fun f -> Names.mem f a.pure) s
     | Include _ -> false
     | Included (_, b) ->

@@ -192,7 +192,13 @@ let number x =
     let exact = Float.equal (float_of_string s) x && not (String.contains s 'e') in
     if p >= 17 || exact then s else go (p + 1)
   in
-  go 1
+  let decimal = go 1 in
+  (* A unit fraction (a step of 1/240 s) as the scene writes it, where that is shorter. *)
+  let n = if x > 0. then Float.round (1. /. x) else 0. in
+  if n >= 2. && n <= 1e6 && Float.equal (1. /. n) x then
+    let fraction = Printf.sprintf "1/%.0f" n in
+    if String.length fraction < String.length decimal then fraction else decimal
+  else decimal
 
 let num x = opt (number x)
 let whole n = opt (string_of_int n)
@@ -206,7 +212,10 @@ let settings = Settings.default
 let camera = Camera.default
 let material = Description.default_material
 let physics = Description.default_physics
-let camera_kinds = [ "perspective"; "orthographic"; "fisheye" ]
+let camera_kinds = Camera.kind_names
+let fps, frames = Description.default_animation
+let text x = opt (Printf.sprintf "%S" x)
+let gamma = match settings.gamma with Settings.Srgb -> text "srgb" | Power g -> num g
 
 let blocks =
   [
@@ -234,12 +243,14 @@ let blocks =
         f "ambient" Colour ~default:(rgb settings.ambient) "the ambient light's colour";
         f "gamma" Gamma
           ~range:(Real (Excl 0., Incl 1000.))
-          ~default:(opt "\"srgb\"") "output encoding: \"srgb\" or a number g (v^(1/g))";
+          ~default:gamma "output encoding: \"srgb\" or a number g (v^(1/g))";
         f "fog" Fog ~default:(Absent "no fog") "fog along every ray but shadow rays";
       ];
     top "camera" "where the image is seen from"
       [
-        f "kind" (Choice camera_kinds) ~default:(opt "\"perspective\"") "the projection";
+        f "kind" (Choice camera_kinds)
+          ~default:(text (Camera.kind_name camera.kind))
+          "the projection";
         f "position" Vector ~default:(vec camera.position) "the eye";
         f "look_at" Vector ~default:(vec camera.look_at) "the point at the image's centre";
         f "up" Vector ~default:(vec camera.up) "the image's upright; not along the view";
@@ -249,7 +260,7 @@ let blocks =
           "vertical field of view, degrees";
         f "fov" Number
           ~range:(Real (Excl 0., Incl 360.))
-          ~unit:"degrees" ~default:(opt "60") ~condition:(Kind_in [ "fisheye" ])
+          ~unit:"degrees" ~default:(num camera.fov) ~condition:(Kind_in [ "fisheye" ])
           "angle across the image's inscribed circle, degrees";
         f "width" Number ~range:length ~condition:(Kind_in [ "orthographic" ])
           "width of the view in world units";
@@ -274,23 +285,26 @@ let blocks =
        `samples`)"
       [
         f "position" Vector "where the light is";
-        f "color" Colour ~default:(opt "(1, 1, 1)") "its colour";
-        f "intensity" Number ~range:non_negative ~default:(opt "1") "its strength";
-        f "attenuation" Vector ~default:(opt "(1, 0, 0)")
+        f "color" Colour ~default:(rgb Light.default_color) "its colour";
+        f "intensity" Number ~range:non_negative ~default:(num Light.default_intensity)
+          "its strength";
+        f "attenuation" Vector
+          ~default:(vec Light.default_attenuation)
           "(a0, a1, a2): divides by a0 + a1·d + a2·d²; non-negative, not all zero";
-        f "radius" Number ~range:non_negative ~default:(opt "0") "radius of an area light";
+        f "radius" Number ~range:non_negative ~default:(num Light.default_radius)
+          "radius of an area light";
         f "samples" Integer
           ~range:(Whole (1, 64))
-          ~default:(opt "1") "n: n×n shadow rays of an area light";
+          ~default:(whole Light.default_samples) "n: n×n shadow rays of an area light";
         f "point_at" Vector ~default:(Absent "none: not a spot")
           "makes a spot light pointing there";
         f "inner" Number
           ~range:(Real (Incl 0., Incl 180.))
-          ~noun:"an angle" ~unit:"degrees" ~default:(opt "30")
+          ~noun:"an angle" ~unit:"degrees" ~default:(num Light.default_inner)
           ~condition:(With "point_at") "full light within this angle of the axis, degrees";
         f "outer" Number
           ~range:(Real (Incl 0., Incl 180.))
-          ~noun:"an angle" ~unit:"degrees" ~default:(opt "45")
+          ~noun:"an angle" ~unit:"degrees" ~default:(num Light.default_outer)
           ~condition:(With "point_at")
           "no light beyond this angle, degrees; at least `inner`";
       ];
@@ -298,17 +312,18 @@ let blocks =
       "a light infinitely far away"
       [
         f "direction" Direction "the direction the light travels";
-        f "color" Colour ~default:(opt "(1, 1, 1)") "its colour";
-        f "intensity" Number ~range:non_negative ~default:(opt "1") "its strength";
+        f "color" Colour ~default:(rgb Light.default_color) "its colour";
+        f "intensity" Number ~range:non_negative ~default:(num Light.default_intensity)
+          "its strength";
       ];
     top "animation" "the frames of an animation"
       [
         f "fps" Number
           ~range:(Real (Excl 0., Incl 1000.))
-          ~default:(opt "24") "frames per second";
+          ~default:(num fps) "frames per second";
         f "frames" Integer
           ~range:(Whole (1, 10_000_000))
-          ~default:(opt "48") ~condition:(Without "duration") "how many frames";
+          ~default:(whole frames) ~condition:(Without "duration") "how many frames";
         f "duration" Number ~range:positive ~default:(Absent "`frames` decides")
           ~condition:(Without "frames") "seconds, rounded to whole frames";
       ];
@@ -316,9 +331,15 @@ let blocks =
       [
         f "gravity" Vector ~default:(vec physics.gravity) "acceleration, m/s²";
         f "method"
-          (Choice [ "exact"; "verlet"; "euler" ])
-          ~default:(opt "\"exact\"") "the integrator";
-        f "step" Number ~range:length ~default:(opt "1/240")
+          (Choice (List.map fst Description.physics_methods))
+          ~default:
+            (text
+               (fst
+                  (List.find
+                     (fun (_, m) -> m = physics.method_)
+                     Description.physics_methods)))
+          "the integrator";
+        f "step" Number ~range:length ~default:(num physics.step)
           "seconds per step of \"verlet\" and \"euler\"";
       ];
     top "material" "how a surface looks (a value: `material { … }`)"

@@ -10,15 +10,12 @@ let max_depth = 1000
    BVH), 2.3 KB each; with a margin. *)
 let bytes_per_object = 2560
 
-(* The process's limit on its address space (ulimit -v), read once. *)
-let address_limit = lazy (Address_space.limit ())
-
 (* What the runtime reserves before any object: the minor heaps of the 128 domains it could
    run (256 MB at the default size), and the program itself. *)
 let baseline_bytes = 320_000_000
 
-let memory_refusal objects =
-  match Lazy.force address_limit with
+let memory_refusal st objects =
+  match st.hooks.address_limit with
   | Some limit
     when Float.of_int objects *. Float.of_int bytes_per_object
          > Float.of_int (limit - baseline_bytes) ->
@@ -65,6 +62,7 @@ let create ?body_state ?on_objects ?cancel ~on_file ~sources ~time ~frame () =
           on_objects;
           on_file;
           cancel;
+          address_limit = Address_space.limit ();
           sources;
         };
       count = { objects = 0; steps = 0; loops = 1.; depth = 0 };
@@ -113,10 +111,10 @@ let add_object st scope loc o =
   c.objects <- c.objects + 1;
   if c.objects land 0xFFFF = 0 then Option.iter (fun f -> f c.objects) st.hooks.on_objects;
   if c.objects > max_objects then limit st loc (Msg.objects_limit max_objects);
-  if c.objects land 1023 = 0 then Option.iter (limit st loc) (memory_refusal c.objects);
+  if c.objects land 1023 = 0 then Option.iter (limit st loc) (memory_refusal st c.objects);
   scope.sink := o :: !(scope.sink)
 
-let loop st loc ~start ~stop ~step ~count ~per_iteration =
+let loop st loc ~range ~count ~per_iteration =
   let c = st.count in
   (* Refused before it starts when this loop, run inside the loops around it, would go
      past the step limit: nested loops fail at once instead of after minutes. *)
@@ -133,12 +131,15 @@ let loop st loc ~start ~stop ~step ~count ~per_iteration =
     limit st loc
       (Msg.loop_builds ~total ~each:per_iteration ~count ~loops:c.loops ~built:c.objects
          ~objects:max_objects);
-  if count <= 0. then warn st loc (Msg.loop_zero start stop step);
+  (match range with
+  | Some (start, stop, step) when count <= 0. ->
+      warn st loc (Msg.loop_zero start stop step)
+  | _ -> ());
   (* And for memory: objects that would not fit under the process's limit are refused
      before they are built (the runtime would abort, not raise, once it runs out). *)
   if per_iteration > 0. && total < 1e15 then
     Option.iter (limit st loc)
-      (memory_refusal (c.objects + int_of_float (total *. per_iteration)))
+      (memory_refusal st (c.objects + int_of_float (total *. per_iteration)))
 
 let body_at st name =
   let (b : D.body), _ =

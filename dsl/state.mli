@@ -57,15 +57,14 @@ val add_object : Value.state -> Value.scope -> Loc.t -> D.obj -> unit
 val loop :
   Value.state ->
   Loc.t ->
-  start:float ->
-  stop:float ->
-  step:float ->
+  range:(float * float * float) option ->
   count:float ->
   per_iteration:float ->
   unit
 (** The checks before a loop of [count] iterations, each building at least [per_iteration]
     objects, runs: refused when, run inside the loops around it, it would go past the step
-    limit, the object limit or the memory; warned of when it runs zero times. *)
+    limit, the object limit or the memory; a loop over a [range] (start, stop, step) is
+    warned of when it runs zero times. *)
 
 val body_at : Value.state -> string -> Vec3.t * Vec3.t
 (** The position and velocity of a body defined so far, at the run's time. *)

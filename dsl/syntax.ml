@@ -9,6 +9,12 @@ let not_text file text =
     Some (Error.file_error file "this is not UTF-8 text; a scene is UTF-8 text")
   else None
 
+let bom = "\xEF\xBB\xBF"
+
+let without_bom text =
+  if String.starts_with ~prefix:bom text then String.sub text 3 (String.length text - 3)
+  else text
+
 (* The offending token as written (shortened), or "end of file". *)
 let what text tok (s : Lexing.position) (e : Lexing.position) =
   match tok with
@@ -50,7 +56,8 @@ let grammar ~file text =
         open_ := { label; at = s; stop = e } :: !open_;
         keyword := None :: !keyword
     | Parser.LPAREN -> open_ := { label = "("; at = s; stop = e } :: !open_
-    | Parser.RBRACE | Parser.RPAREN -> (
+    | Parser.LBRACKET -> open_ := { label = "["; at = s; stop = e } :: !open_
+    | Parser.RBRACE | Parser.RPAREN | Parser.RBRACKET -> (
         (match (tok, !keyword) with
         | Parser.RBRACE, _ :: (_ :: _ as rest) -> keyword := rest
         | _ -> ());
@@ -79,7 +86,7 @@ let grammar ~file text =
         let tok, s, e = !last in
         match (tok, !open_) with
         | Parser.EOF, b :: _ ->
-            let closer = if b.label = "(" then ")" else "}" in
+            let closer = match b.label with "(" -> ")" | "[" -> "]" | _ -> "}" in
             let where =
               Printf.sprintf "%d:%d" b.at.pos_lnum (b.at.pos_cnum - b.at.pos_bol + 1)
             in

@@ -11,5 +11,9 @@ val grammar : file:string -> string -> (Ast.stmt list, Error.t) result
 (** The lexer and the Menhir parser alone, on text (not checked for NUL bytes and UTF-8):
     what {!Reader} reads must be what they read. *)
 
+val without_bom : string -> string
+(** [without_bom text] is [text] without the UTF-8 byte-order mark some editors write at
+    its start (Windows Notepad), so that positions count from the first character seen. *)
+
 val not_text : string -> string -> Error.t option
 (** [not_text file text]: why [text] is not a scene's text (a NUL byte, invalid UTF-8). *)

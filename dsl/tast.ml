@@ -20,6 +20,8 @@ and desc =
   | Call of expr * Ast.name * expr list
   | If of expr * expr * expr
   | Material of block
+  | List of expr list
+  | Index of expr * expr
   | Bad
 
 and stmt = { s : sdesc; sloc : Loc.t }
@@ -30,6 +32,7 @@ and sdesc =
   | Macro of binding * fn_def * stmt list
   | Poisoned_fn of binding
   | For of binding * expr * expr * expr option * stmt list
+  | For_each of binding * expr * stmt list
   | If_stmt of expr * stmt list * stmt list
   | Call_stmt of expr * Ast.name * expr list
   | Block of block

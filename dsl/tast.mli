@@ -41,6 +41,8 @@ and desc =
   | Call of expr * Ast.name * expr list  (** the callee's value, its name as written *)
   | If of expr * expr * expr
   | Material of block
+  | List of expr list
+  | Index of expr * expr
   | Bad  (** a mistake the checker reported *)
 
 and stmt = { s : sdesc; sloc : Loc.t }
@@ -51,6 +53,7 @@ and sdesc =
   | Macro of binding * fn_def * stmt list
   | Poisoned_fn of binding  (** a function or macro whose parameters are wrong *)
   | For of binding * expr * expr * expr option * stmt list
+  | For_each of binding * expr * stmt list
   | If_stmt of expr * stmt list * stmt list
   | Call_stmt of expr * Ast.name * expr list  (** a macro call: the callee's value *)
   | Block of block

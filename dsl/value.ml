@@ -8,6 +8,7 @@ type t =
   | VMat of { mat : D.material; some : D.material option }
   | VTex of tex
   | VPair of t * t
+  | VList of t array
   | VFun of closure
   | VMacro of macro
   | VBuiltin of string
@@ -45,6 +46,7 @@ and hooks = {
   on_objects : (int -> unit) option;
   on_file : D.file_use -> unit;
   cancel : Cancel.t option;
+  address_limit : int option;
   sources : (string, string) Hashtbl.t;
 }
 
@@ -82,6 +84,17 @@ let rec ty = function
   | VMat _ -> Ty.Mat
   | VTex t -> Ty.Tex t.tname
   | VPair (a, b) -> Ty.Pair (ty a, ty b)
+  | VList a ->
+      (* The type its elements share (one, as its making checked). *)
+      let element =
+        if Array.length a = 0 then Ty.Unknown
+        else
+          Array.fold_left
+            (fun t v -> Option.value (Ty.join t (ty v)) ~default:Ty.Unknown)
+            (ty a.(0))
+            a
+      in
+      Ty.List element
   | VFun c -> Ty.Fun c.nparams
   | VMacro m -> Ty.Macro m.mnparams
   | VBuiltin n -> Ty.Builtin n

@@ -17,6 +17,8 @@ type t =
           object holds its colour beside it, {!Lancer_description.Description.obj}) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
+  | VList of t array
+      (** [[a, b, …]]: never changed once made; its elements of one type *)
   | VFun of closure
   | VMacro of macro
   | VBuiltin of string  (** a built-in function, by name *)
@@ -74,6 +76,8 @@ and hooks = {
   on_objects : (int -> unit) option;  (** told the count every 65 536 objects *)
   on_file : Description.file_use -> unit;  (** told each use of a file, as it is met *)
   cancel : Cancel.t option;  (** polled every 4096 steps *)
+  address_limit : int option;
+      (** the process's limit on its address space (ulimit -v), read as the run starts *)
   sources : (string, string) Hashtbl.t;  (** each file's text, for error display *)
 }
 

@@ -11,7 +11,7 @@ open Lancer
 module Mpi = Lancer_mpi.Mpi
 module Farm = Lancer_mpi.Farm
 
-let empty : Farm.renderer = fun ~pool:_ _ _ _ -> Stats.create ()
+let empty : Farm.renderer = fun ~pool:_ _ _ _ -> Counters.zero
 
 let () =
   let w, h, frames =

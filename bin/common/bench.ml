@@ -63,7 +63,10 @@ let cmd =
            depth 64). The reference image and the measured rows are cached under \
            \\$XDG_CACHE_HOME/lancer (or ~/.cache/lancer), keyed by the scene text, the \
            size and options, the lancer build and the host, so a second run prints at \
-           once; $(b,--fresh) measures again.";
+           once; $(b,--fresh) measures again. Before it measures, it says on stderr what \
+           it will render, $(b,lancer check)'s estimate of the rays and roughly how long \
+           that takes (from a render of the reference at one pixel in k×k), then shows \
+           its progress.";
         `S Manpage.s_examples;
         `Pre
           "  lancer bench quality scenes/showcase.rts --width 320 --height 240 --svg \

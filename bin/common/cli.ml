@@ -73,6 +73,8 @@ let width =
 let height =
   side [ "height"; "H" ] "H" "Image height in pixels, 1 to 65536 (overrides the scene)."
 
+let size = Term.(const (fun w h -> (w, h)) $ width $ height)
+
 let samples =
   int_opt [ "samples" ] "N"
     "N×N samples per pixel (overrides the scene and the quality preset)."
@@ -128,7 +130,9 @@ let quiet = function
       Arg.(
         value & flag
         & info [ "q"; "quiet" ]
-            ~doc:"No progress line, and no summary when all went well.")
+            ~doc:
+              "No progress line, no warnings (those of $(b,lancer check)), and no \
+               summary when all went well.")
   | Bench_domains | Bench_quality -> Term.const false
 
 let progress = function
@@ -137,8 +141,10 @@ let progress = function
         value & flag
         & info [ "progress" ]
             ~doc:
-              "Report progress even when stderr is not a terminal: a line every 2 \
-               seconds (for logs, and under mpirun).")
+              "Report progress as lines from the start when stderr is not a terminal: a \
+               line every 2 seconds, and what the build is doing (for logs, and under \
+               mpirun). Without it such a log gets a line every 5 seconds once the \
+               command has run that long.")
   | Bench_domains | Bench_quality -> Term.const false
 
 let term c =
@@ -253,14 +259,18 @@ let frames_term =
       & info [ "resume" ]
           ~doc:
             "Skip frames already rendered for the same scene, inputs and options \
-             (checked against their recorded size and MD5).")
+             (checked against their recorded size and MD5), and say why the others a run \
+             recorded are rendered again (another option, a changed scene or input, a \
+             missing file).")
   in
   let video =
     Arg.(
       value
       & opt (some string) None
       & info [ "video" ] ~docv:"OUT.mp4"
-          ~doc:"Assemble the frames into a video (.mp4 or .gif) with ffmpeg.")
+          ~doc:
+            "Assemble the frames into a video (.mp4 or .gif) with ffmpeg, which must be \
+             on PATH: that is checked before any frame is rendered.")
   in
   let shard =
     let parse s =
@@ -335,6 +345,11 @@ let envs =
         "Directories (separated by $(b,:)) where $(b,include \"lancer/...\") looks for \
          lancer's scene library before PREFIX/share beside the executable and the copy \
          built into it.";
+    Cmd.Env.info "LANCER_PROGRESS_INTERVAL"
+      ~doc:
+        "The seconds between two progress lines when stderr is not a terminal (default \
+         5, or 2 with $(b,--progress)); 0 prints a line for every tile or frame, \
+         $(b,off) none (unless $(b,--progress) asks for them).";
     Cmd.Env.info "OCAMLRUNPARAM"
       ~doc:
         "The OCaml runtime's parameters. Under a limit on the address space (ulimit -v) \

@@ -16,6 +16,9 @@ val term : command -> Lancer.Options.t Cmdliner.Term.t
     times the domain counts of its own [--counts], and [bench quality] sets the preset and
     the time itself. *)
 
+val size : (int option * int option) Cmdliner.Term.t
+(** [--width W] and [--height H] alone (1 to 65536 each), for [check]. *)
+
 val resume_still : bool Cmdliner.Term.t
 (** [--resume] of [render]: keep and reuse a checkpoint of finished tiles. *)
 

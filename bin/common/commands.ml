@@ -93,9 +93,21 @@ let check =
   in
   let man =
     [
+      `S Manpage.s_description;
+      `P
+        "Prints what the scene holds (sampling, camera, animation, objects by kind, CSG \
+         trees, lights, the renderer's features it uses and skips), warnings about what \
+         is legal but likely a mistake, and the rays a render will cost, estimated \
+         before any is traced, as set and under each quality preset ($(b,--width) and \
+         $(b,--height) give them for that size). The warnings (which $(b,lancer render) \
+         prints too) name an empty scene, a scene without objects or lights, a loop that \
+         runs zero times, and a surface colour with a component m above 1 (as if given \
+         as 0–255) unless some light's intensity × its colour's largest component × m is \
+         at most 1.";
       `S Manpage.s_examples;
       `Pre "  lancer check scenes/showcase.rts";
       `Pre "  lancer check anim.rts --json --time 1.5";
+      `Pre "  lancer check scene.rts --width 3840 --height 2160   # the estimates at 4K";
       `Pre "  lancer check scenes/bounce.rts --frames all";
       `Pre "  generate-scene | lancer check -";
     ]
@@ -104,11 +116,11 @@ let check =
   Cmd.v
     (Cmd.info "check" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
-      const (fun scene json time frames ->
+      const (fun scene json time frames (width, height) ->
           wrap (fun stop ->
               ignore (Report.on_interrupt stop);
-              Check_run.run ~scene ~json ~time ~frames))
-      $ scene $ json $ time $ frames)
+              Check_run.run ?width ?height ~scene ~json ~time ~frames ()))
+      $ scene $ json $ time $ frames $ Cli.size)
 
 (* The options of diff and golden that say when two images count as equal. *)
 let metric_arg =
@@ -227,6 +239,69 @@ let golden =
   in
   Cmd.v (Cmd.info "golden" ~doc ~man ~exits ~envs:Cli.envs) term
 
+let verify =
+  let doc = "check that an image lancer wrote still comes from its scene" in
+  let image = Arg.(required & pos 0 (some file) None & info [] ~docv:"IMAGE.png") in
+  let blocks =
+    let parse = function
+      | "all" -> Ok Verify_run.All
+      | s -> (
+          match int_of_string_opt s with
+          | Some k when k >= 1 -> Ok (Verify_run.Count k)
+          | _ ->
+              Error (`Msg (Printf.sprintf "%S: a number of blocks, at least 1, or all" s))
+          )
+    in
+    let print f = function
+      | Verify_run.All -> Format.pp_print_string f "all"
+      | Count k -> Format.pp_print_int f k
+    in
+    Arg.(
+      value
+      & opt (conv (parse, print)) (Verify_run.Count 8)
+      & info [ "tiles" ] ~docv:"K|all"
+          ~doc:
+            "Render $(docv) blocks of 32×32 pixels again, chosen from the image's \
+             own              digest, besides every block edited since it was written; \
+             $(b,all) renders              the whole image again.")
+  in
+  let domains =
+    Arg.(
+      value
+      & opt (some int) None
+      & info [ "domains"; "j" ] ~docv:"N" ~doc:"Domains (cores) to render with.")
+  in
+  let man =
+    [
+      `S Manpage.s_description;
+      `P
+        "Every PNG image lancer renders keeps a record of where it came from, in a \
+         text          chunk: the lancer version, the scene (a path from the image's \
+         directory) and          the digest of its text, the MD5 of every file the scene \
+         read, the options that          change pixels, the frame and time, and a digest \
+         of each 32×32 block of its          pixels.";
+      `P
+        "$(b,lancer verify) checks the blocks against their digests, the scene and \
+         its          files against theirs, then renders some blocks again and compares \
+         them sample          for sample. It prints $(b,reproduced) and exits with 0, or \
+         names what is          missing or changed, or the blocks and pixels that \
+         differ, and exits with 1.";
+      `S Manpage.s_examples;
+      `Pre "  lancer verify out/showcase.png";
+      `Pre "  lancer verify out/bounce/frame_0042.png --tiles all";
+    ]
+    @ Cli.bugs
+  in
+  Cmd.v
+    (Cmd.info "verify" ~doc ~man ~exits)
+    Term.(
+      const (fun image blocks domains ->
+          wrap (fun stop ->
+              let cancel = Report.on_interrupt stop in
+              let domains = Options.domains { Options.default with domains } in
+              if not (Verify_run.run ~cancel ~domains ~blocks image) then Stdlib.exit 1))
+      $ image $ blocks $ domains)
+
 let main () =
   let doc = "a functional ray tracer for .rts scene scripts" in
   let man =
@@ -252,7 +327,8 @@ let main () =
   Report.main (fun () ->
       let code =
         Cmd.eval'
-          (Cmd.group info [ render; animate; check; diff; golden; Watch.cmd; Bench.cmd ])
+          (Cmd.group info
+             [ render; animate; check; diff; golden; verify; Watch.cmd; Bench.cmd ])
       in
       if code = Cmd.Exit.cli_error then
         Option.iter (Report.say ~program:"lancer") (Cli.negative_value_hint Sys.argv);

@@ -75,7 +75,12 @@ let cmd =
             "The preset of the full image: $(b,draft), $(b,preview), $(b,final) or \
              $(b,reference) (the page can switch it).")
   in
-  let quiet = Arg.(value & flag & info [ "q"; "quiet" ] ~doc:"Print only the address.") in
+  let quiet =
+    Arg.(
+      value & flag
+      & info [ "q"; "quiet" ]
+          ~doc:"Print only the address and scene errors (not the time each version took).")
+  in
   let man =
     [
       `S Manpage.s_description;

@@ -83,7 +83,7 @@ let distributed ?(resume = false) (o : Options.t) ~prepare ~lead ~scene_of =
         0
 
 (* The files a scene was made of, each with its digest: what a unit is checked by. *)
-let with_digests (src : Source.t) files =
+let with_digests (src : Scenes.t) files =
   List.map (fun f -> (f, src.input_digest f)) files
 
 (* ---- render ---- *)
@@ -91,7 +91,7 @@ let with_digests (src : Source.t) files =
 let render_cmd (o : Options.t) ~resume =
   let still ?progress src =
     let time, frame = Options.time_of o src in
-    Source.scene ?progress src (Options.overrides o) ~time ~frame
+    Scenes.scene ?progress src (Options.overrides o) ~time ~frame
   in
   let prepare () =
     let out = Scene_file.default_output o in
@@ -160,6 +160,7 @@ let render_cmd (o : Options.t) ~resume =
     let ranks = Mpi.size () and workers = ranks_text domains in
     Mpi.finalize ();
     Still_run.finish ~cancel
+      ~record:(Still_run.record o b Output.default_encoding ~out)
       ~extra:[ ("mpi", Farm.report_json report) ]
       o ~out ~checkpoint:ck ~build:b.seconds ~wall ~domains ~ranks ~workers b.scene fb st
   in
@@ -195,14 +196,10 @@ let animate_cmd (o : Options.t) (a : Frames_run.options) =
          (List.map (fun k -> (k, fun () -> Animation.frame_scene ~cancel p k)) p.todo));
     Progress.finish progress;
     Animation.finish p;
-    if not o.quiet then
-      Printf.printf "wrote %d frames to %s in %.2f s (%s; %s)\n%!" (List.length p.todo)
-        p.dir
-        (Unix.gettimeofday () -. t0)
-        (Animation.describe_range p) (ranks_text domains);
+    Frames_run.wrote ~extra:("; " ^ ranks_text domains) o p ~t0;
     Option.iter (Frames_run.make_video o p) a.video
   in
-  let animation (src : Source.t) =
+  let animation (src : Scenes.t) =
     match src.animation with
     | Some (fps, _) -> fps
     | None -> user "the scene has no animation block"
@@ -210,7 +207,7 @@ let animate_cmd (o : Options.t) (a : Frames_run.options) =
   distributed o ~prepare ~lead ~scene_of:(fun prog k ->
       let src = Scene_file.source o prog in
       let sc, files =
-        Source.scene src (Options.overrides o)
+        Scenes.scene src (Options.overrides o)
           ~time:(Float.of_int k /. animation src)
           ~frame:k
       in

@@ -77,8 +77,32 @@ let builtins () =
        (fun (b : Lancer_dsl.Builtins.t) -> [ Printf.sprintf "`%s`" b.usage; b.doc ])
        Lancer_dsl.Builtins.all)
 
+(* Every named colour of the library, from its lines [let NAME = (r, g, b)  // #HEX (css)]. *)
+let colours () =
+  let file = "lancer/colors.rts" in
+  let text = Option.get (Lancer_dsl.Library.builtin file) in
+  let row line =
+    match String.index_opt line '=' with
+    | Some i when String.starts_with ~prefix:"let " line ->
+        let name = String.trim (String.sub line 4 (i - 4)) in
+        let rest = String.sub line (i + 1) (String.length line - i - 1) in
+        let value, css =
+          match String.index_opt rest '/' with
+          | Some j ->
+              ( String.trim (String.sub rest 0 j),
+                String.trim (String.sub rest (j + 2) (String.length rest - j - 2)) )
+          | None -> (String.trim rest, "")
+        in
+        Some [ Printf.sprintf "`%s`" name; css; Printf.sprintf "`%s`" value ]
+    | _ -> None
+  in
+  table
+    [ "colour"; "CSS value (name)"; "linear RGB" ]
+    (List.filter_map row (String.split_on_char '\n' text))
+
 let section id =
   match id with
+  | "colours" -> colours ()
   | "objects" -> objects ()
   | "common" -> common ()
   | "builtins" -> builtins ()
@@ -87,6 +111,7 @@ let section id =
 let marker line =
   let p = "<!-- fields: " and s = " -->" in
   if String.equal line "<!-- builtins -->" then Some "builtins"
+  else if String.equal line "<!-- colours -->" then Some "colours"
   else if String.starts_with ~prefix:p line && String.ends_with ~suffix:s line then
     Some
       (String.sub line (String.length p)

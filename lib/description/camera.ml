@@ -19,6 +19,12 @@ type t = {
 }
 
 let default_shutter_samples = 8
+let kind_names = [ "perspective"; "orthographic"; "fisheye" ]
+
+let kind_name = function
+  | Perspective -> "perspective"
+  | Orthographic _ -> "orthographic"
+  | Fisheye -> "fisheye"
 
 let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero)
     ?(up = Vec3.y_axis) ?(fov = 60.) ?(aperture = 0.) ?(focal_distance = 1.)

@@ -68,6 +68,13 @@ val make :
     of field (aperture 0, focal distance 1, 1 lens sample), the shutter closed ((0, 0),
     {!default_shutter_samples} shutter samples when opened). *)
 
+val kind_names : string list
+(** The kinds by the names a scene gives them: ["perspective"], ["orthographic"],
+    ["fisheye"]. *)
+
+val kind_name : kind -> string
+(** A kind's name among {!kind_names}. *)
+
 val default_shutter_samples : int
 (** 8: the instants an open shutter is rendered at unless told. *)
 

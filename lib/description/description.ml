@@ -180,6 +180,9 @@ let rec is_solid = function
 type physics_method = Exact | Verlet | Euler
 type physics = { gravity : Vec3.t; method_ : physics_method; step : float }
 
+let default_animation = (24., 48)
+let physics_methods = [ ("exact", Exact); ("verlet", Verlet); ("euler", Euler) ]
+
 let default_physics =
   { gravity = Vec3.v 0. (-9.81) 0.; method_ = Exact; step = 1. /. 240. }
 

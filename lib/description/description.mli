@@ -197,6 +197,12 @@ type physics = {
   step : float;  (** seconds, for the fixed-step methods; default 1/240 *)
 }
 
+val default_animation : float * int
+(** An animation's frames per second and frames when a scene gives neither: 24, 48. *)
+
+val physics_methods : (string * physics_method) list
+(** Each method by the name a scene gives it: ["exact"], ["verlet"], ["euler"]. *)
+
 val default_physics : physics
 (** Gravity (0, −9.81, 0), the exact method, step 1/240 s. *)
 

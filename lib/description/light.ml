@@ -19,8 +19,17 @@ type t =
     }
   | Directional of { direction : Vec3.t; color : Color.t; intensity : float }
 
-let point ?(color = Color.white) ?(intensity = 1.) ?(attenuation = Vec3.v 1. 0. 0.)
-    ?(radius = 0.) ?(samples = 1) ?spot position =
+let default_color = Color.white
+let default_intensity = 1.
+let default_attenuation = Vec3.v 1. 0. 0.
+let default_radius = 0.
+let default_samples = 1
+let default_inner = 30.
+let default_outer = 45.
+
+let point ?(color = default_color) ?(intensity = default_intensity)
+    ?(attenuation = default_attenuation) ?(radius = default_radius)
+    ?(samples = default_samples) ?spot position =
   Point { position; color; intensity; attenuation; radius; samples; spot }
 
 let spot ~position ~point_at ~inner ~outer =
@@ -57,7 +66,7 @@ let is_spot = function
   | Point { spot = Some _; _ } -> true
   | Point _ | Directional _ -> false
 
-let directional ?(color = Color.white) ?(intensity = 1.) d =
+let directional ?(color = default_color) ?(intensity = default_intensity) d =
   Directional { direction = Vec3.normalize d; color; intensity }
 
 let is_area = function

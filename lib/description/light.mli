@@ -27,6 +27,34 @@ type t =
   | Directional of { direction : Vec3.t; color : Color.t; intensity : float }
       (** [direction] is unit, the way the light travels; Ldir = −direction *)
 
+(** {1 Defaults}
+
+    What a light has when a scene does not say: the scene language's defaults are these
+    values. *)
+
+val default_color : Color.t
+(** White. *)
+
+val default_intensity : float
+(** 1. *)
+
+val default_attenuation : Vec3.t
+(** (1, 0, 0): no fall-off with distance. *)
+
+val default_radius : float
+(** 0: a point, not an area light. *)
+
+val default_samples : int
+(** 1 (an area light's n×n shadow rays). *)
+
+val default_inner : float
+(** 30 degrees: a spot light's full-light cone. *)
+
+val default_outer : float
+(** 45 degrees: beyond it a spot light gives nothing. *)
+
+(** {1 Lights} *)
+
 val point :
   ?color:Color.t ->
   ?intensity:float ->
@@ -36,7 +64,7 @@ val point :
   ?spot:spot ->
   Vec3.t ->
   t
-(** Defaults: white, intensity 1, attenuation (1, 0, 0), radius 0, 1 sample, no spot. *)
+(** Defaults: those above, and no spot. *)
 
 val spot :
   position:Vec3.t ->

@@ -21,8 +21,7 @@ let light_kind = function
   | Light.Point _ -> "point"
   | Light.Directional _ -> "directional"
 
-let warnings ~empty (d : D.t) (r : D.rendered) =
-  let objects = List.fold_left (fun n (_, k) -> n + k) 0 r.r_kinds in
+let warnings ~empty ~objects ~lights (d : D.t) =
   let file msg = Diagnostic.file_error ~kind:Diagnostic.Warning d.file msg in
   let scene =
     if empty then
@@ -32,7 +31,7 @@ let warnings ~empty (d : D.t) (r : D.rendered) =
          [ file "the scene has no objects: the image is the background only" ]
        else [])
       @
-      if r.r_lights = [] && objects > 0 then
+      if lights = 0 && objects > 0 then
         [
           file
             "the scene has no lights: objects show only their ambient colour (add light \
@@ -41,6 +40,72 @@ let warnings ~empty (d : D.t) (r : D.rendered) =
       else []
   in
   d.warnings @ scene
+
+(* ---- Colours given as 0–255 ---- *)
+
+let largest (c : Color.t) = Float.max c.r (Float.max c.g c.b)
+
+(* The colours a material gives a surface: its texture's, or its own without one. *)
+let surface_colours (m : D.material) =
+  let map entries = List.map snd entries in
+  match m.texture with
+  | None -> [ m.color ]
+  | Some (Solid c) -> [ c ]
+  | Some
+      ( Checker { c1; c2; _ }
+      | Stripes { c1; c2; _ }
+      | Noise { c1; c2; _ }
+      | Marble { c1; c2; _ }
+      | Wood { c1; c2; _ } ) ->
+      [ c1; c2 ]
+  | Some (Gradient { map = m; _ } | Mapped { map = m; _ }) -> map m
+  | Some (Image _) -> []
+
+let light_strength = function
+  | Light.Point p -> p.intensity *. largest p.color
+  | Light.Directional l -> l.intensity *. largest l.color
+
+let colour_text (c : Color.t) = Printf.sprintf "(%g, %g, %g)" c.r c.g c.b
+
+let colour_warnings ?(source = fun _ -> None) (d : D.t) =
+  let strengths = List.map light_strength d.lights in
+  (* A light of strength s (intensity × its colour's largest component) makes up for a
+     colour whose largest component is m > 1 when s·m ≤ 1. *)
+  let suspect c =
+    let m = largest c in
+    m > 1. && not (List.exists (fun s -> s *. m <= 1.) strengths)
+  in
+  let seen = Hashtbl.create 8 and order = ref [] in
+  let note (o : D.obj) (c : Color.t) =
+    if suspect c then
+      let key = (c.r, c.g, c.b) in
+      match Hashtbl.find_opt seen key with
+      | Some (loc, n) -> Hashtbl.replace seen key (loc, n + 1)
+      | None ->
+          Hashtbl.add seen key (o.loc, 1);
+          order := (key, c) :: !order
+  in
+  let rec visit (o : D.obj) =
+    Option.iter (fun m -> List.iter (note o) (surface_colours m)) (D.object_material o);
+    match o.shape with Csg { members; _ } -> List.iter visit members | _ -> ()
+  in
+  List.iter visit d.objects;
+  List.rev_map
+    (fun (key, c) ->
+      let (loc : Loc.t), n = Hashtbl.find seen key in
+      let c255 = Color.scale (1. /. 255.) c in
+      Diagnostic.warning ?source:(source loc.file) loc
+        (Printf.sprintf
+           "colour %s has a component above 1 and no light is dim enough to make up for \
+            it: this object reflects more light than it receives and shows flat and \
+            saturated; colours go from 0 to 1 (for 0–255 values, divide by 255: (%.3g, \
+            %.3g, %.3g))%s"
+           (colour_text c) c255.r c255.g c255.b
+           (match n - 1 with
+           | 0 -> ""
+           | 1 -> "; 1 more object has this colour"
+           | k -> Printf.sprintf "; %d more objects have this colour" k)))
+    !order
 
 (* Which normals a mesh's triangles are shaded with, in words and as a JSON name. *)
 let mesh_normals ~smooth (f : D.mesh_faces) =
@@ -162,7 +227,11 @@ let summary ~empty (d : D.t) (r : D.rendered) =
     (if used = [] then "nothing beyond direct light" else String.concat ", " used);
   line "renderer skips: %s"
     (if skipped = [] then "nothing" else String.concat ", " skipped);
-  List.iter (fun w -> Buffer.add_string b (Diagnostic.to_string w)) (warnings ~empty d r);
+  List.iter
+    (fun w -> Buffer.add_string b (Diagnostic.to_string w))
+    (warnings ~empty
+       ~objects:(List.fold_left (fun n (_, k) -> n + k) 0 kinds)
+       ~lights:(List.length r.r_lights) d);
   Buffer.contents b
 
 let vj (v : Vec3.t) = `List [ `Float v.x; `Float v.y; `Float v.z ]

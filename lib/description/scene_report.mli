@@ -7,10 +7,22 @@
     uses. The description's [animation], [bodies], [physics] and [warnings] are printed as
     they are: pass those of the program (at time 0) for a scene at another time. *)
 
-val warnings : empty:bool -> Description.t -> Description.rendered -> Diagnostic.t list
+val warnings :
+  empty:bool -> objects:int -> lights:int -> Description.t -> Diagnostic.t list
 (** What is legal but likely a mistake: an empty program ([empty]), a scene without
-    objects or without lights, and the description's own warnings (a loop that runs zero
-    times). *)
+    objects or without lights (it has [objects] and [lights], as rendered), and the
+    description's own warnings (a loop that runs zero times, colours given as 0–255). *)
+
+val colour_warnings :
+  ?source:(string -> string option) -> Description.t -> Diagnostic.t list
+(** Colours that look given as 0–255 rather than 0–1: a warning for each distinct surface
+    colour (an object's, or its texture's and colour map's) whose largest component m is
+    above 1 while no light of the scene makes up for it, that is when every light has
+    intensity × (its colour's largest component) × m above 1 (and always when there is no
+    light). It is located at the first object with that colour ([source file] is the text
+    of a file, for the source line), suggests the colour divided by 255 and counts the
+    other objects that have it. Backgrounds, fog, ambient light and lights themselves may
+    be brighter than 1 and are not looked at. *)
 
 val summary : empty:bool -> Description.t -> Description.rendered -> string
 (** Image size, sampling (jitter, adaptive), camera, frames, objects by kind, CSG trees,

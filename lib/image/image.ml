@@ -1,28 +1,8 @@
-type t = { width : int; height : int; data : Float.Array.t }
+(* The framebuffer's fields, for the encoders below. *)
+type fb = Framebuffer.t = { width : int; height : int; data : Float.Array.t }
 type gamma = Srgb | Power of float
 
 let max_pixels = Raster.max_pixels
-
-let create width height =
-  { width; height; data = Float.Array.make (3 * width * height) 0. }
-
-let get fb i j =
-  let k = 3 * ((j * fb.width) + i) in
-  Color.v (Float.Array.get fb.data k)
-    (Float.Array.get fb.data (k + 1))
-    (Float.Array.get fb.data (k + 2))
-
-let set fb i j (c : Color.t) =
-  let k = 3 * ((j * fb.width) + i) in
-  Float.Array.set fb.data k c.r;
-  Float.Array.set fb.data (k + 1) c.g;
-  Float.Array.set fb.data (k + 2) c.b
-
-let[@inline] set_rgb fb i j r g b =
-  let k = 3 * ((j * fb.width) + i) in
-  Float.Array.set fb.data k r;
-  Float.Array.set fb.data (k + 1) g;
-  Float.Array.set fb.data (k + 2) b
 
 (* The encoding curve on a clamped value. *)
 let curve gamma v =
@@ -161,9 +141,9 @@ let write_ppm oc w h bytes =
 
 let write_png oc raster = Png.encode raster (output_string oc)
 
-let png_bytes raster =
+let png_bytes ?text raster =
   let b = Buffer.create (max 4096 (Bytes.length raster.Raster.samples / 4)) in
-  Png.encode raster (Buffer.add_string b);
+  Png.encode ?text raster (Buffer.add_string b);
   Buffer.contents b
 
 let write_rgb8 path w h bytes =
@@ -331,10 +311,11 @@ let hdr_bytes w h rgb =
   done;
   Bytes.unsafe_to_string b
 
-let linear_bytes fmt ?(bits = 16) ?alpha ?crop fb =
+let linear_bytes fmt ?(bits = 16) ?alpha ?crop ?record fb =
   let w, h, rgb, a = cropped ?alpha ?crop fb in
   match fmt with
-  | Exr -> Lancer_exr.Exr.encode ~width:w ~height:h ~half:(bits <> 32) ~rgb ~alpha:a
+  | Exr ->
+      Lancer_exr.Exr.encode ?record ~width:w ~height:h ~half:(bits <> 32) ~rgb ~alpha:a ()
   | Pfm when alpha <> None -> Error "a PFM file holds RGB only (no alpha); write a .exr"
   | Hdr when alpha <> None -> Error "a Radiance .hdr file has no alpha; write a .exr"
   | Pfm -> Ok (pfm_bytes w h rgb)
@@ -366,10 +347,68 @@ let bits_problem fmt bits =
         (Printf.sprintf "%d bits: a %s image has one depth of its own" b
            (if fmt = Hdr then "Radiance .hdr" else "PFM"))
 
-let file_of fmt ?gamma ?bits ?alpha ?crop fb =
+(* A 32-bit digest of bytes [off, off + len) of [s] folded into [h]: FNV-1a over 4-byte
+   words (then the bytes left), in native ints, so that nothing is allocated. Each step is
+   a bijection of the digest for a given word, so a change within one word always changes
+   it. *)
+external get32u : string -> int -> int32 = "%caml_string_get32u"
+external get64u : string -> int -> int64 = "%caml_string_get64u"
+external swap32 : int32 -> int32 = "%bswap_int32"
+external swap64 : int64 -> int64 = "%bswap_int64"
+
+(* Only the low 32 bits of [h] matter: those of a product depend only on those of its
+   factors, so the masking waits for the end, and a 64-bit load gives two words. *)
+let fold_words h s off len =
+  if off < 0 || len < 0 || off + len > String.length s then invalid_arg "Image.fold_words";
+  let p = 0x01000193 in
+  let h = ref h and i = ref off in
+  let stop = off + len in
+  while !i + 8 <= stop do
+    (* Little-endian words on every machine. *)
+    let w = get64u s !i in
+    let w = if Sys.big_endian then swap64 w else w in
+    h := !h lxor Int64.to_int w * p;
+    h := !h lxor Int64.to_int (Int64.shift_right_logical w 32) * p;
+    i := !i + 8
+  done;
+  if !i + 4 <= stop then (
+    let w = get32u s !i in
+    let w = if Sys.big_endian then swap32 w else w in
+    h := !h lxor Int32.to_int w * p;
+    i := !i + 4);
+  while !i < stop do
+    h := !h lxor Char.code (String.unsafe_get s !i) * p;
+    incr i
+  done;
+  !h land 0xFFFF_FFFF
+
+let block_digests ~size (r : Raster.t) =
+  let nx = (r.width + size - 1) / size and ny = (r.height + size - 1) / size in
+  let px = r.channels * (r.depth / 8) in
+  let s = Bytes.unsafe_to_string r.samples in
+  let b = Buffer.create (8 * nx * ny) in
+  for by = 0 to ny - 1 do
+    for bx = 0 to nx - 1 do
+      let x0 = bx * size in
+      let len = min size (r.width - x0) * px in
+      let h = ref 0x811C9DC5 in
+      for j = by * size to min r.height ((by + 1) * size) - 1 do
+        h := fold_words !h s (((j * r.width) + x0) * px) len
+      done;
+      Buffer.add_string b (Printf.sprintf "%08x" !h)
+    done
+  done;
+  Buffer.contents b
+
+let record_keyword = "lancer"
+
+let file_of fmt ?gamma ?bits ?alpha ?crop ?text fb =
   match bits_problem fmt bits with
   | Some m -> Error m
-  | None when linear fmt -> linear_bytes fmt ?bits ?alpha ?crop fb
+  | None when linear fmt ->
+      (* An EXR header keeps the record (without blocks: they are digests of samples). *)
+      let record = Option.bind text (fun f -> List.assoc_opt record_keyword (f None)) in
+      linear_bytes fmt ?bits ?alpha ?crop ?record fb
   | None -> (
       let r = encode ?gamma ?bits ?alpha ?crop fb in
       match fmt with
@@ -378,14 +417,14 @@ let file_of fmt ?gamma ?bits ?alpha ?crop fb =
           Ok
             (Printf.sprintf "P6\n%d %d\n%d\n" r.width r.height (Raster.max_value r)
             ^ Bytes.unsafe_to_string r.samples)
-      | _ -> Ok (png_bytes r))
+      | _ -> Ok (png_bytes ?text:(Option.map (fun f -> f (Some r)) text) r))
 
-let save_written ?gamma ?bits ?alpha ?crop path fb =
+let save_written ?gamma ?bits ?alpha ?crop ?text path fb =
   Result.bind (format_of_path path) (fun fmt ->
       Result.bind
         (Result.map_error
            (fun m -> Printf.sprintf "cannot write %s: %s" path m)
-           (file_of fmt ?gamma ?bits ?alpha ?crop fb))
+           (file_of fmt ?gamma ?bits ?alpha ?crop ?text fb))
         (write_file path))
 
 let save ?gamma ?bits ?alpha ?crop path fb =

@@ -1,16 +1,10 @@
-(** Framebuffers, output encoding and image files.
+(** Output encoding and image files: a {!Framebuffer} encoded into a {!Raster} and
+    written, and image files read back.
 
-    A framebuffer holds linear RGB floats, row-major from the top-left pixel. Encoding
-    (doc/reference/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 → 12.92·v,
-    else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG
+    Encoding (doc/reference/shading.md, section 9): clamp to [0, 1]; sRGB (v ≤ 0.0031308 →
+    12.92·v, else 1.055·v^(1/2.4) − 0.055) or v^(1/g); byte = ⌊255·v + 0.5⌋. Files are PNG
     ({!module-Png}, plain, 8-bit RGB by default) or binary PPM by extension, always
     written atomically: a temporary file in the same directory, then a rename. *)
-
-type t = {
-  width : int;
-  height : int;
-  data : Float.Array.t;  (** 3·width·height linear floats *)
-}
 
 (** How linear values are encoded into an image's samples. *)
 type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) *)
@@ -18,26 +12,13 @@ type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) 
 val max_pixels : int
 (** {!Raster.max_pixels}. *)
 
-val create : int -> int -> t
-(** [create w h] is a black framebuffer of [w] columns and [h] rows. *)
-
-val get : t -> int -> int -> Color.t
-(** [get fb i j] is the colour of column [i], row [j]. *)
-
-val set : t -> int -> int -> Color.t -> unit
-(** [set fb i j c] stores colour [c] at column [i], row [j]. *)
-
-val set_rgb : t -> int -> int -> float -> float -> float -> unit
-(** [set_rgb fb i j r g b] is [set fb i j (Color.v r g b)] without building the colour
-    (inlined: nothing is boxed). *)
-
 val encode_channel : gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 
 val encode_channel16 : gamma -> float -> int
 (** The same curve quantised to 16 bits: ⌊65535·v + 0.5⌋ (NaN encodes as 0). *)
 
-val to_bytes : gamma -> t -> Bytes.t
+val to_bytes : gamma -> Framebuffer.t -> Bytes.t
 (** 3·width·height encoded bytes, row-major RGB. *)
 
 type format =
@@ -76,7 +57,12 @@ type region = { x0 : int; y0 : int; x1 : int; y1 : int }
 (** The pixels x0 ≤ i < x1, y0 ≤ j < y1. *)
 
 val encode :
-  ?gamma:gamma -> ?bits:int -> ?alpha:Float.Array.t -> ?crop:region -> t -> Raster.t
+  ?gamma:gamma ->
+  ?bits:int ->
+  ?alpha:Float.Array.t ->
+  ?crop:region ->
+  Framebuffer.t ->
+  Raster.t
 (** [encode fb] is [fb]'s RGB samples at [bits] (8, the default, or 16) through
     {!encode_channel} or {!encode_channel16}; with [alpha] (one linear value per pixel,
     row-major) a fourth channel ⌊max·a + 0.5⌋, not gamma-encoded; with [crop] only that
@@ -97,7 +83,7 @@ val save :
   ?alpha:Float.Array.t ->
   ?crop:region ->
   string ->
-  t ->
+  Framebuffer.t ->
   (unit, string) result
 (** [save path fb] is {!write_raster} of {!encode} (default sRGB, 8-bit RGB, the whole
     image). *)
@@ -114,12 +100,20 @@ val file_of :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
-  t ->
+  ?text:(Raster.t option -> (string * string) list) ->
+  Framebuffer.t ->
   (string, string) result
 (** [file_of format fb] is the bytes of the file of that format holding [fb], as
     {!save_written} writes them (for standard output, or a file written another way).
     [bits]: 8 or 16 for PNG and PPM (default 8), 16 or 32 for EXR (half or single floats,
-    default 16), none for HDR and PFM. *)
+    default 16), none for HDR and PFM. [text]: a PNG's text chunks ({!Png.encode}), made
+    from the encoded image ([Some]); an EXR keeps the text of keyword ["lancer"], made
+    without an encoded image ([None]), as a header attribute; other formats keep none. *)
+
+val block_digests : size:int -> Raster.t -> string
+(** A 32-bit digest (FNV-1a over 4-byte words) of each [size]×[size] block of the raster's
+    samples (the last row and column of blocks may be smaller), row-major, 8 hexadecimal
+    digits a block. *)
 
 val bits_problem : format -> int option -> string option
 (** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
@@ -132,8 +126,9 @@ val save_written :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:region ->
+  ?text:(Raster.t option -> (string * string) list) ->
   string ->
-  t ->
+  Framebuffer.t ->
   (written, string) result
 (** {!save}, and the size and MD5 of the bytes it wrote, digested before the file was
     renamed into place: what the file held when this write ended, even if another process
@@ -156,14 +151,14 @@ val read_rgb8 : string -> (int * int * Bytes.t, string) result
 (** [read_rgb8 path] is (width, height, bytes) of a PNG or PPM file converted to 8-bit RGB
     as {!Raster.to_rgb8} does. Never raises. *)
 
-val of_raster : Raster.t -> t
+val of_raster : Raster.t -> Framebuffer.t
 (** The linear framebuffer of sRGB-encoded samples, at their full precision (8 or 16
     bits); gray is repeated into the three channels, alpha is dropped. *)
 
-val read_linear : string -> (t, string) result
+val read_linear : string -> (Framebuffer.t, string) result
 (** [read_linear path] decodes an sRGB image file to a linear framebuffer (for image
     textures and bump maps). *)
 
-val linear_of_string : path:string -> string -> (t, string) result
+val linear_of_string : path:string -> string -> (Framebuffer.t, string) result
 (** [linear_of_string ~path bytes] is {!read_linear} of the file [path] whose content is
     [bytes]. *)

@@ -227,7 +227,15 @@ let filter_row ~bpp row prev out =
 
 let colour_type channels = match channels with 1 -> 0 | 2 -> 4 | 3 -> 2 | _ -> 6
 
-let encode ?(level = 6) (r : Raster.t) write =
+(* An international text chunk, uncompressed, with no language tag: the keyword (Latin-1,
+   1 to 79 bytes, no NUL) and UTF-8 text. *)
+let itxt keyword text =
+  let n = String.length keyword in
+  if n < 1 || n > 79 || String.contains keyword '\000' then
+    invalid_arg "Png.encode: a text keyword of 1 to 79 bytes without NUL";
+  keyword ^ "\000\000\000\000\000" ^ text
+
+let encode ?(level = 6) ?(text = []) (r : Raster.t) write =
   let bpp = r.channels * (r.depth / 8) in
   let stride = r.width * bpp in
   write signature;
@@ -240,6 +248,11 @@ let encode ?(level = 6) (r : Raster.t) write =
   Bytes.set_uint8 ihdr 11 0;
   Bytes.set_uint8 ihdr 12 0;
   chunk write "IHDR" (Bytes.to_string ihdr) 13;
+  List.iter
+    (fun (k, v) ->
+      let d = itxt k v in
+      chunk write "iTXt" d (String.length d))
+    text;
   (* Rows are filtered one at a time and streamed through deflate; each time its output
      buffer is full it becomes one IDAT chunk. *)
   let z = Zlib.deflate_init level true in
@@ -520,6 +533,50 @@ let decode_exn max_pixels s =
       off := !off + (ph * (stride + 1)))
     ps;
   Raster.make ~width:hd.w ~height:hd.h ~channels:out_ch ~depth:out_depth samples
+
+(* The text of a tEXt chunk (keyword NUL text, Latin-1) or an uncompressed iTXt one
+   (keyword NUL flag method language NUL translated NUL text); None for a compressed one or
+   any other chunk. *)
+let text_of kind data =
+  match String.index_opt data '\000' with
+  | None -> None
+  | Some k -> (
+      let keyword = String.sub data 0 k in
+      let rest = String.sub data (k + 1) (String.length data - k - 1) in
+      match kind with
+      | "tEXt" -> Some (keyword, rest)
+      | "iTXt" when String.length rest >= 2 && rest.[0] = '\000' -> (
+          let after = String.sub rest 2 (String.length rest - 2) in
+          match String.index_opt after '\000' with
+          | None -> None
+          | Some l -> (
+              match String.index_from_opt after (l + 1) '\000' with
+              | None -> None
+              | Some t ->
+                  Some (keyword, String.sub after (t + 1) (String.length after - t - 1))))
+      | _ -> None)
+
+let texts s =
+  let n = String.length s in
+  if n < 8 || String.sub s 0 8 <> signature then Error "not a PNG file"
+  else
+    let rec go pos acc =
+      if pos + 12 > n then Ok (List.rev acc)
+      else
+        let len = Int32.to_int (String.get_int32_be s pos) land 0xFFFFFFFF in
+        let kind = String.sub s (pos + 4) 4 in
+        if len < 0 || pos + 12 + len > n then Ok (List.rev acc)
+        else if kind = "IEND" then Ok (List.rev acc)
+        else
+          let data = String.sub s (pos + 8) len in
+          let acc =
+            if Int32.equal (String.get_int32_be s (pos + 8 + len)) (crc_of kind data len)
+            then match text_of kind data with Some t -> t :: acc | None -> acc
+            else acc
+          in
+          go (pos + 12 + len) acc
+    in
+    go 8 []
 
 let decode ?(max_pixels = Raster.max_pixels) s =
   match decode_exn max_pixels s with

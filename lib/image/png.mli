@@ -7,10 +7,18 @@
     or not; every chunk's CRC is checked. Palette images become RGB (RGBA when they have a
     transparency chunk); gray at 1, 2 or 4 bits is scaled to 8. Nothing is printed. *)
 
-val encode : ?level:int -> Raster.t -> (string -> unit) -> unit
+val encode :
+  ?level:int -> ?text:(string * string) list -> Raster.t -> (string -> unit) -> unit
 (** [encode r write] passes the bytes of a PNG file of [r] to [write], in order, a chunk
     at a time (so that a file is written as it is compressed). [level] is zlib's, 0–9
-    (default 6). Exceptions raised by [write] (a full disk) propagate. *)
+    (default 6). Each [(keyword, text)] of [text] becomes an uncompressed iTXt chunk after
+    the header (keyword: 1 to 79 Latin-1 bytes without NUL; text: UTF-8). Exceptions
+    raised by [write] (a full disk) propagate. *)
+
+val texts : string -> ((string * string) list, string) result
+(** [texts contents] is every (keyword, text) of a PNG file's tEXt chunks and uncompressed
+    iTXt chunks, in file order; chunks whose CRC is wrong are left out. [Error] only for a
+    file that is not a PNG. *)
 
 val finally : (unit -> unit) -> (unit -> 'a) -> 'a
 (** [finally release body] is [body ()], with [release ()] run after it also when [body]

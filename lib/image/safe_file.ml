@@ -44,8 +44,6 @@ let temp_owner_pid name =
             Some (owner, int_of_string pid)
         | _ -> None)
 
-let temp_pid name = Option.map snd (temp_owner_pid name)
-
 let running pid =
   match Unix.kill pid 0 with
   | () -> true
@@ -67,34 +65,10 @@ let remove_stale dir =
                  | { st_kind = Unix.S_REG; _ } -> (
                      try
                        Sys.remove p;
-                       Some p
+                       Some (p, pid)
                      with Sys_error _ -> None)
                  | _ | (exception Unix.Unix_error _) -> None)
              | _ -> None)
-
-let on_stale =
-  ref (fun p ->
-      let pid = Option.value ~default:0 (temp_pid (Filename.basename p)) in
-      Printf.eprintf
-        "lancer: removed %s, a temporary file left by process %d, which is no longer \
-         running\n\
-         %!"
-        p pid)
-
-(* Directories already swept by this process; frames are written from several domains. *)
-let swept = Hashtbl.create 4
-let swept_lock = Mutex.create ()
-
-let sweep dir =
-  let key = try Unix.realpath dir with Unix.Unix_error _ -> dir in
-  let first =
-    Mutex.protect swept_lock (fun () ->
-        if Hashtbl.mem swept key then false
-        else (
-          Hashtbl.replace swept key ();
-          true))
-  in
-  if first then List.iter (fun p -> !on_stale p) (remove_stale dir)
 
 (* The reason of a failure, without the name of the temporary file: the user only knows
    the path they asked for. *)
@@ -170,7 +144,6 @@ let write path f =
       | exception e ->
           Error (Printf.sprintf "cannot write %s: %s" path (describe ~tmp:path e)))
   | Ok () -> (
-      sweep (Filename.dirname path);
       let tmp = temp_path path in
       match
         let oc =

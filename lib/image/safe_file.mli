@@ -5,9 +5,10 @@
     succeeded; on any failure (a full disk, a file-size limit, an interrupt) the temporary
     file is removed and the previous file under the final name is untouched. An existing
     file that its owner may not write (mode 0444) is refused, not replaced. Temporary
-    files left by a process of this machine that was killed are removed by the next write
-    into the same directory; those of other machines sharing it are left alone. Messages
-    name the final path, never the temporary one. *)
+    files left by a process of this machine that was killed are removed by
+    {!remove_stale}, which a run calls once for each directory it will write into; those
+    of other machines sharing it are left alone. Messages name the final path, never the
+    temporary one. *)
 
 val check_writable : string -> (unit, string) result
 (** Whether [path] could be written: not a directory, in a directory that exists, and not
@@ -28,13 +29,8 @@ val temp_path : string -> string
 (** A fresh temporary name beside [path], [.NAME.tmp-OWNER-PID-RAND] with {!owner} and
     this process's id. *)
 
-val remove_stale : string -> string list
+val remove_stale : string -> (string * int) list
 (** [remove_stale dir] removes the temporary files of {!temp_path}'s form in [dir] that
     {!owner} wrote and whose process is no longer running (no such process id), and is the
-    list of paths removed; files of other owners (other machines sharing the directory)
-    are never touched. {!write} calls it once per directory and reports each removal
-    through {!on_stale}. *)
-
-val on_stale : (string -> unit) ref
-(** Called with each stale temporary file {!write} removes; by default it says so on
-    stderr in one line. *)
+    list of paths removed, each with the id of the process that left it; files of other
+    owners (other machines sharing the directory) are never touched. *)

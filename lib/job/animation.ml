@@ -1,25 +1,26 @@
 let user = Job_error.user
 
-(* What changes every frame's pixels: the scene's text and includes (not the path it was
-   typed as) and the overriding options. The frame number and the images and meshes a
-   frame reads are recorded beside it. *)
-let job_digest (src : Source.t) overrides ~format ~bits =
+(* What changes every frame's pixels, named: the scene's text and includes (not the path
+   it was typed as) and the overriding options. The frame number and the images and
+   meshes a frame reads are recorded beside it. *)
+let job_parts (src : Scenes.t) overrides ~format ~bits =
+  (("scene", src.text_digest ()) :: Overrides.named_fields overrides)
+  @
+  (* Frames as PNG at the default depth keep the digest they always had. *)
+  match (format, bits) with
+  | Image.Png, None -> []
+  | f, b ->
+      [
+        ("--format", Image.format_name f);
+        ("--bits", match b with Some b -> string_of_int b | None -> "-");
+      ]
+
+let job_digest parts =
   Digest.to_hex
-    (Digest.string
-       (String.concat "|"
-          (("lancer-frames-v3" :: src.text_digest () :: Overrides.digest_fields overrides)
-          @
-          (* Frames as PNG at the default depth keep the digest they always had. *)
-          match (format, bits) with
-          | Image.Png, None -> []
-          | f, b ->
-              [
-                Image.format_name f;
-                (match b with Some b -> string_of_int b | None -> "-");
-              ])))
+    (Digest.string (String.concat "|" ("lancer-frames-v3" :: List.map snd parts)))
 
 type plan = {
-  source : Source.t;
+  source : Scenes.t;
   overrides : Overrides.t;
   dir : string;
   format : Image.format;
@@ -30,6 +31,7 @@ type plan = {
   shard : (int * int) option;
   todo : int list;
   resumed : int;
+  stale : (string * int list) list;
   set : Frameset.t;
   inputs : (int, (string * string) list) Hashtbl.t;
   inputs_lock : Mutex.t;
@@ -47,7 +49,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
   if Sys.file_exists dir && not (Sys.is_directory dir) then
     user "%s exists and is not a directory" dir;
   let shard = Option.map (Plan.resolve_shard ~getenv) shard in
-  let source : Source.t = load () in
+  let source : Scenes.t = load () in
   let fps, count =
     match source.animation with
     | Some a -> a
@@ -67,7 +69,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
   let mine = Plan.shard_frames ~first ~last shard in
   (* Before anything is written into the directory: no frame replaces a file that this
      run has read, nor one that the scene names, which a later frame may read. *)
-  Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Source.reads source)
+  Files.guard_writes ~distinct:false ~names:(source.names ()) ~reads:(Scenes.reads source)
     ((Filename.concat dir Frameset.view_name, "the frames record")
     :: List.map
          (fun k -> (Filename.concat dir (Frameset.frame_name ~ext k), "a frame"))
@@ -80,16 +82,32 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
       | "<stdin>" -> "<stdin>"
       | f -> ( try Unix.realpath f with Unix.Unix_error _ -> f)
     in
-    Frameset.open_ ~ext ~dir ~scene
-      ~job:(job_digest source overrides ~format ~bits)
-      ~count ()
+    let made_with = job_parts source overrides ~format ~bits in
+    Frameset.open_ ~ext ~made_with ~dir ~scene ~job:(job_digest made_with) ~count ()
   in
-  let todo =
+  let todo, stale =
     if resume then
-      List.filter
-        (fun k -> not (Frameset.is_done set k ~input_digest:source.input_digest))
-        mine
-    else mine
+      let why k = Frameset.why_not_done set k ~input_digest:source.input_digest in
+      let todo =
+        List.filter
+          (fun k -> not (Frameset.is_done set k ~input_digest:source.input_digest))
+          mine
+      in
+      (* The frames a run recorded that are rendered again, by reason, in order. *)
+      let whys = List.filter_map (fun k -> Option.map (fun r -> (r, k)) (why k)) todo in
+      let reasons =
+        List.fold_left
+          (fun acc (r, _) -> if List.mem r acc then acc else r :: acc)
+          [] whys
+      in
+      let stale =
+        List.rev_map
+          (fun r ->
+            (r, List.filter_map (fun (r', k) -> if r = r' then Some k else None) whys))
+          reasons
+      in
+      (todo, stale)
+    else (mine, [])
   in
   if todo <> [] then Frameset.drop_view set;
   {
@@ -104,13 +122,14 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
     shard;
     todo;
     resumed = List.length mine - List.length todo;
+    stale;
     set;
     inputs = Hashtbl.create 16;
     inputs_lock = Mutex.create ();
   }
 
 let evaluate ?cancel p k =
-  Source.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
+  Scenes.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
 
 (* The files a frame read, each with its digest now: what its record keeps. *)
 let with_digests p files = List.map (fun f -> (f, p.source.input_digest f)) files
@@ -134,8 +153,14 @@ let write_frame p k sc fb =
   in
   (* The plan refused every file the scene names; this is checked again against what the
      frames evaluated so far have read, by any name, before each frame is written. *)
-  Files.refuse_overwrite ~reads:(Source.reads p.source) path "a frame";
-  let written = Files.write_image ?bits:p.bits path sc fb in
+  Files.refuse_overwrite ~reads:(Scenes.reads p.source) path "a frame";
+  let record =
+    Provenance.make ~image:path p.source p.overrides ~files:inputs
+      ~time:(Float.of_int k /. p.fps)
+      ~frame:k ~region:None ~crop:false ~alpha:false
+      ~bits:(Option.value p.bits ~default:8)
+  in
+  let written = Files.write_image ?bits:p.bits ~record path sc fb in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.remove p.inputs k);
   Frameset.record p.set k ~written ~inputs
 
@@ -273,12 +298,29 @@ let render ?cancel ~domains ~on_frame p =
       go None p.todo)
 
 let finish p = ignore (Frameset.finish p.set ~input_digest:p.source.input_digest)
+let frames_text n = Printf.sprintf "%d frame%s" n (if n = 1 then "" else "s")
 
 let describe_range p =
   Printf.sprintf "%d..%d at %g fps%s" p.first p.last p.fps
     (match p.shard with Some (k, n) -> Printf.sprintf ", shard %d/%d" k n | None -> "")
 
-(* The video's name and place are checked before the frames are rendered, not after. *)
+(* Whether [prog] is an executable file in a directory of PATH, as the shell finds it. *)
+let on_path prog =
+  let executable f =
+    (not (Sys.is_directory f))
+    &&
+    match Unix.access f [ Unix.X_OK ] with
+    | () -> true
+    | exception Unix.Unix_error _ -> false
+  in
+  List.exists
+    (fun d ->
+      let f = Filename.concat (if d = "" then Filename.current_dir_name else d) prog in
+      Sys.file_exists f && executable f)
+    (String.split_on_char ':' (Option.value (Sys.getenv_opt "PATH") ~default:""))
+
+(* The video's name and place, and ffmpeg, are checked before the frames are rendered,
+   not after. *)
 let check_video ?(format = Image.Png) ~shard v =
   if format <> Image.Png then
     user
@@ -291,14 +333,14 @@ let check_video ?(format = Image.Png) ~shard v =
        done, run lancer animate again with --resume --video";
   if not (Filename.check_suffix v ".mp4" || Filename.check_suffix v ".gif") then
     user "--video %s: the video must be a .mp4 or a .gif" v;
-  Files.check_writable v
+  Files.check_writable v;
+  if not (on_path "ffmpeg") then
+    user
+      "--video %s needs ffmpeg, which is not installed (not found on PATH): install it \
+       (apt-get install ffmpeg), or render the frames without --video"
+      v
 
 let make_video p out =
-  if Sys.command "command -v ffmpeg >/dev/null 2>&1" <> 0 then
-    user
-      "ffmpeg is not installed, so %s was not made; the frames are in %s (apt-get \
-       install ffmpeg)"
-      out p.dir;
   let tmp =
     Filename.concat (Filename.dirname out)
       ("." ^ Filename.basename out ^ ".tmp" ^ Filename.extension out)

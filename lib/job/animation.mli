@@ -13,7 +13,7 @@
     plan, names and records, so either command resumes the other's frames. *)
 
 type plan = private {
-  source : Source.t;
+  source : Scenes.t;
   overrides : Overrides.t;
   dir : string;
   format : Image.format;  (** the frames' format *)
@@ -25,6 +25,9 @@ type plan = private {
   todo : int list;
       (** the frames to render: this shard's of [first..last], less those resumed *)
   resumed : int;  (** this shard's frames found done and skipped *)
+  stale : (string * int list) list;
+      (** with [resume], the frames of [todo] that a run recorded and that are rendered
+          again, by the reason ({!Frameset.why_not_done}), in order *)
   set : Frameset.t;
   inputs : (int, (string * string) list) Hashtbl.t;
       (** frames evaluated and not yet written: the files they read *)
@@ -40,7 +43,7 @@ val plan :
   shard:Plan.shard option ->
   resume:bool ->
   overrides:Overrides.t ->
-  (unit -> Source.t) ->
+  (unit -> Scenes.t) ->
   plan
 (** [plan ~dir ~frames ~shard ~resume ~overrides load]: check the output directory (made
     if missing), the shard (a Slurm one read through [getenv]), load the scene with
@@ -60,12 +63,12 @@ val frame_inputs : plan -> int -> (string * string) list option
 (** The files (with their digests) frame k was made of, from {!frame_scene} until the
     frame is written. *)
 
-val write_frame : plan -> int -> Scene.t -> Image.t -> unit
+val write_frame : plan -> int -> Scene.t -> Framebuffer.t -> unit
 (** Write frame k atomically and record it in this run's journal. Safe from several
     domains at once. *)
 
 val render :
-  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Stats.t -> unit) -> plan -> unit
+  ?cancel:Cancel.t -> domains:int -> on_frame:(int -> Counters.t -> unit) -> plan -> unit
 (** Render and write every frame of [todo] over a pool of [domains] domains, scheduled as
     above; [on_frame k stats] once frame k is written, from whichever domain wrote it.
     Raises [Sys.Break] once [cancel] is cancelled; the frames written by then are kept. *)
@@ -73,12 +76,17 @@ val render :
 val finish : plan -> unit
 (** Close the journal; write the merged [lancer-frames.json] when every frame is done. *)
 
+val frames_text : int -> string
+(** ["1 frame"], ["24 frames"]. *)
+
 val describe_range : plan -> string
 (** ["0..119 at 24 fps"], with the shard when there is one. *)
 
 val check_video : ?format:Image.format -> shard:bool -> string -> unit
 (** Refuse, before rendering, a video that is not .mp4 or .gif, cannot be written, comes
-    with a shard ([shard]), or would be made of frames that are not PNG ([format]). *)
+    with a shard ([shard]), would be made of frames that are not PNG ([format]), or cannot
+    be made because ffmpeg is not found on PATH. *)
 
 val make_video : plan -> string -> unit
-(** Assemble the frames into a .mp4 or .gif with ffmpeg; a clear error without it. *)
+(** Assemble the frames into a .mp4 or .gif with ffmpeg ({!check_video} found it); a clear
+    error when it fails. *)

@@ -21,12 +21,13 @@ type t = {
   width : int;
   height : int;
   finished : bool array; (* by tile *)
-  counters : Stats.t option array; (* by tile; a unit's counters on its first tile *)
-  fb : Image.t; (* only finished tiles' pixels count *)
+  counters : Counters.t option array; (* by tile; a unit's counters on its first tile *)
+  fb : Framebuffer.t; (* only finished tiles' pixels count *)
   todo : int array;
   lock : Mutex.t;
   writing : bool Atomic.t;
   resumed : int; (* tiles loaded from the file *)
+  resumed_rays : int; (* the rays of those tiles *)
   mutable count : int;
   mutable last : float; (* when it was last written *)
   mutable interval : float;
@@ -34,7 +35,7 @@ type t = {
 
 let path_for out = out ^ ".checkpoint"
 
-let key (src : Source.t) overrides ~time ~frame ~files =
+let key (src : Scenes.t) overrides ~time ~frame ~files =
   Digest.to_hex
     (Digest.string
        (String.concat "|"
@@ -72,7 +73,6 @@ let put_int b off n = Bytes.set_int64_le b off (Int64.of_int n)
 
 (* The body of the given state into [b] from [off]. *)
 let encode b off ~width ~height ~finished ~counters ~(pixels : Float.Array.t) =
-  let zero = Stats.create () in
   put_int b off width;
   put_int b (off + word) height;
   put_int b (off + (2 * word)) (Array.length finished);
@@ -81,7 +81,9 @@ let encode b off ~width ~height ~finished ~counters ~(pixels : Float.Array.t) =
       let o = off + header_length + (k * tile_length) in
       let at w n = put_int b (o + 1 + (w * word)) n in
       Bytes.set_uint8 b o (if done_ then 1 else 0);
-      let (s : Stats.t) = match counters.(k) with Some s when done_ -> s | _ -> zero in
+      let (s : Counters.t) =
+        match counters.(k) with Some s when done_ -> s | _ -> Counters.zero
+      in
       at 0 s.primary;
       at 1 s.shadow;
       at 2 s.reflected;
@@ -154,13 +156,16 @@ let decode b off ~width ~height ~(rects : (int * int * int * int) array) =
               bad_at := (i, j) :: !bad_at;
               Some (i, j)
         in
-        let s = Stats.create () in
-        s.primary <- c.(0);
-        s.shadow <- c.(1);
-        s.reflected <- c.(2);
-        s.refracted <- c.(3);
-        s.bad_samples <- bad;
-        s.first_bad <- first_bad;
+        let s : Counters.t =
+          {
+            primary = c.(0);
+            shadow = c.(1);
+            reflected = c.(2);
+            refracted = c.(3);
+            bad_samples = bad;
+            first_bad;
+          }
+        in
         (true, Some s)
     | _ -> refuse ()
   in
@@ -239,7 +244,9 @@ let start ~out ~key (sc : Scene.t) =
     match load path ~key ~width ~height ~rects with
     | Some state -> state
     | None ->
-        (Array.make tiles false, Array.make tiles None, (Image.create width height).data)
+        ( Array.make tiles false,
+          Array.make tiles None,
+          (Framebuffer.create width height).data )
   in
   let count = Array.fold_left (fun n b -> if b then n + 1 else n) 0 finished in
   let todo =
@@ -255,6 +262,10 @@ let start ~out ~key (sc : Scene.t) =
     fb = { width; height; data = pixels };
     todo;
     resumed = count;
+    resumed_rays =
+      Array.fold_left
+        (fun n -> function Some st -> n + Counters.total_rays st | None -> n)
+        0 counters;
     lock = Mutex.create ();
     writing = Atomic.make false;
     count;
@@ -263,6 +274,7 @@ let start ~out ~key (sc : Scene.t) =
   }
 
 let framebuffer t = t.fb
+let resumed_rays t = t.resumed_rays
 let resumed t = t.resumed
 let tiles t = Array.length t.finished
 let todo t = t.todo
@@ -306,17 +318,17 @@ let tiles_done t tiles st =
       Array.iteri
         (fun i k ->
           (* Counters first: an interrupt between the two leaves the tile to do again. *)
-          t.counters.(k) <- Some (if i = 0 then st else Stats.create ());
+          t.counters.(k) <- Some (if i = 0 then st else Counters.zero);
           if not t.finished.(k) then t.count <- t.count + 1;
           t.finished.(k) <- true)
         tiles);
   due t
 
 let stats t =
-  let total = Stats.create () in
   Mutex.protect t.lock (fun () ->
-      Array.iter (Option.iter (Stats.add_into total)) t.counters);
-  total
+      Array.fold_left
+        (fun acc c -> Option.fold ~none:acc ~some:(Counters.add acc) c)
+        Counters.zero t.counters)
 
 let remove t = try Unix.unlink t.path with Unix.Unix_error _ -> ()
 
@@ -326,5 +338,5 @@ let render ?cancel ?pool ?(on_tile = fun _ _ -> ()) t sc =
     (Render.render_tiles ?cancel ?pool
        ~on_tile:(fun _ k st ->
          tiles_done t [| k |] st;
-         on_tile (finished t) (Stats.total_rays st))
+         on_tile (finished t) (Counters.total_rays st))
        sc t.fb t.todo)

@@ -58,7 +58,7 @@ val path_for : string -> string
 (** [path_for out] is [out ^ ".checkpoint"]. *)
 
 val key :
-  Source.t -> Overrides.t -> time:float -> frame:int -> files:string list -> string
+  Scenes.t -> Overrides.t -> time:float -> frame:int -> files:string list -> string
 (** The key of a still: what its pixels depend on (the scene's text digest, the files it
     read, the time and frame, the overrides). *)
 
@@ -76,10 +76,14 @@ val start : out:string -> key:string -> Scene.t -> t
 val resumed : t -> int
 (** How many tiles the checkpoint held when it was loaded (0 for a new one). *)
 
+val resumed_rays : t -> int
+(** The rays of the tiles the checkpoint held when it was loaded: those a resumed render
+    did not cast itself. *)
+
 val tiles : t -> int
 (** How many tiles the image has. *)
 
-val framebuffer : t -> Image.t
+val framebuffer : t -> Framebuffer.t
 (** The image being rendered, with the finished tiles' pixels already in. *)
 
 val todo : t -> int array
@@ -88,7 +92,7 @@ val todo : t -> int array
 val finished : t -> int
 (** How many tiles are done. *)
 
-val tiles_done : t -> int array -> Stats.t -> unit
+val tiles_done : t -> int array -> Counters.t -> unit
 (** [tiles_done t tiles stats]: those tiles' pixels are in the framebuffer, with their
     counters summed in [stats]; rewrites the checkpoint when due. Safe from several
     domains at once. Raises {!Job_error.User} if the checkpoint cannot be written. *)
@@ -96,7 +100,7 @@ val tiles_done : t -> int array -> Stats.t -> unit
 val save : t -> unit
 (** Write the checkpoint now (on an interrupt). *)
 
-val stats : t -> Stats.t
+val stats : t -> Counters.t
 (** The counters of every finished tile, loaded ones included, summed in tile order. *)
 
 val remove : t -> unit

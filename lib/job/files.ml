@@ -27,11 +27,27 @@ let probe_directory path =
     | exception Unix.Unix_error (e, _, _) ->
         user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
 
-let check_writable path =
+let check_only path =
   (match Image.check_writable path with
   | Ok () -> ()
   | Error m -> raise (Job_error.User m));
   probe_directory path
+
+(* The temporary files that a killed run of this machine left where this one is about to
+   write: removed before the first write, each named on stderr. *)
+let sweep dir =
+  List.iter
+    (fun (p, pid) ->
+      Printf.eprintf
+        "lancer: removed %s, a temporary file left by process %d, which is no longer \
+         running\n\
+         %!"
+        p pid)
+    (Safe_file.remove_stale dir)
+
+let check_writable path =
+  check_only path;
+  sweep (Filename.dirname path)
 
 (* Where a path leads, for comparing two names of one file: the file itself resolved when
    it exists, else its directory, so that ./a.png, a.png and a path through a symbolic
@@ -91,9 +107,12 @@ let guard_writes ?(distinct = true) ?(names = []) ~reads writes =
   let writes = List.map (fun (p, what) -> (identity p, what)) writes in
   List.iter
     (fun ((w, _) as write) ->
-      check_writable w.path;
+      check_only w.path;
       refuse ~reads ~names write)
     writes;
+  List.iter sweep
+    (List.sort_uniq String.compare
+       (List.map (fun (w, _) -> Filename.dirname w.path) writes));
   if distinct then
     let rec pairs = function
       | [] -> ()
@@ -127,9 +146,12 @@ let uninterrupted ?cancel what write =
         raise (Job_error.Interrupted (what ^ " was written in full first"));
       r
 
-let write_image ?cancel ?bits ?alpha ?crop path (sc : Scene.t) fb =
+let write_image ?cancel ?bits ?alpha ?crop ?record path (sc : Scene.t) fb =
+  let text = Option.map Provenance.text record in
   uninterrupted ?cancel path (fun () ->
-      match Image.save_written ~gamma:sc.settings.gamma ?bits ?alpha ?crop path fb with
+      match
+        Image.save_written ~gamma:sc.settings.gamma ?bits ?alpha ?crop ?text path fb
+      with
       | Ok w -> w
       | Error m -> raise (Job_error.User m))
 

@@ -5,7 +5,9 @@
 val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory, that is a directory, or
     that is a read-only file, or in a directory where this process cannot create a file
-    (tried with an empty file, removed at once); raises {!Job_error.User}. *)
+    (tried with an empty file, removed at once); raises {!Job_error.User}. Then removes
+    the temporary files that a killed run of this machine left in that directory
+    ({!Lancer_image.Safe_file.remove_stale}), naming each on stderr. *)
 
 val guard_writes :
   ?distinct:bool ->
@@ -17,7 +19,9 @@ val guard_writes :
     that {!check_writable} refuses, that is one of the files read (by any name: a symbolic
     link, a hard link, ./a.png for a.png), that is one of [names] (files the scene may
     read later, at another frame), or, with [distinct] (default), that is the same file as
-    another write. Raises {!Job_error.User} naming both. *)
+    another write. Raises {!Job_error.User} naming both. Once every write passes, the
+    stale temporary files of each directory written are removed as by {!check_writable}.
+*)
 
 val refuse_overwrite : reads:(string * string) list -> string -> string -> unit
 (** [refuse_overwrite ~reads path what]: {!guard_writes}' test of one write against the
@@ -34,14 +38,15 @@ val write_image :
   ?bits:int ->
   ?alpha:Float.Array.t ->
   ?crop:Image.region ->
+  ?record:Provenance.t ->
   string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   Image.written
 (** Encode with the scene's gamma ([bits] as {!Lancer_image.Image.file_of} takes them; the
     coverage [alpha] as a fourth channel; only [crop] when given) and write the file
-    atomically, {!uninterrupted}; the size and MD5 of the bytes written. Raises
-    {!Job_error.User}. *)
+    atomically, {!uninterrupted}, with [record] in it (a PNG's text; {!Provenance}); the
+    size and MD5 of the bytes written. Raises {!Job_error.User}. *)
 
 val write_json : ?cancel:Cancel.t -> string -> Yojson.Safe.t -> unit
 (** Write a JSON file atomically, {!uninterrupted}; raises {!Job_error.User}. *)

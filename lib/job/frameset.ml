@@ -8,6 +8,7 @@ let binding_name = "scene.json"
 type entry = {
   frame : int;
   job : string;
+  made_with : (string * string) list; (* what the job is made of, named; [] if unknown *)
   size : int;
   md5 : string;
   inputs : (string * string) list;
@@ -19,6 +20,7 @@ type t = {
   jdir : string;
   scene : string;
   job : string;
+  made_with : (string * string) list;
   count : int;
   entries : (int, entry list) Hashtbl.t; (* what every run recorded, by frame *)
   journal : string; (* this run's, made on its first entry *)
@@ -66,6 +68,7 @@ let entry_json ~ext (e : entry) =
       ("frame", `Int e.frame);
       ("file", `String (frame_name ~ext e.frame));
       ("job", `String e.job);
+      ("made_with", `Assoc (List.map (fun (k, v) -> (k, `String v)) e.made_with));
       ("size", `Int e.size);
       ("md5", `String e.md5);
       ("inputs", `Assoc (List.map (fun (f, d) -> (f, `String d)) e.inputs));
@@ -79,6 +82,11 @@ let entry_of_json ?job j =
       {
         frame = to_int (member "frame" j);
         job;
+        made_with =
+          (match member "made_with" j with
+          | `Assoc kvs ->
+              List.filter_map (function k, `String v -> Some (k, v) | _ -> None) kvs
+          | _ -> []);
         size = to_int (member "size" j);
         md5 = to_string (member "md5" j);
         inputs = List.map (fun (f, d) -> (f, to_string d)) (to_assoc (member "inputs" j));
@@ -192,7 +200,7 @@ let rec bind ~dir ~jdir ~scene attempts =
       | Error m -> Job_error.user "cannot write %s: %s" path m
       | Ok () -> bind ~dir ~jdir ~scene attempts)
 
-let open_ ?(ext = "png") ~dir ~scene ~job ~count () =
+let open_ ?(ext = "png") ?(made_with = []) ~dir ~scene ~job ~count () =
   let jdir = Filename.concat dir journal_dir in
   (try Unix.mkdir jdir 0o755 with
   | Unix.Unix_error (Unix.EEXIST, _, _) when Sys.is_directory jdir -> ()
@@ -213,6 +221,7 @@ let open_ ?(ext = "png") ~dir ~scene ~job ~count () =
       jdir;
       scene;
       job;
+      made_with;
       count;
       entries = Hashtbl.create 64;
       journal;
@@ -252,6 +261,45 @@ let is_done t k ~input_digest =
           | md5 -> List.exists (fun e -> String.equal e.md5 md5) cs
           | exception Sys_error _ -> false))
 
+(* What differs between the job an entry was made for and this one, named. *)
+let job_change t (e : entry) =
+  let shown = function Some "-" | None -> "not given" | Some v -> v in
+  let names =
+    List.sort_uniq String.compare (List.map fst e.made_with @ List.map fst t.made_with)
+  in
+  let changed =
+    List.filter_map
+      (fun n ->
+        let before = List.assoc_opt n e.made_with
+        and now = List.assoc_opt n t.made_with in
+        if String.equal (shown before) (shown now) then None
+        else if n = "scene" then Some "the scene (or a file it includes) has changed"
+        else Some (Printf.sprintf "%s was %s, is now %s" n (shown before) (shown now)))
+      names
+  in
+  match changed with
+  | cs when cs = [] || e.made_with = [] ->
+      (* A record of an older lancer, or of the merged view, does not say. *)
+      "they were rendered for another version of the scene or other options"
+  | cs -> String.concat "; " cs
+
+let why_not_done t k ~input_digest =
+  let path = Filename.concat t.dir (frame_name ~ext:t.ext k) in
+  match Hashtbl.find_opt t.entries k with
+  | None | Some [] -> None
+  | Some (latest :: _ as es) -> (
+      if is_done t k ~input_digest then None
+      else
+        match List.filter (fun (e : entry) -> String.equal e.job t.job) es with
+        | [] -> Some (job_change t latest)
+        | e :: _ -> (
+            match
+              List.find_opt (fun (f, d) -> not (String.equal (input_digest f) d)) e.inputs
+            with
+            | Some (f, _) -> Some (Printf.sprintf "%s, which they read, has changed" f)
+            | None when regular_size path = None -> Some "their files are missing"
+            | None -> Some "their files are not the ones that were written"))
+
 (* ---- Recording ---- *)
 
 let journal_fd t =
@@ -271,7 +319,7 @@ let journal_fd t =
 
 let record t k ~(written : Image.written) ~inputs =
   let size = written.size and md5 = written.md5 in
-  let e = { frame = k; job = t.job; size; md5; inputs } in
+  let e = { frame = k; job = t.job; made_with = t.made_with; size; md5; inputs } in
   let line = Yojson.Safe.to_string (entry_json ~ext:t.ext e) ^ "\n" in
   Mutex.protect t.lock (fun () ->
       let fd = journal_fd t in
@@ -324,7 +372,8 @@ let finish t ~input_digest =
       List.map
         (fun e ->
           match entry_json ~ext:t.ext (Option.get e) with
-          | `Assoc kvs -> `Assoc (List.filter (fun (k, _) -> k <> "job") kvs)
+          | `Assoc kvs ->
+              `Assoc (List.filter (fun (k, _) -> k <> "job" && k <> "made_with") kvs)
           | j -> j)
         chosen
     in

@@ -30,15 +30,32 @@ val view_name : string
 (** ["lancer-frames.json"]. *)
 
 val open_ :
-  ?ext:string -> dir:string -> scene:string -> job:string -> count:int -> unit -> t
+  ?ext:string ->
+  ?made_with:(string * string) list ->
+  dir:string ->
+  scene:string ->
+  job:string ->
+  count:int ->
+  unit ->
+  t
 (** Claim [dir] (an existing directory) for the scene named [scene], or join it if it
     already holds that scene's frames, and read what every run recorded; its frames are
-    [frame_NNNN.ext] (default [png]). Raises {!Lancer_job.Job_error.User} when [dir] holds
-    another scene's frames or cannot be used. *)
+    [frame_NNNN.ext] (default [png]). [made_with] names what the job's digest is made of
+    (["scene"] for the scene's text, an option's name such as ["--width"] for its value,
+    ["-"] when not given); each entry keeps it, so that {!why_not_done} can say what
+    changed. Raises {!Lancer_job.Job_error.User} when [dir] holds another scene's frames
+    or cannot be used. *)
 
 val is_done : t -> int -> input_digest:(string -> string) -> bool
 (** Whether frame k is on disk as an entry of this job recorded it, with every input it
     read still having the recorded MD5 ([input_digest f] is the MD5 of input [f] now). *)
+
+val why_not_done : t -> int -> input_digest:(string -> string) -> string option
+(** Why frame k, which a run recorded, is not done now, in words: what differs between the
+    job it was made for and this one (["--width was 64, is now 32"],
+    ["the scene (or a file it includes) has changed"]), an input it read that has changed,
+    or its file missing or not the one written; [None] when it is done or no run recorded
+    it. *)
 
 val record : t -> int -> written:Image.written -> inputs:(string * string) list -> unit
 (** Record frame k, just written, in this run's journal, with the size and MD5 of the

@@ -30,12 +30,14 @@ let apply o (sc : Scene.t) =
   in
   if settings = s then sc else ok (Scene.with_settings sc settings)
 
-let digest_fields o =
+let named_fields o =
   let opt f = function Some v -> f v | None -> "-" in
   [
-    opt string_of_int o.width;
-    opt string_of_int o.height;
-    opt string_of_int o.samples;
-    opt string_of_int o.depth;
-    opt Quality.to_string o.quality;
+    ("--width", opt string_of_int o.width);
+    ("--height", opt string_of_int o.height);
+    ("--samples", opt string_of_int o.samples);
+    ("--depth", opt string_of_int o.depth);
+    ("--quality", opt Quality.to_string o.quality);
   ]
+
+let digest_fields o = List.map snd (named_fields o)

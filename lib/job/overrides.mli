@@ -17,6 +17,10 @@ val apply : t -> Scene.t -> Scene.t
     {!Job_error.User} for a depth beyond {!Lancer_description.Settings.max_depth} (named
     [--depth]) or settings the scene refuses. *)
 
+val named_fields : t -> (string * string) list
+(** Each option by its name on the command line (["--width"]) with its value as text
+    (["-"] when unset), in a fixed order. *)
+
 val digest_fields : t -> string list
 (** Each option as text (["-"] when unset), in a fixed order: for the digests that say
     which pixels a record holds. *)

@@ -11,7 +11,7 @@ val render :
   domains:int ->
   on_tile:(int -> int -> unit) ->
   Scene.t ->
-  Image.t * Stats.t
+  Framebuffer.t * Counters.t
 (** [render ~domains ~on_tile scene] is the linear image and its counters;
     [on_tile done_ rays] after each tile ([done_] tiles finished so far, checkpointed ones
     included; that tile cast [rays] rays). With [checkpoint] only the tiles it lacks are

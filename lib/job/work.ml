@@ -44,9 +44,9 @@ type frame = {
   sc : Scene.t;
   all : (int * int * int * int) array;
   todo : int array;
-  fb : Image.t;
+  fb : Framebuffer.t;
   mutable left : int;
-  st : Stats.t;
+  mutable st : Counters.t;
 }
 
 (* Units are cut from [pending] in order. With [whole] a unit is a frame; otherwise
@@ -57,7 +57,7 @@ type cutter = {
   opened : (int, frame) Hashtbl.t;
   whole : bool;
   mutable chunk : int;
-  start : int -> (Image.t * int array) option;
+  start : int -> (Framebuffer.t * int array) option;
 }
 
 let open_next c =
@@ -71,10 +71,10 @@ let open_next c =
         match c.start key with
         | Some (fb, todo) -> (fb, todo)
         | None ->
-            ( Image.create sc.settings.width sc.settings.height,
+            ( Framebuffer.create sc.settings.width sc.settings.height,
               Array.init (Array.length all) Fun.id )
       in
-      let f = { sc; all; todo; fb; left = Array.length todo; st = Stats.create () } in
+      let f = { sc; all; todo; fb; left = Array.length todo; st = Counters.zero } in
       Hashtbl.replace c.opened key f;
       Some (key, f)
 
@@ -124,7 +124,7 @@ let frame c key = Hashtbl.find c.opened key
 let deposit c key tiles st =
   let f = Hashtbl.find c.opened key in
   f.left <- f.left - Array.length tiles;
-  Stats.add_into f.st st;
+  f.st <- Counters.add f.st st;
   if f.left = 0 then (
     Hashtbl.remove c.opened key;
     Some f)

@@ -14,9 +14,9 @@ val render_unit :
   ?on_tile:(unit -> unit) ->
   pool:Pool.t option ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   int array ->
-  Stats.t
+  Counters.t
 (** [render_unit ~pool scene fb tiles] renders the tiles of [scene] numbered [tiles] into
     [fb] over [pool] through {!Lancer_render.Render.render_tiles}, the tile loop of every
     render, and is their summed counters. [on_tile] is called after each tile, from
@@ -34,16 +34,16 @@ type frame = {
   sc : Scene.t;
   all : (int * int * int * int) array;  (** its tiles *)
   todo : int array;  (** the tiles to render: all of them, or those a checkpoint lacks *)
-  fb : Image.t;
+  fb : Framebuffer.t;
   mutable left : int;  (** tiles still to come back *)
-  st : Stats.t;  (** the counters of the tiles back so far *)
+  mutable st : Counters.t;  (** the counters of the tiles back so far *)
 }
 (** A frame whose units are being handed out. *)
 
 type cutter
 
 val cutter :
-  ?start:(int -> (Image.t * int array) option) ->
+  ?start:(int -> (Framebuffer.t * int array) option) ->
   ranks:int ->
   (int * (unit -> Scene.t)) list ->
   cutter
@@ -60,6 +60,6 @@ val next : cutter -> domains:int -> work_unit option
 val frame : cutter -> int -> frame
 (** A frame of the job that has units out, by key. *)
 
-val deposit : cutter -> int -> int array -> Stats.t -> frame option
+val deposit : cutter -> int -> int array -> Counters.t -> frame option
 (** [deposit c key tiles stats]: that unit's pixels are in the frame's framebuffer; its
     counters are added. The frame, when it is now complete (it is then forgotten). *)

@@ -31,12 +31,14 @@ module Scene = Lancer_render.Scene
 
 module Render = Lancer_render.Render
 module Pool = Lancer_render.Pool
-module Stats = Lancer_render.Stats
+module Counters = Lancer_render.Counters
+module Task = Lancer_render.Task
 module Cancel = Lancer_diag.Cancel
 module Quality = Lancer_job.Quality
 
 (** {2 Images} *)
 
+module Framebuffer = Lancer_image.Framebuffer
 module Image = Lancer_image.Image
 module Png = Lancer_image.Png
 module Compare = Lancer_image.Compare
@@ -60,11 +62,12 @@ module Still_run = Lancer_run.Still_run
 module Frames_run = Lancer_run.Frames_run
 module Check_run = Lancer_run.Check_run
 module Compare_run = Lancer_run.Compare_run
+module Verify_run = Lancer_run.Verify_run
 module Render_report = Lancer_run.Render_report
 
 (** {2 The version} *)
 
-module Version = Version
+module Version = Lancer_diag.Version
 
 (** {1:internals Internals}
 
@@ -123,10 +126,11 @@ module Walk = Lancer_render.Walk
 module Animation = Lancer_job.Animation
 module Checkpoint = Lancer_job.Checkpoint
 module Files = Lancer_job.Files
+module Provenance = Lancer_job.Provenance
 module Frameset = Lancer_job.Frameset
 module Overrides = Lancer_job.Overrides
 module Plan = Lancer_job.Plan
-module Source = Lancer_job.Source
+module Scenes = Lancer_job.Scenes
 module Still = Lancer_job.Still
 module Work = Lancer_job.Work
 

@@ -21,7 +21,7 @@ let run (o : Options.t) ~counts ~repeat ~json =
             in
             let words = Gc.minor_words () -. w0 in
             let st = snd (List.hd runs) in
-            let rays = Stats.total_rays st in
+            let rays = Counters.total_rays st in
             (* Gc.minor_words counts this domain's allocations only: meaningful on one domain,
                where the render runs on this one. *)
             let wpr =

@@ -10,9 +10,9 @@ let median xs =
   else if n mod 2 = 1 then a.(n / 2)
   else 0.5 *. (a.((n / 2) - 1) +. a.(n / 2))
 
-let render ?pool sc =
+let render ?pool ?on_tile sc =
   let t0 = Unix.gettimeofday () in
-  let fb, st = Render.render ?pool sc in
+  let fb, st = Render.render ?pool ?on_tile sc in
   (Unix.gettimeofday () -. t0, fb, st)
 
 (* Wall time of [exe] run with [args], its output thrown away; [None] with its status

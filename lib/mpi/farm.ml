@@ -17,7 +17,7 @@ open Work
 
 type request =
   | Ready of int
-  | Done of work_unit * Stats.t * float * (string * string) list
+  | Done of work_unit * Counters.t * float * (string * string) list
   | Failed of string
 
 type reply = Work of work_unit | Stop
@@ -35,7 +35,7 @@ let pixel_count (all : (int * int * int * int) array) idxs =
       acc + (3 * (x1 - x0) * (y1 - y0)))
     0 idxs
 
-let transfer ~to_buf (fb : Image.t) all idxs (buf : Mpi.floats) =
+let transfer ~to_buf (fb : Framebuffer.t) all idxs (buf : Mpi.floats) =
   let pos = ref 0 in
   Array.iter
     (fun k ->
@@ -119,7 +119,7 @@ type local = {
   given : Condition.t;
   mutable task : (work_unit * frame) option;
   mutable quit : bool;
-  result : (work_unit * (Stats.t, exn) result * float) option Atomic.t;
+  result : (work_unit * (Counters.t, exn) result * float) option Atomic.t;
   crashed : exn option Atomic.t;
 }
 
@@ -142,7 +142,7 @@ let local_worker ~render l () =
   (* An interrupt raised on this domain outside a unit is handed on like one inside. *)
   try loop () with e -> Atomic.set l.crashed (Some e)
 
-type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+type renderer = pool:Pool.t option -> Scene.t -> Framebuffer.t -> int array -> Counters.t
 
 (* The first file whose digest differs between a worker's scene and rank 0's, or that
    one of them read and the other did not. *)
@@ -352,10 +352,10 @@ let work ?cancel ?render ?(prepare = ignore) ~describe ~pool ~domains scene_of =
         let (sc : Scene.t), inputs = scene_of key in
         let fb =
           match !cache with
-          | Some (_, _, _, _, (fb : Image.t))
+          | Some (_, _, _, _, (fb : Framebuffer.t))
             when fb.width = sc.settings.width && fb.height = sc.settings.height ->
               fb
-          | _ -> Image.create sc.settings.width sc.settings.height
+          | _ -> Framebuffer.create sc.settings.width sc.settings.height
         in
         let all = Render.tiles sc in
         cache := Some (key, sc, inputs, all, fb);

@@ -41,7 +41,7 @@ val report_json : report -> Yojson.Safe.t
     how long it waited for each next unit (milliseconds: median, 90th percentile,
     largest), and the waits of all ranks but 0 together. *)
 
-type renderer = pool:Pool.t option -> Scene.t -> Image.t -> int array -> Stats.t
+type renderer = pool:Pool.t option -> Scene.t -> Framebuffer.t -> int array -> Counters.t
 (** How a unit is rendered: {!Lancer_job.Work.render_unit} without progress, unless a
     measurement of the scheme's own cost replaces it (e.g. by one that renders nothing).
 *)
@@ -50,8 +50,8 @@ val plan : ranks:int -> domains:int -> int list -> (int * int) list
 (** {!Lancer_job.Work.plan}: the units {!serve} cuts, in the order it hands them out. *)
 
 val serve :
-  ?start:(int -> (Image.t * int array) option) ->
-  ?on_unit:(int -> int array -> Stats.t -> unit) ->
+  ?start:(int -> (Framebuffer.t * int array) option) ->
+  ?on_unit:(int -> int array -> Counters.t -> unit) ->
   ?inputs:(int -> (string * string) list option) ->
   ?render:renderer ->
   ?local:bool ->
@@ -60,7 +60,7 @@ val serve :
   pool:Pool.t option ->
   domains:int ->
   on_tiles:(int -> unit) ->
-  on_frame:(int -> Scene.t -> Image.t -> Stats.t -> unit) ->
+  on_frame:(int -> Scene.t -> Framebuffer.t -> Counters.t -> unit) ->
   (int * (unit -> Scene.t)) list ->
   report
 (** [serve ~fatal ~pool ~domains ~on_tiles ~on_frame frames] runs on rank 0 and is what it

@@ -52,7 +52,7 @@ let publish sh ev data =
 (* The renderer *)
 
 (* The PNG bytes of an image, through camlimages and a file in a private directory. *)
-let png_bytes tmp (sc : Scene.t) (fb : Image.t) =
+let png_bytes tmp (sc : Scene.t) (fb : Framebuffer.t) =
   let path = Filename.concat tmp "view.png" in
   match
     Image.write_rgb8 path fb.width fb.height (Image.to_bytes sc.settings.gamma fb)
@@ -128,6 +128,13 @@ let load show_error path =
 
 type version = { t0 : float; reload : bool; params : params; cancel : Cancel.t }
 
+(* An error that ends a version: on the page, and in the terminal running the server (even
+   with --quiet, which silences only the timings), as lancer prints it elsewhere. *)
+let fail sh text =
+  publish sh "failure" (`Assoc [ ("text", `String text) ]);
+  prerr_string (if String.ends_with ~suffix:"\n" text then text else text ^ "\n");
+  flush stderr
+
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
 let render_version sh show_error (o : Options.t) pool tmp prog seq v =
@@ -136,9 +143,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
   let failed text files =
     with_lock sh (fun () ->
         sh.inputs <- List.sort_uniq compare ((path :: files) @ sh.inputs));
-    publish sh "failure" (`Assoc [ ("text", `String text) ]);
-    wake sh;
-    if not o.quiet then prerr_string text
+    fail sh text
   in
   let t_build = Unix.gettimeofday () in
   let loaded =
@@ -177,7 +182,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
           let coarse = { o with quality = Some coarse_q; samples = None } in
           let pass o =
             let ov = Options.overrides o in
-            fst (Source.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
+            fst (Scenes.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
           in
           Ok (pass o, pass coarse)
         with (Job_error.User _ | Job_error.Scene _) as e ->
@@ -260,7 +265,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                   [
                     ("name", `String pname);
                     ("seconds", `Float secs);
-                    ("rays", `Int (Stats.total_rays st));
+                    ("rays", `Int (Counters.total_rays st));
                   ]
                 :: !done_passes;
               publish sh "image"
@@ -280,7 +285,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                      ("name", `String name);
                    ]);
               if last then (
-                let rays = Stats.total_rays st in
+                let rays = Counters.total_rays st in
                 publish sh "stats"
                   (`Assoc
                      [
@@ -322,7 +327,7 @@ let renderer sh show_error (o : Options.t) ~domains ~tmp () =
         in
         (try render_version sh show_error o pool tmp prog seq v with
         | Cancelled -> ()
-        | e -> publish sh "failure" (`Assoc [ ("text", `String (describe show_error e)) ]));
+        | e -> fail sh (describe show_error e));
         loop ()
       in
       loop ())

@@ -58,6 +58,9 @@ type t = {
   lock : Mutex.t;  (** over [static], [motion] and [on_disk] *)
   on_disk : (string, string) Hashtbl.t;
       (** the MD5 of input files this run has not decoded, as they were when asked *)
+  colours : Diagnostic.t list;
+      (** {!Scene_report.colour_warnings} of the scene at time 0, made at the load, before
+          its objects may go *)
 }
 
 (* Whether the program's camera has an open shutter (at time 0): a still is then made at
@@ -78,6 +81,9 @@ let of_dsl ~single assets dsl =
     motion = lazy (simulation dsl ~until:(duration dsl));
     lock = Mutex.create ();
     on_disk = Hashtbl.create 4;
+    colours =
+      Dsl.located dsl ~time:0. ~frame:0
+        (Scene_report.colour_warnings ~source:(Dsl.source dsl) (Dsl.first dsl));
   }
 
 let language p = p.dsl
@@ -336,7 +342,7 @@ let for_report p (d : D.t) =
     animation = f.animation;
     bodies = f.bodies;
     physics = f.physics;
-    warnings = f.warnings;
+    warnings = f.warnings @ p.colours;
   }
 
 let rendered p sc = Compile.rendered p.assets sc
@@ -353,6 +359,14 @@ let summary p (sc : Scene.t) =
   | Some d ->
       Scene_report.summary ~empty:(Dsl.empty p.dsl) (for_report p d) (rendered p sc)
   | None -> ""
+
+(* The warnings read nothing of the description at [sc]'s time but its file: the
+   program's at time 0 serve, without evaluating it again; and of the scene only its
+   counts, without listing its objects as a summary does. *)
+let warnings p (sc : Scene.t) =
+  Scene_report.warnings ~empty:(Dsl.empty p.dsl) ~objects:(Scene.object_count sc)
+    ~lights:(Array.length sc.lights)
+    (for_report p (Dsl.first p.dsl))
 
 let to_json ?body_state p (sc : Scene.t) =
   let d =
@@ -379,7 +393,7 @@ let truncated_physics p =
         Some (match List.rev (Physics.events tr) with e :: _ -> e.time | [] -> 0.)
     | _ -> None
 
-let source ~builtin p : Source.t =
+let as_scenes ~builtin p : Scenes.t =
   {
     file = file p;
     builtin;

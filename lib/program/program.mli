@@ -191,7 +191,13 @@ val scenes_with_files :
 
 val summary : t -> Scene.t -> string
 (** {!Lancer_description.Scene_report.summary} of [sc] (a scene of the program, whose
-    description is made again), with the program's animation, bodies and warnings. *)
+    description is made again), with the program's animation, bodies and warnings (those
+    at time 0, colours given as 0–255 among them). *)
+
+val warnings : t -> Scene.t -> Diagnostic.t list
+(** {!Lancer_description.Scene_report.warnings} of [sc], as {!summary} prints them (the
+    program's at time 0, with {!Lancer_description.Scene_report.colour_warnings}): what
+    [lancer render] prints before it renders. *)
 
 val to_json :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->
@@ -207,6 +213,6 @@ val truncated_physics : t -> float option
 (** When the exact physics simulation stopped handling collisions after
     {!Lancer_physics.Physics.max_events} events: the time of its last event. *)
 
-val source : builtin:bool -> t -> Source.t
+val as_scenes : builtin:bool -> t -> Scenes.t
 (** The program as the job layer takes it; its [evaluate] raises
     {!Lancer_job.Job_error.Scene}. [builtin]: the program is the built-in showcase. *)

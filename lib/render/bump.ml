@@ -1,4 +1,4 @@
-type t = Image.t Description.bump_of
+type t = Framebuffer.t Description.bump_of
 
 (* Remove the gradient's component along n so the bump tilts the normal without
    changing which side it faces, then renormalise. *)
@@ -35,8 +35,8 @@ let perturb (b : t) ~uv (p : Vec3.t) n =
       let du1, dv1 = d t1 and du2, dv2 = d t2 in
       let gu = Vec3.normalize (Vec3.add (Vec3.smul du1 t1) (Vec3.smul du2 t2)) in
       let gv = Vec3.normalize (Vec3.add (Vec3.smul dv1 t1) (Vec3.smul dv2 t2)) in
-      let su = 1. /. Float.of_int (max 1 img.Image.width)
-      and sv = 1. /. Float.of_int (max 1 img.Image.height) in
+      let su = 1. /. Float.of_int (max 1 img.Framebuffer.width)
+      and sv = 1. /. Float.of_int (max 1 img.Framebuffer.height) in
       let hu = 0.5 *. (height img (u0 +. su) v0 -. height img (u0 -. su) v0) in
       let hv = 0.5 *. (height img u0 (v0 +. sv) -. height img u0 (v0 -. sv)) in
       let g = Vec3.add (Vec3.smul hu gu) (Vec3.smul hv gv) in

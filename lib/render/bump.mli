@@ -1,6 +1,6 @@
 (** Bump maps: perturbations of the shading normal (a material's [bump:]). *)
 
-type t = Image.t Description.bump_of
+type t = Framebuffer.t Description.bump_of
 (** The description's bump map ({!Lancer_description.Description.bump_of}, where each kind
     is defined) with its height map decoded to a linear framebuffer. *)
 

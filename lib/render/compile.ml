@@ -6,7 +6,7 @@ module D = Description
 type 'a read = ('a, string -> string) result
 
 type assets = {
-  pictures : (string, Image.t read) Hashtbl.t;
+  pictures : (string, Framebuffer.t read) Hashtbl.t;
   meshes : (string * bool, Trimesh.t read) Hashtbl.t;
   heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
@@ -121,6 +121,10 @@ let mesh_text path =
       Error
         (Printf.sprintf "%s:0: not a regular file (a device or a pipe), not a mesh" path)
 
+(* The size of a mesh file's text from which it is collected before the hierarchy is
+   built: a full collection marks what is live, little beside reading so large a file. *)
+let large_mesh_text = 16 * 1024 * 1024
+
 let mesh c ~file ~path ~smooth =
   spelled file
   @@ cached c c.meshes (path, smooth) (fun () ->
@@ -134,13 +138,19 @@ let mesh c ~file ~path ~smooth =
                      match took c path text with
                      | Error m -> failed "load the mesh" m
                      | Ok text -> (
-                         let parse =
+                         let read =
                            if String.lowercase_ascii (Filename.extension path) = ".ply"
-                           then Ply.parse_mesh
-                           else Obj_file.parse_mesh
+                           then Ply.read_mesh
+                           else Obj_file.read_mesh
                          in
-                         match parse ~smooth ~file:path text with
-                         | Ok m -> Ok m
+                         let large = String.length text >= large_mesh_text in
+                         match read ~smooth ~file:path text with
+                         | Ok m ->
+                             (* The text is no longer reachable: a large one is let go
+                                (with what the reader outgrew) before the hierarchy's
+                                build, which would otherwise peak beside it. *)
+                             if large then Gc.full_major ();
+                             Ok (Mesh_normals.build ~smooth m)
                          | Error m -> failed "load the mesh" m))))
 
 let heights c ~file ~path =
@@ -234,10 +244,18 @@ let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~smooth ~at =
             List.iter corner [ a; bb; c; c; bb; d ]
           done
         done;
+        let none = Float.Array.create 0 in
         [
           Shape.mesh
-            (Mesh_normals.mesh ~smooth ~pos ~nrm:(Float.Array.create 0)
-               ~tex:(Float.Array.create 0) ~tv ~tn:Trimesh.no_ints ~tt:Trimesh.no_ints);
+            (Mesh_normals.build ~smooth
+               {
+                 pos;
+                 nrm = none;
+                 tex = none;
+                 tv;
+                 tn = Trimesh.no_ints;
+                 tt = Trimesh.no_ints;
+               });
         ])
       else
         let tris = ref [] in

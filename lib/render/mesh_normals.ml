@@ -167,7 +167,8 @@ let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
     done;
     (Tri_builder.trimmed_floats out, tn', !n_missing)
 
-let mesh ~smooth ~pos ~nrm ~tex ~tv ~tn ~tt =
+let build ~smooth (m : Tri_builder.mesh) =
+  let { Tri_builder.pos; nrm; tex; tv; tn; tt } = m in
   if smooth then
     let nrm, tn, computed = complete ~pos ~nrm ~tv ~tn () in
     Trimesh.make ~computed ~pos ~nrm ~tex ~tv ~tn ~tt ()

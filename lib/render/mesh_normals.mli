@@ -26,14 +26,6 @@ val complete :
     triangles were given normals. A mesh whose triangles all have normals comes back as it
     was. *)
 
-val mesh :
-  smooth:bool ->
-  pos:Float.Array.t ->
-  nrm:Float.Array.t ->
-  tex:Float.Array.t ->
-  tv:Trimesh.ints ->
-  tn:Trimesh.ints ->
-  tt:Trimesh.ints ->
-  Trimesh.t
-(** {!Trimesh.make} of a mesh as a reader found it; with [smooth], the triangles it found
+val build : smooth:bool -> Tri_builder.mesh -> Trimesh.t
+(** {!Trimesh.make} of a mesh as a reader read it; with [smooth], the triangles it found
     no normals for get computed ones ({!complete}). *)

@@ -174,7 +174,7 @@ let scan_index text len n i out =
    overflow, and a triangle's area or normal would be infinite or NaN. *)
 let max_coordinate = 1e150
 
-let parse_mesh ?(smooth = true) ~file text =
+let read_mesh ?(smooth = true) ~file text =
   let vs = floats 3 and vts = floats 2 and vns = floats 3 in
   let tv = corners () and tn = corners () and tt = corners () in
   let with_normals = ref false and with_uvs = ref false in
@@ -454,10 +454,9 @@ let parse_mesh ?(smooth = true) ~file text =
     else if tv.n = 0 then Error (Printf.sprintf "%s:%d: the file has no faces" file lines)
     else
       Ok
-        (Mesh_normals.mesh ~smooth ~pos:(trimmed_floats vs) ~nrm:(trimmed_floats vns)
-           ~tex:(trimmed_floats vts) ~tv:(trimmed tv)
-           ~tn:(if !with_normals then trimmed tn else Trimesh.no_ints)
-           ~tt:(if !with_uvs then trimmed tt else Trimesh.no_ints))
+        (mesh vs vns vts tv
+           (if !with_normals then Some tn else None)
+           (if !with_uvs then Some tt else None))
   with Bad (line, m) ->
     let line, m =
       if String.contains text '\000' then (1, "not a text file")
@@ -470,6 +469,9 @@ let parse_mesh ?(smooth = true) ~file text =
       else (line, m)
     in
     Error (Printf.sprintf "%s:%d: %s" file line m)
+
+let parse_mesh ?(smooth = true) ~file text =
+  Result.map (Mesh_normals.build ~smooth) (read_mesh ~smooth ~file text)
 
 let load_mesh ?smooth path =
   match In_channel.with_open_bin path In_channel.input_all with

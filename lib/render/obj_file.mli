@@ -6,6 +6,10 @@
     are accepted and ignored. Triangles of zero area are dropped. A malformed file never
     raises: every problem is an [Error "file:line: message"]. *)
 
+val read_mesh : ?smooth:bool -> file:string -> string -> (Tri_builder.mesh, string) result
+(** {!parse_mesh}'s reading, without the hierarchy: what a caller builds
+    ({!Mesh_normals.build}) once it has let [text] go. *)
+
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
 (** [parse_mesh ~file text] reads OBJ [text] into one indexed mesh, straight into its
     arrays; [file] names it in messages. With [smooth] (default true) faces whose corners

@@ -258,7 +258,7 @@ let index_of props names =
     props;
   !found
 
-let parse_mesh ?(smooth = true) ~file text =
+let read_mesh ?(smooth = true) ~file text =
   try
     let fmt, elements, data, header_lines = header text in
     let c = { text; pos = data; line = header_lines + 1; fmt } in
@@ -459,10 +459,9 @@ let parse_mesh ?(smooth = true) ~file text =
     else if tv.n = 0 then bad "the file has no faces"
     else
       Ok
-        (Mesh_normals.mesh ~smooth ~pos:(trimmed_floats vs) ~nrm:(trimmed_floats vns)
-           ~tex:(trimmed_floats vts) ~tv:(trimmed tv)
-           ~tn:(if !with_normals then trimmed tn else Trimesh.no_ints)
-           ~tt:(if !with_uvs then trimmed tt else Trimesh.no_ints))
+        (mesh vs vns vts tv
+           (if !with_normals then Some tn else None)
+           (if !with_uvs then Some tt else None))
   with Bad m ->
     (* "line N: …" is located as the OBJ reader's errors are, file:N: …. *)
     let located =
@@ -472,3 +471,6 @@ let parse_mesh ?(smooth = true) ~file text =
       | None -> Printf.sprintf "%s: %s" file m
     in
     Error located
+
+let parse_mesh ?(smooth = true) ~file text =
+  Result.map (Mesh_normals.build ~smooth) (read_mesh ~smooth ~file text)

@@ -9,6 +9,10 @@
     reader's are, [file:LINE: message] in the header or an ASCII body,
     [file: byte N: message] in a binary body, and says what was expected. *)
 
+val read_mesh : ?smooth:bool -> file:string -> string -> (Tri_builder.mesh, string) result
+(** {!parse_mesh}'s reading, without the hierarchy: what a caller builds
+    ({!Mesh_normals.build}) once it has let [text] go. *)
+
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
 (** [parse_mesh ~file text] reads the PLY file whose bytes are [text] into one indexed
     mesh; [file] names it in messages. With [smooth] (default true) a mesh with vertex

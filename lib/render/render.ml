@@ -18,7 +18,7 @@ let scratch () =
    and with depth of field the average of its n×n lens rays. Lens point (a, b) lies in
    its stratum by a hash of frame, pixel, sample and (a, b), so the image does not depend
    on which domain renders which tile. Its colour goes into the fragment. *)
-let camera_sample (sc : Scene.t) (st : Stats.t) scr i j =
+let camera_sample (sc : Scene.t) (st : Task.t) scr i j =
   let s = sc.settings and c = sc.view in
   let f = Shade.frag scr.shade in
   let x = Float.Array.unsafe_get scr.coarse 17
@@ -82,7 +82,7 @@ let[@inline] moment (sc : Scene.t) i j p q n =
 
 (* One sample at image point (x, y), sample (p, q) of the pixel's n×n grid, its colour
    into the fragment. Inlined, so that x and y are not boxed on the way to the camera. *)
-let[@inline] sample (sc : Scene.t) (st : Stats.t) scr i j p q n x y =
+let[@inline] sample (sc : Scene.t) (st : Task.t) scr i j p q n x y =
   let sc = moment sc i j p q n in
   let s = sc.settings in
   if Camera.pinhole_perspective sc.view then (
@@ -236,9 +236,9 @@ let coverage (sc : Scene.t) i j =
 
 type reuse =
   | Watch of { box : Float.Array.t; mask : Bytes.t }
-  | Only of { mask : Bytes.t; base : Image.t }
+  | Only of { mask : Bytes.t; base : Framebuffer.t }
 
-let check_reuse (fb : Image.t) = function
+let check_reuse (fb : Framebuffer.t) = function
   | None -> ()
   | Some (Watch { box; mask }) ->
       if Float.Array.length box <> 6 || Bytes.length mask <> fb.width * fb.height then
@@ -263,7 +263,7 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   let scr = scratch () in
   let f = Shade.frag scr.shade in
   let ax = Shade.accel_scratch scr.shade in
-  let w = fb.Image.width in
+  let w = fb.Framebuffer.width in
   (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
   (* The work deep in queries that is not handed [st] (a CSG object's crossings) counts
      into it, and so polls its token too; a poll there may leave a query half done, which
@@ -271,7 +271,7 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   Fun.protect
     ~finally:(fun () -> Accel.watch ax None)
     (fun () ->
-      Stats.with_current st @@ fun () ->
+      Task.with_current st @@ fun () ->
       for j = y0 to y1 - 1 do
         for i = x0 to x1 - 1 do
           let p = (j * w) + i in
@@ -286,7 +286,7 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
           | _ -> (
               Accel.untouch ax;
               pixel_into sc st scr (strided stride sw i) (strided stride sh j);
-              Image.set_rgb fb i j f.r f.g f.b;
+              Framebuffer.set_rgb fb i j f.r f.g f.b;
               (match reuse with
               | Some (Watch { mask; _ }) ->
                   Bytes.set mask p (if Accel.touched ax then '\001' else '\000')
@@ -301,63 +301,51 @@ let size ?(stride = 1) (sc : Scene.t) =
   let k = max 1 stride in
   ((sc.settings.width + k - 1) / k, (sc.settings.height + k - 1) / k)
 
-let tiles ?region ?stride (sc : Scene.t) =
+(* Tile [k] of the scene's image (of its image of one sample per [stride]×[stride] block),
+   row-major; with [region], of the tiles that meet it, clipped to it: the same grid
+   either way, so a pixel is computed the same. Found by arithmetic, so that a caller
+   that renders an image unit by unit (a lancer-mpi rank: thousands of small calls) never
+   builds the whole list. *)
+let tile_count ?region ?stride (sc : Scene.t) =
   let w, h = size ?stride sc in
-  let nx = (w + tile_size - 1) / tile_size and ny = (h + tile_size - 1) / tile_size in
-  let all =
-    Array.init (nx * ny) (fun k ->
-        let tx = k mod nx and ty = k / nx in
-        let x0 = tx * tile_size and y0 = ty * tile_size in
-        (x0, y0, min w (x0 + tile_size), min h (y0 + tile_size)))
-  in
+  let span a b = if b <= a then 0 else ((b - 1) / tile_size) - (a / tile_size) + 1 in
   match (region : Image.region option) with
-  | None -> all
-  | Some r ->
-      (* The same grid of tiles, clipped: a pixel is computed the same either way. *)
-      Array.of_list
-        (List.filter_map
-           (fun (x0, y0, x1, y1) ->
-             let x0 = max x0 r.x0
-             and y0 = max y0 r.y0
-             and x1 = min x1 r.x1
-             and y1 = min y1 r.y1 in
-             if x0 < x1 && y0 < y1 then Some (x0, y0, x1, y1) else None)
-           (Array.to_list all))
+  | None -> span 0 w * span 0 h
+  | Some r -> span (max 0 r.x0) (min w r.x1) * span (max 0 r.y0) (min h r.y1)
+
+let tile ?region ?stride (sc : Scene.t) k =
+  let w, h = size ?stride sc in
+  let x0, y0, x1, y1 =
+    match (region : Image.region option) with
+    | None -> (0, 0, w, h)
+    | Some r -> (max 0 r.x0, max 0 r.y0, min w r.x1, min h r.y1)
+  in
+  let tx0 = x0 / tile_size and ty0 = y0 / tile_size in
+  let nx = ((x1 - 1) / tile_size) - tx0 + 1 in
+  let tx = tx0 + (k mod nx) and ty = ty0 + (k / nx) in
+  ( max x0 (tx * tile_size),
+    max y0 (ty * tile_size),
+    min x1 ((tx + 1) * tile_size),
+    min y1 ((ty + 1) * tile_size) )
+
+let tiles ?region ?stride sc =
+  Array.init (tile_count ?region ?stride sc) (tile ?region ?stride sc)
 
 (* The one tile loop: tiles [idxs] of the scene (of the region's tiles with [region]),
    each written only by the task that renders it, with its own counters; the token is
    polled before each tile and inside it. *)
-(* The tile list of the last image size and region rendered. A caller that renders an
-   image unit by unit (a lancer-mpi rank: thousands of small calls) would otherwise
-   allocate the whole list at every call, straight into the major heap, faster than the
-   collector gave it back: a rank of a 4096² still grew to 2.8 times the image. The list
-   is immutable, so a domain that reads a stale entry just builds its own. *)
-let tiles_cache :
-    (int * int * Image.region option * (int * int * int * int) array) option Atomic.t =
-  Atomic.make None
-
-let cached_tiles ?region ?stride (sc : Scene.t) =
-  let w, h = size ?stride sc in
-  match Atomic.get tiles_cache with
-  | Some (w', h', r', all) when w = w' && h = h' && r' = region -> all
-  | _ ->
-      let all = tiles ?region ?stride sc in
-      Atomic.set tiles_cache (Some (w, h, region, all));
-      all
-
 let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ()) ?region
     ?alpha ?reuse ?stride (sc : Scene.t) fb idxs =
   if Option.is_some region && Option.is_some stride then
     invalid_arg "Render: a region with a stride";
-  let all = cached_tiles ?region ?stride sc in
   let n = Array.length idxs in
-  let stats = Array.init n (fun _ -> Stats.create ~cancel ()) in
+  let tasks = Array.init n (fun _ -> Task.create ~cancel ()) in
   let done_ = Atomic.make 0 in
   let work k =
     Cancel.check cancel;
-    let x0, y0, x1, y1 = all.(idxs.(k)) in
-    render_tile ?alpha ?reuse ?stride sc stats.(k) fb x0 y0 x1 y1;
-    on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) stats.(k)
+    let x0, y0, x1, y1 = tile ?region ?stride sc idxs.(k) in
+    render_tile ?alpha ?reuse ?stride sc tasks.(k) fb x0 y0 x1 y1;
+    on_tile (Atomic.fetch_and_add done_ 1 + 1) idxs.(k) (Task.counters tasks.(k))
   in
   (match pool with
   | None ->
@@ -367,26 +355,24 @@ let render_tiles ?(cancel = Cancel.create ()) ?pool ?(on_tile = fun _ _ _ -> ())
   | Some pool -> Pool.parallel_for pool n work);
   (* A cancellation after the last tile started: the result is not to be used. *)
   Cancel.check cancel;
-  let total = Stats.create () in
-  Array.iter (Stats.add_into total) stats;
-  total
+  Counters.sum (Array.map Task.counters tasks)
 
 let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse ?stride
     (sc : Scene.t) =
   let w, h = size ?stride sc in
-  let fb = Image.create w h in
+  let fb = Framebuffer.create w h in
   (* Outside a region: the background, and alpha 0. *)
   if region <> None then
     for j = 0 to fb.height - 1 do
       for i = 0 to fb.width - 1 do
-        Image.set fb i j sc.settings.background
+        Framebuffer.set fb i j sc.settings.background
       done
     done;
   Option.iter (fun a -> Float.Array.fill a 0 (Float.Array.length a) 0.) alpha;
-  let n = Array.length (tiles ?region ?stride sc) in
+  let n = tile_count ?region ?stride sc in
   let st =
     render_tiles ?cancel ?pool ?region ?alpha ?reuse ?stride
-      ~on_tile:(fun d _ st -> on_tile d n (Stats.total_rays st))
+      ~on_tile:(fun d _ st -> on_tile d n (Counters.total_rays st))
       sc fb (Array.init n Fun.id)
   in
   (fb, st)

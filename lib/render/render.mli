@@ -17,8 +17,8 @@ val tile_size : int
 (** The side of a square tile in pixels (32); the last row and column of tiles may be
     smaller. *)
 
-val pixel : Scene.t -> Stats.t -> int -> int -> Color.t
-(** [pixel scene stats i j] is the linear colour of column [i], row [j]. *)
+val pixel : Scene.t -> Task.t -> int -> int -> Color.t
+(** [pixel scene task i j] is the linear colour of column [i], row [j]. *)
 
 val coverage : Scene.t -> int -> int -> float
 (** [coverage scene i j] is the share, in [0, 1], of pixel (i, j)'s sample points whose
@@ -33,7 +33,7 @@ type reuse =
       (** render every pixel, and set [mask]'s byte of pixel (i, j) (at j·width + i) to
           ['\001'] where one of its queries may have met [box] (min x y z, max x y z; see
           {!Lancer_render.Accel.watch}), ['\000'] elsewhere *)
-  | Only of { mask : Bytes.t; base : Image.t }
+  | Only of { mask : Bytes.t; base : Framebuffer.t }
       (** render the pixels whose [mask] byte is ['\001'] and take the others from [base]
       *)
 
@@ -42,17 +42,17 @@ val render_tile :
   ?reuse:reuse ->
   ?stride:int ->
   Scene.t ->
-  Stats.t ->
-  Image.t ->
+  Task.t ->
+  Framebuffer.t ->
   int ->
   int ->
   int ->
   int ->
   unit
-(** [render_tile scene stats fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
+(** [render_tile scene task fb x0 y0 x1 y1] renders columns \[x0, x1) of rows \[y0, y1);
     with [alpha] it also stores each pixel's {!coverage} there (row-major); with [reuse]
     as {!reuse} says. Its rays and the tests inside CSG objects that they make count into
-    [stats] ({!Stats.with_current}), polling its token. With [stride = k] (default 1;
+    [task] ({!Task.with_current}), polling its token. With [stride = k] (default 1;
     neither [alpha] nor [reuse] then), [fb] is the image of one sample per k×k block of
     the scene's image, ⌈width/k⌉×⌈height/k⌉ pixels, and its pixel (i, j) is the scene's
     pixel (min(width−1, i·k + k/2), min(height−1, j·k + k/2)), computed as a whole render
@@ -64,18 +64,24 @@ val tiles :
     [stride]×[stride] block), row-major; with [region] only those that meet it, clipped to
     it. *)
 
+val tile_count : ?region:Image.region -> ?stride:int -> Scene.t -> int
+(** The number of {!tiles}, without making them. *)
+
+val tile : ?region:Image.region -> ?stride:int -> Scene.t -> int -> int * int * int * int
+(** [tile scene k] is [(tiles scene).(k)], found by arithmetic alone. *)
+
 val render_tiles :
   ?cancel:Cancel.t ->
   ?pool:Pool.t ->
-  ?on_tile:(int -> int -> Stats.t -> unit) ->
+  ?on_tile:(int -> int -> Counters.t -> unit) ->
   ?region:Image.region ->
   ?alpha:Float.Array.t ->
   ?reuse:reuse ->
   ?stride:int ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   int array ->
-  Stats.t
+  Counters.t
 (** [render_tiles scene fb idxs] renders the tiles of {!tiles}[ ?region scene] numbered
     [idxs] into [fb] (the one tile loop: {!render}, [lancer-mpi], the animation and a
     resumed still all use it) and is their summed counters. Without [pool] it runs on the
@@ -83,7 +89,7 @@ val render_tiles :
     domain rendered it: [done_] of the tiles are finished, the last being tile [k] with
     its own counters [stats]. [cancel] is polled before each tile, every
     {!Lancer_diag.Cancel.check_every} units of work inside one (rays, tests inside CSG
-    objects: {!Stats.spend}), and once all are done: when it is cancelled the call raises
+    objects: {!Task.spend}), and once all are done: when it is cancelled the call raises
     [Sys.Break] within a few thousand units per domain, and [fb] is not to be used.
     [alpha] and [stride] (not with [region]) as for {!render_tile}. *)
 
@@ -96,7 +102,7 @@ val render :
   ?reuse:reuse ->
   ?stride:int ->
   Scene.t ->
-  Image.t * Stats.t
+  Framebuffer.t * Counters.t
 (** [render scene] renders the whole image through {!render_tiles}.
     [on_tile done_ total rays]: [done_] tiles of [total] are finished, and that tile cast
     [rays] rays. With [region] only its pixels are rendered, each exactly as in a whole

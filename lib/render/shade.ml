@@ -234,9 +234,9 @@ let transparent_into (sc : Scene.t) scr =
    nothing and answers most shadow rays; only where none blocks and some surface is
    transparent are the crossings of the transparent ones folded. [slot] is the light's
    index. *)
-let[@inline] shadow_into (sc : Scene.t) (st : Stats.t) slot scr ox oy oz dx dy dz dist =
+let[@inline] shadow_into (sc : Scene.t) (st : Task.t) slot scr ox oy oz dx dy dz dist =
   st.shadow <- st.shadow + 1;
-  Stats.tick st;
+  Task.tick st;
   let q = scr.sq and acc = scr.acc in
   q.ox <- ox;
   q.oy <- oy;
@@ -411,7 +411,7 @@ let max_secondary = 65536
    Everything a shading step needs after tracing again is in locals: a float bound by
    [let] stays unboxed across the call. *)
 let rec trace_b (sc : Scene.t) st scr depth =
-  Stats.tick st;
+  Task.tick st;
   let q = scr.q and f = scr.f in
   q.p_tmin <- 0.;
   q.p_tmax <- Float.infinity;
@@ -432,7 +432,7 @@ let rec trace_b (sc : Scene.t) st scr depth =
         fog_into fg Float.infinity f)
 
 (* The surface hit at t = scr.q.p_t by the ray [scr.q] holds. *)
-and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
+and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
   let q = scr.q and f = scr.f and acc = scr.acc in
   let t = q.p_t in
   let ox = q.ox and oy = q.oy and oz = q.oz and dx = q.dx and dy = q.dy and dz = q.dz in
@@ -584,7 +584,7 @@ and shade (sc : Scene.t) (st : Stats.t) scr depth (o : Primitive.t) =
     f.g <- !outg;
     f.b <- !outb
 
-let trace_into sc (st : Stats.t) scr depth =
+let trace_into sc (st : Task.t) scr depth =
   st.budget <- max_secondary;
   trace_b sc st scr depth
 

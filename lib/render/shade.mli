@@ -19,11 +19,11 @@ val refract : Vec3.t -> Vec3.t -> float -> Vec3.t option
 (** [refract d nf eta] is the Snell–Descartes direction η·d + (η·c − √k)·nf with c = −d·nf
     and k = 1 − η²(1 − c²), or [None] on total internal reflection (k < 0). *)
 
-val trace : Scene.t -> Stats.t -> Ray.t -> int -> Color.t
+val trace : Scene.t -> Task.t -> Ray.t -> int -> Color.t
 (** [trace scene stats ray depth] is the linear colour seen along [ray], a ray of depth
     [depth] (primary rays have depth 1): one camera sample, fogged over its segment when
     the scene has fog. Counts secondary and shadow rays in [stats], and polls its token
-    ({!Stats.tick}) once per ray, raising [Sys.Break] when it is cancelled. At most
+    ({!Task.tick}) once per ray, raising [Sys.Break] when it is cancelled. At most
     {!max_secondary} secondary rays are cast for the sample, depth first; those past it
     contribute black, as rays past the depth do. *)
 
@@ -46,7 +46,7 @@ val accel_scratch : scratch -> Accel.scratch
 (** The domain's query scratch the shading steps pass to their queries (what a watch of
     {!Accel.watch} is set on). *)
 
-val trace_into : Scene.t -> Stats.t -> scratch -> int -> unit
+val trace_into : Scene.t -> Task.t -> scratch -> int -> unit
 (** [trace_into scene stats scr depth] is {!trace} of the ray that [probe scr] holds, bit
     for bit, its colour written into [(frag scr).(r, g, b)]. Camera, reflected and
     refracted rays build no ray, vector or colour on the way, with the shapes that
@@ -63,6 +63,6 @@ val miss : Scene.t -> Vec3.t -> Color.t
     background (flat or gradient), through the fog of an infinite segment when there is
     fog. *)
 
-val transmittance : Scene.t -> Stats.t -> Vec3.t -> Vec3.t -> float -> Color.t
+val transmittance : Scene.t -> Task.t -> Vec3.t -> Vec3.t -> float -> Color.t
 (** [transmittance scene stats origin dir dist] is the product, over every surface the ray
     crosses before [dist], of transparency · albedo (0 for an opaque surface). *)

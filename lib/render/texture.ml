@@ -22,7 +22,7 @@ let lookup m v =
       (c0.g +. (s *. (c1.g -. c0.g)))
       (c0.b +. (s *. (c1.b -. c0.b)))
 
-type t = (Image.t, color_map) Description.texture_of
+type t = (Framebuffer.t, color_map) Description.texture_of
 
 (* ⌊x⌋ as an int, clamped so that huge or non-finite coordinates cannot reach the
    unspecified cases of int_of_float; only the parity is used. *)
@@ -43,7 +43,7 @@ let wrap i n =
   let k = i mod n in
   if k < 0 then k + n else k
 
-let bilinear (img : Image.t) u v =
+let bilinear (img : Framebuffer.t) u v =
   let w = img.width and h = img.height in
   if w <= 0 || h <= 0 then Color.black
   else

@@ -18,7 +18,7 @@ val lookup : color_map -> float -> Color.t
     and in between linear between the bracketing entries t_k ≤ v < t_(k+1): c_k + ((v −
     t_k)/(t_(k+1) − t_k))·(c_(k+1) − c_k). *)
 
-type t = (Image.t, color_map) Description.texture_of
+type t = (Framebuffer.t, color_map) Description.texture_of
 (** The description's texture ({!Lancer_description.Description.texture_of}, where each
     kind is defined) with its image decoded to a linear framebuffer (from
     {!Lancer_image.Image.read_linear}) and its colour maps as arrays. *)
@@ -32,7 +32,7 @@ val eval_into : t -> Frag.t -> unit
     [(f.u, f.v)], written into [(f.r, f.g, f.b)], bit for bit. Solid colours, checkers,
     stripes and two-colour noise allocate nothing. *)
 
-val bilinear : Image.t -> float -> float -> Color.t
+val bilinear : Framebuffer.t -> float -> float -> Color.t
 (** [bilinear img u v] samples [img] at (u, v) with wrapping (period 1 in both), v = 0 at
     the bottom row; non-finite coordinates sample (0, 0). *)
 

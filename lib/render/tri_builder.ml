@@ -64,6 +64,26 @@ let trimmed_floats s =
   if s.width * s.len = Float.Array.length s.fl then s.fl
   else Float.Array.sub s.fl 0 (s.width * s.len)
 
+type mesh = {
+  pos : Float.Array.t;
+  nrm : Float.Array.t;
+  tex : Float.Array.t;
+  tv : Trimesh.ints;
+  tn : Trimesh.ints;
+  tt : Trimesh.ints;
+}
+
+let mesh vs vns vts tv tn tt =
+  let some = function Some c -> trimmed c | None -> Trimesh.no_ints in
+  {
+    pos = trimmed_floats vs;
+    nrm = trimmed_floats vns;
+    tex = trimmed_floats vts;
+    tv = trimmed tv;
+    tn = some tn;
+    tt = some tt;
+  }
+
 (* |(b − a) × (c − a)| for the vertices a, b, c of [p] (3 coordinates each), in floats (as
    Vec3.length of Vec3.cross would compute it). *)
 let area (p : Float.Array.t) a b c =

@@ -32,6 +32,24 @@ val trimmed : corners -> Trimesh.ints
 val trimmed_floats : floats -> Float.Array.t
 (** Exactly the [width·len] floats. *)
 
+type mesh = {
+  pos : Float.Array.t;
+  nrm : Float.Array.t;
+  tex : Float.Array.t;
+  tv : Trimesh.ints;
+  tn : Trimesh.ints;
+  tt : Trimesh.ints;
+}
+(** What a reader read, exactly sized, before the hierarchy is built ({!Trimesh.make}'s
+    arguments, made by {!Mesh_normals.build}): a reader hands it over so that its input
+    can be let go first. *)
+
+val mesh :
+  floats -> floats -> floats -> corners -> corners option -> corners option -> mesh
+(** [mesh vs vns vts tv tn tt]: the vertices, normals, texture coordinates and the
+    triangles' corners trimmed to their lengths; [tn] and [tt] [None] where no triangle
+    has them. *)
+
 val area : Float.Array.t -> int -> int -> int -> float
 (** [area pos a b c] is |(b − a) × (c − a)| for vertices [a], [b], [c] of [pos] (three
     coordinates each): a triangle is kept where it is finite and positive. *)

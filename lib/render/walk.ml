@@ -20,7 +20,7 @@
    A query runs on a [level] of the domain's scratch (its stack, probes and buffers); the
    queries of a mesh item or a CSG object that it makes run on the next level, and so on.
    A query that an exception leaves (a cancellation polled in a CSG object's test,
-   Stats.spend) leaves nothing to undo. Floats go from one function to the next in the
+   Task.spend) leaves nothing to undo. Floats go from one function to the next in the
    levels' probes, a float argument of a call that is not inlined being boxed. *)
 
 let fget = Float.Array.unsafe_get
@@ -769,7 +769,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
       if ne = 0 then
         state
         &&
-        (Stats.spend w gap_cost;
+        (Task.spend w gap_cost;
          set_point pt q (tmin +. Float.max 1. (Float.abs tmin));
          combined lv w op members states ~reorder)
       else if op = Shape.Union then (
@@ -781,7 +781,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
         done;
         false)
       else (
-        Stats.spend w gap_cost;
+        Task.spend w gap_cost;
         set_point pt q (0.5 *. (tmin +. fget ts 0));
         let first_state = combined lv w op members states ~reorder in
         let before = ref first_state and k = ref 0 and stop = ref false in
@@ -796,7 +796,7 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
               if followed then pass members states ps.((3 * !k) + 1);
               incr k
             done;
-            Stats.spend w gap_cost;
+            Task.spend w gap_cost;
             set_point pt q
               (if !k < ne then 0.5 *. (t +. fget ts !k)
                else t +. Float.max 1. (Float.abs t));
@@ -819,7 +819,7 @@ and member_roots lv w (m : Shape.csg_member) i (q : Probe.t) ev =
   mq.p_tmax <- Float.infinity;
   match m.shape with
   | Shape.Mesh { mesh; _ } ->
-      Stats.spend w (1 + mesh_crossings (deeper lv) mesh mq ev 0 m.first_leaf)
+      Task.spend w (1 + mesh_crossings (deeper lv) mesh mq ev 0 m.first_leaf)
   | Shape.Csg { op; _ } ->
       let followed = op <> Shape.Union in
       let st =
@@ -830,7 +830,7 @@ and member_roots lv w (m : Shape.csg_member) i (q : Probe.t) ev =
   | s ->
       let rs = lv.rs in
       let n = Shape.roots s mq rs in
-      Stats.spend w (n + 1);
+      Task.spend w (n + 1);
       for k = 0 to n - 1 do
         push ev (Float.Array.unsafe_get rs k) 0 m.first_leaf (-1)
       done
@@ -899,7 +899,7 @@ and inside_at lv w s (pt : Probe.t) =
       parity_probe lv.pq pt;
       let b = lv.aux in
       b.n <- 0;
-      Stats.spend w (mesh_crossings (deeper lv) mesh lv.pq b 0 0);
+      Task.spend w (mesh_crossings (deeper lv) mesh lv.pq b 0 0);
       b.n land 1 = 1
   | Shape.Csg { op; members; _ } -> (
       let n = Array.length members in
@@ -939,7 +939,7 @@ and member_at lv w (members : Shape.csg_member array) i pt =
 let csg_first lv s (q : Probe.t) =
   let b = lv.buf in
   b.n <- 0;
-  ignore (csg_crossings (deeper lv) (Stats.current ()) s q ~first:true ~state:false b 0 0);
+  ignore (csg_crossings (deeper lv) (Task.current ()) s q ~first:true ~state:false b 0 0);
   if b.n > 0 then (
     q.p_t <- fget b.ts 0;
     lv.cand_leaf <- b.parts.(1);
@@ -982,7 +982,7 @@ let composite_crossings lv (p : Primitive.t) (q : Probe.t) out id =
       push_distinct b out id
   | s ->
       ignore
-        (csg_crossings (deeper lv) (Stats.current ()) s o ~first:false ~state:false out id
+        (csg_crossings (deeper lv) (Task.current ()) s o ~first:false ~state:false out id
            0)
 
 (* --- A scene's index ---------------------------------------------------------------------- *)
@@ -1070,7 +1070,7 @@ let intersect s r tmin tmax =
 let inside s (p : Vec3.t) =
   let pt = Probe.create () in
   Probe.set_origin pt p.x p.y p.z;
-  inside_at (new_level ()) (Stats.current ()) s pt
+  inside_at (new_level ()) (Task.current ()) s pt
 
 let shape_crossings s r tmin =
   let q = probe_of r tmin Float.infinity in
@@ -1078,7 +1078,7 @@ let shape_crossings s r tmin =
   (match s with
   | Shape.Csg _ ->
       ignore
-        (csg_crossings (new_level ()) (Stats.current ()) s q ~first:false ~state:false out
+        (csg_crossings (new_level ()) (Task.current ()) s q ~first:false ~state:false out
            0 0)
   | Shape.Mesh { mesh; _ } ->
       let b = crossings () in

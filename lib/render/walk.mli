@@ -82,8 +82,8 @@ val scratch : unit -> scratch
 
 val domain_scratch : unit -> scratch
 (** The calling domain's scratch, to be used by that domain only. A query that an
-    exception interrupts (a cancellation polled inside a CSG object, {!Stats.spend})
-    leaves it fit for the next. *)
+    exception interrupts (a cancellation polled inside a CSG object, {!Task.spend}) leaves
+    it fit for the next. *)
 
 (** {1 The three queries}
 
@@ -139,4 +139,4 @@ val shape_crossings : Shape.t -> Ray.t -> float -> (float * int * int) list
     for a shape that is not a mesh) it lies on: each root of a simple shape, each t of a
     mesh once (its lowest face there), each crossing of a CSG object's boundary. Each root
     of a CSG object's surface sought and each inside tested count as a unit of work into
-    the calling domain's {!Stats.current}, whose poll may raise [Sys.Break]. *)
+    the calling domain's {!Task.current}, whose poll may raise [Sys.Break]. *)

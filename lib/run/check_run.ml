@@ -42,6 +42,7 @@ let one prog o ~json =
   match Program.scene ~index:false prog ~time ~frame with
   | Error errors -> raise (Job_error.Scene { errors; note = "" })
   | Ok sc ->
+      let sc = Overrides.apply (Options.overrides o) sc in
       if json then print_endline (Yojson.Safe.pretty_to_string (Program.to_json prog sc))
       else (
         print_string (Program.summary prog sc);
@@ -49,7 +50,7 @@ let one prog o ~json =
 
 (* Every frame is evaluated; the errors of the first that fails are shown, and the
    others that fail are listed. *)
-let every prog spec =
+let every prog (o : Options.t) spec =
   let fps, first, last = frames prog spec in
   let first_scene = ref None and failed = ref [] and first_errors = ref [] in
   for k = first to last do
@@ -72,17 +73,18 @@ let every prog spec =
                  (List.length ks) n first last (runs ks);
            }));
   (match !first_scene with
-  | Some sc -> print_string (Program.summary prog sc)
+  | Some sc ->
+      print_string (Program.summary prog (Overrides.apply (Options.overrides o) sc))
   | None -> ());
   Printf.printf "frames checked: %d..%d (%d frame%s), every one evaluates\n" first last n
     (if n = 1 then "" else "s")
 
-let run ~scene ~json ~time ~frames =
-  let o = { Options.default with scene = Some scene; time } in
+let run ?width ?height ~scene ~json ~time ~frames () =
+  let o = { Options.default with scene = Some scene; time; width; height } in
   let prog = Scene_file.load ~single:(frames = None && not json) o.scene in
   match frames with
   | None -> one prog o ~json
   | Some _ when time <> None -> user "give either --time or --frames, not both"
   | Some _ when json ->
       user "--json prints one frame: choose it with --time, not --frames"
-  | Some spec -> every prog spec
+  | Some spec -> every prog o spec

@@ -161,8 +161,8 @@ let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
   let sibling suffix = Filename.remove_extension golden ^ suffix in
   Files.guard_writes
     ~reads:
-      (if update then Source.reads src
-       else (golden, "the golden image") :: Source.reads src)
+      (if update then Scenes.reads src
+       else (golden, "the golden image") :: Scenes.reads src)
     (if update then [ (golden, "the golden image") ]
      else
        [

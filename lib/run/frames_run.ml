@@ -28,9 +28,17 @@ let plan ?getenv (o : Options.t) (a : options) =
         program := Some prog;
         Scene_file.source o prog)
   in
-  if p.resumed > 0 && not o.quiet then
-    Printf.printf "resuming: %d frames already rendered, %d to go\n%!" p.resumed
-      (List.length p.todo);
+  if not o.quiet then (
+    if p.resumed > 0 then
+      Printf.printf "resuming: %s already rendered, %d to go\n%!"
+        (Animation.frames_text p.resumed)
+        (List.length p.todo);
+    List.iter
+      (fun (why, ks) ->
+        Printf.printf "rendering %s again (%s): %s\n%!"
+          (Animation.frames_text (List.length ks))
+          (Check_run.runs ks) why)
+      p.stale);
   (Option.get !program, p)
 
 let write_frame p k sc fb st =
@@ -49,6 +57,14 @@ let interrupted = "the frames written so far are kept; run again with --resume t
 let check_video (a : options) =
   Option.iter (Animation.check_video ~format:a.format ~shard:(a.shard <> None)) a.video
 
+let wrote ?(extra = "") (o : Options.t) (p : Animation.plan) ~t0 =
+  if not o.quiet then
+    Printf.printf "wrote %s to %s in %.2f s (%s%s)\n%!"
+      (Animation.frames_text (List.length p.todo))
+      p.dir
+      (Unix.gettimeofday () -. t0)
+      (Animation.describe_range p) extra
+
 let run ?cancel (o : Options.t) (a : options) =
   check_video a;
   let _, p = plan o a in
@@ -58,11 +74,9 @@ let run ?cancel (o : Options.t) (a : options) =
   let finished = Atomic.make 0 in
   Animation.render ?cancel ~domains p ~on_frame:(fun _ st ->
       Render_report.warn_bad_samples st;
-      Progress.update ~rays:(Stats.total_rays st) bar (Atomic.fetch_and_add finished 1 + 1));
+      Progress.update ~rays:(Counters.total_rays st) bar
+        (Atomic.fetch_and_add finished 1 + 1));
   Progress.finish bar;
   Animation.finish p;
-  if not o.quiet then
-    Printf.printf "wrote %d frames to %s in %.2f s (%s)\n%!" (List.length p.todo) p.dir
-      (Unix.gettimeofday () -. t0)
-      (Animation.describe_range p);
+  wrote o p ~t0;
   Option.iter (make_video o p) a.video

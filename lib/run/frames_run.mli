@@ -20,18 +20,24 @@ val default_options : options
 val plan :
   ?getenv:(string -> string option) -> Options.t -> options -> Program.t * Animation.plan
 (** {!Lancer_job.Animation.val-plan} for these options, the scene loaded as
-    {!Scene_file.read} says, saying how many frames a resumed run skips; with the program
-    it loaded. Raises {!Lancer_job.Job_error.User}. *)
+    {!Scene_file.read} says, saying how many frames a resumed run skips and why it renders
+    again those a run recorded (another option, a changed scene or input, a missing file);
+    with the program it loaded. Raises {!Lancer_job.Job_error.User}. *)
 
-val write_frame : Animation.plan -> int -> Scene.t -> Image.t -> Stats.t -> unit
+val write_frame : Animation.plan -> int -> Scene.t -> Framebuffer.t -> Counters.t -> unit
 (** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)
 
 val check_video : options -> unit
-(** Refuse, before rendering, a [--video] that is not .mp4 or .gif, cannot be written, or
-    comes with [--shard]. *)
+(** Refuse, before rendering, a [--video] that is not .mp4 or .gif, cannot be written,
+    comes with [--shard], or needs an ffmpeg that is not on PATH. *)
 
 val make_video : Options.t -> Animation.plan -> string -> unit
 (** {!Lancer_job.Animation.make_video}, saying where the video is. *)
+
+val wrote : ?extra:string -> Options.t -> Animation.plan -> t0:float -> unit
+(** The summary line (unless quiet):
+    ["wrote 24 frames to DIR in 3.10 s (0..23 at 24 fps)"], the seconds since [t0],
+    [extra] added to the parenthesis. *)
 
 val progress : Options.t -> Animation.plan -> Progress.t
 (** A progress line over the frames to render, as the options ask for it. *)

@@ -57,7 +57,7 @@ let domains o =
   | Some n -> n
   | None -> max 1 (Domain.recommended_domain_count ())
 
-let time_of o src = Source.time_of src ~time:o.time ~frame:o.frame
+let time_of o src = Scenes.time_of src ~time:o.time ~frame:o.frame
 
 let scene_at ?progress ?cancel o src ~time ~frame =
-  fst (Source.scene ?progress ?cancel src (overrides o) ~time ~frame)
+  fst (Scenes.scene ?progress ?cancel src (overrides o) ~time ~frame)

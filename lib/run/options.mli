@@ -34,17 +34,17 @@ val domains : t -> int
 (** [--domains N] if given (1 to {!max_domains}; raises {!Lancer_job.Job_error.User}
     otherwise), else the recommended count for this machine. *)
 
-val time_of : t -> Source.t -> float * int
+val time_of : t -> Scenes.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0):
-    {!Lancer_job.Source.time_of}. *)
+    {!Lancer_job.Scenes.time_of}. *)
 
 val scene_at :
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->
   t ->
-  Source.t ->
+  Scenes.t ->
   time:float ->
   frame:int ->
   Scene.t
-(** The scene at a time with the options' overrides ({!Lancer_job.Source.scene});
+(** The scene at a time with the options' overrides ({!Lancer_job.Scenes.scene});
     [progress] and [cancel] as for the language's evaluation. *)

@@ -97,7 +97,7 @@ let guard_render (o : Options.t) src ~out =
   refuse_frames_records
     ((if is_stdout out then [] else [ (out, "-o") ])
     @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
-  Files.guard_writes ~reads:(Source.reads src)
+  Files.guard_writes ~reads:(Scenes.reads src)
     ((if is_stdout out then [] else [ (out, "the image") ])
     @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
@@ -113,15 +113,19 @@ let write_stdout bytes =
   | () -> ()
   | exception Sys_error m -> user "cannot write the image to standard output: %s" m
 
-let write_image ?cancel ?(encoding = default_encoding) ?alpha path (sc : Scene.t) fb =
+let write_image ?cancel ?(encoding = default_encoding) ?alpha ?record path (sc : Scene.t)
+    fb =
   let crop = if encoding.crop then encoding.region else None in
   if is_stdout path then
     Files.uninterrupted ?cancel "the image on standard output" (fun () ->
         match
           Image.file_of
             (format_of ?format:encoding.format path)
-            ~gamma:sc.settings.gamma ?bits:encoding.bits ?alpha ?crop fb
+            ~gamma:sc.settings.gamma ?bits:encoding.bits ?alpha ?crop
+            ?text:(Option.map Provenance.text record)
+            fb
         with
         | Ok bytes -> write_stdout bytes
         | Error m -> user "cannot write the image to standard output: %s" m)
-  else ignore (Files.write_image ?cancel ?bits:encoding.bits ?alpha ?crop path sc fb)
+  else
+    ignore (Files.write_image ?cancel ?bits:encoding.bits ?alpha ?crop ?record path sc fb)

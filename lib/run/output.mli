@@ -34,7 +34,7 @@ val check_encoding : encoding -> out:string -> Scene.t -> unit
 (** Refuse a region outside the scene's image, [--crop] without [--region], and [--alpha]
     with a PPM output; raises {!Lancer_job.Job_error.User}. *)
 
-val guard_render : Options.t -> Source.t -> out:string -> unit
+val guard_render : Options.t -> Scenes.t -> out:string -> unit
 (** {!Lancer_job.Files.guard_writes} for a still: the image and the statistics against the
     scene's files and an animation's records, and not both on standard output. *)
 
@@ -42,12 +42,13 @@ val write_image :
   ?cancel:Cancel.t ->
   ?encoding:encoding ->
   ?alpha:Float.Array.t ->
+  ?record:Provenance.t ->
   string ->
   Scene.t ->
-  Image.t ->
+  Framebuffer.t ->
   unit
 (** Encode with the scene's gamma (and [encoding]: 8 bits, whole image by default; the
-    coverage [alpha] as a fourth channel) and write atomically, or to standard output for
-    [-] (PNG unless [--format ppm]; a closed pipe is an error, not a signal); raises
-    {!Lancer_job.Job_error.User}. With [cancel] an interrupt during the write does not cut
-    it short ({!Lancer_job.Files.uninterrupted}). *)
+    coverage [alpha] as a fourth channel; [record] in a PNG's text) and write atomically,
+    or to standard output for [-] (PNG unless [--format ppm]; a closed pipe is an error,
+    not a signal); raises {!Lancer_job.Job_error.User}. With [cancel] an interrupt during
+    the write does not cut it short ({!Lancer_job.Files.uninterrupted}). *)

@@ -6,16 +6,36 @@ type t = {
   label : string;
   total : int;
   start : float;
-  last : float Atomic.t;
+  every : float;  (** seconds between two lines *)
+  last : float Atomic.t;  (** when the last line was printed (or when the wait began) *)
+  printed : bool Atomic.t;  (** whether a line was printed *)
   rays : int Atomic.t;
   lock : Mutex.t;
 }
 
-let create ?mode ~label ~total () =
+let interval_variable = "LANCER_PROGRESS_INTERVAL"
+
+(* The interval the variable sets: [None] for "off". *)
+let interval ~default =
+  match Sys.getenv_opt interval_variable with
+  | Some "off" -> None
+  | Some v -> (
+      match Float.of_string_opt v with
+      | Some s when s >= 0. && Float.is_finite s -> Some s
+      | _ -> Some default)
+  | None -> Some default
+
+let create ?mode ?every ?(wait = false) ~label ~total () =
   let mode =
     match mode with
     | Some m -> m
     | None -> if Unix.isatty Unix.stderr then Terminal else Off
+  in
+  let every =
+    match (every, mode) with
+    | Some e, _ -> e
+    | None, Lines -> Option.value (interval ~default:2.) ~default:2.
+    | None, (Terminal | Off) -> 0.2
   in
   let now = Unix.gettimeofday () in
   {
@@ -24,39 +44,55 @@ let create ?mode ~label ~total () =
     label;
     total;
     start = now;
-    last = Atomic.make 0.;
+    every;
+    last = Atomic.make (if wait then now else 0.);
+    printed = Atomic.make false;
     rays = Atomic.make 0;
     lock = Mutex.create ();
   }
 
 let hms s =
-  let s = int_of_float (Float.max 0. s) in
+  let s = int_of_float (Float.min 1e9 (Float.max 0. s)) in
   if s >= 3600 then Printf.sprintf "%dh%02dm" (s / 3600) (s / 60 mod 60)
   else if s >= 60 then Printf.sprintf "%dm%02ds" (s / 60) (s mod 60)
   else Printf.sprintf "%ds" s
 
-let update ?(rays = 0) p done_ =
+let line ~label ~done_ ~total ?share ~elapsed ~rays () =
+  let share =
+    match share with
+    | Some f -> Float.min 1. (Float.max 0. f)
+    | None -> Float.of_int done_ /. Float.of_int (max 1 total)
+  in
+  let left =
+    if share >= 1. then "0s"
+    else if share > 0. && elapsed > 0. then hms (elapsed *. (1. -. share) /. share)
+    else "?"
+  in
+  let speed =
+    if rays > 0 && elapsed > 0. then
+      Printf.sprintf "%.2f M rays/s" (Float.of_int rays /. elapsed /. 1e6)
+    else
+      Printf.sprintf "%.1f %s/s"
+        (if elapsed > 0. then Float.of_int done_ /. elapsed else 0.)
+        label
+  in
+  Printf.sprintf "%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s" label done_ total
+    (100. *. share) speed (hms elapsed) left
+
+let update ?(rays = 0) ?share p done_ =
   if p.enabled then
     let all_rays = Atomic.fetch_and_add p.rays rays + rays in
     let now = Unix.gettimeofday () in
     let last = Atomic.get p.last in
-    let every = if p.mode = Lines then 2. else 0.2 in
-    if (now -. last >= every || done_ = p.total) && Atomic.compare_and_set p.last last now
-    then
+    (* The last unit is shown when lines were (on a terminal, always: it is cleared). *)
+    let final = done_ = p.total && (p.mode = Terminal || Atomic.get p.printed) in
+    if (now -. last >= p.every || final) && Atomic.compare_and_set p.last last now then
       Mutex.protect p.lock (fun () ->
-          let el = now -. p.start in
-          let rate = if el > 0. then Float.of_int done_ /. el else 0. in
-          let left = if rate > 0. then Float.of_int (p.total - done_) /. rate else 0. in
-          let speed =
-            if all_rays > 0 && el > 0. then
-              Printf.sprintf "%.2f M rays/s" (Float.of_int all_rays /. el /. 1e6)
-            else Printf.sprintf "%.1f %s/s" rate p.label
-          in
-          Printf.eprintf "%s%s %d/%d (%3.0f%%)  %s  elapsed %s  left %s%s%!"
+          Atomic.set p.printed true;
+          Printf.eprintf "%s%s%s%!"
             (if p.mode = Terminal then "\r\027[K" else "")
-            p.label done_ p.total
-            (100. *. Float.of_int done_ /. Float.of_int (max 1 p.total))
-            speed (hms el) (hms left)
+            (line ~label:p.label ~done_ ~total:p.total ?share ~elapsed:(now -. p.start)
+               ~rays:all_rays ())
             (if p.mode = Lines then "\n" else ""))
 
 let finish p =
@@ -67,14 +103,18 @@ let finish p =
 
 (* ---- What a command's options ask for ---- *)
 
+(* Without a terminal and without --progress, a line every few seconds once a command
+   has run that long: a short command stays silent, a long one is seen in a log. *)
+let quiet_interval = 5.
+
 let for_options (o : Options.t) ~label ~total =
-  let mode =
-    if o.quiet then Off
-    else if Unix.isatty Unix.stderr then Terminal
-    else if o.progress then Lines
-    else Off
-  in
-  create ~mode ~label ~total ()
+  if o.quiet then create ~mode:Off ~label ~total ()
+  else if Unix.isatty Unix.stderr then create ~mode:Terminal ~label ~total ()
+  else if o.progress then create ~mode:Lines ~label ~total ()
+  else
+    match interval ~default:quiet_interval with
+    | None -> create ~mode:Off ~label ~total ()
+    | Some every -> create ~mode:Lines ~every ~wait:true ~label ~total ()
 
 (* What the build is doing, on the progress channel: one line redrawn in place on a
    terminal, lines with --progress, nothing otherwise. *)

@@ -1,11 +1,17 @@
-let summary ?size ~out (sc : Scene.t) ~build ~render ~workers (st : Stats.t) =
-  let rays = Float.of_int (Stats.total_rays st) /. 1e6 in
+(* The rays this run cast: a resumed render's counters include the checkpoint's tiles. *)
+let run_rays ~resumed_rays st = Counters.total_rays st - resumed_rays
+
+let summary ?size ?(resumed_rays = 0) ~out (sc : Scene.t) ~build ~render ~workers
+    (st : Counters.t) =
+  let rays = Float.of_int (Counters.total_rays st) /. 1e6 in
+  let now = Float.of_int (run_rays ~resumed_rays st) /. 1e6 in
   let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf
-    "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays, %.2f M \
+    "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays%s, %.2f M \
      rays/s)"
     out w h (build +. render) build render workers rays
-    (rays /. Float.max render 1e-9)
+    (if resumed_rays > 0 then Printf.sprintf " (%.1f M of them in this run)" now else "")
+    (now /. Float.max render 1e-9)
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with
@@ -18,10 +24,11 @@ let peak_memory_kib () =
           | _ -> None)
         (String.split_on_char '\n' text)
 
-let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks (st : Stats.t)
-    =
+let stats_json ?(resumed_rays = 0) (o : Options.t) (sc : Scene.t) ~build ~wall ~domains
+    ~ranks (st : Counters.t) =
   let s = sc.settings in
-  let rays = Stats.total_rays st in
+  let rays = Counters.total_rays st in
+  let now = run_rays ~resumed_rays st in
   let opt_int = function Some n -> `Int n | None -> `Null in
   `Assoc
     [
@@ -47,7 +54,8 @@ let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks (st :
             ("refracted", `Int st.refracted);
             ("total", `Int rays);
           ] );
-      ("rays_per_second", `Float (if wall > 0. then Float.of_int rays /. wall else 0.));
+      ("resumed_rays", `Int resumed_rays);
+      ("rays_per_second", `Float (if wall > 0. then Float.of_int now /. wall else 0.));
       ("bad_samples", `Int st.bad_samples);
       ("peak_memory_kib", opt_int (peak_memory_kib ()));
       ("objects", `Int (Scene.object_count sc));
@@ -69,7 +77,7 @@ let stats_json (o : Options.t) (sc : Scene.t) ~build ~wall ~domains ~ranks (st :
           ] );
     ]
 
-let warn_bad_samples (st : Stats.t) =
+let warn_bad_samples (st : Counters.t) =
   if st.bad_samples > 0 then
     match st.first_bad with
     | Some (i, j) ->

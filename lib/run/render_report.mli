@@ -4,34 +4,39 @@
 
 val summary :
   ?size:int * int ->
+  ?resumed_rays:int ->
   out:string ->
   Scene.t ->
   build:float ->
   render:float ->
   workers:string ->
-  Stats.t ->
+  Counters.t ->
   string
 (** The line a render prints when done: the file, size, total, build and render seconds,
     [workers] ("2 domains"), rays and rays per second of the render; [size] is the size
-    written when it is not the scene's (a crop). *)
+    written when it is not the scene's (a crop). [resumed_rays] (default 0) of the rays
+    counted were cast by an earlier run (a checkpoint's tiles): the line says how many
+    this run cast, and its rays per second count only those. *)
 
 val stats_json :
+  ?resumed_rays:int ->
   Options.t ->
   Scene.t ->
   build:float ->
   wall:float ->
   domains:int ->
   ranks:int ->
-  Stats.t ->
+  Counters.t ->
   Yojson.Safe.t
 (** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:
     loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
-    counts, rays per second of the render, peak memory, features and options. *)
+    counts, [resumed_rays] (those of a checkpoint's tiles, as for {!summary}), rays per
+    second of this run's rays, peak memory, features and options. *)
 
 val peak_memory_kib : unit -> int option
 (** The process's peak resident set (VmHWM), where /proc exists. *)
 
-val warn_bad_samples : Stats.t -> unit
+val warn_bad_samples : Counters.t -> unit
 (** A warning on stderr when some samples were NaN or infinite. *)
 
 val rays_text : float -> string

@@ -59,7 +59,7 @@ let load_bundle b =
 let load ?single ?progress ?digests scene =
   load_source ?single ?progress ?digests (read scene)
 
-let source (o : Options.t) prog = Program.source ~builtin:(o.scene = None) prog
+let source (o : Options.t) prog = Program.as_scenes ~builtin:(o.scene = None) prog
 
 let default_output (o : Options.t) =
   match (o.output, o.scene) with

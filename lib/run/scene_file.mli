@@ -34,8 +34,8 @@ val load :
   Program.t
 (** [load_source (read scene)]. *)
 
-val source : Options.t -> Program.t -> Source.t
-(** The program as the job layer takes it ({!Lancer_program.Program.source}); built in
+val source : Options.t -> Program.t -> Scenes.t
+(** The program as the job layer takes it ({!Lancer_program.Program.as_scenes}); built in
     without a scene. *)
 
 val default_output : Options.t -> string

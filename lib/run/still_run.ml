@@ -2,7 +2,7 @@ let user = Job_error.user
 
 type built = {
   program : Program.t;
-  source : Source.t;
+  source : Scenes.t;
   scene : Scene.t;
   files : string list;
   time : float;
@@ -32,7 +32,7 @@ let build ?digests (o : Options.t) =
         let time, frame = Options.time_of o src in
         say "evaluating the scene and building its acceleration structure";
         let sc, files =
-          Source.scene ~progress:say src (Options.overrides o) ~time ~frame
+          Scenes.scene ~progress:say src (Options.overrides o) ~time ~frame
         in
         (* Evaluating a large scene leaves garbage (the evaluator's values, the objects
            compiled): it is given back before the framebuffer is allocated, so that peak
@@ -57,15 +57,25 @@ let checkpoint (o : Options.t) (b : built) ~out =
       (Checkpoint.tiles ck);
   ck
 
-let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
+let record (o : Options.t) (b : built) (enc : Output.encoding) ~out =
+  Provenance.make ~image:out b.source (Options.overrides o)
+    ~files:(List.map (fun f -> (f, b.source.input_digest f)) b.files)
+    ~time:b.time ~frame:b.frame ~region:enc.region ~crop:enc.crop ~alpha:enc.alpha
+    ~bits:(Option.value enc.bits ~default:8)
+
+let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra = [])
     (o : Options.t) ~out ~checkpoint ~build ~wall ~domains ~ranks ~workers sc fb st =
-  Progress.writing o out (fun () -> Output.write_image ?cancel ~encoding ?alpha out sc fb);
+  Progress.writing o out (fun () ->
+      Output.write_image ?cancel ~encoding ?alpha ?record out sc fb);
   Option.iter Checkpoint.remove checkpoint;
+  let resumed_rays = Option.fold ~none:0 ~some:Checkpoint.resumed_rays checkpoint in
   Render_report.warn_bad_samples st;
   Option.iter
     (fun p ->
       let j =
-        match Render_report.stats_json o sc ~build ~wall ~domains ~ranks st with
+        match
+          Render_report.stats_json ~resumed_rays o sc ~build ~wall ~domains ~ranks st
+        with
         | `Assoc l -> `Assoc (l @ extra)
         | j -> j
       in
@@ -79,7 +89,7 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?(extra = [])
     in
     let stdout = Output.is_stdout out in
     let line =
-      Render_report.summary ?size
+      Render_report.summary ?size ~resumed_rays
         ~out:(if stdout then "the image to standard output" else out)
         sc ~build ~render:wall ~workers st
     in
@@ -91,9 +101,16 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   check_outputs ?format:enc.format o ~out;
   let domains = Options.domains o in
   (* Only a checkpoint's key needs the digests of the files the scene reads. *)
-  let b = build ~digests:resume o in
+  (* The image's record and a checkpoint's key hold the digests of the files the scene
+     read: of the bytes it read. *)
+  let b = build ~digests:true o in
   let sc = b.scene in
   Output.guard_render o b.source ~out;
+  (* What lancer check warns of, before the render rather than after it. *)
+  if not o.quiet then
+    List.iter
+      (fun w -> Printf.eprintf "%s%!" (Diagnostic.to_string w))
+      (Program.warnings b.program sc);
   Render_report.warn_long_render o sc;
   Output.check_encoding enc ~out sc;
   if resume && Output.is_stdout out then
@@ -122,7 +139,7 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  finish ?cancel ~encoding:enc ?alpha o ~out ~checkpoint ~build:b.seconds ~wall ~domains
-    ~ranks:1
+  finish ?cancel ~encoding:enc ?alpha ~record:(record o b enc ~out) o ~out ~checkpoint
+    ~build:b.seconds ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
     sc fb st

@@ -4,7 +4,7 @@
 
 type built = {
   program : Program.t;
-  source : Source.t;  (** the program as the job layer sees it *)
+  source : Scenes.t;  (** the program as the job layer sees it *)
   scene : Scene.t;  (** at the chosen time, with the options' overrides *)
   files : string list;  (** the images and meshes that scene read *)
   time : float;
@@ -28,10 +28,14 @@ val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
 (** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
     saying how many tiles it brings back (unless [--quiet]). *)
 
+val record : Options.t -> built -> Output.encoding -> out:string -> Provenance.t
+(** The record of the image [out] of this still ({!Lancer_job.Provenance.make}). *)
+
 val finish :
   ?cancel:Cancel.t ->
   ?encoding:Output.encoding ->
   ?alpha:Float.Array.t ->
+  ?record:Provenance.t ->
   ?extra:(string * Yojson.Safe.t) list ->
   Options.t ->
   out:string ->
@@ -42,13 +46,14 @@ val finish :
   ranks:int ->
   workers:string ->
   Scene.t ->
-  Image.t ->
-  Stats.t ->
+  Framebuffer.t ->
+  Counters.t ->
   unit
-(** What follows a still's last tile: the image written ({!Output.write_image}, under a
-    progress note), the checkpoint removed, a warning for bad samples, the [--stats] JSON
-    ({!Render_report.stats_json} and [extra] fields) and, unless [--quiet], the summary
-    line ({!Render_report.summary}; on stderr when the image goes to standard output). *)
+(** What follows a still's last tile: the image written with [record]
+    ({!Output.write_image}, under a progress note), the checkpoint removed, a warning for
+    bad samples, the [--stats] JSON ({!Render_report.stats_json} and [extra] fields) and,
+    unless [--quiet], the summary line ({!Render_report.summary}; on stderr when the image
+    goes to standard output). *)
 
 val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image

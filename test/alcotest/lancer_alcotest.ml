@@ -61,7 +61,7 @@ let time_and_frame ?time ?frame prog =
       | Some (fps, _) -> Ok (Float.of_int k /. fps, k))
   | None, None -> Ok (0., 0)
 
-(* The program and its render, as lancer render makes it ({!Source.scene}): the quality
+(* The program and its render, as lancer render makes it ({!Scenes.scene}): the quality
    preset first, then the explicit settings; an open shutter's instants too. *)
 let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) path =
   let ( let* ) = Result.bind in
@@ -69,7 +69,7 @@ let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) 
   let* time, frame = time_and_frame ?time ?frame prog in
   let overrides = { Overrides.none with width; height; samples; quality } in
   let* sc =
-    match Source.scene (Program.source ~builtin:false prog) overrides ~time ~frame with
+    match Scenes.scene (Program.as_scenes ~builtin:false prog) overrides ~time ~frame with
     | sc, _ -> Ok sc
     | exception Job_error.Scene { errors; _ } -> Error (errs errors)
     | exception Job_error.User m -> Error m

@@ -194,6 +194,28 @@ let quality_cache () =
        "| knob | value | wall time (s) | M rays | RMSE (0–255) | PSNR dB | pixels off > \
         1/255 |");
   Alcotest.(check bool) "says it read the cache" true (contains md "read from the cache");
+  (* Before it measures, what it will render and roughly how long; then its progress (a
+     line at every tile with an interval of 0). *)
+  let st, _, e =
+    lancer
+      ~env:(("LANCER_PROGRESS_INTERVAL", "0") :: env)
+      [ "bench"; "quality"; scene; "--domains"; "1"; "--fresh" ]
+  in
+  Alcotest.(check int) ("fresh markdown exit\n" ^ e) 0 st;
+  Alcotest.(check bool)
+    ("what it renders, first:\n" ^ e)
+    true
+    (String.starts_with e
+       ~prefix:
+         (Printf.sprintf
+            "bench quality: 25 renders of %s at 24×18 on 1 domain: the reference (16×16 \
+             samples, depth 64), then samples 1×1 to 6×6, adaptive 0.2 to 0.02, depth 1 \
+             to 64, light samples 1×1 to 8×8, preset draft to reference; about "
+            scene)
+    && contains e "rays (lancer check's estimate), roughly ");
+  Alcotest.(check bool)
+    ("its progress:\n" ^ e) true
+    (contains e "renders 0/25" && contains e "renders 25/25 (100%)" && contains e "left ");
   (* another size is another measurement *)
   let other = json_of (args @ [ "--width"; "16"; "--height"; "12" ]) ~env () in
   Alcotest.(check bool)

@@ -13,13 +13,13 @@ let load text =
 let frame_scene ?(overrides = Overrides.none) p ~frame =
   let fps = match Program.animation p with Some (fps, _) -> fps | None -> 24. in
   let time = Float.of_int frame /. fps in
-  fst (Source.scene (Program.source ~builtin:false p) overrides ~time ~frame)
+  fst (Scenes.scene (Program.as_scenes ~builtin:false p) overrides ~time ~frame)
 
 let render ?(domains = 1) sc =
   fst (Render.with_pool domains (fun pool -> Render.render ?pool sc))
 
 (* The root mean square difference of two linear images, over every channel. *)
-let rmse (a : Image.t) (b : Image.t) =
+let rmse (a : Framebuffer.t) (b : Framebuffer.t) =
   let n = Float.Array.length a.data in
   let s = ref 0. in
   for k = 0 to n - 1 do
@@ -43,9 +43,9 @@ let average_of_instants p ~frame ~shutter:(o, c) ~n =
   | Ok scenes ->
       let images = Array.map (fun (sc, _) -> render sc) scenes in
       let first = images.(0) in
-      let avg = Image.create first.width first.height in
+      let avg = Framebuffer.create first.width first.height in
       Array.iter
-        (fun (im : Image.t) ->
+        (fun (im : Framebuffer.t) ->
           Float.Array.iteri
             (fun k v ->
               Float.Array.set avg.data k

@@ -215,6 +215,53 @@ let warning_tests =
              for i in 10 to 0 step -1 { }\n"
         in
         lacks "a loop that runs" out "warning");
+    Alcotest.test_case
+      "colours given as 0–255 are a located warning, in check and before a render, \
+       unless a light is dim enough for them"
+      `Quick (fun () ->
+        let scene intensity =
+          Printf.sprintf
+            "settings { width: 8, height: 6 }\n\
+             light { position: (0, 5, -5), intensity: %s }\n\
+             let orange = material { color: (255, 128, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1, material: orange }\n\
+             sphere { center: (2, 0, 0), radius: 1, material: orange }\n\
+             plane { normal: (0, 1, 0), offset: -1, material: material { texture: \
+             checker((1, 1, 1), (0, 0, 1.5), 1) } }\n"
+            intensity
+        in
+        let out = check_out (scene "1") in
+        has "located at the first object that has it" out
+          "s.rts:4:1: warning: colour (255, 128, 0) has a component above 1 and no light \
+           is dim enough to make up for it";
+        has "the colour divided by 255" out "divide by 255: (1, 0.502, 0))";
+        has "the other objects counted" out "; 1 more object has this colour";
+        has "the line and a caret" out "\nsphere { center: (0, 0, 0)";
+        has "a texture's colours too" out "s.rts:6:1: warning: colour (0, 0, 1.5)";
+        (* A light of intensity 1/255 makes up for 255; 1/2 for 1.5 but not for 255. *)
+        lacks "a dim light" (check_out (scene "1 / 255")) "component above 1";
+        let out = check_out (scene "0.5") in
+        lacks "1.5 under a light of 0.5" out "colour (0, 0, 1.5)";
+        has "255 under a light of 0.5" out "colour (255, 128, 0)";
+        (* render says it on stderr, before rendering; -q does not. *)
+        let d = scene_dir (scene "1") in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "render" 0 r;
+        has "render warns" e "s.rts:4:1: warning: colour (255, 128, 0)";
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png"; "-q" ] in
+        check_status "render -q" 0 r;
+        Alcotest.(check string) "render -q: no warning" "" e);
+    Alcotest.test_case "render repeats check's warnings on stderr before rendering" `Quick
+      (fun () ->
+        let d = scene_dir "sphere { center: (0, 0, 0), radius: 1 }\n" in
+        let ((_, out, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "render" 0 r;
+        has "no lights" e "s.rts: warning: the scene has no lights";
+        lacks "not on stdout" out "warning";
+        let d = scene_dir "// only a comment\n" in
+        let ((_, _, e) as r) = lancer ~dir:d [ "render"; "s.rts"; "-o"; "s.png" ] in
+        check_status "render an empty scene" 0 r;
+        has "empty" e "s.rts: warning: the scene is empty (no statements)");
   ]
 
 (* The row of [name] in check's estimate table, as words. *)
@@ -232,6 +279,28 @@ let row out name =
 
 let cost_tests =
   [
+    Alcotest.test_case "check --width and --height: the estimates at that size" `Quick
+      (fun () ->
+        let d =
+          scene_dir
+            "settings { width: 100, height: 50 }\n\
+             light { position: (0, 5, 0) }\n\
+             sphere { center: (0, 0, 0), radius: 1 }\n"
+        in
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "s.rts"; "--width"; "200"; "--height"; "100" ]
+        in
+        check_status "check --width --height" 0 r;
+        has "the size" out "image: 200×100";
+        Alcotest.(check (list string))
+          "as set: four times the primary rays"
+          [ "as"; "set"; "20"; "k"; "40"; "k"; "40"; "k"; "(depth"; "5)"; "1" ]
+          (row out "as");
+        let ((_, out, _) as r) =
+          lancer ~dir:d [ "check"; "s.rts"; "--json"; "--width"; "30" ]
+        in
+        check_status "check --json --width" 0 r;
+        has "in the JSON" out "\"width\": 30");
     Alcotest.test_case
       "check estimates the rays of the scene and of each preset, and says it is an \
        estimate"

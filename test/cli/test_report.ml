@@ -1,6 +1,6 @@
 (* The one way lancer reports a failure (Job_error.describe): the text and exit status of each kind,
    as doc/reference/command-line.md ("Exit status and errors") documents them; and a
-   program's scenes as the job layer gets them (Program.source). *)
+   program's scenes as the job layer gets them (Program.as_scenes). *)
 open Lancer
 
 let contains s sub =
@@ -67,13 +67,13 @@ sphere { center: (0, 1, 0), radius: 1.5 - frame * 0.5 }
     | Ok p -> p
     | Error _ -> Alcotest.fail "the scene does not load"
   in
-  let src = Program.source ~builtin:false prog in
+  let src = Program.as_scenes ~builtin:false prog in
   Alcotest.(check (option (pair (float 0.) int)))
     "its animation"
     (Some (4., 4))
     src.animation;
   let sc, _ =
-    Source.scene src { Overrides.none with width = Some 8 } ~time:0.25 ~frame:1
+    Scenes.scene src { Overrides.none with width = Some 8 } ~time:0.25 ~frame:1
   in
   Alcotest.(check (pair int int))
     "frame 1, overridden" (8, 10)

@@ -561,8 +561,7 @@ let stdin_tests =
           (lancer ~dir:d [ "render"; "s.rts"; "-o"; "file.png"; "-q" ]);
         Alcotest.(check bool)
           "the same image" true
-          (read_file (Filename.concat d "in.png")
-          = read_file (Filename.concat d "file.png"));
+          (pixels (Filename.concat d "in.png") = pixels (Filename.concat d "file.png"));
         check_status "animate -" 0
           (lancer_stdin ~dir:d ~input:anim
              [ "animate"; "-"; "-o"; "frames"; "-q"; "--frames"; "3" ]);
@@ -570,8 +569,8 @@ let stdin_tests =
           (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "3"; "-o"; "f3.png"; "-q" ]);
         Alcotest.(check bool)
           "frame 3 the same" true
-          (read_file (Filename.concat d "frames/frame_0003.png")
-          = read_file (Filename.concat d "f3.png")));
+          (pixels (Filename.concat d "frames/frame_0003.png")
+          = pixels (Filename.concat d "f3.png")));
     Alcotest.test_case "a scene from standard input needs -o" `Quick (fun () ->
         let d = scenes () in
         let ((_, _, e) as r) = lancer_stdin ~dir:d ~input:still [ "render"; "-" ] in
@@ -614,7 +613,7 @@ let stdin_tests =
           (lancer ~dir:d [ "render"; "i.rts"; "-o"; "j.png"; "-q" ]);
         Alcotest.(check bool)
           "the same image" true
-          (read_file (Filename.concat d "i.png") = read_file (Filename.concat d "j.png"));
+          (pixels (Filename.concat d "i.png") = pixels (Filename.concat d "j.png"));
         let ((_, _, e) as r) =
           lancer_stdin ~dir:d ~input:(scene "inc/bad.rts") [ "check"; "-" ]
         in

@@ -239,7 +239,7 @@ let lambert_tests =
           Scene.make_exn ~settings:small ~lights:[ light ]
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        let got = Shade.trace sc (Stats.create ()) (centre_ray ()) 1 in
+        let got = Shade.trace sc (Task.create ()) (centre_ray ()) 1 in
         (* P = (0,0,−1), N·L = 1, d = 9, att = 1/(1 + 0.9 + 0.81) *)
         let att = 1. /. (1. +. 0.9 +. 0.81) in
         let k = 0.1 +. (0.9 *. 2. *. att) in
@@ -251,7 +251,7 @@ let lambert_tests =
             ~lights:[ Light.directional (v 1. 0. 1.) ]
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        let got = Shade.trace sc (Stats.create ()) (centre_ray ()) 1 in
+        let got = Shade.trace sc (Task.create ()) (centre_ray ()) 1 in
         check_color ~eps:1e-12 "cos 45°" got (Color.scale (Float.sqrt 0.5) Color.white));
     Alcotest.test_case "a light behind the surface contributes nothing" `Quick (fun () ->
         let m = mat ~ambient:0.2 () in
@@ -261,7 +261,7 @@ let lambert_tests =
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
         check_color "ambient only"
-          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Shade.trace sc (Task.create ()) (centre_ray ()) 1)
           (Color.scale 0.2 Color.white));
     Alcotest.test_case "Phong highlight adds specular · (R·V)^n · E, uncoloured" `Quick
       (fun () ->
@@ -275,7 +275,7 @@ let lambert_tests =
             [ prim m (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
         check_color ~eps:1e-12 "white highlight"
-          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Shade.trace sc (Task.create ()) (centre_ray ()) 1)
           (Color.scale 0.5 Color.white));
     Alcotest.test_case
       "shininess 0: max(0, R·V)^0 = 1, so specular · E even where R·V < 0" `Quick
@@ -291,7 +291,7 @@ let lambert_tests =
         in
         let ray = Camera.ray camera ~width:11 ~height:11 5.5 5.5 in
         check_color ~eps:1e-12 "specular · E"
-          (Shade.trace sc (Stats.create ()) ray 1)
+          (Shade.trace sc (Task.create ()) ray 1)
           (Color.scale 0.5 Color.white));
     Alcotest.test_case "an opaque object between surface and light casts a full shadow"
       `Quick (fun () ->
@@ -306,7 +306,7 @@ let lambert_tests =
         in
         (* The camera at z = −5 is between the blocker (z = −7) and the sphere. *)
         check_color "ambient"
-          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Shade.trace sc (Task.create ()) (centre_ray ()) 1)
           (Color.scale 0.1 Color.white));
     Alcotest.test_case "shadows: false ignores blockers" `Quick (fun () ->
         let m = mat ~ambient:0. ~diffuse:1. () in
@@ -319,7 +319,7 @@ let lambert_tests =
               prim m (Shape.sphere ~center:(v 0. 0. (-7.)) ~radius:0.5);
             ]
         in
-        check_color "lit" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) Color.white);
+        check_color "lit" (Shade.trace sc (Task.create ()) (centre_ray ()) 1) Color.white);
     Alcotest.test_case "a transparent blocker transmits (τ·C) once per surface crossed"
       `Quick (fun () ->
         let m = mat ~ambient:0. ~diffuse:1. () in
@@ -334,12 +334,12 @@ let lambert_tests =
         in
         (* Two crossings of the glass sphere: (0.5·C)² *)
         check_color ~eps:1e-12 "filtered"
-          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
+          (Shade.trace sc (Task.create ()) (centre_ray ()) 1)
           (Color.v 0.25 0.0625 0.0625));
     Alcotest.test_case "a ray that hits nothing returns the background" `Quick (fun () ->
         let bg = Color.v 0.1 0.2 0.3 in
         let sc = Scene.make_exn ~settings:{ small with background = bg } ~lights:[] [] in
-        check_color "bg" (Shade.trace sc (Stats.create ()) (centre_ray ()) 1) bg);
+        check_color "bg" (Shade.trace sc (Task.create ()) (centre_ray ()) 1) bg);
   ]
 
 let mirror_floor ?(depth = 5) ?(bg = Color.v 0.2 0.4 0.6) reflection =
@@ -357,14 +357,14 @@ let reflection_tests =
       (fun () ->
         let bg = Color.v 0.2 0.4 0.6 in
         let sc = mirror_floor 0.25 in
-        let got = Shade.trace sc (Stats.create ()) (down_ray ()) 1 in
+        let got = Shade.trace sc (Task.create ()) (down_ray ()) 1 in
         check_color ~eps:1e-12 "mix" got
           (Color.add (Color.scale 0.75 Color.white) (Color.scale 0.25 bg)));
     Alcotest.test_case "at the depth limit the reflection contributes black" `Quick
       (fun () ->
         let sc = mirror_floor ~depth:1 0.25 in
         check_color ~eps:1e-12 "no bounce"
-          (Shade.trace sc (Stats.create ()) (down_ray ()) 1)
+          (Shade.trace sc (Task.create ()) (down_ray ()) 1)
           (Color.scale 0.75 Color.white));
     Alcotest.test_case "reflect mirrors the direction about the normal" `Quick (fun () ->
         check_vec "r" (Shade.reflect (v 1. (-1.) 0.) Vec3.y_axis) (v 1. 1. 0.));
@@ -404,7 +404,7 @@ let refraction_tests =
         let r =
           Ray.make (v 0. (-1.) 0.) (v (Float.sin (deg 60.)) (Float.cos (deg 60.)) 0.)
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         check_color ~eps:1e-12 "bg via reflection" (Shade.trace sc st r 1) bg;
         Alcotest.(check int) "no refracted ray" 0 st.refracted;
         Alcotest.(check int) "one reflected ray" 1 st.reflected);
@@ -417,9 +417,7 @@ let refraction_tests =
             ~lights:[]
             [ prim glass (Shape.sphere ~center:Vec3.zero ~radius:1.) ]
         in
-        check_color ~eps:1e-12 "bg"
-          (Shade.trace sc (Stats.create ()) (centre_ray ()) 1)
-          bg);
+        check_color ~eps:1e-12 "bg" (Shade.trace sc (Task.create ()) (centre_ray ()) 1) bg);
     Alcotest.test_case "Schlick Fresnel with ior 1.5 reflects F0 = 0.04 head-on" `Quick
       (fun () ->
         let bg = Color.v 1. 1. 1. in
@@ -440,7 +438,7 @@ let refraction_tests =
         in
         let r = Ray.make (v 0. 1. 0.) (v 0. (-1.) 0.) in
         check_color ~eps:1e-12 "F0"
-          (Shade.trace sc (Stats.create ()) r 1)
+          (Shade.trace sc (Task.create ()) r 1)
           (Color.scale 0.04 Color.white));
   ]
 
@@ -462,9 +460,9 @@ let texture_tests =
         in
         (* Hit at (0.5, 0, 0.5): ⌊0.5⌋ + ⌊−δ⌋ + ⌊0.5⌋ = −1, odd → c2. *)
         let r = Ray.make (v 0.5 1. 0.5) (v 0. (-1.) 0.) in
-        check_color "c2" (Shade.trace sc (Stats.create ()) r 1) c2;
+        check_color "c2" (Shade.trace sc (Task.create ()) r 1) c2;
         let r = Ray.make (v 1.5 1. 0.5) (v 0. (-1.) 0.) in
-        check_color "c1" (Shade.trace sc (Stats.create ()) r 1) c1);
+        check_color "c1" (Shade.trace sc (Task.create ()) r 1) c1);
   ]
 
 (* ---- images and files ---- *)
@@ -479,10 +477,10 @@ let tmpdir () =
   d
 
 let gradient () =
-  let fb = Image.create 7 5 in
+  let fb = Framebuffer.create 7 5 in
   for j = 0 to 4 do
     for i = 0 to 6 do
-      Image.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
+      Framebuffer.set fb i j (Color.v (Float.of_int i /. 6.) (Float.of_int j /. 4.) 0.5)
     done
   done;
   fb
@@ -619,7 +617,7 @@ let words_per_ray sc =
   ignore (Render.render sc);
   let w0 = Gc.minor_words () in
   let _, st = Render.render sc in
-  (Gc.minor_words () -. w0) /. Float.of_int (Stats.total_rays st)
+  (Gc.minor_words () -. w0) /. Float.of_int (Counters.total_rays st)
 
 let render_tests =
   [
@@ -659,8 +657,7 @@ let render_tests =
             in
             let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 1e3) ] prims in
             let t =
-              Shade.transmittance sc (Stats.create ()) (Vec3.v 0. 0. (-5.)) Vec3.z_axis
-                1e3
+              Shade.transmittance sc (Task.create ()) (Vec3.v 0. 0. (-5.)) Vec3.z_axis 1e3
             in
             (* Two crossings a sphere, the spheres in order of z. *)
             let expected =
@@ -691,7 +688,7 @@ let render_tests =
         let counters = 9 and lines = 128 / (Sys.word_size / 8) in
         Alcotest.(check bool)
           "counters, then two lines of padding" true
-          (Obj.size (Obj.repr (Stats.create ())) >= counters + lines));
+          (Obj.size (Obj.repr (Task.create ())) >= counters + lines));
     Alcotest.test_case
       "1, 2, 3 and 4 domains give identical framebuffers (jitter and soft shadows on)"
       `Slow (fun () ->
@@ -730,7 +727,7 @@ let render_tests =
                   for i = 0 to cw - 1 do
                     let x = min 69 ((i * k) + (k / 2))
                     and y = min 44 ((j * k) + (k / 2)) in
-                    let a = Image.get fb i j and b = Image.get full x y in
+                    let a = Framebuffer.get fb i j and b = Framebuffer.get full x y in
                     if not (a.r = b.r && a.g = b.g && a.b = b.b) then
                       Alcotest.failf "%s: pixel %d,%d is not the image's %d,%d" name i j x
                         y
@@ -747,7 +744,7 @@ let render_tests =
         let sc = demo_scene () in
         let _, a = Render.render sc in
         let _, b = Render.with_pool 2 (fun pool -> Render.render ?pool sc) in
-        Alcotest.(check int) "rays" (Stats.total_rays a) (Stats.total_rays b);
+        Alcotest.(check int) "rays" (Counters.total_rays a) (Counters.total_rays b);
         Alcotest.(check int) "primary" (64 * 48) a.primary);
     Alcotest.test_case "n×n supersampling averages the sub-pixel centres" `Quick
       (fun () ->
@@ -756,10 +753,10 @@ let render_tests =
             ~settings:{ Settings.default with width = 8; height = 6; samples = 2 }
             ()
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         let got = Render.pixel sc st 3 2 in
         let one x y =
-          Shade.trace sc (Stats.create ()) (Camera.ray sc.camera ~width:8 ~height:6 x y) 1
+          Shade.trace sc (Task.create ()) (Camera.ray sc.camera ~width:8 ~height:6 x y) 1
         in
         let expect =
           Color.scale 0.25
@@ -1065,7 +1062,7 @@ let unit_tests =
             ~settings:{ Settings.default with width = 4096; height = 4096 }
             ~lights:[] []
         in
-        let fb = Image.create 64 64 in
+        let fb = Framebuffer.create 64 64 in
         (* Tiles 0 and 1 lie inside a 64×64 framebuffer's first rows. *)
         ignore (Render.render_tiles sc fb [| 0; 1 |]);
         let before = (Gc.quick_stat ()).major_words in
@@ -1077,6 +1074,73 @@ let unit_tests =
         Alcotest.(check bool)
           (Printf.sprintf "%.0f major words per call" per_call)
           true (per_call < 5000.));
+    Alcotest.test_case
+      "a tile found by arithmetic is the tile of the grid, clipped to the region" `Quick
+      (fun () ->
+        (* The definition: the 32×32 grid of the (strided) image, row-major, keeping the
+           tiles that meet the region, clipped to it. *)
+        let grid w h =
+          List.concat
+            (List.init
+               ((h + 31) / 32)
+               (fun ty ->
+                 List.init
+                   ((w + 31) / 32)
+                   (fun tx ->
+                     (tx * 32, ty * 32, min w ((tx + 1) * 32), min h ((ty + 1) * 32)))))
+        in
+        let expected w h (region : Image.region option) =
+          match region with
+          | None -> grid w h
+          | Some r ->
+              List.filter_map
+                (fun (x0, y0, x1, y1) ->
+                  let x0 = max x0 r.x0 and y0 = max y0 r.y0 in
+                  let x1 = min x1 r.x1 and y1 = min y1 r.y1 in
+                  if x0 < x1 && y0 < y1 then Some (x0, y0, x1, y1) else None)
+                (grid w h)
+        in
+        List.iter
+          (fun (w, h) ->
+            let sc =
+              Scene.make_exn
+                ~settings:{ Settings.default with width = w; height = h }
+                ~lights:[] []
+            in
+            let regions =
+              None
+              :: List.map
+                   (fun (x0, y0, x1, y1) -> Some { Image.x0; y0; x1; y1 })
+                   [
+                     (0, 0, w, h);
+                     (1, 1, 2, 2);
+                     (31, 31, 33, 33);
+                     (32, 0, min w 64, h);
+                     (w / 3, h / 5, w - (w / 4), h);
+                     (w - 1, h - 1, w, h);
+                   ]
+            in
+            List.iter
+              (fun region ->
+                let want = expected w h region in
+                let name = Printf.sprintf "%d×%d" w h in
+                Alcotest.(check int)
+                  (name ^ ": count") (List.length want)
+                  (Render.tile_count ?region sc);
+                Alcotest.(check (list (pair (pair int int) (pair int int))))
+                  name
+                  (List.map (fun (a, b, c, d) -> ((a, b), (c, d))) want)
+                  (List.map
+                     (fun (a, b, c, d) -> ((a, b), (c, d)))
+                     (Array.to_list (Render.tiles ?region sc))))
+              regions;
+            (* Strided: the grid of the ⌈w/k⌉×⌈h/k⌉ image. *)
+            let k = 3 in
+            Alcotest.(check int)
+              (Printf.sprintf "%d×%d by %d" w h k)
+              (List.length (grid ((w + k - 1) / k) ((h + k - 1) / k)))
+              (Render.tile_count ~stride:k sc))
+          [ (1, 1); (31, 33); (32, 32); (33, 65); (100, 70); (640, 480) ]);
   ]
 
 let () =

@@ -750,7 +750,7 @@ let test_mixed_shadow () =
   in
   let p = Primitive.make ~leaf_materials:[| None; Some glass |] Material.default shape in
   let sc = Scene.make_exn ~lights:[ Light.point (Vec3.v 0. 0. 10.) ] [ p ] in
-  let st = Stats.create () in
+  let st = Task.create () in
   let through_box = Shade.transmittance sc st (Vec3.v 0.5 0.5 (-5.)) Vec3.z_axis 20. in
   Alcotest.(check bool)
     "through the box's solid part: black" true

@@ -183,6 +183,9 @@ let run env ~dir cmd =
              || starts_with ~prefix:"LANCER_" kv
              || starts_with ~prefix:"OCAMLRUNPARAM=" kv))
     |> List.cons ("PATH=" ^ path)
+    (* Progress lines come with time (a line every few seconds when stderr is not a
+       terminal): a transcript shows what a command prints whatever its speed. *)
+    |> List.cons "LANCER_PROGRESS_INTERVAL=off"
     |> Array.of_list
   in
   let rd, wr = Unix.pipe ~cloexec:true () in

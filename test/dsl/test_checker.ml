@@ -75,6 +75,35 @@ let test_loops () =
     "if false { for i in 0 to 3 { sphere { center: i, radius: 1 } } }\n"
     [ "test.rts:1:47: `center` must be a vector (x, y, z), got a number" ]
 
+let test_lists_and_strings () =
+  check_errors "an index that is not a number, len of a number, a string plus a number"
+    "let a = [1, 2][\"a\"]\nlet b = len(3)\nlet c = \"a\" + 1\n"
+    [
+      "test.rts:1:16: a list index must be a number, got a string";
+      "test.rts:2:13: argument 1 of `len` must be a list, got a number";
+      "test.rts:3:9: `+` cannot combine a string and a number";
+    ];
+  check_errors "in code that does not run: elements of two types, indexing a number"
+    "if false { let d = [1, (1, 2, 3)]\nlet e = d[0]\nlet k = (1, 2, 3)[0] }\n"
+    [
+      "test.rts:1:24: the elements of a list must be of one type: element 2 is a vector, \
+       the first a number";
+      "test.rts:3:9: `[…]` takes an element of a list, got a vector";
+    ];
+  check_errors "a loop over a number; a list's element has its type"
+    "for p in 3 { }\nfor q in [1, 2] { sphere { center: q, radius: 1 } }\n"
+    [
+      "test.rts:1:10: `for NAME in` goes over a list (`for p in [a, b] { … }`) or a \
+       range (`for i in A to B { … }`), got a number";
+      "test.rts:2:36: `center` must be a vector (x, y, z), got a number";
+    ];
+  check_errors "an element of unknown type is the evaluation's to check"
+    "fn f(x) = [x, 2][0]\nlet y = f(\"s\")\n"
+    [
+      "test.rts:1:15: the elements of a list must be of one type: element 2 is a number, \
+       the first a string";
+    ]
+
 let test_groups_and_csg () =
   check_errors "in nested groups and CSG blocks"
     "fn dice() {\n\
@@ -264,6 +293,11 @@ let same_as_evaluator =
     "fn m(a) { sphere { center: a, radius: 1 } }\nlet k = m(1)\nm(1, 2)";
     "for i in (1, 2, 3) to 2 { }\nif 2 { }\nlet l = 1 and true";
     "let cm = color_map((0, (1, 0, 0)), 3, (\"a\", 1))\nlet gr = gradient(1, 2)";
+    "let a = [1, 2][\"a\"]\n\
+     let b = len(3)\n\
+     let c = \"a\" + 1\n\
+     let d = [1, \"a\", (1, 2, 3)]";
+    "let e = 3[0]\nfor p in 3 { }\nlet f = [[1], [\"a\"]]\nlet g = [1][true]";
   ]
 
 let test_same_as_evaluator () =
@@ -535,9 +569,9 @@ let roots text =
         expr c;
         maybe := a.loc :: b.loc :: !maybe
     | Vec (a, b, c) -> List.iter expr [ a; b; c ]
-    | Pair (a, b) | Binop (_, a, b) -> List.iter expr [ a; b ]
+    | Pair (a, b) | Binop (_, a, b) | Index (a, b) -> List.iter expr [ a; b ]
     | Unop (_, a) | Dot (a, _) -> expr a
-    | Call (_, args) -> List.iter expr args
+    | Call (_, args) | List args -> List.iter expr args
     | Material items ->
         List.iter (function Ast.Field (_, e) -> expr e | Stmt _ -> ()) items
   in
@@ -551,6 +585,9 @@ let roots text =
     | Macro (_, _, b) | Included (_, b) -> List.iter stmt b
     | For (_, a, b, st, body) ->
         List.iter root (a :: b :: Option.to_list st);
+        List.iter stmt body
+    | For_each (_, l, body) ->
+        root l;
         List.iter stmt body
     | If_stmt (c, t, e) ->
         root c;
@@ -657,6 +694,8 @@ let test_operators () =
         material Lancer_description.Description.default_material;
         VTex { tname = "checker"; targs = []; tloc = Lancer_diag.Loc.whole_file "t" };
         VPair (VNum 0.5, VVec (Lancer_math.Vec3.v 1. 0. 0.));
+        VList [| VNum 1.; VNum 2. |];
+        VList [||];
       ]
   in
   let loc = Lancer_diag.Loc.whole_file "t" in
@@ -699,6 +738,7 @@ let () =
           Alcotest.test_case "functions" `Quick test_functions;
           Alcotest.test_case "loops" `Quick test_loops;
           Alcotest.test_case "groups and CSG" `Quick test_groups_and_csg;
+          Alcotest.test_case "lists and strings" `Quick test_lists_and_strings;
           Alcotest.test_case "includes" `Quick test_includes;
         ] );
       ( "with the evaluation",

@@ -144,6 +144,33 @@ let test_let_fn_scoping () =
 
 let count text = Array.length (scene text).objects
 
+(* Lists: literals, indexing from 0, len, iteration in order; strings joined by +. *)
+let test_lists_and_strings () =
+  Alcotest.(check int)
+    "for p in a list" 3
+    (count
+       "let pts = [(0, 0, 0), (1, 0, 0), (2, 0, 0)]\n\
+        for p in pts { sphere { center: p, radius: 0.1 } }");
+  veq "iteration in order, indexing from 0" (Vec3.v 2. 0. 0.)
+    (vec "[(0, 0, 0), (1, 0, 0), (2, 0, 0)][2]");
+  feq "len, nested lists, a comma after the last" 5.
+    (num "len([[1, 2], [], [3],]) + [[1, 2], [3]][0][1]");
+  feq "len of an empty list" 1. (num "len([]) + 1");
+  Alcotest.(check int)
+    "a loop over an empty list runs no time" 0
+    (count "for p in [] { sphere { center: p, radius: 0.1 } }");
+  feq "a list made from names and indexed by a computed number" 30.
+    (num "(if true then [10, 20, 30] else [])[floor(2.5)]");
+  feq "strings joined with +" 1.
+    (num "if \"wood\" + \".\" + \"png\" == \"wood.png\" then 1 else 0");
+  Alcotest.(check int)
+    "a list of materials" 2
+    (count
+       "let ms = [material { color: (1, 0, 0) }, material { color: (0, 1, 0) }]\n\
+        for m in ms { sphere { center: (0, 0, 0), radius: 1, material: m } }");
+  check_err "let pts = [1, 2, 3]\nlet x = pts[3]"
+    "index 3 is out of range: the list has 3 elements, indices 0 to 2"
+
 let test_loops_and_macros () =
   Alcotest.(check int)
     "inclusive loop" 5
@@ -457,6 +484,63 @@ let test_includes () =
       Alcotest.(check bool)
         "cycle" true
         (List.exists (fun (e : Error.t) -> contains e.message "include cycle") es)
+
+(* Each POV-Ray directive is named in its own message, with what to write instead. *)
+let test_directives () =
+  List.iter
+    (fun d ->
+      let ms = errs (Printf.sprintf "#%s X\n" d) in
+      if not (List.exists (fun m -> contains m (Printf.sprintf "`#%s` is not used" d)) ms)
+      then Alcotest.failf "#%s: %s" d (String.concat "\n" ms))
+    [
+      "declare";
+      "local";
+      "undef";
+      "include";
+      "if";
+      "ifdef";
+      "ifndef";
+      "else";
+      "elseif";
+      "switch";
+      "case";
+      "range";
+      "break";
+      "end";
+      "for";
+      "while";
+      "macro";
+      "version";
+      "default";
+      "debug";
+      "warning";
+      "error";
+      "fopen";
+    ];
+  check_err "#for (I, 0, 9)" "write `for i in A to B step S { … }`";
+  check_err "#while (I < 9)" "write `for i in A to B { … }`";
+  check_err "#local R = 2" "write `let NAME = value`";
+  check_err "#end" "closed by `}`";
+  check_err "#else" "write `} else {`";
+  check_err "#version 3.7;" "delete it"
+
+(* A byte-order mark is skipped: the scene loads and columns count from what follows it;
+   typographic quotes are named. *)
+let test_bom_and_quotes () =
+  let bom = "\xEF\xBB\xBF" in
+  let s = scene (bom ^ "sphere { center: (0, 0, 0), radius: 2 }") in
+  Alcotest.(check int) "one object" 1 (Array.length s.objects);
+  (match Dsl.load_string ~filename:"test.rts" (bom ^ "let r = raduis") with
+  | Error [ e ] -> Alcotest.(check (pair int int)) "line, column" (1, 9) (e.line, e.col)
+  | _ -> Alcotest.fail "expected one error");
+  List.iter
+    (fun q ->
+      check_err
+        (Printf.sprintf "let t = image(%swood.png%s, 1)" q q)
+        (Printf.sprintf "a typographic quote %s; write \"" q))
+    [ "\xE2\x80\x9C"; "\xE2\x80\x98" ];
+  check_err "let t = x\xE2\x80\x9D" "a typographic quote \xE2\x80\x9D";
+  check_err "let t = x\xE2\x80\x99" "a typographic quote \xE2\x80\x99"
 
 let test_errors () =
   check_err "sphere { center: (0,0,0), radiu: 1 }" "did you mean `radius`?";
@@ -1043,6 +1127,9 @@ let () =
           Alcotest.test_case
             "operators follow the precedence of doc/reference/language.md" `Quick
             test_precedence;
+          Alcotest.test_case
+            "lists are made, indexed, counted and gone over; strings joined" `Quick
+            test_lists_and_strings;
           Alcotest.test_case "vector arithmetic and components work component-wise" `Quick
             test_vectors;
           Alcotest.test_case "every built-in computes what its name says" `Quick
@@ -1084,6 +1171,10 @@ let () =
             test_errors;
           Alcotest.test_case "an error prints file:line:col, the line and a caret" `Quick
             test_error_display;
+          Alcotest.test_case "each POV-Ray directive gets a hint of its own" `Quick
+            test_directives;
+          Alcotest.test_case "a byte-order mark is skipped and typographic quotes named"
+            `Quick test_bom_and_quotes;
           Alcotest.test_case "a very long line is shown as a window around the error"
             `Quick test_long_line;
         ] );

@@ -101,7 +101,7 @@ let camera_tests =
         in
         let sc = Scene.make_exn ~settings ~camera ~lights:[] [] in
         (* f = (0, 0.6, 0.8): mix(horizon, zenith, 0.6). *)
-        let st = Stats.create () in
+        let st = Task.create () in
         check_color "corner" (Render.pixel sc st 0 0) (Color.v 0.4 0.2 0.6);
         Alcotest.(check int) "no ray traced for it" 0 st.primary);
     Alcotest.test_case
@@ -204,7 +204,7 @@ let dof_tests =
               (floats_equal fb.data reference.data);
             Alcotest.(check int)
               (Printf.sprintf "rays on %d domains" n)
-              (Stats.total_rays rs) (Stats.total_rays st))
+              (Counters.total_rays rs) (Counters.total_rays st))
           [ 1; 2; 3 ]);
     Alcotest.test_case "each sample casts lens_samples² primary rays" `Quick (fun () ->
         let _, st = Render.render (dof_scene ~lens_samples:3 ~samples:2 ()) in
@@ -274,7 +274,7 @@ let spot_tests =
           let x = Float.tan (theta_deg *. Float.pi /. 180.) in
           let p = v x 0. 0. in
           let o = v x 1. (-1.) in
-          (Shade.trace sc (Stats.create ()) (Ray.make o (Vec3.sub p o)) 1).r
+          (Shade.trace sc (Task.create ()) (Ray.make o (Vec3.sub p o)) 1).r
         in
         close ~eps:1e-9 "at 10°" (cosd 10.) (at 10.);
         close ~eps:1e-9 "at 20° (inner)" (cosd 20.) (at 20.);
@@ -288,7 +288,7 @@ let spot_tests =
           Scene.make_exn ~lights:[ light ]
             [ prim (matte ()) (Shape.plane ~normal:Vec3.y_axis ~offset:0.) ]
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         ignore (Shade.trace sc st (Ray.make (v 5. 1. (-1.)) (v 0. (-1.) 1.)) 1);
         Alcotest.(check int) "shadow rays" 0 st.shadow);
     Alcotest.test_case "a spot light with a radius has soft shadows and the same cone"
@@ -300,7 +300,7 @@ let spot_tests =
           Scene.make_exn ~lights:[ soft ]
             [ prim (matte ()) (Shape.plane ~normal:Vec3.y_axis ~offset:0.) ]
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         let c = Shade.trace sc st (Ray.make (v 0.1 1. (-1.)) (v 0. (-1.) 1.)) 1 in
         Alcotest.(check int) "16 shadow rays" 16 st.shadow;
         close ~eps:1e-9 "unshadowed: as the hard spot" (Float.cos (Float.atan 0.1)) c.r);
@@ -342,10 +342,10 @@ let environment_tests =
           Scene.make_exn ~settings:{ Settings.default with sky = Some sky } ~lights:[] []
         in
         check_color "up"
-          (Shade.trace sc (Stats.create ()) (Ray.make Vec3.zero (v 0. 1. 0.)) 1)
+          (Shade.trace sc (Task.create ()) (Ray.make Vec3.zero (v 0. 1. 0.)) 1)
           sky.zenith;
         check_color "level"
-          (Shade.trace sc (Stats.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1)
+          (Shade.trace sc (Task.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1)
           sky.horizon);
     Alcotest.test_case
       "fog keeps e^(−t/D) of a surface t away and adds the rest of its colour" `Quick
@@ -362,7 +362,7 @@ let environment_tests =
           Scene.make_exn ~settings ~lights:[]
             [ prim wall (Shape.plane ~normal:(v 0. 0. 1.) ~offset:3.) ]
         in
-        let got = Shade.trace sc (Stats.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1 in
+        let got = Shade.trace sc (Task.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1 in
         let e = Float.exp (-1.5) in
         check_color "fogged" got (Color.v e (e +. (0.5 *. (1. -. e))) 1.));
     Alcotest.test_case "a ray that hits nothing is all fog" `Quick (fun () ->
@@ -378,7 +378,7 @@ let environment_tests =
             ~lights:[] []
         in
         check_color "miss"
-          (Shade.trace sc (Stats.create ()) (Ray.make Vec3.zero (v 0. 1. 0.)) 1)
+          (Shade.trace sc (Task.create ()) (Ray.make Vec3.zero (v 0. 1. 0.)) 1)
           fc);
     Alcotest.test_case
       "fog applies to each segment of a reflected ray, not to shadow rays" `Quick
@@ -402,7 +402,7 @@ let environment_tests =
             ]
         in
         let got =
-          (Shade.trace sc (Stats.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1).r
+          (Shade.trace sc (Task.create ()) (Ray.make Vec3.zero (v 0. 0. 1.)) 1).r
         in
         let seg t c =
           (c *. Float.exp (-.t /. d)) +. (0.2 *. (1. -. Float.exp (-.t /. d)))

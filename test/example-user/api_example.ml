@@ -33,6 +33,6 @@ let () =
   match Compare.compare golden rgb with
   | Error m -> fail "%s" m
   | Ok c ->
-      Format.printf "%d rays; against the golden: %a@." (Stats.total_rays stats)
+      Format.printf "%d rays; against the golden: %a@." (Counters.total_rays stats)
         Compare.pp c;
       if not (Compare.within ~max_diff:1 c) then exit 1

@@ -1503,10 +1503,10 @@ and blue = Color.v 0. 0. 1.
 
 let ramp =
   (* 4×1 image, brightness growing to the right. *)
-  let img = Image.create 4 1 in
+  let img = Framebuffer.create 4 1 in
   for i = 0 to 3 do
     let x = Float.of_int i /. 3. in
-    Image.set img i 0 (Color.v x x x)
+    Framebuffer.set img i 0 (Color.v x x x)
   done;
   img
 
@@ -1576,7 +1576,7 @@ let texture_tests =
         in
         close "unit" 1. (Vec3.length n);
         Alcotest.(check bool) "tilted toward −x (u grows with x)" true (n.x < -0.01);
-        let flat = Image.create 4 4 in
+        let flat = Framebuffer.create 4 4 in
         let n =
           Bump.perturb
             (Description.Image_bump { image = flat; amount = 1. })

@@ -124,6 +124,29 @@ let exr_float () =
     ~channels:3
     (fun ~brightest:_ v -> (Float.abs v *. 1e-7) +. png_step)
 
+(* The record of where an EXR came from: the header's string attribute "lancer" (name,
+   NUL, type "string", NUL, a 32-bit little-endian size, the text). *)
+let exr_record () =
+  let d = tmpdir "lancer-hdr" in
+  write_file (path d "s.rts") scene;
+  render d [ "-o"; "s.exr" ];
+  let bytes = read_file (path d "s.exr") in
+  let key = "lancer\000string\000" in
+  let rec find i =
+    if i + String.length key > String.length bytes then
+      Alcotest.fail "no attribute lancer in the EXR header"
+    else if String.sub bytes i (String.length key) = key then i + String.length key
+    else find (i + 1)
+  in
+  let at = find 0 in
+  let n = Int32.to_int (String.get_int32_le bytes at) in
+  match Lancer.Provenance.of_text (String.sub bytes (at + 4) n) with
+  | Error m -> Alcotest.fail m
+  | Ok r ->
+      Alcotest.(check (option string)) "the scene" (Some "s.rts") r.scene;
+      Alcotest.(check string) "no blocks" "" r.blocks;
+      Alcotest.(check string) "the version" Lancer.Version.v r.version
+
 (* An animation's frames as EXR: frame_0000.exr …, each the still of its instant, and a
    resumed run finds them done. *)
 let exr_frames () =
@@ -147,7 +170,7 @@ let exr_frames () =
       Alcotest.(check bool)
         (Printf.sprintf "frame %d is the still of its instant" k)
         true
-        (String.equal (read_file f) (read_file (path d "still.exr"))))
+        (read "exr" f = read "exr" (path d "still.exr")))
     [ 0; 1; 2 ];
   let ((st, out, _) as r) =
     lancer ~dir:d [ "animate"; "a.rts"; "-o"; "fr"; "--format"; "exr"; "--resume" ]
@@ -232,6 +255,8 @@ let () =
           Alcotest.test_case "--bits 32 makes a float EXR with the PNG's values" `Quick
             exr_float;
           Alcotest.test_case "an animation's frames as EXR, resumed" `Quick exr_frames;
+          Alcotest.test_case "an EXR's header keeps the record of where it came from"
+            `Quick exr_record;
           Alcotest.test_case "a PFM holds the PNG's linear values as 32-bit floats" `Quick
             pfm;
           Alcotest.test_case "a Radiance .hdr holds them in RGBE" `Quick hdr;

@@ -101,7 +101,7 @@ let plan ?(resume = false) d load =
   Animation.plan
     ~dir:(Some (path d "fr"))
     ~frames:None ~shard:None ~resume ~overrides:Overrides.none
-    (fun () -> Program.source ~builtin:false (load ()))
+    (fun () -> Program.as_scenes ~builtin:false (load ()))
 
 (* What a frame's record says of its texture is what the frame was made of: the bytes
    decoded, not the file as it was a moment later. A run resumed with the new texture
@@ -145,8 +145,8 @@ let replaced_texture_checkpoint () =
   write_file (path d "a.rts") textured;
   write_ppm (path d "tex.ppm") (200, 30, 30);
   let key prog =
-    let src = Program.source ~builtin:false prog in
-    let _, files = Source.scene src Overrides.none ~time:0. ~frame:0 in
+    let src = Program.as_scenes ~builtin:false prog in
+    let _, files = Scenes.scene src Overrides.none ~time:0. ~frame:0 in
     Checkpoint.key src Overrides.none ~time:0. ~frame:0 ~files
   in
   let plain () =

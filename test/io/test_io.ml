@@ -393,7 +393,7 @@ let texture_tests =
             | Ok fb ->
                 Array.iteri
                   (fun i v ->
-                    let c = Image.get fb i 0 in
+                    let c = Framebuffer.get fb i 0 in
                     let e = srgb (Float.of_int v /. Float.of_int maxv) in
                     Alcotest.(check (float 1e-12))
                       (Printf.sprintf "%d-bit gray %d" depth v)
@@ -405,7 +405,7 @@ let texture_tests =
                 if depth = 16 then
                   Alcotest.(check bool)
                     "16 bits kept" true
-                    ((Image.get fb 1 0).r < (Image.get fb 2 0).r))
+                    ((Framebuffer.get fb 1 0).r < (Framebuffer.get fb 2 0).r))
           [ 8; 16 ]);
   ]
 
@@ -434,11 +434,11 @@ let sixteen_tests =
     Alcotest.test_case "a 16-bit RGBA image written and read back is what was encoded"
       `Quick (fun () ->
         let d = tmpdir () in
-        let fb = Image.create 9 7 in
+        let fb = Framebuffer.create 9 7 in
         let alpha = Float.Array.init (9 * 7) (fun k -> Float.of_int k /. 62.) in
         for j = 0 to 6 do
           for i = 0 to 8 do
-            Image.set fb i j
+            Framebuffer.set fb i j
               (Color.v
                  (Float.of_int i /. 8.)
                  (Float.of_int j /. 6.)
@@ -477,10 +477,11 @@ let sixteen_tests =
           (Image.encode_channel16 Settings.Srgb 0.5)
           (Bytes.get_uint16_be r.samples (2 * (((0 * 9) + 4) * 3))));
     Alcotest.test_case "a crop takes exactly the region's pixels" `Quick (fun () ->
-        let fb = Image.create 9 7 in
+        let fb = Framebuffer.create 9 7 in
         for j = 0 to 6 do
           for i = 0 to 8 do
-            Image.set fb i j (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) 0.)
+            Framebuffer.set fb i j
+              (Color.v (Float.of_int i /. 8.) (Float.of_int j /. 6.) 0.)
           done
         done;
         let whole = Image.encode fb
@@ -675,7 +676,7 @@ let encoder_tests =
                     l)));
     Alcotest.test_case "an encoded framebuffer is encode_channel of each value" `Quick
       (fun () ->
-        let fb = Image.create 37 11 in
+        let fb = Framebuffer.create 37 11 in
         Float.Array.iteri
           (fun k _ ->
             Float.Array.set fb.data k

@@ -345,7 +345,7 @@ let slurm () =
         (env [ ("SLURM_ARRAY_TASK_ID", "4"); ("SLURM_ARRAY_TASK_COUNT", "4") ]))
 
 (* A source of no file: only its animation matters to [time_of]. *)
-let source ?animation () : Source.t =
+let source ?animation () : Scenes.t =
   {
     file = "none.rts";
     builtin = true;
@@ -360,19 +360,19 @@ let source ?animation () : Source.t =
 let still_time () =
   let anim = source ~animation:(10., 6) () and still = source () in
   let tf = Alcotest.(pair (float 1e-12) int) in
-  Alcotest.check tf "nothing given" (0., 0) (Source.time_of still ~time:None ~frame:None);
+  Alcotest.check tf "nothing given" (0., 0) (Scenes.time_of still ~time:None ~frame:None);
   Alcotest.check tf "frame 3 at 10 fps" (0.3, 3)
-    (Source.time_of anim ~time:None ~frame:(Some 3));
+    (Scenes.time_of anim ~time:None ~frame:(Some 3));
   Alcotest.check tf "time 0.25 s is frame 2" (0.25, 2)
-    (Source.time_of anim ~time:(Some 0.25) ~frame:None);
+    (Scenes.time_of anim ~time:(Some 0.25) ~frame:None);
   Alcotest.check tf "24 fps without an animation" (0.5, 12)
-    (Source.time_of still ~time:(Some 0.5) ~frame:None);
-  user_error "frame 6 of 6" (fun () -> Source.time_of anim ~time:None ~frame:(Some 6));
+    (Scenes.time_of still ~time:(Some 0.5) ~frame:None);
+  user_error "frame 6 of 6" (fun () -> Scenes.time_of anim ~time:None ~frame:(Some 6));
   user_error "a frame of a still" (fun () ->
-      Source.time_of still ~time:None ~frame:(Some 0));
-  user_error "both" (fun () -> Source.time_of anim ~time:(Some 0.) ~frame:(Some 0));
+      Scenes.time_of still ~time:None ~frame:(Some 0));
+  user_error "both" (fun () -> Scenes.time_of anim ~time:(Some 0.) ~frame:(Some 0));
   user_error "not finite" (fun () ->
-      Source.time_of anim ~time:(Some Float.nan) ~frame:None)
+      Scenes.time_of anim ~time:(Some Float.nan) ~frame:None)
 
 (* ---- The frames record ---- *)
 
@@ -459,7 +459,7 @@ let frame_replaced_before_record () =
 (* ---- An animation's plan, through a source of the test's own ---- *)
 
 (* Four frames of the small scene, each reading one input whose digest [input] says. *)
-let animation_source ?(text = "text") input : Source.t =
+let animation_source ?(text = "text") input : Scenes.t =
   {
     file = "anim.rts";
     builtin = false;
@@ -550,8 +550,8 @@ let checkpoint_roundtrip () =
     "the resumed image is the uninterrupted one, bit for bit" true
     (floats_equal fb.data (Checkpoint.framebuffer back).data);
   Alcotest.(check int)
-    "and its counters" (Stats.total_rays st)
-    (Stats.total_rays (Checkpoint.stats back));
+    "and its counters" (Counters.total_rays st)
+    (Counters.total_rays (Checkpoint.stats back));
   Alcotest.(check int)
     "another key starts afresh" 0
     (Checkpoint.resumed (Checkpoint.start ~out ~key:"k2" sc));
@@ -789,7 +789,7 @@ let frames_as_rendered ?(domains = 1) name text =
     | Some a -> a
     | None -> Alcotest.fail "not animated"
   in
-  let source : Source.t =
+  let source : Scenes.t =
     {
       file = "anim.rts";
       builtin = false;

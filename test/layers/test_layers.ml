@@ -66,7 +66,7 @@ let layers =
   ]
 
 (* What a layer may not use although it lies below: the job layer asks for scenes
-   through Source.t and knows neither the language nor physics; the language knows
+   through Scenes.t and knows neither the language nor physics; the language knows
    nothing of images. *)
 let forbidden =
   [

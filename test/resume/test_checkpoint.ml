@@ -51,10 +51,10 @@ let checkpoint_of_half out =
   let ck = Checkpoint.start ~out ~key sc in
   ignore
     (Render.render_tiles
-       ~on_tile:(fun _ k (st : Stats.t) ->
-         if k = 2 then (
-           st.bad_samples <- 1;
-           st.first_bad <- Some (5, 35));
+       ~on_tile:(fun _ k (st : Counters.t) ->
+         let st =
+           if k = 2 then { st with bad_samples = 1; first_bad = Some (5, 35) } else st
+         in
          Checkpoint.tiles_done ck [| k |] st)
        sc (Checkpoint.framebuffer ck) [| 0; 2 |]);
   Checkpoint.save ck;
@@ -138,7 +138,7 @@ let check_accepted what text ck =
     (what ^ ": resumed and to do make the tiles")
     tiles
     (Checkpoint.resumed ck + Array.length todo);
-  let (st : Stats.t) = Checkpoint.stats ck in
+  let (st : Counters.t) = Checkpoint.stats ck in
   Alcotest.(check bool)
     (what ^ ": counters a render could count")
     true
@@ -238,7 +238,7 @@ let the_writers_file_is_resumed () =
   let ck = start_on base in
   Alcotest.(check int) "two tiles resumed" 2 (Checkpoint.resumed ck);
   Alcotest.(check (array int)) "two to do" [| 1; 3 |] (Checkpoint.todo ck);
-  let (st : Stats.t) = Checkpoint.stats ck in
+  let (st : Counters.t) = Checkpoint.stats ck in
   Alcotest.(check (pair int (option (pair int int))))
     "the bad sample kept"
     (1, Some (5, 35))

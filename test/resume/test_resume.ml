@@ -378,7 +378,7 @@ let blur_tests =
         check_status "animate" 0 (lancer ~dir:d [ "animate"; "a.rts"; "-o"; "ref"; "-q" ]);
         let ref = frames_of (path d "ref") 6 in
         List.iteri
-          (fun k f ->
+          (fun k _ ->
             check_status "render" 0
               (lancer ~dir:d
                  [
@@ -387,7 +387,7 @@ let blur_tests =
             Alcotest.(check bool)
               (Printf.sprintf "frame %d as a still" k)
               true
-              (f = read_file (path d "still.png")))
+              (pixels (path d ("ref/" ^ frame k)) = pixels (path d "still.png")))
           ref;
         check_status "frame 1" 0
           (lancer ~dir:d [ "render"; "a.rts"; "--frame"; "1"; "-o"; "still.png"; "-q" ]);
@@ -397,7 +397,7 @@ let blur_tests =
              [ "render"; "open.rts"; "--frame"; "1"; "-o"; "sharp.png"; "-q" ]);
         Alcotest.(check bool)
           "blurred, not sharp" false
-          (read_file (path d "sharp.png") = read_file (path d "still.png"));
+          (pixels (path d "sharp.png") = pixels (path d "still.png"));
         List.iter
           (fun k ->
             check_status "shard" 0
@@ -441,9 +441,26 @@ let still_tests =
           (Sys.file_exists (path d "a.png.checkpoint"));
         (* Ctrl-C: exit 130, and the checkpoint written on the way out. *)
         Alcotest.(check int) "interrupted" 130 (stopped_midway d "b.png" Sys.sigint);
-        let r = lancer ~dir:d (List.filter (( <> ) "-q") still @ [ "b.png" ]) in
+        let ((_, out, _) as r) =
+          lancer ~dir:d
+            (List.filter (( <> ) "-q") still @ [ "b.png"; "--stats"; "b.json" ])
+        in
         check_status "resumed" 0 r;
         says "continues" r "tiles already rendered";
+        (* Rays per second count the rays this run cast, not the checkpoint's. *)
+        says "this run's rays" r "of them in this run";
+        let j = Yojson.Safe.from_file (path d "b.json") in
+        let num k = Yojson.Safe.Util.(to_number (member k j)) in
+        let total = Yojson.Safe.Util.(to_int (member "total" (member "rays" j))) in
+        let resumed = Yojson.Safe.Util.(to_int (member "resumed_rays" j)) in
+        Alcotest.(check bool)
+          (Printf.sprintf "some rays were the checkpoint's: %d of %d" resumed total)
+          true
+          (resumed > 0 && resumed < total);
+        let expected = Float.of_int (total - resumed) /. num "render_seconds" in
+        Alcotest.(check (float (1e-9 *. expected)))
+          ("rays per second of this run: " ^ out)
+          expected (num "rays_per_second");
         Alcotest.(check bool) "same bytes" true (reference = read_file (path d "b.png"));
         (* A damaged checkpoint, or one of other options, is not used. *)
         ignore (stopped_midway d "c.png" Sys.sigkill);

@@ -69,7 +69,7 @@ let grazing_tests =
               ~lights:[ Light.directional (v 0. 0. (-1.)) ]
               [ prim (mat ()) (Shape.plane ~normal:Vec3.z_axis ~offset:0.) ]
           in
-          let st = Stats.create () in
+          let st = Task.create () in
           check_color ~eps:1e-9 "lit floor" Color.white (Shade.trace sc st r 1);
           Alcotest.(check int) "one shadow ray" 1 st.shadow);
       case "a camera lying in a floor plane sees no NaN along the horizon row" (fun () ->
@@ -92,7 +92,7 @@ let grazing_tests =
           for i = 0 to 8 do
             check_color
               (Printf.sprintf "horizon pixel %d is background" i)
-              settings.background (Image.get fb i 2)
+              settings.background (Framebuffer.get fb i 2)
           done);
     ]
 
@@ -126,12 +126,13 @@ let sphere_tests =
           for i = 0 to 14 do
             check_color ~eps:0.
               (Printf.sprintf "pixel %d,%d" i j)
-              (Image.get unshadowed i j) (Image.get lit i j)
+              (Framebuffer.get unshadowed i j)
+              (Framebuffer.get lit i j)
           done
         done;
         (* The centre pixel sees the top, N = (0, 1, 0): ambient + diffuse·N·L. *)
         let k = 0.1 +. (0.9 /. Float.sqrt 1.05) in
-        check_color ~eps:1e-9 "centre pixel" (Color.v k k k) (Image.get lit 7 7))
+        check_color ~eps:1e-9 "centre pixel" (Color.v k k k) (Framebuffer.get lit 7 7))
   in
   [
     case
@@ -183,7 +184,7 @@ let mirrors_tests =
               prim m (Shape.plane ~normal:Vec3.z_axis ~offset:(-1.));
             ]
         in
-        let st = Stats.create () in
+        let st = Task.create () in
         let got = Shade.trace sc st (Ray.make Vec3.zero Vec3.z_axis) 1 in
         let expected = a *. (1. -. Float.pow rho (Float.of_int depth)) in
         check_color ~eps:1e-12 "colour" (Color.v expected expected expected) got;
@@ -240,7 +241,7 @@ let nan_tests =
               for i = 0 to 4 do
                 check_color
                   (Printf.sprintf "pixel %d,%d" i j)
-                  sc.settings.background (Image.get fb i j)
+                  sc.settings.background (Framebuffer.get fb i j)
               done
             done)
           [ 1; 3 ]);

@@ -1,6 +1,6 @@
-(* The commands' pipelines called as library functions: the bytes they write are those
-   of the library's own steps (load, evaluate, compile, render, encode), and what they
-   refuse they refuse before any work. *)
+(* The commands' pipelines called as library functions: the pixels they write are those
+   of the library's own steps (load, evaluate, compile, render, encode; their files add
+   the image's record), and what they refuse they refuse before any work. *)
 open Lancer
 
 let tmpdir () =
@@ -10,6 +10,9 @@ let tmpdir () =
 
 let write path text = Out_channel.with_open_bin path (fun oc -> output_string oc text)
 let read path = In_channel.with_open_bin path In_channel.input_all
+
+(* The samples of a PNG file's contents. *)
+let pixels png = Bytes.to_string (Result.get_ok (Png.decode png)).samples
 
 let user_error name f =
   match f () with
@@ -72,7 +75,8 @@ let still () =
   Still_run.run o ~resume:false Output.default_encoding;
   Alcotest.(check bool)
     "the bytes of load, evaluate, render, encode" true
-    (read out = by_steps ~width:30 scene ~time:0. ~frame:0 (Filename.concat d "ref.png"));
+    (pixels (read out)
+    = pixels (by_steps ~width:30 scene ~time:0. ~frame:0 (Filename.concat d "ref.png")));
   let j = Yojson.Safe.from_file stats in
   let open Yojson.Safe.Util in
   Alcotest.(check int) "statistics: the width" 30 (j |> member "width" |> to_int);
@@ -117,11 +121,12 @@ let frames () =
     Alcotest.(check bool)
       (Printf.sprintf "frame %d is that frame's still" k)
       true
-      (read f
-      = by_steps scene
-          ~time:(Float.of_int k /. 10.)
-          ~frame:k
-          (Filename.concat d (Printf.sprintf "ref%d.png" k)))
+      (pixels (read f)
+      = pixels
+          (by_steps scene
+             ~time:(Float.of_int k /. 10.)
+             ~frame:k
+             (Filename.concat d (Printf.sprintf "ref%d.png" k))))
   done;
   let _, p =
     Frames_run.plan o { Frames_run.default_options with resume = true; frames = None }
@@ -176,6 +181,35 @@ let scene_file () =
   user_error "standard input has no name for the image" (fun () ->
       Scene_file.default_output { Options.default with scene = Some "-" })
 
+(* The progress line's figures: the time left from the share of the work done. *)
+let progress_line () =
+  let line = Progress.line ~label:"tiles" ~total:4 ~elapsed:10. in
+  Alcotest.(check string)
+    "a quarter of equal units in 10 s: 30 s left"
+    "tiles 1/4 ( 25%)  0.1 tiles/s  elapsed 10s  left 30s" (line ~done_:1 ~rays:0 ());
+  Alcotest.(check string)
+    "units of unequal cost: the share decides"
+    "tiles 1/4 ( 50%)  1.00 M rays/s  elapsed 10s  left 10s"
+    (line ~done_:1 ~share:0.5 ~rays:10_000_000 ());
+  Alcotest.(check string)
+    "nothing done yet: no estimate" "tiles 0/4 (  0%)  0.0 tiles/s  elapsed 10s  left ?"
+    (line ~done_:0 ~rays:0 ());
+  Alcotest.(check string)
+    "minutes and hours" "2m05s 1h03m"
+    (Progress.hms 125. ^ " " ^ Progress.hms 3800.)
+
+(* LANCER_PROGRESS_INTERVAL: seconds, or off. *)
+let progress_interval () =
+  let with_value v =
+    Unix.putenv Progress.interval_variable v;
+    Progress.interval ~default:5.
+  in
+  Alcotest.(check (option (float 0.))) "a number of seconds" (Some 0.5) (with_value "0.5");
+  Alcotest.(check (option (float 0.))) "off" None (with_value "off");
+  Alcotest.(check (option (float 0.)))
+    "not a number: the default" (Some 5.) (with_value "x");
+  Alcotest.(check (option (float 0.))) "negative: the default" (Some 5.) (with_value "-1")
+
 let () =
   Alcotest.run "run"
     [
@@ -194,4 +228,9 @@ let () =
           Alcotest.test_case "golden and diff" `Quick compare;
         ] );
       ("scene file", [ Alcotest.test_case "the showcase and errors" `Quick scene_file ]);
+      ( "progress",
+        [
+          Alcotest.test_case "the time left, from the share done" `Quick progress_line;
+          Alcotest.test_case "the interval between lines, or off" `Quick progress_interval;
+        ] );
     ]

@@ -68,3 +68,10 @@ let quality_rows ~exe ~dir scene knob =
   |> List.filter (fun r -> r |> member "knob" |> to_string = knob)
   |> List.map (fun r ->
          (r |> member "value" |> to_string, r |> member "rmse" |> to_number))
+
+let pixels path =
+  match Lancer_image.Image.read_raster path with
+  | Ok r ->
+      Printf.sprintf "%d×%d×%d×%d:" r.width r.height r.channels r.depth
+      ^ Bytes.to_string r.samples
+  | Error m -> Alcotest.failf "%s" m

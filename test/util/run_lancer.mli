@@ -10,6 +10,11 @@ val write_file : string -> string -> unit
 val read_file : string -> string
 (** The whole contents of a file. *)
 
+val pixels : string -> string
+(** The decoded image of a PNG or PPM file (its size, channels, depth and samples), for
+    comparing the pixels of images made by different routes: their bytes differ where
+    their records do ({!Lancer_job.Provenance}: the frame, the time, the options). *)
+
 val contains : string -> string -> bool
 (** [contains s sub]: whether [sub] occurs in [s]. *)
 

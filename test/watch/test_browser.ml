@@ -256,6 +256,27 @@ let test () =
         (Run_lancer.contains text "s.rts:7:"
         && Run_lancer.contains text "^^^^^"
         && Run_lancer.contains text "did you mean `radius`?");
+      let state () =
+        to_string (eval c session "document.getElementById('state').textContent")
+      in
+      Alcotest.(check bool)
+        ("the status line says the scene has an error: " ^ state ())
+        true
+        (Run_lancer.contains (state ()) "the scene has an error");
+      (* A page opened now gets the last image and the error together: once the image is
+         in, the status line still names the error, not "done". *)
+      ignore
+        (call ~session c "Page.navigate"
+           [ ("url", `String (Printf.sprintf "http://127.0.0.1:%d/" s.port)) ]);
+      until c session "the image and the error on a new page"
+        "document.getElementById('err').style.display === 'block' && \
+         document.getElementById('img').src.includes('/image/') && \
+         document.getElementById('img').complete";
+      Alcotest.(check bool)
+        ("the status line of a new page under the error: " ^ state ())
+        true
+        (Run_lancer.contains (state ()) "the scene has an error"
+        && not (Run_lancer.contains (state ()) "done"));
       let broken = screenshot c session dir "error.png" in
       let panel r g b = r > 60 && r > g + 40 && r > b + 40 in
       let band = (x0, y1 - 20, x1, y1) in

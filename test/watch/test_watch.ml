@@ -76,10 +76,12 @@ let basic () =
       let _, _, err =
         Run_lancer.run ~exe ~dir:d [ "render"; "s.rts"; "-o"; "r.png"; "-q" ]
       in
+      Run_lancer.write_file (Filename.concat d "served.png") red_png;
       Alcotest.(check bool)
-        ("the same bytes as lancer render\n" ^ err)
+        ("the same pixels as lancer render\n" ^ err)
         true
-        (red_png = Run_lancer.read_file (Filename.concat d "r.png"));
+        (Run_lancer.pixels (Filename.concat d "served.png")
+        = Run_lancer.pixels (Filename.concat d "r.png"));
       (* An edit: a coarse image first, then a full one with other pixels. *)
       atomic_write (Filename.concat d "s.rts") (scene "(0.1, 0.2, 0.9)");
       let _, j = wait_for e "a coarse image after the edit" is_image in
@@ -835,6 +837,32 @@ let duplicate_headers () =
       in
       Alcotest.(check int) "two Content-Lengths" 400 st)
 
+(* A scene error is printed in the terminal running the server too, as lancer prints it
+   elsewhere, even with --quiet (which silences only the timings). *)
+let terminal_errors () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts")
+    (scene "(0.9, 0.1, 0.1)" ^ "sphere { center: (0, 1, 0), radiu: 1 }\n");
+  with_server ~args:[ "-q" ] d (fun s ->
+      let e = events s in
+      ignore (wait_for e "the error" (fun ev _ -> ev = "failure"));
+      let located = "s.rts:7:29: unknown field `radiu` in sphere" in
+      (* Written just after the event: looked for a little while. *)
+      let rec look n =
+        if n > 0 && not (Run_lancer.contains (stderr_text s) located) then (
+          Unix.sleepf 0.1;
+          look (n - 1))
+      in
+      look 200;
+      let err = stderr_text s in
+      Alcotest.(check bool)
+        ("the located error in the terminal: " ^ err)
+        true
+        (Run_lancer.contains err located
+        && Run_lancer.contains err "sphere { center: (0, 1, 0), radiu: 1 }\n"
+        && Run_lancer.contains err "^^^^^");
+      close_events e)
+
 (* A scene that includes a file outside its directory: the error says where, not what
    the line is (on the page and in the terminal), a symbolic link in the directory
    leading out included; --show-lines-outside shows it. *)
@@ -930,6 +958,9 @@ let () =
           Alcotest.test_case
             "page, images, a new image on an edit, the located error and its fix, quality"
             `Quick basic;
+          Alcotest.test_case
+            "a scene error is printed in the terminal too, even with --quiet" `Quick
+            terminal_errors;
           Alcotest.test_case "a change in an included file (inotify)" `Quick
             (includes ~poll:false);
           Alcotest.test_case "a change in an included file (polling)" `Quick

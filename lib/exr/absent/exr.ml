@@ -3,4 +3,4 @@ let reason =
    .pfm image, or use a lancer built with libopenexr"
 
 let available = Error reason
-let encode ~width:_ ~height:_ ~half:_ ~rgb:_ ~alpha:_ = Error reason
+let encode ?record:_ ~width:_ ~height:_ ~half:_ ~rgb:_ ~alpha:_ () = Error reason

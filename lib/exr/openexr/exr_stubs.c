@@ -71,7 +71,7 @@ static int channel_offset(const char *name)
 
 /* Runs without the OCaml runtime lock: every argument was copied first. */
 static exr_result_t write_exr(sink *s, int width, int height, int half, int channels,
-                              const float *pixels)
+                              const float *pixels, const char *record)
 {
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   exr_context_t f = NULL;
@@ -98,6 +98,9 @@ static exr_result_t write_exr(sink *s, int width, int height, int half, int chan
     rv = exr_add_channel(f, part, "G", type, EXR_PERCEPTUALLY_LINEAR, 1, 1) < 0 ? EXR_ERR_UNKNOWN : EXR_ERR_SUCCESS;
   if (rv == EXR_ERR_SUCCESS)
     rv = exr_add_channel(f, part, "R", type, EXR_PERCEPTUALLY_LINEAR, 1, 1) < 0 ? EXR_ERR_UNKNOWN : EXR_ERR_SUCCESS;
+  /* Where the image came from: a string attribute of the header, when given. */
+  if (rv == EXR_ERR_SUCCESS && record != NULL && record[0] != '\0')
+    rv = exr_attr_set_string(f, part, "lancer", record);
   if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(f);
   if (rv == EXR_ERR_SUCCESS) rv = exr_get_scanlines_per_chunk(f, part, &lines);
 
@@ -141,9 +144,11 @@ static exr_result_t write_exr(sink *s, int width, int height, int half, int chan
   return rv;
 }
 
-value lancer_exr_encode(value vwidth, value vheight, value vhalf, value vrgb, value valpha)
+value lancer_exr_encode(value vwidth, value vheight, value vhalf, value vrgb, value valpha,
+                        value vrecord)
 {
   CAMLparam5(vwidth, vheight, vhalf, vrgb, valpha);
+  CAMLxparam1(vrecord);
   CAMLlocal1(result);
   int width = Int_val(vwidth), height = Int_val(vheight), half = Bool_val(vhalf);
   int channels = Is_block(valpha) ? 4 : 3;
@@ -152,8 +157,16 @@ value lancer_exr_encode(value vwidth, value vheight, value vhalf, value vrgb, va
   sink s;
   exr_result_t rv;
 
+  char *record = NULL;
   memset(&s, 0, sizeof s);
   if (pixels == NULL) caml_raise_out_of_memory();
+  if (caml_string_length(vrecord) > 0) {
+    /* A copy: the string may move once the runtime is released. */
+    record = malloc(caml_string_length(vrecord) + 1);
+    if (record == NULL) { free(pixels); caml_raise_out_of_memory(); }
+    memcpy(record, String_val(vrecord), caml_string_length(vrecord));
+    record[caml_string_length(vrecord)] = '\0';
+  }
   /* The doubles as floats, interleaved (R, G, B[, A]) per pixel. */
   for (size_t p = 0; p < n; p++) {
     for (int c = 0; c < 3; c++)
@@ -162,9 +175,10 @@ value lancer_exr_encode(value vwidth, value vheight, value vhalf, value vrgb, va
       pixels[p * channels + 3] = (float)Double_flat_field(Field(valpha, 0), p);
   }
   caml_release_runtime_system();
-  rv = write_exr(&s, width, height, half, channels, pixels);
+  rv = write_exr(&s, width, height, half, channels, pixels, record);
   caml_acquire_runtime_system();
   free(pixels);
+  free(record);
   if (s.failed) {
     free(s.data);
     caml_raise_out_of_memory();
@@ -179,4 +193,10 @@ value lancer_exr_encode(value vwidth, value vheight, value vhalf, value vrgb, va
   result = caml_alloc_initialized_string(s.len, (const char *)s.data);
   free(s.data);
   CAMLreturn(result);
+}
+
+value lancer_exr_encode_byte(value *argv, int argn)
+{
+  (void)argn;
+  return lancer_exr_encode(argv[0], argv[1], argv[2], argv[3], argv[4], argv[5]);
 }

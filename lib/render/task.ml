@@ -82,12 +82,12 @@ let with_current s f =
       slot.task <- before;
       raise e
 
-let add_into acc s =
-  acc.primary <- acc.primary + s.primary;
-  acc.shadow <- acc.shadow + s.shadow;
-  acc.reflected <- acc.reflected + s.reflected;
-  acc.refracted <- acc.refracted + s.refracted;
-  acc.bad_samples <- acc.bad_samples + s.bad_samples;
-  if acc.first_bad = None then acc.first_bad <- s.first_bad
-
-let total_rays s = s.primary + s.shadow + s.reflected + s.refracted
+let counters (s : t) : Counters.t =
+  {
+    primary = s.primary;
+    shadow = s.shadow;
+    reflected = s.reflected;
+    refracted = s.refracted;
+    bad_samples = s.bad_samples;
+    first_bad = s.first_bad;
+  }

@@ -1,6 +1,8 @@
-(** Ray and sample counters, and the cancellation token of the work they count. Each
-    render task owns one and they are summed at the end, so the counts are exact and
-    deterministic whatever the number of domains. *)
+(** What one render task carries while it traces: its counts of rays and bad samples (read
+    out as {!Counters.t} when it is done), the cancellation token it polls, and the
+    secondary rays the current camera sample may still cast. Each task (a tile) owns one,
+    touched by every ray, so its fields are mutable and padded apart from the next task's.
+*)
 
 type t = {
   mutable primary : int;
@@ -36,7 +38,7 @@ type t = {
 }
 
 val create : ?cancel:Cancel.t -> unit -> t
-(** Counters at zero, polling [cancel] (default: a token nobody cancels). *)
+(** Counts at zero, polling [cancel] (default: a token nobody cancels). *)
 
 val tick : t -> unit
 (** Called once per ray traced: [spend s 1]. *)
@@ -58,8 +60,5 @@ val with_current : t -> (unit -> 'a) -> 'a
 (** [with_current s f] runs [f] with [s] as the calling domain's {!current} counters, and
     puts back the ones before when it returns or raises. *)
 
-val add_into : t -> t -> unit
-(** [add_into acc s] adds [s]'s counts to [acc]. *)
-
-val total_rays : t -> int
-(** Primary, shadow, reflected and refracted rays together. *)
+val counters : t -> Counters.t
+(** What the task has counted so far. *)

@@ -1,7 +1,8 @@
-(** A scene as the job layer sees it: a set of functions the language supplies. The job
-    layer never reads a scene's text itself; it asks this record for the scene at a time
-    and for what it read, so that how a program becomes a {!Lancer_render.Scene.t} is the
-    language's business alone. *)
+(** The scenes a job renders: not a program, but what the job layer asks of one (the scene
+    at a time, the files it read and their digests), as functions that
+    {!Lancer_program.Program.as_scenes} supplies. The job layer never reads a scene's
+    text; how a program becomes a {!Lancer_render.Scene.t} is the language's business
+    alone. *)
 
 type t = {
   file : string;
