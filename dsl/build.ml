@@ -21,6 +21,8 @@ let default_material site =
      transparency = num "transparency";
      ior = num "ior";
      fresnel = (match d "fresnel" with VBool x -> x | _ -> wrong "fresnel");
+     metallic = num "metallic";
+     filter = num "filter";
      bump = None;
    }
     : D.material)
@@ -35,7 +37,7 @@ let same_but_color (m : D.material) (d : D.material) =
   && same m.shininess d.shininess
   && same m.reflection d.reflection
   && same m.transparency d.transparency
-  && same m.ior d.ior
+  && same m.ior d.ior && same m.metallic d.metallic && same m.filter d.filter
 
 let material site =
   let base = slot site "base" and color_ = slot site "color" in
@@ -43,6 +45,7 @@ let material site =
   let specular = slot site "specular" and shininess = slot site "shininess" in
   let reflection = slot site "reflection" and transparency = slot site "transparency" in
   let ior = slot site "ior" and fresnel = slot site "fresnel" in
+  let metallic = slot site "metallic" and filter = slot site "filter" in
   let texture = slot site "texture" and bump = slot site "bump" in
   let default = default_material site in
   let default_some = Some default in
@@ -70,6 +73,8 @@ let material site =
         ior = number_or b ior d.ior;
         fresnel =
           (if given b fresnel then boolean b fresnel ~default:d.fresnel else d.fresnel);
+        metallic = number_or b metallic d.metallic;
+        filter = number_or b filter d.filter;
         bump = d.bump;
       }
     in
@@ -615,9 +620,10 @@ let shape_of (k : Kind.t) : t -> D.shape =
             ( D.Model { file; path; smooth; at; solid_in = None },
               D.Mesh { file; path; smooth; at } ))
   | "height_field" ->
-      let f = s "file" and o = s "origin" and sz = s "size" in
+      let f = s "file" and o = s "origin" and sz = s "size" and sm = s "smooth" in
       fun b ->
         let origin = point b o in
+        let smooth = boolean b sm in
         let size =
           point b sz ~check:(fun at (size : Vec3.t) ->
               if not (size.x >= 1e-150 && size.y >= 1e-150 && size.z >= 1e-150) then
@@ -625,7 +631,8 @@ let shape_of (k : Kind.t) : t -> D.shape =
               size)
         in
         file_use b f (fun file path at ->
-            (D.Heights { file; path; at }, D.Height_field { file; path; origin; size; at }))
+            ( D.Heights { file; path; at },
+              D.Height_field { file; path; origin; size; smooth; at } ))
   | k -> invalid_arg ("Build: " ^ k ^ " is not a shape")
 
 let shape site = shape_of site.kind_

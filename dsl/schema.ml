@@ -132,7 +132,9 @@ let shape_blocks =
     shape "mesh"
       [
         f "file" File "a Wavefront OBJ file, relative to the scene";
-        f "smooth" Boolean ~default:(opt "true") "interpolate the vertex normals";
+        f "smooth" Boolean ~default:(opt "true")
+          "interpolate vertex normals: the file's, or where it has none normals computed \
+           from the faces (split at edges sharper than 60°)";
       ];
     shape "cone" ~doc:"either radius may be 0 (a point)"
       [
@@ -155,6 +157,8 @@ let shape_blocks =
         f "file" File "a PNG or PPM image of heights, relative to the scene";
         f "origin" Vector ~default:(opt "(0, 0, 0)") "the corner of pixel (0, 0)";
         f "size" Vector "(sx, sy, sz): the extent along each axis, positive";
+        f "smooth" Boolean ~default:(opt "false")
+          "interpolate vertex normals computed from the cells (false: flat facets)";
       ];
   ]
 
@@ -358,6 +362,11 @@ let blocks =
         f "ior" Number ~range:positive ~default:(num material.ior) "index of refraction";
         f "fresnel" Boolean ~default:(flag material.fresnel)
           "Schlick's approximation of Fresnel moves transparency × F to reflection";
+        f "metallic" Number ~range:unit_interval ~default:(num material.metallic)
+          "tints the highlight and the reflection by the surface colour: 0 white, 1 the \
+           colour";
+        f "filter" Number ~range:unit_interval ~default:(num material.filter)
+          "tints the light seen through the surface by its colour: 0 white, 1 the colour";
         f "bump" Bump ~default:(Absent "none") "perturbs the normal";
         f "base" Base_material ~default:(Absent "the default material")
           "a material to copy before the other fields apply";

@@ -32,6 +32,8 @@ type ('texture, 'bump) material_of = {
   transparency : float;
   ior : float;
   fresnel : bool;
+  metallic : float;
+  filter : float;
   bump : 'bump option;
 }
 
@@ -49,30 +51,47 @@ let default_material =
     transparency = 0.;
     ior = 1.;
     fresnel = false;
+    metallic = 0.;
+    filter = 0.;
     bump = None;
   }
 
 let validate_material m =
-  let nonneg name v =
-    if Float.is_finite v && v >= 0. then Ok ()
-    else Error (Printf.sprintf "%s must be a finite number >= 0 (got %g)" name v)
+  (* The weights in [0, 1], after the other coefficients, which are only non-negative. *)
+  let weights =
+    [
+      ("reflection", m.reflection);
+      ("transparency", m.transparency);
+      ("metallic", m.metallic);
+      ("filter", m.filter);
+    ]
   in
-  let ( let* ) = Result.bind in
-  let* () = nonneg "ambient" m.ambient in
-  let* () = nonneg "diffuse" m.diffuse in
-  let* () = nonneg "specular" m.specular in
-  let* () = nonneg "shininess" m.shininess in
-  let* () = nonneg "reflection" m.reflection in
-  let* () = nonneg "transparency" m.transparency in
-  if m.reflection > 1. then Error "reflection must be at most 1"
-  else if m.transparency > 1. then Error "transparency must be at most 1"
-  else if m.reflection +. m.transparency > 1. then
-    Error
-      (Printf.sprintf "reflection + transparency must be at most 1 (got %g + %g)"
-         m.reflection m.transparency)
-  else if not (Float.is_finite m.ior && m.ior > 0.) then
-    Error (Printf.sprintf "ior must be > 0 (got %g)" m.ior)
-  else Ok ()
+  let coefficients =
+    [
+      ("ambient", m.ambient);
+      ("diffuse", m.diffuse);
+      ("specular", m.specular);
+      ("shininess", m.shininess);
+    ]
+    @ weights
+  in
+  let negative (name, v) =
+    if Float.is_finite v && v >= 0. then None
+    else Some (Printf.sprintf "%s must be a finite number >= 0 (got %g)" name v)
+  and above_one (name, v) = if v > 1. then Some (name ^ " must be at most 1") else None in
+  match List.find_map negative coefficients with
+  | Some e -> Error e
+  | None -> (
+      match List.find_map above_one weights with
+      | Some e -> Error e
+      | None ->
+          if m.reflection +. m.transparency > 1. then
+            Error
+              (Printf.sprintf "reflection + transparency must be at most 1 (got %g + %g)"
+                 m.reflection m.transparency)
+          else if not (Float.is_finite m.ior && m.ior > 0.) then
+            Error (Printf.sprintf "ior must be > 0 (got %g)" m.ior)
+          else Ok ())
 
 let color_map_problem entries =
   let ok_color (c : Color.t) = Color.is_finite c && c.r >= 0. && c.g >= 0. && c.b >= 0. in
@@ -102,6 +121,7 @@ let color_map_problem entries =
     check 0. 1 entries
 
 let max_objects = 10_000_000
+let crease = 60.
 
 type csg_op = Union | Merge | Intersection | Difference
 type step = Translate of Vec3.t | Rotate of Vec3.t | Scale of Vec3.t
@@ -129,6 +149,7 @@ type shape =
       path : string;
       origin : Vec3.t;
       size : Vec3.t;
+      smooth : bool;
       at : Loc.t;
     }
   | Csg of { op : csg_op; block : string; members : obj list; solid : bool }
@@ -204,6 +225,7 @@ type t = {
 
 type static = (int * obj list) list
 type part = Static of int | Built of obj list
+type mesh_faces = { triangles : int; read : int; computed : int }
 
 type rendered = {
   r_settings : Settings.t;
@@ -212,6 +234,6 @@ type rendered = {
   r_kinds : (string * int) list;
   r_csg : string list;
   r_materials : int;
-  r_meshes : ((string * bool) * int) list;
-  r_rasters : (string * (int * int)) list;
+  r_meshes : ((string * bool) * mesh_faces) list;
+  r_rasters : ((string * bool) * (int * int)) list;
 }

@@ -78,29 +78,38 @@ type ('texture, 'bump) material_of = {
   transparency : float;  (** refraction weight τ in [0, 1]; default 0 *)
   ior : float;  (** index of refraction; default 1 *)
   fresnel : bool;  (** Schlick's approximation moves τ·F to r; default false *)
+  metallic : float;
+      (** μ in [0, 1]: the highlight and the reflected light are multiplied by tint(μ) =
+          (1 − μ)·white + μ·C, C the albedo; default 0 *)
+  filter : float;
+      (** φ in [0, 1]: the refracted light is multiplied by tint(φ); default 0 *)
   bump : 'bump option;  (** normal perturbation; default none *)
 }
 (** A surface material: the description's ([material]) and the renderer's ([Material.t],
     with decoded textures) are this one record. Invariants, checked by
     {!validate_material}: coefficients finite and non-negative, reflection + transparency
-    ≤ 1, ior > 0. *)
+    ≤ 1, ior > 0, metallic and filter in [0, 1]. *)
 
 type material = (texture, bump) material_of
 
 val default_material : ('texture, 'bump) material_of
 (** Every default above: white, ambient 0.1, diffuse 0.9, no specular (shininess 50),
-    opaque, ior 1, no texture or bump. The language's defaults and the renderer's are this
-    value. *)
+    opaque, ior 1, untinted (metallic and filter 0), no texture or bump. The language's
+    defaults and the renderer's are this value. *)
 
 val validate_material : ('texture, 'bump) material_of -> (unit, string) result
 (** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤
-    1, ior > 0), with their messages. *)
+    1, ior > 0, metallic and filter at most 1), with their messages. *)
 
 val color_map_problem : (float * Color.t) list -> string option
 (** Why these entries are not a colour map (none, a t outside [0, 1], decreasing, a colour
     that is negative or not finite); [None] when they are one. *)
 
 (** {1 Shapes and objects} *)
+
+val crease : float
+(** 60: the angle in degrees between two faces above which the normals computed for a mesh
+    without normals (or a smooth height field) do not smooth across their edge. *)
 
 val max_objects : int
 (** 10 000 000: the most objects a scene may build (a mesh's triangles and a height
@@ -139,8 +148,12 @@ type shape =
       path : string;
       origin : Vec3.t;
       size : Vec3.t;
+      smooth : bool;
       at : Loc.t;
-    }  (** an image's luminance as heights over [size] from [origin] *)
+    }
+      (** an image's luminance as heights over [size] from [origin]; [smooth]: vertex
+          normals computed from the cells and interpolated, as a mesh's without normals
+          are *)
   | Csg of { op : csg_op; block : string; members : obj list; solid : bool }
       (** members in order, each with its own transform and material; [block] as written
           ("group" for a group inside a CSG block); [solid] when the members must have an
@@ -264,6 +277,13 @@ type part =
 
     For [lancer check], which prints a description beside what rendering it involves. *)
 
+type mesh_faces = {
+  triangles : int;
+  read : int;  (** how many of them have the file's normals *)
+  computed : int;
+      (** how many have normals computed from the faces; the others are flat *)
+}
+
 type rendered = {
   r_settings : Settings.t;  (** as rendered: command-line overrides applied *)
   r_lights : Light.t list;
@@ -273,7 +293,8 @@ type rendered = {
           count) *)
   r_csg : string list;  (** each CSG object's tree on one line: difference(box, sphere) *)
   r_materials : int;  (** distinct materials *)
-  r_meshes : ((string * bool) * int) list;
+  r_meshes : ((string * bool) * mesh_faces) list;
       (** the triangles of each mesh file read (path, smooth) *)
-  r_rasters : (string * (int * int)) list;  (** width and height of each height field *)
+  r_rasters : ((string * bool) * (int * int)) list;
+      (** width and height of each height field's image (path, smooth) *)
 }

@@ -107,6 +107,41 @@ let colour_warnings ?(source = fun _ -> None) (d : D.t) =
            | k -> Printf.sprintf "; %d more objects have this colour" k)))
     !order
 
+(* Which normals a mesh's triangles are shaded with, in words and as a JSON name. *)
+let mesh_normals ~smooth (f : D.mesh_faces) =
+  if (not smooth) || f.read + f.computed = 0 then ("flat", "flat (smooth: false)")
+  else if f.computed = 0 then ("file", "normals from the file")
+  else if f.read = 0 then
+    ( "computed",
+      Printf.sprintf "normals computed from the faces (split at edges sharper than %g°)"
+        D.crease )
+  else
+    ( "file and computed",
+      Printf.sprintf "normals from the file for %d, computed from the faces for %d" f.read
+        f.computed )
+
+let height_normals ~smooth =
+  if smooth then
+    ( "computed",
+      Printf.sprintf "normals computed from the cells (split at edges sharper than %g°)"
+        D.crease )
+  else ("flat", "flat (smooth: false)")
+
+(* The meshes and height fields the scene is made of, each file with each [smooth] once,
+   by path: "mesh: PATH, N triangles, NORMALS". *)
+let model_lines (r : D.rendered) =
+  List.map
+    (fun ((path, smooth), (f : D.mesh_faces)) ->
+      Printf.sprintf "mesh: %s, %d triangle%s, %s" path f.triangles
+        (if f.triangles = 1 then "" else "s")
+        (snd (mesh_normals ~smooth f)))
+    (List.sort compare r.r_meshes)
+  @ List.map
+      (fun ((path, smooth), (w, h)) ->
+        Printf.sprintf "height field: %s, %d×%d pixels, %s" path w h
+          (snd (height_normals ~smooth)))
+      (List.sort compare r.r_rasters)
+
 let summary ~empty (d : D.t) (r : D.rendered) =
   let s = r.r_settings in
   let kinds = r.r_kinds in
@@ -167,6 +202,11 @@ let summary ~empty (d : D.t) (r : D.rendered) =
          (if List.length ts > shown then
             Printf.sprintf "; … and %d more" (List.length ts - shown)
           else ""));
+  (let shown = 4 in
+   let models = model_lines r in
+   List.iteri (fun i l -> if i < shown then line "%s" l) models;
+   if List.length models > shown then
+     line "… and %d more meshes and height fields" (List.length models - shown));
   line "lights: %d%s" (List.length r.r_lights)
     (if lights = [] then "" else " (" ^ list lights ^ ")");
   line "materials: %d distinct" r.r_materials;
@@ -284,6 +324,8 @@ let material_json (m : D.material) =
        ("transparency", `Float m.transparency);
        ("ior", `Float m.ior);
        ("fresnel", `Bool m.fresnel);
+       ("metallic", `Float m.metallic);
+       ("filter", `Float m.filter);
      ]
     @ (match m.texture with Some x -> [ ("texture", texture_json x) ] | None -> [])
     @ match m.bump with Some x -> [ ("bump", bump_json x) ] | None -> [])
@@ -329,12 +371,22 @@ let rec fields_json (r : D.rendered) (s : D.shape) : (string * Yojson.Safe.t) li
       [ ("file", `String file); ("smooth", `Bool smooth) ]
       @
       match List.assoc_opt (path, smooth) r.r_meshes with
-      | Some n -> [ ("triangles", `Int n) ]
+      | Some f ->
+          [
+            ("triangles", `Int f.triangles);
+            ("normals", `String (fst (mesh_normals ~smooth f)));
+          ]
       | None -> [])
-  | Height_field { file; path; origin; size; _ } -> (
-      [ ("file", `String file); ("origin", vj origin); ("size", vj size) ]
+  | Height_field { file; path; origin; size; smooth; _ } -> (
+      [
+        ("file", `String file);
+        ("origin", vj origin);
+        ("size", vj size);
+        ("smooth", `Bool smooth);
+        ("normals", `String (fst (height_normals ~smooth)));
+      ]
       @
-      match List.assoc_opt path r.r_rasters with
+      match List.assoc_opt (path, smooth) r.r_rasters with
       | Some (w, h) ->
           [
             ("width", `Int w);

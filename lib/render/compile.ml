@@ -10,6 +10,8 @@ type assets = {
   meshes : (string * bool, Trimesh.t read) Hashtbl.t;
   heights : (string, (int * int * Float.Array.t) read) Hashtbl.t;
       (** height-field images: width, height and each pixel's luminance in [0, 1] *)
+  height_fields : (string * bool, unit) Hashtbl.t;
+      (** the height fields made of them: (path, smooth) *)
   digests : (string, string) Hashtbl.t option;
       (** with [~digests:true]: each file's MD5 (hex), of the very bytes decoded *)
   after_read : string -> unit;
@@ -21,6 +23,7 @@ let assets ?(digests = false) ?(after_read = ignore) () =
     pictures = Hashtbl.create 4;
     meshes = Hashtbl.create 4;
     heights = Hashtbl.create 4;
+    height_fields = Hashtbl.create 4;
     digests = (if digests then Some (Hashtbl.create 4) else None);
     after_read;
     lock = Mutex.create ();
@@ -147,7 +150,7 @@ let mesh c ~file ~path ~smooth =
                                 (with what the reader outgrew) before the hierarchy's
                                 build, which would otherwise peak beside it. *)
                              if large then Gc.full_major ();
-                             Ok (Tri_builder.build m)
+                             Ok (Mesh_normals.build ~smooth m)
                          | Error m -> failed "load the mesh" m))))
 
 let heights c ~file ~path =
@@ -203,13 +206,14 @@ let bump c : D.bump -> Bump.t = function
 let material c (m : D.material) : Material.t =
   { m with texture = Option.map (texture c) m.texture; bump = Option.map (bump c) m.bump }
 
-let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~at =
+let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~smooth ~at =
   match heights c ~file ~path with
   | Error m -> problem at "%s" m
   | Ok (w, h, _) when w < 2 || h < 2 ->
       problem at "a height field needs an image of at least 2×2 pixels; \"%s\" is %d×%d"
         file w h
   | Ok (w, h, v) ->
+      Mutex.protect c.lock (fun () -> Hashtbl.replace c.height_fields (path, smooth) ());
       (* Vertex (i, j) at O + (sx·i/(W−1), sy·v(i, j), sz·j/(H−1)); j is the image row. *)
       let vert i j =
         Vec3.v
@@ -217,17 +221,54 @@ let height_field c ~file ~path ~(origin : Vec3.t) ~(size : Vec3.t) ~at =
           (origin.y +. (size.y *. Float.Array.get v ((j * w) + i)))
           (origin.z +. (size.z *. Float.of_int j /. Float.of_int (h - 1)))
       in
-      let tris = ref [] in
-      for j = h - 2 downto 0 do
-        for i = w - 2 downto 0 do
-          let a = vert i j
-          and bb = vert i (j + 1)
-          and c = vert (i + 1) j
-          and d = vert (i + 1) (j + 1) in
-          tris := Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
-        done
-      done;
-      !tris
+      if smooth then (
+        (* The same vertices and triangles, as one mesh whose normals are computed. *)
+        let pos = Float.Array.create (3 * w * h) in
+        for j = 0 to h - 1 do
+          for i = 0 to w - 1 do
+            let p = vert i j and k = 3 * ((j * w) + i) in
+            Float.Array.set pos k p.x;
+            Float.Array.set pos (k + 1) p.y;
+            Float.Array.set pos (k + 2) p.z
+          done
+        done;
+        let tv = Trimesh.ints (6 * (w - 1) * (h - 1)) and n = ref 0 in
+        let corner v =
+          Bigarray.Array1.set tv !n (Int32.of_int v);
+          incr n
+        in
+        for j = 0 to h - 2 do
+          for i = 0 to w - 2 do
+            let a = (j * w) + i in
+            let bb = a + w and c = a + 1 and d = a + w + 1 in
+            List.iter corner [ a; bb; c; c; bb; d ]
+          done
+        done;
+        let none = Float.Array.create 0 in
+        [
+          Shape.mesh
+            (Mesh_normals.build ~smooth
+               {
+                 pos;
+                 nrm = none;
+                 tex = none;
+                 tv;
+                 tn = Trimesh.no_ints;
+                 tt = Trimesh.no_ints;
+               });
+        ])
+      else
+        let tris = ref [] in
+        for j = h - 2 downto 0 do
+          for i = w - 2 downto 0 do
+            let a = vert i j
+            and bb = vert i (j + 1)
+            and c = vert (i + 1) j
+            and d = vert (i + 1) (j + 1) in
+            tris := Shape.triangle ~a ~b:bb ~c :: Shape.triangle ~a:c ~b:bb ~c:d :: !tris
+          done
+        done;
+        !tris
 
 (* The shapes of an object (one, or a mesh's or height field's triangles) and, for a CSG
    object, the material of each of its leaves ([None]: the object's own). *)
@@ -254,8 +295,8 @@ let rec shapes c (o : D.obj) : Shape.t list * D.material option array =
       | Ok m when Trimesh.count m = 0 ->
           problem at "the mesh \"%s\" has no triangles" file
       | Ok m -> ([ Shape.mesh m ], [||]))
-  | Height_field { file; path; origin; size; at } ->
-      (height_field c ~file ~path ~origin ~size ~at, [||])
+  | Height_field { file; path; origin; size; smooth; at } ->
+      (height_field c ~file ~path ~origin ~size ~smooth ~at, [||])
   | Csg { op; block; members; solid } ->
       let member (m : D.obj) =
         let sh, leaves = shapes c m in
@@ -725,11 +766,27 @@ let rendered c (sc : Scene.t) : D.rendered =
         r_meshes =
           Hashtbl.fold
             (fun k r acc ->
-              match r with Ok m -> (k, Trimesh.count m) :: acc | Error _ -> acc)
+              match r with
+              | Ok m ->
+                  let with_normals = ref 0 in
+                  for k = 0 to Trimesh.count m - 1 do
+                    if Trimesh.has_normals m k then incr with_normals
+                  done;
+                  let computed = Trimesh.computed m in
+                  ( k,
+                    {
+                      D.triangles = Trimesh.count m;
+                      read = !with_normals - computed;
+                      computed;
+                    } )
+                  :: acc
+              | Error _ -> acc)
             c.meshes [];
         r_rasters =
           Hashtbl.fold
-            (fun k r acc ->
-              match r with Ok (w, h, _) -> (k, (w, h)) :: acc | Error _ -> acc)
-            c.heights [];
+            (fun ((path, _) as k) () acc ->
+              match Hashtbl.find_opt c.heights path with
+              | Some (Ok (w, h, _)) -> (k, (w, h)) :: acc
+              | Some (Error _) | None -> acc)
+            c.height_fields [];
       })

@@ -470,7 +470,8 @@ let read_mesh ?(smooth = true) ~file text =
     in
     Error (Printf.sprintf "%s:%d: %s" file line m)
 
-let parse_mesh ?smooth ~file text = Result.map build (read_mesh ?smooth ~file text)
+let parse_mesh ?(smooth = true) ~file text =
+  Result.map (Mesh_normals.build ~smooth) (read_mesh ~smooth ~file text)
 
 let load_mesh ?smooth path =
   match In_channel.with_open_bin path In_channel.input_all with

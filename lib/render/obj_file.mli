@@ -8,12 +8,13 @@
 
 val read_mesh : ?smooth:bool -> file:string -> string -> (Tri_builder.mesh, string) result
 (** {!parse_mesh}'s reading, without the hierarchy: what a caller builds
-    ({!Tri_builder.build}) once it has let [text] go. *)
+    ({!Mesh_normals.build}) once it has let [text] go. *)
 
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
 (** [parse_mesh ~file text] reads OBJ [text] into one indexed mesh, straight into its
     arrays; [file] names it in messages. With [smooth] (default true) faces whose corners
-    all carry a [vn] interpolate those normals. *)
+    all carry a [vn] interpolate those normals, and the others normals computed from the
+    faces ({!Mesh_normals.complete}). *)
 
 val load_mesh : ?smooth:bool -> string -> (Trimesh.t, string) result
 (** [load_mesh path] reads and parses the file at [path]. *)

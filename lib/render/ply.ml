@@ -472,4 +472,5 @@ let read_mesh ?(smooth = true) ~file text =
     in
     Error located
 
-let parse_mesh ?smooth ~file text = Result.map build (read_mesh ?smooth ~file text)
+let parse_mesh ?(smooth = true) ~file text =
+  Result.map (Mesh_normals.build ~smooth) (read_mesh ~smooth ~file text)

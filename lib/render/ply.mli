@@ -11,9 +11,10 @@
 
 val read_mesh : ?smooth:bool -> file:string -> string -> (Tri_builder.mesh, string) result
 (** {!parse_mesh}'s reading, without the hierarchy: what a caller builds
-    ({!Tri_builder.build}) once it has let [text] go. *)
+    ({!Mesh_normals.build}) once it has let [text] go. *)
 
 val parse_mesh : ?smooth:bool -> file:string -> string -> (Trimesh.t, string) result
 (** [parse_mesh ~file text] reads the PLY file whose bytes are [text] into one indexed
     mesh; [file] names it in messages. With [smooth] (default true) a mesh with vertex
-    normals interpolates them. *)
+    normals interpolates them, and one without gets normals computed from its faces
+    ({!Mesh_normals.complete}). *)

@@ -320,6 +320,10 @@ let refract d nf eta =
   if k < 0. then None
   else Some (Vec3.madd (Vec3.smul eta d) ((eta *. c) -. Float.sqrt k) nf)
 
+(* A channel of tint(k) = (1 − k)·(1, 1, 1) + k·C for C's channel [c]: white at k = 0, the
+   albedo at k = 1, exactly. *)
+let[@inline] tint k c = 1. -. k +. (k *. c)
+
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
    it, added into acc.(ar, ag, ab) (doc/reference/shading.md, section 4), for albedo (cr, cg, cb),
    the normal facing the ray (nfx, nfy, nfz), the ray's direction (dx, dy, dz) and shadow
@@ -356,11 +360,18 @@ let[@inline] light_term (sc : Scene.t) st slot scr (m : Material.t) cr cg cb nfx
         (* R·V with V = −D *)
         let rv = (rx *. -.dx) +. (ry *. -.dy) +. (rz *. -.dz) in
         (* max(0, R·V)^shininess: nothing when R·V ≤ 0, except that x⁰ = 1. *)
-        if rv > 0. || m.shininess = 0. then (
+        if rv > 0. || m.shininess = 0. then
           let ks = m.specular *. Float.pow (if rv > 0. then rv else 0.) m.shininess in
-          acc.ar <- acc.ar +. (ks *. er);
-          acc.ag <- acc.ag +. (ks *. eg);
-          acc.ab <- acc.ab +. (ks *. eb))))
+          let mu = m.metallic in
+          if mu = 0. then (
+            acc.ar <- acc.ar +. (ks *. er);
+            acc.ag <- acc.ag +. (ks *. eg);
+            acc.ab <- acc.ab +. (ks *. eb))
+          else (
+            (* A metal's highlight: E ⊙ tint(μ). *)
+            acc.ar <- acc.ar +. (ks *. er *. tint mu cr);
+            acc.ag <- acc.ag +. (ks *. eg *. tint mu cg);
+            acc.ab <- acc.ab +. (ks *. eb *. tint mu cb))))
 
 (* [Settings.background_along] for a direction whose y component is [dy], into the
    fragment's colour. *)
@@ -549,9 +560,11 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
         Probe.set_origin q lox loy loz;
         Probe.set_unit_dir q (dx +. (kr *. nfx)) (dy +. (kr *. nfy)) (dz +. (kr *. nfz));
         trace_b sc st scr (depth + 1);
-        outr := !outr +. (r' *. f.r);
-        outg := !outg +. (r' *. f.g);
-        outb := !outb +. (r' *. f.b));
+        (* r·tint(μ) ⊙ reflected: a metal tints what it mirrors (tint(0) is 1, exactly). *)
+        let mu = m.metallic in
+        outr := !outr +. (r' *. tint mu cr *. f.r);
+        outg := !outg +. (r' *. tint mu cg *. f.g);
+        outb := !outb +. (r' *. tint mu cb *. f.b));
       if tau' > 0. && st.budget > 0 then (
         st.refracted <- st.refracted + 1;
         st.budget <- st.budget - 1;
@@ -562,9 +575,11 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
           ((eta *. dy) +. (kt *. nfy))
           ((eta *. dz) +. (kt *. nfz));
         trace_b sc st scr (depth + 1);
-        outr := !outr +. (tau' *. f.r);
-        outg := !outg +. (tau' *. f.g);
-        outb := !outb +. (tau' *. f.b)));
+        (* τ·tint(φ) ⊙ refracted: coloured glass filters what is seen through it. *)
+        let phi = m.filter in
+        outr := !outr +. (tau' *. tint phi cr *. f.r);
+        outg := !outg +. (tau' *. tint phi cg *. f.g);
+        outb := !outb +. (tau' *. tint phi cb *. f.b)));
     f.r <- !outr;
     f.g <- !outg;
     f.b <- !outb

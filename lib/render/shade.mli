@@ -1,7 +1,8 @@
 (** The Whitted shading model of doc/reference/shading.md, exactly: ambient, Lambert with
     distance attenuation, shadows with transmittance through transparent surfaces, Phong
     highlights, mirror reflection, Snell–Descartes refraction with total internal
-    reflection, optional Schlick Fresnel, and the depth rule.
+    reflection, optional Schlick Fresnel, highlights and reflections tinted by a metal's
+    colour and refraction by a coloured glass's, and the depth rule.
 
     Secondary and shadow rays start off the surface by {!offset}, which is proportional to
     the magnitude of the coordinates involved, so a scene scaled by any factor renders the

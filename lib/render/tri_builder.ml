@@ -84,8 +84,6 @@ let mesh vs vns vts tv tn tt =
     tt = some tt;
   }
 
-let build m = Trimesh.make ~pos:m.pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt
-
 (* |(b − a) × (c − a)| for the vertices a, b, c of [p] (3 coordinates each), in floats (as
    Vec3.length of Vec3.cross would compute it). *)
 let area (p : Float.Array.t) a b c =

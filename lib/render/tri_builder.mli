@@ -41,16 +41,14 @@ type mesh = {
   tt : Trimesh.ints;
 }
 (** What a reader read, exactly sized, before the hierarchy is built ({!Trimesh.make}'s
-    arguments): a reader hands it over so that its input can be let go first. *)
+    arguments, made by {!Mesh_normals.build}): a reader hands it over so that its input
+    can be let go first. *)
 
 val mesh :
   floats -> floats -> floats -> corners -> corners option -> corners option -> mesh
 (** [mesh vs vns vts tv tn tt]: the vertices, normals, texture coordinates and the
     triangles' corners trimmed to their lengths; [tn] and [tt] [None] where no triangle
     has them. *)
-
-val build : mesh -> Trimesh.t
-(** {!Trimesh.make} of it. *)
 
 val area : Float.Array.t -> int -> int -> int -> float
 (** [area pos a b c] is |(b − a) × (c − a)| for vertices [a], [b], [c] of [pos] (three

@@ -16,6 +16,7 @@ type t = {
   order : int array;  (** the triangles in leaf order; in index order without a tree *)
   depth : int;
   bounds : Bbox.t;
+  computed : int;  (** how many triangles' normals were computed, not read *)
 }
 
 let fget = Float.Array.unsafe_get
@@ -93,7 +94,7 @@ let min_bvh = 8
 let[@inline] fmin (x : float) y = Floats.min x y
 let[@inline] fmax (x : float) y = Floats.max x y
 
-let make ~pos ~nrm ~tex ~tv ~tn ~tt =
+let make ?(computed = 0) ~pos ~nrm ~tex ~tv ~tn ~tt () =
   let count = Bigarray.Array1.dim tv / 3 in
   let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
   let x1 = ref Float.neg_infinity
@@ -144,9 +145,11 @@ let make ~pos ~nrm ~tex ~tv ~tn ~tt =
     order;
     depth;
     bounds = { Bbox.min = Vec3.v !x0 !y0 !z0; max = Vec3.v !x1 !y1 !z1 };
+    computed;
   }
 
 let count m = m.count
+let computed m = m.computed
 let bounds m = m.bounds
 let[@inline] has_normals m k = Bigarray.Array1.dim m.tn > 0 && iget m.tn (3 * k) >= 0
 let[@inline] has_uvs m k = Bigarray.Array1.dim m.tt > 0 && iget m.tt (3 * k) >= 0
@@ -169,7 +172,7 @@ let translate (d : Vec3.t) m =
         let x = fget m.pos i in
         match i mod 3 with 0 -> x +. d.x | 1 -> x +. d.y | _ -> x +. d.z)
   in
-  make ~pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt
+  make ~computed:m.computed ~pos ~nrm:m.nrm ~tex:m.tex ~tv:m.tv ~tn:m.tn ~tt:m.tt ()
 
 let nodes m = m.nodes
 let order m = m.order

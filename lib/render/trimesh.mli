@@ -14,20 +14,28 @@ val no_ints : ints
 (** The empty index array: no triangle has normals (or uvs). *)
 
 val make :
+  ?computed:int ->
   pos:Float.Array.t ->
   nrm:Float.Array.t ->
   tex:Float.Array.t ->
   tv:ints ->
   tn:ints ->
   tt:ints ->
+  unit ->
   t
-(** [make ~pos ~nrm ~tex ~tv ~tn ~tt]: [pos] 3 coordinates per vertex, [nrm] 3 per normal
-    (as read, not normalised), [tex] 2 per (u, v); triangle k has vertices
+(** [make ~pos ~nrm ~tex ~tv ~tn ~tt ()]: [pos] 3 coordinates per vertex, [nrm] 3 per
+    normal (as read, not normalised), [tex] 2 per (u, v); triangle k has vertices
     [tv.{3k..3k+2}], normals [tn.{3k..3k+2}] (or [tn] empty, or [tn.{3k}] = −1 for none)
-    and (u, v)s likewise in [tt]. Builds the hierarchy (from 8 triangles). *)
+    and (u, v)s likewise in [tt]. [computed] (default 0) says how many triangles' normals
+    were computed ({!Mesh_normals.complete}) rather than read. Builds the hierarchy (from
+    8 triangles). *)
 
 val count : t -> int
 (** The number of triangles. *)
+
+val computed : t -> int
+(** How many triangles have normals computed from the faces rather than read from the
+    file; the others with normals ({!has_normals}) have the file's. *)
 
 val bounds : t -> Bbox.t
 (** The box of every corner. *)

@@ -352,7 +352,7 @@ let[@inline] box_met b j (q : Probe.t) tmin tmax =
 let no_mesh =
   Trimesh.make ~pos:(Float.Array.create 0) ~nrm:(Float.Array.create 0)
     ~tex:(Float.Array.create 0) ~tv:Trimesh.no_ints ~tn:Trimesh.no_ints
-    ~tt:Trimesh.no_ints
+    ~tt:Trimesh.no_ints ()
 
 type index = {
   nodes : Float.Array.t;

@@ -391,6 +391,40 @@ let static_tests =
               (Sys.file_exists (Filename.concat d "s.png"))));
   ]
 
+(* Which normals each mesh and height field is shaded with. *)
+let normals_tests =
+  [
+    Alcotest.test_case "check says which normals each mesh and height field uses" `Quick
+      (fun () ->
+        let d =
+          scene_dir
+            "light { position: (0, 5, -5) }\n\
+             mesh { file: \"bare.obj\" }\n\
+             mesh { file: \"bare.obj\", smooth: false }\n\
+             mesh { file: \"vn.obj\" }\n\
+             height_field { file: \"h.ppm\", size: (1, 1, 1), smooth: true }\n"
+        in
+        let tri = "v 0 0 0\nv 1 0 0\nv 0 0 1\n" in
+        write_file (Filename.concat d "bare.obj") (tri ^ "f 1 2 3\n");
+        write_file (Filename.concat d "vn.obj") (tri ^ "vn 0 1 0\nf 1//1 2//1 3//1\n");
+        write_file (Filename.concat d "h.ppm")
+          "P6\n2 2\n255\n\000\000\000\001\001\001\002\002\002\003\003\003";
+        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts" ] in
+        check_status "check" 0 r;
+        has "computed" out
+          "mesh: bare.obj, 1 triangle, normals computed from the faces (split at edges \
+           sharper than 60°)";
+        has "flat" out "mesh: bare.obj, 1 triangle, flat (smooth: false)";
+        has "the file's" out "mesh: vn.obj, 1 triangle, normals from the file";
+        has "height field" out
+          "height field: h.ppm, 2×2 pixels, normals computed from the cells";
+        let ((_, json, _) as r) = lancer ~dir:d [ "check"; "s.rts"; "--json" ] in
+        check_status "check --json" 0 r;
+        List.iter
+          (fun n -> has "json" json (Printf.sprintf "\"normals\": \"%s\"" n))
+          [ "computed"; "flat"; "file" ]);
+  ]
+
 let () =
   Alcotest.run "check"
     [
@@ -399,4 +433,5 @@ let () =
       ("warnings", warning_tests);
       ("cost", cost_tests);
       ("static", static_tests);
+      ("normals", normals_tests);
     ]

@@ -534,7 +534,8 @@ let file_tests =
 
 (* ---- rendering ---- *)
 
-let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) () =
+let demo_scene ?(settings = { Settings.default with width = 64; height = 48 })
+    ?(tinted = false) () =
   let floor =
     mat
       ~texture:
@@ -553,9 +554,22 @@ let demo_scene ?(settings = { Settings.default with width = 64; height = 48 }) (
       prim
         (mat ~color:(Color.v 0.9 0.2 0.2) ~specular:0.5 ())
         (Shape.sphere ~center:(v (-1.5) 1. 0.) ~radius:1.);
-      prim (mat ~reflection:0.8 ()) (Shape.sphere ~center:(v 0.8 0.7 1.) ~radius:0.7);
       prim
-        (mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ())
+        (if tinted then
+           {
+             (mat ~color:(Color.v 1. 0.77 0.34) ~reflection:0.8 ~specular:0.8 ()) with
+             metallic = 1.;
+           }
+         else mat ~reflection:0.8 ())
+        (Shape.sphere ~center:(v 0.8 0.7 1.) ~radius:0.7);
+      prim
+        (if tinted then
+           {
+             (mat ~color:(Color.v 1. 0.2 0.15) ~transparency:0.9 ~ior:1.5 ~fresnel:true ())
+             with
+             filter = 1.;
+           }
+         else mat ~transparency:0.9 ~ior:1.5 ~fresnel:true ())
         (Shape.sphere ~center:(v 1. 0.5 (-1.5)) ~radius:0.5);
     ]
 
@@ -782,6 +796,7 @@ let render_tests =
                   { Settings.default with width = 64; height = 48; adaptive = 0.1 }
                 () );
             ("a hierarchy, transformed boxes, sky, fog and a spot", bvh_scene ());
+            ("a tinted metal and a coloured glass", demo_scene ~tinted:true ());
           ]);
     Alcotest.test_case
       "a scene made only of opaque, matte objects casts no secondary rays" `Quick

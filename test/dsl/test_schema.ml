@@ -445,6 +445,8 @@ let test_material_ranges () =
             | "reflection" -> { d with reflection = x }
             | "transparency" -> { d with transparency = x }
             | "ior" -> { d with ior = x }
+            | "metallic" -> { d with metallic = x }
+            | "filter" -> { d with filter = x }
             | n -> Alcotest.failf "a material field %s this test does not know" n
           in
           match Lancer.Description.validate_material m with

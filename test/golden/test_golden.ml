@@ -136,6 +136,10 @@ let registry =
     ( "gallery_torus",
       "scenes/gallery/torus.rts",
       "a trefoil knot of 60 small rainbow tori above a large flat torus" );
+    ( "gallery_tint",
+      "scenes/gallery/tint.rts",
+      "left untinted gold and red glass (beige, colourless), right the library's: a gold \
+       mirror and a red glass" );
     ( "gallery_terrain",
       "scenes/gallery/terrain.rts",
       "green islands of a noise height field in a reflecting sea" );
@@ -150,22 +154,31 @@ let registry =
       "the smiley image map, green mark top left, stretched to 4:3" );
     ( "materials_chrome",
       "scenes/materials/chrome.rts",
-      "a grey mirror-like sphere reflecting floor and sky" );
+      "a grey mirror-like sphere reflecting floor and sky, slightly darkened" );
     ( "materials_colors",
       "scenes/materials/colors.rts",
       "33 flat discs in the named colours, black to steel_blue, in rows of 11" );
     ( "materials_copper",
       "scenes/materials/copper.rts",
-      "a pale copper-coloured sphere with a dim reflection" );
+      "a copper mirror: floor and sky reflected in pinkish copper" );
     ( "materials_diamond",
       "scenes/materials/diamond.rts",
       "a clear sphere, strongly reflective at the rim, the floor refracted inside" );
+    ( "materials_blue_glass",
+      "scenes/materials/blue_glass.rts",
+      "a blue glass sphere: the floor seen through it upside down and blue" );
+    ( "materials_green_glass",
+      "scenes/materials/green_glass.rts",
+      "a green glass sphere: the floor seen through it upside down and green" );
+    ( "materials_red_glass",
+      "scenes/materials/red_glass.rts",
+      "a red glass sphere: the floor seen through it upside down and red, a white rim" );
     ( "materials_glass",
       "scenes/materials/glass.rts",
       "a clear sphere showing the floor upside down, bright rim" );
     ( "materials_gold",
       "scenes/materials/gold.rts",
-      "a pale gold sphere with a dim reflection" );
+      "a gold mirror: floor and sky reflected in gold, a gold highlight" );
     ("materials_ice", "scenes/materials/ice.rts", "a slightly cloudy clear sphere");
     ("materials_mirror", "scenes/materials/mirror.rts", "a near-perfect mirror sphere");
     ( "materials_oak",
