@@ -248,10 +248,10 @@ let aov_term =
     & opt (some string) None
     & info [ "aov" ] ~docv:"object,depth,normal"
         ~doc:
-          "Also write, beside the image $(i,OUT).png, images of what the ray through each \
-           pixel's centre meets (any of the names, comma-separated): $(b,object) the \
-           object, as 16-bit gray ids in $(i,OUT).object.png (0 the background, k the \
-           k-th object of the scene), listed with their kind and file:line in \
+          "Also write, beside the image $(i,OUT).png, images of what the ray through \
+           each pixel's centre meets (any of the names, comma-separated): $(b,object) \
+           the object, as 16-bit gray ids in $(i,OUT).object.png (0 the background, k \
+           the k-th object of the scene), listed with their kind and file:line in \
            $(i,OUT).objects.json; $(b,depth) the distance to it in $(i,OUT).depth.pfm; \
            $(b,normal) its shading normal n as the colour (n+1)/2 in \
            $(i,OUT).normal.png. The image itself is the same as without.")

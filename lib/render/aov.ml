@@ -11,7 +11,9 @@ type t = {
 let normal_into (o : Primitive.t) (hit : Walk.hit) (q : Probe.t) (f : Frag.t) =
   let o = Primitive.surface o ~leaf:hit.leaf ~face:hit.face in
   let t = q.p_t in
-  let px = q.ox +. (t *. q.dx) and py = q.oy +. (t *. q.dy) and pz = q.oz +. (t *. q.dz) in
+  let px = q.ox +. (t *. q.dx)
+  and py = q.oy +. (t *. q.dy)
+  and pz = q.oz +. (t *. q.dz) in
   Frag.set_point f px py pz;
   Primitive.normal_into o f;
   if (q.dx *. f.nx) +. (q.dy *. f.ny) +. (q.dz *. f.nz) >= 0. then (

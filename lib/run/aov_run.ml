@@ -40,7 +40,8 @@ let objects prog ~time ~frame (sc : Scene.t) =
         user
           "the scene's description lists %d primitives but the scene has %d: its objects \
            cannot be named"
-          starts.(Array.length objs) (Array.length sc.objects);
+          starts.(Array.length objs)
+          (Array.length sc.objects);
       { objs; starts }
 
 (* The object that primitive [p] was made from, counting from 1: the last whose first
@@ -88,7 +89,8 @@ let write_objects out o (a : Aov.t) =
   let samples = Bytes.create (2 * Array.length ids) in
   Array.iteri (fun p k -> Bytes.set_uint16_be samples (2 * p) (min k 0xffff)) ids;
   written
-    (Image.write_raster (stem out ^ ".object.png")
+    (Image.write_raster
+       (stem out ^ ".object.png")
        (Raster.make ~width:a.width ~height:a.height ~channels:1 ~depth:16 samples));
   let entry k (ob : Description.obj) =
     `Assoc
@@ -108,7 +110,9 @@ let write_objects out o (a : Aov.t) =
       ]
   in
   written
-    (Image.write_atomic (stem out ^ ".objects.json") (fun oc ->
+    (Image.write_atomic
+       (stem out ^ ".objects.json")
+       (fun oc ->
          Yojson.Safe.pretty_to_channel oc doc;
          output_char oc '\n'))
 
@@ -183,8 +187,7 @@ let blame ~tolerance o ids (_, _, a) (_, _, b) =
     | [] -> parts
     | _ ->
         let c = List.fold_left (fun s (_, c) -> s + c) 0 rest in
-        parts
-        @ [ Printf.sprintf "%d on %d other objects" c (List.length rest) ]
+        parts @ [ Printf.sprintf "%d on %d other objects" c (List.length rest) ]
   in
   if parts = [] then "no pixel changed"
   else "most changed pixels: " ^ String.concat ", " parts

@@ -22,8 +22,8 @@ type objects
     text), and which of them each primitive of the compiled scene was made from. *)
 
 val objects : Program.t -> time:float -> frame:int -> Scene.t -> objects
-(** The objects of [scene], the program's scene at [time] and [frame] (its description made
-    again). Raises {!Lancer_job.Job_error.User} when the description does not account
+(** The objects of [scene], the program's scene at [time] and [frame] (its description
+    made again). Raises {!Lancer_job.Job_error.User} when the description does not account
     for the scene's primitives. *)
 
 val ids : objects -> Aov.t -> int array
@@ -52,11 +52,12 @@ val blame :
   int * int * Bytes.t ->
   int * int * Bytes.t ->
   string
-(** [blame ~tolerance objs ids a b]: where the encoded images [a] and [b] (of the size
-    of [ids]) differ by more than [tolerance] in some channel (by anything, where no pixel
-    does), how many such pixels lie on each object ({!ids}): the line ["most changed
-    pixels: 812 on sphere at scene.rts:7, 120 on the background"], the five largest
-    counts in decreasing order (ties by id), and how many pixels the others hold. *)
+(** [blame ~tolerance objs ids a b]: where the encoded images [a] and [b] (of the size of
+    [ids]) differ by more than [tolerance] in some channel (by anything, where no pixel
+    does), how many such pixels lie on each object ({!ids}): the line
+    ["most changed pixels: 812 on sphere at scene.rts:7, 120 on the background"], the five
+    largest counts in decreasing order (ties by id), and how many pixels the others hold.
+*)
 
 val golden_hint :
   tolerance:int ->

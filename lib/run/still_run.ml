@@ -114,8 +114,7 @@ let run ?cancel ?(aov = []) (o : Options.t) ~resume (enc : Output.encoding) =
   let sc = b.scene in
   Output.guard_render o b.source ~out;
   if aov_paths <> [] then
-    Files.guard_writes
-      ~reads:(Scenes.reads b.source)
+    Files.guard_writes ~reads:(Scenes.reads b.source)
       ((out, "the image") :: List.map (fun p -> (p, "an --aov image")) aov_paths);
   (* What lancer check warns of, before the render rather than after it. *)
   if not o.quiet then

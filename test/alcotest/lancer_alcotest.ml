@@ -173,8 +173,7 @@ let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?
             "%s differs from its golden %s: %a\n\
             \  actual image: %s\n\
             \  diff image:   %s\n\
-            %s\
-            \  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
+             %s  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
             scene golden_file Compare.pp figures actual diff
             (match hint with Some h -> "  " ^ h ^ "\n" | None -> ""))
 
