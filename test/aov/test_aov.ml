@@ -213,6 +213,27 @@ let test_golden_names_the_object () =
   let _, out, _ = r in
   Alcotest.(check bool) "no cause" false (contains out "most changed pixels")
 
+(* The pass itself, as a library call: its loop over the pixels allocates nothing (its
+   arrays, larger than the minor heap takes, go straight to the major heap). *)
+let test_no_allocation () =
+  let open Lancer in
+  let sc =
+    match Program.load_string ~filename:"s.rts" scene with
+    | Error _ -> Alcotest.fail "the scene does not load"
+    | Ok p -> (
+        match Program.scene p ~time:0. ~frame:0 with
+        | Ok sc -> sc
+        | Error _ -> Alcotest.fail "the scene does not compile")
+  in
+  ignore (Aov.primary sc);
+  let before = Gc.minor_words () in
+  let a = Aov.primary sc in
+  let words = Gc.minor_words () -. before in
+  Alcotest.(check int) "sphere A at the centre" 1 a.item.((24 * 65) + 32);
+  Alcotest.(check bool)
+    (Printf.sprintf "%.0f words for %d pixels" words (65 * 49))
+    true (words < 200.)
+
 let () =
   Alcotest.run "aov"
     [
@@ -225,6 +246,7 @@ let () =
           Alcotest.test_case "depth and normals" `Quick test_depth_normal;
           Alcotest.test_case "the image unchanged" `Quick test_same_image;
           Alcotest.test_case "bad names" `Quick test_bad_names;
+          Alcotest.test_case "no allocation per pixel" `Quick test_no_allocation;
         ] );
       ( "golden",
         [
