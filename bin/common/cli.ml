@@ -242,6 +242,20 @@ let encoding_term =
         { Output.bits; alpha; region; crop; format })
     $ bits $ alpha $ region $ crop $ format)
 
+let aov_term =
+  Arg.(
+    value
+    & opt (some string) None
+    & info [ "aov" ] ~docv:"object,depth,normal"
+        ~doc:
+          "Also write, beside the image $(i,OUT).png, images of what the ray through \
+           each pixel's centre meets (any of the names, comma-separated): $(b,object) \
+           the object, as 16-bit gray ids in $(i,OUT).object.png (0 the background, k \
+           the k-th object of the scene), listed with their kind and file:line in \
+           $(i,OUT).objects.json; $(b,depth) the distance to it in $(i,OUT).depth.pfm; \
+           $(b,normal) its shading normal n as the colour (n+1)/2 in \
+           $(i,OUT).normal.png. The image itself is the same as without.")
+
 let frames_term =
   let frames =
     let parse s =

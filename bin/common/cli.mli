@@ -26,6 +26,10 @@ val encoding_term : Lancer.Output.encoding Cmdliner.Term.t
 (** The options [--bits 8|16], [--alpha], [--region x0,y0,x1,y1], [--crop] and
     [--format png|ppm]. *)
 
+val aov_term : string option Cmdliner.Term.t
+(** [--aov object,depth,normal] of [render], as written: the names are checked when the
+    command runs ({!Lancer.Aov_run.parse}). *)
+
 val frames_term : Lancer.Frames_run.options Cmdliner.Term.t
 (** [--frames A..B], [--resume], [--video OUT] and [--shard K/N|slurm] of [animate], as
     [lancer] and [lancer-mpi] take them. *)

@@ -19,6 +19,9 @@ let render =
          stats.json";
       `Pre "  lancer render anim.rts --frame 12 -o frame12.ppm";
       `Pre
+        "  lancer render scene.rts -o s.png --aov object,depth  # also s.object.png, \
+         s.objects.json, s.depth.pfm";
+      `Pre
         "  lancer render big.rts -o big.png --resume    # again after an interruption: \
          continues";
     ]
@@ -27,12 +30,14 @@ let render =
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
-      const (fun o resume e ->
+      const (fun o resume e aov ->
           Report.run
             ?interrupted:(if resume then Some Report.resumed_interrupt else None)
-            (fun stop -> Still_run.run ~cancel:(Report.on_interrupt stop) o ~resume e))
+            (fun stop ->
+              let aov = Option.map Aov_run.parse aov in
+              Still_run.run ~cancel:(Report.on_interrupt stop) ?aov o ~resume e))
       $ Cli.(term Render)
-      $ Cli.resume_still $ Cli.encoding_term)
+      $ Cli.resume_still $ Cli.encoding_term $ Cli.aov_term)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in

@@ -64,6 +64,7 @@ module Check_run = Lancer_run.Check_run
 module Compare_run = Lancer_run.Compare_run
 module Verify_run = Lancer_run.Verify_run
 module Render_report = Lancer_run.Render_report
+module Aov_run = Lancer_run.Aov_run
 
 (** {2 The version} *)
 
@@ -105,6 +106,7 @@ module Physics = Lancer_physics.Physics
 (** {2 [lancer.render]} *)
 
 module Accel = Lancer_render.Accel
+module Aov = Lancer_render.Aov
 module Bump = Lancer_render.Bump
 module Bvh = Lancer_render.Bvh
 module Compile = Lancer_render.Compile

@@ -790,3 +790,11 @@ let rendered c (sc : Scene.t) : D.rendered =
               | Some (Error _) | None -> acc)
             c.height_fields [];
       })
+
+let primitive_count c (o : D.obj) =
+  match o.shape with
+  | Height_field { file; path; _ } -> (
+      match heights c ~file ~path with
+      | Ok (w, h, _) when w >= 2 && h >= 2 -> 2 * (w - 1) * (h - 1)
+      | Ok _ | Error _ -> 0)
+  | _ -> 1

@@ -71,3 +71,8 @@ val rendered : assets -> Scene.t -> Description.rendered
 (** What the renderer made of a description, for [lancer check]: the objects by kind, the
     CSG trees, the distinct materials, features, and what the mesh and height-field files
     held. *)
+
+val primitive_count : assets -> Description.obj -> int
+(** How many primitives {!compile} makes of an object that compiles, each after the
+    previous object's in the scene's [objects]: a height field's triangles, 1 for any
+    other (a mesh and a CSG object are one primitive each). *)

@@ -146,7 +146,8 @@ let diff ?out ?(json = false) ~metric ~tolerance ~share a b =
 let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
   check_tolerance tolerance share;
   check_limit metric;
-  let src = Scene_file.source o (Scene_file.load o.scene) in
+  let prog = Scene_file.load o.scene in
+  let src = Scene_file.source o prog in
   let time, frame = Options.time_of o src in
   let sc = Options.scene_at o src ~time ~frame in
   (* A golden of another size can never match: say so before rendering, and how to fix it. *)
@@ -196,7 +197,9 @@ let golden ?cancel ?metric (o : Options.t) ~golden ~tolerance ~share ~update =
           (if c.max_diff = 0 then "same as" else "within tolerance of")
           golden Compare.pp c;
       true
-  | Ok (Compare.Different { figures; actual; diff }) ->
+  | Ok (Compare.Different { figures; actual = a; diff }) ->
       Format.printf "differs from %s: %a@.actual: %s@.diff: %s@." golden Compare.pp
-        figures actual diff;
+        figures a diff;
+      Option.iter print_endline
+        (Aov_run.golden_hint ~tolerance prog ~time ~frame sc ~golden actual);
       false

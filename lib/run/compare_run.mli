@@ -47,6 +47,7 @@ val golden :
 (** [lancer golden SCENE GOLDEN]: the scene rendered as [lancer render] would and compared
     with the golden PNG (refused before rendering when its size differs), or written as
     the golden with [update]; on a difference the actual and diff images are written
-    beside the golden and named. With a [metric], the image is judged by it, and the diff
+    beside the golden and named, with the objects the changed pixels lie on
+    ({!Aov_run.golden_hint}). With a [metric], the image is judged by it, and the diff
     image is FLIP's error map. Whether the render matches (or was written). Raises
     {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}. *)

@@ -96,9 +96,16 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
     (* With -o -, standard output is the image's alone. *)
     if stdout then prerr_endline line else print_endline line
 
-let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
+(* The images of [--aov] beside [out]: checked before any work, made after the image. *)
+let aov_files kinds ~out =
+  if kinds <> [] && Output.is_stdout out then
+    user "--aov writes its images beside the image file: it cannot be combined with -o -";
+  List.concat_map (Aov_run.paths out) kinds
+
+let run ?cancel ?(aov = []) (o : Options.t) ~resume (enc : Output.encoding) =
   let out = Scene_file.default_output o in
   check_outputs ?format:enc.format o ~out;
+  let aov_paths = aov_files aov ~out in
   let domains = Options.domains o in
   (* Only a checkpoint's key needs the digests of the files the scene reads. *)
   (* The image's record and a checkpoint's key hold the digests of the files the scene
@@ -106,6 +113,9 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   let b = build ~digests:true o in
   let sc = b.scene in
   Output.guard_render o b.source ~out;
+  if aov_paths <> [] then
+    Files.guard_writes ~reads:(Scenes.reads b.source)
+      ((out, "the image") :: List.map (fun p -> (p, "an --aov image")) aov_paths);
   (* What lancer check warns of, before the render rather than after it. *)
   if not o.quiet then
     List.iter
@@ -142,4 +152,8 @@ let run ?cancel (o : Options.t) ~resume (enc : Output.encoding) =
   finish ?cancel ~encoding:enc ?alpha ~record:(record o b enc ~out) o ~out ~checkpoint
     ~build:b.seconds ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
-    sc fb st
+    sc fb st;
+  if aov <> [] then (
+    let objects = Aov_run.objects b.program ~time:b.time ~frame:b.frame sc in
+    Aov_run.write aov ~out objects (Aov.primary sc);
+    if not o.quiet then Printf.printf "AOV images: %s\n%!" (String.concat ", " aov_paths))

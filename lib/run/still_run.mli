@@ -55,8 +55,15 @@ val finish :
     unless [--quiet], the summary line ({!Render_report.summary}; on stderr when the image
     goes to standard output). *)
 
-val run : ?cancel:Cancel.t -> Options.t -> resume:bool -> Output.encoding -> unit
+val run :
+  ?cancel:Cancel.t ->
+  ?aov:Aov_run.kind list ->
+  Options.t ->
+  resume:bool ->
+  Output.encoding ->
+  unit
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image
     rendered over [--domains] domains (from a checkpoint with [resume]) with a progress
-    line, then {!finish}. Raises {!Lancer_job.Job_error.User} and
+    line, then {!finish}; then the [aov] images beside it ({!Aov_run.write}), which do not
+    change the image's bytes. Raises {!Lancer_job.Job_error.User} and
     {!Lancer_job.Job_error.Scene}; [Sys.Break] when [cancel] is cancelled. *)

@@ -75,10 +75,11 @@ let render_program ?width ?height ?samples ?quality ?time ?frame ?(domains = 1) 
     | exception Job_error.User m -> Error m
   in
   let fb, _ = Render.with_pool domains (fun pool -> Render.render ?pool sc) in
-  Ok (prog, (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb))
+  Ok (prog, (sc, time, frame), (fb.width, fb.height, Image.to_bytes sc.settings.gamma fb))
 
 let render_scene ?width ?height ?samples ?quality ?time ?frame ?domains path =
-  Result.map snd
+  Result.map
+    (fun (_, _, img) -> img)
     (render_program ?width ?height ?samples ?quality ?time ?frame ?domains path)
 
 (* Under dune a test sees only its dependencies, copied into the build directory, and is
@@ -129,7 +130,7 @@ let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?
     render_program ?width ?height ?samples ?quality ?time ?frame (source_path scene)
   with
   | Error m -> Alcotest.failf "%s: %s" scene m
-  | Ok (prog, img) -> (
+  | Ok (prog, (sc, time, frame), img) -> (
       let golden_file = source_path golden in
       let read =
         Program.inputs prog
@@ -163,12 +164,18 @@ let check ?tolerance ?max_share ?metric ?width ?height ?samples ?quality ?time ?
              LANCER_UPDATE_GOLDEN=1)"
             golden_file actual
       | Ok (Different { figures; actual; diff }) ->
+          let hint =
+            Aov_run.golden_hint
+              ~tolerance:(Option.value tolerance ~default:1)
+              prog ~time ~frame sc ~golden:golden_file img
+          in
           Alcotest.failf
             "%s differs from its golden %s: %a\n\
             \  actual image: %s\n\
             \  diff image:   %s\n\
-            \  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
-            scene golden_file Compare.pp figures actual diff)
+             %s  (if the change is intended: LANCER_UPDATE_GOLDEN=1)"
+            scene golden_file Compare.pp figures actual diff
+            (match hint with Some h -> "  " ^ h ^ "\n" | None -> ""))
 
 let test_case ?(speed = `Quick) ?tolerance ?max_share ?metric ?width ?height ?samples
     ?quality ?time ?frame name ~scene ~golden () =

@@ -3,7 +3,8 @@
     A golden test renders a scene and compares the encoded image with a stored PNG under a
     per-channel tolerance, or a limit in another metric (mean FLIP, SSIM, RMSE, PSNR). On
     failure it writes [NAME.actual.png] and [NAME.diff.png] next to the golden file (in
-    the source tree when run by dune), prints their paths and the figures, and fails. With
+    the source tree when run by dune), prints their paths, the figures and the objects of
+    the scene the changed pixels lie on ({!Lancer.Aov_run.golden_hint}), and fails. With
     the environment variable [LANCER_UPDATE_GOLDEN=1] it writes the golden instead (making
     its directory if needed) and passes: goldens change only on that explicit request.
 

@@ -83,6 +83,7 @@ let listed args =
 let render_options =
   [
     "--alpha";
+    "--aov";
     "--bits";
     "--crop";
     "--depth";

@@ -67,7 +67,23 @@ let test_green_ball_fails () =
       "actual image: " ^ actual;
       "diff image:   " ^ diff;
       "LANCER_UPDATE_GOLDEN=1";
+      (* the cause: the ball (line 7) holds the most changed pixels *)
+      "most changed pixels: ";
     ];
+  (let mark = "most changed pixels: " in
+   let rec at i =
+     if String.sub message i (String.length mark) = mark then i + String.length mark
+     else at (i + 1)
+   in
+   let rest = String.sub message (at 0) (String.length message - at 0) in
+   let first =
+     List.hd (String.split_on_char ',' (List.hd (String.split_on_char '\n' rest)))
+   in
+   let ball = " on sphere at " ^ scene ^ ":7" in
+   Alcotest.(check bool)
+     (Printf.sprintf "%S names the ball first" first)
+     true
+     (String.ends_with ~suffix:ball first));
   Alcotest.(check bool) "diff image written" true (Sys.file_exists diff);
   Alcotest.(check bool) "actual image written" true (Sys.file_exists actual);
   (* the diff marks the ball: a sizeable share of the pixels, not the whole picture *)
