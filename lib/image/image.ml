@@ -5,7 +5,7 @@ type gamma = Srgb | Power of float
 let max_pixels = Raster.max_pixels
 
 (* The encoding curve on a clamped value. *)
-let curve gamma v =
+let[@inline] curve gamma v =
   (* Clamp first: NaN fails both tests below and must not reach int_of_float. *)
   let v = if v > 0. then if v < 1. then v else 1. else 0. in
   match gamma with

@@ -12,6 +12,9 @@ type gamma = Srgb  (** the sRGB transfer curve *) | Power of float  (** v^(1/g) 
 val max_pixels : int
 (** {!Raster.max_pixels}. *)
 
+val curve : gamma -> float -> float
+(** The encoding curve, in \[0, 1\], of a linear value clamped to \[0, 1\] (NaN as 0). *)
+
 val encode_channel : gamma -> float -> int
 (** One linear channel value to a byte (NaN encodes as 0). *)
 

@@ -164,6 +164,8 @@ let decode b off ~width ~height ~(rects : (int * int * int * int) array) =
             refracted = c.(3);
             bad_samples = bad;
             first_bad;
+            noise_sq = 0;
+            noise_n = 0;
           }
         in
         (true, Some s)

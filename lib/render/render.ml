@@ -3,15 +3,67 @@ let tile_size = 32
 (* The bits of a sample's image coordinate, to hash: a sample is named by its place. *)
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
 
+(* Whether a pixel's camera samples are random draws (jittered, at hashed instants of
+   the shutter, through hashed lens points), so that two halves of them are two
+   independent estimates of the pixel. *)
+let[@inline] camera_noise (sc : Scene.t) =
+  sc.settings.jitter || Array.length sc.moments > 0 || sc.features.depth_of_field
+
+let noise_estimated (sc : Scene.t) =
+  let s = sc.settings in
+  sc.features.soft_shadows
+  || camera_noise sc
+     && (s.samples >= 2 || s.adaptive > 0.
+        || (sc.features.depth_of_field && sc.view.lens_samples >= 2))
+
 (* A tile's scratch: the shading scratch, where each sample leaves its colour (in its
    fragment); in [coarse] the four samples of an adaptive pixel's first pass (0–11), room
    to compare them (12–16) and the image point of a sample through a camera other than
-   the pinhole (17, 18); in [pin] the pinhole ray of a depth-of-field sample. Made for
-   each tile, so that no two domains share one. *)
-type scratch = { shade : Shade.scratch; coarse : Float.Array.t; pin : Probe.t }
+   the pinhole (17, 18); in [pin] the pinhole ray of a depth-of-field sample; in [nz],
+   for the noise estimate, a sample's half-difference of the area lights (0–2) and
+   variance of the mean of its lens samples (3–5), a pixel's sum of the first (6–8),
+   signed sum of its samples' colours, + for half A and − for half B (9–11), and its
+   variance (12–14), kept only where [noisy] ({!noise_estimated}). Made for each tile, so
+   that no two domains share one. *)
+type scratch = {
+  shade : Shade.scratch;
+  coarse : Float.Array.t;
+  pin : Probe.t;
+  nz : Float.Array.t;
+  noisy : bool;
+}
 
-let scratch () =
-  { shade = Shade.scratch (); coarse = Float.Array.make 19 0.; pin = Probe.create () }
+let scratch sc =
+  {
+    shade = Shade.scratch ();
+    coarse = Float.Array.make 19 0.;
+    pin = Probe.create ();
+    nz = Float.Array.make 15 0.;
+    noisy = noise_estimated sc;
+  }
+
+let[@inline] nz_add a k (y : float) =
+  Float.Array.unsafe_set a k (Float.Array.unsafe_get a k +. y)
+
+let[@inline] nz_zero a k =
+  Float.Array.unsafe_set a k 0.;
+  Float.Array.unsafe_set a (k + 1) 0.;
+  Float.Array.unsafe_set a (k + 2) 0.
+
+let[@inline] sq x = x *. x
+
+(* The noise estimate's sums over a pixel's samples (or a sample's lens rays), at
+   nz.(into): the one just taken, its half-difference of the area lights at nz.(from)
+   added to nz.(into + 0–2), its colour added to nz.(into + 3–5) in half A (p + q even),
+   subtracted in half B. *)
+let[@inline] noise_sample nz ~from ~into (f : Frag.t) p q =
+  nz_add nz into (Float.Array.unsafe_get nz from);
+  nz_add nz (into + 1) (Float.Array.unsafe_get nz (from + 1));
+  nz_add nz (into + 2) (Float.Array.unsafe_get nz (from + 2));
+  let sign = if (p + q) land 1 = 0 then 1. else -1. in
+  nz_add nz (into + 3) (sign *. f.r);
+  nz_add nz (into + 4) (sign *. f.g);
+  nz_add nz (into + 5) (sign *. f.b)
 
 (* A sample through any camera but the plain pinhole: an orthographic or fisheye ray
    (a fisheye point outside its circle sees what a ray along f that hits nothing sees),
@@ -23,12 +75,17 @@ let camera_sample (sc : Scene.t) (st : Task.t) scr i j =
   let f = Shade.frag scr.shade in
   let x = Float.Array.unsafe_get scr.coarse 17
   and y = Float.Array.unsafe_get scr.coarse 18 in
-  if not (Camera.in_view c ~width:s.width ~height:s.height x y) then
-    Frag.set_color f (Shade.miss sc c.f)
+  let nz = scr.nz in
+  if not (Camera.in_view c ~width:s.width ~height:s.height x y) then (
+    Frag.set_color f (Shade.miss sc c.f);
+    nz_zero nz 0;
+    nz_zero nz 3)
   else if not (Camera.depth_of_field c) then (
     Camera.ray_into c ~width:s.width ~height:s.height x y (Shade.probe scr.shade);
     st.primary <- st.primary + 1;
-    Shade.trace_into sc st scr.shade 1)
+    Shade.trace_into sc st scr.shade 1;
+    Shade.half_diff_into scr.shade nz 0;
+    nz_zero nz 3)
   else
     let pin = scr.pin in
     Camera.ray_into c ~width:s.width ~height:s.height x y pin;
@@ -39,6 +96,10 @@ let camera_sample (sc : Scene.t) (st : Task.t) scr i j =
         (bits y)
     in
     let ar = ref 0. and ag = ref 0. and ab = ref 0. in
+    (* For the noise estimate: the lens rays' half-differences of the area lights
+       summed, and their colours summed + in half A (a + b even) and − in half B. *)
+    nz_zero nz 0;
+    nz_zero nz 3;
     for a = 0 to n - 1 do
       for b = 0 to n - 1 do
         let hk = Hash.combine h0 ((a * 4096) + b) in
@@ -50,13 +111,25 @@ let camera_sample (sc : Scene.t) (st : Task.t) scr i j =
         Shade.trace_into sc st scr.shade 1;
         ar := !ar +. f.r;
         ag := !ag +. f.g;
-        ab := !ab +. f.b
+        ab := !ab +. f.b;
+        Shade.half_diff_into scr.shade nz 12;
+        noise_sample nz ~from:12 ~into:0 f a b
       done
     done;
     let k = 1. /. Float.of_int (n * n) in
     f.r <- k *. !ar;
     f.g <- k *. !ag;
-    f.b <- k *. !ab
+    f.b <- k *. !ab;
+    for ch = 0 to 2 do
+      Float.Array.unsafe_set nz ch (k *. Float.Array.unsafe_get nz ch);
+      Float.Array.unsafe_set nz (3 + ch)
+        (if n < 2 then 0.
+         else
+           sq
+             (Shade.half_diff (n * n)
+                (if ch = 0 then !ar else if ch = 1 then !ag else !ab)
+                (Float.Array.unsafe_get nz (3 + ch))))
+    done
 
 (* The scene that sample (p, q) of the n×n grid of pixel (i, j) sees: the scene itself,
    or with an open shutter one of its m moments (the scenes at the shutter's instants).
@@ -88,7 +161,8 @@ let[@inline] sample (sc : Scene.t) (st : Task.t) scr i j p q n x y =
   if Camera.pinhole_perspective sc.view then (
     st.primary <- st.primary + 1;
     Camera.ray_into sc.view ~width:s.width ~height:s.height x y (Shade.probe scr.shade);
-    Shade.trace_into sc st scr.shade 1)
+    Shade.trace_into sc st scr.shade 1;
+    if scr.noisy then Shade.half_diff_into scr.shade scr.nz 0)
   else (
     (* Through the scratch: arguments would be boxed. *)
     Float.Array.unsafe_set scr.coarse 17 x;
@@ -98,7 +172,9 @@ let[@inline] sample (sc : Scene.t) (st : Task.t) scr i j p q n x y =
   if not (Float.is_finite f.r && Float.is_finite f.g && Float.is_finite f.b) then (
     st.bad_samples <- st.bad_samples + 1;
     if Option.is_none st.first_bad then st.first_bad <- Some (i, j);
-    Frag.set_color f s.background)
+    Frag.set_color f s.background;
+    nz_zero scr.nz 0;
+    nz_zero scr.nz 3)
 
 (* Offset of sample (p, q) of n inside pixel (i, j): the sub-cell centre, or a hashed
    point inside the sub-cell with jitter. *)
@@ -115,9 +191,25 @@ let[@inline] sub_offset (sc : Scene.t) n i j p q axis =
     in
     (Float.of_int p +. Hash.to_unit h) /. nf
 
+(* The variance of channel [ch] of the mean of a pixel's [m] ≥ 2 samples whose colours in
+   that channel sum to [s], into nz.(12 + ch): the square of the area lights' mean
+   half-difference, and where the samples are random draws that of the two halves of
+   the samples. *)
+let[@inline] noise_channel (sc : Scene.t) nz m ch s =
+  let l = Float.Array.unsafe_get nz (6 + ch) /. Float.of_int m in
+  let c =
+    if camera_noise sc then sq (Shade.half_diff m s (Float.Array.unsafe_get nz (9 + ch)))
+    else 0.
+  in
+  Float.Array.unsafe_set nz (12 + ch) ((l *. l) +. c)
+
 let grid sc st scr i j n =
   let f = Shade.frag scr.shade in
   let ar = ref 0. and ag = ref 0. and ab = ref 0. in
+  let noisy = scr.noisy and nz = scr.nz in
+  if noisy then (
+    nz_zero nz 6;
+    nz_zero nz 9);
   for q = 0 to n - 1 do
     for p = 0 to n - 1 do
       let x = Float.of_int i +. sub_offset sc n i j p q 0 in
@@ -125,13 +217,18 @@ let grid sc st scr i j n =
       sample sc st scr i j p q n x y;
       ar := !ar +. f.r;
       ag := !ag +. f.g;
-      ab := !ab +. f.b
+      ab := !ab +. f.b;
+      if noisy then noise_sample nz ~from:0 ~into:6 f p q
     done
   done;
   let k = 1. /. Float.of_int (n * n) in
   f.r <- k *. !ar;
   f.g <- k *. !ag;
-  f.b <- k *. !ab
+  f.b <- k *. !ab;
+  if noisy then (
+    noise_channel sc nz (n * n) 0 !ar;
+    noise_channel sc nz (n * n) 1 !ag;
+    noise_channel sc nz (n * n) 2 !ab)
 
 (* c.(i) <- Float.max c.(i) y and c.(i) <- Float.min c.(i) y, the stdlib's definitions
    written as assignments: a float-valued [if] of boxed and unboxed branches would box. *)
@@ -183,8 +280,12 @@ let[@inline] sum4 c k =
 let pixel_into (sc : Scene.t) st scr i j =
   let s = sc.settings in
   let f = Shade.frag scr.shade in
+  let noisy = scr.noisy and nz = scr.nz in
   if s.adaptive > 0. then (
     let c = scr.coarse in
+    if noisy then (
+      nz_zero nz 6;
+      nz_zero nz 9);
     for q = 0 to 1 do
       for p = 0 to 1 do
         let x = Float.of_int i +. sub_offset sc 2 i j p q 0 in
@@ -193,7 +294,8 @@ let pixel_into (sc : Scene.t) st scr i j =
         let k = 3 * ((2 * q) + p) in
         Float.Array.unsafe_set c k f.r;
         Float.Array.unsafe_set c (k + 1) f.g;
-        Float.Array.unsafe_set c (k + 2) f.b
+        Float.Array.unsafe_set c (k + 2) f.b;
+        if noisy then noise_sample nz ~from:0 ~into:6 f p q
       done
     done;
     contrast c;
@@ -201,15 +303,27 @@ let pixel_into (sc : Scene.t) st scr i j =
     else (
       f.r <- 0.25 *. sum4 c 0;
       f.g <- 0.25 *. sum4 c 1;
-      f.b <- 0.25 *. sum4 c 2))
-  else if s.samples = 1 then
+      f.b <- 0.25 *. sum4 c 2;
+      if noisy then (
+        noise_channel sc nz 4 0 (sum4 c 0);
+        noise_channel sc nz 4 1 (sum4 c 1);
+        noise_channel sc nz 4 2 (sum4 c 2))))
+  else if s.samples = 1 then (
     sample sc st scr i j 0 0 1
       (Float.of_int i +. sub_offset sc 1 i j 0 0 0)
-      (Float.of_int j +. sub_offset sc 1 i j 0 0 1)
+      (Float.of_int j +. sub_offset sc 1 i j 0 0 1);
+    (* One camera sample: its lens samples' halves, if it has any. *)
+    if noisy then
+      for ch = 0 to 2 do
+        Float.Array.unsafe_set nz (12 + ch)
+          (sq (Float.Array.unsafe_get nz ch)
+          +.
+          if sc.features.depth_of_field then Float.Array.unsafe_get nz (3 + ch) else 0.)
+      done)
   else grid sc st scr i j s.samples
 
 let pixel sc st i j =
-  let scr = scratch () in
+  let scr = scratch sc in
   pixel_into sc st scr i j;
   let f = Shade.frag scr.shade in
   Color.v f.r f.g f.b
@@ -253,6 +367,16 @@ let check_reuse (fb : Framebuffer.t) = function
    pixel of the full image, or its last one where the block is cut by the edge. *)
 let[@inline] strided k n i = if k = 1 then i else min (n - 1) ((i * k) + (k / 2))
 
+(* A channel of value [v] and estimated variance [var] into the task's noise sums: the
+   standard error σ = √var in 8-bit encoded steps, 255·(curve(v + σ) − curve(v − σ))/2
+   (the slope of the encoding times σ, where it is smooth), squared, in
+   {!Counters.noise_unit}s rounded to the nearest. *)
+let[@inline] noise_count (st : Task.t) gamma v var =
+  let sd = Float.sqrt var in
+  let e = 127.5 *. (Image.curve gamma (v +. sd) -. Image.curve gamma (v -. sd)) in
+  st.noise_sq <- st.noise_sq + Float.to_int ((e *. e *. Counters.noise_unit) +. 0.5);
+  st.noise_n <- st.noise_n + 1
+
 let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   check_reuse fb reuse;
   if Option.is_some alpha && Option.is_some reuse then
@@ -260,10 +384,11 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
   if stride < 1 || (stride > 1 && (Option.is_some alpha || Option.is_some reuse)) then
     invalid_arg "Render: a stride below 1, or with alpha or a reuse";
   let sw = sc.Scene.settings.width and sh = sc.settings.height in
-  let scr = scratch () in
+  let scr = scratch sc in
   let f = Shade.frag scr.shade in
   let ax = Shade.accel_scratch scr.shade in
   let w = fb.Framebuffer.width in
+  let noisy = scr.noisy and gamma = sc.settings.gamma in
   (match reuse with Some (Watch { box; _ }) -> Accel.watch ax (Some box) | _ -> ());
   (* The work deep in queries that is not handed [st] (a CSG object's crossings) counts
      into it, and so polls its token too; a poll there may leave a query half done, which
@@ -287,6 +412,10 @@ let render_tile ?alpha ?reuse ?(stride = 1) sc st fb x0 y0 x1 y1 =
               Accel.untouch ax;
               pixel_into sc st scr (strided stride sw i) (strided stride sh j);
               Framebuffer.set_rgb fb i j f.r f.g f.b;
+              if noisy then (
+                noise_count st gamma f.r (Float.Array.unsafe_get scr.nz 12);
+                noise_count st gamma f.g (Float.Array.unsafe_get scr.nz 13);
+                noise_count st gamma f.b (Float.Array.unsafe_get scr.nz 14));
               (match reuse with
               | Some (Watch { mask; _ }) ->
                   Bytes.set mask p (if Accel.touched ax then '\001' else '\000')

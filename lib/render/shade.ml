@@ -13,7 +13,12 @@ let offset (p : Vec3.t) (o : Vec3.t) = offset_s p.x p.y p.z o.x o.y o.z
    or area light (tr, tg, tb); the point shaded (px, py, pz) and where its shadow rays
    start (lx, ly, lz), for the area lights; Schlick's F0 (f0) of the last index of
    refraction it was computed for (f0_ior), since a glass scene asks it again at every
-   crossing. *)
+   crossing. With soft shadows also the half-difference ({!area_transmittance}) of the
+   last area light's transmittance (ur, ug, ub), the weight in the camera sample's
+   colour of the light of the step being shaded (wl), and the half-difference of that
+   colour summed so far (nr, ng, nb): the colour is a weighted sum of the steps' light,
+   linear in the area lights' transmittances, so the same weights carry their
+   half-differences. *)
 type acc = {
   mutable ar : float;
   mutable ag : float;
@@ -29,6 +34,13 @@ type acc = {
   mutable lz : float;
   mutable f0_ior : float;
   mutable f0 : float;
+  mutable ur : float;
+  mutable ug : float;
+  mutable ub : float;
+  mutable nr : float;
+  mutable ng : float;
+  mutable nb : float;
+  mutable wl : float;
 }
 
 (* A domain's scratch: the ray being traced ([q]) and what its query found ([hit]), the
@@ -36,7 +48,9 @@ type acc = {
    answer into (and where a trace leaves its colour), the light sums, the factors of the
    crossings, and the queries' scratch of the domain it is made on ([ax]: no look-up per
    query). A shading step copies what it needs into locals before it traces again, so one
-   scratch serves every depth. *)
+   scratch serves every depth. With soft shadows, [wts.(d)] is the weight in the camera
+   sample's colour of the step at depth d (the product of the reflected or transmitted
+   shares and fog that lead to it). *)
 type scratch = {
   q : Probe.t;
   hit : Walk.hit;
@@ -46,6 +60,7 @@ type scratch = {
   acc : acc;
   xs : crossings;
   ax : Accel.scratch;
+  mutable wts : Float.Array.t;
 }
 
 (* The factors of a shadow ray's transparent crossings, 4 floats each (t, then
@@ -174,6 +189,13 @@ let scratch () =
       lz = 0.;
       f0_ior = Float.nan;
       f0 = 0.;
+      ur = 0.;
+      ug = 0.;
+      ub = 0.;
+      nr = 0.;
+      ng = 0.;
+      nb = 0.;
+      wl = 0.;
     }
   in
   let xs = { fs = Float.Array.make 32 0.; n = 0; zero = 0 } in
@@ -186,10 +208,17 @@ let scratch () =
     acc;
     xs;
     ax = Accel.domain_scratch ();
+    wts = Float.Array.make 8 0.;
   }
 
 let probe scr = scr.q
 let frag scr = scr.f
+
+let[@inline] half_diff_into scr a k =
+  Float.Array.unsafe_set a k scr.acc.nr;
+  Float.Array.unsafe_set a (k + 1) scr.acc.ng;
+  Float.Array.unsafe_set a (k + 2) scr.acc.nb
+
 let accel_scratch scr = scr.ax
 
 (* Where no opaque surface blocks the shadow ray that [scr.sq] holds (the occlusion
@@ -256,13 +285,26 @@ let[@inline] shadow_into (sc : Scene.t) (st : Task.t) slot scr ox oy oz dx dy dz
     acc.tb <- 1.)
   else transparent_into sc scr
 
+(* With S = S_A + S_B and Δ = S_A − S_B of m ≥ 2 samples: m_A = (S + Δ)/2n_A and
+   m_B = (S − Δ)/2n_B, n_A = ⌈m/2⌉, n_B = ⌊m/2⌋. *)
+let[@inline] half_diff m s d =
+  let na = (m + 1) / 2 and nb = m / 2 in
+  let w = Float.sqrt (Float.of_int (na * nb)) /. Float.of_int m in
+  w *. (((s +. d) /. Float.of_int (2 * na)) -. ((s -. d) /. Float.of_int (2 * nb)))
+
 (* Stratified points on the disk of radius [radius] facing the point p = acc.(px, py, pz),
    centred on the light: sample (a, b) of n×n sits at radius R·√((a+½)/n) and angle
    2π(b+½)/n. The pattern is the same for every pixel, so soft shadows are deterministic
    and noise-free in time. The frame is w = (position − p)/|position − p|, e1 =
    normalize(h × w) with h the x axis (the y axis when |w.x| ≥ 0.9), e2 = w × e1;
    everything is computed in scalars, with the operations of the vector form. The shadow
-   rays start at acc.(lx, ly, lz); the mean transmittance goes into acc.(tr, tg, tb). *)
+   rays start at acc.(lx, ly, lz); the mean transmittance goes into acc.(tr, tg, tb).
+   The samples fall into two interleaved halves, A where a + b is even (⌈n²/2⌉ of them)
+   and B where it is odd (⌊n²/2⌋), whose means are two estimates of the same
+   transmittance; their half-difference (T_A − T_B)·√(n_A·n_B)/n² goes into
+   acc.(ur, ug, ub): its square estimates the variance of the mean (a quarter of
+   (T_A − T_B)² for equal halves), as if the samples were independent. The sum of the
+   mean is taken as it would be without it, so the image does not change. *)
 let area_transmittance sc st slot scr (position : Vec3.t) radius n =
   let acc = scr.acc in
   let lx = position.x -. acc.px
@@ -288,6 +330,7 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
   and e2y = (wz *. e1x) -. (wx *. e1z)
   and e2z = (wx *. e1y) -. (wy *. e1x) in
   let sr = ref 0. and sg = ref 0. and sb = ref 0. in
+  let dr = ref 0. and dg = ref 0. and db = ref 0. in
   let nf = Float.of_int n in
   for a = 0 to n - 1 do
     for b = 0 to n - 1 do
@@ -302,13 +345,24 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
       shadow_into sc st slot scr ox oy oz (k *. dx) (k *. dy) (k *. dz) dist;
       sr := !sr +. acc.tr;
       sg := !sg +. acc.tg;
-      sb := !sb +. acc.tb
+      sb := !sb +. acc.tb;
+      if (a + b) land 1 = 0 then (
+        dr := !dr +. acc.tr;
+        dg := !dg +. acc.tg;
+        db := !db +. acc.tb)
+      else (
+        dr := !dr -. acc.tr;
+        dg := !dg -. acc.tg;
+        db := !db -. acc.tb)
     done
   done;
   let s = 1. /. (nf *. nf) in
   acc.tr <- s *. !sr;
   acc.tg <- s *. !sg;
-  acc.tb <- s *. !sb
+  acc.tb <- s *. !sb;
+  acc.ur <- half_diff (n * n) !sr !dr;
+  acc.ug <- half_diff (n * n) !sg !dg;
+  acc.ub <- half_diff (n * n) !sb !db
 
 let reflect d nf = Vec3.madd d (-2. *. Vec3.dot d nf) nf
 
@@ -323,6 +377,14 @@ let refract d nf eta =
 (* A channel of tint(k) = (1 − k)·(1, 1, 1) + k·C for C's channel [c]: white at k = 0, the
    albedo at k = 1, exactly. *)
 let[@inline] tint k c = 1. -. k +. (k *. c)
+
+(* The half-difference of the light (kr, kg, kb) · ia · color · T of an area light of
+   transmittance T, weighted as the step's light, into acc.(nr, ng, nb). *)
+let[@inline] half_diff_light acc kr kg kb ia (color : Color.t) =
+  let iw = ia *. acc.wl in
+  acc.nr <- acc.nr +. (kr *. (iw *. color.r *. acc.ur));
+  acc.ng <- acc.ng +. (kg *. (iw *. color.g *. acc.ug));
+  acc.nb <- acc.nb +. (kb *. (iw *. color.b *. acc.ub))
 
 (* The diffuse and specular light of one light with unit direction (ldx, ldy, ldz) towards
    it, added into acc.(ar, ag, ab) (doc/reference/shading.md, section 4), for albedo (cr, cg, cb),
@@ -352,6 +414,9 @@ let[@inline] light_term (sc : Scene.t) st slot scr (m : Material.t) cr cg cb nfx
       acc.ar <- acc.ar +. (kd *. (cr *. er));
       acc.ag <- acc.ag +. (kd *. (cg *. eg));
       acc.ab <- acc.ab +. (kd *. (cb *. eb));
+      (* The light is linear in the transmittance: its half-difference, the same way. *)
+      let soft = area_n > 0 && sc.features.shadows in
+      if soft then half_diff_light acc (kd *. cr) (kd *. cg) (kd *. cb) ia color;
       if m.specular > 0. then
         let k2 = 2. *. ndl in
         let rx = (k2 *. nfx) -. ldx
@@ -366,12 +431,19 @@ let[@inline] light_term (sc : Scene.t) st slot scr (m : Material.t) cr cg cb nfx
           if mu = 0. then (
             acc.ar <- acc.ar +. (ks *. er);
             acc.ag <- acc.ag +. (ks *. eg);
-            acc.ab <- acc.ab +. (ks *. eb))
+            acc.ab <- acc.ab +. (ks *. eb);
+            if soft then half_diff_light acc ks ks ks ia color)
           else (
             (* A metal's highlight: E ⊙ tint(μ). *)
             acc.ar <- acc.ar +. (ks *. er *. tint mu cr);
             acc.ag <- acc.ag +. (ks *. eg *. tint mu cg);
-            acc.ab <- acc.ab +. (ks *. eb *. tint mu cb))))
+            acc.ab <- acc.ab +. (ks *. eb *. tint mu cb);
+            if soft then
+              half_diff_light acc
+                (ks *. tint mu cr)
+                (ks *. tint mu cg)
+                (ks *. tint mu cb)
+                ia color)))
 
 (* [Settings.background_along] for a direction whose y component is [dy], into the
    fragment's colour. *)
@@ -407,6 +479,11 @@ let miss (sc : Scene.t) d =
    Pruning rays by their weight instead would move bytes of ordinary glass scenes. *)
 let max_secondary = 65536
 
+(* The weight in the camera sample's colour of the step at [depth + 1] that a step at
+   [depth] traces with factor [k]. *)
+let[@inline] weigh scr depth k =
+  Float.Array.unsafe_set scr.wts (depth + 1) (k *. Float.Array.unsafe_get scr.wts depth)
+
 (* The colour seen along the ray that [scr.q] holds, into (scr.f.r, scr.f.g, scr.f.b).
    Everything a shading step needs after tracing again is in locals: a float bound by
    [let] stays unboxed across the call. *)
@@ -425,6 +502,10 @@ let rec trace_b (sc : Scene.t) st scr depth =
       (* The segment to the hit, or an infinite one for a miss. *)
       if i >= 0 then (
         let t = q.p_t in
+        (* The surface's light fades in the fog, and its half-difference with it. *)
+        if sc.features.soft_shadows then
+          Float.Array.unsafe_set scr.wts depth
+            (Float.Array.unsafe_get scr.wts depth *. Float.exp (-.t /. fg.distance));
         shade sc st scr depth sc.objects.(i);
         fog_into fg t f)
       else (
@@ -480,6 +561,10 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
   acc.lx <- lox;
   acc.ly <- loy;
   acc.lz <- loz;
+  (* The weight of this step's own light in the camera sample's colour. *)
+  if sc.features.soft_shadows then
+    acc.wl <-
+      Float.Array.unsafe_get scr.wts depth *. (1. -. m.reflection -. m.transparency);
   let lights = sc.view_lights in
   for li = 0 to Array.length lights - 1 do
     match lights.(li) with
@@ -551,6 +636,7 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
     in
     let w = 1. -. r -. tau in
     let outr = ref (w *. lr) and outg = ref (w *. lg) and outb = ref (w *. lb) in
+
     if depth < s.depth then (
       if r' > 0. && st.budget > 0 then (
         st.reflected <- st.reflected + 1;
@@ -559,6 +645,7 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
         let kr = -2. *. ((dx *. nfx) +. (dy *. nfy) +. (dz *. nfz)) in
         Probe.set_origin q lox loy loz;
         Probe.set_unit_dir q (dx +. (kr *. nfx)) (dy +. (kr *. nfy)) (dz +. (kr *. nfz));
+        if sc.features.soft_shadows then weigh scr depth r';
         trace_b sc st scr (depth + 1);
         (* r·tint(μ) ⊙ reflected: a metal tints what it mirrors (tint(0) is 1, exactly). *)
         let mu = m.metallic in
@@ -574,6 +661,7 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
           ((eta *. dx) +. (kt *. nfx))
           ((eta *. dy) +. (kt *. nfy))
           ((eta *. dz) +. (kt *. nfz));
+        if sc.features.soft_shadows then weigh scr depth tau';
         trace_b sc st scr (depth + 1);
         (* τ·tint(φ) ⊙ refracted: coloured glass filters what is seen through it. *)
         let phi = m.filter in
@@ -584,8 +672,19 @@ and shade (sc : Scene.t) (st : Task.t) scr depth (o : Primitive.t) =
     f.g <- !outg;
     f.b <- !outb
 
-let trace_into sc (st : Task.t) scr depth =
+(* A camera sample's half-difference starts from nothing, its first step at weight 1. *)
+let start_half_diff (sc : Scene.t) scr depth =
+  let acc = scr.acc in
+  acc.nr <- 0.;
+  acc.ng <- 0.;
+  acc.nb <- 0.;
+  if Float.Array.length scr.wts < sc.settings.depth + 2 then
+    scr.wts <- Float.Array.make (sc.settings.depth + 2) 0.;
+  Float.Array.unsafe_set scr.wts depth 1.
+
+let[@inline] trace_into (sc : Scene.t) (st : Task.t) scr depth =
   st.budget <- max_secondary;
+  if sc.features.soft_shadows then start_half_diff sc scr depth;
   trace_b sc st scr depth
 
 let trace sc st ray depth =

@@ -8,6 +8,8 @@ type t = {
   cancel : Cancel.t;
   mutable until_poll : int;
   mutable budget : int;
+  mutable noise_sq : int;
+  mutable noise_n : int;
   _p0 : int;
   _p1 : int;
   _p2 : int;
@@ -37,6 +39,8 @@ let create ?(cancel = Cancel.create ()) () =
     cancel;
     until_poll = Cancel.check_every;
     budget = 0;
+    noise_sq = 0;
+    noise_n = 0;
     _p0 = 0;
     _p1 = 0;
     _p2 = 0;
@@ -90,4 +94,6 @@ let counters (s : t) : Counters.t =
     refracted = s.refracted;
     bad_samples = s.bad_samples;
     first_bad = s.first_bad;
+    noise_sq = s.noise_sq;
+    noise_n = s.noise_n;
   }

@@ -15,6 +15,8 @@ type t = {
   mutable until_poll : int;
       (** units of work (a ray, a CSG test) left before {!spend} polls [cancel] again *)
   mutable budget : int;  (** secondary rays the current camera sample may still cast *)
+  mutable noise_sq : int;  (** as {!Counters.t}'s *)
+  mutable noise_n : int;  (** as {!Counters.t}'s *)
   _p0 : int;
   _p1 : int;
   _p2 : int;

@@ -1,6 +1,9 @@
 (* The rays this run cast: a resumed render's counters include the checkpoint's tiles. *)
 let run_rays ~resumed_rays st = Counters.total_rays st - resumed_rays
 
+(* A noise estimate in 8-bit steps, to two significant digits. *)
+let noise_text e = if e >= 10. then Printf.sprintf "%.0f" e else Printf.sprintf "%.2g" e
+
 let summary ?size ?(resumed_rays = 0) ~out (sc : Scene.t) ~build ~render ~workers
     (st : Counters.t) =
   let rays = Float.of_int (Counters.total_rays st) /. 1e6 in
@@ -8,10 +11,13 @@ let summary ?size ?(resumed_rays = 0) ~out (sc : Scene.t) ~build ~render ~worker
   let w, h = Option.value size ~default:(sc.settings.width, sc.settings.height) in
   Printf.sprintf
     "wrote %s (%d×%d, %.2f s: build %.2f s, render %.2f s, %s, %.1f M rays%s, %.2f M \
-     rays/s)"
+     rays/s%s)"
     out w h (build +. render) build render workers rays
     (if resumed_rays > 0 then Printf.sprintf " (%.1f M of them in this run)" now else "")
     (now /. Float.max render 1e-9)
+    (match Counters.noise st with
+    | Some e -> Printf.sprintf ", noise ≈ %s/255" (noise_text e)
+    | None -> "")
 
 let peak_memory_kib () =
   match In_channel.with_open_text "/proc/self/status" In_channel.input_all with
@@ -57,6 +63,7 @@ let stats_json ?(resumed_rays = 0) (o : Options.t) (sc : Scene.t) ~build ~wall ~
       ("resumed_rays", `Int resumed_rays);
       ("rays_per_second", `Float (if wall > 0. then Float.of_int now /. wall else 0.));
       ("bad_samples", `Int st.bad_samples);
+      ("noise", match Counters.noise st with Some e -> `Float e | None -> `Null);
       ("peak_memory_kib", opt_int (peak_memory_kib ()));
       ("objects", `Int (Scene.object_count sc));
       ("lights", `Int (Array.length sc.lights));
