@@ -21,7 +21,6 @@ type t = {
 let default_shutter_samples = 8
 let kind_names = [ "perspective"; "orthographic"; "fisheye" ]
 
-
 let make ?(kind = Perspective) ?(position = Vec3.v 0. 0. (-5.)) ?(look_at = Vec3.zero)
     ?(up = Vec3.y_axis) ?(fov = 60.) ?(aperture = 0.) ?(focal_distance = 1.)
     ?(lens_samples = 1) ?(shutter = (0., 0.)) ?(shutter_samples = default_shutter_samples)

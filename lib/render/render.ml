@@ -317,8 +317,8 @@ let pixel_into (sc : Scene.t) st scr i j =
       for ch = 0 to 2 do
         Float.Array.unsafe_set nz (12 + ch)
           (sq (Float.Array.unsafe_get nz ch)
-          +.
-          if sc.features.depth_of_field then Float.Array.unsafe_get nz (3 + ch) else 0.)
+          +. if sc.features.depth_of_field then Float.Array.unsafe_get nz (3 + ch) else 0.
+          )
       done)
   else grid sc st scr i j s.samples
 

@@ -40,10 +40,10 @@ type reuse =
 val noise_estimated : Scene.t -> bool
 (** Whether a render of the scene estimates its noise ({!Counters.noise}): it has soft
     shadows, or jittered, motion-blurred or depth-of-field samples and at least two of
-    them per pixel (or two lens rays per sample). Each pixel's standard error is then
-    that of two interleaved halves of its camera samples (of its lens rays when it has
-    one) where those are random draws, and of the area lights' shadow rays at each
-    shading point ({!Shade.half_diff_into}), the two variances added. *)
+    them per pixel (or two lens rays per sample). Each pixel's standard error is then that
+    of two interleaved halves of its camera samples (of its lens rays when it has one)
+    where those are random draws, and of the area lights' shadow rays at each shading
+    point ({!Shade.half_diff_into}), the two variances added. *)
 
 val render_tile :
   ?alpha:Float.Array.t ->
@@ -61,11 +61,11 @@ val render_tile :
     with [alpha] it also stores each pixel's {!coverage} there (row-major); with [reuse]
     as {!reuse} says. Its rays and the tests inside CSG objects that they make count into
     [task] ({!Task.with_current}), polling its token; so does each pixel's estimated noise
-    where {!noise_estimated}. With [stride = k] (default 1;
-    neither [alpha] nor [reuse] then), [fb] is the image of one sample per k×k block of
-    the scene's image, ⌈width/k⌉×⌈height/k⌉ pixels, and its pixel (i, j) is the scene's
-    pixel (min(width−1, i·k + k/2), min(height−1, j·k + k/2)), computed as a whole render
-    computes it; the coordinates above are [fb]'s. *)
+    where {!noise_estimated}. With [stride = k] (default 1; neither [alpha] nor [reuse]
+    then), [fb] is the image of one sample per k×k block of the scene's image,
+    ⌈width/k⌉×⌈height/k⌉ pixels, and its pixel (i, j) is the scene's pixel (min(width−1,
+    i·k + k/2), min(height−1, j·k + k/2)), computed as a whole render computes it; the
+    coordinates above are [fb]'s. *)
 
 val tiles :
   ?region:Image.region -> ?stride:int -> Scene.t -> (int * int * int * int) array

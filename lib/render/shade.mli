@@ -58,17 +58,17 @@ val half_diff : int -> float -> float -> float
 (** [half_diff m s d], of [m] ≥ 2 samples split into two interleaved halves A (⌈m/2⌉ of
     them) and B (⌊m/2⌋) with sum [s] = S_A + S_B and signed sum [d] = S_A − S_B, is
     (mean_A − mean_B)·√(n_A·n_B)/m: were the samples independent, its square would
-    estimate, without bias, the variance of the mean of all [m] (a quarter of
-    (mean_A − mean_B)² for equal halves). *)
+    estimate, without bias, the variance of the mean of all [m] (a quarter of (mean_A −
+    mean_B)² for equal halves). *)
 
 val half_diff_into : scratch -> Float.Array.t -> int -> unit
 (** [half_diff_into scr a k] writes into a.(k), a.(k+1), a.(k+2) the half-difference of
     the colour the last {!trace_into} left, in a scene with soft shadows (zero in one
-    without): every area light's n×n shadow rays fall into two interleaved halves (by
-    the parity of the sample's two indices), and the colour is linear in each light's
-    transmittance, so the same sums carry (T_A − T_B)·√(n_A·n_B)/n² of each light
-    instead of its mean transmittance. Its square estimates the variance of the colour
-    that the lights' sampling leaves (doc/explanation/speed.md, "The noise estimate"). *)
+    without): every area light's n×n shadow rays fall into two interleaved halves (by the
+    parity of the sample's two indices), and the colour is linear in each light's
+    transmittance, so the same sums carry (T_A − T_B)·√(n_A·n_B)/n² of each light instead
+    of its mean transmittance. Its square estimates the variance of the colour that the
+    lights' sampling leaves (doc/explanation/speed.md, "The noise estimate"). *)
 
 val max_secondary : int
 (** 65536: the most secondary (reflected and refracted) rays one call of {!trace} casts.

@@ -123,8 +123,7 @@ let tests =
     Alcotest.test_case "the same estimate on one and two domains" `Quick (fun () ->
         let text =
           scene ~settings:", samples: 2, jitter: true"
-            ~camera:", aperture: 0.15, focal_distance: 5"
-            ~light:", radius: 1, samples: 3"
+            ~camera:", aperture: 0.15, focal_distance: 5" ~light:", radius: 1, samples: 3"
         in
         let _, e1 = render ~domains:1 "d1" text and _, e2 = render ~domains:2 "d2" text in
         match (e1, e2) with
