@@ -17,7 +17,8 @@ val summary :
     written when it is not the scene's (a crop). [resumed_rays] (default 0) of the rays
     counted were cast by an earlier run (a checkpoint's tiles): the line says how many
     this run cast, and its rays per second count only those. Where the render estimated
-    its noise ({!Counters.noise}), the line ends with it: "noise ≈ 0.81/255". *)
+    its noise ({!Lancer_render.Counters.noise}), the line ends with it: "noise ≈
+    0.81/255". *)
 
 val stats_json :
   ?resumed_rays:int ->
@@ -32,8 +33,8 @@ val stats_json :
 (** The [--stats] JSON: [wall_seconds] (build and render), [build_seconds] ([build]:
     loading, evaluation, acceleration structure), [render_seconds] ([wall]: tracing), ray
     counts, [resumed_rays] (those of a checkpoint's tiles, as for {!summary}), rays per
-    second of this run's rays, [noise] ({!Counters.noise}, or null where nothing is
-    stochastic), peak memory, features and options. *)
+    second of this run's rays, [noise] ({!Lancer_render.Counters.noise}, or null where
+    nothing is stochastic), peak memory, features and options. *)
 
 val peak_memory_kib : unit -> int option
 (** The process's peak resident set (VmHWM), where /proc exists. *)
