@@ -266,9 +266,10 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
   }
 
 let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
+let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
 
 let text c =
-  let limit = match c.limit with Flip e | Rmse e | Psnr e | Ssim e -> e in
+  let limit = limit_value c.limit in
   Printf.sprintf
     "max error %g (%s): %s; predicted error %s, predicted time %s against the \
      reference's %s; search %s (%d probe renders of %d pixels)"
@@ -285,7 +286,7 @@ let json c =
   `Assoc
     [
       ("metric", `String (metric_name c.limit));
-      ("limit", `Float (match c.limit with Flip e | Rmse e | Psnr e | Ssim e -> e));
+      ("limit", `Float (limit_value c.limit));
       ("settings", `Assoc (List.map (fun (k, v) -> (k, `String v)) c.settings));
       ("predicted_error", num c.predicted);
       ("predicted_seconds", `Float c.seconds);

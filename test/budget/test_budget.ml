@@ -33,10 +33,10 @@ let samples c =
   let v = c |> member "settings" |> member "samples" |> to_string in
   int_of_string (List.hd (String.split_on_char '\xc3' v))
 
-let flip d a b =
-  let r = lancer ~dir:d [ "diff"; a; b; "--json" ] in
-  let _, out, _ = r in
-  Yojson.Safe.Util.(Yojson.Safe.from_string out |> member "flip" |> to_number)
+(* A figure of lancer diff --json: "flip", "psnr". *)
+let figure d a b key =
+  let _, out, _ = lancer ~dir:d [ "diff"; a; b; "--json" ] in
+  Yojson.Safe.Util.(Yojson.Safe.from_string out |> member key |> to_number)
 
 let test_tight_takes_more () =
   let d = fresh () in
@@ -64,7 +64,7 @@ let test_within_limit () =
   check_status "budget" 0 r;
   says "what it chose" r "max error 0.02 (mean FLIP): samples";
   says "against the reference" r "against the reference's";
-  let f = flip d "ref.png" "b.png" in
+  let f = figure d "ref.png" "b.png" "flip" in
   Alcotest.(check bool) (Printf.sprintf "mean FLIP %g <= %g" f e) true (f <= e);
   (* It chose something cheaper than the reference. *)
   check_status "stats" 0
@@ -123,8 +123,7 @@ let test_psnr () =
   let r = render d [ "--max-error"; "30"; "--metric"; "psnr"; "-o"; "p.png" ] in
   check_status "psnr" 0 r;
   says "in dB" r "max error 30 (PSNR)";
-  let _, out, _ = lancer ~dir:d [ "diff"; "ref.png"; "p.png"; "--json" ] in
-  let p = Yojson.Safe.Util.(Yojson.Safe.from_string out |> member "psnr" |> to_number) in
+  let p = figure d "ref.png" "p.png" "psnr" in
   Alcotest.(check bool) (Printf.sprintf "PSNR %g >= 30" p) true (p >= 30.)
 
 let () =
