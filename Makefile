@@ -9,7 +9,7 @@ RUN := bash .ci/toolchain run
 PREFIX ?= $(HOME)/.local
 
 
-.PHONY: all deps deps-build deps-install build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch fuzz doc clean \
+.PHONY: all deps deps-build deps-install build demo test golden-update bench bench-povray bench-limit bench-mpi bench-watch bench-budget fuzz doc clean \
 	clean-toolchain fmt install uninstall static cluster-bundle flip-oracle packages
 
 all: build
@@ -127,6 +127,11 @@ bench: build
 	$(RUN) ./_build/default/bench/lancer_bench.exe language
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
+# --max-error 0.02 on every gallery scene at 160×120 against a reference render: the
+# table of doc/explanation/speed.md, "An error budget" (bench/budget.sh).
+bench-budget: build
+	$(RUN) bash bench/budget.sh
+
 bench-watch: build
 	$(RUN) $(DUNE) build -j $(JOBS) ./bench/watch/latency.exe
 	$(RUN) ./_build/default/bench/watch/latency.exe _build/default/bin/main.exe

@@ -256,6 +256,42 @@ let aov_term =
            $(b,normal) its shading normal n as the colour (n+1)/2 in \
            $(i,OUT).normal.png. The image itself is the same as without.")
 
+let max_error_term =
+  let limit =
+    Arg.(
+      value
+      & opt (some float) None
+      & info [ "max-error" ] ~docv:"E"
+          ~doc:
+            "Choose the cheapest samples, adaptive threshold, depth, area-light, lens \
+             and shutter samples whose error against the $(b,reference) preset, \
+             predicted from probe pixels rendered at both, is at most $(i,E) (in the \
+             unit of $(b,--metric)); say what was chosen, the predicted error and time \
+             against the reference's, then render with them. Not with $(b,--samples), \
+             $(b,--depth), $(b,--quality) or $(b,--resume); the image holds no record \
+             for $(b,lancer verify).")
+  in
+  let metric =
+    Arg.(
+      value
+      & opt (enum [ ("flip", `Flip); ("rmse", `Rmse); ("psnr", `Psnr) ]) `Flip
+      & info [ "metric" ] ~docv:"flip|rmse|psnr"
+          ~doc:
+            "The unit of $(b,--max-error): $(b,flip), the mean FLIP (0–1, the default); \
+             $(b,rmse), the RMSE (0–255); $(b,psnr), the PSNR in dB (then at least \
+             $(i,E)).")
+  in
+  Term.(
+    const (fun e m ->
+        Option.map
+          (fun e ->
+            match m with
+            | `Flip -> Compare.Flip e
+            | `Rmse -> Compare.Rmse e
+            | `Psnr -> Compare.Psnr e)
+          e)
+    $ limit $ metric)
+
 let frames_term =
   let frames =
     let parse s =

@@ -30,6 +30,10 @@ val aov_term : string option Cmdliner.Term.t
 (** [--aov object,depth,normal] of [render], as written: the names are checked when the
     command runs ({!Lancer.Aov_run.parse}). *)
 
+val max_error_term : Lancer.Compare.metric option Cmdliner.Term.t
+(** [--max-error E] and [--metric flip|rmse|psnr] of [render]: the limit, checked when the
+    command runs ({!Lancer.Budget.check}); [--metric] alone changes nothing. *)
+
 val frames_term : Lancer.Frames_run.options Cmdliner.Term.t
 (** [--frames A..B], [--resume], [--video OUT] and [--shard K/N|slurm] of [animate], as
     [lancer] and [lancer-mpi] take them. *)

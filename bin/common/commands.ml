@@ -24,20 +24,23 @@ let render =
       `Pre
         "  lancer render big.rts -o big.png --resume    # again after an interruption: \
          continues";
+      `Pre
+        "  lancer render scene.rts --max-error 0.02     # the cheapest settings within \
+         mean FLIP 0.02 of the reference";
     ]
     @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "render" ~doc ~man ~exits ~envs:Cli.envs)
     Term.(
-      const (fun o resume e aov ->
+      const (fun o resume e aov max_error ->
           Report.run
             ?interrupted:(if resume then Some Report.resumed_interrupt else None)
             (fun stop ->
               let aov = Option.map Aov_run.parse aov in
-              Still_run.run ~cancel:(Report.on_interrupt stop) ?aov o ~resume e))
+              Still_run.run ~cancel:(Report.on_interrupt stop) ?aov ?max_error o ~resume e))
       $ Cli.(term Render)
-      $ Cli.resume_still $ Cli.encoding_term $ Cli.aov_term)
+      $ Cli.resume_still $ Cli.encoding_term $ Cli.aov_term $ Cli.max_error_term)
 
 let animate =
   let doc = "render an animation's frames to DIR/frame_0000.png …" in

@@ -59,6 +59,7 @@ module Color = Lancer_math.Color
 module Options = Lancer_run.Options
 module Scene_file = Lancer_run.Scene_file
 module Still_run = Lancer_run.Still_run
+module Budget = Lancer_run.Budget
 module Frames_run = Lancer_run.Frames_run
 module Check_run = Lancer_run.Check_run
 module Compare_run = Lancer_run.Compare_run

@@ -102,7 +102,31 @@ let aov_files kinds ~out =
     user "--aov writes its images beside the image file: it cannot be combined with -o -";
   List.concat_map (Aov_run.paths out) kinds
 
-let run ?cancel ?(aov = []) (o : Options.t) ~resume (enc : Output.encoding) =
+(* What --max-error chooses itself cannot also be given. *)
+let check_max_error (o : Options.t) ~resume =
+  let given =
+    List.filter_map Fun.id
+      [
+        Option.map (fun _ -> "--samples") o.samples;
+        Option.map (fun _ -> "--depth") o.depth;
+        Option.map (fun _ -> "--quality") o.quality;
+        (if resume then Some "--resume" else None);
+      ]
+  in
+  match given with
+  | [] -> ()
+  | opt :: _ ->
+      user
+        "--max-error chooses the samples, depth and quality settings itself: it cannot \
+         be combined with %s"
+        opt
+
+let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.encoding) =
+  Option.iter
+    (fun m ->
+      Budget.check m;
+      check_max_error o ~resume)
+    max_error;
   let out = Scene_file.default_output o in
   check_outputs ?format:enc.format o ~out;
   let aov_paths = aov_files aov ~out in
@@ -111,7 +135,20 @@ let run ?cancel ?(aov = []) (o : Options.t) ~resume (enc : Output.encoding) =
   (* The image's record and a checkpoint's key hold the digests of the files the scene
      read: of the bytes it read. *)
   let b = build ~digests:true o in
-  let sc = b.scene in
+  (* With --max-error, the scene at the settings it chooses, said before the render. *)
+  let choice =
+    Option.map
+      (fun m ->
+        let c =
+          Budget.choose ?cancel ~domains o b.source b.scene ~time:b.time ~frame:b.frame m
+        in
+        if not o.quiet then
+          if Output.is_stdout out then prerr_endline (Budget.text c)
+          else print_endline (Budget.text c);
+        c)
+      max_error
+  in
+  let sc = match choice with Some c -> c.scene | None -> b.scene in
   Output.guard_render o b.source ~out;
   if aov_paths <> [] then
     Files.guard_writes ~reads:(Scenes.reads b.source)
@@ -149,8 +186,14 @@ let run ?cancel ?(aov = []) (o : Options.t) ~resume (enc : Output.encoding) =
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  finish ?cancel ~encoding:enc ?alpha ~record:(record o b enc ~out) o ~out ~checkpoint
-    ~build:b.seconds ~wall ~domains ~ranks:1
+  (* The record names the options, not the settings --max-error chose: such an image
+     goes without one rather than with a record that would not reproduce it. *)
+  let record = if Option.is_none choice then Some (record o b enc ~out) else None in
+  let extra =
+    match choice with Some c -> [ ("max_error", Budget.json c) ] | None -> []
+  in
+  finish ?cancel ~encoding:enc ?alpha ?record ~extra o ~out ~checkpoint ~build:b.seconds
+    ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
     sc fb st;
   if aov <> [] then (

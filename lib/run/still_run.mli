@@ -58,6 +58,7 @@ val finish :
 val run :
   ?cancel:Cancel.t ->
   ?aov:Aov_run.kind list ->
+  ?max_error:Compare.metric ->
   Options.t ->
   resume:bool ->
   Output.encoding ->
@@ -65,5 +66,9 @@ val run :
 (** [lancer render]: the output checked, the scene built, the writes guarded, the image
     rendered over [--domains] domains (from a checkpoint with [resume]) with a progress
     line, then {!finish}; then the [aov] images beside it ({!Aov_run.write}), which do not
-    change the image's bytes. Raises {!Lancer_job.Job_error.User} and
-    {!Lancer_job.Job_error.Scene}; [Sys.Break] when [cancel] is cancelled. *)
+    change the image's bytes. With [max_error], the settings are those {!Budget.choose}
+    picks for that limit (refused with [--samples], [--depth], [--quality] or [resume]),
+    said in a line before the render and in the [--stats] JSON as [max_error]; the image
+    then holds no record (its options do not name those settings). Raises
+    {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}; [Sys.Break] when
+    [cancel] is cancelled. *)

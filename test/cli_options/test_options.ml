@@ -91,6 +91,8 @@ let render_options =
     "--format";
     "--frame";
     "--height";
+    "--max-error";
+    "--metric";
     "--output";
     "--progress";
     "--quality";

@@ -1,0 +1,298 @@
+(* --max-error: the cheapest settings whose error against the reference preset, predicted
+   on probe pixels, is within a limit. *)
+
+let user = Job_error.user
+
+(* A knob: its name, its ladder from the cheapest value up to the reference's, and what a
+   value does to a scene (the shutter's is made apart: its instants are scenes). *)
+type knob = { name : string; ladder : float array; show : float -> string }
+
+let grid v = Printf.sprintf "%d×%d" (int_of_float v) (int_of_float v)
+let ints l = Array.of_list (List.map Float.of_int l)
+
+(* The powers of two under [top], then [top]. *)
+let doubling top =
+  let rec go n = if n >= top then [ top ] else n :: go (2 * n) in
+  ints (go 1)
+
+let knobs ~(reference : Scene.t) (base : Scene.t) =
+  let rd = reference.settings.depth in
+  let lens = base.camera.lens_samples in
+  [
+    Some { name = "samples"; ladder = ints [ 1; 2; 3; 4; 5; 6; 7; 8 ]; show = grid };
+    Some
+      {
+        name = "adaptive";
+        (* Off at both ends: plain n×n samples are the cheapest at few samples and the
+           reference's at its own. *)
+        ladder = [| 0.; 0.2; 0.1; 0.05; 0.02; 0. |];
+        show = (fun v -> if v = 0. then "off" else Printf.sprintf "%g" v);
+      };
+    Some
+      {
+        name = "depth";
+        ladder = ints (List.filter (fun d -> d < rd) [ 1; 2; 3; 5; 8; 16 ] @ [ rd ]);
+        show = (fun v -> string_of_int (int_of_float v));
+      };
+    (if base.features.soft_shadows then
+       Some { name = "light samples"; ladder = ints [ 1; 2; 4; 8 ]; show = grid }
+     else None);
+    (if base.features.depth_of_field && lens > 1 then
+       Some { name = "lens samples"; ladder = doubling lens; show = grid }
+     else None);
+    (if Camera.motion_blur base.camera then
+       Some
+         {
+           name = "shutter samples";
+           ladder = ints [ 1; 2; 4; 8; 16; 32 ];
+           show = (fun v -> string_of_int (int_of_float v));
+         }
+     else None);
+  ]
+  |> List.filter_map Fun.id |> Array.of_list
+
+type choice = {
+  limit : Compare.metric;
+  settings : (string * string) list;
+  scene : Scene.t;
+  predicted : float;  (** in the metric's own unit *)
+  seconds : float;
+  reference_seconds : float;
+  search_seconds : float;
+  search_rays : int;
+  probes : int;
+  probe_pixels : int;
+}
+
+let metric_name = function
+  | Compare.Flip _ -> "mean FLIP"
+  | Rmse _ -> "RMSE"
+  | Psnr _ -> "PSNR"
+  | Ssim _ -> "SSIM"
+
+let check (m : Compare.metric) =
+  let range =
+    match m with
+    | Flip e when e > 0. && e < 1. -> None
+    | Flip e -> Some (Printf.sprintf "a mean FLIP, above 0 and under 1 (got %g)" e)
+    | Rmse e when e > 0. && e <= 255. -> None
+    | Rmse e -> Some (Printf.sprintf "an RMSE, above 0 and at most 255 (got %g)" e)
+    | Psnr e when e > 0. && Float.is_finite e -> None
+    | Psnr e -> Some (Printf.sprintf "a PSNR in dB, above 0 and finite (got %g)" e)
+    | Ssim _ -> Some "not a metric it can choose settings by (flip, rmse or psnr)"
+  in
+  let option =
+    match m with Flip _ -> "flip" | Rmse _ -> "rmse" | Psnr _ | Ssim _ -> "psnr"
+  in
+  Option.iter (user "--max-error with --metric %s is %s" option) range
+
+(* What the search aims at: [margin] of the limit (of the RMSE a PSNR allows), since the
+   probes are a sample of the image. *)
+let margin = 0.75
+
+(* The error of a probe image against the reference's, lower is better: mean FLIP at the
+   pixels per degree of a probe pixel (it stands for a stride×stride block), or RMSE. *)
+let error (m : Compare.metric) ~stride ref_img img =
+  match m with
+  | Flip _ ->
+      Flip.mean
+        (Flip.error_map ~ppd:(Flip.default_ppd /. Float.of_int stride) ref_img img)
+  | Rmse _ | Psnr _ | Ssim _ -> (
+      match Compare.compare ~threshold:1 ref_img img with
+      | Ok c -> c.rmse
+      | Error msg -> user "%s" msg)
+
+let target = function
+  | Compare.Flip e | Rmse e -> margin *. e
+  | Psnr db -> margin *. 255. /. (10. ** (db /. 20.))
+  | Ssim _ -> 0.
+
+(* The error as the metric states it. *)
+let stated (m : Compare.metric) e =
+  match m with
+  | Psnr _ -> if e = 0. then Float.infinity else 20. *. Float.log10 (255. /. e)
+  | _ -> e
+
+(* About 1/150 of the image's pixels, at least 128: one pixel per stride×stride block. *)
+let stride_for (sc : Scene.t) =
+  let px = sc.settings.width * sc.settings.height in
+  let want = max 128 (px / 150) in
+  max 1 (int_of_float (Float.ceil (Float.sqrt (Float.of_int px /. Float.of_int want))))
+
+(* The pixels of the probe image: one per stride×stride block. *)
+let probe_pixels (sc : Scene.t) stride =
+  let up n = (n + stride - 1) / stride in
+  up sc.settings.width * up sc.settings.height
+
+let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~time ~frame
+    limit =
+  check limit;
+  let t0 = Unix.gettimeofday () in
+  let ok = function Ok sc -> sc | Error m -> user "%s" m in
+  let reference =
+    Options.scene_at ?cancel { o with quality = Some Quality.Reference } src ~time ~frame
+  in
+  let knobs = knobs ~reference base in
+  let stride = stride_for base in
+  let pixels = base.settings.width * base.settings.height in
+  let instants = Hashtbl.create 8 in
+  let at_shutter n =
+    match Hashtbl.find_opt instants n with
+    | Some sc -> sc
+    | None ->
+        let sc =
+          ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n))
+        in
+        let sc =
+          fst (Scenes.with_instants ?cancel src (Options.overrides o) sc ~time ~frame)
+        in
+        Hashtbl.add instants n sc;
+        sc
+  in
+  let value idx name =
+    let r = ref None in
+    Array.iteri (fun j k -> if k.name = name then r := Some k.ladder.(idx.(j))) knobs;
+    !r
+  in
+  let make idx =
+    let v name d = Option.value (value idx name) ~default:d in
+    let sc =
+      match value idx "shutter samples" with
+      | Some n -> at_shutter (int_of_float n)
+      | None -> base
+    in
+    let sc =
+      ok
+        (Scene.map_settings sc (fun s ->
+             {
+               s with
+               samples = int_of_float (v "samples" 1.);
+               adaptive = v "adaptive" 0.;
+               depth = int_of_float (v "depth" (Float.of_int s.depth));
+             }))
+    in
+    let sc =
+      match value idx "light samples" with
+      | None -> sc
+      | Some n ->
+          let n = int_of_float n in
+          Scene.map_lights sc (function
+            | Light.Point p when p.radius > 0. ->
+                Light.Point { p with samples = min n (max p.samples 8) }
+            | l -> l)
+    in
+    match value idx "lens samples" with
+    | None -> sc
+    | Some n ->
+        ok (Scene.map_camera sc (fun c -> Camera.with_lens_samples c (int_of_float n)))
+  in
+  Render.with_pool ?cancel domains @@ fun pool ->
+  let rays = ref 0 and probes = ref 0 and probe_seconds = ref 0. in
+  let probe sc =
+    let t = Unix.gettimeofday () in
+    let fb, st = Render.render ?cancel ?pool ~stride sc in
+    probe_seconds := !probe_seconds +. (Unix.gettimeofday () -. t);
+    let r = Counters.total_rays st in
+    rays := !rays + r;
+    incr probes;
+    ((fb.Framebuffer.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb), r)
+  in
+  let ref_img, ref_rays = probe reference in
+  let memo = Hashtbl.create 64 in
+  let eval idx =
+    let key = Array.to_list idx in
+    match Hashtbl.find_opt memo key with
+    | Some r -> r
+    | None ->
+        let img, r = probe (make idx) in
+        let e = error limit ~stride ref_img img in
+        Hashtbl.add memo key (e, r);
+        (e, r)
+  in
+  let goal = target limit in
+  (* From the cheapest setting, raise one knob a notch at a time: the one whose error
+     falls most per ray it adds (where none lowers the error, the one that leaves the
+     least), until the error is within the goal or every knob is at the reference's. *)
+  let rec climb idx (e, r) =
+    if e <= goal then (idx, (e, r))
+    else
+      let best = ref None in
+      Array.iteri
+        (fun j k ->
+          if idx.(j) < Array.length k.ladder - 1 then (
+            let idx' = Array.copy idx in
+            idx'.(j) <- idx.(j) + 1;
+            let e', r' = eval idx' in
+            let drop = e -. e' in
+            let score =
+              if drop > 0. then (1., drop /. Float.of_int (max 1 (r' - r))) else (0., -.e')
+            in
+            match !best with
+            | Some (s, _, _) when compare score s <= 0 -> ()
+            | _ -> best := Some (score, idx', (e', r'))))
+        knobs;
+      match !best with None -> (idx, (e, r)) | Some (_, idx', er) -> climb idx' er
+  in
+  (* Then each knob in turn lowered while the error stays within the goal: a notch the
+     climb took early may not be needed once the others have risen. *)
+  let rec descend idx (e, r) j =
+    if j = Array.length knobs then (idx, (e, r))
+    else if idx.(j) = 0 then descend idx (e, r) (j + 1)
+    else
+      let idx' = Array.copy idx in
+      idx'.(j) <- idx.(j) - 1;
+      let e', r' = eval idx' in
+      if e' <= goal && r' <= r then descend idx' (e', r') j else descend idx (e, r) (j + 1)
+  in
+  let start = Array.make (Array.length knobs) 0 in
+  let idx, er = climb start (eval start) in
+  let idx, (e, r) = if fst er <= goal then descend idx er 0 else (idx, er) in
+  let scene = make idx in
+  let per_ray = !probe_seconds /. Float.of_int (max 1 !rays) in
+  let probe_pixels = probe_pixels base stride in
+  let whole r = Float.of_int r *. Float.of_int pixels /. Float.of_int probe_pixels in
+  {
+    limit;
+    settings =
+      Array.to_list (Array.mapi (fun j k -> (k.name, k.show k.ladder.(idx.(j)))) knobs);
+    scene;
+    predicted = stated limit e;
+    seconds = per_ray *. whole r;
+    reference_seconds = per_ray *. whole ref_rays;
+    search_seconds = Unix.gettimeofday () -. t0;
+    search_rays = !rays;
+    probes = !probes;
+    probe_pixels;
+  }
+
+let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
+let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
+
+let text c =
+  let limit = limit_value c.limit in
+  Printf.sprintf
+    "max error %g (%s): %s; predicted error %s, predicted time %s against the \
+     reference's %s; search %s (%d probe renders of %d pixels)"
+    limit (metric_name c.limit)
+    (String.concat ", " (List.map (fun (k, v) -> k ^ " " ^ v) c.settings))
+    (match c.limit with
+    | Psnr _ -> Printf.sprintf "%.2f dB" c.predicted
+    | _ -> Printf.sprintf "%.4f" c.predicted)
+    (secs c.seconds) (secs c.reference_seconds) (secs c.search_seconds) c.probes
+    c.probe_pixels
+
+let json c =
+  let num x = if Float.is_finite x then `Float x else `String "inf" in
+  `Assoc
+    [
+      ("metric", `String (metric_name c.limit));
+      ("limit", `Float (limit_value c.limit));
+      ("settings", `Assoc (List.map (fun (k, v) -> (k, `String v)) c.settings));
+      ("predicted_error", num c.predicted);
+      ("predicted_seconds", `Float c.seconds);
+      ("reference_predicted_seconds", `Float c.reference_seconds);
+      ("search_seconds", `Float c.search_seconds);
+      ("search_rays", `Int c.search_rays);
+      ("probe_renders", `Int c.probes);
+      ("probe_pixels", `Int c.probe_pixels);
+    ]

@@ -1,0 +1,52 @@
+(** [--max-error]: the cheapest settings (samples, adaptive threshold, depth, area-light,
+    lens and shutter samples) whose error against the [reference] quality preset is
+    predicted to be within a limit.
+
+    The prediction comes from probes: the image of one pixel per k×k block (a render with
+    [stride = k], each pixel exactly as the whole render computes it, about 1/150 of the
+    image's pixels and at least 128), rendered once at the reference and at each
+    candidate. From the cheapest value of every knob, the search raises one knob a notch
+    at a time, the one whose probe error falls most per ray it adds, until the error is
+    within three quarters of the limit (the probes are a sample of the image) or every
+    knob is at the reference's. Mean FLIP is computed on the probe image at [k] times
+    fewer pixels per degree (a probe pixel stands for a block). The choice depends on rays
+    and pixels alone, never on time: the same whatever the number of domains. *)
+
+type choice = {
+  limit : Compare.metric;
+  settings : (string * string) list;  (** each knob's name and chosen value, as text *)
+  scene : Scene.t;  (** the scene at those settings *)
+  predicted : float;  (** the probes' error, in the metric's unit *)
+  seconds : float;  (** the predicted render time of the whole image at the choice *)
+  reference_seconds : float;  (** and at the reference *)
+  search_seconds : float;  (** the wall time of the search *)
+  search_rays : int;  (** the rays of all its probe renders *)
+  probes : int;  (** how many probe renders it made *)
+  probe_pixels : int;  (** the pixels of one probe render *)
+}
+
+val check : Compare.metric -> unit
+(** Raises {!Lancer_job.Job_error.User} for a limit that is not above 0 and within its
+    metric's range (a mean FLIP under 1, an RMSE at most 255, a finite PSNR), or an SSIM.
+*)
+
+val choose :
+  ?cancel:Cancel.t ->
+  domains:int ->
+  Options.t ->
+  Scenes.t ->
+  Scene.t ->
+  time:float ->
+  frame:int ->
+  Compare.metric ->
+  choice
+(** [choose ~domains o src base ~time ~frame limit]: the choice for [base] (the scene of
+    [src] at [time] and [frame] with [o]'s overrides), searched over [domains] domains.
+    Raises {!Lancer_job.Job_error.User} as {!check}. *)
+
+val text : choice -> string
+(** The line that says what was chosen: the limit, the settings, the predicted error and
+    time against the reference's, and the search's time. *)
+
+val json : choice -> Yojson.Safe.t
+(** The choice for [--stats]. *)

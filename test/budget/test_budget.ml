@@ -1,0 +1,141 @@
+(* lancer render --max-error, run as a user runs it, in a fresh directory. *)
+
+let exe = Filename.concat (Sys.getcwd ()) "../../bin/main.exe"
+
+open Run_lancer
+
+let lancer ~dir args = run ~exe ~dir args
+let ( // ) = Filename.concat
+
+(* Edges to anti-alias, a soft shadow, a mirror: every kind of knob has work to do. *)
+let scene =
+  {|settings { width: 64, height: 48, background: (0.1, 0.1, 0.2), depth: 4 }
+camera { position: (0, 2, -6), look_at: (0, 0.5, 0), fov: 50 }
+light { position: (-2, 5, -3), radius: 0.8, samples: 2 }
+plane { normal: (0, 1, 0), offset: 0, material: material { texture: checker((0.9, 0.9, 0.9), (0.2, 0.2, 0.2), 2) } }
+sphere { center: (-1, 0.7, 0), radius: 0.7, material: material { color: (0.9, 0.2, 0.2) } }
+sphere { center: (1, 0.7, 0.5), radius: 0.7, material: material { color: (0.9, 0.9, 0.9), reflection: 0.8 } }
+|}
+
+let fresh () =
+  let d = tmpdir "lancer-budget" in
+  write_file (d // "s.rts") scene;
+  d
+
+let render d args = lancer ~dir:d ([ "render"; "s.rts" ] @ args)
+
+let choice d json =
+  let j = Yojson.Safe.from_file (d // json) in
+  Yojson.Safe.Util.member "max_error" j
+
+let samples c =
+  let open Yojson.Safe.Util in
+  let v = c |> member "settings" |> member "samples" |> to_string in
+  int_of_string (List.hd (String.split_on_char '\xc3' v))
+
+(* A figure of lancer diff --json: "flip", "psnr". *)
+let figure d a b key =
+  let _, out, _ = lancer ~dir:d [ "diff"; a; b; "--json" ] in
+  Yojson.Safe.Util.(Yojson.Safe.from_string out |> member key |> to_number)
+
+let test_tight_takes_more () =
+  let d = fresh () in
+  let go e name =
+    check_status "render" 0
+      (render d
+         [ "--max-error"; e; "-o"; name ^ ".png"; "--stats"; name ^ ".json"; "-j"; "1" ]);
+    choice d (name ^ ".json")
+  in
+  let loose = go "0.05" "loose" and tight = go "0.005" "tight" in
+  let predicted c = Yojson.Safe.Util.(c |> member "predicted_error" |> to_number) in
+  Alcotest.(check bool) "tight within its limit" true (predicted tight <= 0.005);
+  Alcotest.(check bool) "loose coarser than tight" true (predicted loose > predicted tight);
+  Alcotest.(check bool)
+    (Printf.sprintf "tight samples %d > loose samples %d" (samples tight) (samples loose))
+    true
+    (samples tight > samples loose)
+
+let test_within_limit () =
+  let d = fresh () in
+  let e = 0.02 in
+  check_status "reference" 0
+    (render d [ "--quality"; "reference"; "-o"; "ref.png"; "-q" ]);
+  let r = render d [ "--max-error"; string_of_float e; "-o"; "b.png" ] in
+  check_status "budget" 0 r;
+  says "what it chose" r "max error 0.02 (mean FLIP): samples";
+  says "against the reference" r "against the reference's";
+  let f = figure d "ref.png" "b.png" "flip" in
+  Alcotest.(check bool) (Printf.sprintf "mean FLIP %g <= %g" f e) true (f <= e);
+  (* It chose something cheaper than the reference. *)
+  check_status "stats" 0
+    (render d [ "--max-error"; "0.02"; "-o"; "c.png"; "--stats"; "c.json"; "-q" ]);
+  let c = choice d "c.json" in
+  let num k = Yojson.Safe.Util.(c |> member k |> to_number) in
+  Alcotest.(check bool)
+    "predicted cheaper than the reference" true
+    (num "predicted_seconds" < num "reference_predicted_seconds")
+
+let test_domains () =
+  let d = fresh () in
+  let go j =
+    check_status "render" 0
+      (render d
+         [
+           "--max-error"; "0.01"; "-o"; j ^ ".png"; "--stats"; j ^ ".json"; "-q"; "-j"; j;
+         ]);
+    let c = choice d (j ^ ".json") in
+    let open Yojson.Safe.Util in
+    ( Yojson.Safe.to_string (c |> member "settings"),
+      c |> member "predicted_error" |> to_number,
+      c |> member "search_rays" |> to_int )
+  in
+  let s1, e1, r1 = go "1" and s2, e2, r2 = go "2" in
+  Alcotest.(check string) "same settings" s1 s2;
+  Alcotest.(check (float 0.)) "same predicted error" e1 e2;
+  Alcotest.(check int) "same search rays" r1 r2;
+  Alcotest.(check string) "same pixels" (pixels (d // "1.png")) (pixels (d // "2.png"))
+
+let test_refusals () =
+  let d = fresh () in
+  let refused args sub =
+    let r = render d args in
+    check_status (String.concat " " args) 1 r;
+    says (String.concat " " args) r sub;
+    let _, _, err = r in
+    Alcotest.(check bool) "no exception" false (contains err "Fatal error")
+  in
+  refused [ "--max-error"; "0" ] "--max-error with --metric flip is a mean FLIP, above 0";
+  refused [ "--max-error=-0.1" ] "above 0 and under 1 (got -0.1)";
+  refused [ "--max-error"; "1.5" ] "above 0 and under 1 (got 1.5)";
+  refused [ "--max-error"; "300"; "--metric"; "rmse" ] "an RMSE, above 0 and at most 255";
+  refused [ "--max-error"; "0"; "--metric"; "psnr" ] "a PSNR in dB, above 0";
+  refused [ "--max-error"; "0.02"; "--samples"; "4" ] "cannot be combined with --samples";
+  refused
+    [ "--max-error"; "0.02"; "--quality"; "final" ]
+    "cannot be combined with --quality";
+  refused [ "--max-error"; "0.02"; "--resume" ] "cannot be combined with --resume";
+  Alcotest.(check bool) "no image" false (Sys.file_exists (d // "s.png"))
+
+let test_psnr () =
+  let d = fresh () in
+  check_status "reference" 0
+    (render d [ "--quality"; "reference"; "-o"; "ref.png"; "-q" ]);
+  let r = render d [ "--max-error"; "30"; "--metric"; "psnr"; "-o"; "p.png" ] in
+  check_status "psnr" 0 r;
+  says "in dB" r "max error 30 (PSNR)";
+  let p = figure d "ref.png" "p.png" "psnr" in
+  Alcotest.(check bool) (Printf.sprintf "PSNR %g >= 30" p) true (p >= 30.)
+
+let () =
+  Alcotest.run "budget"
+    [
+      ( "max-error",
+        [
+          Alcotest.test_case "a tight limit takes more samples" `Quick
+            test_tight_takes_more;
+          Alcotest.test_case "the image is within the limit" `Quick test_within_limit;
+          Alcotest.test_case "the same choice on 1 and 2 domains" `Quick test_domains;
+          Alcotest.test_case "PSNR" `Quick test_psnr;
+          Alcotest.test_case "refusals" `Quick test_refusals;
+        ] );
+    ]
