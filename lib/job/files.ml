@@ -27,7 +27,7 @@ let probe_directory path =
     | exception Unix.Unix_error (e, _, _) ->
         user "cannot write %s: %s (in directory %s)" path (Unix.error_message e) dir
 
-let check_only path =
+let check_writable path =
   (match Image.check_writable path with
   | Ok () -> ()
   | Error m -> raise (Job_error.User m));
@@ -44,10 +44,6 @@ let sweep dir =
          %!"
         p pid)
     (Safe_file.remove_stale dir)
-
-let check_writable path =
-  check_only path;
-  sweep (Filename.dirname path)
 
 (* Where a path leads, for comparing two names of one file: the file itself resolved when
    it exists, else its directory, so that ./a.png, a.png and a path through a symbolic
@@ -107,7 +103,7 @@ let guard_writes ?(distinct = true) ?(names = []) ~reads writes =
   let writes = List.map (fun (p, what) -> (identity p, what)) writes in
   List.iter
     (fun ((w, _) as write) ->
-      check_only w.path;
+      check_writable w.path;
       refuse ~reads ~names write)
     writes;
   List.iter sweep

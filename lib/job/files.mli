@@ -5,9 +5,7 @@
 val check_writable : string -> unit
 (** Refuse, before any work, a file path in a missing directory, that is a directory, or
     that is a read-only file, or in a directory where this process cannot create a file
-    (tried with an empty file, removed at once); raises {!Job_error.User}. Then removes
-    the temporary files that a killed run of this machine left in that directory
-    ({!Lancer_image.Safe_file.remove_stale}), naming each on stderr. *)
+    (tried with an empty file, removed at once); raises {!Job_error.User}. *)
 
 val guard_writes :
   ?distinct:bool ->
@@ -20,8 +18,9 @@ val guard_writes :
     link, a hard link, ./a.png for a.png), that is one of [names] (files the scene may
     read later, at another frame), or, with [distinct] (default), that is the same file as
     another write. Raises {!Job_error.User} naming both. Once every write passes, the
-    stale temporary files of each directory written are removed as by {!check_writable}.
-*)
+    temporary files that a killed run of this machine left in each directory written are
+    removed ({!Lancer_image.Safe_file.remove_stale}), each named on stderr: once per
+    directory, before anything is written. *)
 
 val refuse_overwrite : reads:(string * string) list -> string -> string -> unit
 (** [refuse_overwrite ~reads path what]: {!guard_writes}' test of one write against the
