@@ -268,8 +268,8 @@ let max_error_term =
              predicted from probe pixels rendered at both, is at most $(i,E) (in the \
              unit of $(b,--metric)); say what was chosen, the predicted error and time \
              against the reference's, then render with them. Not with $(b,--samples), \
-             $(b,--depth), $(b,--quality) or $(b,--resume); the image holds no record \
-             for $(b,lancer verify).")
+             $(b,--depth), $(b,--quality) or $(b,--resume); the image's record keeps the \
+             settings chosen, for $(b,lancer verify).")
   in
   let metric =
     Arg.(

@@ -1,3 +1,5 @@
+type budget = { metric : string; limit : float; values : (string * float) list }
+
 type t = {
   version : string;
   scene : string option;
@@ -10,6 +12,7 @@ type t = {
   crop : bool;
   alpha : bool;
   bits : int;
+  max_error : budget option;
   blocks : string;
 }
 
@@ -37,7 +40,8 @@ let relative ~dir p =
   let up, down = drop (parts (resolved (Filename.concat dir "."))) (parts (resolved p)) in
   match List.map (fun _ -> "..") up @ down with [] -> "." | l -> String.concat "/" l
 
-let make ~image (src : Scenes.t) options ~files ~time ~frame ~region ~crop ~alpha ~bits =
+let make ?max_error ~image (src : Scenes.t) options ~files ~time ~frame ~region ~crop
+    ~alpha ~bits =
   let scene_dir = Filename.dirname src.file in
   let includes =
     List.filter_map
@@ -64,6 +68,7 @@ let make ~image (src : Scenes.t) options ~files ~time ~frame ~region ~crop ~alph
     crop;
     alpha;
     bits;
+    max_error;
     blocks = "";
   }
 
@@ -94,12 +99,17 @@ let to_json t =
     @ opt "region"
         (fun (r : Image.region) -> `List [ int r.x0; int r.y0; int r.x1; int r.y1 ])
         t.region
-    @ [
-        ("crop", `Bool t.crop);
-        ("alpha", `Bool t.alpha);
-        ("bits", `Int t.bits);
-        ("blocks", `String t.blocks);
-      ])
+    @ [ ("crop", `Bool t.crop); ("alpha", `Bool t.alpha); ("bits", `Int t.bits) ]
+    @ opt "max_error"
+        (fun b ->
+          `Assoc
+            [
+              ("metric", `String b.metric);
+              ("limit", `Float b.limit);
+              ("settings", `Assoc (List.map (fun (k, v) -> (k, `Float v)) b.values));
+            ])
+        t.max_error
+    @ [ ("blocks", `String t.blocks) ])
 
 let text t r =
   let blocks = match r with Some r -> blocks r | None -> "" in
@@ -122,6 +132,12 @@ let of_text s =
   in
   let flag j name =
     match field j name with `Bool b -> b | _ -> bad "no true or false in field %S" name
+  in
+  let float j name =
+    match field j name with
+    | `Float x when Float.is_finite x -> x
+    | `Int n -> Float.of_int n
+    | _ -> bad "no number in field %S" name
   in
   let opt_int j name =
     match field j name with
@@ -196,6 +212,17 @@ let of_text s =
             crop = flag j "crop";
             alpha = flag j "alpha";
             bits;
+            max_error =
+              (match field j "max_error" with
+              | `Null -> None
+              | m ->
+                  let values =
+                    match field m "settings" with
+                    | `Assoc l ->
+                        List.map (fun (k, _) -> (k, float (field m "settings") k)) l
+                    | _ -> bad "no object in field \"settings\" of max_error"
+                  in
+                  Some { metric = str m "metric"; limit = float m "limit"; values });
             blocks;
           }
       with Bad m -> Error ("its record is not one lancer writes: " ^ m))

@@ -8,6 +8,10 @@
     give the same bytes. [lancer verify] reads it back to render some blocks again and
     compare ({!Lancer_run.Verify_run}). *)
 
+type budget = { metric : string; limit : float; values : (string * float) list }
+(** What [--max-error] chose, for an image rendered with it: the limit, in a metric's name
+    (["flip"], ["rmse"], ["psnr"]), and the value of each setting it chose, by name. *)
+
 type t = {
   version : string;  (** lancer's, as [lancer --version] prints it *)
   scene : string option;
@@ -24,6 +28,9 @@ type t = {
   crop : bool;  (** [--crop]: the image is the region alone *)
   alpha : bool;  (** [--alpha]: a fourth channel of coverage *)
   bits : int;  (** 8 or 16 *)
+  max_error : budget option;
+      (** with [--max-error], what it chose: the image is the scene with [options] at
+          these settings *)
   blocks : string;
       (** 8 hexadecimal digits a block (a 32-bit digest of its samples,
           {!Lancer_image.Image.block_digests}), blocks of {!block_size} pixels row-major
@@ -37,6 +44,7 @@ val block_size : int
 (** 32: the side of a block, in the image's own pixels. *)
 
 val make :
+  ?max_error:budget ->
   image:string ->
   Scenes.t ->
   Overrides.t ->

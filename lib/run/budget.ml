@@ -54,6 +54,7 @@ let knobs ~(reference : Scene.t) (base : Scene.t) =
 type choice = {
   limit : Compare.metric;
   settings : (string * string) list;
+  values : (string * float) list;
   scene : Scene.t;
   predicted : float;  (** in the metric's own unit *)
   seconds : float;
@@ -124,11 +125,72 @@ let probe_pixels (sc : Scene.t) stride =
   let up n = (n + stride - 1) / stride in
   up sc.settings.width * up sc.settings.height
 
+let ok = function Ok sc -> sc | Error m -> user "%s" m
+
+(* [base] at the knobs' [values] (by name; a knob not named keeps the base's setting,
+   except samples and the adaptive threshold, at their cheapest): the scene of a choice.
+   [at_shutter n] is [base] with [n] instants of its shutter. *)
+let at_values ~at_shutter (base : Scene.t) values =
+  let value name = List.assoc_opt name values in
+  let v name d = Option.value (value name) ~default:d in
+  let sc =
+    match value "shutter samples" with
+    | Some n -> at_shutter (int_of_float n)
+    | None -> base
+  in
+  let sc =
+    ok
+      (Scene.map_settings sc (fun s ->
+           {
+             s with
+             samples = int_of_float (v "samples" 1.);
+             adaptive = v "adaptive" 0.;
+             depth = int_of_float (v "depth" (Float.of_int s.depth));
+           }))
+  in
+  let sc =
+    match value "light samples" with
+    | None -> sc
+    | Some n ->
+        let n = int_of_float n in
+        Scene.map_lights sc (function
+          | Light.Point p when p.radius > 0. ->
+              Light.Point { p with samples = min n (max p.samples 8) }
+          | l -> l)
+  in
+  match value "lens samples" with
+  | None -> sc
+  | Some n ->
+      ok (Scene.map_camera sc (fun c -> Camera.with_lens_samples c (int_of_float n)))
+
+let shutter ?cancel src overrides (base : Scene.t) ~time ~frame n =
+  let sc = ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n)) in
+  fst (Scenes.with_instants ?cancel src overrides sc ~time ~frame)
+
+let names =
+  [ "samples"; "adaptive"; "depth"; "light samples"; "lens samples"; "shutter samples" ]
+
+let apply ?cancel (src : Scenes.t) overrides (base : Scene.t) ~time ~frame values =
+  List.iter
+    (fun (name, v) ->
+      if not (List.mem name names) then
+        user "%S is not a setting --max-error chooses (%s)" name
+          (String.concat ", " names);
+      let whole = Float.is_integer v && v >= 1. && v <= 4096. in
+      let fits =
+        match name with
+        | "adaptive" -> v >= 0. && v < 1.
+        | "depth" -> whole && int_of_float v <= Settings.max_depth
+        | _ -> whole
+      in
+      if not fits then user "%g is not a value of the setting %S" v name)
+    values;
+  at_values ~at_shutter:(shutter ?cancel src overrides base ~time ~frame) base values
+
 let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~time ~frame
     limit =
   check limit;
   let t0 = Unix.gettimeofday () in
-  let ok = function Ok sc -> sc | Error m -> user "%s" m in
   let reference =
     Options.scene_at ?cancel { o with quality = Some Quality.Reference } src ~time ~frame
   in
@@ -140,52 +202,14 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
     match Hashtbl.find_opt instants n with
     | Some sc -> sc
     | None ->
-        let sc =
-          ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n))
-        in
-        let sc =
-          fst (Scenes.with_instants ?cancel src (Options.overrides o) sc ~time ~frame)
-        in
+        let sc = shutter ?cancel src (Options.overrides o) base ~time ~frame n in
         Hashtbl.add instants n sc;
         sc
   in
-  let value idx name =
-    let r = ref None in
-    Array.iteri (fun j k -> if k.name = name then r := Some k.ladder.(idx.(j))) knobs;
-    !r
+  let values idx =
+    Array.to_list (Array.mapi (fun j k -> (k.name, k.ladder.(idx.(j)))) knobs)
   in
-  let make idx =
-    let v name d = Option.value (value idx name) ~default:d in
-    let sc =
-      match value idx "shutter samples" with
-      | Some n -> at_shutter (int_of_float n)
-      | None -> base
-    in
-    let sc =
-      ok
-        (Scene.map_settings sc (fun s ->
-             {
-               s with
-               samples = int_of_float (v "samples" 1.);
-               adaptive = v "adaptive" 0.;
-               depth = int_of_float (v "depth" (Float.of_int s.depth));
-             }))
-    in
-    let sc =
-      match value idx "light samples" with
-      | None -> sc
-      | Some n ->
-          let n = int_of_float n in
-          Scene.map_lights sc (function
-            | Light.Point p when p.radius > 0. ->
-                Light.Point { p with samples = min n (max p.samples 8) }
-            | l -> l)
-    in
-    match value idx "lens samples" with
-    | None -> sc
-    | Some n ->
-        ok (Scene.map_camera sc (fun c -> Camera.with_lens_samples c (int_of_float n)))
-  in
+  let make idx = at_values ~at_shutter base (values idx) in
   Render.with_pool ?cancel domains @@ fun pool ->
   let rays = ref 0 and probes = ref 0 and probe_seconds = ref 0. in
   let probe sc =
@@ -253,6 +277,7 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
   let whole r = Float.of_int r *. Float.of_int pixels /. Float.of_int probe_pixels in
   {
     limit;
+    values = values idx;
     settings =
       Array.to_list (Array.mapi (fun j k -> (k.name, k.show k.ladder.(idx.(j)))) knobs);
     scene;
@@ -265,8 +290,18 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
     probe_pixels;
   }
 
-let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
 let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
+
+let record c =
+  let metric =
+    match c.limit with
+    | Compare.Flip _ -> "flip"
+    | Rmse _ -> "rmse"
+    | Psnr _ | Ssim _ -> "psnr"
+  in
+  { Provenance.metric; limit = limit_value c.limit; values = c.values }
+
+let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
 
 let text c =
   let limit = limit_value c.limit in

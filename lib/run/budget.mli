@@ -15,6 +15,9 @@
 type choice = {
   limit : Compare.metric;
   settings : (string * string) list;  (** each knob's name and chosen value, as text *)
+  values : (string * float) list;
+      (** the same values as numbers (an adaptive threshold of 0: off), what {!apply}
+          takes and an image's record keeps *)
   scene : Scene.t;  (** the scene at those settings *)
   predicted : float;  (** the probes' error, in the metric's unit *)
   seconds : float;  (** the predicted render time of the whole image at the choice *)
@@ -43,6 +46,24 @@ val choose :
 (** [choose ~domains o src base ~time ~frame limit]: the choice for [base] (the scene of
     [src] at [time] and [frame] with [o]'s overrides), searched over [domains] domains.
     Raises {!Lancer_job.Job_error.User} as {!check}. *)
+
+val apply :
+  ?cancel:Cancel.t ->
+  Scenes.t ->
+  Overrides.t ->
+  Scene.t ->
+  time:float ->
+  frame:int ->
+  (string * float) list ->
+  Scene.t
+(** [apply src overrides base ~time ~frame values]: [base] (the scene of [src] at [time]
+    and [frame] with [overrides]) at a choice's {!choice.values}, the same scene {!choose}
+    rendered that choice with: how an animation's frames and [lancer verify] use one.
+    Raises {!Lancer_job.Job_error.User} for a setting it does not choose or a value out of
+    its range (values read back from a file are input). *)
+
+val record : choice -> Provenance.budget
+(** What an image's record keeps of the choice. *)
 
 val text : choice -> string
 (** The line that says what was chosen: the limit, the settings, the predicted error and

@@ -57,8 +57,8 @@ let checkpoint (o : Options.t) (b : built) ~out =
       (Checkpoint.tiles ck);
   ck
 
-let record (o : Options.t) (b : built) (enc : Output.encoding) ~out =
-  Provenance.make ~image:out b.source (Options.overrides o)
+let record ?max_error (o : Options.t) (b : built) (enc : Output.encoding) ~out =
+  Provenance.make ?max_error ~image:out b.source (Options.overrides o)
     ~files:(List.map (fun f -> (f, b.source.input_digest f)) b.files)
     ~time:b.time ~frame:b.frame ~region:enc.region ~crop:enc.crop ~alpha:enc.alpha
     ~bits:(Option.value enc.bits ~default:8)
@@ -186,13 +186,12 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
   in
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
-  (* The record names the options, not the settings --max-error chose: such an image
-     goes without one rather than with a record that would not reproduce it. *)
-  let record = if Option.is_none choice then Some (record o b enc ~out) else None in
+  (* With --max-error, the record keeps the settings it chose beside the options. *)
+  let record = record ?max_error:(Option.map Budget.record choice) o b enc ~out in
   let extra =
     match choice with Some c -> [ ("max_error", Budget.json c) ] | None -> []
   in
-  finish ?cancel ~encoding:enc ?alpha ?record ~extra o ~out ~checkpoint ~build:b.seconds
+  finish ?cancel ~encoding:enc ?alpha ~record ~extra o ~out ~checkpoint ~build:b.seconds
     ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
     sc fb st;

@@ -28,8 +28,15 @@ val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
 (** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),
     saying how many tiles it brings back (unless [--quiet]). *)
 
-val record : Options.t -> built -> Output.encoding -> out:string -> Provenance.t
-(** The record of the image [out] of this still ({!Lancer_job.Provenance.make}). *)
+val record :
+  ?max_error:Provenance.budget ->
+  Options.t ->
+  built ->
+  Output.encoding ->
+  out:string ->
+  Provenance.t
+(** The record of the image [out] of this still ({!Lancer_job.Provenance.make}), with what
+    [--max-error] chose. *)
 
 val finish :
   ?cancel:Cancel.t ->
@@ -68,7 +75,7 @@ val run :
     line, then {!finish}; then the [aov] images beside it ({!Aov_run.write}), which do not
     change the image's bytes. With [max_error], the settings are those {!Budget.choose}
     picks for that limit (refused with [--samples], [--depth], [--quality] or [resume]),
-    said in a line before the render and in the [--stats] JSON as [max_error]; the image
-    then holds no record (its options do not name those settings). Raises
-    {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene}; [Sys.Break] when
-    [cancel] is cancelled. *)
+    said in a line before the render and in the [--stats] JSON as [max_error], and kept in
+    the image's record ({!Budget.record}) so that [lancer verify] renders the same
+    settings. Raises {!Lancer_job.Job_error.User} and {!Lancer_job.Job_error.Scene};
+    [Sys.Break] when [cancel] is cancelled. *)

@@ -115,6 +115,15 @@ let run ?cancel ?(domains = 1) ~blocks image =
       false)
     else
       let sc, _ = Scenes.scene ?cancel src r.options ~time:r.time ~frame:r.frame in
+      (* An image rendered with --max-error: the settings it chose, as its record keeps
+         them. *)
+      let sc =
+        match r.max_error with
+        | None -> sc
+        | Some b -> (
+            try Budget.apply ?cancel src r.options sc ~time:r.time ~frame:r.frame b.values
+            with Job_error.User m -> user "%s: its record's max_error: %s" image m)
+      in
       let sw = sc.settings.width and sh = sc.settings.height in
       let crop = if r.crop then r.region else None in
       let ox, oy = match crop with Some c -> (c.x0, c.y0) | None -> (0, 0) in

@@ -126,6 +126,69 @@ let test_psnr () =
   let p = figure d "ref.png" "p.png" "psnr" in
   Alcotest.(check bool) (Printf.sprintf "PSNR %g >= 30" p) true (p >= 30.)
 
+(* The record of an image written with --max-error keeps what it chose, and lancer verify
+   renders those settings; without them, the scene's own settings are another image. *)
+let test_verify () =
+  let d = fresh () in
+  check_status "budget" 0
+    (render d [ "--max-error"; "0.005"; "-o"; "v.png"; "--stats"; "v.json"; "-q" ]);
+  let bytes = read_file (d // "v.png") in
+  let texts = Result.get_ok (Lancer.Png.texts bytes) in
+  let record = Yojson.Safe.from_string (List.assoc "lancer" texts) in
+  let open Yojson.Safe.Util in
+  let kept = record |> member "max_error" in
+  Alcotest.(check string) "metric" "flip" (kept |> member "metric" |> to_string);
+  Alcotest.(check (float 0.)) "limit" 0.005 (kept |> member "limit" |> to_number);
+  Alcotest.(check int)
+    "the samples --stats names"
+    (samples (choice d "v.json"))
+    (kept |> member "settings" |> member "samples" |> to_number |> int_of_float);
+  let r = lancer ~dir:d [ "verify"; "v.png"; "--tiles"; "all" ] in
+  check_status "verify" 0 r;
+  says "reproduced" r "reproduced: 4 of the 4 blocks";
+  (* The same pixels under a record without the choice: not the scene's own image. *)
+  let without =
+    match record with
+    | `Assoc l -> `Assoc (List.remove_assoc "max_error" l)
+    | _ -> Alcotest.fail "a record that is not an object"
+  in
+  let rewrite record =
+    let texts =
+      List.map
+        (fun (k, v) -> if k = "lancer" then (k, Yojson.Safe.to_string record) else (k, v))
+        texts
+    in
+    let b = Buffer.create 4096 in
+    Lancer.Png.encode ~text:texts
+      (Result.get_ok (Lancer.Png.decode bytes))
+      (Buffer.add_string b);
+    write_file (d // "v.png") (Buffer.contents b);
+    lancer ~dir:d [ "verify"; "v.png"; "--tiles"; "all" ]
+  in
+  let r = rewrite without in
+  check_status "verify without the choice" 1 r;
+  says "differs" r "not reproduced";
+  (* A record is input: a value out of range is refused with a message. *)
+  let bad =
+    match without with
+    | `Assoc l ->
+        `Assoc
+          (l
+          @ [
+              ( "max_error",
+                `Assoc
+                  [
+                    ("metric", `String "flip");
+                    ("limit", `Float 0.005);
+                    ("settings", `Assoc [ ("samples", `Float 0.5) ]);
+                  ] );
+            ])
+    | j -> j
+  in
+  let r = rewrite bad in
+  check_status "verify a bad choice" 1 r;
+  says "the value named" r "0.5 is not a value of the setting \"samples\""
+
 let () =
   Alcotest.run "budget"
     [
@@ -137,5 +200,7 @@ let () =
           Alcotest.test_case "the same choice on 1 and 2 domains" `Quick test_domains;
           Alcotest.test_case "PSNR" `Quick test_psnr;
           Alcotest.test_case "refusals" `Quick test_refusals;
+          Alcotest.test_case "the record keeps the choice; verify renders it" `Quick
+            test_verify;
         ] );
     ]
