@@ -267,9 +267,10 @@ let max_error_term =
              and shutter samples whose error against the $(b,reference) preset, \
              predicted from probe pixels rendered at both, is at most $(i,E) (in the \
              unit of $(b,--metric)); say what was chosen, the predicted error and time \
-             against the reference's, then render with them. Not with $(b,--samples), \
-             $(b,--depth), $(b,--quality) or $(b,--resume); the image's record keeps the \
-             settings chosen, for $(b,lancer verify).")
+             against the reference's, then render with them. An animation's are chosen \
+             once, on its first, middle and last frames, and used for every frame. Not \
+             with $(b,--samples), $(b,--depth), $(b,--quality), nor $(b,--resume) for a \
+             still; an image's record keeps the settings chosen, for $(b,lancer verify).")
   in
   let metric =
     Arg.(

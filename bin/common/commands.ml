@@ -57,17 +57,20 @@ let animate =
       `Pre
         "  lancer animate scene.rts -o frames/ --shard slurm --resume   # a task of \
          sbatch --array=0-15";
+      `Pre
+        "  lancer animate scene.rts -o frames/ --max-error 0.02   # one choice of \
+         settings for every frame";
     ]
     @ Cli.bugs
   in
   Cmd.v
     (Cmd.info "animate" ~doc ~man ~exits ~envs:(Cli.envs @ Cli.slurm_envs))
     Term.(
-      const (fun o a ->
+      const (fun o a max_error ->
           Report.run ~interrupted:Frames_run.interrupted (fun stop ->
-              Frames_run.run ~cancel:(Report.on_interrupt stop) o a))
+              Frames_run.run ~cancel:(Report.on_interrupt stop) ?max_error o a))
       $ Cli.(term Animate)
-      $ Cli.frames_term)
+      $ Cli.frames_term $ Cli.max_error_term)
 
 let check =
   let doc =

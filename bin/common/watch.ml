@@ -124,6 +124,7 @@ let cmd =
           domains
           quality
           quiet
+          max_error
         ->
           let o =
             {
@@ -140,9 +141,9 @@ let cmd =
           in
           Report.run ~interrupted:"the preview server stopped" (fun stop ->
               ignore (Report.on_interrupt stop);
-              Lancer_preview.Preview.run o ~host ~port ~poll ~beyond_loopback
+              Lancer_preview.Preview.run ?max_error o ~host ~port ~poll ~beyond_loopback
                 ~any_source_line))
       $ scene $ port $ host $ beyond_loopback $ any_source_line $ poll $ width $ height
-      $ samples $ depth $ domains $ quality $ quiet)
+      $ samples $ depth $ domains $ quality $ quiet $ Cli.max_error_term)
   in
   Cmd.v (Cmd.info "watch" ~doc ~man ~exits:Cli.exits ~envs:Cli.envs) term

@@ -3,8 +3,9 @@ let user = Job_error.user
 (* What changes every frame's pixels, named: the scene's text and includes (not the path
    it was typed as) and the overriding options. The frame number and the images and
    meshes a frame reads are recorded beside it. *)
-let job_parts (src : Scenes.t) overrides ~format ~bits =
+let job_parts (src : Scenes.t) overrides ~format ~bits ~job =
   (("scene", src.text_digest ()) :: Overrides.named_fields overrides)
+  @ job
   @
   (* Frames as PNG at the default depth keep the digest they always had. *)
   match (format, bits) with
@@ -35,10 +36,11 @@ type plan = {
   set : Frameset.t;
   inputs : (int, (string * string) list) Hashtbl.t;
   inputs_lock : Mutex.t;
+  chosen : (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t)) option;
 }
 
-let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~shard
-    ~resume ~overrides load =
+let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ?(job = []) ~dir ~frames
+    ~shard ~resume ~overrides load =
   Option.iter (user "--bits %s") (Image.bits_problem format bits);
   let ext = Image.format_name format in
   let dir =
@@ -82,7 +84,7 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
       | "<stdin>" -> "<stdin>"
       | f -> ( try Unix.realpath f with Unix.Unix_error _ -> f)
     in
-    let made_with = job_parts source overrides ~format ~bits in
+    let made_with = job_parts source overrides ~format ~bits ~job in
     Frameset.open_ ~ext ~made_with ~dir ~scene ~job:(job_digest made_with) ~count ()
   in
   let todo, stale =
@@ -126,7 +128,10 @@ let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ~dir ~frames ~sh
     set;
     inputs = Hashtbl.create 16;
     inputs_lock = Mutex.create ();
+    chosen = None;
   }
+
+let with_settings p budget adjust = { p with chosen = Some (budget, adjust) }
 
 let evaluate ?cancel p k =
   Scenes.scene ?cancel p.source p.overrides ~time:(Float.of_int k /. p.fps) ~frame:k
@@ -136,6 +141,11 @@ let with_digests p files = List.map (fun f -> (f, p.source.input_digest f)) file
 
 let frame_scene ?cancel p k =
   let sc, files = evaluate ?cancel p k in
+  let sc =
+    match p.chosen with
+    | Some (_, adjust) -> adjust sc ~time:(Float.of_int k /. p.fps) ~frame:k
+    | None -> sc
+  in
   let files = with_digests p files in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);
   sc
@@ -155,7 +165,8 @@ let write_frame p k sc fb =
      frames evaluated so far have read, by any name, before each frame is written. *)
   Files.refuse_overwrite ~reads:(Scenes.reads p.source) path "a frame";
   let record =
-    Provenance.make ~image:path p.source p.overrides ~files:inputs
+    Provenance.make ?max_error:(Option.map fst p.chosen) ~image:path p.source p.overrides
+      ~files:inputs
       ~time:(Float.of_int k /. p.fps)
       ~frame:k ~region:None ~crop:false ~alpha:false
       ~bits:(Option.value p.bits ~default:8)

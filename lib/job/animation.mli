@@ -32,12 +32,15 @@ type plan = private {
   inputs : (int, (string * string) list) Hashtbl.t;
       (** frames evaluated and not yet written: the files they read *)
   inputs_lock : Mutex.t;
+  chosen : (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t)) option;
+      (** settings chosen for every frame ({!with_settings}) *)
 }
 
 val plan :
   ?getenv:(string -> string option) ->
   ?format:Image.format ->
   ?bits:int ->
+  ?job:(string * string) list ->
   dir:string option ->
   frames:(int * int) option ->
   shard:Plan.shard option ->
@@ -52,8 +55,15 @@ val plan :
     and work out which frames to render: this shard's frames of the range
     ({!Lancer_job.Plan.shard_frames}), less, with [resume], those already done for the
     same job. The frames are written in [format] (default PNG; [frame_0000.exr] for EXR)
-    at [bits] ({!Lancer_image.Image.file_of}), which are part of the job. Raises
+    at [bits] ({!Lancer_image.Image.file_of}), which are part of the job, as is [job]
+    (what else changes every frame's pixels, named: [--max-error]'s limit). Raises
     {!Job_error.User}. *)
+
+val with_settings :
+  plan -> Provenance.budget -> (Scene.t -> time:float -> frame:int -> Scene.t) -> plan
+(** [with_settings p budget adjust]: [p] whose frames are rendered at the settings
+    [--max-error] chose: each frame's scene is [adjust]ed, and each frame's record keeps
+    [budget]. *)
 
 val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it

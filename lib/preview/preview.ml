@@ -8,7 +8,7 @@ open Lwt.Infix
    still there reconnects by itself; a closed browser tab may be noticed only later). *)
 let max_streams = 32
 
-let run (o : Options.t) ~host ~port ~poll ~beyond_loopback ~any_source_line =
+let run ?max_error (o : Options.t) ~host ~port ~poll ~beyond_loopback ~any_source_line =
   (* A browser that goes away mid-write must not end the server. *)
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   let path =
@@ -20,6 +20,11 @@ let run (o : Options.t) ~host ~port ~poll ~beyond_loopback ~any_source_line =
     | None -> Job_error.user "watch needs a scene file: lancer watch SCENE.rts"
   in
   ignore (Scene_file.read o.scene);
+  Option.iter
+    (fun m ->
+      Budget.check m;
+      Budget.check_options o ~resume:false)
+    max_error;
   let domains = Options.domains o in
   Option.iter (fun d -> if d < 1 then Job_error.user "--width must be at least 1") o.width;
   Option.iter
@@ -30,7 +35,7 @@ let run (o : Options.t) ~host ~port ~poll ~beyond_loopback ~any_source_line =
   let wake_r, wake = Unix.pipe ~cloexec:true () in
   Unix.set_nonblock wake;
   let sh = Versions.create o ~wake in
-  Versions.start sh o ~any_line:any_source_line ~domains ~tmp;
+  Versions.start ?max_error sh o ~any_line:any_source_line ~domains ~tmp;
   (* What a newly connected page is sent first: the last event of each kind. *)
   let current = Hashtbl.create 8 in
   let streams : (string, int * (string option -> unit)) Hashtbl.t = Hashtbl.create 8 in

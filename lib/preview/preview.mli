@@ -6,6 +6,7 @@
     ([watch_page.html]) is built into the library. *)
 
 val run :
+  ?max_error:Lancer.Compare.metric ->
   Lancer.Options.t ->
   host:string ->
   port:int ->
@@ -18,4 +19,6 @@ val run :
     directory of the images and raise [Sys.Break]. The options' quality, size, samples,
     depth and domains apply to the full image; [quiet] prints only the address. [poll]
     watches the files by polling; [any_source_line] shows the line of an error in a file
-    outside the scene's directory tree too. Raises {!Lancer.Job_error.User}. *)
+    outside the scene's directory tree too. With [max_error], the full image of each
+    version (not while playing) is at the settings {!Lancer.Budget.choose} picks for it,
+    said in the terminal. Raises {!Lancer.Job_error.User}. *)

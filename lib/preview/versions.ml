@@ -137,7 +137,7 @@ let fail sh text =
 
 let log quiet fmt = Printf.ksprintf (fun s -> if not quiet then print_endline s) fmt
 
-let render_version sh show_error (o : Options.t) pool tmp prog seq v =
+let render_version ?max_error sh show_error (o : Options.t) pool tmp prog seq v =
   let cancelled () = Cancel.cancelled v.cancel in
   let path = Option.get o.scene in
   let failed text files =
@@ -184,7 +184,25 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
             let ov = Options.overrides o in
             fst (Scenes.with_instants src ov (Overrides.apply ov sc) ~time ~frame)
           in
-          Ok (pass o, pass coarse)
+          let plain = pass o in
+          (* With --max-error, the settings it chooses, searched once the coarse passes
+             are shown. *)
+          let final =
+            match max_error with
+            | None -> lazy plain
+            | Some m ->
+                lazy
+                  (let o = { o with quality = None } in
+                   let c =
+                     try
+                       Budget.choose ~cancel:v.cancel ~pool ~domains:1 o src (pass o)
+                         ~time ~frame m
+                     with Sys.Break when Cancel.cancelled v.cancel -> raise Cancelled
+                   in
+                   if not o.quiet then print_endline (Budget.text c);
+                   c.scene)
+          in
+          Ok (plain, final, pass coarse)
         with (Job_error.User _ | Job_error.Scene _) as e ->
           Error (describe show_error e)
       in
@@ -194,7 +212,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
           sh.inputs <- List.sort_uniq compare (Program.inputs p @ sh.inputs));
       match evaluated with
       | Error text -> failed text []
-      | Ok (sc, coarse) ->
+      | Ok (sc, final, coarse) ->
           let build = Unix.gettimeofday () -. t_build in
           publish sh "ok" (`Assoc []);
           publish sh "scene"
@@ -214,6 +232,8 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
             if frames > 1 then Printf.sprintf "%s_%04d.png" base frame else base ^ ".png"
           in
           let final_differs =
+            max_error <> None
+            ||
             match o.quality with
             | Some (Quality.Draft | Quality.Preview) -> false
             | _ -> true
@@ -223,11 +243,11 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
               (`Coarse 8, "1 sample per 8×8 pixels");
               (`Coarse 4, "1 sample per 4×4 pixels");
               (`Coarse 2, "1 sample per 2×2 pixels");
-              ( `Full coarse,
+              ( `Full (lazy coarse),
                 if final_differs then Quality.to_string coarse_q ^ " quality" else "done"
               );
             ]
-            @ if final_differs && not v.params.play then [ (`Full sc, "done") ] else []
+            @ if final_differs && not v.params.play then [ (`Full final, "done") ] else []
           in
           let n = List.length passes in
           let first = ref None in
@@ -241,6 +261,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                     let fb, st = render_pass pool v.cancel ~stride:k coarse in
                     (coarse, fb, st)
                 | `Full s ->
+                    let s = Lazy.force s in
                     let fb, st = render_pass pool v.cancel s in
                     (s, fb, st)
               in
@@ -304,7 +325,7 @@ let render_version sh show_error (o : Options.t) pool tmp prog seq v =
                   (Unix.gettimeofday () -. v.t0)))
             passes)
 
-let renderer sh show_error (o : Options.t) ~domains ~tmp () =
+let renderer ?max_error sh show_error (o : Options.t) ~domains ~tmp () =
   Render.with_pool domains (fun pool ->
       let prog = ref None and seq = ref 0 in
       let rec loop () =
@@ -325,7 +346,7 @@ let renderer sh show_error (o : Options.t) ~domains ~tmp () =
                 cancel = sh.current;
               })
         in
-        (try render_version sh show_error o pool tmp prog seq v with
+        (try render_version ?max_error sh show_error o pool tmp prog seq v with
         | Cancelled -> ()
         | e -> fail sh (describe show_error e));
         loop ()
@@ -352,9 +373,9 @@ let create (o : Options.t) ~wake =
     wake_w = wake;
   }
 
-let start sh (o : Options.t) ~any_line ~domains ~tmp =
+let start ?max_error sh (o : Options.t) ~any_line ~domains ~tmp =
   let show_error = shown_errors ~any_line (Option.get o.scene) in
-  ignore (Domain.spawn (renderer sh show_error o ~domains ~tmp))
+  ignore (Domain.spawn (renderer ?max_error sh show_error o ~domains ~tmp))
 
 let events sh =
   with_lock sh (fun () ->

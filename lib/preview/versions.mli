@@ -19,11 +19,20 @@ val create : Lancer.Options.t -> wake:Unix.file_descr -> t
 (** The first version asked for ([--quality], frame 0), watching the scene file; the
     renderer writes a byte to [wake] when it publishes events. *)
 
-val start : t -> Lancer.Options.t -> any_line:bool -> domains:int -> tmp:string -> unit
+val start :
+  ?max_error:Lancer.Compare.metric ->
+  t ->
+  Lancer.Options.t ->
+  any_line:bool ->
+  domains:int ->
+  tmp:string ->
+  unit
 (** Start the renderer on a domain of its own, with a pool of [domains] (the options'
     size, samples and depth apply to the last pass), its PNGs encoded in the directory
     [tmp]. An error located in a file outside the scene's directory tree is shown without
-    its line unless [any_line]. *)
+    its line unless [any_line]. With [max_error], the last pass is at the settings
+    {!Lancer.Budget.choose} picks, searched after the coarse passes and said on standard
+    output. *)
 
 val request : t -> ?reload:bool -> (params -> params) -> unit
 (** Ask for a new version with these parameters, cancelling the render in progress;

@@ -56,6 +56,7 @@ type choice = {
   settings : (string * string) list;
   values : (string * float) list;
   scene : Scene.t;
+  rays : float;
   predicted : float;  (** in the metric's own unit *)
   seconds : float;
   reference_seconds : float;
@@ -86,6 +87,25 @@ let check (m : Compare.metric) =
     match m with Flip _ -> "flip" | Rmse _ -> "rmse" | Psnr _ | Ssim _ -> "psnr"
   in
   Option.iter (user "--max-error with --metric %s is %s" option) range
+
+(* What --max-error chooses itself cannot also be given. *)
+let check_options (o : Options.t) ~resume =
+  let given =
+    List.filter_map Fun.id
+      [
+        Option.map (fun _ -> "--samples") o.samples;
+        Option.map (fun _ -> "--depth") o.depth;
+        Option.map (fun _ -> "--quality") o.quality;
+        (if resume then Some "--resume" else None);
+      ]
+  in
+  match given with
+  | [] -> ()
+  | opt :: _ ->
+      user
+        "--max-error chooses the samples, depth and quality settings itself: it cannot \
+         be combined with %s"
+        opt
 
 (* What the search aims at: [margin] of the limit (of the RMSE a PSNR allows), since the
    probes are a sample of the image. *)
@@ -187,8 +207,8 @@ let apply ?cancel (src : Scenes.t) overrides (base : Scene.t) ~time ~frame value
     values;
   at_values ~at_shutter:(shutter ?cancel src overrides base ~time ~frame) base values
 
-let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~time ~frame
-    limit =
+let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~time
+    ~frame limit =
   check limit;
   let t0 = Unix.gettimeofday () in
   let reference =
@@ -210,7 +230,10 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
     Array.to_list (Array.mapi (fun j k -> (k.name, k.ladder.(idx.(j)))) knobs)
   in
   let make idx = at_values ~at_shutter base (values idx) in
-  Render.with_pool ?cancel domains @@ fun pool ->
+  (match pool with
+  | Some p -> fun f -> f p
+  | None -> fun f -> Render.with_pool ?cancel domains f)
+  @@ fun pool ->
   let rays = ref 0 and probes = ref 0 and probe_seconds = ref 0. in
   let probe sc =
     let t = Unix.gettimeofday () in
@@ -281,6 +304,7 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
     settings =
       Array.to_list (Array.mapi (fun j k -> (k.name, k.show k.ladder.(idx.(j)))) knobs);
     scene;
+    rays = whole r;
     predicted = stated limit e;
     seconds = per_ray *. whole r;
     reference_seconds = per_ray *. whole ref_rays;
@@ -292,15 +316,16 @@ let choose ?cancel ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~t
 
 let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
 
-let record c =
+let record_of_limit limit =
   let metric =
-    match c.limit with
+    match limit with
     | Compare.Flip _ -> "flip"
     | Rmse _ -> "rmse"
     | Psnr _ | Ssim _ -> "psnr"
   in
-  { Provenance.metric; limit = limit_value c.limit; values = c.values }
+  { Provenance.metric; limit = limit_value limit; values = [] }
 
+let record c = { (record_of_limit c.limit) with values = c.values }
 let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
 
 let text c =

@@ -19,6 +19,9 @@ type choice = {
       (** the same values as numbers (an adaptive threshold of 0: off), what {!apply}
           takes and an image's record keeps *)
   scene : Scene.t;  (** the scene at those settings *)
+  rays : float;
+      (** the predicted rays of the whole image at the choice (from the probes' rays: the
+          same on any number of domains) *)
   predicted : float;  (** the probes' error, in the metric's unit *)
   seconds : float;  (** the predicted render time of the whole image at the choice *)
   reference_seconds : float;  (** and at the reference *)
@@ -33,8 +36,14 @@ val check : Compare.metric -> unit
     metric's range (a mean FLIP under 1, an RMSE at most 255, a finite PSNR), or an SSIM.
 *)
 
+val check_options : Options.t -> resume:bool -> unit
+(** Raises {!Lancer_job.Job_error.User} for options that set what [--max-error] chooses
+    ([--samples], [--depth], [--quality]), or [resume] for a still (its checkpoint is of
+    one set of settings). *)
+
 val choose :
   ?cancel:Cancel.t ->
+  ?pool:Pool.t option ->
   domains:int ->
   Options.t ->
   Scenes.t ->
@@ -44,8 +53,9 @@ val choose :
   Compare.metric ->
   choice
 (** [choose ~domains o src base ~time ~frame limit]: the choice for [base] (the scene of
-    [src] at [time] and [frame] with [o]'s overrides), searched over [domains] domains.
-    Raises {!Lancer_job.Job_error.User} as {!check}. *)
+    [src] at [time] and [frame] with [o]'s overrides), searched over [domains] domains (or
+    on [pool], a pool the caller holds: [None] for one domain). Raises
+    {!Lancer_job.Job_error.User} as {!check}. *)
 
 val apply :
   ?cancel:Cancel.t ->
@@ -64,6 +74,9 @@ val apply :
 
 val record : choice -> Provenance.budget
 (** What an image's record keeps of the choice. *)
+
+val record_of_limit : Compare.metric -> Provenance.budget
+(** The limit as a record names it, with no settings. *)
 
 val text : choice -> string
 (** The line that says what was chosen: the limit, the settings, the predicted error and

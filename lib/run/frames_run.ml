@@ -17,13 +17,24 @@ let default_options =
     bits = None;
   }
 
-let plan ?getenv (o : Options.t) (a : options) =
+(* What an animation's frames owe to --max-error, named for the job's digest: a limit
+   and its metric (the settings follow from them and the scene). *)
+let budget_job = function
+  | None -> []
+  | Some m ->
+      let r = Budget.record_of_limit m in
+      [
+        ("--max-error", Printf.sprintf "%.12g" r.Provenance.limit); ("--metric", r.metric);
+      ]
+
+let plan ?getenv ?max_error (o : Options.t) (a : options) =
   let program = ref None in
   (* The options first, as every command checks them: then the shard and the scene. *)
   ignore (Options.domains o);
   let p =
-    Animation.plan ?getenv ~format:a.format ?bits:a.bits ~dir:o.output ~frames:a.frames
-      ~shard:a.shard ~resume:a.resume ~overrides:(Options.overrides o) (fun () ->
+    Animation.plan ?getenv ~format:a.format ?bits:a.bits ~job:(budget_job max_error)
+      ~dir:o.output ~frames:a.frames ~shard:a.shard ~resume:a.resume
+      ~overrides:(Options.overrides o) (fun () ->
         let prog = Scene_file.load_source (Scene_file.read o.scene) in
         program := Some prog;
         Scene_file.source o prog)
@@ -65,10 +76,46 @@ let wrote ?(extra = "") (o : Options.t) (p : Animation.plan) ~t0 =
       (Unix.gettimeofday () -. t0)
       (Animation.describe_range p) extra
 
-let run ?cancel (o : Options.t) (a : options) =
+(* --max-error over an animation: the choice of the first, middle and last frames of the
+   range that costs the most rays (the earliest of equals), the same for every frame (the
+   settings do not change from one frame to the next) and for every shard. *)
+let choose ?cancel ~domains (o : Options.t) (p : Animation.plan) limit =
+  let frames = List.sort_uniq compare [ p.first; (p.first + p.last) / 2; p.last ] in
+  let choices =
+    List.map
+      (fun k ->
+        let time = Float.of_int k /. p.fps in
+        let base, _ = Scenes.scene ?cancel p.source p.overrides ~time ~frame:k in
+        (k, Budget.choose ?cancel ~domains o p.source base ~time ~frame:k limit))
+      frames
+  in
+  let k, c =
+    List.fold_left
+      (fun ((_, b) as best) ((_, c) as kc) ->
+        if c.Budget.rays > b.Budget.rays then kc else best)
+      (List.hd choices) (List.tl choices)
+  in
+  if not o.quiet then
+    Printf.printf "%s (of frames %s: frame %d's, the costliest)\n%!" (Budget.text c)
+      (String.concat ", " (List.map string_of_int frames))
+      k;
+  Animation.with_settings p (Budget.record c) (fun sc ~time ~frame ->
+      Budget.apply ?cancel p.source p.overrides sc ~time ~frame c.values)
+
+let run ?cancel ?max_error (o : Options.t) (a : options) =
+  Option.iter
+    (fun m ->
+      Budget.check m;
+      Budget.check_options o ~resume:false)
+    max_error;
   check_video a;
-  let _, p = plan o a in
+  let _, p = plan ?max_error o a in
   let domains = Options.domains o in
+  let p =
+    match max_error with
+    | Some m when p.todo <> [] -> choose ?cancel ~domains o p m
+    | _ -> p
+  in
   let bar = progress o p in
   let t0 = Unix.gettimeofday () in
   let finished = Atomic.make 0 in

@@ -18,11 +18,16 @@ type options = {
 val default_options : options
 
 val plan :
-  ?getenv:(string -> string option) -> Options.t -> options -> Program.t * Animation.plan
-(** {!Lancer_job.Animation.val-plan} for these options, the scene loaded as
-    {!Scene_file.read} says, saying how many frames a resumed run skips and why it renders
-    again those a run recorded (another option, a changed scene or input, a missing file);
-    with the program it loaded. Raises {!Lancer_job.Job_error.User}. *)
+  ?getenv:(string -> string option) ->
+  ?max_error:Compare.metric ->
+  Options.t ->
+  options ->
+  Program.t * Animation.plan
+(** {!Lancer_job.Animation.val-plan} for these options (and [--max-error]'s limit, part of
+    the job), the scene loaded as {!Scene_file.read} says, saying how many frames a
+    resumed run skips and why it renders again those a run recorded (another option, a
+    changed scene or input, a missing file); with the program it loaded. Raises
+    {!Lancer_job.Job_error.User}. *)
 
 val write_frame : Animation.plan -> int -> Scene.t -> Framebuffer.t -> Counters.t -> unit
 (** {!Lancer_job.Animation.write_frame}, with a warning when some samples were NaN. *)
@@ -45,6 +50,10 @@ val progress : Options.t -> Animation.plan -> Progress.t
 val interrupted : string
 (** What [lancer animate] says when interrupted: the frames already written are kept. *)
 
-val run : ?cancel:Cancel.t -> Options.t -> options -> unit
+val run : ?cancel:Cancel.t -> ?max_error:Compare.metric -> Options.t -> options -> unit
 (** [lancer animate]: the plan, every frame to do rendered over [--domains] domains, the
-    record finished, the summary line and the video. *)
+    record finished, the summary line and the video. With [max_error] (refused with
+    [--samples], [--depth] or [--quality]), the settings {!Budget.choose} picks for the
+    first, middle and last frames of the range, the choice that costs the most rays, said
+    in a line and used for every frame (and kept in each frame's record); the same in
+    every shard, whatever the number of domains. *)

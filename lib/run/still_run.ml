@@ -102,30 +102,11 @@ let aov_files kinds ~out =
     user "--aov writes its images beside the image file: it cannot be combined with -o -";
   List.concat_map (Aov_run.paths out) kinds
 
-(* What --max-error chooses itself cannot also be given. *)
-let check_max_error (o : Options.t) ~resume =
-  let given =
-    List.filter_map Fun.id
-      [
-        Option.map (fun _ -> "--samples") o.samples;
-        Option.map (fun _ -> "--depth") o.depth;
-        Option.map (fun _ -> "--quality") o.quality;
-        (if resume then Some "--resume" else None);
-      ]
-  in
-  match given with
-  | [] -> ()
-  | opt :: _ ->
-      user
-        "--max-error chooses the samples, depth and quality settings itself: it cannot \
-         be combined with %s"
-        opt
-
 let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.encoding) =
   Option.iter
     (fun m ->
       Budget.check m;
-      check_max_error o ~resume)
+      Budget.check_options o ~resume)
     max_error;
   let out = Scene_file.default_output o in
   check_outputs ?format:enc.format o ~out;

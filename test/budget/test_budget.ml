@@ -189,6 +189,58 @@ let test_verify () =
   check_status "verify a bad choice" 1 r;
   says "the value named" r "0.5 is not a value of the setting \"samples\""
 
+(* An animation: one choice for every frame, the same bytes on any number of domains and
+   in shards, kept in each frame's record and in the job (a resume with another limit
+   renders again). *)
+let test_animate () =
+  let d = fresh () in
+  write_file (d // "a.rts")
+    (scene
+   ^ {|animation { fps: 4, frames: 4 }
+sphere { center: (-2 + time, 1.5, 1), radius: 0.3, material: material { color: (0.2, 0.8, 0.2) } }
+|}
+    );
+  let animate args = lancer ~dir:d ([ "animate"; "a.rts" ] @ args) in
+  let r = animate [ "-o"; "f1"; "--max-error"; "0.02"; "-j"; "1" ] in
+  check_status "animate" 0 r;
+  says "what it chose" r "max error 0.02 (mean FLIP): samples";
+  says "which frames" r "(of frames 0, 1, 3: frame";
+  check_status "2 domains" 0
+    (animate [ "-o"; "f2"; "--max-error"; "0.02"; "-j"; "2"; "-q" ]);
+  List.iter
+    (fun s ->
+      check_status "a shard" 0
+        (animate [ "-o"; "f3"; "--max-error"; "0.02"; "--shard"; s; "-q" ]))
+    [ "0/2"; "1/2" ];
+  let frame dir k = Run_lancer.pixels (d // dir // Printf.sprintf "frame_%04d.png" k) in
+  for k = 0 to 3 do
+    Alcotest.(check bool)
+      (Printf.sprintf "frame %d the same on 2 domains" k)
+      true
+      (frame "f1" k = frame "f2" k);
+    Alcotest.(check bool)
+      (Printf.sprintf "frame %d the same in shards" k)
+      true
+      (frame "f1" k = frame "f3" k)
+  done;
+  (* Not the scene's own settings: the frames differ from a plain animate's. *)
+  check_status "plain" 0 (animate [ "-o"; "f4"; "-q" ]);
+  Alcotest.(check bool)
+    "another image than the scene's settings" false
+    (frame "f1" 0 = frame "f4" 0);
+  let r = lancer ~dir:d [ "verify"; "f1/frame_0002.png"; "--tiles"; "all" ] in
+  check_status "verify a frame" 0 r;
+  says "reproduced" r "reproduced";
+  let r = animate [ "-o"; "f1"; "--max-error"; "0.02"; "--resume" ] in
+  check_status "resume" 0 r;
+  says "nothing to do" r "4 frames already rendered, 0 to go";
+  let r = animate [ "-o"; "f1"; "--max-error"; "0.05"; "--resume" ] in
+  check_status "resume with another limit" 0 r;
+  says "rendered again" r "--max-error was 0.02, is now 0.05";
+  let r = animate [ "-o"; "f5"; "--max-error"; "0.02"; "--samples"; "2" ] in
+  check_status "with --samples" 1 r;
+  says "refused" r "cannot be combined with --samples"
+
 let () =
   Alcotest.run "budget"
     [
@@ -202,5 +254,6 @@ let () =
           Alcotest.test_case "refusals" `Quick test_refusals;
           Alcotest.test_case "the record keeps the choice; verify renders it" `Quick
             test_verify;
+          Alcotest.test_case "animate: one choice for every frame" `Quick test_animate;
         ] );
     ]

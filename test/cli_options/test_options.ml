@@ -122,6 +122,8 @@ let help_tests =
             "--format";
             "--frames";
             "--height";
+            "--max-error";
+            "--metric";
             "--output";
             "--progress";
             "--quality";

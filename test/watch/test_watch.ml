@@ -409,6 +409,40 @@ sphere { center: (-2 + 0.6 * frame, 1, 0), radius: 0.8, material: material { col
       Alcotest.(check int) "a frame must be a number" 400 st;
       close_events e)
 
+(* --max-error: the full image at the settings it chooses, said in the terminal; the page
+   shows them. *)
+let max_error () =
+  let d = tmpdir () in
+  Run_lancer.write_file (Filename.concat d "s.rts") (scene "(0.9, 0.1, 0.1)");
+  with_server ~args:[ "--max-error"; "0.02" ] d (fun s ->
+      let e = events s in
+      let _, _ = wait_for e "the full image" is_last in
+      let _, st = wait_for e "its stats" (fun ev _ -> ev = "stats") in
+      let rec said () =
+        match input_line_within s.out 30. with
+        | Some l when Run_lancer.contains l "max error 0.02 (mean FLIP): samples " -> l
+        | Some _ -> said ()
+        | None -> Alcotest.fail "the terminal never said what --max-error chose"
+      in
+      let line = said () in
+      (* "samples 3×3, …": the page's knobs show the samples chosen. *)
+      let chosen =
+        Scanf.sscanf (List.nth (String.split_on_char ':' line) 1) " samples %d" Fun.id
+      in
+      Alcotest.(check string)
+        "the page shows the samples chosen"
+        (Printf.sprintf "%d×%d" chosen chosen)
+        (to_string (member "samples" (member "knobs" st)));
+      close_events e);
+  let st, _, err =
+    Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d
+      [ "watch"; "s.rts"; "--port"; "0"; "--max-error"; "0.02"; "--samples"; "2" ]
+  in
+  Alcotest.(check int) "with --samples: exit 1" 1 st;
+  Alcotest.(check bool)
+    err true
+    (Run_lancer.contains err "cannot be combined with --samples")
+
 (* Mistakes on the command line: one line, exit 1, no server left behind. *)
 let mistakes () =
   let d = tmpdir () in
@@ -958,6 +992,8 @@ let () =
           Alcotest.test_case
             "page, images, a new image on an edit, the located error and its fix, quality"
             `Quick basic;
+          Alcotest.test_case "--max-error: the full image at the settings it chooses"
+            `Quick max_error;
           Alcotest.test_case
             "a scene error is printed in the terminal too, even with --quiet" `Quick
             terminal_errors;
