@@ -96,9 +96,9 @@ let choose ?cancel ~domains (o : Options.t) (p : Animation.plan) limit =
       (List.hd choices) (List.tl choices)
   in
   if not o.quiet then
-    Printf.printf "%s (of frames %s: frame %d's, the costliest)\n%!" (Budget.text c)
-      (String.concat ", " (List.map string_of_int frames))
-      k;
+    Printf.printf "%s; chosen on frame %d, the costliest of frames %s\n%!" (Budget.text c)
+      k
+      (String.concat ", " (List.map string_of_int frames));
   Animation.with_settings p (Budget.record c) (fun sc ~time ~frame ->
       Budget.apply ?cancel p.source p.overrides sc ~time ~frame c.values)
 

@@ -204,7 +204,8 @@ sphere { center: (-2 + time, 1.5, 1), radius: 0.3, material: material { color: (
   let r = animate [ "-o"; "f1"; "--max-error"; "0.02"; "-j"; "1" ] in
   check_status "animate" 0 r;
   says "what it chose" r "max error 0.02 (mean FLIP): samples";
-  says "which frames" r "(of frames 0, 1, 3: frame";
+  says "which frames" r "; chosen on frame ";
+  says "of which" r ", the costliest of frames 0, 1, 3";
   check_status "2 domains" 0
     (animate [ "-o"; "f2"; "--max-error"; "0.02"; "-j"; "2"; "-q" ]);
   List.iter
