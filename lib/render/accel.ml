@@ -252,7 +252,7 @@ let nearest sc a (q : Probe.t) h =
 
 let rec any_in sc a q ~opaque =
   match a.layers with
-  | None -> Walk.any_in sc.w a.index q ~opaque
+  | None -> Walk.any_in sc.w a.index q ~opaque ~mask:(-1)
   | Some l ->
       let i = any_in sc l.fixed q ~opaque in
       if i >= 0 then l.fixed_idx.(i)
@@ -260,16 +260,24 @@ let rec any_in sc a q ~opaque =
         let j = any_in sc l.moving q ~opaque in
         if j >= 0 then l.moving_idx.(j) else -1
 
-(* [any_in] with the index of a structure without parts asked directly. *)
-let[@inline] any_top sc a q ~opaque =
+(* [any_in] with the index of a structure without parts asked directly; only such a
+   structure's mask is other than −1. *)
+let[@inline] any_top sc a q ~opaque ~mask =
   match a.layers with
-  | None -> Walk.any_in sc.w a.index q ~opaque
+  | None -> Walk.any_in sc.w a.index q ~opaque ~mask
   | Some _ -> any_in sc a q ~opaque
 
-let any sc a (q : Probe.t) ~opaque ~slot =
+let shadow_mask a o c r =
+  match a.layers with None -> Walk.shadow_mask a.index o c r | Some _ -> -1
+
+(* Whether scene index [c] may be tested under [mask]: a structure without a tree has
+   its objects in scene order, one slot each. *)
+let[@inline] allowed mask c = mask = -1 || (mask lsr c) land 1 = 1
+
+let any sc a (q : Probe.t) ~opaque ~slot ~mask =
   seen sc q q.p_tmin q.p_tmax;
   Probe.set_inv_dir q;
-  if slot < 0 then any_top sc a q ~opaque >= 0
+  if slot < 0 then any_top sc a q ~opaque ~mask >= 0
   else (
     if slot >= Array.length sc.last then (
       let last = Array.make (slot + 1) (-1) in
@@ -279,9 +287,10 @@ let any sc a (q : Probe.t) ~opaque ~slot =
     let c = Array.unsafe_get sc.last slot in
     c >= 0
     && c < Array.length prims
+    && allowed mask c
     && Walk.blocks sc.w (Array.unsafe_get prims c) q ~opaque
     ||
-    let found = any_top sc a q ~opaque in
+    let found = any_top sc a q ~opaque ~mask in
     if found >= 0 then Array.unsafe_set sc.last slot found;
     found >= 0)
 

@@ -60,12 +60,20 @@ val nearest : scratch -> t -> Probe.t -> Walk.hit -> unit
     Moves [q.p_tmax]. Allocates nothing (with the shapes that {!Lancer_render.Shape.root}
     tests in scalars): the query of camera and secondary rays. *)
 
-val any : scratch -> t -> Probe.t -> opaque:bool -> slot:int -> bool
-(** [any sc a q ~opaque ~slot] is whether a surface crosses the ray with [q.p_tmin] < t <
-    [q.p_tmax]; with [opaque], only one of an opaque material (transparency 0) counts. It
-    stops at the first one found, trying first, for [slot] ≥ 0 (a light's index), the one
-    that answered the last query of the same slot in this domain: the answer does not
-    depend on it. Allocates nothing (as {!nearest}). *)
+val any : scratch -> t -> Probe.t -> opaque:bool -> slot:int -> mask:int -> bool
+(** [any sc a q ~opaque ~slot ~mask] is whether a surface crosses the ray with [q.p_tmin]
+    < t < [q.p_tmax]; with [opaque], only one of an opaque material (transparency 0)
+    counts. It stops at the first one found, trying first, for [slot] ≥ 0 (a light's
+    index), the one that answered the last query of the same slot in this domain: the
+    answer does not depend on it. [mask] is −1, or {!shadow_mask} of a segment the ray
+    stays near: only the objects it allows are tested, and the answer is the same.
+    Allocates nothing (as {!nearest}). *)
+
+val shadow_mask : t -> Probe.t -> Vec3.t -> float -> int
+(** [shadow_mask a o c r]: for a structure of a few objects and no tree, which objects a
+    ray from [o]'s origin toward a point at most [r] from [c] may cross, as {!any} takes
+    it ({!Walk.shadow_mask}); −1 (all) otherwise. An area light's shadow rays from one
+    point share it. *)
 
 val crossings : scratch -> t -> Probe.t -> transparent:bool -> Walk.crossings -> unit
 (** [crossings sc a q ~transparent out] puts into [out] (emptied first) every crossing in

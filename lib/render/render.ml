@@ -343,7 +343,7 @@ let coverage (sc : Scene.t) i j =
       Probe.of_ray r (Camera.ray at.view ~width:s.width ~height:s.height x y);
       r.p_tmin <- 0.;
       r.p_tmax <- Float.infinity;
-      if Accel.any ax at.accel r ~opaque:false ~slot:(-1) then incr hits
+      if Accel.any ax at.accel r ~opaque:false ~slot:(-1) ~mask:(-1) then incr hits
     done
   done;
   Float.of_int !hits /. Float.of_int (n * n)

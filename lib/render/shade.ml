@@ -263,7 +263,8 @@ let transparent_into (sc : Scene.t) scr =
    nothing and answers most shadow rays; only where none blocks and some surface is
    transparent are the crossings of the transparent ones folded. [slot] is the light's
    index. *)
-let[@inline] shadow_into (sc : Scene.t) (st : Task.t) slot scr ox oy oz dx dy dz dist =
+let[@inline] shadow_into (sc : Scene.t) (st : Task.t) slot scr ox oy oz dx dy dz dist
+    ~mask =
   st.shadow <- st.shadow + 1;
   Task.tick st;
   let q = scr.sq and acc = scr.acc in
@@ -275,7 +276,7 @@ let[@inline] shadow_into (sc : Scene.t) (st : Task.t) slot scr ox oy oz dx dy dz
   q.dz <- dz;
   q.p_tmin <- 0.;
   q.p_tmax <- dist;
-  if Accel.any scr.ax sc.accel q ~opaque:true ~slot then (
+  if Accel.any scr.ax sc.accel q ~opaque:true ~slot ~mask then (
     acc.tr <- 0.;
     acc.tg <- 0.;
     acc.tb <- 0.)
@@ -332,6 +333,15 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
   let sr = ref 0. and sg = ref 0. and sb = ref 0. in
   let dr = ref 0. and dg = ref 0. and db = ref 0. in
   let nf = Float.of_int n in
+  (* Every sample is at most [radius] from [position]: the objects the rays from the
+     origin may cross, found once for all of them. *)
+  let mask =
+    let q = scr.sq in
+    q.ox <- ox;
+    q.oy <- oy;
+    q.oz <- oz;
+    Accel.shadow_mask sc.Scene.accel q position radius
+  in
   for a = 0 to n - 1 do
     for b = 0 to n - 1 do
       let rr = radius *. Float.sqrt ((Float.of_int a +. 0.5) /. nf) in
@@ -342,7 +352,7 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
       and dz = position.z +. (u *. e1z) +. (v *. e2z) -. oz in
       let dist = Vec3.length3 dx dy dz in
       let k = 1. /. dist in
-      shadow_into sc st slot scr ox oy oz (k *. dx) (k *. dy) (k *. dz) dist;
+      shadow_into sc st slot scr ox oy oz (k *. dx) (k *. dy) (k *. dz) dist ~mask;
       sr := !sr +. acc.tr;
       sg := !sg +. acc.tg;
       sb := !sb +. acc.tb;
@@ -403,7 +413,7 @@ let[@inline] light_term (sc : Scene.t) st slot scr (m : Material.t) cr cg cb nfx
       acc.tg <- 1.;
       acc.tb <- 1.)
     else if area_n > 0 then area_transmittance sc st slot scr position radius area_n
-    else shadow_into sc st slot scr lox loy loz ldx ldy ldz dist;
+    else shadow_into sc st slot scr lox loy loz ldx ldy ldz dist ~mask:(-1);
     let trr = acc.tr and trg = acc.tg and trb = acc.tb in
     if trr > 0. || trg > 0. || trb > 0. then (
       let ia = intensity *. att in
@@ -695,5 +705,5 @@ let trace sc st ray depth =
 
 let transmittance sc st (origin : Vec3.t) (dir : Vec3.t) dist =
   let scr = scratch () in
-  shadow_into sc st 0 scr origin.x origin.y origin.z dir.x dir.y dir.z dist;
+  shadow_into sc st 0 scr origin.x origin.y origin.z dir.x dir.y dir.z dist ~mask:(-1);
   Color.v scr.acc.tr scr.acc.tg scr.acc.tb

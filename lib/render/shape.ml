@@ -703,7 +703,9 @@ let[@inline] axial_inside (base : Vec3.t) (axis : Vec3.t) height r0 r1 x y z =
 (* Whether the point (x, y, z) is inside a solid; a point on the boundary counts as
    inside. A plane is the half-space n̂·P ≤ offset. The vector operations of each test,
    on scalars. *)
-let inside_at s x y z =
+(* Written once, inlined into the two entry points below: a point given as three floats
+   to a function that is not inlined is boxed, a point in a probe is not. *)
+let[@inline] inside_xyz s x y z =
   match s with
   | Sphere { center; radius } ->
       let qx = x -. center.x and qy = y -. center.y and qz = z -. center.z in
@@ -734,6 +736,8 @@ let inside_at s x y z =
   | Parallelogram _ | Triangle _ | Paraboloid _ | Disk _ ->
       false
 
+let inside_at s x y z = inside_xyz s x y z
+let inside_probe s (p : Probe.t) = inside_xyz s p.ox p.oy p.oz
 let inside s (p : Vec3.t) = inside_at s p.x p.y p.z
 
 (* --- Roots ---------------------------------------------------------------------------- *)

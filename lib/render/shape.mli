@@ -187,6 +187,10 @@ val inside : t -> Vec3.t -> bool
 val inside_at : t -> float -> float -> float -> bool
 (** [inside_at s x y z] is [inside s (Vec3.v x y z)], bit for bit, without the vector. *)
 
+val inside_probe : t -> Probe.t -> bool
+(** [inside_probe s p] is [inside_at s p.ox p.oy p.oz], bit for bit, allocating nothing:
+    the point is [p]'s origin. *)
+
 val root : t -> Probe.t -> unit
 (** [root s q] is the nearest root of the ray that [q] holds on the simple shape [s] in
     ([q.p_tmin], [q.p_tmax]), into [q.p_t] (infinity for none). Allocates nothing, but for

@@ -261,7 +261,14 @@ type items = {
       (** where [parts]: 6 per slot, a mesh's or a CSG object's world box (min x y z, max
           x y z), padded as the tree's are (Bvh.pad_into); infinite for an unbounded one
       *)
+  cull : Float.Array.t;
+      (** for at most [mask_slots] slots: each one's world bounds, 6 per slot (NaN for an
+          unbounded one), what {!shadow_mask} reads; empty otherwise *)
 }
+
+(* The most slots a mask of shadow_mask has a bit for: one per bit of an int but its
+   sign. *)
+let mask_slots = Sys.int_size - 1
 
 (* A slot's kind: how it is tested, plus [see_through] for a transparent material, which
    the shadow queries read without the primitive, and [moved] for a transformed one. *)
@@ -305,6 +312,9 @@ let items ?flat prims =
         fset flat (o + 3) radius
     | _ -> Float.Array.fill flat o 4 Float.nan
   done;
+  let cull = Float.Array.make (if n <= mask_slots then 6 * n else 0) Float.nan in
+  if n <= mask_slots then
+    Array.iteri (fun j p -> Primitive.bounds_into p cull (6 * j)) prims;
   let boxes = Float.Array.make (if !parts then 6 * n else 0) Float.nan in
   if !parts then
     Array.iteri
@@ -320,7 +330,7 @@ let items ?flat prims =
             done
           else Bvh.pad_into boxes j (g 0) (g 1) (g 2) (g 3) (g 4) (g 5)))
       prims;
-  { prims; flat; kind; parts = !parts; boxes }
+  { prims; flat; kind; parts = !parts; boxes; cull }
 
 let no_items =
   {
@@ -329,6 +339,7 @@ let no_items =
     kind = Bytes.empty;
     parts = false;
     boxes = Float.Array.create 0;
+    cull = Float.Array.create 0;
   }
 
 (* Whether [q]'s ray meets, within [tmin, tmax], the box at [6 * j] of [b]: each slab's
@@ -587,12 +598,15 @@ let[@inline] scan_nearest ~parts ~nested (lv : level) (it : items) n (q : Probe.
   q.p_t <- (if !best_i < 0 then Float.infinity else !best_t);
   !best_i
 
-let[@inline] scan_any ~nested (lv : level) (it : items) n (q : Probe.t) ~opaque =
+let[@inline] scan_any ~nested (lv : level) (it : items) n (q : Probe.t) ~opaque ~mask =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   let skip = if opaque then see_through else 0 in
   let found = ref (-1) and j = ref 0 in
   while !found < 0 && !j < n do
-    if item_hits ~tree:false ~nested lv it !j q tmin tmax skip then found := !j;
+    if
+      (mask = -1 || (mask lsr !j) land 1 = 1)
+      && item_hits ~tree:false ~nested lv it !j q tmin tmax skip
+    then found := !j;
     incr j
   done;
   q.p_tmin <- tmin;
@@ -750,64 +764,95 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
       done;
       let ev = lv.buf in
       ev.n <- 0;
-      for i = 0 to n - 1 do
-        member_roots lv w members.(i) i q ev
-      done;
-      let gap_cost = ref 1 and followed = ref false and costly = ref 0 in
-      for i = 0 to n - 1 do
-        if states.(i) = tested then (
-          gap_cost := !gap_cost + inside_cost members.(i).shape;
-          match members.(i).shape with
-          | Shape.Mesh _ | Shape.Csg _ -> incr costly
-          | _ -> ())
-        else followed := true
-      done;
-      let gap_cost = !gap_cost and followed = !followed in
-      let reorder = !costly > 0 && !costly < n in
-      sort ev;
-      let ne = ev.n and ts = ev.ts and ps = ev.parts and pt = lv.pt in
-      if ne = 0 then
-        state
-        &&
-        (Task.spend w gap_cost;
-         set_point pt q (tmin +. Float.max 1. (Float.abs tmin));
-         combined lv w op members states ~reorder)
-      else if op = Shape.Union then (
-        (* every member's surface, as a group *)
-        let k = ref 0 in
-        while !k < ne && fget ts !k < tmax && not (first && !k > 0) do
-          push out (fget ts !k) item (leaf0 + ps.((3 * !k) + 1)) ps.((3 * !k) + 2);
-          incr k
-        done;
-        false)
+      member_roots lv w members.(0) 0 q ev;
+      if outside_first lv w op members q ev tmax then false
       else (
-        Task.spend w gap_cost;
-        set_point pt q (0.5 *. (tmin +. fget ts 0));
-        let first_state = combined lv w op members states ~reorder in
-        let before = ref first_state and k = ref 0 and stop = ref false in
-        while (not !stop) && !k < ne do
-          let t = fget ts !k in
-          if t >= tmax then stop := true
-          else
-            let leaf = ps.((3 * !k) + 1) and face = ps.((3 * !k) + 2) in
-            if followed then pass members states leaf;
-            incr k;
-            while !k < ne && fget ts !k = t do
-              if followed then pass members states ps.((3 * !k) + 1);
-              incr k
-            done;
-            Task.spend w gap_cost;
-            set_point pt q
-              (if !k < ne then 0.5 *. (t +. fget ts !k)
-               else t +. Float.max 1. (Float.abs t));
-            let after = combined lv w op members states ~reorder in
-            if after <> !before then (
-              push out t item (leaf0 + leaf) face;
-              before := after;
-              if first then stop := true)
+        for i = 1 to n - 1 do
+          member_roots lv w members.(i) i q ev
         done;
-        first_state)
+        let gap_cost = ref 1 and followed = ref false and costly = ref 0 in
+        for i = 0 to n - 1 do
+          if states.(i) = tested then (
+            gap_cost := !gap_cost + inside_cost members.(i).shape;
+            match members.(i).shape with
+            | Shape.Mesh _ | Shape.Csg _ -> incr costly
+            | _ -> ())
+          else followed := true
+        done;
+        let gap_cost = !gap_cost and followed = !followed in
+        let reorder = !costly > 0 && !costly < n in
+        sort ev;
+        let ne = ev.n and ts = ev.ts and ps = ev.parts and pt = lv.pt in
+        if ne = 0 then
+          state
+          &&
+          (Task.spend w gap_cost;
+           set_point pt q (tmin +. Float.max 1. (Float.abs tmin));
+           combined lv w op members states ~reorder)
+        else if op = Shape.Union then (
+          (* every member's surface, as a group *)
+          let k = ref 0 in
+          while !k < ne && fget ts !k < tmax && not (first && !k > 0) do
+            push out (fget ts !k) item (leaf0 + ps.((3 * !k) + 1)) ps.((3 * !k) + 2);
+            incr k
+          done;
+          false)
+        else (
+          Task.spend w gap_cost;
+          set_point pt q (0.5 *. (tmin +. fget ts 0));
+          let first_state = combined lv w op members states ~reorder in
+          let before = ref first_state and k = ref 0 and stop = ref false in
+          while (not !stop) && !k < ne do
+            let t = fget ts !k in
+            if t >= tmax then stop := true
+            else
+              let leaf = ps.((3 * !k) + 1) and face = ps.((3 * !k) + 2) in
+              if followed then pass members states leaf;
+              incr k;
+              while !k < ne && fget ts !k = t do
+                if followed then pass members states ps.((3 * !k) + 1);
+                incr k
+              done;
+              Task.spend w gap_cost;
+              set_point pt q
+                (if !k < ne then 0.5 *. (t +. fget ts !k)
+                 else t +. Float.max 1. (Float.abs t));
+              let after = combined lv w op members states ~reorder in
+              if after <> !before then (
+                push out t item (leaf0 + leaf) face;
+                before := after;
+                if first then stop := true)
+          done;
+          first_state))
   | _ -> invalid_arg "Walk.csg_crossings: not a CSG object"
+
+(* Whether an intersection or a difference, which lies inside its first member, has no
+   crossing in (q.p_tmin, tmax) and is outside just after q.p_tmin, because that member,
+   a simple surface whose roots [ev] holds (and nothing else yet), has no root there and
+   is outside: then the other members' roots are not sought. Its inside is tested where
+   the whole list's first gap is sampled when that member's first root comes first, or
+   beyond q.p_tmin as an empty list's is. *)
+and outside_first lv w op (members : Shape.csg_member array) (q : Probe.t) ev tmax =
+  match op with
+  | Shape.Union | Shape.Merge -> false
+  | Shape.Intersection | Shape.Difference -> (
+      match (Array.unsafe_get members 0).shape with
+      | Shape.Mesh _ | Shape.Csg _ -> false
+      | _ ->
+          let tmin = q.p_tmin in
+          let first = ref Float.infinity in
+          for k = 0 to ev.n - 1 do
+            let t = fget ev.ts k in
+            if t < !first then first := t
+          done;
+          !first >= tmax
+          &&
+          let pt = lv.pt in
+          set_point pt q
+            (if ev.n = 0 then tmin +. Float.max 1. (Float.abs tmin)
+             else 0.5 *. (tmin +. !first));
+          Task.spend w 1;
+          not (member_at lv w members 0 pt))
 
 (* Every root of member [m] (number [i]) after q.p_tmin into [ev], as (t, 0, its leaf,
    its face); each surface's root sought is one unit of work for [w]. For a CSG member
@@ -927,7 +972,7 @@ and inside_at lv w s (pt : Probe.t) =
             incr i
           done;
           !r)
-  | s -> Shape.inside_at s pt.ox pt.oy pt.oz
+  | s -> Shape.inside_probe s pt
 
 (* Whether the point [pt] holds (in the CSG object's space) is inside member [i]. *)
 and member_at lv w (members : Shape.csg_member array) i pt =
@@ -1002,14 +1047,71 @@ let nearest_in lv (x : index) q (h : hit) =
   h.leaf <- lv.leaf;
   h.face <- lv.face
 
-let any_in lv (x : index) q ~opaque =
+let any_in lv (x : index) q ~opaque ~mask =
   let s =
     if Float.Array.length x.nodes > 0 then
       any ~tris:false ~nested:composite_any lv x.items no_mesh x.nodes x.depth x.ids
         x.first q ~opaque
-    else scan_any ~nested:composite_any lv x.items x.first q ~opaque
+    else scan_any ~nested:composite_any lv x.items x.first q ~opaque ~mask
   in
   if s < 0 then -1 else Array.unsafe_get x.ids s
+
+(* Whether the segment from o to c, at most [r] away, can meet the bounds at [k] of [b]:
+   whether the segment meets them grown by r on every side (slabs over s in [0, 1]). Any
+   bound that is not finite keeps the answer yes. *)
+let[@inline] segment_near b k ox oy oz cx cy cz r =
+  let x0 = fget b k and y0 = fget b (k + 1) and z0 = fget b (k + 2) in
+  let x1 = fget b (k + 3) and y1 = fget b (k + 4) and z1 = fget b (k + 5) in
+  if
+    not
+      (Float.is_finite x0 && Float.is_finite y0 && Float.is_finite z0
+     && Float.is_finite x1 && Float.is_finite y1 && Float.is_finite z1)
+  then true
+  else
+    let lo = ref 0. and hi = ref 1. and near = ref true in
+    let d = cx -. ox in
+    (if d = 0. then (if ox < x0 -. r || ox > x1 +. r then near := false)
+     else
+       let a = (x0 -. r -. ox) /. d and c = (x1 +. r -. ox) /. d in
+       let tn = if a <= c then a else c and tf = if a <= c then c else a in
+       if tn > !lo then lo := tn;
+       if tf < !hi then hi := tf);
+    let d = cy -. oy in
+    (if d = 0. then (if oy < y0 -. r || oy > y1 +. r then near := false)
+     else
+       let a = (y0 -. r -. oy) /. d and c = (y1 +. r -. oy) /. d in
+       let tn = if a <= c then a else c and tf = if a <= c then c else a in
+       if tn > !lo then lo := tn;
+       if tf < !hi then hi := tf);
+    let d = cz -. oz in
+    (if d = 0. then (if oz < z0 -. r || oz > z1 +. r then near := false)
+     else
+       let a = (z0 -. r -. oz) /. d and c = (z1 +. r -. oz) /. d in
+       let tn = if a <= c then a else c and tf = if a <= c then c else a in
+       if tn > !lo then lo := tn;
+       if tf < !hi then hi := tf);
+    !near && !lo <= !hi
+
+let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
+  let ox = o.ox and oy = o.oy and oz = o.oz and cx = c.x and cy = c.y and cz = c.z in
+  let n = x.first in
+  if Float.Array.length x.nodes > 0 || Float.Array.length x.items.cull <> 6 * n then -1
+  else
+    (* A margin for rounding, far above it, on the scale of the coordinates. *)
+    let scale = ref 1. in
+    if Float.abs ox > !scale then scale := Float.abs ox;
+    if Float.abs oy > !scale then scale := Float.abs oy;
+    if Float.abs oz > !scale then scale := Float.abs oz;
+    if Float.abs cx > !scale then scale := Float.abs cx;
+    if Float.abs cy > !scale then scale := Float.abs cy;
+    if Float.abs cz > !scale then scale := Float.abs cz;
+    let scale = !scale in
+    let r = (r *. (1. +. 1e-6)) +. (1e-6 *. scale) in
+    let m = ref 0 in
+    for j = 0 to n - 1 do
+      if segment_near x.items.cull (6 * j) ox oy oz cx cy cz r then m := !m lor (1 lsl j)
+    done;
+    !m
 
 let crossings_in lv (x : index) q ~transparent out =
   if Float.Array.length x.nodes > 0 then

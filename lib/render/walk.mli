@@ -97,10 +97,19 @@ val nearest_in : scratch -> index -> Probe.t -> hit -> unit
     minimum of (t, scene index) over the objects' nearest roots, whatever the order of the
     walk: ties go to the lower index. Moves [q.p_tmax]. *)
 
-val any_in : scratch -> index -> Probe.t -> opaque:bool -> int
-(** [any_in sc x q ~opaque]: an object crossing ([q.p_tmin], [q.p_tmax]), the first the
-    walk meets, or −1; with [opaque], objects of a transparent material (transparency ≠ 0)
-    do not count. Whether it is −1 does not depend on the walk. *)
+val any_in : scratch -> index -> Probe.t -> opaque:bool -> mask:int -> int
+(** [any_in sc x q ~opaque ~mask]: an object crossing ([q.p_tmin], [q.p_tmax]), the first
+    the walk meets, or −1; with [opaque], objects of a transparent material (transparency
+    ≠ 0) do not count, and in an index without a tree, only the slots whose bit is set in
+    [mask] ({!shadow_mask}; −1: all). Whether it is −1 does not depend on the walk. *)
+
+val shadow_mask : index -> Probe.t -> Vec3.t -> float -> int
+(** [shadow_mask x o c r]: for an index without a tree (a few objects), a bit for each
+    slot whose bounds a segment from [o]'s origin to a point at most [r] from [c] may meet
+    (slot j: bit j), the others clear; −1 for a tree, or more slots than an int has bits.
+    Every ray from that origin toward such a point (an area light's samples) crosses only
+    objects whose bit is set, so {!any_in} with the mask answers as without it, testing
+    fewer objects. *)
 
 val crossings_in : scratch -> index -> Probe.t -> transparent:bool -> crossings -> unit
 (** [crossings_in sc x q ~transparent out] appends every crossing in ([q.p_tmin],

@@ -935,7 +935,7 @@ let occluded_allocation =
               q.dz <- Float.Array.get data ((6 * k) + 5);
               q.p_tmin <- 0.;
               q.p_tmax <- 25.;
-              if Accel.any sc a q ~opaque:true ~slot:(k land 1) then incr hits
+              if Accel.any sc a q ~opaque:true ~slot:(k land 1) ~mask:(-1) then incr hits
             done;
             !hits
           in
@@ -948,6 +948,66 @@ let occluded_allocation =
           if words > 64. then
             Alcotest.failf "%.0f minor words for %d shadow queries" words n)
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
+
+(* An area light's shadow rays from one point, with the objects Accel.shadow_mask allows
+   and with all: the same answer for every ray toward a point within the light's radius,
+   over a few objects (a scan, where the mask applies), CSG tubes among them. *)
+let masked_culls = ref 0
+
+let shadow_mask_prop =
+  QCheck.Test.make ~name:"an area light's shadow rays answer the same under the mask"
+    ~count:300
+    QCheck.(int_bound 1_000_000_000)
+    (fun seed ->
+      let st = Random.State.make [| seed |] in
+      let soup = shadow_soup st in
+      let k = 1 + Random.State.int st (min 6 (Array.length soup)) in
+      let tube () =
+        let c = rand_point st (-8.) 8. and h = rand_in st 0.5 3. in
+        let r = rand_in st 0.3 1.5 in
+        let cyl top r =
+          ( Shape.cylinder
+              ~base:(Vec3.add c (v 0. (-0.1) 0.))
+              ~top:(Vec3.add c (v 0. top 0.))
+              ~radius:r ~caps:true,
+            Transform.identity )
+        in
+        Primitive.make Material.default
+          (Shape.csg Difference [ cyl h r; cyl (h +. 0.2) (0.8 *. r) ])
+      in
+      let prims =
+        Array.append (Array.sub soup 0 k)
+          (Array.init (Random.State.int st 3) (fun _ -> tube ()))
+      in
+      let a = Accel.build prims in
+      let sc = Accel.domain_scratch () and q = Probe.create () in
+      let o = rand_point st (-12.) 12. and c = rand_point st (-12.) 12. in
+      let radius = rand_in st 0. 3. in
+      q.ox <- o.x;
+      q.oy <- o.y;
+      q.oz <- o.z;
+      let mask = Accel.shadow_mask a q c radius in
+      if mask <> -1 && mask <> (1 lsl Array.length prims) - 1 then incr masked_culls;
+      List.for_all
+        (fun _ ->
+          let off = Vec3.smul (rand_in st 0. radius) (rand_dir st) in
+          let s = Vec3.add c off in
+          let d = Vec3.sub s o in
+          let dist = Vec3.length d in
+          let d = Vec3.smul (1. /. dist) d in
+          let ask mask =
+            q.ox <- o.x;
+            q.oy <- o.y;
+            q.oz <- o.z;
+            q.dx <- d.x;
+            q.dy <- d.y;
+            q.dz <- d.z;
+            q.p_tmin <- 0.;
+            q.p_tmax <- dist;
+            Accel.any sc a q ~opaque:true ~slot:(-1) ~mask
+          in
+          dist = 0. || ask mask = ask (-1))
+        (List.init 24 Fun.id))
 
 (* The tree against the scan over the same primitives (kept out of the tree), bit for
    bit: the nearest hit and its part, the transparent crossings in order; and the scalar
@@ -1598,6 +1658,12 @@ let () =
       ("bvh", bvh_tests @ [ seeded bvh_nearest_prop; seeded bvh_crossings_prop ]);
       ("shadow query", [ seeded occluded_prop; occluded_allocation ]);
       ("scalar forms", [ seeded scalar_forms_prop ]);
+      ( "shadow mask",
+        [
+          seeded shadow_mask_prop;
+          case "the mask left some objects out in some of those cases" (fun () ->
+              if !masked_culls = 0 then Alcotest.fail "the mask never culled an object");
+        ] );
       ("sphere fields", [ seeded sphere_field_prop ]);
       ( "placed by a translation",
         placed_tests @ [ seeded placed_prop; seeded similar_prop ] );

@@ -17,7 +17,7 @@ let nearest a r tmin tmax =
   (t, i)
 
 let any ?(slot = -1) a r tmin tmax ~opaque =
-  Accel.any (Accel.domain_scratch ()) a (probe r tmin tmax) ~opaque ~slot
+  Accel.any (Accel.domain_scratch ()) a (probe r tmin tmax) ~opaque ~slot ~mask:(-1)
 
 let crossings a r tmin tmax ~transparent =
   let out = Walk.crossings () in
