@@ -61,6 +61,10 @@ type scratch = {
   xs : crossings;
   ax : Accel.scratch;
   mutable wts : Float.Array.t;
+  mutable disk : Float.Array.t;
+      (** for an area light of [disk_n]×[disk_n] samples: the cosines and sines of the
+          angles 2π(b+½)/n, then the square roots √((a+½)/n), n of each *)
+  mutable disk_n : int;
 }
 
 (* The factors of a shadow ray's transparent crossings, 4 floats each (t, then
@@ -209,6 +213,8 @@ let scratch () =
     xs;
     ax = Accel.domain_scratch ();
     wts = Float.Array.make 8 0.;
+    disk = Float.Array.create 0;
+    disk_n = 0;
   }
 
 let probe scr = scr.q
@@ -333,6 +339,22 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
   let sr = ref 0. and sg = ref 0. and sb = ref 0. in
   let dr = ref 0. and dg = ref 0. and db = ref 0. in
   let nf = Float.of_int n in
+  (* The pattern's n angles and n radii, computed as the samples use them, once for as
+     long as the lights have n×n samples. *)
+  if scr.disk_n <> n then (
+    if Float.Array.length scr.disk < 3 * n then scr.disk <- Float.Array.create (3 * n);
+    for b = 0 to n - 1 do
+      let th = 2. *. Float.pi *. (Float.of_int b +. 0.5) /. nf in
+      Float.Array.unsafe_set scr.disk b (Float.cos th);
+      Float.Array.unsafe_set scr.disk (n + b) (Float.sin th)
+    done;
+    for a = 0 to n - 1 do
+      Float.Array.unsafe_set scr.disk
+        ((2 * n) + a)
+        (Float.sqrt ((Float.of_int a +. 0.5) /. nf))
+    done;
+    scr.disk_n <- n);
+  let disk = scr.disk in
   (* Every sample is at most [radius] from [position]: the objects the rays from the
      origin may cross, found once for all of them. *)
   let mask =
@@ -344,9 +366,9 @@ let area_transmittance sc st slot scr (position : Vec3.t) radius n =
   in
   for a = 0 to n - 1 do
     for b = 0 to n - 1 do
-      let rr = radius *. Float.sqrt ((Float.of_int a +. 0.5) /. nf) in
-      let th = 2. *. Float.pi *. (Float.of_int b +. 0.5) /. nf in
-      let u = rr *. Float.cos th and v = rr *. Float.sin th in
+      let rr = radius *. Float.Array.unsafe_get disk ((2 * n) + a) in
+      let u = rr *. Float.Array.unsafe_get disk b
+      and v = rr *. Float.Array.unsafe_get disk (n + b) in
       let dx = position.x +. (u *. e1x) +. (v *. e2x) -. ox
       and dy = position.y +. (u *. e1y) +. (v *. e2y) -. oy
       and dz = position.z +. (u *. e1z) +. (v *. e2z) -. oz in
