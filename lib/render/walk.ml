@@ -991,6 +991,67 @@ let csg_first lv s (q : Probe.t) =
     lv.cand_face <- b.parts.(2))
   else q.p_t <- Float.infinity
 
+(* Whether CSG object [s] crosses (q.p_tmin, q.p_tmax), as [csg_first] answers it. A
+   difference of simple surfaces is first tried from its first member's roots alone.
+   Where that member has no root in the interval and the ray is outside it, so is the
+   difference ([outside_first]). Where the ray enters it at its first root r0 < tmax,
+   outside it before, and just past r0 (before its next root and tmax) is inside it and
+   outside every other member, the difference is outside before r0 and inside there, so
+   it is crossed at r0 or at another member's root just past it. Either way the other
+   members' roots are not sought; any other case is [csg_first]'s. *)
+let csg_any lv s (q : Probe.t) =
+  let tmin = q.p_tmin and tmax = q.p_tmax in
+  (* 0: not crossed, 1: crossed, 2: not known from the first member *)
+  let known =
+    match s with
+    | Shape.Csg { op = Shape.Difference; members; _ } when Array.length members >= 2 ->
+        let simple = ref true in
+        for i = 0 to Array.length members - 1 do
+          match (Array.unsafe_get members i).shape with
+          | Shape.Mesh _ | Shape.Csg _ -> simple := false
+          | _ -> ()
+        done;
+        if not !simple then 2
+        else
+          let l = deeper lv and w = Task.current () in
+          let ev = l.buf in
+          ev.n <- 0;
+          member_roots l w members.(0) 0 q ev;
+          (* One member's roots come in increasing order. *)
+          let pt = l.pt in
+          if ev.n = 0 || fget ev.ts 0 >= tmax then
+            if outside_first l w Shape.Difference members q ev tmax then 0 else 2
+          else
+            let r0 = fget ev.ts 0 in
+            set_point pt q (0.5 *. (tmin +. r0));
+            Task.spend w 1;
+            if member_at l w members 0 pt then 2
+            else
+              let stop = if ev.n > 1 && fget ev.ts 1 < tmax then fget ev.ts 1 else tmax in
+              (* Near r0: the other members are met further in, if at all. *)
+              let p =
+                if Float.is_finite stop then r0 +. ((stop -. r0) /. 64.)
+                else r0 +. ((if Float.abs r0 > 1. then Float.abs r0 else 1.) /. 64.)
+              in
+              set_point pt q p;
+              Task.spend w (Array.length members);
+              if not (member_at l w members 0 pt) then 2
+              else
+                let out = ref true and i = ref 1 in
+                while !out && !i < Array.length members do
+                  if member_at l w members !i pt then out := false;
+                  incr i
+                done;
+                if !out then 1 else 2
+    | _ -> 2
+  in
+  if known < 2 then known = 1
+  else (
+    q.p_tmin <- tmin;
+    q.p_tmax <- tmax;
+    csg_first lv s q;
+    q.p_t < q.p_tmax)
+
 (* --- Meshes and CSG objects among a scene's objects -------------------------------------- *)
 
 (* The nearest root of mesh or CSG object [p] in (q.p_tmin, q.p_tmax) into [q.p_t], its
@@ -1010,9 +1071,7 @@ let composite_any lv (p : Primitive.t) (q : Probe.t) =
   let o = object_of lv p q in
   match p.shape with
   | Shape.Mesh { mesh; _ } -> mesh_any (deeper lv) mesh o >= 0
-  | s ->
-      csg_first lv s o;
-      o.p_t < o.p_tmax
+  | s -> csg_any lv s o
 
 (* Every crossing of mesh or CSG object [p] (scene index [id]) in (q.p_tmin, q.p_tmax)
    into [out]: a mesh's each t once, with the lowest face crossed there. *)
