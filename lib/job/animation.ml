@@ -36,7 +36,9 @@ type plan = {
   set : Frameset.t;
   inputs : (int, (string * string) list) Hashtbl.t;
   inputs_lock : Mutex.t;
-  chosen : (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t)) option;
+  chosen :
+    (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t * string list))
+    option;
 }
 
 let plan ?(getenv = Sys.getenv_opt) ?(format = Image.Png) ?bits ?(job = []) ~dir ~frames
@@ -141,10 +143,12 @@ let with_digests p files = List.map (fun f -> (f, p.source.input_digest f)) file
 
 let frame_scene ?cancel p k =
   let sc, files = evaluate ?cancel p k in
-  let sc =
+  let sc, files =
     match p.chosen with
-    | Some (_, adjust) -> adjust sc ~time:(Float.of_int k /. p.fps) ~frame:k
-    | None -> sc
+    | Some (_, adjust) ->
+        let sc, more = adjust sc ~time:(Float.of_int k /. p.fps) ~frame:k in
+        (sc, List.sort_uniq compare (files @ more))
+    | None -> (sc, files)
   in
   let files = with_digests p files in
   Mutex.protect p.inputs_lock (fun () -> Hashtbl.replace p.inputs k files);

@@ -32,7 +32,9 @@ type plan = private {
   inputs : (int, (string * string) list) Hashtbl.t;
       (** frames evaluated and not yet written: the files they read *)
   inputs_lock : Mutex.t;
-  chosen : (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t)) option;
+  chosen :
+    (Provenance.budget * (Scene.t -> time:float -> frame:int -> Scene.t * string list))
+    option;
       (** settings chosen for every frame ({!with_settings}) *)
 }
 
@@ -60,10 +62,13 @@ val plan :
     {!Job_error.User}. *)
 
 val with_settings :
-  plan -> Provenance.budget -> (Scene.t -> time:float -> frame:int -> Scene.t) -> plan
+  plan ->
+  Provenance.budget ->
+  (Scene.t -> time:float -> frame:int -> Scene.t * string list) ->
+  plan
 (** [with_settings p budget adjust]: [p] whose frames are rendered at the settings
-    [--max-error] chose: each frame's scene is [adjust]ed, and each frame's record keeps
-    [budget]. *)
+    [--max-error] chose: each frame's scene is [adjust]ed (with the files that adds to
+    what the frame read), and each frame's record keeps [budget]. *)
 
 val frame_scene : ?cancel:Cancel.t -> plan -> int -> Scene.t
 (** The scene of frame k (time k / fps), with the overrides; the image and mesh files it

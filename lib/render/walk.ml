@@ -828,10 +828,11 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
 
 (* Whether an intersection or a difference, which lies inside its first member, has no
    crossing in (q.p_tmin, tmax) and is outside just after q.p_tmin, because that member,
-   a simple surface whose roots [ev] holds (and nothing else yet), has no root there and
-   is outside: then the other members' roots are not sought. Its inside is tested where
-   the whole list's first gap is sampled when that member's first root comes first, or
-   beyond q.p_tmin as an empty list's is. *)
+   a simple surface whose roots [ev] holds in increasing order (and nothing else yet),
+   has no root there and is outside: then the other members' roots are not sought. Its
+   inside is tested between q.p_tmin and its first root, or beyond q.p_tmin when it has
+   none; where its inside test agrees with its roots (its state does not change between
+   two roots), that is the state the whole list's gaps before that root would see. *)
 and outside_first lv w op (members : Shape.csg_member array) (q : Probe.t) ev tmax =
   match op with
   | Shape.Union | Shape.Merge -> false
@@ -840,17 +841,12 @@ and outside_first lv w op (members : Shape.csg_member array) (q : Probe.t) ev tm
       | Shape.Mesh _ | Shape.Csg _ -> false
       | _ ->
           let tmin = q.p_tmin in
-          let first = ref Float.infinity in
-          for k = 0 to ev.n - 1 do
-            let t = fget ev.ts k in
-            if t < !first then first := t
-          done;
-          !first >= tmax
+          (ev.n = 0 || fget ev.ts 0 >= tmax)
           &&
           let pt = lv.pt in
           set_point pt q
             (if ev.n = 0 then tmin +. Float.max 1. (Float.abs tmin)
-             else 0.5 *. (tmin +. !first));
+             else 0.5 *. (tmin +. fget ev.ts 0));
           Task.spend w 1;
           not (member_at lv w members 0 pt))
 

@@ -185,12 +185,12 @@ let at_values ~at_shutter (base : Scene.t) values =
 
 let shutter ?cancel src overrides (base : Scene.t) ~time ~frame n =
   let sc = ok (Scene.with_camera base (Camera.with_shutter_samples base.camera n)) in
-  fst (Scenes.with_instants ?cancel src overrides sc ~time ~frame)
+  Scenes.with_instants ?cancel src overrides sc ~time ~frame
 
 let names =
   [ "samples"; "adaptive"; "depth"; "light samples"; "lens samples"; "shutter samples" ]
 
-let apply ?cancel (src : Scenes.t) overrides (base : Scene.t) ~time ~frame values =
+let check_values values =
   List.iter
     (fun (name, v) ->
       if not (List.mem name names) then
@@ -204,8 +204,19 @@ let apply ?cancel (src : Scenes.t) overrides (base : Scene.t) ~time ~frame value
         | _ -> whole
       in
       if not fits then user "%g is not a value of the setting %S" v name)
-    values;
-  at_values ~at_shutter:(shutter ?cancel src overrides base ~time ~frame) base values
+    values
+
+let apply ?cancel (src : Scenes.t) overrides (base : Scene.t) ~time ~frame values =
+  check_values values;
+  (* The files the shutter's instants read, where their number is chosen. *)
+  let files = ref [] in
+  let at_shutter n =
+    let sc, f = shutter ?cancel src overrides base ~time ~frame n in
+    files := f;
+    sc
+  in
+  let sc = at_values ~at_shutter base values in
+  (sc, !files)
 
 let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene.t) ~time
     ~frame limit =
@@ -222,7 +233,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     match Hashtbl.find_opt instants n with
     | Some sc -> sc
     | None ->
-        let sc = shutter ?cancel src (Options.overrides o) base ~time ~frame n in
+        let sc, _ = shutter ?cancel src (Options.overrides o) base ~time ~frame n in
         Hashtbl.add instants n sc;
         sc
   in

@@ -65,12 +65,17 @@ val apply :
   time:float ->
   frame:int ->
   (string * float) list ->
-  Scene.t
+  Scene.t * string list
 (** [apply src overrides base ~time ~frame values]: [base] (the scene of [src] at [time]
     and [frame] with [overrides]) at a choice's {!choice.values}, the same scene {!choose}
-    rendered that choice with: how an animation's frames and [lancer verify] use one.
-    Raises {!Lancer_job.Job_error.User} for a setting it does not choose or a value out of
-    its range (values read back from a file are input). *)
+    rendered that choice with: how an animation's frames and [lancer verify] use one; with
+    the files that the instants of a chosen number of shutter samples read. Raises
+    {!Lancer_job.Job_error.User} as {!check_values}, and for a scene the settings do not
+    fit. *)
+
+val check_values : (string * float) list -> unit
+(** Raises {!Lancer_job.Job_error.User} for a setting [--max-error] does not choose or a
+    value out of its range: values read back from a file are input. *)
 
 val record : choice -> Provenance.budget
 (** What an image's record keeps of the choice. *)

@@ -77,10 +77,13 @@ let wrote ?(extra = "") (o : Options.t) (p : Animation.plan) ~t0 =
       (Animation.describe_range p) extra
 
 (* --max-error over an animation: the choice of the first, middle and last frames of the
-   range that costs the most rays (the earliest of equals), the same for every frame (the
-   settings do not change from one frame to the next) and for every shard. *)
+   whole animation (whatever --frames renders) that costs the most rays (the earliest of
+   equals), the same for every frame (the settings do not change from one frame to the
+   next), every shard and every range: a function of the scene and the limit, as the
+   job's digest says. *)
 let choose ?cancel ~domains (o : Options.t) (p : Animation.plan) limit =
-  let frames = List.sort_uniq compare [ p.first; (p.first + p.last) / 2; p.last ] in
+  let count = match p.source.animation with Some (_, n) -> n | None -> p.last + 1 in
+  let frames = List.sort_uniq compare [ 0; (count - 1) / 2; count - 1 ] in
   let choices =
     List.map
       (fun k ->

@@ -54,6 +54,6 @@ val run : ?cancel:Cancel.t -> ?max_error:Compare.metric -> Options.t -> options 
 (** [lancer animate]: the plan, every frame to do rendered over [--domains] domains, the
     record finished, the summary line and the video. With [max_error] (refused with
     [--samples], [--depth] or [--quality]), the settings {!Budget.choose} picks for the
-    first, middle and last frames of the range, the choice that costs the most rays, said
-    in a line and used for every frame (and kept in each frame's record); the same in
-    every shard, whatever the number of domains. *)
+    first, middle and last frames of the whole animation (whatever the range), the choice
+    that costs the most rays, said in a line and used for every frame (and kept in each
+    frame's record); the same in every shard, whatever the number of domains. *)

@@ -120,9 +120,11 @@ let run ?cancel ?(domains = 1) ~blocks image =
       let sc =
         match r.max_error with
         | None -> sc
-        | Some b -> (
-            try Budget.apply ?cancel src r.options sc ~time:r.time ~frame:r.frame b.values
-            with Job_error.User m -> user "%s: its record's max_error: %s" image m)
+        | Some b ->
+            (try Budget.check_values b.values
+             with Job_error.User m -> user "%s: its record's max_error: %s" image m);
+            fst
+              (Budget.apply ?cancel src r.options sc ~time:r.time ~frame:r.frame b.values)
       in
       let sw = sc.settings.width and sh = sc.settings.height in
       let crop = if r.crop then r.region else None in

@@ -229,6 +229,11 @@ sphere { center: (-2 + time, 1.5, 1), radius: 0.3, material: material { color: (
   Alcotest.(check bool)
     "another image than the scene's settings" false
     (frame "f1" 0 = frame "f4" 0);
+  (* A part of the range chooses as the whole does. *)
+  let r = animate [ "-o"; "f6"; "--max-error"; "0.02"; "--frames"; "0..1" ] in
+  check_status "a range" 0 r;
+  says "the whole animation's frames" r ", the costliest of frames 0, 1, 3";
+  Alcotest.(check bool) "frame 1 as the whole's" true (frame "f1" 1 = frame "f6" 1);
   let r = lancer ~dir:d [ "verify"; "f1/frame_0002.png"; "--tiles"; "all" ] in
   check_status "verify a frame" 0 r;
   says "reproduced" r "reproduced";

@@ -975,8 +975,30 @@ let shadow_mask_prop =
               ~radius:r ~caps:true,
             Transform.identity )
         in
-        Primitive.make Material.default
-          (Shape.csg Difference [ cyl h r; cyl (h +. 0.2) (0.8 *. r) ])
+        let turn () =
+          Transform.then_
+            (Transform.rotate (rand_point st 0. 90.))
+            (Transform.translate (rand_point st (-0.3) 0.3))
+        in
+        let transform = if Random.State.bool st then turn () else Transform.identity in
+        let shape =
+          match Random.State.int st 3 with
+          | 0 -> Shape.csg Difference [ cyl h r; cyl (h +. 0.2) (0.8 *. r) ]
+          | 1 ->
+              (* a member turned within the object *)
+              let inner, _ = cyl (h +. 0.2) (0.8 *. r) in
+              Shape.csg Difference [ cyl h r; (inner, turn ()) ]
+          | _ ->
+              (* a ball cut by a half-space: a plane member *)
+              Shape.csg Intersection
+                [
+                  (Shape.sphere ~center:c ~radius:r, Transform.identity);
+                  ( Shape.plane ~normal:(rand_dir st)
+                      ~offset:(Vec3.dot c Vec3.y_axis *. rand_in st (-1.) 1.),
+                    Transform.identity );
+                ]
+        in
+        Primitive.make ~transform Material.default shape
       in
       let prims =
         Array.append (Array.sub soup 0 k)
