@@ -72,6 +72,13 @@ let metric_name = function
   | Psnr _ -> "PSNR"
   | Ssim _ -> "SSIM"
 
+(* The metric as --metric names it. *)
+let option_name = function
+  | Compare.Flip _ -> "flip"
+  | Rmse _ -> "rmse"
+  | Psnr _ -> "psnr"
+  | Ssim _ -> "ssim"
+
 let check (m : Compare.metric) =
   let range =
     match m with
@@ -83,10 +90,7 @@ let check (m : Compare.metric) =
     | Psnr e -> Some (Printf.sprintf "a PSNR in dB, above 0 and finite (got %g)" e)
     | Ssim _ -> Some "not a metric it can choose settings by (flip, rmse or psnr)"
   in
-  let option =
-    match m with Flip _ -> "flip" | Rmse _ -> "rmse" | Psnr _ | Ssim _ -> "psnr"
-  in
-  Option.iter (user "--max-error with --metric %s is %s" option) range
+  Option.iter (user "--max-error with --metric %s is %s" (option_name m)) range
 
 (* What --max-error chooses itself cannot also be given. *)
 let check_options (o : Options.t) ~resume =
@@ -328,13 +332,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
 let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
 
 let record_of_limit limit =
-  let metric =
-    match limit with
-    | Compare.Flip _ -> "flip"
-    | Rmse _ -> "rmse"
-    | Psnr _ | Ssim _ -> "psnr"
-  in
-  { Provenance.metric; limit = limit_value limit; values = [] }
+  { Provenance.metric = option_name limit; limit = limit_value limit; values = [] }
 
 let record c = { (record_of_limit c.limit) with values = c.values }
 let secs x = if x < 10. then Printf.sprintf "%.2f s" x else Printf.sprintf "%.0f s" x
