@@ -1111,10 +1111,10 @@ let any_in lv (x : index) q ~opaque ~mask =
   in
   if s < 0 then -1 else Array.unsafe_get x.ids s
 
-(* Whether the segment from o to c, at most [r] away, can meet the bounds at [k] of [b]:
-   whether the segment meets them grown by r on every side (slabs over s in [0, 1]). Any
-   bound that is not finite keeps the answer yes. *)
-let[@inline] segment_near b k ox oy oz cx cy cz r =
+(* Whether the part s0 ≤ s ≤ s1 of the segment o + s·(c − o), at most [r] away, can meet
+   the bounds at [k] of [b]: whether it meets them grown by r on every side (slabs over s
+   in [s0, s1]). Any bound that is not finite keeps the answer yes. *)
+let[@inline] segment_near b k ox oy oz cx cy cz r s0 s1 =
   let x0 = fget b k and y0 = fget b (k + 1) and z0 = fget b (k + 2) in
   let x1 = fget b (k + 3) and y1 = fget b (k + 4) and z1 = fget b (k + 5) in
   if
@@ -1123,7 +1123,7 @@ let[@inline] segment_near b k ox oy oz cx cy cz r =
      && Float.is_finite x1 && Float.is_finite y1 && Float.is_finite z1)
   then true
   else
-    let lo = ref 0. and hi = ref 1. and near = ref true in
+    let lo = ref s0 and hi = ref s1 and near = ref true in
     let d = cx -. ox in
     (if d = 0. then (if ox < x0 -. r || ox > x1 +. r then near := false)
      else
@@ -1161,10 +1161,21 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
     if Float.abs cy > !scale then scale := Float.abs cy;
     if Float.abs cz > !scale then scale := Float.abs cz;
     let scale = !scale in
-    let r = (r *. (1. +. 1e-6)) +. (1e-6 *. scale) in
+    let e = 1e-6 *. scale and r = r *. (1. +. 1e-6) in
+    let b = x.items.cull in
     let m = ref 0 in
     for j = 0 to n - 1 do
-      if segment_near x.items.cull (6 * j) ox oy oz cx cy cz r then m := !m lor (1 lsl j)
+      let k = 6 * j in
+      (* A ray's point at s (its sample at most r from c) is at most s·r from the
+         segment's point at s: the whole segment within r first, then its parts
+         within s1·r, nearer the origin where the rays are close together. *)
+      if
+        segment_near b k ox oy oz cx cy cz (r +. e) 0. 1.
+        && (segment_near b k ox oy oz cx cy cz ((0.125 *. r) +. e) 0. 0.125
+           || segment_near b k ox oy oz cx cy cz ((0.25 *. r) +. e) 0.125 0.25
+           || segment_near b k ox oy oz cx cy cz ((0.5 *. r) +. e) 0.25 0.5
+           || segment_near b k ox oy oz cx cy cz (r +. e) 0.5 1.)
+      then m := !m lor (1 lsl j)
     done;
     !m
 

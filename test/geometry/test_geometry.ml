@@ -1691,6 +1691,37 @@ let () =
       ( "shadow mask",
         [
           seeded shadow_mask_prop;
+          case "a ball at the edge of the light's cone, at every distance, is tested"
+            (fun () ->
+              (* From (0, 0, 0) toward a light of radius 2 at (0, 10, 0): at s along the
+                 way, a ray toward the disk's edge passes 2s from the axis. A small ball
+                 there blocks that ray, and the mask must let it be tested. *)
+              let o = v 0. 0. 0. and c = v 0. 10. 0. and radius = 2. in
+              List.iter
+                (fun s ->
+                  let ball =
+                    Primitive.make Material.default
+                      (Shape.sphere
+                         ~center:(v (0.98 *. 2. *. s) (10. *. s) 0.)
+                         ~radius:0.01)
+                  in
+                  let a = Accel.build [| ball |] in
+                  let sc = Accel.domain_scratch () and q = Probe.create () in
+                  Probe.set_origin q o.x o.y o.z;
+                  let mask = Accel.shadow_mask a q c radius in
+                  let edge = Vec3.add c (v (0.98 *. radius) 0. 0.) in
+                  let d = Vec3.sub edge o in
+                  let dist = Vec3.length d in
+                  let d = Vec3.smul (1. /. dist) d in
+                  Probe.set_origin q o.x o.y o.z;
+                  q.dx <- d.x;
+                  q.dy <- d.y;
+                  q.dz <- d.z;
+                  q.p_tmin <- 0.;
+                  q.p_tmax <- dist;
+                  if not (Accel.any sc a q ~opaque:true ~slot:(-1) ~mask) then
+                    Alcotest.failf "the ball at s = %g is left out (mask %d)" s mask)
+                [ 0.05; 0.1; 0.2; 0.3; 0.45; 0.6; 0.9 ]);
           case "the mask left some objects out in some of those cases" (fun () ->
               if !masked_culls = 0 then Alcotest.fail "the mask never culled an object");
         ] );
