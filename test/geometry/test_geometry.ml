@@ -1021,12 +1021,7 @@ let shadow_mask_prop =
           let dist = Vec3.length d in
           let d = Vec3.smul (1. /. dist) d in
           let ask mask =
-            q.ox <- o.x;
-            q.oy <- o.y;
-            q.oz <- o.z;
-            q.dx <- d.x;
-            q.dy <- d.y;
-            q.dz <- d.z;
+            Probe.of_ray q (ray o d);
             q.p_tmin <- 0.;
             q.p_tmax <- dist;
             Accel.any sc a q ~opaque:true ~slot:(-1) ~mask
@@ -1713,10 +1708,7 @@ let () =
                   let d = Vec3.sub edge o in
                   let dist = Vec3.length d in
                   let d = Vec3.smul (1. /. dist) d in
-                  Probe.set_origin q o.x o.y o.z;
-                  q.dx <- d.x;
-                  q.dy <- d.y;
-                  q.dz <- d.z;
+                  Probe.of_ray q (ray o d);
                   q.p_tmin <- 0.;
                   q.p_tmax <- dist;
                   if not (Accel.any sc a q ~opaque:true ~slot:(-1) ~mask) then
