@@ -68,15 +68,18 @@ let render_pass pool cancel ?stride sc =
   try Render.render ?pool ~cancel ?stride sc
   with Sys.Break when Cancel.cancelled cancel -> raise Cancelled
 
-let knobs (o : Options.t) (sc : Scene.t) =
+(* What the page shows of the settings of the image shown: [chosen] when --max-error
+   chose them. *)
+let knobs ?chosen (o : Options.t) (sc : Scene.t) =
   let s = sc.settings in
   `Assoc
     [
       ( "quality",
         `String
-          (match o.quality with
-          | Some q -> Quality.to_string q
-          | None -> "the scene's own") );
+          (match (chosen, o.quality) with
+          | Some c, _ -> c
+          | None, Some q -> Quality.to_string q
+          | None, None -> "the scene's own") );
       ("size", `String (Printf.sprintf "%d×%d" s.width s.height));
       ("samples", `String (Printf.sprintf "%d×%d" s.samples s.samples));
       ( "adaptive",
@@ -314,7 +317,16 @@ let render_version ?max_error sh show_error (o : Options.t) pool tmp prog seq v 
                        ("passes", `List (List.rev !done_passes));
                        ( "rays_per_second",
                          `Float (if secs > 0. then Float.of_int rays /. secs else 0.) );
-                       ("knobs", knobs o shown);
+                       ( "knobs",
+                         knobs
+                           ?chosen:
+                             (match (max_error, pass) with
+                             | Some m, `Full _ when not v.params.play ->
+                                 Some
+                                   (Printf.sprintf "chosen by --max-error %g"
+                                      (Budget.limit_value m))
+                             | _ -> None)
+                           o shown );
                        ("summary", `String summary);
                      ]);
                 log o.quiet

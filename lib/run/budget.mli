@@ -80,6 +80,9 @@ val check_values : (string * float) list -> unit
 val record : choice -> Provenance.budget
 (** What an image's record keeps of the choice. *)
 
+val limit_value : Compare.metric -> float
+(** The number a limit holds, in its metric's unit. *)
+
 val record_of_limit : Compare.metric -> Provenance.budget
 (** The limit as a record names it, with no settings. *)
 

@@ -433,6 +433,9 @@ let max_error () =
         "the page shows the samples chosen"
         (Printf.sprintf "%d×%d" chosen chosen)
         (to_string (member "samples" (member "knobs" st)));
+      Alcotest.(check string)
+        "and says who chose them" "chosen by --max-error 0.02"
+        (to_string (member "quality" (member "knobs" st)));
       close_events e);
   let st, _, err =
     Run_lancer.run ~prefix:"timeout 60" ~exe ~dir:d
