@@ -338,14 +338,15 @@ let animate_tests =
           (contains (read_file (path d "same/lancer-frames.d/scene.json")) "a.rts"));
   ]
 
-(* The built-in showcase at 200×150 on one domain: long enough to be stopped midway. *)
+(* The built-in showcase at 480×360 on one domain: long enough (about a second here) to
+   be stopped midway, even when the test is slow to see its first checkpoint. *)
 let still =
   [
     "render";
     "--width";
-    "200";
+    "480";
     "--height";
-    "150";
+    "360";
     "--domains";
     "1";
     "-q";
@@ -428,7 +429,7 @@ let still_tests =
         let d = tmpdir "lancer-resume" in
         check_status "uninterrupted" 0
           (lancer ~dir:d
-             [ "render"; "--width"; "200"; "--height"; "150"; "-q"; "-o"; "ref.png" ]);
+             [ "render"; "--width"; "480"; "--height"; "360"; "-q"; "-o"; "ref.png" ]);
         let reference = read_file (path d "ref.png") in
         (* SIGKILL: what the last checkpoint held is kept. *)
         Alcotest.(check int) "killed" (-1) (stopped_midway d "a.png" Sys.sigkill);
