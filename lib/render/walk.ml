@@ -1149,6 +1149,21 @@ let[@inline] segment_near b k ox oy oz cx cy cz r s0 s1 =
        if tf < !hi then hi := tf);
     !near && !lo <= !hi
 
+(* Whether a ray from o toward a point at most [r] from c may cross the plane of slot
+   [j] (an untransformed one): not when o is strictly on one side (as the plane's test
+   computes it) and every such point further on that side by more than [e], so that every
+   ray leaves the plane behind. *)
+let[@inline] plane_near prims j ox oy oz cx cy cz r e =
+  match (Array.unsafe_get prims j : Primitive.t).shape with
+  | Shape.Plane { normal; offset } ->
+      let nx = normal.x and ny = normal.y and nz = normal.z in
+      let num = offset -. ((ox *. nx) +. (oy *. ny) +. (oz *. nz)) in
+      let nl = Float.sqrt ((nx *. nx) +. (ny *. ny) +. (nz *. nz)) in
+      (* How far c lies beyond o, away from the plane, less the disk's reach. *)
+      let away = (cx *. nx) +. (cy *. ny) +. (cz *. nz) -. offset +. num in
+      not ((num < 0. && away -. (nl *. r) > e) || (num > 0. && away +. (nl *. r) < -.e))
+  | _ -> true
+
 let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
   let ox = o.ox and oy = o.oy and oz = o.oz and cx = c.x and cy = c.y and cz = c.z in
   let n = x.first in
@@ -1171,12 +1186,15 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
       (* A ray's point at s (its sample at most r from c) is at most s·r from the
          segment's point at s: the whole segment within r first, then its parts
          within s1·r, nearer the origin where the rays are close together. *)
+      let c = Char.code (Bytes.unsafe_get x.items.kind j) in
       if
-        segment_near b k ox oy oz cx cy cz (r +. e) 0. 1.
-        && (segment_near b k ox oy oz cx cy cz ((0.125 *. r) +. e) 0. 0.125
-           || segment_near b k ox oy oz cx cy cz ((0.25 *. r) +. e) 0.125 0.25
-           || segment_near b k ox oy oz cx cy cz ((0.5 *. r) +. e) 0.25 0.5
-           || segment_near b k ox oy oz cx cy cz (r +. e) 0.5 1.)
+        if c land 3 = plane then plane_near x.items.prims j ox oy oz cx cy cz r e
+        else
+          segment_near b k ox oy oz cx cy cz (r +. e) 0. 1.
+          && (segment_near b k ox oy oz cx cy cz ((0.125 *. r) +. e) 0. 0.125
+             || segment_near b k ox oy oz cx cy cz ((0.25 *. r) +. e) 0.125 0.25
+             || segment_near b k ox oy oz cx cy cz ((0.5 *. r) +. e) 0.25 0.5
+             || segment_near b k ox oy oz cx cy cz (r +. e) 0.5 1.)
       then m := !m lor (1 lsl j)
     done;
     !m
