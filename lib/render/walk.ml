@@ -752,7 +752,8 @@ let[@inline] cheap (members : Shape.csg_member array) states i =
    [state], the result is the object's inside just after tmin (for the object it is a
    member of); otherwise [false]. Each surface's root sought and each gap count as the
    tests they make, for [w]. *)
-let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
+let rec csg_crossings ?(rooted = false) lv w s (q : Probe.t) ~first ~state out item leaf0
+    =
   match s with
   | Shape.Csg { op; members; _ } ->
       let tmin = q.p_tmin and tmax = q.p_tmax in
@@ -763,9 +764,10 @@ let rec csg_crossings lv w s (q : Probe.t) ~first ~state out item leaf0 =
         Array.unsafe_set states i tested
       done;
       let ev = lv.buf in
-      ev.n <- 0;
-      member_roots lv w members.(0) 0 q ev;
-      if outside_first lv w op members q ev tmax then false
+      if not rooted then (
+        ev.n <- 0;
+        member_roots lv w members.(0) 0 q ev);
+      if (not rooted) && outside_first lv w op members q ev tmax then false
       else (
         for i = 1 to n - 1 do
           member_roots lv w members.(i) i q ev
@@ -976,11 +978,15 @@ and member_at lv w (members : Shape.csg_member array) i pt =
   inside_at (deeper lv) w m.shape (member_point m pt lv.mp)
 
 (* The first crossing of CSG object [s] in (q.p_tmin, q.p_tmax): its t into [q.p_t]
-   (infinity for none), its part into [lv.cand_leaf] and [lv.cand_face]. *)
-let csg_first lv s (q : Probe.t) =
+   (infinity for none), its part into [lv.cand_leaf] and [lv.cand_face]. With [rooted],
+   the next level's buffer already holds its first member's roots along [q], and
+   [outside_first] did not decide ([csg_any]). *)
+let csg_first ?rooted lv s (q : Probe.t) =
   let b = lv.buf in
   b.n <- 0;
-  ignore (csg_crossings (deeper lv) (Task.current ()) s q ~first:true ~state:false b 0 0);
+  ignore
+    (csg_crossings ?rooted (deeper lv) (Task.current ()) s q ~first:true ~state:false b 0
+       0);
   if b.n > 0 then (
     q.p_t <- fget b.ts 0;
     lv.cand_leaf <- b.parts.(1);
@@ -997,7 +1003,8 @@ let csg_first lv s (q : Probe.t) =
    members' roots are not sought; any other case is [csg_first]'s. *)
 let csg_any lv s (q : Probe.t) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
-  (* 0: not crossed, 1: crossed, 2: not known from the first member *)
+  (* 0: not crossed, 1: crossed, 2: not known from the first member (whose roots the
+     next level's buffer holds), 3: not tried *)
   let known =
     match s with
     | Shape.Csg { op = Shape.Difference; members; _ } when Array.length members >= 2 ->
@@ -1007,7 +1014,7 @@ let csg_any lv s (q : Probe.t) =
           | Shape.Mesh _ | Shape.Csg _ -> simple := false
           | _ -> ()
         done;
-        if not !simple then 2
+        if not !simple then 3
         else
           let l = deeper lv and w = Task.current () in
           let ev = l.buf in
@@ -1039,13 +1046,14 @@ let csg_any lv s (q : Probe.t) =
                   incr i
                 done;
                 if !out then 1 else 2
-    | _ -> 2
+    | _ -> 3
   in
   if known < 2 then known = 1
   else (
     q.p_tmin <- tmin;
     q.p_tmax <- tmax;
-    csg_first lv s q;
+    (* The first member's roots are not sought again. *)
+    if known = 2 then csg_first ~rooted:true lv s q else csg_first lv s q;
     q.p_t < q.p_tmax)
 
 (* --- Meshes and CSG objects among a scene's objects -------------------------------------- *)
