@@ -1,4 +1,5 @@
 let tile_size = 32
+let strided_tile_size = 8
 
 (* The bits of a sample's image coordinate, to hash: a sample is named by its place. *)
 let[@inline] bits x = Int64.to_int (Int64.bits_of_float x)
@@ -435,8 +436,12 @@ let size ?(stride = 1) (sc : Scene.t) =
    either way, so a pixel is computed the same. Found by arithmetic, so that a caller
    that renders an image unit by unit (a lancer-mpi rank: thousands of small calls) never
    builds the whole list. *)
+(* A strided image has few pixels: smaller tiles spread them over the domains. *)
+let side = function Some k when k > 1 -> strided_tile_size | _ -> tile_size
+
 let tile_count ?region ?stride (sc : Scene.t) =
   let w, h = size ?stride sc in
+  let tile_size = side stride in
   let span a b = if b <= a then 0 else ((b - 1) / tile_size) - (a / tile_size) + 1 in
   match (region : Image.region option) with
   | None -> span 0 w * span 0 h
@@ -444,6 +449,7 @@ let tile_count ?region ?stride (sc : Scene.t) =
 
 let tile ?region ?stride (sc : Scene.t) k =
   let w, h = size ?stride sc in
+  let tile_size = side stride in
   let x0, y0, x1, y1 =
     match (region : Image.region option) with
     | None -> (0, 0, w, h)

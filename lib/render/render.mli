@@ -17,6 +17,10 @@ val tile_size : int
 (** The side of a square tile in pixels (32); the last row and column of tiles may be
     smaller. *)
 
+val strided_tile_size : int
+(** The side of a tile of a strided image (8): it has few pixels, and smaller tiles spread
+    them over the domains. *)
+
 val pixel : Scene.t -> Task.t -> int -> int -> Color.t
 (** [pixel scene task i j] is the linear colour of column [i], row [j]. *)
 
@@ -69,9 +73,9 @@ val render_tile :
 
 val tiles :
   ?region:Image.region -> ?stride:int -> Scene.t -> (int * int * int * int) array
-(** The tiles (x0, y0, x1, y1) of the scene's image (of its image of one sample per
-    [stride]×[stride] block), row-major; with [region] only those that meet it, clipped to
-    it. *)
+(** The tiles (x0, y0, x1, y1) of the scene's image ({!tile_size} square; of its image of
+    one sample per [stride]×[stride] block, {!strided_tile_size} square), row-major; with
+    [region] only those that meet it, clipped to it. *)
 
 val tile_count : ?region:Image.region -> ?stride:int -> Scene.t -> int
 (** The number of {!tiles}, without making them. *)

@@ -1077,17 +1077,17 @@ let unit_tests =
     Alcotest.test_case
       "a tile found by arithmetic is the tile of the grid, clipped to the region" `Quick
       (fun () ->
-        (* The definition: the 32×32 grid of the (strided) image, row-major, keeping the
-           tiles that meet the region, clipped to it. *)
-        let grid w h =
+        (* The definition: the 32×32 grid of the image (8×8 of a strided one), row-major,
+           keeping the tiles that meet the region, clipped to it. *)
+        let grid ?(t = 32) w h =
           List.concat
             (List.init
-               ((h + 31) / 32)
+               ((h + t - 1) / t)
                (fun ty ->
                  List.init
-                   ((w + 31) / 32)
+                   ((w + t - 1) / t)
                    (fun tx ->
-                     (tx * 32, ty * 32, min w ((tx + 1) * 32), min h ((ty + 1) * 32)))))
+                     (tx * t, ty * t, min w ((tx + 1) * t), min h ((ty + 1) * t)))))
         in
         let expected w h (region : Image.region option) =
           match region with
@@ -1134,12 +1134,19 @@ let unit_tests =
                      (fun (a, b, c, d) -> ((a, b), (c, d)))
                      (Array.to_list (Render.tiles ?region sc))))
               regions;
-            (* Strided: the grid of the ⌈w/k⌉×⌈h/k⌉ image. *)
+            (* Strided: the 8×8 grid of the ⌈w/k⌉×⌈h/k⌉ image. *)
             let k = 3 in
+            let want = grid ~t:8 ((w + k - 1) / k) ((h + k - 1) / k) in
             Alcotest.(check int)
               (Printf.sprintf "%d×%d by %d" w h k)
-              (List.length (grid ((w + k - 1) / k) ((h + k - 1) / k)))
-              (Render.tile_count ~stride:k sc))
+              (List.length want)
+              (Render.tile_count ~stride:k sc);
+            Alcotest.(check (list (pair (pair int int) (pair int int))))
+              (Printf.sprintf "%d×%d by %d: tiles" w h k)
+              (List.map (fun (a, b, c, d) -> ((a, b), (c, d))) want)
+              (List.map
+                 (fun (a, b, c, d) -> ((a, b), (c, d)))
+                 (Array.to_list (Render.tiles ~stride:k sc))))
           [ (1, 1); (31, 33); (32, 32); (33, 65); (100, 70); (640, 480) ]);
   ]
 
