@@ -115,22 +115,30 @@ let check_options (o : Options.t) ~resume =
    probes are a sample of the image. *)
 let margin = 0.75
 
-(* The error of a probe image against the reference's, lower is better: mean FLIP at the
-   pixels per degree of a probe pixel (it stands for a stride×stride block), or RMSE. *)
+(* The error of a probe image against the reference's, lower is better: mean FLIP or
+   RMSE. A probe pixel stands for a stride×stride block, and FLIP depends on the size at
+   which the eye sees an error: a change that is the same over neighbouring pixels (a
+   missing reflection, a ghost of a moving object) is seen at the size of the block,
+   [ppd / stride] pixels per degree; one that changes from pixel to pixel (noise,
+   stair-steps) at the size of one pixel, the image's own [ppd], as if the probes were
+   neighbours. The larger of the two is the error. *)
 let error (m : Compare.metric) ~stride ref_img img =
   match m with
   | Flip _ ->
-      Flip.mean
-        (Flip.error_map ~ppd:(Flip.default_ppd /. Float.of_int stride) ref_img img)
+      let at ppd = Flip.mean (Flip.error_map ~ppd ref_img img) in
+      Float.max (at Flip.default_ppd) (at (Flip.default_ppd /. Float.of_int stride))
   | Rmse _ | Psnr _ | Ssim _ -> (
       match Compare.compare ~threshold:1 ref_img img with
       | Ok c -> c.rmse
       | Error msg -> user "%s" msg)
 
-let target = function
-  | Compare.Flip e | Rmse e -> margin *. e
-  | Psnr db -> margin *. 255. /. (10. ** (db /. 20.))
+(* The limit, in the unit of [error]. *)
+let limit_error = function
+  | Compare.Flip e | Rmse e -> e
+  | Psnr db -> 255. /. (10. ** (db /. 20.))
   | Ssim _ -> 0.
+
+let target m = margin *. limit_error m
 
 (* The error as the metric states it. *)
 let stated (m : Compare.metric) e =
@@ -138,11 +146,19 @@ let stated (m : Compare.metric) e =
   | Psnr _ -> if e = 0. then Float.infinity else 20. *. Float.log10 (255. /. e)
   | _ -> e
 
-(* About 1/150 of the image's pixels, at least 128: one pixel per stride×stride block. *)
-let stride_for (sc : Scene.t) =
+(* The stride of about [n] probes: one pixel per stride×stride block. *)
+let stride_for (sc : Scene.t) n =
   let px = sc.settings.width * sc.settings.height in
-  let want = max 128 (px / 150) in
-  max 1 (int_of_float (Float.ceil (Float.sqrt (Float.of_int px /. Float.of_int want))))
+  max 1
+    (int_of_float (Float.ceil (Float.sqrt (Float.of_int px /. Float.of_int (max 1 n)))))
+
+(* How many probes: a first round of the search on about 1/2400 of the pixels (at least
+   128), then a second on up to about 1/150 (see [choose]). *)
+let first_probes px = max 128 (px / 2400)
+let most_probes px = max (first_probes px) (px / 150)
+
+(* What the whole search may cost, against the image at the first round's choice. *)
+let share = 0.15
 
 (* The pixels of the probe image: one per stride×stride block. *)
 let probe_pixels (sc : Scene.t) stride =
@@ -230,7 +246,6 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     Options.scene_at ?cancel { o with quality = Some Quality.Reference } src ~time ~frame
   in
   let knobs = knobs ~reference base in
-  let stride = stride_for base in
   let pixels = base.settings.width * base.settings.height in
   let instants = Hashtbl.create 8 in
   let at_shutter n =
@@ -250,7 +265,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
   | None -> fun f -> Render.with_pool ?cancel domains f)
   @@ fun pool ->
   let rays = ref 0 and probes = ref 0 and probe_seconds = ref 0. in
-  let probe sc =
+  let probe ~stride sc =
     let t = Unix.gettimeofday () in
     let fb, st = Render.render ?cancel ?pool ~stride sc in
     probe_seconds := !probe_seconds +. (Unix.gettimeofday () -. t);
@@ -259,56 +274,105 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     incr probes;
     ((fb.Framebuffer.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb), r)
   in
-  let ref_img, ref_rays = probe reference in
-  let memo = Hashtbl.create 64 in
-  let eval idx =
-    let key = Array.to_list idx in
-    match Hashtbl.find_opt memo key with
-    | Some r -> r
-    | None ->
-        let img, r = probe (make idx) in
-        let e = error limit ~stride ref_img img in
-        Hashtbl.add memo key (e, r);
-        (e, r)
-  in
-  let goal = target limit in
-  (* From the cheapest setting, raise one knob a notch at a time: the one whose error
-     falls most per ray it adds (where none lowers the error, the one that leaves the
-     least), until the error is within the goal or every knob is at the reference's. *)
-  let rec climb idx (e, r) =
-    if e <= goal then (idx, (e, r))
-    else
-      let best = ref None in
-      Array.iteri
-        (fun j k ->
-          if idx.(j) < Array.length k.ladder - 1 then (
-            let idx' = Array.copy idx in
-            idx'.(j) <- idx.(j) + 1;
-            let e', r' = eval idx' in
-            let drop = e -. e' in
-            let score =
-              if drop > 0. then (1., drop /. Float.of_int (max 1 (r' - r))) else (0., -.e')
-            in
-            match !best with
-            | Some (s, _, _) when compare score s <= 0 -> ()
-            | _ -> best := Some (score, idx', (e', r'))))
-        knobs;
-      match !best with None -> (idx, (e, r)) | Some (_, idx', er) -> climb idx' er
-  in
-  (* Then each knob in turn lowered while the error stays within the goal: a notch the
-     climb took early may not be needed once the others have risen. *)
-  let rec descend idx (e, r) j =
-    if j = Array.length knobs then (idx, (e, r))
-    else if idx.(j) = 0 then descend idx (e, r) (j + 1)
-    else
-      let idx' = Array.copy idx in
-      idx'.(j) <- idx.(j) - 1;
-      let e', r' = eval idx' in
-      if e' <= goal && r' <= r then descend idx' (e', r') j else descend idx (e, r) (j + 1)
-  in
   let start = Array.make (Array.length knobs) 0 in
-  let idx, er = climb start (eval start) in
-  let idx, (e, r) = if fst er <= goal then descend idx er 0 else (idx, er) in
+  let goal = target limit in
+  (* One round of the search on the probes of [stride]: the choice, its error and rays,
+     the reference's rays. *)
+  let round stride =
+    let ref_img, ref_rays = probe ~stride reference in
+    let memo = Hashtbl.create 64 in
+    let eval idx =
+      let key = Array.to_list idx in
+      match Hashtbl.find_opt memo key with
+      | Some r -> r
+      | None ->
+          let img, r = probe ~stride (make idx) in
+          let e = error limit ~stride ref_img img in
+          Hashtbl.add memo key (e, r);
+          (e, r)
+    in
+    (* From the cheapest setting, raise one knob a notch at a time: the one whose error
+       falls most per ray it adds (where none lowers the error, the one that leaves the
+       least), until the error is within the goal or every knob is at the reference's. *)
+    let rec climb idx (e, r) =
+      if e <= goal then (idx, (e, r))
+      else
+        let best = ref None in
+        Array.iteri
+          (fun j k ->
+            if idx.(j) < Array.length k.ladder - 1 then (
+              let idx' = Array.copy idx in
+              idx'.(j) <- idx.(j) + 1;
+              let e', r' = eval idx' in
+              let drop = e -. e' in
+              let score =
+                if drop > 0. then (1., drop /. Float.of_int (max 1 (r' - r)))
+                else (0., -.e')
+              in
+              match !best with
+              | Some (s, _, _) when compare score s <= 0 -> ()
+              | _ -> best := Some (score, idx', (e', r'))))
+          knobs;
+        match !best with None -> (idx, (e, r)) | Some (_, idx', er) -> climb idx' er
+    in
+    (* Then each knob in turn lowered while the error stays within the goal: a notch the
+       climb took early may not be needed once the others have risen. *)
+    let rec descend idx (e, r) j =
+      if j = Array.length knobs then (idx, (e, r))
+      else if idx.(j) = 0 then descend idx (e, r) (j + 1)
+      else
+        let idx' = Array.copy idx in
+        idx'.(j) <- idx.(j) - 1;
+        let e', r' = eval idx' in
+        if e' <= goal && r' <= r then descend idx' (e', r') j
+        else descend idx (e, r) (j + 1)
+    in
+    let low = eval start in
+    let idx, er = climb start low in
+    let idx, (e, r) = if fst er <= goal then descend idx er 0 else (idx, er) in
+    (* Settings that cost what the reference costs are no cheaper than the reference:
+       where the climb ends there, the cheapest setting it tried whose error is within
+       the limit itself (without the margin) is taken instead. *)
+    let idx, (e, r) =
+      if r < ref_rays then (idx, (e, r))
+      else
+        Hashtbl.fold
+          (fun key (e', r') l ->
+            if e' <= limit_error limit then (r', e', key) :: l else l)
+          memo []
+        |> List.sort compare
+        |> function
+        | (r', e', key) :: _ when r' < r -> (Array.of_list key, (e', r'))
+        | _ -> (idx, (e, r))
+    in
+    (idx, e, r, ref_rays, snd low)
+  in
+  (* A first round on few probes says what a probe costs the search and what the image
+     will cost at the choice; a second round follows on as many probes as keep the whole
+     search within [share] of that image, where that is at least three times as many. *)
+  let first = stride_for base (first_probes pixels) in
+  let first_rays = !rays in
+  let ((_, _, r1, ref1, low) as first_choice) = round first in
+  let n1 = Float.of_int (probe_pixels base first) in
+  let spent = Float.of_int (!rays - first_rays) in
+  let whole r = r /. n1 *. Float.of_int pixels in
+  (* The second round may also end at the cheapest settings, after the reference's
+     probes and the cheapest's: the search stays within [share] of the cheapest's image
+     too. *)
+  let want =
+    min (most_probes pixels)
+      (int_of_float
+         (Float.min
+            (((share *. whole (Float.of_int r1)) -. spent) /. (spent /. n1))
+            (((share *. whole (Float.of_int low)) -. spent)
+            /. (Float.of_int (ref1 + low) /. n1))))
+  in
+  let stride, (idx, e, r, ref_rays, _) =
+    if Float.of_int want >= 3. *. n1 then
+      let s = stride_for base want in
+      (s, round s)
+    else (first, first_choice)
+  in
   let scene = make idx in
   let per_ray = !probe_seconds /. Float.of_int (max 1 !rays) in
   let probe_pixels = probe_pixels base stride in

@@ -3,14 +3,22 @@
     predicted to be within a limit.
 
     The prediction comes from probes: the image of one pixel per k×k block (a render with
-    [stride = k], each pixel exactly as the whole render computes it, about 1/150 of the
-    image's pixels and at least 128), rendered once at the reference and at each
-    candidate. From the cheapest value of every knob, the search raises one knob a notch
-    at a time, the one whose probe error falls most per ray it adds, until the error is
-    within three quarters of the limit (the probes are a sample of the image) or every
-    knob is at the reference's. Mean FLIP is computed on the probe image at [k] times
-    fewer pixels per degree (a probe pixel stands for a block). The choice depends on rays
-    and pixels alone, never on time: the same whatever the number of domains. *)
+    [stride = k], each pixel exactly as the whole render computes it), rendered once at
+    the reference and at each candidate. From the cheapest value of every knob, the search
+    raises one knob a notch at a time, the one whose probe error falls most per ray it
+    adds, until the error is within three quarters of the limit (the probes are a sample
+    of the image) or every knob is at the reference's, then lowers what the climb turned
+    out not to need. Settings that cost what the reference costs give way to the cheapest
+    candidate within the limit itself. Mean FLIP is taken at the image's own pixels per
+    degree and at [k] times fewer (a probe pixel stands for a block), the larger of the
+    two.
+
+    The search runs in two rounds: a first on about 1/2400 of the pixels (at least 128),
+    then, where the first round's choice and its cost per probe allow it, a second on as
+    many probes as a tenth of the image at that choice affords (and no more than the
+    reference's and the cheapest settings' probes within a tenth of the cheapest image, up
+    to about 1/150 of the pixels). The choice depends on rays and pixels alone, never on
+    time: the same whatever the number of domains. *)
 
 type choice = {
   limit : Compare.metric;

@@ -95,6 +95,46 @@ let test_domains () =
   Alcotest.(check int) "same search rays" r1 r2;
   Alcotest.(check string) "same pixels" (pixels (d // "1.png")) (pixels (d // "2.png"))
 
+(* At 480×360 the search costs at most a fifth of the rays of the render it plans, though
+   the reference costs hundreds of times the choice (64 samples, 8×8 shadow rays). *)
+let test_search_cost () =
+  let d = fresh () in
+  let go e name =
+    check_status name 0
+      (render d
+         [
+           "--max-error";
+           e;
+           "-W";
+           "480";
+           "-H";
+           "360";
+           "-o";
+           name ^ ".png";
+           "--stats";
+           name ^ ".json";
+           "-q";
+         ]);
+    let open Yojson.Safe.Util in
+    let j = Yojson.Safe.from_file (d // (name ^ ".json")) in
+    let c = member "max_error" j in
+    ( c |> member "search_rays" |> to_int,
+      j |> member "rays" |> member "total" |> to_int,
+      c |> member "probe_pixels" |> to_int )
+  in
+  List.iter
+    (fun e ->
+      let search, rays, probes = go e ("e" ^ e) in
+      Alcotest.(check bool)
+        (Printf.sprintf "--max-error %s: search %d rays <= a fifth of the render's %d" e
+           search rays)
+        true
+        (5 * search <= rays);
+      Alcotest.(check bool)
+        (Printf.sprintf "at least 128 probes (%d)" probes)
+        true (probes >= 128))
+    [ "0.05"; "0.02" ]
+
 let test_refusals () =
   let d = fresh () in
   let refused args sub =
@@ -257,6 +297,7 @@ let () =
           Alcotest.test_case "the image is within the limit" `Quick test_within_limit;
           Alcotest.test_case "the same choice on 1 and 2 domains" `Quick test_domains;
           Alcotest.test_case "PSNR" `Quick test_psnr;
+          Alcotest.test_case "the search costs at most a fifth" `Quick test_search_cost;
           Alcotest.test_case "refusals" `Quick test_refusals;
           Alcotest.test_case "the record keeps the choice; verify renders it" `Quick
             test_verify;
