@@ -351,11 +351,11 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
      will cost at the choice; a second round follows on as many probes as keep the whole
      search within [share] of that image, where that is at least three times as many. *)
   let first = stride_for base (first_probes pixels) in
-  let first_rays = !rays in
   let ((_, _, r1, ref1, low) as first_choice) = round first in
   let n1 = Float.of_int (probe_pixels base first) in
-  let spent = Float.of_int (!rays - first_rays) in
-  let whole r = r /. n1 *. Float.of_int pixels in
+  let spent = Float.of_int !rays in
+  (* The rays of the whole image, from those of the first round's probes. *)
+  let image r = Float.of_int r /. n1 *. Float.of_int pixels in
   (* The second round may also end at the cheapest settings, after the reference's
      probes and the cheapest's: the search stays within [share] of the cheapest's image
      too. *)
@@ -363,9 +363,8 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     min (most_probes pixels)
       (int_of_float
          (Float.min
-            (((share *. whole (Float.of_int r1)) -. spent) /. (spent /. n1))
-            (((share *. whole (Float.of_int low)) -. spent)
-            /. (Float.of_int (ref1 + low) /. n1))))
+            (((share *. image r1) -. spent) /. (spent /. n1))
+            (((share *. image low) -. spent) /. (Float.of_int (ref1 + low) /. n1))))
   in
   let stride, (idx, e, r, ref_rays, _) =
     if Float.of_int want >= 3. *. n1 then
