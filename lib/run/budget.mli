@@ -14,10 +14,10 @@
     two.
 
     The search runs in two rounds: a first on about 1/2400 of the pixels (at least 128),
-    then, where the first round's choice and its cost per probe allow it, a second on as
-    many probes as a tenth of the image at that choice affords (and no more than the
-    reference's and the cheapest settings' probes within a tenth of the cheapest image, up
-    to about 1/150 of the pixels). The choice depends on rays and pixels alone, never on
+    then, where the first round's choice and its cost per probe allow at least three times
+    as many, a second on as many probes as keep the whole search within 15% of the rays of
+    the image at the first round's choice and of the image at the cheapest settings (up to
+    about 1/150 of the pixels). The choice depends on rays and pixels alone, never on
     time: the same whatever the number of domains. *)
 
 type choice = {
