@@ -127,8 +127,8 @@ bench: build
 	$(RUN) ./_build/default/bench/lancer_bench.exe language
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
-# --max-error 0.02 on every gallery scene at 160×120 against a reference render: the
-# table of doc/explanation/speed.md, "An error budget" (bench/budget.sh).
+# --max-error 0.02 on every gallery scene at 640×480 against a reference render: the
+# table of doc/explanation/speed.md, "An error budget" (bench/budget.sh; W, H, DOMAINS).
 bench-budget: build
 	$(RUN) bash bench/budget.sh
 
