@@ -128,7 +128,8 @@ bench: build
 
 # lancer watch: from a save of the showcase (640×480) to the first and to the full image.
 # --max-error 0.02 on every gallery scene at 640×480 against a reference render: the
-# table of doc/explanation/speed.md, "An error budget" (bench/budget.sh; W, H, DOMAINS).
+# table of doc/explanation/speed.md, "An error budget" (bench/budget.sh; knobs W, H, E,
+# DOMAINS, REPEAT, SCENES).
 bench-budget: build
 	$(RUN) bash bench/budget.sh
 

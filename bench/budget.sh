@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The error budget on the gallery (make bench-budget): for each scene of scenes/gallery/ at
-# W×H (default 640×480; the 32 reference renders take about 2 minutes on 2 cores), a
+# W×H (default 640×480; the 32 reference renders take about 3 minutes on 2 cores), a
 # render at the reference preset and one with --max-error E (default 0.02, mean FLIP),
 # both on DOMAINS domains (default 2). Prints a Markdown table: the settings chosen, the
 # predicted and the measured mean FLIP (lancer diff against the reference render), the
@@ -8,7 +8,8 @@
 # process (what the settings chosen cost on their own: reading the scene, the render,
 # writing the image), the search's, the chosen render's and the reference's times. The
 # last columns say whether the image is within E, whether the search cost at most a fifth
-# of the render both in rays (which do not depend on the machine's load) and in time, and
+# of what the settings chosen cost without it, both in rays (against the render's, which
+# do not depend on the machine's load) and in time (against the rest of the process), and
 # whether the render took less time than the reference. The --max-error render runs
 # REPEAT times (default 3), its times are medians. Knobs: W, H, E, DOMAINS, REPEAT, SCENES
 # (names without .rts).
@@ -17,6 +18,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 lancer=${LANCER:-"$root/_build/default/bin/main.exe"}
 W=${W:-640}; H=${H:-480}; E=${E:-0.02}; DOMAINS=${DOMAINS:-2}; REPEAT=${REPEAT:-3}
+[ "$REPEAT" -ge 1 ] || { echo "bench-budget: REPEAT must be at least 1" >&2; exit 1; }
 SCENES=${SCENES:-$(cd scenes/gallery && ls *.rts | sed 's/\.rts$//')}
 tmp="$root/out/bench-budget"; mkdir -p "$tmp"
 
@@ -58,6 +60,6 @@ seconds = search / max(1e-9, wall - search)
 print(f"| {name} | {settings} | {b['predicted_error']:.4f} | {flip:.4f} | {ratio:.3f} "
       f"| {seconds:.3f} | {search:.3f} | {render:.3f} | {ref['render_seconds']:.3f} "
       f"| {'yes' if flip <= e else 'no'} | {'yes' if ratio <= 0.2 and seconds <= 0.2 else 'no'} "
-      f"| {'yes' if run['render_seconds'] < ref['render_seconds'] else 'no'} |")
+      f"| {'yes' if render < ref['render_seconds'] else 'no'} |")
 PY
 done

@@ -431,13 +431,14 @@ let size ?(stride = 1) (sc : Scene.t) =
   let k = max 1 stride in
   ((sc.settings.width + k - 1) / k, (sc.settings.height + k - 1) / k)
 
+(* A strided image has few pixels: smaller tiles spread them over the domains. *)
+let side = function Some k when k > 1 -> strided_tile_size | _ -> tile_size
+
 (* Tile [k] of the scene's image (of its image of one sample per [stride]×[stride] block),
    row-major; with [region], of the tiles that meet it, clipped to it: the same grid
    either way, so a pixel is computed the same. Found by arithmetic, so that a caller
    that renders an image unit by unit (a lancer-mpi rank: thousands of small calls) never
    builds the whole list. *)
-(* A strided image has few pixels: smaller tiles spread them over the domains. *)
-let side = function Some k when k > 1 -> strided_tile_size | _ -> tile_size
 
 let tile_count ?region ?stride (sc : Scene.t) =
   let w, h = size ?stride sc in

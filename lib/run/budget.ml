@@ -126,7 +126,9 @@ let error (m : Compare.metric) ~stride ref_img img =
   match m with
   | Flip _ ->
       let at ppd = Flip.mean (Flip.error_map ~ppd ref_img img) in
-      Float.max (at Flip.default_ppd) (at (Flip.default_ppd /. Float.of_int stride))
+      let whole = at Flip.default_ppd in
+      if stride = 1 then whole
+      else Float.max whole (at (Flip.default_ppd /. Float.of_int stride))
   | Rmse _ | Psnr _ | Ssim _ -> (
       match Compare.compare ~threshold:1 ref_img img with
       | Ok c -> c.rmse
@@ -404,7 +406,7 @@ let text c =
   let limit = limit_value c.limit in
   Printf.sprintf
     "max error %g (%s): %s; predicted error %s, predicted time %s against the \
-     reference's %s; search %s (%d probe renders of %d pixels)"
+     reference's %s; search %s (%d probe renders, of %d pixels in the last round)"
     limit (metric_name c.limit)
     (String.concat ", " (List.map (fun (k, v) -> k ^ " " ^ v) c.settings))
     (match c.limit with

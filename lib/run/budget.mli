@@ -36,7 +36,7 @@ type choice = {
   search_seconds : float;  (** the wall time of the search *)
   search_rays : int;  (** the rays of all its probe renders *)
   probes : int;  (** how many probe renders it made *)
-  probe_pixels : int;  (** the pixels of one probe render *)
+  probe_pixels : int;  (** the pixels of a probe render of the last round *)
 }
 
 val check : Compare.metric -> unit

@@ -135,6 +135,41 @@ let test_search_cost () =
         true (probes >= 128))
     [ "0.05"; "0.02" ]
 
+(* A scene whose cheapest settings already pass, at 640×480: the first round's 128 probes
+   leave room for a second round on more, and the whole search still costs at most a
+   fifth of the render's rays. *)
+let plain =
+  {|settings { width: 640, height: 480, background: (0.1, 0.1, 0.2) }
+camera { position: (0, 2, -6), look_at: (0, 0.5, 0), fov: 50 }
+light { position: (-2, 5, -3) }
+plane { normal: (0, 1, 0), offset: 0, material: material { color: (0.8, 0.8, 0.8) } }
+sphere { center: (-1, 0.7, 0), radius: 0.7, material: material { color: (0.9, 0.2, 0.2) } }
+sphere { center: (1, 0.7, 0.5), radius: 0.7, material: material { color: (0.2, 0.4, 0.9) } }
+|}
+
+let test_second_round () =
+  let d = tmpdir "lancer-budget" in
+  write_file (d // "p.rts") plain;
+  let r =
+    lancer ~dir:d
+      [ "render"; "p.rts"; "--max-error"; "0.02"; "-o"; "p.png"; "--stats"; "p.json" ]
+  in
+  check_status "render" 0 r;
+  let open Yojson.Safe.Util in
+  let j = Yojson.Safe.from_file (d // "p.json") in
+  let c = member "max_error" j in
+  let search = c |> member "search_rays" |> to_int in
+  let rays = j |> member "rays" |> member "total" |> to_int in
+  let probes = c |> member "probe_pixels" |> to_int in
+  (* The first round's probes: one pixel per 49×49 block, 14×10 of them. *)
+  Alcotest.(check bool)
+    (Printf.sprintf "a second round on more probes than the first's 140 (%d)" probes)
+    true (probes > 140);
+  Alcotest.(check bool)
+    (Printf.sprintf "search %d rays <= a fifth of the render's %d" search rays)
+    true
+    (5 * search <= rays)
+
 let test_refusals () =
   let d = fresh () in
   let refused args sub =
@@ -298,6 +333,8 @@ let () =
           Alcotest.test_case "the same choice on 1 and 2 domains" `Quick test_domains;
           Alcotest.test_case "PSNR" `Quick test_psnr;
           Alcotest.test_case "the search costs at most a fifth" `Quick test_search_cost;
+          Alcotest.test_case "a second round where the render affords it" `Quick
+            test_second_round;
           Alcotest.test_case "refusals" `Quick test_refusals;
           Alcotest.test_case "the record keeps the choice; verify renders it" `Quick
             test_verify;
