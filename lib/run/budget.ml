@@ -276,6 +276,10 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     incr probes;
     ((fb.Framebuffer.width, fb.height, Image.to_bytes sc.Scene.settings.gamma fb), r)
   in
+  (* The rays of the whole image, from [r] rays of its probes at [stride]. *)
+  let whole ~stride r =
+    Float.of_int r *. Float.of_int pixels /. Float.of_int (probe_pixels base stride)
+  in
   let start = Array.make (Array.length knobs) 0 in
   let goal = target limit in
   (* One round of the search on the probes of [stride]: the choice, its error and rays,
@@ -356,8 +360,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
   let ((_, _, r1, ref1, low) as first_choice) = round first in
   let n1 = Float.of_int (probe_pixels base first) in
   let spent = Float.of_int !rays in
-  (* The rays of the whole image, from those of the first round's probes. *)
-  let image r = Float.of_int r /. n1 *. Float.of_int pixels in
+  let image = whole ~stride:first in
   (* The second round may also end at the cheapest settings, after the reference's
      probes and the cheapest's: the search stays within [share] of the cheapest's image
      too. *)
@@ -376,8 +379,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
   in
   let scene = make idx in
   let per_ray = !probe_seconds /. Float.of_int (max 1 !rays) in
-  let probe_pixels = probe_pixels base stride in
-  let whole r = Float.of_int r *. Float.of_int pixels /. Float.of_int probe_pixels in
+  let whole = whole ~stride in
   {
     limit;
     values = values idx;
@@ -391,7 +393,7 @@ let choose ?cancel ?pool ~domains (o : Options.t) (src : Scenes.t) (base : Scene
     search_seconds = Unix.gettimeofday () -. t0;
     search_rays = !rays;
     probes = !probes;
-    probe_pixels;
+    probe_pixels = probe_pixels base stride;
   }
 
 let limit_value = function Compare.Flip e | Rmse e | Psnr e | Ssim e -> e
