@@ -70,6 +70,25 @@ let rec find parent i =
     parent.(i) <- parent.(p);
     find parent parent.(i))
 
+(* [keys.(0) .. keys.(n − 1)] in increasing order (distinct integers, so any sort gives
+   the same order): by insertion where they are few, as around almost every vertex of a
+   mesh (12 keys around a vertex of six faces), else by [Array.sort]. *)
+let sort_prefix keys n =
+  if n <= 32 then
+    for i = 1 to n - 1 do
+      let x = Array.unsafe_get keys i in
+      let j = ref (i - 1) in
+      while !j >= 0 && Array.unsafe_get keys !j > x do
+        Array.unsafe_set keys (!j + 1) (Array.unsafe_get keys !j);
+        decr j
+      done;
+      Array.unsafe_set keys (!j + 1) x
+    done
+  else
+    let a = Array.sub keys 0 n in
+    Array.sort Int.compare a;
+    Array.blit a 0 keys 0 n
+
 let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
   let count = Bigarray.Array1.dim tv / 3 in
   let has = Bigarray.Array1.dim tn > 0 in
@@ -103,14 +122,14 @@ let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
     done;
     let parent = Array.make !most 0
     and index = Array.make !most (-1)
-    and sums = Float.Array.make (3 * !most) 0. in
+    and sums = Float.Array.make (3 * !most) 0.
+    and keys = Array.make (2 * !most) 0 in
     for v = 0 to nv - 1 do
       let first = start.(v) and d = start.(v + 1) - start.(v) in
       let face i = iget around (first + i) / 3 in
       (* The faces around v that share an edge from v (the same other vertex) and meet
          within the crease are one smooth group: each corner's edges as keys
          (other vertex, corner), sorted, so that the faces of an edge are neighbours. *)
-      let keys = Array.make (2 * d) 0 in
       for i = 0 to d - 1 do
         let c = iget around (first + i) in
         let k = c / 3 and j = c mod 3 in
@@ -120,7 +139,7 @@ let complete ?(crease = Description.crease) ~pos ~nrm ~tv ~tn () =
         parent.(i) <- i;
         index.(i) <- -1
       done;
-      Array.sort Int.compare keys;
+      sort_prefix keys (2 * d);
       let mask = (1 lsl 31) - 1 in
       for e = 1 to (2 * d) - 1 do
         let a = keys.(e - 1) and b = keys.(e) in
