@@ -97,6 +97,7 @@ let to_bytes gamma fb =
 type format = Png | Ppm | Exr | Hdr | Pfm
 
 let linear = function Exr | Hdr | Pfm -> true | Png | Ppm -> false
+let keeps_record = function Png | Exr -> true | Ppm | Hdr | Pfm -> false
 
 let format_name = function
   | Png -> "png"

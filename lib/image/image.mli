@@ -39,6 +39,10 @@ val linear : format -> bool
 (** Whether the format holds the framebuffer's linear values themselves (EXR, HDR, PFM)
     rather than samples encoded by the curve (PNG, PPM). *)
 
+val keeps_record : format -> bool
+(** Whether an image of the format holds lancer's record of where it came from (PNG, in a
+    text chunk, and EXR, in a header attribute); PPM, HDR and PFM hold none. *)
+
 val format_name : format -> string
 (** ["png"], ["exr"], …, as the extension and [--format] write it. *)
 

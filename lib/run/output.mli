@@ -21,6 +21,11 @@ val default_encoding : encoding
 val is_stdout : string -> bool
 (** Whether an output path is [-], standard output. *)
 
+val format_of : ?format:Image.format -> string -> Image.format
+(** The format of an output: [format] (default PNG) for [-], else its extension's; raises
+    {!Lancer_job.Job_error.User} for an unknown extension or one that [format]
+    contradicts. *)
+
 val check_output : ?format:Image.format -> string -> unit
 (** Refuse, before any rendering, an output with an unknown extension (or one that
     [format] contradicts), in a missing directory, that is a directory or read-only, and

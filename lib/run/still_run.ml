@@ -112,10 +112,12 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
   check_outputs ?format:enc.format o ~out;
   let aov_paths = aov_files aov ~out in
   let domains = Options.domains o in
-  (* Only a checkpoint's key needs the digests of the files the scene reads. *)
   (* The image's record and a checkpoint's key hold the digests of the files the scene
-     read: of the bytes it read. *)
-  let b = build ~digests:true o in
+     read: of the bytes it read. An image without a record (PPM, HDR, PFM) rendered
+     without --resume needs neither: the files are not digested (a 41 MB mesh's MD5 is
+     about a twentieth of its load). *)
+  let keeps_record = Image.keeps_record (Output.format_of ?format:enc.format out) in
+  let b = build ~digests:(keeps_record || resume) o in
   (* With --max-error, the scene at the settings it chooses, said before the render. *)
   let choice =
     Option.map
@@ -168,11 +170,14 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
   let wall = Unix.gettimeofday () -. t0 in
   Progress.finish progress;
   (* With --max-error, the record keeps the settings it chose beside the options. *)
-  let record = record ?max_error:(Option.map Budget.record choice) o b enc ~out in
+  let record =
+    if keeps_record then Some (record ?max_error:(Option.map Budget.record choice) o b enc ~out)
+    else None
+  in
   let extra =
     match choice with Some c -> [ ("max_error", Budget.json c) ] | None -> []
   in
-  finish ?cancel ~encoding:enc ?alpha ~record ~extra o ~out ~checkpoint ~build:b.seconds
+  finish ?cancel ~encoding:enc ?alpha ?record ~extra o ~out ~checkpoint ~build:b.seconds
     ~wall ~domains ~ranks:1
     ~workers:(Printf.sprintf "%d domains" domains)
     sc fb st;
