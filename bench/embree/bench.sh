@@ -4,7 +4,8 @@
 #
 #   * against Embree (an own harness, bench/embree/lancer_embree.c, one thread; lancer on one
 #     domain): the 100 000-sphere field at W×H, a torus of 2·NU·NV triangles read from an OBJ
-#     (time and peak memory), GRID² spheres made by a loop of the scene language (time,
+#     and shaded flat as the harness shades it (time and peak memory; then lancer's default,
+#     normals computed, against flat), GRID² spheres made by a loop of the scene language (time,
 #     and lancer's whole render and peak memory on their own) and the same spheres each
 #     with a colour computed in the loop (time and peak memory, Embree storing a colour
 #     per sphere). The pixels are compared with
@@ -96,8 +97,10 @@ cat >"$tmp/torus.rts" <<RTS
 settings { width: 64, height: 48 }
 camera { position: (0, 3, -4), look_at: (0, 0, 0), fov: 50 }
 light { position: (-3, 5, -4) }
-mesh { file: "torus.obj" }
+mesh { file: "torus.obj", smooth: false }
 RTS
+# The same mesh as lancer shades it by default: vertex normals computed from the faces.
+sed 's|, smooth: false }| }|' "$tmp/torus.rts" >"$tmp/torus_smooth.rts"
 cat >"$tmp/grid.rts" <<RTS
 let n = $GRID
 settings { width: 64, height: 48 }
@@ -118,10 +121,23 @@ printf '|---|---:|---:|---:|---|---|---|\n'
 pair scenes/bench/field_100000.rts "$W" "$H" field 316
 against "scenes/bench/field_100000.rts, ${W}×${H}" "$(med "$tmp/l" 1)" "$(med "$tmp/e" 1)" 1.25 "$(cat "$tmp/same")"
 
-obj="$((2 * NU * NV)) triangles from an OBJ ($(du -m "$tmp/torus.obj" | cut -f1) MB), first pixel at 64×48"
+# Flat-shaded, as the harness shades it (smooth: false): the same work, parse and build.
+obj="$((2 * NU * NV)) triangles from an OBJ ($(du -m "$tmp/torus.obj" | cut -f1) MB), flat, first pixel at 64×48"
 pair "$tmp/torus.rts" 64 48 mesh "$tmp/torus.obj"
-against "$obj" "$(med "$tmp/l" 1)" "$(med "$tmp/e" 1)" 1.25 "$(cat "$tmp/same")"
+ol=$(med "$tmp/l" 1)
+against "$obj" "$ol" "$(med "$tmp/e" 1)" 1.25 "$(cat "$tmp/same")"
 against "$obj: peak memory" "$(med "$tmp/l" 2)" "$(med "$tmp/e" 2)" 1.25 ""
+# What lancer's default adds to it: the vertex normals it computes for a mesh that has none
+# (no target; Embree's harness computes none). Alternated with the flat render.
+: >"$tmp/s"; : >"$tmp/f"
+for _ in $(seq "$REPEAT"); do
+  measure "$lancer" render "$tmp/torus_smooth.rts" -o "$tmp/l.ppm" --domains 1 -q >>"$tmp/s"
+  measure "$lancer" render "$tmp/torus.rts" -o "$tmp/l.ppm" --domains 1 -q >>"$tmp/f"
+done
+out "the same OBJ shaded smooth (lancer's default: vertex normals computed)" \
+  "$(secs "$(med "$tmp/s" 1)"), $(mib "$(med "$tmp/s" 2)")" \
+  "flat $(secs "$(med "$tmp/f" 1)"), $(mib "$(med "$tmp/f" 2)")" \
+  "$(ratio "$(med "$tmp/s" 1)" "$(med "$tmp/f" 1)")" "—" "—" "what computing the normals costs"
 
 grid="$((GRID * GRID)) spheres from a loop, first pixel at 64×48"
 pair "$tmp/grid.rts" 64 48 grid "$GRID"
