@@ -185,7 +185,7 @@ let bound_empty dst doff =
    b among empty bins has the cost of the split just after the occupied bin below it, and
    sends the same primitives to each side, so the full sweep keeps that one (the first of
    equal costs); its boxes are unions of the same boxes, which min and max compute exactly
-   in any order. *)
+   in any order. Along the node's widest centroid axis only, as [best_split]. *)
 let best_split_small w lo hi split =
   let n = hi - lo and cb = w.cbox in
   let sb = w.small_bin and sp = w.small_p and sa = w.small_area in
@@ -193,10 +193,12 @@ let best_split_small w lo hi split =
   let box = w.bin_b in
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
+  let e k = fget cb (3 + k) -. fget cb k in
+  let widest = if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2 in
   for axis = 0 to 2 do
     let cmin = fget cb axis in
     let ext = fget cb (3 + axis) -. cmin in
-    if ext > 0. then (
+    if axis = widest && ext > 0. then (
       let scale = Float.of_int bins /. ext in
       (* Insertion sort by bin. *)
       for i = 0 to n - 1 do
