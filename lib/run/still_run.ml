@@ -171,7 +171,8 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
   Progress.finish progress;
   (* With --max-error, the record keeps the settings it chose beside the options. *)
   let record =
-    if keeps_record then Some (record ?max_error:(Option.map Budget.record choice) o b enc ~out)
+    if keeps_record then
+      Some (record ?max_error:(Option.map Budget.record choice) o b enc ~out)
     else None
   in
   let extra =
