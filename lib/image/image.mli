@@ -125,8 +125,9 @@ val block_digests : size:int -> Raster.t -> string
 val bits_problem : format -> int option -> string option
 (** Why [bits] does not fit the format ({!file_of}); [None] when it does. *)
 
-type written = { size : int; md5 : string }
-(** What was written to a file: its size in bytes and the MD5 (hex) of those bytes. *)
+type written = { size : int; md5 : string Lazy.t }
+(** What was written to a file: its size in bytes and the MD5 (hex) of those bytes,
+    computed from them when it is first forced. *)
 
 val save_written :
   ?gamma:gamma ->
@@ -137,12 +138,12 @@ val save_written :
   string ->
   Framebuffer.t ->
   (written, string) result
-(** {!save}, and the size and MD5 of the bytes it wrote, digested before the file was
-    renamed into place: what the file held when this write ended, even if another process
-    replaces it right after. A linear format ({!linear}) takes the framebuffer's values as
-    they are, before the encoding curve and without clamping: EXR as half floats, or
-    32-bit floats with [~bits:32], with [alpha] as its A channel; HDR and PFM without
-    alpha. [gamma] is then unused. *)
+(** {!save}, and the size and MD5 of the bytes it wrote, digested from those bytes (not
+    read back from the file): what the file held when this write ended, even if another
+    process replaces it right after. A linear format ({!linear}) takes the framebuffer's
+    values as they are, before the encoding curve and without clamping: EXR as half
+    floats, or 32-bit floats with [~bits:32], with [alpha] as its A channel; HDR and PFM
+    without alpha. [gamma] is then unused. *)
 
 val read_bytes : string -> (string, string) result
 (** [read_bytes path] is the whole content of the image file at [path], read once, after

@@ -318,7 +318,7 @@ let journal_fd t =
           Job_error.user "cannot record frames in %s: %s" t.journal (unix_msg e))
 
 let record t k ~(written : Image.written) ~inputs =
-  let size = written.size and md5 = written.md5 in
+  let size = written.size and md5 = Lazy.force written.md5 in
   let e = { frame = k; job = t.job; made_with = t.made_with; size; md5; inputs } in
   let line = Yojson.Safe.to_string (entry_json ~ext:t.ext e) ^ "\n" in
   Mutex.protect t.lock (fun () ->

@@ -59,9 +59,9 @@ val why_not_done : t -> int -> input_digest:(string -> string) -> string option
 
 val record : t -> int -> written:Image.written -> inputs:(string * string) list -> unit
 (** Record frame k, just written, in this run's journal, with the size and MD5 of the
-    bytes this run wrote ([written], digested before the rename): a run that replaced the
-    file since is not taken for this one. Safe to call from several domains. Raises
-    {!Lancer_job.Job_error.User} if the journal cannot be written. *)
+    bytes this run wrote ([written], digested from those bytes, not read back): a run that
+    replaced the file since is not taken for this one. Safe to call from several domains.
+    Raises {!Lancer_job.Job_error.User} if the journal cannot be written. *)
 
 val drop_view : t -> unit
 (** Remove the merged view: frames are about to change. *)

@@ -378,7 +378,7 @@ let still_time () =
 
 (* What a run that wrote [text] records of it. *)
 let written text : Image.written =
-  { size = String.length text; md5 = Digest.to_hex (Digest.string text) }
+  { size = String.length text; md5 = lazy (Digest.to_hex (Digest.string text)) }
 
 let frames_record () =
   let dir = tmpdir () in
