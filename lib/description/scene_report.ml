@@ -85,8 +85,14 @@ let colour_warnings ?(source = fun _ -> None) (d : D.t) =
           Hashtbl.add seen key (o.loc, 1);
           order := (key, c) :: !order
   in
+  (* The colours of [D.object_material o], read where they are: the object's own colour
+     beside its material stands for the material's when it has no texture, so that no
+     material is copied for each object of a loop that colours them. *)
   let rec visit (o : D.obj) =
-    Option.iter (fun m -> List.iter (note o) (surface_colours m)) (D.object_material o);
+    (match o.material with
+    | None -> ()
+    | Some { texture = None; _ } -> note o o.color
+    | Some m -> List.iter (note o) (surface_colours m));
     match o.shape with Csg { members; _ } -> List.iter visit members | _ -> ()
   in
   List.iter visit d.objects;
