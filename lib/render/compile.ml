@@ -482,6 +482,13 @@ let entry st i =
    30 MB, for a tenth more processor time. *)
 let handed_over_overhead = 40
 
+(* The same from [compact_objects] objects on, where the heap at its peak holds the
+   description, its primitives and what the collector has not reclaimed yet: over a
+   million spheres each with a colour of its own, 30 peaks at 293 MiB where 40 peaks at
+   307 MiB, in the same time (1.44 s against 1.40 s, medians of five runs), while
+   100 000 spheres at 40 run 3 % fewer instructions than at 30. *)
+let large_overhead = 30
+
 (* From this many objects handed over, the heap is compacted once they are all compiled,
    before the acceleration structure is built: the space the dead description leaves in
    the heap is not given back to the system otherwise, and the structure's arrays would
@@ -542,7 +549,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
   in
   let overhead = (Gc.get ()).space_overhead in
   let pace o = if handed_over then Gc.set { (Gc.get ()) with space_overhead = o } in
-  pace (min overhead handed_over_overhead);
+  pace (min overhead (if compacting then large_overhead else handed_over_overhead));
   (* Primitives [first] to [first + n − 1] of the static part, after what came
      before. *)
   let add_run first n =
