@@ -55,71 +55,81 @@ let material site =
       if not (live b base) then (default, default_some)
       else
         match value b base with
-        | VMat m -> (m.mat, m.some)
+        | VMat m -> (full_material ~some:m.some ~color:m.color, m.some)
         | v ->
             bad b b.site.vlocs.(base) (Msg.field_type b.site.entries.(base).sch (ty v));
             (default, default_some)
     in
-    let m : D.material =
-      {
-        color = color_or b color_ d.color;
-        texture = d.texture;
-        ambient = number_or b ambient d.ambient;
-        diffuse = number_or b diffuse d.diffuse;
-        specular = number_or b specular d.specular;
-        shininess = number_or b shininess d.shininess;
-        reflection = number_or b reflection d.reflection;
-        transparency = number_or b transparency d.transparency;
-        ior = number_or b ior d.ior;
-        fresnel =
-          (if given b fresnel then boolean b fresnel ~default:d.fresnel else d.fresnel);
-        metallic = number_or b metallic d.metallic;
-        filter = number_or b filter d.filter;
-        bump = d.bump;
-      }
-    in
-    (* A texture-like value read as [f] reads it (a texture, a bump map); [other] reads
-       any other value, or refuses it. *)
-    let read i f other =
-      if not (live b i) then None
-      else
-        match value b i with
-        | VTex t -> (
-            match f ~use:b.out.use t with
-            | Ok x -> Some x
-            | Error msg ->
-                bad b (Textures.at t b.site.vlocs.(i)) msg;
-                None)
-        | v -> (
-            match other v with
-            | Some x -> Some x
-            | None ->
-                bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
-                None)
-    in
-    let solid = function VVec v -> Some (D.Solid (Color.of_vec3 v)) | _ -> None in
-    let m =
-      match read texture Textures.texture solid with
-      | Some tex -> { m with texture = Some tex }
-      | None -> m
-    in
-    let m =
-      match read bump Textures.bump (fun _ -> None) with
-      | Some bm -> { m with bump = Some bm }
-      | None -> m
-    in
     if
-      (given b reflection || given b transparency)
-      && m.reflection +. m.transparency > 1.
-      && not b.failed
+      not
+        (given b ambient || given b diffuse || given b specular || given b shininess
+       || given b reflection || given b transparency || given b ior || given b fresnel
+       || given b metallic || given b filter || given b texture || given b bump)
     then
-      bad b
-        b.site.vlocs.(if given b transparency then transparency else reflection)
-        (Msg.reflection_transparency m.reflection m.transparency);
-    (* What the description requires of a material ({!D.validate_material}) holds: each
+      (* Its colour alone written (a material made in a loop, a colour each): the base's
+         option and that colour, no record made; an object of it holds them both. *)
+      Value.colored d_some (color_or b color_ d.color)
+    else
+      let m : D.material =
+        {
+          color = color_or b color_ d.color;
+          texture = d.texture;
+          ambient = number_or b ambient d.ambient;
+          diffuse = number_or b diffuse d.diffuse;
+          specular = number_or b specular d.specular;
+          shininess = number_or b shininess d.shininess;
+          reflection = number_or b reflection d.reflection;
+          transparency = number_or b transparency d.transparency;
+          ior = number_or b ior d.ior;
+          fresnel =
+            (if given b fresnel then boolean b fresnel ~default:d.fresnel else d.fresnel);
+          metallic = number_or b metallic d.metallic;
+          filter = number_or b filter d.filter;
+          bump = d.bump;
+        }
+      in
+      (* A texture-like value read as [f] reads it (a texture, a bump map); [other] reads
+       any other value, or refuses it. *)
+      let read i f other =
+        if not (live b i) then None
+        else
+          match value b i with
+          | VTex t -> (
+              match f ~use:b.out.use t with
+              | Ok x -> Some x
+              | Error msg ->
+                  bad b (Textures.at t b.site.vlocs.(i)) msg;
+                  None)
+          | v -> (
+              match other v with
+              | Some x -> Some x
+              | None ->
+                  bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
+                  None)
+      in
+      let solid = function VVec v -> Some (D.Solid (Color.of_vec3 v)) | _ -> None in
+      let m =
+        match read texture Textures.texture solid with
+        | Some tex -> { m with texture = Some tex }
+        | None -> m
+      in
+      let m =
+        match read bump Textures.bump (fun _ -> None) with
+        | Some bm -> { m with bump = Some bm }
+        | None -> m
+      in
+      if
+        (given b reflection || given b transparency)
+        && m.reflection +. m.transparency > 1.
+        && not b.failed
+      then
+        bad b
+          b.site.vlocs.(if given b transparency then transparency else reflection)
+          (Msg.reflection_transparency m.reflection m.transparency);
+      (* What the description requires of a material ({!D.validate_material}) holds: each
        number is in its field's range, or the base's or the schema's (the tests check
        that these ranges are within the description's), and the sum is checked above. *)
-    Value.material ~some:(if same_but_color m d then d_some else Some m) m
+      Value.material ~some:(if same_but_color m d then d_some else Some m) m
 
 (* ------------------------------------------------------------------------------------ *)
 (* Settings, camera, lights, animation, physics *)
@@ -504,7 +514,7 @@ let object_material b =
   | i when i < 0 || not (live b i) -> no_material
   | i -> (
       match value b i with
-      | VMat m -> (m.some, m.mat.color)
+      | VMat m -> (m.some, m.color)
       | v ->
           bad b b.site.vlocs.(i) (Msg.field_type b.site.entries.(i).sch (ty v));
           no_material)

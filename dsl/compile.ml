@@ -161,7 +161,7 @@ let group s fr sc =
 
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
 (* A material's block builds no object: its scope's sink stays empty. *)
-let no_objects () = { sink = ref []; in_group = false; in_csg = false }
+let no_objects = { sink = ref []; in_group = false; in_csg = false }
 
 (* What reading a block of constants when it is compiled may not do: find a mistake, or
    name a file (the run reports it, and the file is read as it runs). *)
@@ -350,7 +350,7 @@ and material cs blk : Cexpr.code =
   | Some v -> fun _ -> v
   | None ->
       fun fr ->
-        let b = evaluate s fr (no_objects ()) in
+        let b = evaluate s fr no_objects in
         let m = mat b in
         if Fields.finish b then m else raise Poisoned
 
@@ -421,7 +421,7 @@ and block cs (blk : block) : scode =
                         transform;
                         steps;
                         material = m.some;
-                        color = m.mat.color;
+                        color = m.color;
                         loc;
                         body = None;
                       }

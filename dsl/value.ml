@@ -5,7 +5,7 @@ type t =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of { mat : D.material; some : D.material option }
+  | VMat of { some : D.material option; color : Color.t }
   | VTex of tex
   | VPair of t * t
   | VList of t array
@@ -122,5 +122,13 @@ let vtrue = VBool true
 let vfalse = VBool false
 let[@inline] vbool b = if b then vtrue else vfalse
 
-let material ?some m =
-  VMat { mat = m; some = (match some with Some s -> s | None -> Some m) }
+let material ?some (m : D.material) =
+  VMat { some = (match some with Some s -> s | None -> Some m); color = m.color }
+
+let colored some color = VMat { some; color }
+
+let full_material ~some ~color : D.material =
+  match some with
+  | Some (m : D.material) when m.color == color -> m
+  | Some m -> { m with color }
+  | None -> { D.default_material with color }

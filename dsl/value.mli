@@ -11,10 +11,11 @@ type t =
   | VBool of bool
   | VVec of Vec3.t
   | VStr of string
-  | VMat of { mat : Description.material; some : Description.material option }
-      (** a material, with the option an object holds it in: made once, shared by its
-          objects, and by every material that differs from it in its colour alone (an
-          object holds its colour beside it, {!Lancer_description.Description.obj}) *)
+  | VMat of { some : Description.material option; color : Color.t }
+      (** a material, as an object holds it ({!Lancer_description.Description.obj}): an
+          option made once, shared by its objects and by every material that differs from
+          it in its colour alone, and its own colour beside it ({!full_material} is the
+          whole record) *)
   | VTex of tex
   | VPair of t * t  (** [(t, c)], an entry of a colour map *)
   | VList of t array
@@ -134,3 +135,12 @@ val vbool : bool -> t
 val material : ?some:Description.material option -> Description.material -> t
 (** [material m] is [m] as a value; [some] (default [Some m]) the option its objects hold,
     whose fields are [m]'s but the colour. *)
+
+val colored : Description.material option -> Color.t -> t
+(** [colored some c] is the material whose fields are those of [some]'s (which is [Some]),
+    but its colour [c]: no record made for it. *)
+
+val full_material :
+  some:Description.material option -> color:Color.t -> Description.material
+(** The whole record of a {!VMat}: [some]'s, with [color] (itself where its colour is
+    already [color]). *)
