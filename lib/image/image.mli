@@ -127,7 +127,8 @@ val bits_problem : format -> int option -> string option
 
 type written = { size : int; md5 : string Lazy.t }
 (** What was written to a file: its size in bytes and the MD5 (hex) of those bytes,
-    computed from them when it is first forced. *)
+    computed from them when it is first forced: by one domain (a lazy value forced by two
+    at once raises). *)
 
 val save_written :
   ?gamma:gamma ->

@@ -7,13 +7,14 @@ let max_leaf = 8
 let bins = 16
 
 (* Nodes of at most [small] items are split by the sorted search of Small subtrees below,
-   larger ones by binning; both along the node's widest centroid axis only. Per item and
-   level the search costs about three times the binning: over a million spheres in a
-   grid, 16 rather than 32 builds with 1.5 % fewer instructions in the whole render, and
-   the 100 000-sphere field's render takes the same (within 0.2 %). Searching small
-   nodes along their widest axis rather than all three loads a million-triangle mesh in
-   about 10 % fewer instructions (a 90 000-triangle torus: 582 M against 646 M under
-   cachegrind) and renders it in 0.6 % more. *)
+   larger ones by binning; both along the node's widest centroid axis only. [small] was
+   chosen when the search looked along all three axes (at about three times the
+   binning's cost per item and level): over a million spheres in a grid, 16 rather than
+   32 built with 1.5 % fewer instructions in the whole render, and the 100 000-sphere
+   field's render took the same (within 0.2 %). Searching small nodes along their widest
+   axis rather than all three loads a million-triangle mesh in about 10 % fewer
+   instructions (a 90 000-triangle torus: 582 M against 646 M under cachegrind) and
+   renders it in 0.6 % more. *)
 let small = 16
 
 (* --- Construction ----------------------------------------------------------------- *)
@@ -552,8 +553,8 @@ let small_setup w lo n c coff =
       done
   done
 
-(* [best_split] for the small node at positions [a, b), with the same answer: along each
-   axis its primitives in centroid order are in bin order, and the cost is evaluated only
+(* [best_split] for the small node at positions [a, b), with the same answer, along its
+   widest centroid axis: along an axis its primitives in centroid order are in bin order, and the cost is evaluated only
    between two occupied bins. A split among empty bins has the cost of the split just
    after the occupied bin below it, and sends the same primitives to each side, so the
    full sweep keeps that one (the first of equal costs). The axis goes in [split], the
