@@ -232,6 +232,13 @@ let serve ?(start = fun _ -> None) ?(on_unit = fun _ _ _ -> ()) ?(inputs = fun _
          crashed = Atomic.make None;
        }
      in
+     (* While rank 0's worker lives, an interrupt only cancels the token, as it does
+        while a pool lives ({!Render.with_pool}): raised by the signal handler in either
+        domain, it could leave [l.lock] held (the worker interrupted in its wait) and the
+        serving loop blocked on it. The serving loop polls the token
+        ([collect_local]), the worker's renders too. *)
+     let deferred f = match cancel with Some t -> Cancel.deferring t f | None -> f () in
+     deferred @@ fun () ->
      let helper = Domain.spawn (local_worker ~render l) in
      let stop_local () =
        Mutex.lock l.lock;
