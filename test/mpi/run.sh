@@ -103,6 +103,10 @@ for d in 1 2 resume; do
   rm -f int.png int.png.checkpoint
   extra=()
   [ "$d" = resume ] && { d=1; extra=(--resume); }
+  # The ranks of the previous job may still be exiting after its mpirun returned: none of
+  # them is taken for this job's rank 0 (an interrupt sent to one would leave this job
+  # rendering to the end, past the timeout).
+  before=" $(pgrep -x lancer-mpi | tr '\n' ' ') "
   run -np 2 lancer-mpi render "$showcase" --width 1920 --height 1080 --samples 4 --domains "$d" -q -o int.png \
     "${extra[@]}" >/dev/null 2>int.log &
   job=$!
@@ -111,6 +115,7 @@ for d in 1 2 resume; do
   # previous one still exiting, may have a rank 0 too).
   for _ in $(seq 300); do
     for p in $(pgrep -x lancer-mpi); do
+      case "$before" in *" $p "*) continue ;; esac
       [ "$(readlink "/proc/$p/cwd" 2>/dev/null)" = "$here" ] || continue
       [ "$(cat "/proc/$p/stat" 2>/dev/null | awk '{print $3}')" = Z ] && continue
       tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=0' || continue
