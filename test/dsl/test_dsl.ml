@@ -248,7 +248,31 @@ let test_materials () =
     = Some (Description.Checker { c1 = Color.white; c2 = Color.black; size = 2. }));
   Alcotest.(check bool)
     "noise bump" true
-    (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }))
+    (p.bump = Some (Description.Noise_bump { scale = 1.; amount = 0.1 }));
+  (* A material that writes its colour alone, as a base: its colour goes on, with the
+     fields written over it. *)
+  let s =
+    scene
+      "let red = material { color: (1, 0, 0) }\n\
+       let shiny = material { base: red, specular: 0.5 }\n\
+       let blue = material { base: shiny, color: (0, 0, 1) }\n\
+       sphere { center: (0,0,0), radius: 1, material: red }\n\
+       sphere { center: (3,0,0), radius: 1, material: shiny }\n\
+       sphere { center: (6,0,0), radius: 1, material: blue }\n\
+       sphere { center: (9,0,0), radius: 1, material: material { base: blue } }"
+  in
+  let colour_spec k = (s.objects.(k).color, s.objects.(k).material.specular) in
+  List.iteri
+    (fun k (c, sp) ->
+      let c', sp' = colour_spec k in
+      Alcotest.(check bool) (Printf.sprintf "object %d's colour" k) true (c' = c);
+      feq (Printf.sprintf "object %d's specular" k) sp sp')
+    [
+      (Color.v 1. 0. 0., Material.default.specular);
+      (Color.v 1. 0. 0., 0.5);
+      (Color.v 0. 0. 1., 0.5);
+      (Color.v 0. 0. 1., 0.5);
+    ]
 
 (* Equal materials are one record in the scene, and a loop that colours each object makes
    no material per object: the objects share one, each holding its own colour. *)
