@@ -49,6 +49,15 @@ let material site =
   let texture = slot site "texture" and bump = slot site "bump" in
   let default = default_material site in
   let default_some = Some default in
+  (* Whether the block writes no field but its base and its colour, whatever fields the
+     schema gives: known from the block as written, once. *)
+  let colour_only =
+    let only = ref true in
+    Array.iteri
+      (fun i written -> if written && i <> base && i <> color_ then only := false)
+      site.given;
+    !only
+  in
   fun b ->
     (* A field left out keeps the base's value; without a base, the schema's default. *)
     let d, d_some =
@@ -60,12 +69,7 @@ let material site =
             bad b b.site.vlocs.(base) (Msg.field_type b.site.entries.(base).sch (ty v));
             (default, default_some)
     in
-    if
-      not
-        (given b ambient || given b diffuse || given b specular || given b shininess
-       || given b reflection || given b transparency || given b ior || given b fresnel
-       || given b metallic || given b filter || given b texture || given b bump)
-    then
+    if colour_only then
       (* Its colour alone written (a material made in a loop, a colour each): the base's
          option and that colour, no record made; an object of it holds them both. *)
       Value.colored d_some (color_or b color_ d.color)
@@ -88,8 +92,8 @@ let material site =
           bump = d.bump;
         }
       in
-      (* A texture-like value read as [f] reads it (a texture, a bump map); [other] reads
-       any other value, or refuses it. *)
+      (* A texture-like value read as [f] reads it (a texture, a bump map); [other]
+         reads any other value, or refuses it. *)
       let read i f other =
         if not (live b i) then None
         else
