@@ -213,18 +213,21 @@ let bound_empty dst doff =
 
 let slot_i = bins + 1
 
+(* The widest axis of the centroid bounds at [coff] in [c] (ties to x, then y), and
+   whether its extent is positive (else every centroid coincides): the one axis both
+   searches look along. *)
+let[@inline] widest c coff =
+  let ex = fget c (coff + 3) -. fget c coff
+  and ey = fget c (coff + 4) -. fget c (coff + 1)
+  and ez = fget c (coff + 5) -. fget c (coff + 2) in
+  if ex >= ey && ex >= ez then if ex > 0. then 0 else -1
+  else if ey >= ez then if ey > 0. then 1 else -1
+  else if ez > 0. then 2
+  else -1
+
 (* The axis [best_split] bins a node of [n] primitives along, whose centroid bounds are
    at [coff] in [c]: its widest, or −1 when the node is small or its centroids coincide. *)
-let bin_axis_of c coff n =
-  if n <= small then -1
-  else
-    let ex = fget c (coff + 3) -. fget c coff
-    and ey = fget c (coff + 4) -. fget c (coff + 1)
-    and ez = fget c (coff + 5) -. fget c (coff + 2) in
-    if ex >= ey && ex >= ez then if ex > 0. then 0 else -1
-    else if ey >= ez then if ey > 0. then 1 else -1
-    else if ez > 0. then 2
-    else -1
+let bin_axis_of c coff n = if n <= small then -1 else widest c coff
 
 (* Empty the bins of [slot], counts at [io] in [c], for binning along [axis]. *)
 let bins_clear (slot : bin array) c io axis =
@@ -554,8 +557,8 @@ let small_setup w lo n c coff =
   done
 
 (* [best_split] for the small node at positions [a, b), with the same answer, along its
-   widest centroid axis: along an axis its primitives in centroid order are in bin order, and the cost is evaluated only
-   between two occupied bins. A split among empty bins has the cost of the split just
+   widest centroid axis ({!widest}): along an axis its primitives in centroid order are
+   in bin order, and the cost is evaluated only between two occupied bins. A split among empty bins has the cost of the split just
    after the occupied bin below it, and sends the same primitives to each side, so the
    full sweep keeps that one (the first of equal costs). The axis goes in [split], the
    size of the left side in [split.(1)] (its first in that axis's order), the sides'
@@ -567,87 +570,75 @@ let small_split w a b split =
   let sa = w.s_area and rb = w.s_rbox and best = w.s_best in
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
-  (* The widest axis, as [bin_axis_of] picks it for a large node. *)
-  let wide =
-    let ex = fget cb 3 -. fget cb 0
-    and ey = fget cb 4 -. fget cb 1
-    and ez = fget cb 5 -. fget cb 2 in
-    if ex >= ey && ex >= ez then 0 else if ey >= ez then 1 else 2
-  in
-  for axis = 0 to 2 do
+  let axis = widest cb 0 in
+  if axis >= 0 then (
     let cmin = fget cb axis in
     let ext = fget cb (3 + axis) -. cmin in
-    if ext > 0. && axis = wide then (
-      let scale = Float.of_int bins /. ext in
-      let base = (small * axis) + a in
-      for j = 0 to n - 1 do
-        let c = fget sc ((3 * Array.unsafe_get ss (base + j)) + axis) in
-        Array.unsafe_set bin j (bin_of cmin scale c)
-      done;
-      (* sa.(j) and rb at j: the area and box of ranks j..n−1, where j starts a bin. *)
-      let x0 = ref Float.infinity
-      and y0 = ref Float.infinity
-      and z0 = ref Float.infinity in
-      let x1 = ref Float.neg_infinity
-      and y1 = ref Float.neg_infinity
-      and z1 = ref Float.neg_infinity in
-      for j = n - 1 downto 1 do
-        let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
-        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
-        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
-        if not (!x0 < v0) then x0 := v0;
-        if not (!y0 < v1) then y0 := v1;
-        if not (!z0 < v2) then z0 := v2;
-        if not (!x1 > v3) then x1 := v3;
-        if not (!y1 > v4) then y1 := v4;
-        if not (!z1 > v5) then z1 := v5;
-        if Array.unsafe_get bin j <> Array.unsafe_get bin (j - 1) then (
-          fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1);
-          let r = 6 * j in
-          fset rb r !x0;
-          fset rb (r + 1) !y0;
-          fset rb (r + 2) !z0;
-          fset rb (r + 3) !x1;
-          fset rb (r + 4) !y1;
-          fset rb (r + 5) !z1)
-      done;
-      let x0 = ref Float.infinity
-      and y0 = ref Float.infinity
-      and z0 = ref Float.infinity in
-      let x1 = ref Float.neg_infinity
-      and y1 = ref Float.neg_infinity
-      and z1 = ref Float.neg_infinity in
-      for j = 0 to n - 2 do
-        let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
-        let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
-        let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
-        if not (!x0 < v0) then x0 := v0;
-        if not (!y0 < v1) then y0 := v1;
-        if not (!z0 < v2) then z0 := v2;
-        if not (!x1 > v3) then x1 := v3;
-        if not (!y1 > v4) then y1 := v4;
-        if not (!z1 > v5) then z1 := v5;
-        if Array.unsafe_get bin j <> Array.unsafe_get bin (j + 1) then
-          let cost =
-            (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
-            +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
-          in
-          if cost < !best_cost then (
-            best_cost := cost;
-            split.(0) <- axis;
-            split.(1) <- j + 1;
-            fset best 0 !x0;
-            fset best 1 !y0;
-            fset best 2 !z0;
-            fset best 3 !x1;
-            fset best 4 !y1;
-            fset best 5 !z1;
-            let r = 6 * (j + 1) in
-            for k = 0 to 5 do
-              fset best (6 + k) (fget rb (r + k))
-            done)
-      done)
-  done;
+    let scale = Float.of_int bins /. ext in
+    let base = (small * axis) + a in
+    for j = 0 to n - 1 do
+      let c = fget sc ((3 * Array.unsafe_get ss (base + j)) + axis) in
+      Array.unsafe_set bin j (bin_of cmin scale c)
+    done;
+    (* sa.(j) and rb at j: the area and box of ranks j..n−1, where j starts a bin. *)
+    let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+    let x1 = ref Float.neg_infinity
+    and y1 = ref Float.neg_infinity
+    and z1 = ref Float.neg_infinity in
+    for j = n - 1 downto 1 do
+      let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
+      let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+      let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+      if not (!x0 < v0) then x0 := v0;
+      if not (!y0 < v1) then y0 := v1;
+      if not (!z0 < v2) then z0 := v2;
+      if not (!x1 > v3) then x1 := v3;
+      if not (!y1 > v4) then y1 := v4;
+      if not (!z1 > v5) then z1 := v5;
+      if Array.unsafe_get bin j <> Array.unsafe_get bin (j - 1) then (
+        fset sa j (area6 !x0 !y0 !z0 !x1 !y1 !z1);
+        let r = 6 * j in
+        fset rb r !x0;
+        fset rb (r + 1) !y0;
+        fset rb (r + 2) !z0;
+        fset rb (r + 3) !x1;
+        fset rb (r + 4) !y1;
+        fset rb (r + 5) !z1)
+    done;
+    let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
+    let x1 = ref Float.neg_infinity
+    and y1 = ref Float.neg_infinity
+    and z1 = ref Float.neg_infinity in
+    for j = 0 to n - 2 do
+      let q = q0 + (6 * Array.unsafe_get ss (base + j)) in
+      let v0 = fget pb q and v1 = fget pb (q + 1) and v2 = fget pb (q + 2) in
+      let v3 = fget pb (q + 3) and v4 = fget pb (q + 4) and v5 = fget pb (q + 5) in
+      if not (!x0 < v0) then x0 := v0;
+      if not (!y0 < v1) then y0 := v1;
+      if not (!z0 < v2) then z0 := v2;
+      if not (!x1 > v3) then x1 := v3;
+      if not (!y1 > v4) then y1 := v4;
+      if not (!z1 > v5) then z1 := v5;
+      if Array.unsafe_get bin j <> Array.unsafe_get bin (j + 1) then
+        let cost =
+          (area6 !x0 !y0 !z0 !x1 !y1 !z1 *. Float.of_int (j + 1))
+          +. (fget sa (j + 1) *. Float.of_int (n - j - 1))
+        in
+        if cost < !best_cost then (
+          best_cost := cost;
+          split.(0) <- axis;
+          split.(1) <- j + 1;
+          fset best 0 !x0;
+          fset best 1 !y0;
+          fset best 2 !z0;
+          fset best 3 !x1;
+          fset best 4 !y1;
+          fset best 5 !z1;
+          let r = 6 * (j + 1) in
+          for k = 0 to 5 do
+            fset best (6 + k) (fget rb (r + k))
+          done)
+    done);
   fset w.cost 0 !best_cost
 
 (* Split each axis's list of the node at [a, b) by [s_left], keeping its order: the left

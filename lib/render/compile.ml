@@ -496,8 +496,8 @@ let large_overhead = 30
    the heap is not given back to the system otherwise, and the structure's arrays would
    be allocated beside it. Over a million spheres that is 284 MB at the peak instead of
    367 MB. Compacting takes about 0.3 s there. Below, the space given back is not worth
-   the time. Without a structure to build (lancer check), nothing
-   is allocated after the objects. *)
+   the time. Without a structure to build (lancer check), nothing is allocated after the
+   objects. *)
 let compact_objects = 250_000
 
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
