@@ -37,17 +37,18 @@ live_ranks() { ps -o stat= --ppid "$1" 2>/dev/null | grep -vc '^Z'; }
 #   waits on is printed, and the job fails with status 124.
 #   Open MPI 5's launcher (prterun) is known to stay, now and then, after every rank of a
 #   job has ended (PRRTE issue 1839, "mpirun/prte hang after application completion").
-#   A job with no rank left for 10 s while mpirun stays is said to be such a job, ended,
-#   and run again while TRIES lasts (its status and the files it wrote are then the next
-#   run's); else it fails with status 124.
+#   A job whose ranks have all ended 10 s ago while mpirun stays (or that has no rank at
+#   the limit) is said to be such a job, ended, and run again while TRIES lasts (its
+#   status and the files it wrote are then the next run's); else it fails with status
+#   124.
 job() {
-  local tries=$1 pid t idle r th
+  local tries=$1 pid t idle seen r th
   shift
   while :; do
     "${mpirun[@]}" "$@" &
-    pid=$! t=0 idle=0
+    pid=$! t=0 idle=0 seen=0
     while kill -0 "$pid" 2>/dev/null && [ "$idle" -lt 100 ] && [ "$t" -lt 600 ]; do
-      if [ "$(live_ranks "$pid")" -gt 0 ]; then idle=0; else idle=$((idle + 1)); fi
+      if [ "$(live_ranks "$pid")" -gt 0 ]; then idle=0 seen=1; elif [ "$seen" = 1 ]; then idle=$((idle + 1)); fi
       sleep 0.1
       t=$((t + 1))
     done
