@@ -32,7 +32,7 @@ ok() { echo "ok: $*"; }
 # Messages about a job itself go to the test's output, whatever the caller redirects.
 exec 3>&1
 live_ranks() { ps -o stat= --ppid "$1" 2>/dev/null | grep -vc '^Z'; }
-# job TRIES MPIRUN-ARGS...: one job under mpirun, limited to 60 s.
+# supervised TRIES MPIRUN-ARGS...: one job under mpirun, limited to 60 s.
 #   A rank still running at the limit is a hang of lancer-mpi: what each of its threads
 #   waits on is printed, and the job fails with status 124.
 #   Open MPI 5's launcher (prterun) is known to stay, now and then, after every rank of a
@@ -41,7 +41,7 @@ live_ranks() { ps -o stat= --ppid "$1" 2>/dev/null | grep -vc '^Z'; }
 #   the limit) is said to be such a job, ended, and run again while TRIES lasts (its
 #   status and the files it wrote are then the next run's); else it fails with status
 #   124.
-job() {
+supervised() {
   local tries=$1 pid t idle seen r th
   shift
   while :; do
@@ -75,8 +75,8 @@ job() {
     return 124
   done
 }
-run() { job 2 "$@"; }
-once() { job 1 "$@"; }
+run() { supervised 2 "$@"; }
+once() { supervised 1 "$@"; }
 
 # The bindings.
 for n in 1 2 4; do
