@@ -110,7 +110,7 @@ let[@inline] blank c = c = ' ' || c = '\t' || c = '\r'
 let[@inline] ends_word c = blank c || c = '\n'
 
 (* Past the blanks from [i]. *)
-let skip_blanks text len i =
+let[@inline] skip_blanks text len i =
   let j = ref i in
   while !j < len && blank (String.unsafe_get text !j) do
     incr j
@@ -118,57 +118,70 @@ let skip_blanks text len i =
   !j
 
 (* The plain decimal at [i], ended by a blank, a newline or the end: its value in
-   [out.(k)] and the position after it, or −1. *)
+   [out.(k)] and the position after it, or −1. Its integer digits and its fraction's are
+   read by two loops that test one byte each, the digits' value kept in one integer. *)
+let[@inline] is_digit c = c >= '0' && c <= '9'
+
 let scan_decimal text len i out k =
-  let j = ref i in
-  let neg = !j < len && String.unsafe_get text !j = '-' in
-  if neg then incr j;
-  let m = ref 0 and nd = ref 0 and frac = ref (-1) and go = ref true in
-  while !go && !j < len do
-    let c = String.unsafe_get text !j in
-    if c >= '0' && c <= '9' then (
-      m := (10 * !m) + digit c;
-      incr nd;
-      if !frac >= 0 then incr frac;
-      incr j)
-    else if c = '.' && !frac < 0 && !nd > 0 then (
-      frac := 0;
-      incr j)
-    else go := false
+  let neg = i < len && String.unsafe_get text i = '-' in
+  let s = if neg then i + 1 else i in
+  let j = ref s and m = ref 0 in
+  while !j < len && is_digit (String.unsafe_get text !j) do
+    m := (10 * !m) + digit (String.unsafe_get text !j);
+    incr j
   done;
-  if !nd = 0 || !nd > 15 || (!j < len && not (ends_word (String.unsafe_get text !j))) then
-    -1
+  let whole = !j - s in
+  let fraction =
+    if whole > 0 && !j < len && String.unsafe_get text !j = '.' then (
+      incr j;
+      let f0 = !j in
+      while !j < len && is_digit (String.unsafe_get text !j) do
+        m := (10 * !m) + digit (String.unsafe_get text !j);
+        incr j
+      done;
+      !j - f0)
+    else 0
+  in
+  if
+    whole = 0
+    || whole + fraction > 15
+    || (!j < len && not (ends_word (String.unsafe_get text !j)))
+  then -1
   else
     let f = Float.of_int !m in
-    let f = if !frac > 0 then f /. Float.Array.unsafe_get pow10 !frac else f in
+    let f = if fraction > 0 then f /. Float.Array.unsafe_get pow10 fraction else f in
     Float.Array.unsafe_set out k (if neg then -.f else f);
     !j
+
+(* The position after the blanks from [e] when there is at least one (so not after a
+   slash), else −1; −1 from −1. *)
+let[@inline] gap text len e =
+  if e < 0 then -1
+  else
+    let s = skip_blanks text len e in
+    if s = e then -1 else s
 
 (* The positive index at [i] into [n] elements, ended by a slash, a blank, a newline or
    the end: as a 0-based index in [out.(0)] and the position after it, or −1. *)
 let scan_index text len n i out =
   let j = ref i and m = ref 0 in
-  while
-    !j < len
-    &&
-    let c = String.unsafe_get text !j in
-    c >= '0' && c <= '9'
-  do
+  while !j < len && is_digit (String.unsafe_get text !j) do
     m := (10 * !m) + digit (String.unsafe_get text !j);
     incr j
   done;
+  let e = !j and m = !m in
   if
-    !j = i
-    || !j - i > 18
-    || !m < 1 || !m > n
-    || !j < len
+    e = i
+    || e - i > 18
+    || m < 1 || m > n
+    || e < len
        &&
-       let c = String.unsafe_get text !j in
+       let c = String.unsafe_get text e in
        not (c = '/' || ends_word c)
   then -1
   else (
-    Array.unsafe_set out 0 (!m - 1);
-    !j)
+    Array.unsafe_set out 0 (m - 1);
+    e)
 
 (* The coordinate range of the whole renderer (doc/reference/numerics.md): beyond it squared lengths
    overflow, and a triangle's area or normal would be infinite or NaN. *)
@@ -332,8 +345,10 @@ let read_mesh ?(smooth = true) ~file text =
         set_corner c v t n;
         e)
   in
-  let fast_face i =
-    let j = ref (i + 1) and k = ref 0 and go = ref true in
+  (* The corners of a face line from [j], where [k] corners are read already: the
+     position after its newline, or −1. *)
+  let fast_corners j k =
+    let j = ref j and k = ref k and go = ref true in
     while !go do
       let j0 = skip_blanks text len !j in
       if j0 >= len || String.unsafe_get text j0 = '\n' then (
@@ -358,6 +373,43 @@ let read_mesh ?(smooth = true) ~file text =
         face 0 c (c + 1)
       done;
       !j + 1)
+  in
+  (* A triangle of vertices [a], [b], [c] alone, as [face] adds it. *)
+  let triangle a b c =
+    let area = area vs.fl a b c in
+    if area > 0. && Float.is_finite area then (
+      push_corners tv a b c;
+      push_absent tn;
+      push_absent tt)
+  in
+  (* The face line at [i]. "f a b c", plain vertex indices, is the most common: its
+     corners are read into integers and the triangle added at once; a line that goes on
+     past three plain corners goes on with them, and any other form is read from its
+     first corner again. *)
+  let fast_face i =
+    let first () = fast_corners (i + 1) 0 in
+    let s0 = gap text len (i + 1) in
+    let e0 = if s0 < 0 then -1 else scan_index text len vs.len s0 ix in
+    let a = Array.unsafe_get ix 0 in
+    let s1 = gap text len e0 in
+    let e1 = if s1 < 0 then -1 else scan_index text len vs.len s1 ix in
+    let b = Array.unsafe_get ix 0 in
+    let s2 = gap text len e1 in
+    let e2 = if s2 < 0 then -1 else scan_index text len vs.len s2 ix in
+    let c = Array.unsafe_get ix 0 in
+    if e2 < 0 then first ()
+    else
+      let e = skip_blanks text len e2 in
+      if e >= len || String.unsafe_get text e = '\n' then (
+        incr faces;
+        triangle a b c;
+        e + 1)
+      else if e = e2 then first ()
+      else (
+        set_corner 0 a (-1) (-1);
+        set_corner 1 b (-1) (-1);
+        set_corner 2 c (-1) (-1);
+        fast_corners e2 3)
   in
   (* The line starting at [i] read in one pass (see Lines read in one pass): the
      position after its newline (after the end for the last line), or −1 to read it word

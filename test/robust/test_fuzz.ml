@@ -132,6 +132,35 @@ let obj_cases =
         match Obj_file.parse ~file:"m.obj" (tri ^ "f 3 " ^ corners ^ "\n") with
         | Ok ts -> Alcotest.(check bool) "some triangles" true (ts <> [])
         | Error m -> Alcotest.fail m);
+    Alcotest.test_case "face lines read in one pass as word by word" `Quick (fun () ->
+        (* Plain triangles, the lines that go on past three plain corners, and those
+           that leave the plain form after one, two or three corners. *)
+        let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n" in
+        List.iter
+          (fun faces ->
+            match G.check_obj_lines (square ^ faces) with
+            | Ok () -> ()
+            | Error m -> Alcotest.failf "%S: %s" faces m)
+          [
+            "f 1 2 3\n";
+            "f 1 2 3";
+            "f 1 2 3 4\n";
+            "f 1 2 3 4 1 2\nf 2 3 4\n";
+            "f 1 2 3/1\n";
+            "f 1 2 3//1 4\n";
+            "f 1 2/1 3\n";
+            "f 1/1 2 3\n";
+            "f 1 2 3 # a note\n";
+            "f\t1  2\t3 \r\n";
+            "f 1 2 5\n";
+            "f 1 2 0\n";
+            "f 1 2 3x\n";
+            "f 1 2 -1\n";
+            "f 1 2\n";
+            "f1 2 3\n";
+            "f 1 2 3 4x\n";
+            "f 1 1 1\nf 1 2 3\n";
+          ]);
     Alcotest.test_case "NUL bytes, a UTF-16 file and CRLF line ends" `Quick (fun () ->
         obj_error (tri ^ "f 1 2\0003\n") "not a text file";
         obj_error "\255\254v\000 \0001\000" "m.obj:1:";
