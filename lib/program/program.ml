@@ -101,39 +101,19 @@ type bundle = Dsl.bundle
 
 let bundle p = Dsl.bundle p.dsl
 
-(* The collector's space overhead while a program is loaded (its statements evaluated,
-   the description built). Nearly all that the load keeps is the description, which
-   grows to its full size, and OCaml 5's collector completes a major cycle, marking
-   every live word again, each time the heap grows by about a third of itself at the
-   default (120): a million spheres with a colour each went through 15 cycles in their
-   load. At 1000 (or more) it is each time the heap grows by about two thirds: 8 cycles,
-   and 6 % fewer instructions in the whole render of those spheres at 64×48, as in
-   field_100000's at 64×36, at the same peak (the description is what the heap holds).
-   The setting is put back after the load; the compile paces the collector its own way. *)
-let load_overhead = 1000
-
-let loading f =
-  let before = (Gc.get ()).space_overhead in
-  if before >= load_overhead then f ()
-  else (
-    Gc.set { (Gc.get ()) with space_overhead = load_overhead };
-    Fun.protect ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before }) f)
-
 let load_file ?(single = false) ?(digests = true) ?after_read path =
   let a = Compile.assets ~digests ?after_read () in
-  Result.map (of_dsl ~single a)
-    (loading (fun () -> Dsl.load_file ~files:(Compile.check_files a) path))
+  Result.map (of_dsl ~single a) (Dsl.load_file ~files:(Compile.check_files a) path)
 
 let load_string ?(single = false) ?progress ?(digests = true) ?after_read ?filename text =
   let a = Compile.assets ~digests ?after_read () in
   Result.map (of_dsl ~single a)
-    (loading (fun () ->
-         Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text))
+    (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
 
 let load_bundle ?(single = false) ?progress ?(digests = true) b =
   let a = Compile.assets ~digests () in
   Result.map (of_dsl ~single a)
-    (loading (fun () -> Dsl.load_bundle ?progress ~files:(Compile.check_files a) b))
+    (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
 
 (* What a record says of an input: the digest of the bytes this run decoded, or, for a
    file it has not decoded (yet), of the file on disk, once. *)
