@@ -281,11 +281,18 @@ let read_mesh ?(smooth = true) ~file text =
     in
     set_corner j v t n
   in
+  (* The triangle of vertices [a], [b], [c] added to the mesh's, whether it was: one of
+     zero area (or of an area beyond the floats) is left out. *)
+  let added a b c =
+    let area = area vs.fl a b c in
+    area > 0. && Float.is_finite area
+    &&
+    (push_corners tv a b c;
+     true)
+  in
   let face i j k =
     let cv = !cv and ct = !ct and cn = !cn in
-    let area = area vs.fl cv.(i) cv.(j) cv.(k) in
-    if area > 0. && Float.is_finite area then (
-      push_corners tv cv.(i) cv.(j) cv.(k);
+    if added cv.(i) cv.(j) cv.(k) then (
       if smooth && cn.(i) >= 0 && cn.(j) >= 0 && cn.(k) >= 0 then (
         with_normals := true;
         push_present tn cn.(i) cn.(j) cn.(k))
@@ -374,11 +381,9 @@ let read_mesh ?(smooth = true) ~file text =
       done;
       !j + 1)
   in
-  (* A triangle of vertices [a], [b], [c] alone, as [face] adds it. *)
+  (* A triangle of vertices [a], [b], [c] alone, without normals or (u, v). *)
   let triangle a b c =
-    let area = area vs.fl a b c in
-    if area > 0. && Float.is_finite area then (
-      push_corners tv a b c;
+    if added a b c then (
       push_absent tn;
       push_absent tt)
   in
@@ -387,7 +392,6 @@ let read_mesh ?(smooth = true) ~file text =
      past three plain corners goes on with them, and any other form is read from its
      first corner again. *)
   let fast_face i =
-    let first () = fast_corners (i + 1) 0 in
     let s0 = gap text len (i + 1) in
     let e0 = if s0 < 0 then -1 else scan_index text len vs.len s0 ix in
     let a = Array.unsafe_get ix 0 in
@@ -397,14 +401,14 @@ let read_mesh ?(smooth = true) ~file text =
     let s2 = gap text len e1 in
     let e2 = if s2 < 0 then -1 else scan_index text len vs.len s2 ix in
     let c = Array.unsafe_get ix 0 in
-    if e2 < 0 then first ()
+    if e2 < 0 then fast_corners (i + 1) 0
     else
       let e = skip_blanks text len e2 in
       if e >= len || String.unsafe_get text e = '\n' then (
         incr faces;
         triangle a b c;
         e + 1)
-      else if e = e2 then first ()
+      else if e = e2 then fast_corners (i + 1) 0
       else (
         set_corner 0 a (-1) (-1);
         set_corner 1 b (-1) (-1);
