@@ -122,7 +122,10 @@ let stats = function
       Arg.(
         value
         & opt (some string) None
-        & info [ "stats" ] ~docv:"FILE" ~doc:"Write render statistics as JSON to FILE.")
+        & info [ "stats" ] ~docv:"FILE"
+            ~doc:
+              "Write render statistics as JSON to FILE; $(b,-) writes them to standard \
+               output (and the summary line to standard error).")
   | Animate | Golden | Bench_domains | Bench_quality -> none
 
 let quiet = function

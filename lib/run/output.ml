@@ -91,19 +91,24 @@ let refuse_frames_records paths =
           what p)
     paths
 
+(* The statistics' file, if they go to one ([--stats -]: to standard output). *)
+let stats_file (o : Options.t) =
+  match o.stats with Some p when not (is_stdout p) -> Some p | _ -> None
+
 let guard_render (o : Options.t) src ~out =
   if is_stdout out && o.stats = Some "-" then
     user "--stats - and -o - would both write to standard output: give --stats a file";
+  let stats = stats_file o in
   refuse_frames_records
     ((if is_stdout out then [] else [ (out, "-o") ])
-    @ match o.stats with Some p -> [ (p, "--stats") ] | None -> []);
+    @ match stats with Some p -> [ (p, "--stats") ] | None -> []);
   Files.guard_writes ~reads:(Scenes.reads src)
     ((if is_stdout out then [] else [ (out, "the image") ])
-    @ match o.stats with Some p -> [ (p, "the statistics") ] | None -> [])
+    @ match stats with Some p -> [ (p, "the statistics") ] | None -> [])
 
 (* Standard output carries the image's bytes and nothing else; a reader that goes away
    (a closed pipe) is an error to report, not a signal that kills. *)
-let write_stdout bytes =
+let write_stdout ?(what = "the image") bytes =
   Sys.set_signal Sys.sigpipe Sys.Signal_ignore;
   set_binary_mode_out stdout true;
   match
@@ -111,7 +116,10 @@ let write_stdout bytes =
     flush stdout
   with
   | () -> ()
-  | exception Sys_error m -> user "cannot write the image to standard output: %s" m
+  | exception Sys_error m -> user "cannot write %s to standard output: %s" what m
+
+let write_stats_stdout j =
+  write_stdout ~what:"the statistics" (Yojson.Safe.pretty_to_string j ^ "\n")
 
 let write_image ?cancel ?(encoding = default_encoding) ?alpha ?record path (sc : Scene.t)
     fb =

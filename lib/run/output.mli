@@ -31,6 +31,13 @@ val check_output : ?format:Image.format -> string -> unit
     [format] contradicts), in a missing directory, that is a directory or read-only, and
     [-] when standard output is a terminal; raises {!Lancer_job.Job_error.User}. *)
 
+val stats_file : Options.t -> string option
+(** The file the statistics go to: [--stats]'s, unless it is [-] (standard output). *)
+
+val write_stats_stdout : Yojson.Safe.t -> unit
+(** The statistics on standard output, as their file holds them; a reader that went away
+    is an error with a message. *)
+
 val check_stats_name : string option -> unit
 (** Refuse a [--stats] file named like a scene, image, mesh or video ([.rts], [.png], …):
     the sign that the option took the scene as its value. *)

@@ -12,8 +12,9 @@ type built = {
 
 let check_outputs ?format (o : Options.t) ~out =
   Output.check_output ?format out;
-  Output.check_stats_name o.stats;
-  Option.iter Files.check_writable o.stats
+  let stats = Output.stats_file o in
+  Output.check_stats_name stats;
+  Option.iter Files.check_writable stats
 
 (* What rendering an image allocates beside the scene, at most, per pixel: the
    framebuffer's three floats, as many for its encoding, an alpha channel, the samples'
@@ -79,7 +80,8 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
         | `Assoc l -> `Assoc (l @ extra)
         | j -> j
       in
-      Files.write_json ?cancel p j)
+      if Output.is_stdout p then Output.write_stats_stdout j
+      else Files.write_json ?cancel p j)
     o.stats;
   if not o.quiet then
     let size =
@@ -93,8 +95,9 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
         ~out:(if stdout then "the image to standard output" else out)
         sc ~build ~render:wall ~workers st
     in
-    (* With -o -, standard output is the image's alone. *)
-    if stdout then prerr_endline line else print_endline line
+    (* With -o -, standard output is the image's alone; with --stats -, the
+       statistics'. *)
+    if stdout || o.stats = Some "-" then prerr_endline line else print_endline line
 
 (* The images of [--aov] beside [out]: checked before any work, made after the image. *)
 let aov_files kinds ~out =

@@ -770,6 +770,29 @@ let stdout_tests =
           e true
           (contains e "cannot write the image to standard output: Broken pipe"));
     Alcotest.test_case
+      "--stats - writes the statistics to stdout, the summary to stderr, and no file \
+       named -"
+      `Quick (fun () ->
+        let d = tmpdir () in
+        write_file (d // "s.rts") scene;
+        let ((_, out, e) as r) =
+          lancer ~dir:d [ "render"; "s.rts"; "-o"; "f.ppm"; "--stats"; "-" ]
+        in
+        check_status "--stats -" 0 r;
+        (match Yojson.Safe.from_string out with
+        | `Assoc fields ->
+            Alcotest.(check bool)
+              "the statistics' fields" true
+              (List.mem_assoc "wall_seconds" fields && List.mem_assoc "rays" fields)
+        | _ -> Alcotest.failf "not a JSON object: %s" out
+        | exception Yojson.Json_error m ->
+            Alcotest.failf "stdout is not the statistics alone (%s): %s" m out);
+        Alcotest.(check bool)
+          ("the summary went to stderr: " ^ e)
+          true
+          (contains e "wrote f.ppm (40×30");
+        Alcotest.(check (list string)) "no file named -" [ "f.ppm"; "s.rts" ] (listing d));
+    Alcotest.test_case
       "--format that contradicts the file's extension, and --stats - with -o -, are \
        refused"
       `Quick (fun () ->
