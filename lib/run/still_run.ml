@@ -47,6 +47,12 @@ let build ?digests (o : Options.t) =
   in
   { program; source; scene; files; time; frame; seconds }
 
+(* A line for the user: on standard output, unless the image ([-o -]) or the statistics
+   ([--stats -]) go there, then on standard error. *)
+let tell (o : Options.t) ~out line =
+  if Output.is_stdout out || o.stats = Some "-" then prerr_endline line
+  else print_endline line
+
 let checkpoint (o : Options.t) (b : built) ~out =
   let key =
     Checkpoint.key b.source (Options.overrides o) ~time:b.time ~frame:b.frame
@@ -54,8 +60,9 @@ let checkpoint (o : Options.t) (b : built) ~out =
   in
   let ck = Checkpoint.start ~out ~key b.scene in
   if Checkpoint.resumed ck > 0 && not o.quiet then
-    Printf.printf "resuming: %d of %d tiles already rendered\n%!" (Checkpoint.resumed ck)
-      (Checkpoint.tiles ck);
+    tell o ~out
+      (Printf.sprintf "resuming: %d of %d tiles already rendered" (Checkpoint.resumed ck)
+         (Checkpoint.tiles ck));
   ck
 
 let record ?max_error (o : Options.t) (b : built) (enc : Output.encoding) ~out =
@@ -95,9 +102,7 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
         ~out:(if stdout then "the image to standard output" else out)
         sc ~build ~render:wall ~workers st
     in
-    (* With -o -, standard output is the image's alone; with --stats -, the
-       statistics'. *)
-    if stdout || o.stats = Some "-" then prerr_endline line else print_endline line
+    tell o ~out line
 
 (* The images of [--aov] beside [out]: checked before any work, made after the image. *)
 let aov_files kinds ~out =
@@ -128,9 +133,7 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
         let c =
           Budget.choose ?cancel ~domains o b.source b.scene ~time:b.time ~frame:b.frame m
         in
-        if not o.quiet then
-          if Output.is_stdout out then prerr_endline (Budget.text c)
-          else print_endline (Budget.text c);
+        if not o.quiet then tell o ~out (Budget.text c);
         c)
       max_error
   in
@@ -188,4 +191,4 @@ let run ?cancel ?(aov = []) ?max_error (o : Options.t) ~resume (enc : Output.enc
   if aov <> [] then (
     let objects = Aov_run.objects b.program ~time:b.time ~frame:b.frame sc in
     Aov_run.write aov ~out objects (Aov.primary sc);
-    if not o.quiet then Printf.printf "AOV images: %s\n%!" (String.concat ", " aov_paths))
+    if not o.quiet then tell o ~out ("AOV images: " ^ String.concat ", " aov_paths))
