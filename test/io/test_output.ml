@@ -791,7 +791,21 @@ let stdout_tests =
           ("the summary went to stderr: " ^ e)
           true
           (contains e "wrote f.ppm (40×30");
-        Alcotest.(check (list string)) "no file named -" [ "f.ppm"; "s.rts" ] (listing d));
+        Alcotest.(check (list string)) "no file named -" [ "f.ppm"; "s.rts" ] (listing d);
+        (* The error budget's choice is a line for the user too. *)
+        let ((_, out, e) as r) =
+          lancer ~dir:d
+            [ "render"; "s.rts"; "-o"; "f.ppm"; "--max-error"; "0.05"; "--stats"; "-" ]
+        in
+        check_status "--max-error with --stats -" 0 r;
+        (match Yojson.Safe.from_string out with
+        | `Assoc _ -> ()
+        | _ -> Alcotest.failf "not a JSON object: %s" out
+        | exception Yojson.Json_error m ->
+            Alcotest.failf "stdout is not the statistics alone (%s): %s" m out);
+        Alcotest.(check bool)
+          ("the choice went to stderr: " ^ e)
+          true (contains e "max error 0.05"));
     Alcotest.test_case
       "--format that contradicts the file's extension, and --stats - with -o -, are \
        refused"
