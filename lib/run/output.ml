@@ -91,12 +91,14 @@ let refuse_frames_records paths =
           what p)
     paths
 
+let stats_to_stdout (o : Options.t) =
+  match o.stats with Some p -> is_stdout p | None -> false
+
 (* The statistics' file, if they go to one ([--stats -]: to standard output). *)
-let stats_file (o : Options.t) =
-  match o.stats with Some p when not (is_stdout p) -> Some p | _ -> None
+let stats_file (o : Options.t) = if stats_to_stdout o then None else o.stats
 
 let guard_render (o : Options.t) src ~out =
-  if is_stdout out && o.stats = Some "-" then
+  if is_stdout out && stats_to_stdout o then
     user "--stats - and -o - would both write to standard output: give --stats a file";
   let stats = stats_file o in
   refuse_frames_records

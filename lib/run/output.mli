@@ -31,6 +31,9 @@ val check_output : ?format:Image.format -> string -> unit
     [format] contradicts), in a missing directory, that is a directory or read-only, and
     [-] when standard output is a terminal; raises {!Lancer_job.Job_error.User}. *)
 
+val stats_to_stdout : Options.t -> bool
+(** Whether [--stats] is [-]: the statistics go to standard output. *)
+
 val stats_file : Options.t -> string option
 (** The file the statistics go to: [--stats]'s, unless it is [-] (standard output). *)
 

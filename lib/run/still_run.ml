@@ -50,7 +50,7 @@ let build ?digests (o : Options.t) =
 (* A line for the user: on standard output, unless the image ([-o -]) or the statistics
    ([--stats -]) go there, then on standard error. *)
 let tell (o : Options.t) ~out line =
-  if Output.is_stdout out || o.stats = Some "-" then prerr_endline line
+  if Output.is_stdout out || Output.stats_to_stdout o then prerr_endline line
   else print_endline line
 
 let checkpoint (o : Options.t) (b : built) ~out =
@@ -87,7 +87,7 @@ let finish ?cancel ?(encoding = Output.default_encoding) ?alpha ?record ?(extra 
         | `Assoc l -> `Assoc (l @ extra)
         | j -> j
       in
-      if Output.is_stdout p then Output.write_stats_stdout j
+      if Output.stats_to_stdout o then Output.write_stats_stdout j
       else Files.write_json ?cancel p j)
     o.stats;
   if not o.quiet then
