@@ -499,46 +499,35 @@ let unbinned w depth =
    padded bounds and their midpoints are never −0, so bounds gathered in any order are
    those a pass over the children computes, bit for bit. *)
 
-(* Start the subtree ids[lo, lo + n): its centroid bounds into [c] at [coff] (its
-   parent's bins kept boxes only), the centroids by identity, and each axis's list of
-   identities sorted by centroid (by insertion: at most [small] of them), or left in any
-   order along an axis where they all coincide, as they then do in every node below. *)
+(* Start the subtree ids[lo, lo + n), n > 0: the centroids by identity, each axis's list
+   of identities sorted by centroid (by insertion: at most [small] of them; in their
+   order where centroids coincide), and the centroids' bounds into [c] at [coff], the
+   first and last of each list (its parent's bins kept boxes only). *)
 let small_setup w lo n c coff =
   let pb = w.pbox and sc = w.s_cen and ss = w.s_sorted and key = w.s_key in
   w.s_lo <- lo;
-  box_empty c coff;
   for i = 0 to n - 1 do
     Array.unsafe_set w.s_pos i i;
     let q = 6 * (lo + i) in
-    let cx = cen pb q 0 and cy = cen pb q 1 and cz = cen pb q 2 in
-    fset sc (3 * i) cx;
-    fset sc ((3 * i) + 1) cy;
-    fset sc ((3 * i) + 2) cz;
-    fset c coff (fmin (fget c coff) cx);
-    fset c (coff + 1) (fmin (fget c (coff + 1)) cy);
-    fset c (coff + 2) (fmin (fget c (coff + 2)) cz);
-    fset c (coff + 3) (fmax (fget c (coff + 3)) cx);
-    fset c (coff + 4) (fmax (fget c (coff + 4)) cy);
-    fset c (coff + 5) (fmax (fget c (coff + 5)) cz)
+    fset sc (3 * i) (cen pb q 0);
+    fset sc ((3 * i) + 1) (cen pb q 1);
+    fset sc ((3 * i) + 2) (cen pb q 2)
   done;
   for axis = 0 to 2 do
     let base = small * axis in
-    if fget c (coff + 3 + axis) > fget c (coff + axis) then
-      for i = 0 to n - 1 do
-        let x = fget sc ((3 * i) + axis) in
-        let j = ref i in
-        while !j > 0 && fget key (!j - 1) > x do
-          fset key !j (fget key (!j - 1));
-          Array.unsafe_set ss (base + !j) (Array.unsafe_get ss (base + !j - 1));
-          decr j
-        done;
-        fset key !j x;
-        Array.unsafe_set ss (base + !j) i
-      done
-    else
-      for i = 0 to n - 1 do
-        Array.unsafe_set ss (base + i) i
-      done
+    for i = 0 to n - 1 do
+      let x = fget sc ((3 * i) + axis) in
+      let j = ref i in
+      while !j > 0 && fget key (!j - 1) > x do
+        fset key !j (fget key (!j - 1));
+        Array.unsafe_set ss (base + !j) (Array.unsafe_get ss (base + !j - 1));
+        decr j
+      done;
+      fset key !j x;
+      Array.unsafe_set ss (base + !j) i
+    done;
+    fset c (coff + axis) (fget key 0);
+    fset c (coff + 3 + axis) (fget key (n - 1))
   done
 
 (* [best_split] for the small node at positions [a, b), with the same answer, along its
