@@ -359,12 +359,15 @@ let best_split w lo hi depth split =
   fset w.cost 0 !best_cost
 
 (* Partition ids[lo, hi) of the binned node at [depth] so that the primitives in bins
-   below [split] come first; the index of the first of the others. A primitive that
-   belongs to the right is swapped with the last unclassified one, which is classified
-   next. Each primitive's bin is read from [tag], the children's bounds are unions of
-   bins, and the children that [best_split] will bin are binned here, as each primitive
-   reaches its place, into the slots of the left child (depth + 1) and of the right child
-   (the right slot of [depth]). *)
+   below [split] come first; the index of the first of the others. From both ends: the
+   first primitive from the left that belongs to the right is swapped with the first
+   from the right that belongs to the left, so that a primitive already on its side is
+   not moved (most of them, where the items come in spatial order, as a mesh's faces
+   do: the million-triangle torus loads in 5 % fewer instructions than with every
+   primitive of the right side moved once). Each primitive's bin is read from [tag], the
+   children's bounds are unions of bins, and the children that [best_split] will bin are
+   binned here, as each primitive reaches its place, into the slots of the left child
+   (depth + 1) and of the right child (the right slot of [depth]). *)
 let partition_binned w lo hi depth split =
   let slot = w.pbins.(depth) and c = w.pcount and io = slot_i * depth in
   let dl = w.pend and loff = 12 * (depth + 1) in
@@ -392,59 +395,40 @@ let partition_binned w lo hi depth split =
   let ids = w.ids and pb = w.pbox and tag = w.tag in
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
-    let i0 = !i in
-    if Char.code (Bytes.unsafe_get tag i0) < split then (
-      if la >= 0 then bin_put pb tag ls lc lio la lmin lscale i0;
-      i := i0 + 1)
-    else
-      (* The swaps with the last unclassified primitive, each primitive moved once rather
-         than twice a swap: the one going right is held while it is written at j, after
-         what was there is read; that one, now at i0, is written there if it goes left,
-         else held in turn. When j reaches i0, the one held is written back there. *)
-      let q = 6 * i0 in
-      let p = ref (Array.unsafe_get ids i0) in
-      let x0 = ref (fget pb q) and y0 = ref (fget pb (q + 1)) in
-      let z0 = ref (fget pb (q + 2)) and x1 = ref (fget pb (q + 3)) in
-      let y1 = ref (fget pb (q + 4)) and z1 = ref (fget pb (q + 5)) in
-      let go = ref true in
-      while !go do
-        let jj = !j in
-        let r = 6 * jj in
-        let pj = Array.unsafe_get ids jj and tj = Bytes.unsafe_get tag jj in
-        let u0 = fget pb r and v0 = fget pb (r + 1) and w0 = fget pb (r + 2) in
-        let u1 = fget pb (r + 3) and v1 = fget pb (r + 4) and w1 = fget pb (r + 5) in
-        Array.unsafe_set ids jj !p;
-        fset pb r !x0;
-        fset pb (r + 1) !y0;
-        fset pb (r + 2) !z0;
-        fset pb (r + 3) !x1;
-        fset pb (r + 4) !y1;
-        fset pb (r + 5) !z1;
-        if ra >= 0 then
-          bin_put_box tag rs rc rio ra rmin rscale jj !x0 !y0 !z0 !x1 !y1 !z1;
-        j := jj - 1;
-        if jj = i0 then go := false
-        else if Char.code tj < split then (
-          Array.unsafe_set ids i0 pj;
-          fset pb q u0;
-          fset pb (q + 1) v0;
-          fset pb (q + 2) w0;
-          fset pb (q + 3) u1;
-          fset pb (q + 4) v1;
-          fset pb (q + 5) w1;
-          Bytes.unsafe_set tag i0 tj;
-          if la >= 0 then bin_put_box tag ls lc lio la lmin lscale i0 u0 v0 w0 u1 v1 w1;
-          i := i0 + 1;
-          go := false)
-        else (
-          p := pj;
-          x0 := u0;
-          y0 := v0;
-          z0 := w0;
-          x1 := u1;
-          y1 := v1;
-          z1 := w1)
-      done
+    while !i <= !j && Char.code (Bytes.unsafe_get tag !i) < split do
+      if la >= 0 then bin_put pb tag ls lc lio la lmin lscale !i;
+      incr i
+    done;
+    while !i <= !j && Char.code (Bytes.unsafe_get tag !j) >= split do
+      if ra >= 0 then bin_put pb tag rs rc rio ra rmin rscale !j;
+      decr j
+    done;
+    if !i < !j then (
+      let a = !i and b = !j in
+      let q = 6 * a and r = 6 * b in
+      let pa = Array.unsafe_get ids a and pbb = Array.unsafe_get ids b in
+      let x0 = fget pb q and y0 = fget pb (q + 1) and z0 = fget pb (q + 2) in
+      let x1 = fget pb (q + 3) and y1 = fget pb (q + 4) and z1 = fget pb (q + 5) in
+      let u0 = fget pb r and v0 = fget pb (r + 1) and w0 = fget pb (r + 2) in
+      let u1 = fget pb (r + 3) and v1 = fget pb (r + 4) and w1 = fget pb (r + 5) in
+      Array.unsafe_set ids a pbb;
+      Array.unsafe_set ids b pa;
+      fset pb q u0;
+      fset pb (q + 1) v0;
+      fset pb (q + 2) w0;
+      fset pb (q + 3) u1;
+      fset pb (q + 4) v1;
+      fset pb (q + 5) w1;
+      fset pb r x0;
+      fset pb (r + 1) y0;
+      fset pb (r + 2) z0;
+      fset pb (r + 3) x1;
+      fset pb (r + 4) y1;
+      fset pb (r + 5) z1;
+      if la >= 0 then bin_put_box tag ls lc lio la lmin lscale a u0 v0 w0 u1 v1 w1;
+      if ra >= 0 then bin_put_box tag rs rc rio ra rmin rscale b x0 y0 z0 x1 y1 z1;
+      i := a + 1;
+      j := b - 1)
   done;
   !i
 
@@ -638,18 +622,24 @@ let small_split_lists w a b axis =
       done)
   done
 
-(* Swap the positions of the node at [a, b) as [ids] are partitioned by [s_left]: a
-   primitive that belongs to the right is swapped with the last unclassified one, which
-   is classified next. *)
+(* Swap the positions of the node at [a, b) as [ids] are partitioned by [s_left], as
+   [partition_binned] does: the first from the left that belongs to the right with the
+   first from the right that belongs to the left. *)
 let small_swap w a b =
   let pos = w.s_pos and left = w.s_left in
   let i = ref a and j = ref (b - 1) in
   while !i <= !j do
-    let id = Array.unsafe_get pos !i in
-    if Bytes.unsafe_get left id = '\001' then incr i
-    else (
+    while !i <= !j && Bytes.unsafe_get left (Array.unsafe_get pos !i) = '\001' do
+      incr i
+    done;
+    while !i <= !j && Bytes.unsafe_get left (Array.unsafe_get pos !j) <> '\001' do
+      decr j
+    done;
+    if !i < !j then (
+      let id = Array.unsafe_get pos !i in
       Array.unsafe_set pos !i (Array.unsafe_get pos !j);
       Array.unsafe_set pos !j id;
+      incr i;
       decr j)
   done
 

@@ -296,22 +296,30 @@ let best_split w lo hi split =
   !best_cost
 
 (* Partition ids[lo, hi) so that the centroids in bins below [split] along [axis] come
-   first; the index of the first of the others. Each primitive is classified once, and its
-   box goes into the bounds of its side (12 floats: box, then centroid bounds), at [loff]
-   in [dl] or at [roff] in [dr]: the children's bounds come out of this pass. Min and max are exact,
-   so these are the bounds a pass over each side would compute. *)
+   first; the index of the first of the others. From both ends: the first primitive from
+   the left that belongs to the right is swapped with the first from the right that
+   belongs to the left. Each primitive's box goes into the bounds of its side (12 floats:
+   box, then centroid bounds), at [loff] in [dl] or at [roff] in [dr]: the children's
+   bounds come out of this pass. Min and max are exact, so these are the bounds a pass
+   over each side would compute. *)
 let partition w lo hi axis split dl loff dr roff =
   let cb = w.cbox and ids = w.ids and pb = w.pbox in
   let cmin = fget cb axis in
   let scale = Float.of_int bins /. (fget cb (3 + axis) -. cmin) in
+  let left i = bin_of cmin scale (cen pb (6 * i) axis) < split in
   bound_empty dl loff;
   bound_empty dr roff;
   let i = ref lo and j = ref (hi - 1) in
   while !i <= !j do
-    if bin_of cmin scale (cen pb (6 * !i) axis) < split then (
+    while !i <= !j && left !i do
       bound_add dl loff pb (6 * !i);
-      incr i)
-    else
+      incr i
+    done;
+    while !i <= !j && not (left !j) do
+      bound_add dr roff pb (6 * !j);
+      decr j
+    done;
+    if !i < !j then (
       let p = Array.unsafe_get ids !i in
       Array.unsafe_set ids !i (Array.unsafe_get ids !j);
       Array.unsafe_set ids !j p;
@@ -321,8 +329,10 @@ let partition w lo hi axis split dl loff dr roff =
         fset pb (a + k) (fget pb (b + k));
         fset pb (b + k) t
       done;
+      bound_add dl loff pb a;
       bound_add dr roff pb b;
-      decr j
+      incr i;
+      decr j)
   done;
   !i
 
