@@ -140,6 +140,15 @@ let[@inline] box_empty a off =
   fset a (off + 4) Float.neg_infinity;
   fset a (off + 5) Float.neg_infinity
 
+(* The box min (x0, y0, z0), max (x1, y1, z1) into [a] at [off]. *)
+let[@inline] box_set a off x0 y0 z0 x1 y1 z1 =
+  fset a off x0;
+  fset a (off + 1) y0;
+  fset a (off + 2) z0;
+  fset a (off + 3) x1;
+  fset a (off + 4) y1;
+  fset a (off + 5) z1
+
 (* The centroid's coordinate [k] of the padded box at [q] in [pb]. *)
 let[@inline] cen pb q k = 0.5 *. (fget pb (q + k) +. fget pb (q + 3 + k))
 
@@ -413,18 +422,8 @@ let partition_binned w lo hi depth split =
       let u1 = fget pb (r + 3) and v1 = fget pb (r + 4) and w1 = fget pb (r + 5) in
       Array.unsafe_set ids a pbb;
       Array.unsafe_set ids b pa;
-      fset pb q u0;
-      fset pb (q + 1) v0;
-      fset pb (q + 2) w0;
-      fset pb (q + 3) u1;
-      fset pb (q + 4) v1;
-      fset pb (q + 5) w1;
-      fset pb r x0;
-      fset pb (r + 1) y0;
-      fset pb (r + 2) z0;
-      fset pb (r + 3) x1;
-      fset pb (r + 4) y1;
-      fset pb (r + 5) z1;
+      box_set pb q u0 v0 w0 u1 v1 w1;
+      box_set pb r x0 y0 z0 x1 y1 z1;
       if la >= 0 then bin_put_box tag ls lc lio la lmin lscale a u0 v0 w0 u1 v1 w1;
       if ra >= 0 then bin_put_box tag rs rc rio ra rmin rscale b x0 y0 z0 x1 y1 z1;
       i := a + 1;
