@@ -69,6 +69,9 @@ type work = {
   right_area : Float.Array.t;
   right_n : int array;
   cbox : Float.Array.t;
+  cen12 : Float.Array.t;
+      (** a large node's box and centroids' bounds, when it is binned over the latter *)
+  ext : Float.Array.t;  (** the largest extent of an item along each axis, 3 floats *)
   cost : Float.Array.t;  (** the split cost the last split search found (not boxed) *)
   mutable pend : Float.Array.t;
   mutable pend_right : Float.Array.t;
@@ -222,6 +225,17 @@ let[@inline] widest c coff =
    [c]: its widest, or −1 when the node is small. *)
 let bin_axis_of c coff n = if n <= small then -1 else widest c coff
 
+(* Whether a large node whose box is at [coff] in [c] is binned over its box along
+   [axis]: when no item of the whole build is wider there than half the box, so that its
+   centroids spread over at least half its bins. Over a box that some item makes much
+   wider than its centroids' spread (a floor among small objects), the centroids would
+   fall in a few bins, and the split found would be poor at every level down to that
+   item (the SAH cost of 100 000 small boxes among 100 large ones five times the
+   other's); such a node is binned over its centroids' bounds, found by a pass over it,
+   along their widest axis. *)
+let[@inline] over_box w c coff axis =
+  2. *. fget w.ext axis <= fget c (coff + 3 + axis) -. fget c (coff + axis)
+
 (* Empty the bins of [slot], counts at [io] in [c], for binning along [axis]. *)
 let bins_clear (slot : bin array) c io axis =
   Array.unsafe_set c io axis;
@@ -286,10 +300,10 @@ let[@inline] bin_scale c coff axis =
   else Float.of_int bins /. (fget c (coff + 3 + axis) -. fget c (coff + axis))
 
 (* Bin ids[lo, hi) along [axis] into the slot of [depth], in one pass. *)
-let bin_range w lo hi depth axis =
+let bin_range w lo hi depth axis b boff =
   let slot = w.pbins.(depth) and c = w.pcount and io = slot_i * depth in
   bins_clear slot c io axis;
-  let cmin = bin_min w.cbox 0 axis and scale = bin_scale w.cbox 0 axis in
+  let cmin = bin_min b boff axis and scale = bin_scale b boff axis in
   let pb = w.pbox and tag = w.tag in
   for i = lo to hi - 1 do
     bin_put pb tag slot c io axis cmin scale i
@@ -300,20 +314,26 @@ let bin_range w lo hi depth axis =
    the right side) is stored in [split] and its cost in [cost]; infinity when no axis
    splits. Nodes of more than [small] primitives, the only ones that come here, bin only
    along their widest axis: a million-triangle mesh's tree builds a quarter faster than
-   with three axes down to 4096 primitives, for an SAH cost 2% higher. They bin over
-   their box (in [cbox]) rather than their centroids' bounds, so that a bin keeps 6
-   bounds, not 12: that builds the million-triangle torus of [make bench-limit] in 9 %
-   fewer instructions for the whole load (5.59 G against 6.13 G under cachegrind at 64×48)
-   for an SAH cost 0.4 % higher, and renders the 100 000-sphere field at 1920×1080 in as
-   many (7.82 G against 7.86 G for the whole run). The node's bins are in the slot of
-   [depth] when its parent's partition made them, else made here. *)
+   with three axes down to 4096 primitives, for an SAH cost 2% higher. Where [over_box]
+   lets them, they bin over their box (in [cbox]) rather than their centroids' bounds, so
+   that a bin keeps 6 bounds, not 12, and its parent's partition bins it. The
+   million-triangle torus of [make bench-limit] loads in 5.33 G instructions under
+   cachegrind at 64×48, for an SAH cost 0.4 % higher than over the centroids' bounds
+   (the fused binning of 12 bounds a bin loaded it in 6.13 G with a one-ended partition;
+   a pass for the centroids' bounds at every large node, in 6.84 G). The node's bins are
+   in the slot of [depth] when its parent's partition made them, else made here (over
+   its centroids' bounds where [over_box] says no). *)
 let best_split w lo hi depth split =
   let best_cost = ref Float.infinity in
   split.(0) <- -1;
   let io = slot_i * depth in
   (if Array.unsafe_get w.pcount io < 0 then
      let axis = bin_axis_of w.cbox 0 (hi - lo) in
-     if axis >= 0 then bin_range w lo hi depth axis);
+     if axis >= 0 && over_box w w.cbox 0 axis then bin_range w lo hi depth axis w.cbox 0
+     else (
+       bound_range w lo hi w.cen12 0;
+       let axis = widest w.cen12 6 in
+       if axis >= 0 then bin_range w lo hi depth axis w.cen12 6));
   let axis = Array.unsafe_get w.pcount io in
   if axis >= 0 then (
     let slot = w.pbins.(depth) and c = w.pcount in
@@ -395,6 +415,8 @@ let partition_binned w lo hi depth split =
       nr := !nr + n)
   done;
   let la = bin_axis_of dl loff !nl and ra = bin_axis_of dr roff !nr in
+  let la = if la >= 0 && over_box w dl loff la then la else -1
+  and ra = if ra >= 0 && over_box w dr roff ra then ra else -1 in
   let ls = w.pbins.(depth + 1) and lc = c and lio = slot_i * (depth + 1) in
   let rs = w.pbins_right.(depth) and rc = w.pcount_right and rio = io in
   bins_clear ls lc lio la;
@@ -882,6 +904,8 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       right_area = Float.Array.make bins 0.;
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;
+      cen12 = Float.Array.create 12;
+      ext = Float.Array.make 3 0.;
       cost = Float.Array.create 1;
       pend = Float.Array.create (12 * 64);
       pend_right = Float.Array.create (12 * 64);
@@ -902,6 +926,12 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       s_best = Float.Array.make 12 0.;
     }
   in
+  for k = 0 to m - 1 do
+    for a = 0 to 2 do
+      let e = fget pbox ((6 * k) + 3 + a) -. fget pbox ((6 * k) + a) in
+      if e > fget w.ext a then fset w.ext a e
+    done
+  done;
   bound_range w 0 m w.pend 12;
   ignore (build_node w [| -1; 0 |] 0 m 1);
   (* The node arrays as they are when little of them is unused, rather than a copy

@@ -38,6 +38,7 @@ type work = {
   small_area : Float.Array.t;
   cheap : Bytes.t;  (** by item: whether it may end a split search (see [cheap_max]) *)
   cheap_max : int;  (** a node of at most this many cheap items is a leaf *)
+  ext : Float.Array.t;  (** the largest extent of an item along each axis *)
 }
 
 let new_node w =
@@ -359,8 +360,17 @@ let rec build_node w split lo hi depth =
   let pend = w.pend in
   let n = hi - lo in
   Float.Array.blit pend here w.nodes_b off 6;
-  (* A large node is binned over its box, a small one over its centroids' bounds. *)
-  Float.Array.blit pend (if n > small then here else here + 6) w.cbox 0 6;
+  (* A large node is binned over its box where no item is wider than a quarter of it along
+     the box's widest axis, else over its centroids' bounds; a small one over its
+     centroids' bounds. *)
+  let over_box =
+    n > small
+    &&
+    let e k = fget pend (here + 3 + k) -. fget pend (here + k) in
+    let a = if e 0 >= e 1 && e 0 >= e 2 then 0 else if e 1 >= e 2 then 1 else 2 in
+    e a > 0. && 2. *. fget w.ext a <= e a
+  in
+  Float.Array.blit pend (if over_box then here else here + 6) w.cbox 0 6;
   let below = here + 12 in
   let all_cheap () =
     let ok = ref true in
@@ -440,8 +450,15 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       small_area = Float.Array.make small 0.;
       cheap;
       cheap_max;
+      ext = Float.Array.make 3 0.;
     }
   in
+  for k = 0 to m - 1 do
+    for a = 0 to 2 do
+      let e = fget pbox ((6 * k) + 3 + a) -. fget pbox ((6 * k) + a) in
+      if e > fget w.ext a then fset w.ext a e
+    done
+  done;
   bound_range w 0 m w.pend 12;
   ignore (build_node w [| -1; 0 |] 0 m 1);
   (* The node arrays as they are when little of them is unused, rather than a copy
