@@ -883,6 +883,16 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
+let widths pbox =
+  let ext = Float.Array.make 3 0. in
+  for k = 0 to (Float.Array.length pbox / 6) - 1 do
+    for a = 0 to 2 do
+      let e = fget pbox ((6 * k) + 3 + a) -. fget pbox ((6 * k) + a) in
+      if e > fget ext a then fset ext a e
+    done
+  done;
+  ext
+
 let build ?(cheap = (Bytes.empty, 0)) pbox =
   let cheap, cheap_max = cheap in
   if Bytes.length cheap > 0 && Bytes.length cheap <> Float.Array.length pbox / 6 then
@@ -905,7 +915,7 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;
       cen12 = Float.Array.create 12;
-      ext = Float.Array.make 3 0.;
+      ext = widths pbox;
       cost = Float.Array.create 1;
       pend = Float.Array.create (12 * 64);
       pend_right = Float.Array.create (12 * 64);
@@ -926,12 +936,6 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       s_best = Float.Array.make 12 0.;
     }
   in
-  for k = 0 to m - 1 do
-    for a = 0 to 2 do
-      let e = fget pbox ((6 * k) + 3 + a) -. fget pbox ((6 * k) + a) in
-      if e > fget w.ext a then fset w.ext a e
-    done
-  done;
   bound_range w 0 m w.pend 12;
   ignore (build_node w [| -1; 0 |] 0 m 1);
   (* The node arrays as they are when little of them is unused, rather than a copy

@@ -18,6 +18,11 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
+val widths : Float.Array.t -> Float.Array.t
+(** [widths pb]: the largest extent of the items of [pb] along x, y and z (3 floats, 0
+    where there are none). {!build} bins a large node over its box only where no item is
+    wider than half of it along the box's widest axis, else over its centroids' bounds. *)
+
 val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
 (** [build pb] builds the tree over the items of [pb] (as {!pad_into} writes them; their
     centroids are the boxes' midpoints). It allocates nothing per item or node beyond its

@@ -38,7 +38,7 @@ type work = {
   small_area : Float.Array.t;
   cheap : Bytes.t;  (** by item: whether it may end a split search (see [cheap_max]) *)
   cheap_max : int;  (** a node of at most this many cheap items is a leaf *)
-  ext : Float.Array.t;  (** the largest extent of an item along each axis *)
+  ext : Float.Array.t;  (** the largest extent of an item along each axis (Bvh.widths) *)
 }
 
 let new_node w =
@@ -450,15 +450,9 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       small_area = Float.Array.make small 0.;
       cheap;
       cheap_max;
-      ext = Float.Array.make 3 0.;
+      ext = Lancer_render.Bvh.widths pbox;
     }
   in
-  for k = 0 to m - 1 do
-    for a = 0 to 2 do
-      let e = fget pbox ((6 * k) + 3 + a) -. fget pbox ((6 * k) + a) in
-      if e > fget w.ext a then fset w.ext a e
-    done
-  done;
   bound_range w 0 m w.pend 12;
   ignore (build_node w [| -1; 0 |] 0 m 1);
   (* The node arrays as they are when little of them is unused, rather than a copy
