@@ -8,7 +8,8 @@ let bins = 16
 
 (* Nodes of at most [small] items are split by the sorted search of Small subtrees below,
    along the widest axis of their centroids' bounds; larger ones by binning, along the
-   widest axis of their box, over the box's extent (see [best_split]). [small] was
+   widest axis of their box over its extent, or of their centroids' bounds where an item
+   is wide ([over_box], [best_split]). [small] was
    chosen when the search looked along all three axes (at about three times the
    binning's cost per item and level): over a million spheres in a grid, 16 rather than
    32 built with 1.5 % fewer instructions in the whole render, and the 100 000-sphere
