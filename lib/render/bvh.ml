@@ -293,7 +293,8 @@ let bound_merge_bin dst doff r =
   fset dst (doff + 4) (fmax (fget dst (doff + 4)) r.y1);
   fset dst (doff + 5) (fmax (fget dst (doff + 5)) r.z1)
 
-(* The binning's origin and scale along [axis] for centroid bounds at [coff] in [c]. *)
+(* The binning's origin and scale along [axis] over the bounds at [coff] in [c] (a large
+   node's box, or its centroids' bounds: see [over_box]). *)
 let[@inline] bin_min c coff axis = if axis < 0 then 0. else fget c (coff + axis)
 
 let[@inline] bin_scale c coff axis =
