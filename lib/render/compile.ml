@@ -700,7 +700,7 @@ let check_files c uses =
 (* What was made *)
 
 (* How many objects of each kind, a mesh counting each of its faces. *)
-let kinds objs =
+let kinds (objs : Primitive.t array) =
   let tbl = Hashtbl.create 8 and order = ref [] in
   let add k n =
     match Hashtbl.find_opt tbl k with
@@ -709,7 +709,7 @@ let kinds objs =
         Hashtbl.add tbl k n;
         order := k :: !order
   in
-  List.iter
+  Array.iter
     (fun (o : Primitive.t) ->
       match o.shape with
       | Shape.Mesh { mesh = m; _ } ->
@@ -742,22 +742,126 @@ let rec csg_tree (s : Shape.t) =
               (Array.map (fun (m : Shape.csg_member) -> csg_tree m.shape) members)))
   | s -> Shape.name s
 
+(* How many distinct materials the objects shade with (a CSG object's leaves' each): the
+   records {!Primitive.materials} gives, equal when every field is, colour included. An
+   object holds its material's record and its colour apart, and a loop that colours a
+   million objects makes a million materials that differ in their colour alone: they are
+   counted from those (record, colour) pairs, without a copy of the record each. Records
+   equal but for their colour are one class, numbered as first met (the last record's
+   number is kept: the objects of a loop share theirs); two pairs are the same material
+   when their classes and their colours are equal. The pairs go into a table of their
+   first uses, open addressing by the colour's hash and the class: four to eight words a
+   distinct material, integers only (nothing for the collector to follow), and no
+   allocation per object. *)
+module Record_class = Hashtbl.Make (struct
+  type t = Material.t
+
+  let equal (m : t) m' = m == m' || try m = m' with _ -> false
+  let hash (m : t) = Hashtbl.hash m
+end)
+
 let distinct_materials (sc : Scene.t) =
-  let tbl = Hashtbl.create 16 in
-  Array.iter
-    (fun (o : Primitive.t) ->
-      List.iter
-        (fun (m : Material.t) ->
-          let h = Hashtbl.hash m in
-          let same = Hashtbl.find_all tbl h in
-          if not (List.exists (fun m' -> m' == m || try m' = m with _ -> false) same)
-          then Hashtbl.add tbl h m)
-        (Primitive.materials o))
+  let classes = Record_class.create 16 in
+  let last = ref Material.default and last_class = ref (-1) in
+  let class_of (m : Material.t) =
+    if !last_class >= 0 && !last == m then !last_class
+    else
+      let key = { m with color = Color.black } in
+      let k =
+        match Record_class.find_opt classes key with
+        | Some k -> k
+        | None ->
+            let k = Record_class.length classes in
+            Record_class.add classes key k;
+            k
+      in
+      last := m;
+      last_class := k;
+      k
+  in
+  (* A surface (object i, leaf l, −1 for the object itself) as one integer. *)
+  let leaves, surfaces =
+    Array.fold_left
+      (fun (m, n) (o : Primitive.t) ->
+        let l = Array.length o.leaves in
+        (max m l, n + max 1 l))
+      (0, 0) sc.objects
+  in
+  let span = leaves + 1 in
+  let color_at w =
+    let o = sc.objects.(w / span) and l = (w mod span) - 1 in
+    if l < 0 then o.color else o.leaves.(l).color
+  in
+  (* The materials found, [count] of them, by their class and first surface, and the
+     slots of the table (at most half full, a power of two of them). They grow as they
+     fill: doubled, or at once to room for every surface when most surfaces met so far
+     were new (a colour per object), so that a million materials make one large
+     allocation, not twenty. *)
+  let cls = ref (Array.make 16 0) and who = ref (Array.make 16 0) in
+  let slots = ref (Array.make 32 (-1)) and count = ref 0 in
+  let start k (c : Color.t) =
+    (Hashtbl.hash c + (k * 0x9e3779b1)) land (Array.length !slots - 1)
+  in
+  let rec free s =
+    if !slots.(s) < 0 then s else free ((s + 1) land (Array.length !slots - 1))
+  in
+  let met = ref 0 in
+  let grow () =
+    let n = Array.length !cls in
+    let n' = ref (2 * n) in
+    if 2 * !count >= !met then
+      while !n' < surfaces do
+        n' := 2 * !n'
+      done;
+    let n' = !n' in
+    let extend a =
+      let b = Array.make n' 0 in
+      Array.blit a 0 b 0 n;
+      b
+    in
+    cls := extend !cls;
+    who := extend !who;
+    slots := Array.make (2 * n') (-1);
+    for e = 0 to !count - 1 do
+      !slots.(free (start !cls.(e) (color_at !who.(e)))) <- e
+    done
+  in
+  let meet w (m : Material.t) (c : Color.t) =
+    incr met;
+    let k = class_of m in
+    let s = ref (start k c) and go = ref true in
+    while !go do
+      let e = !slots.(!s) in
+      if e < 0 then (
+        if !count = Array.length !cls then (
+          grow ();
+          s := free (start k c));
+        !slots.(!s) <- !count;
+        !cls.(!count) <- k;
+        !who.(!count) <- w;
+        incr count;
+        go := false)
+      else if
+        !cls.(e) = k
+        &&
+        let c' = color_at !who.(e) in
+        c'.r = c.r && c'.g = c.g && c'.b = c.b
+      then go := false
+      else s := (!s + 1) land (Array.length !slots - 1)
+    done
+  in
+  Array.iteri
+    (fun i (o : Primitive.t) ->
+      if Array.length o.leaves = 0 then meet (i * span) o.material o.color
+      else
+        Array.iteri
+          (fun l (p : Primitive.t) -> meet ((i * span) + l + 1) p.material p.color)
+          o.leaves)
     sc.objects;
-  Hashtbl.length tbl
+  !count
 
 let rendered c (sc : Scene.t) : D.rendered =
-  let objs = Array.to_list sc.objects in
+  let objs = sc.objects in
   Mutex.protect c.lock (fun () ->
       {
         D.r_settings = sc.settings;
@@ -765,10 +869,10 @@ let rendered c (sc : Scene.t) : D.rendered =
         r_features = sc.features;
         r_kinds = kinds objs;
         r_csg =
-          List.filter_map
-            (fun (o : Primitive.t) ->
-              if Primitive.is_csg o then Some (csg_tree o.shape) else None)
-            objs;
+          Array.fold_right
+            (fun (o : Primitive.t) acc ->
+              if Primitive.is_csg o then csg_tree o.shape :: acc else acc)
+            objs [];
         r_materials = distinct_materials sc;
         r_meshes =
           Hashtbl.fold

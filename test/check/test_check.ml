@@ -425,6 +425,82 @@ let normals_tests =
           [ "computed"; "flat"; "file" ]);
   ]
 
+(* The distinct materials a summary counts: materials that differ in their colour alone
+   (as a loop makes them) are distinct; equal ones written apart, and a CSG leaf's equal
+   to another object's, are one. *)
+let materials_scene =
+  {|settings { width: 16, height: 12 }
+light { position: (0, 5, -5) }
+// 3 colours over one base: 3 materials (their first, black, below again)
+for i in 0 to 5 { sphere { center: (i, 0, 0), radius: 0.4,
+                           material: material { color: (i % 3 / 3, 0, 0) } } }
+// the default material, written out or not: 1 more
+sphere { center: (0, 2, 0), radius: 0.4 }
+sphere { center: (1, 2, 0), radius: 0.4, material: material { color: (1, 1, 1) } }
+// another base, equal twice: 1 more
+sphere { center: (2, 2, 0), radius: 0.4, material: material { color: (1, 0, 0), specular: 0.5 } }
+sphere { center: (3, 2, 0), radius: 0.4, material: material { color: (1, 0, 0), specular: 0.5 } }
+// its colour over the first base: 1 more
+sphere { center: (4, 2, 0), radius: 0.4, material: material { color: (1, 0, 0) } }
+// a CSG object: its sphere's material is the loop's first (none more), its box takes
+// the object's: 1 more
+difference {
+  sphere { center: (0, 4, 0), radius: 1, material: material { color: (0, 0, 0) } }
+  box { min: (-0.5, 3.5, -2), max: (0.5, 4.5, 2) }
+  material: material { color: (0, 1, 0) }
+}
+|}
+
+(* The plain definition: the records Primitive.materials gives, equal when structurally
+   equal. *)
+let materials_by_records (sc : Lancer.Scene.t) =
+  let seen = ref [] in
+  Array.iter
+    (fun o ->
+      List.iter
+        (fun m ->
+          if not (List.exists (fun m' -> m' == m || m' = m) !seen) then seen := m :: !seen)
+        (Lancer.Primitive.materials o))
+    sc.objects;
+  List.length !seen
+
+let materials_tests =
+  [
+    Alcotest.test_case "check counts materials that differ in their colour alone" `Quick
+      (fun () ->
+        let d = scene_dir materials_scene in
+        let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts" ] in
+        check_status "check" 0 r;
+        has "count" out "materials: 7 distinct");
+    Alcotest.test_case "the count is that of the materials' records, scene by scene"
+      `Quick (fun () ->
+        let dir = "../../scenes" in
+        let files =
+          List.concat_map
+            (fun sub ->
+              let d = Filename.concat dir sub in
+              Sys.readdir d |> Array.to_list |> List.sort compare
+              |> List.filter (fun f -> Filename.check_suffix f ".rts")
+              |> List.map (Filename.concat d))
+            [ "."; "gallery"; "materials" ]
+        in
+        let d = scene_dir materials_scene in
+        List.iter
+          (fun file ->
+            match Lancer.Program.load_file file with
+            | Error _ -> Alcotest.failf "%s does not load" file
+            | Ok p -> (
+                match Lancer.Program.scene ~index:false p ~time:0. ~frame:0 with
+                | Error _ -> Alcotest.failf "%s does not compile" file
+                | Ok sc ->
+                    Alcotest.(check int)
+                      (file ^ ": distinct materials")
+                      (materials_by_records sc)
+                      (Lancer.Compile.rendered (Lancer.Program.assets p) sc).r_materials))
+          (Filename.concat d "s.rts" :: files);
+        Alcotest.(check bool) "scenes read" true (List.length files > 10));
+  ]
+
 let () =
   Alcotest.run "check"
     [
@@ -434,4 +510,5 @@ let () =
       ("cost", cost_tests);
       ("static", static_tests);
       ("normals", normals_tests);
+      ("materials", materials_tests);
     ]
