@@ -351,11 +351,21 @@ let sort_problems ps =
    no table of them beside its objects. *)
 let shared_materials = 4096
 
+(* Materials compared as the generic table compares keys, hashed over every field:
+   [Hashtbl.hash] reads the first ten values of a record only, and materials that differ
+   in their filter alone would all fall in one bucket. *)
+module Materials = Hashtbl.Make (struct
+  type t = D.material
+
+  let equal (m : t) m' = compare m m' = 0
+  let hash (m : t) = Hashtbl.hash_param 32 256 m
+end)
+
 (* One material record per distinct material of the description (hash-consed: objects
    whose materials are equal, or differ in their colour alone, which objects hold beside
    them, share one), the default material the renderer's own. *)
 let materials c =
-  let last = ref None and table = Hashtbl.create 16 in
+  let last = ref None and table = Materials.create 16 in
   function
   | None -> Material.default
   | Some m -> (
@@ -363,11 +373,11 @@ let materials c =
       | Some (dm, rm) when dm == m -> rm
       | _ ->
           let rm =
-            match Hashtbl.find_opt table m with
+            match Materials.find_opt table m with
             | Some rm -> rm
             | None ->
                 let rm = material c m in
-                if Hashtbl.length table < shared_materials then Hashtbl.add table m rm;
+                if Materials.length table < shared_materials then Materials.add table m rm;
                 rm
           in
           last := Some (m, rm);
@@ -757,7 +767,7 @@ module Record_class = Hashtbl.Make (struct
   type t = Material.t
 
   let equal (m : t) m' = m == m' || try m = m' with _ -> false
-  let hash (m : t) = Hashtbl.hash m
+  let hash (m : t) = Hashtbl.hash_param 32 256 m
 end)
 
 let distinct_materials (sc : Scene.t) =
