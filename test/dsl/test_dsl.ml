@@ -321,7 +321,56 @@ let test_materials_shared () =
       let f = Float.of_int n in
       if o.color <> Color.v (i /. f) (j /. f) 0.5 then incr wrong)
     s.objects;
-  Alcotest.(check int) "objects whose colour is another's" 0 !wrong
+  Alcotest.(check int) "objects whose colour is another's" 0 !wrong;
+  (* A loop that computes another field from a few values (and a colour each) makes a
+     record per value; one whose every value differs (past the table's 4096) a record
+     each. Each object reads its own material back either way. *)
+  let distinct_records (d : Description.t) =
+    List.fold_left
+      (fun seen (o : Description.obj) ->
+        if List.exists (fun m -> m == o.material) seen then seen else o.material :: seen)
+      [] d.objects
+    |> List.length
+  in
+  List.iter
+    (fun (n, specular, records) ->
+      let text =
+        Printf.sprintf
+          "let n = %d\n\
+          \           for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i, \
+           0, j),            radius: 0.4, material: material { color: (i / n, j / n, \
+           0.5), specular: %s,            ior: 1.5 } } } }"
+          n specular
+      in
+      let p = load text in
+      match Dsl.describe (Program.language p) ~time:0. ~frame:0 with
+      | Error es -> Alcotest.failf "%s" (errors_text es)
+      | Ok d ->
+          Alcotest.(check int)
+            (Printf.sprintf "specular: %s, %d objects: material records" specular (n * n))
+            records (distinct_records d);
+          let wrong = ref 0 in
+          List.iter
+            (fun (o : Description.obj) ->
+              let c =
+                match o.shape with Sphere { center; _ } -> center | _ -> Vec3.zero
+              in
+              let i = c.x and j = c.z and f = Float.of_int n in
+              let sp =
+                if specular = "j % 4 / 4" then Float.rem j 4. /. 4.
+                else ((i *. f) +. j) /. (f *. f)
+              in
+              match Description.object_material o with
+              | Some m
+                when m.color = Color.v (i /. f) (j /. f) 0.5
+                     && m.specular = sp && m.ior = 1.5 ->
+                  ()
+              | _ -> incr wrong)
+            d.objects;
+          Alcotest.(check int)
+            (Printf.sprintf "specular: %s: objects whose material is another's" specular)
+            0 !wrong)
+    [ (40, "j % 4 / 4", 4); (100, "(i * n + j) / (n * n)", 100 * 100) ]
 
 let test_settings_camera_lights () =
   let s =
