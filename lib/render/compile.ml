@@ -756,39 +756,39 @@ let rec csg_tree (s : Shape.t) =
    records {!Primitive.materials} gives, equal when every field is, colour included. An
    object holds its material's record and its colour apart, and a loop that colours a
    million objects makes a million materials that differ in their colour alone: they are
-   counted from those (record, colour) pairs, without a copy of the record each. Records
-   equal but for their colour are one class, numbered as first met (the last record's
-   number is kept: the objects of a loop share theirs); two pairs are the same material
-   when their classes and their colours are equal. The pairs go into a table of their
-   first uses, open addressing by the colour's hash and the class: four to eight words a
-   distinct material, integers only (nothing for the collector to follow), and no
-   allocation per object. *)
-module Record_class = Hashtbl.Make (struct
-  type t = Material.t
+   counted from those (record, colour) pairs, with no record copied. Two pairs are the
+   same material when their colours are equal and their records equal but for their
+   colours ([same_record]: one record, or every other field equal, a texture or bump map
+   the same one or equal). The pairs go into a table of their first uses, by surface,
+   with open addressing on the colour's hash and the record's (kept for the last record
+   hashed: the objects of a loop share theirs): three to six words a distinct material,
+   integers only (nothing for the collector to follow), and no allocation per object. *)
+let same_record (m : Material.t) (m' : Material.t) =
+  let same a b = a == b || try a = b with _ -> false in
+  m == m'
+  || same m.texture m'.texture && same m.bump m'.bump
+     && Bool.equal m.fresnel m'.fresnel
+     && m.ambient = m'.ambient && m.diffuse = m'.diffuse && m.specular = m'.specular
+     && m.shininess = m'.shininess && m.reflection = m'.reflection
+     && m.transparency = m'.transparency
+     && m.ior = m'.ior && m.metallic = m'.metallic && m.filter = m'.filter
 
-  let equal (m : t) m' = m == m' || try m = m' with _ -> false
-  let hash (m : t) = Hashtbl.hash_param 32 256 m
-end)
+(* A hash of what [same_record] compares, equal for equal records (-0 and 0 alike, as
+   [=] takes them). *)
+let record_hash (m : Material.t) =
+  let mix h x = h * 1_000_003 lxor Hashtbl.hash (x : float) in
+  let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
+  let h = if m.fresnel then h lxor 0x5bd1e995 else h in
+  let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
+  let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
+  mix (mix h m.metallic) m.filter
+
+(* The table grows straight to room for every surface, rather than by doubling, once
+   this many surfaces have been met and most of them were new materials (a colour per
+   object): a million materials make one large allocation, not twenty. *)
+let distinct_sample = 4096
 
 let distinct_materials (sc : Scene.t) =
-  let classes = Record_class.create 16 in
-  let last = ref Material.default and last_class = ref (-1) in
-  let class_of (m : Material.t) =
-    if !last_class >= 0 && !last == m then !last_class
-    else
-      let key = { m with color = Color.black } in
-      let k =
-        match Record_class.find_opt classes key with
-        | Some k -> k
-        | None ->
-            let k = Record_class.length classes in
-            Record_class.add classes key k;
-            k
-      in
-      last := m;
-      last_class := k;
-      k
-  in
   (* A surface (object i, leaf l, −1 for the object itself) as one integer. *)
   let leaves, surfaces =
     Array.fold_left
@@ -798,75 +798,71 @@ let distinct_materials (sc : Scene.t) =
       (0, 0) sc.objects
   in
   let span = leaves + 1 in
-  let color_at w =
+  let surface w =
     let o = sc.objects.(w / span) and l = (w mod span) - 1 in
-    if l < 0 then o.color else o.leaves.(l).color
+    if l < 0 then o else o.leaves.(l)
   in
-  (* The materials found, [count] of them, by their class and first surface, and the
-     slots of the table (at most half full, a power of two of them). They grow as they
-     fill: doubled, or at once to room for every surface when most surfaces met so far
-     were new (a colour per object), so that a million materials make one large
-     allocation, not twenty. *)
-  let cls = ref (Array.make 16 0) and who = ref (Array.make 16 0) in
-  let slots = ref (Array.make 32 (-1)) and count = ref 0 in
-  let start k (c : Color.t) =
-    (Hashtbl.hash c + (k * 0x9e3779b1)) land (Array.length !slots - 1)
+  let last = ref Material.default and last_hash = ref (record_hash Material.default) in
+  let hash (m : Material.t) (c : Color.t) =
+    if not (!last == m) then (
+      last := m;
+      last_hash := record_hash m);
+    Hashtbl.hash c + (!last_hash * 0x9e3779b1)
   in
-  let rec free s =
-    if !slots.(s) < 0 then s else free ((s + 1) land (Array.length !slots - 1))
-  in
-  let met = ref 0 in
+  (* The materials found, [count] of them, by their first surface, and the slots of the
+     table (at most half full, a power of two of them), both grown as they fill. *)
+  let who = ref (Array.make 16 0) and slots = ref (Array.make 32 (-1)) in
+  let count = ref 0 and met = ref 0 in
+  let mask () = Array.length !slots - 1 in
+  let rec free s = if !slots.(s) < 0 then s else free ((s + 1) land mask ()) in
   let grow () =
-    let n = Array.length !cls in
+    let n = Array.length !who in
     let n' = ref (2 * n) in
-    if 2 * !count >= !met then
+    if !met >= distinct_sample && 2 * !count >= !met then
       while !n' < surfaces do
         n' := 2 * !n'
       done;
     let n' = !n' in
-    let extend a =
-      let b = Array.make n' 0 in
-      Array.blit a 0 b 0 n;
-      b
-    in
-    cls := extend !cls;
-    who := extend !who;
+    let w = Array.make n' 0 in
+    Array.blit !who 0 w 0 n;
+    who := w;
     slots := Array.make (2 * n') (-1);
     for e = 0 to !count - 1 do
-      !slots.(free (start !cls.(e) (color_at !who.(e)))) <- e
+      let p = surface w.(e) in
+      !slots.(free (hash p.material p.color land mask ())) <- e
     done
   in
-  let meet w (m : Material.t) (c : Color.t) =
+  let meet x =
+    let (p : Primitive.t) = surface x in
+    let m = p.material and c = p.color in
     incr met;
-    let k = class_of m in
-    let s = ref (start k c) and go = ref true in
+    let h = hash m c in
+    let s = ref (h land mask ()) and go = ref true in
     while !go do
       let e = !slots.(!s) in
       if e < 0 then (
-        if !count = Array.length !cls then (
+        if !count = Array.length !who then (
           grow ();
-          s := free (start k c));
+          s := free (h land mask ()));
         !slots.(!s) <- !count;
-        !cls.(!count) <- k;
-        !who.(!count) <- w;
+        !who.(!count) <- x;
         incr count;
         go := false)
-      else if
-        !cls.(e) = k
-        &&
-        let c' = color_at !who.(e) in
-        c'.r = c.r && c'.g = c.g && c'.b = c.b
-      then go := false
-      else s := (!s + 1) land (Array.length !slots - 1)
+      else
+        let p' = surface !who.(e) in
+        let c' = p'.color in
+        if c'.r = c.r && c'.g = c.g && c'.b = c.b && same_record p'.material m then
+          go := false
+        else s := (!s + 1) land mask ()
     done
   in
   Array.iteri
     (fun i (o : Primitive.t) ->
-      if Array.length o.leaves = 0 then meet (i * span) o.material o.color
+      if Array.length o.leaves = 0 then meet (i * span)
       else
-        Array.iteri
-          (fun l (p : Primitive.t) -> meet ((i * span) + l + 1) p.material p.color)
-          o.leaves)
+        for l = 0 to Array.length o.leaves - 1 do
+          meet ((i * span) + l + 1)
+        done)
     sc.objects;
   !count
 

@@ -442,6 +442,11 @@ sphere { center: (2, 2, 0), radius: 0.4, material: material { color: (1, 0, 0), 
 sphere { center: (3, 2, 0), radius: 0.4, material: material { color: (1, 0, 0), specular: 0.5 } }
 // its colour over the first base: 1 more
 sphere { center: (4, 2, 0), radius: 0.4, material: material { color: (1, 0, 0) } }
+// black again, its red a negative zero: none more
+sphere { center: (5, 2, 0), radius: 0.4, material: material { color: (0 * -1, 0, 0) } }
+// 300 colours, each ten times: 300 more (the table doubles as they come)
+for k in 0 to 2999 { sphere { center: (k, -5, 0), radius: 0.1,
+                              material: material { color: (k % 300 / 300, 0, 1) } } }
 // a CSG object: its sphere's material is the loop's first (none more), its box takes
 // the object's: 1 more
 difference {
@@ -471,7 +476,7 @@ let materials_tests =
         let d = scene_dir materials_scene in
         let ((_, out, _) as r) = lancer ~dir:d [ "check"; "s.rts" ] in
         check_status "check" 0 r;
-        has "count" out "materials: 7 distinct");
+        has "count" out "materials: 307 distinct");
     Alcotest.test_case "the count is that of the materials' records, scene by scene"
       `Quick (fun () ->
         let dir = "../../scenes" in
