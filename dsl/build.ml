@@ -27,40 +27,6 @@ let default_material site =
    }
     : D.material)
 
-(* Whether [m] and [d] differ in their colour alone: an object of [m] can then hold [d]'s
-   option, its colour beside it ({!D.obj}). Numbers compare by their bits. *)
-let same_but_color (m : D.material) (d : D.material) =
-  let same x y = Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y) in
-  m.texture == d.texture && m.bump == d.bump
-  && Bool.equal m.fresnel d.fresnel
-  && same m.ambient d.ambient && same m.diffuse d.diffuse && same m.specular d.specular
-  && same m.shininess d.shininess
-  && same m.reflection d.reflection
-  && same m.transparency d.transparency
-  && same m.ior d.ior && same m.metallic d.metallic && same m.filter d.filter
-
-(* The materials one block has made, shared by all of its values that differ from one of
-   them in their colour alone (as {!same_but_color} compares them): a loop that computes
-   a field other than the colour from a few values (a shininess by row) makes as many
-   records as there are values, not one an object. Past [shared_materials] of them, each
-   new one is a record of its own, so that a block whose every value differs keeps no
-   table beside its objects. *)
-let shared_materials = 4096
-
-module Shared = Hashtbl.Make (struct
-  type t = D.material
-
-  let equal m m' = same_but_color m m'
-
-  let hash (m : D.material) =
-    let mix h x = h * 1_000_003 lxor Int64.to_int (Int64.bits_of_float x) in
-    let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
-    let h = if m.fresnel then h lxor 0x5bd1e995 else h in
-    let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
-    let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
-    mix (mix h m.metallic) m.filter land max_int
-end)
-
 let material site =
   let base = slot site "base" and color_ = slot site "color" in
   let ambient = slot site "ambient" and diffuse = slot site "diffuse" in
@@ -71,15 +37,6 @@ let material site =
   let texture = slot site "texture" and bump = slot site "bump" in
   let default = default_material site in
   let default_some = Some default in
-  let shared = Shared.create 16 in
-  let share (m : D.material) =
-    match Shared.find_opt shared m with
-    | Some some -> some
-    | None ->
-        let some = Some m in
-        if Shared.length shared < shared_materials then Shared.add shared m some;
-        some
-  in
   (* Whether the block writes no field but its base and its colour, whatever fields the
      schema gives: known from the block as written, once. *)
   let colour_only =
@@ -164,7 +121,9 @@ let material site =
       (* What the description requires of a material ({!D.validate_material}) holds: each
        number is in its field's range, or the base's or the schema's (the tests check
        that these ranges are within the description's), and the sum is checked above. *)
-      Value.material ~some:(if same_but_color m d then d_some else share m) m
+      (* A record equal to the base's, or to one the run has made, but for its colour is
+         that one's option, its colour beside it ({!Value.sink}). *)
+      Value.material ~some:(if same_but_color m d then d_some else b.out.share m) m
 
 (* ------------------------------------------------------------------------------------ *)
 (* Settings, camera, lights, animation, physics *)

@@ -171,6 +171,7 @@ let refuses =
   {
     report = (fun _ _ -> raise_notrace Not_constant);
     use = (fun _ -> raise_notrace Not_constant);
+    share = (fun m -> Some m);
   }
 
 (* A material block of constants is one material, when it has no mistake. *)

@@ -79,7 +79,12 @@ let create ?body_state ?on_objects ?cancel ~on_file ~sources ~time ~frame () =
           bodies = [];
           used = Hashtbl.create 4;
         };
-      tell = { report = (fun loc msg -> report st loc msg); use = (fun u -> use st u) };
+      tell =
+        {
+          report = (fun loc msg -> report st loc msg);
+          use = (fun u -> use st u);
+          share = Value.sharing ();
+        };
     }
   in
   st

@@ -36,7 +36,12 @@ and macro = {
 and frame = { l : t array; c : t array; st : state }
 and scope = { sink : D.obj list ref; in_group : bool; in_csg : bool }
 and state = { hooks : hooks; count : counters; out : outputs; tell : sink }
-and sink = { report : Loc.t -> string -> unit; use : D.file_use -> unit }
+
+and sink = {
+  report : Loc.t -> string -> unit;
+  use : D.file_use -> unit;
+  share : D.material -> D.material option;
+}
 
 and hooks = {
   time : float;
@@ -126,6 +131,44 @@ let material ?some (m : D.material) =
   VMat { some = (match some with Some s -> s | None -> Some m); color = m.color }
 
 let colored some color = VMat { some; color }
+
+(* Numbers compare by their bits, textures and bump maps by identity. *)
+let same_but_color (m : D.material) (d : D.material) =
+  let same x y = Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y) in
+  m.texture == d.texture && m.bump == d.bump
+  && Bool.equal m.fresnel d.fresnel
+  && same m.ambient d.ambient && same m.diffuse d.diffuse && same m.specular d.specular
+  && same m.shininess d.shininess
+  && same m.reflection d.reflection
+  && same m.transparency d.transparency
+  && same m.ior d.ior && same m.metallic d.metallic && same m.filter d.filter
+
+let shared_materials = 4096
+
+module Shared = Hashtbl.Make (struct
+  type t = D.material
+
+  let equal m m' = same_but_color m m'
+
+  (* Over every field [equal] reads, numbers by their bits. *)
+  let hash (m : D.material) =
+    let mix h x = h * 1_000_003 lxor Int64.to_int (Int64.bits_of_float x) in
+    let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
+    let h = if m.fresnel then h lxor 0x5bd1e995 else h in
+    let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
+    let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
+    mix (mix h m.metallic) m.filter land max_int
+end)
+
+let sharing () =
+  let shared = Shared.create 16 in
+  fun (m : D.material) ->
+    match Shared.find_opt shared m with
+    | Some some -> some
+    | None ->
+        let some = Some m in
+        if Shared.length shared < shared_materials then Shared.add shared m some;
+        some
 
 let full_material ~some ~color : D.material =
   match some with

@@ -66,8 +66,16 @@ and scope = {
 and state = { hooks : hooks; count : counters; out : outputs; tell : sink }
 (** A run: what it was given, what it counts against the limits, what it has said. *)
 
-and sink = { report : Loc.t -> string -> unit; use : Description.file_use -> unit }
-(** Where a run's mistakes go (each once), and the files it names. *)
+and sink = {
+  report : Loc.t -> string -> unit;
+  use : Description.file_use -> unit;
+  share : Description.material -> Description.material option;
+      (** [share m] is the option of a record the run has made that is [m] but for its
+          colour ({!same_but_color}), or [Some m], kept for the ones to come ({!sharing})
+      *)
+}
+(** Where a run's mistakes go (each once), the files it names, and the materials it has
+    made. *)
 
 and hooks = {
   time : float;
@@ -139,6 +147,22 @@ val material : ?some:Description.material option -> Description.material -> t
 val colored : Description.material option -> Color.t -> t
 (** [colored some c] is the material whose fields are those of [some]'s (which is [Some]),
     but its colour [c]: no record made for it. *)
+
+val same_but_color : Description.material -> Description.material -> bool
+(** [same_but_color m d]: whether [m] and [d] differ in their colour alone, numbers
+    compared by their bits, textures and bump maps by identity. An object of [m] can then
+    hold [d]'s option, its colour beside it ({!Lancer_description.Description.obj}). *)
+
+val shared_materials : int
+(** 4096: the most records a run's {!sharing} keeps. *)
+
+val sharing : unit -> Description.material -> Description.material option
+(** A run's [share] ({!type-sink}): a material record that a block made equal to one made
+    before in the run but for its colour is that one's option, its colour beside it, so
+    that a loop computing a field other than the colour from a few values (a shininess by
+    row) makes a record per value, not per object. Past {!shared_materials} records, each
+    new one is its own, so that a run whose every material differs keeps no more of them
+    beside its objects. *)
 
 val full_material :
   some:Description.material option -> color:Color.t -> Description.material
