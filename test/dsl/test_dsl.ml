@@ -370,7 +370,30 @@ let test_materials_shared () =
           Alcotest.(check int)
             (Printf.sprintf "specular: %s: objects whose material is another's" specular)
             0 !wrong)
-    [ (40, "j % 4 / 4", 4); (100, "(i * n + j) / (n * n)", 100 * 100) ]
+    [ (40, "j % 4 / 4", 4); (100, "(i * n + j) / (n * n)", 100 * 100) ];
+  (* Each run shares its own records: a second frame makes its four again, and keeps
+     none of the first's. (The loop reads [frame], so that each frame evaluates it, and
+     no specular is the default's, whose option every run shares.) *)
+  let p =
+    load
+      "animation { fps: 10, frames: 2 }\n\
+       for i in 0 to 9 { for j in 0 to 9 { sphere { center: (i, 0, j), radius: 0.4 + 0 * \
+       frame, material: material { color: (i / 10, j / 10, 0.5), specular: (j % 4 + 1) / \
+       4 } } } }"
+  in
+  let run time frame =
+    match Dsl.describe (Program.language p) ~time ~frame with
+    | Ok d -> d
+    | Error es -> Alcotest.failf "%s" (errors_text es)
+  in
+  let d0 = run 0. 0 and d1 = run 0.1 1 in
+  Alcotest.(check int) "the second frame's records" 4 (distinct_records d1);
+  Alcotest.(check bool)
+    "none of them the first frame's" false
+    (List.exists
+       (fun (o : Description.obj) ->
+         List.exists (fun (o0 : Description.obj) -> o0.material == o.material) d0.objects)
+       d1.objects)
 
 let test_settings_camera_lights () =
   let s =
