@@ -149,15 +149,7 @@ module Shared = Hashtbl.Make (struct
   type t = D.material
 
   let equal m m' = same_but_color m m'
-
-  (* Over every field [equal] reads, numbers by their bits. *)
-  let hash (m : D.material) =
-    let mix h x = h * 1_000_003 lxor Int64.to_int (Int64.bits_of_float x) in
-    let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
-    let h = if m.fresnel then h lxor 0x5bd1e995 else h in
-    let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
-    let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
-    mix (mix h m.metallic) m.filter land max_int
+  let hash = D.material_hash (fun x -> Int64.to_int (Int64.bits_of_float x))
 end)
 
 let sharing () =

@@ -56,6 +56,14 @@ let default_material =
     bump = None;
   }
 
+let material_hash number (m : (_, _) material_of) =
+  let mix h x = h * 1_000_003 lxor number x in
+  let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
+  let h = if m.fresnel then h lxor 0x5bd1e995 else h in
+  let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
+  let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
+  mix (mix h m.metallic) m.filter land max_int
+
 let validate_material m =
   (* The weights in [0, 1], after the other coefficients, which are only non-negative. *)
   let weights =

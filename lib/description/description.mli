@@ -97,6 +97,13 @@ val default_material : ('texture, 'bump) material_of
     opaque, ior 1, untinted (metallic and filter 0), no texture or bump. The language's
     defaults and the renderer's are this value. *)
 
+val material_hash : (float -> int) -> ('texture, 'bump) material_of -> int
+(** [material_hash number m]: a hash of every field of [m] but its colour, each number
+    hashed by [number], the texture and bump map by [Hashtbl.hash]. Tables of materials
+    equal but for their colour hash their keys by it: with [number] a hash of the bits
+    where numbers compare by their bits, [Hashtbl.hash] where they compare by [=] (−0 and
+    0 alike). [Hashtbl.hash] of a whole material reads its first ten values only. *)
+
 val validate_material : ('texture, 'bump) material_of -> (unit, string) result
 (** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤
     1, ior > 0, metallic and filter at most 1), with their messages. *)

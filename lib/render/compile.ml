@@ -773,15 +773,9 @@ let same_record (m : Material.t) (m' : Material.t) =
      && m.transparency = m'.transparency
      && m.ior = m'.ior && m.metallic = m'.metallic && m.filter = m'.filter
 
-(* A hash of what [same_record] compares, equal for equal records (-0 and 0 alike, as
+(* A hash of what [same_record] compares, equal for equal records (−0 and 0 alike, as
    [=] takes them). *)
-let record_hash (m : Material.t) =
-  let mix h x = h * 1_000_003 lxor Hashtbl.hash (x : float) in
-  let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in
-  let h = if m.fresnel then h lxor 0x5bd1e995 else h in
-  let h = mix (mix (mix (mix h m.ambient) m.diffuse) m.specular) m.shininess in
-  let h = mix (mix (mix h m.reflection) m.transparency) m.ior in
-  mix (mix h m.metallic) m.filter
+let record_hash = D.material_hash (fun x -> Hashtbl.hash x)
 
 (* The table grows straight to room for every surface, rather than by doubling, once
    this many surfaces have been met and most of them were new materials (a colour per
