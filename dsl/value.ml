@@ -132,7 +132,8 @@ let material ?some (m : D.material) =
 
 let colored some color = VMat { some; color }
 
-(* Numbers compare by their bits, textures and bump maps by identity. *)
+(* Numbers compare by their bits, textures and bump maps by identity; the fields as
+   {!D.material_hash} lists them. *)
 let same_but_color (m : D.material) (d : D.material) =
   let same x y = Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y) in
   m.texture == d.texture && m.bump == d.bump
@@ -142,8 +143,6 @@ let same_but_color (m : D.material) (d : D.material) =
   && same m.reflection d.reflection
   && same m.transparency d.transparency
   && same m.ior d.ior && same m.metallic d.metallic && same m.filter d.filter
-
-let shared_materials = 4096
 
 module Shared = Hashtbl.Make (struct
   type t = D.material
@@ -159,7 +158,7 @@ let sharing () =
     | Some some -> some
     | None ->
         let some = Some m in
-        if Shared.length shared < shared_materials then Shared.add shared m some;
+        if Shared.length shared < D.shared_materials then Shared.add shared m some;
         some
 
 let full_material ~some ~color : D.material =

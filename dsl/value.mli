@@ -153,16 +153,14 @@ val same_but_color : Description.material -> Description.material -> bool
     compared by their bits, textures and bump maps by identity. An object of [m] can then
     hold [d]'s option, its colour beside it ({!Lancer_description.Description.obj}). *)
 
-val shared_materials : int
-(** 4096: the most records a run's {!sharing} keeps. *)
-
 val sharing : unit -> Description.material -> Description.material option
 (** A run's [share] ({!type-sink}): a material record that a block made equal to one made
     before in the run but for its colour is that one's option, its colour beside it, so
     that a loop computing a field other than the colour from a few values (a shininess by
-    row) makes a record per value, not per object. Past {!shared_materials} records, each
-    new one is its own, so that a run whose every material differs keeps no more of them
-    beside its objects. *)
+    row) makes a record per value, not per object. Past
+    {!Lancer_description.Description.shared_materials} records, each new one is its own,
+    so that a run whose every material differs keeps no more of them beside its objects.
+*)
 
 val full_material :
   some:Description.material option -> color:Color.t -> Description.material

@@ -56,6 +56,8 @@ let default_material =
     bump = None;
   }
 
+let shared_materials = 4096
+
 let material_hash number (m : (_, _) material_of) =
   let mix h x = h * 1_000_003 lxor number x in
   let h = Hashtbl.hash m.texture lxor (31 * Hashtbl.hash m.bump) in

@@ -97,12 +97,23 @@ val default_material : ('texture, 'bump) material_of
     opaque, ior 1, untinted (metallic and filter 0), no texture or bump. The language's
     defaults and the renderer's are this value. *)
 
+val shared_materials : int
+(** 4096: the most materials a table of shared materials keeps (the language's records of
+    a run, the renderer's materials of a compile), so that a scene whose every object has
+    another material keeps no table of them beside its objects. *)
+
 val material_hash : (float -> int) -> ('texture, 'bump) material_of -> int
 (** [material_hash number m]: a hash of every field of [m] but its colour, each number
     hashed by [number], the texture and bump map by [Hashtbl.hash]. Tables of materials
     equal but for their colour hash their keys by it: with [number] a hash of the bits
     where numbers compare by their bits, [Hashtbl.hash] where they compare by [=] (−0 and
-    0 alike). [Hashtbl.hash] of a whole material reads its first ten values only. *)
+    0 alike). [Hashtbl.hash] of a whole material reads its first ten values only.
+
+    The tables' equalities list the same fields (the language's [Value.same_but_color],
+    the renderer's [Compile.same_record]), each written out: with the comparison of
+    numbers as a function argument, a million spheres whose materials each compute a
+    specular load in 16.1 G instructions instead of 15.0 G. A field added to
+    {!material_of} is added to the three. *)
 
 val validate_material : ('texture, 'bump) material_of -> (unit, string) result
 (** The checks of a material's numbers (non-negative, finite, reflection + transparency ≤

@@ -346,11 +346,6 @@ let sort_problems ps =
   let key ((l : Loc.t), _) = (index l.file 0 files, l.line, l.col) in
   List.stable_sort (fun a b -> compare (key a) (key b)) ps
 
-(* How many distinct materials a compile shares at most: past them, each new one is a
-   record of its own, so that a scene whose every object computes another material keeps
-   no table of them beside its objects. *)
-let shared_materials = 4096
-
 (* Materials compared as the generic table compares keys, hashed over every field:
    [Hashtbl.hash] reads the first ten values of a record only, and materials that differ
    in their filter alone would all fall in one bucket. *)
@@ -377,7 +372,8 @@ let materials c =
             | Some rm -> rm
             | None ->
                 let rm = material c m in
-                if Materials.length table < shared_materials then Materials.add table m rm;
+                if Materials.length table < D.shared_materials then
+                  Materials.add table m rm;
                 rm
           in
           last := Some (m, rm);
