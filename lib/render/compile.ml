@@ -506,6 +506,155 @@ let large_overhead = 30
    objects. *)
 let compact_objects = 250_000
 
+(* Primitives in order, in arrays of up to [chunk_size] each (the first ones smaller, for
+   a scene of a few objects): none copied as they grow, and each a block the collector
+   marks on its own. *)
+module Chunks = struct
+  let chunk_size = 4096
+
+  type t = {
+    mutable full : Primitive.t array list;  (** newest first, each full *)
+    mutable last : Primitive.t array;
+    mutable n : int;  (** in [last] *)
+    mutable total : int;
+  }
+
+  let create () = { full = []; last = [||]; n = 0; total = 0 }
+
+  let add t p =
+    if t.n = Array.length t.last then (
+      if t.n > 0 then t.full <- t.last :: t.full;
+      t.last <- Array.make (min chunk_size (max 16 t.total)) p;
+      t.n <- 0);
+    t.last.(t.n) <- p;
+    t.n <- t.n + 1;
+    t.total <- t.total + 1
+
+  (* All of them in one array; [t] is emptied. *)
+  let take t =
+    let a = if t.total = 0 then [||] else Array.make t.total t.last.(0) in
+    let pos = ref (t.total - t.n) in
+    Array.blit t.last 0 a !pos t.n;
+    List.iter
+      (fun c ->
+        pos := !pos - Array.length c;
+        Array.blit c 0 a !pos (Array.length c))
+      t.full;
+    t.full <- [];
+    t.last <- [||];
+    t.n <- 0;
+    t.total <- 0;
+    a
+end
+
+(* Objects compiled one by one into one array of primitives: as [compile] walks a
+   description's objects, or as a still's program makes them ({!stream}). *)
+type stream = {
+  s_assets : assets;
+  s_material : D.material option -> Material.t;
+  s_flat : Chunks.t;
+  s_move : (Primitive.t -> Primitive.t) option;
+      (** into render coordinates as each is made; [None]: all at the end, once the camera
+          is known *)
+  mutable s_problems : (Loc.t * string) list;  (** newest first *)
+  s_seen : (Loc.t * string, unit) Hashtbl.t;
+  mutable s_count : int;  (** primitives, a mesh's triangles each *)
+  mutable s_open : bool;
+}
+
+let new_stream ?move c =
+  {
+    s_assets = c;
+    s_material = materials c;
+    s_flat = Chunks.create ();
+    s_move = move;
+    s_problems = [];
+    s_seen = Hashtbl.create 4;
+    s_count = 0;
+    s_open = true;
+  }
+
+let stream c = new_stream c
+
+let report s loc msg =
+  if not (Hashtbl.mem s.s_seen (loc, msg)) then (
+    Hashtbl.add s.s_seen (loc, msg) ();
+    s.s_problems <- (loc, msg) :: s.s_problems)
+
+let counted s (o : D.obj) n =
+  s.s_count <- s.s_count + n;
+  if s.s_count > D.max_objects && s.s_count - n <= D.max_objects then
+    report s o.loc
+      (Printf.sprintf "this scene builds more than %d objects; that is the limit"
+         D.max_objects)
+
+let faces ps = List.fold_left (fun w p -> w + Primitive.faces p) 0 ps
+
+(* The primitives of [o] (then counted), or its problem reported. *)
+let compiled s (o : D.obj) =
+  match primitives s.s_assets s.s_material o with
+  | ps ->
+      counted s o (faces ps);
+      Some ps
+  | exception Problem (loc, msg) ->
+      report s loc msg;
+      None
+
+let add s o =
+  if not s.s_open then invalid_arg "Compile.add: the stream is finished";
+  match compiled s o with
+  | Some ps -> (
+      match s.s_move with
+      | Some move -> List.iter (fun p -> Chunks.add s.s_flat (move p)) ps
+      | None -> List.iter (Chunks.add s.s_flat) ps)
+  | None -> ()
+
+(* The problems found, each at its place, in source order. *)
+let problems ~source s =
+  List.map
+    (fun ((loc : Loc.t), msg) -> Diagnostic.make ?source:(source loc.file) loc msg)
+    (sort_problems (List.rev s.s_problems))
+
+let building ~progress ~index s =
+  if index && s.s_count > 10_000 then
+    progress
+      (Printf.sprintf "building the acceleration structure over %d objects" s.s_count)
+
+let invalid (d : D.t) = function
+  | Ok sc -> Ok sc
+  | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ]
+
+(* The scene of the stream's primitives, in render coordinates. *)
+let of_stream ?(compacting = false) ~index s (d : D.t) =
+  let flat = Chunks.take s.s_flat in
+  (match s.s_move with
+  | Some _ -> ()
+  | None ->
+      (* In place: a primitive that does not move (one without a transform, near the
+         world's origin) is itself. *)
+      let move = Scene.mover d.camera in
+      Array.iteri
+        (fun i p ->
+          (* Written only where it moved: a write is a barrier for the collector to
+             follow, a million of them for a million spheres. *)
+          let q = move p in
+          if q != p then Array.unsafe_set flat i q)
+        flat);
+  (* What the collector has left of making them (a primitive moved, the chunks) given
+     back before the structure's arrays are allocated. *)
+  if compacting then Gc.compact ();
+  invalid d
+    (Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera
+       ~time:d.time ~frame:d.frame ~lights:d.lights flat)
+
+let finish ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) s (d : D.t) =
+  if not s.s_open then invalid_arg "Compile.finish: the stream is finished";
+  s.s_open <- false;
+  if s.s_problems <> [] then Error (problems ~source s)
+  else (
+    building ~progress ~index s;
+    of_stream ~compacting:(index && s.s_count >= compact_objects) ~index s d)
+
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
     ?objects ?parts c (d : D.t) =
   let handed_over = Option.is_some objects in
@@ -526,27 +675,11 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
       pieces := Scene.Fixed (!run_first, !run_n) :: !pieces;
       run_n := 0)
   in
-  (* Without a static part, the objects go straight into one array: no list cell or
-     piece per object beside them while the structure is built. *)
-  let flat = Dynarray.create () in
-  let problems = ref [] and seen = Hashtbl.create 4 in
-  let count = ref 0 in
-  let report loc msg =
-    if not (Hashtbl.mem seen (loc, msg)) then (
-      Hashtbl.add seen (loc, msg) ();
-      problems := (loc, msg) :: !problems)
-  in
-  let counted (o : D.obj) n =
-    count := !count + n;
-    if !count > D.max_objects && !count - n <= D.max_objects then
-      report o.loc
-        (Printf.sprintf "this scene builds more than %d objects; that is the limit"
-           D.max_objects)
-  in
-  let material_of = materials c in
   (* Each primitive moved into render coordinates as it is made: the unmoved one dies
-     young, instead of a second copy of them all made beside the first. *)
-  let move = Scene.mover d.camera in
+     young, instead of a second copy of them all made beside the first. Without a
+     static part, the objects go straight into the stream's one array: no list cell or
+     piece per object beside them while the structure is built. *)
+  let s = new_stream ~move:(Scene.mover d.camera) c in
   (* Objects handed over die as they are compiled: the major GC keeps pace with them, so
      that the space they leave holds their primitives rather than a heap grown beside.
      (No closure here holds the list: each object goes once it is compiled.) *)
@@ -574,15 +707,14 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
     add_run fx.start.(i) (prim_end fx j - fx.start.(i))
   in
   let one (o : D.obj) =
-    match primitives c material_of o with
-    | ps ->
-        (match fx with
-        | None -> List.iter (fun p -> Dynarray.add_last flat (move p)) ps
-        | Some _ ->
+    match fx with
+    | None -> add s o
+    | Some _ -> (
+        match compiled s o with
+        | Some ps ->
             end_run ();
-            pieces := Scene.Moving ps :: !pieces);
-        counted o (List.fold_left (fun w p -> w + Primitive.faces p) 0 ps)
-    | exception Problem (loc, msg) -> report loc msg
+            pieces := Scene.Moving ps :: !pieces
+        | None -> ())
   in
   (* The static statements placed whole, in order, and the last one's entry. *)
   let placed = ref 0 and last = ref (-1) in
@@ -595,16 +727,16 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
     let e = entry st i in
     let i0 = st.firsts.(e) and j = st.firsts.(e) + st.counts.(e) in
     match fx with
-    | Some fx when !count + fx.faces.(j) - fx.faces.(i0) <= D.max_objects ->
+    | Some fx when s.s_count + fx.faces.(j) - fx.faces.(i0) <= D.max_objects ->
         (* All its objects at once, nothing done per object. *)
         add_static fx i0 j;
-        count := !count + fx.faces.(j) - fx.faces.(i0);
+        s.s_count <- s.s_count + fx.faces.(j) - fx.faces.(i0);
         if e > !last && st.counts.(e) > 0 then incr placed;
         last := e
     | Some fx ->
         for k = i0 to j - 1 do
           add_static fx k (k + 1);
-          counted fx.objs.(k) (fx.faces.(k + 1) - fx.faces.(k))
+          counted s fx.objs.(k) (fx.faces.(k + 1) - fx.faces.(k))
         done
     | None ->
         for k = i0 to j - 1 do
@@ -621,41 +753,32 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
             (function D.Static i -> static_piece i | D.Built objs -> List.iter one objs)
             ps);
   end_run ();
-  if !problems <> [] then
-    Error
-      (List.map
-         (fun ((loc : Loc.t), msg) -> Diagnostic.make ?source:(source loc.file) loc msg)
-         (sort_problems (List.rev !problems)))
+  s.s_open <- false;
+  if s.s_problems <> [] then Error (problems ~source s)
   else (
     if compacting then Gc.compact ();
-    if index && !count > 10_000 then
-      progress
-        (Printf.sprintf "building the acceleration structure over %d objects" !count);
+    building ~progress ~index s;
     let whole (fx : static) =
       !placed = Array.fold_left (fun n k -> if k > 0 then n + 1 else n) 0 fx.counts
     in
-    match
-      match fx with
-      | Some fx when whole fx ->
-          (* Every static statement is here, whole: its structure is reused. *)
-          Scene.make_layered ~checked:true ~settings:d.settings ~camera:d.camera
-            ~time:d.time ~frame:d.frame ~lights:d.lights
-            ~fixed:(static_part fx (Scene.origin_of d.camera))
-            (List.rev !pieces)
-      | None ->
-          Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera
-            ~time:d.time ~frame:d.frame ~lights:d.lights (Dynarray.to_array flat)
-      | Some fx ->
-          Scene.make ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
-            ~frame:d.frame ~lights:d.lights
-            (List.concat_map
-               (function
-                 | Scene.Moving ps -> ps
-                 | Scene.Fixed (first, n) -> List.init n (fun m -> fx.flat.(first + m)))
-               (List.rev !pieces))
-    with
-    | Ok s -> Ok s
-    | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ])
+    match fx with
+    | Some fx when whole fx ->
+        (* Every static statement is here, whole: its structure is reused. *)
+        invalid d
+          (Scene.make_layered ~checked:true ~settings:d.settings ~camera:d.camera
+             ~time:d.time ~frame:d.frame ~lights:d.lights
+             ~fixed:(static_part fx (Scene.origin_of d.camera))
+             (List.rev !pieces))
+    | None -> of_stream ~index s d
+    | Some fx ->
+        invalid d
+          (Scene.make ~checked:true ~settings:d.settings ~camera:d.camera ~time:d.time
+             ~frame:d.frame ~lights:d.lights
+             (List.concat_map
+                (function
+                  | Scene.Moving ps -> ps
+                  | Scene.Fixed (first, n) -> List.init n (fun m -> fx.flat.(first + m)))
+                (List.rev !pieces))))
 
 (* ---------------------------------------------------------------------------------- *)
 (* The files alone *)

@@ -62,6 +62,31 @@ val compile :
     to query it fast ({!Scene.of_moved}): for [lancer check], which reads what the scene
     holds but traces no ray. *)
 
+type stream
+(** Objects compiled as a program makes them, for the one scene it describes: each made
+    into its primitives at once, so that a large scene's description is never held whole
+    beside them. *)
+
+val stream : assets -> stream
+(** An empty stream. *)
+
+val add : stream -> Description.obj -> unit
+(** [add s o]: [o]'s primitives, after those of the objects added before it; a problem
+    with it (a mesh that cannot be read, …) is kept for {!finish} to report.
+    [Invalid_argument] once [s] is finished. *)
+
+val finish :
+  ?source:(string -> string option) ->
+  ?progress:(string -> unit) ->
+  ?index:bool ->
+  stream ->
+  Description.t ->
+  (Scene.t, Diagnostic.t list) result
+(** [finish s d]: the scene of [d] (its settings, camera, lights, time and frame) whose
+    objects are those added to [s], in order: what {!compile} makes of [d] with those
+    objects, problems reported the same way. [Invalid_argument] if [s] is finished
+    already: a stream makes one scene. *)
+
 val check_files : assets -> Description.file_use list -> (Loc.t * string) list
 (** What reading these files finds wrong, each at the place its use recorded, in the order
     of the uses, each once: what {!compile} would report about them. The files are read
