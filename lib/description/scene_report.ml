@@ -67,51 +67,67 @@ let light_strength = function
 
 let colour_text (c : Color.t) = Printf.sprintf "(%g, %g, %g)" c.r c.g c.b
 
-let colour_warnings ?(source = fun _ -> None) (d : D.t) =
-  let strengths = List.map light_strength d.lights in
+(* The colours above 1 of the objects noted so far: by colour, the first object's place
+   and how many have it, in order of first appearance (newest first). *)
+type colours = {
+  seen : (float * float * float, Loc.t * int) Hashtbl.t;
+  mutable order : ((float * float * float) * Color.t) list;
+}
+
+let colours () = { seen = Hashtbl.create 8; order = [] }
+
+let note_colour acc (o : D.obj) (c : Color.t) =
+  if largest c > 1. then
+    let key = (c.r, c.g, c.b) in
+    match Hashtbl.find_opt acc.seen key with
+    | Some (loc, n) -> Hashtbl.replace acc.seen key (loc, n + 1)
+    | None ->
+        Hashtbl.add acc.seen key (o.loc, 1);
+        acc.order <- (key, c) :: acc.order
+
+(* The colours of [D.object_material o], read where they are: the object's own colour
+   beside its material stands for the material's when it has no texture, so that no
+   material is copied for each object of a loop that colours them. *)
+let rec note_object acc (o : D.obj) =
+  (match o.material with
+  | None -> ()
+  | Some { texture = None; _ } -> note_colour acc o o.color
+  | Some m -> List.iter (note_colour acc o) (surface_colours m));
+  match o.shape with Csg { members; _ } -> List.iter (note_object acc) members | _ -> ()
+
+let colour_warnings_of ?(source = fun _ -> None) acc lights =
+  let strengths = List.map light_strength lights in
   (* A light of strength s (intensity × its colour's largest component) makes up for a
      colour whose largest component is m > 1 when s·m ≤ 1. *)
-  let suspect c =
+  let made_up c =
     let m = largest c in
-    m > 1. && not (List.exists (fun s -> s *. m <= 1.) strengths)
+    List.exists (fun s -> s *. m <= 1.) strengths
   in
-  let seen = Hashtbl.create 8 and order = ref [] in
-  let note (o : D.obj) (c : Color.t) =
-    if suspect c then
-      let key = (c.r, c.g, c.b) in
-      match Hashtbl.find_opt seen key with
-      | Some (loc, n) -> Hashtbl.replace seen key (loc, n + 1)
-      | None ->
-          Hashtbl.add seen key (o.loc, 1);
-          order := (key, c) :: !order
-  in
-  (* The colours of [D.object_material o], read where they are: the object's own colour
-     beside its material stands for the material's when it has no texture, so that no
-     material is copied for each object of a loop that colours them. *)
-  let rec visit (o : D.obj) =
-    (match o.material with
-    | None -> ()
-    | Some { texture = None; _ } -> note o o.color
-    | Some m -> List.iter (note o) (surface_colours m));
-    match o.shape with Csg { members; _ } -> List.iter visit members | _ -> ()
-  in
-  List.iter visit d.objects;
-  List.rev_map
-    (fun (key, c) ->
-      let (loc : Loc.t), n = Hashtbl.find seen key in
-      let c255 = Color.scale (1. /. 255.) c in
-      Diagnostic.warning ?source:(source loc.file) loc
-        (Printf.sprintf
-           "colour %s has a component above 1 and no light is dim enough to make up for \
-            it: this object reflects more light than it receives and shows flat and \
-            saturated; colours go from 0 to 1 (for 0–255 values, divide by 255: (%.3g, \
-            %.3g, %.3g))%s"
-           (colour_text c) c255.r c255.g c255.b
-           (match n - 1 with
-           | 0 -> ""
-           | 1 -> "; 1 more object has this colour"
-           | k -> Printf.sprintf "; %d more objects have this colour" k)))
-    !order
+  (* [order] is newest first: folded from the left, the warnings come oldest first. *)
+  List.fold_left
+    (fun ws (key, c) ->
+      if made_up c then ws
+      else
+        let (loc : Loc.t), n = Hashtbl.find acc.seen key in
+        let c255 = Color.scale (1. /. 255.) c in
+        Diagnostic.warning ?source:(source loc.file) loc
+          (Printf.sprintf
+             "colour %s has a component above 1 and no light is dim enough to make up \
+              for it: this object reflects more light than it receives and shows flat \
+              and saturated; colours go from 0 to 1 (for 0–255 values, divide by 255: \
+              (%.3g, %.3g, %.3g))%s"
+             (colour_text c) c255.r c255.g c255.b
+             (match n - 1 with
+             | 0 -> ""
+             | 1 -> "; 1 more object has this colour"
+             | k -> Printf.sprintf "; %d more objects have this colour" k))
+        :: ws)
+    [] acc.order
+
+let colour_warnings ?source (d : D.t) =
+  let acc = colours () in
+  List.iter (note_object acc) d.objects;
+  colour_warnings_of ?source acc d.lights
 
 (* Which normals a mesh's triangles are shaded with, in words and as a JSON name. *)
 let mesh_normals ~smooth (f : D.mesh_faces) =

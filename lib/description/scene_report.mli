@@ -24,6 +24,23 @@ val colour_warnings :
     other objects that have it. Backgrounds, fog, ambient light and lights themselves may
     be brighter than 1 and are not looked at. *)
 
+type colours
+(** The surface colours above 1 of objects noted one by one, for {!colour_warnings_of}:
+    what {!colour_warnings} reads of a description's objects, gathered as they are made.
+*)
+
+val colours : unit -> colours
+(** Nothing noted yet. *)
+
+val note_object : colours -> Description.obj -> unit
+(** [note_object acc o]: the surface colours of [o] (and of its CSG members), after those
+    of the objects noted before. *)
+
+val colour_warnings_of :
+  ?source:(string -> string option) -> colours -> Light.t list -> Diagnostic.t list
+(** {!colour_warnings} of a description whose objects are those noted, in order, and whose
+    lights are these. *)
+
 val summary : empty:bool -> Description.t -> Description.rendered -> string
 (** Image size, sampling (jitter, adaptive), camera, frames, objects by kind, CSG trees,
     lights, distinct materials, bodies, and which {!Features} the renderer uses and skips;
