@@ -37,6 +37,9 @@ type cx = {
   mutable last_kinds : string * Kind.t list;
       (** the last keyword looked up, and its kinds: a generated scene's blocks are mostly
           of one kind, and the reader makes the keywords the same string *)
+  mutable moving : bool;
+      (** whether an [animation] or [physics] block, a body or a camera's [shutter] is
+          written anywhere *)
 }
 
 and placed = Kind.t * (slot * Schema.field option) list * bool
@@ -603,6 +606,15 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
       | _, Builtin _ -> refuse f.nloc (Msg.builtin_as_statement f.id)
       | _, t -> refuse f.nloc (Msg.not_a_macro f.id t))
   | Block (k, items) -> (
+      (match k.id with
+      | "animation" | "physics" -> cx.moving <- true
+      | "camera" ->
+          if
+            List.exists
+              (function A.Field (n, _) -> n.id = "shutter" | A.Stmt _ -> false)
+              items
+          then cx.moving <- true
+      | _ -> ());
       match k.id with
       | "material" ->
           report cx k.nloc Msg.material_statement;
@@ -615,6 +627,7 @@ and stmt cx env ~where (s : A.stmt) : env * Tast.stmt list =
           (env, one Nothing)
       | _ -> (env, one (Block (block cx env ~stmt ~where ~keyword:k k.nloc items))))
   | Body (n, items) ->
+      cx.moving <- true;
       let before = Names.find_opt n.id env.names in
       let b = binding cx env n in
       let tb =
@@ -682,6 +695,7 @@ let start ?(schema = Schema.blocks) ?(types = true) ~sources () =
         definitions = [];
         placed = Written.create 16;
         last_kinds = ("", []);
+        moving = false;
       };
     env = initial;
   }
@@ -693,6 +707,7 @@ let top st s =
   ts
 
 let finish st = (st.cx.next, List.rev st.cx.errors)
+let moving st = st.cx.moving
 
 let program ?schema ?types ~sources stmts =
   let st = start ?schema ?types ~sources () in

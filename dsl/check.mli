@@ -53,3 +53,8 @@ val top : state -> Ast.stmt -> Tast.stmt list
 
 val finish : state -> int * Error.t list
 (** How many bindings the program defines, and the mistakes found, in the order found. *)
+
+val moving : state -> bool
+(** Whether the statements seen so far write, anywhere (in a branch not taken, a macro
+    never called), an [animation] or [physics] block, a body or a camera's [shutter]:
+    unless they do, the program is a still without bodies and without motion blur. *)

@@ -147,21 +147,27 @@ let once what (blk : block) get set build s : scode =
 
 let csg s ~keyword fr (sc : scope) =
   let members = ref [] in
-  let b = evaluate s fr { sink = members; in_group = true; in_csg = true } in
+  let b = evaluate s fr { sink = members; emit = None; in_group = true; in_csg = true } in
   match Build.csg b ~keyword ~loc:s.kloc ~in_csg:sc.in_csg (List.rev !members) with
   | Some o -> State.add_object fr.st sc s.kloc o
   | None -> ()
 
 let group s fr sc =
   let members = ref [] in
-  let b = evaluate s fr { sink = members; in_group = true; in_csg = false } in
+  let b =
+    evaluate s fr { sink = members; emit = None; in_group = true; in_csg = false }
+  in
   let t, tj = Build.transforms b in
   let mat = Build.object_material b in
-  if not b.failed then sc.sink := Build.group_members t tj mat !members !(sc.sink)
+  if not b.failed then
+    match sc.emit with
+    | None -> sc.sink := Build.group_members t tj mat !members !(sc.sink)
+    | Some _ ->
+        List.iter (State.put sc) (List.rev (Build.group_members t tj mat !members []))
 
 (* The statements of a material block (lets) build nothing: one scope serves them all. *)
 (* A material's block builds no object: its scope's sink stays empty. *)
-let no_objects = { sink = ref []; in_group = false; in_csg = false }
+let no_objects = { sink = ref []; emit = None; in_group = false; in_csg = false }
 
 (* What reading a block of constants when it is compiled may not do: find a mistake, or
    name a file (the run reports it, and the file is read as it runs). *)
@@ -241,7 +247,9 @@ let body_code s ~name ~(where : where) ~nloc ~sloc fr (sc : scope) =
   if List.exists (fun ((b : Description.body), _) -> b.name = name) out.bodies then
     fail nloc (Msg.body_twice name);
   let members = ref [] in
-  let b = evaluate s fr { sink = members; in_group = true; in_csg = false } in
+  let b =
+    evaluate s fr { sink = members; emit = None; in_group = true; in_csg = false }
+  in
   match Build.body b ~name ~loc:sloc ~at:nloc !members with
   | None -> raise Poisoned
   | Some r -> (

@@ -30,6 +30,7 @@ type t = {
   named : (string, unit) Hashtbl.t;
       (** the image and mesh files the descriptions made so far name *)
   named_lock : Mutex.t;
+  emitted : bool;  (** the load's objects went to its [emit], not into [kept] *)
 }
 
 let default_physics = D.default_physics
@@ -70,6 +71,7 @@ let text_digest t =
 let file t = t.file
 let first t = match Atomic.get t.kept with Some (d, _) -> d | None -> t.header
 let released t = Option.is_none (Atomic.get t.kept)
+let emitted t = t.emitted
 
 (* The objects are let go from the program: what the load recorded of them (the
    description and the static statements' objects) is forgotten, and the next
@@ -429,7 +431,7 @@ let read_program ~read file text =
           List.iter (feed l) stmts;
           Ok l)
 
-let load_text ?progress ?files ?(read = from_disk) file text =
+let load_text ?progress ?files ?emit ?(read = from_disk) file text =
   let text = Syntax.without_bom text in
   match read_program ~read file text with
   | Error es -> Error es
@@ -451,8 +453,11 @@ let load_text ?progress ?files ?(read = from_disk) file text =
       let uses = ref [] in
       let on_file u = uses := u :: !uses in
       let plan = Run.plan_of l.analysis in
+      (* A still without bodies or motion blur has one scene: its objects may go to
+         [emit] as they are made. *)
+      let emit = if Check.moving l.check then None else emit in
       let run =
-        Run.record plan ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
+        Run.record ?emit plan ~on_objects ~on_file ~file ~sources ~time:0. ~frame:0 code
       in
       match (run, file_errors files sources !uses) with
       | Error es, fes -> Error (merged (es @ fes))
@@ -469,16 +474,18 @@ let load_text ?progress ?files ?(read = from_disk) file text =
               resolved = l.resolved;
               includes;
               header = { first with objects = [] };
-              kept = Atomic.make (Some (first, static));
+              kept =
+                Atomic.make (if Option.is_some emit then None else Some (first, static));
               named =
                 (let h = Hashtbl.create 4 in
                  List.iter (fun f -> Hashtbl.replace h f ()) first.files;
                  h);
               named_lock = Mutex.create ();
+              emitted = Option.is_some emit;
             })
 
-let load_string ?progress ?files ?(filename = "<string>") text =
-  guard filename (fun () -> load_text ?progress ?files filename text)
+let load_string ?progress ?files ?emit ?(filename = "<string>") text =
+  guard filename (fun () -> load_text ?progress ?files ?emit filename text)
 
 type bundle = {
   b_file : string;
@@ -498,7 +505,7 @@ let bundle (t : t) =
   }
 
 (* Includes from the bundle alone: none is looked for on this machine's disk. *)
-let load_bundle ?progress ?files b =
+let load_bundle ?progress ?files ?emit b =
   let read ~including p =
     match List.assoc_opt (including, p) b.b_includes with
     | Some (path, text) -> (path, fun () -> Ok text)
@@ -507,13 +514,13 @@ let load_bundle ?progress ?files b =
           fun () -> Error (`Status "it is not among the files the program was sent with")
         )
   in
-  guard b.b_file (fun () -> load_text ?progress ?files ~read b.b_file b.b_text)
+  guard b.b_file (fun () -> load_text ?progress ?files ?emit ~read b.b_file b.b_text)
 
-let load_file ?files path =
+let load_file ?files ?emit path =
   guard path (fun () ->
       match read_file path with
       | Error m -> Error [ Error.file_error path ("cannot read the scene: " ^ m) ]
-      | Ok text -> load_text ?files path text)
+      | Ok text -> load_text ?files ?emit path text)
 
 (* [parts]: the objects as parts ({!Run.run_parts}), else whole. *)
 let eval ?(again = false) ~parts ?body_state ?on_objects ?on_file ?cancel (t : t) ~time

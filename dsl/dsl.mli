@@ -14,6 +14,7 @@ type t
 
 val load_file :
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
+  ?emit:(Description.obj -> unit) ->
   string ->
   (t, Error.t list) result
 (** [load_file path] reads, parses and checks [path]: the whole program's types and the
@@ -24,7 +25,13 @@ val load_file :
     Included files are found relative to the file that includes them. Errors name files as
     the paths were written. The scene and every include must be a regular file of at most
     {!max_source_bytes}: a device, a FIFO or a larger file is refused from its status,
-    before it is opened. *)
+    before it is opened.
+
+    With [emit], a program that writes no [animation] or [physics] block, no body and no
+    camera [shutter] anywhere ({!Check.moving}) hands each object of its evaluation at
+    time 0 to [emit] as it is made, in the order of a description's [objects], and keeps
+    none: it is then {!emitted} (and {!released}). What [emit] got is that scene's objects
+    only if the load succeeds. *)
 
 val max_source_bytes : int
 (** 64 MiB: the largest scene or included file. *)
@@ -37,6 +44,7 @@ val source_problem : string -> string option
 val load_string :
   ?progress:(string -> unit) ->
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
+  ?emit:(Description.obj -> unit) ->
   ?filename:string ->
   string ->
   (t, Error.t list) result
@@ -54,6 +62,7 @@ val bundle : t -> bundle
 val load_bundle :
   ?progress:(string -> unit) ->
   ?files:(Description.file_use list -> (Loc.t * string) list) ->
+  ?emit:(Description.obj -> unit) ->
   bundle ->
   (t, Error.t list) result
 (** The program of a bundle, as {!load_string}, with every include taken from the bundle:
@@ -105,7 +114,10 @@ val release : t -> Description.t option
     the program again, every statement: the same description, as new values. *)
 
 val released : t -> bool
-(** Whether {!release} was called. *)
+(** Whether {!release} was called, or the load's objects were {!emitted}. *)
+
+val emitted : t -> bool
+(** Whether the load handed its objects to its [emit] instead of keeping them. *)
 
 val static : t -> Description.static
 (** The program's static part: the objects of {!first} built by the top-level statements

@@ -193,7 +193,7 @@ let grown now before =
 
 type mode = Plain | Record of plan * static | Replay of static
 
-let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
+let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true) ?emit
     ?(on_file = ignore) ~file ~sources ~time ~frame (prog : Compile.t) =
   let uses = ref [] in
   let on_file u =
@@ -204,7 +204,7 @@ let exec ~mode ~parts ?body_state ?on_objects ?cancel ?(objects = true)
     State.create ?body_state ?on_objects ?cancel ~on_file ~sources ~time ~frame ()
   in
   let out = st.out and count = st.count in
-  let scope = { sink = ref []; in_group = false; in_csg = false } in
+  let scope = { sink = ref []; emit; in_group = false; in_csg = false } in
   (* The objects built so far, newest piece first: those of the static statements, and
      between them those of the others (finished when a piece follows). *)
   let pieces = ref [] in
@@ -351,10 +351,18 @@ let run_parts ?static ?body_state ?on_objects ?cancel ?on_file ~file ~sources ~t
   exec ~mode ~parts:true ?body_state ?on_objects ?cancel ?on_file ~file ~sources ~time
     ~frame prog
 
-let record plan ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog =
+let record ?emit plan ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog =
   let into = Array.make (Array.length plan) None in
-  Result.map
-    (fun (d, _) -> (d, into))
-    (exec
-       ~mode:(Record (plan, into))
-       ~parts:false ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog)
+  match emit with
+  | None ->
+      Result.map
+        (fun (d, _) -> (d, into))
+        (exec
+           ~mode:(Record (plan, into))
+           ~parts:false ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog)
+  | Some _ ->
+      (* The objects go as they are made: nothing of them is recorded. *)
+      Result.map
+        (fun (d, _) -> (d, into))
+        (exec ~mode:Plain ~parts:false ?on_objects ?cancel ?on_file ?emit ~file ~sources
+           ~time ~frame prog)

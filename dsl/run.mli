@@ -70,8 +70,11 @@ val run :
     run: what it did then is taken instead, and the description is the one running it
     would have given. *)
 
-val record : plan -> (D.t * static) runner
-(** {!run}, every statement run, and what the plan's static statements did. *)
+val record : ?emit:(D.obj -> unit) -> plan -> (D.t * static) runner
+(** {!run}, every statement run, and what the plan's static statements did. With [emit],
+    each object the program's own scope gets is handed to [emit] as it is made, in the
+    order of the description's [objects], and nothing is kept of it: the description has
+    no [objects] but its bodies' spheres, and nothing is recorded. *)
 
 val run_parts :
   ?static:static ->

@@ -111,13 +111,16 @@ let enter st loc =
 
 let leave st = st.count.depth <- st.count.depth - 1
 
+let put scope o =
+  match scope.emit with Some f -> f o | None -> scope.sink := o :: !(scope.sink)
+
 let add_object st scope loc o =
   let c = st.count in
   c.objects <- c.objects + 1;
   if c.objects land 0xFFFF = 0 then Option.iter (fun f -> f c.objects) st.hooks.on_objects;
   if c.objects > max_objects then limit st loc (Msg.objects_limit max_objects);
   if c.objects land 1023 = 0 then Option.iter (limit st loc) (memory_refusal st c.objects);
-  scope.sink := o :: !(scope.sink)
+  put scope o
 
 let loop st loc ~range ~count ~per_iteration =
   let c = st.count in

@@ -52,7 +52,12 @@ val enter : Value.state -> Loc.t -> unit
 (** A call: a step, one level deeper. *)
 
 val leave : Value.state -> unit
+
+val put : Value.scope -> D.obj -> unit
+(** An object into a scope: handed over where the scope emits them, else into its sink. *)
+
 val add_object : Value.state -> Value.scope -> Loc.t -> D.obj -> unit
+(** A new object of a block into [scope] ({!put}), counted against the limits. *)
 
 val loop :
   Value.state ->

@@ -34,7 +34,14 @@ and macro = {
 }
 
 and frame = { l : t array; c : t array; st : state }
-and scope = { sink : D.obj list ref; in_group : bool; in_csg : bool }
+
+and scope = {
+  sink : D.obj list ref;
+  emit : (D.obj -> unit) option;
+  in_group : bool;
+  in_csg : bool;
+}
+
 and state = { hooks : hooks; count : counters; out : outputs; tell : sink }
 
 and sink = {

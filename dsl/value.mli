@@ -57,6 +57,9 @@ and frame = { l : t array; c : t array; st : state }
 
 and scope = {
   sink : Description.obj list ref;  (** newest first *)
+  emit : (Description.obj -> unit) option;
+      (** the program's scope only, in a run that hands each object over as it is made
+          ({!Run.record}'s [emit]): the objects go there, in order, and not into [sink] *)
   in_group : bool;  (** inside a group, CSG block or body *)
   in_csg : bool;  (** directly inside a CSG block *)
 }

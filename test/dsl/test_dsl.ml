@@ -729,6 +729,75 @@ let test_scenes () =
       | Error es -> Alcotest.failf "%s:\n%s" f (errors_text es))
     files
 
+(* A load that hands its objects over as it makes them ([emit]) hands over a
+   description's objects, in order, and keeps none; a program that writes anything that
+   could make it move (an animation, physics, a body, a shutter) hands over nothing and
+   keeps them. Every scene of scenes/ and its folders (groups, CSG, macros, meshes,
+   animations, bodies), and a program that nests what builds objects. *)
+let test_emitted () =
+  let dirs = [ ""; "gallery"; "materials"; "bench" ] in
+  let files =
+    List.concat_map
+      (fun d ->
+        let dir = Filename.concat scenes_dir d in
+        Sys.readdir dir |> Array.to_list |> List.sort compare
+        |> List.filter (fun f -> Filename.check_suffix f ".rts")
+        |> List.map (Filename.concat dir))
+      dirs
+  in
+  let nested =
+    Filename.concat (Filename.get_temp_dir_name ()) "lancer_emitted_nested.rts"
+  in
+  Out_channel.with_open_bin nested (fun oc ->
+      output_string oc
+        {|fn pair(x) { sphere { center: (x, 0, 0), radius: 0.5 } box { min: (x, 1, 0), max: (x + 1, 2, 1) } }
+light { position: (0, 5, -5) }
+group {
+  pair(1)
+  group { pair(3) sphere { center: (0, 4, 0), radius: 1, material: material { color: (0.2, 0.4, 0.6) } } rotate: (0, 30, 0) }
+  translate: (0, 1, 0)
+}
+for x in [5, 7] { if x > 6 { pair(x) } else { difference { box { min: (x, 0, 0), max: (x + 1, 1, 1) } sphere { center: (x, 1, 0), radius: 0.5 } } } }
+union { group { pair(9) } sphere { center: (11, 0, 0), radius: 1 } }
+|});
+  let emitted = ref 0 and kept = ref 0 in
+  List.iter
+    (fun path ->
+      match Dsl.load_file path with
+      | Error es -> Alcotest.failf "%s:\n%s" path (errors_text es)
+      | Ok whole -> (
+          let objects = (Dsl.first whole).objects in
+          let got = ref [] in
+          match Dsl.load_file ~emit:(fun o -> got := o :: !got) path with
+          | Error es -> Alcotest.failf "%s, emitted:\n%s" path (errors_text es)
+          | Ok p ->
+              let d = Dsl.first p in
+              if Dsl.emitted p then (
+                incr emitted;
+                Alcotest.(check int) (path ^ ": none kept") 0 (List.length d.objects);
+                Alcotest.(check bool) (path ^ ": released") true (Dsl.released p);
+                Alcotest.(check int)
+                  (path ^ ": every object handed over")
+                  (List.length objects) (List.length !got);
+                Alcotest.(check bool)
+                  (path ^ ": the description's objects, in order")
+                  true
+                  (compare (List.rev !got) objects = 0))
+              else (
+                incr kept;
+                Alcotest.(check int) (path ^ ": nothing handed over") 0 (List.length !got);
+                Alcotest.(check bool)
+                  (path ^ ": kept whole") true
+                  (compare d.objects objects = 0);
+                Alcotest.(check bool)
+                  (path ^ ": it could move") true
+                  (d.animation <> None || d.physics <> None || d.bodies <> []
+                  || d.camera.shutter <> (0., 0.)))))
+    (nested :: files);
+  Sys.remove nested;
+  Alcotest.(check bool) "most scenes handed over" true (!emitted > 50);
+  Alcotest.(check bool) "animations and bodies kept" true (!kept > 5)
+
 let test_json () =
   let p =
     load
@@ -1295,6 +1364,8 @@ let () =
         [
           Alcotest.test_case "every scene in scenes/ loads and evaluates" `Quick
             test_scenes;
+          Alcotest.test_case "objects handed over as they are made are the description's"
+            `Quick test_emitted;
           Alcotest.test_case "the reader reads every scene as the grammar does" `Quick
             test_reader;
           Alcotest.test_case "to_json lists objects with their fields, and lights" `Quick
