@@ -56,6 +56,9 @@ type t = {
       (** the simulation of the bodies over the animation (over no time for a still);
           forced under [lock] *)
   lock : Mutex.t;  (** over [static], [motion] and [on_disk] *)
+  made : Compile.stream option Atomic.t;
+      (** the load's objects, compiled as the load made them ({!Dsl.emitted}), until the
+          scene at time 0, frame 0 takes them *)
   on_disk : (string, string) Hashtbl.t;
       (** the MD5 of input files this run has not decoded, as they were when asked *)
   colours : Diagnostic.t list;
@@ -67,7 +70,8 @@ type t = {
    several instants ({!scenes}), which share its static part as an animation's frames do. *)
 let blurred_dsl dsl = Camera.motion_blur (Dsl.first dsl).camera
 
-let of_dsl ~single assets dsl =
+let of_dsl ~single ?made assets dsl =
+  let made = if Dsl.emitted dsl then made else None in
   {
     dsl;
     assets;
@@ -80,10 +84,15 @@ let of_dsl ~single assets dsl =
         | _, st -> Some (Compile.static assets st));
     motion = lazy (simulation dsl ~until:(duration dsl));
     lock = Mutex.create ();
+    made = Atomic.make (Option.map fst made);
     on_disk = Hashtbl.create 4;
     colours =
       Dsl.located dsl ~time:0. ~frame:0
-        (Scene_report.colour_warnings ~source:(Dsl.source dsl) (Dsl.first dsl));
+        (match made with
+        | Some (_, colours) ->
+            Scene_report.colour_warnings_of ~source:(Dsl.source dsl) colours
+              (Dsl.first dsl).lights
+        | None -> Scene_report.colour_warnings ~source:(Dsl.source dsl) (Dsl.first dsl));
   }
 
 let language p = p.dsl
@@ -101,19 +110,33 @@ type bundle = Dsl.bundle
 
 let bundle p = Dsl.bundle p.dsl
 
+(* A program loaded for one scene ([single]) that is a still has its objects compiled as
+   its load makes them (and their colours noted), instead of a description of them all
+   held until the scene is compiled: a large scene is never held twice, and the
+   collector never has to follow the description. *)
+let loaded ~single a load =
+  if single then
+    let made = Compile.stream a and colours = Scene_report.colours () in
+    let emit o =
+      Compile.add made o;
+      Scene_report.note_object colours o
+    in
+    Result.map (of_dsl ~single ~made:(made, colours) a) (load ~emit:(Some emit))
+  else Result.map (of_dsl ~single a) (load ~emit:None)
+
 let load_file ?(single = false) ?(digests = true) ?after_read path =
   let a = Compile.assets ~digests ?after_read () in
-  Result.map (of_dsl ~single a) (Dsl.load_file ~files:(Compile.check_files a) path)
+  loaded ~single a (fun ~emit -> Dsl.load_file ~files:(Compile.check_files a) ?emit path)
 
 let load_string ?(single = false) ?progress ?(digests = true) ?after_read ?filename text =
   let a = Compile.assets ~digests ?after_read () in
-  Result.map (of_dsl ~single a)
-    (Dsl.load_string ?progress ~files:(Compile.check_files a) ?filename text)
+  loaded ~single a (fun ~emit ->
+      Dsl.load_string ?progress ~files:(Compile.check_files a) ?emit ?filename text)
 
 let load_bundle ?(single = false) ?progress ?(digests = true) b =
   let a = Compile.assets ~digests () in
-  Result.map (of_dsl ~single a)
-    (Dsl.load_bundle ?progress ~files:(Compile.check_files a) b)
+  loaded ~single a (fun ~emit ->
+      Dsl.load_bundle ?progress ~files:(Compile.check_files a) ?emit b)
 
 (* What a record says of an input: the digest of the bytes this run decoded, or, for a
    file it has not decoded (yet), of the file on disk, once. *)
@@ -258,27 +281,37 @@ let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
 (* The scene at [time] and [frame], and its description (without its objects when they
    were handed to the compile, or given as parts).
 
-   A program loaded for one scene ([single]) has its load's description compiled for a
-   still at time 0, frame 0: the program lets its objects go ({!Dsl.release}), and the
-   compile lets each go as it is made into primitives, so that a large scene is not held
-   twice. An animation's scenes (those indexed) are the static part, compiled once, joined
-   with what the other statements build at that instant. Any other scene is described,
-   then compiled. *)
+   A program loaded for one scene ([single]) whose load compiled its objects as it made
+   them ({!loaded}) has them made into the scene at time 0, frame 0. Otherwise it has its
+   load's description compiled for a still at time 0, frame 0: the program lets its
+   objects go ({!Dsl.release}), and the compile lets each go as it is made into
+   primitives, so that a large scene is not held twice. An animation's scenes (those
+   indexed) are the static part, compiled once, joined with what the other statements
+   build at that instant. Any other scene is described, then compiled. *)
 let scene_and_description ?body_state ?progress ?cancel ?(index = true) p ~time ~frame =
-  let released =
-    if
-      p.single && body_state = None && Float.equal time 0. && frame = 0
-      && Dsl.animation p.dsl = None
-      && (not (blurred p))
-      && Dsl.bodies p.dsl = []
-    then Dsl.release p.dsl
-    else None
+  let at_load =
+    p.single && body_state = None && Float.equal time 0. && frame = 0
+    && Dsl.animation p.dsl = None
+    && (not (blurred p))
+    && Dsl.bodies p.dsl = []
   in
-  match released with
-  | Some d ->
+  (* Taken by the first scene that asks (any other, or a later one, evaluates the
+     program again). *)
+  let made = Atomic.exchange p.made None in
+  let released = if at_load then Dsl.release p.dsl else None in
+  match (made, released) with
+  | Some made, _ when at_load ->
+      let d = Dsl.first p.dsl in
+      Result.map
+        (fun sc -> (sc, d))
+        (Result.map_error
+           (Dsl.located p.dsl ~time ~frame)
+           (guard p (fun () ->
+                Compile.finish ~source:(Dsl.source p.dsl) ?progress ~index made d)))
+  | _, Some d ->
       let objects = d.objects and d = { d with objects = [] } in
       Result.map (fun sc -> (sc, d)) (compile ?progress ~index ~objects p d)
-  | None -> (
+  | _, None -> (
       match if index then guard p (fun () -> Ok (static p)) else Ok None with
       | Error es -> Error (Dsl.located p.dsl ~time ~frame es)
       | Ok (Some static) ->

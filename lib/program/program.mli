@@ -22,10 +22,11 @@ val load_file :
     {!assets}) and their problems reported with the program's. [digests] (default [true])
     and [after_read] are {!Lancer_render.Compile.val-assets}': a run that records what its
     pixels were made of (an animation's frames, a checkpoint) keeps the digest of every
-    file it decodes. [single] (default [false]) says that the program is loaded for one
-    scene only (a still's render): its first scene at time 0 may let the load's
-    description go as it is compiled, so that a large scene is not held twice (see
-    {!scene}). *)
+    file it decodes. [single] (default [false]) says that the program is loaded for its
+    scene at time 0, frame 0 only (a still's render): a still without bodies or motion
+    blur ({!Dsl.emitted}) then has its objects compiled as the load makes them, and any
+    other program's first scene at time 0 may let the load's description go as it is
+    compiled, so that a large scene is never held twice (see {!scene}). *)
 
 val load_string :
   ?single:bool ->
@@ -134,9 +135,11 @@ val scene :
     at time 0, frame 0 of a still without bodies: that one is the load's description. An
     animation's scene is its static part, compiled once for all of them, joined with the
     objects its other statements build at [time] ({!Dsl.describe_parts}). In a program
-    loaded [~single:true], the first scene at time 0, frame 0 of a still without bodies
-    lets the load's description go ({!Dsl.release}) as the compile goes through it, object
-    by object; a later one evaluates the program again. *)
+    loaded [~single:true], the first scene asked for is, at time 0, frame 0 of a still
+    without bodies, made of the primitives its load compiled as it went
+    ({!Lancer_render.Compile.finish}), or else of the load's description, let go
+    ({!Dsl.release}) as the compile goes through it, object by object; any later scene
+    evaluates the program again. *)
 
 val scenes :
   ?body_state:(string -> float -> (Vec3.t * Vec3.t) option) ->

@@ -81,7 +81,9 @@ let every prog (o : Options.t) spec =
 
 let run ?width ?height ~scene ~json ~time ~frames () =
   let o = { Options.default with scene = Some scene; time; width; height } in
-  let prog = Scene_file.load ~single:(frames = None && not json) o.scene in
+  let prog =
+    Scene_file.load ~single:(frames = None && (not json) && Options.at_start o) o.scene
+  in
   match frames with
   | None -> one prog o ~json
   | Some _ when time <> None -> user "give either --time or --frames, not both"

@@ -59,5 +59,9 @@ let domains o =
 
 let time_of o src = Scenes.time_of src ~time:o.time ~frame:o.frame
 
+let at_start o =
+  Option.fold ~none:true ~some:(Float.equal 0.) o.time
+  && Option.fold ~none:true ~some:(Int.equal 0) o.frame
+
 let scene_at ?progress ?cancel o src ~time ~frame =
   fst (Scenes.scene ?progress ?cancel src (overrides o) ~time ~frame)

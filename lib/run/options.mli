@@ -38,6 +38,11 @@ val time_of : t -> Scenes.t -> float * int
 (** The (time, frame) chosen by [--time] / [--frame] (default 0, 0):
     {!Lancer_job.Scenes.time_of}. *)
 
+val at_start : t -> bool
+(** Whether the options ask for the scene at time 0, frame 0 (neither [--time] nor
+    [--frame], or either at 0): the one scene a still's program, loaded for one scene,
+    makes as it is loaded. *)
+
 val scene_at :
   ?progress:(string -> unit) ->
   ?cancel:Cancel.t ->

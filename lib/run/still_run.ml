@@ -28,7 +28,9 @@ let build ?digests (o : Options.t) =
           (Printf.sprintf "reading and checking %s"
              (Option.value o.scene ~default:"the showcase"));
         (* One scene of it: a still's description may go as it is compiled. *)
-        let prog = Scene_file.load ~single:true ~progress:say ?digests o.scene in
+        let prog =
+          Scene_file.load ~single:(Options.at_start o) ~progress:say ?digests o.scene
+        in
         let src = Scene_file.source o prog in
         let time, frame = Options.time_of o src in
         say "evaluating the scene and building its acceleration structure";

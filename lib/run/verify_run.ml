@@ -105,7 +105,7 @@ let run ?cancel ?(domains = 1) ~blocks image =
     false)
   else
     let o = { Options.default with scene } in
-    let prog = Scene_file.load ~single:true scene in
+    let prog = Scene_file.load ~single:(Float.equal r.time 0. && r.frame = 0) scene in
     let src = Scene_file.source o prog in
     if src.text_digest () <> r.scene_digest then (
       Printf.printf

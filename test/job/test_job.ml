@@ -690,25 +690,69 @@ let load ?single text =
 
 let made = function Ok sc -> sc | Error _ -> Alcotest.fail "the grid does not compile"
 
-(* Compiling a still's one scene (a program loaded for one only) lets the load's objects
-   go: nothing keeps them once they are primitives, and what check prints of them is made
-   again. A program asked for several scenes keeps the load's description for them. *)
+(* A still loaded for its one scene has its objects compiled as the load makes them: the
+   program never holds them, the scene is the one a description of them makes, and what
+   check prints of them is made again. A program asked for several scenes keeps the
+   load's description for them. *)
+let still_compiles_as_it_loads () =
+  let module Dsl = Lancer_dsl.Dsl in
+  let q = load (grid_text 40) in
+  let kept = made (Program.scene_at ~index:false q ~time:0. ~frame:0) in
+  let json_before = Yojson.Safe.to_string (Program.to_json q kept) in
+  Alcotest.(check bool)
+    "not asked for one scene: not emitted" false
+    (Dsl.emitted (Program.language q));
+  Alcotest.(check int)
+    "not asked for one scene: the program keeps the objects" 1600
+    (List.length (Dsl.first (Program.language q)).objects);
+  let p = load ~single:true (grid_text 40) in
+  Alcotest.(check bool) "asked for one: emitted" true (Dsl.emitted (Program.language p));
+  Alcotest.(check int)
+    "the program keeps none" 0
+    (List.length (Dsl.first (Program.language p)).objects);
+  let overhead = (Gc.get ()).space_overhead in
+  let sc = made (Program.scene_at p ~time:0. ~frame:0) in
+  Alcotest.(check int) "the GC as it was" overhead (Gc.get ()).space_overhead;
+  Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
+  let whole = made (Program.scene_at q ~time:0. ~frame:0) in
+  Alcotest.(check bool)
+    "the primitives a description of them makes" true
+    (Array.for_all2
+       (fun (a : Primitive.t) (b : Primitive.t) -> a.shape = b.shape && a.color = b.color)
+       sc.objects whole.objects);
+  Alcotest.(check string)
+    "check's objects, made again" json_before
+    (Yojson.Safe.to_string (Program.to_json p sc));
+  (match Dsl.describe (Program.language p) ~time:0. ~frame:0 with
+  | Ok d -> Alcotest.(check int) "time 0 evaluated again" 1600 (List.length d.objects)
+  | Error _ -> Alcotest.fail "time 0 does not evaluate again");
+  let again = made (Program.scene_at p ~time:0. ~frame:0) in
+  Alcotest.(check int) "a second scene" 1600 (Array.length again.objects)
+
+(* A program that writes what could make it move (here a camera's shutter, closed) is not
+   compiled as it loads; loaded for one scene, its first scene at time 0 of a still lets
+   the load's objects go as they compile: nothing keeps them once they are primitives. *)
 let still_lets_objects_go () =
   let module Dsl = Lancer_dsl.Dsl in
-  let p = load ~single:true (grid_text 40) in
+  let text =
+    {|let n = 40
+settings { width: 8, height: 6 }
+camera { position: (0, 0.6 * n, -0.9 * n), look_at: (0, 0, 0), shutter: (0, 0) }
+light { position: (-0.4 * n, 0.8 * n, -0.6 * n) }
+for i in 0 to n - 1 { for j in 0 to n - 1 { sphere { center: (i - n / 2, 0.4, j - n / 2), radius: 0.4 } } }
+|}
+  in
+  let p = load ~single:true text in
+  Alcotest.(check bool)
+    "a shutter written: not emitted" false
+    (Dsl.emitted (Program.language p));
   let json_before =
-    let q = load (grid_text 40) in
-    let j =
-      Yojson.Safe.to_string
-        (Program.to_json q (made (Program.scene_at ~index:false q ~time:0. ~frame:0)))
-    in
-    Alcotest.(check int)
-      "not asked for one scene: the program keeps the objects" 1600
-      (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language q)).objects);
-    j
+    let q = load text in
+    Yojson.Safe.to_string
+      (Program.to_json q (made (Program.scene_at ~index:false q ~time:0. ~frame:0)))
   in
   let w = Weak.create 1 in
-  (match (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects with
+  (match (Dsl.first (Program.language p)).objects with
   | o :: _ -> Weak.set w 0 (Some o)
   | [] -> Alcotest.fail "no objects");
   let overhead = (Gc.get ()).space_overhead in
@@ -718,14 +762,11 @@ let still_lets_objects_go () =
   Alcotest.(check bool) "no description object is kept" false (Weak.check w 0);
   Alcotest.(check int)
     "the program keeps none" 0
-    (List.length (Lancer_dsl.Dsl.first (Lancer.Program.language p)).objects);
+    (List.length (Dsl.first (Program.language p)).objects);
   Alcotest.(check int) "every object compiled" 1600 (Array.length sc.objects);
   Alcotest.(check string)
     "check's objects, made again" json_before
     (Yojson.Safe.to_string (Program.to_json p sc));
-  (match Lancer_dsl.Dsl.describe (Lancer.Program.language p) ~time:0. ~frame:0 with
-  | Ok d -> Alcotest.(check int) "time 0 evaluated again" 1600 (List.length d.objects)
-  | Error _ -> Alcotest.fail "time 0 does not evaluate again");
   let again = made (Program.scene_at p ~time:0. ~frame:0) in
   Alcotest.(check int) "a second scene" 1600 (Array.length again.objects)
 
@@ -967,6 +1008,8 @@ let () =
         ] );
       ( "scenes",
         [
+          Alcotest.test_case "a still compiles its objects as it loads" `Quick
+            still_compiles_as_it_loads;
           Alcotest.test_case "a still lets its objects go as they compile" `Quick
             still_lets_objects_go;
           Alcotest.test_case "a scene without its hierarchy" `Quick scene_without_index;
