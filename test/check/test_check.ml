@@ -479,16 +479,7 @@ let materials_tests =
         has "count" out "materials: 307 distinct");
     Alcotest.test_case "the count is that of the materials' records, scene by scene"
       `Quick (fun () ->
-        let dir = "../../scenes" in
-        let files =
-          List.concat_map
-            (fun sub ->
-              let d = Filename.concat dir sub in
-              Sys.readdir d |> Array.to_list |> List.sort compare
-              |> List.filter (fun f -> Filename.check_suffix f ".rts")
-              |> List.map (Filename.concat d))
-            [ "."; "gallery"; "materials" ]
-        in
+        let files = scene_files "../../scenes" [ "."; "gallery"; "materials" ] in
         let d = scene_dir materials_scene in
         List.iter
           (fun file ->

@@ -735,22 +735,13 @@ let test_scenes () =
    keeps them. Every scene of scenes/ and its folders (groups, CSG, macros, meshes,
    animations, bodies), and a program that nests what builds objects. *)
 let test_emitted () =
-  let dirs = [ ""; "gallery"; "materials"; "bench" ] in
   let files =
-    List.concat_map
-      (fun d ->
-        let dir = Filename.concat scenes_dir d in
-        Sys.readdir dir |> Array.to_list |> List.sort compare
-        |> List.filter (fun f -> Filename.check_suffix f ".rts")
-        |> List.map (Filename.concat dir))
-      dirs
+    Run_lancer.scene_files scenes_dir [ "."; "gallery"; "materials"; "bench" ]
   in
-  let nested =
-    Filename.concat (Filename.get_temp_dir_name ()) "lancer_emitted_nested.rts"
-  in
-  Out_channel.with_open_bin nested (fun oc ->
-      output_string oc
-        {|fn pair(x) { sphere { center: (x, 0, 0), radius: 0.5 } box { min: (x, 1, 0), max: (x + 1, 2, 1) } }
+  let dir = Run_lancer.tmpdir "lancer-emitted" in
+  let nested = Filename.concat dir "nested.rts" in
+  Run_lancer.write_file nested
+    {|fn pair(x) { sphere { center: (x, 0, 0), radius: 0.5 } box { min: (x, 1, 0), max: (x + 1, 2, 1) } }
 light { position: (0, 5, -5) }
 group {
   pair(1)
@@ -759,7 +750,7 @@ group {
 }
 for x in [5, 7] { if x > 6 { pair(x) } else { difference { box { min: (x, 0, 0), max: (x + 1, 1, 1) } sphere { center: (x, 1, 0), radius: 0.5 } } } }
 union { group { pair(9) } sphere { center: (11, 0, 0), radius: 1 } }
-|});
+|};
   let emitted = ref 0 and kept = ref 0 in
   List.iter
     (fun path ->
@@ -795,6 +786,7 @@ union { group { pair(9) } sphere { center: (11, 0, 0), radius: 1 } }
                   || d.camera.shutter <> (0., 0.)))))
     (nested :: files);
   Sys.remove nested;
+  Unix.rmdir dir;
   Alcotest.(check bool) "most scenes handed over" true (!emitted > 50);
   Alcotest.(check bool) "animations and bodies kept" true (!kept > 5)
 

@@ -10,6 +10,15 @@ let tmpdir prefix =
 let write_file p s = Out_channel.with_open_bin p (fun oc -> output_string oc s)
 let read_file p = In_channel.with_open_bin p In_channel.input_all
 
+let scene_files dir subs =
+  List.concat_map
+    (fun sub ->
+      let d = Filename.concat dir sub in
+      Sys.readdir d |> Array.to_list |> List.sort compare
+      |> List.filter (fun f -> Filename.check_suffix f ".rts")
+      |> List.map (Filename.concat d))
+    subs
+
 let contains s sub =
   let n = String.length s and m = String.length sub in
   let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in

@@ -10,6 +10,10 @@ val write_file : string -> string -> unit
 val read_file : string -> string
 (** The whole contents of a file. *)
 
+val scene_files : string -> string list -> string list
+(** [scene_files dir subs]: the [.rts] files of each folder [subs] of [dir] (["."] for
+    [dir] itself), each folder's sorted, as paths under [dir]. *)
+
 val pixels : string -> string
 (** The decoded image of a PNG or PPM file (its size, channels, depth and samples), for
     comparing the pixels of images made by different routes: their bytes differ where
