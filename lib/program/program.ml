@@ -271,12 +271,15 @@ let describe ?body_state ?progress ?cancel p ~time ~frame =
 let static p = Mutex.protect p.lock (fun () -> Lazy.force p.static)
 let blurred p = blurred_dsl p.dsl
 
-let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
+(* The scene [make] compiles of [d], its problems located as the program's. *)
+let compiled p (d : D.t) make =
   Result.map_error
     (Dsl.located p.dsl ~time:d.time ~frame:d.frame)
-    (guard p (fun () ->
-         Compile.compile ~source:(Dsl.source p.dsl) ?progress ?index ?static ?objects
-           ?parts p.assets d))
+    (guard p (fun () -> make ~source:(Dsl.source p.dsl)))
+
+let compile ?progress ?index ?static ?objects ?parts p (d : D.t) =
+  compiled p d (fun ~source ->
+      Compile.compile ~source ?progress ?index ?static ?objects ?parts p.assets d)
 
 (* The scene at [time] and [frame], and its description (without its objects when they
    were handed to the compile, or given as parts).
@@ -304,10 +307,7 @@ let scene_and_description ?body_state ?progress ?cancel ?(index = true) p ~time 
       let d = Dsl.first p.dsl in
       Result.map
         (fun sc -> (sc, d))
-        (Result.map_error
-           (Dsl.located p.dsl ~time ~frame)
-           (guard p (fun () ->
-                Compile.finish ~source:(Dsl.source p.dsl) ?progress ~index made d)))
+        (compiled p d (fun ~source -> Compile.finish ~source ?progress ~index made d))
   | _, Some d ->
       let objects = d.objects and d = { d with objects = [] } in
       Result.map (fun sc -> (sc, d)) (compile ?progress ~index ~objects p d)

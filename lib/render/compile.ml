@@ -753,7 +753,6 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
             (function D.Static i -> static_piece i | D.Built objs -> List.iter one objs)
             ps);
   end_run ();
-  s.s_open <- false;
   if s.s_problems <> [] then Error (problems ~source s)
   else (
     if compacting then Gc.compact ();
