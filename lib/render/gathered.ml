@@ -1,0 +1,268 @@
+(* A stream's primitives, gathered in order (Compile's stream). Most objects of a large
+   scene are spheres placed without a transform, a loop's. Made into primitives as they
+   come, each is five blocks (22 words with a colour of its own) that the collector
+   marks at every cycle of the load while they pile up: over a million coloured spheres
+   that was 2.25 G instructions of marking, a quarter of the run. Such a sphere is held
+   instead as floats (its centre, its radius where it changes, its colour where it is its
+   own: [Floats], which the collector does not look into) and its material where it
+   changes, and made again at the end from the same values by {!Primitive.make}: the
+   same primitive, the one made while its object compiled dying young. Any other
+   primitive is kept as it is made. *)
+
+(* Primitives in order, in arrays of up to [chunk_size] each (the first ones smaller, for
+   a scene of a few objects): none copied as they grow, and each a block the collector
+   marks on its own. *)
+module Chunks = struct
+  let chunk_size = 4096
+
+  type t = {
+    mutable full : Primitive.t array list;  (** newest first, each full *)
+    mutable last : Primitive.t array;
+    mutable n : int;  (** in [last] *)
+    mutable total : int;
+  }
+
+  let create () = { full = []; last = [||]; n = 0; total = 0 }
+
+  let add t p =
+    if t.n = Array.length t.last then (
+      if t.n > 0 then t.full <- t.last :: t.full;
+      t.last <- Array.make (min chunk_size (max 16 t.total)) p;
+      t.n <- 0);
+    t.last.(t.n) <- p;
+    t.n <- t.n + 1;
+    t.total <- t.total + 1
+
+  (* The arrays, oldest first, with how many each holds; [t] is emptied. *)
+  let take t =
+    let all = List.rev_map (fun c -> (c, Array.length c)) t.full @ [ (t.last, t.n) ] in
+    t.full <- [];
+    t.last <- [||];
+    t.n <- 0;
+    t.total <- 0;
+    all
+end
+
+(* Floats in order, in arrays of up to [chunk_size] each, a group of up to [group] never
+   split between two: nothing in them for the collector to follow. *)
+module Floats = struct
+  let chunk_size = 4096
+  let group = 7
+
+  type t = {
+    mutable full : Float.Array.t list;  (** newest first *)
+    mutable last : Float.Array.t;
+    mutable n : int;  (** in [last] *)
+    mutable total : int;
+  }
+
+  let create () = { full = []; last = Float.Array.create 0; n = 0; total = 0 }
+
+  (* Room for [k] ≤ [group] floats in [last], at [t.n]. *)
+  let room t k =
+    if t.n + k > Float.Array.length t.last then (
+      if t.n > 0 then
+        t.full <-
+          (if t.n = Float.Array.length t.last then t.last
+           else Float.Array.sub t.last 0 t.n)
+          :: t.full;
+      t.last <- Float.Array.create (min chunk_size (max 64 t.total));
+      t.n <- 0)
+
+  let[@inline] put t x =
+    Float.Array.unsafe_set t.last t.n x;
+    t.n <- t.n + 1;
+    t.total <- t.total + 1
+
+  (* The arrays, oldest first, each full to its length; [t] is emptied. *)
+  let take t =
+    let all = List.rev (Float.Array.sub t.last 0 t.n :: t.full) in
+    t.full <- [];
+    t.last <- Float.Array.create 0;
+    t.n <- 0;
+    t.total <- 0;
+    all
+end
+
+type t = {
+  move : (Primitive.t -> Primitive.t) option;
+  prims : Chunks.t;  (** those not held as floats, moved *)
+  floats : Floats.t;
+      (** by held sphere: centre, radius, then its colour where it is its own *)
+  kinds : Buffer.t;  (** by primitive: [other] or a held sphere ([sphere]'s bits) *)
+  mutable material : Material.t option;  (** the last primitive's *)
+  mutable color : Color.t;  (** the last held sphere's, when its own *)
+  mutable radius : float;  (** the last held sphere's *)
+}
+
+let create ?move () =
+  {
+    move;
+    prims = Chunks.create ();
+    floats = Floats.create ();
+    kinds = Buffer.create 16;
+    material = None;
+    color = Color.black;
+    radius = Float.nan;
+  }
+
+let total t = Buffer.length t.kinds
+
+(* A kind: [other], or [sphere] with its colour and radius bits. A held sphere's
+   material is the primitive's before it: a sphere whose material is not is kept as it
+   is made. Spheres whose materials all differ (a loop that computes a material's field
+   other than its colour) would otherwise each keep their material beside their floats,
+   and hold no fewer blocks for the collector to mark. *)
+let other = 0
+let sphere = 1
+let color_material = 0 (* the sphere's colour is its material's *)
+let color_last = 2 (* the last held sphere's colour record *)
+let color_own = 4 (* its own, in the floats *)
+let same_radius = 8 (* the last held sphere's radius, not in the floats *)
+
+(* Whether [p] is what {!Primitive.make} makes of a sphere and its material with no
+   transform, and [?color] or not: then made again from those it is the same. *)
+let holds (p : Primitive.t) =
+  match p.shape with
+  | Shape.Sphere _ ->
+      p.transform == Transform.identity
+      && (not p.flip)
+      && Array.length p.leaves = 0
+      && p.shift == Vec3.zero
+  | _ -> false
+
+let same_material t (p : Primitive.t) =
+  match t.material with Some m -> m == p.material | None -> false
+
+let add t (p : Primitive.t) =
+  match p.shape with
+  | Shape.Sphere { center; radius } when holds p && same_material t p ->
+      let c =
+        if p.color == p.material.color then color_material
+        else if p.color == t.color then color_last
+        else (
+          t.color <- p.color;
+          color_own)
+      in
+      (* Equal radii made again share one float, as a loop's spheres of one radius
+         share theirs. *)
+      let r =
+        if Int64.equal (Int64.bits_of_float radius) (Int64.bits_of_float t.radius) then
+          same_radius
+        else (
+          t.radius <- radius;
+          0)
+      in
+      Buffer.add_char t.kinds (Char.unsafe_chr (sphere lor c lor r));
+      let f = t.floats in
+      Floats.room f Floats.group;
+      Floats.put f center.x;
+      Floats.put f center.y;
+      Floats.put f center.z;
+      if r = 0 then Floats.put f radius;
+      if c = color_own then (
+        Floats.put f p.color.r;
+        Floats.put f p.color.g;
+        Floats.put f p.color.b)
+  | _ -> (
+      let p = match t.move with Some move -> move p | None -> p in
+      Buffer.add_char t.kinds (Char.unsafe_chr other);
+      Chunks.add t.prims p;
+      t.material <- Some p.material;
+      (* A sphere kept as it is made (the first of a run, whose material is new) gives
+         the spheres after it its radius and colour to share, as [take] reads them. *)
+      match p.shape with
+      | Shape.Sphere { radius; _ } ->
+          t.radius <- radius;
+          if p.color != p.material.color then t.color <- p.color
+      | _ -> ())
+
+(* All of them in one array, in order, each held sphere made again and moved; [t] is
+   emptied. *)
+let take t =
+  let n = total t in
+  let prims = ref (Chunks.take t.prims) and pi = ref 0 in
+  let floats = ref (Floats.take t.floats) and fi = ref 0 in
+  let kinds = Buffer.to_bytes t.kinds in
+  Buffer.reset t.kinds;
+  t.material <- None;
+  t.color <- Color.black;
+  t.radius <- Float.nan;
+  let material = ref Material.default and color = ref Color.black in
+  (* The last sphere made, whose radius the next one may share. *)
+  let last = ref (Shape.sphere ~center:Vec3.zero ~radius:Float.nan) in
+  let rec next_prim () =
+    match !prims with
+    | (c, k) :: rest ->
+        if !pi < k then (
+          let p = Array.unsafe_get c !pi in
+          incr pi;
+          p)
+        else (
+          prims := rest;
+          pi := 0;
+          next_prim ())
+    | [] -> invalid_arg "Gathered.take"
+  in
+  let rec chunk () =
+    match !floats with
+    | c :: rest ->
+        if !fi < Float.Array.length c then c
+        else (
+          floats := rest;
+          fi := 0;
+          chunk ())
+    | [] -> invalid_arg "Gathered.take"
+  in
+  let make kind =
+    if kind = other then (
+      let p = next_prim () in
+      material := p.material;
+      (match p.shape with
+      | Shape.Sphere _ ->
+          last := p.shape;
+          if p.color != p.material.color then color := p.color
+      | _ -> ());
+      p)
+    else
+      let c = chunk () and i = !fi in
+      let center =
+        {
+          Vec3.x = Float.Array.unsafe_get c i;
+          y = Float.Array.unsafe_get c (i + 1);
+          z = Float.Array.unsafe_get c (i + 2);
+        }
+      in
+      let shape =
+        match !last with
+        | Shape.Sphere { radius; _ } when kind land same_radius <> 0 ->
+            Shape.sphere ~center ~radius
+        | _ -> Shape.sphere ~center ~radius:(Float.Array.unsafe_get c (i + 3))
+      in
+      last := shape;
+      let i = if kind land same_radius <> 0 then i + 3 else i + 4 in
+      let p =
+        if kind land color_own <> 0 then (
+          fi := i + 3;
+          color :=
+            {
+              Color.r = Float.Array.unsafe_get c i;
+              g = Float.Array.unsafe_get c (i + 1);
+              b = Float.Array.unsafe_get c (i + 2);
+            };
+          Primitive.make ~color:!color !material shape)
+        else (
+          fi := i;
+          if kind land color_last <> 0 then Primitive.make ~color:!color !material shape
+          else Primitive.make !material shape)
+      in
+      match t.move with Some move -> move p | None -> p
+  in
+  if n = 0 then [||]
+  else
+    let first = make (Char.code (Bytes.unsafe_get kinds 0)) in
+    let a = Array.make n first in
+    for i = 1 to n - 1 do
+      Array.unsafe_set a i (make (Char.code (Bytes.unsafe_get kinds i)))
+    done;
+    a

@@ -1,0 +1,28 @@
+(** A stream's primitives, gathered in order as objects compile, and handed over in one
+    array at the end.
+
+    A sphere placed without a transform ({!holds}) is held as floats rather than as its
+    primitive, which the collector would otherwise mark at every cycle of a long load, and
+    made again at the end: the same primitive, from the same values. Equal radii made
+    again in a row share one float, and a colour record shared by consecutive spheres
+    stays shared. *)
+
+type t
+
+val create : ?move:(Primitive.t -> Primitive.t) -> unit -> t
+(** An empty stream whose primitives [move] (default none) is applied to, as they are
+    added or, for those held, as they are made again. *)
+
+val holds : Primitive.t -> bool
+(** Whether [add] holds the primitive as floats: a sphere, untransformed, neither flipped
+    nor moved, as {!Primitive.make} makes it. *)
+
+val add : t -> Primitive.t -> unit
+(** [add t p]: [p] (moved), after those added before it. *)
+
+val total : t -> int
+(** How many have been added since the last {!take}. *)
+
+val take : t -> Primitive.t array
+(** [take t]: every primitive added, in order and moved, each one held made again; [t] is
+    emptied. *)
