@@ -504,7 +504,8 @@ let large_overhead = 30
    367 MB. Compacting takes about 0.3 s there. Below, the space given back is not worth
    the time. Without a structure to build (lancer check), nothing is allocated after the
    objects. A stream of that many, which holds no description, is collected in full
-   instead, built or not ([of_stream]). *)
+   instead ([of_stream]), and so is one that held that many spheres as floats, built or
+   not. *)
 let compact_objects = 250_000
 
 (* Objects compiled one by one into one array of primitives: as [compile] walks a
@@ -613,7 +614,11 @@ let finish ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) s (d :
   if s.s_problems <> [] then Error (problems ~source s)
   else (
     building ~progress ~index s;
-    of_stream ~collecting:(s.s_count >= compact_objects) ~index s d)
+    of_stream
+      ~collecting:
+        ((index && s.s_count >= compact_objects)
+        || Gathered.held s.s_flat >= compact_objects)
+      ~index s d)
 
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
     ?objects ?parts c (d : D.t) =

@@ -2,7 +2,8 @@
    scene are spheres placed without a transform, a loop's. Made into primitives as they
    come, each is five blocks (22 words with a colour of its own) that the collector
    marks at every cycle of the load while they pile up: over a million coloured spheres
-   that was 2.25 G instructions of marking, a quarter of the run. Such a sphere is held
+   that was 2.25 G instructions of marking in 16 cycles, a quarter of the run. Such a
+   sphere is held
    instead as floats (its centre, its radius where it changes, its colour where it is its
    own: [Floats], which the collector does not look into) and its material where it
    changes, and made again at the end from the same values by {!Primitive.make}: the
@@ -107,6 +108,7 @@ let create ?move () =
   }
 
 let total t = Buffer.length t.kinds
+let held t = total t - t.prims.total
 
 (* A kind: [other], or [sphere] with its colour and radius bits. A held sphere's
    material is the primitive's before it: a sphere whose material is not is kept as it

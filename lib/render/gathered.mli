@@ -23,6 +23,9 @@ val add : t -> Primitive.t -> unit
 val total : t -> int
 (** How many have been added since the last {!take}. *)
 
+val held : t -> int
+(** How many of them are held as floats. *)
+
 val take : t -> Primitive.t array
 (** [take t]: every primitive added, in order and moved, each one held made again; [t] is
     emptied. *)

@@ -87,6 +87,7 @@ let shares () =
   in
   let g = Gathered.create () in
   List.iter (Gathered.add g) ps;
+  Alcotest.(check int) "all but the first held as floats" 1999 (Gathered.held g);
   let got = Gathered.take g in
   let want = Array.of_list ps in
   Alcotest.(check bool) "the same primitives" true (Array.for_all2 same got want);
