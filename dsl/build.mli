@@ -3,7 +3,7 @@
     … — or the mistakes only values show (a number out of its range, a colour with a
     negative component, a box whose corners are the wrong way round). Pure: it reads no
     file and keeps nothing; what it finds, and each file a block names (as it is met, also
-    where the block fails), goes to the {!Value.type-sink} it is given.
+    where the block fails), goes to the {!Lancer_dsl.Value.type-sink} it is given.
 
     Each block is read from its fields ({!Fields}). Mistakes the checker reported are not
     reported again: a block it found wrong is read for the others, and not built. *)
@@ -14,8 +14,8 @@ module D = Description
 
 val object_ : Fields.site -> Fields.t -> D.obj
 (** [object_ site] reads a shape block of that site: its object (transforms and material
-    included), each time; only where the block is right ({!Fields.finish}, once read) is
-    it the block's object. *)
+    included), each time; only where the block is right ({!Lancer_dsl.Fields.finish}, once
+    read) is it the block's object. *)
 
 val transforms : Fields.t -> Transform.t * D.step list
 
@@ -54,10 +54,10 @@ val body :
 
 val material : Fields.site -> Fields.t -> Value.t
 (** [material site] reads a material block of that site: its material (a [VMat]), each
-    time; only where the block is right ({!Fields.finish}, once read) is it the block's
-    material. One that differs from its base (or, without one, from the defaults) in its
-    colour alone holds the base's option ({!Value.t}'s [VMat]), so that the objects of a
-    loop that colours each one share a material. *)
+    time; only where the block is right ({!Lancer_dsl.Fields.finish}, once read) is it the
+    block's material. One that differs from its base (or, without one, from the defaults)
+    in its colour alone holds the base's option ({!Lancer_dsl.Value.t}'s [VMat]), so that
+    the objects of a loop that colours each one share a material. *)
 
 (** {1 Settings, camera, lights, animation, physics} *)
 
