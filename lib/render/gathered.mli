@@ -1,11 +1,11 @@
 (** A stream's primitives, gathered in order as objects compile, and handed over in one
     array at the end.
 
-    A sphere placed without a transform ({!holds}) is held as floats rather than as its
-    primitive, which the collector would otherwise mark at every cycle of a long load, and
-    made again at the end: the same primitive, from the same values. Equal radii made
-    again in a row share one float, and a colour record shared by consecutive spheres
-    stays shared. *)
+    A sphere placed without a transform ({!holds}), whose material is the previous
+    primitive's, is held as floats rather than as its primitive, which the collector would
+    otherwise mark at every cycle of a long load, and made again at the end: the same
+    primitive, from the same values. Equal radii made again in a row share one float, and
+    a colour record shared by consecutive spheres stays shared. *)
 
 type t
 
@@ -14,8 +14,9 @@ val create : ?move:(Primitive.t -> Primitive.t) -> unit -> t
     added or, for those held, as they are made again. *)
 
 val holds : Primitive.t -> bool
-(** Whether [add] holds the primitive as floats: a sphere, untransformed, neither flipped
-    nor moved, as {!Primitive.make} makes it. *)
+(** Whether a primitive can be held as floats: a sphere, untransformed, neither flipped
+    nor moved, as {!Primitive.make} makes it. {!add} holds it when its material is also
+    the previous primitive's. *)
 
 val add : t -> Primitive.t -> unit
 (** [add t p]: [p] (moved), after those added before it. *)
