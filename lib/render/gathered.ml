@@ -87,28 +87,35 @@ end
 
 type t = {
   move : (Primitive.t -> Primitive.t) option;
+  hold : bool;  (** whether spheres are held at all *)
   prims : Chunks.t;  (** those not held as floats, moved *)
   floats : Floats.t;
       (** by held sphere: centre, radius, then its colour where it is its own *)
-  kinds : Buffer.t;  (** by primitive: [other] or a held sphere ([sphere]'s bits) *)
+  kinds : Buffer.t;
+      (** by primitive, up to the last held sphere: [other] or a held sphere ([sphere]'s
+          bits); those after it are [other] (none written where none is held) *)
+  mutable count : int;  (** added since the last {!take} *)
   mutable material : Material.t option;  (** the last primitive's *)
-  mutable color : Color.t;  (** the last held sphere's, when its own *)
-  mutable radius : float;  (** the last held sphere's *)
+  mutable color : Color.t;
+      (** the last sphere's (held or kept), where it was not its material's *)
+  mutable radius : float;  (** the last sphere's, held or kept *)
 }
 
-let create ?move () =
+let create ?move ?(hold = true) () =
   {
     move;
+    hold;
     prims = Chunks.create ();
     floats = Floats.create ();
     kinds = Buffer.create 16;
+    count = 0;
     material = None;
     color = Color.black;
     radius = Float.nan;
   }
 
-let total t = Buffer.length t.kinds
-let held t = total t - t.prims.total
+let total t = t.count
+let held t = t.count - t.prims.total
 
 (* A kind: [other], or [sphere] with its colour and radius bits. A held sphere's
    material is the primitive's before it: a sphere whose material is not is kept as it
@@ -128,7 +135,7 @@ let holds (p : Primitive.t) =
   match p.shape with
   | Shape.Sphere _ ->
       p.transform == Transform.identity
-      && (not p.flip)
+      && Option.is_some p.bounds && (not p.flip)
       && Array.length p.leaves = 0
       && p.shift == Vec3.zero
   | _ -> false
@@ -138,7 +145,7 @@ let same_material t (p : Primitive.t) =
 
 let add t (p : Primitive.t) =
   match p.shape with
-  | Shape.Sphere { center; radius } when holds p && same_material t p ->
+  | Shape.Sphere { center; radius } when t.hold && holds p && same_material t p ->
       let c =
         if p.color == p.material.color then color_material
         else if p.color == t.color then color_last
@@ -155,7 +162,11 @@ let add t (p : Primitive.t) =
           t.radius <- radius;
           0)
       in
+      for _ = Buffer.length t.kinds to t.count - 1 do
+        Buffer.add_char t.kinds (Char.unsafe_chr other)
+      done;
       Buffer.add_char t.kinds (Char.unsafe_chr (sphere lor c lor r));
+      t.count <- t.count + 1;
       let f = t.floats in
       Floats.room f Floats.group;
       Floats.put f center.x;
@@ -168,7 +179,7 @@ let add t (p : Primitive.t) =
         Floats.put f p.color.b)
   | _ -> (
       let p = match t.move with Some move -> move p | None -> p in
-      Buffer.add_char t.kinds (Char.unsafe_chr other);
+      t.count <- t.count + 1;
       Chunks.add t.prims p;
       t.material <- Some p.material;
       (* A sphere kept as it is made (the first of a run, whose material is new) gives
@@ -187,6 +198,7 @@ let take t =
   let floats = ref (Floats.take t.floats) and fi = ref 0 in
   let kinds = Buffer.to_bytes t.kinds in
   Buffer.reset t.kinds;
+  t.count <- 0;
   t.material <- None;
   t.color <- Color.black;
   t.radius <- Float.nan;
@@ -262,9 +274,12 @@ let take t =
   in
   if n = 0 then [||]
   else
-    let first = make (Char.code (Bytes.unsafe_get kinds 0)) in
+    let[@inline] kind i =
+      if i < Bytes.length kinds then Char.code (Bytes.unsafe_get kinds i) else other
+    in
+    let first = make (kind 0) in
     let a = Array.make n first in
     for i = 1 to n - 1 do
-      Array.unsafe_set a i (make (Char.code (Bytes.unsafe_get kinds i)))
+      Array.unsafe_set a i (make (kind i))
     done;
     a

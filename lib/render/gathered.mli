@@ -3,20 +3,23 @@
 
     A sphere placed without a transform ({!holds}), whose material is the previous
     primitive's, is held as floats rather than as its primitive, which the collector would
-    otherwise mark at every cycle of a long load, and made again at the end: the same
-    primitive, from the same values. Equal radii made again in a row share one float, and
-    a colour record shared by consecutive spheres stays shared. *)
+    otherwise mark at every cycle of a long load, and made again at the end: a primitive
+    equal to it field for field, its material the same record. Spheres in a row of equal
+    radii share one float, and a colour record shared by consecutive spheres stays shared;
+    one shared by spheres apart (A, B, A) is made again for each, as the language, which
+    makes a colour record for each object, never shares it. *)
 
 type t
 
-val create : ?move:(Primitive.t -> Primitive.t) -> unit -> t
+val create : ?move:(Primitive.t -> Primitive.t) -> ?hold:bool -> unit -> t
 (** An empty stream whose primitives [move] (default none) is applied to, as they are
-    added or, for those held, as they are made again. *)
+    added or, for those held, as they are made again. With [~hold:false] (default [true])
+    no sphere is held: every primitive is kept as it is added. *)
 
 val holds : Primitive.t -> bool
-(** Whether a primitive can be held as floats: a sphere, untransformed, neither flipped
-    nor moved, as {!Primitive.make} makes it. {!add} holds it when its material is also
-    the previous primitive's. *)
+(** Whether a primitive can be held as floats: a sphere, untransformed, bounded, neither
+    flipped nor moved, as {!Primitive.make} makes it. {!add} holds it when its material is
+    also the previous primitive's. *)
 
 val add : t -> Primitive.t -> unit
 (** [add t p]: [p] (moved), after those added before it. *)
