@@ -353,16 +353,9 @@ let run_parts ?static ?body_state ?on_objects ?cancel ?on_file ~file ~sources ~t
 
 let record ?emit plan ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog =
   let into = Array.make (Array.length plan) None in
-  match emit with
-  | None ->
-      Result.map
-        (fun (d, _) -> (d, into))
-        (exec
-           ~mode:(Record (plan, into))
-           ~parts:false ?on_objects ?cancel ?on_file ~file ~sources ~time ~frame prog)
-  | Some _ ->
-      (* The objects go as they are made: nothing of them is recorded. *)
-      Result.map
-        (fun (d, _) -> (d, into))
-        (exec ~mode:Plain ~parts:false ?on_objects ?cancel ?on_file ?emit ~file ~sources
-           ~time ~frame prog)
+  (* Objects that go to [emit] as they are made: nothing of them is recorded. *)
+  let mode = match emit with None -> Record (plan, into) | Some _ -> Plain in
+  Result.map
+    (fun (d, _) -> (d, into))
+    (exec ~mode ~parts:false ?on_objects ?cancel ?on_file ?emit ~file ~sources ~time
+       ~frame prog)
