@@ -514,9 +514,6 @@ type stream = {
   s_assets : assets;
   s_material : D.material option -> Material.t;
   s_flat : Gathered.t;
-  s_move : (Primitive.t -> Primitive.t) option;
-      (** into render coordinates as each is made; [None]: all at the end, once the camera
-          is known *)
   mutable s_problems : (Loc.t * string) list;  (** newest first *)
   s_seen : (Loc.t * string, unit) Hashtbl.t;
   mutable s_count : int;  (** primitives, a mesh's triangles each *)
@@ -528,7 +525,6 @@ let new_stream ?move ~hold c =
     s_assets = c;
     s_material = materials c;
     s_flat = Gathered.create ?move ~hold ();
-    s_move = move;
     s_problems = [];
     s_seen = Hashtbl.create 4;
     s_count = 0;
@@ -588,19 +584,18 @@ let invalid (d : D.t) = function
 (* The scene of the stream's primitives, in render coordinates. *)
 let of_stream ?(collecting = false) ~index s (d : D.t) =
   let flat = Gathered.take s.s_flat in
-  (match s.s_move with
-  | Some _ -> ()
-  | None ->
-      (* In place: a primitive that does not move (one without a transform, near the
-         world's origin) is itself. *)
-      let move = Scene.mover d.camera in
-      Array.iteri
-        (fun i p ->
-          (* Written only where it moved: a write is a barrier for the collector to
+  (* Into render coordinates where the stream did not move them as they were made (the
+     camera was not known yet), in place: a primitive that does not move (one without a
+     transform, near the world's origin) is itself. *)
+  (if not (Gathered.moves s.s_flat) then
+     let move = Scene.mover d.camera in
+     Array.iteri
+       (fun i p ->
+         (* Written only where it moved: a write is a barrier for the collector to
              follow, a million of them for a million spheres. *)
-          let q = move p in
-          if q != p then Array.unsafe_set flat i q)
-        flat);
+         let q = move p in
+         if q != p then Array.unsafe_set flat i q)
+       flat);
   (* What making them left (the held spheres' floats, the chunks, a primitive moved)
      freed before the structure's arrays are allocated, or what lancer check goes on to
      allocate. A full major cycle frees those blocks; compacting the heap as well would

@@ -114,6 +114,7 @@ let create ?move ?(hold = true) () =
     radius = Float.nan;
   }
 
+let moves t = Option.is_some t.move
 let total t = t.count
 let held t = t.count - t.prims.total
 

@@ -16,6 +16,9 @@ val create : ?move:(Primitive.t -> Primitive.t) -> ?hold:bool -> unit -> t
     added or, for those held, as they are made again. With [~hold:false] (default [true])
     no sphere is held: every primitive is kept as it is added. *)
 
+val moves : t -> bool
+(** Whether it was created with a [move]. *)
+
 val holds : Primitive.t -> bool
 (** Whether a primitive can be held as floats: a sphere, untransformed, bounded, neither
     flipped nor moved, as {!Primitive.make} makes it. {!add} holds it when its material is
