@@ -23,12 +23,24 @@ val widths : Float.Array.t -> Float.Array.t
     where there are none). {!build} bins a large node over its box only where no item is
     wider than half of it along the box's widest axis, else over its centroids' bounds. *)
 
-val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
+val large : int
+(** 262 144: the number of items from which {!build} cuts a tree's large nodes in Morton
+    order rather than search their splits. *)
+
+val build : ?cheap:Bytes.t * int -> ?large:int -> Float.Array.t -> t
 (** [build pb] builds the tree over the items of [pb] (as {!pad_into} writes them; their
     centroids are the boxes' midpoints). It allocates nothing per item or node beyond its
     arrays. With [~cheap:(flags, k)], a node of at most [k] items whose flags (by item,
     ['\001']) all say cheap is a leaf, with no split searched: for items whose test costs
-    less than a box's. *)
+    less than a box's.
+
+    Nodes of at most 16 items are split by the surface area heuristic, searched along
+    their centroids' widest axis. Larger ones are split the same way by binning, below
+    [large] items (default {!large}). From [large] items on, the items are sorted along a
+    Morton curve over their centroids and a large node splits its range where the highest
+    differing bit of their codes changes, except that items wider than a 64th of the
+    centroids' extent are set apart under the root and searched. Their cost: over a
+    million items the binned search reads each about twenty times. *)
 
 val link : Float.Array.t -> int -> int
 (** Node [k]'s first integer: a leaf's first slot in [order], an interior node's right

@@ -425,7 +425,112 @@ type t = {
   depth : int;  (** the tree's depth: an upper bound on the traversal stack *)
 }
 
-let build ?(cheap = (Bytes.empty, 0)) pbox =
+(* --- Large builds, written plainly -------------------------------------------------- *)
+
+(* The Morton code of a centroid's cells, bit by bit: x's bit k at 3k + 2, y's at 3k + 1,
+   z's at 3k. *)
+let interleave b cx cy cz =
+  let code = ref 0 in
+  for k = 0 to b - 1 do
+    code :=
+      !code
+      lor (((cx lsr k) land 1) lsl ((3 * k) + 2))
+      lor (((cy lsr k) land 1) lsl ((3 * k) + 1))
+      lor (((cz lsr k) land 1) lsl (3 * k))
+  done;
+  !code
+
+(* Items wider than a 64th of the centroids' extent first, in their order, searched; the
+   others after them sorted by (code, index) on cubic cells, 2^b a side (b = 10, fewer
+   where the index needs more than 32 bits), their nodes split at the first position
+   whose code has the highest bit in which the range's first and last codes differ (the
+   middle where they are equal), searched from 16 items down. *)
+let build_morton w m =
+  let pb = w.pbox in
+  let c i k = cen pb (6 * i) k in
+  let bound f z k = List.fold_left (fun a i -> f a (c i k)) z (List.init m Fun.id) in
+  let los = Array.init 3 (bound fmin Float.infinity)
+  and his = Array.init 3 (bound fmax Float.neg_infinity) in
+  let lo k = los.(k) and hi k = his.(k) in
+  let ext = fmax (hi 0 -. lo 0) (fmax (hi 1 -. lo 1) (hi 2 -. lo 2)) in
+  let wide i =
+    List.exists
+      (fun k -> fget pb ((6 * i) + 3 + k) -. fget pb ((6 * i) + k) > ext /. 64.)
+      [ 0; 1; 2 ]
+  in
+  let rec bits n = if n <= 1 then 1 else 1 + bits (n lsr 1) in
+  let b = min 10 ((62 - bits (m - 1)) / 3) in
+  let scale = if ext > 0. then Float.of_int (1 lsl b) /. ext else 0. in
+  let cell i k =
+    let v = int_of_float ((c i k -. lo k) *. scale) in
+    max 0 (min ((1 lsl b) - 1) v)
+  in
+  let code i = interleave b (cell i 0) (cell i 1) (cell i 2) in
+  let all = List.init m Fun.id in
+  let wides = List.filter wide all in
+  let others =
+    List.filter (fun i -> not (wide i)) all
+    |> List.map (fun i -> (code i, i))
+    |> List.sort compare
+  in
+  let order = Array.of_list (wides @ List.map snd others) in
+  let codes = Array.of_list (List.map (fun _ -> 0) wides @ List.map fst others) in
+  let nw = List.length wides in
+  (* Boxes and ids in that order. *)
+  let sorted = Float.Array.create (6 * m) in
+  Array.iteri (fun p i -> Float.Array.blit pb (6 * i) sorted (6 * p) 6) order;
+  Float.Array.blit sorted 0 pb 0 (6 * m);
+  Array.blit order 0 w.ids 0 m;
+  let join node right =
+    let l = 8 * (node + 1) and r = 8 * right and off = 8 * node in
+    for k = 0 to 2 do
+      fset w.nodes_b (off + k) (fmin (fget w.nodes_b (l + k)) (fget w.nodes_b (r + k)));
+      fset w.nodes_b
+        (off + 3 + k)
+        (fmax (fget w.nodes_b (l + 3 + k)) (fget w.nodes_b (r + 3 + k)))
+    done;
+    fset w.nodes_b (off + 6) (Float.of_int right);
+    fset w.nodes_b (off + 7) 0.
+  in
+  let searched lo hi depth =
+    reserve w depth;
+    bound_range w lo hi w.pend (12 * depth);
+    build_node w [| -1; 0 |] lo hi depth
+  in
+  let rec morton lo hi depth =
+    if hi - lo <= small then searched lo hi depth
+    else
+      let node = new_node w in
+      if depth > w.max_depth then w.max_depth <- depth;
+      let a = codes.(lo) and z = codes.(hi - 1) in
+      let mid =
+        if a = z then lo + ((hi - lo) / 2)
+        else
+          let h = ref 0 in
+          while (a lxor z) lsr (!h + 1) > 0 do
+            incr h
+          done;
+          let p = ref lo in
+          while codes.(!p) land (1 lsl !h) = 0 do
+            incr p
+          done;
+          !p
+      in
+      ignore (morton lo mid (depth + 1));
+      let right = morton mid hi (depth + 1) in
+      join node right;
+      node
+  in
+  if nw = m then ignore (searched 0 m 1)
+  else if nw = 0 then ignore (morton 0 m 1)
+  else
+    let root = new_node w in
+    w.max_depth <- 1;
+    ignore (searched 0 nw 2);
+    let right = morton nw m 2 in
+    join root right
+
+let build ?(cheap = (Bytes.empty, 0)) ?(large = Lancer_render.Bvh.large) pbox =
   let cheap, cheap_max = cheap in
   let m = Float.Array.length pbox / 6 in
   (* A tree of m items has at most 2m − 1 nodes; with leaves of one or two, as the cost
@@ -453,8 +558,10 @@ let build ?(cheap = (Bytes.empty, 0)) pbox =
       ext = Lancer_render.Bvh.widths pbox;
     }
   in
-  bound_range w 0 m w.pend 12;
-  ignore (build_node w [| -1; 0 |] 0 m 1);
+  if m >= large then build_morton w m
+  else (
+    bound_range w 0 m w.pend 12;
+    ignore (build_node w [| -1; 0 |] 0 m 1));
   (* The node arrays as they are when little of them is unused, rather than a copy
      beside them at the peak of memory. *)
   let nodes =

@@ -8,6 +8,7 @@ type t = {
   depth : int;  (** the tree's depth *)
 }
 
-val build : ?cheap:Bytes.t * int -> Float.Array.t -> t
+val build : ?cheap:Bytes.t * int -> ?large:int -> Float.Array.t -> t
 (** [build pbox] over the padded item boxes of [pbox], as {!Lancer_render.Bvh.build} (with
-    [cheap] as there). *)
+    [cheap] and [large] as there): from [large] items, the Morton order written plainly
+    (each code bit by bit, the order by a sort of (code, index) pairs). *)

@@ -10,9 +10,9 @@ let reachable m nodes =
   let rec walk k = if Bvh.count nodes k > 0 then k + 1 else walk (Bvh.link nodes k) in
   if m = 0 then 1 else walk 0
 
-let same_tree ?cheap what pbox =
-  let a = Bvh.build ?cheap (Float.Array.copy pbox) in
-  let b = Bvh_ref.build ?cheap (Float.Array.copy pbox) in
+let same_tree ?cheap ?large what pbox =
+  let a = Bvh.build ?cheap ?large (Float.Array.copy pbox) in
+  let b = Bvh_ref.build ?cheap ?large (Float.Array.copy pbox) in
   if a.depth <> b.depth then
     Alcotest.failf "%s: depth %d, reference %d" what a.depth b.depth;
   if a.order <> b.order then Alcotest.failf "%s: the leaf order differs" what;
@@ -140,6 +140,59 @@ let cheap_leaves () =
     Alcotest.failf "cheap items: %d leaves of 3 or 4, expected at least 512"
       (count_leaves cheap.nodes 4096)
 
+(* From [large] items the tree's large nodes are cut in Morton order. Every shape and
+   size of [random_sets], with and without cheap items, built that way from 17 items on
+   (every node above the small subtrees cut) and from 300: the same trees as the plain
+   reference, where wide items (the mixed sizes, a floor under small boxes) are set apart
+   under the root. *)
+let morton () =
+  let rs = Random.State.make [| 18 |] in
+  let with_floor =
+    ( "a floor under small boxes",
+      fun k ->
+        if k = 5 then (-10., -1., -10., 120., 1., 120.)
+        else
+          let f s = Random.State.float rs s in
+          (f 100., f 100., f 100., f 0.5, f 0.5, f 0.5) )
+  in
+  List.iter
+    (fun (name, gen) ->
+      List.iter
+        (fun m ->
+          let pb = items m gen in
+          List.iter
+            (fun large ->
+              let what = Printf.sprintf "%s, %d items, Morton from %d" name m large in
+              same_tree ~large what pb;
+              same_tree ~large ~cheap:(Bytes.make m '\001', 8) (what ^ ", all cheap") pb)
+            [ 17; 300 ])
+        sizes)
+    (with_floor :: shapes rs);
+  let f s = Random.State.float rs s in
+  same_tree ~large:17 "50000 uniform, Morton"
+    (items 50000 (fun _ -> (f 1000., f 1000., f 1000., f 4., f 4., f 4.)))
+
+(* Over a grid with a floor, the tree in Morton order keeps the floor out of the grid's
+   boxes: only the root and the floor's own leaf are wider than the grid, rather than every
+   node on the floor's way down. *)
+let morton_floor () =
+  let n = 64 in
+  let pb =
+    items
+      ((n * n) + 1)
+      (fun k ->
+        if k = n * n then (-100., -1., -100., 200., 1., 200.)
+        else (Float.of_int (k / n), 0., Float.of_int (k mod n), 0.8, 0.8, 0.8))
+  in
+  let t = Bvh.build ~large:17 pb in
+  let rec wide k =
+    let w = Float.Array.get t.nodes ((8 * k) + 3) -. Float.Array.get t.nodes (8 * k) in
+    let here = if w > 65. then 1 else 0 in
+    if Bvh.count t.nodes k > 0 then here
+    else here + wide (k + 1) + wide (Bvh.link t.nodes k)
+  in
+  Alcotest.(check int) "nodes wider than the grid" 2 (wide 0)
+
 let () =
   Alcotest.run "bvh"
     [
@@ -149,5 +202,7 @@ let () =
           Alcotest.test_case "duplicate boxes" `Quick duplicates;
           Alcotest.test_case "large sets" `Quick large;
           Alcotest.test_case "leaves of cheap items" `Quick cheap_leaves;
+          Alcotest.test_case "large builds in Morton order" `Quick morton;
+          Alcotest.test_case "a floor set apart from a grid" `Quick morton_floor;
         ] );
     ]
