@@ -1064,20 +1064,22 @@ let join w node right =
    item; a small subtree's are copied into [w.pbox] (room for [small]) from [lo] on. *)
 let rec build_morton w split pb keys ko ib lo hi depth =
   if hi - lo <= small then (
-    let ids = w.ids and sb = w.pbox in
-    for p = lo to hi - 1 do
-      let q = 6 * Array.unsafe_get ids p and r = 6 * (p - lo) in
-      box_set sb r (fget pb q)
-        (fget pb (q + 1))
-        (fget pb (q + 2))
-        (fget pb (q + 3))
-        (fget pb (q + 4))
-        (fget pb (q + 5))
-    done;
-    w.p_lo <- lo;
-    reserve w depth;
-    bound_range w 0 (hi - lo) w.pend (12 * depth);
-    build_small_root w split lo hi depth)
+    if cheap_range w lo hi then cheap_morton w pb keys ko ib lo hi depth
+    else
+      let ids = w.ids and sb = w.pbox in
+      for p = lo to hi - 1 do
+        let q = 6 * Array.unsafe_get ids p and r = 6 * (p - lo) in
+        box_set sb r (fget pb q)
+          (fget pb (q + 1))
+          (fget pb (q + 2))
+          (fget pb (q + 3))
+          (fget pb (q + 4))
+          (fget pb (q + 5))
+      done;
+      w.p_lo <- lo;
+      reserve w depth;
+      bound_range w 0 (hi - lo) w.pend (12 * depth);
+      build_small_root w split lo hi depth)
   else
     let node = new_node w in
     if depth > w.max_depth then w.max_depth <- depth;
@@ -1086,6 +1088,51 @@ let rec build_morton w split pb keys ko ib lo hi depth =
     let right = build_morton w split pb keys ko ib mid hi (depth + 1) in
     join w node right;
     node
+
+(* Whether every item at the positions [lo, hi) is cheap (none is where none is
+   flagged). *)
+and cheap_range w lo hi =
+  w.cheap_max > 0
+  && Bytes.length w.cheap > 0
+  &&
+  let ok = ref true and p = ref lo in
+  while !ok && !p < hi do
+    if Bytes.unsafe_get w.cheap (Array.unsafe_get w.ids !p) <> '\001' then ok := false;
+    incr p
+  done;
+  !ok
+
+(* A range of cheap items: cut in Morton order down to leaves of at most [cheap_max],
+   with nothing searched (a leaf of them costs less to test than a search would save). *)
+and cheap_morton w pb keys ko ib lo hi depth =
+  let node = new_node w in
+  if depth > w.max_depth then w.max_depth <- depth;
+  (if hi - lo <= w.cheap_max then (
+     let x0 = ref Float.infinity
+     and y0 = ref Float.infinity
+     and z0 = ref Float.infinity in
+     let x1 = ref Float.neg_infinity
+     and y1 = ref Float.neg_infinity
+     and z1 = ref Float.neg_infinity in
+     for p = lo to hi - 1 do
+       let q = 6 * Array.unsafe_get w.ids p in
+       x0 := fmin !x0 (fget pb q);
+       y0 := fmin !y0 (fget pb (q + 1));
+       z0 := fmin !z0 (fget pb (q + 2));
+       x1 := fmax !x1 (fget pb (q + 3));
+       y1 := fmax !y1 (fget pb (q + 4));
+       z1 := fmax !z1 (fget pb (q + 5))
+     done;
+     let off = 8 * node in
+     box_set w.nodes_b off !x0 !y0 !z0 !x1 !y1 !z1;
+     fset w.nodes_b (off + 6) (Float.of_int lo);
+     fset w.nodes_b (off + 7) (Float.of_int (hi - lo)))
+   else
+     let mid = morton_split keys ko ib lo hi in
+     ignore (cheap_morton w pb keys ko ib lo mid (depth + 1));
+     let right = cheap_morton w pb keys ko ib mid hi (depth + 1) in
+     join w node right);
+  node
 
 (* The tree over [m] items: the wide ones first, searched over a copy of their boxes,
    the others in Morton order after them. [pbox] is left as it was. *)

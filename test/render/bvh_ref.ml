@@ -444,7 +444,8 @@ let interleave b cx cy cz =
    others after them sorted by (code, index) on cubic cells, 2^b a side (b = 10, fewer
    where the index needs more than 32 bits), their nodes split at the first position
    whose code has the highest bit in which the range's first and last codes differ (the
-   middle where they are equal), searched from 16 items down. *)
+   middle where they are equal), searched from 16 items down, or, where they are all
+   cheap, cut the same way down to leaves of at most [cheap_max]. *)
 let build_morton w m =
   let pb = w.pbox in
   let c i k = cen pb (6 * i) k in
@@ -497,25 +498,52 @@ let build_morton w m =
     bound_range w lo hi w.pend (12 * depth);
     build_node w [| -1; 0 |] lo hi depth
   in
+  let split lo hi =
+    let a = codes.(lo) and z = codes.(hi - 1) in
+    if a = z then lo + ((hi - lo) / 2)
+    else
+      let h = ref 0 in
+      while (a lxor z) lsr (!h + 1) > 0 do
+        incr h
+      done;
+      let p = ref lo in
+      while codes.(!p) land (1 lsl !h) = 0 do
+        incr p
+      done;
+      !p
+  in
+  let cheap lo hi =
+    w.cheap_max > 0
+    && Bytes.length w.cheap > 0
+    && List.for_all
+         (fun p -> Bytes.get w.cheap w.ids.(p) = '\001')
+         (List.init (hi - lo) (( + ) lo))
+  in
+  (* Cheap items are cut in Morton order down to leaves of at most [cheap_max]. *)
+  let rec cheap_morton lo hi depth =
+    let node = new_node w in
+    if depth > w.max_depth then w.max_depth <- depth;
+    (if hi - lo <= w.cheap_max then (
+       let off = 8 * node in
+       box_empty w.nodes_b off;
+       for p = lo to hi - 1 do
+         box_merge w.nodes_b off w.pbox (6 * p)
+       done;
+       fset w.nodes_b (off + 6) (Float.of_int lo);
+       fset w.nodes_b (off + 7) (Float.of_int (hi - lo)))
+     else
+       let mid = split lo hi in
+       ignore (cheap_morton lo mid (depth + 1));
+       join node (cheap_morton mid hi (depth + 1)));
+    node
+  in
   let rec morton lo hi depth =
-    if hi - lo <= small then searched lo hi depth
+    if hi - lo <= small then
+      if cheap lo hi then cheap_morton lo hi depth else searched lo hi depth
     else
       let node = new_node w in
       if depth > w.max_depth then w.max_depth <- depth;
-      let a = codes.(lo) and z = codes.(hi - 1) in
-      let mid =
-        if a = z then lo + ((hi - lo) / 2)
-        else
-          let h = ref 0 in
-          while (a lxor z) lsr (!h + 1) > 0 do
-            incr h
-          done;
-          let p = ref lo in
-          while codes.(!p) land (1 lsl !h) = 0 do
-            incr p
-          done;
-          !p
-      in
+      let mid = split lo hi in
       ignore (morton lo mid (depth + 1));
       let right = morton mid hi (depth + 1) in
       join node right;
