@@ -1,5 +1,6 @@
-(* A bounding volume hierarchy over boxes, built by the binned surface area heuristic:
-   what the scene's structure and a mesh's own are made of. *)
+(* A bounding volume hierarchy over boxes, built by the binned surface area heuristic
+   (over [large] items, in Morton order above small subtrees: see Large builds): what
+   the scene's structure and a mesh's own are made of. *)
 
 let fget = Float.Array.unsafe_get
 let fset = Float.Array.unsafe_set
@@ -909,11 +910,24 @@ let widths pbox =
    - A node splits its range of that order where the highest bit in which its codes
      differ changes: a spatial median, halving cells. Where they are all equal, at its
      middle ([morton_split]).
-   - The small subtrees below are searched as before, each over a copy of its own boxes.
+   - The small subtrees below are searched as before, each over a copy of its own boxes;
+     one whose items are all cheap is cut the same way down to leaves of at most
+     [cheap_max], as those leaves are made without a search anyway.
    - An item wider than a [wide]th of the centroids' extent (a floor under small
      objects) would widen every box above it down to its leaf, and every ray would visit
      those boxes. Such items are set apart: the root's left subtree is theirs, built by the
-     search; its right subtree holds the others in Morton order. *)
+     search; its right subtree holds the others in Morton order.
+
+   What it costs and saves, measured on [make bench-limit]'s scenes: the million coloured
+   spheres reach their first pixel at 64×48 in 6.76 G instructions rather than 8.55 G,
+   the million-triangle torus (shaded flat) at 480×360 in 4.4 G rather than 5.8 G, with
+   its walk 10 % dearer (the walk of the spheres is the same). Over 300 000 spheres on a
+   floor box, the walk is 37 % cheaper than the search's tree, which keeps the floor
+   lower down. Below [large] the search's build is a small part of a render (about 0.2 G
+   of [field_100000]'s 7.4 G instructions at 1920×1080), and a mesh's walk, 10 % dearer
+   in Morton order, would cost more over a picture than the search's build saves. The
+   sort's keys are an array of m integers beside [ids] while the tree is built: 8 MB
+   over a million items. *)
 let wide = 64.
 
 (* The low 20 bits of [x], each moved to every third bit. *)

@@ -1,6 +1,7 @@
-(** A bounding volume hierarchy over boxes, built by the binned surface area heuristic:
-    what the scene's acceleration structure and a mesh's own hierarchy are made of. Items
-    are given as padded boxes in one float array; the tree is one float array of nodes. *)
+(** A bounding volume hierarchy over boxes, built by the surface area heuristic (and, over
+    {!large} items or more, in Morton order above small subtrees): what the scene's
+    acceleration structure and a mesh's own hierarchy are made of. Items are given as
+    padded boxes in one float array; the tree is one float array of nodes. *)
 
 val pad_into :
   Float.Array.t -> int -> float -> float -> float -> float -> float -> float -> unit
@@ -35,12 +36,13 @@ val build : ?cheap:Bytes.t * int -> ?large:int -> Float.Array.t -> t
     less than a box's.
 
     Nodes of at most 16 items are split by the surface area heuristic, searched along
-    their centroids' widest axis. Larger ones are split the same way by binning, below
-    [large] items (default {!large}). From [large] items on, the items are sorted along a
-    Morton curve over their centroids and a large node splits its range where the highest
-    differing bit of their codes changes, except that items wider than a 64th of the
-    centroids' extent are set apart under the root and searched. Their cost: over a
-    million items the binned search reads each about twenty times. *)
+    their centroids' widest axis; larger ones the same way by binning, below [large] items
+    (default {!large}). From [large] items on, the items are sorted along a Morton curve
+    over their centroids, and a node of more than 16 splits its range where the highest
+    differing bit of their codes changes; a range of at most 16 cheap items is cut the
+    same way down to leaves of at most [k]. Items wider than a 64th of the centroids'
+    extent are set apart under the root and searched. Over a million items the binned
+    search reads each about twenty times; the Morton order, a few times. *)
 
 val link : Float.Array.t -> int -> int
 (** Node [k]'s first integer: a leaf's first slot in [order], an interior node's right
