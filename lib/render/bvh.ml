@@ -75,7 +75,9 @@ type work = {
   cbox : Float.Array.t;
   cen12 : Float.Array.t;
       (** a large node's box and centroids' bounds, when it is binned over the latter *)
-  ext : Float.Array.t;  (** the largest extent of an item along each axis, 3 floats *)
+  mutable ext : Float.Array.t;
+      (** the largest extent of an item along each axis, 3 floats (found where a node is
+          binned: a build in Morton order with no wide item bins none) *)
   cost : Float.Array.t;  (** the split cost the last split search found (not boxed) *)
   mutable pend : Float.Array.t;
   mutable pend_right : Float.Array.t;
@@ -939,6 +941,9 @@ let[@inline] spread x =
   let x = x lor (x lsl 4) land 0x10c30c30c30c30c3 in
   x lor (x lsl 2) land 0x1249249249249249
 
+(* [spread] of each cell of a 10-bit axis, looked up rather than computed. *)
+let spread_10 = Array.init 1024 spread
+
 (* The cell of coordinate [v] from [lo] at [scale] cells a unit, in [0, top]. *)
 let[@inline] cell v lo scale top =
   let k = int_of_float ((v -. lo) *. scale) in
@@ -973,16 +978,20 @@ let morton_keys w m =
   done;
   let ext = fmax (!x1 -. !x0) (fmax (!y1 -. !y0) (!z1 -. !z0)) in
   let limit = ext /. wide in
-  let[@inline] is_wide q =
-    fget pb (q + 3) -. fget pb q > limit
-    || fget pb (q + 4) -. fget pb (q + 1) > limit
-    || fget pb (q + 5) -. fget pb (q + 2) > limit
-  in
-  let ids = w.ids and nw = ref 0 in
+  (* Whether each item is wide, in [tag] by item until the search of the wide ones uses
+     it. *)
+  let ids = w.ids and tag = w.tag and nw = ref 0 in
   for i = 0 to m - 1 do
-    if is_wide (6 * i) then (
+    let q = 6 * i in
+    if
+      fget pb (q + 3) -. fget pb q > limit
+      || fget pb (q + 4) -. fget pb (q + 1) > limit
+      || fget pb (q + 5) -. fget pb (q + 2) > limit
+    then (
+      Bytes.unsafe_set tag i '\001';
       Array.unsafe_set ids !nw i;
       incr nw)
+    else Bytes.unsafe_set tag i '\000'
   done;
   let nw = !nw and top = (1 lsl b) - 1 in
   let scale = if ext > 0. then Float.of_int (1 lsl b) /. ext else 0. in
@@ -991,11 +1000,16 @@ let morton_keys w m =
   let keys = Array.make n 0 and j = ref 0 in
   for i = 0 to m - 1 do
     let q = 6 * i in
-    if not (is_wide q) then (
+    if Bytes.unsafe_get tag i = '\000' then (
       let code =
-        (spread (cell (cen pb q 0) cx0 scale top) lsl 2)
-        lor (spread (cell (cen pb q 1) cy0 scale top) lsl 1)
-        lor spread (cell (cen pb q 2) cz0 scale top)
+        if b = 10 then
+          (Array.unsafe_get spread_10 (cell (cen pb q 0) cx0 scale top) lsl 2)
+          lor (Array.unsafe_get spread_10 (cell (cen pb q 1) cy0 scale top) lsl 1)
+          lor Array.unsafe_get spread_10 (cell (cen pb q 2) cz0 scale top)
+        else
+          (spread (cell (cen pb q 0) cx0 scale top) lsl 2)
+          lor (spread (cell (cen pb q 1) cy0 scale top) lsl 1)
+          lor spread (cell (cen pb q 2) cz0 scale top)
       in
       Array.unsafe_set keys !j ((code lsl ib) lor i);
       incr j)
@@ -1159,6 +1173,7 @@ let build_large_morton w m =
   done;
   (* The wide items' boxes, in their order, for the search to move. *)
   let wide_boxes () =
+    w.ext <- widths pb;
     let wb = Float.Array.create (6 * nw) in
     for p = 0 to nw - 1 do
       Float.Array.blit pb (6 * Array.unsafe_get ids p) wb (6 * p) 6
@@ -1222,7 +1237,7 @@ let build ?(cheap = (Bytes.empty, 0)) ?(large = large) pbox =
       right_n = Array.make bins 0;
       cbox = Float.Array.create 6;
       cen12 = Float.Array.create 12;
-      ext = widths pbox;
+      ext = (if morton then Float.Array.create 0 else widths pbox);
       cost = Float.Array.create 1;
       pend = Float.Array.create (12 * 64);
       pend_right = Float.Array.create (12 * 64);
