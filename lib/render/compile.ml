@@ -503,9 +503,8 @@ let large_overhead = 30
    be allocated beside it. Over a million spheres that is 284 MB at the peak instead of
    367 MB. Compacting takes about 0.3 s there. Below, the space given back is not worth
    the time. Without a structure to build (lancer check), nothing is allocated after the
-   objects. A still's stream of that many, which holds no description, is collected in
-   full instead ([of_stream]), and so is one that held that many spheres as floats, built
-   or not. *)
+   objects. A still's stream, which holds no description, is collected in full only where
+   that many of its primitives moved ([of_stream]). *)
 let compact_objects = 250_000
 
 (* Objects compiled one by one into one array of primitives: as [compile] walks a
@@ -582,11 +581,27 @@ let invalid (d : D.t) = function
   | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ]
 
 (* The scene of the stream's primitives, in render coordinates. *)
-let of_stream ?(collecting = false) ~index s (d : D.t) =
-  let flat = Gathered.take s.s_flat in
+(* The space overhead while a still's held spheres are made into primitives at the end
+   of its load: every one lives, so a collection there finds nothing to free, and the
+   collector paced at its default (its heap small, the floats being outside it) ran nine
+   major cycles over the growing primitives of a million coloured spheres (0.5 s of
+   processor time, 0.3 s at this overhead, five cycles). *)
+let take_overhead = 1_000_000
+
+let of_stream ~index s (d : D.t) =
+  let flat =
+    if Gathered.held s.s_flat < compact_objects then Gathered.take s.s_flat
+    else
+      let g = Gc.get () in
+      Gc.set { g with space_overhead = take_overhead };
+      Fun.protect
+        ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = g.space_overhead })
+        (fun () -> Gathered.take s.s_flat)
+  in
   (* Into render coordinates where the stream did not move them as they were made (the
      camera was not known yet), in place: a primitive that does not move (one without a
      transform, near the world's origin) is itself. *)
+  let moved = ref 0 in
   (if not (Gathered.moves s.s_flat) then
      let move = Scene.mover d.camera in
      Array.iteri
@@ -594,16 +609,17 @@ let of_stream ?(collecting = false) ~index s (d : D.t) =
          (* Written only where it moved: a write is a barrier for the collector to
              follow, a million of them for a million spheres. *)
          let q = move p in
-         if q != p then Array.unsafe_set flat i q)
+         if q != p then (
+           incr moved;
+           Array.unsafe_set flat i q))
        flat);
-  (* What making them left (the held spheres' floats, the chunks, a primitive moved)
-     freed before the structure's arrays are allocated, or what lancer check goes on to
-     allocate. A full major cycle frees those blocks; compacting the heap as well would
-     move nothing worth it, the primitives filling the pools they were promoted into:
-     over a million spheres with a colour each, both peak at 293 MiB, and the compaction
-     costs 0.3 G instructions more. Without it, their check peaks at 310 MiB instead of
-     248 MiB. *)
-  if collecting then Gc.full_major ();
+  (* The primitives that moved leave their unmoved ones dead: from [compact_objects] of
+     them, those are freed before the structure's arrays are allocated, or what lancer
+     check goes on to allocate. A full major cycle frees them; compacting the heap as
+     well would move nothing worth it, the primitives filling the pools they were
+     promoted into. Nothing else of the load is worth a collection there: the held
+     spheres' floats are outside the heap, freed as they are read. *)
+  if !moved >= compact_objects then Gc.full_major ();
   invalid d
     (Scene.of_moved ~index ~checked:true ~settings:d.settings ~camera:d.camera
        ~time:d.time ~frame:d.frame ~lights:d.lights flat)
@@ -614,11 +630,7 @@ let finish ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) s (d :
   if s.s_problems <> [] then Error (problems ~source s)
   else (
     building ~progress ~index s;
-    of_stream
-      ~collecting:
-        ((index && s.s_count >= compact_objects)
-        || Gathered.held s.s_flat >= compact_objects)
-      ~index s d)
+    of_stream ~index s d)
 
 let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?static
     ?objects ?parts c (d : D.t) =

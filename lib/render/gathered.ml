@@ -44,42 +44,53 @@ module Chunks = struct
     all
 end
 
-(* Floats in order, in arrays of up to [chunk_size] each, a group of up to [group] never
-   split between two: nothing in them for the collector to follow. *)
+(* Floats in order, in arrays of up to [chunk_size] each outside the OCaml heap, a group
+   of up to [group] never split between two: nothing in them for the collector to follow,
+   and each freed as soon as [take] is past it, rather than by three cycles of the
+   collector over the primitives made from them. A chunk that is never taken (a load
+   that fails) is freed when the collector finds it dead. *)
 module Floats = struct
-  let chunk_size = 4096
+  let chunk_size = 65536
   let group = 7
 
+  type chunk = (float, Bigarray.float64_elt, Bigarray.c_layout) Bigarray.Array1.t
+
+  external create : int -> chunk = "lancer_outside_create"
+  external release : chunk -> unit = "lancer_outside_release" [@@noalloc]
+
+  let chunk n =
+    let c = create n in
+    Gc.finalise release c;
+    c
+
+  let empty : chunk = Bigarray.Array1.create Bigarray.float64 Bigarray.c_layout 0
+
   type t = {
-    mutable full : Float.Array.t list;  (** newest first *)
-    mutable last : Float.Array.t;
+    mutable full : (chunk * int) list;  (** newest first, with how many each holds *)
+    mutable last : chunk;
     mutable n : int;  (** in [last] *)
     mutable total : int;
   }
 
-  let create () = { full = []; last = Float.Array.create 0; n = 0; total = 0 }
+  let create () = { full = []; last = empty; n = 0; total = 0 }
 
   (* Room for [k] ≤ [group] floats in [last], at [t.n]. *)
   let room t k =
-    if t.n + k > Float.Array.length t.last then (
-      if t.n > 0 then
-        t.full <-
-          (if t.n = Float.Array.length t.last then t.last
-           else Float.Array.sub t.last 0 t.n)
-          :: t.full;
-      t.last <- Float.Array.create (min chunk_size (max 64 t.total));
+    if t.n + k > Bigarray.Array1.dim t.last then (
+      if t.n > 0 then t.full <- (t.last, t.n) :: t.full;
+      t.last <- chunk (min chunk_size (max 64 t.total));
       t.n <- 0)
 
   let[@inline] put t x =
-    Float.Array.unsafe_set t.last t.n x;
+    Bigarray.Array1.unsafe_set t.last t.n x;
     t.n <- t.n + 1;
     t.total <- t.total + 1
 
-  (* The arrays, oldest first, each full to its length; [t] is emptied. *)
+  (* The arrays, oldest first, with how many each holds; [t] is emptied. *)
   let take t =
-    let all = List.rev (Float.Array.sub t.last 0 t.n :: t.full) in
+    let all = List.rev ((t.last, t.n) :: t.full) in
     t.full <- [];
-    t.last <- Float.Array.create 0;
+    t.last <- empty;
     t.n <- 0;
     t.total <- 0;
     all
@@ -221,9 +232,10 @@ let take t =
   in
   let rec chunk () =
     match !floats with
-    | c :: rest ->
-        if !fi < Float.Array.length c then c
+    | (c, k) :: rest ->
+        if !fi < k then c
         else (
+          if c != Floats.empty then Floats.release c;
           floats := rest;
           fi := 0;
           chunk ())
@@ -243,16 +255,16 @@ let take t =
       let c = chunk () and i = !fi in
       let center =
         {
-          Vec3.x = Float.Array.unsafe_get c i;
-          y = Float.Array.unsafe_get c (i + 1);
-          z = Float.Array.unsafe_get c (i + 2);
+          Vec3.x = Bigarray.Array1.unsafe_get c i;
+          y = Bigarray.Array1.unsafe_get c (i + 1);
+          z = Bigarray.Array1.unsafe_get c (i + 2);
         }
       in
       let shape =
         match !last with
         | Shape.Sphere { radius; _ } when kind land same_radius <> 0 ->
             Shape.sphere ~center ~radius
-        | _ -> Shape.sphere ~center ~radius:(Float.Array.unsafe_get c (i + 3))
+        | _ -> Shape.sphere ~center ~radius:(Bigarray.Array1.unsafe_get c (i + 3))
       in
       last := shape;
       let i = if kind land same_radius <> 0 then i + 3 else i + 4 in
@@ -261,9 +273,9 @@ let take t =
           fi := i + 3;
           color :=
             {
-              Color.r = Float.Array.unsafe_get c i;
-              g = Float.Array.unsafe_get c (i + 1);
-              b = Float.Array.unsafe_get c (i + 2);
+              Color.r = Bigarray.Array1.unsafe_get c i;
+              g = Bigarray.Array1.unsafe_get c (i + 1);
+              b = Bigarray.Array1.unsafe_get c (i + 2);
             };
           Primitive.make ~color:!color !material shape)
         else (
@@ -283,4 +295,5 @@ let take t =
     for i = 1 to n - 1 do
       Array.unsafe_set a i (make (kind i))
     done;
+    List.iter (fun (c, _) -> if c != Floats.empty then Floats.release c) !floats;
     a
