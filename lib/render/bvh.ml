@@ -1213,7 +1213,7 @@ let build ?(cheap = (Bytes.empty, 0)) ?(large = large) pbox =
   (* A tree of m items has at most 2m − 1 nodes; with leaves of one or two, as the cost
      model makes them, a little more than m: m/8 more from the search, about m/7 in
      Morton order (1 128 507 nodes over the million triangles of a torus, 1 111 159 from
-     the search). Where every item is cheap, leaves hold up to [cheap_max] of them: about
+     the search), for which m/6 is room. Where every item is cheap, leaves hold up to [cheap_max] of them: about
      2m/cheap_max nodes (262 143 over a million spheres, leaves of 8). The array grows
      if it must, but that copy is at the peak of memory. *)
   let all_cheap =

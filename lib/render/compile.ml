@@ -628,7 +628,9 @@ let of_stream ~index s (d : D.t) =
 let finish ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) s (d : D.t) =
   if not s.s_open then invalid_arg "Compile.finish: the stream is finished";
   s.s_open <- false;
-  if s.s_problems <> [] then Error (problems ~source s)
+  if s.s_problems <> [] then (
+    Gathered.discard s.s_flat;
+    Error (problems ~source s))
   else (
     building ~progress ~index s;
     of_stream ~index s d)

@@ -297,3 +297,14 @@ let take t =
     done;
     List.iter (fun (c, _) -> if c != Floats.empty then Floats.release c) !floats;
     a
+
+let discard t =
+  List.iter
+    (fun (c, _) -> if c != Floats.empty then Floats.release c)
+    (Floats.take t.floats);
+  ignore (Chunks.take t.prims);
+  Buffer.reset t.kinds;
+  t.count <- 0;
+  t.material <- None;
+  t.color <- Color.black;
+  t.radius <- Float.nan

@@ -7,7 +7,12 @@
     equal to it field for field, its material the same record. Spheres in a row of equal
     radii share one float, and a colour record shared by consecutive spheres stays shared;
     one shared by spheres apart (A, B, A) is made again for each, as the language, which
-    makes a colour record for each object, never shares it. *)
+    makes a colour record for each object, never shares it.
+
+    The held floats are outside the OCaml heap, so that the collector neither marks nor
+    counts them: {!take} frees each block of them as soon as it has read it, {!discard}
+    frees them all, and a stream dropped without either has them freed when the collector
+    finds it dead. *)
 
 type t
 
@@ -36,3 +41,7 @@ val held : t -> int
 val take : t -> Primitive.t array
 (** [take t]: every primitive added, in order and moved, each one held made again; [t] is
     emptied. *)
+
+val discard : t -> unit
+(** [discard t] empties [t] without making anything, and frees its held floats at once:
+    for a load that failed. *)

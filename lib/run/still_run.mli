@@ -22,7 +22,8 @@ val build : ?digests:bool -> Options.t -> built
     at the options' time with their overrides and compile it, saying what it does on the
     progress channel ({!Progress.build}). The program is loaded for this one scene
     ([~single:true]), and the garbage of a large evaluation is given back before the image
-    is allocated when the heap would otherwise grow past its peak. *)
+    is allocated when the heap would otherwise grow past its peak, unless the image is
+    under a sixteenth of the heap (a preview, which cannot raise the peak by more). *)
 
 val checkpoint : Options.t -> built -> out:string -> Checkpoint.t
 (** The checkpoint of [out] for this still ({!Lancer_job.Checkpoint.start} with its key),

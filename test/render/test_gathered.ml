@@ -121,6 +121,49 @@ let shares () =
     (Obj.reachable_words (Obj.repr want))
     (Obj.reachable_words (Obj.repr got))
 
+(* Enough spheres, each of its own radius and colour (seven floats), to fill several of
+   the largest blocks of floats outside the heap, each freed as take reads past it: every
+   one made again as it was added. *)
+let many () =
+  let n = 40_000 in
+  let ps =
+    Array.init n (fun i ->
+        let f = Float.of_int i in
+        let sphere =
+          Shape.sphere ~center:(Vec3.v f (-.f) (f /. 3.)) ~radius:(0.1 +. (f /. 1e6))
+        in
+        Primitive.make
+          ~color:(Color.v (f /. 4e4) 0.5 (1. -. (f /. 4e4)))
+          materials.(2) sphere)
+  in
+  let g = Gathered.create () in
+  Array.iter (Gathered.add g) ps;
+  Alcotest.(check int) "all but the first held" (n - 1) (Gathered.held g);
+  let got = Gathered.take g in
+  Alcotest.(check bool) "the same primitives" true (Array.for_all2 same got ps)
+
+(* A stream discarded (a load that failed) is empty, and one made after it, or the same
+   one filled again, gives what was added since. *)
+let discards () =
+  let ps =
+    List.init 500 (fun i ->
+        Primitive.make
+          ~color:(Color.v (Float.of_int i /. 500.) 0. 0.)
+          materials.(0)
+          (Shape.sphere ~center:(Vec3.v (Float.of_int i) 0. 0.) ~radius:0.5))
+  in
+  let g = Gathered.create () in
+  List.iter (Gathered.add g) ps;
+  Gathered.discard g;
+  Alcotest.(check int) "none left" 0 (Gathered.total g);
+  Alcotest.(check int) "none held" 0 (Gathered.held g);
+  Alcotest.(check int) "nothing to take" 0 (Array.length (Gathered.take g));
+  List.iter (Gathered.add g) ps;
+  let got = Gathered.take g in
+  Alcotest.(check bool)
+    "the same primitives, added again" true
+    (List.for_all2 same (Array.to_list got) ps)
+
 let () =
   Alcotest.run "gathered"
     [
@@ -128,5 +171,7 @@ let () =
         [
           seeded made_again;
           Alcotest.test_case "what is shared stays shared" `Quick shares;
+          Alcotest.test_case "blocks of floats filled and freed" `Quick many;
+          Alcotest.test_case "a stream discarded" `Quick discards;
         ] );
     ]
