@@ -580,7 +580,6 @@ let invalid (d : D.t) = function
   | Ok sc -> Ok sc
   | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ]
 
-(* The scene of the stream's primitives, in render coordinates. *)
 (* The space overhead while a still's held spheres are made into primitives at the end
    of its load: every one lives, so a collection there finds nothing to free, and the
    collector paced at its default (its heap small, the floats being outside it) ran nine
@@ -589,6 +588,7 @@ let invalid (d : D.t) = function
    more of field_100000's 100 000 at 480×270 than when the floats were in the heap. *)
 let take_overhead = 1_000_000
 
+(* The scene of the stream's primitives, in render coordinates. *)
 let of_stream ~index s (d : D.t) =
   let flat =
     if Gathered.held s.s_flat = 0 then Gathered.take s.s_flat

@@ -65,6 +65,9 @@ module Floats = struct
 
   let empty : chunk = Bigarray.Array1.create Bigarray.float64 Bigarray.c_layout 0
 
+  (* A chunk of [take]'s list freed (never the shared empty one). *)
+  let free (c, _) = if c != empty then release c
+
   type t = {
     mutable full : (chunk * int) list;  (** newest first, with how many each holds *)
     mutable last : chunk;
@@ -235,7 +238,7 @@ let take t =
     | (c, k) :: rest ->
         if !fi < k then c
         else (
-          if c != Floats.empty then Floats.release c;
+          Floats.free (c, k);
           floats := rest;
           fi := 0;
           chunk ())
@@ -295,13 +298,11 @@ let take t =
     for i = 1 to n - 1 do
       Array.unsafe_set a i (make (kind i))
     done;
-    List.iter (fun (c, _) -> if c != Floats.empty then Floats.release c) !floats;
+    List.iter Floats.free !floats;
     a
 
 let discard t =
-  List.iter
-    (fun (c, _) -> if c != Floats.empty then Floats.release c)
-    (Floats.take t.floats);
+  List.iter Floats.free (Floats.take t.floats);
   ignore (Chunks.take t.prims);
   Buffer.reset t.kinds;
   t.count <- 0;
