@@ -519,23 +519,18 @@ type stream = {
   mutable s_open : bool;
 }
 
-let new_stream ?move ~hold c =
+let new_stream ?move c =
   {
     s_assets = c;
     s_material = materials c;
-    s_flat = Gathered.create ?move ~hold ();
+    s_flat = Gathered.create ?move ();
     s_problems = [];
     s_seen = Hashtbl.create 4;
     s_count = 0;
     s_open = true;
   }
 
-(* A still's load holds its spheres as floats ({!Gathered}). [compile] does not: its
-   objects are a description already in the heap, dying as they compile at a pace kept
-   for them, and made again after it the spheres would peak beside what that left
-   (a million coloured spheres of a program that could move, handed over: 311 MiB
-   instead of 294 MiB, compacted once they are made). *)
-let stream c = new_stream ~hold:true c
+let stream c = new_stream c
 
 let report s loc msg =
   if not (Hashtbl.mem s.s_seen (loc, msg)) then (
@@ -580,25 +575,9 @@ let invalid (d : D.t) = function
   | Ok sc -> Ok sc
   | Error m -> Error [ Diagnostic.file_error d.file ("invalid scene: " ^ m) ]
 
-(* The space overhead while a still's held spheres are made into primitives at the end
-   of its load: every one lives, so a collection there finds nothing to free, and the
-   collector paced at its default (its heap small, the floats being outside it) ran nine
-   major cycles over the growing primitives of a million coloured spheres (0.5 s of
-   processor time, 0.3 s at this overhead, five cycles), and marked 40 M instructions
-   more of field_100000's 100 000 at 480×270 than when the floats were in the heap. *)
-let take_overhead = 1_000_000
-
 (* The scene of the stream's primitives, in render coordinates. *)
 let of_stream ~index s (d : D.t) =
-  let flat =
-    if Gathered.held s.s_flat = 0 then Gathered.take s.s_flat
-    else
-      let g = Gc.get () in
-      Gc.set { g with space_overhead = take_overhead };
-      Fun.protect
-        ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = g.space_overhead })
-        (fun () -> Gathered.take s.s_flat)
-  in
+  let flat = Gathered.take s.s_flat in
   (* Into render coordinates where the stream did not move them as they were made (the
      camera was not known yet), in place: a primitive that does not move (one without a
      transform, near the world's origin) is itself. *)
@@ -659,7 +638,7 @@ let compile ?(source = fun _ -> None) ?(progress = ignore) ?(index = true) ?stat
      young, instead of a second copy of them all made beside the first. Without a
      static part, the objects go straight into the stream's one array: no list cell or
      piece per object beside them while the structure is built. *)
-  let s = new_stream ~move:(Scene.mover d.camera) ~hold:false c in
+  let s = new_stream ~move:(Scene.mover d.camera) c in
   (* Objects handed over die as they are compiled: the major GC keeps pace with them, so
      that the space they leave holds their primitives rather than a heap grown beside.
      (No closure here holds the list: each object goes once it is compiled.) *)

@@ -16,10 +16,9 @@
 
 type t
 
-val create : ?move:(Primitive.t -> Primitive.t) -> ?hold:bool -> unit -> t
+val create : ?move:(Primitive.t -> Primitive.t) -> unit -> t
 (** An empty stream whose primitives [move] (default none) is applied to, as they are
-    added or, for those held, as they are made again. With [~hold:false] (default [true])
-    no sphere is held: every primitive is kept as it is added. *)
+    added or, for those held, as they are made again. *)
 
 val moves : t -> bool
 (** Whether it was created with a [move]. *)

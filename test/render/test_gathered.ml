@@ -81,20 +81,17 @@ let made_again =
     (fun cases ->
       let ps = List.map (fun (k, m, c, (r, x)) -> primitive (k, m, c, r, x)) cases in
       List.for_all
-        (fun (move, hold) ->
-          let g = Gathered.create ?move ~hold () in
+        (fun move ->
+          let g = Gathered.create ?move () in
           List.iter (Gathered.add g) ps;
           let want = List.map (Option.value move ~default:Fun.id) ps in
           Gathered.total g = List.length ps
-          && (hold || Gathered.held g = 0)
           &&
           let got = Gathered.take g in
           Gathered.total g = 0
           && Array.length got = List.length want
           && List.for_all2 same (Array.to_list got) want)
-        [
-          (None, true); (Some (Primitive.mover (Vec3.v 4. (-8.) 16.)), true); (None, false);
-        ])
+        [ None; Some (Primitive.mover (Vec3.v 4. (-8.) 16.)) ])
 
 (* Spheres made in a loop, as a program makes them: those that share a material and a
    colour record keep sharing them, equal radii share one float, and the whole holds no
