@@ -920,10 +920,11 @@ let widths pbox =
      those boxes. Such items are set apart: the root's left subtree is theirs, built by the
      search; its right subtree holds the others in Morton order.
 
-   What it costs and saves, measured on [make bench-limit]'s scenes: the million coloured
-   spheres reach their first pixel at 64×48 in 6.76 G instructions rather than 8.55 G,
-   the million-triangle torus (shaded flat) at 480×360 in 4.4 G rather than 5.8 G, with
-   its walk 10 % dearer (the walk of the spheres is the same). Over 300 000 spheres on a
+   What it costs and saves ([doc/explanation/speed.md], against the same build with
+   [large] set to [max_int]): the million coloured spheres of [make bench-limit] reach
+   their first pixel at 64×48 in 5.79 G instructions rather than 7.63 G, the
+   million-triangle torus (shaded flat) in 3.68 G rather than 5.29 G, with its walk 10 %
+   dearer at 480×360 (the walk of the spheres is the same). Over 300 000 spheres on a
    floor box, the walk is 37 % cheaper than the search's tree, which keeps the floor
    lower down. Below [large] the search's build is a small part of a render (about 0.2 G
    of [field_100000]'s 7.4 G instructions at 1920×1080), and a mesh's walk, 10 % dearer
@@ -932,17 +933,17 @@ let widths pbox =
    over a million items. *)
 let wide = 64.
 
-(* The low 20 bits of [x], each moved to every third bit. *)
-let[@inline] spread x =
-  let x = x land 0xfffff in
-  let x = x lor (x lsl 32) land 0x1f00000000ffff in
-  let x = x lor (x lsl 16) land 0x1f0000ff0000ff in
-  let x = x lor (x lsl 8) land 0x100f00f00f00f00f in
-  let x = x lor (x lsl 4) land 0x10c30c30c30c30c3 in
-  x lor (x lsl 2) land 0x1249249249249249
+(* The bits of a cell along one axis: 1024 cells a side, a code of 30 bits. *)
+let cell_bits = 10
 
-(* [spread] of each cell of a 10-bit axis, looked up rather than computed. *)
-let spread_10 = Array.init 1024 spread
+(* Each cell's bits moved to every third bit, looked up rather than computed. *)
+let spread =
+  Array.init (1 lsl cell_bits) (fun x ->
+      let r = ref 0 in
+      for k = 0 to cell_bits - 1 do
+        r := !r lor (((x lsr k) land 1) lsl (3 * k))
+      done;
+      !r)
 
 (* The cell of coordinate [v] from [lo] at [scale] cells a unit, in [0, top]. *)
 let[@inline] cell v lo scale top =
@@ -956,12 +957,13 @@ let digit = 10
 
 (* The Morton order of the items that are not wide: the wide ones' indices into
    [w.ids] from 0, in order, and the others' keys, sorted: (keys, ib, count of wide),
-   each key the item's code over [3·b] bits (b ≤ 10 per axis) above its index over [ib]
-   bits. [w.ids] beyond the wide ones is the sort's second buffer. *)
+   each key the item's code over [3·cell_bits] bits above its index over [ib] bits
+   (62 bits in all up to 2^32 items, far more than memory holds). [w.ids] beyond the
+   wide ones is the sort's second buffer. *)
 let morton_keys w m =
   let pb = w.pbox in
-  let ib = bits_for (m - 1) in
-  let b = min 10 ((62 - ib) / 3) in
+  let ib = bits_for (m - 1) and b = cell_bits in
+  if ib + (3 * b) > 62 then invalid_arg "Bvh.build: too many items for a Morton key";
   let x0 = ref Float.infinity and y0 = ref Float.infinity and z0 = ref Float.infinity in
   let x1 = ref Float.neg_infinity
   and y1 = ref Float.neg_infinity
@@ -1002,14 +1004,9 @@ let morton_keys w m =
     let q = 6 * i in
     if Bytes.unsafe_get tag i = '\000' then (
       let code =
-        if b = 10 then
-          (Array.unsafe_get spread_10 (cell (cen pb q 0) cx0 scale top) lsl 2)
-          lor (Array.unsafe_get spread_10 (cell (cen pb q 1) cy0 scale top) lsl 1)
-          lor Array.unsafe_get spread_10 (cell (cen pb q 2) cz0 scale top)
-        else
-          (spread (cell (cen pb q 0) cx0 scale top) lsl 2)
-          lor (spread (cell (cen pb q 1) cy0 scale top) lsl 1)
-          lor spread (cell (cen pb q 2) cz0 scale top)
+        (Array.unsafe_get spread (cell (cen pb q 0) cx0 scale top) lsl 2)
+        lor (Array.unsafe_get spread (cell (cen pb q 1) cy0 scale top) lsl 1)
+        lor Array.unsafe_get spread (cell (cen pb q 2) cz0 scale top)
       in
       Array.unsafe_set keys !j ((code lsl ib) lor i);
       incr j)
@@ -1213,9 +1210,9 @@ let build ?(cheap = (Bytes.empty, 0)) ?(large = large) pbox =
   (* A tree of m items has at most 2m − 1 nodes; with leaves of one or two, as the cost
      model makes them, a little more than m: m/8 more from the search, about m/7 in
      Morton order (1 128 507 nodes over the million triangles of a torus, 1 111 159 from
-     the search), for which m/6 is room. Where every item is cheap, leaves hold up to [cheap_max] of them: about
-     2m/cheap_max nodes (262 143 over a million spheres, leaves of 8). The array grows
-     if it must, but that copy is at the peak of memory. *)
+     the search), for which m/6 is room. Where every item is cheap, leaves hold up to
+     [cheap_max] of them: about 2m/cheap_max nodes (262 143 over a million spheres,
+     leaves of 8). The array grows if it must, but that copy is at the peak of memory. *)
   let all_cheap =
     cheap_max > 1 && Bytes.length cheap = m && not (Bytes.contains cheap '\000')
   in
