@@ -602,13 +602,20 @@ let[@inline] scan_any ~nested (lv : level) (it : items) n (q : Probe.t) ~opaque 
   let tmin = q.p_tmin and tmax = q.p_tmax in
   let skip = if opaque then see_through else 0 in
   let found = ref (-1) and j = ref 0 in
-  while !found < 0 && !j < n do
-    if
-      (mask = -1 || (mask lsr !j) land 1 = 1)
-      && item_hits ~tree:false ~nested lv it !j q tmin tmax skip
-    then found := !j;
-    incr j
-  done;
+  (if mask = -1 then
+     while !found < 0 && !j < n do
+       if item_hits ~tree:false ~nested lv it !j q tmin tmax skip then found := !j;
+       incr j
+     done
+   else
+     (* The mask's bits, lowest first, up to its highest: a slot above it costs nothing. *)
+     let m = ref mask in
+     while !found < 0 && !m <> 0 do
+       if !m land 1 = 1 && item_hits ~tree:false ~nested lv it !j q tmin tmax skip then
+         found := !j;
+       m := !m lsr 1;
+       incr j
+     done);
   q.p_tmin <- tmin;
   q.p_tmax <- tmax;
   !found
