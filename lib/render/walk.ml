@@ -1000,6 +1000,11 @@ let csg_first ?rooted lv s (q : Probe.t) =
     lv.cand_face <- b.parts.(2))
   else q.p_t <- Float.infinity
 
+(* Whether point [pt] (in the CSG object's space) is inside member [m], a simple surface:
+   {!member_at}'s answer, without its dispatch. *)
+let[@inline] simple_at lv (m : Shape.csg_member) pt =
+  Shape.inside_probe m.shape (member_point m pt lv.mp)
+
 (* Whether CSG object [s] crosses (q.p_tmin, q.p_tmax), as [csg_first] answers it. A
    difference of simple surfaces is first tried from its first member's roots alone.
    Where that member has no root in the interval and the ray is outside it, so is the
@@ -1011,7 +1016,9 @@ let csg_first ?rooted lv s (q : Probe.t) =
 let csg_any lv s (q : Probe.t) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   (* 0: not crossed, 1: crossed, 2: not known from the first member (whose roots the
-     next level's buffer holds), 3: not tried *)
+     next level's buffer holds), 3: not tried. The first member's roots and each inside
+     are those [member_roots] and [member_at] find; the work is bounded, the shadow ray
+     counts for it. *)
   let known =
     match s with
     | Shape.Csg { op = Shape.Difference; members; _ } when Array.length members >= 2 ->
@@ -1023,36 +1030,49 @@ let csg_any lv s (q : Probe.t) =
         done;
         if not !simple then 3
         else
-          let l = deeper lv and w = Task.current () in
-          let ev = l.buf in
-          ev.n <- 0;
-          member_roots l w members.(0) 0 q ev;
+          let l = deeper lv in
+          let m0 = Array.unsafe_get members 0 and mq = l.mq and rs = l.rs in
+          member_probe m0 q mq;
+          mq.p_tmin <- tmin;
+          mq.p_tmax <- Float.infinity;
           (* One member's roots come in increasing order. *)
+          let n = Shape.roots m0.shape mq rs in
           let pt = l.pt in
-          if ev.n = 0 || fget ev.ts 0 >= tmax then
-            if outside_first l w Shape.Difference members q ev tmax then 0 else 2
-          else
-            let r0 = fget ev.ts 0 in
-            set_point pt q (0.5 *. (tmin +. r0));
-            Task.spend w 1;
-            if member_at l w members 0 pt then 2
+          let known =
+            if n = 0 || fget rs 0 >= tmax then (
+              set_point pt q
+                (if n = 0 then tmin +. Float.max 1. (Float.abs tmin)
+                 else 0.5 *. (tmin +. fget rs 0));
+              if simple_at l m0 pt then 2 else 0)
             else
-              let stop = if ev.n > 1 && fget ev.ts 1 < tmax then fget ev.ts 1 else tmax in
-              (* Near r0: the other members are met further in, if at all. *)
-              let p =
-                if Float.is_finite stop then r0 +. ((stop -. r0) /. 64.)
-                else r0 +. ((if Float.abs r0 > 1. then Float.abs r0 else 1.) /. 64.)
-              in
-              set_point pt q p;
-              Task.spend w (Array.length members);
-              if not (member_at l w members 0 pt) then 2
+              let r0 = fget rs 0 in
+              set_point pt q (0.5 *. (tmin +. r0));
+              if simple_at l m0 pt then 2
               else
-                let out = ref true and i = ref 1 in
-                while !out && !i < Array.length members do
-                  if member_at l w members !i pt then out := false;
-                  incr i
-                done;
-                if !out then 1 else 2
+                let stop = if n > 1 && fget rs 1 < tmax then fget rs 1 else tmax in
+                (* Near r0: the other members are met further in, if at all. *)
+                let p =
+                  if Float.is_finite stop then r0 +. ((stop -. r0) /. 64.)
+                  else r0 +. ((if Float.abs r0 > 1. then Float.abs r0 else 1.) /. 64.)
+                in
+                set_point pt q p;
+                if not (simple_at l m0 pt) then 2
+                else
+                  let out = ref true and i = ref 1 in
+                  while !out && !i < Array.length members do
+                    if simple_at l (Array.unsafe_get members !i) pt then out := false;
+                    incr i
+                  done;
+                  if !out then 1 else 2
+          in
+          if known = 2 then (
+            (* [csg_first ~rooted] reads them from the next level's buffer. *)
+            let ev = l.buf in
+            ev.n <- 0;
+            for k = 0 to n - 1 do
+              push ev (fget rs k) 0 m0.first_leaf (-1)
+            done);
+          known
     | _ -> 3
   in
   if known < 2 then known = 1
