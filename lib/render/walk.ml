@@ -1199,6 +1199,88 @@ let[@inline] plane_near prims j ox oy oz cx cy cz r e =
       not ((num < 0. && away -. (nl *. r) > e) || (num > 0. && away +. (nl *. r) < -.e))
   | _ -> true
 
+let[@inline] fmax (a : float) b = if a > b then a else b
+
+let[@inline] abs_max a x y z =
+  fmax a (fmax (Float.abs x) (fmax (Float.abs y) (Float.abs z)))
+
+(* [csg_clear] for the member [m] and points in its space: the planes tried are a face's
+   (a box's or a cylinder's cap) whose outside o is in, a cylinder's side tangent across
+   o's way from the axis, and a sphere's tangent plane nearest o. For each, the member
+   has n·x ≤ d, and the test is n·o > d and n·c ≥ d + r + e; o inside the member has
+   none. *)
+let[@inline] member_clear (m : Shape.t) ox oy oz cx cy cz r =
+  let e = 1e-6 *. abs_max (abs_max 1. ox oy oz) cx cy cz in
+  match m with
+  | Shape.Sphere { center; radius } ->
+      let vx = ox -. center.x and vy = oy -. center.y and vz = oz -. center.z in
+      let l = Float.sqrt ((vx *. vx) +. (vy *. vy) +. (vz *. vz)) in
+      l > radius && l < Float.infinity
+      && ((vx *. (cx -. center.x)) +. (vy *. (cy -. center.y)) +. (vz *. (cz -. center.z)))
+         /. l
+         >= radius +. r +. e
+  | Shape.Box { min; max } ->
+      (ox > max.x && cx -. max.x >= r +. e)
+      || (ox < min.x && min.x -. cx >= r +. e)
+      || (oy > max.y && cy -. max.y >= r +. e)
+      || (oy < min.y && min.y -. cy >= r +. e)
+      || (oz > max.z && cz -. max.z >= r +. e)
+      || (oz < min.z && min.z -. cz >= r +. e)
+  | Shape.Cylinder { base; axis; height; radius; caps = true; _ } ->
+      let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
+      let fx = cx -. base.x and fy = cy -. base.y and fz = cz -. base.z in
+      let h = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
+      and hc = (fx *. axis.x) +. (fy *. axis.y) +. (fz *. axis.z) in
+      (h > height && hc -. height >= r +. e)
+      || (h < 0. && -.hc >= r +. e)
+      ||
+      let rx = ex -. (h *. axis.x)
+      and ry = ey -. (h *. axis.y)
+      and rz = ez -. (h *. axis.z) in
+      let rl = Float.sqrt ((rx *. rx) +. (ry *. ry) +. (rz *. rz)) in
+      rl > radius && rl < Float.infinity
+      && ((rx *. fx) +. (ry *. fy) +. (rz *. fz)) /. rl >= radius +. r +. e
+  | _ -> false
+
+(* Whether no segment from o to a point at most [r] from c can meet CSG object [p], a
+   difference or an intersection (so inside its first member), because a plane has that
+   member on one side and o and the whole ball of radius r around c on the other: the
+   member is a sphere, a box or a capped cylinder placed as its object is, and the plane
+   one that touches it where o is outside it. That settles the rays from a point of the
+   object's own surface toward a light above it, each of which would otherwise seek the
+   member's roots to learn that it leaves it. Worked in the object's space: o
+   and c through the inverse transform, r grown by a bound on how far that stretches
+   (√(‖A‖₁‖A‖∞) of its linear part A, 1 for a translation); the light's side must clear
+   the plane by a margin on the scale of the coordinates. *)
+let csg_clear (p : Primitive.t) ox oy oz cx cy cz r =
+  match p.shape with
+  | Shape.Csg { op = Shape.Difference | Shape.Intersection; members; _ }
+    when Transform.is_identity (Array.unsafe_get members 0).transform ->
+      let m = (Array.unsafe_get members 0).shape and tr = p.transform in
+      if Transform.is_identity tr then member_clear m ox oy oz cx cy cz r
+      else
+        let a00 = Transform.inv_vx tr 1. 0. 0.
+        and a10 = Transform.inv_vy tr 1. 0. 0.
+        and a20 = Transform.inv_vz tr 1. 0. 0.
+        and a01 = Transform.inv_vx tr 0. 1. 0.
+        and a11 = Transform.inv_vy tr 0. 1. 0.
+        and a21 = Transform.inv_vz tr 0. 1. 0.
+        and a02 = Transform.inv_vx tr 0. 0. 1.
+        and a12 = Transform.inv_vy tr 0. 0. 1.
+        and a22 = Transform.inv_vz tr 0. 0. 1. in
+        let[@inline] sum x y z = Float.abs x +. Float.abs y +. Float.abs z in
+        let n1 = fmax (sum a00 a10 a20) (fmax (sum a01 a11 a21) (sum a02 a12 a22))
+        and ninf = fmax (sum a00 a01 a02) (fmax (sum a10 a11 a12) (sum a20 a21 a22)) in
+        member_clear m
+          (Transform.inv_px tr ox oy oz)
+          (Transform.inv_py tr ox oy oz)
+          (Transform.inv_pz tr ox oy oz)
+          (Transform.inv_px tr cx cy cz)
+          (Transform.inv_py tr cx cy cz)
+          (Transform.inv_pz tr cx cy cz)
+          (r *. Float.sqrt (n1 *. ninf))
+  | _ -> false
+
 let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
   let ox = o.ox and oy = o.oy and oz = o.oz and cx = c.x and cy = c.y and cz = c.z in
   let n = x.first in
@@ -1230,6 +1312,9 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
              || segment_near b k ox oy oz cx cy cz ((0.25 *. r) +. e) 0.125 0.25
              || segment_near b k ox oy oz cx cy cz ((0.5 *. r) +. e) 0.25 0.5
              || segment_near b k ox oy oz cx cy cz (r +. e) 0.5 1.)
+          && not
+               (c land 3 = composite
+               && csg_clear (Array.unsafe_get x.items.prims j) ox oy oz cx cy cz r)
       then m := !m lor (1 lsl j)
     done;
     !m

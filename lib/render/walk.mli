@@ -107,6 +107,10 @@ val shadow_mask : index -> Probe.t -> Vec3.t -> float -> int
 (** [shadow_mask x o c r]: for an index without a tree (a few objects), a bit for each
     slot whose bounds a segment from [o]'s origin to a point at most [r] from [c] may meet
     (slot j: bit j), the others clear; −1 for a tree, or more slots than an int has bits.
+    A plane is left out where [o] and all such points are on one side of it, and a CSG
+    difference or intersection whose first member is a sphere, a box or a capped cylinder
+    where a plane touching that member has [o] and them on the other side (a point of the
+    object's own surface under a light above it).
     Every ray from that origin toward such a point (an area light's samples) crosses only
     objects whose bit is set, so {!any_in} with the mask answers as without it, testing
     fewer objects. *)
