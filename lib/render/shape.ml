@@ -801,9 +801,19 @@ let root s (q : Probe.t) =
   | Mesh _ | Csg _ -> composite "root"
 
 (* The candidates in [out]'s first [n] slots, sorted, each value once, the infinite ones
-   dropped: how many are left. *)
+   dropped: how many are left. The finite ones are gathered first, in order, and only they
+   are sorted (stably, as all of them would be): a shape's test leaves most slots
+   infinite. *)
 let sorted_distinct out n =
-  for i = 1 to n - 1 do
+  let m = ref 0 in
+  for i = 0 to n - 1 do
+    let x = Float.Array.unsafe_get out i in
+    if x < Float.infinity then (
+      Float.Array.unsafe_set out !m x;
+      incr m)
+  done;
+  let m = !m in
+  for i = 1 to m - 1 do
     let x = Float.Array.unsafe_get out i in
     let j = ref i in
     while !j > 0 && Float.Array.unsafe_get out (!j - 1) > x do
@@ -812,14 +822,14 @@ let sorted_distinct out n =
     done;
     Float.Array.unsafe_set out !j x
   done;
-  let m = ref 0 in
-  for i = 0 to n - 1 do
+  let k = ref 0 in
+  for i = 0 to m - 1 do
     let x = Float.Array.unsafe_get out i in
-    if x < Float.infinity && (!m = 0 || x <> Float.Array.unsafe_get out (!m - 1)) then (
-      Float.Array.unsafe_set out !m x;
-      incr m)
+    if !k = 0 || x <> Float.Array.unsafe_get out (!k - 1) then (
+      Float.Array.unsafe_set out !k x;
+      incr k)
   done;
-  !m
+  !k
 
 (* [n] slots of [out] emptied: [n]. *)
 let[@inline] put out n =
