@@ -1008,11 +1008,11 @@ let[@inline] simple_at lv (m : Shape.csg_member) pt =
 (* Whether CSG object [s] crosses (q.p_tmin, q.p_tmax), as [csg_first] answers it. A
    difference of simple surfaces is first tried from its first member's roots alone.
    Where that member has no root in the interval and the ray is outside it, so is the
-   difference ([outside_first]). Where the ray enters it at its first root r0 < tmax,
-   outside it before, and just past r0 (before its next root and tmax) is inside it and
-   outside every other member, the difference is outside before r0 and inside there, so
-   it is crossed at r0 or at another member's root just past it. Either way the other
-   members' roots are not sought; any other case is [csg_first]'s. *)
+   difference (as [outside_first] finds it). Where the ray enters it at its first root
+   r0 < tmax, outside it before, and just past r0 (before its next root and tmax) is
+   inside it and outside every other member, the difference is outside before r0 and
+   inside there, so it is crossed at r0 or at another member's root just past it. Either
+   way the other members' roots are not sought; any other case is [csg_first]'s. *)
 let csg_any lv s (q : Probe.t) =
   let tmin = q.p_tmin and tmax = q.p_tmax in
   (* 0: not crossed, 1: crossed, 2: not known from the first member (whose roots the
@@ -1297,6 +1297,12 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
     let scale = !scale in
     let e = 1e-6 *. scale and r = r *. (1. +. 1e-6) in
     let b = x.items.cull in
+    (* The box of the whole segment grown by r: a slot's bounds apart from it are far
+       from every ray (comparisons that a bound that is not finite fails keep it). *)
+    let g = r +. e in
+    let lx = Float.min ox cx -. g and hx = Float.max ox cx +. g in
+    let ly = Float.min oy cy -. g and hy = Float.max oy cy +. g in
+    let lz = Float.min oz cz -. g and hz = Float.max oz cz +. g in
     let m = ref 0 in
     for j = 0 to n - 1 do
       let k = 6 * j in
@@ -1307,7 +1313,14 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
       if
         if c land 3 = plane then plane_near x.items.prims j ox oy oz cx cy cz r e
         else
-          segment_near b k ox oy oz cx cy cz (r +. e) 0. 1.
+          (not
+             (fget b (k + 3) < lx
+             || fget b k > hx
+             || fget b (k + 4) < ly
+             || fget b (k + 1) > hy
+             || fget b (k + 5) < lz
+             || fget b (k + 2) > hz))
+          && segment_near b k ox oy oz cx cy cz (r +. e) 0. 1.
           && (segment_near b k ox oy oz cx cy cz ((0.125 *. r) +. e) 0. 0.125
              || segment_near b k ox oy oz cx cy cz ((0.25 *. r) +. e) 0.125 0.25
              || segment_near b k ox oy oz cx cy cz ((0.5 *. r) +. e) 0.25 0.5
