@@ -949,6 +949,29 @@ let occluded_allocation =
             Alcotest.failf "%.0f minor words for %d shadow queries" words n)
         [ Accel.build prims; Accel.build (Array.map Primitive.without_bounds prims) ])
 
+(* 24 shadow rays from [o] toward points at most [radius] from [c]: each answers the same
+   under [mask] as with all objects, and as the nearest crossing of each object (a CSG
+   object's from all its members' roots) says. *)
+let rays_agree st sc a (q : Probe.t) prims o c radius mask =
+  List.for_all
+    (fun _ ->
+      let off = Vec3.smul (rand_in st 0. radius) (rand_dir st) in
+      let s = Vec3.add c off in
+      let d = Vec3.sub s o in
+      let dist = Vec3.length d in
+      let d = Vec3.smul (1. /. dist) d in
+      let ask mask =
+        Probe.of_ray q (ray o d);
+        q.p_tmin <- 0.;
+        q.p_tmax <- dist;
+        Accel.any sc a q ~opaque:true ~slot:(-1) ~mask
+      in
+      dist = 0.
+      ||
+      let masked = ask mask and all = ask (-1) in
+      masked = all && all = brute_occluded prims (ray o d) dist)
+    (List.init 24 Fun.id)
+
 (* An area light's shadow rays from one point, with the objects Accel.shadow_mask allows
    and with all: the same answer for every ray toward a point within the light's radius,
    over a few objects (a scan, where the mask applies), CSG tubes among them. *)
@@ -1013,26 +1036,7 @@ let shadow_mask_prop =
       q.oz <- o.z;
       let mask = Accel.shadow_mask a q c radius in
       if mask <> -1 && mask <> (1 lsl Array.length prims) - 1 then incr masked_culls;
-      List.for_all
-        (fun _ ->
-          let off = Vec3.smul (rand_in st 0. radius) (rand_dir st) in
-          let s = Vec3.add c off in
-          let d = Vec3.sub s o in
-          let dist = Vec3.length d in
-          let d = Vec3.smul (1. /. dist) d in
-          let ask mask =
-            Probe.of_ray q (ray o d);
-            q.p_tmin <- 0.;
-            q.p_tmax <- dist;
-            Accel.any sc a q ~opaque:true ~slot:(-1) ~mask
-          in
-          dist = 0.
-          ||
-          let masked = ask mask and all = ask (-1) in
-          (* and as the nearest crossing of each object (a CSG object's from all its
-             members' roots) says *)
-          masked = all && all = brute_occluded prims (ray o d) dist)
-        (List.init 24 Fun.id))
+      rays_agree st sc a q prims o c radius mask)
 
 (* Shadow rays from a point of a CSG object's own surface, lifted off it as shading lifts
    a point: where its first member (a sphere, a box, a capped cylinder) lies wholly below
@@ -1120,23 +1124,7 @@ let csg_surface_prop =
       Probe.set_origin q o.x o.y o.z;
       let mask = Accel.shadow_mask a q lc radius in
       if mask <> -1 && mask land 1 = 0 then incr own_culls;
-      List.for_all
-        (fun _ ->
-          let s = Vec3.add lc (Vec3.smul (rand_in st 0. radius) (rand_dir st)) in
-          let dv = Vec3.sub s o in
-          let dist = Vec3.length dv in
-          let dv = Vec3.smul (1. /. dist) dv in
-          let ask mask =
-            Probe.of_ray q (ray o dv);
-            q.p_tmin <- 0.;
-            q.p_tmax <- dist;
-            Accel.any sc a q ~opaque:true ~slot:(-1) ~mask
-          in
-          dist = 0.
-          ||
-          let masked = ask mask and all = ask (-1) in
-          masked = all && all = brute_occluded prims (ray o dv) dist)
-        (List.init 24 Fun.id))
+      rays_agree st sc a q prims o lc radius mask)
 
 (* The tree against the scan over the same primitives (kept out of the tree), bit for
    bit: the nearest hit and its part, the transparent crossings in order; and the scalar
