@@ -51,7 +51,9 @@ val spend : t -> int -> unit
     it is cancelled. A ray is one unit; so is each test of a simple surface inside a CSG
     object (a root sought, a point tested against its inside), which is how a ray that
     costs seconds (through a CSG object of thousands of members) still stops within
-    milliseconds. Allocates nothing. *)
+    milliseconds. A shadow ray's first try at a difference of simple surfaces (its first
+    member's roots and a few points, bounded by the members' count) counts within the
+    ray's own unit. Allocates nothing. *)
 
 val current : unit -> t
 (** The counters of the task that the calling domain runs inside {!with_current}, for the

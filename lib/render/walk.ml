@@ -1207,38 +1207,46 @@ let[@inline] abs_max a x y z =
 (* [csg_clear] for the member [m] and points in its space: the planes tried are a face's
    (a box's or a cylinder's cap) whose outside o is in, a cylinder's side tangent across
    o's way from the axis, and a sphere's tangent plane nearest o. For each, the member
-   has n·x ≤ d, and the test is n·o > d and n·c ≥ d + r + e; o inside the member has
-   none. *)
+   has n·x ≤ d, and the test is n·o > d + eo and n·c ≥ d + r + e: o outside by a margin
+   [eo] (a millionth of the light's [e], far below the lift of a shaded point off its
+   surface) that the member's own roots, computed otherwise, agree with, and c beyond by
+   r and [e]; o inside the member has none. Coordinates that are not finite have none. *)
 let[@inline] member_clear (m : Shape.t) ox oy oz cx cy cz r =
-  let e = 1e-6 *. abs_max (abs_max 1. ox oy oz) cx cy cz in
+  Float.is_finite ox && Float.is_finite oy && Float.is_finite oz && Float.is_finite cx
+  && Float.is_finite cy && Float.is_finite cz
+  &&
+  let scale = abs_max (abs_max 1. ox oy oz) cx cy cz in
+  let e = 1e-6 *. scale and eo = 1e-12 *. scale in
   match m with
   | Shape.Sphere { center; radius } ->
       let vx = ox -. center.x and vy = oy -. center.y and vz = oz -. center.z in
       let l = Float.sqrt ((vx *. vx) +. (vy *. vy) +. (vz *. vz)) in
-      l > radius && l < Float.infinity
+      l > radius +. eo
+      && l < Float.infinity
       && ((vx *. (cx -. center.x)) +. (vy *. (cy -. center.y)) +. (vz *. (cz -. center.z)))
          /. l
          >= radius +. r +. e
   | Shape.Box { min; max } ->
-      (ox > max.x && cx -. max.x >= r +. e)
-      || (ox < min.x && min.x -. cx >= r +. e)
-      || (oy > max.y && cy -. max.y >= r +. e)
-      || (oy < min.y && min.y -. cy >= r +. e)
-      || (oz > max.z && cz -. max.z >= r +. e)
-      || (oz < min.z && min.z -. cz >= r +. e)
+      (ox > max.x +. eo && cx -. max.x >= r +. e)
+      || (ox < min.x -. eo && min.x -. cx >= r +. e)
+      || (oy > max.y +. eo && cy -. max.y >= r +. e)
+      || (oy < min.y -. eo && min.y -. cy >= r +. e)
+      || (oz > max.z +. eo && cz -. max.z >= r +. e)
+      || (oz < min.z -. eo && min.z -. cz >= r +. e)
   | Shape.Cylinder { base; axis; height; radius; caps = true; _ } ->
       let ex = ox -. base.x and ey = oy -. base.y and ez = oz -. base.z in
       let fx = cx -. base.x and fy = cy -. base.y and fz = cz -. base.z in
       let h = (ex *. axis.x) +. (ey *. axis.y) +. (ez *. axis.z)
       and hc = (fx *. axis.x) +. (fy *. axis.y) +. (fz *. axis.z) in
-      (h > height && hc -. height >= r +. e)
-      || (h < 0. && -.hc >= r +. e)
+      (h > height +. eo && hc -. height >= r +. e)
+      || (h < -.eo && -.hc >= r +. e)
       ||
       let rx = ex -. (h *. axis.x)
       and ry = ey -. (h *. axis.y)
       and rz = ez -. (h *. axis.z) in
       let rl = Float.sqrt ((rx *. rx) +. (ry *. ry) +. (rz *. rz)) in
-      rl > radius && rl < Float.infinity
+      rl > radius +. eo
+      && rl < Float.infinity
       && ((rx *. fx) +. (ry *. fy) +. (rz *. fz)) /. rl >= radius +. r +. e
   | _ -> false
 

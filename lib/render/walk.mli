@@ -109,10 +109,11 @@ val shadow_mask : index -> Probe.t -> Vec3.t -> float -> int
     (slot j: bit j), the others clear; −1 for a tree, or more slots than an int has bits.
     A plane is left out where [o] and all such points are on one side of it, and a CSG
     difference or intersection whose first member is a sphere, a box or a capped cylinder
-    where a plane touching that member has [o] and them on the other side (a point of the
-    object's own surface under a light above it). Every ray from that origin toward such a
-    point (an area light's samples) crosses only objects whose bit is set, so {!any_in}
-    with the mask answers as without it, testing fewer objects. *)
+    with no transform of its own where a plane touching that member has [o] and them on
+    the other side, each by a margin (a point of the object's own surface under a light
+    above it). Every ray from that origin toward such a point (an area light's samples)
+    crosses only objects whose bit is set, so {!any_in} with the mask answers as without
+    it, testing fewer objects. *)
 
 val crossings_in : scratch -> index -> Probe.t -> transparent:bool -> crossings -> unit
 (** [crossings_in sc x q ~transparent out] appends every crossing in ([q.p_tmin],
