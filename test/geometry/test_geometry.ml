@@ -1040,17 +1040,17 @@ let shadow_mask_prop =
 
 (* Shadow rays from a point of a CSG object's own surface, lifted off it as shading lifts
    a point: where its first member (a sphere, a box, a capped cylinder) lies wholly below
-   the plane through its point nearest the origin, and the light above, the mask leaves
-   the object out (Walk.csg_clear). The answers are those without the mask, and those of
-   each object's nearest crossing, over differences and intersections placed by no
-   transform, a turn, and a stretch. *)
+   a plane touching it there, and the light above, the mask leaves the object out
+   (Walk.csg_clear). The answers are those without the mask, and those of each object's
+   nearest crossing, over differences and intersections placed by no transform, a turn,
+   and a stretch. *)
 let own_culls = ref 0
 
 let csg_surface_prop =
   QCheck.Test.make
     ~name:
-      "shadow rays from a CSG object's own surface answer the same when the mask \
-       leaves        the object out"
+      "shadow rays from a CSG object's own surface answer the same when the mask leaves \
+       the object out"
     ~count:400
     QCheck.(int_bound 1_000_000_000)
     (fun seed ->
@@ -1836,6 +1836,93 @@ let () =
               Alcotest.(check int)
                 "on its inner side, in the hole" 1
                 (mask (-0.4 +. 1e-9)));
+          case "the mask keeps a CSG object wherever a ray toward the light may meet it"
+            (fun () ->
+              let id = Transform.identity in
+              (* The object, alone at slot 0, is kept for a light of radius r at c seen
+                 from o, and the ray toward c is blocked. *)
+              let kept what ?transform ?toward shape o c r =
+                let p = Primitive.make ?transform Material.default shape in
+                let a = Accel.build [| p |] in
+                let sc = Accel.domain_scratch () and q = Probe.create () in
+                Probe.set_origin q o.Vec3.x o.y o.z;
+                let mask = Accel.shadow_mask a q c r in
+                if mask land 1 = 0 then Alcotest.failf "%s: the object is left out" what;
+                let d = Vec3.sub (Option.value toward ~default:c) o in
+                let dist = Vec3.length d in
+                Probe.of_ray q (ray o (Vec3.smul (1. /. dist) d));
+                q.p_tmin <- 0.;
+                q.p_tmax <- dist;
+                if not (Accel.any sc a q ~opaque:true ~slot:(-1) ~mask:(-1)) then
+                  Alcotest.failf "%s: the ray toward the light is not blocked" what
+              in
+              let cyl base top r = Shape.cylinder ~base ~top ~radius:r ~caps:true in
+              let tube =
+                Shape.csg Difference
+                  [
+                    (cyl (v 0. 0. 0.) (v 0. 1.4 0.) 0.5, id);
+                    (cyl (v 0. (-0.1) 0.) (v 0. 1.5 0.) 0.4, id);
+                  ]
+              in
+              (* a point of the hole's wall, the light beyond the wall behind it *)
+              kept "the hole's wall" tube (v (-0.4 +. 1e-9) 0.7 0.) (v (-6.) 0.7 0.) 0.5;
+              (* a point of a slab's face cut into a ball: inside the ball *)
+              let ball_cut =
+                Shape.csg Difference
+                  [
+                    (Shape.sphere ~center:Vec3.zero ~radius:1., id);
+                    (Shape.box ~min:(v (-0.3) (-2.) (-2.)) ~max:(v 0.3 2. 2.), id);
+                  ]
+              in
+              kept "a cut face" ball_cut (v (0.3 +. 1e-9) 0. 0.) (v 10. 0. 0.) 0.5;
+              (* a first member moved within the object: its own transform *)
+              let moved =
+                Shape.csg Difference
+                  [
+                    ( Shape.sphere ~center:Vec3.zero ~radius:1.,
+                      Transform.translate (v 0. 0. 3.) );
+                    (Shape.sphere ~center:(v 9. 9. 9.) ~radius:0.1, id);
+                  ]
+              in
+              kept "a moved member" moved (v 0. 0. 1.5) (v 0. 0. 6.) 0.1;
+              (* a ball shrunk tenfold, the light's ball across its top's tangent plane:
+                 the light's radius grows tenfold in the object's space *)
+              let big =
+                Shape.csg Difference
+                  [
+                    (Shape.sphere ~center:Vec3.zero ~radius:5., id);
+                    (Shape.sphere ~center:(v 9. 9. 9.) ~radius:0.1, id);
+                  ]
+              in
+              kept "a shrunk object" ~toward:(v 0.3 0.451 0.)
+                ~transform:(Transform.scale (v 0.1 0.1 0.1))
+                big
+                (v 0. (0.5 +. 1e-9) 0.)
+                (v 0.3 0.55 0.) 0.1;
+              (* a point within rounding of a cylinder's cap, outside it by its own test,
+                 where the cap's roots find a crossing *)
+              let capped =
+                Shape.csg Difference
+                  [
+                    ( cyl
+                        (v 0x1.e5c5627ef66afp-1 0x1.e4b98ad0c5afcp-3 0x1.ca9b6af8f7d28p+0)
+                        (v 0x1.4ba120700982cp+1 0x1.f3f9e009770d1p-1 0x1.9a1daa773be7p+0)
+                        0x1.a8b07482cb69p-2,
+                      id );
+                    (Shape.sphere ~center:(v 90. 90. 90.) ~radius:0.1, id);
+                  ]
+              in
+              let p = Primitive.make Material.default capped in
+              let a = Accel.build [| p |] in
+              let q = Probe.create () in
+              let o = v 0x1.49bb7abe8cecbp+1 0x1.f1eb2da922191p-1 0x1.7534de01ac806p+0 in
+              Probe.set_origin q o.x o.y o.z;
+              let mask =
+                Accel.shadow_mask a q
+                  (v 0x1.a679560a4c7fap+2 0x1.090b31893dbfp-5 0x1.db2af09afa19dp+0)
+                  0x1.30e02adac14e3p+0
+              in
+              Alcotest.(check int) "a point within rounding of a cap" 1 mask);
         ] );
       ("sphere fields", [ seeded sphere_field_prop ]);
       ( "placed by a translation",
