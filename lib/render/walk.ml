@@ -1199,10 +1199,8 @@ let[@inline] plane_near prims j ox oy oz cx cy cz r e =
       not ((num < 0. && away -. (nl *. r) > e) || (num > 0. && away +. (nl *. r) < -.e))
   | _ -> true
 
-let[@inline] fmax (a : float) b = if a > b then a else b
-
 let[@inline] abs_max a x y z =
-  fmax a (fmax (Float.abs x) (fmax (Float.abs y) (Float.abs z)))
+  Floats.max a (Floats.max (Float.abs x) (Floats.max (Float.abs y) (Float.abs z)))
 
 (* [csg_clear] for the member [m] and points in its space: the planes tried are a face's
    (a box's or a cylinder's cap) whose outside o is in, a cylinder's side tangent across
@@ -1277,8 +1275,11 @@ let csg_clear (p : Primitive.t) ox oy oz cx cy cz r =
         and a12 = Transform.inv_vy tr 0. 0. 1.
         and a22 = Transform.inv_vz tr 0. 0. 1. in
         let[@inline] sum x y z = Float.abs x +. Float.abs y +. Float.abs z in
-        let n1 = fmax (sum a00 a10 a20) (fmax (sum a01 a11 a21) (sum a02 a12 a22))
-        and ninf = fmax (sum a00 a01 a02) (fmax (sum a10 a11 a12) (sum a20 a21 a22)) in
+        let n1 =
+          Floats.max (sum a00 a10 a20) (Floats.max (sum a01 a11 a21) (sum a02 a12 a22))
+        and ninf =
+          Floats.max (sum a00 a01 a02) (Floats.max (sum a10 a11 a12) (sum a20 a21 a22))
+        in
         member_clear m
           (Transform.inv_px tr ox oy oz)
           (Transform.inv_py tr ox oy oz)
@@ -1308,9 +1309,9 @@ let shadow_mask (x : index) (o : Probe.t) (c : Vec3.t) r =
     (* The box of the whole segment grown by r: a slot's bounds apart from it are far
        from every ray (comparisons that a bound that is not finite fails keep it). *)
     let g = r +. e in
-    let lx = Float.min ox cx -. g and hx = Float.max ox cx +. g in
-    let ly = Float.min oy cy -. g and hy = Float.max oy cy +. g in
-    let lz = Float.min oz cz -. g and hz = Float.max oz cz +. g in
+    let lx = Floats.min ox cx -. g and hx = Floats.max ox cx +. g in
+    let ly = Floats.min oy cy -. g and hy = Floats.max oy cy +. g in
+    let lz = Floats.min oz cz -. g and hz = Floats.max oz cz +. g in
     let m = ref 0 in
     for j = 0 to n - 1 do
       let k = 6 * j in
