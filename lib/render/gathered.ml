@@ -299,22 +299,14 @@ let take_all t =
     List.iter Floats.free !floats;
     a
 
-(* The space overhead while held spheres are made again: every primitive made lives, so
-   a collection then finds nothing to free, and the collector paced at its default (its
+(* Held spheres are made again at {!Pace.all_live}: every primitive made lives, so a
+   collection then finds nothing to free, and the collector paced at its default (its
    heap small, the floats being outside it) ran nine major cycles over the growing
    primitives of a million coloured spheres (0.5 s of processor time, 0.3 s at this
    overhead, five cycles), and marked 40 M instructions more of field_100000's 100 000 at
    480×270 than when the floats were in the heap. *)
-let take_overhead = 1_000_000
-
 let take t =
-  if held t = 0 then take_all t
-  else
-    let g = Gc.get () in
-    Gc.set { g with space_overhead = take_overhead };
-    Fun.protect
-      ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = g.space_overhead })
-      (fun () -> take_all t)
+  if held t = 0 then take_all t else Pace.within Pace.all_live (fun () -> take_all t)
 
 let discard t =
   List.iter Floats.free (Floats.take t.floats);
