@@ -161,6 +161,33 @@ let discards () =
     "the same primitives, added again" true
     (List.for_all2 same (Array.to_list got) ps)
 
+(* The all-live pace holds only while its work runs: the collector's overhead is set back
+   when the work returns and when it raises, and a take or a build leaves it as it was. *)
+let pace () =
+  let overhead () = (Gc.get ()).space_overhead in
+  let before = overhead () in
+  Gc.set { (Gc.get ()) with space_overhead = 77 };
+  Fun.protect
+    ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before })
+    (fun () ->
+      let inside = Pace.within Pace.all_live overhead in
+      Alcotest.(check int) "the all-live pace while the work runs" Pace.all_live inside;
+      Alcotest.(check int) "set back when it returns" 77 (overhead ());
+      (match Pace.within Pace.all_live (fun () -> failwith "stop") with
+      | () -> Alcotest.fail "the work raised"
+      | exception Failure _ -> ());
+      Alcotest.(check int) "set back when it raises" 77 (overhead ());
+      let g = Gathered.create () in
+      for i = 0 to 99 do
+        Gathered.add g
+          (Primitive.make Material.default
+             (Shape.sphere ~center:(Vec3.v (Float.of_int i) 0. 0.) ~radius:0.5))
+      done;
+      let prims = Gathered.take g in
+      Alcotest.(check int) "a take leaves it" 77 (overhead ());
+      ignore (Accel.build prims);
+      Alcotest.(check int) "a build leaves it" 77 (overhead ()))
+
 let () =
   Alcotest.run "gathered"
     [
@@ -170,5 +197,6 @@ let () =
           Alcotest.test_case "what is shared stays shared" `Quick shares;
           Alcotest.test_case "blocks of floats filled and freed" `Quick many;
           Alcotest.test_case "a stream discarded" `Quick discards;
+          Alcotest.test_case "the collector's pace set back" `Quick pace;
         ] );
     ]
