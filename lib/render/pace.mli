@@ -9,4 +9,7 @@ val all_live : int
 
 val within : int -> (unit -> 'a) -> 'a
 (** [within overhead f] is [f ()] with the collector's [space_overhead] at [overhead], and
-    set back to what it was when [f] returns or raises. *)
+    set back to what it was when [f] returns or raises. The setting is the whole
+    program's: scenes are built on one domain at a time (a still's, an animation's frames
+    in order, [lancer watch]'s renderer), and two [within] running at once on two domains
+    could set back each other's value. *)
