@@ -136,7 +136,7 @@ let build_paced prims =
    marked the primitives again for every few megabytes of boxes and nodes: over the
    million coloured spheres of [make bench-limit] (first pixel at 64×48) 5.77 G
    instructions rather than 5.36 G, over field_100000 (at 1×1) 0.87 G rather than 0.78 G,
-   at the same peak of memory (302 MB, 102 MB at 1920×1080). *)
+   at the same peak of memory (295 MiB, 99.5 MiB at 1920×1080). *)
 let build prims = Pace.within Pace.all_live (fun () -> build_paced prims)
 
 (* What [build] would decide, from each primitive's bounds as it reads them, without the
