@@ -57,7 +57,7 @@ let linear prims =
     items = Walk.items prims;
   }
 
-let build_paced prims =
+let build_tree prims =
   let n = Array.length prims in
   (* Every primitive's bounds in one pass, then the bounded ones' (all six finite) moved
      down in place and padded: one box per primitive, none allocated for a sphere. *)
@@ -137,7 +137,7 @@ let build_paced prims =
    million coloured spheres of [make bench-limit] (first pixel at 64×48) 5.77 G
    instructions rather than 5.36 G, over field_100000 (at 1×1) 0.87 G rather than 0.78 G,
    at the same peak of memory (295 MiB, 99.5 MiB at 1920×1080). *)
-let build prims = Pace.within Pace.all_live (fun () -> build_paced prims)
+let build prims = Pace.within Pace.all_live (fun () -> build_tree prims)
 
 (* What [build] would decide, from each primitive's bounds as it reads them, without the
    tree: the weight of the bounded primitives (all six bounds finite). *)
