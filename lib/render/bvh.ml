@@ -1272,31 +1272,6 @@ let build ?(cheap = (Bytes.empty, 0)) ?(large = large) pbox =
 let[@inline] link nodes k = int_of_float (fget nodes ((8 * k) + 6))
 let[@inline] count nodes k = int_of_float (fget nodes ((8 * k) + 7))
 
-(* The entry t of the ray into node [k]'s box within [tmin, tmax], or [inf] (infinity)
-   for a miss, with each axis's near plane chosen once per ray by the sign of its
-   reciprocal direction ({!near}), so that a slab costs two comparisons. [nx], [ny], [nz]
-   are the offsets of the near planes' coordinates in the node (0 for the min plane, 3
-   for the max), [fx], [fy], [fz] the far ones'. A NaN from 0·inf (origin on a slab
-   plane, ray parallel to it) leaves the interval open. *)
-let[@inline] box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf =
-  let off = 8 * k in
-  let a = (fget nodes (off + nx) -. ox) *. ix in
-  let t0 = if a > tmin then a else tmin in
-  let c = (fget nodes (off + fx) -. ox) *. ix in
-  let t1 = if c < tmax then c else tmax in
-  let a = (fget nodes (off + ny) -. oy) *. iy in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fy) -. oy) *. iy in
-  let t1 = if c < t1 then c else t1 in
-  let a = (fget nodes (off + nz) -. oz) *. iz in
-  let t0 = if a > t0 then a else t0 in
-  let c = (fget nodes (off + fz) -. oz) *. iz in
-  let t1 = if c < t1 then c else t1 in
-  if t0 <= t1 then t0 else inf
-
-(* The offset of the near plane's coordinate for reciprocal direction [i]. *)
-let[@inline] near i = if i < 0. then 3 else 0
-
 (* --- Walks ------------------------------------------------------------------------ *)
 
 (* A depth-first walk's stack, kept from one query to the next: the nodes still to visit
@@ -1319,72 +1294,20 @@ let[@inline] ready w depth =
     w.ids <- Array.make (depth + 1) 0;
     w.ts <- Float.Array.create (depth + 1))
 
-(* The descent of every walk: from the top of [st]'s stack, past the entries whose entry t
-   is beyond [st.span]'s second (the best t of a nearest walk, the end of the interval of
-   the others), to the next leaf to test (−1: none is left). At an interior node the
-   nearer child whose box the ray enters within the span comes next, the farther one is
-   pushed with its entry t, so that leaves come nearest first. It calls nothing, so that
-   the ray's floats stay in registers: in a loop that also tests primitives they would be
-   reloaded from the stack at every box. *)
-let[@inline never] next_leaf nodes (q : Probe.t) (st : walk) =
-  let inf = Float.infinity in
-  let ox = q.ox and oy = q.oy and oz = q.oz and ix = q.ix and iy = q.iy and iz = q.iz in
-  let nx = near ix and ny = 1 + near iy and nz = 2 + near iz in
-  let fx = 3 - nx and fy = 5 - ny and fz = 7 - nz in
-  let tmin = Float.Array.unsafe_get st.span 0
-  and best = Float.Array.unsafe_get st.span 1 in
-  let sids = st.ids and sts = st.ts in
-  let sp = ref st.sp and node = ref (-1) and leaf = ref (-1) and go = ref true in
-  while !go do
-    if !node < 0 then (
-      while !node < 0 && !sp > 0 do
-        decr sp;
-        if Float.Array.unsafe_get sts !sp <= best then node := Array.unsafe_get sids !sp
-      done;
-      if !node < 0 then go := false)
-    else
-      let k = !node in
-      if count nodes k > 0 then (
-        leaf := k;
-        go := false)
-      else
-        let l = k + 1 and rr = link nodes k in
-        let tl = box_entry nodes l ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf in
-        let trr = box_entry nodes rr ox oy oz ix iy iz nx ny nz fx fy fz tmin best inf in
-        node :=
-          if tl < inf then
-            if trr < inf then
-              if trr < tl then (
-                Array.unsafe_set sids !sp l;
-                fset sts !sp tl;
-                incr sp;
-                rr)
-              else (
-                Array.unsafe_set sids !sp rr;
-                fset sts !sp trr;
-                incr sp;
-                l)
-            else l
-          else if trr < inf then rr
-          else -1
-  done;
-  st.sp <- !sp;
-  !leaf
+(* The descent of every walk, in C ([descent_stubs.c], which says why): from the top of
+   the stack, past the entries whose entry t is beyond [span]'s second, to the next leaf
+   (−1: none is left). It allocates nothing and calls nothing back. *)
+external next_leaf : Float.Array.t -> Probe.t -> walk -> (int[@untagged])
+  = "lancer_next_leaf_byte" "lancer_next_leaf"
+[@@noalloc]
 
-(* A walk begun over [tmin, tmax]: the interval kept, and the root on the stack with its
-   entry t if the ray enters its box; whether it does (else there is nothing to walk). *)
-let[@inline] start nodes (q : Probe.t) w tmin tmax =
-  w.sp <- 0;
+(* The same from an empty stack and the root, if the ray enters its box within [span]. *)
+external first_leaf : Float.Array.t -> Probe.t -> walk -> (int[@untagged])
+  = "lancer_first_leaf_byte" "lancer_first_leaf"
+[@@noalloc]
+
+(* A walk begun over [tmin, tmax]: its first leaf. *)
+let[@inline] start nodes q w tmin tmax =
   fset w.span 0 tmin;
   fset w.span 1 tmax;
-  let nx = near q.ix and ny = 1 + near q.iy and nz = 2 + near q.iz in
-  let t =
-    box_entry nodes 0 q.ox q.oy q.oz q.ix q.iy q.iz nx ny nz (3 - nx) (5 - ny) (7 - nz)
-      tmin tmax Float.infinity
-  in
-  t < Float.infinity
-  &&
-  (Array.unsafe_set w.ids 0 0;
-   fset w.ts 0 t;
-   w.sp <- 1;
-   true)
+  first_leaf nodes q w

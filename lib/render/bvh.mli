@@ -51,37 +51,6 @@ val link : Float.Array.t -> int -> int
 val count : Float.Array.t -> int -> int
 (** Node [k]'s second integer: a leaf's item count (> 0), 0 for an interior node. *)
 
-val near : float -> int
-(** [near i]: the offset in a node of the near plane's coordinate along an axis of
-    reciprocal direction [i] (0, the min plane, unless [i] < 0: 3, the max plane). A ray
-    computes it once per axis for {!box_entry}: [nx = near ix], [ny = 1 + near iy],
-    [nz = 2 + near iz], and the far offsets [3 - nx], [5 - ny], [7 - nz]. *)
-
-val box_entry :
-  Float.Array.t ->
-  int ->
-  float ->
-  float ->
-  float ->
-  float ->
-  float ->
-  float ->
-  int ->
-  int ->
-  int ->
-  int ->
-  int ->
-  int ->
-  float ->
-  float ->
-  float ->
-  float
-(** [box_entry nodes k ox oy oz ix iy iz nx ny nz fx fy fz tmin tmax inf]: the entry t of
-    the ray (origin o, reciprocal direction i) into node [k]'s box within [tmin, tmax], or
-    [inf] (infinity) for a miss, the near and far planes given by their offsets ({!near}).
-    A NaN from 0·inf (origin on a slab plane, ray parallel to it) leaves the interval
-    open. The one box test of every walk. *)
-
 (** {1 Walks} *)
 
 type walk = {
@@ -105,11 +74,10 @@ val next_leaf : Float.Array.t -> Probe.t -> walk -> int
     a nearest walk, which the walk lowers as it finds hits; the end of the interval of the
     others). At an interior node the nearer child whose box the ray enters within the span
     comes next, the farther one is pushed with its entry t, so that leaves come nearest
-    first. It calls nothing, so that the ray's floats stay in registers: in a loop that
-    also tests primitives, OCaml would reload them from the stack at every box. The one
-    descent of every walk. *)
+    first. The one descent of every walk, written in C: both children's boxes tested at
+    once, each slab's bounds taken without a branch. *)
 
-val start : Float.Array.t -> Probe.t -> walk -> float -> float -> bool
-(** [start nodes q w tmin tmax] begins a walk over [tmin, tmax] for {!next_leaf}: the
-    interval kept in [w.span], and the root on the stack, with its entry t, if [q]'s ray
-    enters its box. Whether it does: if not, there is no leaf to ask for. *)
+val start : Float.Array.t -> Probe.t -> walk -> float -> float -> int
+(** [start nodes q w tmin tmax] begins a walk over [tmin, tmax]: the interval kept in
+    [w.span], the root on the stack with its entry t if [q]'s ray enters its box, and the
+    first leaf as {!next_leaf} gives it (−1: the ray misses the root's box). *)

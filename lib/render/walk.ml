@@ -238,12 +238,9 @@ let[@inline] next_leaf lv at nodes depth (q : Probe.t) tmin bound =
   if at >= 0 then (
     fset st.span 1 bound;
     Bvh.next_leaf nodes q st)
-  else if
-    Float.Array.length nodes > 0
-    &&
-    (Bvh.ready st depth;
-     Bvh.start nodes q st tmin bound)
-  then Bvh.next_leaf nodes q st
+  else if Float.Array.length nodes > 0 then (
+    Bvh.ready st depth;
+    Bvh.start nodes q st tmin bound)
   else -1
 
 (* The slots of [at]: leaf [at]'s from its first, or the slots before the tree for −2. *)
@@ -343,8 +340,8 @@ let no_items =
   }
 
 (* Whether [q]'s ray meets, within [tmin, tmax], the box at [6 * j] of [b]: each slab's
-   near and far planes chosen by the sign of the reciprocal direction, as Bvh.box_entry
-   does (a NaN from 0·∞, an origin on a slab plane with the ray along it, leaves the
+   near and far planes chosen by the sign of the reciprocal direction, as the hierarchy's
+   descent does (a NaN from 0·∞, an origin on a slab plane with the ray along it, leaves the
    interval open). *)
 let[@inline] box_met b j (q : Probe.t) tmin tmax =
   let o = 6 * j in

@@ -193,6 +193,81 @@ let morton_floor () =
   in
   Alcotest.(check int) "nodes wider than the grid" 2 (wide 0)
 
+(* The descent (in C) against Descent_ref, step by step: the same leaf and the same
+   stack, entry t by entry t in bits, after every step, over random trees and rays. Some
+   origins lie on a node's slab plane with the ray along it (0·inf, NaN), some
+   directions have a signed zero, some intervals are unbounded; between two steps the
+   best t sometimes falls, as a nearest walk's does. *)
+let descent () =
+  let rs = Random.State.make [| 20261205 |] in
+  let f s = Random.State.float rs s in
+  let one_in n = Random.State.int rs n = 0 in
+  let same what (a : Bvh.walk) (b : Bvh.walk) la lb =
+    if la <> lb then Alcotest.failf "%s: leaf %d, reference %d" what la lb;
+    if a.sp <> b.sp then Alcotest.failf "%s: %d on the stack, reference %d" what a.sp b.sp;
+    for i = 0 to a.sp - 1 do
+      let ta = Float.Array.get a.ts i and tb = Float.Array.get b.ts i in
+      if a.ids.(i) <> b.ids.(i) || Int64.bits_of_float ta <> Int64.bits_of_float tb then
+        Alcotest.failf "%s: stack entry %d is (%d, %h), reference (%d, %h)" what i
+          a.ids.(i) ta b.ids.(i) tb
+    done
+  in
+  let steps = ref 0 in
+  List.iter
+    (fun (name, gen) ->
+      List.iter
+        (fun m ->
+          let t = Bvh.build (items m gen) in
+          let nodes = t.nodes and n = Float.Array.length t.nodes / 8 in
+          let lo = Array.init 3 (fun a -> Float.Array.get nodes a)
+          and hi = Array.init 3 (fun a -> Float.Array.get nodes (3 + a)) in
+          let coord a =
+            if one_in 4 then
+              Float.Array.get nodes
+                ((8 * Random.State.int rs n) + a + if one_in 2 then 0 else 3)
+            else
+              let w = hi.(a) -. lo.(a) in
+              let w = if Float.is_finite w && w > 0. then w else 1. in
+              lo.(a) -. w +. f (3. *. w)
+          in
+          for ray = 1 to 100 do
+            let q = Lancer_math.Probe.create () in
+            Lancer_math.Probe.set_origin q (coord 0) (coord 1) (coord 2);
+            let d () = if one_in 5 then if one_in 2 then 0. else -0. else f 2. -. 1. in
+            q.dx <- d ();
+            q.dy <- d ();
+            q.dz <- d ();
+            Lancer_math.Probe.set_inv_dir q;
+            let tmin = if one_in 2 then 0. else f 10. in
+            let tmax = if one_in 2 then Float.infinity else tmin +. f 300. in
+            let a = Bvh.new_walk () and b = Bvh.new_walk () in
+            Bvh.ready a t.depth;
+            Bvh.ready b t.depth;
+            let what k = Printf.sprintf "%s, %d items, ray %d, step %d" name m ray k in
+            let la = ref (Bvh.start nodes q a tmin tmax)
+            and lb = ref (Descent_ref.start nodes q b tmin tmax)
+            and k = ref 0 in
+            same (what 0) a b !la !lb;
+            while !la >= 0 do
+              if one_in 3 then (
+                let best = Float.Array.get a.span 1 in
+                let best' =
+                  if Float.is_finite best then tmin +. f (best -. tmin)
+                  else tmin +. f 100.
+                in
+                Float.Array.set a.span 1 best';
+                Float.Array.set b.span 1 best');
+              incr k;
+              incr steps;
+              la := Bvh.next_leaf nodes q a;
+              lb := Descent_ref.next_leaf nodes q b;
+              same (what !k) a b !la !lb
+            done
+          done)
+        sizes)
+    (shapes rs);
+  if !steps < 5_000 then Alcotest.failf "only %d steps taken" !steps
+
 let () =
   Alcotest.run "bvh"
     [
@@ -205,4 +280,5 @@ let () =
           Alcotest.test_case "large builds in Morton order" `Quick morton;
           Alcotest.test_case "a floor set apart from a grid" `Quick morton_floor;
         ] );
+      ("walk", [ Alcotest.test_case "the descent against a plain one" `Quick descent ]);
     ]
