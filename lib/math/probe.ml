@@ -1,3 +1,4 @@
+(* The field order is the one [probe.mli] states, which the hierarchy's descent in C reads. *)
 type t = {
   mutable ox : float;
   mutable oy : float;

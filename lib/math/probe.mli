@@ -5,6 +5,8 @@
     A record of floats is stored flat: reading and writing its fields allocates nothing. A
     probe is scratch, owned by one domain at a time. *)
 
+(* The hierarchy's descent, in C (lib/render/descent_stubs.c), reads the origin and the
+   reciprocal direction by their position in this record of floats: keep its order. *)
 type t = {
   mutable ox : float;
   mutable oy : float;

@@ -1277,7 +1277,8 @@ let[@inline] count nodes k = int_of_float (fget nodes ((8 * k) + 7))
 (* A depth-first walk's stack, kept from one query to the next: the nodes still to visit
    in [ids] with their entry t in [ts], their count [sp] between two descents, and the
    interval [span] (tmin, then tmax or the best t so far) the descents cull boxes by,
-   which the walk sets. *)
+   which the walk sets. The descent in C reads and writes these fields by their position:
+   keep their order. *)
 type walk = {
   mutable ids : int array;
   mutable ts : Float.Array.t;
