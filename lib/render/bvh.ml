@@ -1302,7 +1302,8 @@ external next_leaf : Float.Array.t -> Probe.t -> walk -> (int[@untagged])
   = "lancer_next_leaf_byte" "lancer_next_leaf"
 [@@noalloc]
 
-(* The same from an empty stack and the root, if the ray enters its box within [span]. *)
+(* The same from an empty stack, beginning at the root if the ray enters its box within
+   [span]. *)
 external first_leaf : Float.Array.t -> Probe.t -> walk -> (int[@untagged])
   = "lancer_first_leaf_byte" "lancer_first_leaf"
 [@@noalloc]

@@ -79,5 +79,5 @@ val next_leaf : Float.Array.t -> Probe.t -> walk -> int
 
 val start : Float.Array.t -> Probe.t -> walk -> float -> float -> int
 (** [start nodes q w tmin tmax] begins a walk over [tmin, tmax]: the interval kept in
-    [w.span], the root on the stack with its entry t if [q]'s ray enters its box, and the
-    first leaf as {!next_leaf} gives it (−1: the ray misses the root's box). *)
+    [w.span], the stack emptied, and the first leaf, the descent beginning at the root if
+    [q]'s ray enters its box (−1: it does not, or no leaf is met). *)

@@ -77,8 +77,8 @@ static inline __attribute__((always_inline)) v2 entries(struct ray y, const doub
 
 /* The walk of probe [q] (Probe.t: ox oy oz dx dy dz ix iy iz ..., a record of floats,
    stored flat) over [nodes], on stack [st], to its next leaf (-1: none is left). With
-   [first], the stack is emptied and the root pushed with its entry t if the ray enters
-   its box. Then the stack's entries whose entry t is beyond the span's second (the best
+   [first], the stack is emptied and the walk begins at the root if the ray enters its
+   box within the span. The stack's entries whose entry t is beyond the span's second (the best
    t of a nearest walk) are passed over; at an interior node the nearer child met comes
    next and the farther one is pushed with its entry t, so that leaves come nearest
    first. A node is 8 floats: min x y z, max x y z, then (first, count > 0) for a leaf,
