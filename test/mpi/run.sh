@@ -244,10 +244,12 @@ else fail "an include that differs on the other ranks: status $status"; cat inc.
 
 # Images and meshes are read by every rank, and each unit comes back with their digests:
 # pixels made of another version of a texture than rank 0's are refused, with a message
-# and no image.
+# and no image. The image is large enough that rank 1 renders a unit before rank 0's own
+# worker has rendered every tile: at 256×192 rank 0 sometimes rendered them all before
+# rank 1 asked for one, and the job then rightly ended with rank 0's image.
 printf 'P6\n1 1\n255\n\310\40\40' >tex.ppm
 printf 'P6\n1 1\n255\n\40\40\310' >elsewhere/tex.ppm
-printf 'settings { width: 256, height: 192, samples: 2 }\nlight { position: (0, 5, -5) }\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: image("tex.ppm", 1) } }\n' >withtex.rts
+printf 'settings { width: 1024, height: 768, samples: 3 }\nlight { position: (0, 5, -5) }\nsphere { center: (0, 0, 0), radius: 1, material: material { texture: image("tex.ppm", 1) } }\n' >withtex.rts
 cp withtex.rts elsewhere/withtex.rts
 run -np 2 bash -c '[ "$OMPI_COMM_WORLD_RANK" = 0 ] || cd elsewhere; exec lancer-mpi render withtex.rts -o tex.png -q --domains 1' \
   >tex.out 2>tex.err
