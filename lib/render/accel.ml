@@ -59,76 +59,84 @@ let linear prims =
 
 let build_tree prims =
   let n = Array.length prims in
-  (* Every primitive's bounds in one pass, then the bounded ones' (all six finite) moved
-     down in place and padded: one box per primitive, none allocated for a sphere. *)
+  (* One pass over the primitives: each one's bounds, whether they are bounded (all six
+     finite: each [x -. x] is then +0, a NaN otherwise), the bounded ones' weight (a mesh
+     counts as its faces, which one object each would have been), each bounded box padded
+     where it lies, and whether it is a flat sphere. One pass and no closure: over the
+     million coloured spheres of [make bench-limit], a pass and a closure per question
+     were 0.25 G more instructions (5.36 G against 5.11 G to the first pixel). *)
   let pbox = Float.Array.create (6 * n) in
-  Array.iteri (fun i p -> Primitive.bounds_into p pbox (6 * i)) prims;
-  let bounded_at i =
-    let q = 6 * i and ok = ref true in
-    for k = 0 to 5 do
-      if not (Float.is_finite (fget pbox (q + k))) then ok := false
-    done;
-    !ok
-  in
-  let flags = Bytes.init n (fun i -> if bounded_at i then '\001' else '\000') in
-  let is_b i = Bytes.unsafe_get flags i = '\001' in
-  let pick want =
-    let k = ref 0 in
-    for i = 0 to n - 1 do
-      if is_b i = want then incr k
-    done;
-    let r = Array.make !k 0 and j = ref 0 in
-    for i = 0 to n - 1 do
-      if is_b i = want then (
-        r.(!j) <- i;
-        incr j)
-    done;
-    r
-  in
-  let m =
-    let k = ref 0 in
-    for i = 0 to n - 1 do
-      if is_b i then incr k
-    done;
-    !k
-  in
-  (* The bounded primitives' indices; when all are, the k-th is k, with no array. *)
-  let bounded = if m = n then [||] else pick true in
-  let[@inline] at k = if m = n then k else Array.unsafe_get bounded k in
-  (* A mesh counts as its faces, which one object each would have been. *)
-  let weight =
-    let w = ref 0 in
-    for k = 0 to m - 1 do
-      w := !w + Primitive.faces prims.(at k)
-    done;
-    !w
-  in
+  let flags = Bytes.create n in
+  let m = ref 0 and weight = ref 0 in
+  for i = 0 to n - 1 do
+    let p = Array.unsafe_get prims i and q = 6 * i in
+    Primitive.bounds_into p pbox q;
+    let x0 = fget pbox q
+    and y0 = fget pbox (q + 1)
+    and z0 = fget pbox (q + 2)
+    and x1 = fget pbox (q + 3)
+    and y1 = fget pbox (q + 4)
+    and z1 = fget pbox (q + 5) in
+    if x0 -. x0 +. (y0 -. y0) +. (z0 -. z0) +. (x1 -. x1) +. (y1 -. y1) +. (z1 -. z1) = 0.
+    then (
+      Bvh.pad_into pbox i x0 y0 z0 x1 y1 z1;
+      Bytes.unsafe_set flags i (if is_flat_sphere p then '\002' else '\001');
+      incr m;
+      weight := !weight + Primitive.faces p)
+    else Bytes.unsafe_set flags i '\000'
+  done;
+  let m = !m and weight = !weight in
   if weight < min_bvh then { prims; weight; index = linear prims; layers = None }
   else
-    let outside = pick false in
-    for k = 0 to m - 1 do
-      let q = 6 * at k in
-      Bvh.pad_into pbox k (fget pbox q)
-        (fget pbox (q + 1))
-        (fget pbox (q + 2))
-        (fget pbox (q + 3))
-        (fget pbox (q + 4))
-        (fget pbox (q + 5))
-    done;
+    (* The unbounded primitives' indices in order; the bounded ones' (when all are, the
+       k-th is k, with no array), their boxes and flags moved down in place. *)
+    let outside = Array.make (n - m) 0
+    and bounded = Array.make (if m = n then 0 else m) 0 in
+    (if m < n then
+       let k = ref 0 and o = ref 0 in
+       for i = 0 to n - 1 do
+         let f = Bytes.unsafe_get flags i in
+         if f = '\000' then (
+           Array.unsafe_set outside !o i;
+           incr o)
+         else (
+           Array.unsafe_set bounded !k i;
+           Float.Array.blit pbox (6 * i) pbox (6 * !k) 6;
+           Bytes.unsafe_set flags !k f;
+           incr k)
+       done);
     let pbox = if m = n then pbox else Float.Array.sub pbox 0 (6 * m) in
-    let flat =
-      Bytes.init m (fun k -> if is_flat_sphere prims.(at k) then '\001' else '\000')
-    in
+    let flat = Bytes.create m in
+    for k = 0 to m - 1 do
+      Bytes.unsafe_set flat k
+        (if Bytes.unsafe_get flags k = '\002' then '\001' else '\000')
+    done;
     let { Bvh.nodes; order; depth } = Bvh.build ~cheap:(flat, flat_leaf_max) pbox in
-    (* The slots: the unbounded primitives, then the tree's in leaf order. *)
-    let first = Array.length outside in
-    let ids =
-      Array.init (first + m) (fun j ->
-          if j < first then outside.(j) else at order.(j - first))
+    (* The slots: the unbounded primitives, then the tree's in leaf order; the
+       primitives in slot order beside them. *)
+    let first = n - m in
+    let ids = Array.make (first + m) 0 in
+    Array.blit outside 0 ids 0 first;
+    if m = n then Array.blit order 0 ids first m
+    else
+      for j = 0 to m - 1 do
+        Array.unsafe_set ids (first + j)
+          (Array.unsafe_get bounded (Array.unsafe_get order j))
+      done;
+    let slots =
+      if first + m = 0 then [||]
+      else
+        let a =
+          Array.make (first + m) (Array.unsafe_get prims (Array.unsafe_get ids 0))
+        in
+        for j = 1 to first + m - 1 do
+          Array.unsafe_set a j (Array.unsafe_get prims (Array.unsafe_get ids j))
+        done;
+        a
     in
     (* The tree does not keep the boxes: their array holds the flat floats from here,
        rather than a new one beside it at the peak of memory. *)
-    let items = Walk.items ~flat:pbox (Array.map (fun i -> prims.(i)) ids) in
+    let items = Walk.items ~flat:pbox slots in
     { prims; weight; index = { Walk.nodes; depth; ids; first; items }; layers = None }
 
 (* The structure is built at {!Pace.all_live}: what it allocates lives on with the
