@@ -76,8 +76,14 @@ type colours = {
 
 let colours () = { seen = Hashtbl.create 8; order = [] }
 
+(* [largest c > 1.] without its calls, asked of every object: [Float.max] is NaN where
+   any component is. *)
+let above_one (c : Color.t) =
+  (c.r > 1. || c.g > 1. || c.b > 1.)
+  && not (Float.is_nan c.r || Float.is_nan c.g || Float.is_nan c.b)
+
 let note_colour acc (o : D.obj) (c : Color.t) =
-  if largest c > 1. then
+  if above_one c then
     let key = (c.r, c.g, c.b) in
     match Hashtbl.find_opt acc.seen key with
     | Some (loc, n) -> Hashtbl.replace acc.seen key (loc, n + 1)
