@@ -864,14 +864,14 @@ let distinct_materials (sc : Scene.t) =
   let leaves, surfaces =
     Array.fold_left
       (fun (m, n) (o : Primitive.t) ->
-        let l = Array.length o.leaves in
+        let l = Array.length o.extra.leaves in
         (max m l, n + max 1 l))
       (0, 0) sc.objects
   in
   let span = leaves + 1 in
   let surface w =
     let o = sc.objects.(w / span) and l = (w mod span) - 1 in
-    if l < 0 then o else o.leaves.(l)
+    if l < 0 then o else o.extra.leaves.(l)
   in
   let last = ref Material.default and last_hash = ref (record_hash Material.default) in
   let hash (m : Material.t) (c : Color.t) =
@@ -929,9 +929,9 @@ let distinct_materials (sc : Scene.t) =
   in
   Array.iteri
     (fun i (o : Primitive.t) ->
-      if Array.length o.leaves = 0 then meet (i * span)
+      if Array.length o.extra.leaves = 0 then meet (i * span)
       else
-        for l = 0 to Array.length o.leaves - 1 do
+        for l = 0 to Array.length o.extra.leaves - 1 do
           meet ((i * span) + l + 1)
         done)
     sc.objects;

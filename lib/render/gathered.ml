@@ -148,8 +148,8 @@ let holds (p : Primitive.t) =
   match p.shape with
   | Shape.Sphere _ ->
       p.transform == Transform.identity
-      && Option.is_some p.bounds && (not p.flip)
-      && Array.length p.leaves = 0
+      && Option.is_some p.bounds && (not p.extra.flip)
+      && Array.length p.extra.leaves = 0
       && p.shift == Vec3.zero
   | _ -> false
 

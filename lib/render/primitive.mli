@@ -19,6 +19,12 @@ type t = private {
   shift : Vec3.t;
       (** what a world point adds to become a texture-space point, for an untransformed
           object that {!translate} moved; zero otherwise *)
+  extra : extra;
+      (** its orientation and leaves: one record for each orientation, shared by every
+          primitive but a CSG object *)
+}
+
+and extra = private {
   flip : bool;  (** the normal is reversed (a surface subtracted by a CSG difference) *)
   leaves : t array;
       (** for a CSG shape, each of its simple surfaces placed in the world with its own

@@ -261,7 +261,7 @@ let test_hollow_glass () =
   in
   let floor = sc.objects.(0) and shell = sc.objects.(1) in
   Alcotest.(check bool) "the shell is one CSG object" true (Primitive.is_csg shell);
-  let glass = shell.leaves.(0).material in
+  let glass = shell.extra.leaves.(0).material in
   let c = Vec3.v 0. 0.2 0. in
   let plain =
     Scene.make_exn ~settings:sc.settings ~camera:sc.camera

@@ -67,8 +67,8 @@ let same (a : Primitive.t) (b : Primitive.t) =
   && compare (Primitive.bounds a) (Primitive.bounds b) = 0
   && a.shift = b.shift
   && a.shift == Vec3.zero = (b.shift == Vec3.zero)
-  && a.flip = b.flip
-  && Array.length a.leaves = Array.length b.leaves
+  && a.extra.flip = b.extra.flip
+  && Array.length a.extra.leaves = Array.length b.extra.leaves
 
 let gen =
   QCheck.(
