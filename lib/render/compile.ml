@@ -584,15 +584,15 @@ let of_stream ~index s (d : D.t) =
   let moved = ref 0 in
   (if not (Gathered.moves s.s_flat) then
      let move = Scene.mover d.camera in
-     Array.iteri
-       (fun i p ->
-         (* Written only where it moved: a write is a barrier for the collector to
-             follow, a million of them for a million spheres. *)
-         let q = move p in
-         if q != p then (
-           incr moved;
-           Array.unsafe_set flat i q))
-       flat);
+     for i = 0 to Array.length flat - 1 do
+       let p = Array.unsafe_get flat i in
+       (* Written only where it moved: a write is a barrier for the collector to follow,
+          a million of them for a million spheres. *)
+       let q = move p in
+       if q != p then (
+         incr moved;
+         Array.unsafe_set flat i q)
+     done);
   (* The primitives that moved leave their unmoved ones dead: from [compact_objects] of
      them, those are freed before the structure's arrays are allocated, or what lancer
      check goes on to allocate. A full major cycle frees them; compacting the heap as

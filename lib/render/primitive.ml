@@ -172,7 +172,10 @@ let baked o =
       shift;
     }
   in
-  if Array.length o.extra.leaves > 0 || not (bakeable o.shape) then o
+  (* Untransformed, it is itself: the identity is neither a translation nor a
+     similarity. Asked first, as of each of a million spheres. *)
+  if Transform.is_identity o.transform then o
+  else if Array.length o.extra.leaves > 0 || not (bakeable o.shape) then o
   else
     match Transform.translation o.transform with
     | Some (d, e) -> placed (Shape.translate d o.shape) e
