@@ -556,9 +556,21 @@ let compiled s (o : D.obj) =
       report s loc msg;
       None
 
-let add s o =
+let add s (o : D.obj) =
   if not s.s_open then invalid_arg "Compile.add: the stream is finished";
-  match compiled s o with Some ps -> List.iter (Gathered.add s.s_flat) ps | None -> ()
+  match o.shape with
+  | Sphere { center; radius } when o.transform == Transform.identity -> (
+      (* What [primitives] makes of it, handed to the stream as its parts: no primitive
+         or list is made for a sphere the stream holds as floats. *)
+      match s.s_material o.material with
+      | m ->
+          counted s o 1;
+          Gathered.add_sphere s.s_flat ~center ~radius ~color:o.color m
+      | exception Problem (loc, msg) -> report s loc msg)
+  | _ -> (
+      match compiled s o with
+      | Some ps -> List.iter (Gathered.add s.s_flat) ps
+      | None -> ())
 
 (* The problems found, each at its place, in source order. *)
 let problems ~source s =

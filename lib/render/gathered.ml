@@ -84,10 +84,10 @@ module Floats = struct
       t.last <- chunk (min chunk_size (max 64 t.total));
       t.n <- 0)
 
-  let[@inline] put t x =
-    Bigarray.Array1.unsafe_set t.last t.n x;
-    t.n <- t.n + 1;
-    t.total <- t.total + 1
+  (* [k] floats written at [t.n] (after [room t k]) are taken. *)
+  let[@inline] advance t k =
+    t.n <- t.n + k;
+    t.total <- t.total + k
 
   (* The arrays, oldest first, with how many each holds; [t] is emptied. *)
   let take t =
@@ -153,43 +153,61 @@ let holds (p : Primitive.t) =
       && p.shift == Vec3.zero
   | _ -> false
 
-let same_material t (p : Primitive.t) =
-  match t.material with Some m -> m == p.material | None -> false
+let same_material_as t (material : Material.t) =
+  match t.material with Some m -> m == material | None -> false
+
+let same_material t (p : Primitive.t) = same_material_as t p.material
+
+(* A held sphere: its floats, its kind. [color] is the sphere's, [own] its material's. *)
+let hold t (center : Vec3.t) radius (color : Color.t) (own : Color.t) =
+  let c =
+    if color == own then color_material
+    else if color == t.color then color_last
+    else (
+      t.color <- color;
+      color_own)
+  in
+  (* Equal radii made again share one float, as a loop's spheres of one radius share
+     theirs. *)
+  let r =
+    if Int64.equal (Int64.bits_of_float radius) (Int64.bits_of_float t.radius) then
+      same_radius
+    else (
+      t.radius <- radius;
+      0)
+  in
+  for _ = Buffer.length t.kinds to t.count - 1 do
+    Buffer.add_char t.kinds (Char.unsafe_chr other)
+  done;
+  Buffer.add_char t.kinds (Char.unsafe_chr (sphere lor c lor r));
+  t.count <- t.count + 1;
+  let f = t.floats in
+  Floats.room f Floats.group;
+  let b = f.last and i = f.n in
+  let module A = Bigarray.Array1 in
+  A.unsafe_set b i center.x;
+  A.unsafe_set b (i + 1) center.y;
+  A.unsafe_set b (i + 2) center.z;
+  let i =
+    if r = 0 then (
+      A.unsafe_set b (i + 3) radius;
+      i + 4)
+    else i + 3
+  in
+  let i =
+    if c = color_own then (
+      A.unsafe_set b i color.r;
+      A.unsafe_set b (i + 1) color.g;
+      A.unsafe_set b (i + 2) color.b;
+      i + 3)
+    else i
+  in
+  Floats.advance f (i - f.n)
 
 let add t (p : Primitive.t) =
   match p.shape with
   | Shape.Sphere { center; radius } when holds p && same_material t p ->
-      let c =
-        if p.color == p.material.color then color_material
-        else if p.color == t.color then color_last
-        else (
-          t.color <- p.color;
-          color_own)
-      in
-      (* Equal radii made again share one float, as a loop's spheres of one radius
-         share theirs. *)
-      let r =
-        if Int64.equal (Int64.bits_of_float radius) (Int64.bits_of_float t.radius) then
-          same_radius
-        else (
-          t.radius <- radius;
-          0)
-      in
-      for _ = Buffer.length t.kinds to t.count - 1 do
-        Buffer.add_char t.kinds (Char.unsafe_chr other)
-      done;
-      Buffer.add_char t.kinds (Char.unsafe_chr (sphere lor c lor r));
-      t.count <- t.count + 1;
-      let f = t.floats in
-      Floats.room f Floats.group;
-      Floats.put f center.x;
-      Floats.put f center.y;
-      Floats.put f center.z;
-      if r = 0 then Floats.put f radius;
-      if c = color_own then (
-        Floats.put f p.color.r;
-        Floats.put f p.color.g;
-        Floats.put f p.color.b)
+      hold t center radius p.color p.material.color
   | _ -> (
       let p = match t.move with Some move -> move p | None -> p in
       t.count <- t.count + 1;
@@ -202,6 +220,10 @@ let add t (p : Primitive.t) =
           t.radius <- radius;
           if p.color != p.material.color then t.color <- p.color
       | _ -> ())
+
+let add_sphere t ~center ~radius ~color (material : Material.t) =
+  if same_material_as t material then hold t center radius color material.color
+  else add t (Primitive.make ~color material (Shape.sphere ~center ~radius))
 
 (* All of them in one array, in order, each held sphere made again and moved; [t] is
    emptied. *)

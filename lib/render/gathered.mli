@@ -31,6 +31,12 @@ val holds : Primitive.t -> bool
 val add : t -> Primitive.t -> unit
 (** [add t p]: [p] (moved), after those added before it. *)
 
+val add_sphere : t -> center:Vec3.t -> radius:float -> color:Color.t -> Material.t -> unit
+(** [add_sphere t ~center ~radius ~color m] is
+    [add t (Primitive.make ~color m (Shape.sphere ~center ~radius))], the same primitive
+    taken, without making it where it is held: a loop's spheres go straight to their
+    floats. *)
+
 val total : t -> int
 (** How many have been added since the last {!take}. *)
 
