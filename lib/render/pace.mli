@@ -8,8 +8,7 @@ val all_live : int
     where the default overhead, 120, completes one for about a third). *)
 
 val within : int -> (unit -> 'a) -> 'a
-(** [within overhead f] is [f ()] with the collector's [space_overhead] at [overhead], and
-    set back to what it was when [f] returns or raises. The setting is the whole
-    program's: scenes are built on one domain at a time (a still's, an animation's frames
-    in order, [lancer watch]'s renderer), and two [within] running at once on two domains
-    could set back each other's value. *)
+(** [within overhead f] is [f ()] with the collector's [space_overhead] at [overhead]. The
+    setting is the whole program's: while calls overlap, on one domain or several, the
+    latest one's overhead holds, and when the last of them returns or raises, the overhead
+    from before the first is set back. *)

@@ -215,6 +215,40 @@ let pace () =
       ignore (Accel.build prims);
       Alcotest.(check int) "a build leaves it" 77 (overhead ()))
 
+(* Work at the all-live pace on two domains at once, the first to start returning first:
+   the pace holds until the last one returns, and the overhead from before comes back.
+   Each call setting back what it found would leave the second at 77 once the first
+   returned, and the program at the all-live pace after both. *)
+let pace_domains () =
+  let overhead () = (Gc.get ()).space_overhead in
+  let before = overhead () in
+  Gc.set { (Gc.get ()) with space_overhead = 77 };
+  Fun.protect
+    ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before })
+    (fun () ->
+      let first_in = Atomic.make false and second_in = Atomic.make false in
+      let first =
+        Domain.spawn (fun () ->
+            Pace.within Pace.all_live (fun () ->
+                Atomic.set first_in true;
+                while not (Atomic.get second_in) do
+                  Domain.cpu_relax ()
+                done))
+      in
+      while not (Atomic.get first_in) do
+        Domain.cpu_relax ()
+      done;
+      let after_first =
+        Pace.within Pace.all_live (fun () ->
+            Atomic.set second_in true;
+            Domain.join first;
+            overhead ())
+      in
+      Alcotest.(check int)
+        "the second still at the all-live pace once the first returned" Pace.all_live
+        after_first;
+      Alcotest.(check int) "set back once both returned" 77 (overhead ()))
+
 let () =
   Alcotest.run "gathered"
     [
@@ -225,5 +259,6 @@ let () =
           Alcotest.test_case "blocks of floats filled and freed" `Quick many;
           Alcotest.test_case "a stream discarded" `Quick discards;
           Alcotest.test_case "the collector's pace set back" `Quick pace;
+          Alcotest.test_case "the pace on two domains at once" `Quick pace_domains;
         ] );
     ]
