@@ -1,14 +1,15 @@
 (* A stream's primitives, gathered in order (Compile's stream). Most objects of a large
    scene are spheres placed without a transform, a loop's. Made into primitives as they
-   come, each is five blocks (22 words with a colour of its own) that the collector
+   come, each is five blocks (21 words with a colour of its own) that the collector
    marks at every cycle of the load while they pile up: over a million coloured spheres
    that was 2.25 G instructions of marking in 16 cycles, a quarter of the run. Such a
    sphere is held
    instead as floats (its centre, its radius where it changes, its colour where it is its
    own: [Floats], which the collector does not look into) and its material where it
-   changes, and made again at the end from the same values by {!Primitive.make}: the
-   same primitive, the one made while its object compiled dying young. Any other
-   primitive is kept as it is made. *)
+   changes, and made at the end from the same values by {!Primitive.make}: the same
+   primitive as the one its object compiled to, which dies young ({!add}) or is never
+   made ({!add_sphere}, a sphere handed over by its parts). Any other primitive is kept
+   as it is made. *)
 
 (* Primitives in order, in arrays of up to [chunk_size] each (the first ones smaller, for
    a scene of a few objects): none copied as they grow, and each a block the collector
