@@ -188,15 +188,18 @@ let discards () =
     "the same primitives, added again" true
     (List.for_all2 same (Array.to_list got) ps)
 
+let overhead () = (Gc.get ()).space_overhead
+
+(* [f ()] with the collector's overhead at 77, and the test's own set back after it. *)
+let at_77 f =
+  let before = overhead () in
+  Gc.set { (Gc.get ()) with space_overhead = 77 };
+  Fun.protect ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before }) f
+
 (* The all-live pace holds only while its work runs: the collector's overhead is set back
    when the work returns and when it raises, and a take or a build leaves it as it was. *)
 let pace () =
-  let overhead () = (Gc.get ()).space_overhead in
-  let before = overhead () in
-  Gc.set { (Gc.get ()) with space_overhead = 77 };
-  Fun.protect
-    ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before })
-    (fun () ->
+  at_77 (fun () ->
       let inside = Pace.within Pace.all_live overhead in
       Alcotest.(check int) "the all-live pace while the work runs" Pace.all_live inside;
       Alcotest.(check int) "set back when it returns" 77 (overhead ());
@@ -220,12 +223,7 @@ let pace () =
    Each call setting back what it found would leave the second at 77 once the first
    returned, and the program at the all-live pace after both. *)
 let pace_domains () =
-  let overhead () = (Gc.get ()).space_overhead in
-  let before = overhead () in
-  Gc.set { (Gc.get ()) with space_overhead = 77 };
-  Fun.protect
-    ~finally:(fun () -> Gc.set { (Gc.get ()) with space_overhead = before })
-    (fun () ->
+  at_77 (fun () ->
       let first_in = Atomic.make false and second_in = Atomic.make false in
       let first =
         Domain.spawn (fun () ->
