@@ -13,14 +13,20 @@ let running = ref 0
 let before = ref 0
 
 let within overhead f =
-  Mutex.protect lock (fun () ->
-      let g = Gc.get () in
-      if !running = 0 then before := g.space_overhead;
-      incr running;
-      Gc.set { g with space_overhead = overhead });
+  (* Counted once the setting is made, and uncounted only if it was: an exception
+     (Ctrl-C's among them) before the work starts leaves the count as it was. *)
+  let counted = ref false in
   Fun.protect
     ~finally:(fun () ->
+      if !counted then
+        Mutex.protect lock (fun () ->
+            decr running;
+            if !running = 0 then Gc.set { (Gc.get ()) with space_overhead = !before }))
+    (fun () ->
       Mutex.protect lock (fun () ->
-          decr running;
-          if !running = 0 then Gc.set { (Gc.get ()) with space_overhead = !before }))
-    f
+          let g = Gc.get () in
+          if !running = 0 then before := g.space_overhead;
+          Gc.set { g with space_overhead = overhead };
+          incr running;
+          counted := true);
+      f ())
