@@ -498,7 +498,7 @@ let render ?cancel ?pool ?(on_tile = fun _ _ _ -> ()) ?region ?alpha ?reuse ?str
   let w, h = size ?stride sc in
   (* The framebuffer lives as long as the render: allocated at the default pace, its
      floats (6.2 M words at 1920×1080) counted as work for the collector, which marked
-     the scene's primitives in two more major cycles for them (field_100000: 68 M
+     the scene's primitives in two more major cycles for them (field_100000: 67 M
      instructions of 6.4 G). *)
   let fb = Pace.within Pace.all_live (fun () -> Framebuffer.create w h) in
   (* Outside a region: the background, and alpha 0. *)
