@@ -9,7 +9,10 @@
    asked in turn). Each of the three queries (the nearest root, any root, every crossing)
    is written once, over the slots before the tree and then each leaf that Bvh's one
    descent reaches, and tests a slot by its kind; the item tests are shared with the
-   scans of a small scene's slots, which has no tree.
+   scans of a small scene's slots, which has no tree. A leaf of a scene's objects is
+   first sifted by {!sphere_candidates} (in C, two spheres at a time): the nearest and
+   the any-hit queries test only the slots it leaves, the others' spheres being missed
+   by the ray's line, for certain, by the sphere test's own early miss.
 
    The leaf kind is a constant that the compiler specialises each query by where it is
    inlined, not a functor's argument: lancer is compiled without flambda, where a
@@ -254,6 +257,7 @@ type items = {
   flat : Float.Array.t;
   kind : Bytes.t;
   parts : bool;  (** whether a slot holds a mesh or a CSG object *)
+  spheres : bool;  (** whether a slot holds a sphere read from [flat] *)
   boxes : Float.Array.t;
       (** where [parts]: 6 per slot, a mesh's or a CSG object's world box (min x y z, max
           x y z), padded as the tree's are (Bvh.pad_into); infinite for an unbounded one
@@ -294,7 +298,7 @@ let items ?flat prims =
     | Some f when Float.Array.length f >= 4 * n -> f
     | _ -> Float.Array.create (4 * n)
   in
-  let kind = Bytes.create n and parts = ref false in
+  let kind = Bytes.create n and parts = ref false and spheres = ref false in
   for j = 0 to n - 1 do
     let p = Array.unsafe_get prims j in
     let k = kind_of p in
@@ -303,6 +307,7 @@ let items ?flat prims =
     let o = 4 * j in
     match p.shape with
     | Shape.Sphere { center; radius } when k land 3 = sphere ->
+        spheres := true;
         fset flat o center.x;
         fset flat (o + 1) center.y;
         fset flat (o + 2) center.z;
@@ -327,7 +332,7 @@ let items ?flat prims =
             done
           else Bvh.pad_into boxes j (g 0) (g 1) (g 2) (g 3) (g 4) (g 5)))
       prims;
-  { prims; flat; kind; parts = !parts; boxes; cull }
+  { prims; flat; kind; parts = !parts; spheres = !spheres; boxes; cull }
 
 let no_items =
   {
@@ -335,6 +340,7 @@ let no_items =
     flat = Float.Array.create 0;
     kind = Bytes.empty;
     parts = false;
+    spheres = false;
     boxes = Float.Array.create 0;
     cull = Float.Array.create 0;
   }
@@ -418,6 +424,31 @@ let[@inline] item_root ~tree ~nested (lv : level) (it : items) j (q : Probe.t) t
     else if c land moved = 0 then Shape.root p.shape q
     else Primitive.root p q lv.obj;
     q.p_t)
+
+(* The slots [lo, lo + n) of a leaf whose sphere the probe's ray may meet, as a mask (bit
+   k for slot lo + k, n ≤ {!filtered}): in C ([spheres_stubs.c], which says why), each
+   slot's sphere tested as far as {!Shape.sphere_gen}'s early miss, by the same
+   operations, two at a time. A slot without a sphere (NaN in [flat]) is always in it. *)
+external sphere_candidates :
+  Float.Array.t -> (int[@untagged]) -> (int[@untagged]) -> Probe.t -> (int[@untagged])
+  = "lancer_sphere_candidates_byte" "lancer_sphere_candidates"
+[@@noalloc]
+
+(* The most slots {!sphere_candidates} takes: a bit each in an int but its sign. *)
+let filtered = Sys.int_size - 1
+
+(* Which of the slots [lo, lo + n) of leaf [at] may hold a root: [sphere_candidates]'s
+   mask for a leaf of items of more than one slot where some slot holds a sphere; −1
+   (all) for the slots before the tree, a mesh's triangles, a leaf of one slot (whose
+   test takes the same early miss itself) or one too large. *)
+let[@inline] candidates ~tris (it : items) at lo n (q : Probe.t) =
+  if tris then -1
+  else if at >= 0 && n > 1 && n <= filtered && it.spheres then
+    sphere_candidates it.flat lo n q
+  else -1
+
+(* Whether slot [lo + k] is in mask [m]. *)
+let[@inline] candidate m k = m = -1 || (m lsr k) land 1 = 1
 
 (* The part of slot [j]'s root, the nearest found so far, into [lv.leaf] and [lv.face]. *)
 let[@inline] keep_part (lv : level) (it : items) j =
@@ -504,19 +535,21 @@ let[@inline] nearest ~tris ~nested (lv : level) (it : items) m nodes depth
     lv.face <- -1);
   let at = ref (-2) in
   while !at <> -1 do
-    let lo = range_first nodes first !at in
-    for j = lo to lo + range_count nodes first !at - 1 do
-      let t =
-        if tris then Trimesh.root m (Array.unsafe_get ids j) q !query
-        else item_root ~tree:true ~nested lv it j q tmin !query
-      in
-      if t <= !best_t then
-        let i = Array.unsafe_get ids j in
-        if t < !best_t || i < !best_i then (
-          best_t := t;
-          best_i := i;
-          query := Floats.above t;
-          if (not tris) && it.parts then keep_part lv it j)
+    let lo = range_first nodes first !at and n = range_count nodes first !at in
+    let c = candidates ~tris it !at lo n q in
+    for j = lo to lo + n - 1 do
+      if tris || candidate c (j - lo) then
+        let t =
+          if tris then Trimesh.root m (Array.unsafe_get ids j) q !query
+          else item_root ~tree:true ~nested lv it j q tmin !query
+        in
+        if t <= !best_t then
+          let i = Array.unsafe_get ids j in
+          if t < !best_t || i < !best_i then (
+            best_t := t;
+            best_i := i;
+            query := Floats.above t;
+            if (not tris) && it.parts then keep_part lv it j)
     done;
     at := next_leaf lv !at nodes depth q tmin !best_t
   done;
@@ -531,11 +564,14 @@ let[@inline] any ~tris ~nested (lv : level) (it : items) m nodes depth (ids : in
   let skip = if opaque then see_through else 0 in
   let found = ref (-1) and at = ref (-2) in
   while !at <> -1 do
-    let j = ref (range_first nodes first !at) in
-    let hi = ref (!j + range_count nodes first !at) in
+    let lo = range_first nodes first !at and n = range_count nodes first !at in
+    let c = candidates ~tris it !at lo n q in
+    let j = ref lo and hi = ref (lo + n) in
     while !j < !hi do
       let s = !j in
       if
+        (tris || candidate c (s - lo))
+        &&
         if tris then Trimesh.root m (Array.unsafe_get ids s) q tmax < tmax
         else item_hits ~tree:true ~nested lv it s q tmin tmax skip
       then (

@@ -62,6 +62,14 @@ val items : ?flat:Float.Array.t -> Primitive.t array -> items
     floats kept beside the others (in [flat] when it is long enough, 4 floats a slot), a
     mesh or a CSG object by its own walk or members, any other through its primitive. *)
 
+val sphere_candidates : Float.Array.t -> int -> int -> Probe.t -> int
+(** [sphere_candidates flat lo n q], for [n ≤ Sys.int_size − 1], has bit [k] set unless
+    the sphere of slot [lo + k] of [flat] (centre x, y, z and radius, 4 floats a slot) is
+    missed for certain by [q]'s ray: where {!Shape.sphere_sc}'s early miss is taken (the
+    line farther from the centre than the radius, by the same operations), the sphere
+    having no root whatever the interval. A slot holding NaN is always set. How a walk
+    passes over most of a leaf's spheres; written in C, two spheres at a time. *)
+
 type index = {
   nodes : Float.Array.t;
       (** a {!Bvh.t}'s nodes over the slots from [first] on; empty: no tree *)
