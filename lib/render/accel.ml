@@ -166,10 +166,12 @@ let unindexed prims =
 
 (* What a domain's queries reuse, found by one look-up: the walks' levels, a hit record
    for the answers of a layered structure's first part, and for each light slot the scene
-   index of the primitive that last blocked it (-1: none), tested before the walk. Shadow
-   rays of neighbouring pixels tend to be blocked by the same object; since the answer is
-   a boolean (is there any opaque crossing?), trying one first changes only how soon it
-   is found, never what is found. *)
+   index of the primitive that blocked its last shadow ray (-1: that ray was not
+   blocked), tested before the walk. Shadow rays of neighbouring pixels tend to be
+   blocked by the same object, and to pass where the last one passed: a ray that passes
+   forgets the occluder, whose test (a mesh's whole walk) the next ray would most likely
+   spend for nothing. Since the answer is a boolean (is there any opaque crossing?),
+   trying one first changes only how soon it is found, never what is found. *)
 type scratch = {
   w : Walk.scratch;
   mutable last : int array;
@@ -307,7 +309,7 @@ let any sc a (q : Probe.t) ~opaque ~slot ~mask =
     && Walk.blocks sc.w (Array.unsafe_get prims c) q ~opaque
     ||
     let found = any_top sc a q ~opaque ~mask in
-    if found >= 0 then Array.unsafe_set sc.last slot found;
+    Array.unsafe_set sc.last slot found;
     found >= 0)
 
 let rec crossings_in sc a q ~transparent out =
