@@ -153,7 +153,8 @@ let[@inline] sphere_gen ~all cx cy cz radius ox oy oz dx dy dz tmin tmax out =
   (* The same operations as the vector form (f = O − C, perp = f − (b/a)·d, the lengths
      of perp and f), in scalars so that nothing is allocated, and with an early miss
      when |perp|² is clearly beyond r²: most rays miss most spheres, and the exact
-     test would say the same. *)
+     test would say the same. Walk.sphere_candidates (lib/render/spheres_stubs.c) takes
+     this early miss for a leaf's spheres, by the same operations: change both. *)
   let fx = ox -. cx and fy = oy -. cy and fz = oz -. cz in
   let a = (dx *. dx) +. (dy *. dy) +. (dz *. dz) in
   let b = (fx *. dx) +. (fy *. dy) +. (fz *. dz) in

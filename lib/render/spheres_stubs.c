@@ -9,8 +9,8 @@
    multiply-adds: -ffp-contract=off), so that a slot is left out exactly where that test
    would take its early miss. The others, whose test goes on past it (and every slot
    without a sphere, whose NaN never compares), are the walk's to test as before. It
-   reads its arguments in place and allocates nothing; test_walk compares it with the
-   OCaml test. */
+   reads its arguments in place and allocates nothing; test/render/test_spheres.ml
+   compares it with the OCaml test. */
 #include <caml/mlvalues.h>
 
 typedef double v2 __attribute__((vector_size(16)));
